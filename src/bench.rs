@@ -1,0 +1,171 @@
+//! Benchmarks: GPU time of passes from `GL_TIME_ELAPSED` queries, medians over many runs after
+//! warm-up, each pass next to its floor measured in the same run (a write-only pass of the same
+//! size and formats: on a GPU whose fragment path is bound by the bytes it writes, no pass that
+//! writes those targets can be faster).
+
+use glam::Vec4;
+
+use crate::engine::Engine;
+use crate::error::Result;
+use crate::gl::{
+    Context, Defines, Framebuffer, FullscreenPass, Program, TimerQuery, FULLSCREEN_VERTEX,
+};
+use crate::scene::Scene;
+
+/// A write-only pass into `targets` render targets: the floor of any pass writing them.
+#[derive(Debug)]
+pub struct WriteFloor {
+    program: Program,
+    pass: FullscreenPass,
+}
+
+impl WriteFloor {
+    /// Builds the floor pass for framebuffers of `targets` attachments.
+    pub fn new(ctx: &Context, targets: usize) -> Result<Self> {
+        let defines: Defines = vec![("TARGETS".into(), targets.to_string())];
+        Ok(WriteFloor {
+            program: Program::new(ctx, FULLSCREEN_VERTEX, "common/write_floor.frag", &defines)?,
+            pass: FullscreenPass::new(ctx)?,
+        })
+    }
+
+    /// Writes a constant into every texel of every attachment of `fb`.
+    pub fn draw(&self, fb: &Framebuffer) {
+        self.program.bind();
+        self.program
+            .set_vec4("u_value", Vec4::new(0.25, 0.5, 0.75, 1.0));
+        self.pass.draw(&self.program, fb);
+    }
+}
+
+/// The median of `v` (mean of the two middle values for an even count); NaN for none.
+pub fn median(v: &[f64]) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let n = s.len();
+    if n % 2 == 1 {
+        s[n / 2]
+    } else {
+        0.5 * (s[n / 2 - 1] + s[n / 2])
+    }
+}
+
+/// One row of `texflow bench step`.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct StepRecord {
+    /// Scene name.
+    pub scene: String,
+    /// State texture side (size × size particles).
+    pub size: u32,
+    /// Number of particles.
+    pub particles: u64,
+    /// Median GPU time of one simulation pass, ms.
+    pub sim_ms: f64,
+    /// Median GPU time of a write-only pass into the same targets, ms.
+    pub sim_floor_ms: f64,
+    /// sim_ms / sim_floor_ms.
+    pub sim_ratio: f64,
+    /// Simulated particles per second (particles / sim_ms).
+    pub particles_per_s: f64,
+    /// Median GPU time of one render pass (clear + points), ms.
+    pub render_ms: f64,
+    /// Median GPU time of a write-only full-screen pass into the frame target, ms.
+    pub render_floor_ms: f64,
+    /// render_ms / render_floor_ms.
+    pub render_ratio: f64,
+    /// Frame size the render pass drew.
+    pub resolution: [u32; 2],
+    /// Timed repetitions behind each median.
+    pub repeats: usize,
+}
+
+/// Options of [`bench_step`].
+#[derive(Debug, Clone)]
+pub struct StepOptions {
+    /// Timed repetitions per size.
+    pub repeats: usize,
+    /// Simulation steps before timing, so that the state is in its steady state.
+    pub warmup_steps: usize,
+}
+
+impl Default for StepOptions {
+    fn default() -> Self {
+        StepOptions {
+            repeats: 21,
+            warmup_steps: 120,
+        }
+    }
+}
+
+/// Times the simulation and render passes of `scene` at each square state size.
+pub fn bench_step(
+    ctx: &Context,
+    scene: &Scene,
+    sizes: &[u32],
+    opts: &StepOptions,
+    mut progress: impl FnMut(u32),
+) -> Result<Vec<StepRecord>> {
+    let sim_floor = WriteFloor::new(ctx, 2)?;
+    let render_floor = WriteFloor::new(ctx, 1)?;
+    let mut records = Vec::new();
+    for &size in sizes {
+        let mut s = scene.clone();
+        s.particles = [size, size];
+        let mut engine = Engine::new(ctx, s, 1)?;
+        let dt = scene.dt;
+        for _ in 0..opts.warmup_steps {
+            engine.advance_frame();
+        }
+        // Queries are read only after all runs, so reading never stalls a timed region.
+        let queries = (0..4 * opts.repeats)
+            .map(|_| TimerQuery::new(ctx))
+            .collect::<Result<Vec<_>>>()?;
+        for q in queries.chunks_exact(4) {
+            let sim = engine.sim();
+            q[0].begin();
+            sim_floor.draw(sim.state().back());
+            q[0].end();
+            sim.bind_step(dt);
+            q[1].begin();
+            sim.draw_step_only();
+            q[1].end();
+            // The timed pass wrote the back without swapping; advancing redoes it and swaps, so
+            // the state keeps evolving between repetitions.
+            engine.advance_frame();
+            q[2].begin();
+            render_floor.draw(engine.target().framebuffer());
+            q[2].end();
+            q[3].begin();
+            engine.draw();
+            q[3].end();
+        }
+        let mut t = [vec![], vec![], vec![], vec![]];
+        for q in queries.chunks_exact(4) {
+            for (i, qi) in q.iter().enumerate() {
+                t[i].push(qi.nanoseconds()? as f64 * 1e-6);
+            }
+        }
+        ctx.check_error("benchmark")?;
+        let [floor, sim_ms, rfloor, render] = t.map(|v| median(&v));
+        let particles = size as u64 * size as u64;
+        records.push(StepRecord {
+            scene: scene.name.clone(),
+            size,
+            particles,
+            sim_ms,
+            sim_floor_ms: floor,
+            sim_ratio: sim_ms / floor,
+            particles_per_s: particles as f64 / (sim_ms * 1e-3),
+            render_ms: render,
+            render_floor_ms: rfloor,
+            render_ratio: render / rfloor,
+            resolution: scene.resolution,
+            repeats: opts.repeats,
+        });
+        progress(size);
+    }
+    Ok(records)
+}

@@ -1,0 +1,350 @@
+//! The headless context: an EGL device (EGL_EXT_device_enumeration), a surfaceless OpenGL 3.3
+//! core context on it, and glow loaded from it.
+//!
+//! Every GL object of this crate holds a [`Context`] (a reference-counted handle), so no object
+//! can outlive the context it was made in. GL contexts are bound to the thread that made them
+//! current: a [`Context`] is neither `Send` nor `Sync`.
+
+use std::ffi::CStr;
+use std::ops::Deref;
+use std::rc::Rc;
+
+use glow::HasContext;
+use glutin::api::egl::{
+    context::PossiblyCurrentContext, device::Device as EglDevice, display::Display,
+};
+use glutin::config::{ConfigSurfaceTypes, ConfigTemplateBuilder};
+use glutin::context::{ContextApi, ContextAttributesBuilder, GlProfile, Version};
+use glutin::prelude::*;
+
+use crate::error::{Error, Result};
+
+/// One EGL device as enumerated by EGL_EXT_device_enumeration.
+#[derive(Debug, Clone)]
+pub struct DeviceInfo {
+    /// Position in the enumeration, the value of `--device`.
+    pub index: usize,
+    /// The device name EGL reports, if any.
+    pub name: Option<String>,
+    /// The vendor EGL reports, if any.
+    pub vendor: Option<String>,
+    /// Whether Mesa marks it as a software device (llvmpipe).
+    pub software: bool,
+    /// The DRM node, for hardware devices.
+    pub drm_node: Option<String>,
+}
+
+fn query_devices() -> Result<Vec<EglDevice>> {
+    let devices = EglDevice::query_devices()
+        .map_err(|e| Error::NoEglDevice {
+            reason: e.to_string(),
+        })?
+        .collect::<Vec<_>>();
+    if devices.is_empty() {
+        return Err(Error::NoEglDevice {
+            reason: "EGL enumerated no devices".into(),
+        });
+    }
+    Ok(devices)
+}
+
+/// Lists the EGL devices of this machine.
+pub fn list_devices() -> Result<Vec<DeviceInfo>> {
+    Ok(query_devices()?
+        .iter()
+        .enumerate()
+        .map(|(index, d)| DeviceInfo {
+            index,
+            name: d.name().map(str::to_owned),
+            vendor: d.vendor().map(str::to_owned),
+            software: d.extensions().contains("EGL_MESA_device_software"),
+            drm_node: d.drm_device_node_path().map(|p| p.display().to_string()),
+        })
+        .collect())
+}
+
+/// What the context can do, queried once at creation.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Limits {
+    /// `GL_RENDERER`.
+    pub renderer: String,
+    /// `GL_VENDOR`.
+    pub vendor: String,
+    /// `GL_VERSION`.
+    pub version: String,
+    /// `GL_SHADING_LANGUAGE_VERSION`.
+    pub glsl_version: String,
+    /// `GL_MAX_TEXTURE_SIZE`: the largest state texture side.
+    pub max_texture_size: u32,
+    /// `GL_MAX_DRAW_BUFFERS`: how many render targets one pass can write.
+    pub max_draw_buffers: u32,
+    /// `GL_MAX_COLOR_ATTACHMENTS`.
+    pub max_color_attachments: u32,
+    /// `GL_MAX_VERTEX_TEXTURE_IMAGE_UNITS`: vertex texture fetch.
+    pub max_vertex_texture_image_units: u32,
+    /// `GL_MAX_VIEWPORT_DIMS`.
+    pub max_viewport: [u32; 2],
+    /// `GL_MAX_3D_TEXTURE_SIZE`: flow and distance fields.
+    pub max_3d_texture_size: u32,
+    /// Whether an RGBA32F texture can be a colour attachment.
+    pub float32_color_buffer: bool,
+    /// Whether an RGBA16F texture can be a colour attachment.
+    pub float16_color_buffer: bool,
+    /// Whether `GL_KHR_debug` is available.
+    pub khr_debug: bool,
+}
+
+/// Owner of the EGL display, the GL context and the glow function table.
+///
+/// Fields drop in declaration order: glow first, then the context, then the display.
+struct Inner {
+    gl: glow::Context,
+    limits: Limits,
+    device: usize,
+    _context: PossiblyCurrentContext,
+    _display: Display,
+}
+
+/// A current, surfaceless OpenGL 3.3 core context on one EGL device. Cheap to clone.
+#[derive(Clone)]
+pub struct Context {
+    inner: Rc<Inner>,
+}
+
+impl std::fmt::Debug for Context {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Context")
+            .field("device", &self.inner.device)
+            .field("renderer", &self.inner.limits.renderer)
+            .finish()
+    }
+}
+
+impl Deref for Context {
+    type Target = glow::Context;
+    fn deref(&self) -> &glow::Context {
+        &self.inner.gl
+    }
+}
+
+impl Context {
+    /// Creates a context on EGL device `index` (see [`list_devices`]) and makes it current on this
+    /// thread.
+    pub fn new(index: usize) -> Result<Self> {
+        let devices = query_devices()?;
+        let count = devices.len();
+        let device = devices
+            .get(index)
+            .ok_or(Error::DeviceIndex { index, count })?;
+        let ctx_err = |reason: String| Error::Context {
+            device: index,
+            reason,
+        };
+        // SAFETY: the device comes from EGL's own enumeration; no native display is involved.
+        let display = unsafe { Display::with_device(device, None) }
+            .map_err(|e| ctx_err(format!("eglGetPlatformDisplay: {e}")))?;
+        let template = ConfigTemplateBuilder::new()
+            .with_surface_type(ConfigSurfaceTypes::empty())
+            .build();
+        // SAFETY: the display is valid for the whole call.
+        let config = unsafe { display.find_configs(template) }
+            .map_err(|e| ctx_err(format!("eglChooseConfig: {e}")))?
+            .next()
+            .ok_or_else(|| ctx_err("no EGL config without surfaces".into()))?;
+        let attributes = ContextAttributesBuilder::new()
+            .with_context_api(ContextApi::OpenGl(Some(Version::new(3, 3))))
+            .with_profile(GlProfile::Core)
+            .build(None);
+        // SAFETY: config belongs to display.
+        let not_current = unsafe { display.create_context(&config, &attributes) }
+            .map_err(|e| ctx_err(format!("eglCreateContext (OpenGL 3.3 core): {e}")))?;
+        let context = not_current
+            .make_current_surfaceless()
+            .map_err(|e| ctx_err(format!("eglMakeCurrent without surface: {e}")))?;
+        // SAFETY: the context is current on this thread; glow only stores the pointers.
+        #[allow(unused_mut)]
+        let mut gl = unsafe {
+            glow::Context::from_loader_function_cstr(|name: &CStr| display.get_proc_address(name))
+        };
+        let limits = query_limits(&gl);
+        #[cfg(debug_assertions)]
+        if limits.khr_debug {
+            install_debug_callback(&mut gl);
+        }
+        let ctx = Context {
+            inner: Rc::new(Inner {
+                gl,
+                limits,
+                device: index,
+                _context: context,
+                _display: display,
+            }),
+        };
+        ctx.require_capabilities()?;
+        Ok(ctx)
+    }
+
+    /// What the context can do.
+    pub fn limits(&self) -> &Limits {
+        &self.inner.limits
+    }
+
+    /// The EGL device index the context lives on.
+    pub fn device_index(&self) -> usize {
+        self.inner.device
+    }
+
+    /// The raw glow context, for the GL layer.
+    pub fn gl(&self) -> &glow::Context {
+        &self.inner.gl
+    }
+
+    fn require_capabilities(&self) -> Result<()> {
+        let l = self.limits();
+        let missing = |what: &str, detail: String| {
+            Err(Error::MissingCapability {
+                what: what.into(),
+                detail,
+            })
+        };
+        if !l.float32_color_buffer {
+            return missing(
+                "RGBA32F colour buffers",
+                "a framebuffer with an RGBA32F attachment is not complete".into(),
+            );
+        }
+        if l.max_draw_buffers < 2 {
+            return missing(
+                "multiple render targets",
+                format!("GL_MAX_DRAW_BUFFERS = {}", l.max_draw_buffers),
+            );
+        }
+        if l.max_vertex_texture_image_units < 1 {
+            return missing("vertex texture fetch", "0 vertex texture units".into());
+        }
+        Ok(())
+    }
+
+    /// Returns the first pending GL error, if any, as an [`Error::Gl`] naming `what` was done.
+    pub fn check_error(&self, what: &str) -> Result<()> {
+        // SAFETY: glGetError has no preconditions.
+        let code = unsafe { self.get_error() };
+        if code == glow::NO_ERROR {
+            return Ok(());
+        }
+        // Drain the remaining flags so the next check starts clean.
+        let mut more = Vec::new();
+        for _ in 0..8 {
+            // SAFETY: as above.
+            let c = unsafe { self.get_error() };
+            if c == glow::NO_ERROR {
+                break;
+            }
+            more.push(gl_error_name(c));
+        }
+        Err(Error::Gl(format!(
+            "{} after {what}{}",
+            gl_error_name(code),
+            if more.is_empty() {
+                String::new()
+            } else {
+                format!(" (then {})", more.join(", "))
+            }
+        )))
+    }
+
+    /// Waits for the GPU to finish all submitted work.
+    pub fn finish(&self) {
+        // SAFETY: glFinish has no preconditions.
+        unsafe { self.gl().finish() }
+    }
+
+    /// Labels a GL object in debug builds, so that debug output and captures are readable.
+    pub(crate) fn label(&self, identifier: u32, name: u32, label: &str) {
+        if cfg!(debug_assertions) && self.limits().khr_debug {
+            // SAFETY: `name` is a live object of type `identifier`, made by this context.
+            unsafe { self.gl().object_label(identifier, name, Some(label)) }
+        }
+    }
+}
+
+/// The name of a GL error code.
+pub fn gl_error_name(code: u32) -> String {
+    match code {
+        glow::INVALID_ENUM => "GL_INVALID_ENUM".into(),
+        glow::INVALID_VALUE => "GL_INVALID_VALUE".into(),
+        glow::INVALID_OPERATION => "GL_INVALID_OPERATION".into(),
+        glow::INVALID_FRAMEBUFFER_OPERATION => "GL_INVALID_FRAMEBUFFER_OPERATION".into(),
+        glow::OUT_OF_MEMORY => "GL_OUT_OF_MEMORY".into(),
+        other => format!("GL error 0x{other:04x}"),
+    }
+}
+
+fn query_limits(gl: &glow::Context) -> Limits {
+    // SAFETY: plain queries on a current context.
+    unsafe {
+        let int = |p| gl.get_parameter_i32(p).max(0) as u32;
+        let mut viewport = [0i32; 2];
+        gl.get_parameter_i32_slice(glow::MAX_VIEWPORT_DIMS, &mut viewport);
+        let exts = gl.supported_extensions();
+        Limits {
+            renderer: gl.get_parameter_string(glow::RENDERER),
+            vendor: gl.get_parameter_string(glow::VENDOR),
+            version: gl.get_parameter_string(glow::VERSION),
+            glsl_version: gl.get_parameter_string(glow::SHADING_LANGUAGE_VERSION),
+            max_texture_size: int(glow::MAX_TEXTURE_SIZE),
+            max_draw_buffers: int(glow::MAX_DRAW_BUFFERS),
+            max_color_attachments: int(glow::MAX_COLOR_ATTACHMENTS),
+            max_vertex_texture_image_units: int(glow::MAX_VERTEX_TEXTURE_IMAGE_UNITS),
+            max_viewport: [viewport[0].max(0) as u32, viewport[1].max(0) as u32],
+            max_3d_texture_size: int(glow::MAX_3D_TEXTURE_SIZE),
+            float32_color_buffer: color_renderable(gl, glow::RGBA32F),
+            float16_color_buffer: color_renderable(gl, glow::RGBA16F),
+            khr_debug: exts.contains("GL_KHR_debug"),
+        }
+    }
+}
+
+/// Whether a 4×4 texture of `internal` format makes a complete framebuffer.
+fn color_renderable(gl: &glow::Context, internal: u32) -> bool {
+    // SAFETY: objects are created and deleted inside this function on a current context.
+    unsafe {
+        let (Ok(tex), Ok(fbo)) = (gl.create_texture(), gl.create_framebuffer()) else {
+            return false;
+        };
+        gl.bind_texture(glow::TEXTURE_2D, Some(tex));
+        gl.tex_storage_2d(glow::TEXTURE_2D, 1, internal, 4, 4);
+        gl.bind_framebuffer(glow::FRAMEBUFFER, Some(fbo));
+        gl.framebuffer_texture_2d(
+            glow::FRAMEBUFFER,
+            glow::COLOR_ATTACHMENT0,
+            glow::TEXTURE_2D,
+            Some(tex),
+            0,
+        );
+        let ok = gl.check_framebuffer_status(glow::FRAMEBUFFER) == glow::FRAMEBUFFER_COMPLETE;
+        gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+        gl.bind_texture(glow::TEXTURE_2D, None);
+        gl.delete_framebuffer(fbo);
+        gl.delete_texture(tex);
+        ok
+    }
+}
+
+#[cfg(debug_assertions)]
+fn install_debug_callback(gl: &mut glow::Context) {
+    // SAFETY: KHR_debug is present; the callback only prints.
+    unsafe {
+        gl.enable(glow::DEBUG_OUTPUT_SYNCHRONOUS);
+        gl.debug_message_callback(|_source, kind, id, severity, message| {
+            // Performance hints and notifications drown the real problems; keep errors and
+            // high/medium severity messages.
+            if kind == glow::DEBUG_TYPE_ERROR
+                || severity == glow::DEBUG_SEVERITY_HIGH
+                || severity == glow::DEBUG_SEVERITY_MEDIUM
+            {
+                eprintln!("[GL debug {id}] {message}");
+            }
+        });
+    }
+}

@@ -1,0 +1,152 @@
+//! Framebuffers that own their colour attachments: one set of state textures written by a pass
+//! through multiple render targets.
+
+use glow::HasContext;
+
+use super::{Context, Texture};
+use crate::error::{Error, Incomplete, Result};
+
+/// A framebuffer object with 1 to 8 owned colour attachments, all drawn to by every pass.
+pub struct Framebuffer {
+    ctx: Context,
+    raw: glow::Framebuffer,
+    textures: Vec<Texture>,
+    label: String,
+}
+
+impl std::fmt::Debug for Framebuffer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Framebuffer({} {:?})", self.label, self.textures)
+    }
+}
+
+fn incomplete(status: u32) -> Incomplete {
+    match status {
+        glow::FRAMEBUFFER_INCOMPLETE_ATTACHMENT => Incomplete::Attachment,
+        glow::FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT => Incomplete::MissingAttachment,
+        glow::FRAMEBUFFER_INCOMPLETE_DRAW_BUFFER => Incomplete::DrawBuffer,
+        glow::FRAMEBUFFER_INCOMPLETE_READ_BUFFER => Incomplete::ReadBuffer,
+        glow::FRAMEBUFFER_UNSUPPORTED => Incomplete::Unsupported,
+        glow::FRAMEBUFFER_INCOMPLETE_MULTISAMPLE => Incomplete::Multisample,
+        glow::FRAMEBUFFER_INCOMPLETE_LAYER_TARGETS => Incomplete::LayerTargets,
+        other => Incomplete::Other(other),
+    }
+}
+
+impl Framebuffer {
+    /// Attaches `textures` to colour attachments 0.. in order and checks completeness.
+    ///
+    /// All textures must have the same size.
+    pub fn new(ctx: &Context, label: &str, textures: Vec<Texture>) -> Result<Self> {
+        let limits = ctx.limits();
+        let max = limits
+            .max_draw_buffers
+            .min(limits.max_color_attachments)
+            .min(8) as usize;
+        if textures.is_empty() || textures.len() > max {
+            return Err(Error::InvalidInput(format!(
+                "framebuffer {label} needs 1 to {max} attachments, got {}",
+                textures.len()
+            )));
+        }
+        let (w, h) = (textures[0].width(), textures[0].height());
+        if textures.iter().any(|t| t.width() != w || t.height() != h) {
+            return Err(Error::InvalidInput(format!(
+                "framebuffer {label}: attachments differ in size"
+            )));
+        }
+        // SAFETY: a fresh framebuffer; the textures are alive and belong to this context.
+        let raw = unsafe {
+            let raw = ctx.create_framebuffer().map_err(Error::Gl)?;
+            ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
+            let mut draw = Vec::with_capacity(textures.len());
+            for (i, t) in textures.iter().enumerate() {
+                let point = glow::COLOR_ATTACHMENT0 + i as u32;
+                ctx.framebuffer_texture_2d(
+                    glow::FRAMEBUFFER,
+                    point,
+                    glow::TEXTURE_2D,
+                    Some(t.raw()),
+                    0,
+                );
+                draw.push(point);
+            }
+            ctx.draw_buffers(&draw);
+            raw
+        };
+        let fb = Framebuffer {
+            ctx: ctx.clone(),
+            raw,
+            textures,
+            label: label.to_owned(),
+        };
+        ctx.label(glow::FRAMEBUFFER, raw.0.get(), label);
+        // SAFETY: the framebuffer is bound.
+        let status = unsafe { ctx.check_framebuffer_status(glow::FRAMEBUFFER) };
+        // SAFETY: unbinding has no preconditions.
+        unsafe { ctx.bind_framebuffer(glow::FRAMEBUFFER, None) };
+        if status != glow::FRAMEBUFFER_COMPLETE {
+            return Err(Error::FramebufferIncomplete {
+                label: label.to_owned(),
+                reason: incomplete(status),
+            });
+        }
+        ctx.check_error(&format!("creating framebuffer {label}"))?;
+        Ok(fb)
+    }
+
+    /// Width of the attachments.
+    pub fn width(&self) -> u32 {
+        self.textures[0].width()
+    }
+    /// Height of the attachments.
+    pub fn height(&self) -> u32 {
+        self.textures[0].height()
+    }
+    /// Attachment `i`.
+    pub fn texture(&self, i: usize) -> &Texture {
+        &self.textures[i]
+    }
+    /// All attachments in order.
+    pub fn textures(&self) -> &[Texture] {
+        &self.textures
+    }
+    /// The label given at creation.
+    pub fn label(&self) -> &str {
+        &self.label
+    }
+
+    /// Binds it as the draw target with a viewport over all of it.
+    pub fn bind(&self) {
+        self.bind_rect(0, 0, self.width(), self.height());
+    }
+
+    /// Binds it as the draw target with a viewport over a rectangle: `gl_FragCoord` stays in
+    /// texel coordinates of the whole attachment, so `texelFetch` needs no offset.
+    pub fn bind_rect(&self, x: u32, y: u32, w: u32, h: u32) {
+        // SAFETY: the framebuffer is alive and complete.
+        unsafe {
+            self.ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(self.raw));
+            self.ctx.viewport(x as i32, y as i32, w as i32, h as i32);
+        }
+    }
+
+    /// Clears every attachment to `rgba`.
+    pub fn clear(&self, rgba: [f32; 4]) {
+        self.bind();
+        // SAFETY: the framebuffer is bound.
+        unsafe {
+            for i in 0..self.textures.len() {
+                self.ctx
+                    .clear_buffer_f32_slice(glow::COLOR, i as u32, &rgba);
+            }
+        }
+    }
+}
+
+impl Drop for Framebuffer {
+    fn drop(&mut self) {
+        // SAFETY: the context outlives the framebuffer; textures drop after this body.
+        unsafe { self.ctx.delete_framebuffer(self.raw) }
+    }
+}

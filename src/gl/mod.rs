@@ -1,0 +1,21 @@
+//! A thin safe layer over glow: one owning type per GL object, freed on drop, none able to
+//! outlive the [`Context`] it was made in.
+
+mod buffer;
+mod context;
+mod framebuffer;
+mod pass;
+mod pingpong;
+mod program;
+mod query;
+pub mod source;
+mod texture;
+
+pub use buffer::{Attribute, Buffer, VertexArray};
+pub use context::{gl_error_name, list_devices, Context, DeviceInfo, Limits};
+pub use framebuffer::Framebuffer;
+pub use pass::{FullscreenPass, FULLSCREEN_VERTEX};
+pub use pingpong::PingPong;
+pub use program::{Defines, Program};
+pub use query::TimerQuery;
+pub use texture::{check_size, Texture, TextureDesc, TextureFormat};

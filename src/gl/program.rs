@@ -1,0 +1,173 @@
+//! Shader programs built from the embedded `glsl/` files.
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+
+use glow::HasContext;
+
+use super::source::{embedded, map_log, resolve};
+use super::Context;
+use crate::error::{Error, Result};
+
+/// `#define NAME VALUE` pairs prepended to both stages of a program.
+pub type Defines = Vec<(String, String)>;
+
+/// A linked vertex + fragment program, deleted on drop.
+pub struct Program {
+    ctx: Context,
+    raw: glow::Program,
+    name: String,
+    locations: RefCell<HashMap<String, Option<glow::UniformLocation>>>,
+}
+
+impl std::fmt::Debug for Program {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Program({})", self.name)
+    }
+}
+
+fn compile(ctx: &Context, kind: u32, path: &str, defines: &Defines) -> Result<glow::Shader> {
+    let resolved = resolve(path, defines, &embedded)?;
+    // SAFETY: plain shader compilation on a current context.
+    unsafe {
+        let shader = ctx.create_shader(kind).map_err(Error::Gl)?;
+        ctx.shader_source(shader, &resolved.text);
+        ctx.compile_shader(shader);
+        if !ctx.get_shader_compile_status(shader) {
+            let raw_log = ctx.get_shader_info_log(shader);
+            ctx.delete_shader(shader);
+            let (log, first) = map_log(&raw_log, &resolved.files);
+            let (file, line) = first.unwrap_or((path.to_owned(), 0));
+            return Err(Error::ShaderCompile { file, line, log });
+        }
+        Ok(shader)
+    }
+}
+
+impl Program {
+    /// Compiles `vertex` and `fragment` (paths under `glsl/`) with `defines` and links them.
+    pub fn new(ctx: &Context, vertex: &str, fragment: &str, defines: &Defines) -> Result<Self> {
+        let name = format!("{vertex}+{fragment}");
+        let vs = compile(ctx, glow::VERTEX_SHADER, vertex, defines)?;
+        let fs = match compile(ctx, glow::FRAGMENT_SHADER, fragment, defines) {
+            Ok(fs) => fs,
+            Err(e) => {
+                // SAFETY: vs is a live shader of this context.
+                unsafe { ctx.delete_shader(vs) };
+                return Err(e);
+            }
+        };
+        // SAFETY: linking live shaders; they are detached and deleted right after.
+        let raw = unsafe {
+            let raw = ctx.create_program().map_err(Error::Gl)?;
+            ctx.attach_shader(raw, vs);
+            ctx.attach_shader(raw, fs);
+            ctx.link_program(raw);
+            ctx.detach_shader(raw, vs);
+            ctx.detach_shader(raw, fs);
+            ctx.delete_shader(vs);
+            ctx.delete_shader(fs);
+            if !ctx.get_program_link_status(raw) {
+                let log = ctx.get_program_info_log(raw);
+                ctx.delete_program(raw);
+                return Err(Error::ProgramLink { name, log });
+            }
+            raw
+        };
+        ctx.label(glow::PROGRAM, raw.0.get(), &name);
+        ctx.check_error(&format!("building program {name}"))?;
+        Ok(Program {
+            ctx: ctx.clone(),
+            raw,
+            name,
+            locations: RefCell::new(HashMap::new()),
+        })
+    }
+
+    /// The program's name, `vertex+fragment`.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Makes it the current program; the setters below act on the current program.
+    pub fn bind(&self) {
+        // SAFETY: the program is alive and linked.
+        unsafe { self.ctx.use_program(Some(self.raw)) }
+    }
+
+    fn location(&self, name: &str) -> Option<glow::UniformLocation> {
+        if let Some(l) = self.locations.borrow().get(name) {
+            return l.clone();
+        }
+        // SAFETY: the program is alive. An unused uniform (optimised away) gives None, which the
+        // setters ignore as GL does for location -1.
+        let l = unsafe { self.ctx.get_uniform_location(self.raw, name) };
+        self.locations
+            .borrow_mut()
+            .insert(name.to_owned(), l.clone());
+        l
+    }
+
+    /// Sets an `int` or sampler uniform.
+    pub fn set_i32(&self, name: &str, v: i32) {
+        // SAFETY: the program is current (see `bind`).
+        unsafe { self.ctx.uniform_1_i32(self.location(name).as_ref(), v) }
+    }
+    /// Sets a `uint` uniform.
+    pub fn set_u32(&self, name: &str, v: u32) {
+        // SAFETY: as above.
+        unsafe { self.ctx.uniform_1_u32(self.location(name).as_ref(), v) }
+    }
+    /// Sets a `float` uniform.
+    pub fn set_f32(&self, name: &str, v: f32) {
+        // SAFETY: as above.
+        unsafe { self.ctx.uniform_1_f32(self.location(name).as_ref(), v) }
+    }
+    /// Sets a `vec2` uniform.
+    pub fn set_vec2(&self, name: &str, v: glam::Vec2) {
+        // SAFETY: as above.
+        unsafe {
+            self.ctx
+                .uniform_2_f32(self.location(name).as_ref(), v.x, v.y)
+        }
+    }
+    /// Sets a `vec3` uniform.
+    pub fn set_vec3(&self, name: &str, v: glam::Vec3) {
+        // SAFETY: as above.
+        unsafe {
+            self.ctx
+                .uniform_3_f32(self.location(name).as_ref(), v.x, v.y, v.z)
+        }
+    }
+    /// Sets a `vec4` uniform.
+    pub fn set_vec4(&self, name: &str, v: glam::Vec4) {
+        // SAFETY: as above.
+        unsafe {
+            self.ctx
+                .uniform_4_f32(self.location(name).as_ref(), v.x, v.y, v.z, v.w)
+        }
+    }
+    /// Sets an `ivec2` uniform.
+    pub fn set_ivec2(&self, name: &str, x: i32, y: i32) {
+        // SAFETY: as above.
+        unsafe { self.ctx.uniform_2_i32(self.location(name).as_ref(), x, y) }
+    }
+    /// Sets a `mat4` uniform (column-major, as glam stores it).
+    pub fn set_mat4(&self, name: &str, m: &glam::Mat4) {
+        // SAFETY: as above.
+        unsafe {
+            self.ctx.uniform_matrix_4_f32_slice(
+                self.location(name).as_ref(),
+                false,
+                &m.to_cols_array(),
+            )
+        }
+    }
+}
+
+impl Drop for Program {
+    fn drop(&mut self) {
+        // SAFETY: the context outlives the program.
+        unsafe { self.ctx.delete_program(self.raw) }
+    }
+}

@@ -1,0 +1,233 @@
+//! The GLSL files under `glsl/`, embedded in the binary, and the `#include` resolver.
+//!
+//! Files carry no `#version` line: [`resolve`] prepends the version and the `#define`s, splices
+//! `#include "path"` (each file at most once, so includes act as guarded), and emits
+//! `#line N S` directives where `S` numbers the file; [`map_log`] turns the driver's `S:N` back
+//! into `glsl/path:N`.
+
+use std::collections::HashSet;
+
+use crate::error::{Error, Result};
+
+macro_rules! embed {
+    ($($path:literal),* $(,)?) => {
+        &[$(($path, include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/glsl/", $path)))),*]
+    };
+}
+
+/// Every GLSL file of the crate, by path relative to `glsl/`.
+pub static EMBEDDED: &[(&str, &str)] = embed![
+    "common/rng.glsl",
+    "common/state.glsl",
+    "common/fullscreen.vert",
+    "common/write_floor.frag",
+    "sim/fire_init.frag",
+    "sim/fire.frag",
+    "render/points.vert",
+    "render/points.frag",
+    "test/increment.frag",
+];
+
+/// Looks an embedded file up.
+pub fn embedded(path: &str) -> Option<&'static str> {
+    EMBEDDED.iter().find(|(p, _)| *p == path).map(|(_, s)| *s)
+}
+
+/// The GLSL version line every program starts with.
+pub const VERSION: &str = "#version 330 core";
+
+/// A shader's text after includes are spliced, with the file behind each source number.
+#[derive(Debug, Clone)]
+pub struct Resolved {
+    /// The complete source handed to the driver.
+    pub text: String,
+    /// `files[S]` is the path of source number `S` in `#line` directives.
+    pub files: Vec<String>,
+}
+
+/// Builds the full text of shader `root`: version, `defines`, then the file with its includes.
+pub fn resolve(
+    root: &str,
+    defines: &[(String, String)],
+    lookup: &dyn Fn(&str) -> Option<&'static str>,
+) -> Result<Resolved> {
+    let mut text = format!("{VERSION}\n");
+    for (k, v) in defines {
+        text.push_str(&format!("#define {k} {v}\n"));
+    }
+    let mut files = Vec::new();
+    let mut seen = HashSet::new();
+    splice(root, lookup, &mut text, &mut files, &mut seen)?;
+    Ok(Resolved { text, files })
+}
+
+fn splice(
+    path: &str,
+    lookup: &dyn Fn(&str) -> Option<&'static str>,
+    out: &mut String,
+    files: &mut Vec<String>,
+    seen: &mut HashSet<String>,
+) -> Result<()> {
+    let src = lookup(path).ok_or_else(|| Error::MissingSource(path.to_owned()))?;
+    seen.insert(path.to_owned());
+    let index = files.len();
+    files.push(path.to_owned());
+    out.push_str(&format!("#line 1 {index}\n"));
+    for (n, line) in src.lines().enumerate() {
+        match include_target(line) {
+            Some(Ok(inc)) => {
+                if !seen.contains(inc) {
+                    splice(inc, lookup, out, files, seen)?;
+                    // `#line N` numbers the line that follows it.
+                    out.push_str(&format!("#line {} {index}\n", n + 2));
+                } else {
+                    out.push('\n');
+                }
+            }
+            Some(Err(())) => {
+                return Err(Error::ShaderCompile {
+                    file: path.to_owned(),
+                    line: n as u32 + 1,
+                    log: format!("malformed #include (expected #include \"path\"): {line}"),
+                })
+            }
+            None => {
+                out.push_str(line);
+                out.push('\n');
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `Some(Ok(path))` for `#include "path"`, `Some(Err)` for a malformed include, `None` otherwise.
+fn include_target(line: &str) -> Option<Result<&str, ()>> {
+    let rest = line.trim_start().strip_prefix('#')?.trim_start();
+    let rest = rest.strip_prefix("include")?.trim();
+    let inner = rest.strip_prefix('"').and_then(|r| r.strip_suffix('"'));
+    Some(inner.filter(|s| !s.is_empty()).ok_or(()))
+}
+
+/// Finds a `S:N(` (Mesa) or `S(N)` (NVIDIA) location at the start of a log line.
+fn locate(line: &str) -> Option<(usize, u32, usize)> {
+    let digits = |s: &str| s.bytes().take_while(u8::is_ascii_digit).count();
+    let trimmed = line.trim_start();
+    let lead = line.len() - trimmed.len();
+    let ds = digits(trimmed);
+    if ds == 0 {
+        return None;
+    }
+    let source: usize = trimmed[..ds].parse().ok()?;
+    let rest = &trimmed[ds..];
+    let (sep, close) = if rest.starts_with(':') {
+        (':', None)
+    } else if rest.starts_with('(') {
+        ('(', Some(')'))
+    } else {
+        return None;
+    };
+    let after = &rest[sep.len_utf8()..];
+    let dl = digits(after);
+    if dl == 0 {
+        return None;
+    }
+    let line_no: u32 = after[..dl].parse().ok()?;
+    let mut end = lead + ds + 1 + dl;
+    if let Some(c) = close {
+        if !after[dl..].starts_with(c) {
+            return None;
+        }
+        end += 1;
+    }
+    Some((source, line_no, end))
+}
+
+/// Rewrites a driver log so that locations name `glsl/` files; returns the first location too.
+pub fn map_log(log: &str, files: &[String]) -> (String, Option<(String, u32)>) {
+    let mut first = None;
+    let mut out = String::new();
+    for line in log.lines() {
+        match locate(line).filter(|(s, _, _)| *s < files.len()) {
+            Some((s, n, end)) => {
+                if first.is_none() {
+                    first = Some((files[s].clone(), n));
+                }
+                out.push_str(&format!("glsl/{}:{}{}\n", files[s], n, &line[end..]));
+            }
+            None => {
+                out.push_str(line);
+                out.push('\n');
+            }
+        }
+    }
+    (out, first)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lookup(p: &str) -> Option<&'static str> {
+        match p {
+            "a.frag" => Some("line1\n#include \"b.glsl\"\nline3\n#include \"b.glsl\"\nline5\n"),
+            "b.glsl" => Some("b1\n#include \"c.glsl\"\nb3\n"),
+            "c.glsl" => Some("c1\n"),
+            "bad.frag" => Some("ok\n#include b.glsl\n"),
+            "cycle.glsl" => Some("#include \"cycle.glsl\"\nx\n"),
+            _ => None,
+        }
+    }
+
+    #[test]
+    fn includes_are_spliced_once_with_line_directives() {
+        let r = resolve("a.frag", &[("N".into(), "3".into())], &lookup).unwrap();
+        assert_eq!(r.files, ["a.frag", "b.glsl", "c.glsl"]);
+        let expected = "#version 330 core\n#define N 3\n#line 1 0\nline1\n#line 1 1\nb1\n\
+                        #line 1 2\nc1\n#line 3 1\nb3\n#line 3 0\nline3\n\nline5\n";
+        assert_eq!(r.text, expected);
+    }
+
+    #[test]
+    fn self_include_terminates() {
+        let r = resolve("cycle.glsl", &[], &lookup).unwrap();
+        assert_eq!(r.files, ["cycle.glsl"]);
+    }
+
+    #[test]
+    fn missing_and_malformed_includes_are_errors() {
+        assert!(matches!(
+            resolve("nope.frag", &[], &lookup),
+            Err(Error::MissingSource(p)) if p == "nope.frag"
+        ));
+        match resolve("bad.frag", &[], &lookup) {
+            Err(Error::ShaderCompile { file, line, .. }) => {
+                assert_eq!((file.as_str(), line), ("bad.frag", 2))
+            }
+            other => panic!("expected a compile error, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn driver_logs_are_mapped_to_files() {
+        let files = vec!["sim/fire.frag".to_string(), "common/rng.glsl".to_string()];
+        let mesa = "1:7(12): error: syntax error\n0:3(1): warning: x\n";
+        let (log, first) = map_log(mesa, &files);
+        assert_eq!(first, Some(("common/rng.glsl".into(), 7)));
+        assert!(
+            log.starts_with("glsl/common/rng.glsl:7(12): error"),
+            "{log}"
+        );
+        assert!(log.contains("glsl/sim/fire.frag:3(1): warning"));
+        let nvidia = "0(42) : error C0000: syntax error\n";
+        let (log, first) = map_log(nvidia, &files);
+        assert_eq!(first, Some(("sim/fire.frag".into(), 42)));
+        assert!(log.starts_with("glsl/sim/fire.frag:42 : error"), "{log}");
+    }
+
+    #[test]
+    fn every_embedded_file_resolves() {
+        for (path, _) in EMBEDDED {
+            resolve(path, &[], &embedded).unwrap();
+        }
+    }
+}

@@ -1,0 +1,351 @@
+//! The texflow command line: a thin layer over the library.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use texflow::bench::{bench_step, StepOptions, StepRecord};
+use texflow::gl::{list_devices, Context};
+use texflow::render::FrameWriter;
+use texflow::{scene, Engine, Error};
+
+#[derive(Parser)]
+#[command(
+    name = "texflow",
+    version,
+    about = "The 2004 GPU particle engines, headless on EGL"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// List the EGL devices with their renderer, GL version and limits.
+    Info {
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Simulate a scene and write PNG frames.
+    Render(RenderArgs),
+    /// Benchmarks (GPU timer queries, medians, floors measured in the same run).
+    #[command(subcommand)]
+    Bench(BenchCommand),
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    /// Scene to render (built-in: fire).
+    #[arg(default_value = scene::DEFAULT_SCENE)]
+    scene: String,
+    /// Number of frames to simulate.
+    #[arg(long, default_value_t = 60)]
+    frames: u64,
+    /// Output folder (created if missing).
+    #[arg(long, default_value = "frames")]
+    out: PathBuf,
+    /// State texture size WxH (one particle per texel), or N for NxN.
+    #[arg(long, value_parser = parse_size)]
+    particles: Option<[u32; 2]>,
+    /// Frame size WxH in pixels, or N for NxN.
+    #[arg(long, value_parser = parse_size)]
+    resolution: Option<[u32; 2]>,
+    /// Random seed (same seed, same device: same frames).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Simulation time step in seconds.
+    #[arg(long)]
+    dt: Option<f32>,
+    /// Simulation steps per frame.
+    #[arg(long)]
+    substeps: Option<u32>,
+    /// Write every K-th frame (frames keep their index in the name).
+    #[arg(long, default_value_t = 1)]
+    every: u64,
+    #[command(flatten)]
+    common: Common,
+}
+
+#[derive(Args)]
+struct Common {
+    /// EGL device index (see `texflow info`).
+    #[arg(long, default_value_t = 0)]
+    device: usize,
+    /// No progress bar.
+    #[arg(long, short)]
+    quiet: bool,
+}
+
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// GPU time of the simulation pass and the render pass per state size, with floors.
+    Step {
+        /// Scene to measure.
+        #[arg(long, default_value = scene::DEFAULT_SCENE)]
+        scene: String,
+        /// Square state sizes, comma-separated.
+        #[arg(long, value_delimiter = ',', default_value = "256,512,1024,2048")]
+        sizes: Vec<u32>,
+        /// Timed repetitions per size (the median is reported).
+        #[arg(long, default_value_t = 21)]
+        repeats: usize,
+        /// Frame size WxH of the render pass.
+        #[arg(long, value_parser = parse_size)]
+        resolution: Option<[u32; 2]>,
+        /// Print JSON (one record per size).
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        common: Common,
+    },
+}
+
+/// Parses `WxH` or `N`; both sides at least 1.
+fn parse_size(s: &str) -> Result<[u32; 2], String> {
+    let parse = |t: &str| {
+        t.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("`{s}` is not a size: use WxH, e.g. 512x512, or N for NxN"))
+    };
+    let size = match s.split_once(['x', 'X']) {
+        Some((w, h)) => [parse(w)?, parse(h)?],
+        None => {
+            let n = parse(s)?;
+            [n, n]
+        }
+    };
+    if size[0] == 0 || size[1] == 0 {
+        return Err(format!(
+            "size `{s}` is empty: both sides must be at least 1"
+        ));
+    }
+    Ok(size)
+}
+
+fn bad(msg: impl Into<String>) -> Error {
+    Error::InvalidInput(msg.into())
+}
+
+fn progress_bar(len: u64, quiet: bool, what: &str) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} ({elapsed}, eta {eta})")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    bar.set_message(what.to_owned());
+    bar
+}
+
+fn info(json: bool) -> texflow::Result<()> {
+    let devices = list_devices()?;
+    let mut rows = Vec::new();
+    for d in &devices {
+        let limits = Context::new(d.index).map(|c| c.limits().clone());
+        if !json {
+            println!(
+                "device {}: {} ({}){}",
+                d.index,
+                d.name.as_deref().unwrap_or(if d.software {
+                    "Mesa software device"
+                } else {
+                    "unnamed"
+                }),
+                d.vendor.as_deref().unwrap_or("unknown vendor"),
+                if d.software { ", software" } else { "" }
+            );
+            match &limits {
+                Ok(l) => {
+                    println!("  renderer              {}", l.renderer);
+                    println!("  GL version            {}", l.version);
+                    println!("  GLSL version          {}", l.glsl_version);
+                    println!("  max texture size      {}", l.max_texture_size);
+                    println!("  max 3D texture size   {}", l.max_3d_texture_size);
+                    println!("  max draw buffers      {}", l.max_draw_buffers);
+                    println!("  max colour attachments {}", l.max_color_attachments);
+                    println!(
+                        "  vertex texture units  {}",
+                        l.max_vertex_texture_image_units
+                    );
+                    println!(
+                        "  max viewport          {}x{}",
+                        l.max_viewport[0], l.max_viewport[1]
+                    );
+                    println!("  RGBA32F colour buffer {}", yes(l.float32_color_buffer));
+                    println!("  RGBA16F colour buffer {}", yes(l.float16_color_buffer));
+                    println!("  KHR_debug             {}", yes(l.khr_debug));
+                }
+                Err(e) => println!("  no usable context: {e}"),
+            }
+        }
+        rows.push(serde_json::json!({
+            "index": d.index,
+            "name": d.name,
+            "vendor": d.vendor,
+            "software": d.software,
+            "drm_node": d.drm_node,
+            "limits": limits.as_ref().ok(),
+            "error": limits.as_ref().err().map(|e| e.to_string()),
+        }));
+    }
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&rows).unwrap_or_default()
+        );
+    }
+    Ok(())
+}
+
+fn yes(b: bool) -> &'static str {
+    if b {
+        "yes"
+    } else {
+        "no"
+    }
+}
+
+fn render(a: RenderArgs) -> texflow::Result<()> {
+    // Everything that can be checked without a GPU is checked before anything is created.
+    let mut s = scene::builtin(&a.scene)?;
+    if a.frames == 0 {
+        return Err(bad("--frames 0 renders nothing: ask for at least 1 frame"));
+    }
+    if a.every == 0 {
+        return Err(bad("--every 0 is meaningless: use 1 to write every frame"));
+    }
+    if let Some(p) = a.particles {
+        s.particles = p;
+    }
+    if let Some(r) = a.resolution {
+        s.resolution = r;
+    }
+    if let Some(dt) = a.dt {
+        s.dt = dt;
+    }
+    if let Some(n) = a.substeps {
+        s.substeps = n;
+    }
+    s.validate()?;
+    FrameWriter::check(&a.out)?;
+    let ctx = Context::new(a.common.device)?;
+    let mut engine = Engine::new(&ctx, s, a.seed)?;
+    let writer = FrameWriter::create(&a.out)?;
+    let bar = progress_bar(a.frames, a.common.quiet, "rendering");
+    let mut written = 0;
+    for frame in 0..a.frames {
+        engine.advance_frame();
+        if frame % a.every == 0 {
+            writer.write(frame, &engine.render()?)?;
+            written += 1;
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    if !a.common.quiet {
+        eprintln!(
+            "wrote {written} frame(s) of {}x{} to {} ({} particles, {} steps of {} s)",
+            engine.scene().resolution[0],
+            engine.scene().resolution[1],
+            a.out.display(),
+            engine.scene().particle_count(),
+            engine.sim().steps(),
+            engine.scene().dt
+        );
+    }
+    Ok(())
+}
+
+fn bench(cmd: BenchCommand) -> texflow::Result<()> {
+    match cmd {
+        BenchCommand::Step {
+            scene: name,
+            sizes,
+            repeats,
+            resolution,
+            json,
+            common,
+        } => {
+            let mut s = scene::builtin(&name)?;
+            if let Some(r) = resolution {
+                s.resolution = r;
+            }
+            if sizes.is_empty() || sizes.contains(&0) {
+                return Err(bad("--sizes needs sizes of at least 1, e.g. 256,512"));
+            }
+            if repeats == 0 {
+                return Err(bad("--repeats must be at least 1"));
+            }
+            s.validate()?;
+            let ctx = Context::new(common.device)?;
+            for &n in &sizes {
+                texflow::gl::check_size(&ctx, "--sizes", n, n)?;
+            }
+            let bar = progress_bar(sizes.len() as u64, common.quiet, "bench step");
+            let opts = StepOptions {
+                repeats,
+                ..StepOptions::default()
+            };
+            let records = bench_step(&ctx, &s, &sizes, &opts, |_| bar.inc(1))?;
+            bar.finish_and_clear();
+            if json {
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&records).unwrap_or_default()
+                );
+            } else {
+                println!("device {}: {}", ctx.device_index(), ctx.limits().renderer);
+                print_step_table(&records);
+            }
+            Ok(())
+        }
+    }
+}
+
+fn print_step_table(records: &[StepRecord]) {
+    println!(
+        "| state | particles | sim ms | floor ms | sim/floor | Mparticles/s | render ms ({}) | render floor ms | render/floor |",
+        records
+            .first()
+            .map(|r| format!("{}x{}", r.resolution[0], r.resolution[1]))
+            .unwrap_or_default()
+    );
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for r in records {
+        println!(
+            "| {0}x{0} | {1} | {2:.3} | {3:.3} | {4:.2} | {5:.1} | {6:.3} | {7:.3} | {8:.2} |",
+            r.size,
+            r.particles,
+            r.sim_ms,
+            r.sim_floor_ms,
+            r.sim_ratio,
+            r.particles_per_s * 1e-6,
+            r.render_ms,
+            r.render_floor_ms,
+            r.render_ratio
+        );
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Info { json } => info(json),
+        Command::Render(a) => render(a),
+        Command::Bench(b) => bench(b),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(if e.is_bad_input() { 2 } else { 1 })
+        }
+    }
+}

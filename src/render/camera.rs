@@ -1,0 +1,76 @@
+//! An orbit camera built with glam.
+
+use glam::{Mat4, Vec3};
+
+/// A camera orbiting `target` at `distance`: `azimuth` around +y (0 looks from +z towards -z),
+/// `elevation` above the xz plane. Angles in degrees.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Camera {
+    /// The point looked at.
+    pub target: Vec3,
+    /// Distance from the target.
+    pub distance: f32,
+    /// Orbit angle around +y, degrees.
+    pub azimuth: f32,
+    /// Angle above the horizon, degrees.
+    pub elevation: f32,
+    /// Vertical field of view, degrees.
+    pub fov_y: f32,
+    /// Near clip distance.
+    pub near: f32,
+    /// Far clip distance.
+    pub far: f32,
+}
+
+impl Default for Camera {
+    fn default() -> Self {
+        Camera {
+            target: Vec3::ZERO,
+            distance: 4.0,
+            azimuth: 0.0,
+            elevation: 10.0,
+            fov_y: 45.0,
+            near: 0.05,
+            far: 100.0,
+        }
+    }
+}
+
+impl Camera {
+    /// The eye position.
+    pub fn eye(&self) -> Vec3 {
+        let (az, el) = (self.azimuth.to_radians(), self.elevation.to_radians());
+        self.target + self.distance * Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos())
+    }
+
+    /// View matrix (right-handed, +y up).
+    pub fn view(&self) -> Mat4 {
+        Mat4::look_at_rh(self.eye(), self.target, Vec3::Y)
+    }
+
+    /// Projection matrix for an image of `aspect` = width / height (GL clip space).
+    pub fn projection(&self, aspect: f32) -> Mat4 {
+        Mat4::perspective_rh_gl(self.fov_y.to_radians(), aspect, self.near, self.far)
+    }
+
+    /// Projection times view.
+    pub fn view_projection(&self, aspect: f32) -> Mat4 {
+        self.projection(aspect) * self.view()
+    }
+
+    /// The pixel (x right, y down, as in the PNG) where `p` lands in a `width`×`height` image, or
+    /// `None` if it is outside the view volume.
+    pub fn project_to_pixel(&self, p: Vec3, width: u32, height: u32) -> Option<(u32, u32)> {
+        let clip = self.view_projection(width as f32 / height as f32) * p.extend(1.0);
+        if clip.w <= 0.0 {
+            return None;
+        }
+        let ndc = clip.truncate() / clip.w;
+        if ndc.abs().max_element() > 1.0 {
+            return None;
+        }
+        let x = ((ndc.x * 0.5 + 0.5) * width as f32).floor() as u32;
+        let y_up = ((ndc.y * 0.5 + 0.5) * height as f32).floor() as u32;
+        Some((x.min(width - 1), height - 1 - y_up.min(height - 1)))
+    }
+}

@@ -1,0 +1,128 @@
+//! Writing frames as PNG files, atomically: a temporary file in the same folder, then a rename,
+//! so an interrupted run never leaves a truncated PNG behind.
+
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+
+/// Encodes `img` as PNG into `path` through a temporary file and a rename.
+pub fn write_png_atomic(path: &Path, img: &image::RgbImage) -> Result<()> {
+    let io = |source| Error::Io {
+        path: path.to_owned(),
+        source,
+    };
+    let mut bytes = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut bytes)
+        .write_image_rgb(img)
+        .map_err(|e| Error::Image {
+            path: path.to_owned(),
+            reason: e.to_string(),
+        })?;
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = path.with_file_name(format!(".{name}.tmp"));
+    let result = (|| {
+        let mut f = fs::File::create(&tmp)?;
+        f.write_all(&bytes)?;
+        f.sync_all()?;
+        fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = fs::remove_file(&tmp);
+    }
+    result.map_err(io)
+}
+
+trait WriteRgb {
+    fn write_image_rgb(self, img: &image::RgbImage) -> image::ImageResult<()>;
+}
+
+impl<W: Write> WriteRgb for image::codecs::png::PngEncoder<W> {
+    fn write_image_rgb(self, img: &image::RgbImage) -> image::ImageResult<()> {
+        use image::ImageEncoder;
+        self.write_image(
+            img.as_raw(),
+            img.width(),
+            img.height(),
+            image::ExtendedColorType::Rgb8,
+        )
+    }
+}
+
+/// A folder of numbered frames `frame_00000.png`, ...
+#[derive(Debug, Clone)]
+pub struct FrameWriter {
+    dir: PathBuf,
+}
+
+impl FrameWriter {
+    /// Checks, without creating anything, that `dir` can become a folder of frames: it is a
+    /// folder or does not exist yet, and its nearest existing ancestor is a writable folder.
+    pub fn check(dir: &Path) -> Result<()> {
+        let bad = |m: String| Err(Error::InvalidInput(m));
+        if dir.exists() && !dir.is_dir() {
+            return bad(format!(
+                "output path {} is a file, not a folder: pass a folder to --out",
+                dir.display()
+            ));
+        }
+        let mut probe = dir.to_path_buf();
+        while !probe.exists() {
+            match probe.parent() {
+                Some(p) if !p.as_os_str().is_empty() => probe = p.to_path_buf(),
+                _ => {
+                    probe = PathBuf::from(".");
+                    break;
+                }
+            }
+        }
+        if !probe.is_dir() {
+            return bad(format!(
+                "output folder {} cannot be created: {} is a file",
+                dir.display(),
+                probe.display()
+            ));
+        }
+        // Write permission is best checked by writing.
+        let test = probe.join(format!(".texflow-write-test-{}", std::process::id()));
+        match fs::File::create(&test) {
+            Ok(_) => {
+                let _ = fs::remove_file(&test);
+                Ok(())
+            }
+            Err(e) => bad(format!(
+                "output folder {} cannot be written ({}: {e}): choose another --out",
+                dir.display(),
+                probe.display()
+            )),
+        }
+    }
+
+    /// Creates the folder (and its parents) if needed.
+    pub fn create(dir: &Path) -> Result<Self> {
+        Self::check(dir)?;
+        fs::create_dir_all(dir).map_err(|source| Error::Io {
+            path: dir.to_owned(),
+            source,
+        })?;
+        Ok(FrameWriter {
+            dir: dir.to_owned(),
+        })
+    }
+
+    /// The path of frame `index`.
+    pub fn path(&self, index: u64) -> PathBuf {
+        self.dir.join(format!("frame_{index:05}.png"))
+    }
+
+    /// Writes frame `index` atomically and returns its path.
+    pub fn write(&self, index: u64, img: &image::RgbImage) -> Result<PathBuf> {
+        let path = self.path(index);
+        write_png_atomic(&path, img)?;
+        Ok(path)
+    }
+}

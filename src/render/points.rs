@@ -1,0 +1,78 @@
+//! The vertex-texture-fetch point renderer (thesis Listing 3): one vertex per particle, position
+//! fetched from the position texture in the vertex shader, additive blending.
+
+use glow::HasContext;
+
+use super::{Camera, FrameTarget};
+use crate::error::Result;
+use crate::gl::{Context, Defines, Program, Texture, VertexArray};
+
+/// How points look.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct PointStyle {
+    /// Point diameter in pixels.
+    pub point_size: f32,
+    /// Opacity of a newborn particle; additive, so many overlapping particles add up.
+    pub intensity: f32,
+    /// The fire cycle length, to derive each particle's age from its state (see fire.frag).
+    pub max_age: f32,
+}
+
+/// Draws particles as points straight from the state textures.
+#[derive(Debug)]
+pub struct PointRenderer {
+    ctx: Context,
+    program: Program,
+    vao: VertexArray,
+}
+
+impl PointRenderer {
+    /// Builds the program.
+    pub fn new(ctx: &Context) -> Result<Self> {
+        Ok(PointRenderer {
+            ctx: ctx.clone(),
+            program: Program::new(
+                ctx,
+                "render/points.vert",
+                "render/points.frag",
+                &Defines::new(),
+            )?,
+            vao: VertexArray::empty(ctx, "points")?,
+        })
+    }
+
+    /// Draws every particle of `positions`/`velocities` into `target` (not cleared first).
+    pub fn draw(
+        &self,
+        target: &FrameTarget,
+        positions: &Texture,
+        velocities: &Texture,
+        camera: &Camera,
+        style: &PointStyle,
+    ) {
+        let p = &self.program;
+        p.bind();
+        positions.bind(0);
+        velocities.bind(1);
+        p.set_i32("u_position", 0);
+        p.set_i32("u_velocity", 1);
+        p.set_i32("u_width", positions.width() as i32);
+        let aspect = target.width() as f32 / target.height() as f32;
+        p.set_mat4("u_view_proj", &camera.view_projection(aspect));
+        p.set_f32("u_point_size", style.point_size);
+        p.set_f32("u_intensity", style.intensity);
+        p.set_f32("u_max_age", style.max_age);
+        target.framebuffer().bind();
+        self.vao.bind();
+        // SAFETY: program, vertex array and a complete framebuffer are bound.
+        unsafe {
+            let gl = &self.ctx;
+            gl.enable(glow::PROGRAM_POINT_SIZE);
+            gl.enable(glow::BLEND);
+            // Additive colour; the destination alpha stays as cleared (opaque).
+            gl.blend_func_separate(glow::SRC_ALPHA, glow::ONE, glow::ZERO, glow::ONE);
+            gl.draw_arrays(glow::POINTS, 0, positions.texels() as i32);
+            gl.disable(glow::BLEND);
+        }
+    }
+}

@@ -1,0 +1,227 @@
+//! The fire of the GLSL thesis (§3-4, Listings 1-2): a position texture (xyz, remaining life) and
+//! a velocity texture (xyz, remaining wait), both written by one pass per step through MRT.
+
+use glam::Vec3;
+
+use crate::error::{Error, Result};
+use crate::gl::{
+    Context, Defines, FullscreenPass, PingPong, Program, Texture, TextureFormat, FULLSCREEN_VERTEX,
+};
+
+/// Parameters of the fire pass (see `glsl/sim/fire.frag`). Units: metres, seconds.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct FireParams {
+    /// Centre of the emitter disc (in the xz plane).
+    pub emitter_center: Vec3,
+    /// Radius of the emitter disc.
+    pub emitter_radius: f32,
+    /// Mean upward speed at birth (each particle gets 0.75 to 1.25 times it).
+    pub speed: f32,
+    /// Radius of the random sideways velocity at birth.
+    pub spread: f32,
+    /// Sideways velocity towards the axis per metre off the axis, which shapes the flame.
+    pub converge: f32,
+    /// Buoyancy: the thesis's negative gravity, an acceleration.
+    pub buoyancy: Vec3,
+    /// Amplitude of the random acceleration per step (turbulence).
+    pub turbulence: f32,
+    /// Linear damping rate (1/s).
+    pub damping: f32,
+    /// Shortest life.
+    pub life_min: f32,
+    /// Longest life.
+    pub life_max: f32,
+    /// Length of every particle's cycle (life plus wait); emission rate is N / max_age.
+    pub max_age: f32,
+}
+
+impl Default for FireParams {
+    fn default() -> Self {
+        FireParams {
+            emitter_center: Vec3::ZERO,
+            emitter_radius: 0.35,
+            speed: 0.5,
+            spread: 0.2,
+            converge: 0.9,
+            buoyancy: Vec3::new(0.0, 1.6, 0.0),
+            turbulence: 3.0,
+            damping: 0.8,
+            life_min: 0.5,
+            life_max: 1.3,
+            max_age: 1.5,
+        }
+    }
+}
+
+impl FireParams {
+    /// Rejects values the pass cannot give a meaning to.
+    pub fn validate(&self) -> Result<()> {
+        let finite = [
+            self.emitter_radius,
+            self.speed,
+            self.spread,
+            self.converge,
+            self.turbulence,
+            self.damping,
+            self.life_min,
+            self.life_max,
+            self.max_age,
+        ]
+        .iter()
+        .all(|v| v.is_finite())
+            && self.emitter_center.is_finite()
+            && self.buoyancy.is_finite();
+        let bad = |m: &str| Err(Error::InvalidInput(format!("fire parameters: {m}")));
+        if !finite {
+            return bad("every value must be finite");
+        }
+        if !(self.life_min > 0.0 && self.life_min <= self.life_max && self.life_max <= self.max_age)
+        {
+            return bad("lives must satisfy 0 < life_min <= life_max <= max_age");
+        }
+        if self.emitter_radius < 0.0 || self.damping < 0.0 || self.turbulence < 0.0 {
+            return bad("emitter_radius, damping and turbulence must not be negative");
+        }
+        Ok(())
+    }
+
+    /// The fraction of particles alive in the steady state: mean life over cycle length.
+    pub fn expected_live_fraction(&self) -> f64 {
+        0.5 * (self.life_min as f64 + self.life_max as f64) / self.max_age as f64
+    }
+}
+
+/// The fire simulation: its ping-pong state and its two programs.
+#[derive(Debug)]
+pub struct FireSim {
+    state: PingPong,
+    init: Program,
+    physics: Program,
+    pass: FullscreenPass,
+    params: FireParams,
+    seed: u32,
+    step: u64,
+}
+
+/// Index of the position texture in the state.
+pub const POSITION: usize = 0;
+/// Index of the velocity texture in the state.
+pub const VELOCITY: usize = 1;
+
+impl FireSim {
+    /// Makes a `width`×`height` state (one particle per texel) and draws the initial state.
+    pub fn new(
+        ctx: &Context,
+        width: u32,
+        height: u32,
+        params: FireParams,
+        seed: u32,
+    ) -> Result<Self> {
+        params.validate()?;
+        crate::gl::check_size(ctx, "particle texture", width, height)?;
+        let state = PingPong::new(
+            ctx,
+            "fire",
+            &["position", "velocity"],
+            &[TextureFormat::Rgba32F, TextureFormat::Rgba32F],
+            width,
+            height,
+        )?;
+        let none = Defines::new();
+        let mut sim = FireSim {
+            state,
+            init: Program::new(ctx, FULLSCREEN_VERTEX, "sim/fire_init.frag", &none)?,
+            physics: Program::new(ctx, FULLSCREEN_VERTEX, "sim/fire.frag", &none)?,
+            pass: FullscreenPass::new(ctx)?,
+            params,
+            seed,
+            step: 0,
+        };
+        sim.reset();
+        ctx.check_error("initialising the fire state")?;
+        Ok(sim)
+    }
+
+    /// Draws the initial state (all dead, waits spread over one cycle) and restarts the clock.
+    pub fn reset(&mut self) {
+        let p = &self.init;
+        p.bind();
+        p.set_u32("u_seed", self.seed);
+        p.set_i32("u_width", self.state.width() as i32);
+        p.set_f32("u_max_age", self.params.max_age);
+        self.pass.draw(p, self.state.back());
+        self.state.swap();
+        self.step = 0;
+    }
+
+    /// One physics pass of `dt` seconds: reads the front, writes the back, swaps.
+    pub fn step(&mut self, dt: f32) {
+        self.bind_step(dt);
+        self.pass.draw(&self.physics, self.state.back());
+        self.state.swap();
+        self.step += 1;
+    }
+
+    /// Binds the physics program and its inputs for the next step (used by `step` and by the
+    /// benchmark, which times the draw alone).
+    pub fn bind_step(&self, dt: f32) {
+        let p = &self.physics;
+        let q = &self.params;
+        p.bind();
+        let front = self.state.front();
+        front.texture(POSITION).bind(0);
+        front.texture(VELOCITY).bind(1);
+        p.set_i32("u_position", 0);
+        p.set_i32("u_velocity", 1);
+        p.set_i32("u_width", self.state.width() as i32);
+        p.set_f32("u_dt", dt);
+        p.set_u32("u_step", self.step as u32);
+        p.set_u32("u_seed", self.seed);
+        p.set_vec3("u_emitter_center", q.emitter_center);
+        p.set_f32("u_emitter_radius", q.emitter_radius);
+        p.set_f32("u_speed", q.speed);
+        p.set_f32("u_spread", q.spread);
+        p.set_f32("u_converge", q.converge);
+        p.set_vec3("u_buoyancy", q.buoyancy);
+        p.set_f32("u_turbulence", q.turbulence);
+        p.set_f32("u_damping", q.damping);
+        p.set_f32("u_life_min", q.life_min);
+        p.set_f32("u_life_max", q.life_max);
+        p.set_f32("u_max_age", q.max_age);
+    }
+
+    /// Draws the physics pass into the back buffer without swapping (benchmark use).
+    pub fn draw_step_only(&self) {
+        self.pass.draw(&self.physics, self.state.back());
+    }
+
+    /// The ping-pong state.
+    pub fn state(&self) -> &PingPong {
+        &self.state
+    }
+
+    /// The current positions (xyz, remaining life).
+    pub fn positions(&self) -> &Texture {
+        self.state.front().texture(POSITION)
+    }
+
+    /// The current velocities (xyz, remaining wait).
+    pub fn velocities(&self) -> &Texture {
+        self.state.front().texture(VELOCITY)
+    }
+
+    /// Number of particles (texels).
+    pub fn particle_count(&self) -> usize {
+        self.positions().texels()
+    }
+
+    /// Steps taken since the last reset.
+    pub fn steps(&self) -> u64 {
+        self.step
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &FireParams {
+        &self.params
+    }
+}

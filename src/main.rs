@@ -58,7 +58,7 @@ struct RenderArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Simulation time step in seconds.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     dt: Option<f32>,
     /// Simulation steps per frame.
     #[arg(long)]

@@ -18,6 +18,7 @@ vec3 fire_ramp(float a) {
 }
 
 void main() {
-    float fade = 1.0 - v_age;
+    // Fade in over the first tenth of the life (no hard edge at the emitter), then out.
+    float fade = smoothstep(0.0, 0.1, v_age) * pow(1.0 - v_age, 1.5);
     o_color = vec4(fire_ramp(v_age), u_intensity * fade);
 }

@@ -97,14 +97,12 @@ impl Program {
 
     fn location(&self, name: &str) -> Option<glow::UniformLocation> {
         if let Some(l) = self.locations.borrow().get(name) {
-            return l.clone();
+            return *l;
         }
         // SAFETY: the program is alive. An unused uniform (optimised away) gives None, which the
         // setters ignore as GL does for location -1.
         let l = unsafe { self.ctx.get_uniform_location(self.raw, name) };
-        self.locations
-            .borrow_mut()
-            .insert(name.to_owned(), l.clone());
+        self.locations.borrow_mut().insert(name.to_owned(), l);
         l
     }
 

@@ -54,15 +54,15 @@ pub fn fire() -> Scene {
         dt: 1.0 / 60.0,
         substeps: 1,
         camera: Camera {
-            target: Vec3::new(0.0, 0.9, 0.0),
-            distance: 3.2,
+            target: Vec3::new(0.0, 1.0, 0.0),
+            distance: 3.0,
             azimuth: 0.0,
             elevation: 12.0,
             ..Camera::default()
         },
         style: PointStyle {
             point_size: 2.0,
-            intensity: 0.12,
+            intensity: 0.15,
             max_age: fire.max_age,
         },
         fire,

@@ -39,16 +39,16 @@ impl Default for FireParams {
     fn default() -> Self {
         FireParams {
             emitter_center: Vec3::ZERO,
-            emitter_radius: 0.35,
-            speed: 0.5,
-            spread: 0.2,
-            converge: 0.9,
-            buoyancy: Vec3::new(0.0, 1.6, 0.0),
-            turbulence: 3.0,
-            damping: 0.8,
-            life_min: 0.5,
-            life_max: 1.3,
-            max_age: 1.5,
+            emitter_radius: 0.3,
+            speed: 0.8,
+            spread: 0.15,
+            converge: 1.1,
+            buoyancy: Vec3::new(0.0, 2.5, 0.0),
+            turbulence: 4.0,
+            damping: 0.7,
+            life_min: 0.6,
+            life_max: 1.4,
+            max_age: 1.6,
         }
     }
 }

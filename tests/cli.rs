@@ -1,0 +1,220 @@
+//! The command line through the built binary: frames written and decodable, and every bad input
+//! refused with exit code 2, its message, and nothing written.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn texflow(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_texflow"))
+        .args(args)
+        .output()
+        .expect("run texflow")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn pngs(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok())
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    names.sort();
+    names
+}
+
+#[test]
+fn render_writes_decodable_frames_of_the_requested_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("a/b");
+    let o = texflow(&[
+        "render",
+        "fire",
+        "--frames",
+        "5",
+        "--every",
+        "2",
+        "--particles",
+        "48x40",
+        "--resolution",
+        "80x60",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        pngs(&out),
+        ["frame_00000.png", "frame_00002.png", "frame_00004.png"]
+    );
+    for name in pngs(&out) {
+        let img = image::open(out.join(&name)).expect("decodable PNG");
+        assert_eq!((img.width(), img.height()), (80, 60), "{name}");
+    }
+    // --quiet prints nothing.
+    assert!(o.stderr.is_empty(), "{}", stderr(&o));
+}
+
+#[test]
+fn default_scene_is_fire_and_default_out_is_frames() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_texflow"))
+        .args([
+            "render",
+            "--frames",
+            "2",
+            "--particles",
+            "16",
+            "--resolution",
+            "32",
+        ])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        pngs(&dir.path().join("frames")),
+        ["frame_00000.png", "frame_00001.png"]
+    );
+    assert!(stderr(&o).contains("wrote 2 frame(s)"), "{}", stderr(&o));
+}
+
+/// Runs a bad command with `--out` pointing at a fresh folder: exit 2, the message, no folder.
+fn refused(args: &[&str], message: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let mut all = args.to_vec();
+    all.extend(["--out", out.to_str().unwrap(), "--quiet"]);
+    let o = texflow(&all);
+    assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+    assert!(
+        stderr(&o).contains(message),
+        "{args:?}: expected `{message}` in: {}",
+        stderr(&o)
+    );
+    assert!(!out.exists(), "{args:?} created the output folder");
+}
+
+#[test]
+fn bad_input_is_refused_with_exit_code_2() {
+    refused(
+        &["render", "smoke"],
+        "unknown scene `smoke`: the built-in scenes are fire",
+    );
+    refused(&["render", "--particles", "0x5"], "empty");
+    refused(&["render", "--particles", "abc"], "not a size");
+    refused(&["render", "--resolution", "12x"], "not a size");
+    refused(
+        &["render", "--particles", "100000x4"],
+        "GL_MAX_TEXTURE_SIZE",
+    );
+    refused(&["render", "--frames", "0"], "--frames 0");
+    refused(&["render", "--every", "0"], "--every 0");
+    refused(&["render", "--dt", "-0.01"], "time step");
+    refused(&["render", "--dt", "nan"], "time step");
+    refused(&["render", "--substeps", "0"], "substeps");
+    refused(
+        &["render", "--device", "99"],
+        "EGL device 99 does not exist",
+    );
+    refused(&["render", "--no-such-option"], "unexpected argument");
+}
+
+#[test]
+fn unwritable_output_paths_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("file");
+    std::fs::write(&file, b"x").unwrap();
+    for (out, message) in [
+        (file.clone(), "is a file"),
+        (file.join("sub"), "is a file"),
+        // Nobody, root included, can create files in /proc.
+        (
+            Path::new("/proc/texflow-frames").to_path_buf(),
+            "cannot be written",
+        ),
+    ] {
+        let o = texflow(&[
+            "render",
+            "--frames",
+            "1",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        assert!(stderr(&o).contains(message), "{}", stderr(&o));
+    }
+    assert_eq!(std::fs::read(&file).unwrap(), b"x");
+}
+
+#[test]
+fn info_lists_the_devices_and_their_limits() {
+    let o = texflow(&["info"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    for field in [
+        "device 0",
+        "renderer",
+        "max texture size",
+        "max draw buffers",
+        "vertex texture units",
+        "RGBA32F colour buffer",
+    ] {
+        assert!(text.contains(field), "missing {field} in:\n{text}");
+    }
+    let o = texflow(&["info", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    assert!(v[0]["limits"]["max_texture_size"].as_u64().unwrap() >= 1024);
+}
+
+#[test]
+fn no_egl_device_says_what_to_install() {
+    // glvnd with no vendor library behaves like a machine without an EGL driver.
+    let o = Command::new(env!("CARGO_BIN_EXE_texflow"))
+        .args(["info"])
+        .env(
+            "__EGL_VENDOR_LIBRARY_FILENAMES",
+            "/nonexistent/egl_vendor.json",
+        )
+        .env_remove("__EGL_VENDOR_LIBRARY_DIRS")
+        .output()
+        .unwrap();
+    assert_ne!(o.status.code(), Some(0));
+    assert!(
+        stderr(&o).contains("apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn bench_step_prints_json_records() {
+    let o = texflow(&[
+        "bench",
+        "step",
+        "--sizes",
+        "16,24",
+        "--repeats",
+        "3",
+        "--resolution",
+        "32",
+        "--json",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    let records = v.as_array().unwrap();
+    assert_eq!(records.len(), 2);
+    for (r, size) in records.iter().zip([16u64, 24]) {
+        assert_eq!(r["size"].as_u64(), Some(size));
+        assert_eq!(r["particles"].as_u64(), Some(size * size));
+        for f in ["sim_ms", "sim_floor_ms", "render_ms", "render_floor_ms"] {
+            assert!(r[f].as_f64().unwrap() >= 0.0, "{f}");
+        }
+    }
+}

@@ -1,7 +1,14 @@
-//! Benchmarks: GPU time of passes from `GL_TIME_ELAPSED` queries, medians over many runs after
-//! warm-up, each pass next to its floor measured in the same run (a write-only pass of the same
-//! size and formats: on a GPU whose fragment path is bound by the bytes it writes, no pass that
-//! writes those targets can be faster).
+//! Benchmarks: time of passes, medians over many runs after warm-up, each pass next to its floor
+//! measured in the same run (a write-only pass of the same size and formats: on a GPU whose
+//! fragment path is bound by the bytes it writes, no pass that writes those targets can be
+//! faster).
+//!
+//! Two clocks: on a hardware GPU, `GL_TIME_ELAPSED` timer queries; on Mesa's llvmpipe, wall time
+//! between two `glFinish` calls. llvmpipe bins draws and rasterizes them only when the scene is
+//! flushed (at the next framebuffer change, say), so its timer queries charge a pass's work to
+//! whatever query is open at the flush; the CPU is its GPU, so finished wall time is exact there.
+
+use std::time::Instant;
 
 use glam::Vec4;
 
@@ -53,6 +60,74 @@ pub fn median(v: &[f64]) -> f64 {
     }
 }
 
+/// How passes are timed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Clock {
+    /// `GL_TIME_ELAPSED` queries around the pass (hardware GPUs).
+    Gpu,
+    /// Wall time from one `glFinish` to another around the pass (software rasterizers).
+    Wall,
+}
+
+impl Clock {
+    /// The right clock for a context: wall time on software renderers, timer queries otherwise.
+    pub fn for_context(ctx: &Context) -> Clock {
+        let r = ctx.limits().renderer.to_ascii_lowercase();
+        if r.contains("llvmpipe") || r.contains("softpipe") || r.contains("swrast") {
+            Clock::Wall
+        } else {
+            Clock::Gpu
+        }
+    }
+
+    /// The clock's name in tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            Clock::Gpu => "GPU timer query",
+            Clock::Wall => "glFinish wall time",
+        }
+    }
+}
+
+/// Times GL work with one [`Clock`].
+#[derive(Debug)]
+pub struct PassTimer {
+    ctx: Context,
+    clock: Clock,
+    query: TimerQuery,
+}
+
+impl PassTimer {
+    /// A timer on `ctx` using `clock`.
+    pub fn new(ctx: &Context, clock: Clock) -> Result<Self> {
+        Ok(PassTimer {
+            ctx: ctx.clone(),
+            clock,
+            query: TimerQuery::new(ctx)?,
+        })
+    }
+
+    /// The clock in use.
+    pub fn clock(&self) -> Clock {
+        self.clock
+    }
+
+    /// Milliseconds the GL commands issued by `f` take.
+    pub fn time(&self, f: impl FnOnce()) -> Result<f64> {
+        match self.clock {
+            Clock::Gpu => Ok(self.query.time(f)?.1),
+            Clock::Wall => {
+                self.ctx.finish();
+                let t0 = Instant::now();
+                f();
+                self.ctx.finish();
+                Ok(t0.elapsed().as_secs_f64() * 1e3)
+            }
+        }
+    }
+}
+
 /// One row of `texflow bench step`.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct StepRecord {
@@ -80,6 +155,8 @@ pub struct StepRecord {
     pub resolution: [u32; 2],
     /// Timed repetitions behind each median.
     pub repeats: usize,
+    /// The clock the times come from.
+    pub clock: Clock,
 }
 
 /// Options of [`bench_step`].
@@ -89,6 +166,8 @@ pub struct StepOptions {
     pub repeats: usize,
     /// Simulation steps before timing, so that the state is in its steady state.
     pub warmup_steps: usize,
+    /// The clock; `None` picks [`Clock::for_context`].
+    pub clock: Option<Clock>,
 }
 
 impl Default for StepOptions {
@@ -96,6 +175,7 @@ impl Default for StepOptions {
         StepOptions {
             repeats: 21,
             warmup_steps: 120,
+            clock: None,
         }
     }
 }
@@ -110,6 +190,7 @@ pub fn bench_step(
 ) -> Result<Vec<StepRecord>> {
     let sim_floor = WriteFloor::new(ctx, 2)?;
     let render_floor = WriteFloor::new(ctx, 1)?;
+    let timer = PassTimer::new(ctx, opts.clock.unwrap_or_else(|| Clock::for_context(ctx)))?;
     let mut records = Vec::new();
     for &size in sizes {
         let mut s = scene.clone();
@@ -119,34 +200,17 @@ pub fn bench_step(
         for _ in 0..opts.warmup_steps {
             engine.advance_frame();
         }
-        // Queries are read only after all runs, so reading never stalls a timed region.
-        let queries = (0..4 * opts.repeats)
-            .map(|_| TimerQuery::new(ctx))
-            .collect::<Result<Vec<_>>>()?;
-        for q in queries.chunks_exact(4) {
+        let mut t = [vec![], vec![], vec![], vec![]];
+        for _ in 0..opts.repeats {
             let sim = engine.sim();
-            q[0].begin();
-            sim_floor.draw(sim.state().back());
-            q[0].end();
+            t[0].push(timer.time(|| sim_floor.draw(sim.state().back()))?);
             sim.bind_step(dt);
-            q[1].begin();
-            sim.draw_step_only();
-            q[1].end();
+            t[1].push(timer.time(|| sim.draw_step_only())?);
             // The timed pass wrote the back without swapping; advancing redoes it and swaps, so
             // the state keeps evolving between repetitions.
             engine.advance_frame();
-            q[2].begin();
-            render_floor.draw(engine.target().framebuffer());
-            q[2].end();
-            q[3].begin();
-            engine.draw();
-            q[3].end();
-        }
-        let mut t = [vec![], vec![], vec![], vec![]];
-        for q in queries.chunks_exact(4) {
-            for (i, qi) in q.iter().enumerate() {
-                t[i].push(qi.nanoseconds()? as f64 * 1e-6);
-            }
+            t[2].push(timer.time(|| render_floor.draw(engine.target().framebuffer()))?);
+            t[3].push(timer.time(|| engine.draw())?);
         }
         ctx.check_error("benchmark")?;
         let [floor, sim_ms, rfloor, render] = t.map(|v| median(&v));
@@ -164,6 +228,7 @@ pub fn bench_step(
             render_ratio: render / rfloor,
             resolution: scene.resolution,
             repeats: opts.repeats,
+            clock: timer.clock(),
         });
         progress(size);
     }

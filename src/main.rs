@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use texflow::bench::{bench_step, StepOptions, StepRecord};
+use texflow::bench::{bench_step, Clock, StepOptions, StepRecord};
 use texflow::gl::{list_devices, Context};
 use texflow::render::FrameWriter;
 use texflow::{scene, Engine, Error};
@@ -96,12 +96,32 @@ enum BenchCommand {
         /// Frame size WxH of the render pass.
         #[arg(long, value_parser = parse_size)]
         resolution: Option<[u32; 2]>,
+        /// How to time passes: auto (wall time on llvmpipe, timer queries on a GPU), gpu, wall.
+        #[arg(long, value_enum, default_value_t = ClockArg::Auto)]
+        clock: ClockArg,
         /// Print JSON (one record per size).
         #[arg(long)]
         json: bool,
         #[command(flatten)]
         common: Common,
     },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum ClockArg {
+    Auto,
+    Gpu,
+    Wall,
+}
+
+impl ClockArg {
+    fn clock(self) -> Option<Clock> {
+        match self {
+            ClockArg::Auto => None,
+            ClockArg::Gpu => Some(Clock::Gpu),
+            ClockArg::Wall => Some(Clock::Wall),
+        }
+    }
 }
 
 /// Parses `WxH` or `N`; both sides at least 1.
@@ -270,6 +290,7 @@ fn bench(cmd: BenchCommand) -> texflow::Result<()> {
             sizes,
             repeats,
             resolution,
+            clock,
             json,
             common,
         } => {
@@ -291,6 +312,7 @@ fn bench(cmd: BenchCommand) -> texflow::Result<()> {
             let bar = progress_bar(sizes.len() as u64, common.quiet, "bench step");
             let opts = StepOptions {
                 repeats,
+                clock: clock.clock(),
                 ..StepOptions::default()
             };
             let records = bench_step(&ctx, &s, &sizes, &opts, |_| bar.inc(1))?;
@@ -301,7 +323,12 @@ fn bench(cmd: BenchCommand) -> texflow::Result<()> {
                     serde_json::to_string_pretty(&records).unwrap_or_default()
                 );
             } else {
-                println!("device {}: {}", ctx.device_index(), ctx.limits().renderer);
+                println!(
+                    "device {}: {}; {}; medians of {repeats}",
+                    ctx.device_index(),
+                    ctx.limits().renderer,
+                    records.first().map(|r| r.clock.name()).unwrap_or_default()
+                );
                 print_step_table(&records);
             }
             Ok(())

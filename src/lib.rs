@@ -30,6 +30,7 @@ pub mod gl;
 pub mod render;
 pub mod scene;
 pub mod sim;
+pub mod sort;
 
 pub use engine::Engine;
 pub use error::{Error, Result};

@@ -1,0 +1,6 @@
+//! GPU sorting as the papers do it: UberFlow's row-wise bitonic sort (FP, GP/FP, GP/FP packed),
+//! Latta's odd-even merge sort, and a multistep variant of our own; sort keys, identifiers under
+//! emulated 24-bit floats, and the rearrangement of particle state in sorted order.
+
+pub mod network;
+pub mod precision;

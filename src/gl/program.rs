@@ -150,6 +150,14 @@ impl Program {
         // SAFETY: as above.
         unsafe { self.ctx.uniform_2_i32(self.location(name).as_ref(), x, y) }
     }
+    /// Sets an `ivec3` uniform.
+    pub fn set_ivec3(&self, name: &str, x: i32, y: i32, z: i32) {
+        // SAFETY: as above.
+        unsafe {
+            self.ctx
+                .uniform_3_i32(self.location(name).as_ref(), x, y, z)
+        }
+    }
     /// Sets a `mat4` uniform (column-major, as glam stores it).
     pub fn set_mat4(&self, name: &str, m: &glam::Mat4) {
         // SAFETY: as above.

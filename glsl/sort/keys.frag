@@ -1,0 +1,59 @@
+// Sort keys and identifiers (UberFlow §4.3.1): one pass writes for every particle its key and a
+// unique identifier into R and G (PACKED: two consecutive entries per RGBA texel, §4.3.3).
+// Keys: the signed distance to the viewer (u_direction = +1 front to back, -1 back to front), or
+// with KEY_GRID the index of the particle's cell in a lattice of mesh size u_grid_spacing, cells
+// enumerated in z, y, x order. Dead particles (u_cull_dead and life <= 0) get +inf; entries past
+// the particle count are padding with a NaN key, which sorts after everything (ids break ties,
+// so padding lands after every real particle, NaN keys included).
+// Identifiers are the particle index, or with ID_TABLE the paper's 24-bit-safe enumeration
+// looked up from a texture.
+
+#include "common/precision.glsl"
+
+uniform sampler2D u_position;
+uniform int u_state_width;
+uniform int u_count;
+uniform int u_sort_width;
+uniform bool u_cull_dead;
+uniform vec3 u_eye;
+uniform float u_direction;
+uniform vec3 u_grid_origin;
+uniform float u_grid_spacing;
+uniform ivec3 u_grid_dims;
+#ifdef ID_TABLE
+uniform sampler2D u_id_table;
+uniform int u_id_table_width;
+#endif
+
+layout(location = 0) out vec4 o_entry;
+
+float identifier(int i) {
+#ifdef ID_TABLE
+    return texelFetch(u_id_table, ivec2(i % u_id_table_width, i / u_id_table_width), 0).r;
+#else
+    return float(i);
+#endif
+}
+
+vec2 entry(int i) {
+    float id = identifier(i);
+    if (i >= u_count) return vec2(uintBitsToFloat(0x7fc00000u), id);
+    vec4 p = texelFetch(u_position, ivec2(i % u_state_width, i / u_state_width), 0);
+    if (u_cull_dead && !(p.w > 0.0)) return vec2(uintBitsToFloat(0x7f800000u), id);
+#ifdef KEY_GRID
+    ivec3 c = clamp(ivec3(floor((p.xyz - u_grid_origin) / u_grid_spacing)), ivec3(0), u_grid_dims - 1);
+    return vec2(float((c.z * u_grid_dims.y + c.y) * u_grid_dims.x + c.x), id);
+#else
+    return vec2(u_direction * distance(p.xyz, u_eye), id);
+#endif
+}
+
+void main() {
+    ivec2 t = ivec2(gl_FragCoord.xy);
+#ifdef PACKED
+    int i = t.y * u_sort_width + 2 * t.x;
+    o_entry = fp_store(vec4(entry(i), entry(i + 1)));
+#else
+    o_entry = fp_store(vec4(entry(t.y * u_sort_width + t.x), 0.0, 0.0));
+#endif
+}

@@ -1,0 +1,718 @@
+//! The GPU sorter: every pass a draw into ping-pong framebuffers.
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+
+use glam::{UVec3, Vec3};
+use glow::HasContext;
+
+use super::network::{bitonic_schedule, group_steps, odd_even_schedule, Entry, Step};
+use super::precision::{id_table, FloatFormat};
+use crate::error::{Error, Result};
+use crate::gl::{
+    Attribute, Buffer, Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Texture,
+    TextureDesc, TextureFormat, VertexArray, FULLSCREEN_VERTEX,
+};
+
+/// The sort implementations.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Variant {
+    /// UberFlow's FP: everything derived in the fragment program.
+    Fp,
+    /// UberFlow's GP/FP: offsets' signs and comparisons from the geometry.
+    GpFp,
+    /// UberFlow's GP/FP packed: two entries per RGBA texel.
+    Packed,
+    /// Latta's odd-even merge sort.
+    OddEven,
+    /// Ours: several bitonic steps per pass.
+    Multistep,
+}
+
+impl Variant {
+    /// Every variant, in table order.
+    pub const ALL: [Variant; 5] = [
+        Variant::Fp,
+        Variant::GpFp,
+        Variant::Packed,
+        Variant::OddEven,
+        Variant::Multistep,
+    ];
+
+    /// The CLI name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Variant::Fp => "fp",
+            Variant::GpFp => "gpfp",
+            Variant::Packed => "packed",
+            Variant::OddEven => "oddeven",
+            Variant::Multistep => "multistep",
+        }
+    }
+
+    /// Parses a CLI name.
+    pub fn from_name(s: &str) -> Result<Variant> {
+        Variant::ALL
+            .into_iter()
+            .find(|v| v.name() == s)
+            .ok_or_else(|| {
+                Error::InvalidInput(format!(
+                    "unknown sort variant `{s}`: use one of {}",
+                    Variant::ALL.map(Variant::name).join(", ")
+                ))
+            })
+    }
+
+    /// Whether entries are packed two per texel.
+    pub fn packed(self) -> bool {
+        self == Variant::Packed
+    }
+}
+
+/// What the key pass computes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum KeyMode {
+    /// Distance to the eye; ascending (front to back) or negated (back to front).
+    ViewerDistance {
+        /// The eye position.
+        eye: Vec3,
+        /// Sort the farthest first (for alpha blending).
+        back_to_front: bool,
+    },
+    /// Index of the cell of a lattice, enumerated z, y, x (UberFlow §4.3).
+    GridCell {
+        /// Corner of cell (0, 0, 0).
+        origin: Vec3,
+        /// Mesh size g0.
+        spacing: f32,
+        /// Cells per axis.
+        dims: UVec3,
+    },
+}
+
+/// Options of a [`Sorter`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SortOptions {
+    /// `None`: sort the whole texture; `Some(k)`: sort within each set of k consecutive rows
+    /// (k a power of two; 1 = rows only, UberFlow §4.4).
+    pub rows: Option<u32>,
+    /// Emulate a narrower float format in what the sort passes write (UberFlow §4.3.1).
+    pub precision: Option<FloatFormat>,
+    /// With `precision`, identifiers from the paper's enumeration instead of plain indices.
+    pub id_table: bool,
+    /// Bitonic steps per pass of the multistep variant (1 to 3).
+    pub steps_per_pass: usize,
+}
+
+impl Default for SortOptions {
+    fn default() -> Self {
+        SortOptions {
+            rows: None,
+            precision: None,
+            id_table: false,
+            steps_per_pass: 3,
+        }
+    }
+}
+
+/// One pass of the sorter.
+#[derive(Debug)]
+enum Pass {
+    Fragment(Step),
+    Geometry {
+        geometry: usize,
+        offset: (i32, i32),
+        program: GpProgram,
+    },
+    Group(Vec<Step>),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum GpProgram {
+    Plain,
+    Mirror,
+    SameTexel,
+}
+
+#[derive(Debug)]
+struct Geometry {
+    vao: VertexArray,
+    _buffer: Buffer,
+    vertices: i32,
+}
+
+/// Sorts (key, id) entries in a texture with one of the [`Variant`]s.
+#[derive(Debug)]
+pub struct Sorter {
+    ctx: Context,
+    variant: Variant,
+    width: u32,
+    height: u32,
+    options: SortOptions,
+    state: PingPong,
+    passes: Vec<Pass>,
+    next: usize,
+    programs: HashMap<String, Program>,
+    geometry: Vec<Geometry>,
+    fullscreen: FullscreenPass,
+    id_table: Option<Texture>,
+    rearrange: RefCell<HashMap<usize, Program>>,
+}
+
+impl Sorter {
+    /// A sorter of `width`×`height` entries (powers of two; width ≥ 2 for the packed variant).
+    pub fn new(
+        ctx: &Context,
+        variant: Variant,
+        width: u32,
+        height: u32,
+        options: SortOptions,
+    ) -> Result<Self> {
+        let bad = |m: String| Err(Error::InvalidInput(m));
+        if !width.is_power_of_two() || !height.is_power_of_two() {
+            return bad(format!(
+                "sort texture {width}x{height}: both sides must be powers of two"
+            ));
+        }
+        if variant.packed() && width < 2 {
+            return bad("the packed variant needs rows of at least 2 entries".into());
+        }
+        let block = match options.rows {
+            None => width * height,
+            Some(k) if k.is_power_of_two() && k <= height => width * k,
+            Some(k) => {
+                return bad(format!(
+                    "rows-only sort over {k} rows: use a power of two up to the height {height}"
+                ))
+            }
+        };
+        if options.id_table && options.precision.is_none() {
+            return bad("the identifier table is for emulated precision only".into());
+        }
+        if !(1..=3).contains(&options.steps_per_pass) {
+            return bad("steps per pass must be 1, 2 or 3".into());
+        }
+        let (tw, format) = if variant.packed() {
+            (width / 2, TextureFormat::Rgba32F)
+        } else {
+            (width, TextureFormat::Rg32F)
+        };
+        crate::gl::check_size(ctx, "sort texture", tw, height)?;
+        let state = PingPong::new(ctx, "sort", &["keys"], &[format], tw, height)?;
+        let mut sorter = Sorter {
+            ctx: ctx.clone(),
+            variant,
+            width,
+            height,
+            options,
+            state,
+            passes: Vec::new(),
+            next: 0,
+            programs: HashMap::new(),
+            geometry: Vec::new(),
+            fullscreen: FullscreenPass::new(ctx)?,
+            id_table: None,
+            rearrange: RefCell::new(HashMap::new()),
+        };
+        sorter.build(block)?;
+        if options.id_table {
+            let f = options.precision.unwrap_or(super::precision::R300);
+            let values = id_table((width * height) as usize, &f);
+            let tex = Texture::new(
+                ctx,
+                TextureDesc {
+                    width,
+                    height,
+                    format: TextureFormat::R32F,
+                    label: "id table",
+                },
+            )?;
+            tex.upload_f32(&values)?;
+            sorter.id_table = Some(tex);
+        }
+        ctx.check_error("building the sorter")?;
+        Ok(sorter)
+    }
+
+    fn defines(&self) -> Defines {
+        let mut d = Defines::new();
+        if let Some(f) = self.options.precision {
+            d.extend(f.defines());
+        }
+        d
+    }
+
+    fn program(
+        &mut self,
+        name: &str,
+        vertex: &str,
+        fragment: &str,
+        extra: &[(&str, &str)],
+    ) -> Result<()> {
+        if self.programs.contains_key(name) {
+            return Ok(());
+        }
+        let mut d = self.defines();
+        d.extend(extra.iter().map(|(k, v)| (k.to_string(), v.to_string())));
+        let p = Program::new(&self.ctx, vertex, fragment, &d)?;
+        self.programs.insert(name.to_owned(), p);
+        Ok(())
+    }
+
+    fn build(&mut self, block: u32) -> Result<()> {
+        let w = self.width;
+        match self.variant {
+            Variant::Fp => {
+                self.program("fp", FULLSCREEN_VERTEX, "sort/bitonic_fp.frag", &[])?;
+                self.passes = bitonic_schedule(w, block)
+                    .into_iter()
+                    .map(Pass::Fragment)
+                    .collect();
+            }
+            Variant::OddEven => {
+                self.program(
+                    "recursion",
+                    FULLSCREEN_VERTEX,
+                    "sort/oddeven_recursion.frag",
+                    &[],
+                )?;
+                self.program("end", FULLSCREEN_VERTEX, "sort/oddeven_end.frag", &[])?;
+                self.passes = odd_even_schedule(block)
+                    .into_iter()
+                    .map(Pass::Fragment)
+                    .collect();
+            }
+            Variant::Multistep => {
+                let groups = group_steps(&bitonic_schedule(w, block), self.options.steps_per_pass);
+                for n in 1..=self.options.steps_per_pass {
+                    let s = n.to_string();
+                    self.program(
+                        &format!("multi{n}"),
+                        FULLSCREEN_VERTEX,
+                        "sort/multistep.frag",
+                        &[("STEPS", &s)],
+                    )?;
+                }
+                self.passes = groups.into_iter().map(Pass::Group).collect();
+            }
+            Variant::GpFp | Variant::Packed => {
+                let frag = if self.variant.packed() {
+                    "sort/bitonic_packed.frag"
+                } else {
+                    "sort/bitonic_gpfp.frag"
+                };
+                self.program("gp", "sort/gpfp.vert", frag, &[])?;
+                self.program("gp_mirror", "sort/gpfp.vert", frag, &[("MIRROR", "1")])?;
+                if self.variant.packed() {
+                    self.program("gp_same", "sort/gpfp.vert", frag, &[("SAME_TEXEL", "1")])?;
+                }
+                let mut shapes: HashMap<(u8, u32, u32), usize> = HashMap::new();
+                let mut passes = Vec::new();
+                for step in bitonic_schedule(w, block) {
+                    let (key, quads, offset, program) = self.quads(&step);
+                    let geometry = match shapes.get(&key) {
+                        Some(&g) => g,
+                        None => {
+                            let g = self.upload_geometry(&quads)?;
+                            shapes.insert(key, g);
+                            g
+                        }
+                    };
+                    passes.push(Pass::Geometry {
+                        geometry,
+                        offset,
+                        program,
+                    });
+                }
+                self.passes = passes;
+            }
+        }
+        Ok(())
+    }
+
+    /// The quads of a GP/FP pass in texels of the sort texture: (shape key, vertex data, offset,
+    /// program). Vertex: position (2 floats), attributes (sign, comparison, partner u, v).
+    fn quads(&self, step: &Step) -> ((u8, u32, u32), Vec<f32>, (i32, i32), GpProgram) {
+        let Step::Bitonic {
+            block,
+            dist,
+            mirror,
+        } = *step
+        else {
+            unreachable!("GP/FP passes are bitonic");
+        };
+        let (w, h) = (self.width, self.height);
+        let packed = self.variant.packed();
+        let tw = if packed { w / 2 } else { w };
+        let mut v = Vec::new();
+        let mut quad = |x0: u32, y0: u32, x1: u32, y1: u32, attr: &dyn Fn(u32, u32) -> [f32; 4]| {
+            for (x, y) in [(x0, y0), (x1, y0), (x1, y1), (x0, y0), (x1, y1), (x0, y1)] {
+                v.extend_from_slice(&[x as f32, y as f32]);
+                v.extend_from_slice(&attr(x, y));
+            }
+        };
+        if mirror {
+            // Merge stage opening: rows [y0, y0 + r) of a block meet rows mirrored in the block,
+            // columns mirrored in the row; the lower half keeps the smaller entries.
+            let r = block / w;
+            for y0 in (0..h).step_by(r as usize) {
+                for (lo, hi, cmp) in [(y0, y0 + r / 2, 1.0), (y0 + r / 2, y0 + r, -1.0)] {
+                    quad(0, lo, tw, hi, &|x, y| {
+                        [1.0, cmp, (tw - x) as f32, (2 * y0 + r - y) as f32]
+                    });
+                }
+            }
+            return ((0, block, 0), v, (0, 0), GpProgram::Mirror);
+        }
+        let asc_all = block > w;
+        if dist >= w {
+            // Merge passes between rows: transposed quads over groups of rows.
+            let r = dist / w;
+            for y0 in (0..h).step_by(r as usize) {
+                let sign = if y0 & r == 0 { 1.0 } else { -1.0 };
+                quad(0, y0, tw, y0 + r, &|_, _| [sign, sign, 0.0, 0.0]);
+            }
+            return ((1, dist, 0), v, (0, r as i32), GpProgram::Plain);
+        }
+        let stage = if asc_all { 0 } else { block };
+        if packed && dist == 1 {
+            // Both entries in one texel; the direction is constant over block / 2 texels.
+            let run = (block / 2).max(1);
+            if asc_all {
+                quad(0, 0, tw, h, &|_, _| [1.0, 1.0, 0.0, 0.0]);
+            } else {
+                for x0 in (0..tw).step_by(run as usize) {
+                    let cmp = if (2 * x0) & block == 0 { 1.0 } else { -1.0 };
+                    quad(x0, 0, x0 + run, h, &|_, _| [1.0, cmp, 0.0, 0.0]);
+                }
+            }
+            return ((2, 1, stage), v, (0, 0), GpProgram::SameTexel);
+        }
+        // Row passes: column groups of `dist` entries (dist / 2 texels when packed).
+        let group = if packed { dist / 2 } else { dist };
+        for x0 in (0..tw).step_by(group as usize) {
+            let first = if packed { 2 * x0 } else { x0 };
+            let sign = if first & dist == 0 { 1.0 } else { -1.0 };
+            let asc = asc_all || first & block == 0;
+            let cmp = if (sign > 0.0) == asc { 1.0 } else { -1.0 };
+            quad(x0, 0, x0 + group, h, &|_, _| [sign, cmp, 0.0, 0.0]);
+        }
+        ((3, dist, stage), v, (group as i32, 0), GpProgram::Plain)
+    }
+
+    fn upload_geometry(&mut self, vertices: &[f32]) -> Result<usize> {
+        let buffer = Buffer::with_data(
+            &self.ctx,
+            "sort quads",
+            glow::ARRAY_BUFFER,
+            bytemuck::cast_slice(vertices),
+            glow::STATIC_DRAW,
+        )?;
+        let stride = 6 * 4;
+        let vao = VertexArray::with_attributes(
+            &self.ctx,
+            "sort quads",
+            &[
+                Attribute {
+                    buffer: &buffer,
+                    location: 0,
+                    components: 2,
+                    stride,
+                    offset: 0,
+                },
+                Attribute {
+                    buffer: &buffer,
+                    location: 1,
+                    components: 4,
+                    stride,
+                    offset: 8,
+                },
+            ],
+        )?;
+        self.geometry.push(Geometry {
+            vao,
+            _buffer: buffer,
+            vertices: (vertices.len() / 6) as i32,
+        });
+        Ok(self.geometry.len() - 1)
+    }
+
+    /// The variant.
+    pub fn variant(&self) -> Variant {
+        self.variant
+    }
+    /// Entries per row.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+    /// Rows.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+    /// Number of entries.
+    pub fn len(&self) -> usize {
+        (self.width * self.height) as usize
+    }
+    /// Whether the sorter holds no entries (never: sizes are at least 1×1).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// The passes of one full sort (the key pass and the rearrangement not counted).
+    pub fn pass_count(&self) -> usize {
+        self.passes.len()
+    }
+    /// Passes already run in the current sequence (see [`Sorter::run_passes`]).
+    pub fn passes_done(&self) -> usize {
+        self.next
+    }
+    /// The texture holding the entries now (RG32F, or RGBA32F packed).
+    pub fn keys(&self) -> &Texture {
+        self.state.front().texture(0)
+    }
+    /// The framebuffer the next pass writes (for floors in benchmarks).
+    pub fn target(&self) -> &Framebuffer {
+        self.state.back()
+    }
+    /// The options.
+    pub fn options(&self) -> &SortOptions {
+        &self.options
+    }
+
+    /// Uploads entries (row-major, `len()` of them) and restarts the pass sequence. For the CLI and
+    /// tests; in the pipeline the key pass writes the entries.
+    pub fn load(&mut self, entries: &[Entry]) -> Result<()> {
+        if entries.len() != self.len() {
+            return Err(Error::InvalidInput(format!(
+                "{} entries for a {}x{} sorter",
+                entries.len(),
+                self.width,
+                self.height
+            )));
+        }
+        let flat: Vec<f32> = if self.variant.packed() {
+            entries.iter().flatten().copied().collect()
+        } else {
+            entries.iter().flat_map(|e| [e[0], e[1]]).collect()
+        };
+        self.state.front().texture(0).upload_f32(&flat)?;
+        self.next = 0;
+        Ok(())
+    }
+
+    /// Reads the entries back, unpacked, row-major.
+    pub fn read(&self) -> Result<Vec<Entry>> {
+        // RG32F texels are entries; packed RGBA32F texels are two consecutive entries.
+        let raw = self.keys().read_f32()?;
+        Ok(raw.chunks_exact(2).map(|c| [c[0], c[1]]).collect())
+    }
+
+    /// The key pass: computes keys and identifiers of the particles in `positions` (xyz, life)
+    /// into the sort texture and restarts the pass sequence. `count` particles, row-major in the
+    /// position texture; the rest of the sort texture is padding.
+    pub fn write_keys(
+        &mut self,
+        positions: &Texture,
+        count: usize,
+        mode: &KeyMode,
+        cull_dead: bool,
+    ) -> Result<()> {
+        if count > self.len() || count > positions.texels() {
+            return Err(Error::InvalidInput(format!(
+                "{count} particles do not fit a {}x{} sort texture",
+                self.width, self.height
+            )));
+        }
+        let grid = matches!(mode, KeyMode::GridCell { .. });
+        let name = format!("keys{}", grid as u8);
+        let mut extra: Vec<(&str, &str)> = Vec::new();
+        if grid {
+            extra.push(("KEY_GRID", "1"));
+        }
+        if self.variant.packed() {
+            extra.push(("PACKED", "1"));
+        }
+        if self.id_table.is_some() {
+            extra.push(("ID_TABLE", "1"));
+        }
+        self.program(&name, FULLSCREEN_VERTEX, "sort/keys.frag", &extra)?;
+        let p = &self.programs[&name];
+        p.bind();
+        positions.bind(0);
+        p.set_i32("u_position", 0);
+        p.set_i32("u_state_width", positions.width() as i32);
+        p.set_i32("u_count", count as i32);
+        p.set_i32("u_sort_width", self.width as i32);
+        p.set_i32("u_cull_dead", cull_dead as i32);
+        match *mode {
+            KeyMode::ViewerDistance { eye, back_to_front } => {
+                p.set_vec3("u_eye", eye);
+                p.set_f32("u_direction", if back_to_front { -1.0 } else { 1.0 });
+            }
+            KeyMode::GridCell {
+                origin,
+                spacing,
+                dims,
+            } => {
+                p.set_vec3("u_grid_origin", origin);
+                p.set_f32("u_grid_spacing", spacing);
+                p.set_ivec3("u_grid_dims", dims.x as i32, dims.y as i32, dims.z as i32);
+            }
+        }
+        if let Some(t) = &self.id_table {
+            t.bind(1);
+            p.set_i32("u_id_table", 1);
+            p.set_i32("u_id_table_width", t.width() as i32);
+        }
+        self.fullscreen.draw(p, self.state.back());
+        self.state.swap();
+        self.next = 0;
+        Ok(())
+    }
+
+    /// Runs every remaining pass of the sequence.
+    pub fn sort(&mut self) {
+        self.run_passes(self.passes.len());
+    }
+
+    /// Runs up to `n` further passes (Latta: a full sort spread over frames); returns how many
+    /// ran. After the last pass the sequence starts again from the first.
+    pub fn run_passes(&mut self, n: usize) -> usize {
+        let mut done = 0;
+        while done < n && self.next < self.passes.len() {
+            self.run_pass(self.next);
+            self.next += 1;
+            done += 1;
+        }
+        if self.next == self.passes.len() && done < n {
+            self.next = 0;
+        }
+        done
+    }
+
+    /// Starts the pass sequence again without touching the entries.
+    pub fn restart(&mut self) {
+        self.next = 0;
+    }
+
+    fn run_pass(&mut self, index: usize) {
+        let w = self.width as i32;
+        let front = self.state.front().texture(0);
+        front.bind(0);
+        match &self.passes[index] {
+            Pass::Fragment(step) => {
+                let p = match step {
+                    Step::Bitonic {
+                        block,
+                        dist,
+                        mirror,
+                    } => {
+                        let p = &self.programs["fp"];
+                        p.bind();
+                        p.set_i32("u_block", *block as i32);
+                        p.set_i32("u_dist", *dist as i32);
+                        p.set_i32("u_mirror", *mirror as i32);
+                        p
+                    }
+                    Step::OddEvenRecursion { step, count } => {
+                        let p = &self.programs["recursion"];
+                        p.bind();
+                        p.set_i32("u_step", *step as i32);
+                        p.set_i32("u_count", *count as i32);
+                        p
+                    }
+                    Step::OddEvenEnd { step } => {
+                        let p = &self.programs["end"];
+                        p.bind();
+                        p.set_i32("u_step", *step as i32);
+                        p
+                    }
+                };
+                p.set_i32("u_keys", 0);
+                p.set_i32("u_width", w);
+                self.fullscreen.draw(p, self.state.back());
+            }
+            Pass::Group(steps) => {
+                let p = &self.programs[&format!("multi{}", steps.len())];
+                p.bind();
+                p.set_i32("u_keys", 0);
+                p.set_i32("u_width", w);
+                if let Step::Bitonic { block, .. } = steps[0] {
+                    p.set_i32("u_block", block as i32);
+                }
+                for (s, step) in steps.iter().enumerate() {
+                    p.set_i32(&format!("u_mask[{s}]"), step.mask().unwrap_or(0) as i32);
+                    let mirror = matches!(step, Step::Bitonic { mirror: true, .. });
+                    p.set_i32(&format!("u_mirror[{s}]"), mirror as i32);
+                }
+                self.fullscreen.draw(p, self.state.back());
+            }
+            Pass::Geometry {
+                geometry,
+                offset,
+                program,
+            } => {
+                let p = &self.programs[match program {
+                    GpProgram::Plain => "gp",
+                    GpProgram::Mirror => "gp_mirror",
+                    GpProgram::SameTexel => "gp_same",
+                }];
+                p.bind();
+                p.set_i32("u_keys", 0);
+                let fb = self.state.back();
+                p.set_vec2(
+                    "u_size",
+                    glam::Vec2::new(fb.width() as f32, fb.height() as f32),
+                );
+                p.set_ivec2("u_offset", offset.0, offset.1);
+                fb.bind();
+                let g = &self.geometry[*geometry];
+                g.vao.bind();
+                // SAFETY: program, vertex array and a complete framebuffer are bound.
+                unsafe {
+                    self.ctx.disable(glow::BLEND);
+                    self.ctx.draw_arrays(glow::TRIANGLES, 0, g.vertices);
+                }
+            }
+        }
+        self.state.swap();
+    }
+
+    /// Gathers every texture of `source` into `dest` in sorted order: texel j of `dest` takes the
+    /// state of the particle at sorted position j (UberFlow §4.3.1, one MRT pass for all).
+    pub fn rearrange(&self, source: &Framebuffer, dest: &Framebuffer) -> Result<()> {
+        let targets = source.textures().len();
+        if targets > 4 || dest.textures().len() != targets {
+            return Err(Error::InvalidInput(
+                "rearrangement takes 1 to 4 state textures of the same layout".into(),
+            ));
+        }
+        let mut cache = self.rearrange.borrow_mut();
+        if !cache.contains_key(&targets) {
+            let mut d = self.defines();
+            d.push(("TARGETS".into(), targets.to_string()));
+            if self.variant.packed() {
+                d.push(("PACKED".into(), "1".into()));
+            }
+            if self.id_table.is_some() {
+                d.push(("ID_TABLE".into(), "1".into()));
+            }
+            cache.insert(
+                targets,
+                Program::new(&self.ctx, FULLSCREEN_VERTEX, "sort/rearrange.frag", &d)?,
+            );
+        }
+        let p = &cache[&targets];
+        p.bind();
+        self.keys().bind(0);
+        p.set_i32("u_sorted", 0);
+        p.set_i32("u_sort_width", self.width as i32);
+        p.set_i32("u_state_width", source.width() as i32);
+        for (i, t) in source.textures().iter().enumerate() {
+            t.bind(1 + i as u32);
+            p.set_i32(&format!("u_state{i}"), 1 + i as i32);
+        }
+        self.fullscreen.draw(p, dest);
+        Ok(())
+    }
+}

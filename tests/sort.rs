@@ -1,0 +1,490 @@
+//! The GPU sorts on a real GL context, against their CPU twins (bit for bit) and `slice::sort`.
+
+mod common;
+
+use common::{context, no_gl_error};
+use glam::{UVec3, Vec3};
+use texflow::gl::{Context, PingPong, Texture, TextureDesc, TextureFormat};
+use texflow::sort::network::{
+    apply_group, apply_step, bitonic_schedule, blocks_sorted, group_steps, inversions,
+    key_order_bits, odd_even_schedule,
+};
+use texflow::sort::precision::R300;
+use texflow::sort::{Entry, KeyMode, SortOptions, Sorter, Variant};
+
+fn lcg(s: &mut u64) -> u32 {
+    *s = s
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    (*s >> 33) as u32
+}
+
+/// The twin: the same schedule on the CPU.
+fn twin(
+    variant: Variant,
+    input: &[Entry],
+    width: u32,
+    block: u32,
+    options: &SortOptions,
+) -> Vec<Entry> {
+    let mut v = input.to_vec();
+    match variant {
+        Variant::OddEven => odd_even_schedule(block)
+            .iter()
+            .for_each(|s| apply_step(&mut v, s, width)),
+        Variant::Multistep => group_steps(&bitonic_schedule(width, block), options.steps_per_pass)
+            .iter()
+            .for_each(|g| apply_group(&mut v, g, width)),
+        _ => bitonic_schedule(width, block)
+            .iter()
+            .for_each(|s| apply_step(&mut v, s, width)),
+    }
+    v
+}
+
+fn bits(v: &[Entry]) -> Vec<(u32, u32)> {
+    v.iter().map(|e| (e[0].to_bits(), e[1].to_bits())).collect()
+}
+
+/// Keys of several kinds: random with duplicates, all equal, sorted, reversed, and specials.
+fn key_sets(n: usize, seed: u64) -> Vec<(&'static str, Vec<f32>)> {
+    let mut s = seed;
+    let specials = [
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::NAN,
+        -0.0,
+        0.0,
+        1e-40,
+        -1e-40,
+        f32::MAX,
+    ];
+    vec![
+        (
+            "random",
+            (0..n).map(|_| lcg(&mut s) as f32 / 7919.0 - 1e5).collect(),
+        ),
+        (
+            "duplicates",
+            (0..n).map(|_| (lcg(&mut s) % 5) as f32).collect(),
+        ),
+        ("all equal", vec![3.5; n]),
+        ("sorted", (0..n).map(|i| i as f32).collect()),
+        ("reversed", (0..n).map(|i| -(i as f32)).collect()),
+        (
+            "specials",
+            (0..n)
+                .map(|_| {
+                    let r = lcg(&mut s);
+                    if r % 3 == 0 {
+                        specials[(r / 3) as usize % specials.len()]
+                    } else {
+                        (r % 100) as f32 - 50.0
+                    }
+                })
+                .collect(),
+        ),
+    ]
+}
+
+fn check_variant(ctx: &Context, variant: Variant, w: u32, h: u32) {
+    let options = SortOptions::default();
+    let mut sorter = Sorter::new(ctx, variant, w, h, options).unwrap();
+    let n = (w * h) as usize;
+    for (name, keys) in key_sets(n, (w * 31 + h) as u64) {
+        let input: Vec<Entry> = keys
+            .iter()
+            .enumerate()
+            .map(|(i, &k)| [k, i as f32])
+            .collect();
+        sorter.load(&input).unwrap();
+        sorter.sort();
+        let got = sorter.read().unwrap();
+        let want = twin(variant, &input, w, w * h, &options);
+        assert_eq!(
+            bits(&got),
+            bits(&want),
+            "{variant:?} {w}x{h} {name}: GPU differs from its twin"
+        );
+        // The twin itself against slice::sort on the same order.
+        let mut reference = input.clone();
+        reference.sort_by_key(|e| (key_order_bits(e[0]), e[1].to_bits()));
+        assert_eq!(
+            bits(&want),
+            bits(&reference),
+            "{variant:?} {w}x{h} {name}: twin is not a sort"
+        );
+        // Ids are a permutation and each carries its own key.
+        let mut seen = vec![false; n];
+        for e in &got {
+            let id = e[1] as usize;
+            assert!(!seen[id], "{variant:?} {name}: id {id} duplicated");
+            seen[id] = true;
+            assert_eq!(
+                e[0].to_bits(),
+                keys[id].to_bits(),
+                "{variant:?} {name}: key of id {id}"
+            );
+        }
+    }
+}
+
+#[test]
+fn every_variant_matches_its_twin_and_sorts() {
+    let ctx = context();
+    let sizes = [
+        (1, 1),
+        (2, 1),
+        (1, 2),
+        (4, 4),
+        (8, 2),
+        (2, 8),
+        (16, 16),
+        (64, 32),
+        (32, 128),
+        (256, 256),
+    ];
+    for variant in Variant::ALL {
+        for &(w, h) in &sizes {
+            if variant.packed() && w < 2 {
+                continue; // two entries per texel need rows of at least two
+            }
+            check_variant(&ctx, variant, w, h);
+        }
+    }
+    no_gl_error(&ctx);
+}
+
+#[test]
+fn multistep_with_one_and_two_steps_per_pass() {
+    let ctx = context();
+    for steps in [1, 2] {
+        let options = SortOptions {
+            steps_per_pass: steps,
+            ..SortOptions::default()
+        };
+        let (w, h) = (32, 16);
+        let mut sorter = Sorter::new(&ctx, Variant::Multistep, w, h, options).unwrap();
+        let mut s = 5;
+        let input: Vec<Entry> = (0..w * h)
+            .map(|i| [(lcg(&mut s) % 50) as f32, i as f32])
+            .collect();
+        sorter.load(&input).unwrap();
+        sorter.sort();
+        let got = sorter.read().unwrap();
+        assert_eq!(
+            bits(&got),
+            bits(&twin(Variant::Multistep, &input, w, w * h, &options))
+        );
+        assert!(blocks_sorted(&got, (w * h) as usize));
+    }
+    no_gl_error(&ctx);
+}
+
+/// The 0-1 principle on the GPU: all 65,536 0/1 inputs of 16 elements, a row of 16 (or 4 rows of
+/// 4) per input, sorted in batches with the rows-only modes.
+#[test]
+fn zero_one_principle_on_the_gpu() {
+    let ctx = context();
+    let rows_per_batch = 4096u32;
+    for variant in Variant::ALL {
+        for (w, k) in [(16u32, 1u32), (4, 4)] {
+            if variant == Variant::OddEven && w == 4 {
+                continue; // odd-even works on the 1D index: one layout covers it
+            }
+            let options = SortOptions {
+                rows: Some(k),
+                ..SortOptions::default()
+            };
+            let h = rows_per_batch;
+            let groups_per_batch = (w * h / 16) as usize;
+            let mut sorter = Sorter::new(&ctx, variant, w, h, options).unwrap();
+            for batch in 0..(65536 / groups_per_batch) {
+                let input: Vec<Entry> = (0..w * h)
+                    .map(|i| {
+                        let case = (batch * groups_per_batch) as u32 + i / 16;
+                        [((case >> (i % 16)) & 1) as f32, i as f32]
+                    })
+                    .collect();
+                sorter.load(&input).unwrap();
+                sorter.sort();
+                let got = sorter.read().unwrap();
+                for (g, (out, inp)) in got.chunks(16).zip(input.chunks(16)).enumerate() {
+                    let ones = inp.iter().filter(|e| e[0] == 1.0).count();
+                    let want: Vec<f32> = (0..16)
+                        .map(|i| if i >= 16 - ones { 1.0 } else { 0.0 })
+                        .collect();
+                    let keys: Vec<f32> = out.iter().map(|e| e[0]).collect();
+                    assert_eq!(
+                        keys,
+                        want,
+                        "{variant:?} {w}x{k}: case {}",
+                        batch * groups_per_batch + g
+                    );
+                }
+            }
+        }
+    }
+    no_gl_error(&ctx);
+}
+
+/// Latta's sort spread over frames: one pass at a time, inversions never increase; 0 at the end.
+#[test]
+fn odd_even_spread_over_frames_never_loses_sortedness() {
+    let ctx = context();
+    let (w, h) = (32, 32);
+    let mut sorter = Sorter::new(&ctx, Variant::OddEven, w, h, SortOptions::default()).unwrap();
+    let mut s = 17;
+    let input: Vec<Entry> = (0..w * h)
+        .map(|i| [(lcg(&mut s) % 300) as f32, i as f32])
+        .collect();
+    sorter.load(&input).unwrap();
+    let mut last = inversions(&input);
+    assert!(last > 0);
+    let total = sorter.pass_count();
+    for pass in 0..total {
+        assert_eq!(sorter.run_passes(1), 1);
+        let now = inversions(&sorter.read().unwrap());
+        assert!(now <= last, "pass {pass}: inversions {last} -> {now}");
+        last = now;
+    }
+    assert_eq!(last, 0);
+    assert_eq!(sorter.passes_done(), total);
+    no_gl_error(&ctx);
+}
+
+fn texture(ctx: &Context, w: u32, h: u32, data: &[f32]) -> Texture {
+    let t = Texture::new(
+        ctx,
+        TextureDesc {
+            width: w,
+            height: h,
+            format: TextureFormat::Rgba32F,
+            label: "test",
+        },
+    )
+    .unwrap();
+    t.upload_f32(data).unwrap();
+    t
+}
+
+fn random_positions(n: usize, seed: u64) -> Vec<f32> {
+    let mut s = seed;
+    (0..n)
+        .flat_map(|i| {
+            let mut c = || (lcg(&mut s) % 20000) as f32 / 1000.0 - 10.0;
+            [c(), c(), c(), 1.0 + i as f32]
+        })
+        .collect()
+}
+
+/// The key pass against the CPU: viewer distance (both directions) and grid cells.
+#[test]
+fn key_pass_matches_the_cpu() {
+    let ctx = context();
+    let (sw, sh) = (20u32, 10u32); // a state that is not a power of two
+    let n = (sw * sh) as usize;
+    let pos = random_positions(n, 3);
+    let positions = texture(&ctx, sw, sh, &pos);
+    let eye = Vec3::new(1.0, 2.0, 30.0);
+    for variant in [Variant::Fp, Variant::Packed] {
+        let mut sorter = Sorter::new(&ctx, variant, 16, 16, SortOptions::default()).unwrap();
+        for back in [false, true] {
+            sorter
+                .write_keys(
+                    &positions,
+                    n,
+                    &KeyMode::ViewerDistance {
+                        eye,
+                        back_to_front: back,
+                    },
+                    false,
+                )
+                .unwrap();
+            let e = sorter.read().unwrap();
+            for i in 0..256 {
+                if i < n {
+                    let p = Vec3::from_slice(&pos[4 * i..4 * i + 3]);
+                    let want = p.distance(eye) * if back { -1.0 } else { 1.0 };
+                    assert!(
+                        (e[i][0] - want).abs() <= 1e-5 * want.abs(),
+                        "{variant:?} key {i}"
+                    );
+                } else {
+                    assert!(e[i][0].is_nan(), "padding key {i}");
+                }
+                assert_eq!(e[i][1], i as f32);
+            }
+        }
+        let (origin, spacing, dims) = (Vec3::splat(-10.0), 2.5, UVec3::new(8, 8, 8));
+        sorter
+            .write_keys(
+                &positions,
+                n,
+                &KeyMode::GridCell {
+                    origin,
+                    spacing,
+                    dims,
+                },
+                false,
+            )
+            .unwrap();
+        let e = sorter.read().unwrap();
+        for i in 0..n {
+            let p = Vec3::from_slice(&pos[4 * i..4 * i + 3]);
+            let c = ((p - origin) / spacing).floor().as_uvec3().min(dims - 1);
+            assert_eq!(
+                e[i][0],
+                ((c.z * dims.y + c.y) * dims.x + c.x) as f32,
+                "cell of {p}"
+            );
+        }
+    }
+    no_gl_error(&ctx);
+}
+
+/// Sorting by viewer distance and rearranging keeps every particle's state together.
+#[test]
+fn rearrangement_keeps_state_together() {
+    let ctx = context();
+    let (sw, sh) = (24u32, 20u32);
+    let n = (sw * sh) as usize;
+    let pos = random_positions(n, 8);
+    // Velocity texel = a function of the particle's position, so pairs can be checked after.
+    let vel: Vec<f32> = pos
+        .chunks(4)
+        .flat_map(|p| [p[0] * 2.0, p[1] - 1.0, -p[2], p[3] * 3.0])
+        .collect();
+    let state = PingPong::new(
+        &ctx,
+        "state",
+        &["position", "velocity"],
+        &[TextureFormat::Rgba32F; 2],
+        sw,
+        sh,
+    )
+    .unwrap();
+    state.front().texture(0).upload_f32(&pos).unwrap();
+    state.front().texture(1).upload_f32(&vel).unwrap();
+    let eye = Vec3::new(0.0, 0.0, 25.0);
+    for variant in Variant::ALL {
+        let mut sorter = Sorter::new(&ctx, variant, 32, 16, SortOptions::default()).unwrap();
+        sorter
+            .write_keys(
+                state.front().texture(0),
+                n,
+                &KeyMode::ViewerDistance {
+                    eye,
+                    back_to_front: true,
+                },
+                false,
+            )
+            .unwrap();
+        sorter.sort();
+        sorter.rearrange(state.front(), state.back()).unwrap();
+        let p = state.back().texture(0).read_f32().unwrap();
+        let v = state.back().texture(1).read_f32().unwrap();
+        let mut seen = vec![false; n];
+        let mut last = f32::INFINITY;
+        for j in 0..n {
+            let (pj, vj) = (&p[4 * j..4 * j + 4], &v[4 * j..4 * j + 4]);
+            assert_eq!(
+                vj,
+                &[pj[0] * 2.0, pj[1] - 1.0, -pj[2], pj[3] * 3.0],
+                "{variant:?} texel {j}"
+            );
+            let id = pj[3] as usize - 1;
+            assert!(!seen[id], "{variant:?}: particle {id} twice");
+            seen[id] = true;
+            let d = Vec3::from_slice(&pj[..3]).distance(eye);
+            assert!(d <= last, "{variant:?}: not back to front at {j}");
+            last = d;
+        }
+    }
+    no_gl_error(&ctx);
+}
+
+fn distinct(v: impl Iterator<Item = f32>) -> usize {
+    let mut b: Vec<u32> = v.map(f32::to_bits).collect();
+    b.sort_unstable();
+    b.dedup();
+    b.len()
+}
+
+/// UberFlow §4.3.1 under emulated 24-bit floats: plain ids collide beyond 2^17 particles (16
+/// stored mantissa bits plus the hidden one), the paper's enumeration keeps 2^20 distinct, and a
+/// sort with it loses no particle while one with plain ids does.
+#[test]
+fn identifiers_under_24_bit_floats() {
+    let ctx = context();
+    let fp24 = SortOptions {
+        precision: Some(R300),
+        ..SortOptions::default()
+    };
+    let table = SortOptions {
+        id_table: true,
+        ..fp24
+    };
+    // 2^20 ids from the key pass (no sort: llvmpipe would take seconds for its 210 passes).
+    let (w, h) = (1024u32, 1024u32);
+    let n = (w * h) as usize;
+    let positions = texture(&ctx, w, h, &vec![1.0; 4 * n]);
+    let eye = KeyMode::ViewerDistance {
+        eye: Vec3::ZERO,
+        back_to_front: false,
+    };
+    let mut plain = Sorter::new(&ctx, Variant::Fp, w, h, fp24).unwrap();
+    plain.write_keys(&positions, n, &eye, false).unwrap();
+    let ids = plain.read().unwrap();
+    assert_eq!(
+        distinct(ids.iter().map(|e| e[1])),
+        distinct((0..n).map(|i| R300.round(i as f32)))
+    );
+    assert!(distinct(ids.iter().map(|e| e[1])) < n);
+    assert!(
+        ids[..=1 << 17]
+            .iter()
+            .enumerate()
+            .all(|(i, e)| e[1] == i as f32),
+        "exact up to 2^17"
+    );
+    drop(plain);
+    let mut tabled = Sorter::new(&ctx, Variant::Fp, w, h, table).unwrap();
+    tabled.write_keys(&positions, n, &eye, false).unwrap();
+    assert_eq!(distinct(tabled.read().unwrap().iter().map(|e| e[1])), n);
+    drop(tabled);
+    drop(positions);
+
+    // A full sort and rearrangement of 2^18 particles: plain ids lose particles, table ids do not.
+    let (w, h) = (512u32, 512u32);
+    let n = (w * h) as usize;
+    let pos = random_positions(n, 21);
+    let state = PingPong::new(&ctx, "s", &["position"], &[TextureFormat::Rgba32F], w, h).unwrap();
+    state.front().texture(0).upload_f32(&pos).unwrap();
+    let mut survivors = Vec::new();
+    for options in [fp24, table] {
+        let mut sorter = Sorter::new(&ctx, Variant::Multistep, w, h, options).unwrap();
+        sorter
+            .write_keys(
+                state.front().texture(0),
+                n,
+                &KeyMode::ViewerDistance {
+                    eye: Vec3::ZERO,
+                    back_to_front: false,
+                },
+                false,
+            )
+            .unwrap();
+        sorter.sort();
+        sorter.rearrange(state.front(), state.back()).unwrap();
+        let out = state.back().texture(0).read_f32().unwrap();
+        survivors.push(distinct(out.chunks(4).map(|p| p[3])));
+    }
+    assert!(
+        survivors[0] < n,
+        "plain ids should lose particles: {} of {n} survive",
+        survivors[0]
+    );
+    assert_eq!(survivors[1], n, "the paper's ids keep every particle");
+    no_gl_error(&ctx);
+}

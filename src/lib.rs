@@ -27,6 +27,7 @@ pub mod bench;
 pub mod engine;
 pub mod error;
 pub mod gl;
+pub mod npy;
 pub mod render;
 pub mod scene;
 pub mod sim;

@@ -6,9 +6,12 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use texflow::bench::{bench_step, Clock, StepOptions, StepRecord};
+use texflow::bench::{
+    bench_sort, bench_step, Clock, SortBenchOptions, SortRecord, StepOptions, StepRecord,
+};
 use texflow::gl::{list_devices, Context};
 use texflow::render::FrameWriter;
+use texflow::sort::{SortOptions, Sorter, Variant};
 use texflow::{scene, Engine, Error};
 
 #[derive(Parser)]
@@ -32,9 +35,29 @@ enum Command {
     },
     /// Simulate a scene and write PNG frames.
     Render(RenderArgs),
+    /// Sort float32 keys from a .npy file on the GPU.
+    Sort(SortArgs),
     /// Benchmarks (GPU timer queries, medians, floors measured in the same run).
     #[command(subcommand)]
     Bench(BenchCommand),
+}
+
+#[derive(Args)]
+struct SortArgs {
+    /// Sort implementation: fp, gpfp, packed (UberFlow), oddeven (Latta), multistep (ours).
+    #[arg(long, default_value = "packed")]
+    variant: String,
+    /// 1-D float32 .npy file of keys (any length up to 2^24).
+    #[arg(long)]
+    input: PathBuf,
+    /// Where to write the sorted keys (1-D float32 .npy).
+    #[arg(long)]
+    output: PathBuf,
+    /// Where to write the sorting permutation: int32 indices into the input (like argsort).
+    #[arg(long)]
+    ids: Option<PathBuf>,
+    #[command(flatten)]
+    common: Common,
 }
 
 #[derive(Args)]
@@ -100,6 +123,32 @@ enum BenchCommand {
         #[arg(long, value_enum, default_value_t = ClockArg::Auto)]
         clock: ClockArg,
         /// Print JSON (one record per size).
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// UberFlow's Table 1: full sorts per variant and size, with floors and CPU baselines.
+    Sort {
+        /// Texture sides (size x size entries), powers of two, comma-separated.
+        #[arg(long, value_delimiter = ',', default_value = "128,256,512,1024,2048")]
+        sizes: Vec<u32>,
+        /// Variants, comma-separated, or `all`.
+        #[arg(long, value_delimiter = ',', default_value = "all")]
+        variants: Vec<String>,
+        /// Timed repetitions per variant and size (the median is reported).
+        #[arg(long, default_value_t = 11)]
+        repeats: usize,
+        /// Skip the CPU baselines.
+        #[arg(long)]
+        no_cpu: bool,
+        /// Bitonic steps per pass of the multistep variant (1 to 3).
+        #[arg(long, default_value_t = 3)]
+        steps: usize,
+        /// How to time: auto, gpu, wall.
+        #[arg(long, value_enum, default_value_t = ClockArg::Auto)]
+        clock: ClockArg,
+        /// Print JSON (one record per variant and size).
         #[arg(long)]
         json: bool,
         #[command(flatten)]
@@ -283,8 +332,186 @@ fn render(a: RenderArgs) -> texflow::Result<()> {
     Ok(())
 }
 
+/// Checks that `path` can be written as a file: its folder exists and it is not a folder.
+fn check_output_file(path: &std::path::Path, flag: &str) -> texflow::Result<()> {
+    if path.is_dir() {
+        return Err(bad(format!(
+            "{flag} {} is a folder: name a .npy file",
+            path.display()
+        )));
+    }
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => std::path::Path::new("."),
+    };
+    if !parent.is_dir() {
+        return Err(bad(format!(
+            "{flag} {}: folder {} does not exist",
+            path.display(),
+            parent.display()
+        )));
+    }
+    let probe = parent.join(format!(".texflow-write-test-{}", std::process::id()));
+    std::fs::write(&probe, b"")
+        .and_then(|_| std::fs::remove_file(&probe))
+        .map_err(|e| {
+            bad(format!(
+                "{flag} {}: cannot write in {} ({e})",
+                path.display(),
+                parent.display()
+            ))
+        })
+}
+
+fn sort(a: SortArgs) -> texflow::Result<()> {
+    let variant = Variant::from_name(&a.variant)?;
+    let keys = texflow::npy::read_f32(&a.input).map_err(|e| match e {
+        Error::Io { path, source } => bad(format!("--input {}: {source}", path.display())),
+        e => e,
+    })?;
+    check_output_file(&a.output, "--output")?;
+    if let Some(ids) = &a.ids {
+        check_output_file(ids, "--ids")?;
+    }
+    let n = keys.len();
+    if n > 1 << 24 {
+        return Err(bad(format!(
+            "{n} keys: ids are floats on the GPU and exact only up to 2^24 = 16777216 keys"
+        )));
+    }
+    // The smallest power-of-two texture that holds the keys (rows of at least 2 entries), as
+    // square as possible.
+    let total = n.next_power_of_two().max(2) as u32;
+    let k = total.trailing_zeros();
+    let (w, h) = (1u32 << k.div_ceil(2), 1u32 << (k / 2));
+    let ctx = Context::new(a.common.device)?;
+    texflow::gl::check_size(&ctx, "sort texture", w, h)?;
+    let mut sorter = Sorter::new(&ctx, variant, w, h, SortOptions::default())?;
+    // Padding: +inf keys with ids past the input; dropped by id after the sort, so NaN keys of
+    // the input (which sort after +inf) are kept.
+    let entries: Vec<[f32; 2]> = (0..(w * h) as usize)
+        .map(|i| [keys.get(i).copied().unwrap_or(f32::INFINITY), i as f32])
+        .collect();
+    sorter.load(&entries)?;
+    sorter.sort();
+    let sorted: Vec<[f32; 2]> = sorter
+        .read()?
+        .into_iter()
+        .filter(|e| (e[1] as usize) < n)
+        .collect();
+    ctx.check_error("sorting")?;
+    if sorted.len() != n {
+        return Err(Error::Gl(format!(
+            "the sort returned {} of {n} keys",
+            sorted.len()
+        )));
+    }
+    texflow::npy::write_f32(&a.output, &sorted.iter().map(|e| e[0]).collect::<Vec<_>>())?;
+    if let Some(ids) = &a.ids {
+        texflow::npy::write_i32(ids, &sorted.iter().map(|e| e[1] as i32).collect::<Vec<_>>())?;
+    }
+    if !a.common.quiet {
+        eprintln!(
+            "sorted {n} keys with {} ({} passes on a {w}x{h} texture) on {}",
+            variant.name(),
+            sorter.pass_count(),
+            ctx.limits().renderer
+        );
+    }
+    Ok(())
+}
+
+fn print_sort_table(records: &[SortRecord]) {
+    println!("| variant | size | ms | fps | paper fps (9800 Pro) | M entries/s | passes | floor ms | ms / floor |");
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    let opt = |v: Option<f64>, digits: usize| {
+        v.map(|x| format!("{x:.digits$}"))
+            .unwrap_or_else(|| "–".into())
+    };
+    for r in records {
+        println!(
+            "| {} | {}² | {:.3} | {:.1} | {} | {:.1} | {} | {} | {} |",
+            r.variant,
+            r.size,
+            r.ms,
+            r.fps,
+            opt(r.paper_fps, 1),
+            r.mtexels_per_s,
+            if r.passes == 0 {
+                "–".to_string()
+            } else {
+                r.passes.to_string()
+            },
+            opt(r.floor_ms, 3),
+            opt(r.ratio, 2)
+        );
+    }
+}
+
 fn bench(cmd: BenchCommand) -> texflow::Result<()> {
     match cmd {
+        BenchCommand::Sort {
+            sizes,
+            variants,
+            repeats,
+            no_cpu,
+            steps,
+            clock,
+            json,
+            common,
+        } => {
+            let variants: Vec<Variant> = if variants.iter().any(|v| v == "all") {
+                Variant::ALL.to_vec()
+            } else {
+                variants
+                    .iter()
+                    .map(|v| Variant::from_name(v))
+                    .collect::<texflow::Result<_>>()?
+            };
+            if sizes.is_empty() || sizes.iter().any(|&s| s < 2 || !s.is_power_of_two()) {
+                return Err(bad(
+                    "--sizes takes powers of two of at least 2, e.g. 128,256,512",
+                ));
+            }
+            if repeats == 0 {
+                return Err(bad("--repeats must be at least 1"));
+            }
+            let ctx = Context::new(common.device)?;
+            for &n in &sizes {
+                texflow::gl::check_size(&ctx, "--sizes", n, n)?;
+            }
+            let bar = progress_bar(
+                (sizes.len() * (variants.len() + 1)) as u64,
+                common.quiet,
+                "bench sort",
+            );
+            if !(1..=3).contains(&steps) {
+                return Err(bad("--steps must be 1, 2 or 3"));
+            }
+            let opts = SortBenchOptions {
+                repeats,
+                clock: clock.clock(),
+                cpu: !no_cpu,
+                steps_per_pass: steps,
+            };
+            let records = bench_sort(&ctx, &sizes, &variants, &opts, |_, _| bar.inc(1))?;
+            bar.finish_and_clear();
+            if json {
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&records).unwrap_or_default()
+                );
+            } else {
+                println!(
+                    "device {}: {}; {}; medians of {repeats}; full sort = key pass + network + rearrangement of 2 RGBA32F textures",
+                    ctx.device_index(),
+                    ctx.limits().renderer,
+                    records.iter().find(|r| r.passes > 0).map(|r| r.clock.name()).unwrap_or_default()
+                );
+                print_sort_table(&records);
+            }
+            Ok(())
+        }
         BenchCommand::Step {
             scene: name,
             sizes,
@@ -366,6 +593,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Info { json } => info(json),
         Command::Render(a) => render(a),
+        Command::Sort(a) => sort(a),
         Command::Bench(b) => bench(b),
     };
     match result {

@@ -135,6 +135,15 @@ enum GpProgram {
     SameTexel,
 }
 
+/// The geometry of one GP/FP pass: a key naming its shape (passes of the same shape share one
+/// vertex buffer), the vertex data, the partner offset and the program.
+struct PassShape {
+    key: (u8, u32, u32),
+    vertices: Vec<f32>,
+    offset: (i32, i32),
+    program: GpProgram,
+}
+
 #[derive(Debug)]
 struct Geometry {
     vao: VertexArray,
@@ -310,19 +319,19 @@ impl Sorter {
                 let mut shapes: HashMap<(u8, u32, u32), usize> = HashMap::new();
                 let mut passes = Vec::new();
                 for step in bitonic_schedule(w, block) {
-                    let (key, quads, offset, program) = self.quads(&step);
-                    let geometry = match shapes.get(&key) {
+                    let shape = self.quads(&step);
+                    let geometry = match shapes.get(&shape.key) {
                         Some(&g) => g,
                         None => {
-                            let g = self.upload_geometry(&quads)?;
-                            shapes.insert(key, g);
+                            let g = self.upload_geometry(&shape.vertices)?;
+                            shapes.insert(shape.key, g);
                             g
                         }
                     };
                     passes.push(Pass::Geometry {
                         geometry,
-                        offset,
-                        program,
+                        offset: shape.offset,
+                        program: shape.program,
                     });
                 }
                 self.passes = passes;
@@ -333,7 +342,7 @@ impl Sorter {
 
     /// The quads of a GP/FP pass in texels of the sort texture: (shape key, vertex data, offset,
     /// program). Vertex: position (2 floats), attributes (sign, comparison, partner u, v).
-    fn quads(&self, step: &Step) -> ((u8, u32, u32), Vec<f32>, (i32, i32), GpProgram) {
+    fn quads(&self, step: &Step) -> PassShape {
         let Step::Bitonic {
             block,
             dist,
@@ -363,7 +372,12 @@ impl Sorter {
                     });
                 }
             }
-            return ((0, block, 0), v, (0, 0), GpProgram::Mirror);
+            return PassShape {
+                key: (0, block, 0),
+                vertices: v,
+                offset: (0, 0),
+                program: GpProgram::Mirror,
+            };
         }
         let asc_all = block > w;
         if dist >= w {
@@ -373,7 +387,12 @@ impl Sorter {
                 let sign = if y0 & r == 0 { 1.0 } else { -1.0 };
                 quad(0, y0, tw, y0 + r, &|_, _| [sign, sign, 0.0, 0.0]);
             }
-            return ((1, dist, 0), v, (0, r as i32), GpProgram::Plain);
+            return PassShape {
+                key: (1, dist, 0),
+                vertices: v,
+                offset: (0, r as i32),
+                program: GpProgram::Plain,
+            };
         }
         let stage = if asc_all { 0 } else { block };
         if packed && dist == 1 {
@@ -387,7 +406,12 @@ impl Sorter {
                     quad(x0, 0, x0 + run, h, &|_, _| [1.0, cmp, 0.0, 0.0]);
                 }
             }
-            return ((2, 1, stage), v, (0, 0), GpProgram::SameTexel);
+            return PassShape {
+                key: (2, 1, stage),
+                vertices: v,
+                offset: (0, 0),
+                program: GpProgram::SameTexel,
+            };
         }
         // Row passes: column groups of `dist` entries (dist / 2 texels when packed).
         let group = if packed { dist / 2 } else { dist };
@@ -398,7 +422,12 @@ impl Sorter {
             let cmp = if (sign > 0.0) == asc { 1.0 } else { -1.0 };
             quad(x0, 0, x0 + group, h, &|_, _| [sign, cmp, 0.0, 0.0]);
         }
-        ((3, dist, stage), v, (group as i32, 0), GpProgram::Plain)
+        PassShape {
+            key: (3, dist, stage),
+            vertices: v,
+            offset: (group as i32, 0),
+            program: GpProgram::Plain,
+        }
     }
 
     fn upload_geometry(&mut self, vertices: &[f32]) -> Result<usize> {
@@ -688,7 +717,7 @@ impl Sorter {
             ));
         }
         let mut cache = self.rearrange.borrow_mut();
-        if !cache.contains_key(&targets) {
+        if let std::collections::hash_map::Entry::Vacant(slot) = cache.entry(targets) {
             let mut d = self.defines();
             d.push(("TARGETS".into(), targets.to_string()));
             if self.variant.packed() {
@@ -697,10 +726,12 @@ impl Sorter {
             if self.id_table.is_some() {
                 d.push(("ID_TABLE".into(), "1".into()));
             }
-            cache.insert(
-                targets,
-                Program::new(&self.ctx, FULLSCREEN_VERTEX, "sort/rearrange.frag", &d)?,
-            );
+            slot.insert(Program::new(
+                &self.ctx,
+                FULLSCREEN_VERTEX,
+                "sort/rearrange.frag",
+                &d,
+            )?);
         }
         let p = &cache[&targets];
         p.bind();

@@ -142,8 +142,8 @@ enum BenchCommand {
         /// Skip the CPU baselines.
         #[arg(long)]
         no_cpu: bool,
-        /// Bitonic steps per pass of the multistep variant (1 to 3).
-        #[arg(long, default_value_t = 3)]
+        /// Steps of distance 2 or more per pass of the multistep variant (1 to 3).
+        #[arg(long, default_value_t = 2)]
         steps: usize,
         /// How to time: auto, gpu, wall.
         #[arg(long, value_enum, default_value_t = ClockArg::Auto)]

@@ -156,9 +156,9 @@ fn every_variant_matches_its_twin_and_sorts() {
 }
 
 #[test]
-fn multistep_with_one_and_two_steps_per_pass() {
+fn multistep_with_one_and_three_wide_steps_per_pass() {
     let ctx = context();
-    for steps in [1, 2] {
+    for steps in [1, 3] {
         let options = SortOptions {
             steps_per_pass: steps,
             ..SortOptions::default()

@@ -1,46 +1,62 @@
-// Beyond the papers: STEPS consecutive steps of one bitonic stage in one pass. Each fragment
-// fetches the 2^STEPS entries its sub-network spans (its index XOR every combination of the
-// steps' masks), runs the compare-exchanges locally and writes its own result. Same bytes
-// written per pass as FP, STEPS times fewer passes: on a GPU whose passes cost what they write,
-// about STEPS times faster. Twin: apply_group in src/sort/network.rs.
+// Beyond the papers: several steps of one bitonic stage in one pass, on the packed layout (two
+// entries per RGBA32F texel). The fragment owns one texel; it fetches the 2^LEVELS texels its
+// sub-network spans (its entries XOR every combination of the LEVELS wide masks), runs the
+// STEPS compare-exchanges locally (a distance-1 step costs no fetch: both entries share a
+// texel) and writes its two entries. Twin: group_steps and apply_group in src/sort/network.rs.
+//
+// Why: on the H100 a pass is bound by texel fetches (about 13.5 G/s) and bytes written
+// (56 GB/s). Per entry and network step, FP fetches 2 texels and writes 8 bytes; packed fetches
+// 1 and writes 8; this fetches 2^LEVELS / (2 LEVELS) = 1 (LEVELS = 2) and writes 8 / STEPS.
 
 #include "common/compare.glsl"
 #include "common/precision.glsl"
 
+#ifndef LEVELS
+#define LEVELS 2
+#endif
 #ifndef STEPS
 #define STEPS 3
 #endif
-#define SIZE (1 << STEPS)
+#define SIZE (2 << LEVELS)
 
 uniform sampler2D u_keys;
 uniform int u_width;
 uniform int u_block;
-uniform int u_mask[STEPS];
+#if LEVELS > 0
+uniform int u_basis[LEVELS];
+#endif
+uniform int u_bit[STEPS];
 uniform bool u_mirror[STEPS];
 
 layout(location = 0) out vec4 o_entry;
 
 void main() {
     ivec2 t = ivec2(gl_FragCoord.xy);
-    int i = t.y * u_width + t.x;
+    int first = t.y * u_width + 2 * t.x;
     int index[SIZE];
     vec2 e[SIZE];
-    for (int c = 0; c < SIZE; c++) {
-        int j = i;
-        for (int s = 0; s < STEPS; s++) {
-            if (((c >> s) & 1) == 1) j ^= u_mask[s];
+    for (int c = 0; c < SIZE; c += 2) {
+        int j = first;
+#if LEVELS > 0
+        for (int b = 0; b < LEVELS; b++) {
+            if (((c >> (b + 1)) & 1) == 1) j ^= u_basis[b];
         }
+#endif
+        vec4 pair = texelFetch(u_keys, ivec2((j % u_width) / 2, j / u_width), 0);
+        bool even = (j & 1) == 0;
         index[c] = j;
-        e[c] = texelFetch(u_keys, ivec2(j % u_width, j / u_width), 0).xy;
+        index[c + 1] = j ^ 1;
+        e[c] = even ? pair.xy : pair.zw;
+        e[c + 1] = even ? pair.zw : pair.xy;
     }
     for (int s = 0; s < STEPS; s++) {
         vec2 before[SIZE] = e;
         for (int c = 0; c < SIZE; c++) {
-            int other = c ^ (1 << s);
+            int other = c ^ (1 << u_bit[s]);
             int g = index[c];
             bool ascending = u_mirror[s] || u_block > u_width || ((g % u_width) & u_block) == 0;
             e[c] = compare_exchange(before[c], before[other], (g < index[other]) == ascending);
         }
     }
-    o_entry = fp_store(vec4(e[0], 0.0, 0.0));
+    o_entry = fp_store(vec4(e[0], e[1]));
 }

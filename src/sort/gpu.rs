@@ -26,7 +26,7 @@ pub enum Variant {
     Packed,
     /// Latta's odd-even merge sort.
     OddEven,
-    /// Ours: several bitonic steps per pass.
+    /// Ours: several bitonic steps per pass on the packed layout.
     Multistep,
 }
 
@@ -66,7 +66,7 @@ impl Variant {
 
     /// Whether entries are packed two per texel.
     pub fn packed(self) -> bool {
-        self == Variant::Packed
+        matches!(self, Variant::Packed | Variant::Multistep)
     }
 }
 
@@ -101,7 +101,8 @@ pub struct SortOptions {
     pub precision: Option<FloatFormat>,
     /// With `precision`, identifiers from the paper's enumeration instead of plain indices.
     pub id_table: bool,
-    /// Bitonic steps per pass of the multistep variant (1 to 3).
+    /// Steps of distance 2 or more per pass of the multistep variant (1 to 3; distance-1 steps
+    /// come free).
     pub steps_per_pass: usize,
 }
 
@@ -111,7 +112,7 @@ impl Default for SortOptions {
             rows: None,
             precision: None,
             id_table: false,
-            steps_per_pass: 3,
+            steps_per_pass: 2,
         }
     }
 }
@@ -149,6 +150,15 @@ struct Geometry {
     vao: VertexArray,
     _buffer: Buffer,
     vertices: i32,
+}
+
+/// (wide masks, steps) of a multistep pass: the texels it fetches are 2^wide.
+fn group_shape(steps: &[Step]) -> (usize, usize) {
+    let wide = steps
+        .iter()
+        .filter(|s| s.mask().is_some_and(|m| m >= 2))
+        .count();
+    (wide, steps.len())
 }
 
 /// Sorts (key, id) entries in a texture with one of the [`Variant`]s.
@@ -294,13 +304,14 @@ impl Sorter {
             }
             Variant::Multistep => {
                 let groups = group_steps(&bitonic_schedule(w, block), self.options.steps_per_pass);
-                for n in 1..=self.options.steps_per_pass {
-                    let s = n.to_string();
+                for g in &groups {
+                    let (levels, steps) = group_shape(g);
+                    let (l, s) = (levels.to_string(), steps.to_string());
                     self.program(
-                        &format!("multi{n}"),
+                        &format!("multi{levels}_{steps}"),
                         FULLSCREEN_VERTEX,
                         "sort/multistep.frag",
-                        &[("STEPS", &s)],
+                        &[("LEVELS", &l), ("STEPS", &s)],
                     )?;
                 }
                 self.passes = groups.into_iter().map(Pass::Group).collect();
@@ -662,15 +673,26 @@ impl Sorter {
                 self.fullscreen.draw(p, self.state.back());
             }
             Pass::Group(steps) => {
-                let p = &self.programs[&format!("multi{}", steps.len())];
+                let (levels, count) = group_shape(steps);
+                let p = &self.programs[&format!("multi{levels}_{count}")];
                 p.bind();
                 p.set_i32("u_keys", 0);
                 p.set_i32("u_width", w);
                 if let Step::Bitonic { block, .. } = steps[0] {
                     p.set_i32("u_block", block as i32);
                 }
+                // Local bit 0 flips the entry within its texel; bit b + 1 applies wide mask b.
+                let mut basis = 0;
                 for (s, step) in steps.iter().enumerate() {
-                    p.set_i32(&format!("u_mask[{s}]"), step.mask().unwrap_or(0) as i32);
+                    let mask = step.mask().unwrap_or(1);
+                    let bit = if mask == 1 {
+                        0
+                    } else {
+                        p.set_i32(&format!("u_basis[{basis}]"), mask as i32);
+                        basis += 1;
+                        basis
+                    };
+                    p.set_i32(&format!("u_bit[{s}]"), bit);
                     let mirror = matches!(step, Step::Bitonic { mirror: true, .. });
                     p.set_i32(&format!("u_mirror[{s}]"), mirror as i32);
                 }

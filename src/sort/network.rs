@@ -186,17 +186,23 @@ pub fn odd_even_schedule(block: u32) -> Vec<Step> {
     steps
 }
 
-/// Splits a bitonic schedule into passes of up to `per_pass` consecutive steps of one stage (the
-/// multistep variant: one fragment applies them all to its sub-network of 2^s elements).
+/// Splits a bitonic schedule into the passes of the multistep variant: consecutive steps of one
+/// stage with up to `per_pass` steps whose mask is 2 or more (each doubles the texels a fragment
+/// fetches); distance-1 steps join for free, since both of their entries share a packed texel.
 pub fn group_steps(steps: &[Step], per_pass: usize) -> Vec<Vec<Step>> {
+    let stage = |x: &Step| match x {
+        Step::Bitonic { block, .. } => *block,
+        _ => 0,
+    };
+    let wide = |x: &Step| x.mask().is_none_or(|m| m >= 2);
     let mut groups: Vec<Vec<Step>> = Vec::new();
     for s in steps {
-        let stage = |x: &Step| match x {
-            Step::Bitonic { block, .. } => *block,
-            _ => 0,
-        };
         match groups.last_mut() {
-            Some(g) if g.len() < per_pass.max(1) && stage(&g[0]) == stage(s) && stage(s) != 0 => {
+            Some(g)
+                if stage(&g[0]) == stage(s)
+                    && stage(s) != 0
+                    && (!wide(s) || g.iter().filter(|x| wide(x)).count() < per_pass.max(1)) =>
+            {
                 g.push(*s)
             }
             _ => groups.push(vec![*s]),

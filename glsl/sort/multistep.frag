@@ -25,7 +25,6 @@ uniform int u_block;
 #if LEVELS > 0
 uniform int u_basis[LEVELS];
 #endif
-uniform int u_bit[STEPS];
 uniform bool u_mirror[STEPS];
 
 layout(location = 0) out vec4 o_entry;
@@ -49,10 +48,14 @@ void main() {
         e[c] = even ? pair.xy : pair.zw;
         e[c + 1] = even ? pair.zw : pair.xy;
     }
+    // Wide steps come first in a stage and take local bits 1..LEVELS; a distance-1 step closes
+    // the stage and takes bit 0. Compile-time bits keep every array index constant once the
+    // loops unroll, so the arrays stay in registers (a uniform index sends them to local memory).
     for (int s = 0; s < STEPS; s++) {
         vec2 before[SIZE] = e;
+        int bit = s < LEVELS ? s + 1 : 0;
         for (int c = 0; c < SIZE; c++) {
-            int other = c ^ (1 << u_bit[s]);
+            int other = c ^ (1 << bit);
             int g = index[c];
             bool ascending = u_mirror[s] || u_block > u_width || ((g % u_width) & u_block) == 0;
             e[c] = compare_exchange(before[c], before[other], (g < index[other]) == ascending);

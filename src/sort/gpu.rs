@@ -681,18 +681,12 @@ impl Sorter {
                 if let Step::Bitonic { block, .. } = steps[0] {
                     p.set_i32("u_block", block as i32);
                 }
-                // Local bit 0 flips the entry within its texel; bit b + 1 applies wide mask b.
-                let mut basis = 0;
+                // Wide masks in order are the basis of the sub-network (see multistep.frag).
+                let wide = steps.iter().filter_map(Step::mask).filter(|&m| m >= 2);
+                for (b, mask) in wide.enumerate() {
+                    p.set_i32(&format!("u_basis[{b}]"), mask as i32);
+                }
                 for (s, step) in steps.iter().enumerate() {
-                    let mask = step.mask().unwrap_or(1);
-                    let bit = if mask == 1 {
-                        0
-                    } else {
-                        p.set_i32(&format!("u_basis[{basis}]"), mask as i32);
-                        basis += 1;
-                        basis
-                    };
-                    p.set_i32(&format!("u_bit[{s}]"), bit);
                     let mirror = matches!(step, Step::Bitonic { mirror: true, .. });
                     p.set_i32(&format!("u_mirror[{s}]"), mirror as i32);
                 }

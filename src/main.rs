@@ -496,20 +496,8 @@ fn bench(cmd: BenchCommand) -> texflow::Result<()> {
             };
             let records = bench_sort(&ctx, &sizes, &variants, &opts, |_, _| bar.inc(1))?;
             bar.finish_and_clear();
-            if json {
-                println!(
-                    "{}",
-                    serde_json::to_string_pretty(&records).unwrap_or_default()
-                );
-            } else {
-                println!(
-                    "device {}: {}; {}; medians of {repeats}; full sort = key pass + network + rearrangement of 2 RGBA32F textures",
-                    ctx.device_index(),
-                    ctx.limits().renderer,
-                    records.iter().find(|r| r.passes > 0).map(|r| r.clock.name()).unwrap_or_default()
-                );
-                print_sort_table(&records);
-            }
+            let clock = records.iter().find(|r| r.passes > 0).map(|r| r.clock);
+            report(json, &records, &ctx, clock, &format!("medians of {repeats}; full sort = key pass + network + rearrangement of 2 RGBA32F textures"), print_sort_table);
             Ok(())
         }
         BenchCommand::Step {
@@ -544,22 +532,42 @@ fn bench(cmd: BenchCommand) -> texflow::Result<()> {
             };
             let records = bench_step(&ctx, &s, &sizes, &opts, |_| bar.inc(1))?;
             bar.finish_and_clear();
-            if json {
-                println!(
-                    "{}",
-                    serde_json::to_string_pretty(&records).unwrap_or_default()
-                );
-            } else {
-                println!(
-                    "device {}: {}; {}; medians of {repeats}",
-                    ctx.device_index(),
-                    ctx.limits().renderer,
-                    records.first().map(|r| r.clock.name()).unwrap_or_default()
-                );
-                print_step_table(&records);
-            }
+            let clock = records.first().map(|r| r.clock);
+            report(
+                json,
+                &records,
+                &ctx,
+                clock,
+                &format!("medians of {repeats}"),
+                print_step_table,
+            );
             Ok(())
         }
+    }
+}
+
+/// Prints benchmark records as JSON, or as a header naming the device and clock and a table.
+fn report<T: serde::Serialize>(
+    json: bool,
+    records: &[T],
+    ctx: &Context,
+    clock: Option<Clock>,
+    what: &str,
+    table: fn(&[T]),
+) {
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(records).unwrap_or_default()
+        );
+    } else {
+        println!(
+            "device {}: {}; {}; {what}",
+            ctx.device_index(),
+            ctx.limits().renderer,
+            clock.map(Clock::name).unwrap_or_default()
+        );
+        table(records);
     }
 }
 

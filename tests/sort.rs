@@ -253,6 +253,37 @@ fn odd_even_spread_over_frames_never_loses_sortedness() {
     no_gl_error(&ctx);
 }
 
+/// `passes_per_frame` spreads the sort over frames: after ceil(passes / per_frame) frames the
+/// entries are sorted, and the next frame starts the sequence over.
+#[test]
+fn passes_per_frame_spreads_the_sort() {
+    let ctx = context();
+    let options = SortOptions {
+        passes_per_frame: Some(4),
+        ..SortOptions::default()
+    };
+    let mut sorter = Sorter::new(&ctx, Variant::OddEven, 16, 16, options).unwrap();
+    let mut s = 23;
+    let input: Vec<Entry> = (0..256)
+        .map(|i| [(lcg(&mut s) % 90) as f32, i as f32])
+        .collect();
+    sorter.load(&input).unwrap();
+    let total = sorter.pass_count(); // 36
+    let frames = total.div_ceil(4);
+    for frame in 0..frames {
+        let ran = sorter.sort_frame();
+        assert_eq!(ran, 4.min(total - 4 * frame));
+        let sorted = blocks_sorted(&sorter.read().unwrap(), 256);
+        assert_eq!(sorted, frame + 1 == frames, "frame {frame}");
+    }
+    assert_eq!(sorter.sort_frame(), 4, "the sequence starts again");
+    assert!(
+        blocks_sorted(&sorter.read().unwrap(), 256),
+        "sorted data stays sorted"
+    );
+    no_gl_error(&ctx);
+}
+
 fn texture(ctx: &Context, w: u32, h: u32, data: &[f32]) -> Texture {
     let t = Texture::new(
         ctx,

@@ -104,6 +104,9 @@ pub struct SortOptions {
     /// Steps of distance 2 or more per pass of the multistep variant (1 to 3; distance-1 steps
     /// come free).
     pub steps_per_pass: usize,
+    /// Passes [`Sorter::sort_frame`] runs per frame; `None`: the whole sort every frame. Latta
+    /// spreads one odd-even sort over 20-50 frames (§3.4.4); the sequence restarts when done.
+    pub passes_per_frame: Option<usize>,
 }
 
 impl Default for SortOptions {
@@ -113,6 +116,7 @@ impl Default for SortOptions {
             precision: None,
             id_table: false,
             steps_per_pass: 2,
+            passes_per_frame: None,
         }
     }
 }
@@ -211,6 +215,9 @@ impl Sorter {
         }
         if !(1..=3).contains(&options.steps_per_pass) {
             return bad("steps per pass must be 1, 2 or 3".into());
+        }
+        if options.passes_per_frame == Some(0) {
+            return bad("passes per frame must be at least 1".into());
         }
         let (tw, format) = if variant.packed() {
             (width / 2, TextureFormat::Rgba32F)
@@ -608,6 +615,23 @@ impl Sorter {
         self.state.swap();
         self.next = 0;
         Ok(())
+    }
+
+    /// One frame's share of the sort: `passes_per_frame` passes (continuing the sequence, and
+    /// starting it again after its last pass), or the whole sort without that option.
+    pub fn sort_frame(&mut self) -> usize {
+        match self.options.passes_per_frame {
+            Some(n) => {
+                if self.next == self.passes.len() {
+                    self.next = 0;
+                }
+                self.run_passes(n)
+            }
+            None => {
+                self.next = 0;
+                self.run_passes(self.passes.len())
+            }
+        }
     }
 
     /// Runs every remaining pass of the sequence.

@@ -106,6 +106,18 @@ pub enum Error {
         /// The status.
         reason: Incomplete,
     },
+    /// A scene file is malformed or meaningless; `line` and `column` count from 1.
+    #[error("{path}:{line}:{column}: {message}")]
+    Scene {
+        /// The scene file (or the built-in scene's name).
+        path: String,
+        /// Line of the offending text.
+        line: usize,
+        /// Column of the offending text.
+        column: usize,
+        /// What is wrong and how to fix it.
+        message: String,
+    },
     /// A size or limit was exceeded, or a value is out of range.
     #[error("{0}")]
     InvalidInput(String),
@@ -135,7 +147,10 @@ impl Error {
     pub fn is_bad_input(&self) -> bool {
         matches!(
             self,
-            Error::InvalidInput(_) | Error::DeviceIndex { .. } | Error::Io { .. }
+            Error::InvalidInput(_)
+                | Error::DeviceIndex { .. }
+                | Error::Io { .. }
+                | Error::Scene { .. }
         )
     }
 }

@@ -1,5 +1,7 @@
 //! Scenes: what to simulate and how to look at it. Built-in scenes are compiled into the binary.
 
+pub mod file;
+
 use glam::Vec3;
 
 use crate::error::{Error, Result};

@@ -627,6 +627,9 @@ pub struct Render {
     /// Sort settings (alpha blending only).
     #[serde(default)]
     pub sort: SortSection,
+    /// Background colour; multiplicative blending needs a light one.
+    #[serde(default)]
+    pub background: [f32; 3],
 }
 
 fn resolution() -> [u32; 2] {
@@ -649,6 +652,7 @@ impl Default for Render {
             order: DrawOrder::default(),
             keyframes: Vec::new(),
             sort: SortSection::default(),
+            background: [0.0; 3],
         }
     }
 }

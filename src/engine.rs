@@ -7,6 +7,7 @@ use crate::error::Result;
 use crate::gl::Context;
 use crate::render::{FrameTarget, PointRenderer};
 use crate::scene::Scene;
+
 use crate::sim::FireSim;
 
 /// Runs one scene.
@@ -92,5 +93,262 @@ impl Engine {
     /// The context.
     pub fn context(&self) -> &Context {
         &self.ctx
+    }
+}
+
+/// Runs a scene of the particle pipeline: simulation, the sort alpha blending needs, rendering.
+#[derive(Debug)]
+pub struct ParticleEngine {
+    sim: crate::sim::ParticleSim,
+    renderer: crate::render::ParticleRenderer,
+    sort: Option<SortStage>,
+    target: FrameTarget,
+    camera: crate::render::Camera,
+    ctx: Context,
+}
+
+/// The sort of an alpha-blended scene and the textures it gathers into.
+#[derive(Debug)]
+struct SortStage {
+    sorter: crate::sort::Sorter,
+    sorted: crate::gl::Framebuffer,
+    back_to_front: bool,
+    spread: bool,
+    keyed: bool,
+}
+
+impl ParticleEngine {
+    /// Validates the scene against the device and builds everything.
+    pub fn new(ctx: &Context, scene: &crate::scene::SceneFile, seed: u64) -> Result<Self> {
+        use crate::gl::{Framebuffer, Texture, TextureDesc, TextureFormat};
+        use crate::scene::file::DrawOrder;
+        let [rw, rh] = scene.render.resolution;
+        crate::gl::check_size(ctx, "frame (render.resolution)", rw, rh)?;
+        let sim = crate::sim::ParticleSim::new(ctx, scene, shader_seed(seed))?;
+        let [w, h] = scene.particles.size;
+        let mut scales = [1.0f32; 4];
+        let mut tiles = [0, 1, 2, 3];
+        for (k, e) in scene.emitters.all().enumerate() {
+            scales[k] = e.sprite_scale;
+            tiles[k] = e.tile.unwrap_or(k as u32);
+        }
+        let mut style = crate::render::ParticleStyle::from_render(&scene.render, scales);
+        style.type_tile = tiles;
+        let renderer = crate::render::ParticleRenderer::new(ctx, style, w, h)?;
+        let sort = match crate::scene::plan::sort_plan(scene) {
+            None => None,
+            Some(p) => {
+                let options = crate::sort::SortOptions {
+                    passes_per_frame: p.passes_per_frame.map(|n| n as usize),
+                    ..Default::default()
+                };
+                let sorter =
+                    crate::sort::Sorter::new(ctx, p.variant, p.size[0], p.size[1], options)?;
+                let tex = |label: &str| {
+                    Texture::new(
+                        ctx,
+                        TextureDesc {
+                            width: w,
+                            height: h,
+                            format: TextureFormat::Rgba32F,
+                            label,
+                        },
+                    )
+                };
+                let sorted = Framebuffer::new(
+                    ctx,
+                    "sorted",
+                    vec![tex("sorted position")?, tex("sorted static")?],
+                )?;
+                Some(SortStage {
+                    sorter,
+                    sorted,
+                    back_to_front: scene.render.order == DrawOrder::BackToFront,
+                    spread: p.passes_per_frame.is_some(),
+                    keyed: false,
+                })
+            }
+        };
+        Ok(ParticleEngine {
+            target: FrameTarget::new(ctx, rw, rh)?,
+            camera: crate::scene::camera(&scene.render.camera),
+            sim,
+            renderer,
+            sort,
+            ctx: ctx.clone(),
+        })
+    }
+
+    /// Advances the simulation by one frame: `substeps` steps of `dt`.
+    pub fn advance_frame(&mut self) -> Result<()> {
+        for _ in 0..self.sim.scene().time.substeps {
+            self.sim.step()?;
+        }
+        Ok(())
+    }
+
+    /// Sorts (alpha blending only) and draws the current state into the frame target.
+    pub fn draw(&mut self) -> Result<()> {
+        let count = self.sim.active_count();
+        self.renderer.clear(&self.target);
+        match &mut self.sort {
+            None => self.renderer.draw(
+                &self.target,
+                self.sim.positions(),
+                self.sim.statics(),
+                &self.camera,
+                count,
+            )?,
+            Some(s) => {
+                let mode = crate::sort::KeyMode::ViewerDistance {
+                    eye: self.camera.eye(),
+                    back_to_front: s.back_to_front,
+                };
+                let texels = self.sim.size().x as usize * self.sim.size().y as usize;
+                if s.spread && s.keyed {
+                    s.sorter
+                        .refresh_keys(self.sim.positions(), texels, &mode, true)?;
+                } else {
+                    s.sorter
+                        .write_keys(self.sim.positions(), texels, &mode, true)?;
+                    s.keyed = true;
+                }
+                s.sorter.sort_frame();
+                s.sorter
+                    .gather(&[self.sim.positions(), self.sim.statics()], &s.sorted)?;
+                // Dead particles sort last (+inf keys), so the live ones are a prefix.
+                self.renderer.draw(
+                    &self.target,
+                    s.sorted.texture(0),
+                    s.sorted.texture(1),
+                    &self.camera,
+                    texels,
+                )?;
+            }
+        }
+        self.ctx.check_error("drawing a frame")
+    }
+
+    /// Draws the current state and reads the frame back.
+    pub fn render(&mut self) -> Result<image::RgbImage> {
+        self.draw()?;
+        self.target.read_rgb()
+    }
+
+    /// The simulation.
+    pub fn sim(&self) -> &crate::sim::ParticleSim {
+        &self.sim
+    }
+
+    /// The simulation, mutable (to set a state).
+    pub fn sim_mut(&mut self) -> &mut crate::sim::ParticleSim {
+        &mut self.sim
+    }
+
+    /// The positions and statics in drawing order after the last [`draw`](Self::draw) (alpha
+    /// blending only).
+    pub fn sorted(&self) -> Option<&crate::gl::Framebuffer> {
+        self.sort.as_ref().map(|s| &s.sorted)
+    }
+
+    /// The camera.
+    pub fn camera(&self) -> &crate::render::Camera {
+        &self.camera
+    }
+
+    /// The frame target.
+    pub fn target(&self) -> &FrameTarget {
+        &self.target
+    }
+
+    /// The renderer.
+    pub fn renderer(&self) -> &crate::render::ParticleRenderer {
+        &self.renderer
+    }
+}
+
+/// Either engine, chosen by the scene: the thesis's fire or the particle pipeline.
+#[derive(Debug)]
+pub enum SceneRunner {
+    /// A scene with a `[fire]` section.
+    Fire(Box<Engine>),
+    /// Every other scene.
+    Particles(Box<ParticleEngine>),
+}
+
+/// Live particles' positions and velocities, N×4 each, for `--dump-state`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StateDump {
+    /// xyz and remaining life of every live particle.
+    pub positions: Vec<[f32; 4]>,
+    /// Velocity (xyz, 0) of the same particles.
+    pub velocities: Vec<[f32; 4]>,
+    /// Live particles with a NaN or infinite component: kept in the dump, and counted so that
+    /// the CLI reports them rather than hiding them.
+    pub non_finite: usize,
+}
+
+impl SceneRunner {
+    /// Builds the engine `scene` needs.
+    pub fn new(ctx: &Context, scene: &crate::scene::SceneFile, seed: u64) -> Result<Self> {
+        Ok(if scene.fire.is_some() {
+            SceneRunner::Fire(Box::new(Engine::new(ctx, Scene::from_file(scene)?, seed)?))
+        } else {
+            SceneRunner::Particles(Box::new(ParticleEngine::new(ctx, scene, seed)?))
+        })
+    }
+
+    /// Advances one frame.
+    pub fn advance_frame(&mut self) -> Result<()> {
+        match self {
+            SceneRunner::Fire(e) => {
+                e.advance_frame();
+                Ok(())
+            }
+            SceneRunner::Particles(e) => e.advance_frame(),
+        }
+    }
+
+    /// Renders the current state.
+    pub fn render(&mut self) -> Result<image::RgbImage> {
+        match self {
+            SceneRunner::Fire(e) => e.render(),
+            SceneRunner::Particles(e) => e.render(),
+        }
+    }
+
+    /// Simulation steps taken.
+    pub fn steps(&self) -> u64 {
+        match self {
+            SceneRunner::Fire(e) => e.sim().steps(),
+            SceneRunner::Particles(e) => e.sim().steps(),
+        }
+    }
+
+    /// Reads back the live particles (remaining life > 0).
+    pub fn dump(&self) -> Result<StateDump> {
+        let (pos, vel) = match self {
+            SceneRunner::Fire(e) => (
+                e.sim().positions().read_f32()?,
+                e.sim().velocities().read_f32()?,
+            ),
+            SceneRunner::Particles(e) => (e.sim().read_positions()?, e.sim().read_velocities()?),
+        };
+        let mut d = StateDump {
+            positions: Vec::new(),
+            velocities: Vec::new(),
+            non_finite: 0,
+        };
+        for (p, v) in pos.chunks_exact(4).zip(vel.chunks_exact(4)) {
+            if p[3] > 0.0 {
+                if !p.iter().chain(&v[..3]).all(|x| x.is_finite()) {
+                    d.non_finite += 1;
+                }
+                d.positions.push([p[0], p[1], p[2], p[3]]);
+                // The fire keeps its wait counter in velocity.w; the dump holds velocities only.
+                d.velocities.push([v[0], v[1], v[2], 0.0]);
+            }
+        }
+        Ok(d)
     }
 }

@@ -33,5 +33,5 @@ pub mod scene;
 pub mod sim;
 pub mod sort;
 
-pub use engine::Engine;
+pub use engine::{Engine, ParticleEngine, SceneRunner};
 pub use error::{Error, Result};

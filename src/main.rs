@@ -12,7 +12,7 @@ use texflow::bench::{
 use texflow::gl::{list_devices, Context};
 use texflow::render::FrameWriter;
 use texflow::sort::{SortOptions, Sorter, Variant};
-use texflow::{scene, Engine, Error};
+use texflow::{scene, Error, SceneRunner};
 
 #[derive(Parser)]
 #[command(
@@ -37,9 +37,37 @@ enum Command {
     Render(RenderArgs),
     /// Sort float32 keys from a .npy file on the GPU.
     Sort(SortArgs),
+    /// Check scene files and list the passes a scene runs.
+    #[command(subcommand)]
+    Scene(SceneCommand),
     /// Benchmarks (GPU timer queries, medians, floors measured in the same run).
     #[command(subcommand)]
     Bench(BenchCommand),
+}
+
+#[derive(Subcommand)]
+enum SceneCommand {
+    /// Validate a scene file (syntax, types, keys, values) without rendering.
+    Check {
+        /// Scene file (.toml) or built-in name.
+        scene: String,
+        /// EGL device whose size limits to check against.
+        #[arg(long, default_value_t = 0)]
+        device: usize,
+    },
+    /// Print the passes a scene runs per frame.
+    Passes {
+        /// Scene file (.toml) or built-in name.
+        scene: String,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// List the built-in scenes, or print one's TOML source.
+    List {
+        /// Print the source of this built-in scene.
+        name: Option<String>,
+    },
 }
 
 #[derive(Args)]
@@ -62,7 +90,8 @@ struct SortArgs {
 
 #[derive(Args)]
 struct RenderArgs {
-    /// Scene to render (built-in: fire).
+    /// Scene to render: a built-in name (fire, snow, fountain, smoke, e1, e2, e3) or a .toml
+    /// scene file.
     #[arg(default_value = scene::DEFAULT_SCENE)]
     scene: String,
     /// Number of frames to simulate.
@@ -89,6 +118,12 @@ struct RenderArgs {
     /// Write every K-th frame (frames keep their index in the name).
     #[arg(long, default_value_t = 1)]
     every: u64,
+    /// Also write the live particles' positions and velocities as .npy (N×4 float32).
+    #[arg(long)]
+    dump_state: Option<PathBuf>,
+    /// Dump every K-th frame.
+    #[arg(long, default_value_t = 1)]
+    dump_every: u64,
     #[command(flatten)]
     common: Common,
 }
@@ -283,51 +318,161 @@ fn yes(b: bool) -> &'static str {
 
 fn render(a: RenderArgs) -> texflow::Result<()> {
     // Everything that can be checked without a GPU is checked before anything is created.
-    let mut s = scene::builtin(&a.scene)?;
+    let (label, src) = scene::load_source(&a.scene)?;
+    let mut s = scene::file::parse(&label, &src)?;
     if a.frames == 0 {
         return Err(bad("--frames 0 renders nothing: ask for at least 1 frame"));
     }
     if a.every == 0 {
         return Err(bad("--every 0 is meaningless: use 1 to write every frame"));
     }
+    if a.dump_every == 0 {
+        return Err(bad(
+            "--dump-every 0 is meaningless: use 1 to dump every frame",
+        ));
+    }
     if let Some(p) = a.particles {
-        s.particles = p;
+        s.particles.size = p;
     }
     if let Some(r) = a.resolution {
-        s.resolution = r;
+        s.render.resolution = r;
     }
     if let Some(dt) = a.dt {
-        s.dt = dt;
+        s.time.dt = dt;
     }
     if let Some(n) = a.substeps {
-        s.substeps = n;
+        s.time.substeps = n;
     }
-    s.validate()?;
+    if let Err(e) = s.validate() {
+        return Err(bad(format!(
+            "scene `{}` with the options given: {}",
+            s.name, e.message
+        )));
+    }
+    if s.fire.is_some() {
+        scene::Scene::from_file(&s)?.validate()?;
+    }
     FrameWriter::check(&a.out)?;
+    if let Some(d) = &a.dump_state {
+        FrameWriter::check(d)?;
+    }
     let ctx = Context::new(a.common.device)?;
-    let mut engine = Engine::new(&ctx, s, a.seed)?;
+    let limits = scene::file::SizeLimits {
+        max_texture: ctx.limits().max_texture_size,
+        max_3d_texture: ctx.limits().max_3d_texture_size,
+    };
+    let mut skip = Vec::new();
+    if a.particles.is_some() {
+        skip.push("particles.size");
+    }
+    if a.resolution.is_some() {
+        skip.push("render.resolution");
+    }
+    scene::file::check_limits(&label, &src, &s, limits, &skip)?;
+    let mut engine = SceneRunner::new(&ctx, &s, a.seed)?;
     let writer = FrameWriter::create(&a.out)?;
+    let dumps = a
+        .dump_state
+        .as_ref()
+        .map(|d| FrameWriter::create(d))
+        .transpose()?;
     let bar = progress_bar(a.frames, a.common.quiet, "rendering");
     let mut written = 0;
+    let mut non_finite = 0;
     for frame in 0..a.frames {
-        engine.advance_frame();
+        engine.advance_frame()?;
         if frame % a.every == 0 {
             writer.write(frame, &engine.render()?)?;
             written += 1;
         }
+        if let (Some(w), true) = (&dumps, frame % a.dump_every == 0) {
+            let d = engine.dump()?;
+            non_finite = non_finite.max(d.non_finite);
+            let rows = |v: &[[f32; 4]]| v.iter().flatten().copied().collect::<Vec<f32>>();
+            let n = d.positions.len();
+            for (what, data) in [
+                ("positions", rows(&d.positions)),
+                ("velocities", rows(&d.velocities)),
+            ] {
+                let path = w.dir().join(format!("{what}_{frame:05}.npy"));
+                texflow::npy::write_f32_shaped(&path, &[n, 4], &data)?;
+            }
+        }
         bar.inc(1);
     }
     bar.finish_and_clear();
+    if non_finite > 0 {
+        eprintln!(
+            "warning: up to {non_finite} live particle(s) had NaN or infinite values in the \
+             dumped state (see the .npy files)"
+        );
+    }
     if !a.common.quiet {
         eprintln!(
             "wrote {written} frame(s) of {}x{} to {} ({} particles, {} steps of {} s)",
-            engine.scene().resolution[0],
-            engine.scene().resolution[1],
+            s.render.resolution[0],
+            s.render.resolution[1],
             a.out.display(),
-            engine.scene().particle_count(),
-            engine.sim().steps(),
-            engine.scene().dt
+            s.particle_count(),
+            engine.steps(),
+            s.time.dt
         );
+    }
+    Ok(())
+}
+
+fn scene_command(c: SceneCommand) -> texflow::Result<()> {
+    match c {
+        SceneCommand::Check {
+            scene: name,
+            device,
+        } => {
+            let (label, src) = scene::load_source(&name)?;
+            let s = scene::file::parse(&label, &src)?;
+            // Sizes against the device's limits, where there is a device to ask.
+            let limits = match Context::new(device) {
+                Ok(ctx) => {
+                    let l = ctx.limits();
+                    let limits = scene::file::SizeLimits {
+                        max_texture: l.max_texture_size,
+                        max_3d_texture: l.max_3d_texture_size,
+                    };
+                    scene::file::check_limits(&label, &src, &s, limits, &[])?;
+                    format!("sizes fit {}", l.renderer)
+                }
+                Err(e) => format!("sizes not checked against a device: {e}"),
+            };
+            println!(
+                "{name}: ok (scene `{}`, {} particles; {limits})",
+                s.name,
+                s.particle_count()
+            );
+        }
+        SceneCommand::Passes { scene: name, json } => {
+            let plan = scene::plan::plan(&scene::load(&name)?);
+            if json {
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&plan).unwrap_or_default()
+                );
+            } else {
+                print!("{plan}");
+            }
+        }
+        SceneCommand::List { name: None } => {
+            for n in scene::BUILTIN {
+                println!("{n}");
+            }
+        }
+        SceneCommand::List { name: Some(n) } => match scene::builtin_source(&n) {
+            Some(src) => print!("{src}"),
+            None => {
+                return Err(bad(format!(
+                    "unknown scene `{n}`: the built-in scenes are {}",
+                    scene::BUILTIN.join(", ")
+                )))
+            }
+        },
     }
     Ok(())
 }
@@ -602,6 +747,7 @@ fn main() -> ExitCode {
         Command::Info { json } => info(json),
         Command::Render(a) => render(a),
         Command::Sort(a) => sort(a),
+        Command::Scene(c) => scene_command(c),
         Command::Bench(b) => bench(b),
     };
     match result {

@@ -126,6 +126,39 @@ pub fn read_f32(path: &Path) -> Result<Vec<f32>> {
         .collect())
 }
 
+/// Reads a little-endian float32 array of any shape (C order), e.g. a state dump (N×4).
+pub fn read_f32_shaped(path: &Path) -> Result<(Vec<usize>, Vec<f32>)> {
+    let bytes = fs::read(path).map_err(|source| Error::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    let (h, data) = parse_header(path, &bytes)?;
+    if h.descr != "<f4" || h.fortran_order {
+        return Err(bad(
+            path,
+            format!("dtype {} is not C-order float32 (<f4)", h.descr),
+        ));
+    }
+    let n: usize = h.shape.iter().product();
+    let body = &bytes[data..];
+    if body.len() < 4 * n {
+        return Err(bad(
+            path,
+            format!(
+                "the file holds {} bytes of data, shape {:?} needs {}",
+                body.len(),
+                h.shape,
+                4 * n
+            ),
+        ));
+    }
+    let v = body[..4 * n]
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    Ok((h.shape, v))
+}
+
 /// Reads a 1-D little-endian int32 or uint32 array as u32 (negative int32 values are an error).
 pub fn read_u32(path: &Path) -> Result<Vec<u32>> {
     let (descr, body) = read_1d(path, &["<i4", "<u4"], "int32 or uint32 (<i4, <u4)")?;

@@ -102,8 +102,8 @@ fn refused(args: &[&str], message: &str) {
 #[test]
 fn bad_input_is_refused_with_exit_code_2() {
     refused(
-        &["render", "smoke"],
-        "unknown scene `smoke`: the built-in scenes are fire",
+        &["render", "smok"],
+        "unknown scene `smok`: the built-in scenes are fire, snow",
     );
     refused(&["render", "--particles", "0x5"], "empty");
     refused(&["render", "--particles", "abc"], "not a size");

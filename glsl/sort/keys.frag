@@ -7,6 +7,9 @@
 // so padding lands after every real particle, NaN keys included).
 // Identifiers are the particle index, or with ID_TABLE the paper's 24-bit-safe enumeration
 // looked up from a texture.
+// REKEY (Latta's sort spread over frames, §3.4.4): keep the order the sort has reached and only
+// recompute each entry's key from its particle's new position, so the next frames' passes start
+// from an almost sorted sequence. Plain identifiers only.
 
 #include "common/precision.glsl"
 
@@ -35,8 +38,22 @@ float identifier(int i) {
 #endif
 }
 
+#ifdef REKEY
+uniform sampler2D u_sorted;
+#endif
+
 vec2 entry(int i) {
+#ifdef REKEY
+#ifdef PACKED
+    vec4 pair = texelFetch(u_sorted, ivec2((i % u_sort_width) / 2, i / u_sort_width), 0);
+    float id = (i & 1) == 0 ? pair.y : pair.w;
+#else
+    float id = texelFetch(u_sorted, ivec2(i % u_sort_width, i / u_sort_width), 0).y;
+#endif
+    i = int(id);
+#else
     float id = identifier(i);
+#endif
     if (i >= u_count) return vec2(uintBitsToFloat(0x7fc00000u), id);
     vec4 p = texelFetch(u_position, ivec2(i % u_state_width, i / u_state_width), 0);
     if (u_cull_dead && !(p.w > 0.0)) return vec2(uintBitsToFloat(0x7f800000u), id);

@@ -10,6 +10,7 @@ mod program;
 mod query;
 pub mod source;
 mod texture;
+mod texture3d;
 
 pub use buffer::{Attribute, Buffer, VertexArray};
 pub use context::{gl_error_name, list_devices, Context, DeviceInfo, Limits};
@@ -19,3 +20,4 @@ pub use pingpong::PingPong;
 pub use program::{Defines, Program};
 pub use query::TimerQuery;
 pub use texture::{check_size, Texture, TextureDesc, TextureFormat};
+pub use texture3d::{check_size_3d, Texture3D};

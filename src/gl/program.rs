@@ -158,6 +158,14 @@ impl Program {
                 .uniform_3_i32(self.location(name).as_ref(), x, y, z)
         }
     }
+    /// Sets an `ivec4` uniform.
+    pub fn set_ivec4(&self, name: &str, v: [i32; 4]) {
+        // SAFETY: as above.
+        unsafe {
+            self.ctx
+                .uniform_4_i32(self.location(name).as_ref(), v[0], v[1], v[2], v[3])
+        }
+    }
     /// Sets a `mat4` uniform (column-major, as glam stores it).
     pub fn set_mat4(&self, name: &str, m: &glam::Mat4) {
         // SAFETY: as above.

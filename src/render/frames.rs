@@ -114,6 +114,11 @@ impl FrameWriter {
         })
     }
 
+    /// The folder written to.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
     /// The path of frame `index`.
     pub fn path(&self, index: u64) -> PathBuf {
         self.dir.join(format!("frame_{index:05}.png"))

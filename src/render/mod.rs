@@ -1,11 +1,16 @@
 //! Rendering particles from their state textures into offscreen frames, and writing frames.
 
+pub mod atlas;
 mod camera;
 mod frames;
+mod particles;
 mod points;
 mod target;
 
 pub use camera::Camera;
 pub use frames::{write_png_atomic, FrameWriter};
+pub use particles::{
+    default_keyframes, relative_age, KeyframeRamp, ParticleRenderer, ParticleStyle,
+};
 pub use points::{PointRenderer, PointStyle};
 pub use target::FrameTarget;

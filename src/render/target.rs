@@ -52,6 +52,11 @@ impl FrameTarget {
         self.fb.clear([0.0, 0.0, 0.0, 1.0]);
     }
 
+    /// Clears to `rgba` (the under operator starts from alpha 0).
+    pub fn clear_to(&self, rgba: [f32; 4]) {
+        self.fb.clear(rgba);
+    }
+
     /// Reads the frame back as an RGB image with the first row at the top (GL's is at the bottom).
     pub fn read_rgb(&self) -> Result<image::RgbImage> {
         let (w, h) = (self.width(), self.height());

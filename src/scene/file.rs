@@ -234,6 +234,9 @@ pub struct Emitter {
     /// Sprite size of this type relative to `render.point_size`.
     #[serde(default = "one")]
     pub sprite_scale: f32,
+    /// Atlas tile of this type's sprites (0 soft blob, 1 snowflake, 2 smoke puff, 3 ring);
+    /// default: the type's own number.
+    pub tile: Option<u32>,
 }
 
 /// Forces by kind (Latta §3.4.2, UberFlow §4.2).
@@ -255,6 +258,19 @@ pub struct Forces {
     /// Wind from a 3D flow-field texture with Stokes drag (Latta eq. 1).
     #[serde(default)]
     pub wind: Vec<Wind>,
+    /// Linear springs to an anchor (harmonic oscillators: the integrators' test problem).
+    #[serde(default)]
+    pub spring: Vec<Spring>,
+}
+
+/// A linear spring pulling every particle towards an anchor: F = -k (x - anchor).
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Spring {
+    /// Rest point.
+    pub anchor: [f32; 3],
+    /// Stiffness k in N/m (with mass m the angular frequency is sqrt(k/m)).
+    pub stiffness: f32,
 }
 
 /// Uniform acceleration.
@@ -289,7 +305,8 @@ pub struct Attractor {
     pub falloff: Falloff,
     /// No force beyond this distance.
     pub max_distance: Option<f32>,
-    /// Inverse square only: distances below this count as this (keeps the force finite).
+    /// Inverse square only: Plummer softening length, F = s d / (r² + soft²)^(3/2), which keeps
+    /// the force finite and smooth, and zero at the centre.
     #[serde(default = "softening")]
     pub softening: f32,
 }
@@ -344,7 +361,8 @@ fn wind_resolution() -> u32 {
 #[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Colliders {
-    /// Below this tangential speed no friction is applied (Latta §3.4.2).
+    /// Below this speed no friction is applied (Latta §3.4.2: "if the overall velocity is
+    /// smaller than a given threshold").
     #[serde(default)]
     pub slow_speed: f32,
     /// Infinite planes.
@@ -375,7 +393,7 @@ pub struct PlaneCollider {
     /// Friction μ in [0, 1] (Latta eq. 5).
     #[serde(default)]
     pub friction: f32,
-    /// Resilience ε in [0, 1] (Latta eq. 4).
+    /// Resilience ε in [0, 1] (Latta eq. 5).
     #[serde(default = "one")]
     pub resilience: f32,
 }
@@ -391,7 +409,7 @@ pub struct SphereCollider {
     /// Friction μ in [0, 1] (Latta eq. 5).
     #[serde(default)]
     pub friction: f32,
-    /// Resilience ε in [0, 1] (Latta eq. 4).
+    /// Resilience ε in [0, 1] (Latta eq. 5).
     #[serde(default = "one")]
     pub resilience: f32,
 }
@@ -407,7 +425,7 @@ pub struct BoxCollider {
     /// Friction μ in [0, 1] (Latta eq. 5).
     #[serde(default)]
     pub friction: f32,
-    /// Resilience ε in [0, 1] (Latta eq. 4).
+    /// Resilience ε in [0, 1] (Latta eq. 5).
     #[serde(default = "one")]
     pub resilience: f32,
 }
@@ -430,7 +448,7 @@ pub struct HeightFieldCollider {
     /// Friction μ in [0, 1] (Latta eq. 5).
     #[serde(default)]
     pub friction: f32,
-    /// Resilience ε in [0, 1] (Latta eq. 4).
+    /// Resilience ε in [0, 1] (Latta eq. 5).
     #[serde(default = "one")]
     pub resilience: f32,
 }
@@ -452,7 +470,7 @@ pub struct SdfCollider {
     /// Friction μ in [0, 1] (Latta eq. 5).
     #[serde(default)]
     pub friction: f32,
-    /// Resilience ε in [0, 1] (Latta eq. 4).
+    /// Resilience ε in [0, 1] (Latta eq. 5).
     #[serde(default = "one")]
     pub resilience: f32,
 }
@@ -676,7 +694,11 @@ pub struct Invalid {
 }
 
 fn line_column(src: &str, offset: usize) -> (usize, usize) {
-    let before = &src[..offset.min(src.len())];
+    let mut end = offset.min(src.len());
+    while !src.is_char_boundary(end) {
+        end -= 1;
+    }
+    let before = &src[..end];
     let line = before.matches('\n').count() + 1;
     let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
     (line, column)
@@ -692,17 +714,34 @@ fn scene_error(path: &str, src: &str, offset: usize, message: String) -> Error {
     }
 }
 
-/// Finds the span of `at` in the untyped document (the deepest part that exists).
+/// Finds where `at` starts in the untyped document (the deepest part that exists): a plain
+/// value or an array of plain values at the value, like the parser's own type errors; a table or
+/// an array of tables at its key (in its first header); an array element at the element.
 fn locate(doc: &Spanned<DeTable<'_>>, at: &[Key]) -> usize {
+    fn holds_tables(v: &DeValue<'_>) -> bool {
+        match v {
+            DeValue::Table(_) => true,
+            DeValue::Array(a) => a.iter().any(|e| holds_tables(e.get_ref())),
+            _ => false,
+        }
+    }
     let mut span = doc.span().start;
     let mut value: Option<&DeValue<'_>> = None;
     let mut table = Some(doc.get_ref());
     for key in at {
         let next = match (key, table, value) {
-            (Key::Name(n), Some(t), _) => t
-                .iter()
-                .find(|(k, _)| k.get_ref().as_ref() == *n)
-                .map(|(k, v)| (k.span().start, v)),
+            (Key::Name(n), Some(t), _) => {
+                t.iter()
+                    .find(|(k, _)| k.get_ref().as_ref() == *n)
+                    .map(|(k, v)| {
+                        let start = if holds_tables(v.get_ref()) {
+                            k.span().start
+                        } else {
+                            v.span().start
+                        };
+                        (start, v)
+                    })
+            }
             (Key::Index(i), _, Some(DeValue::Array(a))) => a.get(*i).map(|v| (v.span().start, v)),
             _ => None,
         };
@@ -744,12 +783,21 @@ fn find_non_finite(doc: &DeTable<'_>) -> Option<(usize, String)> {
 /// Parses and validates a scene file; `path` names it in errors.
 pub fn parse(path: &str, src: &str) -> Result<SceneFile> {
     let doc = DeTable::parse(src).map_err(|e| {
-        scene_error(
-            path,
-            src,
-            e.span().map_or(0, |s| s.start),
-            e.message().trim().to_owned(),
-        )
+        let at = e.span().map_or(0, |s| s.start);
+        let mut message = e.message().trim().to_owned();
+        if message == "duplicate key" {
+            // Name the key: the parser's message does not.
+            let key: String = src
+                .get(at..)
+                .unwrap_or_default()
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '_' || *c == '-')
+                .collect();
+            if !key.is_empty() {
+                message = format!("duplicate key `{key}`: each key may be set only once");
+            }
+        }
+        scene_error(path, src, at, message)
     })?;
     if let Some((at, message)) = find_non_finite(doc.get_ref()) {
         return Err(scene_error(path, src, at, message));
@@ -812,16 +860,25 @@ fn check_spawn(at: &[Key], s: &Emitter) -> Check {
         v.push(N(k));
         v
     };
+    if s.tile.is_some_and(|t| t > 3) {
+        return fail(
+            p("tile"),
+            "tile must be 0, 1, 2 or 3 (the atlas has four tiles)",
+        );
+    }
     if let Some(life) = s.life {
         if !(life[0] > 0.0 && life[0] <= life[1]) {
             return fail(p("life"), "life must be [min, max] with 0 < min <= max");
         }
     }
-    if s.mass.is_some_and(|m| m <= 0.0) {
-        return fail(p("mass"), "mass must be above 0");
+    if let Some(m) = s.mass.filter(|m| *m <= 0.0) {
+        return fail(p("mass"), format!("mass {m} must be above 0 kg"));
     }
     if s.sprite_scale <= 0.0 {
-        return fail(p("sprite_scale"), "sprite_scale must be above 0");
+        return fail(
+            p("sprite_scale"),
+            format!("sprite_scale {} must be above 0", s.sprite_scale),
+        );
     }
     if !(s.speed[0] >= 0.0 && s.speed[0] <= s.speed[1]) {
         return fail(p("speed"), "speed must be [min, max] with 0 <= min <= max");
@@ -853,23 +910,26 @@ impl SceneFile {
         if self.name.trim().is_empty() {
             return fail(path(&[N("name")]), "name must not be empty");
         }
-        let [w, h] = self.particles.size;
-        if w == 0 || h == 0 {
+        if let Some(i) = self.particles.size.iter().position(|s| *s == 0) {
             return fail(
-                path(&[N("particles"), N("size")]),
-                "both sides of size must be at least 1",
+                path(&[N("particles"), N("size"), I(i)]),
+                "both sides of size must be at least 1 texel",
             );
         }
         if self.particles.mass <= 0.0 {
             return fail(
                 path(&[N("particles"), N("mass")]),
-                format!("mass {} must be above 0", self.particles.mass),
+                format!("mass {} must be above 0 kg", self.particles.mass),
             );
         }
-        if self.time.dt <= 0.0 {
+        // Finite already in a parsed file; `render --dt` overrides it after parsing.
+        if !(self.time.dt.is_finite() && self.time.dt > 0.0) {
             return fail(
                 path(&[N("time"), N("dt")]),
-                format!("dt {} must be above 0 seconds", self.time.dt),
+                format!(
+                    "time step dt {} must be a finite number of seconds above 0",
+                    self.time.dt
+                ),
             );
         }
         if self.time.substeps == 0 {
@@ -885,15 +945,29 @@ impl SceneFile {
             !em.initial.is_empty(),
         ];
         if kinds.iter().filter(|k| **k).count() > 1 {
+            let second = ["allocator", "timestamp", "initial"]
+                .into_iter()
+                .zip(kinds)
+                .filter(|k| k.1)
+                .nth(1)
+                .map_or("emitters", |k| k.0);
             return fail(
-                path(&[N("emitters")]),
+                path(&[N("emitters"), N(second)]),
                 "use one kind of emitter per scene (allocator, timestamp or initial): they \
                  manage the state texture in different ways",
             );
         }
         if em.len() > MAX_EMITTERS {
+            // Only one kind is present here: the first emitter over the limit is its element.
+            let kind = if !em.allocator.is_empty() {
+                "allocator"
+            } else if !em.timestamp.is_empty() {
+                "timestamp"
+            } else {
+                "initial"
+            };
             return fail(
-                path(&[N("emitters")]),
+                path(&[N("emitters"), N(kind), I(MAX_EMITTERS)]),
                 format!(
                     "{} emitters: at most {MAX_EMITTERS} (one particle type and atlas tile each)",
                     em.len()
@@ -978,6 +1052,14 @@ impl SceneFile {
                 _ => {}
             }
         }
+        for (i, sp) in self.forces.spring.iter().enumerate() {
+            if sp.stiffness < 0.0 {
+                return fail(
+                    path(&[N("forces"), N("spring"), I(i), N("stiffness")]),
+                    format!("stiffness {} N/m must not be negative", sp.stiffness),
+                );
+            }
+        }
         for (i, v) in self.forces.vortex.iter().enumerate() {
             if !nonzero(v.axis) {
                 return fail(
@@ -1004,6 +1086,9 @@ impl SceneFile {
             let at = |k| path(&[N("forces"), N("wind"), I(i), N(k)]);
             if wnd.drag < 0.0 {
                 return fail(at("drag"), "drag must not be negative");
+            }
+            if wnd.turbulence < 0.0 {
+                return fail(at("turbulence"), "turbulence must not be negative");
             }
             if !(2..=256).contains(&wnd.resolution) {
                 return fail(at("resolution"), "resolution must lie in 2..=256");
@@ -1121,11 +1206,14 @@ impl SceneFile {
                     "life must be [min, max] with 0 < min <= max <= max_age",
                 );
             }
-            if f.emitter_radius < 0.0 || f.damping < 0.0 || f.turbulence < 0.0 {
-                return fail(
-                    at("emitter_radius"),
-                    "emitter_radius, damping and turbulence must not be negative",
-                );
+            for (key, v) in [
+                ("emitter_radius", f.emitter_radius),
+                ("damping", f.damping),
+                ("turbulence", f.turbulence),
+            ] {
+                if v < 0.0 {
+                    return fail(at(key), format!("{key} {v} must not be negative"));
+                }
             }
         } else if self.emitters.is_empty() {
             return fail(
@@ -1134,22 +1222,34 @@ impl SceneFile {
             );
         }
         let r = &self.render;
-        if r.resolution[0] == 0 || r.resolution[1] == 0 {
+        if let Some(i) = r.resolution.iter().position(|s| *s == 0) {
             return fail(
-                path(&[N("render"), N("resolution")]),
-                "both sides of resolution must be at least 1",
+                path(&[N("render"), N("resolution"), I(i)]),
+                "both sides of resolution must be at least 1 pixel",
             );
         }
         if r.point_size <= 0.0 {
             return fail(
                 path(&[N("render"), N("point_size")]),
-                "point_size must be above 0",
+                format!("point_size {} must be above 0 pixels", r.point_size),
             );
         }
-        if !(r.camera.fov > 0.0 && r.camera.fov < 180.0) || r.camera.distance <= 0.0 {
+        if r.intensity < 0.0 {
             return fail(
-                path(&[N("render"), N("camera")]),
-                "fov must lie in (0, 180) degrees and distance above 0",
+                path(&[N("render"), N("intensity")]),
+                format!("intensity {} must not be negative", r.intensity),
+            );
+        }
+        if !(r.camera.fov > 0.0 && r.camera.fov < 180.0) {
+            return fail(
+                path(&[N("render"), N("camera"), N("fov")]),
+                format!("fov {} must lie in (0, 180) degrees", r.camera.fov),
+            );
+        }
+        if r.camera.distance <= 0.0 {
+            return fail(
+                path(&[N("render"), N("camera"), N("distance")]),
+                format!("distance {} must be above 0", r.camera.distance),
             );
         }
         if !r.keyframes.is_empty() {
@@ -1160,21 +1260,36 @@ impl SceneFile {
                 );
             }
             let ages: Vec<f32> = r.keyframes.iter().map(|k| k.age).collect();
-            if ages[0] != 0.0 || ages[3] != 1.0 || ages.windows(2).any(|w| w[0] > w[1]) {
+            let bad_age = if ages[0] != 0.0 {
+                Some(0)
+            } else {
+                (1..4)
+                    .find(|&i| ages[i] < ages[i - 1])
+                    .or((ages[3] != 1.0).then_some(3))
+            };
+            if let Some(i) = bad_age {
                 return fail(
-                    path(&[N("render"), N("keyframes")]),
-                    "keyframe ages must ascend from 0 to 1",
+                    path(&[N("render"), N("keyframes"), I(i), N("age")]),
+                    format!(
+                        "keyframe ages must ascend from 0 to 1 (the first 0, the last 1); \
+                         keyframe {} has age {}",
+                        i + 1,
+                        ages[i]
+                    ),
                 );
+            }
+            for (i, k) in r.keyframes.iter().enumerate() {
+                if let Some(c) = k.rgba.iter().position(|v| *v < 0.0) {
+                    return fail(
+                        path(&[N("render"), N("keyframes"), I(i), N("rgba"), I(c)]),
+                        "keyframe colours and opacities must not be negative",
+                    );
+                }
             }
         }
         if let Some(v) = &r.sort.variant {
-            if crate::sort::Variant::from_name(v).is_err() {
-                return fail(
-                    path(&[N("render"), N("sort"), N("variant")]),
-                    format!(
-                        "unknown sort variant `{v}`: use fp, gpfp, packed, oddeven or multistep"
-                    ),
-                );
+            if let Err(e) = crate::sort::Variant::from_name(v) {
+                return fail(path(&[N("render"), N("sort"), N("variant")]), e.to_string());
             }
         }
         if r.sort.passes_per_frame == Some(0) {
@@ -1200,5 +1315,114 @@ mod tests {
     fn line_and_column_count_from_one() {
         assert_eq!(line_column("ab\ncd", 0), (1, 1));
         assert_eq!(line_column("ab\ncd", 4), (2, 2));
+        // Columns count characters; an offset inside a character counts from its start.
+        assert_eq!(line_column("é = 1", 3), (1, 3));
+        assert_eq!(line_column("é = 1", 1), (1, 1));
+        assert_eq!(line_column("a", 99), (1, 2));
     }
+
+    #[test]
+    fn locate_points_at_values_elements_and_table_keys() {
+        let src = "[a]\nx = 1.0\nv = [1, 2]\n[[t]]\ny = 2\n";
+        let doc = DeTable::parse(src).unwrap();
+        let at = |keys: &[Key]| line_column(src, locate(&doc, keys));
+        assert_eq!(at(&[N("a"), N("x")]), (2, 5));
+        assert_eq!(at(&[N("a"), N("v"), I(1)]), (3, 9));
+        assert_eq!(at(&[N("a"), N("missing")]), (1, 2));
+        assert_eq!(at(&[N("t"), I(0), N("y")]), (5, 5));
+        assert_eq!(at(&[N("t")]).0, 4);
+    }
+}
+
+/// Texture size limits of a device, for [`check_limits`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SizeLimits {
+    /// GL_MAX_TEXTURE_SIZE.
+    pub max_texture: u32,
+    /// GL_MAX_3D_TEXTURE_SIZE.
+    pub max_3d_texture: u32,
+}
+
+/// Checks the sizes a scene asks of the device (state and sort textures, frame, fields) and
+/// reports the first one over the limit at its file, line and column. `skip` names keys whose
+/// values came from elsewhere (command-line overrides), which the caller checks itself.
+pub fn check_limits(
+    path: &str,
+    src: &str,
+    scene: &SceneFile,
+    limits: SizeLimits,
+    skip: &[&str],
+) -> Result<()> {
+    let mut over: Vec<(Vec<Key>, &str, u32, u32)> = Vec::new();
+    let t = limits.max_texture;
+    let [w, h] = scene.particles.size;
+    if !skip.contains(&"particles.size") {
+        let sort = if scene.render.blending == Blending::Alpha {
+            w.next_power_of_two().max(h.next_power_of_two())
+        } else {
+            0
+        };
+        over.push((
+            vec![N("particles"), N("size")],
+            "state texture side",
+            w.max(h),
+            t,
+        ));
+        over.push((
+            vec![N("particles"), N("size")],
+            "sort texture side (the state's, rounded up to a power of two)",
+            sort,
+            t,
+        ));
+    }
+    if !skip.contains(&"render.resolution") {
+        let [rw, rh] = scene.render.resolution;
+        over.push((
+            vec![N("render"), N("resolution")],
+            "frame side",
+            rw.max(rh),
+            t,
+        ));
+    }
+    for (i, hf) in scene.colliders.heightfield.iter().enumerate() {
+        over.push((
+            vec![N("colliders"), N("heightfield"), I(i), N("resolution")],
+            "height-field texture side",
+            hf.resolution,
+            t,
+        ));
+    }
+    for (i, s) in scene.colliders.sdf.iter().enumerate() {
+        over.push((
+            vec![N("colliders"), N("sdf"), I(i), N("resolution")],
+            "distance-field 3D texture side",
+            s.resolution,
+            limits.max_3d_texture,
+        ));
+    }
+    for (i, wnd) in scene.forces.wind.iter().enumerate() {
+        over.push((
+            vec![N("forces"), N("wind"), I(i), N("resolution")],
+            "flow-field 3D texture side",
+            wnd.resolution,
+            limits.max_3d_texture,
+        ));
+    }
+    let Some((at, what, value, max)) = over.into_iter().find(|o| o.2 > o.3) else {
+        return Ok(());
+    };
+    let doc = DeTable::parse(src).map_err(|e| {
+        scene_error(
+            path,
+            src,
+            e.span().map_or(0, |s| s.start),
+            e.message().into(),
+        )
+    })?;
+    Err(scene_error(
+        path,
+        src,
+        locate(&doc, &at),
+        format!("{what} {value} is over this device's limit of {max}: use a smaller size"),
+    ))
 }

@@ -1,18 +1,68 @@
-//! Scenes: what to simulate and how to look at it. Built-in scenes are compiled into the binary.
+//! Scenes: what to simulate and how to look at it, read from TOML scene files ([`file`]).
+//! Built-in scenes are the files in `examples/scenes/`, compiled into the binary.
 
 pub mod file;
+pub mod plan;
+
+use std::path::Path;
 
 use glam::Vec3;
 
 use crate::error::{Error, Result};
 use crate::render::{Camera, PointStyle};
 use crate::sim::FireParams;
+pub use file::SceneFile;
 
-/// The names of the built-in scenes.
-pub const BUILTIN: &[&str] = &["fire"];
+macro_rules! builtin_scenes {
+    ($($name:literal),* $(,)?) => {
+        /// The built-in scenes: name and TOML source.
+        pub static BUILTIN_SOURCES: &[(&str, &str)] = &[$(
+            ($name, include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/scenes/", $name, ".toml"))),
+        )*];
+        /// The names of the built-in scenes.
+        pub const BUILTIN: &[&str] = &[$($name),*];
+    };
+}
+
+builtin_scenes!["fire", "snow", "fountain", "smoke", "e1", "e2", "e3"];
 
 /// The scene rendered when none is named.
 pub const DEFAULT_SCENE: &str = "fire";
+
+/// The TOML source of a built-in scene.
+pub fn builtin_source(name: &str) -> Option<&'static str> {
+    BUILTIN_SOURCES
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, s)| *s)
+}
+
+/// Loads a scene by built-in name or from a `.toml` file (errors name file, line and column).
+pub fn load(name_or_path: &str) -> Result<SceneFile> {
+    let (label, src) = load_source(name_or_path)?;
+    file::parse(&label, &src)
+}
+
+/// The label errors use for a scene and its TOML source, by built-in name or file path.
+pub fn load_source(name_or_path: &str) -> Result<(String, String)> {
+    if let Some(src) = builtin_source(name_or_path) {
+        return Ok((format!("{name_or_path} (built-in)"), src.to_owned()));
+    }
+    let path = Path::new(name_or_path);
+    let looks_like_file = path.extension().is_some_and(|e| e == "toml")
+        || name_or_path.contains(std::path::MAIN_SEPARATOR);
+    if !looks_like_file {
+        return Err(Error::InvalidInput(format!(
+            "unknown scene `{name_or_path}`: the built-in scenes are {}, or give a path to a \
+             .toml scene file",
+            BUILTIN.join(", ")
+        )));
+    }
+    let src = std::fs::read_to_string(path).map_err(|e| {
+        Error::InvalidInput(format!("cannot read scene file {}: {e}", path.display()))
+    })?;
+    Ok((path.display().to_string(), src))
+}
 
 /// A complete description of a run.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -35,43 +85,77 @@ pub struct Scene {
     pub fire: FireParams,
 }
 
-/// Looks up a built-in scene; an unknown name lists the known ones.
+/// Looks up a built-in fire scene (the thesis model); other scenes run through
+/// [`crate::engine::SceneRunner`].
 pub fn builtin(name: &str) -> Result<Scene> {
-    match name {
-        "fire" => Ok(fire()),
-        _ => Err(Error::InvalidInput(format!(
+    Scene::from_file(&load_builtin(name)?)
+}
+
+fn load_builtin(name: &str) -> Result<SceneFile> {
+    match builtin_source(name) {
+        Some(src) => file::parse(&format!("{name} (built-in)"), src),
+        None => Err(Error::InvalidInput(format!(
             "unknown scene `{name}`: the built-in scenes are {}",
             BUILTIN.join(", ")
         ))),
     }
 }
 
-/// The fire of the thesis, at 256×256 particles rendered at 512×512.
+/// The fire of the thesis, at 256×256 particles rendered at 512×512 (`examples/scenes/fire.toml`).
 pub fn fire() -> Scene {
-    let fire = FireParams::default();
-    Scene {
-        name: "fire".into(),
-        particles: [256, 256],
-        resolution: [512, 512],
-        dt: 1.0 / 60.0,
-        substeps: 1,
-        camera: Camera {
-            target: Vec3::new(0.0, 1.0, 0.0),
-            distance: 3.0,
-            azimuth: 0.0,
-            elevation: 12.0,
-            ..Camera::default()
-        },
-        style: PointStyle {
-            point_size: 2.0,
-            intensity: 0.15,
-            max_age: fire.max_age,
-        },
-        fire,
+    builtin("fire").expect("the built-in fire scene is valid")
+}
+
+/// The camera a scene file describes.
+pub fn camera(c: &file::CameraSection) -> Camera {
+    Camera {
+        target: Vec3::from(c.target),
+        distance: c.distance,
+        azimuth: c.azimuth,
+        elevation: c.elevation,
+        fov_y: c.fov,
+        ..Camera::default()
     }
 }
 
 impl Scene {
+    /// The fire run a scene file with a `[fire]` section describes.
+    pub fn from_file(f: &SceneFile) -> Result<Scene> {
+        let Some(fire) = &f.fire else {
+            return Err(Error::InvalidInput(format!(
+                "scene `{}` has no [fire] section: it runs through the particle pipeline",
+                f.name
+            )));
+        };
+        let params = FireParams {
+            emitter_center: Vec3::from(fire.emitter_center),
+            emitter_radius: fire.emitter_radius,
+            speed: fire.speed,
+            spread: fire.spread,
+            converge: fire.converge,
+            buoyancy: Vec3::from(fire.buoyancy),
+            turbulence: fire.turbulence,
+            damping: fire.damping,
+            life_min: fire.life[0],
+            life_max: fire.life[1],
+            max_age: fire.max_age,
+        };
+        Ok(Scene {
+            name: f.name.clone(),
+            particles: f.particles.size,
+            resolution: f.render.resolution,
+            dt: f.time.dt,
+            substeps: f.time.substeps,
+            camera: camera(&f.render.camera),
+            style: PointStyle {
+                point_size: f.render.point_size,
+                intensity: f.render.intensity,
+                max_age: params.max_age,
+            },
+            fire: params,
+        })
+    }
+
     /// Rejects values no run can give a meaning to (limits of the device are checked later).
     pub fn validate(&self) -> Result<()> {
         let bad = |m: String| Err(Error::InvalidInput(m));
@@ -114,9 +198,13 @@ mod tests {
     #[test]
     fn builtins_are_valid_and_unknown_names_list_them() {
         for name in BUILTIN {
-            builtin(name).unwrap().validate().unwrap();
+            let f = load(name).unwrap();
+            f.validate().unwrap();
+            if f.fire.is_some() {
+                Scene::from_file(&f).unwrap().validate().unwrap();
+            }
         }
-        let msg = builtin("smok").unwrap_err().to_string();
+        let msg = load("smok").unwrap_err().to_string();
         assert!(msg.contains("smok") && msg.contains("fire"), "{msg}");
     }
 

@@ -2,6 +2,12 @@
 //! passes into ping-pong framebuffers.
 
 pub mod allocator;
+pub mod emit;
+pub mod fields;
 pub mod fire;
+pub mod particles;
+pub mod reference;
 
+pub use fields::{DistanceField, FlowField, HeightField};
 pub use fire::{FireParams, FireSim};
+pub use particles::{Features, ParticleSim};

@@ -564,6 +564,17 @@ impl Sorter {
         mode: &KeyMode,
         cull_dead: bool,
     ) -> Result<()> {
+        self.write_keys_with(positions, count, mode, cull_dead, false)
+    }
+
+    fn write_keys_with(
+        &mut self,
+        positions: &Texture,
+        count: usize,
+        mode: &KeyMode,
+        cull_dead: bool,
+        rekey: bool,
+    ) -> Result<()> {
         if count > self.len() || count > positions.texels() {
             return Err(Error::InvalidInput(format!(
                 "{count} particles do not fit a {}x{} sort texture",
@@ -571,8 +582,11 @@ impl Sorter {
             )));
         }
         let grid = matches!(mode, KeyMode::GridCell { .. });
-        let name = format!("keys{}", grid as u8);
+        let name = format!("keys{}{}", grid as u8, rekey as u8);
         let mut extra: Vec<(&str, &str)> = Vec::new();
+        if rekey {
+            extra.push(("REKEY", "1"));
+        }
         if grid {
             extra.push(("KEY_GRID", "1"));
         }
@@ -610,6 +624,10 @@ impl Sorter {
             t.bind(1);
             p.set_i32("u_id_table", 1);
             p.set_i32("u_id_table_width", t.width() as i32);
+        }
+        if rekey {
+            self.state.front().texture(0).bind(2);
+            p.set_i32("u_sorted", 2);
         }
         self.fullscreen.draw(p, self.state.back());
         self.state.swap();
@@ -747,11 +765,39 @@ impl Sorter {
         self.state.swap();
     }
 
+    /// Latta's sort spread over frames (§3.4.4): recomputes the key of every entry from the new
+    /// `positions` of its particle, keeping the order reached so far, and continues the pass
+    /// sequence where it stopped. Plain identifiers only (not with the identifier table).
+    pub fn refresh_keys(
+        &mut self,
+        positions: &Texture,
+        count: usize,
+        mode: &KeyMode,
+        cull_dead: bool,
+    ) -> Result<()> {
+        if self.id_table.is_some() {
+            return Err(Error::InvalidInput(
+                "refreshing keys in place needs plain identifiers, not the identifier table".into(),
+            ));
+        }
+        let next = self.next;
+        self.write_keys_with(positions, count, mode, cull_dead, true)?;
+        self.next = next;
+        Ok(())
+    }
+
     /// Gathers every texture of `source` into `dest` in sorted order: texel j of `dest` takes the
     /// state of the particle at sorted position j (UberFlow §4.3.1, one MRT pass for all).
     pub fn rearrange(&self, source: &Framebuffer, dest: &Framebuffer) -> Result<()> {
-        let targets = source.textures().len();
-        if targets > 4 || dest.textures().len() != targets {
+        let sources: Vec<&Texture> = source.textures().iter().collect();
+        self.gather(&sources, dest)
+    }
+
+    /// Like [`rearrange`](Self::rearrange), from any textures of the state's size (the static
+    /// texture lives in its own framebuffer, for instance).
+    pub fn gather(&self, sources: &[&Texture], dest: &Framebuffer) -> Result<()> {
+        let targets = sources.len();
+        if targets == 0 || targets > 4 || dest.textures().len() != targets {
             return Err(Error::InvalidInput(
                 "rearrangement takes 1 to 4 state textures of the same layout".into(),
             ));
@@ -778,8 +824,8 @@ impl Sorter {
         self.keys().bind(0);
         p.set_i32("u_sorted", 0);
         p.set_i32("u_sort_width", self.width as i32);
-        p.set_i32("u_state_width", source.width() as i32);
-        for (i, t) in source.textures().iter().enumerate() {
+        p.set_i32("u_state_width", dest.width() as i32);
+        for (i, t) in sources.iter().enumerate() {
             t.bind(1 + i as u32);
             p.set_i32(&format!("u_state{i}"), 1 + i as i32);
         }

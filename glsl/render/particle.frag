@@ -1,0 +1,34 @@
+// The general particle renderer's fragment stage. Points take the keyframe colour; sprites
+// (SPRITES) rotate gl_PointCoord about the sprite centre by the particle's angle (Latta §3.4.6:
+// point sprites are axis-aligned, so the rotation happens on the texture coordinates) and sample
+// the atlas tile of the particle's type; the same transform does the tile selection.
+// The output suits the blend function the renderer sets:
+//   default:      straight colour, alpha (additive SRC_ALPHA, ONE; over SRC_ALPHA, 1 - SRC_ALPHA)
+//   PREMULTIPLIED: colour · alpha, alpha (the under operator, 1 - DST_ALPHA, ONE)
+//   MULTIPLY:     mix(1, colour, alpha): the destination is multiplied by it (DST_COLOR, ZERO)
+
+uniform sampler2D u_atlas;
+
+in vec4 v_color;
+flat in vec2 v_rotation;
+flat in vec2 v_tile;
+layout(location = 0) out vec4 o_color;
+
+void main() {
+    vec4 c = v_color;
+#ifdef SPRITES
+    vec2 d = gl_PointCoord - 0.5;
+    vec2 r = vec2(v_rotation.x * d.x - v_rotation.y * d.y, v_rotation.y * d.x + v_rotation.x * d.y);
+    vec4 tex = texture(u_atlas, (v_tile + clamp(r + 0.5, 0.0, 1.0)) * 0.5);
+    // Outside the tile's inscribed circle a rotated corner would leave the tile: nothing there.
+    float inside = dot(r, r) <= 0.25 ? 1.0 : 0.0;
+    c = vec4(c.rgb * tex.rgb, c.a * tex.a * inside);
+#endif
+#if defined(PREMULTIPLIED)
+    o_color = vec4(c.rgb * c.a, c.a);
+#elif defined(MULTIPLY)
+    o_color = vec4(mix(vec3(1.0), c.rgb, c.a), c.a);
+#else
+    o_color = c;
+#endif
+}

@@ -1,0 +1,277 @@
+// Colliders (Latta §3.4.2, UberFlow §4.6). Only the kinds a scene has are compiled in:
+// N_PLANES, N_SPHERES, N_BOXES, HEIGHTFIELD, SDF. Each has a signed distance d (negative inside)
+// and an outward normal n, and a response (friction mu, resilience eps) in a vec2.
+//
+// Explicit integrators (Latta's order): the velocity v_bc after forces gives the expected
+// position p_bc (eq. 6); if p_bc is inside a collider the velocity takes the response of eq. 5,
+// v = (1 - mu) v_t - eps v_n, with no friction when |v| is below u_slow_speed; a particle whose
+// previous position is already inside (Fig. 2b) is pushed out at once and its velocity follows
+// eq. 7. The height field follows UberFlow §4.6 instead: the particle is reset to the crossing
+// point of its path with the surface, its velocity reflected, and it travels the rest of the step.
+// Verlet: position constraints (Latta §3.4.3): the new position is moved out of the collider, the
+// penetration mirrored by eps, the tangential displacement reduced by mu; the velocity is implied.
+// Last, any position still inside (sharp edges, two colliders) is projected out to SKIN above the
+// surface, so no particle is ever left inside.
+
+// Included unconditionally: the resolver splices each file once, whatever #if surrounds it.
+#include "sim/fields.glsl"
+
+const float SKIN = 1e-4;
+
+uniform float u_slow_speed;
+#if N_PLANES > 0
+uniform vec4 u_plane[N_PLANES];      // unit normal, offset (n . x = offset on the plane)
+uniform vec2 u_plane_resp[N_PLANES];
+#endif
+#if N_SPHERES > 0
+uniform vec4 u_sphere[N_SPHERES];    // centre, radius
+uniform vec2 u_sphere_resp[N_SPHERES];
+#endif
+#if N_BOXES > 0
+uniform vec3 u_box_min[N_BOXES];
+uniform vec3 u_box_max[N_BOXES];
+uniform vec2 u_box_resp[N_BOXES];
+#endif
+#ifdef HEIGHTFIELD
+uniform sampler2D u_height;
+uniform vec4 u_height_extent;        // min x, min z, max x, max z
+uniform ivec2 u_height_res;
+uniform vec2 u_height_resp;
+#endif
+#ifdef SDF
+uniform sampler3D u_sdf;
+uniform vec3 u_sdf_min;
+uniform vec3 u_sdf_max;
+uniform ivec3 u_sdf_res;
+uniform vec2 u_sdf_resp;
+#endif
+
+#if N_PLANES > 0
+float plane_distance(int i, vec3 p, out vec3 n) {
+    n = u_plane[i].xyz;
+    return dot(n, p) - u_plane[i].w;
+}
+#endif
+
+#if N_SPHERES > 0
+float sphere_distance(int i, vec3 p, out vec3 n) {
+    vec3 d = p - u_sphere[i].xyz;
+    float r = length(d);
+    n = r > 0.0 ? d / r : vec3(0.0, 1.0, 0.0);
+    return r - u_sphere[i].w;
+}
+#endif
+
+#if N_BOXES > 0
+// Solid axis-aligned box: exact distance outside; inside, the distance to the nearest face.
+float box_distance(int i, vec3 p, out vec3 n) {
+    vec3 c = 0.5 * (u_box_min[i] + u_box_max[i]);
+    vec3 h = 0.5 * (u_box_max[i] - u_box_min[i]);
+    vec3 rel = p - c;
+    vec3 q = abs(rel) - h;
+    vec3 s = vec3(rel.x < 0.0 ? -1.0 : 1.0, rel.y < 0.0 ? -1.0 : 1.0, rel.z < 0.0 ? -1.0 : 1.0);
+    if (max(q.x, max(q.y, q.z)) > 0.0) {
+        vec3 o = max(q, 0.0);
+        float d = length(o);
+        n = s * o / d;
+        return d;
+    }
+    if (q.x >= q.y && q.x >= q.z) {
+        n = vec3(s.x, 0.0, 0.0);
+        return q.x;
+    }
+    if (q.y >= q.z) {
+        n = vec3(0.0, s.y, 0.0);
+        return q.y;
+    }
+    n = vec3(0.0, 0.0, s.z);
+    return q.z;
+}
+#endif
+
+#ifdef HEIGHTFIELD
+// Vertical distance to the landscape and its normal there.
+float height_distance(vec3 p, out vec3 n) {
+    vec4 h = heightfield_sample(u_height, u_height_extent, u_height_res, p.xz);
+    n = h.yzw;
+    return p.y - h.x;
+}
+#endif
+
+#ifdef SDF
+// Outside the field's bounds there is no collider.
+float sdf_distance(vec3 p, out vec3 n) {
+    if (any(lessThan(p, u_sdf_min)) || any(greaterThan(p, u_sdf_max))) {
+        n = vec3(0.0, 1.0, 0.0);
+        return 1e30;
+    }
+    n = sdf_normal(u_sdf, u_sdf_min, u_sdf_max, u_sdf_res, p);
+    return sdf_sample(u_sdf, u_sdf_min, u_sdf_max, u_sdf_res, p);
+}
+#endif
+
+// Latta eq. 4-5, with the slow-speed threshold.
+vec3 collision_response(vec3 v, vec3 n, vec2 resp) {
+    float vn = dot(v, n);
+    if (vn >= 0.0) return v;
+    vec3 v_n = vn * n;
+    vec3 v_t = v - v_n;
+    float mu = length(v) < u_slow_speed ? 0.0 : resp.x;
+    return (1.0 - mu) * v_t - resp.y * v_n;
+}
+
+// Latta eq. 7: the way out of a collider a particle is caught in.
+vec3 caught_response(vec3 v, vec3 n) {
+    float vn = dot(v, n);
+    return vn < 0.0 ? v - 2.0 * vn * n : v;
+}
+
+#ifndef VERLET
+// One collider for the explicit integrators: d_prev and n_prev at the previous position x,
+// d_exp and n_exp at the expected one xb. Updates x (push-out), vb and xb.
+void collide_explicit(float d_prev, vec3 n_prev, float d_exp, vec3 n_exp, vec2 resp,
+                      inout vec3 x, vec3 v, inout vec3 vb, inout vec3 xb) {
+    if (d_exp >= 0.0) return;
+    if (d_prev < 0.0) {
+        x -= (d_prev - SKIN) * n_prev;
+        vb = caught_response(vb, n_prev);
+    } else {
+        vb = collision_response(vb, n_exp, resp);
+    }
+    xb = advance(x, v, vb);
+}
+
+void collide(inout vec3 x, vec3 v, inout vec3 vb, inout vec3 xb) {
+    vec3 n0, n1;
+    float d0, d1;
+#if N_PLANES > 0
+    for (int i = 0; i < N_PLANES; i++) {
+        d0 = plane_distance(i, x, n0);
+        d1 = plane_distance(i, xb, n1);
+        collide_explicit(d0, n0, d1, n1, u_plane_resp[i], x, v, vb, xb);
+    }
+#endif
+#if N_SPHERES > 0
+    for (int i = 0; i < N_SPHERES; i++) {
+        d0 = sphere_distance(i, x, n0);
+        d1 = sphere_distance(i, xb, n1);
+        collide_explicit(d0, n0, d1, n1, u_sphere_resp[i], x, v, vb, xb);
+    }
+#endif
+#if N_BOXES > 0
+    for (int i = 0; i < N_BOXES; i++) {
+        d0 = box_distance(i, x, n0);
+        d1 = box_distance(i, xb, n1);
+        collide_explicit(d0, n0, d1, n1, u_box_resp[i], x, v, vb, xb);
+    }
+#endif
+#ifdef SDF
+    d0 = sdf_distance(x, n0);
+    d1 = sdf_distance(xb, n1);
+    collide_explicit(d0, n0, d1, n1, u_sdf_resp, x, v, vb, xb);
+#endif
+#ifdef HEIGHTFIELD
+    d1 = height_distance(xb, n1);
+    if (d1 < 0.0) {
+        d0 = height_distance(x, n0);
+        if (d0 < 0.0) {
+            x.y -= d0 - SKIN;
+            vb = caught_response(vb, n0);
+            xb = advance(x, v, vb);
+        } else {
+            // UberFlow §4.6: back to the crossing point, reflect, travel the rest of the step.
+            float s = d0 / (d0 - d1);
+            vec3 xc = mix(x, xb, s);
+            vec3 nc;
+            height_distance(xc, nc);
+            vb = collision_response(vb, nc, u_height_resp);
+            xb = xc + vb * ((1.0 - s) * u_dt);
+        }
+    }
+#endif
+}
+#else
+// Verlet position constraint for one collider: x the current position, xn the new one.
+void constrain(float d, vec3 n, vec2 resp, vec3 x, inout vec3 xn) {
+    if (d >= 0.0) return;
+    bool slow = length(xn - x) < u_slow_speed * u_dt;
+    xn -= (1.0 + resp.y) * d * n;
+    vec3 disp = xn - x;
+    vec3 disp_n = dot(disp, n) * n;
+    if (!slow) xn = x + disp_n + (1.0 - resp.x) * (disp - disp_n);
+}
+
+void collide(vec3 x, inout vec3 xn) {
+    vec3 n;
+    float d;
+#if N_PLANES > 0
+    for (int i = 0; i < N_PLANES; i++) {
+        d = plane_distance(i, xn, n);
+        constrain(d, n, u_plane_resp[i], x, xn);
+    }
+#endif
+#if N_SPHERES > 0
+    for (int i = 0; i < N_SPHERES; i++) {
+        d = sphere_distance(i, xn, n);
+        constrain(d, n, u_sphere_resp[i], x, xn);
+    }
+#endif
+#if N_BOXES > 0
+    for (int i = 0; i < N_BOXES; i++) {
+        d = box_distance(i, xn, n);
+        constrain(d, n, u_box_resp[i], x, xn);
+    }
+#endif
+#ifdef SDF
+    d = sdf_distance(xn, n);
+    constrain(d, n, u_sdf_resp, x, xn);
+#endif
+#ifdef HEIGHTFIELD
+    d = height_distance(xn, n);
+    // Vertical distance to distance along the normal.
+    constrain(d * n.y, n, u_height_resp, x, xn);
+#endif
+}
+#endif
+
+// Last resort: project any position still inside a collider out to SKIN above its surface and
+// take away the velocity into the surface. One push-out can move a particle into another
+// collider (a sphere sunk into a plane), so the sweep repeats, up to KEEP_OUTSIDE_SWEEPS times,
+// until one moves nothing.
+const int KEEP_OUTSIDE_SWEEPS = 4;
+
+void keep_outside(inout vec3 x, inout vec3 v) {
+    vec3 n;
+    float d;
+    for (int sweep = 0; sweep < KEEP_OUTSIDE_SWEEPS; sweep++) {
+        bool moved = false;
+
+#if N_PLANES > 0
+        for (int i = 0; i < N_PLANES; i++) {
+            d = plane_distance(i, x, n);
+            if (d < 0.0) { x -= (d - SKIN) * n; v -= min(dot(v, n), 0.0) * n; moved = true; }
+        }
+#endif
+#if N_SPHERES > 0
+        for (int i = 0; i < N_SPHERES; i++) {
+            d = sphere_distance(i, x, n);
+            if (d < 0.0) { x -= (d - SKIN) * n; v -= min(dot(v, n), 0.0) * n; moved = true; }
+        }
+#endif
+#if N_BOXES > 0
+        for (int i = 0; i < N_BOXES; i++) {
+            d = box_distance(i, x, n);
+            if (d < 0.0) { x -= (d - SKIN) * n; v -= min(dot(v, n), 0.0) * n; moved = true; }
+        }
+#endif
+#ifdef SDF
+        d = sdf_distance(x, n);
+        if (d < 0.0) { x -= (d - SKIN) * n; v -= min(dot(v, n), 0.0) * n; moved = true; }
+#endif
+#ifdef HEIGHTFIELD
+        d = height_distance(x, n);
+        if (d < 0.0) { x.y -= d - SKIN; v -= min(dot(v, n), 0.0) * n; moved = true; }
+#endif
+        if (!moved) break;
+    }
+}

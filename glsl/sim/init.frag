@@ -1,0 +1,71 @@
+// The initial state, one full-screen pass per target (see sim/integrate.frag for the layout).
+//   INITIAL    every particle spawned now from its emitter (type = index mod emitter count);
+//              with LIFE it lives once, else it is permanent (life 1, total life 0)
+//   TIMESTAMP  every particle unborn, its phase spread uniformly over its type's first cycle,
+//              its life drawn once (UberFlow §4.1)
+//   ALLOCATOR  every texel dead and free; the CPU allocator emits into it
+// OUT_STATE writes position (and velocity), OUT_PREVIOUS the Verlet previous position
+// x0 - v0 dt + a0 dt^2 / 2 (the second-order start), OUT_STATIC the static texture.
+
+#include "common/state.glsl"
+#include "common/precision.glsl"
+#include "sim/spawn.glsl"
+
+uniform int u_width;
+uniform uint u_seed;
+uniform int u_emitters;
+uniform float u_dt;
+#ifdef TIMESTAMP
+uniform vec4 u_cycle;
+#endif
+
+#include "sim/forces.glsl"
+
+layout(location = 0) out vec4 o_0;
+#if defined(OUT_STATE) && !defined(VERLET)
+layout(location = 1) out vec4 o_1;
+#endif
+
+const float INF = uintBitsToFloat(0x7f800000u);
+
+void main() {
+    ivec2 t = ivec2(gl_FragCoord.xy);
+    uint index = particle_index(t, u_width);
+    int type = int(index % uint(u_emitters));
+    // Stream 0xffffffff is the initial one; generations of time stamps use 0, 1, 2, ...
+    uint rng = rng_seed(index, 0xffffffffu, u_seed);
+    vec4 pos = vec4(INF, INF, INF, 0.0);
+    vec3 vel = vec3(0.0);
+    vec4 st = vec4(0.0, float(type), 0.0, 0.0);
+#if defined(INITIAL)
+    pos.xyz = spawn_position(type, rng);
+    vel = spawn_velocity(type, rng);
+#ifdef LIFE
+    st.z = spawn_life(type, rng);
+    pos.w = st.z;
+#else
+    pos.w = 1.0;
+#endif
+#elif defined(TIMESTAMP)
+    st.x = rng_uniform(rng) * u_cycle[type];
+    st.z = spawn_life(type, rng);
+    pos.w = -1.0;
+#endif
+    st.w = rng_uniform(rng);
+
+#if defined(OUT_STATIC)
+    o_0 = st;
+#elif defined(OUT_PREVIOUS)
+    if (pos.w > 0.0) {
+        vec3 a = acceleration(pos.xyz, vel, type);
+        o_0 = fp_store(vec4(pos.xyz - vel * u_dt + 0.5 * a * u_dt * u_dt, pos.w));
+    } else {
+        o_0 = pos;
+    }
+#else
+    o_0 = fp_store(pos);
+#ifndef VERLET
+    o_1 = fp_store(vec4(vel, 0.0));
+#endif
+#endif
+}

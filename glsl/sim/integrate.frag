@@ -1,0 +1,139 @@
+// The particle step (Latta §3.4.2-3.4.3, UberFlow §4.2): one full-screen pass per time step.
+// State, particle i in texel (i mod width, i div width):
+//   position (RGBA32F) = (x, y, z, remaining life in s); w <= 0: dead or not yet born, xyz = +inf
+//   velocity (RGBA32F or RGBA16F) = (vx, vy, vz, 0)        — not with VERLET
+//   previous position (VERLET only; three position textures in a ring)
+//   static  (RGBA32F, written at birth only) = (birth time or phase, type, total life, random)
+// Integrators (fixed dt):
+//   EULER     Latta eq. 3 and 8: v' = v + a dt, x' = x + v' dt (velocity first)
+//   UBERFLOW  UberFlow eq. 1-2: v' = v + a dt, x' = x + (v + v') dt / 2
+//   VERLET    Latta eq. 9: x' = 2x - x_prev + a dt^2, velocity implied: (x - x_prev) / dt
+// Explicit integrators write position and velocity through MRT; Verlet writes positions only.
+// Life: LIFE counts the remaining life down and moves the dead to infinity (Latta §3.4.1; the CPU
+// frees the index on its own clock). TIMESTAMP is UberFlow's emission (§4.1, §4.7): the static
+// texture holds each particle's phase; before it the particle is unborn and out of view; at the
+// start of every cycle it respawns from its emitter, and it is dead for the rest of the cycle
+// after its life. Without either the particles are permanent and no life code is compiled.
+
+#include "common/state.glsl"
+#include "common/precision.glsl"
+#include "sim/spawn.glsl"
+
+uniform sampler2D u_position;
+uniform sampler2D u_static;
+#ifdef VERLET
+uniform sampler2D u_previous;
+#else
+uniform sampler2D u_velocity;
+#endif
+uniform int u_width;
+uniform float u_dt;
+uniform float u_time;   // simulation time at the start of this step
+uniform uint u_seed;
+#ifdef TIMESTAMP
+uniform vec4 u_cycle;   // cycle length per type
+#endif
+
+vec3 advance(vec3 x, vec3 v, vec3 vb) {
+#ifdef UBERFLOW
+    return x + 0.5 * (v + vb) * u_dt;
+#else
+    return x + vb * u_dt;
+#endif
+}
+
+#include "sim/forces.glsl"
+#if HAS_COLLIDERS
+#include "sim/colliders.glsl"
+#endif
+
+layout(location = 0) out vec4 o_position;
+#ifndef VERLET
+layout(location = 1) out vec4 o_velocity;
+#endif
+
+const float INF = uintBitsToFloat(0x7f800000u);
+
+void write_state(vec3 x, float life, vec3 v) {
+    o_position = fp_store(vec4(x, life));
+#ifndef VERLET
+    o_velocity = fp_store(vec4(v, 0.0));
+#endif
+}
+
+void main() {
+    ivec2 t = ivec2(gl_FragCoord.xy);
+    uint index = particle_index(t, u_width);
+    vec4 p = texelFetch(u_position, t, 0);
+    vec4 st = texelFetch(u_static, t, 0);
+    int type = int(st.y);
+    vec3 x = p.xyz;
+#ifdef VERLET
+    vec3 xp = texelFetch(u_previous, t, 0).xyz;
+    vec3 v = (x - xp) / u_dt;
+#else
+    vec3 v = texelFetch(u_velocity, t, 0).xyz;
+#endif
+    float life = p.w;
+
+#if defined(TIMESTAMP)
+    float rel = u_time + u_dt - st.x;
+    if (rel < 0.0) {
+        write_state(vec3(INF), -1.0, vec3(0.0));  // not born yet: out of view
+        return;
+    }
+    float cycle = u_cycle[type];
+    float generation = floor(rel / cycle);
+    float age = rel - generation * cycle;
+    if (age >= st.z) {
+        write_state(vec3(INF), 0.0, vec3(0.0));   // dead until its next cycle begins
+        return;
+    }
+    uint rng = rng_seed(index, uint(generation), u_seed);
+    if (age < u_dt) {
+        vec3 x0 = spawn_position(type, rng);
+        vec3 v0 = spawn_velocity(type, rng);
+        write_state(x0, st.z - age, v0);          // born during this step
+        return;
+    }
+    life = st.z - age;
+#ifdef VERLET
+    if (age < 2.0 * u_dt) {
+        // Born in the previous step, so x_prev belongs to the last life. Second-order start:
+        // x_prev = x0 - v0 dt + a0 dt^2 / 2, which makes this step x0 + v0 dt + a0 dt^2 / 2.
+        spawn_position(type, rng);
+        v = spawn_velocity(type, rng);
+        xp = x - v * u_dt + 0.5 * acceleration(x, v, type) * u_dt * u_dt;
+    }
+#endif
+#elif defined(LIFE)
+    if (!(p.w > 0.0)) {
+        write_state(vec3(INF), p.w, vec3(0.0));
+        return;
+    }
+    life = p.w - u_dt;
+    if (life <= 0.0) {
+        write_state(vec3(INF), 0.0, vec3(0.0));   // death by age: moved to infinity
+        return;
+    }
+#endif
+
+    vec3 a = acceleration(x, v, type);
+#ifdef VERLET
+    vec3 xn = 2.0 * x - xp + a * (u_dt * u_dt);
+#if HAS_COLLIDERS
+    collide(x, xn);
+    vec3 vn = (xn - x) / u_dt;
+    keep_outside(xn, vn);
+#endif
+    write_state(xn, life, vec3(0.0));
+#else
+    vec3 vb = v + a * u_dt;
+    vec3 xb = advance(x, v, vb);
+#if HAS_COLLIDERS
+    collide(x, v, vb, xb);
+    keep_outside(xb, vb);
+#endif
+    write_state(xb, life, vb);
+#endif
+}

@@ -1,0 +1,675 @@
+//! The general particle renderer: points or rotated, textured point sprites (Latta §3.4.6), fed
+//! either by vertex texture fetch (thesis Listing 3) or by a vertex buffer the state textures are
+//! copied into on the GPU (UberFlow §4.7, Latta §3.4.5), coloured by four keyframes of relative
+//! age, blended additively, multiplicatively, or with the over / under operator.
+//!
+//! State layout (fixed by the simulation): particle `i` is texel `(i % width, i / width)` of every
+//! state texture.
+//! - positions (RGBA32F): xyz position, w remaining life in seconds. Drawn only if w > 0 and xyz
+//!   is finite (dead: w <= 0 and xyz = +inf; unborn: w < 0).
+//! - statics (RGBA32F): x birth time, y type (0..3), z total life (0 or +inf: permanent, relative
+//!   age 0), w a random number in [0, 1) (the sprite's angle).
+//!
+//! Relative age = clamp(1 − position.w / statics.z, 0, 1).
+
+use glow::HasContext;
+
+use super::atlas;
+use super::{Camera, FrameTarget};
+use crate::error::{Error, Result};
+use crate::gl::{Attribute, Buffer, Context, Defines, Program, Texture, VertexArray};
+use crate::scene::file::{Blending, DrawMode, DrawOrder, Keyframe, Render, RenderPath};
+
+/// How particles are drawn.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ParticleStyle {
+    /// Points or sprites.
+    pub mode: DrawMode,
+    /// Texture fetch or vertex buffer.
+    pub path: RenderPath,
+    /// Point size, or the base sprite size, in pixels.
+    pub point_size: f32,
+    /// Opacity scale (applied to the keyframe alpha, then clamped to 1).
+    pub intensity: f32,
+    /// Blending.
+    pub blending: Blending,
+    /// Order of alpha blending (the caller draws in this order; it picks over or under).
+    pub order: DrawOrder,
+    /// Colour and opacity at four relative ages, ascending from 0 to 1.
+    pub keyframes: [Keyframe; 4],
+    /// Sprite size per particle type, relative to `point_size` (sprites only).
+    pub type_scale: [f32; 4],
+    /// Atlas tile (0 to 3) of each type.
+    pub type_tile: [u32; 4],
+    /// Background colour.
+    pub background: [f32; 3],
+}
+
+/// The keyframes used when a scene gives none: white, fading out over the life.
+pub fn default_keyframes() -> [Keyframe; 4] {
+    let k = |age: f32, a: f32| Keyframe {
+        age,
+        rgba: [1.0, 1.0, 1.0, a],
+    };
+    [k(0.0, 1.0), k(0.5, 0.8), k(0.8, 0.4), k(1.0, 0.0)]
+}
+
+impl Default for ParticleStyle {
+    fn default() -> Self {
+        ParticleStyle {
+            mode: DrawMode::Points,
+            path: RenderPath::TextureFetch,
+            point_size: 2.0,
+            intensity: 1.0,
+            blending: Blending::Additive,
+            order: DrawOrder::BackToFront,
+            keyframes: default_keyframes(),
+            type_scale: [1.0; 4],
+            type_tile: [0, 1, 2, 3],
+            background: [0.0; 3],
+        }
+    }
+}
+
+impl ParticleStyle {
+    /// The style of a scene's `[render]` section; `type_scales` are the emitters' sprite scales in
+    /// type order. A keyframe list that is not exactly four long (validation rejects those; an
+    /// empty list is allowed) gives [`default_keyframes`].
+    pub fn from_render(r: &Render, type_scales: [f32; 4]) -> Self {
+        let keyframes = match <[Keyframe; 4]>::try_from(r.keyframes.clone()) {
+            Ok(k) => k,
+            Err(_) => default_keyframes(),
+        };
+        ParticleStyle {
+            mode: r.mode,
+            path: r.path,
+            point_size: r.point_size,
+            intensity: r.intensity,
+            blending: r.blending,
+            order: r.order,
+            keyframes,
+            type_scale: type_scales,
+            type_tile: [0, 1, 2, 3],
+            background: r.background,
+        }
+    }
+
+    /// The keyframes in the form the shader evaluates.
+    pub fn ramp(&self) -> KeyframeRamp {
+        KeyframeRamp::new(&self.keyframes)
+    }
+
+    /// Whether the under operator is used (alpha blending, front to back).
+    pub fn under(&self) -> bool {
+        self.blending == Blending::Alpha && self.order == DrawOrder::FrontToBack
+    }
+
+    /// What the target is cleared to: the background, with alpha 0 for the under operator
+    /// (whose background is composited under the particles at the end of the draw, so the
+    /// clear colour is transparent black), else opaque.
+    pub fn clear_color(&self) -> [f32; 4] {
+        if self.under() {
+            [0.0; 4]
+        } else {
+            let [r, g, b] = self.background;
+            [r, g, b, 1.0]
+        }
+    }
+
+    fn blend_name(&self) -> &'static str {
+        match (self.blending, self.order) {
+            (Blending::Additive, _) => "additive",
+            (Blending::Multiplicative, _) => "multiplicative",
+            (Blending::Alpha, DrawOrder::BackToFront) => "alpha over, back to front",
+            (Blending::Alpha, DrawOrder::FrontToBack) => "alpha under, front to back",
+        }
+    }
+}
+
+/// Four keyframes as three linear segments in the GPU's form (Latta §3.4.6: "converted into a
+/// form for efficient GPU evaluation"): on segment k, colour = offset[k] + age · slope[k]. The
+/// CPU twin of `keyframe_color` in `glsl/render/keyframes.glsl`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KeyframeRamp {
+    /// Keyframe ages.
+    pub ages: [f32; 4],
+    /// Per segment, the colour its line has at age 0.
+    pub offset: [[f32; 4]; 3],
+    /// Per segment, the change of colour per unit of age.
+    pub slope: [[f32; 4]; 3],
+}
+
+impl KeyframeRamp {
+    /// Converts keyframes (ages ascending). A segment of zero length is never selected (the
+    /// next one starts at the same age); it gets slope 0 and its end colour.
+    pub fn new(keys: &[Keyframe; 4]) -> Self {
+        let mut offset = [[0f32; 4]; 3];
+        let mut slope = [[0f32; 4]; 3];
+        for k in 0..3 {
+            let (a0, a1) = (keys[k].age, keys[k + 1].age);
+            for c in 0..4 {
+                let (c0, c1) = (keys[k].rgba[c], keys[k + 1].rgba[c]);
+                if a1 > a0 {
+                    slope[k][c] = (c1 - c0) / (a1 - a0);
+                    offset[k][c] = c0 - a0 * slope[k][c];
+                } else {
+                    offset[k][c] = c1;
+                }
+            }
+        }
+        KeyframeRamp {
+            ages: [keys[0].age, keys[1].age, keys[2].age, keys[3].age],
+            offset,
+            slope,
+        }
+    }
+
+    /// The segment `age` falls on: 0 below the second keyframe's age, 1 below the third's, else 2.
+    pub fn segment(&self, age: f32) -> usize {
+        if age < self.ages[1] {
+            0
+        } else if age < self.ages[2] {
+            1
+        } else {
+            2
+        }
+    }
+
+    /// Colour and opacity at relative age `age` (before the intensity).
+    pub fn eval(&self, age: f32) -> [f32; 4] {
+        let k = self.segment(age);
+        std::array::from_fn(|c| self.offset[k][c] + age * self.slope[k][c])
+    }
+}
+
+/// Relative age from the remaining life and the total life, as the shader computes it.
+pub fn relative_age(remaining: f32, total: f32) -> f32 {
+    if !(total.is_finite() && total > 0.0) {
+        return 0.0;
+    }
+    (1.0 - remaining / total).clamp(0.0, 1.0)
+}
+
+/// A framebuffer used only as the read source of the pixel-pack copy: the state texture is
+/// attached for the copy and detached after it.
+struct PackSource {
+    ctx: Context,
+    raw: glow::Framebuffer,
+}
+
+impl PackSource {
+    fn new(ctx: &Context) -> Result<Self> {
+        // SAFETY: a fresh framebuffer object.
+        let raw = unsafe { ctx.create_framebuffer().map_err(Error::Gl)? };
+        Ok(PackSource {
+            ctx: ctx.clone(),
+            raw,
+        })
+    }
+
+    /// Copies rows `0..rows` of `texture` (RGBA, floats) into `buffer` at offset 0 on the GPU:
+    /// the buffer is bound as `GL_PIXEL_PACK_BUFFER` and `glReadPixels` writes into it.
+    fn copy(&self, texture: &Texture, buffer: &Buffer, rows: u32) -> Result<()> {
+        let gl = &self.ctx;
+        let bytes = texture.width() as usize * rows as usize * 16;
+        if bytes > buffer.size() {
+            return Err(Error::InvalidInput(format!(
+                "pixel pack of {bytes} bytes into a buffer of {}",
+                buffer.size()
+            )));
+        }
+        // SAFETY: the texture and buffer are alive; the buffer holds the copied rows (checked
+        // above); every binding changed here is reset before returning.
+        let status = unsafe {
+            gl.bind_framebuffer(glow::READ_FRAMEBUFFER, Some(self.raw));
+            gl.framebuffer_texture_2d(
+                glow::READ_FRAMEBUFFER,
+                glow::COLOR_ATTACHMENT0,
+                glow::TEXTURE_2D,
+                Some(texture.raw()),
+                0,
+            );
+            gl.read_buffer(glow::COLOR_ATTACHMENT0);
+            let status = gl.check_framebuffer_status(glow::READ_FRAMEBUFFER);
+            if status == glow::FRAMEBUFFER_COMPLETE {
+                gl.bind_buffer(glow::PIXEL_PACK_BUFFER, Some(buffer.raw()));
+                gl.pixel_store_i32(glow::PACK_ALIGNMENT, 4);
+                gl.read_pixels(
+                    0,
+                    0,
+                    texture.width() as i32,
+                    rows as i32,
+                    glow::RGBA,
+                    glow::FLOAT,
+                    glow::PixelPackData::BufferOffset(0),
+                );
+                gl.bind_buffer(glow::PIXEL_PACK_BUFFER, None);
+            }
+            gl.framebuffer_texture_2d(
+                glow::READ_FRAMEBUFFER,
+                glow::COLOR_ATTACHMENT0,
+                glow::TEXTURE_2D,
+                None,
+                0,
+            );
+            gl.bind_framebuffer(glow::READ_FRAMEBUFFER, None);
+            status
+        };
+        if status != glow::FRAMEBUFFER_COMPLETE {
+            return Err(Error::Gl(format!(
+                "a {:?} cannot be read by glReadPixels (framebuffer status {status:#x})",
+                texture
+            )));
+        }
+        gl.check_error("copying a state texture into a vertex buffer (pixel pack)")
+    }
+}
+
+impl Drop for PackSource {
+    fn drop(&mut self) {
+        // SAFETY: the context outlives the framebuffer.
+        unsafe { self.ctx.delete_framebuffer(self.raw) }
+    }
+}
+
+/// The vertex-buffer path's objects: the two buffers, the read framebuffer, the vertex array.
+struct VertexPath {
+    pack: PackSource,
+    positions: Buffer,
+    statics: Buffer,
+    vao: VertexArray,
+}
+
+/// Draws particles from their state textures.
+pub struct ParticleRenderer {
+    ctx: Context,
+    style: ParticleStyle,
+    width: u32,
+    height: u32,
+    program: Program,
+    background: Program,
+    empty: VertexArray,
+    vertex: Option<VertexPath>,
+    atlas: Option<Texture>,
+}
+
+impl std::fmt::Debug for ParticleRenderer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "ParticleRenderer({}x{}, {:?})",
+            self.width,
+            self.height,
+            self.pass_names()
+        )
+    }
+}
+
+impl ParticleRenderer {
+    /// Builds the program variant for `style` and, for the vertex-buffer path, two buffers of
+    /// `state_width`×`state_height` RGBA float vertices; for sprites, the atlas.
+    pub fn new(
+        ctx: &Context,
+        style: ParticleStyle,
+        state_width: u32,
+        state_height: u32,
+    ) -> Result<Self> {
+        crate::gl::check_size(ctx, "particle state", state_width, state_height)?;
+        if !(style.point_size > 0.0 && style.point_size.is_finite()) {
+            return Err(Error::InvalidInput(format!(
+                "point size {} must be a finite number above 0",
+                style.point_size
+            )));
+        }
+        let mut defines = Defines::new();
+        let flag = |name: &str| (name.to_owned(), "1".to_owned());
+        if style.path == RenderPath::VertexBuffer {
+            defines.push(flag("VERTEX_BUFFER"));
+        }
+        if style.mode == DrawMode::Sprites {
+            defines.push(flag("SPRITES"));
+        }
+        match style.blending {
+            Blending::Multiplicative => defines.push(flag("MULTIPLY")),
+            Blending::Alpha if style.under() => defines.push(flag("PREMULTIPLIED")),
+            _ => {}
+        }
+        let program = Program::new(
+            ctx,
+            "render/particle.vert",
+            "render/particle.frag",
+            &defines,
+        )?;
+        let background = Program::new(
+            ctx,
+            crate::gl::FULLSCREEN_VERTEX,
+            "render/background.frag",
+            &Defines::new(),
+        )?;
+        let vertex = if style.path == RenderPath::VertexBuffer {
+            let bytes = state_width as u64 * state_height as u64 * 16;
+            if bytes > i32::MAX as u64 {
+                return Err(Error::InvalidInput(format!(
+                    "particle state {state_width}x{state_height} needs vertex buffers of {bytes} \
+                     bytes, over GL's limit of {} for one buffer: use the texture_fetch path or \
+                     a smaller state",
+                    i32::MAX
+                )));
+            }
+            let buffer = |label| {
+                Buffer::with_size(
+                    ctx,
+                    label,
+                    glow::PIXEL_PACK_BUFFER,
+                    bytes as usize,
+                    glow::STREAM_COPY,
+                )
+            };
+            let positions = buffer("position vertices")?;
+            let statics = buffer("static vertices")?;
+            let attribute = |buffer, location| Attribute {
+                buffer,
+                location,
+                components: 4,
+                stride: 16,
+                offset: 0,
+            };
+            let vao = VertexArray::with_attributes(
+                ctx,
+                "particle vertices",
+                &[attribute(&positions, 0), attribute(&statics, 1)],
+            )?;
+            Some(VertexPath {
+                pack: PackSource::new(ctx)?,
+                positions,
+                statics,
+                vao,
+            })
+        } else {
+            None
+        };
+        let atlas = if style.mode == DrawMode::Sprites {
+            Some(atlas::upload(ctx, &atlas::generate(atlas::DEFAULT_TILE))?)
+        } else {
+            None
+        };
+        Ok(ParticleRenderer {
+            ctx: ctx.clone(),
+            style,
+            width: state_width,
+            height: state_height,
+            program,
+            background,
+            empty: VertexArray::empty(ctx, "particles")?,
+            vertex,
+            atlas,
+        })
+    }
+
+    /// The style.
+    pub fn style(&self) -> &ParticleStyle {
+        &self.style
+    }
+
+    /// The sprite atlas (sprites only).
+    pub fn atlas(&self) -> Option<&Texture> {
+        self.atlas.as_ref()
+    }
+
+    /// Clears `target` to the background (transparent black for the under operator, whose
+    /// background is composited at the end of [`draw`](Self::draw)).
+    pub fn clear(&self, target: &FrameTarget) {
+        target.clear_to(self.style.clear_color());
+    }
+
+    /// The passes one [`draw`](Self::draw) runs, in order, for the scene's pass list.
+    pub fn pass_names(&self) -> Vec<String> {
+        let s = &self.style;
+        let mut names = Vec::new();
+        if s.path == RenderPath::VertexBuffer {
+            names.push("copy positions to vertex buffer (pixel pack)".to_owned());
+            names.push("copy statics to vertex buffer (pixel pack)".to_owned());
+        }
+        let mode = match s.mode {
+            DrawMode::Points => "points",
+            DrawMode::Sprites => "sprites",
+        };
+        let path = match s.path {
+            RenderPath::TextureFetch => "texture fetch",
+            RenderPath::VertexBuffer => "vertex buffer",
+        };
+        names.push(format!("render {mode} ({path}, {})", s.blend_name()));
+        if s.under() {
+            names.push("composite background under".to_owned());
+        }
+        names
+    }
+
+    fn check_state(&self, what: &str, t: &Texture) -> Result<()> {
+        if t.width() != self.width || t.height() != self.height {
+            return Err(Error::InvalidInput(format!(
+                "{what} texture is {}x{}, the renderer was made for {}x{}",
+                t.width(),
+                t.height(),
+                self.width,
+                self.height
+            )));
+        }
+        if !t.format().is_float() || t.format().channels() != 4 {
+            return Err(Error::InvalidInput(format!(
+                "{what} texture is {}: the renderer reads RGBA floats",
+                t.format().name()
+            )));
+        }
+        Ok(())
+    }
+
+    /// Draws particles `0..count` in index order into `target` (not cleared first; see
+    /// [`clear`](Self::clear)). Alpha blending needs them already in the style's order (a GPU
+    /// sort rearranges the state). With the under operator the background is composited under
+    /// the particles at the end, which leaves the frame opaque.
+    pub fn draw(
+        &self,
+        target: &FrameTarget,
+        positions: &Texture,
+        statics: &Texture,
+        camera: &Camera,
+        count: usize,
+    ) -> Result<()> {
+        self.check_state("position", positions)?;
+        self.check_state("statics", statics)?;
+        let texels = self.width as usize * self.height as usize;
+        if count > texels {
+            return Err(Error::InvalidInput(format!(
+                "{count} particles to draw from a state of {texels}"
+            )));
+        }
+        let s = &self.style;
+        if let (Some(v), true) = (&self.vertex, count > 0) {
+            let rows = count.div_ceil(self.width as usize) as u32;
+            v.pack.copy(positions, &v.positions, rows)?;
+            v.pack.copy(statics, &v.statics, rows)?;
+        }
+        let p = &self.program;
+        p.bind();
+        match &self.vertex {
+            Some(v) => v.vao.bind(),
+            None => {
+                positions.bind(0);
+                statics.bind(1);
+                p.set_i32("u_position", 0);
+                p.set_i32("u_static", 1);
+                p.set_i32("u_width", self.width as i32);
+                self.empty.bind();
+            }
+        }
+        if let Some(atlas) = &self.atlas {
+            atlas.bind(2);
+            p.set_i32("u_atlas", 2);
+        }
+        let aspect = target.width() as f32 / target.height() as f32;
+        p.set_mat4("u_view_proj", &camera.view_projection(aspect));
+        p.set_f32("u_point_size", s.point_size);
+        p.set_f32("u_intensity", s.intensity);
+        p.set_vec4("u_type_scale", glam::Vec4::from_array(s.type_scale));
+        let t = s.type_tile.map(|t| t.min(3) as i32);
+        p.set_ivec4("u_type_tile", t);
+        let ramp = s.ramp();
+        p.set_vec4("u_key_age", glam::Vec4::from_array(ramp.ages));
+        for k in 0..3 {
+            p.set_vec4(
+                &format!("u_key_offset[{k}]"),
+                glam::Vec4::from_array(ramp.offset[k]),
+            );
+            p.set_vec4(
+                &format!("u_key_slope[{k}]"),
+                glam::Vec4::from_array(ramp.slope[k]),
+            );
+        }
+        target.framebuffer().bind();
+        let gl = &self.ctx;
+        // SAFETY: a program, a vertex array (whose buffers, if any, hold `count` vertices) and a
+        // complete framebuffer are bound.
+        unsafe {
+            gl.disable(glow::DEPTH_TEST);
+            gl.enable(glow::PROGRAM_POINT_SIZE);
+            gl.enable(glow::BLEND);
+            gl.blend_equation(glow::FUNC_ADD);
+            let (src, dst, src_a, dst_a) = match (s.blending, s.order) {
+                // The destination alpha stays as cleared (opaque).
+                (Blending::Additive, _) => (glow::SRC_ALPHA, glow::ONE, glow::ZERO, glow::ONE),
+                (Blending::Multiplicative, _) => {
+                    (glow::DST_COLOR, glow::ZERO, glow::ZERO, glow::ONE)
+                }
+                (Blending::Alpha, DrawOrder::BackToFront) => (
+                    glow::SRC_ALPHA,
+                    glow::ONE_MINUS_SRC_ALPHA,
+                    glow::ONE,
+                    glow::ONE_MINUS_SRC_ALPHA,
+                ),
+                (Blending::Alpha, DrawOrder::FrontToBack) => (
+                    glow::ONE_MINUS_DST_ALPHA,
+                    glow::ONE,
+                    glow::ONE_MINUS_DST_ALPHA,
+                    glow::ONE,
+                ),
+            };
+            gl.blend_func_separate(src, dst, src_a, dst_a);
+            if count > 0 {
+                gl.draw_arrays(glow::POINTS, 0, count as i32);
+            }
+            gl.bind_vertex_array(None);
+        }
+        if s.under() {
+            let b = &self.background;
+            b.bind();
+            b.set_vec3("u_background", glam::Vec3::from_array(s.background));
+            self.empty.bind();
+            // SAFETY: as above; blending is on with the under operator's factors.
+            unsafe {
+                gl.draw_arrays(glow::TRIANGLES, 0, 3);
+                gl.bind_vertex_array(None);
+            }
+        }
+        // SAFETY: plain state change.
+        unsafe { gl.disable(glow::BLEND) };
+        gl.check_error("drawing particles")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn keys(ages: [f32; 4], rgba: [[f32; 4]; 4]) -> [Keyframe; 4] {
+        std::array::from_fn(|i| Keyframe {
+            age: ages[i],
+            rgba: rgba[i],
+        })
+    }
+
+    fn close(a: [f32; 4], b: [f32; 4]) -> bool {
+        a.iter().zip(&b).all(|(x, y)| (x - y).abs() < 1e-5)
+    }
+
+    #[test]
+    fn ramp_hits_every_keyframe_and_is_linear_between() {
+        let k = keys(
+            [0.0, 0.2, 0.7, 1.0],
+            [
+                [1.0, 0.9, 0.5, 1.0],
+                [1.0, 0.5, 0.1, 0.8],
+                [0.4, 0.1, 0.0, 0.5],
+                [0.1, 0.1, 0.1, 0.0],
+            ],
+        );
+        let r = KeyframeRamp::new(&k);
+        for key in &k {
+            assert!(close(r.eval(key.age), key.rgba), "at {}", key.age);
+        }
+        // Midpoints of the three segments.
+        let mid = |a: usize, t: f32| -> [f32; 4] {
+            std::array::from_fn(|c| k[a].rgba[c] + t * (k[a + 1].rgba[c] - k[a].rgba[c]))
+        };
+        assert!(close(r.eval(0.1), mid(0, 0.5)));
+        assert!(close(r.eval(0.45), mid(1, 0.5)));
+        assert!(close(r.eval(0.85), mid(2, 0.5)));
+        assert!(close(r.eval(0.325), mid(1, 0.25)));
+        assert_eq!(r.segment(0.0), 0);
+        assert_eq!(r.segment(0.2), 1);
+        assert_eq!(r.segment(0.69), 1);
+        assert_eq!(r.segment(0.7), 2);
+        assert_eq!(r.segment(1.0), 2);
+    }
+
+    #[test]
+    fn zero_length_segments_are_skipped() {
+        let k = keys(
+            [0.0, 0.0, 1.0, 1.0],
+            [
+                [9.0; 4],
+                [1.0, 0.0, 0.0, 1.0],
+                [0.0, 0.0, 1.0, 0.0],
+                [7.0; 4],
+            ],
+        );
+        let r = KeyframeRamp::new(&k);
+        assert!(r.slope.iter().flatten().all(|v| v.is_finite()));
+        assert!(close(r.eval(0.0), [1.0, 0.0, 0.0, 1.0]));
+        assert!(close(r.eval(0.5), [0.5, 0.0, 0.5, 0.5]));
+        // Age 1 falls on the zero-length last segment: its end colour.
+        assert!(close(r.eval(1.0), [7.0; 4]));
+    }
+
+    #[test]
+    fn relative_age_of_permanent_and_mortal_particles() {
+        assert_eq!(relative_age(2.0, 4.0), 0.5);
+        assert_eq!(relative_age(4.0, 4.0), 0.0);
+        assert_eq!(relative_age(5.0, 4.0), 0.0);
+        assert_eq!(relative_age(0.0, 4.0), 1.0);
+        assert_eq!(relative_age(3.0, 0.0), 0.0);
+        assert_eq!(relative_age(3.0, f32::INFINITY), 0.0);
+        assert_eq!(relative_age(3.0, f32::NAN), 0.0);
+    }
+
+    #[test]
+    fn style_from_render() {
+        let mut r = Render::default();
+        let s = ParticleStyle::from_render(&r, [1.0, 2.0, 3.0, 4.0]);
+        assert_eq!(s.keyframes, default_keyframes());
+        assert_eq!(s.type_scale, [1.0, 2.0, 3.0, 4.0]);
+        assert_eq!(s.clear_color(), [0.0, 0.0, 0.0, 1.0]);
+        // The default ramp is white and fades out.
+        let ramp = s.ramp();
+        assert_eq!(ramp.eval(0.0), [1.0; 4]);
+        assert!(ramp.eval(1.0)[3].abs() < 1e-6);
+        r.keyframes = keys([0.0, 0.3, 0.6, 1.0], [[0.5; 4]; 4]).to_vec();
+        r.blending = Blending::Alpha;
+        r.order = DrawOrder::FrontToBack;
+        r.background = [0.2, 0.3, 0.4];
+        let s = ParticleStyle::from_render(&r, [1.0; 4]);
+        assert_eq!(s.keyframes[1].age, 0.3);
+        assert!(s.under());
+        assert_eq!(s.clear_color(), [0.0; 4]);
+    }
+}

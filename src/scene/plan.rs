@@ -1,0 +1,156 @@
+//! The list of passes a scene runs, assembled from the scene alone (`texflow scene passes`).
+//! The simulation ([`crate::sim::ParticleSim`]) and the engine compile and run from the same
+//! [`Features`], so the list is what runs, not a description of it.
+
+use std::fmt;
+
+use super::file::{Blending, DrawMode, DrawOrder, RenderPath, SceneFile};
+use crate::sim::particles::Features;
+use crate::sort::network::{bitonic_schedule, group_steps, odd_even_schedule};
+use crate::sort::Variant;
+
+/// The passes of one frame.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Plan {
+    /// Scene name.
+    pub scene: String,
+    /// Passes of one simulation step.
+    pub per_step: Vec<String>,
+    /// Steps per frame.
+    pub substeps: u32,
+    /// Passes run once per frame after the steps.
+    pub per_frame: Vec<String>,
+}
+
+/// How an alpha-blended scene is sorted: variant, sort texture size, passes per full sort.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SortPlan {
+    /// Variant.
+    pub variant: Variant,
+    /// Sort texture size (the state's, rounded up to powers of two).
+    pub size: [u32; 2],
+    /// Passes of one full sort.
+    pub passes: usize,
+    /// Passes per frame when the sort is spread over frames (Latta).
+    pub passes_per_frame: Option<u32>,
+}
+
+/// The sort a scene needs: only alpha blending depends on the drawing order.
+pub fn sort_plan(scene: &SceneFile) -> Option<SortPlan> {
+    if scene.render.blending != Blending::Alpha {
+        return None;
+    }
+    let variant = scene
+        .render
+        .sort
+        .variant
+        .as_deref()
+        .map_or(Ok(Variant::OddEven), Variant::from_name)
+        .unwrap_or(Variant::OddEven);
+    let [w, h] = scene.particles.size.map(|s| s.next_power_of_two().max(2));
+    let block = w * h;
+    let passes = match variant {
+        Variant::OddEven => odd_even_schedule(block).len(),
+        Variant::Multistep => group_steps(&bitonic_schedule(w, block), 2).len(),
+        _ => bitonic_schedule(w, block).len(),
+    };
+    Some(SortPlan {
+        variant,
+        size: [w, h],
+        passes,
+        passes_per_frame: scene.render.sort.passes_per_frame,
+    })
+}
+
+/// Assembles the pass list of `scene`.
+pub fn plan(scene: &SceneFile) -> Plan {
+    let r = &scene.render;
+    if scene.fire.is_some() {
+        return Plan {
+            scene: scene.name.clone(),
+            per_step: vec!["fire: thesis physics, in-shader respawn, colour by age \
+                 [position + velocity through MRT]"
+                .into()],
+            substeps: scene.time.substeps,
+            per_frame: vec![
+                "render points: vertex texture fetch, additive blending (order-independent)".into(),
+            ],
+        };
+    }
+    let features = Features::of(scene);
+    let mut per_frame = Vec::new();
+    if let Some(s) = sort_plan(scene) {
+        let order = match r.order {
+            DrawOrder::BackToFront => "back to front",
+            DrawOrder::FrontToBack => "front to back",
+        };
+        per_frame.push(format!(
+            "sort keys: distance to the viewer ({order}), {}x{} entries{}",
+            s.size[0],
+            s.size[1],
+            if s.passes_per_frame.is_some() {
+                ", re-keyed in the order reached so far"
+            } else {
+                ""
+            }
+        ));
+        per_frame.push(match s.passes_per_frame {
+            Some(n) => format!(
+                "sort: {} network, {n} of its {} passes per frame (spread over {} frames)",
+                s.variant.name(),
+                s.passes,
+                s.passes.div_ceil(n as usize)
+            ),
+            None => format!("sort: {} network, {} passes", s.variant.name(), s.passes),
+        });
+        per_frame.push("gather position and static textures in sorted order".into());
+    }
+    let path = match r.path {
+        RenderPath::TextureFetch => "vertex texture fetch".to_owned(),
+        RenderPath::VertexBuffer => {
+            per_frame.push(
+                "copy position and static textures into vertex buffers (pixel pack buffer)".into(),
+            );
+            "vertex buffer".to_owned()
+        }
+    };
+    let blend = match (r.blending, r.order) {
+        (Blending::Additive, _) => "additive",
+        (Blending::Multiplicative, _) => "multiplicative",
+        (Blending::Alpha, DrawOrder::BackToFront) => "alpha, over operator",
+        (Blending::Alpha, DrawOrder::FrontToBack) => "alpha, under operator",
+    };
+    per_frame.push(format!(
+        "render {}: {path}, {blend}{}",
+        match r.mode {
+            DrawMode::Points => "points",
+            DrawMode::Sprites => "sprites (rotated atlas tiles)",
+        },
+        if features.live_rows() && r.blending != Blending::Alpha {
+            ", live rows only"
+        } else {
+            ""
+        }
+    ));
+    Plan {
+        scene: scene.name.clone(),
+        per_step: features.step_passes(),
+        substeps: scene.time.substeps,
+        per_frame,
+    }
+}
+
+impl fmt::Display for Plan {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "scene {}: passes per frame", self.scene)?;
+        writeln!(f, "  {} step(s), each:", self.substeps)?;
+        for p in &self.per_step {
+            writeln!(f, "    - {p}")?;
+        }
+        writeln!(f, "  then once:")?;
+        for p in &self.per_frame {
+            writeln!(f, "    - {p}")?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,169 @@
+//! Scene files through the binary: render by name or file, `scene check`, `scene passes`,
+//! `--dump-state`, and malformed files refused with file, line, column and exit code 2.
+
+use std::process::{Command, Output};
+
+fn texflow(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_texflow"))
+        .args(args)
+        .output()
+        .expect("run texflow")
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+#[test]
+fn scene_check_accepts_good_files_and_locates_errors() {
+    let o = texflow(&["scene", "check", "tests/scenes/good.toml"]);
+    assert!(o.status.success(), "{}", text(&o));
+    for name in texflow::scene::BUILTIN {
+        let o = texflow(&["scene", "check", name]);
+        assert!(o.status.success(), "{name}: {}", text(&o));
+    }
+    let o = texflow(&["scene", "check", "tests/scenes/bad_friction.toml"]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("tests/scenes/bad_friction.toml:") && t.contains("friction"),
+        "{t}"
+    );
+    let o = texflow(&["scene", "check", "no/such/scene.toml"]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let o = texflow(&["scene", "check", "smok"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("snow"), "{}", text(&o));
+}
+
+#[test]
+fn scene_passes_prints_the_plan() {
+    let o = texflow(&["scene", "passes", "smoke"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    assert!(t.contains("sort: oddeven") && t.contains("emit"), "{t}");
+    let o = texflow(&["scene", "passes", "fire", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["scene"], "fire");
+    assert!(v["per_frame"].as_array().unwrap().len() == 1);
+}
+
+#[test]
+fn render_from_a_file_with_state_dumps() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("s.toml");
+    std::fs::write(
+        &scene,
+        texflow::scene::builtin_source("fountain")
+            .unwrap()
+            .replace("name = \"fountain\"", "name = \"mine\""),
+    )
+    .unwrap();
+    let out = dir.path().join("frames");
+    let dump = dir.path().join("dump");
+    let o = texflow(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--frames",
+        "6",
+        "--particles",
+        "64x64",
+        "--resolution",
+        "64x64",
+        "--dump-state",
+        dump.to_str().unwrap(),
+        "--dump-every",
+        "5",
+        "-q",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert_eq!(std::fs::read_dir(&out).unwrap().count(), 6);
+    let mut names: Vec<String> = std::fs::read_dir(&dump)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "positions_00000.npy",
+            "positions_00005.npy",
+            "velocities_00000.npy",
+            "velocities_00005.npy"
+        ]
+    );
+    let (shape, pos) = texflow::npy::read_f32_shaped(&dump.join("positions_00005.npy")).unwrap();
+    let (vshape, vel) = texflow::npy::read_f32_shaped(&dump.join("velocities_00005.npy")).unwrap();
+    assert_eq!(shape, vshape);
+    assert_eq!(shape[1], 4);
+    // 12000 births per second, dt 1/120, 2 substeps, 6 frames: 1200 particles, all alive.
+    assert_eq!(shape[0], 1200);
+    assert!(pos.chunks(4).all(|p| p[3] > 0.0 && p[1] > -1e-3));
+    // Launched upwards at 5.5-6.5 m/s, at most 0.1 s ago: still rising fast.
+    assert!(vel.chunks(4).all(|v| v[1] > 3.5), "{:?}", &vel[..8]);
+}
+
+#[test]
+fn malformed_scene_files_exit_2_with_line_and_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("bad.toml");
+    std::fs::write(
+        &scene,
+        "name = \"x\"\n[particles]\nsize = [8, 8]\n[time]\ndt = -0.5\n",
+    )
+    .unwrap();
+    let out = dir.path().join("frames");
+    let o = texflow(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("bad.toml:5:6"), "{}", text(&o));
+    assert!(!out.exists(), "nothing written for a bad scene");
+    // Overrides are checked like the file's own values.
+    let o = texflow(&[
+        "render",
+        "snow",
+        "--dt",
+        "-1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(!out.exists());
+}
+
+#[test]
+fn sizes_over_the_device_limit_are_located_in_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("big.toml");
+    std::fs::write(
+        &scene,
+        "name = \"big\"\n[particles]\nsize = [4, 70000]\n[[emitters.initial]]\n\
+         direction = [0.0, 1.0, 0.0]\nspeed = [0.0, 0.0]\n",
+    )
+    .unwrap();
+    for args in [
+        vec!["scene", "check", scene.to_str().unwrap()],
+        vec![
+            "render",
+            scene.to_str().unwrap(),
+            "--out",
+            dir.path().join("f").to_str().unwrap(),
+        ],
+    ] {
+        let o = texflow(&args);
+        assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+        let t = text(&o);
+        assert!(t.contains("big.toml:3:8") && t.contains("limit"), "{t}");
+    }
+    assert!(!dir.path().join("f").exists());
+}

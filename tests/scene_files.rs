@@ -1,0 +1,209 @@
+//! Scene files: `tests/scenes/good.toml` parses, and every `tests/scenes/bad_*.toml` fails with
+//! the error its first line announces: `# expect: LINE:COLUMN substring-of-the-message`.
+//!
+//! A mismatch prints the actual error with the source line and a caret under the column, so that
+//! a wrong location shows at a glance.
+
+use std::path::{Path, PathBuf};
+
+use texflow::scene::file::{self, Blending, DrawMode, Integrator, Precision, RenderPath};
+use texflow::Error;
+
+fn scenes() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes")
+}
+
+fn read(path: &Path) -> String {
+    std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// The expectation on a bad scene's first line.
+struct Expect {
+    line: usize,
+    column: usize,
+    substring: String,
+}
+
+fn expectation(path: &Path, src: &str) -> Expect {
+    let first = src.lines().next().unwrap_or_default();
+    let rest = first.strip_prefix("# expect: ").unwrap_or_else(|| {
+        panic!(
+            "{}: the first line must be `# expect: LINE:COLUMN substring`",
+            path.display()
+        )
+    });
+    let (at, substring) = rest.split_once(' ').unwrap_or((rest, ""));
+    let (line, column) = at
+        .split_once(':')
+        .and_then(|(l, c)| Some((l.parse().ok()?, c.parse().ok()?)))
+        .unwrap_or_else(|| panic!("{}: bad location `{at}`", path.display()));
+    assert!(
+        !substring.trim().is_empty(),
+        "{}: the expectation needs a substring of the message",
+        path.display()
+    );
+    Expect {
+        line,
+        column,
+        substring: substring.trim().to_owned(),
+    }
+}
+
+/// The source line with a caret under `column`.
+fn caret(src: &str, line: usize, column: usize) -> String {
+    let text = src
+        .lines()
+        .nth(line.wrapping_sub(1))
+        .unwrap_or("<no such line>");
+    format!(
+        "{line:>4} | {text}\n     | {}^",
+        " ".repeat(column.saturating_sub(1))
+    )
+}
+
+fn bad_scenes() -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(scenes())
+        .expect("tests/scenes")
+        .map(|e| e.expect("directory entry").path())
+        .filter(|p| {
+            p.extension().is_some_and(|x| x == "toml")
+                && p.file_name()
+                    .and_then(|n| n.to_str())
+                    .is_some_and(|n| n.starts_with("bad_"))
+        })
+        .collect();
+    files.sort();
+    files
+}
+
+#[test]
+fn good_scene_parses() {
+    let path = scenes().join("good.toml");
+    let scene = file::parse("good.toml", &read(&path)).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.name, "fountain");
+    assert_eq!(scene.particles.size, [64, 64]);
+    assert_eq!(scene.particles.precision, Precision::Fp24);
+    assert_eq!(scene.integrator, Integrator::Verlet);
+    assert_eq!(scene.time.substeps, 2);
+    assert_eq!(scene.emitters.allocator.len(), 1);
+    assert_eq!(scene.emitters.len(), 1);
+    assert_eq!(scene.forces.gravity.len(), 1);
+    assert_eq!(scene.forces.attractor.len(), 1);
+    assert_eq!(scene.colliders.plane.len(), 1);
+    assert_eq!(scene.colliders.sphere.len(), 1);
+    assert_eq!(scene.render.mode, DrawMode::Sprites);
+    assert_eq!(scene.render.path, RenderPath::VertexBuffer);
+    assert_eq!(scene.render.blending, Blending::Alpha);
+    assert_eq!(scene.render.keyframes.len(), 4);
+    assert_eq!(scene.render.sort.variant.as_deref(), Some("oddeven"));
+}
+
+#[test]
+fn defaults_fill_a_minimal_scene() {
+    let src = "name = \"m\"\n[particles]\nsize = [2, 2]\n[[emitters.initial]]\n\
+               direction = [0.0, 1.0, 0.0]\nspeed = [0.0, 0.0]\n";
+    let scene = file::parse("minimal.toml", src).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.time.dt, 1.0 / 60.0);
+    assert_eq!(scene.time.substeps, 1);
+    assert_eq!(scene.particles.mass, 1.0);
+    assert_eq!(scene.integrator, Integrator::Euler);
+    assert_eq!(scene.render.resolution, [512, 512]);
+    assert_eq!(scene.render.blending, Blending::Additive);
+}
+
+#[test]
+fn every_bad_scene_reports_its_line_column_and_message() {
+    let files = bad_scenes();
+    assert!(files.len() >= 15, "only {} bad scenes", files.len());
+    let mut failures = Vec::new();
+    for path in &files {
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let src = read(path);
+        let want = expectation(path, &src);
+        match file::parse(&name, &src) {
+            Ok(_) => failures.push(format!("{name}: parsed, but should fail")),
+            Err(Error::Scene {
+                path: p,
+                line,
+                column,
+                message,
+            }) => {
+                let ok = p == name
+                    && line == want.line
+                    && column == want.column
+                    && message.contains(&want.substring);
+                if !ok {
+                    failures.push(format!(
+                        "{name}: want {}:{} `{}`, got {p}:{line}:{column}: {message}\n{}",
+                        want.line,
+                        want.column,
+                        want.substring,
+                        caret(&src, line, column)
+                    ));
+                }
+            }
+            Err(other) => failures.push(format!("{name}: not a scene error: {other}")),
+        }
+    }
+    assert!(failures.is_empty(), "\n{}", failures.join("\n\n"));
+}
+
+#[test]
+fn the_error_reads_path_line_column_message() {
+    let err = file::parse(
+        "x.toml",
+        "name = \"x\"\n[particles]\nsize = [8, 8]\nbogus = 1\n",
+    )
+    .unwrap_err();
+    let text = err.to_string();
+    assert!(text.starts_with("x.toml:4:1: "), "{text}");
+    assert!(err.is_bad_input());
+}
+
+fn location(src: &str) -> (usize, usize, String) {
+    match file::parse("t.toml", src) {
+        Err(Error::Scene {
+            line,
+            column,
+            message,
+            ..
+        }) => (line, column, message),
+        other => panic!("expected a scene error, got {other:?}"),
+    }
+}
+
+#[test]
+fn columns_count_characters_and_crlf_ends_lines() {
+    let line = "sort = { variant = \"日本\", passes_per_frame = nan }";
+    let src = format!("name = \"p\"\n[particles]\nsize = [8, 8]\n[render]\n{line}\n");
+    let column = line[..line.rfind("nan").unwrap()].chars().count() + 1;
+    let (l, c, m) = location(&src);
+    assert_eq!((l, c), (5, column), "{m}");
+    assert!(
+        column < line.rfind("nan").unwrap() + 1,
+        "the line has multi-byte characters"
+    );
+    let (l, c, m) = location("name = \"p\"\r\n[particles]\r\nsize = [8, 0]\r\n");
+    assert_eq!((l, c), (3, 12), "{m}");
+}
+
+#[test]
+fn a_missing_section_points_at_the_start() {
+    let (l, c, m) = location("name = \"p\"\n");
+    assert_eq!((l, c), (1, 1));
+    assert!(m.contains("missing field `particles`"), "{m}");
+    let (l, c, m) = location("");
+    assert_eq!((l, c), (1, 1));
+    assert!(m.contains("missing field `name`"), "{m}");
+}
+
+#[test]
+fn the_example_in_the_docs_parses() {
+    let doc = read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/scenes.md"));
+    let start = doc
+        .find("```toml\n")
+        .expect("a ```toml block in docs/scenes.md")
+        + 8;
+    let len = doc[start..].find("```").expect("the end of the block");
+    file::parse("docs/scenes.md", &doc[start..start + len]).unwrap_or_else(|e| panic!("{e}"));
+}

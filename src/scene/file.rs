@@ -48,6 +48,8 @@ pub struct SceneFile {
     /// Colliders by kind.
     #[serde(default)]
     pub colliders: Colliders,
+    /// Collisions between particles (UberFlow §4.3-4.5).
+    pub collisions: Option<Collisions>,
     /// The thesis's fire model (in-shader respawn), instead of emitters, forces and integrator.
     pub fire: Option<Fire>,
     /// How the scene is drawn.
@@ -473,6 +475,39 @@ pub struct SdfCollider {
     /// Resilience ε in [0, 1] (Latta eq. 5).
     #[serde(default = "one")]
     pub resilience: f32,
+}
+
+/// Inter-particle collisions as UberFlow does them: particles sorted by the index of their cell
+/// in a lattice, each one's closest partner among its `neighbours` left and right in the sorted
+/// texture, a second sort on a staggered lattice, sphere response with back-tracking.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Collisions {
+    /// Sphere radius of every particle (m); two particles collide closer than 2 radius.
+    pub radius: f32,
+    /// Coefficient of restitution: 1 elastic, 0 perfectly inelastic.
+    #[serde(default = "one")]
+    pub restitution: f32,
+    /// Particles fetched to each side in the sorted texture (UberFlow: 8).
+    #[serde(default = "eight")]
+    pub neighbours: u32,
+    /// Lattice mesh size g0 (m); default 2 radius.
+    pub cell: Option<f32>,
+    /// Region the lattice covers: [min corner, max corner]; outside, cells are clamped.
+    pub bounds: [[f32; 3]; 2],
+    /// A second sort and detection on a lattice shifted by g0/2 (UberFlow Fig. 3).
+    #[serde(default = "yes")]
+    pub staggered: bool,
+    /// Sort only within sets of this many consecutive rows (1 = rows only, UberFlow §5); default
+    /// the whole texture.
+    pub rows_only: Option<u32>,
+}
+
+fn eight() -> u32 {
+    8
+}
+fn yes() -> bool {
+    true
 }
 
 /// The thesis's fire (see `crate::sim::FireParams`).
@@ -1197,6 +1232,64 @@ impl SceneFile {
                 sdf.friction,
                 sdf.resilience,
             )?;
+        }
+        if let Some(c) = &self.collisions {
+            let at = |k| path(&[N("collisions"), N(k)]);
+            if c.radius <= 0.0 {
+                return fail(
+                    at("radius"),
+                    format!("radius {} m must be above 0", c.radius),
+                );
+            }
+            if !(0.0..=1.0).contains(&c.restitution) {
+                return fail(
+                    at("restitution"),
+                    format!("restitution {} is outside [0, 1]", c.restitution),
+                );
+            }
+            if !(1..=32).contains(&c.neighbours) {
+                return fail(at("neighbours"), "neighbours must lie in 1..=32");
+            }
+            if c.cell.is_some_and(|g| g <= 0.0) {
+                return fail(at("cell"), "cell must be above 0 m");
+            }
+            if (0..3).any(|k| c.bounds[0][k] >= c.bounds[1][k]) {
+                return fail(
+                    at("bounds"),
+                    "bounds must be [min corner, max corner] with min < max",
+                );
+            }
+            let [w, h] = self.particles.size;
+            if !w.is_power_of_two() || !h.is_power_of_two() {
+                return fail(
+                    path(&[N("particles"), N("size")]),
+                    "collisions sort the state texture: both sides must be powers of two",
+                );
+            }
+            if let Some(k) = c.rows_only {
+                if !k.is_power_of_two() || k > h {
+                    return fail(
+                        at("rows_only"),
+                        format!("rows_only must be a power of two up to the height {h}"),
+                    );
+                }
+            }
+            if self.integrator == Integrator::Verlet {
+                return fail(
+                    path(&[N("integrator")]),
+                    "collisions exchange momentum through velocities: use euler or uberflow",
+                );
+            }
+            if !self.emitters.allocator.is_empty() {
+                return fail(
+                    path(&[N("emitters"), N("allocator")]),
+                    "collisions reorder the state every step, which the CPU allocator's indices \
+                     cannot follow: use timestamp or initial emitters",
+                );
+            }
+            if self.fire.is_some() {
+                return fail(path(&[N("collisions")]), "the fire has no collisions");
+            }
         }
         if let Some(f) = &self.fire {
             let at = |k| path(&[N("fire"), N(k)]);

@@ -2,6 +2,7 @@
 //! passes into ping-pong framebuffers.
 
 pub mod allocator;
+pub mod collide;
 pub mod emit;
 pub mod fields;
 pub mod fire;

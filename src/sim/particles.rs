@@ -69,6 +69,8 @@ pub struct Features {
     pub velocity_format: VelocityFormat,
     /// Precision of what the passes write.
     pub precision: Precision,
+    /// Collisions between particles: (neighbours, staggered, rows_only).
+    pub collisions: Option<(u32, bool, Option<u32>)>,
 }
 
 impl Features {
@@ -106,6 +108,10 @@ impl Features {
             sdf: !c.sdf.is_empty(),
             velocity_format: scene.particles.velocity_format,
             precision: scene.particles.precision,
+            collisions: scene
+                .collisions
+                .as_ref()
+                .map(|c| (c.neighbours, c.staggered, c.rows_only)),
         }
     }
 
@@ -267,7 +273,7 @@ impl Features {
         if self.precision == Precision::Fp24 {
             what.push("24-bit float emulation".into());
         }
-        out.push(format!(
+        let integrate = format!(
             "integrate{}: {} [{}]",
             if self.live_rows() {
                 " (live rows only)"
@@ -276,7 +282,45 @@ impl Features {
             },
             what.join("; "),
             targets
-        ));
+        );
+        out.push(integrate);
+        if let Some((k, staggered, rows)) = self.collisions {
+            let sort = match rows {
+                Some(1) => "rows-only bitonic sort (GP/FP packed)".to_owned(),
+                Some(r) => format!("bitonic sort within sets of {r} rows (GP/FP packed)"),
+                None => "full bitonic sort (GP/FP packed)".to_owned(),
+            };
+            let lattices: &[&str] = if staggered {
+                &["lattice", "staggered lattice"]
+            } else {
+                &["lattice"]
+            };
+            for l in lattices {
+                out.push(format!("collision keys: cell index in the {l} (z, y, x)"));
+                out.push(format!("collision sort: {sort}"));
+                out.push(format!(
+                    "gather position, velocity, static{} in cell order",
+                    if *l == "staggered lattice" {
+                        " and the first detection"
+                    } else {
+                        ""
+                    }
+                ));
+                out.push(format!(
+                    "collision detection: closest of {k} neighbours each side in the row; \
+                     mutual check"
+                ));
+            }
+            out.push(format!(
+                "collision response: back-tracking to contact, momentum exchange{}",
+                if self.colliders() {
+                    "; boundary conditions (colliders)"
+                } else {
+                    ""
+                }
+            ));
+            out.push("copy static texture in the new order".into());
+        }
         out
     }
 }
@@ -322,6 +366,7 @@ pub struct ParticleSim {
     emit_previous: Option<Program>,
     emit_static: Option<Program>,
     start: Option<Program>,
+    collisions: Option<super::collide::Collisions>,
     pass: FullscreenPass,
     fields: Fields,
     emitters: Vec<EmitterUniforms>,
@@ -475,6 +520,12 @@ impl ParticleSim {
             } else {
                 None
             },
+            collisions: match &scene.collisions {
+                Some(_) => Some(super::collide::Collisions::new(
+                    ctx, scene, &defines, vel_format,
+                )?),
+                None => None,
+            },
             pass: FullscreenPass::new(ctx)?,
             allocator: match features.emission {
                 Emission::Allocator(kind) => Some(Allocator::new(kind, width * height)),
@@ -515,106 +566,14 @@ impl ParticleSim {
 
     /// Uniforms that do not change during a run: emitters, masses, forces, colliders, samplers.
     fn set_constants(&self, p: &Program) {
-        p.bind();
-        let s = &self.scene;
-        p.set_i32("u_position", unit::POSITION as i32);
-        p.set_i32("u_velocity", unit::VELOCITY as i32);
-        p.set_i32("u_previous", unit::VELOCITY as i32);
-        p.set_i32("u_static", unit::STATIC as i32);
-        p.set_i32("u_flow", unit::FLOW as i32);
-        p.set_i32("u_height", unit::HEIGHT as i32);
-        p.set_i32("u_sdf", unit::SDF as i32);
-        p.set_i32("u_width", self.width as i32);
-        p.set_ivec2("u_size", self.width as i32, self.height as i32);
-        p.set_u32("u_seed", self.seed);
-        p.set_f32("u_dt", s.time.dt);
-        p.set_i32("u_emitters", self.features.types as i32);
-        let mut inv_mass = [1.0 / s.particles.mass; 4];
-        let mut cycle = [1.0f32; 4];
-        for (k, e) in s.emitters.all().enumerate() {
-            inv_mass[k] = 1.0 / e.mass.unwrap_or(s.particles.mass);
-            cycle[k] = e.cycle.unwrap_or(1.0);
-        }
-        p.set_vec4("u_inv_mass", Vec4::from(inv_mass));
-        p.set_vec4("u_cycle", Vec4::from(cycle));
-        for (k, e) in self.emitters.iter().enumerate() {
-            p.set_vec4(&format!("u_em_center[{k}]"), e.center);
-            p.set_vec4(&format!("u_em_size[{k}]"), e.size);
-            p.set_vec4(&format!("u_em_normal[{k}]"), e.normal);
-            p.set_vec4(&format!("u_em_dir[{k}]"), e.dir);
-            p.set_vec4(&format!("u_em_range[{k}]"), e.range);
-        }
-        let f = &s.forces;
-        let gravity: Vec3 = f.gravity.iter().map(|g| v3(g.acceleration)).sum();
-        p.set_vec3("u_gravity", gravity);
-        p.set_f32("u_damping", f.damping.iter().map(|d| d.rate).sum());
-        for (i, a) in f.attractor.iter().enumerate() {
-            p.set_vec4(
-                &format!("u_attractor[{i}]"),
-                v3(a.position).extend(a.strength),
-            );
-            p.set_vec4(
-                &format!("u_attractor_shape[{i}]"),
-                Vec4::new(
-                    (a.falloff == file::Falloff::Constant) as u8 as f32,
-                    a.max_distance.unwrap_or(-1.0),
-                    a.softening,
-                    0.0,
-                ),
-            );
-        }
-        for (i, sp) in f.spring.iter().enumerate() {
-            p.set_vec4(
-                &format!("u_spring[{i}]"),
-                v3(sp.anchor).extend(sp.stiffness),
-            );
-        }
-        for (i, v) in f.vortex.iter().enumerate() {
-            p.set_vec4(&format!("u_vortex[{i}]"), v3(v.point).extend(v.strength));
-            p.set_vec3(&format!("u_vortex_axis[{i}]"), v3(v.axis).normalize());
-        }
-        if let (Some(w), Some((_, field))) = (f.wind.first(), &self.fields.flow) {
-            p.set_vec3("u_flow_min", v3(w.bounds[0]));
-            p.set_vec3("u_flow_max", v3(w.bounds[1]));
-            let [rx, ry, rz] = field.resolution().map(|r| r as i32);
-            p.set_ivec3("u_flow_res", rx, ry, rz);
-            p.set_f32("u_drag", w.drag);
-        }
-        let c = &s.colliders;
-        p.set_f32("u_slow_speed", c.slow_speed);
-        let resp = |mu: f32, eps: f32| glam::Vec2::new(mu, eps);
-        for (i, pl) in c.plane.iter().enumerate() {
-            let n = v3(pl.normal).normalize();
-            p.set_vec4(&format!("u_plane[{i}]"), n.extend(n.dot(v3(pl.point))));
-            p.set_vec2(
-                &format!("u_plane_resp[{i}]"),
-                resp(pl.friction, pl.resilience),
-            );
-        }
-        for (i, sp) in c.sphere.iter().enumerate() {
-            p.set_vec4(&format!("u_sphere[{i}]"), v3(sp.center).extend(sp.radius));
-            p.set_vec2(
-                &format!("u_sphere_resp[{i}]"),
-                resp(sp.friction, sp.resilience),
-            );
-        }
-        for (i, b) in c.boxes.iter().enumerate() {
-            p.set_vec3(&format!("u_box_min[{i}]"), v3(b.min));
-            p.set_vec3(&format!("u_box_max[{i}]"), v3(b.max));
-            p.set_vec2(&format!("u_box_resp[{i}]"), resp(b.friction, b.resilience));
-        }
-        if let Some(h) = c.heightfield.first() {
-            p.set_vec4("u_height_extent", Vec4::from(h.extent));
-            p.set_ivec2("u_height_res", h.resolution as i32, h.resolution as i32);
-            p.set_vec2("u_height_resp", resp(h.friction, h.resilience));
-        }
-        if let Some(d) = c.sdf.first() {
-            p.set_vec3("u_sdf_min", v3(d.bounds[0]));
-            p.set_vec3("u_sdf_max", v3(d.bounds[1]));
-            let r = d.resolution as i32;
-            p.set_ivec3("u_sdf_res", r, r, r);
-            p.set_vec2("u_sdf_resp", resp(d.friction, d.resilience));
-        }
+        set_constants_for(
+            p,
+            &self.scene,
+            &self.fields,
+            [self.width, self.height],
+            self.seed,
+            self.features.types,
+        );
     }
 
     fn bind_fields(&self) {
@@ -758,6 +717,45 @@ impl ParticleSim {
             self.emit()?;
         }
         self.integrate_only();
+        self.collide()?;
+        Ok(())
+    }
+
+    /// The collision stage (scenes with `[collisions]`).
+    pub fn collisions(&self) -> Option<&super::collide::Collisions> {
+        self.collisions.as_ref()
+    }
+
+    /// Runs the collision stage on the current state (part of [`step`](Self::step); public for
+    /// benchmarks, which time it alone).
+    pub fn collide(&mut self) -> Result<()> {
+        if self.collisions.is_none() {
+            return Ok(());
+        }
+        self.bind_fields();
+        let Some(c) = self.collisions.as_mut() else {
+            return Ok(());
+        };
+        let State::Explicit(pp) = &mut self.state else {
+            return Err(Error::InvalidInput(
+                "collisions need the explicit integrators".into(),
+            ));
+        };
+        let mut inv_mass = [1.0 / self.scene.particles.mass; 4];
+        for (k, e) in self.scene.emitters.all().enumerate() {
+            inv_mass[k] = 1.0 / e.mass.unwrap_or(self.scene.particles.mass);
+        }
+        let fields = &self.fields;
+        let scene = &self.scene;
+        let (size, seed, types) = ([self.width, self.height], self.seed, self.features.types);
+        let set = |p: &Program| set_constants_for(p, scene, fields, size, seed, types);
+        c.run(
+            pp,
+            &self.statics,
+            self.scene.time.dt,
+            Vec4::from(inv_mass),
+            set,
+        )?;
         Ok(())
     }
 
@@ -946,5 +944,116 @@ impl ParticleSim {
             }
         }
         self.ctx.check_error("setting the particle state")
+    }
+}
+
+/// Sets the uniforms that do not change during a run (emitters, masses, forces, colliders,
+/// samplers) on `p`; uniforms the program lacks are skipped.
+fn set_constants_for(
+    p: &Program,
+    s: &SceneFile,
+    fields: &Fields,
+    size: [u32; 2],
+    seed: u32,
+    types: usize,
+) {
+    p.bind();
+    p.set_i32("u_position", unit::POSITION as i32);
+    p.set_i32("u_velocity", unit::VELOCITY as i32);
+    p.set_i32("u_previous", unit::VELOCITY as i32);
+    p.set_i32("u_static", unit::STATIC as i32);
+    p.set_i32("u_flow", unit::FLOW as i32);
+    p.set_i32("u_height", unit::HEIGHT as i32);
+    p.set_i32("u_sdf", unit::SDF as i32);
+    p.set_i32("u_width", size[0] as i32);
+    p.set_ivec2("u_size", size[0] as i32, size[1] as i32);
+    p.set_u32("u_seed", seed);
+    p.set_f32("u_dt", s.time.dt);
+    p.set_i32("u_emitters", types as i32);
+    let mut inv_mass = [1.0 / s.particles.mass; 4];
+    let mut cycle = [1.0f32; 4];
+    for (k, e) in s.emitters.all().enumerate() {
+        inv_mass[k] = 1.0 / e.mass.unwrap_or(s.particles.mass);
+        cycle[k] = e.cycle.unwrap_or(1.0);
+    }
+    p.set_vec4("u_inv_mass", Vec4::from(inv_mass));
+    p.set_vec4("u_cycle", Vec4::from(cycle));
+    for (k, e) in s.emitters.all().map(EmitterUniforms::new).enumerate() {
+        p.set_vec4(&format!("u_em_center[{k}]"), e.center);
+        p.set_vec4(&format!("u_em_size[{k}]"), e.size);
+        p.set_vec4(&format!("u_em_normal[{k}]"), e.normal);
+        p.set_vec4(&format!("u_em_dir[{k}]"), e.dir);
+        p.set_vec4(&format!("u_em_range[{k}]"), e.range);
+    }
+    let f = &s.forces;
+    let gravity: Vec3 = f.gravity.iter().map(|g| v3(g.acceleration)).sum();
+    p.set_vec3("u_gravity", gravity);
+    p.set_f32("u_damping", f.damping.iter().map(|d| d.rate).sum());
+    for (i, a) in f.attractor.iter().enumerate() {
+        p.set_vec4(
+            &format!("u_attractor[{i}]"),
+            v3(a.position).extend(a.strength),
+        );
+        p.set_vec4(
+            &format!("u_attractor_shape[{i}]"),
+            Vec4::new(
+                (a.falloff == file::Falloff::Constant) as u8 as f32,
+                a.max_distance.unwrap_or(-1.0),
+                a.softening,
+                0.0,
+            ),
+        );
+    }
+    for (i, sp) in f.spring.iter().enumerate() {
+        p.set_vec4(
+            &format!("u_spring[{i}]"),
+            v3(sp.anchor).extend(sp.stiffness),
+        );
+    }
+    for (i, v) in f.vortex.iter().enumerate() {
+        p.set_vec4(&format!("u_vortex[{i}]"), v3(v.point).extend(v.strength));
+        p.set_vec3(&format!("u_vortex_axis[{i}]"), v3(v.axis).normalize());
+    }
+    if let (Some(w), Some((_, field))) = (f.wind.first(), &fields.flow) {
+        p.set_vec3("u_flow_min", v3(w.bounds[0]));
+        p.set_vec3("u_flow_max", v3(w.bounds[1]));
+        let [rx, ry, rz] = field.resolution().map(|r| r as i32);
+        p.set_ivec3("u_flow_res", rx, ry, rz);
+        p.set_f32("u_drag", w.drag);
+    }
+    let c = &s.colliders;
+    p.set_f32("u_slow_speed", c.slow_speed);
+    let resp = |mu: f32, eps: f32| glam::Vec2::new(mu, eps);
+    for (i, pl) in c.plane.iter().enumerate() {
+        let n = v3(pl.normal).normalize();
+        p.set_vec4(&format!("u_plane[{i}]"), n.extend(n.dot(v3(pl.point))));
+        p.set_vec2(
+            &format!("u_plane_resp[{i}]"),
+            resp(pl.friction, pl.resilience),
+        );
+    }
+    for (i, sp) in c.sphere.iter().enumerate() {
+        p.set_vec4(&format!("u_sphere[{i}]"), v3(sp.center).extend(sp.radius));
+        p.set_vec2(
+            &format!("u_sphere_resp[{i}]"),
+            resp(sp.friction, sp.resilience),
+        );
+    }
+    for (i, b) in c.boxes.iter().enumerate() {
+        p.set_vec3(&format!("u_box_min[{i}]"), v3(b.min));
+        p.set_vec3(&format!("u_box_max[{i}]"), v3(b.max));
+        p.set_vec2(&format!("u_box_resp[{i}]"), resp(b.friction, b.resilience));
+    }
+    if let Some(h) = c.heightfield.first() {
+        p.set_vec4("u_height_extent", Vec4::from(h.extent));
+        p.set_ivec2("u_height_res", h.resolution as i32, h.resolution as i32);
+        p.set_vec2("u_height_resp", resp(h.friction, h.resilience));
+    }
+    if let Some(d) = c.sdf.first() {
+        p.set_vec3("u_sdf_min", v3(d.bounds[0]));
+        p.set_vec3("u_sdf_max", v3(d.bounds[1]));
+        let r = d.resolution as i32;
+        p.set_ivec3("u_sdf_res", r, r, r);
+        p.set_vec2("u_sdf_resp", resp(d.friction, d.resilience));
     }
 }

@@ -167,3 +167,34 @@ fn sizes_over_the_device_limit_are_located_in_the_file() {
     }
     assert!(!dir.path().join("f").exists());
 }
+
+#[test]
+fn collide_stats_prints_the_promised_fields() {
+    let o = texflow(&[
+        "collide-stats",
+        "collide",
+        "--steps",
+        "150",
+        "--particles",
+        "32x32",
+        "--k",
+        "4",
+        "--staggered",
+        "off",
+        "--json",
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    for f in ["pairs_true", "found", "missed", "false_pairs", "gpu_ms"] {
+        assert!(v[f].is_number(), "{f} missing: {v}");
+    }
+    assert_eq!(v["k"], 4);
+    assert_eq!(v["staggered"], false);
+    let n = |f: &str| v[f].as_u64().unwrap();
+    assert_eq!(n("false_pairs"), 0);
+    assert_eq!(n("missed") + n("found") - n("false_pairs"), n("pairs_true"));
+    // A scene without collisions is refused.
+    let o = texflow(&["collide-stats", "fire"]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+}

@@ -9,6 +9,12 @@ trap 'rm -rf "$tmp"' EXIT
 "$bin" render fire --frames 121 --every 120 --particles 512x512 --out "$tmp/fire" --quiet
 cp "$tmp/fire/frame_00120.png" docs/img/fire.png
 echo docs/img/fire.png
+# UberFlow Fig. 4 right: the same scene with collisions between particles on and off
+"$bin" render collide --frames 300 --every 299 --out "$tmp/collide" --quiet
+cp "$tmp/collide/frame_00299.png" docs/img/collide.png
+"$bin" render collide --frames 300 --every 299 --no-collisions --out "$tmp/collide_off" --quiet
+cp "$tmp/collide_off/frame_00299.png" docs/img/collide_off.png
+echo docs/img/collide.png docs/img/collide_off.png
 for spec in snow:360 fountain:150 smoke:300 e1:90 e2:150 e3:90; do
     name=${spec%%:*}
     frames=${spec##*:}

@@ -410,12 +410,19 @@ fn builtin_pass_lists_hold_what_each_scene_needs() {
         let t = text(n);
         let alpha = scene::load(n).unwrap().render.blending == file::Blending::Alpha;
         assert_eq!(
-            t.contains("sort"),
+            t.contains("- sort"),
             alpha,
             "{n}: sort iff alpha blending\n{t}"
         );
+        let collisions = scene::load(n).unwrap().collisions.is_some();
+        assert_eq!(
+            t.contains("collision"),
+            collisions,
+            "{n}: collision passes\n{t}"
+        );
     }
     assert!(!text("fire").contains("sort"));
+    assert!(text("collide").contains("staggered lattice"));
     let smoke = text("smoke");
     assert!(
         smoke.contains("sort: oddeven") && smoke.contains("back to front"),

@@ -43,12 +43,19 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "sim/emit.vert",
     "sim/emit.frag",
     "sim/verlet_start.frag",
+    "sim/nonfinite.frag",
+    "collide/detect.frag",
+    "collide/mutual.frag",
+    "collide/response.frag",
+    "collide/copy.frag",
     "render/points.vert",
     "render/points.frag",
     "render/keyframes.glsl",
     "render/particle.vert",
     "render/particle.frag",
     "render/background.frag",
+    "render/cpu_points.vert",
+    "render/cpu_points.frag",
     "test/increment.frag",
     "test/write8.frag",
     "test/broken.frag",
@@ -257,5 +264,37 @@ mod tests {
         for (path, _) in EMBEDDED {
             resolve(path, &[], &embedded).unwrap();
         }
+    }
+
+    #[test]
+    fn every_glsl_file_is_embedded() {
+        // A shader that exists in glsl/ but not in EMBEDDED fails only at run time, in whatever
+        // pass first needs it: list them all here instead.
+        fn walk(dir: &std::path::Path, root: &std::path::Path, out: &mut Vec<String>) {
+            for e in std::fs::read_dir(dir).unwrap() {
+                let path = e.unwrap().path();
+                if path.is_dir() {
+                    walk(&path, root, out);
+                } else {
+                    let rel = path.strip_prefix(root).unwrap();
+                    out.push(rel.to_string_lossy().replace('\\', "/"));
+                }
+            }
+        }
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("glsl");
+        let mut on_disk = Vec::new();
+        walk(&root, &root, &mut on_disk);
+        on_disk.sort();
+        let mut embedded: Vec<String> = EMBEDDED.iter().map(|(p, _)| p.to_string()).collect();
+        embedded.sort();
+        let missing: Vec<&String> = on_disk.iter().filter(|f| !embedded.contains(f)).collect();
+        assert!(
+            missing.is_empty(),
+            "glsl/ files not in EMBEDDED (src/gl/source.rs): {missing:?}"
+        );
+        assert_eq!(
+            on_disk, embedded,
+            "EMBEDDED names files that are not in glsl/"
+        );
     }
 }

@@ -1,13 +1,42 @@
 //! Helpers shared by the GPU tests. Every test makes its own context on its own thread (GL
 //! contexts are bound to a thread) and ends with `no_gl_error`.
+//!
+//! Mesa 22.3's llvmpipe crashed (SIGSEGV inside `swrast_dri.so`, about one run in eight of
+//! `tests/particles.rs`) when several test threads drew in their own contexts at once, so a test
+//! holds a process-wide lock for as long as its context lives: the GPU tests of one binary run
+//! one after another (llvmpipe still rasterizes on every core), the CPU-only tests in parallel.
 
 #![allow(dead_code)]
 
+use std::ops::Deref;
+use std::sync::{Mutex, MutexGuard};
+
 use texflow::gl::Context;
 
-/// A context on the first EGL device (llvmpipe in CI).
-pub fn context() -> Context {
-    Context::new(0).expect("an EGL device (install libegl1 libegl-mesa0 libgl1-mesa-dri)")
+static GPU: Mutex<()> = Mutex::new(());
+
+/// A context that holds the test lock until it is dropped (the context first).
+pub struct TestContext {
+    ctx: Context,
+    _lock: MutexGuard<'static, ()>,
+}
+
+impl Deref for TestContext {
+    type Target = Context;
+    fn deref(&self) -> &Context {
+        &self.ctx
+    }
+}
+
+/// A context on the first EGL device (llvmpipe in CI), once no other test of this process holds
+/// one.
+pub fn context() -> TestContext {
+    // A test that panicked while holding the lock poisons it; the next one may still run.
+    let lock = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    TestContext {
+        ctx: Context::new(0).expect("an EGL device (install libegl1 libegl-mesa0 libgl1-mesa-dri)"),
+        _lock: lock,
+    }
 }
 
 /// Asserts that no GL error is pending.

@@ -162,6 +162,33 @@ pub struct StepRecord {
     pub clock: Clock,
 }
 
+/// The records of [`bench_step`] as a markdown table.
+pub fn step_markdown(records: &[StepRecord]) -> String {
+    let mut out = format!(
+        "| state | particles | sim ms | floor ms | sim/floor | Mparticles/s | render ms ({}) | \
+         render floor ms | render/floor |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        records
+            .first()
+            .map(|r| format!("{}x{}", r.resolution[0], r.resolution[1]))
+            .unwrap_or_default()
+    );
+    for r in records {
+        out.push_str(&format!(
+            "| {0}x{0} | {1} | {2:.3} | {3:.3} | {4:.2} | {5:.1} | {6:.3} | {7:.3} | {8:.2} |\n",
+            r.size,
+            r.particles,
+            r.sim_ms,
+            r.sim_floor_ms,
+            r.sim_ratio,
+            r.particles_per_s * 1e-6,
+            r.render_ms,
+            r.render_floor_ms,
+            r.render_ratio
+        ));
+    }
+    out
+}
+
 /// Options of [`bench_step`].
 #[derive(Debug, Clone)]
 pub struct StepOptions {
@@ -284,6 +311,37 @@ pub struct SortRecord {
     pub clock: Clock,
     /// Timed runs behind the median.
     pub repeats: usize,
+}
+
+/// The records of [`bench_sort`] as a markdown table (UberFlow's Table 1 beside them).
+pub fn sort_markdown(records: &[SortRecord]) -> String {
+    let mut out = String::from(
+        "| variant | size | ms | fps | paper fps (9800 Pro) | M entries/s | passes | floor ms | \
+         ms / floor |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    let opt = |v: Option<f64>, digits: usize| {
+        v.map(|x| format!("{x:.digits$}"))
+            .unwrap_or_else(|| "–".into())
+    };
+    for r in records {
+        out.push_str(&format!(
+            "| {} | {}² | {:.3} | {:.1} | {} | {:.1} | {} | {} | {} |\n",
+            r.variant,
+            r.size,
+            r.ms,
+            r.fps,
+            opt(r.paper_fps, 1),
+            r.mtexels_per_s,
+            if r.passes == 0 {
+                "–".to_string()
+            } else {
+                r.passes.to_string()
+            },
+            opt(r.floor_ms, 3),
+            opt(r.ratio, 2)
+        ));
+    }
+    out
 }
 
 /// Options of [`bench_sort`].

@@ -53,11 +53,14 @@ impl Engine {
     /// Draws the current state into the frame target (cleared first).
     pub fn draw(&self) {
         self.target.clear();
+        let mut camera = self.scene.camera;
+        camera.azimuth +=
+            self.scene.orbit * (self.sim.steps() as f64 * self.scene.dt as f64) as f32;
         self.points.draw(
             &self.target,
             self.sim.positions(),
             self.sim.velocities(),
-            &self.scene.camera,
+            &camera,
             &self.scene.style,
         );
     }
@@ -104,6 +107,9 @@ pub struct ParticleEngine {
     sort: Option<SortStage>,
     target: FrameTarget,
     camera: crate::render::Camera,
+    /// The camera at time 0; `camera` is it turned by `orbit` degrees per simulated second.
+    camera_start: crate::render::Camera,
+    orbit: f32,
     ctx: Context,
 }
 
@@ -169,9 +175,12 @@ impl ParticleEngine {
                 })
             }
         };
+        let camera = crate::scene::camera(&scene.render.camera);
         Ok(ParticleEngine {
             target: FrameTarget::new(ctx, rw, rh)?,
-            camera: crate::scene::camera(&scene.render.camera),
+            camera,
+            camera_start: camera,
+            orbit: scene.render.camera.orbit,
             sim,
             renderer,
             sort,
@@ -191,42 +200,62 @@ impl ParticleEngine {
     pub fn draw(&mut self) -> Result<()> {
         let count = self.sim.active_count();
         self.renderer.clear(&self.target);
-        match &mut self.sort {
-            None => self.renderer.draw(
+        if self.order_for_drawing()? {
+            let s = self.sort.as_ref().expect("a sort stage");
+            let texels = self.sim.size().x as usize * self.sim.size().y as usize;
+            // Dead particles sort last (+inf keys), so the live ones are a prefix.
+            self.renderer.draw(
+                &self.target,
+                s.sorted.texture(0),
+                s.sorted.texture(1),
+                &self.camera,
+                texels,
+            )?;
+        } else {
+            self.renderer.draw(
                 &self.target,
                 self.sim.positions(),
                 self.sim.statics(),
                 &self.camera,
                 count,
-            )?,
-            Some(s) => {
-                let mode = crate::sort::KeyMode::ViewerDistance {
-                    eye: self.camera.eye(),
-                    back_to_front: s.back_to_front,
-                };
-                let texels = self.sim.size().x as usize * self.sim.size().y as usize;
-                if s.spread && s.keyed {
-                    s.sorter
-                        .refresh_keys(self.sim.positions(), texels, &mode, true)?;
-                } else {
-                    s.sorter
-                        .write_keys(self.sim.positions(), texels, &mode, true)?;
-                    s.keyed = true;
-                }
-                s.sorter.sort_frame();
-                s.sorter
-                    .gather(&[self.sim.positions(), self.sim.statics()], &s.sorted)?;
-                // Dead particles sort last (+inf keys), so the live ones are a prefix.
-                self.renderer.draw(
-                    &self.target,
-                    s.sorted.texture(0),
-                    s.sorted.texture(1),
-                    &self.camera,
-                    texels,
-                )?;
-            }
+            )?;
         }
         self.ctx.check_error("drawing a frame")
+    }
+
+    /// The sort stage of a frame, without drawing: turns the camera to the current time, and for
+    /// alpha blending writes the viewer-distance keys (refreshed in place when the sort is spread
+    /// over frames), runs this frame's share of the sort and gathers positions and statics into
+    /// [`sorted`](Self::sorted). Returns whether the scene sorts at all. [`draw`](Self::draw)
+    /// calls it; it is public so that the sort's cost and quality can be measured alone.
+    pub fn order_for_drawing(&mut self) -> Result<bool> {
+        let t = self.sim.time() as f32;
+        self.camera.azimuth = self.camera_start.azimuth + self.orbit * t;
+        let Some(s) = &mut self.sort else {
+            return Ok(false);
+        };
+        let mode = crate::sort::KeyMode::ViewerDistance {
+            eye: self.camera.eye(),
+            back_to_front: s.back_to_front,
+        };
+        let texels = self.sim.size().x as usize * self.sim.size().y as usize;
+        if s.spread && s.keyed {
+            s.sorter
+                .refresh_keys(self.sim.positions(), texels, &mode, true)?;
+        } else {
+            s.sorter
+                .write_keys(self.sim.positions(), texels, &mode, true)?;
+            s.keyed = true;
+        }
+        s.sorter.sort_frame();
+        s.sorter
+            .gather(&[self.sim.positions(), self.sim.statics()], &s.sorted)?;
+        Ok(true)
+    }
+
+    /// The sorter of an alpha-blended scene (its entries are the last frame's keys and ids).
+    pub fn sorter(&self) -> Option<&crate::sort::Sorter> {
+        self.sort.as_ref().map(|s| &s.sorter)
     }
 
     /// Draws the current state and reads the frame back.
@@ -322,6 +351,26 @@ impl SceneRunner {
         match self {
             SceneRunner::Fire(e) => e.sim().steps(),
             SceneRunner::Particles(e) => e.sim().steps(),
+        }
+    }
+
+    /// State texture size.
+    pub fn state_size(&self) -> [u32; 2] {
+        match self {
+            SceneRunner::Fire(e) => e.scene().particles,
+            SceneRunner::Particles(e) => e.sim().size().to_array(),
+        }
+    }
+
+    /// Counts the live particles with a NaN or infinite component on the GPU (a reduction by
+    /// fragment passes), so that garbage is reported instead of rendered silently.
+    pub fn non_finite(
+        &self,
+        counter: &crate::sim::nonfinite::NonFiniteCounter,
+    ) -> Result<crate::sim::nonfinite::NonFiniteCount> {
+        match self {
+            SceneRunner::Fire(e) => counter.count(e.sim().positions(), Some(e.sim().velocities())),
+            SceneRunner::Particles(e) => counter.count_sim(e.sim()),
         }
     }
 

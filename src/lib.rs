@@ -24,11 +24,14 @@
 #![warn(missing_docs)]
 
 pub mod bench;
+pub mod bench_scenes;
+pub mod cpu_engine;
 pub mod engine;
 pub mod error;
 pub mod gl;
 pub mod npy;
 pub mod render;
+pub mod report;
 pub mod scene;
 pub mod sim;
 pub mod sort;

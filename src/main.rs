@@ -45,6 +45,9 @@ enum Command {
     /// Benchmarks (GPU timer queries, medians, floors measured in the same run).
     #[command(subcommand)]
     Bench(BenchCommand),
+    /// Error against run time, and stability on stiff and extreme cases (docs/numerics.md).
+    #[command(subcommand)]
+    Report(ReportCommand),
 }
 
 #[derive(Args)]
@@ -182,6 +185,8 @@ struct Common {
 
 #[derive(Subcommand)]
 enum BenchCommand {
+    /// UberFlow's Table 2: fps of whole frames of E1-E5 per state size, next to the paper's.
+    Scenes(ScenesArgs),
     /// GPU time of the simulation pass and the render pass per state size, with floors.
     Step {
         /// Scene to measure.
@@ -421,12 +426,30 @@ fn render(a: RenderArgs) -> texflow::Result<()> {
         .as_ref()
         .map(|d| FrameWriter::create(d))
         .transpose()?;
+    let [sw, sh] = engine.state_size();
+    let counter = texflow::sim::nonfinite::NonFiniteCounter::new(&ctx, sw, sh)?;
     let bar = progress_bar(a.frames, a.common.quiet, "rendering");
     let mut written = 0;
     let mut non_finite = 0;
+    let mut bad_frames = 0u64;
     for frame in 0..a.frames {
         engine.advance_frame()?;
         if frame % a.every == 0 {
+            // Garbage is reported, not rendered silently.
+            let c = engine.non_finite(&counter)?;
+            if c.non_finite > 0 {
+                if bad_frames == 0 {
+                    bar.suspend(|| {
+                        eprintln!(
+                            "warning: frame {frame}: {} of {} live particles have NaN or \
+                             infinite values",
+                            c.non_finite, c.live
+                        )
+                    });
+                }
+                bad_frames += 1;
+                non_finite = non_finite.max(c.non_finite as usize);
+            }
             writer.write(frame, &engine.render()?)?;
             written += 1;
         }
@@ -448,8 +471,8 @@ fn render(a: RenderArgs) -> texflow::Result<()> {
     bar.finish_and_clear();
     if non_finite > 0 {
         eprintln!(
-            "warning: up to {non_finite} live particle(s) had NaN or infinite values in the \
-             dumped state (see the .npy files)"
+            "warning: up to {non_finite} live particle(s) had NaN or infinite values \
+             ({bad_frames} written frame(s) affected; the dumps, if any, hold them)"
         );
     }
     if !a.common.quiet {
@@ -732,34 +755,12 @@ fn sort(a: SortArgs) -> texflow::Result<()> {
 }
 
 fn print_sort_table(records: &[SortRecord]) {
-    println!("| variant | size | ms | fps | paper fps (9800 Pro) | M entries/s | passes | floor ms | ms / floor |");
-    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
-    let opt = |v: Option<f64>, digits: usize| {
-        v.map(|x| format!("{x:.digits$}"))
-            .unwrap_or_else(|| "–".into())
-    };
-    for r in records {
-        println!(
-            "| {} | {}² | {:.3} | {:.1} | {} | {:.1} | {} | {} | {} |",
-            r.variant,
-            r.size,
-            r.ms,
-            r.fps,
-            opt(r.paper_fps, 1),
-            r.mtexels_per_s,
-            if r.passes == 0 {
-                "–".to_string()
-            } else {
-                r.passes.to_string()
-            },
-            opt(r.floor_ms, 3),
-            opt(r.ratio, 2)
-        );
-    }
+    print!("{}", texflow::bench::sort_markdown(records));
 }
 
 fn bench(cmd: BenchCommand) -> texflow::Result<()> {
     match cmd {
+        BenchCommand::Scenes(a) => bench_scenes(a),
         BenchCommand::Sort {
             sizes,
             variants,
@@ -856,6 +857,104 @@ fn bench(cmd: BenchCommand) -> texflow::Result<()> {
     }
 }
 
+#[derive(Args)]
+struct ScenesArgs {
+    /// Square state sizes (size x size particles), comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "256,512,1024")]
+    sizes: Vec<u32>,
+    /// Experiments, comma-separated (E1, E2, E3, E4, E5), or `all`.
+    #[arg(long, value_delimiter = ',', default_value = "all")]
+    experiments: Vec<String>,
+    /// Timed frames per experiment and size (the median is reported).
+    #[arg(long, default_value_t = 11)]
+    repeats: usize,
+    /// Frames simulated before timing (default: one full emission cycle of the scene).
+    #[arg(long)]
+    warmup: Option<usize>,
+    /// Frame size WxH (default: the scenes' 512x512).
+    #[arg(long, value_parser = parse_size)]
+    resolution: Option<[u32; 2]>,
+    /// Seed of every experiment.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// How to time the GPU experiments: auto, gpu, wall (E5 always uses wall time).
+    #[arg(long, value_enum, default_value_t = ClockArg::Auto)]
+    clock: ClockArg,
+    /// Print JSON (one record per experiment and size).
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    common: Common,
+}
+
+fn bench_scenes(a: ScenesArgs) -> texflow::Result<()> {
+    use texflow::bench_scenes as bs;
+    if a.sizes.is_empty() || a.sizes.contains(&0) {
+        return Err(bad("--sizes needs sizes of at least 1, e.g. 256,512,1024"));
+    }
+    if a.repeats == 0 {
+        return Err(bad("--repeats must be at least 1"));
+    }
+    let experiments: Vec<String> = if a.experiments.iter().any(|e| e == "all") {
+        Vec::new()
+    } else {
+        for e in &a.experiments {
+            if !bs::experiments()
+                .iter()
+                .any(|x| x.name.eq_ignore_ascii_case(e.trim()))
+            {
+                return Err(bad(format!(
+                    "unknown experiment `{e}`: use E1, E2, E3, E4, E5 or all"
+                )));
+            }
+        }
+        a.experiments.clone()
+    };
+    let ctx = Context::new(a.common.device)?;
+    for &n in &a.sizes {
+        texflow::gl::check_size(&ctx, "--sizes", n, n)?;
+    }
+    let count = if experiments.is_empty() {
+        bs::experiments().len()
+    } else {
+        experiments.len()
+    };
+    let bar = progress_bar(
+        (a.sizes.len() * count) as u64,
+        a.common.quiet,
+        "bench scenes",
+    );
+    let opts = bs::ScenesOptions {
+        repeats: a.repeats,
+        warmup_frames: a.warmup,
+        clock: a.clock.clock(),
+        resolution: a.resolution,
+        seed: a.seed,
+        experiments,
+    };
+    let records = bs::bench_scenes(&ctx, &a.sizes, &opts, |_, _| bar.inc(1))?;
+    bar.finish_and_clear();
+    let clock = records
+        .iter()
+        .filter(|r| r.engine == "gpu")
+        .find_map(|r| r.clock)
+        .or_else(|| records.iter().find_map(|r| r.clock));
+    let warmup = match a.warmup {
+        Some(w) => format!("{w} warm-up frames"),
+        None => "a full emission cycle".into(),
+    };
+    let what = format!(
+        "medians of {} whole frames after {warmup}; E1-E4 GPU, E5 CPU engine on {} threads \
+         (wall time incl. upload, draw, glFinish); paper: ATI 9800 Pro / Pentium 4 2 GHz",
+        a.repeats,
+        rayon::current_num_threads()
+    );
+    report(a.json, &records, &ctx, clock, &what, |r| {
+        print!("{}", bs::markdown(r))
+    });
+    Ok(())
+}
+
 /// Prints benchmark records as JSON, or as a header naming the device and clock and a table.
 fn report<T: serde::Serialize>(
     json: bool,
@@ -882,27 +981,123 @@ fn report<T: serde::Serialize>(
 }
 
 fn print_step_table(records: &[StepRecord]) {
-    println!(
-        "| state | particles | sim ms | floor ms | sim/floor | Mparticles/s | render ms ({}) | render floor ms | render/floor |",
-        records
-            .first()
-            .map(|r| format!("{}x{}", r.resolution[0], r.resolution[1]))
-            .unwrap_or_default()
-    );
-    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
-    for r in records {
-        println!(
-            "| {0}x{0} | {1} | {2:.3} | {3:.3} | {4:.2} | {5:.1} | {6:.3} | {7:.3} | {8:.2} |",
-            r.size,
-            r.particles,
-            r.sim_ms,
-            r.sim_floor_ms,
-            r.sim_ratio,
-            r.particles_per_s * 1e-6,
-            r.render_ms,
-            r.render_floor_ms,
-            r.render_ratio
-        );
+    print!("{}", texflow::bench::step_markdown(records));
+}
+
+#[derive(Subcommand)]
+enum ReportCommand {
+    /// Work-precision diagrams and convergence orders per integrator and precision.
+    Convergence {
+        /// Also write CSV and PNG plots into this folder (created if missing).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Fewer and shorter runs (about 8 s on llvmpipe).
+        #[arg(long)]
+        quick: bool,
+        /// Print JSON (every point) instead of the table of orders.
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Stiff spring and drag across their stability limits, and the extreme cases with their
+    /// documented outcomes.
+    Stability {
+        /// Print JSON instead of tables.
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Everything: plots, CSVs, stability JSON and markdown, and summary.md, into --out.
+    All {
+        /// Output folder (created if missing).
+        #[arg(long)]
+        out: PathBuf,
+        /// Sized for llvmpipe: about 11 s instead of 3.5 minutes.
+        #[arg(long)]
+        quick: bool,
+        #[command(flatten)]
+        common: Common,
+    },
+}
+
+fn report_cmd(cmd: ReportCommand) -> texflow::Result<()> {
+    use texflow::report::{self, convergence, stability, ReportOptions};
+    let say = |quiet: bool| {
+        move |m: &str| {
+            if !quiet {
+                eprintln!("report: {m}");
+            }
+        }
+    };
+    match cmd {
+        ReportCommand::Convergence {
+            out,
+            quick,
+            json,
+            common,
+        } => {
+            if let Some(d) = &out {
+                FrameWriter::check(d)?;
+            }
+            let ctx = Context::new(common.device)?;
+            let opts = ReportOptions::new(quick);
+            let r = convergence::run(
+                &ctx,
+                &convergence::default_sweeps(opts.size),
+                &convergence::StatePrecision::ALL,
+                &mut say(common.quiet),
+            )?;
+            if let Some(d) = &out {
+                report::create_dir(d)?;
+                convergence::write_files(&r, d)?;
+            }
+            if json {
+                println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
+            } else {
+                println!(
+                    "device {}: {}; {}",
+                    ctx.device_index(),
+                    r.device,
+                    r.clock.name()
+                );
+                print!("{}", convergence::table(&r));
+            }
+            Ok(())
+        }
+        ReportCommand::Stability { json, common } => {
+            let ctx = Context::new(common.device)?;
+            let opts = stability::StabilityOptions::default();
+            let r = stability::run(&ctx, &opts, &mut say(common.quiet))?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
+            } else {
+                println!("device {}: {}", ctx.device_index(), r.device);
+                print!("{}", stability::table(&r));
+            }
+            for w in stability::warnings(&r) {
+                eprintln!("warning: {w}");
+            }
+            Ok(())
+        }
+        ReportCommand::All { out, quick, common } => {
+            FrameWriter::check(&out)?;
+            let ctx = Context::new(common.device)?;
+            let all = report::run_all(
+                &ctx,
+                &ReportOptions::new(quick),
+                &out,
+                &mut say(common.quiet),
+            )?;
+            for f in &all.files {
+                println!("{}", f.display());
+            }
+            for w in &all.warnings {
+                eprintln!("warning: {w}");
+            }
+            Ok(())
+        }
     }
 }
 
@@ -915,6 +1110,7 @@ fn main() -> ExitCode {
         Command::Scene(c) => scene_command(c),
         Command::CollideStats(a) => collide_stats(a),
         Command::Bench(b) => bench(b),
+        Command::Report(r) => report_cmd(r),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

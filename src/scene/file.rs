@@ -601,6 +601,10 @@ pub struct CameraSection {
     /// Vertical field of view, degrees.
     #[serde(default = "fortyfive")]
     pub fov: f32,
+    /// Orbit speed around +y, degrees per second of simulated time (0: a still camera). A moving
+    /// camera is what a sort spread over frames (Latta §3.4.4) has to keep up with.
+    #[serde(default)]
+    pub orbit: f32,
 }
 
 fn four() -> f32 {
@@ -621,6 +625,7 @@ impl Default for CameraSection {
             azimuth: 0.0,
             elevation: ten(),
             fov: fortyfive(),
+            orbit: 0.0,
         }
     }
 }

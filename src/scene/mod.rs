@@ -77,8 +77,10 @@ pub struct Scene {
     pub dt: f32,
     /// Simulation steps per rendered frame.
     pub substeps: u32,
-    /// The camera.
+    /// The camera at time 0.
     pub camera: Camera,
+    /// Orbit speed of the camera around +y, degrees per simulated second.
+    pub orbit: f32,
     /// Point size and brightness.
     pub style: PointStyle,
     /// The fire pass's parameters.
@@ -147,6 +149,7 @@ impl Scene {
             dt: f.time.dt,
             substeps: f.time.substeps,
             camera: camera(&f.render.camera),
+            orbit: f.render.camera.orbit,
             style: PointStyle {
                 point_size: f.render.point_size,
                 intensity: f.render.intensity,

@@ -6,6 +6,7 @@ pub mod collide;
 pub mod emit;
 pub mod fields;
 pub mod fire;
+pub mod nonfinite;
 pub mod particles;
 pub mod reference;
 

@@ -1,0 +1,678 @@
+//! UberFlow's Table 2 (§5): frames per second of whole frames of the paper's experiments at
+//! 256², 512² and 1024² particles, next to the paper's numbers (ATI 9800 Pro and a Pentium 4 at
+//! 2.0 GHz, 2004), with the GPU engine's speed over the CPU engine's as the paper compares them.
+//!
+//! | experiment | what | engine | a frame |
+//! | --- | --- | --- | --- |
+//! | E1 | collisionless motion (`examples/scenes/e1.toml`) | GPU | integration pass, points (vertex texture fetch, additive) |
+//! | E2 | height-field collisions (`e2.toml`) | GPU | integration pass with the height field, points |
+//! | E3 | collisionless motion, front-to-back sorting and rendering (`e3.toml`) | GPU | integration pass, key pass, GP/FP-packed bitonic sort, gather, points under the under operator |
+//! | E4 | inter-particle collisions, rows-only sort, 8 neighbours each side | GPU | see [`E4_SCENE`] (not run until it is set) |
+//! | E5 | E3 on the CPU: the same scene, physics and spawns | CPU ([`crate::cpu_engine`]) | steps on all cores, quicksort by viewer distance, upload of the vertices, point draw |
+//!
+//! Every experiment runs at each size with the scene's `particles.size` set to size × size. The
+//! state is first advanced by `warmup_frames` frames of simulation only (default: one full
+//! emission cycle, after which every time-stamped particle has been born: the steady state the
+//! paper's animations run in), then two whole frames are run untimed (lazily built programs, first
+//! use of buffers), then `repeats` whole frames are timed one by one and the median is reported;
+//! fps = 1000 / median ms.
+//!
+//! Clocks: GPU experiments with [`PassTimer`] (timer queries on a hardware GPU, `glFinish` wall
+//! time on llvmpipe, where the GPU is the CPU); the wall time around each of their frames (from a
+//! `glFinish` to the end of the frame's commands) is recorded too. E5 with the wall clock only: its
+//! frame is CPU work, the upload and the draw, ended by `glFinish`.
+
+use std::time::Instant;
+
+use crate::bench::{median, Clock, PassTimer};
+use crate::cpu_engine::CpuEngine;
+use crate::engine::ParticleEngine;
+use crate::error::{Error, Result};
+use crate::gl::Context;
+use crate::scene::SceneFile;
+
+/// The state sizes of the paper's Table 2.
+pub const PAPER_SIZES: [u32; 3] = [256, 512, 1024];
+
+// ------------------------------------------------------------------------------------------------
+// E4: inter-particle collisions (`crate::sim::collide`) run from a scene like E1-E3: each size
+// overrides `particles.size`, `ParticleEngine::advance_frame` runs the collision stage inside
+// `ParticleSim::step`, `draw` draws the frame; the warm-up is one emission cycle (`--warmup`
+// shortens it). `tests/bench_scenes.rs` checks either state: not run, or measured.
+// ------------------------------------------------------------------------------------------------
+
+/// A function that makes an experiment's scene.
+pub type SceneFn = fn() -> Result<SceneFile>;
+
+/// E4's scene: the built-in `collide` scene with UberFlow's E4 settings (rows-only sort,
+/// 8 neighbours each side) and a 2 s emission cycle, so that one cycle of warm-up fills it.
+pub const E4_SCENE: Option<SceneFn> = Some(|| {
+    let mut s = crate::scene::load("collide")?;
+    if let Some(c) = s.collisions.as_mut() {
+        c.rows_only = Some(1);
+        c.neighbours = 8;
+    }
+    for e in &mut s.emitters.timestamp {
+        e.cycle = Some(2.0);
+        e.life = Some([2.0, 2.0]);
+    }
+    Ok(s)
+});
+
+/// Something that runs whole frames of an experiment at one size.
+pub trait FrameSource {
+    /// Advances the simulation by `frames` frames without drawing (warm-up).
+    fn warm_up(&mut self, frames: usize) -> Result<()>;
+    /// Issues one whole frame: the simulation steps of a frame and the drawing (with whatever
+    /// sorting the scene's rendering needs). Does not wait for the GPU.
+    fn frame(&mut self) -> Result<()>;
+    /// Particles alive (drawn) now; reads the state back where it lives on the GPU.
+    fn live(&self) -> Result<u64>;
+    /// Runs one whole frame timed in parts (each part finished before the next starts): names
+    /// and milliseconds.
+    fn phases(&mut self, timer: &PassTimer) -> Result<Vec<(&'static str, f64)>>;
+}
+
+/// Times `f` with `timer`, passing its error on.
+fn timed(timer: &PassTimer, f: impl FnOnce() -> Result<()>) -> Result<f64> {
+    let mut res = Ok(());
+    let t = timer.time(|| res = f())?;
+    res.map(|_| t)
+}
+
+/// A scene of the GPU particle pipeline: [`ParticleEngine`] (E1-E4).
+pub struct GpuScene(pub ParticleEngine);
+
+impl FrameSource for GpuScene {
+    fn warm_up(&mut self, frames: usize) -> Result<()> {
+        for _ in 0..frames {
+            self.0.advance_frame()?;
+        }
+        Ok(())
+    }
+
+    fn frame(&mut self) -> Result<()> {
+        self.0.advance_frame()?;
+        self.0.draw()
+    }
+
+    fn live(&self) -> Result<u64> {
+        let p = self.0.sim().read_positions()?;
+        Ok(p.chunks_exact(4)
+            .filter(|p| p.iter().all(|x| x.is_finite()) && p[3] > 0.0)
+            .count() as u64)
+    }
+
+    fn phases(&mut self, timer: &PassTimer) -> Result<Vec<(&'static str, f64)>> {
+        let simulate = timed(timer, || self.0.advance_frame())?;
+        let draw = timed(timer, || self.0.draw())?;
+        let name = if self.0.sorted().is_some() {
+            "keys, sort, gather and draw"
+        } else {
+            "draw"
+        };
+        Ok(vec![("simulate", simulate), (name, draw)])
+    }
+}
+
+/// The CPU engine (E5).
+pub struct CpuScene(pub CpuEngine);
+
+impl FrameSource for CpuScene {
+    fn warm_up(&mut self, frames: usize) -> Result<()> {
+        for _ in 0..frames {
+            self.0.advance_frame();
+        }
+        Ok(())
+    }
+
+    fn frame(&mut self) -> Result<()> {
+        self.0.frame()
+    }
+
+    fn live(&self) -> Result<u64> {
+        Ok(self.0.sim().live_count() as u64)
+    }
+
+    fn phases(&mut self, _timer: &PassTimer) -> Result<Vec<(&'static str, f64)>> {
+        let p = self.0.timed_frame()?;
+        Ok(vec![
+            ("simulate", p.simulate_ms),
+            ("keys, quicksort and gather", p.sort_ms),
+            ("upload", p.upload_ms),
+            ("draw", p.draw_ms),
+        ])
+    }
+}
+
+/// `scene` with size × size particles and the options' resolution.
+pub fn sized(mut scene: SceneFile, size: u32, opts: &ScenesOptions) -> SceneFile {
+    scene.particles.size = [size, size];
+    if let Some(r) = opts.resolution {
+        scene.render.resolution = r;
+    }
+    scene
+}
+
+/// A GPU experiment of `scene` at size × size particles.
+pub fn gpu_scene(
+    ctx: &Context,
+    scene: SceneFile,
+    size: u32,
+    opts: &ScenesOptions,
+) -> Result<Box<dyn FrameSource>> {
+    let s = sized(scene, size, opts);
+    Ok(Box::new(GpuScene(ParticleEngine::new(ctx, &s, opts.seed)?)))
+}
+
+/// The CPU engine on `scene` at size × size particles.
+pub fn cpu_scene(
+    ctx: &Context,
+    scene: SceneFile,
+    size: u32,
+    opts: &ScenesOptions,
+) -> Result<Box<dyn FrameSource>> {
+    let s = sized(scene, size, opts);
+    Ok(Box::new(CpuScene(CpuEngine::new(ctx, &s, opts.seed)?)))
+}
+
+/// Makes an experiment's frame source at a size.
+pub type BuildFn = fn(&Context, u32, &ScenesOptions) -> Result<Box<dyn FrameSource>>;
+
+/// One column of Table 2.
+#[derive(Clone, Copy)]
+pub struct Experiment {
+    /// `E1` ... `E5`.
+    pub name: &'static str,
+    /// What it simulates and draws.
+    pub what: &'static str,
+    /// Whether it runs on the CPU (E5): timed with the wall clock.
+    pub cpu: bool,
+    /// The paper's fps at 256², 512², 1024².
+    pub paper_fps: [f64; 3],
+    /// The scene whose emission cycle sets the default warm-up.
+    pub scene: Option<SceneFn>,
+    /// How to build it; `None`: listed, not run (E4 until [`E4_SCENE`] is set).
+    pub build: Option<BuildFn>,
+}
+
+impl std::fmt::Debug for Experiment {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Experiment({}: {})", self.name, self.what)
+    }
+}
+
+impl Experiment {
+    /// The paper's fps at `size`, if Table 2 has the size.
+    pub fn paper(&self, size: u32) -> Option<f64> {
+        PAPER_SIZES
+            .iter()
+            .position(|&s| s == size)
+            .map(|i| self.paper_fps[i])
+    }
+}
+
+fn e1() -> Result<SceneFile> {
+    crate::scene::load("e1")
+}
+fn e2() -> Result<SceneFile> {
+    crate::scene::load("e2")
+}
+fn e3() -> Result<SceneFile> {
+    crate::scene::load("e3")
+}
+
+fn build_e4(ctx: &Context, size: u32, opts: &ScenesOptions) -> Result<Box<dyn FrameSource>> {
+    let make = E4_SCENE.ok_or_else(|| {
+        Error::InvalidInput("E4 (inter-particle collisions) is not available yet".into())
+    })?;
+    gpu_scene(ctx, make()?, size, opts)
+}
+
+/// The experiments of Table 2, in the paper's order.
+pub fn experiments() -> Vec<Experiment> {
+    vec![
+        Experiment {
+            name: "E1",
+            what: "collisionless motion",
+            cpu: false,
+            paper_fps: [640.0, 320.0, 120.0],
+            scene: Some(e1),
+            build: Some(|ctx, n, o| gpu_scene(ctx, e1()?, n, o)),
+        },
+        Experiment {
+            name: "E2",
+            what: "height-field collisions",
+            cpu: false,
+            paper_fps: [155.0, 96.0, 42.0],
+            scene: Some(e2),
+            build: Some(|ctx, n, o| gpu_scene(ctx, e2()?, n, o)),
+        },
+        Experiment {
+            name: "E3",
+            what: "collisionless motion, front-to-back sorting and rendering",
+            cpu: false,
+            paper_fps: [39.0, 8.0, 1.4],
+            scene: Some(e3),
+            build: Some(|ctx, n, o| gpu_scene(ctx, e3()?, n, o)),
+        },
+        Experiment {
+            name: "E4",
+            what: "inter-particle collisions (rows-only sort, 8 neighbours)",
+            cpu: false,
+            paper_fps: [133.0, 31.0, 7.0],
+            scene: E4_SCENE,
+            build: if E4_SCENE.is_some() {
+                Some(build_e4)
+            } else {
+                None
+            },
+        },
+        Experiment {
+            name: "E5",
+            what: "E3 on the CPU: all cores, quicksort by viewer distance, vertex upload",
+            cpu: true,
+            paper_fps: [7.0, 2.0, 0.4],
+            scene: Some(e3),
+            build: Some(|ctx, n, o| cpu_scene(ctx, e3()?, n, o)),
+        },
+    ]
+}
+
+/// Options of [`bench_scenes`].
+#[derive(Debug, Clone)]
+pub struct ScenesOptions {
+    /// Timed frames per experiment and size (the median is reported).
+    pub repeats: usize,
+    /// Frames of simulation before timing; `None`: one full emission cycle of the scene.
+    pub warmup_frames: Option<usize>,
+    /// Clock of the GPU experiments; `None` picks [`Clock::for_context`].
+    pub clock: Option<Clock>,
+    /// Frame size; `None` keeps the scenes' (512×512).
+    pub resolution: Option<[u32; 2]>,
+    /// Seed of every experiment (the same spawns on the GPU and the CPU).
+    pub seed: u64,
+    /// Experiments to run by name (`E1` ... `E5`, any case); empty: all.
+    pub experiments: Vec<String>,
+}
+
+impl Default for ScenesOptions {
+    fn default() -> Self {
+        ScenesOptions {
+            repeats: 11,
+            warmup_frames: None,
+            clock: None,
+            resolution: None,
+            seed: 1,
+            experiments: Vec::new(),
+        }
+    }
+}
+
+/// Frames of simulation until every time-stamped particle has been born (the longest cycle,
+/// plus one frame); one second of simulation for scenes without time stamps.
+pub fn default_warmup_frames(scene: &SceneFile) -> usize {
+    let frame = scene.time.dt as f64 * scene.time.substeps.max(1) as f64;
+    let cycle = scene
+        .emitters
+        .timestamp
+        .iter()
+        .filter_map(|e| e.cycle)
+        .fold(0.0f32, f32::max) as f64;
+    let span = if cycle > 0.0 { cycle } else { 1.0 };
+    (span / frame).ceil() as usize + 1
+}
+
+/// One cell of Table 2: an experiment at a size.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct SceneRecord {
+    /// `E1` ... `E5`.
+    pub experiment: String,
+    /// What it simulates and draws.
+    pub what: String,
+    /// `gpu` or `cpu`.
+    pub engine: String,
+    /// State side: size × size particles.
+    pub size: u32,
+    /// Particles (size²).
+    pub particles: u64,
+    /// Frames per second (1000 / ms); `None`: not run.
+    pub fps: Option<f64>,
+    /// Median milliseconds of one whole frame with `clock`; `None`: not run.
+    pub ms: Option<f64>,
+    /// Median wall milliseconds of one whole frame (`glFinish` to `glFinish`).
+    pub wall_ms: Option<f64>,
+    /// UberFlow Table 2's fps, where the paper has the size.
+    pub paper_fps: Option<f64>,
+    /// GPU/CPU: this experiment's fps over E5's at the same size (E3's is the paper's
+    /// comparison).
+    pub vs_e5: Option<f64>,
+    /// The same ratio in the paper.
+    pub paper_vs_e5: Option<f64>,
+    /// Particles alive when the timing ended.
+    pub live: Option<u64>,
+    /// Where the time of a frame goes: medians of as many frames again, each run in parts with
+    /// the GPU finished between them (E5: wall clock; others: `clock`).
+    pub phases: Vec<Phase>,
+    /// Frame size drawn.
+    pub resolution: [u32; 2],
+    /// Frames simulated before timing.
+    pub warmup_frames: usize,
+    /// Timed frames behind the median.
+    pub repeats: usize,
+    /// Clock of `ms` (E5: wall).
+    pub clock: Option<Clock>,
+    /// Why it was not run.
+    pub note: Option<String>,
+}
+
+/// A part of a frame and its median time.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Phase {
+    /// What the part does.
+    pub name: String,
+    /// Median milliseconds.
+    pub ms: f64,
+}
+
+/// Runs the experiments of Table 2 at each size; `progress(experiment, size)` after each.
+pub fn bench_scenes(
+    ctx: &Context,
+    sizes: &[u32],
+    opts: &ScenesOptions,
+    mut progress: impl FnMut(&str, u32),
+) -> Result<Vec<SceneRecord>> {
+    let all = experiments();
+    let wanted: Vec<Experiment> = if opts.experiments.is_empty() {
+        all
+    } else {
+        let mut v = Vec::new();
+        for name in &opts.experiments {
+            match all
+                .iter()
+                .find(|e| e.name.eq_ignore_ascii_case(name.trim()))
+            {
+                Some(e) => v.push(*e),
+                None => {
+                    return Err(Error::InvalidInput(format!(
+                        "unknown experiment `{name}`: the experiments are E1, E2, E3, E4, E5"
+                    )))
+                }
+            }
+        }
+        v
+    };
+    if opts.repeats == 0 {
+        return Err(Error::InvalidInput("repeats must be at least 1".into()));
+    }
+    let clock = opts.clock.unwrap_or_else(|| Clock::for_context(ctx));
+    let timer = PassTimer::new(ctx, clock)?;
+    let mut records = Vec::new();
+    for &size in sizes {
+        for e in &wanted {
+            records.push(run_one(ctx, &timer, e, size, opts)?);
+            progress(e.name, size);
+        }
+    }
+    add_ratios(&mut records);
+    Ok(records)
+}
+
+fn run_one(
+    ctx: &Context,
+    timer: &PassTimer,
+    e: &Experiment,
+    size: u32,
+    opts: &ScenesOptions,
+) -> Result<SceneRecord> {
+    let scene = e.scene.map(|f| f()).transpose()?;
+    let resolution = opts
+        .resolution
+        .or(scene.as_ref().map(|s| s.render.resolution))
+        .unwrap_or([512, 512]);
+    let warmup = opts
+        .warmup_frames
+        .unwrap_or_else(|| scene.as_ref().map_or(0, default_warmup_frames));
+    let mut r = SceneRecord {
+        experiment: e.name.into(),
+        what: e.what.into(),
+        engine: if e.cpu { "cpu" } else { "gpu" }.into(),
+        size,
+        particles: size as u64 * size as u64,
+        fps: None,
+        ms: None,
+        wall_ms: None,
+        paper_fps: e.paper(size),
+        vs_e5: None,
+        paper_vs_e5: None,
+        live: None,
+        phases: Vec::new(),
+        resolution,
+        warmup_frames: warmup,
+        repeats: opts.repeats,
+        clock: None,
+        note: None,
+    };
+    let Some(build) = e.build else {
+        r.note = Some("not run: E4's scene is not wired in yet (bench_scenes::E4_SCENE)".into());
+        return Ok(r);
+    };
+    let mut src = build(ctx, size, opts)?;
+    src.warm_up(warmup)?;
+    for _ in 0..2 {
+        src.frame()?;
+    }
+    ctx.finish();
+    let mut ms = Vec::with_capacity(opts.repeats);
+    let mut wall = Vec::with_capacity(opts.repeats);
+    for _ in 0..opts.repeats {
+        ctx.finish();
+        let t0 = Instant::now();
+        if e.cpu {
+            src.frame()?;
+            ctx.finish();
+            let t = t0.elapsed().as_secs_f64() * 1e3;
+            ms.push(t);
+            wall.push(t);
+        } else {
+            let t = timed(timer, || src.frame())?;
+            ctx.finish();
+            ms.push(t);
+            wall.push(t0.elapsed().as_secs_f64() * 1e3);
+        }
+    }
+    let mut parts: Vec<(&'static str, Vec<f64>)> = Vec::new();
+    for _ in 0..opts.repeats {
+        for (k, (name, t)) in src.phases(timer)?.into_iter().enumerate() {
+            match parts.get_mut(k) {
+                Some(p) => p.1.push(t),
+                None => parts.push((name, vec![t])),
+            }
+        }
+    }
+    r.phases = parts
+        .into_iter()
+        .map(|(name, t)| Phase {
+            name: name.into(),
+            ms: median(&t),
+        })
+        .collect();
+    ctx.check_error(&format!("experiment {} at {size}²", e.name))?;
+    let m = median(&ms);
+    r.ms = Some(m);
+    r.fps = Some(1e3 / m);
+    r.wall_ms = Some(median(&wall));
+    r.clock = Some(if e.cpu { Clock::Wall } else { timer.clock() });
+    r.live = Some(src.live()?);
+    Ok(r)
+}
+
+/// Fills `vs_e5` and `paper_vs_e5` from the E5 record of the same size.
+fn add_ratios(records: &mut [SceneRecord]) {
+    let e5: Vec<(u32, Option<f64>, Option<f64>)> = records
+        .iter()
+        .filter(|r| r.experiment == "E5")
+        .map(|r| (r.size, r.fps, r.paper_fps))
+        .collect();
+    for r in records.iter_mut() {
+        if let Some(&(_, fps, paper)) = e5.iter().find(|(s, ..)| *s == r.size) {
+            r.vs_e5 = r.fps.zip(fps).map(|(a, b)| a / b);
+            r.paper_vs_e5 = r.paper_fps.zip(paper).map(|(a, b)| a / b);
+        }
+    }
+}
+
+/// A number with three significant digits at most, or more before the point.
+fn num(x: f64) -> String {
+    if x >= 100.0 {
+        format!("{x:.0}")
+    } else if x >= 10.0 {
+        format!("{x:.1}")
+    } else if x >= 1.0 {
+        format!("{x:.2}")
+    } else {
+        format!("{x:.3}")
+    }
+}
+
+fn thousands(n: u64) -> String {
+    let s = n.to_string();
+    let mut out = String::new();
+    for (i, c) in s.chars().enumerate() {
+        if i > 0 && (s.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// The records as two Markdown tables: fps per experiment with the paper's in parentheses and
+/// E3/E5 (GPU over CPU, the paper's comparison); then milliseconds per frame and live particles.
+/// Experiments not run show "—".
+pub fn markdown(records: &[SceneRecord]) -> String {
+    let mut sizes: Vec<u32> = records.iter().map(|r| r.size).collect();
+    sizes.dedup();
+    let mut names: Vec<&str> = Vec::new();
+    for r in records {
+        if !names.contains(&r.experiment.as_str()) {
+            names.push(&r.experiment);
+        }
+    }
+    let find = |size: u32, name: &str| {
+        records
+            .iter()
+            .find(|r| r.size == size && r.experiment == name)
+    };
+    let ratio = names.contains(&"E3") && names.contains(&"E5");
+    let mut out = String::new();
+    let mut header = "| size | particles |".to_owned();
+    let mut rule = "|---|---:|".to_owned();
+    for n in &names {
+        header += &format!(" {n} fps (paper) |");
+        rule += "---:|";
+    }
+    if ratio {
+        header += " E3/E5 (paper) |";
+        rule += "---:|";
+    }
+    out += &format!("{header}\n{rule}\n");
+    for &size in &sizes {
+        let mut row = format!("| {size}² | {} |", thousands(size as u64 * size as u64));
+        for n in &names {
+            let Some(r) = find(size, n) else {
+                row += " |";
+                continue;
+            };
+            let measured = r.fps.map(num).unwrap_or_else(|| "—".into());
+            row += &match r.paper_fps {
+                Some(p) => format!(" {measured} ({}) |", num(p)),
+                None => format!(" {measured} |"),
+            };
+        }
+        if ratio {
+            let e3 = find(size, "E3");
+            let measured = e3
+                .and_then(|r| r.vs_e5)
+                .map(num)
+                .unwrap_or_else(|| "—".into());
+            row += &match e3.and_then(|r| r.paper_vs_e5) {
+                Some(p) => format!(" {measured} ({}) |", num(p)),
+                None => format!(" {measured} |"),
+            };
+        }
+        out += &row;
+        out.push('\n');
+    }
+    out.push('\n');
+    let gpu_clock = records.iter().any(|r| r.clock == Some(Clock::Gpu));
+    let mut header = "| size |".to_owned();
+    let mut rule = "|---|".to_owned();
+    for n in &names {
+        header += &format!(" {n} ms |");
+        rule += "---:|";
+    }
+    if gpu_clock {
+        header += " wall ms (GPU experiments) |";
+        rule += "---|";
+    }
+    header += " live particles |";
+    rule += "---|";
+    out += &format!("{header}\n{rule}\n");
+    for &size in &sizes {
+        let mut row = format!("| {size}² |");
+        let mut walls = Vec::new();
+        let mut lives = Vec::new();
+        for n in &names {
+            let r = find(size, n);
+            row += &format!(
+                " {} |",
+                r.and_then(|r| r.ms)
+                    .map(|m| format!("{m:.3}"))
+                    .unwrap_or_else(|| "—".into())
+            );
+            if let Some(r) = r {
+                if let (Some(w), Some(Clock::Gpu)) = (r.wall_ms, r.clock) {
+                    walls.push(format!("{n} {w:.3}"));
+                }
+                if let Some(l) = r.live {
+                    lives.push((*n, l));
+                }
+            }
+        }
+        if gpu_clock {
+            row += &format!(" {} |", walls.join(", "));
+        }
+        let same = lives.windows(2).all(|w| w[0].1 == w[1].1);
+        row += &match (same, lives.first()) {
+            (true, Some((_, l))) => format!(" {} |", thousands(*l)),
+            _ => {
+                let v: Vec<String> = lives
+                    .iter()
+                    .map(|(n, l)| format!("{n} {}", thousands(*l)))
+                    .collect();
+                format!(" {} |", v.join(", "))
+            }
+        };
+        out += &row;
+        out.push('\n');
+    }
+    if records.iter().any(|r| !r.phases.is_empty()) {
+        out += "\n| size | experiment | parts of a frame, ms (each finished before the next) |\n";
+        out += "|---|---|---|\n";
+        for r in records.iter().filter(|r| !r.phases.is_empty()) {
+            let parts: Vec<String> = r
+                .phases
+                .iter()
+                .map(|p| format!("{} {:.3}", p.name, p.ms))
+                .collect();
+            out += &format!(
+                "| {}² | {} | {} |\n",
+                r.size,
+                r.experiment,
+                parts.join("; ")
+            );
+        }
+    }
+    out
+}

@@ -1,0 +1,662 @@
+//! UberFlow's E5 (Table 2): the CPU-based particle engine the paper compares its GPU engine with,
+//! "an implementation optimized for CPU processing that uses data-dependent sorting (quick-sort)
+//! for front-to-back rendering and is thus equivalent to the GPU experiment (E3)" (§5).
+//!
+//! The same scene file, the same physics, the same random streams as the GPU engine, on the CPU:
+//!
+//! - [`CpuSim`]: the particle state in three arrays in main memory (position and remaining life,
+//!   velocity, static data), stepped in parallel on every core with rayon. The step of one
+//!   particle is [`Reference::step_explicit`], the CPU twin of `glsl/sim/integrate.frag`; the
+//!   time-stamp birth, respawn and death around it (UberFlow §4.1, the `TIMESTAMP` block of the
+//!   shader) and the initial fill (`glsl/sim/init.frag`) are twinned here with the GPU's spawn
+//!   streams ([`Rng`], [`EmitterUniforms`]), so that the same seed gives the same particles as
+//!   [`crate::ParticleEngine`], up to rounding.
+//! - [`CpuEngine`]: a [`CpuSim`] and what a CPU engine does every frame to draw it: the viewer
+//!   distance of every live particle, a quicksort of them (rayon's parallel pattern-defeating
+//!   quicksort, `par_sort_unstable`, on (distance, index) keys: data-dependent, unlike the GPU's
+//!   sorting networks) into the scene's order (nearest first for E3's under operator), then the
+//!   live particles gathered in that order as vertices (position, relative age), uploaded into a
+//!   vertex buffer with `glBufferSubData` and drawn as points with the scene's keyframe colours
+//!   and blending (`glsl/render/cpu_points.vert`, `.frag`). Dead and unborn particles are neither
+//!   sorted nor uploaded.
+//!
+//! Covered: explicit integrators (Euler, UberFlow), time-stamp and initial emitters, every force
+//! and collider of the reference, points. Not covered (rejected by [`CpuSim::new`] /
+//! [`CpuEngine::new`]): Verlet, allocator emission, `fp24` precision, `rgba16f` velocities,
+//! sprites, collisions between particles, the fire scene.
+
+use glam::{Vec3, Vec4};
+use glow::HasContext;
+use rayon::prelude::*;
+
+use crate::error::{Error, Result};
+use crate::gl::{Attribute, Buffer, Context, Defines, Program, VertexArray, FULLSCREEN_VERTEX};
+use crate::render::{relative_age, Camera, FrameTarget, ParticleStyle};
+use crate::scene::file::{Blending, DrawMode, DrawOrder, Integrator, Precision, SceneFile};
+use crate::sim::emit::{EmitterUniforms, Rng};
+use crate::sim::particles::{Emission, Features};
+use crate::sim::reference::Reference;
+
+/// Particles per rayon task: large enough that the split costs nothing next to the work.
+const CHUNK: usize = 4096;
+
+/// How particles are born (what the CPU twins of the GPU's birth code need).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Birth {
+    /// UberFlow §4.1: phase and life in the static data, respawn every cycle.
+    Timestamp,
+    /// Every particle spawned at the start (with or without a life).
+    Initial,
+}
+
+/// What the step of one particle needs besides its state.
+#[derive(Debug, Clone)]
+struct Physics {
+    reference: Reference,
+    birth: Birth,
+    emitters: Vec<EmitterUniforms>,
+    cycles: [f32; 4],
+    seed: u32,
+}
+
+/// The CPU simulation of a scene: the state in main memory, stepped on all cores.
+#[derive(Debug, Clone)]
+pub struct CpuSim {
+    scene: SceneFile,
+    physics: Physics,
+    width: u32,
+    height: u32,
+    positions: Vec<Vec4>,
+    velocities: Vec<Vec3>,
+    statics: Vec<Vec4>,
+    step: u64,
+    time: f64,
+}
+
+fn unsupported(scene: &SceneFile, what: &str) -> Error {
+    Error::InvalidInput(format!(
+        "scene `{}`: the CPU engine (E5) does not cover {what}",
+        scene.name
+    ))
+}
+
+impl CpuSim {
+    /// The state of `scene` at step 0, as `ParticleSim::new` draws it for the same `seed` (the
+    /// seed is folded with [`crate::engine::shader_seed`], as the GPU engine does).
+    pub fn new(scene: &SceneFile, seed: u64) -> Result<Self> {
+        if scene.fire.is_some() {
+            return Err(unsupported(scene, "the thesis's fire"));
+        }
+        scene
+            .validate()
+            .map_err(|e| Error::InvalidInput(e.message))?;
+        let features = Features::of(scene);
+        if scene.integrator == Integrator::Verlet {
+            return Err(unsupported(scene, "Verlet integration"));
+        }
+        if scene.particles.precision == Precision::Fp24 {
+            return Err(unsupported(scene, "fp24 precision"));
+        }
+        if scene.collisions.is_some() {
+            return Err(unsupported(scene, "collisions between particles"));
+        }
+        let birth = match features.emission {
+            Emission::Timestamp => Birth::Timestamp,
+            Emission::Initial { .. } => Birth::Initial,
+            Emission::Allocator(_) => return Err(unsupported(scene, "allocator emission")),
+        };
+        // The reference refuses time-stamp scenes (their birth needs the spawn streams, done
+        // here); it steps them as permanent particles of the same types, and the time-stamp code
+        // below decides who is born, alive or dead and what the remaining life is.
+        let reference = match birth {
+            Birth::Timestamp => {
+                let mut s = scene.clone();
+                let mut initial = std::mem::take(&mut s.emitters.timestamp);
+                for e in &mut initial {
+                    e.cycle = None;
+                    e.life = None;
+                }
+                s.emitters.initial = initial;
+                Reference::new(&s)?
+            }
+            Birth::Initial => Reference::new(scene)?,
+        };
+        let emitters: Vec<EmitterUniforms> =
+            scene.emitters.all().map(EmitterUniforms::new).collect();
+        let mut cycles = [1.0f32; 4];
+        for (k, e) in scene.emitters.all().enumerate() {
+            cycles[k] = e.cycle.unwrap_or(1.0);
+        }
+        let [width, height] = scene.particles.size;
+        let n = width as usize * height as usize;
+        let seed = crate::engine::shader_seed(seed);
+        let mut sim = CpuSim {
+            scene: scene.clone(),
+            physics: Physics {
+                reference,
+                birth,
+                emitters,
+                cycles,
+                seed,
+            },
+            width,
+            height,
+            positions: vec![Vec4::ZERO; n],
+            velocities: vec![Vec3::ZERO; n],
+            statics: vec![Vec4::ZERO; n],
+            step: 0,
+            time: 0.0,
+        };
+        sim.initialise(features.types, features.life());
+        Ok(sim)
+    }
+
+    /// The twin of `glsl/sim/init.frag`.
+    fn initialise(&mut self, types: usize, life: bool) {
+        let (birth, seed) = (self.physics.birth, self.physics.seed);
+        let (emitters, cycles) = (&self.physics.emitters, self.physics.cycles);
+        self.positions
+            .par_iter_mut()
+            .zip(self.velocities.par_iter_mut())
+            .zip(self.statics.par_iter_mut())
+            .enumerate()
+            .with_min_len(CHUNK)
+            .for_each(|(i, ((p, v), st))| {
+                let ty = i % types;
+                let em = &emitters[ty];
+                // Stream 0xffffffff is the initial one; time-stamp generations use 0, 1, 2, ...
+                let mut rng = Rng::new(i as u32, u32::MAX, seed);
+                *p = Vec4::new(f32::INFINITY, f32::INFINITY, f32::INFINITY, 0.0);
+                *v = Vec3::ZERO;
+                *st = Vec4::new(0.0, ty as f32, 0.0, 0.0);
+                match birth {
+                    Birth::Initial => {
+                        let x = em.position(&mut rng);
+                        *v = em.velocity(&mut rng);
+                        p.w = if life {
+                            st.z = em.life(&mut rng);
+                            st.z
+                        } else {
+                            1.0
+                        };
+                        *p = x.extend(p.w);
+                    }
+                    Birth::Timestamp => {
+                        st.x = rng.uniform() * cycles[ty];
+                        st.z = em.life(&mut rng);
+                        p.w = -1.0;
+                    }
+                }
+                st.w = rng.uniform();
+            });
+        self.step = 0;
+        self.time = 0.0;
+    }
+
+    /// One time step of every particle, in parallel on all cores: the twin of one
+    /// `sim/integrate.frag` pass and its swap.
+    pub fn step(&mut self) {
+        let u_time = self.time as f32;
+        let physics = &self.physics;
+        let statics = &self.statics;
+        self.positions
+            .par_iter_mut()
+            .zip(self.velocities.par_iter_mut())
+            .enumerate()
+            .with_min_len(CHUNK)
+            .for_each(|(i, (p, v))| physics.step(i as u32, p, v, statics[i], u_time));
+        self.step += 1;
+        self.time = self.step as f64 * self.scene.time.dt as f64;
+    }
+
+    /// Advances one frame: the scene's `substeps` steps.
+    pub fn advance_frame(&mut self) {
+        for _ in 0..self.scene.time.substeps {
+            self.step();
+        }
+    }
+
+    /// Positions (xyz, remaining life) of every particle, in index order (texel order of the GPU
+    /// state). Dead and unborn particles: xyz = +inf, life <= 0.
+    pub fn positions(&self) -> &[Vec4] {
+        &self.positions
+    }
+
+    /// Velocities, in index order (zero for dead and unborn particles).
+    pub fn velocities(&self) -> &[Vec3] {
+        &self.velocities
+    }
+
+    /// Static data (birth time or phase, type, total life, random number), in index order.
+    pub fn statics(&self) -> &[Vec4] {
+        &self.statics
+    }
+
+    /// Whether particle `i` is drawn: a finite position and a remaining life above 0 (the test of
+    /// `render/particle.vert`).
+    pub fn is_live(&self, i: usize) -> bool {
+        live(self.positions[i])
+    }
+
+    /// Particles drawn now.
+    pub fn live_count(&self) -> usize {
+        self.positions.par_iter().filter(|p| live(**p)).count()
+    }
+
+    /// The scene.
+    pub fn scene(&self) -> &SceneFile {
+        &self.scene
+    }
+
+    /// State size (particles = width × height).
+    pub fn size(&self) -> [u32; 2] {
+        [self.width, self.height]
+    }
+
+    /// Steps taken.
+    pub fn steps(&self) -> u64 {
+        self.step
+    }
+
+    /// Simulation time in seconds.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+}
+
+impl Physics {
+    /// One particle's step; `u_time` is the simulation time at the start of the step, as the
+    /// shader's uniform gets it.
+    fn step(&self, index: u32, p: &mut Vec4, v: &mut Vec3, st: Vec4, u_time: f32) {
+        let ty = (st.y as i32).clamp(0, 3) as usize;
+        let dt = self.reference.dt();
+        match self.birth {
+            Birth::Initial => {
+                let (x, vn, life) = self.reference.step_explicit(p.truncate(), *v, p.w, ty);
+                *p = x.extend(life);
+                *v = vn;
+            }
+            Birth::Timestamp => {
+                // The TIMESTAMP block of sim/integrate.frag, operation for operation.
+                let rel = u_time + dt - st.x;
+                if rel < 0.0 {
+                    *p = Vec4::new(f32::INFINITY, f32::INFINITY, f32::INFINITY, -1.0);
+                    *v = Vec3::ZERO;
+                    return;
+                }
+                let cycle = self.cycles[ty];
+                let generation = (rel / cycle).floor();
+                let age = rel - generation * cycle;
+                if age >= st.z {
+                    *p = Vec4::new(f32::INFINITY, f32::INFINITY, f32::INFINITY, 0.0);
+                    *v = Vec3::ZERO;
+                    return;
+                }
+                let mut rng = Rng::new(index, generation as u32, self.seed);
+                if age < dt {
+                    let em = &self.emitters[ty];
+                    let x0 = em.position(&mut rng);
+                    *v = em.velocity(&mut rng);
+                    *p = x0.extend(st.z - age);
+                    return;
+                }
+                let life = st.z - age;
+                let (x, vn, _) = self.reference.step_explicit(p.truncate(), *v, life, ty);
+                *p = x.extend(life);
+                *v = vn;
+            }
+        }
+    }
+}
+
+fn live(p: Vec4) -> bool {
+    p.is_finite() && p.w > 0.0
+}
+
+/// Where the time of one CPU-engine frame goes ([`CpuEngine::timed_frame`]), in milliseconds.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct FramePhases {
+    /// The frame's simulation steps on all cores.
+    pub simulate_ms: f64,
+    /// Viewer distances of the live particles, the quicksort and the gather of the vertices.
+    pub sort_ms: f64,
+    /// `glBufferSubData` of the vertices, until the driver has them (`glFinish`).
+    pub upload_ms: f64,
+    /// Clear, point draw and background, until finished.
+    pub draw_ms: f64,
+}
+
+/// The CPU engine: [`CpuSim`], then every frame a quicksort by viewer distance, the upload of the
+/// live particles' vertices in drawing order and a point draw (see the module documentation).
+pub struct CpuEngine {
+    ctx: Context,
+    sim: CpuSim,
+    style: ParticleStyle,
+    camera: Camera,
+    target: FrameTarget,
+    program: Program,
+    background: Option<Program>,
+    empty: VertexArray,
+    vertex_buffer: Buffer,
+    vao: VertexArray,
+    /// (distance key << 32 | index) of the live particles, in drawing order after a draw.
+    keys: Vec<u64>,
+    /// (x, y, z, relative age) of the live particles in drawing order.
+    vertices: Vec<[f32; 4]>,
+}
+
+impl std::fmt::Debug for CpuEngine {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "CpuEngine({} {}x{})",
+            self.sim.scene.name, self.sim.width, self.sim.height
+        )
+    }
+}
+
+impl CpuEngine {
+    /// The CPU simulation of `scene` and the GL objects to draw it on `ctx`.
+    pub fn new(ctx: &Context, scene: &SceneFile, seed: u64) -> Result<Self> {
+        let sim = CpuSim::new(scene, seed)?;
+        if scene.render.mode == DrawMode::Sprites {
+            return Err(unsupported(scene, "sprites (it draws points)"));
+        }
+        let [rw, rh] = scene.render.resolution;
+        crate::gl::check_size(ctx, "frame (render.resolution)", rw, rh)?;
+        let style = ParticleStyle::from_render(&scene.render, [1.0; 4]);
+        let mut defines = Defines::new();
+        match style.blending {
+            Blending::Multiplicative => defines.push(("MULTIPLY".into(), "1".into())),
+            Blending::Alpha if style.under() => defines.push(("PREMULTIPLIED".into(), "1".into())),
+            _ => {}
+        }
+        let program = Program::new(
+            ctx,
+            "render/cpu_points.vert",
+            "render/cpu_points.frag",
+            &defines,
+        )?;
+        let background = if style.under() {
+            Some(Program::new(
+                ctx,
+                FULLSCREEN_VERTEX,
+                "render/background.frag",
+                &Defines::new(),
+            )?)
+        } else {
+            None
+        };
+        let n = sim.positions.len();
+        let bytes = n as u64 * 16;
+        if bytes > i32::MAX as u64 {
+            return Err(Error::InvalidInput(format!(
+                "{n} particles need a vertex buffer of {bytes} bytes, over GL's limit of {} for \
+                 one buffer",
+                i32::MAX
+            )));
+        }
+        let vertex_buffer = Buffer::with_size(
+            ctx,
+            "cpu engine vertices",
+            glow::ARRAY_BUFFER,
+            bytes as usize,
+            glow::STREAM_DRAW,
+        )?;
+        let vao = VertexArray::with_attributes(
+            ctx,
+            "cpu engine vertices",
+            &[Attribute {
+                buffer: &vertex_buffer,
+                location: 0,
+                components: 4,
+                stride: 16,
+                offset: 0,
+            }],
+        )?;
+        Ok(CpuEngine {
+            camera: crate::scene::camera(&scene.render.camera),
+            target: FrameTarget::new(ctx, rw, rh)?,
+            empty: VertexArray::empty(ctx, "cpu engine background")?,
+            keys: Vec::with_capacity(n),
+            vertices: Vec::with_capacity(n),
+            ctx: ctx.clone(),
+            sim,
+            style,
+            program,
+            background,
+            vertex_buffer,
+            vao,
+        })
+    }
+
+    /// Advances the simulation by one frame (`substeps` steps on all cores).
+    pub fn advance_frame(&mut self) {
+        self.sim.advance_frame();
+    }
+
+    /// Draws the current state into the frame target, as a CPU engine does: keys, quicksort
+    /// (alpha blending), gather, upload, draw. Returns once the commands are issued; the caller
+    /// waits for them (`glFinish`) where it times a frame.
+    pub fn draw(&mut self) -> Result<()> {
+        self.sort_and_gather();
+        self.upload()?;
+        self.draw_points()
+    }
+
+    /// One whole frame: [`advance_frame`](Self::advance_frame) then [`draw`](Self::draw).
+    pub fn frame(&mut self) -> Result<()> {
+        self.advance_frame();
+        self.draw()
+    }
+
+    /// One whole frame with `glFinish` between its parts, timed on the wall clock: where the
+    /// time of a frame goes (the finishes remove what overlap there is, so the parts add up to a
+    /// little more than a [`frame`](Self::frame)).
+    pub fn timed_frame(&mut self) -> Result<FramePhases> {
+        let ms = |t: std::time::Instant| t.elapsed().as_secs_f64() * 1e3;
+        self.ctx.finish();
+        let t = std::time::Instant::now();
+        self.advance_frame();
+        let simulate_ms = ms(t);
+        let t = std::time::Instant::now();
+        self.sort_and_gather();
+        let sort_ms = ms(t);
+        let t = std::time::Instant::now();
+        self.upload()?;
+        self.ctx.finish();
+        let upload_ms = ms(t);
+        let t = std::time::Instant::now();
+        self.draw_points()?;
+        self.ctx.finish();
+        let draw_ms = ms(t);
+        Ok(FramePhases {
+            simulate_ms,
+            sort_ms,
+            upload_ms,
+            draw_ms,
+        })
+    }
+
+    /// Draws the current state and reads the frame back.
+    pub fn render(&mut self) -> Result<image::RgbImage> {
+        self.draw()?;
+        self.target.read_rgb()
+    }
+
+    /// Keys of the live particles, the quicksort (alpha blending only; other blendings need no
+    /// order and draw in index order) and the vertices in drawing order.
+    fn sort_and_gather(&mut self) {
+        let eye = self.camera.eye();
+        let positions = &self.sim.positions;
+        let sort = self.style.blending == Blending::Alpha;
+        let back_to_front = self.style.order == DrawOrder::BackToFront;
+        self.keys.clear();
+        self.keys.par_extend(
+            positions
+                .par_iter()
+                .enumerate()
+                .with_min_len(CHUNK)
+                .filter(|(_, p)| live(**p))
+                .map(|(i, p)| {
+                    if !sort {
+                        return i as u64;
+                    }
+                    // Squared distance: the order of the distance, without the root. Its bits
+                    // order as the numbers do (finite, non-negative); inverted: far first.
+                    let bits = p.truncate().distance_squared(eye).to_bits();
+                    let key = if back_to_front { !bits } else { bits };
+                    ((key as u64) << 32) | i as u64
+                }),
+        );
+        if sort {
+            self.keys.par_sort_unstable();
+        }
+        let statics = &self.sim.statics;
+        self.keys
+            .par_iter()
+            .with_min_len(CHUNK)
+            .map(|&k| {
+                let i = (k & 0xffff_ffff) as usize;
+                let p = positions[i];
+                [p.x, p.y, p.z, relative_age(p.w, statics[i].z)]
+            })
+            .collect_into_vec(&mut self.vertices);
+    }
+
+    /// Uploads the vertices into the vertex buffer: the buffer's storage is orphaned (so a draw
+    /// still reading the last frame's data does not stall the upload) and refilled with
+    /// `glBufferSubData`.
+    fn upload(&self) -> Result<()> {
+        let gl = &self.ctx;
+        // SAFETY: the buffer is alive; the data fits its size (one vertex per particle at most).
+        unsafe {
+            gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.vertex_buffer.raw()));
+            gl.buffer_data_size(
+                glow::ARRAY_BUFFER,
+                self.vertex_buffer.size() as i32,
+                glow::STREAM_DRAW,
+            );
+            if !self.vertices.is_empty() {
+                gl.buffer_sub_data_u8_slice(
+                    glow::ARRAY_BUFFER,
+                    0,
+                    bytemuck::cast_slice(&self.vertices),
+                );
+            }
+            gl.bind_buffer(glow::ARRAY_BUFFER, None);
+        }
+        gl.check_error("uploading the CPU engine's vertices")
+    }
+
+    /// The point draw with the scene's blending, as `ParticleRenderer::draw` sets it up.
+    fn draw_points(&self) -> Result<()> {
+        let s = &self.style;
+        self.target.clear_to(s.clear_color());
+        let p = &self.program;
+        p.bind();
+        let aspect = self.target.width() as f32 / self.target.height() as f32;
+        p.set_mat4("u_view_proj", &self.camera.view_projection(aspect));
+        p.set_f32("u_point_size", s.point_size);
+        p.set_f32("u_intensity", s.intensity);
+        let ramp = s.ramp();
+        p.set_vec4("u_key_age", Vec4::from_array(ramp.ages));
+        for k in 0..3 {
+            p.set_vec4(
+                &format!("u_key_offset[{k}]"),
+                Vec4::from_array(ramp.offset[k]),
+            );
+            p.set_vec4(
+                &format!("u_key_slope[{k}]"),
+                Vec4::from_array(ramp.slope[k]),
+            );
+        }
+        self.target.framebuffer().bind();
+        self.vao.bind();
+        let gl = &self.ctx;
+        let count = self.vertices.len() as i32;
+        // SAFETY: a program, a vertex array whose buffer holds `count` vertices and a complete
+        // framebuffer are bound.
+        unsafe {
+            gl.disable(glow::DEPTH_TEST);
+            gl.enable(glow::PROGRAM_POINT_SIZE);
+            gl.enable(glow::BLEND);
+            gl.blend_equation(glow::FUNC_ADD);
+            let (src, dst, src_a, dst_a) = match (s.blending, s.order) {
+                (Blending::Additive, _) => (glow::SRC_ALPHA, glow::ONE, glow::ZERO, glow::ONE),
+                (Blending::Multiplicative, _) => {
+                    (glow::DST_COLOR, glow::ZERO, glow::ZERO, glow::ONE)
+                }
+                (Blending::Alpha, DrawOrder::BackToFront) => (
+                    glow::SRC_ALPHA,
+                    glow::ONE_MINUS_SRC_ALPHA,
+                    glow::ONE,
+                    glow::ONE_MINUS_SRC_ALPHA,
+                ),
+                (Blending::Alpha, DrawOrder::FrontToBack) => (
+                    glow::ONE_MINUS_DST_ALPHA,
+                    glow::ONE,
+                    glow::ONE_MINUS_DST_ALPHA,
+                    glow::ONE,
+                ),
+            };
+            gl.blend_func_separate(src, dst, src_a, dst_a);
+            if count > 0 {
+                gl.draw_arrays(glow::POINTS, 0, count);
+            }
+            gl.bind_vertex_array(None);
+        }
+        if let Some(b) = &self.background {
+            b.bind();
+            b.set_vec3("u_background", Vec3::from_array(s.background));
+            self.empty.bind();
+            // SAFETY: as above; blending is on with the under operator's factors.
+            unsafe {
+                gl.draw_arrays(glow::TRIANGLES, 0, 3);
+                gl.bind_vertex_array(None);
+            }
+        }
+        // SAFETY: plain state change.
+        unsafe { gl.disable(glow::BLEND) };
+        gl.check_error("drawing the CPU engine's points")
+    }
+
+    /// The indices of the particles the last [`draw`](Self::draw) drew, in drawing order (for
+    /// E3's scene: nearest first).
+    pub fn draw_order(&self) -> Vec<u32> {
+        self.keys
+            .iter()
+            .map(|&k| (k & 0xffff_ffff) as u32)
+            .collect()
+    }
+
+    /// The vertices the last draw uploaded: (x, y, z, relative age), in drawing order.
+    pub fn vertices(&self) -> &[[f32; 4]] {
+        &self.vertices
+    }
+
+    /// The simulation.
+    pub fn sim(&self) -> &CpuSim {
+        &self.sim
+    }
+
+    /// The simulation, mutable.
+    pub fn sim_mut(&mut self) -> &mut CpuSim {
+        &mut self.sim
+    }
+
+    /// The camera (the scene's).
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// The frame target.
+    pub fn target(&self) -> &FrameTarget {
+        &self.target
+    }
+
+    /// The context.
+    pub fn context(&self) -> &Context {
+        &self.ctx
+    }
+}

@@ -1,0 +1,198 @@
+//! Collisions between particles (UberFlow §4.3-4.5), measured: the miss rate of the detection
+//! against the GPU time of the collision passes, for the neighbour count k, the staggered
+//! lattice, rows-only sorting and the cell size, on the built-in `collide` scene. The numbers are
+//! those of `texflow collide-stats collide --sweep` ([`crate::sim::collide::sweep`]): the pairs
+//! the GPU found at the last step against all overlapping pairs from a CPU cell-list reference.
+
+use std::path::{Path, PathBuf};
+
+use super::{num, plot_loglog, Csv, Legend, Marker, Progress, ReportOptions, SectionOutput};
+use super::{Series, Size};
+use crate::bench::Clock;
+use crate::error::{Error, Result};
+use crate::gl::Context;
+use crate::sim::collide::{sweep, sweep_table, SweepRow};
+
+/// Steps simulated before the measured one: the docs' 240 (the pile has formed), 60 with
+/// `--quick`.
+pub fn steps(size: Size) -> u64 {
+    match size {
+        Size::Full => 240,
+        Size::Quick => 60,
+    }
+}
+
+/// Miss rate of a row, percent.
+pub fn miss_rate(row: &SweepRow) -> f64 {
+    100.0 * row.stats.missed as f64 / row.stats.pairs_true.max(1) as f64
+}
+
+/// Writes `collisions.csv`, `collisions.json` and `collisions_miss_rate.png`.
+pub fn write_files(
+    rows: &[SweepRow],
+    device: &str,
+    clock: Clock,
+    steps: u64,
+    out: &Path,
+) -> Result<Vec<PathBuf>> {
+    let mut csv = Csv::new(&[
+        "variant",
+        "k",
+        "staggered",
+        "rows_only",
+        "cell_m",
+        "particles",
+        "particles_per_cell",
+        "pairs_true",
+        "found",
+        "missed",
+        "miss_rate_percent",
+        "false_pairs",
+        "mutual",
+        "conflicts",
+        "missed_adjacent_cells",
+        "missed_other_row",
+        "missed_far_along_row",
+        "missed_closer_partner",
+        "tunnelled",
+        "gpu_ms",
+    ]);
+    for r in rows {
+        let s = &r.stats;
+        csv.row([
+            r.variant.replace(',', ";"),
+            r.k.to_string(),
+            r.staggered.to_string(),
+            r.rows_only.map_or(String::new(), |n| n.to_string()),
+            num(Some(r.cell as f64)),
+            s.particles.to_string(),
+            num(Some(s.particles_per_cell)),
+            s.pairs_true.to_string(),
+            s.found.to_string(),
+            s.missed.to_string(),
+            num(Some(miss_rate(r))),
+            s.false_pairs.to_string(),
+            s.mutual.to_string(),
+            s.conflicts.to_string(),
+            s.missed_adjacent_cells.to_string(),
+            s.missed_other_row.to_string(),
+            s.missed_far_along_row.to_string(),
+            s.missed_closer_partner.to_string(),
+            s.tunnelled.to_string(),
+            num(Some(s.gpu_ms)),
+        ]);
+    }
+    let csv_path = out.join("collisions.csv");
+    csv.write(&csv_path)?;
+    let json_path = out.join("collisions.json");
+    super::write_atomic(
+        &json_path,
+        serde_json::to_string_pretty(rows)
+            .map_err(|e| Error::InvalidInput(format!("serialising the report: {e}")))?
+            .as_bytes(),
+    )?;
+    // The k sweep (the scene's lattice and sort) is a curve; every other setting one point.
+    let scene = rows.first();
+    let same_but_k = |r: &SweepRow| {
+        scene.is_some_and(|s| {
+            r.staggered == s.staggered && r.rows_only == s.rows_only && r.cell == s.cell
+        })
+    };
+    let mut k_rows: Vec<&SweepRow> = rows.iter().filter(|r| same_but_k(r)).collect();
+    k_rows.sort_by_key(|r| r.k);
+    let colors = [
+        (40, 100, 200),
+        (200, 60, 40),
+        (40, 150, 60),
+        (150, 60, 170),
+        (220, 140, 20),
+        (90, 90, 90),
+    ];
+    let mut series = vec![Series {
+        label: format!(
+            "k = {} (the scene's lattice and sort)",
+            k_rows
+                .iter()
+                .map(|r| r.k.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        points: k_rows
+            .iter()
+            .map(|r| (r.stats.gpu_ms, miss_rate(r)))
+            .collect(),
+        hollow: Vec::new(),
+        color: colors[0],
+        marker: Marker::Circle,
+        dashed: false,
+    }];
+    for (i, r) in rows.iter().filter(|r| !same_but_k(r)).enumerate() {
+        series.push(Series {
+            label: r.variant.clone(),
+            points: vec![(r.stats.gpu_ms, miss_rate(r))],
+            hollow: Vec::new(),
+            color: colors[1 + i % (colors.len() - 1)],
+            marker: if i < colors.len() - 1 {
+                Marker::Triangle
+            } else {
+                Marker::Cross
+            },
+            dashed: false,
+        });
+    }
+    let png = out.join("collisions_miss_rate.png");
+    plot_loglog(
+        &png,
+        &format!("collision detection: collide scene, step {steps} ({device})"),
+        (
+            &format!(
+                "GPU time of the collision passes of one step (ms, {})",
+                clock.name()
+            ),
+            "missed overlapping pairs (%)",
+        ),
+        &series,
+        (900, 600),
+        Legend::UpperRight,
+    )?;
+    Ok(vec![csv_path, json_path, png])
+}
+
+/// The markdown of `summary.md`.
+pub fn markdown(rows: &[SweepRow], steps: u64, clock: Clock) -> String {
+    format!(
+        "## Collisions between particles (UberFlow §4.3-4.5)\n\n\
+         `collide` scene, detection at step {steps} against all overlapping pairs (CPU cell \
+         lists); one setting changed at a time; GPU time ({}) of the collision passes of that \
+         step. Plot: `collisions_miss_rate.png`.\n\n{}",
+        clock.name(),
+        sweep_table(rows)
+    )
+}
+
+/// `report all`'s section.
+pub fn section(
+    ctx: &Context,
+    opts: &ReportOptions,
+    out: &Path,
+    progress: Progress<'_>,
+) -> Result<SectionOutput> {
+    let steps = steps(opts.size);
+    let scene = crate::scene::load("collide")?;
+    let rows = sweep(ctx, &scene, steps, crate::engine::shader_seed(1), |name| {
+        progress(&format!("collisions: {name}"))
+    })?;
+    let clock = Clock::for_context(ctx);
+    let mut warnings = Vec::new();
+    for r in rows.iter().filter(|r| r.stats.false_pairs > 0) {
+        warnings.push(format!(
+            "collisions, {}: {} reported pairs do not overlap",
+            r.variant, r.stats.false_pairs
+        ));
+    }
+    Ok(SectionOutput {
+        files: write_files(&rows, &ctx.limits().renderer, clock, steps, out)?,
+        markdown: markdown(&rows, steps, clock),
+        warnings,
+    })
+}

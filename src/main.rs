@@ -132,8 +132,8 @@ struct SortArgs {
 
 #[derive(Args)]
 struct RenderArgs {
-    /// Scene to render: a built-in name (fire, snow, fountain, smoke, e1, e2, e3) or a .toml
-    /// scene file.
+    /// Scene to render: a built-in name (fire, snow, fountain, smoke, e1, e2, e3, collide) or a
+    /// .toml scene file.
     #[arg(default_value = scene::DEFAULT_SCENE)]
     scene: String,
     /// Number of frames to simulate.
@@ -1014,9 +1014,17 @@ enum ReportCommand {
         /// Output folder (created if missing).
         #[arg(long)]
         out: PathBuf,
-        /// Sized for llvmpipe: about 11 s instead of 3.5 minutes.
+        /// Sized for llvmpipe: about a minute instead of a quarter of an hour.
         #[arg(long)]
         quick: bool,
+        /// Only these sections, comma-separated: tables, convergence, sort_frames, collisions,
+        /// stability (default: all).
+        #[arg(long, value_delimiter = ',')]
+        only: Vec<String>,
+        /// Runs of each benchmark table (the tables section); every cell reports the run of
+        /// median time. The docs use 3.
+        #[arg(long, default_value_t = 1)]
+        runs: usize,
         #[command(flatten)]
         common: Common,
     },
@@ -1081,13 +1089,31 @@ fn report_cmd(cmd: ReportCommand) -> texflow::Result<()> {
             }
             Ok(())
         }
-        ReportCommand::All { out, quick, common } => {
+        ReportCommand::All {
+            out,
+            quick,
+            only,
+            runs,
+            common,
+        } => {
+            if runs == 0 {
+                return Err(bad("--runs must be at least 1"));
+            }
+            let sections = if only.is_empty() {
+                report::sections()
+            } else {
+                report::select(&only)?
+            };
             FrameWriter::check(&out)?;
             let ctx = Context::new(common.device)?;
-            let all = report::run_all(
+            let all = report::run_sections(
                 &ctx,
-                &ReportOptions::new(quick),
+                &ReportOptions {
+                    runs,
+                    ..ReportOptions::new(quick)
+                },
                 &out,
+                &sections,
                 &mut say(common.quiet),
             )?;
             for f in &all.files {

@@ -402,6 +402,7 @@ fn cli_report_all_quick_writes_every_file() {
         "step.md",
         "render_paths.json",
         "render_paths.md",
+        "tables_runs.json",
         "table1_sort.json",
         "table1_sort.md",
         "table2_scenes.json",
@@ -474,15 +475,26 @@ fn cli_report_all_quick_writes_every_file() {
         assert!(f64_of(&r["texture_fetch_ms"]) > 0.0 && f64_of(&r["vertex_buffer_ms"]) > 0.0);
         assert!(r["live"].as_u64().unwrap() > 0, "{r}");
     }
-    // The sort spread over frames: the whole sort leaves the drawing order exact; fewer passes per
-    // frame leave it less sorted under the moving camera, never more.
+    // The sort spread over frames: the whole sort leaves the drawing order exact at either camera
+    // speed; under the slow pan fewer passes per frame leave it less sorted, never more; the fast
+    // turn leaves it less sorted than the slow pan.
     let sf = json("sort_frames.json");
     let rows = sf["rows"].as_array().unwrap();
-    let whole = rows.last().unwrap();
-    assert_eq!(whole["passes_per_frame"], whole["total_passes"]);
-    assert_eq!(whole["inversions_max"].as_u64(), Some(0), "{whole}");
-    assert!(f64_of(&rows[0]["inversions_mean"]) > 0.0, "{}", rows[0]);
-    for w in rows.windows(2) {
+    let by_orbit = |o: f64| -> Vec<&serde_json::Value> {
+        rows.iter()
+            .filter(|r| f64_of(&r["orbit_deg_per_s"]) == o)
+            .collect()
+    };
+    let (slow, fast) = (by_orbit(10.0), by_orbit(60.0));
+    assert_eq!(slow.len(), fast.len());
+    assert_eq!(slow.len() + fast.len(), rows.len(), "{rows:?}");
+    for r in [&slow, &fast] {
+        let whole = r.last().unwrap();
+        assert_eq!(whole["passes_per_frame"], whole["total_passes"]);
+        assert_eq!(whole["inversions_max"].as_u64(), Some(0), "{whole}");
+        assert!(f64_of(&r[0]["inversions_mean"]) > 0.0, "{}", r[0]);
+    }
+    for w in slow.windows(2) {
         assert!(
             f64_of(&w[1]["inversions_mean"]) <= f64_of(&w[0]["inversions_mean"]),
             "{} then {}",
@@ -490,6 +502,12 @@ fn cli_report_all_quick_writes_every_file() {
             w[1]
         );
     }
+    assert!(
+        f64_of(&slow[0]["inversion_fraction"]) < f64_of(&fast[0]["inversion_fraction"]),
+        "{} against {}",
+        slow[0],
+        fast[0]
+    );
     // Collisions: no reported pair is false; the staggered lattice misses no more than one.
     let col = json("collisions.json");
     let col = col.as_array().unwrap();
@@ -549,4 +567,55 @@ fn cli_report_all_quick_writes_every_file() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert_eq!(std::fs::read(&file).unwrap(), b"x");
+}
+
+/// `report all --only SECTION` runs that section alone and writes only its files and the summary;
+/// an unknown section is bad input (exit 2) that names the known ones, with nothing written.
+#[test]
+fn cli_report_all_only_runs_the_sections_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("only");
+    let out = texflow()
+        .args([
+            "report",
+            "all",
+            "--quick",
+            "--quiet",
+            "--only",
+            "stability",
+            "--out",
+        ])
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut written: Vec<String> = std::fs::read_dir(&out_dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    written.sort();
+    assert_eq!(written, ["stability.json", "stability.md", "summary.md"]);
+    let summary = std::fs::read_to_string(out_dir.join("summary.md")).unwrap();
+    assert!(summary.contains("--only stability"), "{summary}");
+    assert!(!summary.contains("## Error against run time"), "{summary}");
+
+    let bad_dir = dir.path().join("bad");
+    let out = texflow()
+        .args([
+            "report", "all", "--quick", "--quiet", "--only", "tabels", "--out",
+        ])
+        .arg(&bad_dir)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("tabels") && stderr.contains("tables, convergence"),
+        "{stderr}"
+    );
+    assert!(!bad_dir.exists());
 }

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use super::{num, plot_loglog, Csv, Legend, Marker, Progress, ReportOptions, SectionOutput};
 use super::{Series, Size};
 use crate::bench::Clock;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::gl::Context;
 use crate::sim::collide::{sweep, sweep_table, SweepRow};
 
@@ -85,12 +85,7 @@ pub fn write_files(
     let csv_path = out.join("collisions.csv");
     csv.write(&csv_path)?;
     let json_path = out.join("collisions.json");
-    super::write_atomic(
-        &json_path,
-        serde_json::to_string_pretty(rows)
-            .map_err(|e| Error::InvalidInput(format!("serialising the report: {e}")))?
-            .as_bytes(),
-    )?;
+    super::write_json(&json_path, rows)?;
     // The k sweep (the scene's lattice and sort) is a curve; every other setting one point.
     let scene = rows.first();
     let same_but_k = |r: &SweepRow| {

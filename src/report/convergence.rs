@@ -1325,12 +1325,7 @@ pub fn write_files(r: &ConvergenceReport, out: &Path) -> Result<Vec<std::path::P
         }
     }
     let f = out.join("convergence.json");
-    super::write_atomic(
-        &f,
-        serde_json::to_string_pretty(r)
-            .unwrap_or_default()
-            .as_bytes(),
-    )?;
+    super::write_json(&f, r)?;
     files.push(f);
     Ok(files)
 }

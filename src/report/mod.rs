@@ -39,17 +39,30 @@ pub enum Size {
 }
 
 /// Options every section receives.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub struct ReportOptions {
     /// How much to measure.
     pub size: Size,
+    /// Runs of each benchmark table; every cell reports the run of median time (the machines are
+    /// shared and noisy).
+    pub runs: usize,
+}
+
+impl Default for ReportOptions {
+    fn default() -> Self {
+        ReportOptions {
+            size: Size::Full,
+            runs: 1,
+        }
+    }
 }
 
 impl ReportOptions {
-    /// The full report, or the quick one.
+    /// The full report, or the quick one, with one run of each table.
     pub fn new(quick: bool) -> Self {
         ReportOptions {
             size: if quick { Size::Quick } else { Size::Full },
+            runs: 1,
         }
     }
 }
@@ -121,26 +134,72 @@ pub fn run_all(
     out: &Path,
     progress: Progress<'_>,
 ) -> Result<AllOutput> {
+    run_sections(ctx, opts, out, &sections(), progress)
+}
+
+/// The sections named in `names` (comma-free names of [`sections`]), in the report's order; an
+/// unknown name is an error that lists the known ones.
+pub fn select(names: &[String]) -> Result<Vec<Section>> {
+    let all = sections();
+    for n in names {
+        if !all.iter().any(|s| s.name == n.trim()) {
+            return Err(Error::InvalidInput(format!(
+                "unknown report section `{n}`: the sections are {}",
+                all.iter().map(|s| s.name).collect::<Vec<_>>().join(", ")
+            )));
+        }
+    }
+    Ok(all
+        .into_iter()
+        .filter(|s| names.iter().any(|n| n.trim() == s.name))
+        .collect())
+}
+
+/// Runs `sections` into `out` like [`run_all`]; `summary.md` says which ran.
+pub fn run_sections(
+    ctx: &Context,
+    opts: &ReportOptions,
+    out: &Path,
+    sections: &[Section],
+    progress: Progress<'_>,
+) -> Result<AllOutput> {
     create_dir(out)?;
     let mut files = Vec::new();
     let mut warnings = Vec::new();
+    let everything = sections.len() == self::sections().len();
+    let names: Vec<&str> = sections.iter().map(|s| s.name).collect();
     let mut md = format!(
-        "# texflow report\n\nDevice: {} ({}); {} run. Regenerate with `texflow report all --out {}{}`.\n\
-         What is measured and how: docs/numerics.md.\n",
+        "# texflow report\n\nDevice: {} ({}); {} run{}. Regenerate with `texflow report all --out \
+         {}{}{}{}`.\nWhat is measured and how: docs/reproduction.md, docs/numerics.md.\n",
         ctx.limits().renderer,
         ctx.limits().version,
         match opts.size {
             Size::Full => "full",
             Size::Quick => "quick",
         },
+        if everything {
+            String::new()
+        } else {
+            format!(" of {}", names.join(", "))
+        },
         out.display(),
         if opts.size == Size::Quick {
             " --quick"
         } else {
             ""
+        },
+        if everything {
+            String::new()
+        } else {
+            format!(" --only {}", names.join(","))
+        },
+        if opts.runs > 1 {
+            format!(" --runs {}", opts.runs)
+        } else {
+            String::new()
         }
     );
-    for s in sections() {
+    for s in sections {
         progress(s.name);
         let o = (s.run)(ctx, opts, out, progress)?;
         check_files(s.name, &o.files)?;
@@ -197,6 +256,15 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     ));
     fs::write(&tmp, bytes).map_err(io)?;
     fs::rename(&tmp, path).map_err(io)
+}
+
+/// Writes `value` as pretty JSON through [`write_atomic`].
+pub fn write_json<T: serde::Serialize + ?Sized>(path: &Path, value: &T) -> Result<()> {
+    let text = serde_json::to_string_pretty(value).map_err(|e| Error::Io {
+        path: path.to_owned(),
+        source: std::io::Error::other(format!("serialising the report: {e}")),
+    })?;
+    write_atomic(path, text.as_bytes())
 }
 
 /// A CSV table: a header and rows of already formatted fields (none holds a comma or a quote).

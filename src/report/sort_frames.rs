@@ -3,7 +3,10 @@
 //! moves and particles are born and die, against the GPU time that buys.
 //!
 //! The scene is the built-in `smoke` (alpha-blended sprites, sorted back to front) at a larger
-//! state, with the camera orbiting (`render.camera.orbit`). For each number of passes per frame
+//! state, with the camera orbiting (`render.camera.orbit`) slowly (a pan of 10°/s: frame-to-frame
+//! coherence, what Latta's spread sort relies on) and fast (60°/s: one sort of 105 frames spans
+//! 105° of turn, and depth orders that far apart are anti-correlated). For each speed and number
+//! of passes per frame
 //! the engine runs exactly as `texflow render` does (keys refreshed in the order reached so far,
 //! this frame's passes, gather); after the sort stage of every measured frame the sorter's
 //! entries are read back and compared with the order the frame's own keys call for:
@@ -28,8 +31,8 @@ use crate::gl::Context;
 use crate::scene::SceneFile;
 use crate::sort::network::{inversions, key_order_bits, Entry};
 
-/// Degrees per second the camera orbits in the measured scene.
-pub const ORBIT_DEG_PER_S: f32 = 60.0;
+/// Degrees per second the camera orbits in the measured scene: a slow pan and a fast turn.
+pub const ORBITS_DEG_PER_S: [f32; 2] = [10.0, 60.0];
 
 /// What to measure.
 #[derive(Debug, Clone)]
@@ -39,7 +42,10 @@ pub struct SpreadSweep {
     /// Passes per frame to measure; a value at or above the network's pass count runs the whole
     /// sort every frame.
     pub passes_per_frame: Vec<usize>,
-    /// Frames measured per setting (at least one whole spread sort is added where it is longer).
+    /// Camera orbit speeds to measure, degrees per second.
+    pub orbits: Vec<f32>,
+    /// Frames measured per setting at least, rounded up to whole spread sorts (so that every
+    /// phase of the pass sequence weighs the same).
     pub frames: usize,
     /// Seed of the scene.
     pub seed: u64,
@@ -64,6 +70,7 @@ impl SpreadSweep {
         SpreadSweep {
             side,
             passes_per_frame: passes,
+            orbits: ORBITS_DEG_PER_S.to_vec(),
             frames,
             seed: 1,
         }
@@ -125,9 +132,11 @@ pub fn sortedness(entries: &[Entry]) -> Sortedness {
     }
 }
 
-/// One setting of passes per frame.
+/// One setting of camera speed and passes per frame.
 #[derive(Debug, Clone, Serialize)]
 pub struct SpreadRow {
+    /// Camera orbit, degrees per second.
+    pub orbit_deg_per_s: f32,
     /// Passes run per frame (the whole sort when at least `total_passes`).
     pub passes_per_frame: usize,
     /// Passes of one whole sort.
@@ -163,8 +172,6 @@ pub struct SpreadReport {
     pub clock: Clock,
     /// State side.
     pub side: u32,
-    /// Camera orbit, degrees per second.
-    pub orbit_deg_per_s: f32,
     /// Seconds simulated before measuring (the emitter fills the state).
     pub warmup_s: f64,
     /// One row per setting.
@@ -172,9 +179,9 @@ pub struct SpreadReport {
 }
 
 /// The measured scene: `smoke` at side × side particles, its emitter scaled to fill about three
-/// quarters of the state, the camera orbiting, an odd-even merge sort of `passes` per frame
-/// (`None`: the whole sort).
-pub fn scene(side: u32, passes: Option<usize>) -> Result<SceneFile> {
+/// quarters of the state, the camera orbiting at `orbit` degrees per second, an odd-even merge
+/// sort of `passes` per frame (`None`: the whole sort).
+pub fn scene(side: u32, passes: Option<usize>, orbit: f32) -> Result<SceneFile> {
     let mut s = crate::scene::load("smoke")?;
     s.particles.size = [side, side];
     let e = s.emitters.allocator.first_mut().ok_or_else(|| {
@@ -185,7 +192,7 @@ pub fn scene(side: u32, passes: Option<usize>) -> Result<SceneFile> {
     })?;
     let mean_life = 0.5 * (life[0] + life[1]) as f64;
     e.rate = Some((0.75 * (side * side) as f64 / mean_life) as f32);
-    s.render.camera.orbit = ORBIT_DEG_PER_S;
+    s.render.camera.orbit = orbit;
     s.render.sort.variant = Some("oddeven".into());
     s.render.sort.passes_per_frame = passes.map(|p| p as u32);
     Ok(s)
@@ -197,15 +204,21 @@ pub fn run(ctx: &Context, sweep: &SpreadSweep, progress: Progress<'_>) -> Result
     let timer = PassTimer::new(ctx, Clock::for_context(ctx))?;
     let mut rows = Vec::new();
     let mut warmup_s = 0.0;
-    for &p in &sweep.passes_per_frame {
+    let settings = sweep
+        .orbits
+        .iter()
+        .flat_map(|&o| sweep.passes_per_frame.iter().map(move |&p| (o, p)));
+    for (orbit, p) in settings {
         if p == 0 {
             return Err(Error::InvalidInput(
                 "passes per frame must be at least 1".into(),
             ));
         }
-        progress(&format!("sort spread over frames: {p} passes per frame"));
+        progress(&format!(
+            "sort spread over frames: camera {orbit}°/s, {p} passes per frame"
+        ));
         let whole = p >= total;
-        let s = scene(sweep.side, (!whole).then_some(p))?;
+        let s = scene(sweep.side, (!whole).then_some(p), orbit)?;
         let mut engine = ParticleEngine::new(ctx, &s, sweep.seed)?;
         // Fill the state first (the sort does not run while the simulation warms up).
         let life = s.emitters.allocator[0].life.map_or(0.0, |l| l[1] as f64);
@@ -221,7 +234,7 @@ pub fn run(ctx: &Context, sweep: &SpreadSweep, progress: Progress<'_>) -> Result
             engine.advance_frame()?;
             engine.order_for_drawing()?;
         }
-        let frames = sweep.frames.max(per_sort);
+        let frames = sweep.frames.div_ceil(per_sort).max(1) * per_sort;
         let (mut times, mut inv, mut live) = (Vec::new(), Vec::new(), Vec::new());
         let (mut mean_disp, mut max_disp, mut p99_disp, mut fraction) = (0.0, 0u64, 0u64, 0.0);
         for _ in 0..frames {
@@ -245,6 +258,7 @@ pub fn run(ctx: &Context, sweep: &SpreadSweep, progress: Progress<'_>) -> Result
         }
         ctx.check_error("measuring the sort spread over frames")?;
         rows.push(SpreadRow {
+            orbit_deg_per_s: orbit,
             passes_per_frame: p.min(total),
             total_passes: total,
             frames_per_sort: per_sort,
@@ -263,7 +277,6 @@ pub fn run(ctx: &Context, sweep: &SpreadSweep, progress: Progress<'_>) -> Result
         device: ctx.limits().renderer.clone(),
         clock: timer.clock(),
         side: sweep.side,
-        orbit_deg_per_s: ORBIT_DEG_PER_S,
         warmup_s,
         rows,
     })
@@ -272,13 +285,14 @@ pub fn run(ctx: &Context, sweep: &SpreadSweep, progress: Progress<'_>) -> Result
 /// The rows as a markdown table.
 pub fn table(r: &SpreadReport) -> String {
     let mut out = String::from(
-        "| passes per frame | frames per sort | live | inversions (mean) | inversions (max) | \
+        "| camera °/s | passes per frame | frames per sort | live | inversions (mean) | inversions (max) | \
          of all pairs | mean displacement | 99th pct displacement | max displacement | GPU ms per frame |\n\
-         |---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+         |---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for row in &r.rows {
         out.push_str(&format!(
-            "| {}{} | {} | {:.0} | {:.0} | {} | {:.2e} | {:.2} | {} | {} | {:.3} |\n",
+            "| {} | {}{} | {} | {:.0} | {:.0} | {} | {:.2e} | {:.2} | {} | {} | {:.3} |\n",
+            row.orbit_deg_per_s,
             row.passes_per_frame,
             if row.passes_per_frame == row.total_passes {
                 " (whole sort)"
@@ -302,6 +316,7 @@ pub fn table(r: &SpreadReport) -> String {
 /// Writes `sort_frames.csv`, `sort_frames.json` and the two plots; returns the files.
 pub fn write_files(r: &SpreadReport, out: &Path) -> Result<Vec<std::path::PathBuf>> {
     let mut csv = Csv::new(&[
+        "orbit_deg_per_s",
         "passes_per_frame",
         "total_passes",
         "frames_per_sort",
@@ -317,6 +332,7 @@ pub fn write_files(r: &SpreadReport, out: &Path) -> Result<Vec<std::path::PathBu
     ]);
     for row in &r.rows {
         csv.row([
+            num(Some(row.orbit_deg_per_s as f64)),
             row.passes_per_frame.to_string(),
             row.total_passes.to_string(),
             row.frames_per_sort.to_string(),
@@ -334,49 +350,46 @@ pub fn write_files(r: &SpreadReport, out: &Path) -> Result<Vec<std::path::PathBu
     let csv_path = out.join("sort_frames.csv");
     csv.write(&csv_path)?;
     let json_path = out.join("sort_frames.json");
-    super::write_atomic(
-        &json_path,
-        serde_json::to_string_pretty(r)
-            .map_err(|e| Error::InvalidInput(format!("serialising the report: {e}")))?
-            .as_bytes(),
-    )?;
+    super::write_json(&json_path, r)?;
     let mut files = vec![csv_path, json_path];
+    let mut orbits: Vec<f32> = r.rows.iter().map(|row| row.orbit_deg_per_s).collect();
+    orbits.dedup();
     let curves = |x: &dyn Fn(&SpreadRow) -> f64| -> Vec<Series> {
-        let series = |label: &str, y: &dyn Fn(&SpreadRow) -> f64, color, marker| Series {
-            label: label.into(),
-            points: r.rows.iter().map(|row| (x(row), y(row))).collect(),
-            hollow: Vec::new(),
-            color,
-            marker,
-            dashed: false,
-        };
-        vec![
-            series(
-                "inversions / all pairs",
-                &|row| row.inversion_fraction,
-                (200, 60, 40),
-                Marker::Circle,
-            ),
-            series(
-                "mean displacement / live",
-                &|row| row.mean_displacement / row.live_mean.max(1.0),
-                (40, 100, 200),
-                Marker::Triangle,
-            ),
-            series(
-                "99th pct displacement / live",
-                &|row| row.p99_displacement as f64 / row.live_mean.max(1.0),
-                (40, 150, 60),
-                Marker::Cross,
-            ),
-        ]
+        let colors = [(40, 100, 200), (200, 60, 40), (40, 150, 60), (150, 60, 170)];
+        let mut out = Vec::new();
+        for (k, &orbit) in orbits.iter().enumerate() {
+            let rows: Vec<&SpreadRow> = r
+                .rows
+                .iter()
+                .filter(|row| row.orbit_deg_per_s == orbit)
+                .collect();
+            let color = colors[k % colors.len()];
+            out.push(Series {
+                label: format!("{orbit}°/s: inversions / all pairs"),
+                points: rows
+                    .iter()
+                    .map(|row| (x(row), row.inversion_fraction))
+                    .collect(),
+                hollow: Vec::new(),
+                color,
+                marker: Marker::Circle,
+                dashed: false,
+            });
+            out.push(Series {
+                label: format!("{orbit}°/s: 99th pct displacement / live"),
+                points: rows
+                    .iter()
+                    .map(|row| (x(row), row.p99_displacement as f64 / row.live_mean.max(1.0)))
+                    .collect(),
+                hollow: Vec::new(),
+                color,
+                marker: Marker::Triangle,
+                dashed: true,
+            });
+        }
+        out
     };
-    let title = |what: &str| {
-        format!(
-            "{what}: {}² smoke, camera {}°/s ({})",
-            r.side, r.orbit_deg_per_s, r.device
-        )
-    };
+    let title = |what: &str| format!("{what}: {}² smoke ({})", r.side, r.device);
     let unit = "fraction (whole sort: 0, off the log axis)";
     let p1 = out.join("sort_frames_passes.png");
     plot_loglog(
@@ -390,7 +403,7 @@ pub fn write_files(r: &SpreadReport, out: &Path) -> Result<Vec<std::path::PathBu
     let p2 = out.join("sort_frames_time.png");
     plot_loglog(
         &p2,
-        &title("order against GPU time"),
+        &title("drawing order against GPU time"),
         (
             &format!(
                 "GPU time of the sort stage per frame (ms, {})",
@@ -411,13 +424,12 @@ pub fn write_files(r: &SpreadReport, out: &Path) -> Result<Vec<std::path::PathBu
 pub fn markdown(r: &SpreadReport) -> String {
     format!(
         "## Sort spread over frames (Latta §3.4.4)\n\n\
-         `smoke` at {0}×{0} particles, camera orbiting at {1}°/s, {2:.1} s of emission before \
-         measuring; odd-even merge sort of {3} passes, keys refreshed every frame in the order \
-         reached so far. Inversions and displacements among live particles after each frame's \
-         sort stage; GPU time ({4}) of that stage. Plots: `sort_frames_passes.png`, \
-         `sort_frames_time.png`.\n\n{5}",
+         `smoke` at {0}×{0} particles with the camera orbiting, {1:.1} s of emission before \
+         measuring; odd-even merge sort of {2} passes, keys refreshed every frame in the order \
+         reached so far; whole spread sorts measured. Inversions and displacements among live \
+         particles after each frame's sort stage; GPU time ({3}) of that stage. Plots: \
+         `sort_frames_passes.png`, `sort_frames_time.png`.\n\n{4}",
         r.side,
-        r.orbit_deg_per_s,
         r.warmup_s,
         r.rows.first().map_or(0, |row| row.total_passes),
         r.clock.name(),
@@ -434,10 +446,15 @@ pub fn section(
 ) -> Result<SectionOutput> {
     let r = run(ctx, &SpreadSweep::for_size(opts.size), progress)?;
     let mut warnings = Vec::new();
-    if let Some(row) = r.rows.last().filter(|row| row.inversions_max > 0) {
+    for row in r
+        .rows
+        .iter()
+        .filter(|row| row.passes_per_frame == row.total_passes && row.inversions_max > 0)
+    {
         warnings.push(format!(
-            "the whole odd-even sort left {} inversions: the network is not sorting",
-            row.inversions_max
+            "the whole odd-even sort left {} inversions (camera {}°/s): the network is not \
+             sorting",
+            row.inversions_max, row.orbit_deg_per_s
         ));
     }
     Ok(SectionOutput {

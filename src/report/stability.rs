@@ -1210,12 +1210,7 @@ pub fn section(
         table(&r)
     );
     let json = out.join("stability.json");
-    super::write_atomic(
-        &json,
-        serde_json::to_string_pretty(&r)
-            .unwrap_or_default()
-            .as_bytes(),
-    )?;
+    super::write_json(&json, &r)?;
     let mdf = out.join("stability.md");
     super::write_atomic(&mdf, md.as_bytes())?;
     Ok(SectionOutput {

@@ -5,13 +5,13 @@
 //! 2048², Table 1 up to 1024², and 2048² on a hardware GPU, where a sort of 4 M entries takes
 //! milliseconds rather than seconds); `--quick` measures 64² and 128² only.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use super::{Progress, ReportOptions, SectionOutput, Size};
 use crate::bench::{bench_sort, bench_step, sort_markdown, step_markdown, Clock};
 use crate::bench::{SortBenchOptions, SortRecord, StepOptions, StepRecord};
 use crate::bench_scenes::{self as bs, SceneRecord, ScenesOptions};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::gl::Context;
 use crate::sort::Variant;
 
@@ -40,80 +40,43 @@ pub fn scene_sizes(size: Size) -> (Vec<u32>, usize, Option<usize>) {
     }
 }
 
-fn json<T: serde::Serialize>(path: &Path, v: &T) -> Result<()> {
-    super::write_atomic(
-        path,
-        serde_json::to_string_pretty(v)
-            .map_err(|e| Error::InvalidInput(format!("serialising the report: {e}")))?
-            .as_bytes(),
-    )
-}
-
-/// Runs the fire's step benchmark and writes `step.json` and `step.md`.
-pub fn step(
-    ctx: &Context,
-    size: Size,
-    out: &Path,
-    progress: Progress<'_>,
-) -> Result<(Vec<StepRecord>, Vec<PathBuf>)> {
+/// Runs the fire's step benchmark once.
+pub fn step(ctx: &Context, size: Size, progress: Progress<'_>) -> Result<Vec<StepRecord>> {
     let (sizes, repeats) = step_sizes(size);
     let opts = StepOptions {
         repeats,
         ..StepOptions::default()
     };
-    let records = bench_step(ctx, &crate::scene::fire(), &sizes, &opts, |n| {
+    bench_step(ctx, &crate::scene::fire(), &sizes, &opts, |n| {
         progress(&format!("step: fire at {n}²"))
-    })?;
-    let (j, m) = (out.join("step.json"), out.join("step.md"));
-    json(&j, &records)?;
-    super::write_atomic(&m, step_markdown(&records).as_bytes())?;
-    Ok((records, vec![j, m]))
+    })
 }
 
-/// Runs Table 1 and writes `table1_sort.json` and `table1_sort.md`.
-pub fn table1(
-    ctx: &Context,
-    size: Size,
-    out: &Path,
-    progress: Progress<'_>,
-) -> Result<(Vec<SortRecord>, Vec<PathBuf>)> {
-    let clock = Clock::for_context(ctx);
-    let (sizes, repeats) = sort_sizes(size, clock);
+/// Runs Table 1 once.
+pub fn table1(ctx: &Context, size: Size, progress: Progress<'_>) -> Result<Vec<SortRecord>> {
+    let (sizes, repeats) = sort_sizes(size, Clock::for_context(ctx));
     let opts = SortBenchOptions {
         repeats,
         clock: None,
         cpu: true,
         steps_per_pass: 2,
     };
-    let records = bench_sort(ctx, &sizes, &Variant::ALL, &opts, |v, n| {
+    bench_sort(ctx, &sizes, &Variant::ALL, &opts, |v, n| {
         progress(&format!("Table 1: {v} at {n}²"))
-    })?;
-    let (j, m) = (out.join("table1_sort.json"), out.join("table1_sort.md"));
-    json(&j, &records)?;
-    super::write_atomic(&m, sort_markdown(&records).as_bytes())?;
-    Ok((records, vec![j, m]))
+    })
 }
 
-/// Runs Table 2 and writes `table2_scenes.json` and `table2_scenes.md`.
-pub fn table2(
-    ctx: &Context,
-    size: Size,
-    out: &Path,
-    progress: Progress<'_>,
-) -> Result<(Vec<SceneRecord>, Vec<PathBuf>)> {
+/// Runs Table 2 once.
+pub fn table2(ctx: &Context, size: Size, progress: Progress<'_>) -> Result<Vec<SceneRecord>> {
     let (sizes, repeats, warmup) = scene_sizes(size);
     let opts = ScenesOptions {
         repeats,
         warmup_frames: warmup,
         ..ScenesOptions::default()
     };
-    let records = bs::bench_scenes(ctx, &sizes, &opts, |e, n| {
+    bs::bench_scenes(ctx, &sizes, &opts, |e, n| {
         progress(&format!("Table 2: {e} at {n}²"))
-    })?;
-    let (j, m) = (out.join("table2_scenes.json"), out.join("table2_scenes.md"));
-    json(&j, &records)?;
-    super::write_atomic(&m, bs::markdown(&records).as_bytes())?;
-    Ok((records, vec![j, m]))
+    })
 }
 
 /// One size of the render-path comparison: E1's frame drawn by vertex texture fetch (thesis
@@ -135,14 +98,8 @@ pub struct PathRecord {
     pub clock: Clock,
 }
 
-/// Times E1's draw by both render paths at Table 2's sizes; writes `render_paths.json` and
-/// `render_paths.md`.
-pub fn render_paths(
-    ctx: &Context,
-    size: Size,
-    out: &Path,
-    progress: Progress<'_>,
-) -> Result<(Vec<PathRecord>, Vec<PathBuf>)> {
+/// Times E1's draw by both render paths at Table 2's sizes, once.
+pub fn render_paths(ctx: &Context, size: Size, progress: Progress<'_>) -> Result<Vec<PathRecord>> {
     use crate::scene::file::RenderPath;
     let (sizes, repeats, warmup) = scene_sizes(size);
     let clock = Clock::for_context(ctx);
@@ -188,23 +145,61 @@ pub fn render_paths(
             clock,
         });
     }
+    Ok(records)
+}
+
+/// The render-path records as a markdown table.
+pub fn paths_markdown(records: &[PathRecord]) -> String {
     let mut md = String::from(
         "| state | live | vertex texture fetch ms | vertex buffer ms | buffer / fetch |\n\
          |---|---:|---:|---:|---:|\n",
     );
-    for r in &records {
+    for r in records {
         md.push_str(&format!(
             "| {0}² | {1} | {2:.3} | {3:.3} | {4:.2} |\n",
             r.size, r.live, r.texture_fetch_ms, r.vertex_buffer_ms, r.ratio
         ));
     }
-    let (j, m) = (out.join("render_paths.json"), out.join("render_paths.md"));
-    json(&j, &records)?;
-    super::write_atomic(&m, md.as_bytes())?;
-    Ok((records, vec![j, m]))
+    md
 }
 
-/// `report all`'s section: the benchmark tables.
+/// For every cell (records of equal `key`) of several runs, the record of median time (the
+/// lower of the two middle ones for an even count; records without a time sort last), and the
+/// cells whose slowest run took over 1.25 times their fastest, with that ratio.
+pub fn median_of_runs<T: Clone, K: PartialEq>(
+    runs: &[Vec<T>],
+    key: impl Fn(&T) -> K,
+    ms: impl Fn(&T) -> Option<f64>,
+) -> (Vec<T>, Vec<(T, f64)>) {
+    let Some(first) = runs.first() else {
+        return (Vec::new(), Vec::new());
+    };
+    let (mut medians, mut spread) = (Vec::new(), Vec::new());
+    for cell in first {
+        let mut same: Vec<&T> = runs
+            .iter()
+            .flat_map(|r| r.iter().filter(|x| key(x) == key(cell)))
+            .collect();
+        same.sort_by(|a, b| {
+            let t = |x: &T| ms(x).unwrap_or(f64::INFINITY);
+            t(a).total_cmp(&t(b))
+        });
+        let median = same[(same.len() - 1) / 2].clone();
+        let times: Vec<f64> = same.iter().filter_map(|x| ms(x)).collect();
+        if let (Some(lo), Some(hi)) = (times.first(), times.last()) {
+            if *lo > 0.0 && hi / lo > 1.25 {
+                spread.push((median.clone(), hi / lo));
+            }
+        }
+        medians.push(median);
+    }
+    (medians, spread)
+}
+
+/// `report all`'s section: the benchmark tables, each run `opts.runs` times (interleaved, so
+/// that a slow spell of a shared machine does not fall on one table alone), every cell the run
+/// of median time. Writes `step`, `table1_sort`, `table2_scenes` and `render_paths` as `.json`
+/// (the median records) and `.md`, and `tables_runs.json` (every run).
 pub fn section(
     ctx: &Context,
     opts: &ReportOptions,
@@ -212,22 +207,72 @@ pub fn section(
     progress: Progress<'_>,
 ) -> Result<SectionOutput> {
     let clock = Clock::for_context(ctx);
-    let (st, mut files) = step(ctx, opts.size, out, progress)?;
-    let (t1, f1) = table1(ctx, opts.size, out, progress)?;
-    files.extend(f1);
-    let (t2, f2) = table2(ctx, opts.size, out, progress)?;
-    files.extend(f2);
-    let (_, f3) = render_paths(ctx, opts.size, out, progress)?;
-    let paths_md = std::fs::read_to_string(&f3[1]).map_err(|source| Error::Io {
-        path: f3[1].clone(),
-        source,
-    })?;
-    files.extend(f3);
+    let runs = opts.runs.max(1);
+    let (mut st, mut t1, mut t2, mut rp) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for run in 0..runs {
+        if runs > 1 {
+            progress(&format!("tables: run {} of {runs}", run + 1));
+        }
+        st.push(step(ctx, opts.size, progress)?);
+        t1.push(table1(ctx, opts.size, progress)?);
+        t2.push(table2(ctx, opts.size, progress)?);
+        rp.push(render_paths(ctx, opts.size, progress)?);
+    }
+    let (st_m, st_s) = median_of_runs(&st, |r| r.size, |r| Some(r.sim_ms));
+    let (t1_m, t1_s) = median_of_runs(&t1, |r| (r.variant.clone(), r.size), |r| Some(r.ms));
+    let (mut t2_m, t2_s) = median_of_runs(&t2, |r| (r.experiment.clone(), r.size), |r| r.ms);
+    // The GPU/CPU ratios of the median cells, which may come from different runs.
+    let e5: Vec<(u32, f64)> = t2_m
+        .iter()
+        .filter(|r| r.experiment == "E5")
+        .filter_map(|r| r.fps.map(|f| (r.size, f)))
+        .collect();
+    for r in &mut t2_m {
+        if let (Some(f), Some(&(_, cpu))) = (r.fps, e5.iter().find(|(n, _)| *n == r.size)) {
+            r.vs_e5 = Some(f / cpu);
+        }
+    }
+    let (rp_m, rp_s) = median_of_runs(&rp, |r| r.size, |r| Some(r.texture_fetch_ms));
+    let mut files = Vec::new();
+    let mut write = |name: &str, json_text: Result<()>, md: String| -> Result<()> {
+        json_text?;
+        let m = out.join(format!("{name}.md"));
+        super::write_atomic(&m, md.as_bytes())?;
+        files.push(out.join(format!("{name}.json")));
+        files.push(m);
+        Ok(())
+    };
+    write(
+        "step",
+        super::write_json(&out.join("step.json"), &st_m),
+        step_markdown(&st_m),
+    )?;
+    write(
+        "table1_sort",
+        super::write_json(&out.join("table1_sort.json"), &t1_m),
+        sort_markdown(&t1_m),
+    )?;
+    write(
+        "table2_scenes",
+        super::write_json(&out.join("table2_scenes.json"), &t2_m),
+        bs::markdown(&t2_m),
+    )?;
+    write(
+        "render_paths",
+        super::write_json(&out.join("render_paths.json"), &rp_m),
+        paths_markdown(&rp_m),
+    )?;
+    let all_runs = out.join("tables_runs.json");
+    super::write_json(
+        &all_runs,
+        &serde_json::json!({ "step": st, "table1_sort": t1, "table2_scenes": t2, "render_paths": rp }),
+    )?;
+    files.push(all_runs);
     let (_, repeats0) = step_sizes(opts.size);
     let (_, repeats1) = sort_sizes(opts.size, clock);
     let (_, repeats2, warmup) = scene_sizes(opts.size);
     let mut warnings = Vec::new();
-    for r in t2.iter().filter(|r| r.fps.is_none()) {
+    for r in t2_m.iter().filter(|r| r.fps.is_none()) {
         warnings.push(format!(
             "Table 2: {} at {}² was not measured{}",
             r.experiment,
@@ -238,8 +283,41 @@ pub fn section(
                 .unwrap_or_default()
         ));
     }
+    let mut noisy: Vec<String> = Vec::new();
+    noisy.extend(
+        st_s.iter()
+            .map(|(r, x)| format!("step {}²: ×{x:.2}", r.size)),
+    );
+    noisy.extend(
+        t1_s.iter()
+            .map(|(r, x)| format!("Table 1 {} {}²: ×{x:.2}", r.variant, r.size)),
+    );
+    noisy.extend(
+        t2_s.iter()
+            .map(|(r, x)| format!("Table 2 {} {}²: ×{x:.2}", r.experiment, r.size)),
+    );
+    noisy.extend(
+        rp_s.iter()
+            .map(|(r, x)| format!("render paths {}²: ×{x:.2}", r.size)),
+    );
+    let runs_note = if runs > 1 {
+        format!(
+            "## How the benchmark tables were run\n\nEach table was run {runs} times, interleaved; every cell is the run of median time \
+             (all runs: `tables_runs.json`). {}\n\n",
+            if noisy.is_empty() {
+                "No cell's slowest run took over 1.25× its fastest.".to_owned()
+            } else {
+                format!(
+                    "Cells whose slowest run took over 1.25× their fastest: {}.",
+                    noisy.join("; ")
+                )
+            }
+        )
+    } else {
+        String::new()
+    };
     let markdown = format!(
-        "## The fire's step against its floor (`texflow bench step`)\n\n\
+        "{runs_note}## The fire's step against its floor (`texflow bench step`)\n\n\
          Median of {repeats0} passes of each kind, {}; floor = a write-only pass into the same \
          targets. Files: `step.json`, `step.md`.\n\n{}\n\
          ## UberFlow's Table 1: sorting (`texflow bench sort`)\n\n\
@@ -256,21 +334,44 @@ pub fn section(
          buffer path first copies the position texture into the vertex buffer through a pixel \
          pack buffer, on the GPU), {}. Files: `render_paths.json`, `render_paths.md`.\n\n{}",
         clock.name(),
-        step_markdown(&st),
+        step_markdown(&st_m),
         clock.name(),
-        sort_markdown(&t1),
+        sort_markdown(&t1_m),
         match warmup {
             Some(w) => format!("{w} warm-up frames"),
             None => "a full emission cycle".into(),
         },
         clock.name(),
-        bs::markdown(&t2),
+        bs::markdown(&t2_m),
         clock.name(),
-        paths_md
+        paths_markdown(&rp_m)
     );
     Ok(SectionOutput {
         files,
         markdown,
         warnings,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn median_of_runs_takes_each_cells_middle_run() {
+        // (cell, ms): cell 1's median is the 5.0 run, cell 2's the 3.0 one (no time sorts last).
+        let runs = vec![
+            vec![(1, Some(9.0)), (2, Some(3.0))],
+            vec![(1, Some(5.0)), (2, None)],
+            vec![(1, Some(4.0)), (2, Some(2.0))],
+        ];
+        let (m, spread) = median_of_runs(&runs, |r| r.0, |r| r.1);
+        assert_eq!(m, vec![(1, Some(5.0)), (2, Some(3.0))]);
+        // Cell 1 spans 4 to 9 ms, cell 2 2 to 3 ms: both over 1.25.
+        assert_eq!(spread.len(), 2);
+        assert!((spread[0].1 - 2.25).abs() < 1e-12);
+        let (one, none) = median_of_runs(&runs[..1], |r| r.0, |r| r.1);
+        assert_eq!(one, runs[0]);
+        assert!(none.is_empty());
+    }
 }

@@ -196,6 +196,15 @@ impl ParticleEngine {
         Ok(())
     }
 
+    /// One frame of collisionless motion ([`crate::sim::ParticleSim::step_without_collisions`]):
+    /// births, forces, colliders, no collisions between particles. Benchmarks warm up with it.
+    pub fn advance_frame_without_collisions(&mut self) -> Result<()> {
+        for _ in 0..self.sim.scene().time.substeps {
+            self.sim.step_without_collisions()?;
+        }
+        Ok(())
+    }
+
     /// Sorts (alpha blending only) and draws the current state into the frame target.
     pub fn draw(&mut self) -> Result<()> {
         let count = self.sim.active_count();

@@ -711,13 +711,21 @@ impl ParticleSim {
         self.active_rows() as usize * self.width as usize
     }
 
-    /// One time step: allocator births, then the integration pass, then the swap.
+    /// One time step: allocator births, then the integration pass, then the swap, then the
+    /// collision stage (scenes with `[collisions]`).
     pub fn step(&mut self) -> Result<()> {
+        self.step_without_collisions()?;
+        self.collide()
+    }
+
+    /// [`step`](Self::step) without the collision stage: the collisionless motion. For warming a
+    /// benchmark up quickly: the collision stage's sorts and detection are data-oblivious, so
+    /// what they cost later does not depend on whether earlier steps resolved collisions.
+    pub fn step_without_collisions(&mut self) -> Result<()> {
         if self.allocator.is_some() {
             self.emit()?;
         }
         self.integrate_only();
-        self.collide()?;
         Ok(())
     }
 

@@ -532,6 +532,54 @@ fn sort_spread_over_frames_keeps_most_of_the_order() {
     );
 }
 
+/// `render.camera.orbit` turns the camera with simulated time, and the whole sort follows it: the
+/// drawing order is back to front from where the camera is now, not from where it started.
+#[test]
+fn orbiting_camera_is_followed_by_the_sort() {
+    let ctx = context();
+    let mut s = scene::load("smoke").unwrap();
+    s.particles.size = [16, 16];
+    s.render.resolution = [64, 64];
+    s.render.camera.orbit = 90.0;
+    let start = scene::camera(&s.render.camera);
+    let mut e = texflow::ParticleEngine::new(&ctx, &s, 4).unwrap();
+    let frames = 90;
+    for _ in 0..frames {
+        e.advance_frame().unwrap();
+    }
+    e.draw().unwrap();
+    let t = e.sim().time();
+    let expected_t = frames as f64 * s.time.dt as f64 * s.time.substeps as f64;
+    assert!((t - expected_t).abs() < 1e-4, "{t} s simulated");
+    let azimuth = e.camera().azimuth;
+    assert!(
+        (azimuth - (start.azimuth + 90.0 * t as f32)).abs() < 1e-3,
+        "azimuth {azimuth} after {t} s"
+    );
+    let sorted = e.sorted().unwrap().texture(0).read_f32().unwrap();
+    let live: Vec<glam::Vec3> = sorted
+        .chunks(4)
+        .filter(|p| p[3] > 0.0)
+        .map(|p| glam::Vec3::new(p[0], p[1], p[2]))
+        .collect();
+    assert!(live.len() > 50, "{} live", live.len());
+    let out_of_order = |eye: glam::Vec3| {
+        live.windows(2)
+            .filter(|w| w[0].distance(eye) < w[1].distance(eye))
+            .count()
+    };
+    assert_eq!(
+        out_of_order(e.camera().eye()),
+        0,
+        "not back to front from the camera"
+    );
+    assert!(
+        out_of_order(start.eye()) > 0,
+        "the order is still the one of the camera's start"
+    );
+    no_gl_error(&ctx);
+}
+
 /// Position error at t = 2 (not a turning point) of x'' = -x from x = 1, v = 0.
 fn oscillator_error(integrator: &str, dt: f32) -> f64 {
     let ctx = context();

@@ -559,48 +559,15 @@ impl CpuEngine {
         p.set_mat4("u_view_proj", &self.camera.view_projection(aspect));
         p.set_f32("u_point_size", s.point_size);
         p.set_f32("u_intensity", s.intensity);
-        let ramp = s.ramp();
-        p.set_vec4("u_key_age", Vec4::from_array(ramp.ages));
-        for k in 0..3 {
-            p.set_vec4(
-                &format!("u_key_offset[{k}]"),
-                Vec4::from_array(ramp.offset[k]),
-            );
-            p.set_vec4(
-                &format!("u_key_slope[{k}]"),
-                Vec4::from_array(ramp.slope[k]),
-            );
-        }
+        s.set_keyframes(p);
         self.target.framebuffer().bind();
         self.vao.bind();
         let gl = &self.ctx;
         let count = self.vertices.len() as i32;
+        s.apply_blending(gl);
         // SAFETY: a program, a vertex array whose buffer holds `count` vertices and a complete
         // framebuffer are bound.
         unsafe {
-            gl.disable(glow::DEPTH_TEST);
-            gl.enable(glow::PROGRAM_POINT_SIZE);
-            gl.enable(glow::BLEND);
-            gl.blend_equation(glow::FUNC_ADD);
-            let (src, dst, src_a, dst_a) = match (s.blending, s.order) {
-                (Blending::Additive, _) => (glow::SRC_ALPHA, glow::ONE, glow::ZERO, glow::ONE),
-                (Blending::Multiplicative, _) => {
-                    (glow::DST_COLOR, glow::ZERO, glow::ZERO, glow::ONE)
-                }
-                (Blending::Alpha, DrawOrder::BackToFront) => (
-                    glow::SRC_ALPHA,
-                    glow::ONE_MINUS_SRC_ALPHA,
-                    glow::ONE,
-                    glow::ONE_MINUS_SRC_ALPHA,
-                ),
-                (Blending::Alpha, DrawOrder::FrontToBack) => (
-                    glow::ONE_MINUS_DST_ALPHA,
-                    glow::ONE,
-                    glow::ONE_MINUS_DST_ALPHA,
-                    glow::ONE,
-                ),
-            };
-            gl.blend_func_separate(src, dst, src_a, dst_a);
             if count > 0 {
                 gl.draw_arrays(glow::POINTS, 0, count);
             }

@@ -72,6 +72,53 @@ impl Default for ParticleStyle {
 }
 
 impl ParticleStyle {
+    /// Sets the colour and opacity keyframes that `glsl/render/keyframes.glsl` reads on `p`
+    /// (bound): the renderer and the CPU engine (E5) draw with the same ramp.
+    pub fn set_keyframes(&self, p: &Program) {
+        let ramp = self.ramp();
+        p.set_vec4("u_key_age", glam::Vec4::from_array(ramp.ages));
+        for k in 0..3 {
+            p.set_vec4(
+                &format!("u_key_offset[{k}]"),
+                glam::Vec4::from_array(ramp.offset[k]),
+            );
+            p.set_vec4(
+                &format!("u_key_slope[{k}]"),
+                glam::Vec4::from_array(ramp.slope[k]),
+            );
+        }
+    }
+
+    /// Sets the GL state particles are drawn with: no depth test, program point size, and the
+    /// blend factors of this style's blending and order (the under operator for front to back).
+    /// One place, so that the CPU engine (E5) blends exactly as the renderer does.
+    pub fn apply_blending(&self, gl: &glow::Context) {
+        let (src, dst, src_a, dst_a) = match (self.blending, self.order) {
+            // The destination alpha stays as cleared (opaque).
+            (Blending::Additive, _) => (glow::SRC_ALPHA, glow::ONE, glow::ZERO, glow::ONE),
+            (Blending::Multiplicative, _) => (glow::DST_COLOR, glow::ZERO, glow::ZERO, glow::ONE),
+            (Blending::Alpha, DrawOrder::BackToFront) => (
+                glow::SRC_ALPHA,
+                glow::ONE_MINUS_SRC_ALPHA,
+                glow::ONE,
+                glow::ONE_MINUS_SRC_ALPHA,
+            ),
+            (Blending::Alpha, DrawOrder::FrontToBack) => (
+                glow::ONE_MINUS_DST_ALPHA,
+                glow::ONE,
+                glow::ONE_MINUS_DST_ALPHA,
+                glow::ONE,
+            ),
+        };
+        // SAFETY: plain state changes on the current context.
+        unsafe {
+            gl.disable(glow::DEPTH_TEST);
+            gl.enable(glow::PROGRAM_POINT_SIZE);
+            gl.enable(glow::BLEND);
+            gl.blend_equation(glow::FUNC_ADD);
+            gl.blend_func_separate(src, dst, src_a, dst_a);
+        }
+    }
     /// The style of a scene's `[render]` section; `type_scales` are the emitters' sprite scales in
     /// type order. A keyframe list that is not exactly four long (validation rejects those; an
     /// empty list is allowed) gives [`default_keyframes`].
@@ -514,47 +561,13 @@ impl ParticleRenderer {
         p.set_vec4("u_type_scale", glam::Vec4::from_array(s.type_scale));
         let t = s.type_tile.map(|t| t.min(3) as i32);
         p.set_ivec4("u_type_tile", t);
-        let ramp = s.ramp();
-        p.set_vec4("u_key_age", glam::Vec4::from_array(ramp.ages));
-        for k in 0..3 {
-            p.set_vec4(
-                &format!("u_key_offset[{k}]"),
-                glam::Vec4::from_array(ramp.offset[k]),
-            );
-            p.set_vec4(
-                &format!("u_key_slope[{k}]"),
-                glam::Vec4::from_array(ramp.slope[k]),
-            );
-        }
+        s.set_keyframes(p);
         target.framebuffer().bind();
         let gl = &self.ctx;
+        s.apply_blending(gl);
         // SAFETY: a program, a vertex array (whose buffers, if any, hold `count` vertices) and a
         // complete framebuffer are bound.
         unsafe {
-            gl.disable(glow::DEPTH_TEST);
-            gl.enable(glow::PROGRAM_POINT_SIZE);
-            gl.enable(glow::BLEND);
-            gl.blend_equation(glow::FUNC_ADD);
-            let (src, dst, src_a, dst_a) = match (s.blending, s.order) {
-                // The destination alpha stays as cleared (opaque).
-                (Blending::Additive, _) => (glow::SRC_ALPHA, glow::ONE, glow::ZERO, glow::ONE),
-                (Blending::Multiplicative, _) => {
-                    (glow::DST_COLOR, glow::ZERO, glow::ZERO, glow::ONE)
-                }
-                (Blending::Alpha, DrawOrder::BackToFront) => (
-                    glow::SRC_ALPHA,
-                    glow::ONE_MINUS_SRC_ALPHA,
-                    glow::ONE,
-                    glow::ONE_MINUS_SRC_ALPHA,
-                ),
-                (Blending::Alpha, DrawOrder::FrontToBack) => (
-                    glow::ONE_MINUS_DST_ALPHA,
-                    glow::ONE,
-                    glow::ONE_MINUS_DST_ALPHA,
-                    glow::ONE,
-                ),
-            };
-            gl.blend_func_separate(src, dst, src_a, dst_a);
             if count > 0 {
                 gl.draw_arrays(glow::POINTS, 0, count as i32);
             }

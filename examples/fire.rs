@@ -4,8 +4,8 @@
 //!     cargo run --release --example fire -- [OUT_DIR]      (default: fire-frames/)
 
 use texflow::gl::Context;
-use texflow::render::FrameWriter;
-use texflow::{scene, Engine};
+use texflow::output::FrameWriter;
+use texflow::{scene, FireEngine};
 
 fn main() -> texflow::Result<()> {
     let out = std::env::args()
@@ -22,7 +22,7 @@ fn main() -> texflow::Result<()> {
     fire.resolution = [384, 384];
 
     // Seed 7: the same seed gives the same frames on the same device.
-    let mut engine = Engine::new(&ctx, fire, 7)?;
+    let mut engine = FireEngine::new(&ctx, fire, 7)?;
     let frames = FrameWriter::create(out.as_ref())?;
     for frame in 0..90 {
         // One frame = `substeps` fixed steps of `dt` seconds, each one full-screen MRT pass.

@@ -3,9 +3,11 @@
 //!
 //!     cargo run --release --example scene -- [SCENE] [OUT_DIR]   (default: fountain, scene-frames/)
 
+use std::ops::ControlFlow;
+
+use texflow::engine::{self, FolderSink, FrameLoop, LoopOptions};
 use texflow::gl::Context;
-use texflow::render::FrameWriter;
-use texflow::{scene, SceneRunner};
+use texflow::{scene, SceneEngine};
 
 fn main() -> texflow::Result<()> {
     let mut args = std::env::args().skip(1);
@@ -15,16 +17,28 @@ fn main() -> texflow::Result<()> {
     // Built-in names come from examples/scenes/*.toml, compiled into the binary; anything else
     // is read as a file. Errors name the file, line and column.
     let scene = scene::load(&name)?;
-    print!("{}", scene::plan::plan(&scene));
+    print!("{}", engine::plan::plan(&scene));
 
     let ctx = Context::new(0)?;
-    let mut run = SceneRunner::new(&ctx, &scene, 7)?;
-    let frames = FrameWriter::create(out.as_ref())?;
-    for frame in 0..120 {
-        run.advance_frame()?;
-        if frame % 40 == 39 {
-            println!("wrote {}", frames.write(frame, &run.render()?)?.display());
-        }
+    let mut engine = SceneEngine::new(&ctx, &scene, 7)?;
+    // The same frame loop as `texflow render`: 120 frames, every 40th written (0, 40, 80), the
+    // non-finite census of each written frame.
+    let options = LoopOptions {
+        frames: 120,
+        every: 40,
+        ..LoopOptions::default()
+    };
+    let run = FrameLoop::new(&ctx, &engine, options)?;
+    let mut sink = FolderSink::create(out.as_ref(), None)?;
+    let summary = run.run(&mut engine, &mut sink, |_| ControlFlow::Continue(()))?;
+    for path in sink.written() {
+        println!("wrote {}", path.display());
+    }
+    if summary.max_non_finite > 0 {
+        eprintln!(
+            "warning: {} particles had NaN or infinite values",
+            summary.max_non_finite
+        );
     }
     Ok(())
 }

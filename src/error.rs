@@ -132,6 +132,16 @@ pub enum Error {
         /// The OS error.
         source: std::io::Error,
     },
+    /// A run produced NaN or infinite particle state (see `LoopOptions::non_finite`).
+    #[error("frame {frame}: {count} of {live} live particles have NaN or infinite values; the scene is unstable at these settings (try a smaller --dt or more --substeps), or pass --allow-non-finite to write the frames anyway")]
+    NonFinite {
+        /// The first written frame that had any.
+        frame: u64,
+        /// Live particles with a NaN or infinite component.
+        count: u64,
+        /// Live particles.
+        live: u64,
+    },
     /// Encoding an image failed.
     #[error("could not encode {path}: {reason}")]
     Image {

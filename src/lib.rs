@@ -2,18 +2,21 @@
 //! fire thesis) reproduced faithfully: particle state lives in RGBA float textures and changes
 //! only by full-screen fragment passes into ping-pong framebuffers with multiple render targets.
 //!
-//! Layers, bottom up:
-//! - [`gl`]: a thin safe layer over glow (headless EGL context, textures, framebuffers, programs
-//!   built from the embedded `glsl/` files, the full-screen pass, ping-pong state, timer queries).
-//! - [`sim`]: the simulation passes (the fire of the thesis).
-//! - [`render`]: vertex-texture-fetch point rendering into offscreen frames, PNG output.
-//! - [`scene`]: scene descriptions, built-in scenes.
-//! - [`engine`]: a scene's simulation and renderer together; [`bench`]: GPU timings.
+//! Layers, one way (an arrow points at what a layer may import):
+//! `gl ← scene ← sim, sort, render ← engine ← bench, report ← cli`.
+//! - [`gl`]: the only code that calls GL: a headless EGL context, one owning type per GL object,
+//!   programs built from the embedded `glsl/` files, the full-screen pass, ping-pong state.
+//! - [`scene`]: scene files as data: schema, validation with line and column, built-ins.
+//! - [`sim`], [`sort`], [`render`]: the papers' passes (emit, integrate, collide, boundary;
+//!   bitonic and odd-even merge sorts; point sprites and vertex texture fetch).
+//! - [`engine`]: the engines that run a scene's passes, the pass plan and the frame loop.
+//! - [`bench`] and [`report`]: timings against floors, the papers' tables, error against run time.
+//! - [`output`], [`npy`], [`error`]: files written atomically, `.npy` arrays, the error type.
 //!
 //! ```no_run
-//! use texflow::{gl::Context, scene, Engine};
+//! use texflow::{gl::Context, scene, FireEngine};
 //! let ctx = Context::new(0)?;                       // first EGL device
-//! let mut engine = Engine::new(&ctx, scene::builtin("fire")?, 7)?;
+//! let mut engine = FireEngine::new(&ctx, scene::builtin("fire")?, 7)?;
 //! for _ in 0..30 {
 //!     engine.advance_frame();
 //! }
@@ -24,17 +27,16 @@
 #![warn(missing_docs)]
 
 pub mod bench;
-pub mod bench_scenes;
-pub mod cpu_engine;
 pub mod engine;
 pub mod error;
 pub mod gl;
 pub mod npy;
+pub mod output;
 pub mod render;
 pub mod report;
 pub mod scene;
 pub mod sim;
 pub mod sort;
 
-pub use engine::{Engine, ParticleEngine, SceneRunner};
+pub use engine::{CpuEngine, Engine, FireEngine, SceneEngine};
 pub use error::{Error, Result};

@@ -4,9 +4,9 @@
 mod common;
 
 use glam::Vec3;
-use texflow::bench_scenes::{self, bench_scenes, ScenesOptions};
-use texflow::cpu_engine::{CpuEngine, CpuSim};
-use texflow::{scene, ParticleEngine};
+use texflow::bench::scenes::{self, bench_scenes, ScenesOptions};
+use texflow::engine::cpu::{CpuEngine, CpuSim};
+use texflow::{scene, Engine};
 
 fn sized(name: &str, n: u32) -> texflow::scene::SceneFile {
     let mut s = scene::load(name).expect("built-in scene");
@@ -26,11 +26,11 @@ fn every_experiment_has_a_record_with_a_finite_rate() {
     };
     let mut calls = 0;
     let records = bench_scenes(&ctx, &[16], &opts, |_, _| calls += 1).expect("bench");
-    let names: Vec<&str> = bench_scenes::experiments().iter().map(|e| e.name).collect();
+    let names: Vec<&str> = scenes::experiments().iter().map(|e| e.name).collect();
     assert_eq!(names, ["E1", "E2", "E3", "E4", "E5"]);
     assert_eq!(calls, 5);
     assert_eq!(records.len(), 5);
-    for (r, e) in records.iter().zip(bench_scenes::experiments()) {
+    for (r, e) in records.iter().zip(scenes::experiments()) {
         assert_eq!(r.experiment, e.name);
         assert_eq!(r.size, 16);
         assert_eq!(r.particles, 256);
@@ -57,7 +57,7 @@ fn every_experiment_has_a_record_with_a_finite_rate() {
     for key in ["experiment", "size", "fps", "ms", "paper_fps"] {
         assert!(json[0].get(key).is_some(), "{key}");
     }
-    let table = bench_scenes::markdown(&records);
+    let table = scenes::markdown(&records);
     for n in names {
         assert!(table.contains(n), "{table}");
     }
@@ -66,7 +66,7 @@ fn every_experiment_has_a_record_with_a_finite_rate() {
 
 #[test]
 fn paper_columns_and_ratios() {
-    let e: Vec<_> = bench_scenes::experiments();
+    let e: Vec<_> = scenes::experiments();
     assert_eq!(e[0].paper(256), Some(640.0));
     assert_eq!(e[2].paper(1024), Some(1.4));
     assert_eq!(e[4].paper(512), Some(2.0));
@@ -96,7 +96,7 @@ fn paper_columns_and_ratios() {
 fn compare(name: &str, n: u32, frames: usize) {
     let ctx = common::context();
     let scene = sized(name, n);
-    let mut gpu = ParticleEngine::new(&ctx, &scene, 7).expect("GPU engine");
+    let mut gpu = Engine::new(&ctx, &scene, 7).expect("GPU engine");
     let mut cpu = CpuSim::new(&scene, 7).expect("CPU engine");
     // Step 0: the initial fill (statics: phase, type, total life, random number).
     let st_gpu = gpu.sim().statics().read_f32().unwrap();
@@ -216,7 +216,7 @@ fn cpu_engine_frame_matches_the_gpu_frame_on_e3() {
     // rounding of positions (a point may land in the neighbouring pixel) and of ties in the order.
     let ctx = common::context();
     let scene = sized("e3", 32);
-    let mut gpu = ParticleEngine::new(&ctx, &scene, 5).unwrap();
+    let mut gpu = Engine::new(&ctx, &scene, 5).unwrap();
     let mut cpu = CpuEngine::new(&ctx, &scene, 5).unwrap();
     for _ in 0..120 {
         gpu.advance_frame().unwrap();

@@ -9,7 +9,7 @@ use texflow::gl::{Defines, FullscreenPass, PingPong, Program, TextureFormat, FUL
 use texflow::render::{Camera, FrameTarget, PointRenderer, PointStyle};
 use texflow::scene;
 use texflow::sim::{FireParams, FireSim};
-use texflow::Engine;
+use texflow::FireEngine;
 
 /// A pass that adds 1 to both MRT targets: after k steps both hold initial + k, texel by texel,
 /// at square, non-square and non-power-of-two sizes (a half-texel shift or a missed swap fails).
@@ -253,7 +253,7 @@ fn png_bytes(seed: u64) -> Vec<u8> {
     let mut s = scene::fire();
     s.particles = [96, 80];
     s.resolution = [128, 96];
-    let mut engine = Engine::new(&ctx, s, seed).unwrap();
+    let mut engine = FireEngine::new(&ctx, s, seed).unwrap();
     for _ in 0..40 {
         engine.advance_frame();
     }

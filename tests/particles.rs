@@ -404,7 +404,7 @@ acceleration = [0.0, -9.81, 0.0]
 /// Each built-in scene's pass list holds exactly what it needs.
 #[test]
 fn builtin_pass_lists_hold_what_each_scene_needs() {
-    let plan = |n: &str| scene::plan::plan(&scene::load(n).unwrap());
+    let plan = |n: &str| texflow::engine::plan::plan(&scene::load(n).unwrap());
     let text = |n: &str| plan(n).to_string();
     for n in scene::BUILTIN {
         let t = text(n);
@@ -439,7 +439,7 @@ fn builtin_pass_lists_hold_what_each_scene_needs() {
     assert!(f.contains("live rows only"));
     // Birth and death only for particles that have a life.
     let permanent = scene_with([4, 4], "verlet", 0.01, "");
-    let p = scene::plan::plan(&permanent).to_string();
+    let p = texflow::engine::plan::plan(&permanent).to_string();
     assert!(
         !p.contains("emit") && !p.contains("death") && !p.contains("forces"),
         "{p}"
@@ -459,7 +459,7 @@ fn sorted_distances(
     s.particles.size = [16, 16];
     s.render.resolution = [64, 64];
     s.render.sort.passes_per_frame = spread;
-    let mut e = texflow::ParticleEngine::new(&ctx, &s, 4).unwrap();
+    let mut e = texflow::Engine::new(&ctx, &s, 4).unwrap();
     let eye = e.camera().eye();
     let mut out = Vec::new();
     for _ in 0..frames {
@@ -542,7 +542,7 @@ fn orbiting_camera_is_followed_by_the_sort() {
     s.render.resolution = [64, 64];
     s.render.camera.orbit = 90.0;
     let start = scene::camera(&s.render.camera);
-    let mut e = texflow::ParticleEngine::new(&ctx, &s, 4).unwrap();
+    let mut e = texflow::Engine::new(&ctx, &s, 4).unwrap();
     let frames = 90;
     for _ in 0..frames {
         e.advance_frame().unwrap();

@@ -2,13 +2,13 @@
 
 pub mod atlas;
 mod camera;
-mod frames;
+
 mod particles;
 mod points;
 mod target;
 
 pub use camera::Camera;
-pub use frames::{write_png_atomic, FrameWriter};
+
 pub use particles::{
     default_keyframes, relative_age, KeyframeRamp, ParticleRenderer, ParticleStyle,
 };

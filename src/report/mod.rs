@@ -237,7 +237,7 @@ pub fn check_files(section: &str, files: &[PathBuf]) -> Result<()> {
 
 /// Creates the output folder after the same checks as `render --out`.
 pub fn create_dir(out: &Path) -> Result<()> {
-    crate::render::FrameWriter::check(out)?;
+    crate::output::FrameWriter::check(out)?;
     fs::create_dir_all(out).map_err(|source| Error::Io {
         path: out.to_owned(),
         source,
@@ -482,7 +482,7 @@ pub fn plot_loglog(
         path: path.to_owned(),
         reason: "plot buffer of the wrong size".into(),
     })?;
-    crate::render::write_png_atomic(path, &img)
+    crate::output::write_png_atomic(path, &img)
 }
 
 fn marker_element<DB: plotters::prelude::DrawingBackend>(

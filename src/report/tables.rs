@@ -8,9 +8,9 @@
 use std::path::Path;
 
 use super::{Progress, ReportOptions, SectionOutput, Size};
+use crate::bench::scenes::{self as bs, SceneRecord, ScenesOptions};
 use crate::bench::{bench_sort, bench_step, sort_markdown, step_markdown, Clock};
 use crate::bench::{SortBenchOptions, SortRecord, StepOptions, StepRecord};
-use crate::bench_scenes::{self as bs, SceneRecord, ScenesOptions};
 use crate::error::Result;
 use crate::gl::Context;
 use crate::sort::Variant;
@@ -116,7 +116,7 @@ pub fn render_paths(ctx: &Context, size: Size, progress: Progress<'_>) -> Result
             let mut scene = crate::scene::load("e1")?;
             scene.particles.size = [n, n];
             scene.render.path = path;
-            let mut engine = crate::engine::ParticleEngine::new(ctx, &scene, 1)?;
+            let mut engine = crate::engine::Engine::new(ctx, &scene, 1)?;
             for _ in 0..warmup.unwrap_or_else(|| bs::default_warmup_frames(&scene)) {
                 engine.advance_frame()?;
             }

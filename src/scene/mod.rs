@@ -2,7 +2,6 @@
 //! Built-in scenes are the files in `examples/scenes/`, compiled into the binary.
 
 pub mod file;
-pub mod plan;
 
 use std::path::Path;
 
@@ -88,7 +87,7 @@ pub struct Scene {
 }
 
 /// Looks up a built-in fire scene (the thesis model); other scenes run through
-/// [`crate::engine::SceneRunner`].
+/// [`crate::engine::SceneEngine`].
 pub fn builtin(name: &str) -> Result<Scene> {
     Scene::from_file(&load_builtin(name)?)
 }

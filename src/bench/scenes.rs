@@ -8,7 +8,7 @@
 //! | E2 | height-field collisions (`e2.toml`) | GPU | integration pass with the height field, points |
 //! | E3 | collisionless motion, front-to-back sorting and rendering (`e3.toml`) | GPU | integration pass, key pass, GP/FP-packed bitonic sort, gather, points under the under operator |
 //! | E4 | inter-particle collisions, rows-only sort, 8 neighbours each side | GPU | see [`E4_SCENE`] (not run until it is set) |
-//! | E5 | E3 on the CPU: the same scene, physics and spawns | CPU ([`crate::cpu_engine`]) | steps on all cores, quicksort by viewer distance, upload of the vertices, point draw |
+//! | E5 | E3 on the CPU: the same scene, physics and spawns | CPU ([`crate::engine::cpu`]) | steps on all cores, quicksort by viewer distance, upload of the vertices, point draw |
 //!
 //! Every experiment runs at each size with the scene's `particles.size` set to size × size. The
 //! state is first advanced by `warmup_frames` frames of simulation only (default: one full
@@ -25,8 +25,8 @@
 use std::time::Instant;
 
 use crate::bench::{median, Clock, PassTimer};
-use crate::cpu_engine::CpuEngine;
-use crate::engine::ParticleEngine;
+use crate::engine::cpu::CpuEngine;
+use crate::engine::Engine;
 use crate::error::{Error, Result};
 use crate::gl::Context;
 use crate::scene::SceneFile;
@@ -36,7 +36,7 @@ pub const PAPER_SIZES: [u32; 3] = [256, 512, 1024];
 
 // ------------------------------------------------------------------------------------------------
 // E4: inter-particle collisions (`crate::sim::collide`) run from a scene like E1-E3: each size
-// overrides `particles.size`, `ParticleEngine::advance_frame` runs the collision stage inside
+// overrides `particles.size`, `Engine::advance_frame` runs the collision stage inside
 // `ParticleSim::step`, `draw` draws the frame; the warm-up is one emission cycle (`--warmup`
 // shortens it). `tests/bench_scenes.rs` checks either state: not run, or measured.
 // ------------------------------------------------------------------------------------------------
@@ -80,8 +80,8 @@ fn timed(timer: &PassTimer, f: impl FnOnce() -> Result<()>) -> Result<f64> {
     res.map(|_| t)
 }
 
-/// A scene of the GPU particle pipeline: [`ParticleEngine`] (E1-E4).
-pub struct GpuScene(pub ParticleEngine);
+/// A scene of the GPU particle pipeline: [`Engine`] (E1-E4).
+pub struct GpuScene(pub Engine);
 
 impl FrameSource for GpuScene {
     fn warm_up(&mut self, frames: usize) -> Result<()> {
@@ -166,7 +166,7 @@ pub fn gpu_scene(
     opts: &ScenesOptions,
 ) -> Result<Box<dyn FrameSource>> {
     let s = sized(scene, size, opts);
-    Ok(Box::new(GpuScene(ParticleEngine::new(ctx, &s, opts.seed)?)))
+    Ok(Box::new(GpuScene(Engine::new(ctx, &s, opts.seed)?)))
 }
 
 /// The CPU engine on `scene` at size × size particles.

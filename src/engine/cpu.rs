@@ -10,7 +10,7 @@
 //!   time-stamp birth, respawn and death around it (UberFlow §4.1, the `TIMESTAMP` block of the
 //!   shader) and the initial fill (`glsl/sim/init.frag`) are twinned here with the GPU's spawn
 //!   streams ([`Rng`], [`EmitterUniforms`]), so that the same seed gives the same particles as
-//!   [`crate::ParticleEngine`], up to rounding.
+//!   [`crate::Engine`], up to rounding.
 //! - [`CpuEngine`]: a [`CpuSim`] and what a CPU engine does every frame to draw it: the viewer
 //!   distance of every live particle, a quicksort of them (rayon's parallel pattern-defeating
 //!   quicksort, `par_sort_unstable`, on (distance, index) keys: data-dependent, unlike the GPU's

@@ -1,107 +1,14 @@
-//! The engine: a scene's simulation, its renderer and its frame target on one context.
-//!
-//! One frame is `substeps` simulation steps of `dt` seconds, then one render pass. Each step is
-//! one full-screen pass that reads the front state and writes the back state (MRT), then a swap.
+//! The particle pipeline of UberFlow and Latta: simulation, the sort alpha blending needs, and
+//! rendering, on one context.
 
+use super::shader_seed;
 use crate::error::Result;
 use crate::gl::Context;
-use crate::render::{FrameTarget, PointRenderer};
-use crate::scene::Scene;
-
-use crate::sim::FireSim;
-
-/// Runs one scene.
-#[derive(Debug)]
-pub struct Engine {
-    scene: Scene,
-    sim: FireSim,
-    points: PointRenderer,
-    target: FrameTarget,
-    ctx: Context,
-}
-
-/// Folds a 64-bit seed into the 32 bits the shader hash takes.
-pub fn shader_seed(seed: u64) -> u32 {
-    (seed as u32) ^ ((seed >> 32) as u32)
-}
-
-impl Engine {
-    /// Validates the scene against itself and the device, and builds everything.
-    pub fn new(ctx: &Context, scene: Scene, seed: u64) -> Result<Self> {
-        scene.validate()?;
-        let [w, h] = scene.particles;
-        crate::gl::check_size(ctx, "particle texture (--particles)", w, h)?;
-        let [rw, rh] = scene.resolution;
-        crate::gl::check_size(ctx, "frame (--resolution)", rw, rh)?;
-        let sim = FireSim::new(ctx, w, h, scene.fire.clone(), shader_seed(seed))?;
-        Ok(Engine {
-            points: PointRenderer::new(ctx)?,
-            target: FrameTarget::new(ctx, rw, rh)?,
-            sim,
-            scene,
-            ctx: ctx.clone(),
-        })
-    }
-
-    /// Advances the simulation by one frame: `substeps` steps of `dt`.
-    pub fn advance_frame(&mut self) {
-        for _ in 0..self.scene.substeps {
-            self.sim.step(self.scene.dt);
-        }
-    }
-
-    /// Draws the current state into the frame target (cleared first).
-    pub fn draw(&self) {
-        self.target.clear();
-        let mut camera = self.scene.camera;
-        camera.azimuth +=
-            self.scene.orbit * (self.sim.steps() as f64 * self.scene.dt as f64) as f32;
-        self.points.draw(
-            &self.target,
-            self.sim.positions(),
-            self.sim.velocities(),
-            &camera,
-            &self.scene.style,
-        );
-    }
-
-    /// Draws the current state and reads the frame back.
-    pub fn render(&self) -> Result<image::RgbImage> {
-        self.draw();
-        let img = self.target.read_rgb()?;
-        self.ctx.check_error("rendering a frame")?;
-        Ok(img)
-    }
-
-    /// The scene.
-    pub fn scene(&self) -> &Scene {
-        &self.scene
-    }
-
-    /// The simulation.
-    pub fn sim(&self) -> &FireSim {
-        &self.sim
-    }
-
-    /// The frame target.
-    pub fn target(&self) -> &FrameTarget {
-        &self.target
-    }
-
-    /// The point renderer.
-    pub fn points(&self) -> &PointRenderer {
-        &self.points
-    }
-
-    /// The context.
-    pub fn context(&self) -> &Context {
-        &self.ctx
-    }
-}
+use crate::render::FrameTarget;
 
 /// Runs a scene of the particle pipeline: simulation, the sort alpha blending needs, rendering.
 #[derive(Debug)]
-pub struct ParticleEngine {
+pub struct Engine {
     sim: crate::sim::ParticleSim,
     renderer: crate::render::ParticleRenderer,
     sort: Option<SortStage>,
@@ -123,7 +30,7 @@ struct SortStage {
     keyed: bool,
 }
 
-impl ParticleEngine {
+impl Engine {
     /// Validates the scene against the device and builds everything.
     pub fn new(ctx: &Context, scene: &crate::scene::SceneFile, seed: u64) -> Result<Self> {
         use crate::gl::{Framebuffer, Texture, TextureDesc, TextureFormat};
@@ -141,7 +48,7 @@ impl ParticleEngine {
         let mut style = crate::render::ParticleStyle::from_render(&scene.render, scales);
         style.type_tile = tiles;
         let renderer = crate::render::ParticleRenderer::new(ctx, style, w, h)?;
-        let sort = match crate::scene::plan::sort_plan(scene) {
+        let sort = match crate::engine::plan::sort_plan(scene) {
             None => None,
             Some(p) => {
                 let options = crate::sort::SortOptions {
@@ -176,7 +83,7 @@ impl ParticleEngine {
             }
         };
         let camera = crate::scene::camera(&scene.render.camera);
-        Ok(ParticleEngine {
+        Ok(Engine {
             target: FrameTarget::new(ctx, rw, rh)?,
             camera,
             camera_start: camera,
@@ -302,111 +209,5 @@ impl ParticleEngine {
     /// The renderer.
     pub fn renderer(&self) -> &crate::render::ParticleRenderer {
         &self.renderer
-    }
-}
-
-/// Either engine, chosen by the scene: the thesis's fire or the particle pipeline.
-#[derive(Debug)]
-pub enum SceneRunner {
-    /// A scene with a `[fire]` section.
-    Fire(Box<Engine>),
-    /// Every other scene.
-    Particles(Box<ParticleEngine>),
-}
-
-/// Live particles' positions and velocities, N×4 each, for `--dump-state`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct StateDump {
-    /// xyz and remaining life of every live particle.
-    pub positions: Vec<[f32; 4]>,
-    /// Velocity (xyz, 0) of the same particles.
-    pub velocities: Vec<[f32; 4]>,
-    /// Live particles with a NaN or infinite component: kept in the dump, and counted so that
-    /// the CLI reports them rather than hiding them.
-    pub non_finite: usize,
-}
-
-impl SceneRunner {
-    /// Builds the engine `scene` needs.
-    pub fn new(ctx: &Context, scene: &crate::scene::SceneFile, seed: u64) -> Result<Self> {
-        Ok(if scene.fire.is_some() {
-            SceneRunner::Fire(Box::new(Engine::new(ctx, Scene::from_file(scene)?, seed)?))
-        } else {
-            SceneRunner::Particles(Box::new(ParticleEngine::new(ctx, scene, seed)?))
-        })
-    }
-
-    /// Advances one frame.
-    pub fn advance_frame(&mut self) -> Result<()> {
-        match self {
-            SceneRunner::Fire(e) => {
-                e.advance_frame();
-                Ok(())
-            }
-            SceneRunner::Particles(e) => e.advance_frame(),
-        }
-    }
-
-    /// Renders the current state.
-    pub fn render(&mut self) -> Result<image::RgbImage> {
-        match self {
-            SceneRunner::Fire(e) => e.render(),
-            SceneRunner::Particles(e) => e.render(),
-        }
-    }
-
-    /// Simulation steps taken.
-    pub fn steps(&self) -> u64 {
-        match self {
-            SceneRunner::Fire(e) => e.sim().steps(),
-            SceneRunner::Particles(e) => e.sim().steps(),
-        }
-    }
-
-    /// State texture size.
-    pub fn state_size(&self) -> [u32; 2] {
-        match self {
-            SceneRunner::Fire(e) => e.scene().particles,
-            SceneRunner::Particles(e) => e.sim().size().to_array(),
-        }
-    }
-
-    /// Counts the live particles with a NaN or infinite component on the GPU (a reduction by
-    /// fragment passes), so that garbage is reported instead of rendered silently.
-    pub fn non_finite(
-        &self,
-        counter: &crate::sim::nonfinite::NonFiniteCounter,
-    ) -> Result<crate::sim::nonfinite::NonFiniteCount> {
-        match self {
-            SceneRunner::Fire(e) => counter.count(e.sim().positions(), Some(e.sim().velocities())),
-            SceneRunner::Particles(e) => counter.count_sim(e.sim()),
-        }
-    }
-
-    /// Reads back the live particles (remaining life > 0).
-    pub fn dump(&self) -> Result<StateDump> {
-        let (pos, vel) = match self {
-            SceneRunner::Fire(e) => (
-                e.sim().positions().read_f32()?,
-                e.sim().velocities().read_f32()?,
-            ),
-            SceneRunner::Particles(e) => (e.sim().read_positions()?, e.sim().read_velocities()?),
-        };
-        let mut d = StateDump {
-            positions: Vec::new(),
-            velocities: Vec::new(),
-            non_finite: 0,
-        };
-        for (p, v) in pos.chunks_exact(4).zip(vel.chunks_exact(4)) {
-            if p[3] > 0.0 {
-                if !p.iter().chain(&v[..3]).all(|x| x.is_finite()) {
-                    d.non_finite += 1;
-                }
-                d.positions.push([p[0], p[1], p[2], p[3]]);
-                // The fire keeps its wait counter in velocity.w; the dump holds velocities only.
-                d.velocities.push([v[0], v[1], v[2], 0.0]);
-            }
-        }
-        Ok(d)
     }
 }

@@ -1,0 +1,13 @@
+//! Benchmarks: time of passes, medians over many runs after warm-up, each pass next to its floor
+//! measured in the same run (a write-only pass of the same size and formats: on a GPU whose
+//! fragment path is bound by the bytes it writes, no pass that writes those targets can be
+//! faster).
+
+pub mod scenes;
+pub mod sort;
+pub mod stats;
+pub mod step;
+
+pub use sort::{bench_sort, paper_table1_fps, sort_markdown, SortBenchOptions, SortRecord};
+pub use stats::{median, Clock, PassTimer, WriteFloor};
+pub use step::{bench_step, step_markdown, StepOptions, StepRecord};

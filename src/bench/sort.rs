@@ -1,0 +1,239 @@
+//! `texflow bench sort`: UberFlow's Table 1, full sorts per variant and size with floors and CPU
+//! baselines.
+
+use std::time::Instant;
+
+use glam::Vec3;
+
+use super::stats::{median, Clock, PassTimer, WriteFloor};
+use crate::error::Result;
+use crate::gl::{Context, PingPong, TextureFormat};
+use crate::sort::network::{key_order_bits, Entry};
+use crate::sort::{KeyMode, SortOptions, Sorter, Variant};
+
+/// UberFlow's Table 1 (fps on an ATI 9800 Pro, 2004) for a variant and texture side, if the paper
+/// has it.
+pub fn paper_table1_fps(variant: Variant, size: u32) -> Option<f64> {
+    let row: &[f64; 4] = match variant {
+        Variant::Fp => &[22.0, 3.5, 1.0, 0.2],
+        Variant::GpFp => &[40.0, 10.0, 3.0, 0.4],
+        Variant::Packed => &[148.0, 43.0, 10.0, 2.0],
+        _ => return None,
+    };
+    let col = match size {
+        128 => 0,
+        256 => 1,
+        512 => 2,
+        1024 => 3,
+        _ => return None,
+    };
+    Some(row[col])
+}
+
+/// One row of `texflow bench sort`: a full sort of size × size entries including the key pass and
+/// the rearrangement of two RGBA32F state textures, or a CPU baseline on the same keys.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct SortRecord {
+    /// `fp`, `gpfp`, `packed`, `oddeven`, `multistep`, or `cpu-sort_unstable_by`,
+    /// `cpu-par_sort_unstable_by`.
+    pub variant: String,
+    /// Texture side (size × size entries).
+    pub size: u32,
+    /// Median milliseconds of one full sort.
+    pub ms: f64,
+    /// Full sorts per second (the paper's fps).
+    pub fps: f64,
+    /// Millions of entries sorted per second.
+    pub mtexels_per_s: f64,
+    /// Passes: key pass + sort passes + rearrangement (0 for the CPU).
+    pub passes: usize,
+    /// The floor: write-only passes of the same formats and sizes, as many as the sort has.
+    pub floor_ms: Option<f64>,
+    /// ms / floor_ms.
+    pub ratio: Option<f64>,
+    /// UberFlow Table 1 fps, where the paper has the variant and size.
+    pub paper_fps: Option<f64>,
+    /// The clock (CPU baselines: wall time).
+    pub clock: Clock,
+    /// Timed runs behind the median.
+    pub repeats: usize,
+}
+
+/// The records of [`bench_sort`] as a markdown table (UberFlow's Table 1 beside them).
+pub fn sort_markdown(records: &[SortRecord]) -> String {
+    let mut out = String::from(
+        "| variant | size | ms | fps | paper fps (9800 Pro) | M entries/s | passes | floor ms | \
+         ms / floor |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    let opt = |v: Option<f64>, digits: usize| {
+        v.map(|x| format!("{x:.digits$}"))
+            .unwrap_or_else(|| "–".into())
+    };
+    for r in records {
+        out.push_str(&format!(
+            "| {} | {}² | {:.3} | {:.1} | {} | {:.1} | {} | {} | {} |\n",
+            r.variant,
+            r.size,
+            r.ms,
+            r.fps,
+            opt(r.paper_fps, 1),
+            r.mtexels_per_s,
+            if r.passes == 0 {
+                "–".to_string()
+            } else {
+                r.passes.to_string()
+            },
+            opt(r.floor_ms, 3),
+            opt(r.ratio, 2)
+        ));
+    }
+    out
+}
+
+/// Options of [`bench_sort`].
+#[derive(Debug, Clone)]
+pub struct SortBenchOptions {
+    /// Timed repetitions per variant and size.
+    pub repeats: usize,
+    /// Clock; `None` picks [`Clock::for_context`].
+    pub clock: Option<Clock>,
+    /// Also time the CPU baselines.
+    pub cpu: bool,
+    /// Steps per pass of the multistep variant.
+    pub steps_per_pass: usize,
+}
+
+fn lcg(state: &mut u64) -> f32 {
+    *state = state
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    ((*state >> 40) as f32) / (1u64 << 24) as f32
+}
+
+/// Times full sorts (key pass, network, rearrangement) of each variant at each size, with
+/// floors, and the CPU sorting the same keys.
+pub fn bench_sort(
+    ctx: &Context,
+    sizes: &[u32],
+    variants: &[Variant],
+    opts: &SortBenchOptions,
+    mut progress: impl FnMut(&str, u32),
+) -> Result<Vec<SortRecord>> {
+    let clock = opts.clock.unwrap_or_else(|| Clock::for_context(ctx));
+    let timer = PassTimer::new(ctx, clock)?;
+    let floor1 = WriteFloor::new(ctx, 1)?;
+    let floor2 = WriteFloor::new(ctx, 2)?;
+    let mut records = Vec::new();
+    for &n in sizes {
+        let count = (n * n) as usize;
+        let mut seed = 0x5eed_u64 + n as u64;
+        let pos: Vec<f32> = (0..count)
+            .flat_map(|_| {
+                let mut c = || lcg(&mut seed) * 20.0 - 10.0;
+                [c(), c(), c(), 1.0]
+            })
+            .collect();
+        let state = PingPong::new(
+            ctx,
+            "bench state",
+            &["position", "velocity"],
+            &[TextureFormat::Rgba32F, TextureFormat::Rgba32F],
+            n,
+            n,
+        )?;
+        state.front().texture(0).upload_f32(&pos)?;
+        state.front().texture(1).upload_f32(&pos)?;
+        let mode = KeyMode::ViewerDistance {
+            eye: Vec3::new(0.0, 0.0, 40.0),
+            back_to_front: true,
+        };
+        let median_of = |f: &mut dyn FnMut() -> Result<f64>| -> Result<f64> {
+            let mut t = Vec::with_capacity(opts.repeats);
+            for _ in 0..opts.repeats {
+                t.push(f()?);
+            }
+            Ok(median(&t))
+        };
+        let rearrange_floor = median_of(&mut || timer.time(|| floor2.draw(state.back())))?;
+        let mut keys_for_cpu = None;
+        for &variant in variants {
+            let options = SortOptions {
+                steps_per_pass: opts.steps_per_pass,
+                ..SortOptions::default()
+            };
+            let mut sorter = Sorter::new(ctx, variant, n, n, options)?;
+            let full = |s: &mut Sorter| -> Result<()> {
+                s.write_keys(state.front().texture(0), count, &mode, false)?;
+                s.sort();
+                s.rearrange(state.front(), state.back())
+            };
+            full(&mut sorter)?; // warm-up: compiles lazily built programs, touches every buffer
+            if keys_for_cpu.is_none() {
+                sorter.write_keys(state.front().texture(0), count, &mode, false)?;
+                keys_for_cpu = Some(sorter.read()?);
+            }
+            let ms = median_of(&mut || {
+                let mut r = Ok(());
+                let t = timer.time(|| r = full(&mut sorter))?;
+                r.map(|_| t)
+            })?;
+            let sort_floor = median_of(&mut || timer.time(|| floor1.draw(sorter.target())))?;
+            ctx.check_error("sort benchmark")?;
+            let passes = sorter.pass_count() + 2;
+            let floor = sort_floor * (passes - 1) as f64 + rearrange_floor;
+            records.push(SortRecord {
+                variant: variant.name().into(),
+                size: n,
+                ms,
+                fps: 1e3 / ms,
+                mtexels_per_s: count as f64 / ms * 1e-3,
+                passes,
+                floor_ms: Some(floor),
+                ratio: Some(ms / floor),
+                paper_fps: paper_table1_fps(variant, n),
+                clock,
+                repeats: opts.repeats,
+            });
+            progress(variant.name(), n);
+        }
+        if let (true, Some(keys)) = (opts.cpu, keys_for_cpu) {
+            fn order(a: &Entry, b: &Entry) -> std::cmp::Ordering {
+                (key_order_bits(a[0]), a[1].to_bits()).cmp(&(key_order_bits(b[0]), b[1].to_bits()))
+            }
+            type CpuSort = fn(&mut [Entry]);
+            let baselines: [(&str, CpuSort); 2] = [
+                ("cpu-sort_unstable_by", |v| v.sort_unstable_by(order)),
+                ("cpu-par_sort_unstable_by", |v| {
+                    use rayon::slice::ParallelSliceMut;
+                    v.par_sort_unstable_by(order)
+                }),
+            ];
+            for (name, sort) in baselines {
+                let mut t = Vec::new();
+                for _ in 0..opts.repeats {
+                    let mut v = keys.clone();
+                    let t0 = Instant::now();
+                    sort(&mut v);
+                    t.push(t0.elapsed().as_secs_f64() * 1e3);
+                    std::hint::black_box(&v);
+                }
+                let ms = median(&t);
+                records.push(SortRecord {
+                    variant: name.into(),
+                    size: n,
+                    ms,
+                    fps: 1e3 / ms,
+                    mtexels_per_s: count as f64 / ms * 1e-3,
+                    passes: 0,
+                    floor_ms: None,
+                    ratio: None,
+                    paper_fps: None,
+                    clock: Clock::Wall,
+                    repeats: opts.repeats,
+                });
+            }
+            progress("cpu", n);
+        }
+    }
+    Ok(records)
+}

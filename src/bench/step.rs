@@ -1,0 +1,142 @@
+//! `texflow bench step`: the fire's simulation pass and render pass per state size, each next to
+//! its floor measured in the same run.
+
+use super::stats::{median, Clock, PassTimer, WriteFloor};
+use crate::engine::FireEngine;
+use crate::error::Result;
+use crate::gl::Context;
+use crate::scene::Scene;
+
+/// One row of `texflow bench step`.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct StepRecord {
+    /// Scene name.
+    pub scene: String,
+    /// State texture side (size × size particles).
+    pub size: u32,
+    /// Number of particles.
+    pub particles: u64,
+    /// Median GPU time of one simulation pass, ms.
+    pub sim_ms: f64,
+    /// Median GPU time of a write-only pass into the same targets, ms.
+    pub sim_floor_ms: f64,
+    /// sim_ms / sim_floor_ms.
+    pub sim_ratio: f64,
+    /// Simulated particles per second (particles / sim_ms).
+    pub particles_per_s: f64,
+    /// Median GPU time of one render pass (clear + points), ms.
+    pub render_ms: f64,
+    /// Median GPU time of a write-only full-screen pass into the frame target, ms.
+    pub render_floor_ms: f64,
+    /// render_ms / render_floor_ms.
+    pub render_ratio: f64,
+    /// Frame size the render pass drew.
+    pub resolution: [u32; 2],
+    /// Timed repetitions behind each median.
+    pub repeats: usize,
+    /// The clock the times come from.
+    pub clock: Clock,
+}
+
+/// The records of [`bench_step`] as a markdown table.
+pub fn step_markdown(records: &[StepRecord]) -> String {
+    let mut out = format!(
+        "| state | particles | sim ms | floor ms | sim/floor | Mparticles/s | render ms ({}) | \
+         render floor ms | render/floor |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        records
+            .first()
+            .map(|r| format!("{}x{}", r.resolution[0], r.resolution[1]))
+            .unwrap_or_default()
+    );
+    for r in records {
+        out.push_str(&format!(
+            "| {0}x{0} | {1} | {2:.3} | {3:.3} | {4:.2} | {5:.1} | {6:.3} | {7:.3} | {8:.2} |\n",
+            r.size,
+            r.particles,
+            r.sim_ms,
+            r.sim_floor_ms,
+            r.sim_ratio,
+            r.particles_per_s * 1e-6,
+            r.render_ms,
+            r.render_floor_ms,
+            r.render_ratio
+        ));
+    }
+    out
+}
+
+/// Options of [`bench_step`].
+#[derive(Debug, Clone)]
+pub struct StepOptions {
+    /// Timed repetitions per size.
+    pub repeats: usize,
+    /// Simulation steps before timing, so that the state is in its steady state.
+    pub warmup_steps: usize,
+    /// The clock; `None` picks [`Clock::for_context`].
+    pub clock: Option<Clock>,
+}
+
+impl Default for StepOptions {
+    fn default() -> Self {
+        StepOptions {
+            repeats: 21,
+            warmup_steps: 120,
+            clock: None,
+        }
+    }
+}
+
+/// Times the simulation and render passes of `scene` at each square state size.
+pub fn bench_step(
+    ctx: &Context,
+    scene: &Scene,
+    sizes: &[u32],
+    opts: &StepOptions,
+    mut progress: impl FnMut(u32),
+) -> Result<Vec<StepRecord>> {
+    let sim_floor = WriteFloor::new(ctx, 2)?;
+    let render_floor = WriteFloor::new(ctx, 1)?;
+    let timer = PassTimer::new(ctx, opts.clock.unwrap_or_else(|| Clock::for_context(ctx)))?;
+    let mut records = Vec::new();
+    for &size in sizes {
+        let mut s = scene.clone();
+        s.particles = [size, size];
+        let mut engine = FireEngine::new(ctx, s, 1)?;
+        let dt = scene.dt;
+        for _ in 0..opts.warmup_steps {
+            engine.advance_frame();
+        }
+        let mut t = [vec![], vec![], vec![], vec![]];
+        for _ in 0..opts.repeats {
+            let sim = engine.sim();
+            t[0].push(timer.time(|| sim_floor.draw(sim.state().back()))?);
+            sim.bind_step(dt);
+            t[1].push(timer.time(|| sim.draw_step_only())?);
+            // The timed pass wrote the back without swapping; advancing redoes it and swaps, so
+            // the state keeps evolving between repetitions.
+            engine.advance_frame();
+            t[2].push(timer.time(|| render_floor.draw(engine.target().framebuffer()))?);
+            t[3].push(timer.time(|| engine.draw())?);
+        }
+        ctx.check_error("benchmark")?;
+        let [floor, sim_ms, rfloor, render] = t.map(|v| median(&v));
+        let particles = size as u64 * size as u64;
+        records.push(StepRecord {
+            scene: scene.name.clone(),
+            size,
+            particles,
+            sim_ms,
+            sim_floor_ms: floor,
+            sim_ratio: sim_ms / floor,
+            particles_per_s: particles as f64 / (sim_ms * 1e-3),
+            render_ms: render,
+            render_floor_ms: rfloor,
+            render_ratio: render / rfloor,
+            resolution: scene.resolution,
+            repeats: opts.repeats,
+            clock: timer.clock(),
+        });
+        progress(size);
+    }
+    Ok(records)
+}

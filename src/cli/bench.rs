@@ -1,0 +1,296 @@
+//! `texflow bench`: step, sort and scenes benchmarks.
+
+use clap::{Args, Subcommand};
+use texflow::bench::{
+    bench_sort, bench_step, Clock, SortBenchOptions, SortRecord, StepOptions, StepRecord,
+};
+use texflow::gl::Context;
+use texflow::scene;
+use texflow::sort::Variant;
+
+use super::{bad, parse_size, progress_bar, ClockArg, Common};
+
+#[derive(Subcommand)]
+pub enum BenchCommand {
+    /// UberFlow's Table 2: fps of whole frames of E1-E5 per state size, next to the paper's.
+    Scenes(ScenesArgs),
+    /// GPU time of the simulation pass and the render pass per state size, with floors.
+    Step {
+        /// Scene to measure.
+        #[arg(long, default_value = scene::DEFAULT_SCENE)]
+        scene: String,
+        /// Square state sizes, comma-separated.
+        #[arg(long, value_delimiter = ',', default_value = "256,512,1024,2048")]
+        sizes: Vec<u32>,
+        /// Timed repetitions per size (the median is reported).
+        #[arg(long, default_value_t = 21)]
+        repeats: usize,
+        /// Frame size WxH of the render pass.
+        #[arg(long, value_parser = parse_size)]
+        resolution: Option<[u32; 2]>,
+        /// How to time passes: auto (wall time on llvmpipe, timer queries on a GPU), gpu, wall.
+        #[arg(long, value_enum, default_value_t = ClockArg::Auto)]
+        clock: ClockArg,
+        /// Print JSON (one record per size).
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// UberFlow's Table 1: full sorts per variant and size, with floors and CPU baselines.
+    Sort {
+        /// Texture sides (size x size entries), powers of two, comma-separated.
+        #[arg(long, value_delimiter = ',', default_value = "128,256,512,1024,2048")]
+        sizes: Vec<u32>,
+        /// Variants, comma-separated, or `all`.
+        #[arg(long, value_delimiter = ',', default_value = "all")]
+        variants: Vec<String>,
+        /// Timed repetitions per variant and size (the median is reported).
+        #[arg(long, default_value_t = 11)]
+        repeats: usize,
+        /// Skip the CPU baselines.
+        #[arg(long)]
+        no_cpu: bool,
+        /// Steps of distance 2 or more per pass of the multistep variant (1 to 3).
+        #[arg(long, default_value_t = 2)]
+        steps: usize,
+        /// How to time: auto, gpu, wall.
+        #[arg(long, value_enum, default_value_t = ClockArg::Auto)]
+        clock: ClockArg,
+        /// Print JSON (one record per variant and size).
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        common: Common,
+    },
+}
+
+pub fn print_sort_table(records: &[SortRecord]) {
+    print!("{}", texflow::bench::sort_markdown(records));
+}
+
+pub fn bench(cmd: BenchCommand) -> texflow::Result<()> {
+    match cmd {
+        BenchCommand::Scenes(a) => bench_scenes(a),
+        BenchCommand::Sort {
+            sizes,
+            variants,
+            repeats,
+            no_cpu,
+            steps,
+            clock,
+            json,
+            common,
+        } => {
+            let variants: Vec<Variant> = if variants.iter().any(|v| v == "all") {
+                Variant::ALL.to_vec()
+            } else {
+                variants
+                    .iter()
+                    .map(|v| Variant::from_name(v))
+                    .collect::<texflow::Result<_>>()?
+            };
+            if sizes.is_empty() || sizes.iter().any(|&s| s < 2 || !s.is_power_of_two()) {
+                return Err(bad(
+                    "--sizes takes powers of two of at least 2, e.g. 128,256,512",
+                ));
+            }
+            if repeats == 0 {
+                return Err(bad("--repeats must be at least 1"));
+            }
+            let ctx = Context::new(common.device)?;
+            for &n in &sizes {
+                texflow::gl::check_size(&ctx, "--sizes", n, n)?;
+            }
+            let bar = progress_bar(
+                (sizes.len() * (variants.len() + 1)) as u64,
+                common.quiet,
+                "bench sort",
+            );
+            if !(1..=3).contains(&steps) {
+                return Err(bad("--steps must be 1, 2 or 3"));
+            }
+            let opts = SortBenchOptions {
+                repeats,
+                clock: clock.clock(),
+                cpu: !no_cpu,
+                steps_per_pass: steps,
+            };
+            let records = bench_sort(&ctx, &sizes, &variants, &opts, |_, _| bar.inc(1))?;
+            bar.finish_and_clear();
+            let clock = records.iter().find(|r| r.passes > 0).map(|r| r.clock);
+            report(json, &records, &ctx, clock, &format!("medians of {repeats}; full sort = key pass + network + rearrangement of 2 RGBA32F textures"), print_sort_table);
+            Ok(())
+        }
+        BenchCommand::Step {
+            scene: name,
+            sizes,
+            repeats,
+            resolution,
+            clock,
+            json,
+            common,
+        } => {
+            let mut s = scene::builtin(&name)?;
+            if let Some(r) = resolution {
+                s.resolution = r;
+            }
+            if sizes.is_empty() || sizes.contains(&0) {
+                return Err(bad("--sizes needs sizes of at least 1, e.g. 256,512"));
+            }
+            if repeats == 0 {
+                return Err(bad("--repeats must be at least 1"));
+            }
+            s.validate()?;
+            let ctx = Context::new(common.device)?;
+            for &n in &sizes {
+                texflow::gl::check_size(&ctx, "--sizes", n, n)?;
+            }
+            let bar = progress_bar(sizes.len() as u64, common.quiet, "bench step");
+            let opts = StepOptions {
+                repeats,
+                clock: clock.clock(),
+                ..StepOptions::default()
+            };
+            let records = bench_step(&ctx, &s, &sizes, &opts, |_| bar.inc(1))?;
+            bar.finish_and_clear();
+            let clock = records.first().map(|r| r.clock);
+            report(
+                json,
+                &records,
+                &ctx,
+                clock,
+                &format!("medians of {repeats}"),
+                print_step_table,
+            );
+            Ok(())
+        }
+    }
+}
+
+#[derive(Args)]
+pub struct ScenesArgs {
+    /// Square state sizes (size x size particles), comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "256,512,1024")]
+    sizes: Vec<u32>,
+    /// Experiments, comma-separated (E1, E2, E3, E4, E5), or `all`.
+    #[arg(long, value_delimiter = ',', default_value = "all")]
+    experiments: Vec<String>,
+    /// Timed frames per experiment and size (the median is reported).
+    #[arg(long, default_value_t = 11)]
+    repeats: usize,
+    /// Frames simulated before timing (default: one full emission cycle of the scene).
+    #[arg(long)]
+    warmup: Option<usize>,
+    /// Frame size WxH (default: the scenes' 512x512).
+    #[arg(long, value_parser = parse_size)]
+    resolution: Option<[u32; 2]>,
+    /// Seed of every experiment.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// How to time the GPU experiments: auto, gpu, wall (E5 always uses wall time).
+    #[arg(long, value_enum, default_value_t = ClockArg::Auto)]
+    clock: ClockArg,
+    /// Print JSON (one record per experiment and size).
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    common: Common,
+}
+
+pub fn bench_scenes(a: ScenesArgs) -> texflow::Result<()> {
+    use texflow::bench::scenes as bs;
+    if a.sizes.is_empty() || a.sizes.contains(&0) {
+        return Err(bad("--sizes needs sizes of at least 1, e.g. 256,512,1024"));
+    }
+    if a.repeats == 0 {
+        return Err(bad("--repeats must be at least 1"));
+    }
+    let experiments: Vec<String> = if a.experiments.iter().any(|e| e == "all") {
+        Vec::new()
+    } else {
+        for e in &a.experiments {
+            if !bs::experiments()
+                .iter()
+                .any(|x| x.name.eq_ignore_ascii_case(e.trim()))
+            {
+                return Err(bad(format!(
+                    "unknown experiment `{e}`: use E1, E2, E3, E4, E5 or all"
+                )));
+            }
+        }
+        a.experiments.clone()
+    };
+    let ctx = Context::new(a.common.device)?;
+    for &n in &a.sizes {
+        texflow::gl::check_size(&ctx, "--sizes", n, n)?;
+    }
+    let count = if experiments.is_empty() {
+        bs::experiments().len()
+    } else {
+        experiments.len()
+    };
+    let bar = progress_bar(
+        (a.sizes.len() * count) as u64,
+        a.common.quiet,
+        "bench scenes",
+    );
+    let opts = bs::ScenesOptions {
+        repeats: a.repeats,
+        warmup_frames: a.warmup,
+        clock: a.clock.clock(),
+        resolution: a.resolution,
+        seed: a.seed,
+        experiments,
+    };
+    let records = bs::bench_scenes(&ctx, &a.sizes, &opts, |_, _| bar.inc(1))?;
+    bar.finish_and_clear();
+    let clock = records
+        .iter()
+        .filter(|r| r.engine == "gpu")
+        .find_map(|r| r.clock)
+        .or_else(|| records.iter().find_map(|r| r.clock));
+    let warmup = match a.warmup {
+        Some(w) => format!("{w} warm-up frames"),
+        None => "a full emission cycle".into(),
+    };
+    let what = format!(
+        "medians of {} whole frames after {warmup}; E1-E4 GPU, E5 CPU engine on {} threads \
+         (wall time incl. upload, draw, glFinish); paper: ATI 9800 Pro / Pentium 4 2 GHz",
+        a.repeats,
+        rayon::current_num_threads()
+    );
+    report(a.json, &records, &ctx, clock, &what, |r| {
+        print!("{}", bs::markdown(r))
+    });
+    Ok(())
+}
+
+/// Prints benchmark records as JSON, or as a header naming the device and clock and a table.
+pub fn report<T: serde::Serialize>(
+    json: bool,
+    records: &[T],
+    ctx: &Context,
+    clock: Option<Clock>,
+    what: &str,
+    table: fn(&[T]),
+) {
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(records).unwrap_or_default()
+        );
+    } else {
+        println!(
+            "device {}: {}; {}; {what}",
+            ctx.device_index(),
+            ctx.limits().renderer,
+            clock.map(Clock::name).unwrap_or_default()
+        );
+        table(records);
+    }
+}
+
+pub fn print_step_table(records: &[StepRecord]) {
+    print!("{}", texflow::bench::step_markdown(records));
+}

@@ -1,0 +1,164 @@
+//! `texflow collide-stats`: how well the GPU finds colliding pairs.
+
+use clap::Args;
+use texflow::gl::Context;
+use texflow::scene;
+
+use super::{bad, parse_size, progress_bar, Common};
+
+#[derive(Args)]
+pub struct CollideStatsArgs {
+    /// Scene with a [collisions] section (built-in: collide) or a .toml file.
+    #[arg(default_value = "collide")]
+    scene: String,
+    /// Neighbours fetched to each side in the sorted row (UberFlow: 8).
+    #[arg(long)]
+    k: Option<u32>,
+    /// Second sort and detection on the staggered lattice.
+    #[arg(long, value_parser = ["on", "off"])]
+    staggered: Option<String>,
+    /// Sort only within sets of N consecutive rows (1 = rows only); 0 = the whole texture.
+    #[arg(long)]
+    rows_only: Option<u32>,
+    /// Lattice mesh size g0 in metres (default: the scene's).
+    #[arg(long)]
+    cell: Option<f32>,
+    /// Steps to run; the statistics are taken at the last one.
+    #[arg(long, default_value_t = 240)]
+    steps: u64,
+    /// State texture size WxH, or N for NxN (powers of two).
+    #[arg(long, value_parser = parse_size)]
+    particles: Option<[u32; 2]>,
+    /// Random seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Measure with one setting changed at a time (k, staggered, rows-only, cell size) and
+    /// print a table.
+    #[arg(long)]
+    sweep: bool,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    common: Common,
+}
+
+pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
+    let (label, src) = scene::load_source(&a.scene)?;
+    let mut s = scene::file::parse(&label, &src)?;
+    let Some(c) = s.collisions.as_mut() else {
+        return Err(bad(format!(
+            "scene `{}` has no [collisions] section: try `collide`",
+            s.name
+        )));
+    };
+    if let Some(k) = a.k {
+        c.neighbours = k;
+    }
+    if let Some(st) = &a.staggered {
+        c.staggered = st == "on";
+    }
+    match a.rows_only {
+        Some(0) => c.rows_only = None,
+        Some(n) => c.rows_only = Some(n),
+        None => {}
+    }
+    if let Some(g) = a.cell {
+        c.cell = Some(g);
+    }
+    if let Some(p) = a.particles {
+        s.particles.size = p;
+    }
+    if a.steps == 0 {
+        return Err(bad("--steps 0 runs nothing: ask for at least 1 step"));
+    }
+    if let Err(e) = s.validate() {
+        return Err(bad(format!(
+            "scene `{}` with the options given: {}",
+            s.name, e.message
+        )));
+    }
+    let ctx = Context::new(a.common.device)?;
+    let seed = texflow::engine::shader_seed(a.seed);
+    if a.sweep {
+        let bar = progress_bar(10, a.common.quiet, "collide-stats sweep");
+        let rows = texflow::sim::collide::sweep(&ctx, &s, a.steps, seed, |name| {
+            bar.set_message(name.to_owned());
+            bar.inc(1);
+        })?;
+        bar.finish_and_clear();
+        if a.json {
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&rows).unwrap_or_default()
+            );
+        } else {
+            println!(
+                "{} on {}, step {} (one setting changed at a time):\n",
+                s.name,
+                ctx.limits().renderer,
+                a.steps
+            );
+            print!("{}", texflow::sim::collide::sweep_table(&rows));
+        }
+        return Ok(());
+    }
+    let bar = progress_bar(a.steps, a.common.quiet, "collide-stats");
+    let stats = texflow::sim::collide::measure(&ctx, &s, a.steps, seed, || bar.inc(1))?;
+    bar.finish_and_clear();
+    let c = s.collisions.as_ref().expect("checked");
+    if a.json {
+        let mut v = serde_json::to_value(&stats).unwrap_or_default();
+        v["scene"] = s.name.clone().into();
+        v["k"] = c.neighbours.into();
+        v["staggered"] = c.staggered.into();
+        v["rows_only"] = c.rows_only.into();
+        v["steps"] = a.steps.into();
+        v["device"] = ctx.limits().renderer.clone().into();
+        println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
+    } else {
+        let pct = |n: usize| 100.0 * n as f64 / stats.pairs_true.max(1) as f64;
+        println!(
+            "{} on {}: step {}, {} live particles, {:.2} per occupied cell; k = {}, staggered {}, \
+             sort {}",
+            s.name,
+            ctx.limits().renderer,
+            a.steps,
+            stats.particles,
+            stats.particles_per_cell,
+            c.neighbours,
+            if c.staggered { "on" } else { "off" },
+            match c.rows_only {
+                None => "full".to_owned(),
+                Some(1) => "rows only".to_owned(),
+                Some(r) => format!("within {r} rows"),
+            }
+        );
+        println!("pairs_true   {:>8}", stats.pairs_true);
+        println!("found        {:>8}", stats.found);
+        println!(
+            "missed       {:>8}  ({:.1}%)",
+            stats.missed,
+            pct(stats.missed)
+        );
+        println!("  adjacent cells      {:>6}", stats.missed_adjacent_cells);
+        println!("  partner in another row {:>3}", stats.missed_other_row);
+        println!("  far along the row   {:>6}", stats.missed_far_along_row);
+        println!("  closer partner kept {:>6}", stats.missed_closer_partner);
+        println!("false_pairs  {:>8}", stats.false_pairs);
+        println!("mutual       {:>8}", stats.mutual);
+        println!(
+            "conflicts    {:>8}  (partner took a closer one on the other lattice)",
+            stats.conflicts
+        );
+        println!(
+            "tunnelled    {:>8}  (overlapped during the step, apart at its end)",
+            stats.tunnelled
+        );
+        println!(
+            "gpu_ms       {:>8.3}  (collision passes of one step)",
+            stats.gpu_ms
+        );
+    }
+    Ok(())
+}

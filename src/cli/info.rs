@@ -1,0 +1,71 @@
+//! `texflow info`: the EGL devices with their renderer, GL version and limits.
+
+use texflow::gl::{list_devices, Context};
+
+pub fn info(json: bool) -> texflow::Result<()> {
+    let devices = list_devices()?;
+    let mut rows = Vec::new();
+    for d in &devices {
+        let limits = Context::new(d.index).map(|c| c.limits().clone());
+        if !json {
+            println!(
+                "device {}: {} ({}){}",
+                d.index,
+                d.name.as_deref().unwrap_or(if d.software {
+                    "Mesa software device"
+                } else {
+                    "unnamed"
+                }),
+                d.vendor.as_deref().unwrap_or("unknown vendor"),
+                if d.software { ", software" } else { "" }
+            );
+            match &limits {
+                Ok(l) => {
+                    println!("  renderer              {}", l.renderer);
+                    println!("  GL version            {}", l.version);
+                    println!("  GLSL version          {}", l.glsl_version);
+                    println!("  max texture size      {}", l.max_texture_size);
+                    println!("  max 3D texture size   {}", l.max_3d_texture_size);
+                    println!("  max draw buffers      {}", l.max_draw_buffers);
+                    println!("  max colour attachments {}", l.max_color_attachments);
+                    println!(
+                        "  vertex texture units  {}",
+                        l.max_vertex_texture_image_units
+                    );
+                    println!(
+                        "  max viewport          {}x{}",
+                        l.max_viewport[0], l.max_viewport[1]
+                    );
+                    println!("  RGBA32F colour buffer {}", yes(l.float32_color_buffer));
+                    println!("  RGBA16F colour buffer {}", yes(l.float16_color_buffer));
+                    println!("  KHR_debug             {}", yes(l.khr_debug));
+                }
+                Err(e) => println!("  no usable context: {e}"),
+            }
+        }
+        rows.push(serde_json::json!({
+            "index": d.index,
+            "name": d.name,
+            "vendor": d.vendor,
+            "software": d.software,
+            "drm_node": d.drm_node,
+            "limits": limits.as_ref().ok(),
+            "error": limits.as_ref().err().map(|e| e.to_string()),
+        }));
+    }
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&rows).unwrap_or_default()
+        );
+    }
+    Ok(())
+}
+
+pub fn yes(b: bool) -> &'static str {
+    if b {
+        "yes"
+    } else {
+        "no"
+    }
+}

@@ -1,0 +1,118 @@
+//! The texflow command line: argument types and printing over the library. `src/main.rs` only
+//! dispatches; everything a test or an example would need lives in the library.
+
+pub mod bench;
+pub mod collide;
+pub mod info;
+pub mod render;
+pub mod report;
+pub mod scene;
+pub mod sort;
+
+use clap::{Args, Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use texflow::bench::Clock;
+use texflow::Error;
+
+#[derive(Parser)]
+#[command(
+    name = "texflow",
+    version,
+    about = "The 2004 GPU particle engines, headless on EGL"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// List the EGL devices with their renderer, GL version and limits.
+    Info {
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Simulate a scene and write PNG frames.
+    Render(render::RenderArgs),
+    /// Sort float32 keys from a .npy file on the GPU.
+    Sort(sort::SortArgs),
+    /// How well the GPU finds colliding pairs: UberFlow's detection against a CPU reference.
+    CollideStats(collide::CollideStatsArgs),
+    /// Check scene files and list the passes a scene runs.
+    #[command(subcommand)]
+    Scene(scene::SceneCommand),
+    /// Benchmarks (GPU timer queries, medians, floors measured in the same run).
+    #[command(subcommand)]
+    Bench(bench::BenchCommand),
+    /// Error against run time, and stability on stiff and extreme cases (docs/numerics.md).
+    #[command(subcommand)]
+    Report(report::ReportCommand),
+}
+
+#[derive(Args)]
+pub struct Common {
+    /// EGL device index (see `texflow info`).
+    #[arg(long, default_value_t = 0)]
+    device: usize,
+    /// No progress bar.
+    #[arg(long, short)]
+    quiet: bool,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub enum ClockArg {
+    Auto,
+    Gpu,
+    Wall,
+}
+
+impl ClockArg {
+    fn clock(self) -> Option<Clock> {
+        match self {
+            ClockArg::Auto => None,
+            ClockArg::Gpu => Some(Clock::Gpu),
+            ClockArg::Wall => Some(Clock::Wall),
+        }
+    }
+}
+
+/// Parses `WxH` or `N`; both sides at least 1.
+pub fn parse_size(s: &str) -> Result<[u32; 2], String> {
+    let parse = |t: &str| {
+        t.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("`{s}` is not a size: use WxH, e.g. 512x512, or N for NxN"))
+    };
+    let size = match s.split_once(['x', 'X']) {
+        Some((w, h)) => [parse(w)?, parse(h)?],
+        None => {
+            let n = parse(s)?;
+            [n, n]
+        }
+    };
+    if size[0] == 0 || size[1] == 0 {
+        return Err(format!(
+            "size `{s}` is empty: both sides must be at least 1"
+        ));
+    }
+    Ok(size)
+}
+
+pub fn bad(msg: impl Into<String>) -> Error {
+    Error::InvalidInput(msg.into())
+}
+
+pub fn progress_bar(len: u64, quiet: bool, what: &str) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} ({elapsed}, eta {eta})")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    bar.set_message(what.to_owned());
+    bar
+}

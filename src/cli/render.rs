@@ -1,0 +1,134 @@
+//! `texflow render`: simulate a scene and write PNG frames.
+
+use std::path::PathBuf;
+
+use std::ops::ControlFlow;
+
+use clap::Args;
+use texflow::engine::{Event, FolderSink, FrameLoop, LoopOptions, NonFinitePolicy, Overrides};
+use texflow::gl::Context;
+use texflow::output::FrameWriter;
+use texflow::scene;
+use texflow::SceneEngine;
+
+use super::{bad, parse_size, progress_bar, Common};
+
+#[derive(Args)]
+pub struct RenderArgs {
+    /// Scene to render: a built-in name (fire, snow, fountain, smoke, e1, e2, e3, collide) or a
+    /// .toml scene file.
+    #[arg(default_value = scene::DEFAULT_SCENE)]
+    scene: String,
+    /// Number of frames to simulate.
+    #[arg(long, default_value_t = 60)]
+    frames: u64,
+    /// Output folder (created if missing).
+    #[arg(long, default_value = "frames")]
+    out: PathBuf,
+    /// State texture size WxH (one particle per texel), or N for NxN.
+    #[arg(long, value_parser = parse_size)]
+    particles: Option<[u32; 2]>,
+    /// Frame size WxH in pixels, or N for NxN.
+    #[arg(long, value_parser = parse_size)]
+    resolution: Option<[u32; 2]>,
+    /// Random seed (same seed, same device: same frames).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Simulation time step in seconds.
+    #[arg(long, allow_negative_numbers = true)]
+    dt: Option<f32>,
+    /// Simulation steps per frame.
+    #[arg(long)]
+    substeps: Option<u32>,
+    /// Write every K-th frame (frames keep their index in the name).
+    #[arg(long, default_value_t = 1)]
+    every: u64,
+    /// Drop the scene's collisions between particles (to compare, UberFlow Fig. 4 right).
+    #[arg(long)]
+    no_collisions: bool,
+    /// Also write the live particles' positions and velocities as .npy (N×4 float32).
+    #[arg(long)]
+    dump_state: Option<PathBuf>,
+    /// Dump every K-th frame.
+    #[arg(long, default_value_t = 1)]
+    dump_every: u64,
+    #[command(flatten)]
+    common: Common,
+}
+
+impl RenderArgs {
+    /// The scene overrides these options carry.
+    pub fn overrides(&self) -> Overrides {
+        Overrides {
+            particles: self.particles,
+            resolution: self.resolution,
+            dt: self.dt,
+            substeps: self.substeps,
+            no_collisions: self.no_collisions,
+            seed: self.seed,
+            device: self.common.device,
+        }
+    }
+}
+
+pub fn render(a: RenderArgs) -> texflow::Result<()> {
+    // Everything that can be checked without a GPU is checked before anything is created.
+    let options = LoopOptions {
+        frames: a.frames,
+        every: a.every,
+        dump_every: a.dump_state.as_ref().map(|_| a.dump_every),
+        non_finite: NonFinitePolicy::Report,
+    };
+    options.check()?;
+    if a.dump_every == 0 {
+        return Err(bad(
+            "--dump-every 0 is meaningless: use 1 to dump every frame",
+        ));
+    }
+    let overrides = a.overrides();
+    let prepared = overrides.prepare(&a.scene)?;
+    let s = &prepared.scene;
+    FrameWriter::check(&a.out)?;
+    if let Some(d) = &a.dump_state {
+        FrameWriter::check(d)?;
+    }
+    let ctx = Context::new(overrides.device)?;
+    overrides.check_device(&ctx, &prepared)?;
+    let mut engine = SceneEngine::new(&ctx, s, overrides.seed)?;
+    let run = FrameLoop::new(&ctx, &engine, options)?;
+    let mut sink = FolderSink::create(&a.out, a.dump_state.as_deref())?;
+    let bar = progress_bar(a.frames, a.common.quiet, "rendering");
+    let summary = run.run(&mut engine, &mut sink, |event| {
+        match event {
+            Event::Frame { .. } => bar.inc(1),
+            Event::NonFinite { index, count } => bar.suspend(|| {
+                eprintln!(
+                    "warning: frame {index}: {} of {} live particles have NaN or infinite values",
+                    count.non_finite, count.live
+                )
+            }),
+        }
+        ControlFlow::Continue(())
+    })?;
+    bar.finish_and_clear();
+    if summary.max_non_finite > 0 {
+        eprintln!(
+            "warning: up to {} live particle(s) had NaN or infinite values \
+             ({} written frame(s) affected; the dumps, if any, hold them)",
+            summary.max_non_finite, summary.non_finite_frames
+        );
+    }
+    if !a.common.quiet {
+        eprintln!(
+            "wrote {} frame(s) of {}x{} to {} ({} particles, {} steps of {} s)",
+            summary.written,
+            s.render.resolution[0],
+            s.render.resolution[1],
+            a.out.display(),
+            s.particle_count(),
+            summary.steps,
+            s.time.dt
+        );
+    }
+    Ok(())
+}

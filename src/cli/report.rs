@@ -1,0 +1,152 @@
+//! `texflow report`: error against run time, stability, and everything into one folder.
+
+use std::path::PathBuf;
+
+use clap::Subcommand;
+use texflow::gl::Context;
+use texflow::output::FrameWriter;
+
+use super::{bad, Common};
+
+#[derive(Subcommand)]
+pub enum ReportCommand {
+    /// Work-precision diagrams and convergence orders per integrator and precision.
+    Convergence {
+        /// Also write CSV and PNG plots into this folder (created if missing).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Fewer and shorter runs (about 8 s on llvmpipe).
+        #[arg(long)]
+        quick: bool,
+        /// Print JSON (every point) instead of the table of orders.
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Stiff spring and drag across their stability limits, and the extreme cases with their
+    /// documented outcomes.
+    Stability {
+        /// Print JSON instead of tables.
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Everything: plots, CSVs, stability JSON and markdown, and summary.md, into --out.
+    All {
+        /// Output folder (created if missing).
+        #[arg(long)]
+        out: PathBuf,
+        /// Sized for llvmpipe: about a minute instead of a quarter of an hour.
+        #[arg(long)]
+        quick: bool,
+        /// Only these sections, comma-separated: tables, convergence, sort_frames, collisions,
+        /// stability (default: all).
+        #[arg(long, value_delimiter = ',')]
+        only: Vec<String>,
+        /// Runs of each benchmark table (the tables section); every cell reports the run of
+        /// median time. The docs use 3.
+        #[arg(long, default_value_t = 1)]
+        runs: usize,
+        #[command(flatten)]
+        common: Common,
+    },
+}
+
+pub fn report_cmd(cmd: ReportCommand) -> texflow::Result<()> {
+    use texflow::report::{self, convergence, stability, ReportOptions};
+    let say = |quiet: bool| {
+        move |m: &str| {
+            if !quiet {
+                eprintln!("report: {m}");
+            }
+        }
+    };
+    match cmd {
+        ReportCommand::Convergence {
+            out,
+            quick,
+            json,
+            common,
+        } => {
+            if let Some(d) = &out {
+                FrameWriter::check(d)?;
+            }
+            let ctx = Context::new(common.device)?;
+            let opts = ReportOptions::new(quick);
+            let r = convergence::run(
+                &ctx,
+                &convergence::default_sweeps(opts.size),
+                &convergence::StatePrecision::ALL,
+                &mut say(common.quiet),
+            )?;
+            if let Some(d) = &out {
+                report::create_dir(d)?;
+                convergence::write_files(&r, d)?;
+            }
+            if json {
+                println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
+            } else {
+                println!(
+                    "device {}: {}; {}",
+                    ctx.device_index(),
+                    r.device,
+                    r.clock.name()
+                );
+                print!("{}", convergence::table(&r));
+            }
+            Ok(())
+        }
+        ReportCommand::Stability { json, common } => {
+            let ctx = Context::new(common.device)?;
+            let opts = stability::StabilityOptions::default();
+            let r = stability::run(&ctx, &opts, &mut say(common.quiet))?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
+            } else {
+                println!("device {}: {}", ctx.device_index(), r.device);
+                print!("{}", stability::table(&r));
+            }
+            for w in stability::warnings(&r) {
+                eprintln!("warning: {w}");
+            }
+            Ok(())
+        }
+        ReportCommand::All {
+            out,
+            quick,
+            only,
+            runs,
+            common,
+        } => {
+            if runs == 0 {
+                return Err(bad("--runs must be at least 1"));
+            }
+            let sections = if only.is_empty() {
+                report::sections()
+            } else {
+                report::select(&only)?
+            };
+            FrameWriter::check(&out)?;
+            let ctx = Context::new(common.device)?;
+            let all = report::run_sections(
+                &ctx,
+                &ReportOptions {
+                    runs,
+                    ..ReportOptions::new(quick)
+                },
+                &out,
+                &sections,
+                &mut say(common.quiet),
+            )?;
+            for f in &all.files {
+                println!("{}", f.display());
+            }
+            for w in &all.warnings {
+                eprintln!("warning: {w}");
+            }
+            Ok(())
+        }
+    }
+}

@@ -1,0 +1,88 @@
+//! `texflow scene`: check scene files, list their passes, list the built-in scenes.
+
+use clap::Subcommand;
+use texflow::gl::Context;
+use texflow::scene;
+
+use super::bad;
+
+#[derive(Subcommand)]
+pub enum SceneCommand {
+    /// Validate a scene file (syntax, types, keys, values) without rendering.
+    Check {
+        /// Scene file (.toml) or built-in name.
+        scene: String,
+        /// EGL device whose size limits to check against.
+        #[arg(long, default_value_t = 0)]
+        device: usize,
+    },
+    /// Print the passes a scene runs per frame.
+    Passes {
+        /// Scene file (.toml) or built-in name.
+        scene: String,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// List the built-in scenes, or print one's TOML source.
+    List {
+        /// Print the source of this built-in scene.
+        name: Option<String>,
+    },
+}
+
+pub fn scene_command(c: SceneCommand) -> texflow::Result<()> {
+    match c {
+        SceneCommand::Check {
+            scene: name,
+            device,
+        } => {
+            let (label, src) = scene::load_source(&name)?;
+            let s = scene::file::parse(&label, &src)?;
+            // Sizes against the device's limits, where there is a device to ask.
+            let limits = match Context::new(device) {
+                Ok(ctx) => {
+                    let l = ctx.limits();
+                    let limits = scene::file::SizeLimits {
+                        max_texture: l.max_texture_size,
+                        max_3d_texture: l.max_3d_texture_size,
+                    };
+                    scene::file::check_limits(&label, &src, &s, limits, &[])?;
+                    format!("sizes fit {}", l.renderer)
+                }
+                Err(e) => format!("sizes not checked against a device: {e}"),
+            };
+            println!(
+                "{name}: ok (scene `{}`, {} particles; {limits})",
+                s.name,
+                s.particle_count()
+            );
+        }
+        SceneCommand::Passes { scene: name, json } => {
+            let plan = texflow::engine::plan::plan(&scene::load(&name)?);
+            if json {
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&plan).unwrap_or_default()
+                );
+            } else {
+                print!("{plan}");
+            }
+        }
+        SceneCommand::List { name: None } => {
+            for n in scene::BUILTIN {
+                println!("{n}");
+            }
+        }
+        SceneCommand::List { name: Some(n) } => match scene::builtin_source(&n) {
+            Some(src) => print!("{src}"),
+            None => {
+                return Err(bad(format!(
+                    "unknown scene `{n}`: the built-in scenes are {}",
+                    scene::BUILTIN.join(", ")
+                )))
+            }
+        },
+    }
+    Ok(())
+}

@@ -1,0 +1,117 @@
+//! `texflow sort`: sort float32 keys from a .npy file on the GPU.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use texflow::gl::Context;
+use texflow::sort::{SortOptions, Sorter, Variant};
+use texflow::Error;
+
+use super::{bad, Common};
+
+#[derive(Args)]
+pub struct SortArgs {
+    /// Sort implementation: fp, gpfp, packed (UberFlow), oddeven (Latta), multistep (ours).
+    #[arg(long, default_value = "packed")]
+    variant: String,
+    /// 1-D float32 .npy file of keys (any length up to 2^24).
+    #[arg(long)]
+    input: PathBuf,
+    /// Where to write the sorted keys (1-D float32 .npy).
+    #[arg(long)]
+    output: PathBuf,
+    /// Where to write the sorting permutation: int32 indices into the input (like argsort).
+    #[arg(long)]
+    ids: Option<PathBuf>,
+    #[command(flatten)]
+    common: Common,
+}
+
+/// Checks that `path` can be written as a file: its folder exists and it is not a folder.
+pub fn check_output_file(path: &std::path::Path, flag: &str) -> texflow::Result<()> {
+    if path.is_dir() {
+        return Err(bad(format!(
+            "{flag} {} is a folder: name a .npy file",
+            path.display()
+        )));
+    }
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => std::path::Path::new("."),
+    };
+    if !parent.is_dir() {
+        return Err(bad(format!(
+            "{flag} {}: folder {} does not exist",
+            path.display(),
+            parent.display()
+        )));
+    }
+    let probe = parent.join(format!(".texflow-write-test-{}", std::process::id()));
+    std::fs::write(&probe, b"")
+        .and_then(|_| std::fs::remove_file(&probe))
+        .map_err(|e| {
+            bad(format!(
+                "{flag} {}: cannot write in {} ({e})",
+                path.display(),
+                parent.display()
+            ))
+        })
+}
+
+pub fn sort(a: SortArgs) -> texflow::Result<()> {
+    let variant = Variant::from_name(&a.variant)?;
+    let keys = texflow::npy::read_f32(&a.input).map_err(|e| match e {
+        Error::Io { path, source } => bad(format!("--input {}: {source}", path.display())),
+        e => e,
+    })?;
+    check_output_file(&a.output, "--output")?;
+    if let Some(ids) = &a.ids {
+        check_output_file(ids, "--ids")?;
+    }
+    let n = keys.len();
+    if n > 1 << 24 {
+        return Err(bad(format!(
+            "{n} keys: ids are floats on the GPU and exact only up to 2^24 = 16777216 keys"
+        )));
+    }
+    // The smallest power-of-two texture that holds the keys (rows of at least 2 entries), as
+    // square as possible.
+    let total = n.next_power_of_two().max(2) as u32;
+    let k = total.trailing_zeros();
+    let (w, h) = (1u32 << k.div_ceil(2), 1u32 << (k / 2));
+    let ctx = Context::new(a.common.device)?;
+    texflow::gl::check_size(&ctx, "sort texture", w, h)?;
+    let mut sorter = Sorter::new(&ctx, variant, w, h, SortOptions::default())?;
+    // Padding: +inf keys with ids past the input; dropped by id after the sort, so NaN keys of
+    // the input (which sort after +inf) are kept.
+    let entries: Vec<[f32; 2]> = (0..(w * h) as usize)
+        .map(|i| [keys.get(i).copied().unwrap_or(f32::INFINITY), i as f32])
+        .collect();
+    sorter.load(&entries)?;
+    sorter.sort();
+    let sorted: Vec<[f32; 2]> = sorter
+        .read()?
+        .into_iter()
+        .filter(|e| (e[1] as usize) < n)
+        .collect();
+    ctx.check_error("sorting")?;
+    if sorted.len() != n {
+        return Err(Error::Gl(format!(
+            "the sort returned {} of {n} keys",
+            sorted.len()
+        )));
+    }
+    texflow::npy::write_f32(&a.output, &sorted.iter().map(|e| e[0]).collect::<Vec<_>>())?;
+    if let Some(ids) = &a.ids {
+        texflow::npy::write_i32(ids, &sorted.iter().map(|e| e[1] as i32).collect::<Vec<_>>())?;
+    }
+    if !a.common.quiet {
+        eprintln!(
+            "sorted {n} keys with {} ({} passes on a {w}x{h} texture) on {}",
+            variant.name(),
+            sorter.pass_count(),
+            ctx.limits().renderer
+        );
+    }
+    Ok(())
+}

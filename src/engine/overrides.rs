@@ -1,0 +1,143 @@
+//! Command-line values that replace a scene's own, applied and validated in one place for every
+//! command (render, collide-stats, the benchmarks, `scene check`).
+
+use crate::error::{Error, Result};
+use crate::gl::Context;
+use crate::scene::file::{check_limits, Key, SizeLimits};
+use crate::scene::{self, SceneFile};
+
+/// Values given on the command line instead of the scene's.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Overrides {
+    /// State texture size (`--particles`).
+    pub particles: Option<[u32; 2]>,
+    /// Frame size (`--resolution`).
+    pub resolution: Option<[u32; 2]>,
+    /// Time step (`--dt`).
+    pub dt: Option<f32>,
+    /// Steps per frame (`--substeps`).
+    pub substeps: Option<u32>,
+    /// Drop the scene's collisions between particles (`--no-collisions`).
+    pub no_collisions: bool,
+    /// Random seed (`--seed`).
+    pub seed: u64,
+    /// EGL device (`--device`).
+    pub device: usize,
+}
+
+impl Default for Overrides {
+    fn default() -> Self {
+        Overrides {
+            particles: None,
+            resolution: None,
+            dt: None,
+            substeps: None,
+            no_collisions: false,
+            seed: 1,
+            device: 0,
+        }
+    }
+}
+
+/// A scene loaded, overridden and validated: ready for a context.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    /// The file's path or the built-in scene's name, for messages.
+    pub label: String,
+    /// The TOML source, for locating errors.
+    pub source: String,
+    /// The scene with the overrides applied.
+    pub scene: SceneFile,
+}
+
+impl Overrides {
+    /// The scene keys these overrides replace, with the option that replaced each.
+    fn replaced(&self) -> Vec<(&'static str, &'static str)> {
+        let mut v = Vec::new();
+        if self.particles.is_some() {
+            v.push(("particles.size", "--particles"));
+        }
+        if self.resolution.is_some() {
+            v.push(("render.resolution", "--resolution"));
+        }
+        if self.dt.is_some() {
+            v.push(("time.dt", "--dt"));
+        }
+        if self.substeps.is_some() {
+            v.push(("time.substeps", "--substeps"));
+        }
+        v
+    }
+
+    /// Sets the overridden values in `scene` and validates the result; an error names the option
+    /// whose value it is about, or the scene key.
+    pub fn apply(&self, scene: &mut SceneFile) -> Result<()> {
+        if let Some(p) = self.particles {
+            scene.particles.size = p;
+        }
+        if let Some(r) = self.resolution {
+            scene.render.resolution = r;
+        }
+        if let Some(dt) = self.dt {
+            scene.time.dt = dt;
+        }
+        if let Some(n) = self.substeps {
+            scene.time.substeps = n;
+        }
+        if self.no_collisions {
+            scene.collisions = None;
+        }
+        if let Err(e) = scene.validate() {
+            let key =
+                e.at.iter()
+                    .filter_map(|k| match k {
+                        Key::Name(n) => Some(*n),
+                        Key::Index(_) => None,
+                    })
+                    .collect::<Vec<_>>()
+                    .join(".");
+            let option = self
+                .replaced()
+                .into_iter()
+                .find(|(k, _)| *k == key)
+                .map(|(_, o)| o);
+            return Err(Error::InvalidInput(match option {
+                Some(o) => format!("{o}: {}", e.message),
+                None => format!(
+                    "scene `{}` with the options given: {} (at `{key}`)",
+                    scene.name, e.message
+                ),
+            }));
+        }
+        if scene.fire.is_some() {
+            scene::Scene::from_file(scene)?.validate()?;
+        }
+        Ok(())
+    }
+
+    /// Loads a built-in scene or a scene file, applies the overrides and validates it, all
+    /// without a GPU.
+    pub fn prepare(&self, name_or_path: &str) -> Result<Prepared> {
+        let (label, source) = scene::load_source(name_or_path)?;
+        let mut s = scene::file::parse(&label, &source)?;
+        self.apply(&mut s)?;
+        Ok(Prepared {
+            label,
+            source,
+            scene: s,
+        })
+    }
+
+    /// Checks the sizes the prepared scene asks of `ctx`'s device: keys from the file at their
+    /// line and column, overridden ones by option.
+    pub fn check_device(&self, ctx: &Context, p: &Prepared) -> Result<()> {
+        let l = ctx.limits();
+        let limits = SizeLimits {
+            max_texture: l.max_texture_size,
+            max_3d_texture: l.max_3d_texture_size,
+        };
+        let skip: Vec<&str> = self.replaced().iter().map(|(k, _)| *k).collect();
+        // Overridden sizes are checked by the engines, which name the option.
+        check_limits(&p.label, &p.source, &p.scene, limits, &skip)
+    }
+}

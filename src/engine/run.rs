@@ -1,0 +1,259 @@
+//! The frame loop: `frames` frames of a [`SceneEngine`], every `every`-th one drawn and handed to a
+//! [`FrameSink`], every `dump_every`-th state dump handed to it too, and the non-finite census of
+//! each written frame. The CLI's `render`, the examples and the tests all drive this one loop.
+
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+
+use super::{SceneEngine, StateDump};
+use crate::error::{Error, Result};
+use crate::gl::Context;
+use crate::output::FrameWriter;
+use crate::sim::nonfinite::{NonFiniteCount, NonFiniteCounter};
+
+/// What the loop does with NaN or infinite state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum NonFinitePolicy {
+    /// Count it, report it through [`Event::NonFinite`] and in the summary, and go on.
+    #[default]
+    Report,
+    /// Stop at the first written frame that has any, with [`Error::NonFinite`].
+    Fail,
+}
+
+/// What to run and what to hand to the sink.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LoopOptions {
+    /// Frames to simulate.
+    pub frames: u64,
+    /// Draw and hand over every `every`-th frame (frame 0 first).
+    pub every: u64,
+    /// Dump the live state every `n`-th frame, or never.
+    pub dump_every: Option<u64>,
+    /// What NaN or infinite state does to the run.
+    pub non_finite: NonFinitePolicy,
+}
+
+impl Default for LoopOptions {
+    fn default() -> Self {
+        LoopOptions {
+            frames: 60,
+            every: 1,
+            dump_every: None,
+            non_finite: NonFinitePolicy::Report,
+        }
+    }
+}
+
+impl LoopOptions {
+    /// Refuses options that would run or write nothing, naming the CLI option.
+    pub fn check(&self) -> Result<()> {
+        let bad = |m: &str| Err(Error::InvalidInput(m.into()));
+        if self.frames == 0 {
+            return bad("--frames 0 renders nothing: ask for at least 1 frame");
+        }
+        if self.every == 0 {
+            return bad("--every 0 is meaningless: use 1 to write every frame");
+        }
+        if self.dump_every == Some(0) {
+            return bad("--dump-every 0 is meaningless: use 1 to dump every frame");
+        }
+        Ok(())
+    }
+}
+
+/// Where the loop's frames and dumps go.
+pub trait FrameSink {
+    /// Receives frame `index`.
+    fn frame(&mut self, index: u64, image: &image::RgbImage) -> Result<()>;
+    /// Receives the live state after frame `index`.
+    fn dump(&mut self, _index: u64, _dump: &StateDump) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// Something the loop tells its caller about while it runs.
+#[derive(Debug, Clone, Copy)]
+pub enum Event<'a> {
+    /// Frame `index` is done (simulated, and written if it was due).
+    Frame {
+        /// The frame's index.
+        index: u64,
+    },
+    /// The first written frame with NaN or infinite state (later ones only count in the summary).
+    NonFinite {
+        /// The frame's index.
+        index: u64,
+        /// The census of that frame.
+        count: &'a NonFiniteCount,
+    },
+}
+
+/// What a run did.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct LoopSummary {
+    /// Frames simulated.
+    pub frames: u64,
+    /// Frames handed to the sink.
+    pub written: u64,
+    /// State dumps handed to the sink.
+    pub dumps: u64,
+    /// Simulation steps taken in all.
+    pub steps: u64,
+    /// The most live particles with NaN or infinite values in one written frame or dump.
+    pub max_non_finite: u64,
+    /// Written frames that had any.
+    pub non_finite_frames: u64,
+    /// Whether the caller stopped the loop early (through its event callback).
+    pub stopped: bool,
+}
+
+/// Runs a [`SceneEngine`] frame after frame.
+#[derive(Debug)]
+pub struct FrameLoop {
+    options: LoopOptions,
+    counter: NonFiniteCounter,
+}
+
+impl FrameLoop {
+    /// Checks the options and builds the GPU census for `engine`'s state size.
+    pub fn new(ctx: &Context, engine: &SceneEngine, options: LoopOptions) -> Result<Self> {
+        options.check()?;
+        let [w, h] = engine.state_size();
+        Ok(FrameLoop {
+            options,
+            counter: NonFiniteCounter::new(ctx, w, h)?,
+        })
+    }
+
+    /// The options.
+    pub fn options(&self) -> &LoopOptions {
+        &self.options
+    }
+
+    /// Runs every frame. `on_event` may stop the loop between frames by returning
+    /// `ControlFlow::Break(())`; what was handed to the sink so far stays there.
+    pub fn run(
+        &self,
+        engine: &mut SceneEngine,
+        sink: &mut dyn FrameSink,
+        mut on_event: impl FnMut(Event<'_>) -> ControlFlow<()>,
+    ) -> Result<LoopSummary> {
+        let o = &self.options;
+        let mut s = LoopSummary::default();
+        for index in 0..o.frames {
+            engine.advance_frame()?;
+            s.frames += 1;
+            if index % o.every == 0 {
+                // Garbage is reported, not rendered silently.
+                let count = engine.non_finite(&self.counter)?;
+                if count.non_finite > 0 {
+                    if o.non_finite == NonFinitePolicy::Fail {
+                        return Err(Error::NonFinite {
+                            frame: index,
+                            count: count.non_finite,
+                            live: count.live,
+                        });
+                    }
+                    if s.non_finite_frames == 0
+                        && on_event(Event::NonFinite {
+                            index,
+                            count: &count,
+                        })
+                        .is_break()
+                    {
+                        s.stopped = true;
+                        break;
+                    }
+                    s.non_finite_frames += 1;
+                    s.max_non_finite = s.max_non_finite.max(count.non_finite);
+                }
+                sink.frame(index, &engine.render()?)?;
+                s.written += 1;
+            }
+            if o.dump_every.is_some_and(|n| index % n == 0) {
+                let d = engine.dump()?;
+                s.max_non_finite = s.max_non_finite.max(d.non_finite as u64);
+                sink.dump(index, &d)?;
+                s.dumps += 1;
+            }
+            if on_event(Event::Frame { index }).is_break() {
+                s.stopped = true;
+                break;
+            }
+        }
+        s.steps = engine.steps();
+        Ok(s)
+    }
+}
+
+/// Frames as `frame_00000.png, ...` in one folder, and dumps as `positions_00000.npy` and
+/// `velocities_00000.npy` (N×4 float32, live particles only) in another (or the same).
+#[derive(Debug)]
+pub struct FolderSink {
+    frames: FrameWriter,
+    dumps: Option<FrameWriter>,
+    written: Vec<PathBuf>,
+}
+
+impl FolderSink {
+    /// Creates the folders (and their parents) if needed.
+    pub fn create(frames: &Path, dumps: Option<&Path>) -> Result<Self> {
+        Ok(FolderSink {
+            frames: FrameWriter::create(frames)?,
+            dumps: dumps.map(FrameWriter::create).transpose()?,
+            written: Vec::new(),
+        })
+    }
+
+    /// The files written so far, in order.
+    pub fn written(&self) -> &[PathBuf] {
+        &self.written
+    }
+}
+
+impl FrameSink for FolderSink {
+    fn frame(&mut self, index: u64, image: &image::RgbImage) -> Result<()> {
+        let path = self.frames.write(index, image)?;
+        self.written.push(path);
+        Ok(())
+    }
+
+    fn dump(&mut self, index: u64, dump: &StateDump) -> Result<()> {
+        let Some(w) = &self.dumps else {
+            return Ok(());
+        };
+        let rows = |v: &[[f32; 4]]| v.iter().flatten().copied().collect::<Vec<f32>>();
+        let n = dump.positions.len();
+        for (what, data) in [
+            ("positions", rows(&dump.positions)),
+            ("velocities", rows(&dump.velocities)),
+        ] {
+            let path = w.dir().join(format!("{what}_{index:05}.npy"));
+            crate::npy::write_f32_shaped(&path, &[n, 4], &data)?;
+            self.written.push(path);
+        }
+        Ok(())
+    }
+}
+
+/// Keeps frames in memory (tests and examples that look at pixels rather than files).
+#[derive(Debug, Default)]
+pub struct MemorySink {
+    /// The frames handed over, with their indices.
+    pub frames: Vec<(u64, image::RgbImage)>,
+    /// The dumps handed over, with their indices.
+    pub dumps: Vec<(u64, StateDump)>,
+}
+
+impl FrameSink for MemorySink {
+    fn frame(&mut self, index: u64, image: &image::RgbImage) -> Result<()> {
+        self.frames.push((index, image.clone()));
+        Ok(())
+    }
+
+    fn dump(&mut self, index: u64, dump: &StateDump) -> Result<()> {
+        self.dumps.push((index, dump.clone()));
+        Ok(())
+    }
+}

@@ -1,0 +1,116 @@
+//! The engine a scene asks for: the fire of the thesis, or the particle pipeline.
+
+use super::{Engine, FireEngine};
+use crate::error::Result;
+use crate::gl::Context;
+use crate::scene::Scene;
+
+/// Either engine, chosen by the scene: the thesis's fire or the particle pipeline.
+#[derive(Debug)]
+pub enum SceneEngine {
+    /// A scene with a `[fire]` section.
+    Fire(Box<FireEngine>),
+    /// Every other scene.
+    Particles(Box<Engine>),
+}
+
+/// Live particles' positions and velocities, N×4 each, for `--dump-state`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StateDump {
+    /// xyz and remaining life of every live particle.
+    pub positions: Vec<[f32; 4]>,
+    /// Velocity (xyz, 0) of the same particles.
+    pub velocities: Vec<[f32; 4]>,
+    /// Live particles with a NaN or infinite component: kept in the dump, and counted so that
+    /// the CLI reports them rather than hiding them.
+    pub non_finite: usize,
+}
+
+impl SceneEngine {
+    /// Builds the engine `scene` needs.
+    pub fn new(ctx: &Context, scene: &crate::scene::SceneFile, seed: u64) -> Result<Self> {
+        Ok(if scene.fire.is_some() {
+            SceneEngine::Fire(Box::new(FireEngine::new(
+                ctx,
+                Scene::from_file(scene)?,
+                seed,
+            )?))
+        } else {
+            SceneEngine::Particles(Box::new(Engine::new(ctx, scene, seed)?))
+        })
+    }
+
+    /// Advances one frame.
+    pub fn advance_frame(&mut self) -> Result<()> {
+        match self {
+            SceneEngine::Fire(e) => {
+                e.advance_frame();
+                Ok(())
+            }
+            SceneEngine::Particles(e) => e.advance_frame(),
+        }
+    }
+
+    /// Renders the current state.
+    pub fn render(&mut self) -> Result<image::RgbImage> {
+        match self {
+            SceneEngine::Fire(e) => e.render(),
+            SceneEngine::Particles(e) => e.render(),
+        }
+    }
+
+    /// Simulation steps taken.
+    pub fn steps(&self) -> u64 {
+        match self {
+            SceneEngine::Fire(e) => e.sim().steps(),
+            SceneEngine::Particles(e) => e.sim().steps(),
+        }
+    }
+
+    /// State texture size.
+    pub fn state_size(&self) -> [u32; 2] {
+        match self {
+            SceneEngine::Fire(e) => e.scene().particles,
+            SceneEngine::Particles(e) => e.sim().size().to_array(),
+        }
+    }
+
+    /// Counts the live particles with a NaN or infinite component on the GPU (a reduction by
+    /// fragment passes), so that garbage is reported instead of rendered silently.
+    pub fn non_finite(
+        &self,
+        counter: &crate::sim::nonfinite::NonFiniteCounter,
+    ) -> Result<crate::sim::nonfinite::NonFiniteCount> {
+        match self {
+            SceneEngine::Fire(e) => counter.count(e.sim().positions(), Some(e.sim().velocities())),
+            SceneEngine::Particles(e) => counter.count_sim(e.sim()),
+        }
+    }
+
+    /// Reads back the live particles (remaining life > 0).
+    pub fn dump(&self) -> Result<StateDump> {
+        let (pos, vel) = match self {
+            SceneEngine::Fire(e) => (
+                e.sim().positions().read_f32()?,
+                e.sim().velocities().read_f32()?,
+            ),
+            SceneEngine::Particles(e) => (e.sim().read_positions()?, e.sim().read_velocities()?),
+        };
+        let mut d = StateDump {
+            positions: Vec::new(),
+            velocities: Vec::new(),
+            non_finite: 0,
+        };
+        for (p, v) in pos.chunks_exact(4).zip(vel.chunks_exact(4)) {
+            if p[3] > 0.0 {
+                if !p.iter().chain(&v[..3]).all(|x| x.is_finite()) {
+                    d.non_finite += 1;
+                }
+                d.positions.push([p[0], p[1], p[2], p[3]]);
+                // The fire keeps its wait counter in velocity.w; the dump holds velocities only.
+                d.velocities.push([v[0], v[1], v[2], 0.0]);
+            }
+        }
+        Ok(d)
+    }
+}

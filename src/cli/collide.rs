@@ -1,6 +1,7 @@
 //! `texflow collide-stats`: how well the GPU finds colliding pairs.
 
 use clap::Args;
+use texflow::engine::{Overrides, Prepared};
 use texflow::gl::Context;
 use texflow::scene;
 
@@ -44,6 +45,22 @@ pub struct CollideStatsArgs {
 }
 
 pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
+    if a.steps == 0 {
+        return Err(bad("--steps 0 runs nothing: ask for at least 1 step"));
+    }
+    if let Some(g) = a.cell {
+        if !(g.is_finite() && g > 0.0) {
+            return Err(bad(format!(
+                "--cell {g}: the lattice mesh size must be a positive, finite number of metres"
+            )));
+        }
+    }
+    let overrides = Overrides {
+        particles: a.particles,
+        seed: a.seed,
+        device: a.common.device,
+        ..Overrides::default()
+    };
     let (label, src) = scene::load_source(&a.scene)?;
     let mut s = scene::file::parse(&label, &src)?;
     let Some(c) = s.collisions.as_mut() else {
@@ -66,23 +83,19 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
     if let Some(g) = a.cell {
         c.cell = Some(g);
     }
-    if let Some(p) = a.particles {
-        s.particles.size = p;
-    }
-    if a.steps == 0 {
-        return Err(bad("--steps 0 runs nothing: ask for at least 1 step"));
-    }
-    if let Err(e) = s.validate() {
-        return Err(bad(format!(
-            "scene `{}` with the options given: {}",
-            s.name, e.message
-        )));
-    }
-    let ctx = Context::new(a.common.device)?;
-    let seed = texflow::engine::shader_seed(a.seed);
+    overrides.apply(&mut s)?;
+    let prepared = Prepared {
+        label,
+        source: src,
+        scene: s,
+    };
+    let s = &prepared.scene;
+    let ctx = Context::new(overrides.device)?;
+    overrides.check_device(&ctx, &prepared)?;
+    let seed = texflow::engine::shader_seed(overrides.seed);
     if a.sweep {
         let bar = progress_bar(10, a.common.quiet, "collide-stats sweep");
-        let rows = texflow::sim::collide::sweep(&ctx, &s, a.steps, seed, |name| {
+        let rows = texflow::sim::collide::sweep(&ctx, s, a.steps, seed, |name| {
             bar.set_message(name.to_owned());
             bar.inc(1);
         })?;
@@ -104,7 +117,7 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
         return Ok(());
     }
     let bar = progress_bar(a.steps, a.common.quiet, "collide-stats");
-    let stats = texflow::sim::collide::measure(&ctx, &s, a.steps, seed, || bar.inc(1))?;
+    let stats = texflow::sim::collide::measure(&ctx, s, a.steps, seed, || bar.inc(1))?;
     bar.finish_and_clear();
     let c = s.collisions.as_ref().expect("checked");
     if a.json {

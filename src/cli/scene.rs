@@ -1,6 +1,7 @@
 //! `texflow scene`: check scene files, list their passes, list the built-in scenes.
 
 use clap::Subcommand;
+use texflow::engine::Overrides;
 use texflow::gl::Context;
 use texflow::scene;
 
@@ -37,19 +38,21 @@ pub fn scene_command(c: SceneCommand) -> texflow::Result<()> {
             scene: name,
             device,
         } => {
-            let (label, src) = scene::load_source(&name)?;
-            let s = scene::file::parse(&label, &src)?;
-            // Sizes against the device's limits, where there is a device to ask.
+            // The same validation path as render and every other command.
+            let overrides = Overrides {
+                device,
+                ..Overrides::default()
+            };
+            let prepared = overrides.prepare(&name)?;
+            let s = &prepared.scene;
+            // Sizes against the device's limits, where there is a device to ask; a device
+            // index that does not exist is the user's mistake, not a missing driver.
             let limits = match Context::new(device) {
                 Ok(ctx) => {
-                    let l = ctx.limits();
-                    let limits = scene::file::SizeLimits {
-                        max_texture: l.max_texture_size,
-                        max_3d_texture: l.max_3d_texture_size,
-                    };
-                    scene::file::check_limits(&label, &src, &s, limits, &[])?;
-                    format!("sizes fit {}", l.renderer)
+                    overrides.check_device(&ctx, &prepared)?;
+                    format!("sizes fit {}", ctx.limits().renderer)
                 }
+                Err(e @ texflow::Error::DeviceIndex { .. }) => return Err(e),
                 Err(e) => format!("sizes not checked against a device: {e}"),
             };
             println!(

@@ -142,6 +142,13 @@ pub enum Error {
         /// Live particles.
         live: u64,
     },
+    /// The run was stopped by a signal (SIGINT or SIGTERM) between frames; what was written so
+    /// far is complete, nothing unfinished was left.
+    #[error("interrupted by signal {signal}: stopped between frames; every file written is complete and unfinished ones were removed")]
+    Interrupted {
+        /// The signal number.
+        signal: i32,
+    },
     /// Encoding an image failed.
     #[error("could not encode {path}: {reason}")]
     Image {

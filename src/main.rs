@@ -10,6 +10,13 @@ mod cli;
 use cli::{Cli, Command};
 
 fn main() -> ExitCode {
+    // A closed stdout (`texflow info | head -1`) ends the process quietly, as it does Unix tools,
+    // instead of a panic on the failed write.
+    // SAFETY: restoring the default action of SIGPIPE before any thread exists.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+    cli::signals::install();
     let args = Cli::parse();
     let result = match args.command {
         Command::Info { json } => cli::info::info(json),
@@ -22,6 +29,12 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(texflow::Error::Interrupted { signal }) => {
+            eprintln!(
+                "texflow: interrupted by signal {signal}; the files written so far are complete"
+            );
+            ExitCode::from((128 + signal) as u8)
+        }
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(if e.is_bad_input() { 2 } else { 1 })

@@ -199,19 +199,19 @@ fn encode(descr: &str, shape: &[usize], data: &[u8]) -> Vec<u8> {
 }
 
 fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = path.with_file_name(format!(".{name}.tmp"));
-    let r = fs::write(&tmp, bytes).and_then(|_| fs::rename(&tmp, path));
-    if r.is_err() {
-        let _ = fs::remove_file(&tmp);
-    }
-    r.map_err(|source| Error::Io {
-        path: path.to_owned(),
-        source,
-    })
+    crate::output::write_atomic(path, bytes)
+}
+
+/// The bytes of a .npy file holding a float32 array of `shape` (row-major).
+pub fn encode_f32(shape: &[usize], v: &[f32]) -> Vec<u8> {
+    let data: Vec<u8> = v.iter().flat_map(|x| x.to_le_bytes()).collect();
+    encode("<f4", shape, &data)
+}
+
+/// The bytes of a .npy file holding a 1-D int32 array.
+pub fn encode_i32(v: &[i32]) -> Vec<u8> {
+    let data: Vec<u8> = v.iter().flat_map(|x| x.to_le_bytes()).collect();
+    encode("<i4", &[v.len()], &data)
 }
 
 /// Writes a 1-D float32 array (through a temporary file and a rename).

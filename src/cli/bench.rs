@@ -8,13 +8,14 @@ use texflow::gl::Context;
 use texflow::scene;
 use texflow::sort::Variant;
 
-use super::{bad, parse_size, progress_bar, ClockArg, Common};
+use super::{at_least_one, bad, parse_size, progress_bar, ClockArg, Common};
 
 #[derive(Subcommand)]
 pub enum BenchCommand {
     /// UberFlow's Table 2: fps of whole frames of E1-E5 per state size, next to the paper's.
     Scenes(ScenesArgs),
     /// GPU time of the simulation pass and the render pass per state size, with floors.
+    #[command(allow_negative_numbers = true)]
     Step {
         /// Scene to measure.
         #[arg(long, default_value = scene::DEFAULT_SCENE)]
@@ -23,7 +24,7 @@ pub enum BenchCommand {
         #[arg(long, value_delimiter = ',', default_value = "256,512,1024,2048")]
         sizes: Vec<u32>,
         /// Timed repetitions per size (the median is reported).
-        #[arg(long, default_value_t = 21)]
+        #[arg(long, default_value_t = 21, value_parser = at_least_one::<usize>)]
         repeats: usize,
         /// Frame size WxH of the render pass.
         #[arg(long, value_parser = parse_size)]
@@ -38,6 +39,7 @@ pub enum BenchCommand {
         common: Common,
     },
     /// UberFlow's Table 1: full sorts per variant and size, with floors and CPU baselines.
+    #[command(allow_negative_numbers = true)]
     Sort {
         /// Texture sides (size x size entries), powers of two, comma-separated.
         #[arg(long, value_delimiter = ',', default_value = "128,256,512,1024,2048")]
@@ -46,7 +48,7 @@ pub enum BenchCommand {
         #[arg(long, value_delimiter = ',', default_value = "all")]
         variants: Vec<String>,
         /// Timed repetitions per variant and size (the median is reported).
-        #[arg(long, default_value_t = 11)]
+        #[arg(long, default_value_t = 11, value_parser = at_least_one::<usize>)]
         repeats: usize,
         /// Skip the CPU baselines.
         #[arg(long)]
@@ -169,6 +171,7 @@ pub fn bench(cmd: BenchCommand) -> texflow::Result<()> {
 }
 
 #[derive(Args)]
+#[command(allow_negative_numbers = true)]
 pub struct ScenesArgs {
     /// Square state sizes (size x size particles), comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "256,512,1024")]
@@ -177,7 +180,7 @@ pub struct ScenesArgs {
     #[arg(long, value_delimiter = ',', default_value = "all")]
     experiments: Vec<String>,
     /// Timed frames per experiment and size (the median is reported).
-    #[arg(long, default_value_t = 11)]
+    #[arg(long, default_value_t = 11, value_parser = at_least_one::<usize>)]
     repeats: usize,
     /// Frames simulated before timing (default: one full emission cycle of the scene).
     #[arg(long)]

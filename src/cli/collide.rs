@@ -5,9 +5,10 @@ use texflow::engine::{Overrides, Prepared};
 use texflow::gl::Context;
 use texflow::scene;
 
-use super::{bad, parse_size, progress_bar, Common};
+use super::{at_least_one, bad, parse_size, positive_finite, progress_bar, Common};
 
 #[derive(Args)]
+#[command(allow_negative_numbers = true)]
 pub struct CollideStatsArgs {
     /// Scene with a [collisions] section (built-in: collide) or a .toml file.
     #[arg(default_value = "collide")]
@@ -22,10 +23,10 @@ pub struct CollideStatsArgs {
     #[arg(long)]
     rows_only: Option<u32>,
     /// Lattice mesh size g0 in metres (default: the scene's).
-    #[arg(long)]
+    #[arg(long, value_parser = positive_finite, allow_hyphen_values = true)]
     cell: Option<f32>,
     /// Steps to run; the statistics are taken at the last one.
-    #[arg(long, default_value_t = 240)]
+    #[arg(long, default_value_t = 240, value_parser = at_least_one::<u64>)]
     steps: u64,
     /// State texture size WxH, or N for NxN (powers of two).
     #[arg(long, value_parser = parse_size)]

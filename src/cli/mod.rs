@@ -7,6 +7,7 @@ pub mod info;
 pub mod render;
 pub mod report;
 pub mod scene;
+pub mod signals;
 pub mod sort;
 
 use clap::{Args, Parser, Subcommand};
@@ -28,6 +29,7 @@ pub struct Cli {
 #[derive(Subcommand)]
 pub enum Command {
     /// List the EGL devices with their renderer, GL version and limits.
+    #[command(allow_negative_numbers = true)]
     Info {
         /// Print JSON instead of text.
         #[arg(long)]
@@ -97,6 +99,32 @@ pub fn parse_size(s: &str) -> Result<[u32; 2], String> {
         ));
     }
     Ok(size)
+}
+
+/// Parses a positive, finite number (time steps, lengths).
+pub fn positive_finite(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        Ok(v) => Err(format!(
+            "{v} is not allowed: give a positive, finite number (e.g. 0.01)"
+        )),
+        Err(_) => Err(format!(
+            "`{s}` is not a number: give a positive, finite number"
+        )),
+    }
+}
+
+/// Parses a count of at least 1 (negative numbers get this message too, not clap's).
+pub fn at_least_one<T: TryFrom<i128>>(s: &str) -> Result<T, String> {
+    match s.trim().parse::<i128>() {
+        Ok(v) if v >= 1 => T::try_from(v).map_err(|_| format!("{v} is too large")),
+        Ok(v) => Err(format!(
+            "{v} is not allowed: give a whole number of at least 1"
+        )),
+        Err(_) => Err(format!(
+            "`{s}` is not a whole number: give one of at least 1"
+        )),
+    }
 }
 
 pub fn bad(msg: impl Into<String>) -> Error {

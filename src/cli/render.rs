@@ -11,16 +11,17 @@ use texflow::output::FrameWriter;
 use texflow::scene;
 use texflow::SceneEngine;
 
-use super::{bad, parse_size, progress_bar, Common};
+use super::{at_least_one, bad, parse_size, positive_finite, progress_bar, signals, Common};
 
 #[derive(Args)]
+#[command(allow_negative_numbers = true)]
 pub struct RenderArgs {
     /// Scene to render: a built-in name (fire, snow, fountain, smoke, e1, e2, e3, collide) or a
     /// .toml scene file.
     #[arg(default_value = scene::DEFAULT_SCENE)]
     scene: String,
     /// Number of frames to simulate.
-    #[arg(long, default_value_t = 60)]
+    #[arg(long, default_value_t = 60, value_parser = at_least_one::<u64>)]
     frames: u64,
     /// Output folder (created if missing).
     #[arg(long, default_value = "frames")]
@@ -35,13 +36,13 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Simulation time step in seconds.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, value_parser = positive_finite, allow_hyphen_values = true)]
     dt: Option<f32>,
     /// Simulation steps per frame.
-    #[arg(long)]
+    #[arg(long, value_parser = at_least_one::<u32>)]
     substeps: Option<u32>,
     /// Write every K-th frame (frames keep their index in the name).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = at_least_one::<u64>)]
     every: u64,
     /// Drop the scene's collisions between particles (to compare, UberFlow Fig. 4 right).
     #[arg(long)]
@@ -50,7 +51,7 @@ pub struct RenderArgs {
     #[arg(long)]
     dump_state: Option<PathBuf>,
     /// Dump every K-th frame.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = at_least_one::<u64>)]
     dump_every: u64,
     #[command(flatten)]
     common: Common,
@@ -90,7 +91,7 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     let s = &prepared.scene;
     FrameWriter::check(&a.out)?;
     if let Some(d) = &a.dump_state {
-        FrameWriter::check(d)?;
+        FrameWriter::check_for(d, "--dump-state")?;
     }
     let ctx = Context::new(overrides.device)?;
     overrides.check_device(&ctx, &prepared)?;
@@ -98,6 +99,8 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     let run = FrameLoop::new(&ctx, &engine, options)?;
     let mut sink = FolderSink::create(&a.out, a.dump_state.as_deref())?;
     let bar = progress_bar(a.frames, a.common.quiet, "rendering");
+    // SIGINT and SIGTERM stop the loop between frames (src/cli/signals.rs).
+    signals::cooperate();
     let summary = run.run(&mut engine, &mut sink, |event| {
         match event {
             Event::Frame { .. } => bar.inc(1),
@@ -108,9 +111,16 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
                 )
             }),
         }
-        ControlFlow::Continue(())
+        match signals::received() {
+            Some(_) => ControlFlow::Break(()),
+            None => ControlFlow::Continue(()),
+        }
     })?;
     bar.finish_and_clear();
+    if let Some(signal) = signals::received() {
+        texflow::output::remove_unfinished();
+        return Err(texflow::Error::Interrupted { signal });
+    }
     if summary.max_non_finite > 0 {
         eprintln!(
             "warning: up to {} live particle(s) had NaN or infinite values \

@@ -6,11 +6,12 @@ use clap::Subcommand;
 use texflow::gl::Context;
 use texflow::output::FrameWriter;
 
-use super::{bad, Common};
+use super::{at_least_one, bad, Common};
 
 #[derive(Subcommand)]
 pub enum ReportCommand {
     /// Work-precision diagrams and convergence orders per integrator and precision.
+    #[command(allow_negative_numbers = true)]
     Convergence {
         /// Also write CSV and PNG plots into this folder (created if missing).
         #[arg(long)]
@@ -26,6 +27,7 @@ pub enum ReportCommand {
     },
     /// Stiff spring and drag across their stability limits, and the extreme cases with their
     /// documented outcomes.
+    #[command(allow_negative_numbers = true)]
     Stability {
         /// Print JSON instead of tables.
         #[arg(long)]
@@ -34,6 +36,7 @@ pub enum ReportCommand {
         common: Common,
     },
     /// Everything: plots, CSVs, stability JSON and markdown, and summary.md, into --out.
+    #[command(allow_negative_numbers = true)]
     All {
         /// Output folder (created if missing).
         #[arg(long)]
@@ -47,7 +50,7 @@ pub enum ReportCommand {
         only: Vec<String>,
         /// Runs of each benchmark table (the tables section); every cell reports the run of
         /// median time. The docs use 3.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, value_parser = at_least_one::<usize>)]
         runs: usize,
         #[command(flatten)]
         common: Common,

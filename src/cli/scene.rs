@@ -10,6 +10,7 @@ use super::bad;
 #[derive(Subcommand)]
 pub enum SceneCommand {
     /// Validate a scene file (syntax, types, keys, values) without rendering.
+    #[command(allow_negative_numbers = true)]
     Check {
         /// Scene file (.toml) or built-in name.
         scene: String,
@@ -18,6 +19,7 @@ pub enum SceneCommand {
         device: usize,
     },
     /// Print the passes a scene runs per frame.
+    #[command(allow_negative_numbers = true)]
     Passes {
         /// Scene file (.toml) or built-in name.
         scene: String,
@@ -26,6 +28,7 @@ pub enum SceneCommand {
         json: bool,
     },
     /// List the built-in scenes, or print one's TOML source.
+    #[command(allow_negative_numbers = true)]
     List {
         /// Print the source of this built-in scene.
         name: Option<String>,

@@ -4,12 +4,15 @@ use std::path::PathBuf;
 
 use clap::Args;
 use texflow::gl::Context;
+use texflow::npy;
+use texflow::output::Outputs;
 use texflow::sort::{SortOptions, Sorter, Variant};
 use texflow::Error;
 
 use super::{bad, Common};
 
 #[derive(Args)]
+#[command(allow_negative_numbers = true)]
 pub struct SortArgs {
     /// Sort implementation: fp, gpfp, packed (UberFlow), oddeven (Latta), multistep (ours).
     #[arg(long, default_value = "packed")]
@@ -27,47 +30,22 @@ pub struct SortArgs {
     common: Common,
 }
 
-/// Checks that `path` can be written as a file: its folder exists and it is not a folder.
-pub fn check_output_file(path: &std::path::Path, flag: &str) -> texflow::Result<()> {
-    if path.is_dir() {
-        return Err(bad(format!(
-            "{flag} {} is a folder: name a .npy file",
-            path.display()
-        )));
-    }
-    let parent = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => std::path::Path::new("."),
-    };
-    if !parent.is_dir() {
-        return Err(bad(format!(
-            "{flag} {}: folder {} does not exist",
-            path.display(),
-            parent.display()
-        )));
-    }
-    let probe = parent.join(format!(".texflow-write-test-{}", std::process::id()));
-    std::fs::write(&probe, b"")
-        .and_then(|_| std::fs::remove_file(&probe))
-        .map_err(|e| {
-            bad(format!(
-                "{flag} {}: cannot write in {} ({e})",
-                path.display(),
-                parent.display()
-            ))
-        })
-}
-
 pub fn sort(a: SortArgs) -> texflow::Result<()> {
     let variant = Variant::from_name(&a.variant)?;
     let keys = texflow::npy::read_f32(&a.input).map_err(|e| match e {
         Error::Io { path, source } => bad(format!("--input {}: {source}", path.display())),
         e => e,
     })?;
-    check_output_file(&a.output, "--output")?;
-    if let Some(ids) = &a.ids {
-        check_output_file(ids, "--ids")?;
-    }
+    // Every output is checked before the GPU runs: no clash with another output or the input,
+    // no folder, device or pipe in the way.
+    let mut outputs = Outputs::new();
+    outputs.input(&a.input, "--input");
+    let out_keys = outputs.file(&a.output, "--output")?;
+    let out_ids = a
+        .ids
+        .as_ref()
+        .map(|p| outputs.file(p, "--ids"))
+        .transpose()?;
     let n = keys.len();
     if n > 1 << 24 {
         return Err(bad(format!(
@@ -101,10 +79,14 @@ pub fn sort(a: SortArgs) -> texflow::Result<()> {
             sorted.len()
         )));
     }
-    texflow::npy::write_f32(&a.output, &sorted.iter().map(|e| e[0]).collect::<Vec<_>>())?;
-    if let Some(ids) = &a.ids {
-        texflow::npy::write_i32(ids, &sorted.iter().map(|e| e[1] as i32).collect::<Vec<_>>())?;
+    let keys: Vec<f32> = sorted.iter().map(|e| e[0]).collect();
+    outputs.stage(out_keys, &npy::encode_f32(&[keys.len()], &keys))?;
+    if let Some(i) = out_ids {
+        let ids: Vec<i32> = sorted.iter().map(|e| e[1] as i32).collect();
+        outputs.stage(i, &npy::encode_i32(&ids))?;
     }
+    // Both files are renamed into place only now that both are written.
+    outputs.commit()?;
     if !a.common.quiet {
         eprintln!(
             "sorted {n} keys with {} ({} passes on a {w}x{h} texture) on {}",

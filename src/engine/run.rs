@@ -201,7 +201,9 @@ impl FolderSink {
     pub fn create(frames: &Path, dumps: Option<&Path>) -> Result<Self> {
         Ok(FolderSink {
             frames: FrameWriter::create(frames)?,
-            dumps: dumps.map(FrameWriter::create).transpose()?,
+            dumps: dumps
+                .map(|d| FrameWriter::create_for(d, "--dump-state"))
+                .transpose()?,
             written: Vec::new(),
         })
     }

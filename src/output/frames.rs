@@ -1,5 +1,4 @@
-//! Writing frames as PNG files, atomically: a temporary file in the same folder, then a rename,
-//! so an interrupted run never leaves a truncated PNG behind.
+//! Folders of numbered PNG frames, each written atomically.
 
 use std::fs;
 use std::io::Write;
@@ -7,12 +6,8 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 
-/// Encodes `img` as PNG into `path` through a temporary file and a rename.
+/// Encodes `img` as PNG into `path` atomically ([`super::write_atomic`]).
 pub fn write_png_atomic(path: &Path, img: &image::RgbImage) -> Result<()> {
-    let io = |source| Error::Io {
-        path: path.to_owned(),
-        source,
-    };
     let mut bytes = Vec::new();
     image::codecs::png::PngEncoder::new(&mut bytes)
         .write_image_rgb(img)
@@ -20,21 +15,7 @@ pub fn write_png_atomic(path: &Path, img: &image::RgbImage) -> Result<()> {
             path: path.to_owned(),
             reason: e.to_string(),
         })?;
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = path.with_file_name(format!(".{name}.tmp"));
-    let result = (|| {
-        let mut f = fs::File::create(&tmp)?;
-        f.write_all(&bytes)?;
-        f.sync_all()?;
-        fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
-    }
-    result.map_err(io)
+    super::write_atomic(path, &bytes)
 }
 
 trait WriteRgb {
@@ -63,10 +44,15 @@ impl FrameWriter {
     /// Checks, without creating anything, that `dir` can become a folder of frames: it is a
     /// folder or does not exist yet, and its nearest existing ancestor is a writable folder.
     pub fn check(dir: &Path) -> Result<()> {
+        Self::check_for(dir, "--out")
+    }
+
+    /// [`check`](Self::check), naming the option `flag` in its messages.
+    pub fn check_for(dir: &Path, flag: &str) -> Result<()> {
         let bad = |m: String| Err(Error::InvalidInput(m));
         if dir.exists() && !dir.is_dir() {
             return bad(format!(
-                "output path {} is a file, not a folder: pass a folder to --out",
+                "{flag} {} is a file, not a folder: pass a folder to {flag}",
                 dir.display()
             ));
         }
@@ -88,14 +74,10 @@ impl FrameWriter {
             ));
         }
         // Write permission is best checked by writing.
-        let test = probe.join(format!(".texflow-write-test-{}", std::process::id()));
-        match fs::File::create(&test) {
-            Ok(_) => {
-                let _ = fs::remove_file(&test);
-                Ok(())
-            }
+        match super::probe_writable(&probe) {
+            Ok(()) => Ok(()),
             Err(e) => bad(format!(
-                "output folder {} cannot be written ({}: {e}): choose another --out",
+                "output folder {} cannot be written ({}: {e}): choose another {flag}",
                 dir.display(),
                 probe.display()
             )),
@@ -104,7 +86,12 @@ impl FrameWriter {
 
     /// Creates the folder (and its parents) if needed.
     pub fn create(dir: &Path) -> Result<Self> {
-        Self::check(dir)?;
+        Self::create_for(dir, "--out")
+    }
+
+    /// [`create`](Self::create), naming the option `flag` in its messages.
+    pub fn create_for(dir: &Path, flag: &str) -> Result<Self> {
+        Self::check_for(dir, flag)?;
         fs::create_dir_all(dir).map_err(|source| Error::Io {
             path: dir.to_owned(),
             source,

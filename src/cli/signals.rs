@@ -1,0 +1,48 @@
+//! SIGINT and SIGTERM: no command leaves a temporary file behind, and `render` stops between
+//! frames.
+//!
+//! A thread waits for the signals. For a command that has asked to [`cooperate`] (render), the
+//! first signal is only recorded: the frame loop stops after the frame it is on, the command
+//! returns [`texflow::Error::Interrupted`], and the process exits with 128 + the signal (130 for
+//! SIGINT, 143 for SIGTERM). Any other command, or a second signal, removes the unfinished
+//! temporary files and exits at once with the same code.
+
+use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
+
+use signal_hook::consts::{SIGINT, SIGTERM};
+use signal_hook::iterator::Signals;
+
+static RECEIVED: AtomicI32 = AtomicI32::new(0);
+static COOPERATIVE: AtomicBool = AtomicBool::new(false);
+
+/// Starts the signal thread. Without it (an error here), signals keep their default action.
+pub fn install() {
+    let Ok(mut signals) = Signals::new([SIGINT, SIGTERM]) else {
+        return;
+    };
+    std::thread::spawn(move || {
+        for sig in signals.forever() {
+            if COOPERATIVE.load(Ordering::SeqCst)
+                && RECEIVED
+                    .compare_exchange(0, sig, Ordering::SeqCst, Ordering::SeqCst)
+                    .is_ok()
+            {
+                continue;
+            }
+            texflow::output::abandon(|| std::process::exit(128 + sig));
+        }
+    });
+}
+
+/// The command stops by itself between steps when [`received`] says so.
+pub fn cooperate() {
+    COOPERATIVE.store(true, Ordering::SeqCst);
+}
+
+/// The first signal received, if any.
+pub fn received() -> Option<i32> {
+    match RECEIVED.load(Ordering::SeqCst) {
+        0 => None,
+        s => Some(s),
+    }
+}

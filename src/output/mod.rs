@@ -1,0 +1,283 @@
+//! Files written so that nothing is lost, half-written or overwritten by mistake.
+//!
+//! - Every file goes first to a temporary file in its own folder, created exclusively with an
+//!   unpredictable name (never through a planted link), and is renamed over the target only when
+//!   it is complete: an interrupted run leaves either the old file or the new one.
+//! - A target that exists must be a regular file (or a link to one, which the rename replaces):
+//!   a folder, a device such as `/dev/full`, a pipe or a socket is refused before anything runs.
+//! - [`Outputs`] gathers all the files of one command: their paths must not clash with each other
+//!   or with the command's inputs, and they are renamed into place together, only after every one
+//!   has been written.
+//! - Temporary files that exist right now are listed in a process-wide registry, so that a signal
+//!   handler can remove them ([`remove_unfinished`]) before the process exits.
+
+mod frames;
+
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+use tempfile::NamedTempFile;
+
+pub use frames::{write_png_atomic, FrameWriter};
+
+use crate::error::{Error, Result};
+
+/// Temporary files created and not yet renamed or removed.
+static UNFINISHED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn registry() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    // A panic while the lock was held leaves the list as it was: still usable.
+    UNFINISHED.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+fn forget(path: &Path) {
+    registry().retain(|p| p != path);
+}
+
+/// Removes every temporary file that is still unfinished (for signal handlers). Returns how many
+/// were removed.
+pub fn remove_unfinished() -> usize {
+    let paths = std::mem::take(&mut *registry());
+    paths.iter().filter(|p| fs::remove_file(p).is_ok()).count()
+}
+
+/// Removes every unfinished temporary file and then runs `exit` (which ends the process) while
+/// still holding the registry, so that no other thread can create a new temporary file between
+/// the clean-up and the end.
+pub fn abandon(exit: impl FnOnce() -> std::convert::Infallible) -> std::convert::Infallible {
+    let mut held = registry();
+    for p in held.drain(..) {
+        let _ = fs::remove_file(p);
+    }
+    // `exit` does not return: the registry stays locked until the process ends.
+    match exit() {}
+}
+
+/// The temporary files unfinished right now (for tests).
+pub fn unfinished() -> Vec<PathBuf> {
+    registry().clone()
+}
+
+fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
+}
+
+fn io(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
+    move |source| Error::Io {
+        path: path.to_owned(),
+        source,
+    }
+}
+
+/// Checks that `dir` can be written, by creating (and removing) an exclusive temporary file.
+pub fn probe_writable(dir: &Path) -> std::io::Result<()> {
+    tempfile::Builder::new()
+        .prefix(".texflow-write-test-")
+        .tempfile_in(dir)
+        .map(drop)
+}
+
+/// Refuses a target that exists and is not a regular file, or whose folder is missing or cannot
+/// be written; `flag` names the option in the message.
+pub fn check_target(path: &Path, flag: &str) -> Result<()> {
+    let bad = |m: String| Err(Error::InvalidInput(m));
+    let shown = path.display();
+    if path.as_os_str().is_empty() {
+        return bad(format!("{flag} is empty: name a file"));
+    }
+    match fs::metadata(path) {
+        Ok(m) if m.is_dir() => return bad(format!("{flag} {shown} is a folder: name a file")),
+        Ok(m) if !m.is_file() => {
+            return bad(format!(
+                "{flag} {shown} exists and is not a regular file (a device, pipe or socket): \
+                 name a new or regular file"
+            ))
+        }
+        _ => {}
+    }
+    let dir = folder_of(path);
+    if !dir.is_dir() {
+        return bad(format!(
+            "{flag} {shown}: folder {} does not exist",
+            dir.display()
+        ));
+    }
+    probe_writable(dir).or_else(|e| {
+        bad(format!(
+            "{flag} {shown}: cannot write in {} ({e})",
+            dir.display()
+        ))
+    })
+}
+
+/// A temporary file beside `path`, registered as unfinished before it exists.
+fn temporary_beside(path: &Path) -> Result<NamedTempFile> {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let dir = folder_of(path);
+    tempfile::Builder::new()
+        .prefix(&format!(".{name}."))
+        .suffix(".tmp")
+        .make_in(dir, |p| {
+            registry().push(p.to_owned());
+            let f = fs::OpenOptions::new().write(true).create_new(true).open(p);
+            if f.is_err() {
+                forget(p);
+            }
+            f
+        })
+        .map_err(io(path))
+}
+
+/// A file being written: its bytes go to a temporary file until [`persist`](Self::persist).
+/// Dropped without persisting, the temporary file is removed.
+#[derive(Debug)]
+pub struct Staged {
+    target: PathBuf,
+    temp: Option<NamedTempFile>,
+}
+
+impl Staged {
+    /// Writes `bytes` to a new temporary file beside `target`, and flushes it to disk.
+    pub fn new(target: &Path, bytes: &[u8]) -> Result<Self> {
+        let mut temp = temporary_beside(target)?;
+        let written = temp
+            .as_file_mut()
+            .write_all(bytes)
+            .and_then(|_| temp.as_file().sync_all());
+        // Owned before the error is returned, so that dropping it removes the temporary file.
+        let staged = Staged {
+            target: target.to_owned(),
+            temp: Some(temp),
+        };
+        written.map_err(io(target))?;
+        Ok(staged)
+    }
+
+    /// Renames the temporary file over the target.
+    pub fn persist(mut self) -> Result<PathBuf> {
+        let temp = self
+            .temp
+            .take()
+            .expect("a staged file holds its temporary file");
+        let temp_path = temp.path().to_owned();
+        let result = temp.persist(&self.target);
+        forget(&temp_path);
+        result.map_err(|e| Error::Io {
+            path: self.target.clone(),
+            source: e.error,
+        })?;
+        Ok(self.target.clone())
+    }
+}
+
+impl Drop for Staged {
+    fn drop(&mut self) {
+        if let Some(t) = self.temp.take() {
+            let p = t.path().to_owned();
+            drop(t);
+            forget(&p);
+        }
+    }
+}
+
+/// Writes `bytes` to `path` atomically: the target is checked ([`check_target`]), then written
+/// through a temporary file and a rename.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    if let Ok(m) = fs::metadata(path) {
+        if !m.is_file() {
+            return Err(Error::InvalidInput(format!(
+                "{} exists and is not a regular file: refusing to replace it",
+                path.display()
+            )));
+        }
+    }
+    Staged::new(path, bytes)?.persist().map(drop)
+}
+
+/// Identity of a path for clash checks: the canonical folder and the file name, and the file's
+/// device and inode where it exists (so that two names of one file clash too).
+fn identity(path: &Path) -> (Option<PathBuf>, Option<(u64, u64)>) {
+    use std::os::unix::fs::MetadataExt;
+    let dir = fs::canonicalize(folder_of(path)).ok();
+    let full = dir.zip(path.file_name()).map(|(d, n)| d.join(n));
+    let inode = fs::metadata(path).ok().map(|m| (m.dev(), m.ino()));
+    (full, inode)
+}
+
+/// All the files one command writes, checked up front and renamed into place together.
+#[derive(Debug, Default)]
+pub struct Outputs {
+    targets: Vec<(PathBuf, String)>,
+    inputs: Vec<(PathBuf, String)>,
+    staged: Vec<Option<Staged>>,
+}
+
+impl Outputs {
+    /// No outputs yet.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Declares a file the command reads, so that no output may replace it.
+    pub fn input(&mut self, path: &Path, flag: &str) {
+        self.inputs.push((path.to_owned(), flag.to_owned()));
+    }
+
+    /// Declares an output given by option `flag`: checked now ([`check_target`]) and against the
+    /// outputs and inputs declared before it. Returns its index for [`stage`](Self::stage).
+    pub fn file(&mut self, path: &Path, flag: &str) -> Result<usize> {
+        check_target(path, flag)?;
+        let (me, my_inode) = identity(path);
+        for (other, other_flag) in self.targets.iter().chain(&self.inputs) {
+            let (them, their_inode) = identity(other);
+            let same =
+                (me.is_some() && me == them) || (my_inode.is_some() && my_inode == their_inode);
+            if same {
+                let role = if self.inputs.iter().any(|(p, _)| p == other) {
+                    "the input"
+                } else {
+                    "another output"
+                };
+                return Err(Error::InvalidInput(format!(
+                    "{flag} {} is the same file as {other_flag} {} ({role}): give each output \
+                     its own path",
+                    path.display(),
+                    other.display()
+                )));
+            }
+        }
+        self.targets.push((path.to_owned(), flag.to_owned()));
+        self.staged.push(None);
+        Ok(self.targets.len() - 1)
+    }
+
+    /// Writes output `index`'s bytes to its temporary file.
+    pub fn stage(&mut self, index: usize, bytes: &[u8]) -> Result<()> {
+        let (path, _) = &self.targets[index];
+        self.staged[index] = Some(Staged::new(path, bytes)?);
+        Ok(())
+    }
+
+    /// Renames every staged file into place; fails, renaming nothing, if one was not staged.
+    pub fn commit(mut self) -> Result<Vec<PathBuf>> {
+        if let Some(i) = self.staged.iter().position(Option::is_none) {
+            return Err(Error::InvalidInput(format!(
+                "{} {} was never written",
+                self.targets[i].1,
+                self.targets[i].0.display()
+            )));
+        }
+        self.staged
+            .drain(..)
+            .map(|s| s.expect("checked above").persist())
+            .collect()
+    }
+}

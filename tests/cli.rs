@@ -112,10 +112,21 @@ fn bad_input_is_refused_with_exit_code_2() {
         &["render", "--particles", "100000x4"],
         "GL_MAX_TEXTURE_SIZE",
     );
-    refused(&["render", "--frames", "0"], "--frames 0");
-    refused(&["render", "--every", "0"], "--every 0");
+    refused(&["render", "--frames", "0"], "0 is not allowed");
+    refused(
+        &["render", "--frames", "-1"],
+        "--frames <FRAMES>': -1 is not allowed",
+    );
+    refused(
+        &["render", "--every", "0"],
+        "--every <EVERY>': 0 is not allowed",
+    );
     refused(&["render", "--dt", "-0.01"], "time step");
     refused(&["render", "--dt", "nan"], "time step");
+    refused(
+        &["render", "--dt", "-inf"],
+        "--dt <DT>': -inf is not allowed",
+    );
     refused(&["render", "--substeps", "0"], "substeps");
     refused(
         &["render", "--device", "99"],

@@ -101,7 +101,12 @@ pub fn parse_size(s: &str) -> Result<[u32; 2], String> {
     Ok(size)
 }
 
-/// Parses a positive, finite number (time steps, lengths).
+/// Parses a time step: a positive, finite number of seconds.
+pub fn time_step(s: &str) -> Result<f32, String> {
+    positive_finite(s).map_err(|e| format!("{e}; a time step is a positive number of seconds"))
+}
+
+/// Parses a positive, finite number (lengths).
 pub fn positive_finite(s: &str) -> Result<f32, String> {
     match s.trim().parse::<f32>() {
         Ok(v) if v.is_finite() && v > 0.0 => Ok(v),

@@ -11,7 +11,7 @@ use texflow::output::FrameWriter;
 use texflow::scene;
 use texflow::SceneEngine;
 
-use super::{at_least_one, bad, parse_size, positive_finite, progress_bar, signals, Common};
+use super::{at_least_one, bad, parse_size, progress_bar, signals, time_step, Common};
 
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
@@ -36,7 +36,7 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Simulation time step in seconds.
-    #[arg(long, value_parser = positive_finite, allow_hyphen_values = true)]
+    #[arg(long, value_parser = time_step, allow_hyphen_values = true)]
     dt: Option<f32>,
     /// Simulation steps per frame.
     #[arg(long, value_parser = at_least_one::<u32>)]

@@ -7,15 +7,15 @@
 //! and which passes run, and is also what `texflow scene passes` prints.
 
 use glam::{UVec2, Vec3, Vec4};
-use glow::HasContext;
 
 use super::allocator::{Allocator, AllocatorKind};
 use super::emit::{EmitterUniforms, Rng};
 use super::fields::{DistanceField, FlowField, HeightField};
 use crate::error::{Error, Result};
 use crate::gl::{
-    Attribute, Buffer, Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Texture,
-    Texture3D, TextureDesc, TextureFormat, VertexArray, FULLSCREEN_VERTEX,
+    Attribute, Buffer, BufferKind, BufferUsage, Context, Defines, Draw, DrawState, Framebuffer,
+    FullscreenPass, PingPong, PointSize, Primitive, Program, Ring3, Texture, Texture3D,
+    TextureDesc, TextureFormat, VertexArray, FULLSCREEN_VERTEX,
 };
 use crate::scene::file::{self, Integrator, Precision, SceneFile, VelocityFormat};
 
@@ -325,12 +325,11 @@ impl Features {
     }
 }
 
+/// The state framebuffers: position and velocity ping-pong for the explicit integrators, a ring
+/// of previous, current and next positions for Verlet.
 enum State {
     Explicit(PingPong),
-    Verlet {
-        ring: [Framebuffer; 3],
-        current: usize,
-    },
+    Verlet(Ring3),
 }
 
 struct Fields {
@@ -425,20 +424,14 @@ impl ParticleSim {
             VelocityFormat::Rgba16f => TextureFormat::Rgba16F,
         };
         let state = if features.integrator == Integrator::Verlet {
-            let fb = |i: usize| -> Result<Framebuffer> {
-                let t = state_texture(
-                    ctx,
-                    &format!("position:{i}"),
-                    width,
-                    height,
-                    TextureFormat::Rgba32F,
-                )?;
-                Framebuffer::new(ctx, &format!("verlet:{i}"), vec![t])
-            };
-            State::Verlet {
-                ring: [fb(0)?, fb(1)?, fb(2)?],
-                current: 1,
-            }
+            State::Verlet(Ring3::new(
+                ctx,
+                "verlet",
+                &["position"],
+                &[TextureFormat::Rgba32F],
+                width,
+                height,
+            )?)
         } else {
             State::Explicit(PingPong::new(
                 ctx,
@@ -608,16 +601,12 @@ impl ParticleSim {
                 self.pass.draw(&state, pp.front());
                 self.pass.draw(&state, pp.back());
             }
-            State::Verlet { ring, current } => {
+            State::Verlet(ring) => {
                 let previous = program("OUT_PREVIOUS", &mut defines)?;
-                for (i, fb) in ring.iter().enumerate() {
-                    let p = if i == (current + 2) % 3 {
-                        &previous
-                    } else {
-                        &state
-                    };
-                    self.pass.draw(p, fb);
-                }
+                let [p, c, n] = ring.roles();
+                self.pass.draw(&previous, p);
+                self.pass.draw(&state, c);
+                self.pass.draw(&state, n);
             }
         }
         self.step = 0;
@@ -629,7 +618,7 @@ impl ParticleSim {
     pub fn positions(&self) -> &Texture {
         match &self.state {
             State::Explicit(pp) => pp.front().texture(0),
-            State::Verlet { ring, current } => ring[*current].texture(0),
+            State::Verlet(ring) => ring.current().texture(0),
         }
     }
 
@@ -645,7 +634,7 @@ impl ParticleSim {
     pub fn previous(&self) -> Option<&Texture> {
         match &self.state {
             State::Explicit(_) => None,
-            State::Verlet { ring, current } => Some(ring[(current + 2) % 3].texture(0)),
+            State::Verlet(ring) => Some(ring.previous().texture(0)),
         }
     }
 
@@ -659,7 +648,7 @@ impl ParticleSim {
     pub fn front(&self) -> &Framebuffer {
         match &self.state {
             State::Explicit(pp) => pp.front(),
-            State::Verlet { ring, current } => &ring[*current],
+            State::Verlet(ring) => ring.current(),
         }
     }
 
@@ -784,14 +773,13 @@ impl ParticleSim {
                 }
                 pp.swap();
             }
-            State::Verlet { ring, current } => {
-                let (prev, next) = ((*current + 2) % 3, (*current + 1) % 3);
-                ring[*current].texture(0).bind(unit::POSITION);
-                ring[prev].texture(0).bind(unit::VELOCITY);
+            State::Verlet(ring) => {
+                ring.current().texture(0).bind(unit::POSITION);
+                ring.previous().texture(0).bind(unit::VELOCITY);
                 if rows > 0 {
-                    self.pass.draw_rows(p, &ring[next], 0, rows);
+                    self.pass.draw_rows(p, ring.next(), 0, rows);
                 }
-                *current = next;
+                ring.rotate();
             }
         }
         self.step += 1;
@@ -839,9 +827,9 @@ impl ParticleSim {
         let buffer = Buffer::with_data(
             &self.ctx,
             "births",
-            glow::ARRAY_BUFFER,
+            BufferKind::Vertex,
             bytemuck::cast_slice(&data),
-            glow::STREAM_DRAW,
+            BufferUsage::StreamDraw,
         )?;
         let stride = (EMIT_FLOATS * 4) as i32;
         let attr = |location: u32, components: i32, offset: i32| Attribute {
@@ -856,16 +844,22 @@ impl ParticleSim {
             "births",
             &[attr(0, 1, 0), attr(1, 4, 1), attr(2, 4, 5), attr(3, 4, 9)],
         )?;
-        let count = (data.len() / EMIT_FLOATS) as i32;
-        let draw = |p: &Program, fb: &Framebuffer| {
-            p.bind();
-            fb.bind();
-            vao.bind();
-            // SAFETY: program, framebuffer and vertex array are bound and alive.
-            unsafe {
-                self.ctx.disable(glow::BLEND);
-                self.ctx.draw_arrays(glow::POINTS, 0, count);
-            }
+        let count = (data.len() / EMIT_FLOATS) as u32;
+        // Single pixels (emit.vert writes gl_PointSize = 1) replacing what the texel held.
+        let state = DrawState {
+            blend: None,
+            point_size: PointSize::Program,
+        };
+        let draw = |program: &Program, target: &Framebuffer| {
+            self.ctx.draw(&Draw {
+                program,
+                target,
+                viewport: None,
+                vertices: &vao,
+                primitive: Primitive::Points,
+                count,
+                state: &state,
+            })
         };
         self.bind_fields();
         if let Some(p) = &self.emit_static {
@@ -874,8 +868,8 @@ impl ParticleSim {
         if let Some(p) = &self.emit_state {
             draw(p, self.front());
         }
-        if let (Some(p), State::Verlet { ring, current }) = (&self.emit_previous, &self.state) {
-            draw(p, &ring[(current + 2) % 3]);
+        if let (Some(p), State::Verlet(ring)) = (&self.emit_previous, &self.state) {
+            draw(p, ring.previous());
         }
         Ok(())
     }
@@ -932,8 +926,8 @@ impl ParticleSim {
                 pp.front().texture(0).upload_f32(positions)?;
                 pp.front().texture(1).upload_f32(velocities)?;
             }
-            State::Verlet { ring, current } => {
-                ring[*current].texture(0).upload_f32(positions)?;
+            State::Verlet(ring) => {
+                ring.current().texture(0).upload_f32(positions)?;
                 let v = state_texture(
                     &self.ctx,
                     "start velocity",
@@ -944,11 +938,11 @@ impl ParticleSim {
                 v.upload_f32(velocities)?;
                 let p = self.start.as_ref().expect("Verlet has a start program");
                 p.bind();
-                ring[*current].texture(0).bind(unit::POSITION);
+                ring.current().texture(0).bind(unit::POSITION);
                 v.bind(unit::VELOCITY);
                 self.statics.texture(0).bind(unit::STATIC);
                 self.bind_fields();
-                self.pass.draw(p, &ring[(current + 2) % 3]);
+                self.pass.draw(p, ring.previous());
             }
         }
         self.ctx.check_error("setting the particle state")

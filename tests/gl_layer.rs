@@ -1,12 +1,14 @@
 //! The GL layer's contracts on a real driver: MRT with eight targets, distinct framebuffer
-//! errors, and shader errors that name the glsl/ file and line.
+//! errors, shader errors that name the glsl/ file and line, draw state set in full on every draw,
+//! the ring of three, and objects of two contexts on one thread kept apart.
 
 mod common;
 
 use common::{context, no_gl_error};
 use texflow::gl::{
-    Defines, Framebuffer, FullscreenPass, Program, Texture, TextureDesc, TextureFormat,
-    FULLSCREEN_VERTEX,
+    Blend, BlendComponent, BlendFactor, Context, Defines, Draw, DrawState, Framebuffer,
+    FullscreenPass, PointSize, Primitive, Program, Ring3, Texture, TextureDesc, TextureFormat,
+    VertexArray, FULLSCREEN_VERTEX,
 };
 use texflow::Error;
 
@@ -135,4 +137,77 @@ fn textures_round_trip_and_reject_wrong_lengths() {
     let back = h.read_f32().unwrap();
     assert_eq!(back, vec![0.333_251_95, 65504.0, -2.0, 0.0]);
     no_gl_error(&ctx);
+}
+
+/// A blended draw leaves nothing behind: the full-screen pass after it replaces the texels.
+#[test]
+fn every_draw_sets_its_own_blend_state() {
+    let ctx = context();
+    let fb = Framebuffer::new(&ctx, "one", vec![tex(&ctx, 3, 2, TextureFormat::Rgba32F)]).unwrap();
+    let program =
+        Program::new(&ctx, FULLSCREEN_VERTEX, "test/write8.frag", &Defines::new()).unwrap();
+    let vao = VertexArray::empty(&ctx, "test").unwrap();
+    let add = BlendComponent::add(BlendFactor::One, BlendFactor::One);
+    fb.clear([0.5; 4]);
+    ctx.draw(&Draw {
+        program: &program,
+        target: &fb,
+        viewport: None,
+        vertices: &vao,
+        primitive: Primitive::Triangles,
+        count: 3,
+        state: &DrawState {
+            blend: Some(Blend {
+                color: add,
+                alpha: add,
+            }),
+            point_size: PointSize::One,
+        },
+    });
+    assert!(fb.texture(0).read_f32().unwrap().iter().all(|&v| v == 1.5));
+    FullscreenPass::new(&ctx).unwrap().draw(&program, &fb);
+    assert!(fb.texture(0).read_f32().unwrap().iter().all(|&v| v == 1.0));
+    no_gl_error(&ctx);
+}
+
+#[test]
+fn ring_of_three_rotates_previous_current_next() {
+    let ctx = context();
+    let mut ring = Ring3::new(&ctx, "verlet", &["position"], &[TextureFormat::R32F], 2, 2).unwrap();
+    let labels = |r: &Ring3| r.roles().map(|f| f.label().to_owned());
+    assert_eq!(labels(&ring), ["verlet:0", "verlet:1", "verlet:2"]);
+    ring.rotate();
+    assert_eq!(labels(&ring), ["verlet:1", "verlet:2", "verlet:0"]);
+    ring.rotate();
+    assert_eq!(labels(&ring), ["verlet:2", "verlet:0", "verlet:1"]);
+    ring.rotate();
+    assert_eq!(labels(&ring), ["verlet:0", "verlet:1", "verlet:2"]);
+    assert!(std::ptr::eq(ring.previous(), ring.roles()[0]));
+    assert!(std::ptr::eq(ring.current(), ring.roles()[1]));
+    assert!(std::ptr::eq(ring.next(), ring.roles()[2]));
+    no_gl_error(&ctx);
+}
+
+/// Two contexts on one thread: EGL has one current context per thread, and GL names are per
+/// context (both contexts hand out the same names here), so using or dropping an object must
+/// make its own context current first, or it would read or delete the other context's object.
+#[test]
+fn objects_of_two_contexts_on_one_thread_stay_apart() {
+    let a = context();
+    let ta = tex(&a, 1, 1, TextureFormat::Rgba32F);
+    ta.upload_f32(&[1.0, 2.0, 3.0, 4.0]).unwrap();
+    let b = Context::new(0).unwrap();
+    assert!(b.is_current() && !a.is_current());
+    let tb = tex(&b, 1, 1, TextureFormat::Rgba32F);
+    tb.upload_f32(&[5.0, 6.0, 7.0, 8.0]).unwrap();
+    assert_eq!(ta.read_f32().unwrap(), [1.0, 2.0, 3.0, 4.0]);
+    assert!(a.is_current());
+    assert_eq!(tb.read_f32().unwrap(), [5.0, 6.0, 7.0, 8.0]);
+    assert!(b.is_current());
+    // Dropped while b is current: deleted in a, so b's texture of the same name survives.
+    drop(ta);
+    assert!(a.is_current());
+    assert_eq!(tb.read_f32().unwrap(), [5.0, 6.0, 7.0, 8.0]);
+    no_gl_error(&b);
+    no_gl_error(&a);
 }

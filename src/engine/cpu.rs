@@ -26,11 +26,13 @@
 //! sprites, collisions between particles, the fire scene.
 
 use glam::{Vec3, Vec4};
-use glow::HasContext;
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::gl::{Attribute, Buffer, Context, Defines, Program, VertexArray, FULLSCREEN_VERTEX};
+use crate::gl::{
+    Attribute, Buffer, BufferKind, BufferUsage, Context, Defines, Draw, Primitive, Program,
+    VertexArray, FULLSCREEN_VERTEX,
+};
 use crate::render::{relative_age, Camera, FrameTarget, ParticleStyle};
 use crate::scene::file::{Blending, DrawMode, DrawOrder, Integrator, Precision, SceneFile};
 use crate::sim::emit::{EmitterUniforms, Rng};
@@ -399,9 +401,9 @@ impl CpuEngine {
         let vertex_buffer = Buffer::with_size(
             ctx,
             "cpu engine vertices",
-            glow::ARRAY_BUFFER,
+            BufferKind::Vertex,
             bytes as usize,
-            glow::STREAM_DRAW,
+            BufferUsage::StreamDraw,
         )?;
         let vao = VertexArray::with_attributes(
             ctx,
@@ -528,25 +530,9 @@ impl CpuEngine {
     /// still reading the last frame's data does not stall the upload) and refilled with
     /// `glBufferSubData`.
     fn upload(&self) -> Result<()> {
-        let gl = &self.ctx;
-        // SAFETY: the buffer is alive; the data fits its size (one vertex per particle at most).
-        unsafe {
-            gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.vertex_buffer.raw()));
-            gl.buffer_data_size(
-                glow::ARRAY_BUFFER,
-                self.vertex_buffer.size() as i32,
-                glow::STREAM_DRAW,
-            );
-            if !self.vertices.is_empty() {
-                gl.buffer_sub_data_u8_slice(
-                    glow::ARRAY_BUFFER,
-                    0,
-                    bytemuck::cast_slice(&self.vertices),
-                );
-            }
-            gl.bind_buffer(glow::ARRAY_BUFFER, None);
-        }
-        gl.check_error("uploading the CPU engine's vertices")
+        self.vertex_buffer
+            .replace(bytemuck::cast_slice(&self.vertices))?;
+        self.ctx.check_error("uploading the CPU engine's vertices")
     }
 
     /// The point draw with the scene's blending, as `ParticleRenderer::draw` sets it up.
@@ -560,31 +546,31 @@ impl CpuEngine {
         p.set_f32("u_point_size", s.point_size);
         p.set_f32("u_intensity", s.intensity);
         s.set_keyframes(p);
-        self.target.framebuffer().bind();
-        self.vao.bind();
         let gl = &self.ctx;
-        let count = self.vertices.len() as i32;
-        s.apply_blending(gl);
-        // SAFETY: a program, a vertex array whose buffer holds `count` vertices and a complete
-        // framebuffer are bound.
-        unsafe {
-            if count > 0 {
-                gl.draw_arrays(glow::POINTS, 0, count);
-            }
-            gl.bind_vertex_array(None);
-        }
+        let state = s.draw_state();
+        gl.draw(&Draw {
+            program: p,
+            target: self.target.framebuffer(),
+            viewport: None,
+            vertices: &self.vao,
+            primitive: Primitive::Points,
+            count: self.vertices.len() as u32,
+            state: &state,
+        });
         if let Some(b) = &self.background {
             b.bind();
             b.set_vec3("u_background", Vec3::from_array(s.background));
-            self.empty.bind();
-            // SAFETY: as above; blending is on with the under operator's factors.
-            unsafe {
-                gl.draw_arrays(glow::TRIANGLES, 0, 3);
-                gl.bind_vertex_array(None);
-            }
+            // The same blend state: the under operator composites the background last.
+            gl.draw(&Draw {
+                program: b,
+                target: self.target.framebuffer(),
+                viewport: None,
+                vertices: &self.empty,
+                primitive: Primitive::Triangles,
+                count: 3,
+                state: &state,
+            });
         }
-        // SAFETY: plain state change.
-        unsafe { gl.disable(glow::BLEND) };
         gl.check_error("drawing the CPU engine's points")
     }
 

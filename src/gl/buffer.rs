@@ -5,11 +5,53 @@ use glow::HasContext;
 use super::Context;
 use crate::error::{Error, Result};
 
+/// What a buffer is bound as when it is filled (a hint to the driver; GL buffers are typeless,
+/// a vertex array can read any of them).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BufferKind {
+    /// `GL_ARRAY_BUFFER`: vertex data written by the CPU.
+    Vertex,
+    /// `GL_PIXEL_PACK_BUFFER`: written on the GPU by [`PixelPack`](super::PixelPack).
+    PixelPack,
+}
+
+impl BufferKind {
+    fn target(self) -> u32 {
+        match self {
+            BufferKind::Vertex => glow::ARRAY_BUFFER,
+            BufferKind::PixelPack => glow::PIXEL_PACK_BUFFER,
+        }
+    }
+}
+
+/// How often the contents change and who writes them (GL's usage hint).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BufferUsage {
+    /// Written once by the CPU, drawn many times.
+    StaticDraw,
+    /// Written by the CPU for about one draw.
+    StreamDraw,
+    /// Written by GL for about one draw.
+    StreamCopy,
+}
+
+impl BufferUsage {
+    fn gl(self) -> u32 {
+        match self {
+            BufferUsage::StaticDraw => glow::STATIC_DRAW,
+            BufferUsage::StreamDraw => glow::STREAM_DRAW,
+            BufferUsage::StreamCopy => glow::STREAM_COPY,
+        }
+    }
+}
+
 /// An owned buffer object, deleted on drop.
 pub struct Buffer {
     ctx: Context,
     raw: glow::Buffer,
     size: usize,
+    kind: BufferKind,
+    usage: BufferUsage,
 }
 
 impl std::fmt::Debug for Buffer {
@@ -23,15 +65,16 @@ impl Buffer {
     pub fn with_data(
         ctx: &Context,
         label: &str,
-        target: u32,
+        kind: BufferKind,
         data: &[u8],
-        usage: u32,
+        usage: BufferUsage,
     ) -> Result<Self> {
+        let target = kind.target();
         // SAFETY: a fresh buffer object filled from a live slice.
         let raw = unsafe {
             let raw = ctx.create_buffer().map_err(Error::Gl)?;
             ctx.bind_buffer(target, Some(raw));
-            ctx.buffer_data_u8_slice(target, data, usage);
+            ctx.buffer_data_u8_slice(target, data, usage.gl());
             ctx.bind_buffer(target, None);
             raw
         };
@@ -41,6 +84,8 @@ impl Buffer {
             ctx: ctx.clone(),
             raw,
             size: data.len(),
+            kind,
+            usage,
         })
     }
 
@@ -48,15 +93,16 @@ impl Buffer {
     pub fn with_size(
         ctx: &Context,
         label: &str,
-        target: u32,
+        kind: BufferKind,
         size: usize,
-        usage: u32,
+        usage: BufferUsage,
     ) -> Result<Self> {
+        let target = kind.target();
         // SAFETY: as above, no data.
         let raw = unsafe {
             let raw = ctx.create_buffer().map_err(Error::Gl)?;
             ctx.bind_buffer(target, Some(raw));
-            ctx.buffer_data_size(target, size as i32, usage);
+            ctx.buffer_data_size(target, size as i32, usage.gl());
             ctx.bind_buffer(target, None);
             raw
         };
@@ -66,7 +112,33 @@ impl Buffer {
             ctx: ctx.clone(),
             raw,
             size,
+            kind,
+            usage,
         })
+    }
+
+    /// Replaces the contents with `data` (at most [`size`](Self::size) bytes) from offset 0: the
+    /// storage is orphaned first, so a draw still reading the old contents does not stall the
+    /// write, then refilled with `glBufferSubData`. Bytes past `data` are undefined afterwards.
+    pub fn replace(&self, data: &[u8]) -> Result<()> {
+        if data.len() > self.size {
+            return Err(Error::InvalidInput(format!(
+                "{} bytes written into a buffer of {}",
+                data.len(),
+                self.size
+            )));
+        }
+        let (gl, target) = (&self.ctx, self.kind.target());
+        // SAFETY: the buffer is alive; `data` fits its size (checked above).
+        unsafe {
+            gl.bind_buffer(target, Some(self.raw));
+            gl.buffer_data_size(target, self.size as i32, self.usage.gl());
+            if !data.is_empty() {
+                gl.buffer_sub_data_u8_slice(target, 0, data);
+            }
+            gl.bind_buffer(target, None);
+        }
+        Ok(())
     }
 
     /// Size in bytes.
@@ -74,16 +146,18 @@ impl Buffer {
         self.size
     }
 
-    /// The GL name.
-    pub fn raw(&self) -> glow::Buffer {
+    /// The GL name, for the GL layer.
+    pub(crate) fn raw(&self) -> glow::Buffer {
         self.raw
     }
 }
 
 impl Drop for Buffer {
     fn drop(&mut self) {
-        // SAFETY: the context outlives the buffer.
-        unsafe { self.ctx.delete_buffer(self.raw) }
+        if let Some(gl) = self.ctx.gl_for_drop() {
+            // SAFETY: the object belongs to this context, made current just now.
+            unsafe { gl.delete_buffer(self.raw) }
+        }
     }
 }
 
@@ -164,7 +238,9 @@ impl VertexArray {
 
 impl Drop for VertexArray {
     fn drop(&mut self) {
-        // SAFETY: the context outlives the vertex array.
-        unsafe { self.ctx.delete_vertex_array(self.raw) }
+        if let Some(gl) = self.ctx.gl_for_drop() {
+            // SAFETY: the object belongs to this context, made current just now.
+            unsafe { gl.delete_vertex_array(self.raw) }
+        }
     }
 }

@@ -4,10 +4,17 @@
 //! Every GL object of this crate holds a [`Context`] (a reference-counted handle), so no object
 //! can outlive the context it was made in. GL contexts are bound to the thread that made them
 //! current: a [`Context`] is neither `Send` nor `Sync`.
+//!
+//! One thread can hold several contexts ([`Context::new`] twice), and EGL has one current context
+//! per thread, so every GL call of this layer, and every `Drop` of a GL object, goes through
+//! [`Context::make_current`] first: an object is always used and deleted in its own context,
+//! whichever was made current last. When only one context exists that is one thread-local compare.
 
+use std::cell::Cell;
 use std::ffi::CStr;
 use std::ops::Deref;
 use std::rc::Rc;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use glow::HasContext;
 use glutin::api::egl::{
@@ -94,6 +101,14 @@ pub struct Limits {
     pub khr_debug: bool,
 }
 
+thread_local! {
+    /// The id of the context of this crate that is current on this thread (0: none).
+    static CURRENT: Cell<u64> = const { Cell::new(0) };
+}
+
+/// Ids of contexts, unique in the process (0 is never given out).
+static NEXT_ID: AtomicU64 = AtomicU64::new(1);
+
 /// Owner of the EGL display, the GL context and the glow function table.
 ///
 /// Fields drop in declaration order: glow first, then the context, then the display.
@@ -101,8 +116,18 @@ struct Inner {
     gl: glow::Context,
     limits: Limits,
     device: usize,
-    _context: PossiblyCurrentContext,
+    id: u64,
+    context: PossiblyCurrentContext,
     _display: Display,
+}
+
+impl Drop for Inner {
+    fn drop(&mut self) {
+        // The EGL context is destroyed with the fields; no later call may take it for current.
+        if CURRENT.with(Cell::get) == self.id {
+            CURRENT.with(|c| c.set(0));
+        }
+    }
 }
 
 /// A current, surfaceless OpenGL 3.3 core context on one EGL device. Cheap to clone.
@@ -120,10 +145,11 @@ impl std::fmt::Debug for Context {
     }
 }
 
+/// The glow function table, with this context made current first (see [`Context::gl`]).
 impl Deref for Context {
     type Target = glow::Context;
     fn deref(&self) -> &glow::Context {
-        &self.inner.gl
+        self.gl()
     }
 }
 
@@ -161,6 +187,8 @@ impl Context {
         let context = not_current
             .make_current_surfaceless()
             .map_err(|e| ctx_err(format!("eglMakeCurrent without surface: {e}")))?;
+        let id = NEXT_ID.fetch_add(1, Ordering::Relaxed);
+        CURRENT.with(|c| c.set(id));
         // SAFETY: the context is current on this thread; glow only stores the pointers.
         #[allow(unused_mut)]
         let mut gl = unsafe {
@@ -176,7 +204,8 @@ impl Context {
                 gl,
                 limits,
                 device: index,
-                _context: context,
+                id,
+                context,
                 _display: display,
             }),
         };
@@ -194,9 +223,51 @@ impl Context {
         self.inner.device
     }
 
-    /// The raw glow context, for the GL layer.
+    /// Makes this context current on the calling thread if it is not (another context made on
+    /// this thread since, or an object of another context used or dropped since, took its place).
+    /// Cheap when it already is: a thread-local compare, no EGL call.
+    pub fn make_current(&self) -> Result<()> {
+        if CURRENT.with(Cell::get) == self.inner.id {
+            return Ok(());
+        }
+        self.inner
+            .context
+            .make_current_surfaceless()
+            .map_err(|e| Error::Context {
+                device: self.inner.device,
+                reason: format!("eglMakeCurrent without surface: {e}"),
+            })?;
+        CURRENT.with(|c| c.set(self.inner.id));
+        Ok(())
+    }
+
+    /// Whether this context is the current one of the calling thread.
+    pub fn is_current(&self) -> bool {
+        CURRENT.with(Cell::get) == self.inner.id
+    }
+
+    /// The raw glow context, made current first, for the GL layer.
+    ///
+    /// # Panics
+    /// If EGL refuses to make the context current on its own thread again (a lost device):
+    /// a GL call would otherwise land in whichever context is current.
     pub fn gl(&self) -> &glow::Context {
+        if let Err(e) = self.make_current() {
+            panic!("{e}");
+        }
         &self.inner.gl
+    }
+
+    /// The raw glow context for a `Drop`: made current first; `None` if EGL refuses, in which case
+    /// the object is leaked rather than a name of another context deleted.
+    pub(crate) fn gl_for_drop(&self) -> Option<&glow::Context> {
+        match self.make_current() {
+            Ok(()) => Some(&self.inner.gl),
+            Err(e) => {
+                eprintln!("texflow: leaking a GL object: {e}");
+                None
+            }
+        }
     }
 
     fn require_capabilities(&self) -> Result<()> {

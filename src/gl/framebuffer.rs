@@ -146,7 +146,9 @@ impl Framebuffer {
 
 impl Drop for Framebuffer {
     fn drop(&mut self) {
-        // SAFETY: the context outlives the framebuffer; textures drop after this body.
-        unsafe { self.ctx.delete_framebuffer(self.raw) }
+        if let Some(gl) = self.ctx.gl_for_drop() {
+            // SAFETY: the object belongs to this context, made current just now.
+            unsafe { gl.delete_framebuffer(self.raw) }
+        }
     }
 }

@@ -3,7 +3,9 @@
 
 mod buffer;
 mod context;
+mod draw;
 mod framebuffer;
+mod pack;
 mod pass;
 mod pingpong;
 mod program;
@@ -12,11 +14,15 @@ pub mod source;
 mod texture;
 mod texture3d;
 
-pub use buffer::{Attribute, Buffer, VertexArray};
+pub use buffer::{Attribute, Buffer, BufferKind, BufferUsage, VertexArray};
 pub use context::{gl_error_name, list_devices, Context, DeviceInfo, Limits};
+pub use draw::{
+    Blend, BlendComponent, BlendFactor, BlendOperation, Draw, DrawState, PointSize, Primitive, Rect,
+};
 pub use framebuffer::Framebuffer;
+pub use pack::PixelPack;
 pub use pass::{FullscreenPass, FULLSCREEN_VERTEX};
-pub use pingpong::PingPong;
+pub use pingpong::{PingPong, Ring3};
 pub use program::{Defines, Program};
 pub use query::TimerQuery;
 pub use texture::{check_size, Texture, TextureDesc, TextureFormat};

@@ -1,9 +1,7 @@
 //! The full-screen pass: one attribute-less triangle covering the viewport, so that every texel
 //! of the target runs the fragment program once (the papers' full-screen quad, thesis §3.5).
 
-use glow::HasContext;
-
-use super::{Context, Framebuffer, Program, VertexArray};
+use super::{Context, Draw, DrawState, Framebuffer, Primitive, Program, Rect, VertexArray};
 use crate::error::Result;
 
 /// The vertex shader every full-screen pass uses.
@@ -31,14 +29,21 @@ impl FullscreenPass {
     }
 
     /// Runs `program` over rows `y0..y0+rows` of `target` only (live-row restriction).
+    /// Blending is off: every texel written is the program's output.
     pub fn draw_rows(&self, program: &Program, target: &Framebuffer, y0: u32, rows: u32) {
-        program.bind();
-        target.bind_rect(0, y0, target.width(), rows);
-        self.vao.bind();
-        // SAFETY: a program, a complete framebuffer and a vertex array are bound.
-        unsafe {
-            self.ctx.disable(glow::BLEND);
-            self.ctx.draw_arrays(glow::TRIANGLES, 0, 3);
-        }
+        self.ctx.draw(&Draw {
+            program,
+            target,
+            viewport: Some(Rect {
+                x: 0,
+                y: y0,
+                width: target.width(),
+                height: rows,
+            }),
+            vertices: &self.vao,
+            primitive: Primitive::Triangles,
+            count: 3,
+            state: &DrawState::REPLACE,
+        });
     }
 }

@@ -1,6 +1,10 @@
 //! Ping-pong state: two framebuffers with the same set of state textures. A pass reads the
 //! textures of [`PingPong::front`] and writes those of [`PingPong::back`]; [`PingPong::swap`]
 //! once per step makes what was written the new front (thesis §3.4, Latta §3.3).
+//!
+//! [`Ring3`] is the Verlet integrator's state (Latta eq. 9): three framebuffers of positions, of
+//! which a step reads the current and the previous ones and writes the next;
+//! [`Ring3::rotate`] once per step moves every role one place on.
 
 use super::{Context, Framebuffer, Texture, TextureDesc, TextureFormat};
 use crate::error::Result;
@@ -24,24 +28,7 @@ impl PingPong {
         width: u32,
         height: u32,
     ) -> Result<Self> {
-        let side = |s: usize| -> Result<Framebuffer> {
-            let textures = formats
-                .iter()
-                .zip(names)
-                .map(|(&format, name)| {
-                    Texture::new(
-                        ctx,
-                        TextureDesc {
-                            width,
-                            height,
-                            format,
-                            label: &format!("{name}:{s}"),
-                        },
-                    )
-                })
-                .collect::<Result<Vec<_>>>()?;
-            Framebuffer::new(ctx, &format!("{label}:{s}"), textures)
-        };
+        let side = |s: usize| side(ctx, label, names, formats, width, height, s);
         Ok(PingPong {
             sides: [side(0)?, side(1)?],
             front: 0,
@@ -78,5 +65,88 @@ impl PingPong {
     /// Height of the state textures.
     pub fn height(&self) -> u32 {
         self.sides[0].height()
+    }
+}
+
+/// Side `s` of a multi-buffered state: textures labelled `"{name}:{s}"` in a framebuffer
+/// labelled `"{label}:{s}"`.
+fn side(
+    ctx: &Context,
+    label: &str,
+    names: &[&str],
+    formats: &[TextureFormat],
+    width: u32,
+    height: u32,
+    s: usize,
+) -> Result<Framebuffer> {
+    let textures = formats
+        .iter()
+        .zip(names)
+        .map(|(&format, name)| {
+            Texture::new(
+                ctx,
+                TextureDesc {
+                    width,
+                    height,
+                    format,
+                    label: &format!("{name}:{s}"),
+                },
+            )
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Framebuffer::new(ctx, &format!("{label}:{s}"), textures)
+}
+
+/// Triple-buffered state: the previous, the current and the next of three framebuffers with the
+/// same textures. A Verlet step reads [`previous`](Ring3::previous) and
+/// [`current`](Ring3::current), writes [`next`](Ring3::next), then [`rotate`](Ring3::rotate)s:
+/// the next becomes the current, the current the previous, and the old previous is written next.
+#[derive(Debug)]
+pub struct Ring3 {
+    sides: [Framebuffer; 3],
+    current: usize,
+}
+
+impl Ring3 {
+    /// Makes three framebuffers of `formats.len()` textures of `width`×`height`, labelled as
+    /// [`PingPong::new`] labels its two. Side 1 starts as the current, side 0 as the previous.
+    pub fn new(
+        ctx: &Context,
+        label: &str,
+        names: &[&str],
+        formats: &[TextureFormat],
+        width: u32,
+        height: u32,
+    ) -> Result<Self> {
+        let side = |s: usize| side(ctx, label, names, formats, width, height, s);
+        Ok(Ring3 {
+            sides: [side(0)?, side(1)?, side(2)?],
+            current: 1,
+        })
+    }
+
+    /// The state of this step: read it.
+    pub fn current(&self) -> &Framebuffer {
+        &self.sides[self.current]
+    }
+
+    /// The state of the step before: read it.
+    pub fn previous(&self) -> &Framebuffer {
+        &self.sides[(self.current + 2) % 3]
+    }
+
+    /// The state of the next step: write it.
+    pub fn next(&self) -> &Framebuffer {
+        &self.sides[(self.current + 1) % 3]
+    }
+
+    /// Moves every role one place on. Call once per step, after the pass that writes the next.
+    pub fn rotate(&mut self) {
+        self.current = (self.current + 1) % 3;
+    }
+
+    /// The three framebuffers in the order previous, current, next.
+    pub fn roles(&self) -> [&Framebuffer; 3] {
+        [self.previous(), self.current(), self.next()]
     }
 }

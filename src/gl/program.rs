@@ -181,7 +181,9 @@ impl Program {
 
 impl Drop for Program {
     fn drop(&mut self) {
-        // SAFETY: the context outlives the program.
-        unsafe { self.ctx.delete_program(self.raw) }
+        if let Some(gl) = self.ctx.gl_for_drop() {
+            // SAFETY: the object belongs to this context, made current just now.
+            unsafe { gl.delete_program(self.raw) }
+        }
     }
 }

@@ -67,7 +67,9 @@ impl TimerQuery {
 
 impl Drop for TimerQuery {
     fn drop(&mut self) {
-        // SAFETY: the context outlives the query.
-        unsafe { self.ctx.delete_query(self.raw) }
+        if let Some(gl) = self.ctx.gl_for_drop() {
+            // SAFETY: the object belongs to this context, made current just now.
+            unsafe { gl.delete_query(self.raw) }
+        }
     }
 }

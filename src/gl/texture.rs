@@ -190,9 +190,34 @@ impl Texture {
     pub fn format(&self) -> TextureFormat {
         self.format
     }
-    /// The GL name.
-    pub fn raw(&self) -> glow::Texture {
+    /// The GL name, for the GL layer.
+    pub(crate) fn raw(&self) -> glow::Texture {
         self.raw
+    }
+
+    /// Switches from the state textures' nearest filtering to trilinear filtering: mipmaps of
+    /// levels `1..=max_level` generated from the current contents, `LINEAR_MIPMAP_LINEAR` for
+    /// minification, `LINEAR` for magnification (the sprite atlas, Latta §3.4.6).
+    pub fn filter_linear_mipmapped(&self, max_level: u32) -> Result<()> {
+        let gl = &self.ctx;
+        // SAFETY: the texture is alive; these are plain parameter settings on it.
+        unsafe {
+            gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAX_LEVEL, max_level as i32);
+            gl.generate_mipmap(glow::TEXTURE_2D);
+            gl.tex_parameter_i32(
+                glow::TEXTURE_2D,
+                glow::TEXTURE_MIN_FILTER,
+                glow::LINEAR_MIPMAP_LINEAR as i32,
+            );
+            gl.tex_parameter_i32(
+                glow::TEXTURE_2D,
+                glow::TEXTURE_MAG_FILTER,
+                glow::LINEAR as i32,
+            );
+            gl.bind_texture(glow::TEXTURE_2D, None);
+        }
+        gl.check_error("generating mipmaps")
     }
 
     fn expect_len(&self, len: usize) -> Result<()> {
@@ -301,7 +326,9 @@ impl Texture {
 
 impl Drop for Texture {
     fn drop(&mut self) {
-        // SAFETY: the context outlives the texture (it holds a reference to it).
-        unsafe { self.ctx.delete_texture(self.raw) }
+        if let Some(gl) = self.ctx.gl_for_drop() {
+            // SAFETY: the object belongs to this context, made current just now.
+            unsafe { gl.delete_texture(self.raw) }
+        }
     }
 }

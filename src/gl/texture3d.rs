@@ -131,10 +131,6 @@ impl Texture3D {
     pub fn label(&self) -> &str {
         &self.label
     }
-    /// The GL name.
-    pub fn raw(&self) -> glow::Texture {
-        self.raw
-    }
 
     /// Replaces the whole texture with `data` (layout: see the type).
     pub fn upload_f32(&self, data: &[f32]) -> Result<()> {
@@ -208,7 +204,9 @@ fn expect_len(label: &str, format: TextureFormat, size: [u32; 3], len: usize) ->
 
 impl Drop for Texture3D {
     fn drop(&mut self) {
-        // SAFETY: the context outlives the texture (it holds a reference to it).
-        unsafe { self.ctx.delete_texture(self.raw) }
+        if let Some(gl) = self.ctx.gl_for_drop() {
+            // SAFETY: the object belongs to this context, made current just now.
+            unsafe { gl.delete_texture(self.raw) }
+        }
     }
 }

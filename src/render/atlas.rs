@@ -14,8 +14,6 @@
 //! inside the tile's inscribed circle with a margin, so a rotated sprite shows the whole shape
 //! and linear filtering never picks up a neighbouring tile.
 
-use glow::HasContext;
-
 use crate::error::Result;
 use crate::gl::{Context, Texture, TextureDesc, TextureFormat};
 
@@ -218,24 +216,7 @@ pub fn upload(ctx: &Context, image: &AtlasImage) -> Result<Texture> {
         },
     )?;
     tex.upload_f32(&image.data)?;
-    let max_level = image.tile.ilog2().saturating_sub(4) as i32;
-    // SAFETY: the texture is alive; these are plain parameter settings on it.
-    unsafe {
-        ctx.bind_texture(glow::TEXTURE_2D, Some(tex.raw()));
-        ctx.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAX_LEVEL, max_level);
-        ctx.generate_mipmap(glow::TEXTURE_2D);
-        ctx.tex_parameter_i32(
-            glow::TEXTURE_2D,
-            glow::TEXTURE_MIN_FILTER,
-            glow::LINEAR_MIPMAP_LINEAR as i32,
-        );
-        ctx.tex_parameter_i32(
-            glow::TEXTURE_2D,
-            glow::TEXTURE_MAG_FILTER,
-            glow::LINEAR as i32,
-        );
-        ctx.bind_texture(glow::TEXTURE_2D, None);
-    }
+    tex.filter_linear_mipmapped(image.tile.ilog2().saturating_sub(4))?;
     ctx.check_error("building the sprite atlas")?;
     Ok(tex)
 }

@@ -12,12 +12,13 @@
 //!
 //! Relative age = clamp(1 − position.w / statics.z, 0, 1).
 
-use glow::HasContext;
-
 use super::atlas;
 use super::{Camera, FrameTarget};
 use crate::error::{Error, Result};
-use crate::gl::{Attribute, Buffer, Context, Defines, Program, Texture, VertexArray};
+use crate::gl::{
+    Attribute, Blend, BlendComponent, BlendFactor, Buffer, BufferKind, BufferUsage, Context,
+    Defines, Draw, DrawState, PixelPack, PointSize, Primitive, Program, Texture, VertexArray,
+};
 use crate::scene::file::{Blending, DrawMode, DrawOrder, Keyframe, Render, RenderPath};
 
 /// How particles are drawn.
@@ -89,36 +90,36 @@ impl ParticleStyle {
         }
     }
 
-    /// Sets the GL state particles are drawn with: no depth test, program point size, and the
-    /// blend factors of this style's blending and order (the under operator for front to back).
-    /// One place, so that the CPU engine (E5) blends exactly as the renderer does.
-    pub fn apply_blending(&self, gl: &glow::Context) {
+    /// The blend state of this style's blending and order (the under operator for front to
+    /// back). One table, so that the CPU engine (E5) blends exactly as the renderer does.
+    pub fn blend(&self) -> Blend {
+        use BlendFactor::{DstColor, One, OneMinusDstAlpha, OneMinusSrcAlpha, SrcAlpha, Zero};
         let (src, dst, src_a, dst_a) = match (self.blending, self.order) {
             // The destination alpha stays as cleared (opaque).
-            (Blending::Additive, _) => (glow::SRC_ALPHA, glow::ONE, glow::ZERO, glow::ONE),
-            (Blending::Multiplicative, _) => (glow::DST_COLOR, glow::ZERO, glow::ZERO, glow::ONE),
-            (Blending::Alpha, DrawOrder::BackToFront) => (
-                glow::SRC_ALPHA,
-                glow::ONE_MINUS_SRC_ALPHA,
-                glow::ONE,
-                glow::ONE_MINUS_SRC_ALPHA,
-            ),
-            (Blending::Alpha, DrawOrder::FrontToBack) => (
-                glow::ONE_MINUS_DST_ALPHA,
-                glow::ONE,
-                glow::ONE_MINUS_DST_ALPHA,
-                glow::ONE,
-            ),
+            (Blending::Additive, _) => (SrcAlpha, One, Zero, One),
+            (Blending::Multiplicative, _) => (DstColor, Zero, Zero, One),
+            (Blending::Alpha, DrawOrder::BackToFront) => {
+                (SrcAlpha, OneMinusSrcAlpha, One, OneMinusSrcAlpha)
+            }
+            (Blending::Alpha, DrawOrder::FrontToBack) => {
+                (OneMinusDstAlpha, One, OneMinusDstAlpha, One)
+            }
         };
-        // SAFETY: plain state changes on the current context.
-        unsafe {
-            gl.disable(glow::DEPTH_TEST);
-            gl.enable(glow::PROGRAM_POINT_SIZE);
-            gl.enable(glow::BLEND);
-            gl.blend_equation(glow::FUNC_ADD);
-            gl.blend_func_separate(src, dst, src_a, dst_a);
+        Blend {
+            color: BlendComponent::add(src, dst),
+            alpha: BlendComponent::add(src_a, dst_a),
         }
     }
+
+    /// The state particles (and the under operator's background) are drawn with: this style's
+    /// [`blend`](Self::blend), point sizes from the vertex shader.
+    pub fn draw_state(&self) -> DrawState {
+        DrawState {
+            blend: Some(self.blend()),
+            point_size: PointSize::Program,
+        }
+    }
+
     /// The style of a scene's `[render]` section; `type_scales` are the emitters' sprite scales in
     /// type order. A keyframe list that is not exactly four long (validation rejects those; an
     /// empty list is allowed) gives [`default_keyframes`].
@@ -237,91 +238,9 @@ pub fn relative_age(remaining: f32, total: f32) -> f32 {
     (1.0 - remaining / total).clamp(0.0, 1.0)
 }
 
-/// A framebuffer used only as the read source of the pixel-pack copy: the state texture is
-/// attached for the copy and detached after it.
-struct PackSource {
-    ctx: Context,
-    raw: glow::Framebuffer,
-}
-
-impl PackSource {
-    fn new(ctx: &Context) -> Result<Self> {
-        // SAFETY: a fresh framebuffer object.
-        let raw = unsafe { ctx.create_framebuffer().map_err(Error::Gl)? };
-        Ok(PackSource {
-            ctx: ctx.clone(),
-            raw,
-        })
-    }
-
-    /// Copies rows `0..rows` of `texture` (RGBA, floats) into `buffer` at offset 0 on the GPU:
-    /// the buffer is bound as `GL_PIXEL_PACK_BUFFER` and `glReadPixels` writes into it.
-    fn copy(&self, texture: &Texture, buffer: &Buffer, rows: u32) -> Result<()> {
-        let gl = &self.ctx;
-        let bytes = texture.width() as usize * rows as usize * 16;
-        if bytes > buffer.size() {
-            return Err(Error::InvalidInput(format!(
-                "pixel pack of {bytes} bytes into a buffer of {}",
-                buffer.size()
-            )));
-        }
-        // SAFETY: the texture and buffer are alive; the buffer holds the copied rows (checked
-        // above); every binding changed here is reset before returning.
-        let status = unsafe {
-            gl.bind_framebuffer(glow::READ_FRAMEBUFFER, Some(self.raw));
-            gl.framebuffer_texture_2d(
-                glow::READ_FRAMEBUFFER,
-                glow::COLOR_ATTACHMENT0,
-                glow::TEXTURE_2D,
-                Some(texture.raw()),
-                0,
-            );
-            gl.read_buffer(glow::COLOR_ATTACHMENT0);
-            let status = gl.check_framebuffer_status(glow::READ_FRAMEBUFFER);
-            if status == glow::FRAMEBUFFER_COMPLETE {
-                gl.bind_buffer(glow::PIXEL_PACK_BUFFER, Some(buffer.raw()));
-                gl.pixel_store_i32(glow::PACK_ALIGNMENT, 4);
-                gl.read_pixels(
-                    0,
-                    0,
-                    texture.width() as i32,
-                    rows as i32,
-                    glow::RGBA,
-                    glow::FLOAT,
-                    glow::PixelPackData::BufferOffset(0),
-                );
-                gl.bind_buffer(glow::PIXEL_PACK_BUFFER, None);
-            }
-            gl.framebuffer_texture_2d(
-                glow::READ_FRAMEBUFFER,
-                glow::COLOR_ATTACHMENT0,
-                glow::TEXTURE_2D,
-                None,
-                0,
-            );
-            gl.bind_framebuffer(glow::READ_FRAMEBUFFER, None);
-            status
-        };
-        if status != glow::FRAMEBUFFER_COMPLETE {
-            return Err(Error::Gl(format!(
-                "a {:?} cannot be read by glReadPixels (framebuffer status {status:#x})",
-                texture
-            )));
-        }
-        gl.check_error("copying a state texture into a vertex buffer (pixel pack)")
-    }
-}
-
-impl Drop for PackSource {
-    fn drop(&mut self) {
-        // SAFETY: the context outlives the framebuffer.
-        unsafe { self.ctx.delete_framebuffer(self.raw) }
-    }
-}
-
 /// The vertex-buffer path's objects: the two buffers, the read framebuffer, the vertex array.
 struct VertexPath {
-    pack: PackSource,
+    pack: PixelPack,
     positions: Buffer,
     statics: Buffer,
     vao: VertexArray,
@@ -407,9 +326,9 @@ impl ParticleRenderer {
                 Buffer::with_size(
                     ctx,
                     label,
-                    glow::PIXEL_PACK_BUFFER,
+                    BufferKind::PixelPack,
                     bytes as usize,
-                    glow::STREAM_COPY,
+                    BufferUsage::StreamCopy,
                 )
             };
             let positions = buffer("position vertices")?;
@@ -427,7 +346,7 @@ impl ParticleRenderer {
                 &[attribute(&positions, 0), attribute(&statics, 1)],
             )?;
             Some(VertexPath {
-                pack: PackSource::new(ctx)?,
+                pack: PixelPack::new(ctx)?,
                 positions,
                 statics,
                 vao,
@@ -534,22 +453,22 @@ impl ParticleRenderer {
         let s = &self.style;
         if let (Some(v), true) = (&self.vertex, count > 0) {
             let rows = count.div_ceil(self.width as usize) as u32;
-            v.pack.copy(positions, &v.positions, rows)?;
-            v.pack.copy(statics, &v.statics, rows)?;
+            v.pack.copy_rows(positions, &v.positions, rows)?;
+            v.pack.copy_rows(statics, &v.statics, rows)?;
         }
         let p = &self.program;
         p.bind();
-        match &self.vertex {
-            Some(v) => v.vao.bind(),
+        let vertices = match &self.vertex {
+            Some(v) => &v.vao,
             None => {
                 positions.bind(0);
                 statics.bind(1);
                 p.set_i32("u_position", 0);
                 p.set_i32("u_static", 1);
                 p.set_i32("u_width", self.width as i32);
-                self.empty.bind();
+                &self.empty
             }
-        }
+        };
         if let Some(atlas) = &self.atlas {
             atlas.bind(2);
             p.set_i32("u_atlas", 2);
@@ -562,30 +481,32 @@ impl ParticleRenderer {
         let t = s.type_tile.map(|t| t.min(3) as i32);
         p.set_ivec4("u_type_tile", t);
         s.set_keyframes(p);
-        target.framebuffer().bind();
+        let state = s.draw_state();
         let gl = &self.ctx;
-        s.apply_blending(gl);
-        // SAFETY: a program, a vertex array (whose buffers, if any, hold `count` vertices) and a
-        // complete framebuffer are bound.
-        unsafe {
-            if count > 0 {
-                gl.draw_arrays(glow::POINTS, 0, count as i32);
-            }
-            gl.bind_vertex_array(None);
-        }
+        gl.draw(&Draw {
+            program: p,
+            target: target.framebuffer(),
+            viewport: None,
+            vertices,
+            primitive: Primitive::Points,
+            count: count as u32,
+            state: &state,
+        });
         if s.under() {
             let b = &self.background;
             b.bind();
             b.set_vec3("u_background", glam::Vec3::from_array(s.background));
-            self.empty.bind();
-            // SAFETY: as above; blending is on with the under operator's factors.
-            unsafe {
-                gl.draw_arrays(glow::TRIANGLES, 0, 3);
-                gl.bind_vertex_array(None);
-            }
+            // The same blend state: the under operator composites the background last.
+            gl.draw(&Draw {
+                program: b,
+                target: target.framebuffer(),
+                viewport: None,
+                vertices: &self.empty,
+                primitive: Primitive::Triangles,
+                count: 3,
+                state: &state,
+            });
         }
-        // SAFETY: plain state change.
-        unsafe { gl.disable(glow::BLEND) };
         gl.check_error("drawing particles")
     }
 }

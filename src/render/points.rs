@@ -1,11 +1,18 @@
 //! The vertex-texture-fetch point renderer (thesis Listing 3): one vertex per particle, position
 //! fetched from the position texture in the vertex shader, additive blending.
 
-use glow::HasContext;
-
 use super::{Camera, FrameTarget};
 use crate::error::Result;
-use crate::gl::{Context, Defines, Program, Texture, VertexArray};
+use crate::gl::{
+    Blend, BlendComponent, BlendFactor, Context, Defines, Draw, DrawState, PointSize, Primitive,
+    Program, Texture, VertexArray,
+};
+
+/// Additive colour; the destination alpha stays as cleared (opaque).
+const ADDITIVE: Blend = Blend {
+    color: BlendComponent::add(BlendFactor::SrcAlpha, BlendFactor::One),
+    alpha: BlendComponent::add(BlendFactor::Zero, BlendFactor::One),
+};
 
 /// How points look.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -62,17 +69,17 @@ impl PointRenderer {
         p.set_f32("u_point_size", style.point_size);
         p.set_f32("u_intensity", style.intensity);
         p.set_f32("u_max_age", style.max_age);
-        target.framebuffer().bind();
-        self.vao.bind();
-        // SAFETY: program, vertex array and a complete framebuffer are bound.
-        unsafe {
-            let gl = &self.ctx;
-            gl.enable(glow::PROGRAM_POINT_SIZE);
-            gl.enable(glow::BLEND);
-            // Additive colour; the destination alpha stays as cleared (opaque).
-            gl.blend_func_separate(glow::SRC_ALPHA, glow::ONE, glow::ZERO, glow::ONE);
-            gl.draw_arrays(glow::POINTS, 0, positions.texels() as i32);
-            gl.disable(glow::BLEND);
-        }
+        self.ctx.draw(&Draw {
+            program: p,
+            target: target.framebuffer(),
+            viewport: None,
+            vertices: &self.vao,
+            primitive: Primitive::Points,
+            count: positions.texels() as u32,
+            state: &DrawState {
+                blend: Some(ADDITIVE),
+                point_size: PointSize::Program,
+            },
+        });
     }
 }

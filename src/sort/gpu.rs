@@ -4,14 +4,14 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 
 use glam::{UVec3, Vec3};
-use glow::HasContext;
 
 use super::network::{bitonic_schedule, group_steps, odd_even_schedule, Entry, Step};
 use super::precision::{id_table, FloatFormat};
 use crate::error::{Error, Result};
 use crate::gl::{
-    Attribute, Buffer, Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Texture,
-    TextureDesc, TextureFormat, VertexArray, FULLSCREEN_VERTEX,
+    Attribute, Buffer, BufferKind, BufferUsage, Context, Defines, Draw, DrawState, Framebuffer,
+    FullscreenPass, PingPong, Primitive, Program, Texture, TextureDesc, TextureFormat, VertexArray,
+    FULLSCREEN_VERTEX,
 };
 
 /// The sort implementations.
@@ -133,11 +133,30 @@ enum Pass {
     Group(Vec<Step>),
 }
 
+/// The three programs of the GP/FP variants: partners at a fixed offset, partners mirrored in the
+/// block (a merge stage's first pass), both partners in one texel (packed, distance 1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 enum GpProgram {
     Plain,
     Mirror,
     SameTexel,
+}
+
+/// The sorter's programs, one per key, built once each.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum ProgramKey {
+    /// UberFlow's FP bitonic pass.
+    Fp,
+    /// Latta's odd-even merge: a recursion pass.
+    OddEvenRecursion,
+    /// Latta's odd-even merge: the last pass of a merge.
+    OddEvenEnd,
+    /// A multistep pass over `levels` wide masks and `steps` steps.
+    Multistep { levels: usize, steps: usize },
+    /// A GP/FP pass.
+    Geometry(GpProgram),
+    /// The key pass: lattice cells or viewer distance, written fresh or refreshed in place.
+    Keys { grid: bool, rekey: bool },
 }
 
 /// The geometry of one GP/FP pass: a key naming its shape (passes of the same shape share one
@@ -153,7 +172,7 @@ struct PassShape {
 struct Geometry {
     vao: VertexArray,
     _buffer: Buffer,
-    vertices: i32,
+    vertices: u32,
 }
 
 /// (wide masks, steps) of a multistep pass: the texels it fetches are 2^wide.
@@ -176,7 +195,7 @@ pub struct Sorter {
     state: PingPong,
     passes: Vec<Pass>,
     next: usize,
-    programs: HashMap<String, Program>,
+    programs: HashMap<ProgramKey, Program>,
     geometry: Vec<Geometry>,
     fullscreen: FullscreenPass,
     id_table: Option<Texture>,
@@ -271,18 +290,18 @@ impl Sorter {
 
     fn program(
         &mut self,
-        name: &str,
+        key: ProgramKey,
         vertex: &str,
         fragment: &str,
         extra: &[(&str, &str)],
     ) -> Result<()> {
-        if self.programs.contains_key(name) {
+        if self.programs.contains_key(&key) {
             return Ok(());
         }
         let mut d = self.defines();
         d.extend(extra.iter().map(|(k, v)| (k.to_string(), v.to_string())));
         let p = Program::new(&self.ctx, vertex, fragment, &d)?;
-        self.programs.insert(name.to_owned(), p);
+        self.programs.insert(key, p);
         Ok(())
     }
 
@@ -290,7 +309,12 @@ impl Sorter {
         let w = self.width;
         match self.variant {
             Variant::Fp => {
-                self.program("fp", FULLSCREEN_VERTEX, "sort/bitonic_fp.frag", &[])?;
+                self.program(
+                    ProgramKey::Fp,
+                    FULLSCREEN_VERTEX,
+                    "sort/bitonic_fp.frag",
+                    &[],
+                )?;
                 self.passes = bitonic_schedule(w, block)
                     .into_iter()
                     .map(Pass::Fragment)
@@ -298,12 +322,17 @@ impl Sorter {
             }
             Variant::OddEven => {
                 self.program(
-                    "recursion",
+                    ProgramKey::OddEvenRecursion,
                     FULLSCREEN_VERTEX,
                     "sort/oddeven_recursion.frag",
                     &[],
                 )?;
-                self.program("end", FULLSCREEN_VERTEX, "sort/oddeven_end.frag", &[])?;
+                self.program(
+                    ProgramKey::OddEvenEnd,
+                    FULLSCREEN_VERTEX,
+                    "sort/oddeven_end.frag",
+                    &[],
+                )?;
                 self.passes = odd_even_schedule(block)
                     .into_iter()
                     .map(Pass::Fragment)
@@ -315,7 +344,7 @@ impl Sorter {
                     let (levels, steps) = group_shape(g);
                     let (l, s) = (levels.to_string(), steps.to_string());
                     self.program(
-                        &format!("multi{levels}_{steps}"),
+                        ProgramKey::Multistep { levels, steps },
                         FULLSCREEN_VERTEX,
                         "sort/multistep.frag",
                         &[("LEVELS", &l), ("STEPS", &s)],
@@ -329,10 +358,13 @@ impl Sorter {
                 } else {
                     "sort/bitonic_gpfp.frag"
                 };
-                self.program("gp", "sort/gpfp.vert", frag, &[])?;
-                self.program("gp_mirror", "sort/gpfp.vert", frag, &[("MIRROR", "1")])?;
+                let gp = ProgramKey::Geometry;
+                self.program(gp(GpProgram::Plain), "sort/gpfp.vert", frag, &[])?;
+                let mirror = [("MIRROR", "1")];
+                self.program(gp(GpProgram::Mirror), "sort/gpfp.vert", frag, &mirror)?;
                 if self.variant.packed() {
-                    self.program("gp_same", "sort/gpfp.vert", frag, &[("SAME_TEXEL", "1")])?;
+                    let same = [("SAME_TEXEL", "1")];
+                    self.program(gp(GpProgram::SameTexel), "sort/gpfp.vert", frag, &same)?;
                 }
                 let mut shapes: HashMap<(u8, u32, u32), usize> = HashMap::new();
                 let mut passes = Vec::new();
@@ -452,9 +484,9 @@ impl Sorter {
         let buffer = Buffer::with_data(
             &self.ctx,
             "sort quads",
-            glow::ARRAY_BUFFER,
+            BufferKind::Vertex,
             bytemuck::cast_slice(vertices),
-            glow::STATIC_DRAW,
+            BufferUsage::StaticDraw,
         )?;
         let stride = 6 * 4;
         let vao = VertexArray::with_attributes(
@@ -480,7 +512,7 @@ impl Sorter {
         self.geometry.push(Geometry {
             vao,
             _buffer: buffer,
-            vertices: (vertices.len() / 6) as i32,
+            vertices: (vertices.len() / 6) as u32,
         });
         Ok(self.geometry.len() - 1)
     }
@@ -582,7 +614,7 @@ impl Sorter {
             )));
         }
         let grid = matches!(mode, KeyMode::GridCell { .. });
-        let name = format!("keys{}{}", grid as u8, rekey as u8);
+        let key = ProgramKey::Keys { grid, rekey };
         let mut extra: Vec<(&str, &str)> = Vec::new();
         if rekey {
             extra.push(("REKEY", "1"));
@@ -596,8 +628,8 @@ impl Sorter {
         if self.id_table.is_some() {
             extra.push(("ID_TABLE", "1"));
         }
-        self.program(&name, FULLSCREEN_VERTEX, "sort/keys.frag", &extra)?;
-        let p = &self.programs[&name];
+        self.program(key, FULLSCREEN_VERTEX, "sort/keys.frag", &extra)?;
+        let p = &self.programs[&key];
         p.bind();
         positions.bind(0);
         p.set_i32("u_position", 0);
@@ -689,7 +721,7 @@ impl Sorter {
                         dist,
                         mirror,
                     } => {
-                        let p = &self.programs["fp"];
+                        let p = &self.programs[&ProgramKey::Fp];
                         p.bind();
                         p.set_i32("u_block", *block as i32);
                         p.set_i32("u_dist", *dist as i32);
@@ -697,14 +729,14 @@ impl Sorter {
                         p
                     }
                     Step::OddEvenRecursion { step, count } => {
-                        let p = &self.programs["recursion"];
+                        let p = &self.programs[&ProgramKey::OddEvenRecursion];
                         p.bind();
                         p.set_i32("u_step", *step as i32);
                         p.set_i32("u_count", *count as i32);
                         p
                     }
                     Step::OddEvenEnd { step } => {
-                        let p = &self.programs["end"];
+                        let p = &self.programs[&ProgramKey::OddEvenEnd];
                         p.bind();
                         p.set_i32("u_step", *step as i32);
                         p
@@ -715,8 +747,11 @@ impl Sorter {
                 self.fullscreen.draw(p, self.state.back());
             }
             Pass::Group(steps) => {
-                let (levels, count) = group_shape(steps);
-                let p = &self.programs[&format!("multi{levels}_{count}")];
+                let (levels, steps_n) = group_shape(steps);
+                let p = &self.programs[&ProgramKey::Multistep {
+                    levels,
+                    steps: steps_n,
+                }];
                 p.bind();
                 p.set_i32("u_keys", 0);
                 p.set_i32("u_width", w);
@@ -739,11 +774,7 @@ impl Sorter {
                 offset,
                 program,
             } => {
-                let p = &self.programs[match program {
-                    GpProgram::Plain => "gp",
-                    GpProgram::Mirror => "gp_mirror",
-                    GpProgram::SameTexel => "gp_same",
-                }];
+                let p = &self.programs[&ProgramKey::Geometry(*program)];
                 p.bind();
                 p.set_i32("u_keys", 0);
                 let fb = self.state.back();
@@ -752,14 +783,16 @@ impl Sorter {
                     glam::Vec2::new(fb.width() as f32, fb.height() as f32),
                 );
                 p.set_ivec2("u_offset", offset.0, offset.1);
-                fb.bind();
                 let g = &self.geometry[*geometry];
-                g.vao.bind();
-                // SAFETY: program, vertex array and a complete framebuffer are bound.
-                unsafe {
-                    self.ctx.disable(glow::BLEND);
-                    self.ctx.draw_arrays(glow::TRIANGLES, 0, g.vertices);
-                }
+                self.ctx.draw(&Draw {
+                    program: p,
+                    target: fb,
+                    viewport: None,
+                    vertices: &g.vao,
+                    primitive: Primitive::Triangles,
+                    count: g.vertices,
+                    state: &DrawState::REPLACE,
+                });
             }
         }
         self.state.swap();

@@ -1,0 +1,236 @@
+//! Draws described as data: what a pass draws, where, and with which fixed-function state.
+//!
+//! [`Context::draw`] sets every piece of [`DrawState`] on every draw, so no pass depends on what
+//! the previous one left behind (the shape follows wgpu-hal's `ColorTargetDesc { blend:
+//! Option<BlendDesc> }`). The factors and operations are this layer's own enums, so code above
+//! `gl` never names a GL constant.
+
+use glow::HasContext;
+
+use super::{Context, Framebuffer, Program, VertexArray};
+
+/// A blend factor: what the source or the destination colour is multiplied by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BlendFactor {
+    /// 0.
+    Zero,
+    /// 1.
+    One,
+    /// The source colour.
+    SrcColor,
+    /// 1 − the source colour.
+    OneMinusSrcColor,
+    /// The source alpha.
+    SrcAlpha,
+    /// 1 − the source alpha.
+    OneMinusSrcAlpha,
+    /// The destination colour.
+    DstColor,
+    /// 1 − the destination colour.
+    OneMinusDstColor,
+    /// The destination alpha.
+    DstAlpha,
+    /// 1 − the destination alpha.
+    OneMinusDstAlpha,
+}
+
+impl BlendFactor {
+    fn gl(self) -> u32 {
+        match self {
+            BlendFactor::Zero => glow::ZERO,
+            BlendFactor::One => glow::ONE,
+            BlendFactor::SrcColor => glow::SRC_COLOR,
+            BlendFactor::OneMinusSrcColor => glow::ONE_MINUS_SRC_COLOR,
+            BlendFactor::SrcAlpha => glow::SRC_ALPHA,
+            BlendFactor::OneMinusSrcAlpha => glow::ONE_MINUS_SRC_ALPHA,
+            BlendFactor::DstColor => glow::DST_COLOR,
+            BlendFactor::OneMinusDstColor => glow::ONE_MINUS_DST_COLOR,
+            BlendFactor::DstAlpha => glow::DST_ALPHA,
+            BlendFactor::OneMinusDstAlpha => glow::ONE_MINUS_DST_ALPHA,
+        }
+    }
+}
+
+/// How the weighted source and destination are combined.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum BlendOperation {
+    /// source · src_factor + destination · dst_factor.
+    #[default]
+    Add,
+    /// source · src_factor − destination · dst_factor.
+    Subtract,
+    /// destination · dst_factor − source · src_factor.
+    ReverseSubtract,
+    /// The smaller of source and destination (factors ignored).
+    Min,
+    /// The larger of source and destination (factors ignored).
+    Max,
+}
+
+impl BlendOperation {
+    fn gl(self) -> u32 {
+        match self {
+            BlendOperation::Add => glow::FUNC_ADD,
+            BlendOperation::Subtract => glow::FUNC_SUBTRACT,
+            BlendOperation::ReverseSubtract => glow::FUNC_REVERSE_SUBTRACT,
+            BlendOperation::Min => glow::MIN,
+            BlendOperation::Max => glow::MAX,
+        }
+    }
+}
+
+/// The blend equation of the colour or of the alpha channel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct BlendComponent {
+    /// Factor of the fragment's value.
+    pub src_factor: BlendFactor,
+    /// Factor of the value already in the target.
+    pub dst_factor: BlendFactor,
+    /// How the two are combined.
+    pub operation: BlendOperation,
+}
+
+impl BlendComponent {
+    /// `src · src_factor + dst · dst_factor`.
+    pub const fn add(src_factor: BlendFactor, dst_factor: BlendFactor) -> Self {
+        BlendComponent {
+            src_factor,
+            dst_factor,
+            operation: BlendOperation::Add,
+        }
+    }
+}
+
+/// Blending of colour and alpha.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Blend {
+    /// The RGB channels.
+    pub color: BlendComponent,
+    /// The alpha channel.
+    pub alpha: BlendComponent,
+}
+
+/// Where a point's size comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum PointSize {
+    /// `gl_PointSize` written by the vertex shader (`GL_PROGRAM_POINT_SIZE`).
+    Program,
+    /// One pixel: GL's initial `glPointSize`, which nothing changes (glow does not expose it).
+    One,
+}
+
+/// The fixed-function state of a draw, all of it set by [`Context::draw`].
+///
+/// Depth testing is always off: no framebuffer of this crate has a depth attachment.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct DrawState {
+    /// `None`: fragments replace what is in the target.
+    pub blend: Option<Blend>,
+    /// Point size (points only).
+    pub point_size: PointSize,
+}
+
+impl DrawState {
+    /// No blending, points one pixel wide: what every simulation and sort pass draws with.
+    pub const REPLACE: DrawState = DrawState {
+        blend: None,
+        point_size: PointSize::One,
+    };
+}
+
+impl Default for DrawState {
+    fn default() -> Self {
+        DrawState::REPLACE
+    }
+}
+
+/// What the vertices are assembled into.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Primitive {
+    /// One point per vertex.
+    Points,
+    /// One triangle per three vertices.
+    Triangles,
+}
+
+/// A rectangle of a target in texels, origin at the bottom left.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Rect {
+    /// Left edge.
+    pub x: u32,
+    /// Bottom edge.
+    pub y: u32,
+    /// Width.
+    pub width: u32,
+    /// Height.
+    pub height: u32,
+}
+
+/// One draw call, described in full.
+#[derive(Debug, Clone, Copy)]
+pub struct Draw<'a> {
+    /// The program; its uniforms are set by the caller (they are program state, kept by GL).
+    pub program: &'a Program,
+    /// The framebuffer drawn into.
+    pub target: &'a Framebuffer,
+    /// The viewport; `None`: all of the target.
+    pub viewport: Option<Rect>,
+    /// The vertex array (an empty one for draws that use only `gl_VertexID`).
+    pub vertices: &'a VertexArray,
+    /// What the vertices make.
+    pub primitive: Primitive,
+    /// Number of vertices, from the first.
+    pub count: u32,
+    /// Blending and point size.
+    pub state: &'a DrawState,
+}
+
+impl Context {
+    /// Runs one draw: binds its program, target (with its viewport) and vertices, sets all of its
+    /// state, draws, and unbinds the vertex array. A count of 0 draws nothing.
+    pub fn draw(&self, d: &Draw<'_>) {
+        d.program.bind();
+        match d.viewport {
+            Some(r) => d.target.bind_rect(r.x, r.y, r.width, r.height),
+            None => d.target.bind(),
+        }
+        d.vertices.bind();
+        self.set_state(d.state);
+        let mode = match d.primitive {
+            Primitive::Points => glow::POINTS,
+            Primitive::Triangles => glow::TRIANGLES,
+        };
+        // SAFETY: a linked program, a complete framebuffer and a vertex array whose buffers hold
+        // `count` vertices (the caller's contract) are bound.
+        unsafe {
+            if d.count > 0 {
+                self.draw_arrays(mode, 0, d.count as i32);
+            }
+            self.bind_vertex_array(None);
+        }
+    }
+
+    fn set_state(&self, s: &DrawState) {
+        // SAFETY: plain state changes on the current context.
+        unsafe {
+            self.disable(glow::DEPTH_TEST);
+            match s.point_size {
+                PointSize::Program => self.enable(glow::PROGRAM_POINT_SIZE),
+                PointSize::One => self.disable(glow::PROGRAM_POINT_SIZE),
+            }
+            match s.blend {
+                None => self.disable(glow::BLEND),
+                Some(b) => {
+                    self.enable(glow::BLEND);
+                    self.blend_equation_separate(b.color.operation.gl(), b.alpha.operation.gl());
+                    self.blend_func_separate(
+                        b.color.src_factor.gl(),
+                        b.color.dst_factor.gl(),
+                        b.alpha.src_factor.gl(),
+                        b.alpha.dst_factor.gl(),
+                    );
+                }
+            }
+        }
+    }
+}

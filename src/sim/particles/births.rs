@@ -1,0 +1,102 @@
+//! Latta §3.4.1: births by the CPU allocator, drawn as single pixels into the state textures.
+
+use super::super::emit::Rng;
+use super::{ParticleSim, State};
+use crate::error::{Error, Result};
+use crate::gl::{
+    Attribute, Buffer, BufferKind, BufferUsage, Draw, DrawState, Framebuffer, PointSize, Primitive,
+    Program, VertexArray,
+};
+
+/// Floats per emitted vertex: index, position + life, velocity, static.
+const EMIT_FLOATS: usize = 13;
+
+impl ParticleSim {
+    /// Latta §3.4.1: frees the indices of particles that died (on the CPU's clock, a few steps
+    /// late so that both sides of the ping-pong hold them dead), allocates indices for this
+    /// step's births and draws them as points.
+    pub(super) fn emit(&mut self) -> Result<()> {
+        let dt = self.scene.time.dt as f64;
+        let now = self.time;
+        let Some(alloc) = self.allocator.as_mut() else {
+            return Ok(());
+        };
+        alloc.reclaim(now - 3.0 * dt);
+        let mut data: Vec<f32> = Vec::new();
+        for (k, e) in self.scene.emitters.allocator.iter().enumerate() {
+            self.owed[k] += e.rate.unwrap_or(0.0) as f64 * dt;
+            let n = self.owed[k].floor();
+            self.owed[k] -= n;
+            let u = &self.emitters[k];
+            for _ in 0..n as u64 {
+                let mut rng = Rng::new(self.emitted as u32, self.step as u32, self.seed);
+                self.emitted += 1;
+                let life = u.life(&mut rng);
+                let Some(index) = alloc
+                    .allocate_with_lifetime(now, life as f64)
+                    .map_err(|e| Error::InvalidInput(e.to_string()))?
+                else {
+                    self.dropped += 1;
+                    continue;
+                };
+                let x = u.position(&mut rng);
+                let v = u.velocity(&mut rng);
+                data.push(index as f32);
+                data.extend_from_slice(&x.extend(life).to_array());
+                data.extend_from_slice(&v.extend(0.0).to_array());
+                data.extend_from_slice(&[now as f32, k as f32, life, rng.uniform()]);
+            }
+        }
+        if data.is_empty() {
+            return Ok(());
+        }
+        let buffer = Buffer::with_data(
+            &self.ctx,
+            "births",
+            BufferKind::Vertex,
+            bytemuck::cast_slice(&data),
+            BufferUsage::StreamDraw,
+        )?;
+        let stride = (EMIT_FLOATS * 4) as i32;
+        let attr = |location: u32, components: i32, offset: i32| Attribute {
+            buffer: &buffer,
+            location,
+            components,
+            stride,
+            offset: offset * 4,
+        };
+        let vao = VertexArray::with_attributes(
+            &self.ctx,
+            "births",
+            &[attr(0, 1, 0), attr(1, 4, 1), attr(2, 4, 5), attr(3, 4, 9)],
+        )?;
+        let count = (data.len() / EMIT_FLOATS) as u32;
+        // Single pixels (emit.vert writes gl_PointSize = 1) replacing what the texel held.
+        let state = DrawState {
+            blend: None,
+            point_size: PointSize::Program,
+        };
+        let draw = |program: &Program, target: &Framebuffer| {
+            self.ctx.draw(&Draw {
+                program,
+                target,
+                viewport: None,
+                vertices: &vao,
+                primitive: Primitive::Points,
+                count,
+                state: &state,
+            })
+        };
+        self.bind_fields();
+        if let Some(p) = &self.emit_static {
+            draw(p, &self.statics);
+        }
+        if let Some(p) = &self.emit_state {
+            draw(p, self.front());
+        }
+        if let (Some(p), State::Verlet(ring)) = (&self.emit_previous, &self.state) {
+            draw(p, ring.previous());
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,313 @@
+//! What a scene's simulation compiles and runs ([`Features`]): derived from the scene file
+//! alone, turned into the programs' `#define`s and into the pass list `texflow scene passes`
+//! prints.
+
+use super::super::allocator::AllocatorKind;
+use crate::gl::Defines;
+use crate::scene::file::{self, Integrator, Precision, SceneFile, VelocityFormat};
+
+/// How particles come into being.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Emission {
+    /// Latta §3.4.1: a CPU allocator; new particles drawn as single pixels.
+    Allocator(AllocatorKind),
+    /// UberFlow §4.1: phases in the static texture, respawn in the shader.
+    Timestamp,
+    /// Every texel filled at the start; `life`: they die once, else they are permanent.
+    Initial {
+        /// Whether the particles have a life.
+        life: bool,
+    },
+}
+
+/// What a scene's simulation compiles and runs: derived from the scene file alone.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Features {
+    /// Integrator.
+    pub integrator: Integrator,
+    /// Birth and death.
+    pub emission: Emission,
+    /// Number of particle types (emitters).
+    pub types: usize,
+    /// Any gravity.
+    pub gravity: bool,
+    /// Point attractors and repulsors.
+    pub attractors: usize,
+    /// Springs.
+    pub springs: usize,
+    /// Vortices.
+    pub vortices: usize,
+    /// Any damping.
+    pub damping: bool,
+    /// A wind flow field.
+    pub wind: bool,
+    /// Plane colliders.
+    pub planes: usize,
+    /// Sphere colliders.
+    pub spheres: usize,
+    /// Box colliders.
+    pub boxes: usize,
+    /// A height field.
+    pub heightfield: bool,
+    /// A distance field.
+    pub sdf: bool,
+    /// Velocity storage.
+    pub velocity_format: VelocityFormat,
+    /// Precision of what the passes write.
+    pub precision: Precision,
+    /// Collisions between particles: (neighbours, staggered, rows_only).
+    pub collisions: Option<(u32, bool, Option<u32>)>,
+}
+
+impl Features {
+    /// Reads what a (non-fire) scene needs.
+    pub fn of(scene: &SceneFile) -> Self {
+        let em = &scene.emitters;
+        let emission = if let Some(e) = em.allocator.first() {
+            Emission::Allocator(match e.allocator.unwrap_or_default() {
+                file::AllocatorKind::Stack => AllocatorKind::Stack,
+                file::AllocatorKind::MinHeap => AllocatorKind::MinHeap,
+            })
+        } else if !em.timestamp.is_empty() {
+            Emission::Timestamp
+        } else {
+            Emission::Initial {
+                life: em.initial.iter().any(|e| e.life.is_some()),
+            }
+        };
+        let f = &scene.forces;
+        let c = &scene.colliders;
+        Features {
+            integrator: scene.integrator,
+            emission,
+            types: em.len().max(1),
+            gravity: !f.gravity.is_empty(),
+            attractors: f.attractor.len(),
+            springs: f.spring.len(),
+            vortices: f.vortex.len(),
+            damping: !f.damping.is_empty(),
+            wind: !f.wind.is_empty(),
+            planes: c.plane.len(),
+            spheres: c.sphere.len(),
+            boxes: c.boxes.len(),
+            heightfield: !c.heightfield.is_empty(),
+            sdf: !c.sdf.is_empty(),
+            velocity_format: scene.particles.velocity_format,
+            precision: scene.particles.precision,
+            collisions: scene
+                .collisions
+                .as_ref()
+                .map(|c| (c.neighbours, c.staggered, c.rows_only)),
+        }
+    }
+
+    /// Whether the scene has any collider.
+    pub fn colliders(&self) -> bool {
+        self.planes + self.spheres + self.boxes > 0 || self.heightfield || self.sdf
+    }
+
+    /// Whether particles have a life (and the pass counts it down).
+    pub fn life(&self) -> bool {
+        !matches!(self.emission, Emission::Initial { life: false })
+    }
+
+    /// Whether passes can be limited to the rows that hold live particles (the min-heap keeps
+    /// them packed at the start, Latta §3.4.1).
+    pub fn live_rows(&self) -> bool {
+        self.emission == Emission::Allocator(AllocatorKind::MinHeap)
+    }
+
+    /// The `#define`s of the simulation programs.
+    pub fn defines(&self) -> Defines {
+        let mut d: Defines = Vec::new();
+        let mut def = |k: &str, v: String| d.push((k.to_owned(), v));
+        match self.integrator {
+            Integrator::Euler => def("EULER", "1".into()),
+            Integrator::Uberflow => def("UBERFLOW", "1".into()),
+            Integrator::Verlet => def("VERLET", "1".into()),
+        }
+        match self.emission {
+            Emission::Allocator(_) => {
+                def("ALLOCATOR", "1".into());
+                def("LIFE", "1".into());
+            }
+            Emission::Timestamp => def("TIMESTAMP", "1".into()),
+            Emission::Initial { life } => {
+                def("INITIAL", "1".into());
+                if life {
+                    def("LIFE", "1".into());
+                }
+            }
+        }
+        if self.gravity {
+            def("GRAVITY", "1".into());
+        }
+        if self.damping {
+            def("DAMPING", "1".into());
+        }
+        if self.wind {
+            def("WIND", "1".into());
+        }
+        def("N_ATTRACTORS", self.attractors.to_string());
+        def("N_SPRINGS", self.springs.to_string());
+        def("N_VORTICES", self.vortices.to_string());
+        def("N_PLANES", self.planes.to_string());
+        def("N_SPHERES", self.spheres.to_string());
+        def("N_BOXES", self.boxes.to_string());
+        if self.heightfield {
+            def("HEIGHTFIELD", "1".into());
+        }
+        if self.sdf {
+            def("SDF", "1".into());
+        }
+        def("HAS_COLLIDERS", (self.colliders() as u8).to_string());
+        if self.precision == Precision::Fp24 {
+            let f = crate::sort::precision::R300;
+            def("EMULATE_FLOAT", "1".into());
+            def("FLOAT_MANTISSA", f.mantissa_bits.to_string());
+            def("FLOAT_EXPONENT", f.exponent_bits.to_string());
+        }
+        d
+    }
+
+    /// The simulation passes of one step, in order, for `texflow scene passes`.
+    pub fn step_passes(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let verlet = self.integrator == Integrator::Verlet;
+        let targets = if verlet {
+            "previous and current position textures in, next position out".to_owned()
+        } else {
+            format!(
+                "position + velocity ({}) through MRT",
+                match self.velocity_format {
+                    VelocityFormat::Rgba32f => "rgba32f",
+                    VelocityFormat::Rgba16f => "rgba16f",
+                }
+            )
+        };
+        if let Emission::Allocator(kind) = self.emission {
+            out.push(format!(
+                "emit: new particles drawn as single pixels into {} and static (CPU {} allocator)",
+                if verlet {
+                    "current and previous positions"
+                } else {
+                    "position and velocity"
+                },
+                match kind {
+                    AllocatorKind::Stack => "stack",
+                    AllocatorKind::MinHeap => "min-heap",
+                }
+            ));
+        }
+        let mut what = vec![match self.integrator {
+            Integrator::Euler => "Latta's Euler (eq. 3, 8)".to_owned(),
+            Integrator::Uberflow => "UberFlow's velocity-averaged update (eq. 1-2)".to_owned(),
+            Integrator::Verlet => "Verlet (Latta eq. 9)".to_owned(),
+        }];
+        let mut forces = Vec::new();
+        if self.gravity {
+            forces.push("gravity".to_owned());
+        }
+        if self.attractors > 0 {
+            forces.push(format!("{} attractor(s)", self.attractors));
+        }
+        if self.springs > 0 {
+            forces.push(format!("{} spring(s)", self.springs));
+        }
+        if self.vortices > 0 {
+            forces.push(format!("{} vortex(es)", self.vortices));
+        }
+        if self.damping {
+            forces.push("damping".to_owned());
+        }
+        if self.wind {
+            forces.push("wind (flow-field texture, Stokes drag)".to_owned());
+        }
+        if !forces.is_empty() {
+            what.push(format!("forces: {}", forces.join(", ")));
+        }
+        let mut colliders = Vec::new();
+        for (n, name) in [
+            (self.planes, "plane"),
+            (self.spheres, "sphere"),
+            (self.boxes, "box"),
+            (self.heightfield as usize, "height field"),
+            (self.sdf as usize, "distance field"),
+        ] {
+            if n > 0 {
+                colliders.push(format!("{n} {name}"));
+            }
+        }
+        if !colliders.is_empty() {
+            what.push(format!(
+                "colliders: {}{}",
+                colliders.join(", "),
+                if verlet {
+                    " (position constraints)"
+                } else {
+                    ""
+                }
+            ));
+        }
+        match self.emission {
+            Emission::Allocator(_) | Emission::Initial { life: true } => {
+                what.push("death by age (moved to infinity)".into())
+            }
+            Emission::Timestamp => what.push("time-stamp birth, respawn and death".into()),
+            Emission::Initial { life: false } => {}
+        }
+        if self.precision == Precision::Fp24 {
+            what.push("24-bit float emulation".into());
+        }
+        let integrate = format!(
+            "integrate{}: {} [{}]",
+            if self.live_rows() {
+                " (live rows only)"
+            } else {
+                ""
+            },
+            what.join("; "),
+            targets
+        );
+        out.push(integrate);
+        if let Some((k, staggered, rows)) = self.collisions {
+            let sort = match rows {
+                Some(1) => "rows-only bitonic sort (GP/FP packed)".to_owned(),
+                Some(r) => format!("bitonic sort within sets of {r} rows (GP/FP packed)"),
+                None => "full bitonic sort (GP/FP packed)".to_owned(),
+            };
+            let lattices: &[&str] = if staggered {
+                &["lattice", "staggered lattice"]
+            } else {
+                &["lattice"]
+            };
+            for l in lattices {
+                out.push(format!("collision keys: cell index in the {l} (z, y, x)"));
+                out.push(format!("collision sort: {sort}"));
+                out.push(format!(
+                    "gather position, velocity, static{} in cell order",
+                    if *l == "staggered lattice" {
+                        " and the first detection"
+                    } else {
+                        ""
+                    }
+                ));
+                out.push(format!(
+                    "collision detection: closest of {k} neighbours each side in the row; \
+                     mutual check"
+                ));
+            }
+            out.push(format!(
+                "collision response: back-tracking to contact, momentum exchange{}",
+                if self.colliders() {
+                    "; boundary conditions (colliders)"
+                } else {
+                    ""
+                }
+            ));
+            out.push("copy static texture in the new order".into());
+        }
+        out
+    }
+}

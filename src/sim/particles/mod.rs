@@ -1,0 +1,544 @@
+//! The general particle system of Latta (§3.3-3.4) and UberFlow (§4.1-4.2, 4.6): state in
+//! RGBA float textures, one full-screen integration pass per step, birth by a CPU allocator or by
+//! time stamps, forces and colliders compiled into the pass only when the scene has them.
+//!
+//! The state layout, the integrators and the collision response are described in
+//! `glsl/sim/integrate.frag` and `glsl/sim/colliders.glsl`; [`Features`] decides what is compiled
+//! and which passes run, and is also what `texflow scene passes` prints.
+
+mod births;
+mod features;
+mod uniforms;
+
+use glam::{UVec2, Vec4};
+
+use super::allocator::Allocator;
+use super::emit::EmitterUniforms;
+use super::fields::{DistanceField, FlowField, HeightField};
+use crate::error::{Error, Result};
+use crate::gl::{
+    Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Ring3, Texture, Texture3D,
+    TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
+};
+use crate::scene::file::{Integrator, SceneFile, VelocityFormat};
+pub use features::{Emission, Features};
+use uniforms::{set_constants_for, unit};
+
+/// The state framebuffers: position and velocity ping-pong for the explicit integrators, a ring
+/// of previous, current and next positions for Verlet.
+enum State {
+    Explicit(PingPong),
+    Verlet(Ring3),
+}
+
+struct Fields {
+    flow: Option<(Texture3D, FlowField)>,
+    height: Option<(Texture, HeightField)>,
+    sdf: Option<(Texture3D, DistanceField)>,
+}
+
+/// The particle simulation of a scene.
+pub struct ParticleSim {
+    ctx: Context,
+    scene: SceneFile,
+    features: Features,
+    width: u32,
+    height: u32,
+    state: State,
+    statics: Framebuffer,
+    integrate: Program,
+    emit_state: Option<Program>,
+    emit_previous: Option<Program>,
+    emit_static: Option<Program>,
+    start: Option<Program>,
+    collisions: Option<super::collide::Collisions>,
+    pass: FullscreenPass,
+    fields: Fields,
+    emitters: Vec<EmitterUniforms>,
+    allocator: Option<Allocator>,
+    owed: Vec<f64>,
+    emitted: u64,
+    dropped: u64,
+    seed: u32,
+    step: u64,
+    time: f64,
+}
+
+impl std::fmt::Debug for ParticleSim {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "ParticleSim({} {}x{})",
+            self.scene.name, self.width, self.height
+        )
+    }
+}
+
+fn state_texture(ctx: &Context, label: &str, w: u32, h: u32, f: TextureFormat) -> Result<Texture> {
+    Texture::new(
+        ctx,
+        TextureDesc {
+            width: w,
+            height: h,
+            format: f,
+            label,
+        },
+    )
+}
+
+impl ParticleSim {
+    /// Builds the state, the fields and the programs of `scene` and draws the initial state.
+    pub fn new(ctx: &Context, scene: &SceneFile, seed: u32) -> Result<Self> {
+        if scene.fire.is_some() {
+            return Err(Error::InvalidInput(format!(
+                "scene `{}` is the thesis's fire: run it with the fire simulation",
+                scene.name
+            )));
+        }
+        scene
+            .validate()
+            .map_err(|e| Error::InvalidInput(e.message))?;
+        let [width, height] = scene.particles.size;
+        crate::gl::check_size(ctx, "particle texture (particles.size)", width, height)?;
+        let features = Features::of(scene);
+        let vel_format = match features.velocity_format {
+            VelocityFormat::Rgba32f => TextureFormat::Rgba32F,
+            VelocityFormat::Rgba16f => TextureFormat::Rgba16F,
+        };
+        let state = if features.integrator == Integrator::Verlet {
+            State::Verlet(Ring3::new(
+                ctx,
+                "verlet",
+                &["position"],
+                &[TextureFormat::Rgba32F],
+                width,
+                height,
+            )?)
+        } else {
+            State::Explicit(PingPong::new(
+                ctx,
+                "particles",
+                &["position", "velocity"],
+                &[TextureFormat::Rgba32F, vel_format],
+                width,
+                height,
+            )?)
+        };
+        let statics = Framebuffer::new(
+            ctx,
+            "static",
+            vec![state_texture(
+                ctx,
+                "static",
+                width,
+                height,
+                TextureFormat::Rgba32F,
+            )?],
+        )?;
+        let fields = Fields {
+            flow: match scene.forces.wind.first() {
+                Some(w) => {
+                    let f = FlowField::new(w)?;
+                    Some((f.upload(ctx)?, f))
+                }
+                None => None,
+            },
+            height: match scene.colliders.heightfield.first() {
+                Some(h) => {
+                    let f = HeightField::new(h)?;
+                    Some((f.upload(ctx)?, f))
+                }
+                None => None,
+            },
+            sdf: match scene.colliders.sdf.first() {
+                Some(s) => {
+                    let f = DistanceField::new(s)?;
+                    Some((f.upload(ctx)?, f))
+                }
+                None => None,
+            },
+        };
+        let defines = features.defines();
+        let with = |extra: &str| {
+            let mut d = defines.clone();
+            d.push((extra.to_owned(), "1".to_owned()));
+            d
+        };
+        let verlet = features.integrator == Integrator::Verlet;
+        let allocator = matches!(features.emission, Emission::Allocator(_));
+        let emit = |out: &str| -> Result<Option<Program>> {
+            Ok(if allocator {
+                Some(Program::new(
+                    ctx,
+                    "sim/emit.vert",
+                    "sim/emit.frag",
+                    &with(out),
+                )?)
+            } else {
+                None
+            })
+        };
+        let emitters: Vec<EmitterUniforms> =
+            scene.emitters.all().map(EmitterUniforms::new).collect();
+        let mut sim = ParticleSim {
+            integrate: Program::new(ctx, FULLSCREEN_VERTEX, "sim/integrate.frag", &defines)?,
+            emit_state: emit("OUT_STATE")?,
+            emit_previous: if verlet { emit("OUT_PREVIOUS")? } else { None },
+            emit_static: emit("OUT_STATIC")?,
+            start: if verlet {
+                Some(Program::new(
+                    ctx,
+                    FULLSCREEN_VERTEX,
+                    "sim/verlet_start.frag",
+                    &defines,
+                )?)
+            } else {
+                None
+            },
+            collisions: match &scene.collisions {
+                Some(_) => Some(super::collide::Collisions::new(
+                    ctx, scene, &defines, vel_format,
+                )?),
+                None => None,
+            },
+            pass: FullscreenPass::new(ctx)?,
+            allocator: match features.emission {
+                Emission::Allocator(kind) => Some(Allocator::new(kind, width * height)),
+                _ => None,
+            },
+            owed: vec![0.0; emitters.len()],
+            emitters,
+            emitted: 0,
+            dropped: 0,
+            ctx: ctx.clone(),
+            scene: scene.clone(),
+            features,
+            width,
+            height,
+            state,
+            statics,
+            fields,
+            seed,
+            step: 0,
+            time: 0.0,
+        };
+        for p in [
+            Some(&sim.integrate),
+            sim.emit_state.as_ref(),
+            sim.emit_previous.as_ref(),
+            sim.emit_static.as_ref(),
+            sim.start.as_ref(),
+        ]
+        .into_iter()
+        .flatten()
+        {
+            sim.set_constants(p);
+        }
+        sim.initialise()?;
+        ctx.check_error("initialising the particle state")?;
+        Ok(sim)
+    }
+
+    /// Uniforms that do not change during a run: emitters, masses, forces, colliders, samplers.
+    fn set_constants(&self, p: &Program) {
+        set_constants_for(
+            p,
+            &self.scene,
+            &self.fields,
+            [self.width, self.height],
+            self.seed,
+            self.features.types,
+        );
+    }
+
+    fn bind_fields(&self) {
+        if let Some((t, _)) = &self.fields.flow {
+            t.bind(unit::FLOW);
+        }
+        if let Some((t, _)) = &self.fields.height {
+            t.bind(unit::HEIGHT);
+        }
+        if let Some((t, _)) = &self.fields.sdf {
+            t.bind(unit::SDF);
+        }
+    }
+
+    /// Draws the initial state with `sim/init.frag` (one pass per target) and restarts the clock.
+    fn initialise(&mut self) -> Result<()> {
+        let mut defines = self.features.defines();
+        let program = |out: &str, d: &mut Defines| -> Result<Program> {
+            let mut d = d.clone();
+            d.push((out.to_owned(), "1".to_owned()));
+            let p = Program::new(&self.ctx, FULLSCREEN_VERTEX, "sim/init.frag", &d)?;
+            self.set_constants(&p);
+            Ok(p)
+        };
+        let state = program("OUT_STATE", &mut defines)?;
+        let statics = program("OUT_STATIC", &mut defines)?;
+        self.bind_fields();
+        self.pass.draw(&statics, &self.statics);
+        match &self.state {
+            State::Explicit(pp) => {
+                // Both sides, so rows a live-row restricted pass never touches are dead too.
+                self.pass.draw(&state, pp.front());
+                self.pass.draw(&state, pp.back());
+            }
+            State::Verlet(ring) => {
+                let previous = program("OUT_PREVIOUS", &mut defines)?;
+                let [p, c, n] = ring.roles();
+                self.pass.draw(&previous, p);
+                self.pass.draw(&state, c);
+                self.pass.draw(&state, n);
+            }
+        }
+        self.step = 0;
+        self.time = 0.0;
+        Ok(())
+    }
+
+    /// The current positions (xyz, remaining life).
+    pub fn positions(&self) -> &Texture {
+        match &self.state {
+            State::Explicit(pp) => pp.front().texture(0),
+            State::Verlet(ring) => ring.current().texture(0),
+        }
+    }
+
+    /// The current velocities (explicit integrators only).
+    pub fn velocities(&self) -> Option<&Texture> {
+        match &self.state {
+            State::Explicit(pp) => Some(pp.front().texture(1)),
+            State::Verlet { .. } => None,
+        }
+    }
+
+    /// The previous positions (Verlet only).
+    pub fn previous(&self) -> Option<&Texture> {
+        match &self.state {
+            State::Explicit(_) => None,
+            State::Verlet(ring) => Some(ring.previous().texture(0)),
+        }
+    }
+
+    /// The static texture (birth time or phase, type, total life, random number).
+    pub fn statics(&self) -> &Texture {
+        self.statics.texture(0)
+    }
+
+    /// The state framebuffer being read now (positions and, for explicit integrators,
+    /// velocities).
+    pub fn front(&self) -> &Framebuffer {
+        match &self.state {
+            State::Explicit(pp) => pp.front(),
+            State::Verlet(ring) => ring.current(),
+        }
+    }
+
+    /// What the scene compiles and runs.
+    pub fn features(&self) -> &Features {
+        &self.features
+    }
+
+    /// The scene.
+    pub fn scene(&self) -> &SceneFile {
+        &self.scene
+    }
+
+    /// State texture size.
+    pub fn size(&self) -> UVec2 {
+        UVec2::new(self.width, self.height)
+    }
+
+    /// Steps taken.
+    pub fn steps(&self) -> u64 {
+        self.step
+    }
+
+    /// Simulation time in seconds.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// The CPU allocator (allocator emission only).
+    pub fn allocator(&self) -> Option<&Allocator> {
+        self.allocator.as_ref()
+    }
+
+    /// Particles emitted by the allocator, and those dropped because every index was live.
+    pub fn emitted(&self) -> (u64, u64) {
+        (self.emitted, self.dropped)
+    }
+
+    /// Rows that passes must cover: the live rows under a min-heap allocator, else all.
+    pub fn active_rows(&self) -> u32 {
+        match &self.allocator {
+            Some(a) if self.features.live_rows() => a.live_rows(self.width).min(self.height),
+            _ => self.height,
+        }
+    }
+
+    /// Particles the renderer and the sort must consider (whole rows).
+    pub fn active_count(&self) -> usize {
+        self.active_rows() as usize * self.width as usize
+    }
+
+    /// One time step: allocator births, then the integration pass, then the swap, then the
+    /// collision stage (scenes with `[collisions]`).
+    pub fn step(&mut self) -> Result<()> {
+        self.step_without_collisions()?;
+        self.collide()
+    }
+
+    /// [`step`](Self::step) without the collision stage: the collisionless motion. For warming a
+    /// benchmark up quickly: the collision stage's sorts and detection are data-oblivious, so
+    /// what they cost later does not depend on whether earlier steps resolved collisions.
+    pub fn step_without_collisions(&mut self) -> Result<()> {
+        if self.allocator.is_some() {
+            self.emit()?;
+        }
+        self.integrate_only();
+        Ok(())
+    }
+
+    /// The collision stage (scenes with `[collisions]`).
+    pub fn collisions(&self) -> Option<&super::collide::Collisions> {
+        self.collisions.as_ref()
+    }
+
+    /// Runs the collision stage on the current state (part of [`step`](Self::step); public for
+    /// benchmarks, which time it alone).
+    pub fn collide(&mut self) -> Result<()> {
+        if self.collisions.is_none() {
+            return Ok(());
+        }
+        self.bind_fields();
+        let Some(c) = self.collisions.as_mut() else {
+            return Ok(());
+        };
+        let State::Explicit(pp) = &mut self.state else {
+            return Err(Error::InvalidInput(
+                "collisions need the explicit integrators".into(),
+            ));
+        };
+        let mut inv_mass = [1.0 / self.scene.particles.mass; 4];
+        for (k, e) in self.scene.emitters.all().enumerate() {
+            inv_mass[k] = 1.0 / e.mass.unwrap_or(self.scene.particles.mass);
+        }
+        let fields = &self.fields;
+        let scene = &self.scene;
+        let (size, seed, types) = ([self.width, self.height], self.seed, self.features.types);
+        let set = |p: &Program| set_constants_for(p, scene, fields, size, seed, types);
+        c.run(
+            pp,
+            &self.statics,
+            self.scene.time.dt,
+            Vec4::from(inv_mass),
+            set,
+        )?;
+        Ok(())
+    }
+
+    /// The integration pass alone (also what benchmarks time), then the swap.
+    pub fn integrate_only(&mut self) {
+        let rows = self.active_rows();
+        let p = &self.integrate;
+        p.bind();
+        p.set_f32("u_time", self.time as f32);
+        self.statics.texture(0).bind(unit::STATIC);
+        self.bind_fields();
+        match &mut self.state {
+            State::Explicit(pp) => {
+                pp.front().texture(0).bind(unit::POSITION);
+                pp.front().texture(1).bind(unit::VELOCITY);
+                if rows > 0 {
+                    self.pass.draw_rows(p, pp.back(), 0, rows);
+                }
+                pp.swap();
+            }
+            State::Verlet(ring) => {
+                ring.current().texture(0).bind(unit::POSITION);
+                ring.previous().texture(0).bind(unit::VELOCITY);
+                if rows > 0 {
+                    self.pass.draw_rows(p, ring.next(), 0, rows);
+                }
+                ring.rotate();
+            }
+        }
+        self.step += 1;
+        self.time = self.step as f64 * self.scene.time.dt as f64;
+    }
+
+    /// Reads the current positions back (4 floats per texel).
+    pub fn read_positions(&self) -> Result<Vec<f32>> {
+        self.positions().read_f32()
+    }
+
+    /// Reads the current velocities back; for Verlet, the implied (x - x_prev) / dt.
+    pub fn read_velocities(&self) -> Result<Vec<f32>> {
+        match self.velocities() {
+            Some(t) => t.read_f32(),
+            None => {
+                let x = self.read_positions()?;
+                let xp = self.previous().map(|t| t.read_f32()).transpose()?;
+                let xp = xp.unwrap_or_else(|| x.clone());
+                let dt = self.scene.time.dt;
+                Ok(x.chunks(4)
+                    .zip(xp.chunks(4))
+                    .flat_map(|(a, b)| {
+                        [
+                            (a[0] - b[0]) / dt,
+                            (a[1] - b[1]) / dt,
+                            (a[2] - b[2]) / dt,
+                            0.0,
+                        ]
+                    })
+                    .collect())
+            }
+        }
+    }
+
+    /// Replaces the whole state (for tests and experiments): 4 floats per texel each, positions
+    /// (xyz, life), velocities (xyz, 0) and statics (birth, type, total life, random). Verlet
+    /// derives the previous positions on the GPU with the second-order start
+    /// x_prev = x - v dt + a dt^2 / 2.
+    pub fn set_state(
+        &mut self,
+        positions: &[f32],
+        velocities: &[f32],
+        statics: &[f32],
+    ) -> Result<()> {
+        let n = self.width as usize * self.height as usize * 4;
+        if positions.len() != n || velocities.len() != n || statics.len() != n {
+            return Err(Error::InvalidInput(format!(
+                "set_state needs {n} floats per texture ({}x{} texels, 4 each)",
+                self.width, self.height
+            )));
+        }
+        self.statics.texture(0).upload_f32(statics)?;
+        match &self.state {
+            State::Explicit(pp) => {
+                pp.front().texture(0).upload_f32(positions)?;
+                pp.front().texture(1).upload_f32(velocities)?;
+            }
+            State::Verlet(ring) => {
+                ring.current().texture(0).upload_f32(positions)?;
+                let v = state_texture(
+                    &self.ctx,
+                    "start velocity",
+                    self.width,
+                    self.height,
+                    TextureFormat::Rgba32F,
+                )?;
+                v.upload_f32(velocities)?;
+                let p = self.start.as_ref().expect("Verlet has a start program");
+                p.bind();
+                ring.current().texture(0).bind(unit::POSITION);
+                v.bind(unit::VELOCITY);
+                self.statics.texture(0).bind(unit::STATIC);
+                self.bind_fields();
+                self.pass.draw(p, ring.previous());
+            }
+        }
+        self.ctx.check_error("setting the particle state")
+    }
+}

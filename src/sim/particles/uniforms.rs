@@ -1,0 +1,134 @@
+//! The uniforms of the simulation programs that do not change during a run, and the texture
+//! units their samplers read.
+
+use glam::{Vec3, Vec4};
+
+use super::super::emit::EmitterUniforms;
+use super::Fields;
+use crate::gl::Program;
+use crate::scene::file::{self, SceneFile};
+
+/// Texture units of the simulation programs.
+pub(super) mod unit {
+    pub const POSITION: u32 = 0;
+    pub const VELOCITY: u32 = 1;
+    pub const STATIC: u32 = 2;
+    pub const FLOW: u32 = 3;
+    pub const HEIGHT: u32 = 4;
+    pub const SDF: u32 = 5;
+}
+
+fn v3(a: [f32; 3]) -> Vec3 {
+    Vec3::from(a)
+}
+
+/// Sets the uniforms that do not change during a run (emitters, masses, forces, colliders,
+/// samplers) on `p`; uniforms the program lacks are skipped.
+pub(super) fn set_constants_for(
+    p: &Program,
+    s: &SceneFile,
+    fields: &Fields,
+    size: [u32; 2],
+    seed: u32,
+    types: usize,
+) {
+    p.bind();
+    p.set_i32("u_position", unit::POSITION as i32);
+    p.set_i32("u_velocity", unit::VELOCITY as i32);
+    p.set_i32("u_previous", unit::VELOCITY as i32);
+    p.set_i32("u_static", unit::STATIC as i32);
+    p.set_i32("u_flow", unit::FLOW as i32);
+    p.set_i32("u_height", unit::HEIGHT as i32);
+    p.set_i32("u_sdf", unit::SDF as i32);
+    p.set_i32("u_width", size[0] as i32);
+    p.set_ivec2("u_size", size[0] as i32, size[1] as i32);
+    p.set_u32("u_seed", seed);
+    p.set_f32("u_dt", s.time.dt);
+    p.set_i32("u_emitters", types as i32);
+    let mut inv_mass = [1.0 / s.particles.mass; 4];
+    let mut cycle = [1.0f32; 4];
+    for (k, e) in s.emitters.all().enumerate() {
+        inv_mass[k] = 1.0 / e.mass.unwrap_or(s.particles.mass);
+        cycle[k] = e.cycle.unwrap_or(1.0);
+    }
+    p.set_vec4("u_inv_mass", Vec4::from(inv_mass));
+    p.set_vec4("u_cycle", Vec4::from(cycle));
+    for (k, e) in s.emitters.all().map(EmitterUniforms::new).enumerate() {
+        p.set_vec4(&format!("u_em_center[{k}]"), e.center);
+        p.set_vec4(&format!("u_em_size[{k}]"), e.size);
+        p.set_vec4(&format!("u_em_normal[{k}]"), e.normal);
+        p.set_vec4(&format!("u_em_dir[{k}]"), e.dir);
+        p.set_vec4(&format!("u_em_range[{k}]"), e.range);
+    }
+    let f = &s.forces;
+    let gravity: Vec3 = f.gravity.iter().map(|g| v3(g.acceleration)).sum();
+    p.set_vec3("u_gravity", gravity);
+    p.set_f32("u_damping", f.damping.iter().map(|d| d.rate).sum());
+    for (i, a) in f.attractor.iter().enumerate() {
+        p.set_vec4(
+            &format!("u_attractor[{i}]"),
+            v3(a.position).extend(a.strength),
+        );
+        p.set_vec4(
+            &format!("u_attractor_shape[{i}]"),
+            Vec4::new(
+                (a.falloff == file::Falloff::Constant) as u8 as f32,
+                a.max_distance.unwrap_or(-1.0),
+                a.softening,
+                0.0,
+            ),
+        );
+    }
+    for (i, sp) in f.spring.iter().enumerate() {
+        p.set_vec4(
+            &format!("u_spring[{i}]"),
+            v3(sp.anchor).extend(sp.stiffness),
+        );
+    }
+    for (i, v) in f.vortex.iter().enumerate() {
+        p.set_vec4(&format!("u_vortex[{i}]"), v3(v.point).extend(v.strength));
+        p.set_vec3(&format!("u_vortex_axis[{i}]"), v3(v.axis).normalize());
+    }
+    if let (Some(w), Some((_, field))) = (f.wind.first(), &fields.flow) {
+        p.set_vec3("u_flow_min", v3(w.bounds[0]));
+        p.set_vec3("u_flow_max", v3(w.bounds[1]));
+        let [rx, ry, rz] = field.resolution().map(|r| r as i32);
+        p.set_ivec3("u_flow_res", rx, ry, rz);
+        p.set_f32("u_drag", w.drag);
+    }
+    let c = &s.colliders;
+    p.set_f32("u_slow_speed", c.slow_speed);
+    let resp = |mu: f32, eps: f32| glam::Vec2::new(mu, eps);
+    for (i, pl) in c.plane.iter().enumerate() {
+        let n = v3(pl.normal).normalize();
+        p.set_vec4(&format!("u_plane[{i}]"), n.extend(n.dot(v3(pl.point))));
+        p.set_vec2(
+            &format!("u_plane_resp[{i}]"),
+            resp(pl.friction, pl.resilience),
+        );
+    }
+    for (i, sp) in c.sphere.iter().enumerate() {
+        p.set_vec4(&format!("u_sphere[{i}]"), v3(sp.center).extend(sp.radius));
+        p.set_vec2(
+            &format!("u_sphere_resp[{i}]"),
+            resp(sp.friction, sp.resilience),
+        );
+    }
+    for (i, b) in c.boxes.iter().enumerate() {
+        p.set_vec3(&format!("u_box_min[{i}]"), v3(b.min));
+        p.set_vec3(&format!("u_box_max[{i}]"), v3(b.max));
+        p.set_vec2(&format!("u_box_resp[{i}]"), resp(b.friction, b.resilience));
+    }
+    if let Some(h) = c.heightfield.first() {
+        p.set_vec4("u_height_extent", Vec4::from(h.extent));
+        p.set_ivec2("u_height_res", h.resolution as i32, h.resolution as i32);
+        p.set_vec2("u_height_resp", resp(h.friction, h.resilience));
+    }
+    if let Some(d) = c.sdf.first() {
+        p.set_vec3("u_sdf_min", v3(d.bounds[0]));
+        p.set_vec3("u_sdf_max", v3(d.bounds[1]));
+        let r = d.resolution as i32;
+        p.set_ivec3("u_sdf_res", r, r, r);
+        p.set_vec2("u_sdf_resp", resp(d.friction, d.resilience));
+    }
+}

@@ -33,7 +33,7 @@ impl Engine {
         crate::gl::check_size(ctx, "particle texture (--particles)", w, h)?;
         let [rw, rh] = scene.resolution;
         crate::gl::check_size(ctx, "frame (--resolution)", rw, rh)?;
-        let sim = FireSim::new(ctx, w, h, scene.fire.clone(), shader_seed(seed))?;
+        let sim = FireSim::new(ctx, w, h, (&scene.fire).into(), shader_seed(seed))?;
         Ok(Engine {
             points: PointRenderer::new(ctx)?,
             target: FrameTarget::new(ctx, rw, rh)?,
@@ -53,15 +53,15 @@ impl Engine {
     /// Draws the current state into the frame target (cleared first).
     pub fn draw(&self) {
         self.target.clear();
-        let mut camera = self.scene.camera;
+        let mut camera = crate::render::Camera::from(&self.scene.camera);
         camera.azimuth +=
-            self.scene.orbit * (self.sim.steps() as f64 * self.scene.dt as f64) as f32;
+            self.scene.camera.orbit * (self.sim.steps() as f64 * self.scene.dt as f64) as f32;
         self.points.draw(
             &self.target,
             self.sim.positions(),
             self.sim.velocities(),
             &camera,
-            &self.scene.style,
+            &(&self.scene.style).into(),
         );
     }
 
@@ -127,7 +127,7 @@ impl ParticleEngine {
     /// Validates the scene against the device and builds everything.
     pub fn new(ctx: &Context, scene: &crate::scene::SceneFile, seed: u64) -> Result<Self> {
         use crate::gl::{Framebuffer, Texture, TextureDesc, TextureFormat};
-        use crate::scene::file::DrawOrder;
+        use crate::scene::DrawOrder;
         let [rw, rh] = scene.render.resolution;
         crate::gl::check_size(ctx, "frame (render.resolution)", rw, rh)?;
         let sim = crate::sim::ParticleSim::new(ctx, scene, shader_seed(seed))?;
@@ -175,7 +175,7 @@ impl ParticleEngine {
                 })
             }
         };
-        let camera = crate::scene::camera(&scene.render.camera);
+        let camera = crate::render::Camera::from(&scene.render.camera);
         Ok(ParticleEngine {
             target: FrameTarget::new(ctx, rw, rh)?,
             camera,

@@ -366,7 +366,7 @@ fn yes(b: bool) -> &'static str {
 fn render(a: RenderArgs) -> texflow::Result<()> {
     // Everything that can be checked without a GPU is checked before anything is created.
     let (label, src) = scene::load_source(&a.scene)?;
-    let mut s = scene::file::parse(&label, &src)?;
+    let mut s = scene::parse(&label, &src)?;
     if a.frames == 0 {
         return Err(bad("--frames 0 renders nothing: ask for at least 1 frame"));
     }
@@ -407,7 +407,7 @@ fn render(a: RenderArgs) -> texflow::Result<()> {
         FrameWriter::check(d)?;
     }
     let ctx = Context::new(a.common.device)?;
-    let limits = scene::file::SizeLimits {
+    let limits = scene::SizeLimits {
         max_texture: ctx.limits().max_texture_size,
         max_3d_texture: ctx.limits().max_3d_texture_size,
     };
@@ -418,7 +418,7 @@ fn render(a: RenderArgs) -> texflow::Result<()> {
     if a.resolution.is_some() {
         skip.push("render.resolution");
     }
-    scene::file::check_limits(&label, &src, &s, limits, &skip)?;
+    scene::check_limits(&label, &src, &s, limits, &skip)?;
     let mut engine = SceneRunner::new(&ctx, &s, a.seed)?;
     let writer = FrameWriter::create(&a.out)?;
     let dumps = a
@@ -491,7 +491,7 @@ fn render(a: RenderArgs) -> texflow::Result<()> {
 
 fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
     let (label, src) = scene::load_source(&a.scene)?;
-    let mut s = scene::file::parse(&label, &src)?;
+    let mut s = scene::parse(&label, &src)?;
     let Some(c) = s.collisions.as_mut() else {
         return Err(bad(format!(
             "scene `{}` has no [collisions] section: try `collide`",
@@ -616,16 +616,16 @@ fn scene_command(c: SceneCommand) -> texflow::Result<()> {
             device,
         } => {
             let (label, src) = scene::load_source(&name)?;
-            let s = scene::file::parse(&label, &src)?;
+            let s = scene::parse(&label, &src)?;
             // Sizes against the device's limits, where there is a device to ask.
             let limits = match Context::new(device) {
                 Ok(ctx) => {
                     let l = ctx.limits();
-                    let limits = scene::file::SizeLimits {
+                    let limits = scene::SizeLimits {
                         max_texture: l.max_texture_size,
                         max_3d_texture: l.max_3d_texture_size,
                     };
-                    scene::file::check_limits(&label, &src, &s, limits, &[])?;
+                    scene::check_limits(&label, &src, &s, limits, &[])?;
                     format!("sizes fit {}", l.renderer)
                 }
                 Err(e) => format!("sizes not checked against a device: {e}"),

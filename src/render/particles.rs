@@ -18,7 +18,7 @@ use super::atlas;
 use super::{Camera, FrameTarget};
 use crate::error::{Error, Result};
 use crate::gl::{Attribute, Buffer, Context, Defines, Program, Texture, VertexArray};
-use crate::scene::file::{Blending, DrawMode, DrawOrder, Keyframe, Render, RenderPath};
+use crate::scene::{Blending, DrawMode, DrawOrder, Keyframe, Render, RenderPath};
 
 /// How particles are drawn.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]

@@ -31,7 +31,7 @@ use glam::{Vec3, Vec4};
 
 use crate::error::{Error, Result};
 use crate::gl::{Context, Texture, Texture3D, TextureDesc, TextureFormat};
-use crate::scene::file::{HeightFieldCollider, SdfCollider, Wind};
+use crate::scene::{HeightFieldCollider, SdfCollider, Wind};
 
 /// One axis of a field's grid: `n` nodes from `min` to `max`.
 #[derive(Debug, Clone, Copy, PartialEq)]

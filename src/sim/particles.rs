@@ -17,7 +17,7 @@ use crate::gl::{
     Attribute, Buffer, Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Texture,
     Texture3D, TextureDesc, TextureFormat, VertexArray, FULLSCREEN_VERTEX,
 };
-use crate::scene::file::{self, Integrator, Precision, SceneFile, VelocityFormat};
+use crate::scene::{self, Integrator, Precision, SceneFile, VelocityFormat};
 
 /// How particles come into being.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -79,8 +79,8 @@ impl Features {
         let em = &scene.emitters;
         let emission = if let Some(e) = em.allocator.first() {
             Emission::Allocator(match e.allocator.unwrap_or_default() {
-                file::AllocatorKind::Stack => AllocatorKind::Stack,
-                file::AllocatorKind::MinHeap => AllocatorKind::MinHeap,
+                scene::AllocatorKind::Stack => AllocatorKind::Stack,
+                scene::AllocatorKind::MinHeap => AllocatorKind::MinHeap,
             })
         } else if !em.timestamp.is_empty() {
             Emission::Timestamp
@@ -1005,7 +1005,7 @@ fn set_constants_for(
         p.set_vec4(
             &format!("u_attractor_shape[{i}]"),
             Vec4::new(
-                (a.falloff == file::Falloff::Constant) as u8 as f32,
+                (a.falloff == scene::Falloff::Constant) as u8 as f32,
                 a.max_distance.unwrap_or(-1.0),
                 a.softening,
                 0.0,

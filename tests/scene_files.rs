@@ -207,3 +207,24 @@ fn the_example_in_the_docs_parses() {
     let len = doc[start..].find("```").expect("the end of the block");
     scene::parse("docs/scenes.md", &doc[start..start + len]).unwrap_or_else(|e| panic!("{e}"));
 }
+
+/// A scene file that is not UTF-8 is refused at the line and column of its first bad byte, with
+/// a message that says so (the file is read as bytes, not as a string).
+#[test]
+fn a_file_that_is_not_utf8_is_located() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("latin1.toml");
+    std::fs::write(&path, b"name = \"fire\"\n# caf\xe9\n").unwrap();
+    match scene::load(path.to_str().unwrap()) {
+        Err(Error::Scene {
+            line,
+            column,
+            message,
+            ..
+        }) => {
+            assert_eq!((line, column), (2, 6), "{message}");
+            assert!(message.contains("must be UTF-8"), "{message}");
+        }
+        other => panic!("want a scene error, got {other:?}"),
+    }
+}

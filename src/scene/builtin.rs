@@ -53,10 +53,13 @@ pub fn load_source(name_or_path: &str) -> Result<(String, String)> {
             BUILTIN.join(", ")
         )));
     }
-    let src = std::fs::read_to_string(path).map_err(|e| {
+    // Bytes, not `read_to_string`: a file that is not UTF-8 gets a line and column.
+    let bytes = std::fs::read(path).map_err(|e| {
         Error::InvalidInput(format!("cannot read scene file {}: {e}", path.display()))
     })?;
-    Ok((path.display().to_string(), src))
+    let label = path.display().to_string();
+    let src = super::locate::utf8(&label, bytes)?;
+    Ok((label, src))
 }
 
 /// Looks up a built-in fire scene (the thesis model); other scenes run through

@@ -47,6 +47,22 @@ pub(super) fn scene_error(path: &str, src: &str, offset: usize, message: String)
     }
 }
 
+/// The text of a scene file read as bytes, or an error at the line and column of the first byte
+/// that is not UTF-8 (counted in the valid text before it).
+pub(super) fn utf8(path: &str, bytes: Vec<u8>) -> Result<String, Error> {
+    String::from_utf8(bytes).map_err(|e| {
+        let valid = e.utf8_error().valid_up_to();
+        let before = std::str::from_utf8(&e.as_bytes()[..valid]).unwrap_or_default();
+        let byte = e.as_bytes()[valid];
+        scene_error(
+            path,
+            before,
+            valid,
+            format!("byte 0x{byte:02x} is not UTF-8: a scene file must be UTF-8 text"),
+        )
+    })
+}
+
 /// Finds where `at` starts in the untyped document (the deepest part that exists): a plain
 /// value or an array of plain values at the value, like the parser's own type errors; a table or
 /// an array of tables at its key (in its first header); an array element at the element.
@@ -138,5 +154,23 @@ mod tests {
         assert_eq!(at(&[N("a"), N("missing")]), (1, 2));
         assert_eq!(at(&[N("t"), I(0), N("y")]), (5, 5));
         assert_eq!(at(&[N("t")]).0, 4);
+    }
+
+    #[test]
+    fn bytes_that_are_not_utf8_are_located() {
+        let err = utf8("s.toml", b"a = 1\nb = \"\xe9\"\n".to_vec()).unwrap_err();
+        match err {
+            Error::Scene {
+                line,
+                column,
+                message,
+                ..
+            } => {
+                assert_eq!((line, column), (2, 6));
+                assert!(message.contains("must be UTF-8"), "{message}");
+            }
+            e => panic!("{e}"),
+        }
+        assert_eq!(utf8("s.toml", b"x = 1".to_vec()).unwrap(), "x = 1");
     }
 }

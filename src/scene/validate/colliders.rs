@@ -1,6 +1,6 @@
 //! `[colliders]`: planes, spheres, boxes, the height field and the distance field.
 
-use super::{fail, nonzero, path, Check};
+use super::{bounded, direction, fail, nonzero, path, Check};
 use crate::scene::locate::Key;
 use crate::scene::schema::SceneFile;
 
@@ -30,6 +30,9 @@ pub(super) fn colliders(s: &SceneFile) -> Check {
                 "normal must not be zero",
             );
         }
+        let at = |k| path(&[N("colliders"), N("plane"), I(i), N(k)]);
+        direction(at("normal"), "normal", p.normal)?;
+        bounded(at("point"), "point", &p.point)?;
         check_response(
             path(&[N("colliders"), N("plane"), I(i)]),
             p.friction,
@@ -37,6 +40,9 @@ pub(super) fn colliders(s: &SceneFile) -> Check {
         )?;
     }
     for (i, s) in c.sphere.iter().enumerate() {
+        let at = |k| path(&[N("colliders"), N("sphere"), I(i), N(k)]);
+        bounded(at("center"), "center", &s.center)?;
+        bounded(at("radius"), "radius", &[s.radius])?;
         if s.radius <= 0.0 {
             return fail(
                 path(&[N("colliders"), N("sphere"), I(i), N("radius")]),
@@ -50,6 +56,9 @@ pub(super) fn colliders(s: &SceneFile) -> Check {
         )?;
     }
     for (i, b) in c.boxes.iter().enumerate() {
+        let at = |k| path(&[N("colliders"), N("box"), I(i), N(k)]);
+        bounded(at("min"), "min", &b.min)?;
+        bounded(at("max"), "max", &b.max)?;
         if (0..3).any(|k| b.min[k] >= b.max[k]) {
             return fail(
                 path(&[N("colliders"), N("box"), I(i), N("max")]),
@@ -87,6 +96,13 @@ pub(super) fn colliders(s: &SceneFile) -> Check {
                 path(&[N("colliders"), N("sdf"), I(i), N("resolution")]),
                 "resolution must lie in 2..=256",
             );
+        }
+        for (c, corner) in sdf.bounds.iter().enumerate() {
+            bounded(
+                path(&[N("colliders"), N("sdf"), I(i), N("bounds"), I(c)]),
+                "bounds",
+                corner,
+            )?;
         }
         if sdf.spheres.is_empty() && sdf.boxes.is_empty() {
             return fail(

@@ -1,6 +1,6 @@
 //! `[[emitters.*]]`: one kind per scene, at most four, each with what its kind needs.
 
-use super::{fail, nonzero, path, Check};
+use super::{bounded, direction, fail, nonzero, path, Check, MAX_COORDINATE};
 use crate::scene::locate::Key;
 use crate::scene::schema::{Emitter, SceneFile, Shape, MAX_EMITTERS};
 
@@ -90,6 +90,18 @@ pub(super) fn emitters(s: &SceneFile) -> Check {
             Some(r) if r <= 0.0 => {
                 return fail(key("rate"), "rate must be above 0 particles per second")
             }
+            Some(r) if r as f64 * s.time.dt as f64 > s.particle_count() as f64 => {
+                return fail(
+                    key("rate"),
+                    format!(
+                        "rate {r} per second times dt {} s is {} births per step, more than \
+                         the {} particles of the state: lower the rate or dt",
+                        s.time.dt,
+                        r as f64 * s.time.dt as f64,
+                        s.particle_count()
+                    ),
+                )
+            }
             _ => {}
         }
         if e.cycle.is_some() {
@@ -157,6 +169,19 @@ fn check_spawn(at: &[Key], s: &Emitter) -> Check {
     }
     if !nonzero(s.direction) {
         return fail(p("direction"), "direction must not be zero");
+    }
+    direction(p("direction"), "direction", s.direction)?;
+    bounded(p("center"), "center", &s.center)?;
+    bounded(p("size"), "size", &s.size)?;
+    bounded(p("speed"), "speed", &s.speed)?;
+    if s.radius > MAX_COORDINATE {
+        return fail(
+            p("radius"),
+            format!("radius {} m is above {MAX_COORDINATE:e} m", s.radius),
+        );
+    }
+    if let Some(n) = s.normal.filter(|n| nonzero(*n)) {
+        direction(p("normal"), "normal", n)?;
     }
     if !(0.0..=180.0).contains(&s.cone_degrees) {
         return fail(p("cone_degrees"), "cone_degrees must lie in [0, 180]");

@@ -1,6 +1,6 @@
 //! `[[forces.*]]`: springs, vortices, attractors and the one wind field.
 
-use super::{fail, nonzero, path, Check};
+use super::{bounded, direction, fail, nonzero, path, Check, MAX_COORDINATE};
 use crate::scene::locate::Key;
 use crate::scene::schema::SceneFile;
 
@@ -8,11 +8,49 @@ use Key::{Index as I, Name as N};
 
 /// `[[forces.spring]]`, `[[forces.vortex]]`, `[[forces.attractor]]`, `[[forces.wind]]`.
 pub(super) fn forces(s: &SceneFile) -> Check {
+    let dt = s.time.dt;
+    // An explicit step multiplies the velocity by about 1 - rate·dt: above 1 it flips sign
+    // every step and grows; a negative rate grows it by 1 + |rate|·dt per step.
+    let per_step = |at: Vec<_>, what: &str, rate: f32| {
+        if (rate * dt).abs() > 1.0 {
+            return fail(
+                at,
+                format!(
+                    "{what} {rate} 1/s times dt {dt} s is {}: |{what} × dt| must be at most 1, \
+                     or the velocity overflows; lower it or dt",
+                    rate * dt
+                ),
+            );
+        }
+        Ok(())
+    };
+    for (i, g) in s.forces.gravity.iter().enumerate() {
+        bounded(
+            path(&[N("forces"), N("gravity"), I(i), N("acceleration")]),
+            "acceleration",
+            &g.acceleration,
+        )?;
+    }
+    for (i, d) in s.forces.damping.iter().enumerate() {
+        per_step(
+            path(&[N("forces"), N("damping"), I(i), N("rate")]),
+            "rate",
+            d.rate,
+        )?;
+    }
     for (i, sp) in s.forces.spring.iter().enumerate() {
         if sp.stiffness < 0.0 {
             return fail(
                 path(&[N("forces"), N("spring"), I(i), N("stiffness")]),
                 format!("stiffness {} N/m must not be negative", sp.stiffness),
+            );
+        }
+        let at = |k| path(&[N("forces"), N("spring"), I(i), N(k)]);
+        bounded(at("anchor"), "anchor", &sp.anchor)?;
+        if sp.stiffness > MAX_COORDINATE {
+            return fail(
+                at("stiffness"),
+                format!("stiffness {} N/m is above {MAX_COORDINATE:e}", sp.stiffness),
             );
         }
     }
@@ -23,6 +61,10 @@ pub(super) fn forces(s: &SceneFile) -> Check {
                 "axis must not be zero",
             );
         }
+        let at = |k| path(&[N("forces"), N("vortex"), I(i), N(k)]);
+        direction(at("axis"), "axis", v.axis)?;
+        bounded(at("point"), "point", &v.point)?;
+        bounded(at("strength"), "strength", &[v.strength])?;
     }
     for (i, a) in s.forces.attractor.iter().enumerate() {
         if a.softening <= 0.0 {
@@ -37,11 +79,20 @@ pub(super) fn forces(s: &SceneFile) -> Check {
                 "max_distance must be above 0",
             );
         }
+        let at = |k| path(&[N("forces"), N("attractor"), I(i), N(k)]);
+        bounded(at("position"), "position", &a.position)?;
+        bounded(at("strength"), "strength", &[a.strength])?;
     }
     for (i, wnd) in s.forces.wind.iter().enumerate() {
         let at = |k| path(&[N("forces"), N("wind"), I(i), N(k)]);
         if wnd.drag < 0.0 {
             return fail(at("drag"), "drag must not be negative");
+        }
+        per_step(at("drag"), "drag", wnd.drag)?;
+        bounded(at("velocity"), "velocity", &wnd.velocity)?;
+        bounded(at("turbulence"), "turbulence", &[wnd.turbulence])?;
+        for (c, corner) in wnd.bounds.iter().enumerate() {
+            bounded([&at("bounds")[..], &[I(c)]].concat(), "bounds", corner)?;
         }
         if wnd.turbulence < 0.0 {
             return fail(at("turbulence"), "turbulence must not be negative");

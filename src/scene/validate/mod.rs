@@ -33,6 +33,44 @@ fn nonzero(v: [f32; 3]) -> bool {
     v.iter().any(|x| *x != 0.0)
 }
 
+/// Largest coordinate, extent or vector component a scene may give, in metres (or m/s, m/s²):
+/// far beyond any scene here, yet its square (a distance², a dot product) stays finite in f32.
+pub const MAX_COORDINATE: f32 = 1e6;
+
+/// Smallest largest component of a direction (a direction, normal or axis): below it the
+/// squared length underflows and normalising it gives NaN.
+pub const MIN_DIRECTION: f32 = 1e-6;
+
+/// Every component within ±[`MAX_COORDINATE`], reported at the first one out of range.
+fn bounded(at: Vec<Key>, what: &str, v: &[f32]) -> Check {
+    match v.iter().position(|x| x.abs() > MAX_COORDINATE) {
+        Some(i) => fail(
+            [&at[..], &[I(i)]].concat(),
+            format!(
+                "{what} component {} is outside [-{MAX_COORDINATE:e}, {MAX_COORDINATE:e}]: \
+                 use values of a size the simulation can square",
+                v[i]
+            ),
+        ),
+        None => Ok(()),
+    }
+}
+
+/// A direction (normalised by the shaders): bounded, and not so short that normalising fails.
+fn direction(at: Vec<Key>, what: &str, v: [f32; 3]) -> Check {
+    bounded(at.clone(), what, &v)?;
+    if v.iter().all(|x| x.abs() < MIN_DIRECTION) {
+        return fail(
+            at,
+            format!(
+                "{what} is too short to normalise: give a component of at least \
+                 {MIN_DIRECTION:e} in magnitude"
+            ),
+        );
+    }
+    Ok(())
+}
+
 impl SceneFile {
     /// Checks the values a scene cannot give a meaning to (device limits are checked later).
     pub fn validate(&self) -> Check {
@@ -117,10 +155,32 @@ fn collisions(s: &SceneFile) -> Check {
     if c.cell.is_some_and(|g| g <= 0.0) {
         return fail(at("cell"), "cell must be above 0 m");
     }
+    for (i, corner) in c.bounds.iter().enumerate() {
+        bounded(
+            path(&[N("collisions"), N("bounds"), I(i)]),
+            "bounds",
+            corner,
+        )?;
+    }
     if (0..3).any(|k| c.bounds[0][k] >= c.bounds[1][k]) {
         return fail(
             at("bounds"),
             "bounds must be [min corner, max corner] with min < max",
+        );
+    }
+    let cells = lattice_cells(c);
+    if cells > MAX_LATTICE_CELLS {
+        return fail(
+            if c.cell.is_some() {
+                at("cell")
+            } else {
+                at("radius")
+            },
+            format!(
+                "the collision lattice has {cells} cells; cell keys are exact floats only up to \
+                 2^24 = {MAX_LATTICE_CELLS}: use a larger cell (default 2 radius) or smaller \
+                 bounds"
+            ),
         );
     }
     let [w, h] = s.particles.size;
@@ -155,6 +215,24 @@ fn collisions(s: &SceneFile) -> Check {
         return fail(path(&[N("collisions")]), "the fire has no collisions");
     }
     Ok(())
+}
+
+/// Most cells of a collision lattice: its cell keys are sorted as floats, exact up to 2^24.
+pub const MAX_LATTICE_CELLS: u64 = 1 << 24;
+
+/// Cells of the lattice `[collisions]` describes, counted as the collision stage does
+/// (`sim::collide::Lattice`: ceil of extent over cell per axis, at least 1, one more per axis
+/// on the staggered lattice), saturating instead of wrapping.
+fn lattice_cells(c: &crate::scene::schema::Collisions) -> u64 {
+    let g = c.cell.unwrap_or(2.0 * c.radius);
+    let extra = u64::from(c.staggered);
+    (0..3)
+        .map(|k| {
+            let n = ((c.bounds[1][k] - c.bounds[0][k]) / g).ceil().max(1.0);
+            // `as` saturates, like the stage's conversion to u32.
+            (n as u32) as u64 + extra
+        })
+        .fold(1u64, |a, n| a.saturating_mul(n))
 }
 
 /// `[fire]`, or, without it, that something is born at all.

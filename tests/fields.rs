@@ -29,7 +29,7 @@ use texflow::gl::{
     Defines, Framebuffer, FullscreenPass, Program, Texture, TextureDesc, TextureFormat,
     FULLSCREEN_VERTEX,
 };
-use texflow::scene::file::{HeightFieldCollider, SdfCollider, Wind};
+use texflow::scene::{HeightFieldCollider, SdfCollider, Wind};
 use texflow::sim::{DistanceField, FlowField, HeightField};
 
 const EPS: f32 = 1.0 / (1u32 << 24) as f32;

@@ -56,7 +56,7 @@ mod common;
 use common::{context, no_gl_error};
 use glam::Vec3;
 use texflow::gl::Context;
-use texflow::scene::file::{self, SceneFile};
+use texflow::scene::{self, SceneFile};
 use texflow::sim::reference::{Events, Reference};
 use texflow::sim::{HeightField, ParticleSim};
 
@@ -122,7 +122,7 @@ fn scene(integrator: &str, dt: f32, emitters: &str, body: &str) -> SceneFile {
         "name = \"forces_colliders\"\nintegrator = \"{integrator}\"\n[particles]\nsize = [8, 8]\n\
          [time]\ndt = {dt:?}\n{emitters}{body}"
     );
-    file::parse("forces_colliders", &src).unwrap_or_else(|e| panic!("{e}\n{src}"))
+    scene::parse("forces_colliders", &src).unwrap_or_else(|e| panic!("{e}\n{src}"))
 }
 
 /// Fills the 64 texels: the given particles, then particles parked far from everything at rest.
@@ -313,7 +313,7 @@ impl Summary {
 
 /// The reference's step of particle `i` of `before`: (position, w, velocity or `None`, events).
 fn cpu_step(r: &Reference, x: Vec3, other: Vec3, w: f32, ty: usize) -> (Vec3, f32, Vec3, Events) {
-    if r.integrator() == file::Integrator::Verlet {
+    if r.integrator() == scene::Integrator::Verlet {
         let (xn, l, ev) = r.step_verlet_events(x, other, w, ty);
         (xn, l, x, ev)
     } else {
@@ -447,7 +447,7 @@ fn free_run(
     tol: f32,
 ) -> Result<Summary, String> {
     let ps = pad(ps.to_vec());
-    let verlet = r.integrator() == file::Integrator::Verlet;
+    let verlet = r.integrator() == scene::Integrator::Verlet;
     let mut sum = Summary::default();
     // Verlet: the GPU's second-order start against the reference's.
     let gpu = read(sim);
@@ -1049,7 +1049,7 @@ fn fp24_rounding_of_the_written_state() {
              normal = [0.0, 1.0, 0.0]\nresilience = 0.5\n",
             emitters(&[1.0], false)
         );
-        let s = file::parse("fp24", &src).unwrap();
+        let s = scene::parse("fp24", &src).unwrap();
         locked(&ctx, &s, &scattered(14, N, 0.9, 3.0, 1), 40, tol);
     }
     no_gl_error(&ctx);

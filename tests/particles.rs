@@ -4,10 +4,10 @@
 mod common;
 
 use common::{context, no_gl_error};
-use texflow::scene::{self, file};
+use texflow::scene;
 use texflow::sim::ParticleSim;
 
-fn small(name: &str) -> file::SceneFile {
+fn small(name: &str) -> scene::SceneFile {
     let mut s = scene::load(name).unwrap();
     s.particles.size = [32, 16];
     s
@@ -33,13 +33,13 @@ fn builtin_scenes_step() {
     }
 }
 
-fn parse(src: &str) -> file::SceneFile {
-    file::parse("test", src).unwrap_or_else(|e| panic!("{e}\n{src}"))
+fn parse(src: &str) -> scene::SceneFile {
+    scene::parse("test", src).unwrap_or_else(|e| panic!("{e}\n{src}"))
 }
 
 /// A scene of permanent particles (state set by the test) with the given integrator and extra
 /// TOML (forces, colliders).
-fn scene_with(size: [u32; 2], integrator: &str, dt: f32, extra: &str) -> file::SceneFile {
+fn scene_with(size: [u32; 2], integrator: &str, dt: f32, extra: &str) -> scene::SceneFile {
     parse(&format!(
         r#"
 name = "test"
@@ -408,7 +408,7 @@ fn builtin_pass_lists_hold_what_each_scene_needs() {
     let text = |n: &str| plan(n).to_string();
     for n in scene::BUILTIN {
         let t = text(n);
-        let alpha = scene::load(n).unwrap().render.blending == file::Blending::Alpha;
+        let alpha = scene::load(n).unwrap().render.blending == scene::Blending::Alpha;
         assert_eq!(
             t.contains("- sort"),
             alpha,
@@ -541,7 +541,7 @@ fn orbiting_camera_is_followed_by_the_sort() {
     s.particles.size = [16, 16];
     s.render.resolution = [64, 64];
     s.render.camera.orbit = 90.0;
-    let start = scene::camera(&s.render.camera);
+    let start = texflow::render::Camera::from(&s.render.camera);
     let mut e = texflow::Engine::new(&ctx, &s, 4).unwrap();
     let frames = 90;
     for _ in 0..frames {
@@ -624,7 +624,7 @@ fn oscillator_convergence_orders() {
     }
 }
 
-fn collide_scene(size: [u32; 2], extra: &str) -> file::SceneFile {
+fn collide_scene(size: [u32; 2], extra: &str) -> scene::SceneFile {
     parse(&format!(
         r#"
 name = "collide"

@@ -8,7 +8,7 @@ use common::{context, no_gl_error};
 use glam::{Vec2, Vec3, Vec4};
 use texflow::gl::{Context, Texture, TextureDesc, TextureFormat};
 use texflow::render::{atlas, Camera, FrameTarget, KeyframeRamp, ParticleRenderer, ParticleStyle};
-use texflow::scene::file::{Blending, DrawMode, DrawOrder, Keyframe, RenderPath};
+use texflow::scene::{Blending, DrawMode, DrawOrder, Keyframe, RenderPath};
 
 const SW: u32 = 16;
 const SH: u32 = 16;

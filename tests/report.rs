@@ -132,7 +132,7 @@ use texflow::bench::{Clock, PassTimer};
 use texflow::report::convergence::{
     self, CurveStatus, Problem, StatePrecision, Sweep, INTEGRATORS,
 };
-use texflow::scene::file::Integrator;
+use texflow::scene::Integrator;
 
 fn timer(ctx: &texflow::gl::Context) -> PassTimer {
     PassTimer::new(ctx, Clock::for_context(ctx)).unwrap()

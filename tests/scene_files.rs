@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use texflow::scene::file::{self, Blending, DrawMode, Integrator, Precision, RenderPath};
+use texflow::scene::{self, Blending, DrawMode, Integrator, Precision, RenderPath};
 use texflow::Error;
 
 fn scenes() -> PathBuf {
@@ -79,7 +79,7 @@ fn bad_scenes() -> Vec<PathBuf> {
 #[test]
 fn good_scene_parses() {
     let path = scenes().join("good.toml");
-    let scene = file::parse("good.toml", &read(&path)).unwrap_or_else(|e| panic!("{e}"));
+    let scene = scene::parse("good.toml", &read(&path)).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(scene.name, "fountain");
     assert_eq!(scene.particles.size, [64, 64]);
     assert_eq!(scene.particles.precision, Precision::Fp24);
@@ -102,7 +102,7 @@ fn good_scene_parses() {
 fn defaults_fill_a_minimal_scene() {
     let src = "name = \"m\"\n[particles]\nsize = [2, 2]\n[[emitters.initial]]\n\
                direction = [0.0, 1.0, 0.0]\nspeed = [0.0, 0.0]\n";
-    let scene = file::parse("minimal.toml", src).unwrap_or_else(|e| panic!("{e}"));
+    let scene = scene::parse("minimal.toml", src).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(scene.time.dt, 1.0 / 60.0);
     assert_eq!(scene.time.substeps, 1);
     assert_eq!(scene.particles.mass, 1.0);
@@ -120,7 +120,7 @@ fn every_bad_scene_reports_its_line_column_and_message() {
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
         let src = read(path);
         let want = expectation(path, &src);
-        match file::parse(&name, &src) {
+        match scene::parse(&name, &src) {
             Ok(_) => failures.push(format!("{name}: parsed, but should fail")),
             Err(Error::Scene {
                 path: p,
@@ -150,7 +150,7 @@ fn every_bad_scene_reports_its_line_column_and_message() {
 
 #[test]
 fn the_error_reads_path_line_column_message() {
-    let err = file::parse(
+    let err = scene::parse(
         "x.toml",
         "name = \"x\"\n[particles]\nsize = [8, 8]\nbogus = 1\n",
     )
@@ -161,7 +161,7 @@ fn the_error_reads_path_line_column_message() {
 }
 
 fn location(src: &str) -> (usize, usize, String) {
-    match file::parse("t.toml", src) {
+    match scene::parse("t.toml", src) {
         Err(Error::Scene {
             line,
             column,
@@ -205,5 +205,26 @@ fn the_example_in_the_docs_parses() {
         .expect("a ```toml block in docs/scenes.md")
         + 8;
     let len = doc[start..].find("```").expect("the end of the block");
-    file::parse("docs/scenes.md", &doc[start..start + len]).unwrap_or_else(|e| panic!("{e}"));
+    scene::parse("docs/scenes.md", &doc[start..start + len]).unwrap_or_else(|e| panic!("{e}"));
+}
+
+/// A scene file that is not UTF-8 is refused at the line and column of its first bad byte, with
+/// a message that says so (the file is read as bytes, not as a string).
+#[test]
+fn a_file_that_is_not_utf8_is_located() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("latin1.toml");
+    std::fs::write(&path, b"name = \"fire\"\n# caf\xe9\n").unwrap();
+    match scene::load(path.to_str().unwrap()) {
+        Err(Error::Scene {
+            line,
+            column,
+            message,
+            ..
+        }) => {
+            assert_eq!((line, column), (2, 6), "{message}");
+            assert!(message.contains("must be UTF-8"), "{message}");
+        }
+        other => panic!("want a scene error, got {other:?}"),
+    }
 }

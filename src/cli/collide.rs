@@ -63,7 +63,7 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
         ..Overrides::default()
     };
     let (label, src) = scene::load_source(&a.scene)?;
-    let mut s = scene::file::parse(&label, &src)?;
+    let mut s = scene::parse(&label, &src)?;
     let Some(c) = s.collisions.as_mut() else {
         return Err(bad(format!(
             "scene `{}` has no [collisions] section: try `collide`",

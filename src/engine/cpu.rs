@@ -34,7 +34,7 @@ use crate::gl::{
     VertexArray, FULLSCREEN_VERTEX,
 };
 use crate::render::{relative_age, Camera, FrameTarget, ParticleStyle};
-use crate::scene::file::{Blending, DrawMode, DrawOrder, Integrator, Precision, SceneFile};
+use crate::scene::{Blending, DrawMode, DrawOrder, Integrator, Precision, SceneFile};
 use crate::sim::emit::{EmitterUniforms, Rng};
 use crate::sim::particles::{Emission, Features};
 use crate::sim::reference::Reference;
@@ -417,7 +417,7 @@ impl CpuEngine {
             }],
         )?;
         Ok(CpuEngine {
-            camera: crate::scene::camera(&scene.render.camera),
+            camera: crate::render::Camera::from(&scene.render.camera),
             target: FrameTarget::new(ctx, rw, rh)?,
             empty: VertexArray::empty(ctx, "cpu engine background")?,
             keys: Vec::with_capacity(n),

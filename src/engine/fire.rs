@@ -28,7 +28,7 @@ impl FireEngine {
         crate::gl::check_size(ctx, "particle texture (--particles)", w, h)?;
         let [rw, rh] = scene.resolution;
         crate::gl::check_size(ctx, "frame (--resolution)", rw, rh)?;
-        let sim = FireSim::new(ctx, w, h, scene.fire.clone(), shader_seed(seed))?;
+        let sim = FireSim::new(ctx, w, h, (&scene.fire).into(), shader_seed(seed))?;
         Ok(FireEngine {
             points: PointRenderer::new(ctx)?,
             target: FrameTarget::new(ctx, rw, rh)?,
@@ -48,15 +48,15 @@ impl FireEngine {
     /// Draws the current state into the frame target (cleared first).
     pub fn draw(&self) {
         self.target.clear();
-        let mut camera = self.scene.camera;
+        let mut camera = crate::render::Camera::from(&self.scene.camera);
         camera.azimuth +=
-            self.scene.orbit * (self.sim.steps() as f64 * self.scene.dt as f64) as f32;
+            self.scene.camera.orbit * (self.sim.steps() as f64 * self.scene.dt as f64) as f32;
         self.points.draw(
             &self.target,
             self.sim.positions(),
             self.sim.velocities(),
             &camera,
-            &self.scene.style,
+            &(&self.scene.style).into(),
         );
     }
 

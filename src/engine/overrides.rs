@@ -3,7 +3,7 @@
 
 use crate::error::{Error, Result};
 use crate::gl::Context;
-use crate::scene::file::{check_limits, Key, SizeLimits};
+use crate::scene::{check_limits, Key, SizeLimits};
 use crate::scene::{self, SceneFile};
 
 /// Values given on the command line instead of the scene's.
@@ -119,7 +119,7 @@ impl Overrides {
     /// without a GPU.
     pub fn prepare(&self, name_or_path: &str) -> Result<Prepared> {
         let (label, source) = scene::load_source(name_or_path)?;
-        let mut s = scene::file::parse(&label, &source)?;
+        let mut s = scene::parse(&label, &source)?;
         self.apply(&mut s)?;
         Ok(Prepared {
             label,

@@ -34,7 +34,7 @@ impl Engine {
     /// Validates the scene against the device and builds everything.
     pub fn new(ctx: &Context, scene: &crate::scene::SceneFile, seed: u64) -> Result<Self> {
         use crate::gl::{Framebuffer, Texture, TextureDesc, TextureFormat};
-        use crate::scene::file::DrawOrder;
+        use crate::scene::DrawOrder;
         let [rw, rh] = scene.render.resolution;
         crate::gl::check_size(ctx, "frame (render.resolution)", rw, rh)?;
         let sim = crate::sim::ParticleSim::new(ctx, scene, shader_seed(seed))?;
@@ -82,7 +82,7 @@ impl Engine {
                 })
             }
         };
-        let camera = crate::scene::camera(&scene.render.camera);
+        let camera = crate::render::Camera::from(&scene.render.camera);
         Ok(Engine {
             target: FrameTarget::new(ctx, rw, rh)?,
             camera,

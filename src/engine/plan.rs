@@ -4,7 +4,7 @@
 
 use std::fmt;
 
-use crate::scene::file::{Blending, DrawMode, DrawOrder, RenderPath, SceneFile};
+use crate::scene::{Blending, DrawMode, DrawOrder, RenderPath, SceneFile};
 use crate::sim::particles::Features;
 use crate::sort::network::{bitonic_schedule, group_steps, odd_even_schedule};
 use crate::sort::Variant;

@@ -36,6 +36,20 @@ impl Default for Camera {
     }
 }
 
+impl From<&crate::scene::CameraSection> for Camera {
+    /// The camera a scene file describes, at time 0 (its orbit is the caller's to apply).
+    fn from(c: &crate::scene::CameraSection) -> Camera {
+        Camera {
+            target: Vec3::from(c.target),
+            distance: c.distance,
+            azimuth: c.azimuth,
+            elevation: c.elevation,
+            fov_y: c.fov,
+            ..Camera::default()
+        }
+    }
+}
+
 impl Camera {
     /// The eye position.
     pub fn eye(&self) -> Vec3 {

@@ -19,7 +19,7 @@ use crate::gl::{
     Attribute, Blend, BlendComponent, BlendFactor, Buffer, BufferKind, BufferUsage, Context,
     Defines, Draw, DrawState, PixelPack, PointSize, Primitive, Program, Texture, VertexArray,
 };
-use crate::scene::file::{Blending, DrawMode, DrawOrder, Keyframe, Render, RenderPath};
+use crate::scene::{Blending, DrawMode, DrawOrder, Keyframe, Render, RenderPath};
 
 /// How particles are drawn.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]

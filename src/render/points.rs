@@ -25,6 +25,16 @@ pub struct PointStyle {
     pub max_age: f32,
 }
 
+impl From<&crate::scene::PointStyleSection> for PointStyle {
+    fn from(s: &crate::scene::PointStyleSection) -> PointStyle {
+        PointStyle {
+            point_size: s.point_size,
+            intensity: s.intensity,
+            max_age: s.max_age,
+        }
+    }
+}
+
 /// Draws particles as points straight from the state textures.
 #[derive(Debug)]
 pub struct PointRenderer {

@@ -39,7 +39,7 @@ use super::{
 use crate::bench::{median, Clock, PassTimer};
 use crate::error::{Error, Result};
 use crate::gl::Context;
-use crate::scene::file::{self, Integrator, SceneFile};
+use crate::scene::{self, Integrator, SceneFile};
 use crate::sim::nonfinite::NonFiniteCounter;
 use crate::sim::ParticleSim;
 
@@ -858,7 +858,7 @@ fn scene(
         precision.toml(),
         problem.scene_toml()
     );
-    file::parse(&name, &src)
+    scene::parse(&name, &src)
 }
 
 fn xyz(v: &[f32]) -> Vec<DVec3> {

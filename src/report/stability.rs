@@ -24,7 +24,7 @@ use super::convergence::{integrator_name, INTEGRATORS};
 use super::{Progress, ReportOptions, SectionOutput};
 use crate::error::{Error, Result};
 use crate::gl::{Context, Texture, TextureDesc, TextureFormat};
-use crate::scene::file::{self, Integrator, SceneFile};
+use crate::scene::{self, Integrator, SceneFile};
 use crate::sim::nonfinite::{NonFiniteCount, NonFiniteCounter};
 use crate::sim::ParticleSim;
 use crate::sort::precision::{FloatFormat, R300};
@@ -207,7 +207,7 @@ fn start(ctx: &Context, s: &SceneFile, particles: &[(Vec3, Vec3, u32)]) -> Resul
 }
 
 fn parse(src: &str) -> Result<SceneFile> {
-    file::parse("stability", src)
+    scene::parse("stability", src)
 }
 
 /// Spectral radius of λ² − tr λ + det = 0.

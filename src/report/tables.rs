@@ -100,7 +100,7 @@ pub struct PathRecord {
 
 /// Times E1's draw by both render paths at Table 2's sizes, once.
 pub fn render_paths(ctx: &Context, size: Size, progress: Progress<'_>) -> Result<Vec<PathRecord>> {
-    use crate::scene::file::RenderPath;
+    use crate::scene::RenderPath;
     let (sizes, repeats, warmup) = scene_sizes(size);
     let clock = Clock::for_context(ctx);
     let timer = crate::bench::PassTimer::new(ctx, clock)?;

@@ -1,66 +1,42 @@
-//! Scenes: what to simulate and how to look at it, read from TOML scene files ([`file`]).
-//! Built-in scenes are the files in `examples/scenes/`, compiled into the binary.
+//! Scenes: what to simulate and how to look at it, read from TOML scene files. Data only: the
+//! simulation and the renderers take their sections by value or through `From`.
+//!
+//! Every error names the file, line and column: syntax errors and wrong types from the TOML
+//! parser, unknown keys (`deny_unknown_fields`), non-finite numbers (TOML accepts `nan` and `inf`;
+//! scenes do not), and meaningless values (a negative time step, friction outside [0, 1], ...),
+//! located through the spans of a second, untyped parse.
+//!
+//! - `schema/`: the file format ([`SceneFile`]), every section's type and default;
+//! - `validate/`: one function per section, called by [`SceneFile::validate`];
+//! - `locate`: an error's path into the document ([`Key`], [`Invalid`]) to line and column;
+//! - `parse`: [`parse`] and the device-size check [`check_limits`];
+//! - `builtin`: the built-in scenes and loading by name or path ([`load`], [`BUILTIN`]).
 
-pub mod file;
+mod builtin;
+mod locate;
+mod parse;
+mod schema;
+mod validate;
 
-use std::path::Path;
-
-use glam::Vec3;
+pub use builtin::{
+    builtin, builtin_source, fire, load, load_source, BUILTIN, BUILTIN_SOURCES, DEFAULT_SCENE,
+};
+pub use locate::{Invalid, Key};
+pub use parse::{check_limits, parse, SizeLimits};
+pub use schema::*;
 
 use crate::error::{Error, Result};
-use crate::render::{Camera, PointStyle};
-use crate::sim::FireParams;
-pub use file::SceneFile;
 
-macro_rules! builtin_scenes {
-    ($($name:literal),* $(,)?) => {
-        /// The built-in scenes: name and TOML source.
-        pub static BUILTIN_SOURCES: &[(&str, &str)] = &[$(
-            ($name, include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/scenes/", $name, ".toml"))),
-        )*];
-        /// The names of the built-in scenes.
-        pub const BUILTIN: &[&str] = &[$($name),*];
-    };
-}
-
-builtin_scenes!["fire", "snow", "fountain", "smoke", "e1", "e2", "e3", "collide"];
-
-/// The scene rendered when none is named.
-pub const DEFAULT_SCENE: &str = "fire";
-
-/// The TOML source of a built-in scene.
-pub fn builtin_source(name: &str) -> Option<&'static str> {
-    BUILTIN_SOURCES
-        .iter()
-        .find(|(n, _)| *n == name)
-        .map(|(_, s)| *s)
-}
-
-/// Loads a scene by built-in name or from a `.toml` file (errors name file, line and column).
-pub fn load(name_or_path: &str) -> Result<SceneFile> {
-    let (label, src) = load_source(name_or_path)?;
-    file::parse(&label, &src)
-}
-
-/// The label errors use for a scene and its TOML source, by built-in name or file path.
-pub fn load_source(name_or_path: &str) -> Result<(String, String)> {
-    if let Some(src) = builtin_source(name_or_path) {
-        return Ok((format!("{name_or_path} (built-in)"), src.to_owned()));
-    }
-    let path = Path::new(name_or_path);
-    let looks_like_file = path.extension().is_some_and(|e| e == "toml")
-        || name_or_path.contains(std::path::MAIN_SEPARATOR);
-    if !looks_like_file {
-        return Err(Error::InvalidInput(format!(
-            "unknown scene `{name_or_path}`: the built-in scenes are {}, or give a path to a \
-             .toml scene file",
-            BUILTIN.join(", ")
-        )));
-    }
-    let src = std::fs::read_to_string(path).map_err(|e| {
-        Error::InvalidInput(format!("cannot read scene file {}: {e}", path.display()))
-    })?;
-    Ok((path.display().to_string(), src))
+/// Point size and brightness of the fire's points: `[render]`'s, with the fire's cycle length,
+/// from which the renderer derives each particle's age.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct PointStyleSection {
+    /// Point diameter in pixels (`render.point_size`).
+    pub point_size: f32,
+    /// Opacity of a newborn particle (`render.intensity`).
+    pub intensity: f32,
+    /// The fire cycle length (`fire.max_age`).
+    pub max_age: f32,
 }
 
 /// A complete description of a run.
@@ -76,47 +52,12 @@ pub struct Scene {
     pub dt: f32,
     /// Simulation steps per rendered frame.
     pub substeps: u32,
-    /// The camera at time 0.
-    pub camera: Camera,
-    /// Orbit speed of the camera around +y, degrees per simulated second.
-    pub orbit: f32,
+    /// The camera at time 0, and its orbit speed around +y (degrees per simulated second).
+    pub camera: CameraSection,
     /// Point size and brightness.
-    pub style: PointStyle,
+    pub style: PointStyleSection,
     /// The fire pass's parameters.
-    pub fire: FireParams,
-}
-
-/// Looks up a built-in fire scene (the thesis model); other scenes run through
-/// [`crate::engine::SceneEngine`].
-pub fn builtin(name: &str) -> Result<Scene> {
-    Scene::from_file(&load_builtin(name)?)
-}
-
-fn load_builtin(name: &str) -> Result<SceneFile> {
-    match builtin_source(name) {
-        Some(src) => file::parse(&format!("{name} (built-in)"), src),
-        None => Err(Error::InvalidInput(format!(
-            "unknown scene `{name}`: the built-in scenes are {}",
-            BUILTIN.join(", ")
-        ))),
-    }
-}
-
-/// The fire of the thesis, at 256×256 particles rendered at 512×512 (`examples/scenes/fire.toml`).
-pub fn fire() -> Scene {
-    builtin("fire").expect("the built-in fire scene is valid")
-}
-
-/// The camera a scene file describes.
-pub fn camera(c: &file::CameraSection) -> Camera {
-    Camera {
-        target: Vec3::from(c.target),
-        distance: c.distance,
-        azimuth: c.azimuth,
-        elevation: c.elevation,
-        fov_y: c.fov,
-        ..Camera::default()
-    }
+    pub fire: Fire,
 }
 
 impl Scene {
@@ -128,33 +69,19 @@ impl Scene {
                 f.name
             )));
         };
-        let params = FireParams {
-            emitter_center: Vec3::from(fire.emitter_center),
-            emitter_radius: fire.emitter_radius,
-            speed: fire.speed,
-            spread: fire.spread,
-            converge: fire.converge,
-            buoyancy: Vec3::from(fire.buoyancy),
-            turbulence: fire.turbulence,
-            damping: fire.damping,
-            life_min: fire.life[0],
-            life_max: fire.life[1],
-            max_age: fire.max_age,
-        };
         Ok(Scene {
             name: f.name.clone(),
             particles: f.particles.size,
             resolution: f.render.resolution,
             dt: f.time.dt,
             substeps: f.time.substeps,
-            camera: camera(&f.render.camera),
-            orbit: f.render.camera.orbit,
-            style: PointStyle {
+            camera: f.render.camera.clone(),
+            style: PointStyleSection {
                 point_size: f.render.point_size,
                 intensity: f.render.intensity,
-                max_age: params.max_age,
+                max_age: fire.max_age,
             },
-            fire: params,
+            fire: fire.clone(),
         })
     }
 
@@ -184,7 +111,7 @@ impl Scene {
         if !(s.point_size.is_finite() && s.point_size > 0.0 && s.intensity.is_finite()) {
             return bad("point size must be above 0 and intensity finite".into());
         }
-        self.fire.validate()
+        self.fire.check()
     }
 
     /// Number of particles.
@@ -193,22 +120,43 @@ impl Scene {
     }
 }
 
+impl Fire {
+    /// Rejects values the fire pass cannot give a meaning to; the same rules as the file's
+    /// `[fire]` validation, for a section changed after parsing.
+    pub fn check(&self) -> Result<()> {
+        let finite = [
+            self.emitter_radius,
+            self.speed,
+            self.spread,
+            self.converge,
+            self.turbulence,
+            self.damping,
+            self.life[0],
+            self.life[1],
+            self.max_age,
+        ]
+        .iter()
+        .chain(&self.emitter_center)
+        .chain(&self.buoyancy)
+        .all(|v| v.is_finite());
+        let bad = |m: &str| Err(Error::InvalidInput(format!("fire parameters: {m}")));
+        if !finite {
+            return bad("every value must be finite");
+        }
+        let [life_min, life_max] = self.life;
+        if !(life_min > 0.0 && life_min <= life_max && life_max <= self.max_age) {
+            return bad("lives must satisfy 0 < life_min <= life_max <= max_age");
+        }
+        if self.emitter_radius < 0.0 || self.damping < 0.0 || self.turbulence < 0.0 {
+            return bad("emitter_radius, damping and turbulence must not be negative");
+        }
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn builtins_are_valid_and_unknown_names_list_them() {
-        for name in BUILTIN {
-            let f = load(name).unwrap();
-            f.validate().unwrap();
-            if f.fire.is_some() {
-                Scene::from_file(&f).unwrap().validate().unwrap();
-            }
-        }
-        let msg = load("smok").unwrap_err().to_string();
-        assert!(msg.contains("smok") && msg.contains("fire"), "{msg}");
-    }
 
     #[test]
     fn meaningless_values_are_rejected() {
@@ -221,10 +169,10 @@ mod tests {
         s.substeps = 0;
         assert!(s.validate().is_err());
         let mut s = fire();
-        s.fire.life_max = s.fire.max_age * 2.0;
+        s.fire.life[1] = s.fire.max_age * 2.0;
         assert!(s.validate().is_err());
         let mut s = fire();
-        s.fire.buoyancy.y = f32::INFINITY;
+        s.fire.buoyancy[1] = f32::INFINITY;
         assert!(s.validate().is_err());
     }
 }

@@ -19,7 +19,7 @@ use crate::gl::{
     Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Texture, TextureDesc,
     TextureFormat, FULLSCREEN_VERTEX,
 };
-use crate::scene::file::{self, SceneFile};
+use crate::scene::{self, SceneFile};
 use crate::sort::{KeyMode, SortOptions, Sorter, Variant};
 
 /// Most neighbours per side the detection loop is compiled for.
@@ -39,7 +39,7 @@ pub struct Lattice {
 impl Lattice {
     /// The lattice of a scene's `[collisions]`, or its staggered twin (shifted by g0/2, one cell
     /// more per axis).
-    pub fn of(c: &file::Collisions, staggered: bool) -> Self {
+    pub fn of(c: &scene::Collisions, staggered: bool) -> Self {
         let g = c.cell.unwrap_or(2.0 * c.radius);
         let lo = Vec3::from(c.bounds[0]);
         let hi = Vec3::from(c.bounds[1]);
@@ -96,7 +96,7 @@ struct Grid {
 #[derive(Debug)]
 pub struct Collisions {
     ctx: Context,
-    config: file::Collisions,
+    config: scene::Collisions,
     first: Grid,
     second: Option<Grid>,
     raw: Framebuffer,
@@ -220,7 +220,7 @@ impl Collisions {
     }
 
     /// The configuration.
-    pub fn config(&self) -> &file::Collisions {
+    pub fn config(&self) -> &scene::Collisions {
         &self.config
     }
 
@@ -663,12 +663,12 @@ pub fn sweep(
         )));
     };
     let g = base.cell.unwrap_or(2.0 * base.radius);
-    let mut variants: Vec<(String, file::Collisions)> = vec![("scene".into(), base.clone())];
+    let mut variants: Vec<(String, scene::Collisions)> = vec![("scene".into(), base.clone())];
     for k in [1u32, 2, 4, 16] {
         if k != base.neighbours {
             variants.push((
                 format!("k = {k}"),
-                file::Collisions {
+                scene::Collisions {
                     neighbours: k,
                     ..base.clone()
                 },
@@ -677,7 +677,7 @@ pub fn sweep(
     }
     variants.push((
         format!("staggered {}", if base.staggered { "off" } else { "on" }),
-        file::Collisions {
+        scene::Collisions {
             staggered: !base.staggered,
             ..base.clone()
         },
@@ -688,7 +688,7 @@ pub fn sweep(
                 "rows-only sort ({rows} row{})",
                 if rows == 1 { "" } else { "s" }
             ),
-            file::Collisions {
+            scene::Collisions {
                 rows_only: Some(rows),
                 ..base.clone()
             },
@@ -697,7 +697,7 @@ pub fn sweep(
     for f in [2.0f32, 4.0] {
         variants.push((
             format!("cell {f} x"),
-            file::Collisions {
+            scene::Collisions {
                 cell: Some(g * f),
                 ..base.clone()
             },

@@ -4,7 +4,7 @@
 
 use glam::{Vec3, Vec4};
 
-use crate::scene::file::{Emitter, Shape};
+use crate::scene::{Emitter, Shape};
 
 /// The PCG hash of `glsl/common/rng.glsl`.
 pub fn pcg_hash(v: u32) -> u32 {

@@ -53,6 +53,24 @@ impl Default for FireParams {
     }
 }
 
+impl From<&crate::scene::Fire> for FireParams {
+    fn from(f: &crate::scene::Fire) -> FireParams {
+        FireParams {
+            emitter_center: Vec3::from(f.emitter_center),
+            emitter_radius: f.emitter_radius,
+            speed: f.speed,
+            spread: f.spread,
+            converge: f.converge,
+            buoyancy: Vec3::from(f.buoyancy),
+            turbulence: f.turbulence,
+            damping: f.damping,
+            life_min: f.life[0],
+            life_max: f.life[1],
+            max_age: f.max_age,
+        }
+    }
+}
+
 impl FireParams {
     /// Rejects values the pass cannot give a meaning to.
     pub fn validate(&self) -> Result<()> {

@@ -42,7 +42,7 @@ use glam::{Vec2, Vec3, Vec4};
 use super::fields::{DistanceField, FlowField, HeightField};
 use super::particles::{Emission, Features};
 use crate::error::{Error, Result};
-use crate::scene::file::{self, Integrator, Precision, SceneFile, VelocityFormat};
+use crate::scene::{self, Integrator, Precision, SceneFile, VelocityFormat};
 
 /// `SKIN` in `glsl/sim/colliders.glsl`: how far above a surface a particle is put back.
 pub const SKIN: f32 = 1e-4;
@@ -194,7 +194,7 @@ impl Reference {
             .map(|a| Attractor {
                 at: v3(a.position).extend(a.strength),
                 shape: Vec4::new(
-                    (a.falloff == file::Falloff::Constant) as u8 as f32,
+                    (a.falloff == scene::Falloff::Constant) as u8 as f32,
                     a.max_distance.unwrap_or(-1.0),
                     a.softening,
                     0.0,
@@ -659,7 +659,7 @@ fn box_distance(lo: Vec3, hi: Vec3, p: Vec3) -> (f32, Vec3) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::file::parse;
+    use crate::scene::parse;
 
     const HEAD: &str = r#"
 name = "reference"

@@ -14,56 +14,11 @@ use crate::gl::{
     FULLSCREEN_VERTEX,
 };
 
-/// The sort implementations.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Variant {
-    /// UberFlow's FP: everything derived in the fragment program.
-    Fp,
-    /// UberFlow's GP/FP: offsets' signs and comparisons from the geometry.
-    GpFp,
-    /// UberFlow's GP/FP packed: two entries per RGBA texel.
-    Packed,
-    /// Latta's odd-even merge sort.
-    OddEven,
-    /// Ours: several bitonic steps per pass on the packed layout.
-    Multistep,
-}
+pub use crate::scene::Variant;
 
+// The variant is defined with the scene file format that names it; the layout it sorts in is
+// the sorter's business.
 impl Variant {
-    /// Every variant, in table order.
-    pub const ALL: [Variant; 5] = [
-        Variant::Fp,
-        Variant::GpFp,
-        Variant::Packed,
-        Variant::OddEven,
-        Variant::Multistep,
-    ];
-
-    /// The CLI name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Variant::Fp => "fp",
-            Variant::GpFp => "gpfp",
-            Variant::Packed => "packed",
-            Variant::OddEven => "oddeven",
-            Variant::Multistep => "multistep",
-        }
-    }
-
-    /// Parses a CLI name.
-    pub fn from_name(s: &str) -> Result<Variant> {
-        Variant::ALL
-            .into_iter()
-            .find(|v| v.name() == s)
-            .ok_or_else(|| {
-                Error::InvalidInput(format!(
-                    "unknown sort variant `{s}`: use one of {}",
-                    Variant::ALL.map(Variant::name).join(", ")
-                ))
-            })
-    }
-
     /// Whether entries are packed two per texel.
     pub fn packed(self) -> bool {
         matches!(self, Variant::Packed | Variant::Multistep)

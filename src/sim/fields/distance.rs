@@ -5,7 +5,7 @@ use glam::{Vec3, Vec4};
 use super::grid::Grid3;
 use crate::error::{Error, Result};
 use crate::gl::{Context, Texture3D};
-use crate::scene::file::SdfCollider;
+use crate::scene::SdfCollider;
 
 /// Exact signed distance to a sphere `[x, y, z, r]`, in double precision.
 fn sphere_distance(p: [f64; 3], s: [f32; 4]) -> f64 {

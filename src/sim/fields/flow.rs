@@ -5,7 +5,7 @@ use glam::Vec3;
 use super::grid::Grid3;
 use crate::error::{Error, Result};
 use crate::gl::{Context, Texture3D};
-use crate::scene::file::Wind;
+use crate::scene::Wind;
 
 /// A wind flow field in a 3D RGBA32F texture (Latta eq. 1): texel `(vx, vy, vz, 0)`.
 ///

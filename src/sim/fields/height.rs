@@ -5,7 +5,7 @@ use glam::{Vec3, Vec4};
 use super::grid::{lerp, Axis};
 use crate::error::{Error, Result};
 use crate::gl::{Context, Texture, TextureDesc, TextureFormat};
-use crate::scene::file::HeightFieldCollider;
+use crate::scene::HeightFieldCollider;
 
 /// A height field over the xz plane (UberFlow §4.6): RGBA32F texels
 /// `(height, normal.x, normal.y, normal.z)`.

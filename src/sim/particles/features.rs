@@ -4,7 +4,7 @@
 
 use super::super::allocator::AllocatorKind;
 use crate::gl::Defines;
-use crate::scene::file::{self, Integrator, Precision, SceneFile, VelocityFormat};
+use crate::scene::{self, Integrator, Precision, SceneFile, VelocityFormat};
 
 /// How particles come into being.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -66,8 +66,8 @@ impl Features {
         let em = &scene.emitters;
         let emission = if let Some(e) = em.allocator.first() {
             Emission::Allocator(match e.allocator.unwrap_or_default() {
-                file::AllocatorKind::Stack => AllocatorKind::Stack,
-                file::AllocatorKind::MinHeap => AllocatorKind::MinHeap,
+                scene::AllocatorKind::Stack => AllocatorKind::Stack,
+                scene::AllocatorKind::MinHeap => AllocatorKind::MinHeap,
             })
         } else if !em.timestamp.is_empty() {
             Emission::Timestamp

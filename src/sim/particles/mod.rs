@@ -20,7 +20,7 @@ use crate::gl::{
     Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Ring3, Texture, Texture3D,
     TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
 };
-use crate::scene::file::{Integrator, SceneFile, VelocityFormat};
+use crate::scene::{Integrator, SceneFile, VelocityFormat};
 pub use features::{Emission, Features};
 use uniforms::{set_constants_for, unit};
 

@@ -6,7 +6,7 @@ use glam::{Vec3, Vec4};
 use super::super::emit::EmitterUniforms;
 use super::Fields;
 use crate::gl::Program;
-use crate::scene::file::{self, SceneFile};
+use crate::scene::{self, SceneFile};
 
 /// Texture units of the simulation programs.
 pub(super) mod unit {
@@ -72,7 +72,7 @@ pub(super) fn set_constants_for(
         p.set_vec4(
             &format!("u_attractor_shape[{i}]"),
             Vec4::new(
-                (a.falloff == file::Falloff::Constant) as u8 as f32,
+                (a.falloff == scene::Falloff::Constant) as u8 as f32,
                 a.max_distance.unwrap_or(-1.0),
                 a.softening,
                 0.0,

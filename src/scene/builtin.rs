@@ -1,0 +1,102 @@
+//! The built-in scenes (the files in `examples/scenes/`, compiled into the binary) and loading a
+//! scene by built-in name or file path.
+
+use std::path::Path;
+
+use super::parse::parse;
+use super::schema::SceneFile;
+use super::Scene;
+use crate::error::{Error, Result};
+
+macro_rules! builtin_scenes {
+    ($($name:literal),* $(,)?) => {
+        /// The built-in scenes: name and TOML source.
+        pub static BUILTIN_SOURCES: &[(&str, &str)] = &[$(
+            ($name, include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/scenes/", $name, ".toml"))),
+        )*];
+        /// The names of the built-in scenes.
+        pub const BUILTIN: &[&str] = &[$($name),*];
+    };
+}
+
+builtin_scenes!["fire", "snow", "fountain", "smoke", "e1", "e2", "e3", "collide"];
+
+/// The scene rendered when none is named.
+pub const DEFAULT_SCENE: &str = "fire";
+
+/// The TOML source of a built-in scene.
+pub fn builtin_source(name: &str) -> Option<&'static str> {
+    BUILTIN_SOURCES
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, s)| *s)
+}
+
+/// Loads a scene by built-in name or from a `.toml` file (errors name file, line and column).
+pub fn load(name_or_path: &str) -> Result<SceneFile> {
+    let (label, src) = load_source(name_or_path)?;
+    parse(&label, &src)
+}
+
+/// The label errors use for a scene and its TOML source, by built-in name or file path.
+pub fn load_source(name_or_path: &str) -> Result<(String, String)> {
+    if let Some(src) = builtin_source(name_or_path) {
+        return Ok((format!("{name_or_path} (built-in)"), src.to_owned()));
+    }
+    let path = Path::new(name_or_path);
+    let looks_like_file = path.extension().is_some_and(|e| e == "toml")
+        || name_or_path.contains(std::path::MAIN_SEPARATOR);
+    if !looks_like_file {
+        return Err(Error::InvalidInput(format!(
+            "unknown scene `{name_or_path}`: the built-in scenes are {}, or give a path to a \
+             .toml scene file",
+            BUILTIN.join(", ")
+        )));
+    }
+    // Bytes, not `read_to_string`: a file that is not UTF-8 gets a line and column.
+    let bytes = std::fs::read(path).map_err(|e| {
+        Error::InvalidInput(format!("cannot read scene file {}: {e}", path.display()))
+    })?;
+    let label = path.display().to_string();
+    let src = super::locate::utf8(&label, bytes)?;
+    Ok((label, src))
+}
+
+/// Looks up a built-in fire scene (the thesis model); other scenes run through
+/// [`crate::engine::SceneRunner`].
+pub fn builtin(name: &str) -> Result<Scene> {
+    Scene::from_file(&load_builtin(name)?)
+}
+
+fn load_builtin(name: &str) -> Result<SceneFile> {
+    match builtin_source(name) {
+        Some(src) => parse(&format!("{name} (built-in)"), src),
+        None => Err(Error::InvalidInput(format!(
+            "unknown scene `{name}`: the built-in scenes are {}",
+            BUILTIN.join(", ")
+        ))),
+    }
+}
+
+/// The fire of the thesis, at 256×256 particles rendered at 512×512 (`examples/scenes/fire.toml`).
+pub fn fire() -> Scene {
+    builtin("fire").expect("the built-in fire scene is valid")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builtins_are_valid_and_unknown_names_list_them() {
+        for name in BUILTIN {
+            let f = load(name).unwrap();
+            f.validate().unwrap();
+            if f.fire.is_some() {
+                Scene::from_file(&f).unwrap().validate().unwrap();
+            }
+        }
+        let msg = load("smok").unwrap_err().to_string();
+        assert!(msg.contains("smok") && msg.contains("fire"), "{msg}");
+    }
+}

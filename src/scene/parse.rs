@@ -1,0 +1,144 @@
+//! Reading a scene file: parse, reject non-finite numbers, validate, locate the first error; and
+//! the device-size check that runs once a context exists.
+
+use toml::de::DeTable;
+
+use super::locate::{find_non_finite, locate, scene_error, Key};
+use super::schema::{Blending, SceneFile};
+use crate::error::Result;
+
+use Key::{Index as I, Name as N};
+
+/// Parses and validates a scene file; `path` names it in errors.
+pub fn parse(path: &str, src: &str) -> Result<SceneFile> {
+    let doc = DeTable::parse(src).map_err(|e| {
+        let at = e.span().map_or(0, |s| s.start);
+        let mut message = e.message().trim().to_owned();
+        if message == "duplicate key" {
+            // Name the key: the parser's message does not.
+            let key: String = src
+                .get(at..)
+                .unwrap_or_default()
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '_' || *c == '-')
+                .collect();
+            if !key.is_empty() {
+                message = format!("duplicate key `{key}`: each key may be set only once");
+            }
+        }
+        scene_error(path, src, at, message)
+    })?;
+    if let Some((at, message)) = find_non_finite(doc.get_ref()) {
+        return Err(scene_error(path, src, at, message));
+    }
+    let scene: SceneFile = toml::from_str(src).map_err(|e| {
+        scene_error(
+            path,
+            src,
+            e.span().map_or(0, |s| s.start),
+            e.message().trim().to_owned(),
+        )
+    })?;
+    if let Err(invalid) = scene.validate() {
+        return Err(scene_error(
+            path,
+            src,
+            locate(&doc, &invalid.at),
+            invalid.message,
+        ));
+    }
+    Ok(scene)
+}
+
+/// Texture size limits of a device, for [`check_limits`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SizeLimits {
+    /// GL_MAX_TEXTURE_SIZE.
+    pub max_texture: u32,
+    /// GL_MAX_3D_TEXTURE_SIZE.
+    pub max_3d_texture: u32,
+}
+
+/// Checks the sizes a scene asks of the device (state and sort textures, frame, fields) and
+/// reports the first one over the limit at its file, line and column. `skip` names keys whose
+/// values came from elsewhere (command-line overrides), which the caller checks itself.
+pub fn check_limits(
+    path: &str,
+    src: &str,
+    scene: &SceneFile,
+    limits: SizeLimits,
+    skip: &[&str],
+) -> Result<()> {
+    let mut over: Vec<(Vec<Key>, &str, u32, u32)> = Vec::new();
+    let t = limits.max_texture;
+    let [w, h] = scene.particles.size;
+    if !skip.contains(&"particles.size") {
+        let sort = if scene.render.blending == Blending::Alpha {
+            w.next_power_of_two().max(h.next_power_of_two())
+        } else {
+            0
+        };
+        over.push((
+            vec![N("particles"), N("size")],
+            "state texture side",
+            w.max(h),
+            t,
+        ));
+        over.push((
+            vec![N("particles"), N("size")],
+            "sort texture side (the state's, rounded up to a power of two)",
+            sort,
+            t,
+        ));
+    }
+    if !skip.contains(&"render.resolution") {
+        let [rw, rh] = scene.render.resolution;
+        over.push((
+            vec![N("render"), N("resolution")],
+            "frame side",
+            rw.max(rh),
+            t,
+        ));
+    }
+    for (i, hf) in scene.colliders.heightfield.iter().enumerate() {
+        over.push((
+            vec![N("colliders"), N("heightfield"), I(i), N("resolution")],
+            "height-field texture side",
+            hf.resolution,
+            t,
+        ));
+    }
+    for (i, s) in scene.colliders.sdf.iter().enumerate() {
+        over.push((
+            vec![N("colliders"), N("sdf"), I(i), N("resolution")],
+            "distance-field 3D texture side",
+            s.resolution,
+            limits.max_3d_texture,
+        ));
+    }
+    for (i, wnd) in scene.forces.wind.iter().enumerate() {
+        over.push((
+            vec![N("forces"), N("wind"), I(i), N("resolution")],
+            "flow-field 3D texture side",
+            wnd.resolution,
+            limits.max_3d_texture,
+        ));
+    }
+    let Some((at, what, value, max)) = over.into_iter().find(|o| o.2 > o.3) else {
+        return Ok(());
+    };
+    let doc = DeTable::parse(src).map_err(|e| {
+        scene_error(
+            path,
+            src,
+            e.span().map_or(0, |s| s.start),
+            e.message().into(),
+        )
+    })?;
+    Err(scene_error(
+        path,
+        src,
+        locate(&doc, &at),
+        format!("{what} {value} is over this device's limit of {max}: use a smaller size"),
+    ))
+}

@@ -1,0 +1,115 @@
+//! `[[emitters.*]]`: where and how particles are born.
+
+use serde::{Deserialize, Serialize};
+
+use super::one;
+
+/// Emitters by kind.
+#[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Emitters {
+    /// Latta §3.4.1: a CPU allocator hands out texel indices; new particles are drawn as points.
+    /// Needs `rate`.
+    #[serde(default)]
+    pub allocator: Vec<Emitter>,
+    /// UberFlow §4.1: birth times stamped in the state; unborn particles kept out of view; the
+    /// particle resets at the end of its `cycle`. Needs `cycle`.
+    #[serde(default)]
+    pub timestamp: Vec<Emitter>,
+    /// Latta §3.4.1's simplest case: every texel filled once at the start. Without `life` the
+    /// particles are permanent and the scene runs no birth or death code.
+    #[serde(default)]
+    pub initial: Vec<Emitter>,
+}
+
+impl Emitters {
+    /// All emitters in type order (a particle's type is its emitter's place in this list).
+    pub fn all(&self) -> impl Iterator<Item = &Emitter> {
+        self.allocator
+            .iter()
+            .chain(&self.timestamp)
+            .chain(&self.initial)
+    }
+
+    /// Number of emitters.
+    pub fn len(&self) -> usize {
+        self.allocator.len() + self.timestamp.len() + self.initial.len()
+    }
+
+    /// No emitter at all.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// Most emitters (particle types) in one scene: one atlas tile each.
+pub const MAX_EMITTERS: usize = 4;
+
+/// Where new particles appear.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Shape {
+    /// At the centre.
+    #[default]
+    Point,
+    /// In an axis-aligned box of `size` around the centre.
+    Box,
+    /// In a ball of `radius`.
+    Sphere,
+    /// On a disc of `radius` in the plane normal to `normal`.
+    Disc,
+}
+
+/// Allocator strategy.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AllocatorKind {
+    /// Last freed, first reused.
+    Stack,
+    /// Smallest free index first: live particles stay in the first rows.
+    #[default]
+    MinHeap,
+}
+
+/// An emitter: shape, velocity and life of newborn particles.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Emitter {
+    /// Particles per second (allocator emitters).
+    pub rate: Option<f32>,
+    /// Index allocation strategy (allocator emitters).
+    pub allocator: Option<AllocatorKind>,
+    /// Length of one life cycle in seconds (timestamp emitters).
+    pub cycle: Option<f32>,
+    /// Emitter shape.
+    #[serde(default)]
+    pub shape: Shape,
+    /// Centre.
+    #[serde(default)]
+    pub center: [f32; 3],
+    /// Box size.
+    #[serde(default)]
+    pub size: [f32; 3],
+    /// Sphere or disc radius.
+    #[serde(default)]
+    pub radius: f32,
+    /// Disc normal (default +y).
+    pub normal: Option<[f32; 3]>,
+    /// Mean direction of the velocity cone.
+    pub direction: [f32; 3],
+    /// Half-angle of the velocity cone, degrees.
+    #[serde(default)]
+    pub cone_degrees: f32,
+    /// Speed range [min, max].
+    pub speed: [f32; 2],
+    /// Life range [min, max], seconds; initial emitters may leave it out (permanent particles).
+    pub life: Option<[f32; 2]>,
+    /// Mass of this emitter's particles (its type); default `particles.mass`.
+    pub mass: Option<f32>,
+    /// Sprite size of this type relative to `render.point_size`.
+    #[serde(default = "one")]
+    pub sprite_scale: f32,
+    /// Atlas tile of this type's sprites (0 soft blob, 1 snowflake, 2 smoke puff, 3 ring);
+    /// default: the type's own number.
+    pub tile: Option<u32>,
+}

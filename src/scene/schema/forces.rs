@@ -1,0 +1,241 @@
+//! `[[forces.*]]` and `[colliders]`: what accelerates particles and what they bounce off.
+
+use serde::{Deserialize, Serialize};
+
+use super::one;
+
+/// Forces by kind (Latta §3.4.2, UberFlow §4.2).
+#[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Forces {
+    /// Uniform acceleration.
+    #[serde(default)]
+    pub gravity: Vec<Gravity>,
+    /// Point attractors (negative strength: repulsors).
+    #[serde(default)]
+    pub attractor: Vec<Attractor>,
+    /// Rotation around a line.
+    #[serde(default)]
+    pub vortex: Vec<Vortex>,
+    /// Linear damping (negative rate: un-damping).
+    #[serde(default)]
+    pub damping: Vec<Damping>,
+    /// Wind from a 3D flow-field texture with Stokes drag (Latta eq. 1).
+    #[serde(default)]
+    pub wind: Vec<Wind>,
+    /// Linear springs to an anchor (harmonic oscillators: the integrators' test problem).
+    #[serde(default)]
+    pub spring: Vec<Spring>,
+}
+
+/// A linear spring pulling every particle towards an anchor: F = -k (x - anchor).
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Spring {
+    /// Rest point.
+    pub anchor: [f32; 3],
+    /// Stiffness k in N/m (with mass m the angular frequency is sqrt(k/m)).
+    pub stiffness: f32,
+}
+
+/// Uniform acceleration.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Gravity {
+    /// m/s².
+    pub acceleration: [f32; 3],
+}
+
+/// Falloff of a point force.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Falloff {
+    /// strength / r², softened near the centre.
+    #[default]
+    InverseSquare,
+    /// strength, up to `max_distance`.
+    Constant,
+}
+
+/// A point attractor or repulsor.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Attractor {
+    /// Centre.
+    pub position: [f32; 3],
+    /// Force (N; N·m² for inverse square); negative repels.
+    pub strength: f32,
+    /// Falloff.
+    #[serde(default)]
+    pub falloff: Falloff,
+    /// No force beyond this distance.
+    pub max_distance: Option<f32>,
+    /// Inverse square only: Plummer softening length, F = s d / (r² + soft²)^(3/2), which keeps
+    /// the force finite and smooth, and zero at the centre.
+    #[serde(default = "softening")]
+    pub softening: f32,
+}
+
+fn softening() -> f32 {
+    0.05
+}
+
+/// A vortex around a line.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Vortex {
+    /// A point on the axis.
+    pub point: [f32; 3],
+    /// Axis direction.
+    pub axis: [f32; 3],
+    /// Tangential acceleration at distance 1.
+    pub strength: f32,
+}
+
+/// Linear damping.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Damping {
+    /// 1/s; negative un-damps.
+    pub rate: f32,
+}
+
+/// Wind from a flow field.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Wind {
+    /// Mean wind velocity.
+    pub velocity: [f32; 3],
+    /// Amplitude of the field's variation around the mean.
+    #[serde(default)]
+    pub turbulence: f32,
+    /// Flow-field texture size per axis.
+    #[serde(default = "wind_resolution")]
+    pub resolution: u32,
+    /// Region the field covers: [min corner, max corner].
+    pub bounds: [[f32; 3]; 2],
+    /// Stokes drag coefficient (1/s).
+    pub drag: f32,
+}
+
+fn wind_resolution() -> u32 {
+    32
+}
+
+/// Colliders by kind.
+#[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Colliders {
+    /// Below this speed no friction is applied (Latta §3.4.2: "if the overall velocity is
+    /// smaller than a given threshold").
+    #[serde(default)]
+    pub slow_speed: f32,
+    /// Infinite planes.
+    #[serde(default)]
+    pub plane: Vec<PlaneCollider>,
+    /// Spheres.
+    #[serde(default)]
+    pub sphere: Vec<SphereCollider>,
+    /// Axis-aligned boxes.
+    #[serde(default, rename = "box")]
+    pub boxes: Vec<BoxCollider>,
+    /// Height fields (UberFlow §4.6).
+    #[serde(default)]
+    pub heightfield: Vec<HeightFieldCollider>,
+    /// Signed distance fields in a 3D texture (UberFlow §4.6).
+    #[serde(default)]
+    pub sdf: Vec<SdfCollider>,
+}
+
+/// A plane collider.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlaneCollider {
+    /// A point on the plane.
+    pub point: [f32; 3],
+    /// Normal (towards the free side).
+    pub normal: [f32; 3],
+    /// Friction μ in [0, 1] (Latta eq. 5).
+    #[serde(default)]
+    pub friction: f32,
+    /// Resilience ε in [0, 1] (Latta eq. 5).
+    #[serde(default = "one")]
+    pub resilience: f32,
+}
+
+/// A sphere collider.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphereCollider {
+    /// Centre.
+    pub center: [f32; 3],
+    /// Radius.
+    pub radius: f32,
+    /// Friction μ in [0, 1] (Latta eq. 5).
+    #[serde(default)]
+    pub friction: f32,
+    /// Resilience ε in [0, 1] (Latta eq. 5).
+    #[serde(default = "one")]
+    pub resilience: f32,
+}
+
+/// A box collider.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoxCollider {
+    /// Minimum corner.
+    pub min: [f32; 3],
+    /// Maximum corner.
+    pub max: [f32; 3],
+    /// Friction μ in [0, 1] (Latta eq. 5).
+    #[serde(default)]
+    pub friction: f32,
+    /// Resilience ε in [0, 1] (Latta eq. 5).
+    #[serde(default = "one")]
+    pub resilience: f32,
+}
+
+/// A height field: a landscape of sums of sines over the xz plane, sampled into a texture.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct HeightFieldCollider {
+    /// Region [min x, min z, max x, max z].
+    pub extent: [f32; 4],
+    /// Texture size per axis.
+    pub resolution: u32,
+    /// Base height.
+    #[serde(default)]
+    pub base: f32,
+    /// Amplitude of the hills.
+    pub amplitude: f32,
+    /// Spatial frequency of the hills (1/m).
+    pub frequency: f32,
+    /// Friction μ in [0, 1] (Latta eq. 5).
+    #[serde(default)]
+    pub friction: f32,
+    /// Resilience ε in [0, 1] (Latta eq. 5).
+    #[serde(default = "one")]
+    pub resilience: f32,
+}
+
+/// A signed distance field built from analytic shapes.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SdfCollider {
+    /// Region the field covers: [min corner, max corner].
+    pub bounds: [[f32; 3]; 2],
+    /// Texture size per axis.
+    pub resolution: u32,
+    /// Spheres [x, y, z, radius] united into the shape.
+    #[serde(default)]
+    pub spheres: Vec<[f32; 4]>,
+    /// Boxes [min x, min y, min z, max x, max y, max z] united into the shape.
+    #[serde(default)]
+    pub boxes: Vec<[f32; 6]>,
+    /// Friction μ in [0, 1] (Latta eq. 5).
+    #[serde(default)]
+    pub friction: f32,
+    /// Resilience ε in [0, 1] (Latta eq. 5).
+    #[serde(default = "one")]
+    pub resilience: f32,
+}

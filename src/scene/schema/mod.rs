@@ -1,0 +1,196 @@
+//! The scene file format (TOML): every section's serde type, with its defaults.
+//!
+//! Kinds of emitters, forces and colliders are array tables named after the kind
+//! (`[[forces.attractor]]`, `[[colliders.sphere]]`), not a `kind = ...` tag: serde's tagged enums
+//! buffer their content and would lose the spans that errors point at.
+
+mod emitters;
+mod forces;
+mod render;
+
+use serde::{Deserialize, Serialize};
+
+pub use emitters::{AllocatorKind, Emitter, Emitters, Shape, MAX_EMITTERS};
+pub use forces::{
+    Attractor, BoxCollider, Colliders, Damping, Falloff, Forces, Gravity, HeightFieldCollider,
+    PlaneCollider, SdfCollider, SphereCollider, Spring, Vortex, Wind,
+};
+pub use render::{
+    Blending, CameraSection, DrawMode, DrawOrder, Keyframe, Render, RenderPath, SortSection,
+    Variant,
+};
+
+pub(super) fn one() -> f32 {
+    1.0
+}
+fn sixtieth() -> f32 {
+    1.0 / 60.0
+}
+fn one_u32() -> u32 {
+    1
+}
+
+/// A whole scene file.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Scene name.
+    pub name: String,
+    /// State texture and storage.
+    pub particles: Particles,
+    /// Time step.
+    #[serde(default)]
+    pub time: Time,
+    /// Integrator: `euler` (Latta eq. 3, 8), `uberflow` (eq. 1-2), `verlet` (Latta eq. 9).
+    #[serde(default)]
+    pub integrator: Integrator,
+    /// Emitters by kind.
+    #[serde(default)]
+    pub emitters: Emitters,
+    /// Forces by kind.
+    #[serde(default)]
+    pub forces: Forces,
+    /// Colliders by kind.
+    #[serde(default)]
+    pub colliders: Colliders,
+    /// Collisions between particles (UberFlow §4.3-4.5).
+    pub collisions: Option<Collisions>,
+    /// The thesis's fire model (in-shader respawn), instead of emitters, forces and integrator.
+    pub fire: Option<Fire>,
+    /// How the scene is drawn.
+    #[serde(default)]
+    pub render: Render,
+}
+
+/// State texture size and storage (Latta §3.3).
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Particles {
+    /// State texture size [width, height]: one particle per texel.
+    pub size: [u32; 2],
+    /// Velocity storage: `rgba32f`, or `rgba16f` (Latta: half floats suffice).
+    #[serde(default)]
+    pub velocity_format: VelocityFormat,
+    /// Mass of every particle (kg), unless its emitter sets one.
+    #[serde(default = "one")]
+    pub mass: f32,
+    /// Arithmetic of the state the simulation writes: `fp32`, or `fp24` (the ATI R300's 24-bit
+    /// floats, 16-bit mantissa and 7-bit exponent, emulated by rounding every value written).
+    #[serde(default)]
+    pub precision: Precision,
+}
+
+/// Precision of the written state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Precision {
+    /// IEEE single precision.
+    #[default]
+    Fp32,
+    /// Emulated 24-bit floats (UberFlow §4.3.1).
+    Fp24,
+}
+
+/// Velocity texture format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum VelocityFormat {
+    /// Four 32-bit floats.
+    #[default]
+    Rgba32f,
+    /// Four 16-bit floats.
+    Rgba16f,
+}
+
+/// The fixed time step.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Time {
+    /// Simulation step in seconds.
+    #[serde(default = "sixtieth")]
+    pub dt: f32,
+    /// Steps per rendered frame.
+    #[serde(default = "one_u32")]
+    pub substeps: u32,
+}
+
+impl Default for Time {
+    fn default() -> Self {
+        Time {
+            dt: sixtieth(),
+            substeps: 1,
+        }
+    }
+}
+
+/// Integration scheme.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Integrator {
+    /// Latta's Euler: velocity first, then position from the new velocity.
+    #[default]
+    Euler,
+    /// UberFlow's update: position advanced with the mean of old and new velocity.
+    Uberflow,
+    /// Position Verlet with three position textures and no velocity pass.
+    Verlet,
+}
+
+/// Inter-particle collisions as UberFlow does them: particles sorted by the index of their cell
+/// in a lattice, each one's closest partner among its `neighbours` left and right in the sorted
+/// texture, a second sort on a staggered lattice, sphere response with back-tracking.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Collisions {
+    /// Sphere radius of every particle (m); two particles collide closer than 2 radius.
+    pub radius: f32,
+    /// Coefficient of restitution: 1 elastic, 0 perfectly inelastic.
+    #[serde(default = "one")]
+    pub restitution: f32,
+    /// Particles fetched to each side in the sorted texture (UberFlow: 8).
+    #[serde(default = "eight")]
+    pub neighbours: u32,
+    /// Lattice mesh size g0 (m); default 2 radius.
+    pub cell: Option<f32>,
+    /// Region the lattice covers: [min corner, max corner]; outside, cells are clamped.
+    pub bounds: [[f32; 3]; 2],
+    /// A second sort and detection on a lattice shifted by g0/2 (UberFlow Fig. 3).
+    #[serde(default = "yes")]
+    pub staggered: bool,
+    /// Sort only within sets of this many consecutive rows (1 = rows only, UberFlow §5); default
+    /// the whole texture.
+    pub rows_only: Option<u32>,
+}
+
+fn eight() -> u32 {
+    8
+}
+fn yes() -> bool {
+    true
+}
+
+/// `[fire]`: the thesis's fire model, whose particles respawn in the shader.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Fire {
+    /// Emitter disc centre.
+    pub emitter_center: [f32; 3],
+    /// Emitter disc radius.
+    pub emitter_radius: f32,
+    /// Mean upward speed at birth.
+    pub speed: f32,
+    /// Sideways speed at birth.
+    pub spread: f32,
+    /// Pull towards the axis (1/s).
+    pub converge: f32,
+    /// Buoyancy (negative gravity), m/s².
+    pub buoyancy: [f32; 3],
+    /// Random acceleration amplitude.
+    pub turbulence: f32,
+    /// Damping rate (1/s).
+    pub damping: f32,
+    /// Life range [min, max].
+    pub life: [f32; 2],
+    /// Cycle length: life plus wait.
+    pub max_age: f32,
+}

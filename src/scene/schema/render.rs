@@ -1,0 +1,237 @@
+//! `[render]`: camera, drawing, blending, keyframes and the sort alpha blending needs.
+
+use serde::{Deserialize, Serialize};
+
+use super::one;
+use crate::error::{Error, Result};
+
+/// How particles are drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DrawMode {
+    /// Points of `point_size` pixels.
+    #[default]
+    Points,
+    /// Textured point sprites with rotation (Latta §3.4.6).
+    Sprites,
+}
+
+/// Where the vertex stage gets positions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RenderPath {
+    /// Vertex texture fetch (thesis Listing 3).
+    #[default]
+    TextureFetch,
+    /// Positions copied on the GPU into a vertex buffer (UberFlow §4.7, Latta §3.4.5).
+    VertexBuffer,
+}
+
+/// Blending.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Blending {
+    /// Order-independent: no sort.
+    #[default]
+    Additive,
+    /// Order-independent: no sort.
+    Multiplicative,
+    /// Order-dependent: drawn back to front after a GPU sort by viewer distance.
+    Alpha,
+}
+
+/// Order of sorted drawing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DrawOrder {
+    /// Farthest first, composited with the over operator.
+    #[default]
+    BackToFront,
+    /// Nearest first, composited with the under operator.
+    FrontToBack,
+}
+
+/// The camera.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraSection {
+    /// Point looked at.
+    #[serde(default)]
+    pub target: [f32; 3],
+    /// Distance from the target.
+    #[serde(default = "four")]
+    pub distance: f32,
+    /// Orbit angle around +y, degrees.
+    #[serde(default)]
+    pub azimuth: f32,
+    /// Angle above the horizon, degrees.
+    #[serde(default = "ten")]
+    pub elevation: f32,
+    /// Vertical field of view, degrees.
+    #[serde(default = "fortyfive")]
+    pub fov: f32,
+    /// Orbit speed around +y, degrees per second of simulated time (0: a still camera). A moving
+    /// camera is what a sort spread over frames (Latta §3.4.4) has to keep up with.
+    #[serde(default)]
+    pub orbit: f32,
+}
+
+fn four() -> f32 {
+    4.0
+}
+fn ten() -> f32 {
+    10.0
+}
+fn fortyfive() -> f32 {
+    45.0
+}
+
+impl Default for CameraSection {
+    fn default() -> Self {
+        CameraSection {
+            target: [0.0; 3],
+            distance: four(),
+            azimuth: 0.0,
+            elevation: ten(),
+            fov: fortyfive(),
+            orbit: 0.0,
+        }
+    }
+}
+
+/// One colour keyframe: at relative age `age`, colour and opacity `rgba`.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Keyframe {
+    /// Relative age in [0, 1].
+    pub age: f32,
+    /// Colour and opacity.
+    pub rgba: [f32; 4],
+}
+
+/// Sorting for alpha blending.
+#[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SortSection {
+    /// Sort variant (`fp`, `gpfp`, `packed`, `oddeven`, `multistep`); default `oddeven`.
+    pub variant: Option<String>,
+    /// Spread one sort over frames with this many passes per frame (Latta).
+    pub passes_per_frame: Option<u32>,
+}
+
+/// The sort implementations, named by `render.sort.variant` and `--variant` (the sorter itself,
+/// and what each variant lays out, is `crate::sort`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Variant {
+    /// UberFlow's FP: everything derived in the fragment program.
+    Fp,
+    /// UberFlow's GP/FP: offsets' signs and comparisons from the geometry.
+    GpFp,
+    /// UberFlow's GP/FP packed: two entries per RGBA texel.
+    Packed,
+    /// Latta's odd-even merge sort.
+    OddEven,
+    /// Ours: several bitonic steps per pass on the packed layout.
+    Multistep,
+}
+
+impl Variant {
+    /// Every variant, in table order.
+    pub const ALL: [Variant; 5] = [
+        Variant::Fp,
+        Variant::GpFp,
+        Variant::Packed,
+        Variant::OddEven,
+        Variant::Multistep,
+    ];
+
+    /// The CLI name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Variant::Fp => "fp",
+            Variant::GpFp => "gpfp",
+            Variant::Packed => "packed",
+            Variant::OddEven => "oddeven",
+            Variant::Multistep => "multistep",
+        }
+    }
+
+    /// Parses a CLI name.
+    pub fn from_name(s: &str) -> Result<Variant> {
+        Variant::ALL
+            .into_iter()
+            .find(|v| v.name() == s)
+            .ok_or_else(|| {
+                Error::InvalidInput(format!(
+                    "unknown sort variant `{s}`: use one of {}",
+                    Variant::ALL.map(Variant::name).join(", ")
+                ))
+            })
+    }
+}
+
+/// Render settings.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Render {
+    /// Frame size [width, height].
+    #[serde(default = "resolution")]
+    pub resolution: [u32; 2],
+    /// Camera.
+    #[serde(default)]
+    pub camera: CameraSection,
+    /// Points or sprites.
+    #[serde(default)]
+    pub mode: DrawMode,
+    /// Texture fetch or vertex buffer.
+    #[serde(default)]
+    pub path: RenderPath,
+    /// Point or sprite size in pixels.
+    #[serde(default = "two")]
+    pub point_size: f32,
+    /// Opacity scale.
+    #[serde(default = "one")]
+    pub intensity: f32,
+    /// Blending.
+    #[serde(default)]
+    pub blending: Blending,
+    /// Four keyframes of relative age (three linear segments, Latta §3.4.6); empty: the fire ramp.
+    #[serde(default)]
+    pub keyframes: Vec<Keyframe>,
+    /// Drawing order of alpha blending: `back_to_front` (the over operator) or `front_to_back`
+    /// (the under operator, UberFlow's E3).
+    #[serde(default)]
+    pub order: DrawOrder,
+    /// Sort settings (alpha blending only).
+    #[serde(default)]
+    pub sort: SortSection,
+    /// Background colour; multiplicative blending needs a light one.
+    #[serde(default)]
+    pub background: [f32; 3],
+}
+
+fn resolution() -> [u32; 2] {
+    [512, 512]
+}
+fn two() -> f32 {
+    2.0
+}
+
+impl Default for Render {
+    fn default() -> Self {
+        Render {
+            resolution: resolution(),
+            camera: CameraSection::default(),
+            mode: DrawMode::default(),
+            path: RenderPath::default(),
+            point_size: two(),
+            intensity: 1.0,
+            blending: Blending::default(),
+            order: DrawOrder::default(),
+            keyframes: Vec::new(),
+            sort: SortSection::default(),
+            background: [0.0; 3],
+        }
+    }
+}

@@ -1,0 +1,135 @@
+//! `[colliders]`: planes, spheres, boxes, the height field and the distance field.
+
+use super::{bounded, direction, fail, nonzero, path, Check};
+use crate::scene::locate::Key;
+use crate::scene::schema::SceneFile;
+
+use Key::{Index as I, Name as N};
+
+/// `[colliders]` and its `[[colliders.*]]` kinds.
+pub(super) fn colliders(s: &SceneFile) -> Check {
+    let c = &s.colliders;
+    for (kind, n) in [("heightfield", c.heightfield.len()), ("sdf", c.sdf.len())] {
+        if n > 1 {
+            return fail(
+                path(&[N("colliders"), N(kind), I(1)]),
+                format!("one {kind} per scene (it is one texture)"),
+            );
+        }
+    }
+    if c.slow_speed < 0.0 {
+        return fail(
+            path(&[N("colliders"), N("slow_speed")]),
+            "slow_speed must not be negative",
+        );
+    }
+    for (i, p) in c.plane.iter().enumerate() {
+        if !nonzero(p.normal) {
+            return fail(
+                path(&[N("colliders"), N("plane"), I(i), N("normal")]),
+                "normal must not be zero",
+            );
+        }
+        let at = |k| path(&[N("colliders"), N("plane"), I(i), N(k)]);
+        direction(at("normal"), "normal", p.normal)?;
+        bounded(at("point"), "point", &p.point)?;
+        check_response(
+            path(&[N("colliders"), N("plane"), I(i)]),
+            p.friction,
+            p.resilience,
+        )?;
+    }
+    for (i, s) in c.sphere.iter().enumerate() {
+        let at = |k| path(&[N("colliders"), N("sphere"), I(i), N(k)]);
+        bounded(at("center"), "center", &s.center)?;
+        bounded(at("radius"), "radius", &[s.radius])?;
+        if s.radius <= 0.0 {
+            return fail(
+                path(&[N("colliders"), N("sphere"), I(i), N("radius")]),
+                "radius must be above 0",
+            );
+        }
+        check_response(
+            path(&[N("colliders"), N("sphere"), I(i)]),
+            s.friction,
+            s.resilience,
+        )?;
+    }
+    for (i, b) in c.boxes.iter().enumerate() {
+        let at = |k| path(&[N("colliders"), N("box"), I(i), N(k)]);
+        bounded(at("min"), "min", &b.min)?;
+        bounded(at("max"), "max", &b.max)?;
+        if (0..3).any(|k| b.min[k] >= b.max[k]) {
+            return fail(
+                path(&[N("colliders"), N("box"), I(i), N("max")]),
+                "max must exceed min on every axis",
+            );
+        }
+        check_response(
+            path(&[N("colliders"), N("box"), I(i)]),
+            b.friction,
+            b.resilience,
+        )?;
+    }
+    for (i, hf) in c.heightfield.iter().enumerate() {
+        if !(2..=4096).contains(&hf.resolution) {
+            return fail(
+                path(&[N("colliders"), N("heightfield"), I(i), N("resolution")]),
+                "resolution must lie in 2..=4096",
+            );
+        }
+        if hf.extent[0] >= hf.extent[2] || hf.extent[1] >= hf.extent[3] {
+            return fail(
+                path(&[N("colliders"), N("heightfield"), I(i), N("extent")]),
+                "extent must be [min x, min z, max x, max z] with min < max",
+            );
+        }
+        check_response(
+            path(&[N("colliders"), N("heightfield"), I(i)]),
+            hf.friction,
+            hf.resilience,
+        )?;
+    }
+    for (i, sdf) in c.sdf.iter().enumerate() {
+        if !(2..=256).contains(&sdf.resolution) {
+            return fail(
+                path(&[N("colliders"), N("sdf"), I(i), N("resolution")]),
+                "resolution must lie in 2..=256",
+            );
+        }
+        for (c, corner) in sdf.bounds.iter().enumerate() {
+            bounded(
+                path(&[N("colliders"), N("sdf"), I(i), N("bounds"), I(c)]),
+                "bounds",
+                corner,
+            )?;
+        }
+        if sdf.spheres.is_empty() && sdf.boxes.is_empty() {
+            return fail(
+                path(&[N("colliders"), N("sdf"), I(i)]),
+                "a distance field needs at least one sphere or box",
+            );
+        }
+        check_response(
+            path(&[N("colliders"), N("sdf"), I(i)]),
+            sdf.friction,
+            sdf.resilience,
+        )?;
+    }
+    Ok(())
+}
+
+/// Friction and resilience (Latta eq. 5), both in [0, 1].
+fn check_response(at: Vec<Key>, friction: f32, resilience: f32) -> Check {
+    if !(0.0..=1.0).contains(&friction) {
+        let mut p = at.clone();
+        p.push(N("friction"));
+        return fail(p, format!("friction {friction} is outside [0, 1]"));
+    }
+    if !(0.0..=1.0).contains(&resilience) {
+        let mut p = at;
+        p.push(N("resilience"));
+        return fail(p, format!("resilience {resilience} is outside [0, 1]"));
+    }
+    Ok(())
+}

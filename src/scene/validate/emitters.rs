@@ -1,0 +1,202 @@
+//! `[[emitters.*]]`: one kind per scene, at most four, each with what its kind needs.
+
+use super::{bounded, direction, fail, nonzero, path, Check, MAX_COORDINATE};
+use crate::scene::locate::Key;
+use crate::scene::schema::{Emitter, SceneFile, Shape, MAX_EMITTERS};
+
+use Key::{Index as I, Name as N};
+
+/// `[[emitters.allocator]]`, `[[emitters.timestamp]]`, `[[emitters.initial]]`.
+pub(super) fn emitters(s: &SceneFile) -> Check {
+    let em = &s.emitters;
+    let kinds = [
+        !em.allocator.is_empty(),
+        !em.timestamp.is_empty(),
+        !em.initial.is_empty(),
+    ];
+    if kinds.iter().filter(|k| **k).count() > 1 {
+        let second = ["allocator", "timestamp", "initial"]
+            .into_iter()
+            .zip(kinds)
+            .filter(|k| k.1)
+            .nth(1)
+            .map_or("emitters", |k| k.0);
+        return fail(
+            path(&[N("emitters"), N(second)]),
+            "use one kind of emitter per scene (allocator, timestamp or initial): they \
+             manage the state texture in different ways",
+        );
+    }
+    if em.len() > MAX_EMITTERS {
+        // Only one kind is present here: the first emitter over the limit is its element.
+        let kind = if !em.allocator.is_empty() {
+            "allocator"
+        } else if !em.timestamp.is_empty() {
+            "timestamp"
+        } else {
+            "initial"
+        };
+        return fail(
+            path(&[N("emitters"), N(kind), I(MAX_EMITTERS)]),
+            format!(
+                "{} emitters: at most {MAX_EMITTERS} (one particle type and atlas tile each)",
+                em.len()
+            ),
+        );
+    }
+    for (kind, list) in [("allocator", &em.allocator), ("timestamp", &em.timestamp)] {
+        for (i, e) in list.iter().enumerate() {
+            if e.life.is_none() {
+                return fail(
+                    vec![N("emitters"), N(kind), I(i)],
+                    format!("a {kind} emitter needs `life` = [min, max] seconds"),
+                );
+            }
+        }
+    }
+    for (i, e) in em.initial.iter().enumerate() {
+        let at = [N("emitters"), N("initial"), I(i)];
+        if let Some(k) = [
+            ("rate", e.rate.is_some()),
+            ("allocator", e.allocator.is_some()),
+            ("cycle", e.cycle.is_some()),
+        ]
+        .iter()
+        .find(|k| k.1)
+        {
+            return fail(
+                [&at[..], &[N(k.0)]].concat(),
+                format!("`{}` does not apply to initial emitters", k.0),
+            );
+        }
+        check_spawn(&at, e)?;
+    }
+    if s.fire.is_some() && !em.is_empty() {
+        return fail(
+            path(&[N("fire")]),
+            "[fire] respawns its particles in the shader: remove the emitters, or [fire]",
+        );
+    }
+    for (i, e) in s.emitters.allocator.iter().enumerate() {
+        let at = [N("emitters"), N("allocator"), I(i)];
+        let key = |k| [&at[..], &[N(k)]].concat();
+        match e.rate {
+            None => {
+                return fail(
+                    at.to_vec(),
+                    "an allocator emitter needs `rate` (particles per second)",
+                )
+            }
+            Some(r) if r <= 0.0 => {
+                return fail(key("rate"), "rate must be above 0 particles per second")
+            }
+            Some(r) if r as f64 * s.time.dt as f64 > s.particle_count() as f64 => {
+                return fail(
+                    key("rate"),
+                    format!(
+                        "rate {r} per second times dt {} s is {} births per step, more than \
+                         the {} particles of the state: lower the rate or dt",
+                        s.time.dt,
+                        r as f64 * s.time.dt as f64,
+                        s.particle_count()
+                    ),
+                )
+            }
+            _ => {}
+        }
+        if e.cycle.is_some() {
+            return fail(
+                key("cycle"),
+                "`cycle` belongs to timestamp emitters ([[emitters.timestamp]])",
+            );
+        }
+        check_spawn(&at, e)?;
+    }
+    for (i, e) in s.emitters.timestamp.iter().enumerate() {
+        let at = [N("emitters"), N("timestamp"), I(i)];
+        let key = |k| [&at[..], &[N(k)]].concat();
+        if e.rate.is_some() || e.allocator.is_some() {
+            return fail(
+                key(if e.rate.is_some() {
+                    "rate"
+                } else {
+                    "allocator"
+                }),
+                "`rate` and `allocator` belong to allocator emitters ([[emitters.allocator]])",
+            );
+        }
+        check_spawn(&at, e)?;
+        match e.cycle {
+            None => return fail(at.to_vec(), "a timestamp emitter needs `cycle` (seconds)"),
+            Some(c) if e.life.is_some_and(|l| c < l[1]) => {
+                return fail(key("cycle"), "cycle must be at least the longest life")
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// What every emitter shares: shape, velocity cone, life, mass, sprite.
+fn check_spawn(at: &[Key], s: &Emitter) -> Check {
+    let p = |k| {
+        let mut v = at.to_vec();
+        v.push(N(k));
+        v
+    };
+    if s.tile.is_some_and(|t| t > 3) {
+        return fail(
+            p("tile"),
+            "tile must be 0, 1, 2 or 3 (the atlas has four tiles)",
+        );
+    }
+    if let Some(life) = s.life {
+        if !(life[0] > 0.0 && life[0] <= life[1]) {
+            return fail(p("life"), "life must be [min, max] with 0 < min <= max");
+        }
+    }
+    if let Some(m) = s.mass.filter(|m| *m <= 0.0) {
+        return fail(p("mass"), format!("mass {m} must be above 0 kg"));
+    }
+    if s.sprite_scale <= 0.0 {
+        return fail(
+            p("sprite_scale"),
+            format!("sprite_scale {} must be above 0", s.sprite_scale),
+        );
+    }
+    if !(s.speed[0] >= 0.0 && s.speed[0] <= s.speed[1]) {
+        return fail(p("speed"), "speed must be [min, max] with 0 <= min <= max");
+    }
+    if !nonzero(s.direction) {
+        return fail(p("direction"), "direction must not be zero");
+    }
+    direction(p("direction"), "direction", s.direction)?;
+    bounded(p("center"), "center", &s.center)?;
+    bounded(p("size"), "size", &s.size)?;
+    bounded(p("speed"), "speed", &s.speed)?;
+    if s.radius > MAX_COORDINATE {
+        return fail(
+            p("radius"),
+            format!("radius {} m is above {MAX_COORDINATE:e} m", s.radius),
+        );
+    }
+    if let Some(n) = s.normal.filter(|n| nonzero(*n)) {
+        direction(p("normal"), "normal", n)?;
+    }
+    if !(0.0..=180.0).contains(&s.cone_degrees) {
+        return fail(p("cone_degrees"), "cone_degrees must lie in [0, 180]");
+    }
+    match s.shape {
+        Shape::Sphere | Shape::Disc if s.radius <= 0.0 => fail(
+            p("radius"),
+            "a sphere or disc emitter needs a radius above 0",
+        ),
+        Shape::Box if s.size.iter().any(|x| *x < 0.0) => {
+            fail(p("size"), "box size must not be negative")
+        }
+        Shape::Disc if s.normal.is_some_and(|n| !nonzero(n)) => {
+            fail(p("normal"), "normal must not be zero")
+        }
+        _ => Ok(()),
+    }
+}

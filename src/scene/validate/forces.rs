@@ -1,0 +1,121 @@
+//! `[[forces.*]]`: springs, vortices, attractors and the one wind field.
+
+use super::{bounded, direction, fail, nonzero, path, Check, MAX_COORDINATE};
+use crate::scene::locate::Key;
+use crate::scene::schema::SceneFile;
+
+use Key::{Index as I, Name as N};
+
+/// Largest |rate × dt| of a damping rate or a wind drag (see [`forces`]).
+pub const MAX_RATE_DT: f32 = 4.0;
+
+/// `[[forces.spring]]`, `[[forces.vortex]]`, `[[forces.attractor]]`, `[[forces.wind]]`.
+pub(super) fn forces(s: &SceneFile) -> Check {
+    let dt = s.time.dt;
+    // An explicit step multiplies the velocity by about 1 - rate·dt, so |rate·dt| > 2 grows it
+    // every step. The stability report runs just past 2 on purpose (its drag sweep ends at 2.1),
+    // so the limit is 4: at most 3 times per step, finite over a short run, refusing ±1e30.
+    let per_step = |at: Vec<_>, what: &str, rate: f32| {
+        if (rate * dt).abs() > MAX_RATE_DT {
+            return fail(
+                at,
+                format!(
+                    "{what} {rate} 1/s times dt {dt} s is {}: |{what} × dt| must be at most \
+                     {MAX_RATE_DT}, or the velocity overflows; lower it or dt",
+                    rate * dt
+                ),
+            );
+        }
+        Ok(())
+    };
+    for (i, g) in s.forces.gravity.iter().enumerate() {
+        bounded(
+            path(&[N("forces"), N("gravity"), I(i), N("acceleration")]),
+            "acceleration",
+            &g.acceleration,
+        )?;
+    }
+    for (i, d) in s.forces.damping.iter().enumerate() {
+        per_step(
+            path(&[N("forces"), N("damping"), I(i), N("rate")]),
+            "rate",
+            d.rate,
+        )?;
+    }
+    for (i, sp) in s.forces.spring.iter().enumerate() {
+        if sp.stiffness < 0.0 {
+            return fail(
+                path(&[N("forces"), N("spring"), I(i), N("stiffness")]),
+                format!("stiffness {} N/m must not be negative", sp.stiffness),
+            );
+        }
+        let at = |k| path(&[N("forces"), N("spring"), I(i), N(k)]);
+        bounded(at("anchor"), "anchor", &sp.anchor)?;
+        if sp.stiffness > MAX_COORDINATE {
+            return fail(
+                at("stiffness"),
+                format!("stiffness {} N/m is above {MAX_COORDINATE:e}", sp.stiffness),
+            );
+        }
+    }
+    for (i, v) in s.forces.vortex.iter().enumerate() {
+        if !nonzero(v.axis) {
+            return fail(
+                path(&[N("forces"), N("vortex"), I(i), N("axis")]),
+                "axis must not be zero",
+            );
+        }
+        let at = |k| path(&[N("forces"), N("vortex"), I(i), N(k)]);
+        direction(at("axis"), "axis", v.axis)?;
+        bounded(at("point"), "point", &v.point)?;
+        bounded(at("strength"), "strength", &[v.strength])?;
+    }
+    for (i, a) in s.forces.attractor.iter().enumerate() {
+        if a.softening <= 0.0 {
+            return fail(
+                path(&[N("forces"), N("attractor"), I(i), N("softening")]),
+                "softening must be above 0",
+            );
+        }
+        if a.max_distance.is_some_and(|d| d <= 0.0) {
+            return fail(
+                path(&[N("forces"), N("attractor"), I(i), N("max_distance")]),
+                "max_distance must be above 0",
+            );
+        }
+        let at = |k| path(&[N("forces"), N("attractor"), I(i), N(k)]);
+        bounded(at("position"), "position", &a.position)?;
+        bounded(at("strength"), "strength", &[a.strength])?;
+    }
+    for (i, wnd) in s.forces.wind.iter().enumerate() {
+        let at = |k| path(&[N("forces"), N("wind"), I(i), N(k)]);
+        if wnd.drag < 0.0 {
+            return fail(at("drag"), "drag must not be negative");
+        }
+        per_step(at("drag"), "drag", wnd.drag)?;
+        bounded(at("velocity"), "velocity", &wnd.velocity)?;
+        bounded(at("turbulence"), "turbulence", &[wnd.turbulence])?;
+        for (c, corner) in wnd.bounds.iter().enumerate() {
+            bounded([&at("bounds")[..], &[I(c)]].concat(), "bounds", corner)?;
+        }
+        if wnd.turbulence < 0.0 {
+            return fail(at("turbulence"), "turbulence must not be negative");
+        }
+        if !(2..=256).contains(&wnd.resolution) {
+            return fail(at("resolution"), "resolution must lie in 2..=256");
+        }
+        if (0..3).any(|k| wnd.bounds[0][k] >= wnd.bounds[1][k]) {
+            return fail(
+                at("bounds"),
+                "bounds must be [min corner, max corner] with min < max",
+            );
+        }
+    }
+    if s.forces.wind.len() > 1 {
+        return fail(
+            path(&[N("forces"), N("wind"), I(1)]),
+            "one wind field per scene (it is one 3D texture)",
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,266 @@
+//! Validation of a parsed scene file: the values no run can give a meaning to, each reported as
+//! a path into the document that [`super::locate`] turns into a line and column.
+//!
+//! One function per section, called in file order by [`SceneFile::validate`]; the first failure
+//! is reported. Device limits are checked later, once a context exists
+//! ([`super::check_limits`]).
+
+mod colliders;
+mod emitters;
+mod forces;
+mod render;
+
+use super::locate::{Invalid, Key};
+use super::schema::{Integrator, SceneFile};
+
+use Key::{Index as I, Name as N};
+
+/// The result of one check: nothing, or where and what.
+pub(super) type Check = std::result::Result<(), Invalid>;
+
+fn fail(at: Vec<Key>, message: impl Into<String>) -> Check {
+    Err(Invalid {
+        at,
+        message: message.into(),
+    })
+}
+
+fn path(parts: &[Key]) -> Vec<Key> {
+    parts.to_vec()
+}
+
+fn nonzero(v: [f32; 3]) -> bool {
+    v.iter().any(|x| *x != 0.0)
+}
+
+/// Largest coordinate, extent or vector component a scene may give, in metres (or m/s, m/s²):
+/// far beyond any scene here, yet its square (a distance², a dot product) stays finite in f32.
+pub const MAX_COORDINATE: f32 = 1e6;
+
+/// Smallest largest component of a direction (a direction, normal or axis): below it the
+/// squared length underflows and normalising it gives NaN.
+pub const MIN_DIRECTION: f32 = 1e-6;
+
+/// Every component within ±[`MAX_COORDINATE`], reported at the first one out of range.
+fn bounded(at: Vec<Key>, what: &str, v: &[f32]) -> Check {
+    match v.iter().position(|x| x.abs() > MAX_COORDINATE) {
+        Some(i) => fail(
+            [&at[..], &[I(i)]].concat(),
+            format!(
+                "{what} component {} is outside [-{MAX_COORDINATE:e}, {MAX_COORDINATE:e}]: \
+                 use values of a size the simulation can square",
+                v[i]
+            ),
+        ),
+        None => Ok(()),
+    }
+}
+
+/// A direction (normalised by the shaders): bounded, and not so short that normalising fails.
+fn direction(at: Vec<Key>, what: &str, v: [f32; 3]) -> Check {
+    bounded(at.clone(), what, &v)?;
+    if v.iter().all(|x| x.abs() < MIN_DIRECTION) {
+        return fail(
+            at,
+            format!(
+                "{what} is too short to normalise: give a component of at least \
+                 {MIN_DIRECTION:e} in magnitude"
+            ),
+        );
+    }
+    Ok(())
+}
+
+impl SceneFile {
+    /// Checks the values a scene cannot give a meaning to (device limits are checked later).
+    pub fn validate(&self) -> Check {
+        if self.name.trim().is_empty() {
+            return fail(path(&[N("name")]), "name must not be empty");
+        }
+        particles(self)?;
+        time(self)?;
+        emitters::emitters(self)?;
+        forces::forces(self)?;
+        colliders::colliders(self)?;
+        collisions(self)?;
+        fire(self)?;
+        render::render(self)
+    }
+
+    /// Number of particles.
+    pub fn particle_count(&self) -> u64 {
+        self.particles.size[0] as u64 * self.particles.size[1] as u64
+    }
+}
+
+/// `[particles]`.
+fn particles(s: &SceneFile) -> Check {
+    if let Some(i) = s.particles.size.iter().position(|s| *s == 0) {
+        return fail(
+            path(&[N("particles"), N("size"), I(i)]),
+            "both sides of size must be at least 1 texel",
+        );
+    }
+    if s.particles.mass <= 0.0 {
+        return fail(
+            path(&[N("particles"), N("mass")]),
+            format!("mass {} must be above 0 kg", s.particles.mass),
+        );
+    }
+    Ok(())
+}
+
+/// `[time]`.
+fn time(s: &SceneFile) -> Check {
+    // Finite already in a parsed file; `render --dt` overrides it after parsing.
+    if !(s.time.dt.is_finite() && s.time.dt > 0.0) {
+        return fail(
+            path(&[N("time"), N("dt")]),
+            format!(
+                "time step dt {} must be a finite number of seconds above 0",
+                s.time.dt
+            ),
+        );
+    }
+    if s.time.substeps == 0 {
+        return fail(
+            path(&[N("time"), N("substeps")]),
+            "substeps must be at least 1",
+        );
+    }
+    Ok(())
+}
+
+/// `[collisions]`, and what it asks of the rest of the scene.
+fn collisions(s: &SceneFile) -> Check {
+    let Some(c) = &s.collisions else {
+        return Ok(());
+    };
+    let at = |k| path(&[N("collisions"), N(k)]);
+    if c.radius <= 0.0 {
+        return fail(
+            at("radius"),
+            format!("radius {} m must be above 0", c.radius),
+        );
+    }
+    if !(0.0..=1.0).contains(&c.restitution) {
+        return fail(
+            at("restitution"),
+            format!("restitution {} is outside [0, 1]", c.restitution),
+        );
+    }
+    if !(1..=32).contains(&c.neighbours) {
+        return fail(at("neighbours"), "neighbours must lie in 1..=32");
+    }
+    if c.cell.is_some_and(|g| g <= 0.0) {
+        return fail(at("cell"), "cell must be above 0 m");
+    }
+    for (i, corner) in c.bounds.iter().enumerate() {
+        bounded(
+            path(&[N("collisions"), N("bounds"), I(i)]),
+            "bounds",
+            corner,
+        )?;
+    }
+    if (0..3).any(|k| c.bounds[0][k] >= c.bounds[1][k]) {
+        return fail(
+            at("bounds"),
+            "bounds must be [min corner, max corner] with min < max",
+        );
+    }
+    let cells = lattice_cells(c);
+    if cells > MAX_LATTICE_CELLS {
+        return fail(
+            if c.cell.is_some() {
+                at("cell")
+            } else {
+                at("radius")
+            },
+            format!(
+                "the collision lattice has {cells} cells; cell keys are exact floats only up to \
+                 2^24 = {MAX_LATTICE_CELLS}: use a larger cell (default 2 radius) or smaller \
+                 bounds"
+            ),
+        );
+    }
+    let [w, h] = s.particles.size;
+    if !w.is_power_of_two() || !h.is_power_of_two() {
+        return fail(
+            path(&[N("particles"), N("size")]),
+            "collisions sort the state texture: both sides must be powers of two",
+        );
+    }
+    if let Some(k) = c.rows_only {
+        if !k.is_power_of_two() || k > h {
+            return fail(
+                at("rows_only"),
+                format!("rows_only must be a power of two up to the height {h}"),
+            );
+        }
+    }
+    if s.integrator == Integrator::Verlet {
+        return fail(
+            path(&[N("integrator")]),
+            "collisions exchange momentum through velocities: use euler or uberflow",
+        );
+    }
+    if !s.emitters.allocator.is_empty() {
+        return fail(
+            path(&[N("emitters"), N("allocator")]),
+            "collisions reorder the state every step, which the CPU allocator's indices \
+             cannot follow: use timestamp or initial emitters",
+        );
+    }
+    if s.fire.is_some() {
+        return fail(path(&[N("collisions")]), "the fire has no collisions");
+    }
+    Ok(())
+}
+
+/// Most cells of a collision lattice: its cell keys are sorted as floats, exact up to 2^24.
+pub const MAX_LATTICE_CELLS: u64 = 1 << 24;
+
+/// Cells of the lattice `[collisions]` describes, counted as the collision stage does
+/// (`sim::collide::Lattice`: ceil of extent over cell per axis, at least 1, one more per axis
+/// on the staggered lattice), saturating instead of wrapping.
+fn lattice_cells(c: &crate::scene::schema::Collisions) -> u64 {
+    let g = c.cell.unwrap_or(2.0 * c.radius);
+    let extra = u64::from(c.staggered);
+    (0..3)
+        .map(|k| {
+            let n = ((c.bounds[1][k] - c.bounds[0][k]) / g).ceil().max(1.0);
+            // `as` saturates, like the stage's conversion to u32.
+            (n as u32) as u64 + extra
+        })
+        .fold(1u64, |a, n| a.saturating_mul(n))
+}
+
+/// `[fire]`, or, without it, that something is born at all.
+fn fire(s: &SceneFile) -> Check {
+    let Some(f) = &s.fire else {
+        if s.emitters.is_empty() {
+            return fail(
+                path(&[N("emitters")]),
+                "the scene has no emitter and no [fire] model: nothing would ever be born",
+            );
+        }
+        return Ok(());
+    };
+    let at = |k| path(&[N("fire"), N(k)]);
+    if !(f.life[0] > 0.0 && f.life[0] <= f.life[1] && f.life[1] <= f.max_age) {
+        return fail(
+            at("life"),
+            "life must be [min, max] with 0 < min <= max <= max_age",
+        );
+    }
+    for (key, v) in [
+        ("emitter_radius", f.emitter_radius),
+        ("damping", f.damping),
+        ("turbulence", f.turbulence),
+    ] {
+        if v < 0.0 {
+            return fail(at(key), format!("{key} {v} must not be negative"));
+        }
+    }
+    Ok(())
+}

@@ -6,6 +6,8 @@
 //!   observed convergence orders, per integrator and precision, on problems with exact solutions.
 //! - [`sort_frames`]: Latta's odd-even sort spread over frames under a moving camera:
 //!   inversions and displacements against passes per frame and GPU time.
+//! - [`collide_stats`]: what one step's collision detection found against the true pairs
+//!   (`texflow collide-stats`), and the sweep of its settings.
 //! - [`collisions`]: the miss rate of the collision detection against its GPU time.
 //! - [`stability`]: the stiff spring and the stiff drag swept across their stability limits, and
 //!   the extreme cases (huge speeds and coordinates, tiny and zero time steps, half-float
@@ -16,6 +18,7 @@
 //! files into `DIR` and returns a markdown fragment, and `summary.md` joins the fragments. A new
 //! report is one more entry in [`sections`].
 
+pub mod collide_stats;
 pub mod collisions;
 pub mod convergence;
 pub mod sort_frames;

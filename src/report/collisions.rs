@@ -7,8 +7,8 @@
 use std::path::{Path, PathBuf};
 
 use super::collide_stats::{sweep, sweep_table, SweepRow};
-use super::{num, plot_loglog, Csv, Legend, Marker, Progress, ReportOptions, SectionOutput};
-use super::{Series, Size};
+use super::plot::{self, Legend, Marker, Series};
+use super::{num, Csv, Progress, ReportOptions, SectionOutput, Size};
 use crate::bench::Clock;
 use crate::error::Result;
 use crate::gl::Context;
@@ -136,7 +136,7 @@ pub fn write_files(
         });
     }
     let png = out.join("collisions_miss_rate.png");
-    plot_loglog(
+    plot::loglog(
         &png,
         &format!("collision detection: collide scene, step {steps} ({device})"),
         (

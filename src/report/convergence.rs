@@ -33,9 +33,8 @@ use std::path::Path;
 use glam::DVec3;
 use serde::Serialize;
 
-use super::{
-    num, plot_loglog, Csv, Legend, Marker, Progress, ReportOptions, SectionOutput, Series, Size,
-};
+use super::plot::{self, Legend, Marker, Series};
+use super::{num, Csv, Progress, ReportOptions, SectionOutput, Size};
 use crate::bench::{median, Clock, PassTimer};
 use crate::error::{Error, Result};
 use crate::gl::Context;
@@ -1313,7 +1312,7 @@ pub fn write_files(r: &ConvergenceReport, out: &Path) -> Result<Vec<std::path::P
                 })
                 .collect();
             let path = out.join(file);
-            plot_loglog(
+            plot::loglog(
                 &path,
                 &format!("{} ({})", sweep.problem.title(), r.device),
                 (xlabel, sweep.problem.error_label()),

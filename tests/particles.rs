@@ -782,7 +782,7 @@ fn dense_box_at_rest_gains_no_energy() {
     no_gl_error(&ctx);
 }
 
-fn random_stats(staggered: bool, seed: u32) -> texflow::sim::collide::CollisionStats {
+fn random_stats(staggered: bool, seed: u32) -> texflow::report::collide_stats::CollisionStats {
     let ctx = context();
     let s = collide_scene(
         [32, 32],
@@ -806,7 +806,9 @@ fn random_stats(staggered: bool, seed: u32) -> texflow::sim::collide::CollisionS
         .collect();
     set(&mut sim, &starts);
     sim.step().unwrap();
-    let stats = sim.collisions().unwrap().snapshot().unwrap().stats();
+    let stats = texflow::report::collide_stats::Snapshot::read(sim.collisions().unwrap())
+        .unwrap()
+        .stats();
     no_gl_error(&ctx);
     stats
 }

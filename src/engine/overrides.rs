@@ -3,8 +3,8 @@
 
 use crate::error::{Error, Result};
 use crate::gl::Context;
-use crate::scene::{check_limits, Key, SizeLimits};
 use crate::scene::{self, SceneFile};
+use crate::scene::{check_limits, Key, SizeLimits};
 
 /// Values given on the command line instead of the scene's.
 #[derive(Debug, Clone, PartialEq)]

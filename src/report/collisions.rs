@@ -1,17 +1,17 @@
 //! Collisions between particles (UberFlow §4.3-4.5), measured: the miss rate of the detection
 //! against the GPU time of the collision passes, for the neighbour count k, the staggered
 //! lattice, rows-only sorting and the cell size, on the built-in `collide` scene. The numbers are
-//! those of `texflow collide-stats collide --sweep` ([`crate::sim::collide::sweep`]): the pairs
+//! those of `texflow collide-stats collide --sweep` ([`super::collide_stats::sweep`]): the pairs
 //! the GPU found at the last step against all overlapping pairs from a CPU cell-list reference.
 
 use std::path::{Path, PathBuf};
 
-use super::{num, plot_loglog, Csv, Legend, Marker, Progress, ReportOptions, SectionOutput};
-use super::{Series, Size};
+use super::collide_stats::{sweep, sweep_table, SweepRow};
+use super::plot::{self, Legend, Marker, Series};
+use super::{num, Csv, Progress, ReportOptions, SectionOutput, Size};
 use crate::bench::Clock;
 use crate::error::Result;
 use crate::gl::Context;
-use crate::sim::collide::{sweep, sweep_table, SweepRow};
 
 /// Steps simulated before the measured one: the docs' 240 (the pile has formed), 60 with
 /// `--quick`.
@@ -136,7 +136,7 @@ pub fn write_files(
         });
     }
     let png = out.join("collisions_miss_rate.png");
-    plot_loglog(
+    plot::loglog(
         &png,
         &format!("collision detection: collide scene, step {steps} ({device})"),
         (

@@ -6,7 +6,10 @@
 //!   observed convergence orders, per integrator and precision, on problems with exact solutions.
 //! - [`sort_frames`]: Latta's odd-even sort spread over frames under a moving camera:
 //!   inversions and displacements against passes per frame and GPU time.
+//! - [`collide_stats`]: what one step's collision detection found against the true pairs
+//!   (`texflow collide-stats`), and the sweep of its settings.
 //! - [`collisions`]: the miss rate of the collision detection against its GPU time.
+//! - [`plot`]: the log-log plots (the only user of `plotters` and the DejaVu font).
 //! - [`stability`]: the stiff spring and the stiff drag swept across their stability limits, and
 //!   the extreme cases (huge speeds and coordinates, tiny and zero time steps, half-float
 //!   overflow, identifiers beyond the float mantissa, 10^5 particles in one cell), each with its
@@ -16,8 +19,10 @@
 //! files into `DIR` and returns a markdown fragment, and `summary.md` joins the fragments. A new
 //! report is one more entry in [`sections`].
 
+pub mod collide_stats;
 pub mod collisions;
 pub mod convergence;
+pub mod plot;
 pub mod sort_frames;
 pub mod stability;
 pub mod tables;
@@ -302,214 +307,5 @@ pub fn num(x: Option<f64>) -> String {
         Some(v) if v.is_nan() => "nan".into(),
         Some(v) if v.is_infinite() => if v > 0.0 { "inf" } else { "-inf" }.into(),
         Some(v) => format!("{v:e}"),
-    }
-}
-
-/// Marker of a plotted curve.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Marker {
-    /// Filled circle.
-    Circle,
-    /// Triangle.
-    Triangle,
-    /// Cross.
-    Cross,
-}
-
-/// One curve of a log-log plot.
-#[derive(Debug, Clone)]
-pub struct Series {
-    /// Legend text.
-    pub label: String,
-    /// (x, y) points; non-positive or non-finite ones are left out of the plot.
-    pub points: Vec<(f64, f64)>,
-    /// Which points to draw hollow (same length as `points`; e.g. errors at the rounding floor).
-    pub hollow: Vec<bool>,
-    /// Line and marker colour.
-    pub color: (u8, u8, u8),
-    /// Marker.
-    pub marker: Marker,
-    /// Dashed line.
-    pub dashed: bool,
-}
-
-/// A log-axis tick label: 1, 2 and 5 times a power of ten only, so that labels near a decade do
-/// not run into each other.
-fn tick(v: &f64) -> String {
-    let m = v / 10f64.powf(v.log10().floor());
-    if [1.0, 2.0, 5.0, 10.0]
-        .iter()
-        .any(|k| (m - k).abs() < 1e-3 * k)
-    {
-        format!("{v:.0e}")
-    } else {
-        String::new()
-    }
-}
-
-fn register_font() {
-    static ONCE: std::sync::Once = std::sync::Once::new();
-    ONCE.call_once(|| {
-        // DejaVu Sans, embedded: no system fonts needed on a headless machine.
-        let _ = plotters::style::register_font(
-            "sans-serif",
-            plotters::style::FontStyle::Normal,
-            dejavu::sans::regular(),
-        );
-    });
-}
-
-/// Where a plot's legend goes (the corner the data leave free).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Legend {
-    /// Upper left.
-    UpperLeft,
-    /// Upper right.
-    UpperRight,
-}
-
-/// Draws a log-log plot of `series` into a PNG of `size` pixels, with both axes labelled.
-pub fn plot_loglog(
-    path: &Path,
-    title: &str,
-    axes: (&str, &str),
-    series: &[Series],
-    size: (u32, u32),
-    legend: Legend,
-) -> Result<()> {
-    use plotters::prelude::*;
-    register_font();
-    let fail = |e: &dyn std::fmt::Display| Error::Image {
-        path: path.to_owned(),
-        reason: e.to_string(),
-    };
-    let ok = |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0;
-    let pts: Vec<(f64, f64)> = series
-        .iter()
-        .flat_map(|s| s.points.iter().copied())
-        .filter(ok)
-        .collect();
-    let range = |f: fn(&(f64, f64)) -> f64| {
-        let lo = pts.iter().map(f).fold(f64::INFINITY, f64::min);
-        let hi = pts.iter().map(f).fold(0.0, f64::max);
-        if pts.is_empty() {
-            (0.1, 10.0)
-        } else {
-            // A margin of a fifth of a decade, and at least one decade shown.
-            let (lo, hi) = (lo.log10() - 0.2, hi.log10() + 0.2);
-            let mid = 0.5 * (lo + hi);
-            let half = (0.5 * (hi - lo)).max(0.5);
-            (10f64.powf(mid - half), 10f64.powf(mid + half))
-        }
-    };
-    let (x0, x1) = range(|p| p.0);
-    let (y0, y1) = range(|p| p.1);
-    let (w, h) = size;
-    let mut buf = vec![0u8; w as usize * h as usize * 3];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| fail(&e))?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 20))
-            .margin(14)
-            .x_label_area_size(52)
-            .y_label_area_size(84)
-            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-            .map_err(|e| fail(&e))?;
-        chart
-            .configure_mesh()
-            .x_desc(axes.0)
-            .y_desc(axes.1)
-            .axis_desc_style(("sans-serif", 16))
-            .label_style(("sans-serif", 13))
-            .x_label_formatter(&tick)
-            .y_label_formatter(&tick)
-            .light_line_style(RGBColor(235, 235, 235))
-            .draw()
-            .map_err(|e| fail(&e))?;
-        for s in series {
-            let color = RGBColor(s.color.0, s.color.1, s.color.2);
-            let line = ShapeStyle {
-                color: color.to_rgba(),
-                filled: false,
-                stroke_width: 2,
-            };
-            let p: Vec<(f64, f64)> = s.points.iter().copied().filter(ok).collect();
-            let anno = if s.dashed {
-                chart.draw_series(DashedLineSeries::new(p.clone(), 6, 4, line))
-            } else {
-                chart.draw_series(LineSeries::new(p.clone(), line))
-            }
-            .map_err(|e| fail(&e))?;
-            let marker = s.marker;
-            anno.label(s.label.clone()).legend(move |(x, y)| {
-                EmptyElement::at((x, y))
-                    + PathElement::new(vec![(-10, 0), (10, 0)], line)
-                    + marker_element(marker, (0, 0), true, color)
-            });
-            let drawn = s
-                .points
-                .iter()
-                .zip(s.hollow.iter().chain(std::iter::repeat(&false)))
-                .filter(|(p, _)| ok(p));
-            let drawn: Vec<((f64, f64), bool)> = drawn.map(|(&p, &h)| (p, h)).collect();
-            chart
-                .draw_series(drawn.iter().map(|&(p, hollow)| {
-                    EmptyElement::at(p) + marker_element(s.marker, (0, 0), !hollow, color)
-                }))
-                .map_err(|e| fail(&e))?;
-            // Hollow points (not fitted) also get a ring, whatever their marker.
-            chart
-                .draw_series(drawn.iter().filter(|d| d.1).map(|&(p, _)| {
-                    EmptyElement::at(p) + Circle::new((0, 0), 8, color.stroke_width(1))
-                }))
-                .map_err(|e| fail(&e))?;
-        }
-        chart
-            .configure_series_labels()
-            .label_font(("sans-serif", 13))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .position(match legend {
-                Legend::UpperLeft => SeriesLabelPosition::UpperLeft,
-                Legend::UpperRight => SeriesLabelPosition::UpperRight,
-            })
-            .draw()
-            .map_err(|e| fail(&e))?;
-        root.present().map_err(|e| fail(&e))?;
-    }
-    let img = image::RgbImage::from_raw(w, h, buf).ok_or_else(|| Error::Image {
-        path: path.to_owned(),
-        reason: "plot buffer of the wrong size".into(),
-    })?;
-    crate::output::write_png_atomic(path, &img)
-}
-
-fn marker_element<DB: plotters::prelude::DrawingBackend>(
-    m: Marker,
-    at: (i32, i32),
-    filled: bool,
-    color: plotters::style::RGBColor,
-) -> plotters::element::DynElement<'static, DB, (i32, i32)> {
-    use plotters::prelude::*;
-    let style = ShapeStyle {
-        color: color.to_rgba(),
-        filled,
-        stroke_width: 2,
-    };
-    match m {
-        Marker::Circle => Circle::new(at, 4, style).into_dyn(),
-        Marker::Triangle => {
-            let (x, y) = at;
-            let corners = vec![(x, y - 6), (x + 5, y + 4), (x - 5, y + 4)];
-            if filled {
-                Polygon::new(corners, style).into_dyn()
-            } else {
-                let mut closed = corners.clone();
-                closed.push(corners[0]);
-                PathElement::new(closed, style).into_dyn()
-            }
-        }
-        Marker::Cross => Cross::new(at, 4, style).into_dyn(),
     }
 }

@@ -22,8 +22,8 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use super::{num, plot_loglog, Csv, Legend, Marker, Progress, ReportOptions, SectionOutput};
-use super::{Series, Size};
+use super::plot::{self, Legend, Marker, Series};
+use super::{num, Csv, Progress, ReportOptions, SectionOutput, Size};
 use crate::bench::{median, Clock, PassTimer};
 use crate::engine::Engine;
 use crate::error::{Error, Result};
@@ -392,7 +392,7 @@ pub fn write_files(r: &SpreadReport, out: &Path) -> Result<Vec<std::path::PathBu
     let title = |what: &str| format!("{what}: {}² smoke ({})", r.side, r.device);
     let unit = "fraction (whole sort: 0, off the log axis)";
     let p1 = out.join("sort_frames_passes.png");
-    plot_loglog(
+    plot::loglog(
         &p1,
         &title("odd-even sort spread over frames"),
         ("passes per frame", unit),
@@ -401,7 +401,7 @@ pub fn write_files(r: &SpreadReport, out: &Path) -> Result<Vec<std::path::PathBu
         Legend::UpperRight,
     )?;
     let p2 = out.join("sort_frames_time.png");
-    plot_loglog(
+    plot::loglog(
         &p2,
         &title("drawing order against GPU time"),
         (

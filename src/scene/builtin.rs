@@ -63,7 +63,7 @@ pub fn load_source(name_or_path: &str) -> Result<(String, String)> {
 }
 
 /// Looks up a built-in fire scene (the thesis model); other scenes run through
-/// [`crate::engine::SceneRunner`].
+/// [`crate::engine::SceneEngine`].
 pub fn builtin(name: &str) -> Result<Scene> {
     Scene::from_file(&load_builtin(name)?)
 }

@@ -10,7 +10,9 @@
 //! Pairing is made symmetric per lattice: a partner counts only if it chose this particle too
 //! (`glsl/collide/mutual.frag`), so both sides of a pair apply opposite impulses. Across the two
 //! lattices a particle may still take a partner from one lattice while that partner takes a closer
-//! one from the other; [`CollisionStats`] counts these conflicts.
+//! one from the other; the collision statistics of `report::collide_stats` count these conflicts.
+//! The statistics themselves (what a step's detection found against the true pairs) are measured
+//! there, from [`Collisions::read_back`]: this module only runs the passes.
 
 use glam::{UVec3, Vec3};
 
@@ -331,24 +333,33 @@ impl Collisions {
         Ok(())
     }
 
-    /// Reads back what the last step's detection saw, for statistics.
-    pub fn snapshot(&self) -> Result<Snapshot> {
-        let read = |g: &Grid| -> Result<LatticeSnapshot> {
-            Ok(LatticeSnapshot {
-                lattice: g.lattice,
+    /// Reads back one lattice's state after the last step's detection, in that lattice's sorted
+    /// order (the first lattice, or with `staggered` the second; `None` if there is none), so
+    /// that statistics can be taken on the CPU.
+    pub fn read_back(&self, staggered: bool) -> Result<Option<Readback>> {
+        let grid = if staggered {
+            self.second.as_ref()
+        } else {
+            Some(&self.first)
+        };
+        grid.map(|g| {
+            Ok(Readback {
                 positions: g.layout.texture(0).read_f32()?,
                 velocities: g.layout.texture(1).read_f32()?,
                 partners: g.partner.texture(0).read_f32()?,
             })
-        };
-        Ok(Snapshot {
-            width: self.width,
-            neighbours: self.config.neighbours,
-            radius: self.config.radius,
-            dt: self.dt,
-            first: read(&self.first)?,
-            second: self.second.as_ref().map(read).transpose()?,
         })
+        .transpose()
+    }
+
+    /// State texture width: the length of a sorted row.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// The scene's time step (s).
+    pub fn dt(&self) -> f32 {
+        self.dt
     }
 
     /// The context.
@@ -357,406 +368,14 @@ impl Collisions {
     }
 }
 
-/// One lattice's view of a step: the positions in its sorted order and each one's partner.
+/// One lattice's state after a step's detection, read back by [`Collisions::read_back`]; RGBA
+/// texels, four floats per particle, in the lattice's sorted order.
 #[derive(Debug, Clone)]
-pub struct LatticeSnapshot {
-    /// The lattice.
-    pub lattice: Lattice,
-    /// Positions (xyz, life) in this lattice's sorted order.
+pub struct Readback {
+    /// Positions (xyz, life).
     pub positions: Vec<f32>,
-    /// Velocities in the same order.
+    /// Velocities.
     pub velocities: Vec<f32>,
     /// (partner after the mutual check or -1, distance, mutual, partner before the check).
     pub partners: Vec<f32>,
-}
-
-/// What the detection of one step saw (see [`Collisions::snapshot`]).
-#[derive(Debug, Clone)]
-pub struct Snapshot {
-    /// State texture width (sorted rows).
-    pub width: u32,
-    /// Neighbours fetched to each side.
-    pub neighbours: u32,
-    /// Sphere radius.
-    pub radius: f32,
-    /// Time step.
-    pub dt: f32,
-    /// The first lattice.
-    pub first: LatticeSnapshot,
-    /// The staggered lattice.
-    pub second: Option<LatticeSnapshot>,
-}
-
-/// How well one step's detection did against the true set of overlapping pairs.
-#[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
-pub struct CollisionStats {
-    /// Live particles.
-    pub particles: usize,
-    /// Pairs closer than 2 radius (CPU, cell lists).
-    pub pairs_true: usize,
-    /// Pairs the GPU detection reported, by either lattice (before the mutual check).
-    pub found: usize,
-    /// True pairs not found.
-    pub missed: usize,
-    /// Found pairs that do not overlap.
-    pub false_pairs: usize,
-    /// Found pairs that were mutual in their lattice (the response applies these).
-    pub mutual: usize,
-    /// Particles whose chosen partner took a closer partner from the other lattice.
-    pub conflicts: usize,
-    /// Missed: the two are in different cells of the first lattice (and of the staggered one).
-    pub missed_adjacent_cells: usize,
-    /// Missed: same cell, but sorted into different rows.
-    pub missed_other_row: usize,
-    /// Missed: same row, further apart than `neighbours`.
-    pub missed_far_along_row: usize,
-    /// Missed: within reach, but each particle keeps only its closest partner.
-    pub missed_closer_partner: usize,
-    /// Pairs that came closer than 2 radius during the step but no longer overlap at its end
-    /// (tunnelling between frames; not among `pairs_true`).
-    pub tunnelled: usize,
-    /// Mean live particles per occupied cell of the first lattice.
-    pub particles_per_cell: f64,
-    /// Median GPU time of the collision passes of one step (ms; [`measure`] fills it in).
-    pub gpu_ms: f64,
-}
-
-fn pos(v: &[f32], i: usize) -> Vec3 {
-    Vec3::new(v[i * 4], v[i * 4 + 1], v[i * 4 + 2])
-}
-
-fn live(v: &[f32], i: usize) -> bool {
-    v[i * 4 + 3] > 0.0 && pos(v, i).is_finite()
-}
-
-/// Pairs (i < j) of live particles closer than `reach`, by cell lists of mesh `reach`.
-fn close_pairs(points: &[(usize, Vec3)], reach: f32) -> Vec<(usize, usize)> {
-    use std::collections::HashMap;
-    let cell = |p: Vec3| (p / reach).floor().as_ivec3();
-    let mut cells: HashMap<glam::IVec3, Vec<usize>> = HashMap::new();
-    for (k, (_, p)) in points.iter().enumerate() {
-        cells.entry(cell(*p)).or_default().push(k);
-    }
-    let mut out = Vec::new();
-    for (k, (i, p)) in points.iter().enumerate() {
-        let c = cell(*p);
-        for dz in -1..=1 {
-            for dy in -1..=1 {
-                for dx in -1..=1 {
-                    let Some(list) = cells.get(&(c + glam::IVec3::new(dx, dy, dz))) else {
-                        continue;
-                    };
-                    for &m in list {
-                        let (j, q) = points[m];
-                        if m > k && p.distance(q) < reach {
-                            out.push(((*i).min(j), (*i).max(j)));
-                        }
-                    }
-                }
-            }
-        }
-    }
-    out
-}
-
-impl Snapshot {
-    /// Compares the detection with the true overlapping pairs; particles are named by their
-    /// place in the first lattice's order.
-    pub fn stats(&self) -> CollisionStats {
-        use std::collections::{HashMap, HashSet};
-        let a = &self.first;
-        let n = a.positions.len() / 4;
-        let w = self.width as usize;
-        let k = self.neighbours as usize;
-        let reach = 2.0 * self.radius;
-        let points: Vec<(usize, Vec3)> = (0..n)
-            .filter(|&i| live(&a.positions, i))
-            .map(|i| (i, pos(&a.positions, i)))
-            .collect();
-        let truth: HashSet<(usize, usize)> = close_pairs(&points, reach).into_iter().collect();
-        // Lattice B's order -> lattice A's, by the positions' bits (unique in practice).
-        let key = |p: Vec3| (p.x.to_bits(), p.y.to_bits(), p.z.to_bits());
-        let index_a: HashMap<_, usize> = points.iter().map(|&(i, p)| (key(p), i)).collect();
-        let mut found: HashSet<(usize, usize)> = HashSet::new();
-        let mut mutual: HashSet<(usize, usize)> = HashSet::new();
-        // Each particle's chosen partner and distance per lattice, in A's names.
-        let mut choice: Vec<[Option<(usize, f32)>; 2]> = vec![[None, None]; n];
-        for (g, snap) in std::iter::once(a).chain(self.second.as_ref()).enumerate() {
-            let name = |i: usize| -> Option<usize> {
-                if g == 0 {
-                    Some(i)
-                } else {
-                    index_a.get(&key(pos(&snap.positions, i))).copied()
-                }
-            };
-            for i in 0..n {
-                let raw = snap.partners[i * 4 + 3];
-                if raw < 0.0 {
-                    continue;
-                }
-                let (Some(x), Some(y)) = (name(i), name(raw as usize)) else {
-                    continue;
-                };
-                let pair = (x.min(y), x.max(y));
-                found.insert(pair);
-                if snap.partners[i * 4 + 2] > 0.5 {
-                    mutual.insert(pair);
-                    choice[x][g] = Some((y, snap.partners[i * 4 + 1]));
-                }
-            }
-        }
-        // A particle takes the closer of its two mutual partners; a conflict is a partner
-        // that took someone else.
-        let chosen: Vec<Option<usize>> = choice
-            .iter()
-            .map(|c| match (c[0], c[1]) {
-                (Some(p), Some(q)) => Some(if p.1 <= q.1 { p.0 } else { q.0 }),
-                (Some(p), None) | (None, Some(p)) => Some(p.0),
-                (None, None) => None,
-            })
-            .collect();
-        let conflicts = (0..n)
-            .filter(|&i| matches!(chosen[i], Some(j) if chosen[j] != Some(i)))
-            .count();
-        let false_pairs = found
-            .iter()
-            .filter(|(i, j)| pos(&a.positions, *i).distance(pos(&a.positions, *j)) >= reach)
-            .count();
-        let mut s = CollisionStats {
-            particles: points.len(),
-            pairs_true: truth.len(),
-            found: found.len(),
-            false_pairs,
-            mutual: mutual.len(),
-            conflicts,
-            ..Default::default()
-        };
-        for &(i, j) in truth.difference(&found) {
-            s.missed += 1;
-            let (pi, pj) = (pos(&a.positions, i), pos(&a.positions, j));
-            let same_b = self
-                .second
-                .as_ref()
-                .map(|b| b.lattice.cell(pi) == b.lattice.cell(pj));
-            if a.lattice.cell(pi) != a.lattice.cell(pj) && same_b != Some(true) {
-                s.missed_adjacent_cells += 1;
-            } else if i / w != j / w {
-                s.missed_other_row += 1;
-            } else if i.abs_diff(j) > k {
-                s.missed_far_along_row += 1;
-            } else {
-                s.missed_closer_partner += 1;
-            }
-        }
-        // Tunnelling: with x_prev = x - v dt (the explicit step's last move), pairs whose
-        // closest approach during the step was within 2r but which no longer overlap.
-        let vmax = (0..n)
-            .filter(|&i| live(&a.positions, i))
-            .map(|i| pos(&a.velocities, i).length())
-            .fold(0.0f32, f32::max);
-        let wide = reach + 2.0 * vmax * self.dt;
-        for (i, j) in close_pairs(&points, wide) {
-            if truth.contains(&(i, j)) {
-                continue;
-            }
-            let (xi, xj) = (pos(&a.positions, i), pos(&a.positions, j));
-            let dx = xi - xj;
-            let dv = (pos(&a.velocities, i) - pos(&a.velocities, j)) * self.dt;
-            // d(s) = dx - s dv for s in [0, 1] back in time.
-            let s_min = if dv.length_squared() > 0.0 {
-                (dx.dot(dv) / dv.length_squared()).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            if (dx - s_min * dv).length() < reach {
-                s.tunnelled += 1;
-            }
-        }
-        let mut cells: HashMap<u64, usize> = HashMap::new();
-        for (_, p) in &points {
-            *cells.entry(a.lattice.key(a.lattice.cell(*p))).or_default() += 1;
-        }
-        s.particles_per_cell = points.len() as f64 / cells.len().max(1) as f64;
-        s
-    }
-}
-
-/// Steps at the end of a [`measure`] run whose collision passes are timed (the median is
-/// reported: one step alone is at the mercy of a noisy machine).
-pub const TIMED_STEPS: u64 = 5;
-
-/// Runs `scene` for `steps` steps and measures the last step's detection against the CPU
-/// reference, with the median GPU time of the collision passes over the last [`TIMED_STEPS`]
-/// steps (fewer if the run is shorter). `progress` is called after each step.
-pub fn measure(
-    ctx: &Context,
-    scene: &SceneFile,
-    steps: u64,
-    seed: u32,
-    mut progress: impl FnMut(),
-) -> Result<CollisionStats> {
-    if steps == 0 {
-        return Err(Error::InvalidInput(
-            "measuring needs at least 1 step".into(),
-        ));
-    }
-    let mut sim = super::ParticleSim::new(ctx, scene, seed)?;
-    if sim.collisions().is_none() {
-        return Err(Error::InvalidInput(format!(
-            "scene `{}` has no [collisions] section",
-            scene.name
-        )));
-    }
-    let timer = crate::bench::PassTimer::new(ctx, crate::bench::Clock::for_context(ctx))?;
-    let timed = TIMED_STEPS.min(steps);
-    for _ in timed..steps {
-        sim.step()?;
-        progress();
-    }
-    // Collision scenes emit by time stamps, so a step is the integration pass and the collision
-    // stage: the same step, with the stage timed alone.
-    let mut times = Vec::new();
-    for _ in 0..timed {
-        sim.integrate_only();
-        let mut result = Ok(());
-        times.push(timer.time(|| result = sim.collide())?);
-        result?;
-        progress();
-    }
-    let stage = sim.collisions().expect("checked above");
-    let mut stats = stage.snapshot()?.stats();
-    stats.gpu_ms = crate::bench::median(&times);
-    ctx.check_error("measuring collisions")?;
-    Ok(stats)
-}
-
-/// One row of [`sweep`]: what was varied and what it gave.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct SweepRow {
-    /// What differs from the scene's own settings.
-    pub variant: String,
-    /// Neighbours per side.
-    pub k: u32,
-    /// Staggered lattice.
-    pub staggered: bool,
-    /// Rows-only sort sets (None: full sort).
-    pub rows_only: Option<u32>,
-    /// Lattice mesh size (m).
-    pub cell: f32,
-    /// The measurement.
-    pub stats: CollisionStats,
-}
-
-/// The scene's detection measured with one setting changed at a time: k, the staggered lattice,
-/// rows-only sorting, and the cell size (particles per cell).
-pub fn sweep(
-    ctx: &Context,
-    scene: &SceneFile,
-    steps: u64,
-    seed: u32,
-    mut progress: impl FnMut(&str),
-) -> Result<Vec<SweepRow>> {
-    let Some(base) = scene.collisions.clone() else {
-        return Err(Error::InvalidInput(format!(
-            "scene `{}` has no [collisions] section",
-            scene.name
-        )));
-    };
-    let g = base.cell.unwrap_or(2.0 * base.radius);
-    let mut variants: Vec<(String, scene::Collisions)> = vec![("scene".into(), base.clone())];
-    for k in [1u32, 2, 4, 16] {
-        if k != base.neighbours {
-            variants.push((
-                format!("k = {k}"),
-                scene::Collisions {
-                    neighbours: k,
-                    ..base.clone()
-                },
-            ));
-        }
-    }
-    variants.push((
-        format!("staggered {}", if base.staggered { "off" } else { "on" }),
-        scene::Collisions {
-            staggered: !base.staggered,
-            ..base.clone()
-        },
-    ));
-    for rows in [1u32, 8] {
-        variants.push((
-            format!(
-                "rows-only sort ({rows} row{})",
-                if rows == 1 { "" } else { "s" }
-            ),
-            scene::Collisions {
-                rows_only: Some(rows),
-                ..base.clone()
-            },
-        ));
-    }
-    for f in [2.0f32, 4.0] {
-        variants.push((
-            format!("cell {f} x"),
-            scene::Collisions {
-                cell: Some(g * f),
-                ..base.clone()
-            },
-        ));
-    }
-    let mut rows = Vec::new();
-    for (name, c) in variants {
-        progress(&name);
-        let mut s = scene.clone();
-        s.collisions = Some(c.clone());
-        let stats = measure(ctx, &s, steps, seed, || {})?;
-        rows.push(SweepRow {
-            variant: name,
-            k: c.neighbours,
-            staggered: c.staggered,
-            rows_only: c.rows_only,
-            cell: c.cell.unwrap_or(2.0 * c.radius),
-            stats,
-        });
-    }
-    Ok(rows)
-}
-
-/// The sweep as a markdown table.
-pub fn sweep_table(rows: &[SweepRow]) -> String {
-    let mut out = String::from(
-        "| variant | k | staggered | sort | cell (m) | particles/cell | true pairs | found | \
-         missed | miss rate | adjacent cells | other row | far along row | closer kept | \
-         tunnelled | conflicts | GPU ms |\n\
-         | --- | ---: | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: \
-         | ---: | ---: | ---: | ---: |\n",
-    );
-    for r in rows {
-        let s = &r.stats;
-        out.push_str(&format!(
-            "| {} | {} | {} | {} | {:.3} | {:.2} | {} | {} | {} | {:.1}% | {} | {} | {} | {} | {} \
-             | {} | {:.2} |\n",
-            r.variant,
-            r.k,
-            if r.staggered { "on" } else { "off" },
-            match r.rows_only {
-                None => "full".to_owned(),
-                Some(1) => "rows".to_owned(),
-                Some(n) => format!("{n} rows"),
-            },
-            r.cell,
-            s.particles_per_cell,
-            s.pairs_true,
-            s.found,
-            s.missed,
-            100.0 * s.missed as f64 / s.pairs_true.max(1) as f64,
-            s.missed_adjacent_cells,
-            s.missed_other_row,
-            s.missed_far_along_row,
-            s.missed_closer_partner,
-            s.tunnelled,
-            s.conflicts,
-            s.gpu_ms
-        ));
-    }
-    out
 }

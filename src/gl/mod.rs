@@ -1,5 +1,9 @@
 //! A thin safe layer over glow: one owning type per GL object, freed on drop, none able to
 //! outlive the [`Context`] it was made in.
+//!
+//! The only code of the crate that calls GL. The layers above describe what to draw as data
+//! ([`Draw`], [`DrawState`], [`Blend`]) and [`Context::draw`] sets all of that state on every
+//! draw, so no pass depends on what the one before it left bound or enabled.
 
 mod buffer;
 mod context;

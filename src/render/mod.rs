@@ -2,15 +2,13 @@
 
 pub mod atlas;
 mod camera;
-
+mod keyframes;
 mod particles;
 mod points;
 mod target;
 
 pub use camera::Camera;
-
-pub use particles::{
-    default_keyframes, relative_age, KeyframeRamp, ParticleRenderer, ParticleStyle,
-};
+pub use keyframes::{relative_age, KeyframeRamp};
+pub use particles::{default_keyframes, ParticleRenderer, ParticleStyle};
 pub use points::{PointRenderer, PointStyle};
 pub use target::FrameTarget;

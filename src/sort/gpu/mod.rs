@@ -1,80 +1,21 @@
 //! The GPU sorter: every pass a draw into ping-pong framebuffers.
 
+mod geometry;
+mod options;
+mod rearrange;
+
 use std::cell::RefCell;
 use std::collections::HashMap;
 
-use glam::{UVec3, Vec3};
-
 use super::network::{bitonic_schedule, group_steps, odd_even_schedule, Entry, Step};
-use super::precision::{id_table, FloatFormat};
+use super::precision::id_table;
 use crate::error::{Error, Result};
 use crate::gl::{
-    Attribute, Buffer, BufferKind, BufferUsage, Context, Defines, Draw, DrawState, Framebuffer,
-    FullscreenPass, PingPong, Primitive, Program, Texture, TextureDesc, TextureFormat, VertexArray,
-    FULLSCREEN_VERTEX,
+    Context, Defines, Draw, DrawState, Framebuffer, FullscreenPass, PingPong, Primitive, Program,
+    Texture, TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
 };
-
-pub use crate::scene::Variant;
-
-// The variant is defined with the scene file format that names it; the layout it sorts in is
-// the sorter's business.
-impl Variant {
-    /// Whether entries are packed two per texel.
-    pub fn packed(self) -> bool {
-        matches!(self, Variant::Packed | Variant::Multistep)
-    }
-}
-
-/// What the key pass computes.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum KeyMode {
-    /// Distance to the eye; ascending (front to back) or negated (back to front).
-    ViewerDistance {
-        /// The eye position.
-        eye: Vec3,
-        /// Sort the farthest first (for alpha blending).
-        back_to_front: bool,
-    },
-    /// Index of the cell of a lattice, enumerated z, y, x (UberFlow §4.3).
-    GridCell {
-        /// Corner of cell (0, 0, 0).
-        origin: Vec3,
-        /// Mesh size g0.
-        spacing: f32,
-        /// Cells per axis.
-        dims: UVec3,
-    },
-}
-
-/// Options of a [`Sorter`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SortOptions {
-    /// `None`: sort the whole texture; `Some(k)`: sort within each set of k consecutive rows
-    /// (k a power of two; 1 = rows only, UberFlow §4.4).
-    pub rows: Option<u32>,
-    /// Emulate a narrower float format in what the sort passes write (UberFlow §4.3.1).
-    pub precision: Option<FloatFormat>,
-    /// With `precision`, identifiers from the paper's enumeration instead of plain indices.
-    pub id_table: bool,
-    /// Steps of distance 2 or more per pass of the multistep variant (1 to 3; distance-1 steps
-    /// come free).
-    pub steps_per_pass: usize,
-    /// Passes [`Sorter::sort_frame`] runs per frame; `None`: the whole sort every frame. Latta
-    /// spreads one odd-even sort over 20-50 frames (§3.4.4); the sequence restarts when done.
-    pub passes_per_frame: Option<usize>,
-}
-
-impl Default for SortOptions {
-    fn default() -> Self {
-        SortOptions {
-            rows: None,
-            precision: None,
-            id_table: false,
-            steps_per_pass: 2,
-            passes_per_frame: None,
-        }
-    }
-}
+use geometry::{Geometry, GpProgram};
+pub use options::{KeyMode, SortOptions, Variant};
 
 /// One pass of the sorter.
 #[derive(Debug)]
@@ -86,15 +27,6 @@ enum Pass {
         program: GpProgram,
     },
     Group(Vec<Step>),
-}
-
-/// The three programs of the GP/FP variants: partners at a fixed offset, partners mirrored in the
-/// block (a merge stage's first pass), both partners in one texel (packed, distance 1).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-enum GpProgram {
-    Plain,
-    Mirror,
-    SameTexel,
 }
 
 /// The sorter's programs, one per key, built once each.
@@ -112,22 +44,6 @@ enum ProgramKey {
     Geometry(GpProgram),
     /// The key pass: lattice cells or viewer distance, written fresh or refreshed in place.
     Keys { grid: bool, rekey: bool },
-}
-
-/// The geometry of one GP/FP pass: a key naming its shape (passes of the same shape share one
-/// vertex buffer), the vertex data, the partner offset and the program.
-struct PassShape {
-    key: (u8, u32, u32),
-    vertices: Vec<f32>,
-    offset: (i32, i32),
-    program: GpProgram,
-}
-
-#[derive(Debug)]
-struct Geometry {
-    vao: VertexArray,
-    _buffer: Buffer,
-    vertices: u32,
 }
 
 /// (wide masks, steps) of a multistep pass: the texels it fetches are 2^wide.
@@ -344,134 +260,6 @@ impl Sorter {
         }
         Ok(())
     }
-
-    /// The quads of a GP/FP pass in texels of the sort texture: (shape key, vertex data, offset,
-    /// program). Vertex: position (2 floats), attributes (sign, comparison, partner u, v).
-    fn quads(&self, step: &Step) -> PassShape {
-        let Step::Bitonic {
-            block,
-            dist,
-            mirror,
-        } = *step
-        else {
-            unreachable!("GP/FP passes are bitonic");
-        };
-        let (w, h) = (self.width, self.height);
-        let packed = self.variant.packed();
-        let tw = if packed { w / 2 } else { w };
-        let mut v = Vec::new();
-        let mut quad = |x0: u32, y0: u32, x1: u32, y1: u32, attr: &dyn Fn(u32, u32) -> [f32; 4]| {
-            for (x, y) in [(x0, y0), (x1, y0), (x1, y1), (x0, y0), (x1, y1), (x0, y1)] {
-                v.extend_from_slice(&[x as f32, y as f32]);
-                v.extend_from_slice(&attr(x, y));
-            }
-        };
-        if mirror {
-            // Merge stage opening: rows [y0, y0 + r) of a block meet rows mirrored in the block,
-            // columns mirrored in the row; the lower half keeps the smaller entries.
-            let r = block / w;
-            for y0 in (0..h).step_by(r as usize) {
-                for (lo, hi, cmp) in [(y0, y0 + r / 2, 1.0), (y0 + r / 2, y0 + r, -1.0)] {
-                    quad(0, lo, tw, hi, &|x, y| {
-                        [1.0, cmp, (tw - x) as f32, (2 * y0 + r - y) as f32]
-                    });
-                }
-            }
-            return PassShape {
-                key: (0, block, 0),
-                vertices: v,
-                offset: (0, 0),
-                program: GpProgram::Mirror,
-            };
-        }
-        let asc_all = block > w;
-        if dist >= w {
-            // Merge passes between rows: transposed quads over groups of rows.
-            let r = dist / w;
-            for y0 in (0..h).step_by(r as usize) {
-                let sign = if y0 & r == 0 { 1.0 } else { -1.0 };
-                quad(0, y0, tw, y0 + r, &|_, _| [sign, sign, 0.0, 0.0]);
-            }
-            return PassShape {
-                key: (1, dist, 0),
-                vertices: v,
-                offset: (0, r as i32),
-                program: GpProgram::Plain,
-            };
-        }
-        let stage = if asc_all { 0 } else { block };
-        if packed && dist == 1 {
-            // Both entries in one texel; the direction is constant over block / 2 texels.
-            let run = (block / 2).max(1);
-            if asc_all {
-                quad(0, 0, tw, h, &|_, _| [1.0, 1.0, 0.0, 0.0]);
-            } else {
-                for x0 in (0..tw).step_by(run as usize) {
-                    let cmp = if (2 * x0) & block == 0 { 1.0 } else { -1.0 };
-                    quad(x0, 0, x0 + run, h, &|_, _| [1.0, cmp, 0.0, 0.0]);
-                }
-            }
-            return PassShape {
-                key: (2, 1, stage),
-                vertices: v,
-                offset: (0, 0),
-                program: GpProgram::SameTexel,
-            };
-        }
-        // Row passes: column groups of `dist` entries (dist / 2 texels when packed).
-        let group = if packed { dist / 2 } else { dist };
-        for x0 in (0..tw).step_by(group as usize) {
-            let first = if packed { 2 * x0 } else { x0 };
-            let sign = if first & dist == 0 { 1.0 } else { -1.0 };
-            let asc = asc_all || first & block == 0;
-            let cmp = if (sign > 0.0) == asc { 1.0 } else { -1.0 };
-            quad(x0, 0, x0 + group, h, &|_, _| [sign, cmp, 0.0, 0.0]);
-        }
-        PassShape {
-            key: (3, dist, stage),
-            vertices: v,
-            offset: (group as i32, 0),
-            program: GpProgram::Plain,
-        }
-    }
-
-    fn upload_geometry(&mut self, vertices: &[f32]) -> Result<usize> {
-        let buffer = Buffer::with_data(
-            &self.ctx,
-            "sort quads",
-            BufferKind::Vertex,
-            bytemuck::cast_slice(vertices),
-            BufferUsage::StaticDraw,
-        )?;
-        let stride = 6 * 4;
-        let vao = VertexArray::with_attributes(
-            &self.ctx,
-            "sort quads",
-            &[
-                Attribute {
-                    buffer: &buffer,
-                    location: 0,
-                    components: 2,
-                    stride,
-                    offset: 0,
-                },
-                Attribute {
-                    buffer: &buffer,
-                    location: 1,
-                    components: 4,
-                    stride,
-                    offset: 8,
-                },
-            ],
-        )?;
-        self.geometry.push(Geometry {
-            vao,
-            _buffer: buffer,
-            vertices: (vertices.len() / 6) as u32,
-        });
-        Ok(self.geometry.len() - 1)
-    }
-
     /// The variant.
     pub fn variant(&self) -> Variant {
         self.variant
@@ -771,53 +559,6 @@ impl Sorter {
         let next = self.next;
         self.write_keys_with(positions, count, mode, cull_dead, true)?;
         self.next = next;
-        Ok(())
-    }
-
-    /// Gathers every texture of `source` into `dest` in sorted order: texel j of `dest` takes the
-    /// state of the particle at sorted position j (UberFlow §4.3.1, one MRT pass for all).
-    pub fn rearrange(&self, source: &Framebuffer, dest: &Framebuffer) -> Result<()> {
-        let sources: Vec<&Texture> = source.textures().iter().collect();
-        self.gather(&sources, dest)
-    }
-
-    /// Like [`rearrange`](Self::rearrange), from any textures of the state's size (the static
-    /// texture lives in its own framebuffer, for instance).
-    pub fn gather(&self, sources: &[&Texture], dest: &Framebuffer) -> Result<()> {
-        let targets = sources.len();
-        if targets == 0 || targets > 4 || dest.textures().len() != targets {
-            return Err(Error::InvalidInput(
-                "rearrangement takes 1 to 4 state textures of the same layout".into(),
-            ));
-        }
-        let mut cache = self.rearrange.borrow_mut();
-        if let std::collections::hash_map::Entry::Vacant(slot) = cache.entry(targets) {
-            let mut d = self.defines();
-            d.push(("TARGETS".into(), targets.to_string()));
-            if self.variant.packed() {
-                d.push(("PACKED".into(), "1".into()));
-            }
-            if self.id_table.is_some() {
-                d.push(("ID_TABLE".into(), "1".into()));
-            }
-            slot.insert(Program::new(
-                &self.ctx,
-                FULLSCREEN_VERTEX,
-                "sort/rearrange.frag",
-                &d,
-            )?);
-        }
-        let p = &cache[&targets];
-        p.bind();
-        self.keys().bind(0);
-        p.set_i32("u_sorted", 0);
-        p.set_i32("u_sort_width", self.width as i32);
-        p.set_i32("u_state_width", dest.width() as i32);
-        for (i, t) in sources.iter().enumerate() {
-            t.bind(1 + i as u32);
-            p.set_i32(&format!("u_state{i}"), 1 + i as i32);
-        }
-        self.fullscreen.draw(p, dest);
         Ok(())
     }
 }

@@ -1,0 +1,67 @@
+//! What a [`Sorter`](super::Sorter) sorts and how: the variant, the key, the options.
+
+use glam::{UVec3, Vec3};
+
+use crate::sort::precision::FloatFormat;
+
+pub use crate::scene::Variant;
+
+// The variant is defined with the scene file format that names it; the layout it sorts in is
+// the sorter's business.
+impl Variant {
+    /// Whether entries are packed two per texel.
+    pub fn packed(self) -> bool {
+        matches!(self, Variant::Packed | Variant::Multistep)
+    }
+}
+
+/// What the key pass computes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum KeyMode {
+    /// Distance to the eye; ascending (front to back) or negated (back to front).
+    ViewerDistance {
+        /// The eye position.
+        eye: Vec3,
+        /// Sort the farthest first (for alpha blending).
+        back_to_front: bool,
+    },
+    /// Index of the cell of a lattice, enumerated z, y, x (UberFlow §4.3).
+    GridCell {
+        /// Corner of cell (0, 0, 0).
+        origin: Vec3,
+        /// Mesh size g0.
+        spacing: f32,
+        /// Cells per axis.
+        dims: UVec3,
+    },
+}
+
+/// Options of a [`Sorter`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SortOptions {
+    /// `None`: sort the whole texture; `Some(k)`: sort within each set of k consecutive rows
+    /// (k a power of two; 1 = rows only, UberFlow §4.4).
+    pub rows: Option<u32>,
+    /// Emulate a narrower float format in what the sort passes write (UberFlow §4.3.1).
+    pub precision: Option<FloatFormat>,
+    /// With `precision`, identifiers from the paper's enumeration instead of plain indices.
+    pub id_table: bool,
+    /// Steps of distance 2 or more per pass of the multistep variant (1 to 3; distance-1 steps
+    /// come free).
+    pub steps_per_pass: usize,
+    /// Passes [`Sorter::sort_frame`] runs per frame; `None`: the whole sort every frame. Latta
+    /// spreads one odd-even sort over 20-50 frames (§3.4.4); the sequence restarts when done.
+    pub passes_per_frame: Option<usize>,
+}
+
+impl Default for SortOptions {
+    fn default() -> Self {
+        SortOptions {
+            rows: None,
+            precision: None,
+            id_table: false,
+            steps_per_pass: 2,
+            passes_per_frame: None,
+        }
+    }
+}

@@ -1,0 +1,54 @@
+//! UberFlow §4.3.1: the particle state gathered in sorted order, one MRT pass for all textures.
+
+use super::Sorter;
+use crate::error::{Error, Result};
+use crate::gl::{Framebuffer, Program, Texture, FULLSCREEN_VERTEX};
+
+impl Sorter {
+    /// Gathers every texture of `source` into `dest` in sorted order: texel j of `dest` takes the
+    /// state of the particle at sorted position j (UberFlow §4.3.1, one MRT pass for all).
+    pub fn rearrange(&self, source: &Framebuffer, dest: &Framebuffer) -> Result<()> {
+        let sources: Vec<&Texture> = source.textures().iter().collect();
+        self.gather(&sources, dest)
+    }
+
+    /// Like [`rearrange`](Self::rearrange), from any textures of the state's size (the static
+    /// texture lives in its own framebuffer, for instance).
+    pub fn gather(&self, sources: &[&Texture], dest: &Framebuffer) -> Result<()> {
+        let targets = sources.len();
+        if targets == 0 || targets > 4 || dest.textures().len() != targets {
+            return Err(Error::InvalidInput(
+                "rearrangement takes 1 to 4 state textures of the same layout".into(),
+            ));
+        }
+        let mut cache = self.rearrange.borrow_mut();
+        if let std::collections::hash_map::Entry::Vacant(slot) = cache.entry(targets) {
+            let mut d = self.defines();
+            d.push(("TARGETS".into(), targets.to_string()));
+            if self.variant.packed() {
+                d.push(("PACKED".into(), "1".into()));
+            }
+            if self.id_table.is_some() {
+                d.push(("ID_TABLE".into(), "1".into()));
+            }
+            slot.insert(Program::new(
+                &self.ctx,
+                FULLSCREEN_VERTEX,
+                "sort/rearrange.frag",
+                &d,
+            )?);
+        }
+        let p = &cache[&targets];
+        p.bind();
+        self.keys().bind(0);
+        p.set_i32("u_sorted", 0);
+        p.set_i32("u_sort_width", self.width as i32);
+        p.set_i32("u_state_width", dest.width() as i32);
+        for (i, t) in sources.iter().enumerate() {
+            t.bind(1 + i as u32);
+            p.set_i32(&format!("u_state{i}"), 1 + i as i32);
+        }
+        self.fullscreen.draw(p, dest);
+        Ok(())
+    }
+}

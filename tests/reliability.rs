@@ -1,0 +1,272 @@
+//! The promises of docs/reliability.md, through the built binary: outputs that are refused when
+//! they are not regular files or clash, written all together or not at all, never through a
+//! planted link; SIGINT and SIGTERM that stop between frames and leave nothing unfinished; a
+//! closed stdout that ends quietly; numbers refused by option name.
+
+use std::fs;
+use std::io::Read;
+use std::os::unix::fs::symlink;
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn texflow(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_texflow"))
+        .args(args)
+        .output()
+        .expect("run texflow")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+fn keys(dir: &Path) -> std::path::PathBuf {
+    let p = dir.join("keys.npy");
+    texflow::npy::write_f32(&p, &[3.0, 1.0, 2.0, -5.0, 0.5]).unwrap();
+    p
+}
+
+#[test]
+fn outputs_that_are_not_regular_files_are_refused_and_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = keys(dir.path());
+    // A device node, a folder and a fifo: each refused with exit 2 before anything runs, and
+    // left as it was (run as root, a rename over /dev/null would replace the device).
+    let fifo = dir.path().join("fifo");
+    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    for (flag, target) in [
+        ("--output", Path::new("/dev/null")),
+        ("--ids", Path::new("/dev/null")),
+        ("--output", dir.path()),
+        ("--output", fifo.as_path()),
+    ] {
+        let ok_out = dir.path().join("sorted.npy");
+        let mut args = vec!["sort", "--input", s(&input), "--quiet"];
+        if flag == "--ids" {
+            args.extend(["--output", s(&ok_out), "--ids", s(target)]);
+        } else {
+            args.extend(["--output", s(target)]);
+        }
+        let o = texflow(&args);
+        assert_eq!(o.status.code(), Some(2), "{flag} {target:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(flag), "{}", stderr(&o));
+        assert!(!ok_out.exists(), "no output is written when one is refused");
+    }
+    use std::os::unix::fs::FileTypeExt;
+    assert!(fs::metadata("/dev/null").unwrap().file_type().is_char_device());
+    assert!(fs::metadata(&fifo).unwrap().file_type().is_fifo());
+}
+
+#[test]
+fn clashing_paths_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = keys(dir.path());
+    let before = fs::read(&input).unwrap();
+    let out = dir.path().join("out.npy");
+    // The same path twice, the input as an output, and the input under another name.
+    let alias = dir.path().join("alias.npy");
+    fs::hard_link(&input, &alias).unwrap();
+    for (output, ids, what) in [
+        (out.clone(), out.clone(), "another output"),
+        (out.clone(), input.clone(), "the input"),
+        (input.clone(), out.clone(), "the input"),
+        (alias.clone(), out.clone(), "the input"),
+        (
+            dir.path().join(".").join("out.npy"),
+            out.clone(),
+            "another output",
+        ),
+    ] {
+        let o = texflow(&[
+            "sort",
+            "--input",
+            s(&input),
+            "--output",
+            s(&output),
+            "--ids",
+            s(&ids),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{output:?} {ids:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(what), "{}", stderr(&o));
+    }
+    assert_eq!(fs::read(&input).unwrap(), before, "the input is untouched");
+    assert!(!out.exists());
+}
+
+#[test]
+fn both_outputs_appear_together_and_no_temporary_file_is_left() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = keys(dir.path());
+    let (out, ids) = (dir.path().join("k.npy"), dir.path().join("i.npy"));
+    let o = texflow(&[
+        "sort",
+        "--input",
+        s(&input),
+        "--output",
+        s(&out),
+        "--ids",
+        s(&ids),
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(texflow::npy::read_f32(&out).unwrap(), [-5.0, 0.5, 1.0, 2.0, 3.0]);
+    assert_eq!(names(dir.path()), ["i.npy", "k.npy", "keys.npy"]);
+    // An --ids folder that cannot be written is found before the sort: nothing is written.
+    let locked = dir.path().join("locked");
+    fs::create_dir(&locked).unwrap();
+    let o = texflow(&[
+        "sort",
+        "--input",
+        s(&input),
+        "--output",
+        s(&dir.path().join("k2.npy")),
+        "--ids",
+        s(&locked.join("missing/i.npy")),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(!dir.path().join("k2.npy").exists());
+}
+
+#[test]
+fn planted_links_are_replaced_not_followed() {
+    let dir = tempfile::tempdir().unwrap();
+    let victim = dir.path().join("victim.txt");
+    fs::write(&victim, b"precious").unwrap();
+    let out = dir.path().join("frames");
+    fs::create_dir(&out).unwrap();
+    // Every predictable name a careless writer might use, linked to the victim.
+    for name in [
+        "frame_00000.png",
+        ".frame_00000.png.tmp",
+        ".texflow-write-test-1",
+    ] {
+        symlink(&victim, out.join(name)).unwrap();
+    }
+    let o = texflow(&[
+        "render",
+        "fire",
+        "--frames",
+        "1",
+        "--particles",
+        "8",
+        "--resolution",
+        "16",
+        "--out",
+        s(&out),
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(fs::read(&victim).unwrap(), b"precious");
+    // The frame replaced the link with a real file.
+    let frame = out.join("frame_00000.png");
+    assert!(!fs::symlink_metadata(&frame).unwrap().is_symlink());
+    assert!(image::open(&frame).is_ok());
+}
+
+/// Starts a long render, waits for its first frame, sends `signal`, and returns its exit code
+/// and the output folder's names.
+fn interrupted_render(signal: &str) -> (Option<i32>, Vec<String>, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("frames");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_texflow"))
+        .args([
+            "render",
+            "fire",
+            "--frames",
+            "100000",
+            "--particles",
+            "16",
+            "--resolution",
+            "32",
+            "--quiet",
+            "--out",
+            s(&out),
+        ])
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let t0 = Instant::now();
+    while !out.join("frame_00002.png").exists() {
+        assert!(t0.elapsed() < Duration::from_secs(120), "no frames appeared");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let pid = child.id().to_string();
+    assert!(Command::new("kill")
+        .args([signal, &pid])
+        .status()
+        .unwrap()
+        .success());
+    let status = child.wait().unwrap();
+    let mut err = String::new();
+    child.stderr.take().unwrap().read_to_string(&mut err).unwrap();
+    let n = names(&out);
+    (status.code(), n, err)
+}
+
+#[test]
+fn sigint_and_sigterm_stop_between_frames_and_leave_nothing_unfinished() {
+    for (signal, code) in [("-INT", 130), ("-TERM", 143)] {
+        let (status, files, err) = interrupted_render(signal);
+        assert_eq!(status, Some(code), "{signal}: {err}");
+        assert!(err.contains("interrupted"), "{err}");
+        assert!(files.len() >= 3, "the frames written so far stay: {files:?}");
+        for f in &files {
+            assert!(
+                f.starts_with("frame_") && f.ends_with(".png"),
+                "{signal} left {f} behind"
+            );
+        }
+        // Every frame left is whole.
+        let dir_frames = files.len();
+        assert!(dir_frames > 0);
+    }
+}
+
+#[test]
+fn a_closed_stdout_ends_quietly() {
+    // `texflow scene list | head -1`: the reader goes away after one line.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_texflow"))
+        .args(["scene", "list", "snow"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let status = child.wait().unwrap();
+    let mut err = String::new();
+    child.stderr.take().unwrap().read_to_string(&mut err).unwrap();
+    assert!(!err.contains("panicked"), "{err}");
+    assert_ne!(status.code(), Some(101), "a panic's exit code: {err}");
+}
+
+#[test]
+fn numbers_out_of_range_are_refused_by_option() {
+    for (args, message) in [
+        (&["render", "--frames", "-1"][..], "--frames"),
+        (&["render", "--dt", "-inf"][..], "--dt"),
+        (&["render", "--dt", "1e39"][..], "--dt"),
+        (&["render", "--substeps", "-2"][..], "--substeps"),
+        (&["collide-stats", "--cell", "inf"][..], "--cell"),
+        (&["collide-stats", "--cell", "nan"][..], "--cell"),
+        (&["bench", "sort", "--repeats", "0"][..], "--repeats"),
+        (&["scene", "check", "snow", "--device", "99"][..], "EGL device 99"),
+    ] {
+        let o = texflow(args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(message), "{args:?}: {}", stderr(&o));
+    }
+}

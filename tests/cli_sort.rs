@@ -93,8 +93,7 @@ fn bad_sort_input_is_refused() {
         std::fs::write(&p, bytes).unwrap();
         p
     };
-    let npy = |descr: &str, shape: &str, data: &[u8]| {
-        let mut h = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}");
+    let npy_dict = |mut h: String, data: &[u8]| {
         while (10 + h.len() + 1) % 64 != 0 {
             h.push(' ');
         }
@@ -104,6 +103,10 @@ fn bad_sort_input_is_refused() {
         b.extend_from_slice(h.as_bytes());
         b.extend_from_slice(data);
         b
+    };
+    let npy = |descr: &str, shape: &str, data: &[u8]| {
+        let h = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}");
+        npy_dict(h, data)
     };
     let good = write("good.npy", &npy("<f4", "(2,)", &[0; 8]));
     let cases = [
@@ -115,6 +118,35 @@ fn bad_sort_input_is_refused() {
         ),
         (write("empty.npy", &npy("<f4", "(0,)", &[])), "empty"),
         (write("2d.npy", &npy("<f4", "(1, 2)", &[0; 8])), "not 1-D"),
+        // Issue 13: a shape whose byte count overflows, and data of another length than the
+        // shape's, used to sort 0 or 3 keys and exit 0.
+        (
+            write("huge.npy", &npy("<f4", "(4611686018427387904,)", &[0; 12])),
+            "more bytes than a 64-bit size",
+        ),
+        (
+            write("short.npy", &npy("<f4", "(3,)", &[0; 8])),
+            "needs exactly 12",
+        ),
+        (
+            write("long.npy", &npy("<f4", "(1,)", &[0; 12])),
+            "needs exactly 4",
+        ),
+        (write("be.npy", &npy(">f4", "(1,)", &[0; 4])), "big-endian"),
+        (
+            write(
+                "structured.npy",
+                &npy_dict(
+                    "{'descr': [('a', '<f4')], 'fortran_order': False, 'shape': (1,), }".into(),
+                    &[0; 4],
+                ),
+            ),
+            "structured dtype",
+        ),
+        (
+            write("v4.npy", b"\x93NUMPY\x04\x00\x00\x00\x00\x00"),
+            "versions 1.0, 2.0 and 3.0 are accepted",
+        ),
     ];
     for (input, message) in cases {
         let o = texflow(&["sort", "--input", s(&input), "--output", s(&out), "--quiet"]);

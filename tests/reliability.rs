@@ -47,7 +47,11 @@ fn outputs_that_are_not_regular_files_are_refused_and_kept() {
     // A device node, a folder and a fifo: each refused with exit 2 before anything runs, and
     // left as it was (run as root, a rename over /dev/null would replace the device).
     let fifo = dir.path().join("fifo");
-    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
     for (flag, target) in [
         ("--output", Path::new("/dev/null")),
         ("--ids", Path::new("/dev/null")),
@@ -62,12 +66,20 @@ fn outputs_that_are_not_regular_files_are_refused_and_kept() {
             args.extend(["--output", s(target)]);
         }
         let o = texflow(&args);
-        assert_eq!(o.status.code(), Some(2), "{flag} {target:?}: {}", stderr(&o));
+        assert_eq!(
+            o.status.code(),
+            Some(2),
+            "{flag} {target:?}: {}",
+            stderr(&o)
+        );
         assert!(stderr(&o).contains(flag), "{}", stderr(&o));
         assert!(!ok_out.exists(), "no output is written when one is refused");
     }
     use std::os::unix::fs::FileTypeExt;
-    assert!(fs::metadata("/dev/null").unwrap().file_type().is_char_device());
+    assert!(fs::metadata("/dev/null")
+        .unwrap()
+        .file_type()
+        .is_char_device());
     assert!(fs::metadata(&fifo).unwrap().file_type().is_fifo());
 }
 
@@ -100,7 +112,12 @@ fn clashing_paths_are_refused() {
             "--ids",
             s(&ids),
         ]);
-        assert_eq!(o.status.code(), Some(2), "{output:?} {ids:?}: {}", stderr(&o));
+        assert_eq!(
+            o.status.code(),
+            Some(2),
+            "{output:?} {ids:?}: {}",
+            stderr(&o)
+        );
         assert!(stderr(&o).contains(what), "{}", stderr(&o));
     }
     assert_eq!(fs::read(&input).unwrap(), before, "the input is untouched");
@@ -123,7 +140,10 @@ fn both_outputs_appear_together_and_no_temporary_file_is_left() {
         "--quiet",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert_eq!(texflow::npy::read_f32(&out).unwrap(), [-5.0, 0.5, 1.0, 2.0, 3.0]);
+    assert_eq!(
+        texflow::npy::read_f32(&out).unwrap(),
+        [-5.0, 0.5, 1.0, 2.0, 3.0]
+    );
     assert_eq!(names(dir.path()), ["i.npy", "k.npy", "keys.npy"]);
     // An --ids folder that cannot be written is found before the sort: nothing is written.
     let locked = dir.path().join("locked");
@@ -201,7 +221,10 @@ fn interrupted_render(signal: &str) -> (Option<i32>, Vec<String>, String) {
         .unwrap();
     let t0 = Instant::now();
     while !out.join("frame_00002.png").exists() {
-        assert!(t0.elapsed() < Duration::from_secs(120), "no frames appeared");
+        assert!(
+            t0.elapsed() < Duration::from_secs(120),
+            "no frames appeared"
+        );
         std::thread::sleep(Duration::from_millis(20));
     }
     let pid = child.id().to_string();
@@ -212,7 +235,12 @@ fn interrupted_render(signal: &str) -> (Option<i32>, Vec<String>, String) {
         .success());
     let status = child.wait().unwrap();
     let mut err = String::new();
-    child.stderr.take().unwrap().read_to_string(&mut err).unwrap();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
     let n = names(&out);
     (status.code(), n, err)
 }
@@ -223,7 +251,10 @@ fn sigint_and_sigterm_stop_between_frames_and_leave_nothing_unfinished() {
         let (status, files, err) = interrupted_render(signal);
         assert_eq!(status, Some(code), "{signal}: {err}");
         assert!(err.contains("interrupted"), "{err}");
-        assert!(files.len() >= 3, "the frames written so far stay: {files:?}");
+        assert!(
+            files.len() >= 3,
+            "the frames written so far stay: {files:?}"
+        );
         for f in &files {
             assert!(
                 f.starts_with("frame_") && f.ends_with(".png"),
@@ -248,7 +279,12 @@ fn a_closed_stdout_ends_quietly() {
     drop(child.stdout.take());
     let status = child.wait().unwrap();
     let mut err = String::new();
-    child.stderr.take().unwrap().read_to_string(&mut err).unwrap();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
     assert!(!err.contains("panicked"), "{err}");
     assert_ne!(status.code(), Some(101), "a panic's exit code: {err}");
 }
@@ -263,7 +299,10 @@ fn numbers_out_of_range_are_refused_by_option() {
         (&["collide-stats", "--cell", "inf"][..], "--cell"),
         (&["collide-stats", "--cell", "nan"][..], "--cell"),
         (&["bench", "sort", "--repeats", "0"][..], "--repeats"),
-        (&["scene", "check", "snow", "--device", "99"][..], "EGL device 99"),
+        (
+            &["scene", "check", "snow", "--device", "99"][..],
+            "EGL device 99",
+        ),
     ] {
         let o = texflow(args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));

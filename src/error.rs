@@ -172,5 +172,18 @@ impl Error {
     }
 }
 
+impl Error {
+    /// The CLI's exit code for this error (docs/reliability.md): 2 for bad input, 3 for a run
+    /// whose state turned NaN or infinite, 128 + the signal for an interrupted run, 1 otherwise.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Error::NonFinite { .. } => 3,
+            Error::Interrupted { signal } => (128 + signal).clamp(0, 255) as u8,
+            e if e.is_bad_input() => 2,
+            _ => 1,
+        }
+    }
+}
+
 /// Shorthand for results of this crate.
 pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -29,15 +29,9 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(texflow::Error::Interrupted { signal }) => {
-            eprintln!(
-                "texflow: interrupted by signal {signal}; the files written so far are complete"
-            );
-            ExitCode::from((128 + signal) as u8)
-        }
         Err(e) => {
             eprintln!("error: {e}");
-            ExitCode::from(if e.is_bad_input() { 2 } else { 1 })
+            ExitCode::from(e.exit_code())
         }
     }
 }

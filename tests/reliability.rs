@@ -309,3 +309,56 @@ fn numbers_out_of_range_are_refused_by_option() {
         assert!(stderr(&o).contains(message), "{args:?}: {}", stderr(&o));
     }
 }
+
+#[test]
+fn non_finite_state_stops_the_run_with_exit_3_unless_allowed() {
+    let dir = tempfile::tempdir().unwrap();
+    // Euler on a spring with ω·dt = 1000/60: the amplitude grows ~17× a step and overflows f32
+    // within a few dozen steps (docs/numerics.md, the spring's stability limit ω·dt < 2).
+    let scene = dir.path().join("unstable.toml");
+    fs::write(
+        &scene,
+        r#"name = "unstable"
+integrator = "euler"
+[particles]
+size = [4, 4]
+[time]
+dt = 0.016666668
+[[emitters.initial]]
+shape = "point"
+center = [0.0, 0.0, 0.0]
+direction = [1.0, 0.0, 0.0]
+speed = [1.0, 1.0]
+[[forces.spring]]
+anchor = [0.0, 0.0, 0.0]
+stiffness = 1000000.0
+"#,
+    )
+    .unwrap();
+    let out = dir.path().join("frames");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            s(&scene),
+            "--frames",
+            "60",
+            "--resolution",
+            "16",
+            "--quiet",
+            "--out",
+            s(&out),
+        ];
+        args.extend(extra);
+        texflow(&args)
+    };
+    let o = run(&[]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(stderr(&o).contains("NaN or infinite"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--allow-non-finite"), "{}", stderr(&o));
+    let written = names(&out).len();
+    assert!(written < 60, "the run stopped at the first bad frame");
+    let o = run(&["--allow-non-finite"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains("warning"), "{}", stderr(&o));
+    assert_eq!(names(&out).len(), 60);
+}

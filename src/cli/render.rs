@@ -53,6 +53,10 @@ pub struct RenderArgs {
     /// Dump every K-th frame.
     #[arg(long, default_value_t = 1, value_parser = at_least_one::<u64>)]
     dump_every: u64,
+    /// Write the frames even when the state turns NaN or infinite (by default the run stops
+    /// there with exit code 3; see docs/reliability.md).
+    #[arg(long)]
+    allow_non_finite: bool,
     #[command(flatten)]
     common: Common,
 }
@@ -78,7 +82,11 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
         frames: a.frames,
         every: a.every,
         dump_every: a.dump_state.as_ref().map(|_| a.dump_every),
-        non_finite: NonFinitePolicy::Report,
+        non_finite: if a.allow_non_finite {
+            NonFinitePolicy::Report
+        } else {
+            NonFinitePolicy::Fail
+        },
     };
     options.check()?;
     if a.dump_every == 0 {

@@ -28,6 +28,9 @@ struct SortStage {
     back_to_front: bool,
     spread: bool,
     keyed: bool,
+    /// The simulation step the sorted textures were made at: a draw at the same step reuses
+    /// them, so drawing a frame never advances the sort spread over frames a second time.
+    ordered_at: Option<u64>,
 }
 
 impl Engine {
@@ -79,6 +82,7 @@ impl Engine {
                     back_to_front: scene.render.order == DrawOrder::BackToFront,
                     spread: p.passes_per_frame.is_some(),
                     keyed: false,
+                    ordered_at: None,
                 })
             }
         };
@@ -112,11 +116,20 @@ impl Engine {
         Ok(())
     }
 
-    /// Sorts (alpha blending only) and draws the current state into the frame target.
+    /// Draws the current state into the frame target, after the sort of this frame (alpha
+    /// blending only) if [`order_for_drawing`](Self::order_for_drawing) has not run at this step.
     pub fn draw(&mut self) -> Result<()> {
         let count = self.sim.active_count();
         self.renderer.clear(&self.target);
-        if self.order_for_drawing()? {
+        let steps = self.sim.steps();
+        let sorts = match &self.sort {
+            Some(s) if s.ordered_at == Some(steps) => {
+                self.turn_camera();
+                true
+            }
+            _ => self.order_for_drawing()?,
+        };
+        if sorts {
             let s = self.sort.as_ref().expect("a sort stage");
             let texels = self.sim.size().x as usize * self.sim.size().y as usize;
             // Dead particles sort last (+inf keys), so the live ones are a prefix.
@@ -142,11 +155,14 @@ impl Engine {
     /// The sort stage of a frame, without drawing: turns the camera to the current time, and for
     /// alpha blending writes the viewer-distance keys (refreshed in place when the sort is spread
     /// over frames), runs this frame's share of the sort and gathers positions and statics into
-    /// [`sorted`](Self::sorted). Returns whether the scene sorts at all. [`draw`](Self::draw)
-    /// calls it; it is public so that the sort's cost and quality can be measured alone.
+    /// [`sorted`](Self::sorted). Returns whether the scene sorts at all. The frame loop runs it
+    /// once every frame, drawn or not, so that the sort spread over frames (Latta §3.4.4)
+    /// advances with the simulation and a frame's pixels do not depend on which frames were
+    /// written; [`draw`](Self::draw) runs it when it has not run at this step. It is public so
+    /// that the sort's cost and quality can be measured alone.
     pub fn order_for_drawing(&mut self) -> Result<bool> {
-        let t = self.sim.time() as f32;
-        self.camera.azimuth = self.camera_start.azimuth + self.orbit * t;
+        self.turn_camera();
+        let steps = self.sim.steps();
         let Some(s) = &mut self.sort else {
             return Ok(false);
         };
@@ -166,7 +182,14 @@ impl Engine {
         s.sorter.sort_frame();
         s.sorter
             .gather(&[self.sim.positions(), self.sim.statics()], &s.sorted)?;
+        s.ordered_at = Some(steps);
         Ok(true)
+    }
+
+    /// Turns the camera to the current simulated time (`render.camera.orbit`).
+    fn turn_camera(&mut self) {
+        let t = self.sim.time() as f32;
+        self.camera.azimuth = self.camera_start.azimuth + self.orbit * t;
     }
 
     /// The sorter of an alpha-blended scene (its entries are the last frame's keys and ids).

@@ -143,6 +143,9 @@ impl FrameLoop {
         let mut s = LoopSummary::default();
         for index in 0..o.frames {
             engine.advance_frame()?;
+            // The sort belongs to every frame, written or not (issue 12: no option that chooses
+            // what is written may change what a frame shows).
+            engine.order_for_drawing()?;
             s.frames += 1;
             if index % o.every == 0 {
                 // Garbage is reported, not rendered silently.

@@ -51,6 +51,15 @@ impl SceneEngine {
         }
     }
 
+    /// The sort stage of the frame just simulated (see [`Engine::order_for_drawing`]); the
+    /// fire draws additively and has none.
+    pub fn order_for_drawing(&mut self) -> Result<()> {
+        match self {
+            SceneEngine::Fire(_) => Ok(()),
+            SceneEngine::Particles(e) => e.order_for_drawing().map(drop),
+        }
+    }
+
     /// Renders the current state.
     pub fn render(&mut self) -> Result<image::RgbImage> {
         match self {

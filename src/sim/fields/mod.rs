@@ -31,6 +31,8 @@ mod distance;
 mod flow;
 mod grid;
 mod height;
+mod mesh;
+mod scan;
 
 pub use distance::DistanceField;
 pub use flow::FlowField;

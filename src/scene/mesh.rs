@@ -158,4 +158,69 @@ mod tests {
         }
         assert!(e(&many).contains("1025 triangles"), "{}", e(&many));
     }
+
+    /// A scene of one mesh distance field, in `dir`, naming `mesh` on line 5.
+    fn scene_with(dir: &Path, mesh: &str) -> (String, String) {
+        let src = format!(
+            "name = \"m\"\n[particles]\nsize = [4, 4]\n[[colliders.sdf]]\nmesh = \"{mesh}\"\n\
+             bounds = [[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]]\nresolution = 8\n\
+             [[emitters.initial]]\nshape = \"point\"\ndirection = [0.0, 1.0, 0.0]\n\
+             speed = [0.0, 0.0]\n"
+        );
+        let path = dir.join("scene.toml");
+        std::fs::write(&path, &src).unwrap();
+        (path.display().to_string(), src)
+    }
+
+    #[test]
+    fn mesh_files_load_relative_to_the_scene_and_fail_at_the_key() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("m")).unwrap();
+        let tetra = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+        std::fs::write(dir.path().join("m/tetra.obj"), tetra).unwrap();
+        let (path, src) = scene_with(dir.path(), "m/tetra.obj");
+        let s = super::super::parse(&path, &src).unwrap();
+        assert_eq!(s.colliders.sdf[0].triangles.len(), 4);
+
+        let mut many = String::new();
+        for i in 0..=MAX_TRIANGLES {
+            many += &format!("v {i} 0 0\nv {i} 1 0\nv {i} 0 1\nf -3 -2 -1\n");
+        }
+        for (file, text, needle) in [
+            ("missing.obj", None, "cannot read mesh file"),
+            ("bad.obj", Some("v 0 0 zero\n".to_owned()), "not a valid OBJ"),
+            ("empty.obj", Some("# no faces\nv 0 0 0\n".to_owned()), "no triangles"),
+            ("many.obj", Some(many), "1025 triangles"),
+        ] {
+            if let Some(text) = text {
+                std::fs::write(dir.path().join(file), text).unwrap();
+            }
+            let (path, src) = scene_with(dir.path(), file);
+            match super::super::parse(&path, &src) {
+                Err(crate::error::Error::Scene {
+                    line,
+                    column,
+                    message,
+                    ..
+                }) => {
+                    assert_eq!((line, column), (5, 8), "{file}: {message}");
+                    assert!(message.contains(needle), "{file}: {message}");
+                }
+                other => panic!("{file}: {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn a_mesh_excludes_shapes_and_builtins_use_their_own_meshes() {
+        let dir = tempfile::tempdir().unwrap();
+        let (path, src) = scene_with(dir.path(), "x.obj");
+        let src = src.replace("resolution = 8", "resolution = 8\nspheres = [[0.0, 0.0, 0.0, 0.5]]");
+        let msg = super::super::parse(&path, &src).unwrap_err().to_string();
+        assert!(msg.contains(":5:8:") && msg.contains("either a mesh"), "{msg}");
+        let s = super::super::load("mesh").unwrap();
+        assert_eq!(s.colliders.sdf[0].triangles.len(), 320);
+        assert_eq!(builtin_mesh("mesh (built-in)", "nope.obj"), Some(None));
+        assert_eq!(builtin_mesh("scenes/mesh.toml", "meshes/blob.obj"), None);
+    }
 }

@@ -491,7 +491,10 @@ fn scanned_mesh_matches_the_brute_force_reference() {
         }
         // Not vacuous: both signs occur, and the CPU twin (the shader's formula in double
         // precision) agrees too.
-        assert!(inside > 20 && outside > 20, "{what}: {inside} in, {outside} out");
+        assert!(
+            inside > 20 && outside > 20,
+            "{what}: {inside} in, {outside} out"
+        );
         let twin = f.texels();
         let twin_worst = gpu
             .iter()
@@ -576,6 +579,9 @@ fn bad_mesh_files_exit_2_at_the_key() {
             .unwrap();
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{err}");
-        assert!(err.contains("scene.toml:5:8:") && err.contains(needle), "{err}");
+        assert!(
+            err.contains("scene.toml:5:8:") && err.contains(needle),
+            "{err}"
+        );
     }
 }

@@ -65,9 +65,11 @@ pub fn read_obj(bytes: &[u8]) -> std::result::Result<Vec<Triangle>, String> {
         }
     }
     if triangles.is_empty() {
-        return Err("it has no triangles (no faces of non-zero area): a distance field needs \
+        return Err(
+            "it has no triangles (no faces of non-zero area): a distance field needs \
                     a closed surface"
-            .into());
+                .into(),
+        );
     }
     if triangles.len() > MAX_TRIANGLES {
         return Err(format!(
@@ -146,7 +148,11 @@ mod tests {
     #[test]
     fn bad_obj_files_say_what_is_wrong() {
         let e = |s: &str| read_obj(s.as_bytes()).unwrap_err();
-        assert!(e("v 1 x 2\n").contains("not a valid OBJ"), "{}", e("v 1 x 2\n"));
+        assert!(
+            e("v 1 x 2\n").contains("not a valid OBJ"),
+            "{}",
+            e("v 1 x 2\n")
+        );
         assert!(e("v 0 0 0\nf 1 2 5\n").contains("not a valid OBJ"));
         assert!(e("# nothing\n").contains("no triangles"));
         assert!(e("v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").contains("vertex 1"));
@@ -188,8 +194,16 @@ mod tests {
         }
         for (file, text, needle) in [
             ("missing.obj", None, "cannot read mesh file"),
-            ("bad.obj", Some("v 0 0 zero\n".to_owned()), "not a valid OBJ"),
-            ("empty.obj", Some("# no faces\nv 0 0 0\n".to_owned()), "no triangles"),
+            (
+                "bad.obj",
+                Some("v 0 0 zero\n".to_owned()),
+                "not a valid OBJ",
+            ),
+            (
+                "empty.obj",
+                Some("# no faces\nv 0 0 0\n".to_owned()),
+                "no triangles",
+            ),
             ("many.obj", Some(many), "1025 triangles"),
         ] {
             if let Some(text) = text {
@@ -215,9 +229,15 @@ mod tests {
     fn a_mesh_excludes_shapes_and_builtins_use_their_own_meshes() {
         let dir = tempfile::tempdir().unwrap();
         let (path, src) = scene_with(dir.path(), "x.obj");
-        let src = src.replace("resolution = 8", "resolution = 8\nspheres = [[0.0, 0.0, 0.0, 0.5]]");
+        let src = src.replace(
+            "resolution = 8",
+            "resolution = 8\nspheres = [[0.0, 0.0, 0.0, 0.5]]",
+        );
         let msg = super::super::parse(&path, &src).unwrap_err().to_string();
-        assert!(msg.contains(":5:8:") && msg.contains("either a mesh"), "{msg}");
+        assert!(
+            msg.contains(":5:8:") && msg.contains("either a mesh"),
+            "{msg}"
+        );
         let s = super::super::load("mesh").unwrap();
         assert_eq!(s.colliders.sdf[0].triangles.len(), 320);
         assert_eq!(builtin_mesh("mesh (built-in)", "nope.obj"), Some(None));

@@ -144,7 +144,12 @@ impl DistanceField {
                 c.triangles.len()
             )));
         }
-        if c.triangles.iter().flatten().flatten().any(|v| !v.is_finite()) {
+        if c.triangles
+            .iter()
+            .flatten()
+            .flatten()
+            .any(|v| !v.is_finite())
+        {
             return Err(Error::InvalidInput(format!(
                 "distance field: {name} has a vertex that is not finite"
             )));

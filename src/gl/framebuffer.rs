@@ -1,16 +1,22 @@
 //! Framebuffers that own their colour attachments: one set of state textures written by a pass
-//! through multiple render targets.
+//! through multiple render targets; and framebuffers whose one attachment is a layer (z slice)
+//! of a 3D texture, for building a field slice by slice (UberFlow §4.6).
 
 use glow::HasContext;
 
-use super::{Context, Texture};
+use super::{Context, Texture, Texture3D};
 use crate::error::{Error, Incomplete, Result};
 
-/// A framebuffer object with 1 to 8 owned colour attachments, all drawn to by every pass.
+/// A framebuffer object with 1 to 8 owned colour attachments, all drawn to by every pass; or
+/// (made by [`Framebuffer::layer`]) with one layer of a 3D texture it does not own.
 pub struct Framebuffer {
     ctx: Context,
     raw: glow::Framebuffer,
     textures: Vec<Texture>,
+    /// Width and height of the attachments.
+    size: [u32; 2],
+    /// Number of colour attachments.
+    attachments: usize,
     label: String,
 }
 
@@ -74,13 +80,62 @@ impl Framebuffer {
             ctx.draw_buffers(&draw);
             raw
         };
-        let fb = Framebuffer {
+        let attachments = textures.len();
+        Framebuffer {
             ctx: ctx.clone(),
             raw,
             textures,
+            size: [w, h],
+            attachments,
             label: label.to_owned(),
+        }
+        .checked()
+    }
+
+    /// A framebuffer whose one colour attachment is layer `layer` (the z slice `k = layer`) of
+    /// `texture`, checked for completeness: a full-screen pass into it writes texel `(i, j)` of
+    /// that slice at `gl_FragCoord.xy = (i, j) + 0.5`.
+    ///
+    /// It does not own the texture; drop it before the texture (GL keeps an attached image alive
+    /// until it is detached, so the other order leaks the storage for a moment but is not
+    /// undefined).
+    pub fn layer(ctx: &Context, label: &str, texture: &Texture3D, layer: u32) -> Result<Self> {
+        let [w, h, d] = texture.size();
+        if layer >= d {
+            return Err(Error::InvalidInput(format!(
+                "framebuffer {label}: layer {layer} of a 3D texture of depth {d}"
+            )));
+        }
+        // SAFETY: a fresh framebuffer; the texture is alive and belongs to this context, and
+        // the layer lies inside it.
+        let raw = unsafe {
+            let raw = ctx.create_framebuffer().map_err(Error::Gl)?;
+            ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
+            ctx.framebuffer_texture_layer(
+                glow::FRAMEBUFFER,
+                glow::COLOR_ATTACHMENT0,
+                Some(texture.raw()),
+                0,
+                layer as i32,
+            );
+            ctx.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
+            raw
         };
-        ctx.label(glow::FRAMEBUFFER, raw.0.get(), label);
+        Framebuffer {
+            ctx: ctx.clone(),
+            raw,
+            textures: Vec::new(),
+            size: [w, h],
+            attachments: 1,
+            label: label.to_owned(),
+        }
+        .checked()
+    }
+
+    /// Labels the (bound) framebuffer, checks its completeness and unbinds it.
+    fn checked(self) -> Result<Self> {
+        let (ctx, label) = (&self.ctx, &self.label);
+        ctx.label(glow::FRAMEBUFFER, self.raw.0.get(), label);
         // SAFETY: the framebuffer is bound.
         let status = unsafe { ctx.check_framebuffer_status(glow::FRAMEBUFFER) };
         // SAFETY: unbinding has no preconditions.
@@ -92,22 +147,22 @@ impl Framebuffer {
             });
         }
         ctx.check_error(&format!("creating framebuffer {label}"))?;
-        Ok(fb)
+        Ok(self)
     }
 
     /// Width of the attachments.
     pub fn width(&self) -> u32 {
-        self.textures[0].width()
+        self.size[0]
     }
     /// Height of the attachments.
     pub fn height(&self) -> u32 {
-        self.textures[0].height()
+        self.size[1]
     }
-    /// Attachment `i`.
+    /// Attachment `i` (owned attachments only: a [`Framebuffer::layer`] has none).
     pub fn texture(&self, i: usize) -> &Texture {
         &self.textures[i]
     }
-    /// All attachments in order.
+    /// All owned attachments in order (none for a [`Framebuffer::layer`]).
     pub fn textures(&self) -> &[Texture] {
         &self.textures
     }
@@ -136,7 +191,7 @@ impl Framebuffer {
         self.bind();
         // SAFETY: the framebuffer is bound.
         unsafe {
-            for i in 0..self.textures.len() {
+            for i in 0..self.attachments {
                 self.ctx
                     .clear_buffer_f32_slice(glow::COLOR, i as u32, &rgba);
             }

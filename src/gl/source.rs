@@ -44,6 +44,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "sim/emit.frag",
     "sim/verlet_start.frag",
     "sim/nonfinite.frag",
+    "sim/sdf_slice.frag",
     "collide/detect.frag",
     "collide/mutual.frag",
     "collide/response.frag",

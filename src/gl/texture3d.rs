@@ -180,6 +180,11 @@ impl Texture3D {
         Ok(out)
     }
 
+    /// The GL name, for the GL layer.
+    pub(crate) fn raw(&self) -> glow::Texture {
+        self.raw
+    }
+
     /// Binds the texture to texture unit `unit` (a `sampler3D` uniform set to `unit` reads it).
     pub fn bind(&self, unit: u32) {
         // SAFETY: the texture is alive and belongs to this context.

@@ -19,7 +19,31 @@ macro_rules! builtin_scenes {
     };
 }
 
-builtin_scenes!["fire", "snow", "fountain", "smoke", "e1", "e2", "e3", "collide"];
+builtin_scenes!["fire", "snow", "fountain", "smoke", "e1", "e2", "e3", "collide", "mesh"];
+
+/// The meshes the built-in scenes name (`[[colliders.sdf]] mesh`), by the path they give
+/// (relative to `examples/scenes/`), compiled into the binary.
+pub static BUILTIN_MESHES: &[(&str, &[u8])] = &[(
+    "meshes/blob.obj",
+    include_bytes!(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/scenes/meshes/blob.obj"
+    )),
+)];
+
+/// For the scene labelled `scene`: `None` if it is not a built-in (its meshes are files), else
+/// the built-in mesh `name` if there is one.
+pub(super) fn builtin_mesh(scene: &str, name: &str) -> Option<Option<&'static [u8]>> {
+    let builtin = scene
+        .strip_suffix(" (built-in)")
+        .is_some_and(|n| builtin_source(n).is_some());
+    builtin.then(|| {
+        BUILTIN_MESHES
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, b)| *b)
+    })
+}
 
 /// The scene rendered when none is named.
 pub const DEFAULT_SCENE: &str = "fire";

@@ -10,18 +10,22 @@
 //! - `validate/`: one function per section, called by [`SceneFile::validate`];
 //! - `locate`: an error's path into the document ([`Key`], [`Invalid`]) to line and column;
 //! - `parse`: [`parse`] and the device-size check [`check_limits`];
-//! - `builtin`: the built-in scenes and loading by name or path ([`load`], [`BUILTIN`]).
+//! - `builtin`: the built-in scenes and loading by name or path ([`load`], [`BUILTIN`]);
+//! - `mesh`: the OBJ meshes of distance fields, read while parsing ([`read_obj`]).
 
 mod builtin;
 mod locate;
+mod mesh;
 mod parse;
 mod schema;
 mod validate;
 
 pub use builtin::{
-    builtin, builtin_source, fire, load, load_source, BUILTIN, BUILTIN_SOURCES, DEFAULT_SCENE,
+    builtin, builtin_source, fire, load, load_source, BUILTIN, BUILTIN_MESHES, BUILTIN_SOURCES,
+    DEFAULT_SCENE,
 };
 pub use locate::{Invalid, Key};
+pub use mesh::{read_obj, Triangle, MAX_TRIANGLES};
 pub use parse::{check_limits, parse, SizeLimits};
 pub use schema::*;
 

@@ -1,5 +1,5 @@
-//! Reading a scene file: parse, reject non-finite numbers, validate, locate the first error; and
-//! the device-size check that runs once a context exists.
+//! Reading a scene file: parse, reject non-finite numbers, validate, read the meshes it names,
+//! locate the first error; and the device-size check that runs once a context exists.
 
 use toml::de::DeTable;
 
@@ -31,7 +31,7 @@ pub fn parse(path: &str, src: &str) -> Result<SceneFile> {
     if let Some((at, message)) = find_non_finite(doc.get_ref()) {
         return Err(scene_error(path, src, at, message));
     }
-    let scene: SceneFile = toml::from_str(src).map_err(|e| {
+    let mut scene: SceneFile = toml::from_str(src).map_err(|e| {
         scene_error(
             path,
             src,
@@ -47,6 +47,7 @@ pub fn parse(path: &str, src: &str) -> Result<SceneFile> {
             invalid.message,
         ));
     }
+    super::mesh::load_meshes(path, src, &doc, &mut scene)?;
     Ok(scene)
 }
 

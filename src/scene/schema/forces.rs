@@ -218,7 +218,8 @@ pub struct HeightFieldCollider {
     pub resilience: f32,
 }
 
-/// A signed distance field built from analytic shapes.
+/// A signed distance field (UberFlow §4.6) built from analytic shapes, or scan-converted on the
+/// GPU from a triangle mesh.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SdfCollider {
@@ -232,6 +233,13 @@ pub struct SdfCollider {
     /// Boxes [min x, min y, min z, max x, max y, max z] united into the shape.
     #[serde(default)]
     pub boxes: Vec<[f32; 6]>,
+    /// A closed triangle mesh (an OBJ file, relative to the scene file) scan-converted into
+    /// the field instead of spheres and boxes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<String>,
+    /// The mesh's triangles, read when the scene file is parsed (empty without a mesh).
+    #[serde(skip)]
+    pub triangles: Vec<[[f32; 3]; 3]>,
     /// Friction μ in [0, 1] (Latta eq. 5).
     #[serde(default)]
     pub friction: f32,

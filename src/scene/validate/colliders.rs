@@ -104,11 +104,27 @@ pub(super) fn colliders(s: &SceneFile) -> Check {
                 corner,
             )?;
         }
-        if sdf.spheres.is_empty() && sdf.boxes.is_empty() {
-            return fail(
-                path(&[N("colliders"), N("sdf"), I(i)]),
-                "a distance field needs at least one sphere or box",
-            );
+        let shapes = !(sdf.spheres.is_empty() && sdf.boxes.is_empty());
+        match &sdf.mesh {
+            None if !shapes => {
+                return fail(
+                    path(&[N("colliders"), N("sdf"), I(i)]),
+                    "a distance field needs at least one sphere or box, or a mesh",
+                );
+            }
+            Some(_) if shapes => {
+                return fail(
+                    path(&[N("colliders"), N("sdf"), I(i), N("mesh")]),
+                    "a distance field is either a mesh or spheres and boxes: remove one",
+                );
+            }
+            Some(m) if m.trim().is_empty() => {
+                return fail(
+                    path(&[N("colliders"), N("sdf"), I(i), N("mesh")]),
+                    "mesh must name an OBJ file (relative to the scene file)",
+                );
+            }
+            _ => {}
         }
         check_response(
             path(&[N("colliders"), N("sdf"), I(i)]),

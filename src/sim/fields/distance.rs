@@ -1,11 +1,16 @@
-//! The signed distance field (UberFlow §4.6): the union of a scene's spheres and boxes.
+//! The signed distance field (UberFlow §4.6): the union of a scene's spheres and boxes, or a
+//! triangle mesh scan-converted on the GPU.
+
+use std::sync::OnceLock;
 
 use glam::{Vec3, Vec4};
 
-use super::grid::Grid3;
+use super::grid::{self, Axis, Grid3};
+use super::mesh::mesh_distance;
+use super::scan::scan_convert;
 use crate::error::{Error, Result};
 use crate::gl::{Context, Texture3D};
-use crate::scene::SdfCollider;
+use crate::scene::{SdfCollider, Triangle, MAX_TRIANGLES};
 
 /// Exact signed distance to a sphere `[x, y, z, r]`, in double precision.
 fn sphere_distance(p: [f64; 3], s: [f32; 4]) -> f64 {
@@ -35,26 +40,60 @@ fn union_distance(spheres: &[[f32; 4]], boxes: &[[f32; 6]], p: Vec3) -> f32 {
     s.chain(b).fold(f64::INFINITY, f64::min) as f32
 }
 
+/// The shapes a field is built from.
+#[derive(Debug, Clone, PartialEq)]
+enum Shapes {
+    /// The union of spheres and boxes: the texels are computed on the CPU and uploaded.
+    Union {
+        spheres: Vec<[f32; 4]>,
+        boxes: Vec<[f32; 6]>,
+    },
+    /// A closed triangle mesh: scan-converted on the GPU (`scan`), the CPU's texels computed
+    /// only when the CPU samples the field.
+    Mesh(Vec<Triangle>),
+}
+
+impl Shapes {
+    fn distance(&self, p: Vec3) -> f32 {
+        match self {
+            Shapes::Union { spheres, boxes } => union_distance(spheres, boxes, p),
+            Shapes::Mesh(triangles) => mesh_distance(triangles, p),
+        }
+    }
+}
+
 /// A signed distance field in a 3D R32F texture (UberFlow §4.6): negative inside the union of
-/// the scene's spheres and boxes.
+/// the scene's spheres and boxes, or inside its triangle mesh.
 ///
 /// The union's distance is the minimum of the shapes' exact distances: exact outside the union
 /// and inside a single shape, a lower bound of the depth where shapes overlap. It is
-/// 1-Lipschitz, which is what the error bounds of the tests rest on.
+/// 1-Lipschitz, which is what the error bounds of the tests rest on. A mesh's distance is the
+/// distance to its nearest triangle, negative where the mesh's winding number exceeds 1/2 in
+/// magnitude (inside a closed mesh); also 1-Lipschitz away from the surface's sign change.
+///
+/// A mesh's field is made on the GPU by [`DistanceField::upload`] (one fragment pass per slice,
+/// `scan`); the CPU's copy of its texels (for [`DistanceField::sample`] and the CPU twins) is
+/// computed from the same formula in double precision the first time it is needed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DistanceField {
-    grid: Grid3,
-    spheres: Vec<[f32; 4]>,
-    boxes: Vec<[f32; 6]>,
+    axes: [Axis; 3],
+    shapes: Shapes,
+    grid: OnceLock<Grid3>,
 }
 
 impl DistanceField {
     /// Samples the exact distance of `c`'s shapes at the nodes of `c.bounds`, `c.resolution` per
-    /// axis.
+    /// axis; for a mesh (`c.triangles`, read by `scene::parse` from `c.mesh`) that is left to
+    /// the GPU's scan conversion in [`DistanceField::upload`].
     pub fn new(c: &SdfCollider) -> Result<Self> {
+        let r = c.resolution;
+        let axes = grid::axes("distance field", c.bounds, [r, r, r])?;
+        if c.mesh.is_some() || !c.triangles.is_empty() {
+            return Self::mesh(c, axes);
+        }
         if c.spheres.is_empty() && c.boxes.is_empty() {
             return Err(Error::InvalidInput(
-                "distance field: needs at least one sphere or box".into(),
+                "distance field: needs at least one sphere or box, or a mesh".into(),
             ));
         }
         if let Some(s) = c
@@ -75,30 +114,85 @@ impl DistanceField {
                 "distance field: box {b:?} needs finite corners with min <= max on every axis"
             )));
         }
-        let r = c.resolution;
-        let grid = Grid3::build("distance field", c.bounds, [r, r, r], 1, |p| {
-            Vec4::splat(union_distance(&c.spheres, &c.boxes, p))
-        })?;
-        Ok(DistanceField {
-            grid,
+        let shapes = Shapes::Union {
             spheres: c.spheres.clone(),
             boxes: c.boxes.clone(),
+        };
+        let grid = Grid3::from_axes(axes, 1, |p| Vec4::splat(shapes.distance(p)));
+        Ok(DistanceField {
+            axes,
+            shapes,
+            grid: OnceLock::from(grid),
         })
     }
 
-    /// The exact distance of the union at `p` (double precision, rounded once).
+    fn mesh(c: &SdfCollider, axes: [Axis; 3]) -> Result<Self> {
+        let name = c.mesh.as_deref().unwrap_or("the mesh");
+        if c.triangles.is_empty() {
+            return Err(Error::InvalidInput(format!(
+                "distance field: {name} has no triangles (scene::parse reads them from the file)"
+            )));
+        }
+        if !(c.spheres.is_empty() && c.boxes.is_empty()) {
+            return Err(Error::InvalidInput(
+                "distance field: either a mesh or spheres and boxes, not both".into(),
+            ));
+        }
+        if c.triangles.len() > MAX_TRIANGLES {
+            return Err(Error::InvalidInput(format!(
+                "distance field: {name} has {} triangles, more than {MAX_TRIANGLES}",
+                c.triangles.len()
+            )));
+        }
+        if c.triangles
+            .iter()
+            .flatten()
+            .flatten()
+            .any(|v| !v.is_finite())
+        {
+            return Err(Error::InvalidInput(format!(
+                "distance field: {name} has a vertex that is not finite"
+            )));
+        }
+        Ok(DistanceField {
+            axes,
+            shapes: Shapes::Mesh(c.triangles.clone()),
+            grid: OnceLock::new(),
+        })
+    }
+
+    /// The texels (computed now for a mesh, on the first call).
+    fn grid(&self) -> &Grid3 {
+        self.grid.get_or_init(|| {
+            Grid3::from_axes(self.axes, 1, |p| Vec4::splat(self.shapes.distance(p)))
+        })
+    }
+
+    /// The mesh's triangles (empty for spheres and boxes).
+    pub fn triangles(&self) -> &[Triangle] {
+        match &self.shapes {
+            Shapes::Mesh(t) => t,
+            Shapes::Union { .. } => &[],
+        }
+    }
+
+    /// The exact distance of the union or the mesh at `p` (double precision, rounded once).
     pub fn analytic_distance(&self, p: Vec3) -> f32 {
-        union_distance(&self.spheres, &self.boxes, p)
+        self.shapes.distance(p)
     }
 
     /// `[min corner, max corner]`: the `bmin`, `bmax` arguments of `sdf_sample`.
     pub fn bounds(&self) -> [Vec3; 2] {
-        self.grid.bounds()
+        let [x, y, z] = self.axes;
+        [
+            Vec3::new(x.min, y.min, z.min),
+            Vec3::new(x.max, y.max, z.max),
+        ]
     }
 
     /// Nodes per axis: the texture size and the `res` argument of `sdf_sample`.
     pub fn resolution(&self) -> [u32; 3] {
-        self.grid.res()
+        self.axes.map(|a| a.n)
     }
 
     /// Node spacing per axis, `(max - min) / (n - 1)` in single precision as the shader computes
@@ -111,22 +205,23 @@ impl DistanceField {
 
     /// Position of node `(i, j, k)`.
     pub fn node(&self, i: usize, j: usize, k: usize) -> Vec3 {
-        self.grid.node([i, j, k])
+        let [x, y, z] = self.axes;
+        Vec3::new(x.node(i), y.node(j), z.node(k))
     }
 
     /// Texel `(i, j, k)`: the distance at that node.
     pub fn texel(&self, i: usize, j: usize, k: usize) -> f32 {
-        self.grid.texel(i, j, k).x
+        self.grid().texel(i, j, k).x
     }
 
     /// The texture data, R32F, x-fastest.
     pub fn texels(&self) -> &[f32] {
-        &self.grid.data
+        &self.grid().data
     }
 
     /// Trilinear interpolation of the distance. The twin of `sdf_sample` in GLSL.
     pub fn sample(&self, p: Vec3) -> f32 {
-        self.grid.trilinear(p).x
+        self.grid().trilinear(p).x
     }
 
     /// Central differences of the interpolated field with a step of one cell per axis (not
@@ -152,9 +247,13 @@ impl DistanceField {
         }
     }
 
-    /// Uploads the distances to an R32F 3D texture labelled `sdf`.
+    /// The field in an R32F 3D texture labelled `sdf`: the CPU's texels uploaded for spheres
+    /// and boxes; a mesh scan-converted on the GPU, one fragment pass per slice (UberFlow §4.6).
     pub fn upload(&self, ctx: &Context) -> Result<Texture3D> {
-        self.grid.upload(ctx, "sdf")
+        match &self.shapes {
+            Shapes::Union { .. } => self.grid().upload(ctx, "sdf"),
+            Shapes::Mesh(t) => scan_convert(ctx, t, self.bounds(), self.resolution()),
+        }
     }
 }
 
@@ -169,6 +268,8 @@ mod tests {
             resolution,
             spheres: vec![[-0.3, 0.1, 0.2, 0.45]],
             boxes: vec![[0.2, -0.6, -0.4, 0.8, 0.0, 0.3]],
+            mesh: None,
+            triangles: vec![],
             friction: 0.0,
             resilience: 1.0,
         }
@@ -231,6 +332,8 @@ mod tests {
             resolution: 41,
             spheres: vec![[0.05, -0.1, 0.0, 0.5]],
             boxes: vec![],
+            mesh: None,
+            triangles: vec![],
             friction: 0.0,
             resilience: 1.0,
         };
@@ -260,6 +363,8 @@ mod tests {
             resolution: 48,
             spheres: vec![[0.1, 0.0, -0.05, 0.4]],
             boxes: vec![],
+            mesh: None,
+            triangles: vec![],
             friction: 0.0,
             resilience: 1.0,
         };

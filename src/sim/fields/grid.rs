@@ -65,6 +65,15 @@ pub(super) struct Grid3 {
     pub(super) data: Vec<f32>,
 }
 
+/// The three axes of a grid over `bounds` with `res` nodes per axis, checked.
+pub(super) fn axes(what: &str, bounds: [[f32; 3]; 2], res: [u32; 3]) -> Result<[Axis; 3]> {
+    Ok([
+        Axis::new(&format!("{what} x"), bounds[0][0], bounds[1][0], res[0])?,
+        Axis::new(&format!("{what} y"), bounds[0][1], bounds[1][1], res[1])?,
+        Axis::new(&format!("{what} z"), bounds[0][2], bounds[1][2], res[2])?,
+    ])
+}
+
 impl Grid3 {
     pub(super) fn build(
         what: &str,
@@ -73,12 +82,12 @@ impl Grid3 {
         channels: usize,
         f: impl Fn(Vec3) -> Vec4,
     ) -> Result<Self> {
-        let axes = [
-            Axis::new(&format!("{what} x"), bounds[0][0], bounds[1][0], res[0])?,
-            Axis::new(&format!("{what} y"), bounds[0][1], bounds[1][1], res[1])?,
-            Axis::new(&format!("{what} z"), bounds[0][2], bounds[1][2], res[2])?,
-        ];
-        let [nx, ny, nz] = res.map(|n| n as usize);
+        Ok(Self::from_axes(axes(what, bounds, res)?, channels, f))
+    }
+
+    /// The grid on `axes` with texel `(i, j, k)` the first `channels` of `f` at its node.
+    pub(super) fn from_axes(axes: [Axis; 3], channels: usize, f: impl Fn(Vec3) -> Vec4) -> Self {
+        let [nx, ny, nz] = axes.map(|a| a.n as usize);
         let mut data = Vec::with_capacity(nx * ny * nz * channels);
         for k in 0..nz {
             for j in 0..ny {
@@ -88,11 +97,11 @@ impl Grid3 {
                 }
             }
         }
-        Ok(Grid3 {
+        Grid3 {
             axes,
             channels,
             data,
-        })
+        }
     }
 
     pub(super) fn res(&self) -> [u32; 3] {

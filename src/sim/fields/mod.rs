@@ -1,6 +1,8 @@
 //! The lookup fields that colliders and forces sample (UberFlow §4.6, Latta eq. 1): a height
 //! field (2D), a signed distance field (3D) and a wind flow field (3D). Each is built on the CPU
-//! from its scene description, uploaded once to a float texture, and sampled in GLSL by
+//! from its scene description and uploaded once to a float texture (except a distance field of
+//! a triangle mesh, which is scan-converted on the GPU, one fragment pass per slice: `scan`, with
+//! its CPU twin in `mesh`), and sampled in GLSL by
 //! `glsl/sim/fields.glsl` with `texelFetch` only: the interpolation is done by hand (no hardware
 //! filtering, whose 8-bit interpolation weights would make the GPU disagree with the CPU). Every
 //! field has a CPU sampler that is the twin of its GLSL function, with the same arithmetic in the
@@ -31,6 +33,8 @@ mod distance;
 mod flow;
 mod grid;
 mod height;
+mod mesh;
+mod scan;
 
 pub use distance::DistanceField;
 pub use flow::FlowField;

@@ -7,8 +7,10 @@ mod common;
 use common::{context, no_gl_error};
 use glam::{Vec2, Vec3, Vec4};
 use texflow::gl::{Context, Texture, TextureDesc, TextureFormat};
-use texflow::render::{atlas, Camera, FrameTarget, KeyframeRamp, ParticleRenderer, ParticleStyle};
-use texflow::scene::{Blending, DrawMode, DrawOrder, Keyframe, RenderPath};
+use texflow::render::{
+    atlas, Camera, FrameTarget, KeyframeRamp, ParticleRenderer, ParticleStyle, TypeLook,
+};
+use texflow::scene::{Blending, DrawMode, DrawOrder, DrawPrimitive, Keyframe, RenderPath};
 
 const SW: u32 = 16;
 const SH: u32 = 16;
@@ -90,6 +92,14 @@ fn behind_pixel(x: u32, y_down: u32, ndc_z: f32) -> Vec3 {
     p
 }
 
+/// The default look of each type, with these sprite scales.
+fn scaled_types(scales: [f32; 4]) -> [TypeLook; 4] {
+    std::array::from_fn(|k| TypeLook {
+        scale: scales[k],
+        ..TypeLook::new(k as u32)
+    })
+}
+
 fn style(
     mode: DrawMode,
     path: RenderPath,
@@ -102,8 +112,9 @@ fn style(
         intensity: 0.8,
         blending,
         order,
-        type_scale: [1.0, 1.5, 0.75, 2.0],
-        type_tile: [0, 1, 2, 3],
+        types: scaled_types([1.0, 1.5, 0.75, 2.0]),
+        primitive: DrawPrimitive::Points,
+        stretch: 0.0,
         // Exact in 8 bits, so that background pixels compare equal whatever the rounding.
         background: if blending == Blending::Multiplicative {
             [230.0 / 255.0, 217.0 / 255.0, 204.0 / 255.0]
@@ -560,9 +571,9 @@ fn sprite_size_follows_the_type_scale() {
         xs.iter().max().unwrap() - xs.iter().min().unwrap() + 1
     };
     // Type 1 (snowflake, arms along x reach 0.38 of the size) at scale 1, then 2.
-    s.type_scale = [1.0, 1.0, 1.0, 1.0];
+    s.types = scaled_types([1.0; 4]);
     let small = render(&ctx, &s, &state, 2);
-    s.type_scale = [1.0, 2.0, 1.0, 1.0];
+    s.types = scaled_types([1.0, 2.0, 1.0, 1.0]);
     let big = render(&ctx, &s, &state, 2);
     let (a, b) = (extent(&small, 0, 48), extent(&big, 0, 48));
     assert!((9..=15).contains(&a), "scale 1: {a} pixels wide");

@@ -228,6 +228,17 @@ impl ParticleRenderer {
         &self.style
     }
 
+    /// Replaces the sprite atlas (sprites only) by `image`, e.g. a scene's own tiles.
+    pub fn set_atlas(&mut self, image: &atlas::AtlasImage) -> Result<()> {
+        if self.style.mode != DrawMode::Sprites {
+            return Err(Error::InvalidInput(
+                "only sprites have an atlas: use mode = \"sprites\"".into(),
+            ));
+        }
+        self.atlas = Some(atlas::upload(&self.ctx, image)?);
+        Ok(())
+    }
+
     /// The sprite atlas (sprites only).
     pub fn atlas(&self) -> Option<&Texture> {
         self.atlas.as_ref()

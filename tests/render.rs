@@ -1151,3 +1151,91 @@ fn point_size_limit_and_quad_paths() {
     assert!(e.to_string().contains("texture_fetch"), "{e}");
     no_gl_error(&ctx);
 }
+
+/// The engine draws an alpha-blended, sorted scene (smoke) as quads and stretched quads: the sort
+/// gathers the velocities (or Verlet's previous positions) with the state; without exposure a
+/// stretched quad is the quad, and flat quads are the points; with exposure the streaks cover more.
+#[test]
+fn engine_draws_sorted_scenes_as_quads_and_streaks() {
+    use texflow::engine::Engine;
+    use texflow::scene::{parse, Integrator};
+    let ctx = context();
+    let src = texflow::scene::builtin_source("smoke").unwrap();
+    for integrator in [Integrator::Euler, Integrator::Verlet] {
+        let frame = |primitive, stretch: f32| {
+            let mut scene = parse("smoke", src).unwrap();
+            scene.particles.size = [16, 16];
+            scene.render.resolution = [64, 64];
+            scene.render.mode = DrawMode::Points;
+            scene.render.point_size = 3.0;
+            scene.render.primitive = primitive;
+            scene.render.stretch = stretch;
+            scene.integrator = integrator;
+            let mut e = Engine::new(&ctx, &scene, 3).unwrap();
+            for _ in 0..20 {
+                e.advance_frame().unwrap();
+            }
+            e.render().unwrap()
+        };
+        let points = frame(DrawPrimitive::Points, 0.0);
+        let quads = frame(DrawPrimitive::Quads, 0.0);
+        let still = frame(DrawPrimitive::Stretched, 0.0);
+        let streaks = frame(DrawPrimitive::Stretched, 0.2);
+        let background = points.get_pixel(0, 0).0;
+        assert!(
+            lit_pixels(&points, background) > 20,
+            "{integrator:?}: nothing drawn"
+        );
+        assert_eq!(
+            points, quads,
+            "{integrator:?}: flat quads differ from points"
+        );
+        assert!(
+            max_diff(&quads, &still) <= 1,
+            "{integrator:?}: no exposure, not the quad"
+        );
+        assert!(
+            lit_pixels(&streaks, background) > lit_pixels(&quads, background),
+            "{integrator:?}: streaks cover no more than quads"
+        );
+    }
+    no_gl_error(&ctx);
+}
+
+/// The new keys are checked where they are written: line and column, the problem and the fix.
+#[test]
+fn sprite_keys_are_validated_with_their_place() {
+    let src = texflow::scene::builtin_source("fountain").unwrap();
+    let bad = |extra: &str, render: &str| {
+        let text = src
+            .replacen(
+                "[[emitters.allocator]]",
+                &format!("[[emitters.allocator]]\n{extra}"),
+                1,
+            )
+            .replacen("[render]", &format!("[render]\n{render}"), 1);
+        texflow::scene::parse("x.toml", &text)
+            .unwrap_err()
+            .to_string()
+    };
+    let e = bad("rotation_speed = [90.0, 10.0]", "");
+    assert!(
+        e.contains("rotation_speed") && e.contains("min <= max"),
+        "{e}"
+    );
+    let e = bad("size_over_life = [[0.0, 1.0], [0.5, 2.0]]", "");
+    assert!(e.contains("the last 1"), "{e}");
+    let e = bad("keyframes = [{ age = 0.0, rgba = [1, 1, 1, 1] }]", "");
+    assert!(e.contains("exactly four keyframes"), "{e}");
+    let e = bad("", "primitive = \"quads\"\npath = \"vertex_buffer\"");
+    assert!(
+        e.contains("texture_fetch") && e.contains("primitive"),
+        "{e}"
+    );
+    for e in [
+        bad("rotation_speed = [90.0, 10.0]", ""),
+        bad("", "stretch = -1.0"),
+    ] {
+        assert!(e.contains("x.toml:"), "no place in {e}");
+    }
+}

@@ -1,12 +1,14 @@
 // Colour and opacity by relative age (Latta §3.4.6): four keyframes of age make three linear
 // segments, converted on the CPU into the form the GPU evaluates cheaply, colour = offset + age ·
-// slope per segment (ParticleStyle::ramp in src/render/particles.rs is the CPU twin).
+// slope per segment (KeyframeRamp in src/render/keyframes.rs is the CPU twin). "These keyframes
+// are defined for each particle type": one set per type, uploaded with the type data
+// (ParticleStyle::set_keyframes).
 // State conventions: position.w is the remaining life, statics.z the total life (0 or +inf:
 // permanent, relative age 0). Also the finiteness tests the vertex stage uses.
 
-uniform vec4 u_key_age;        // ages of the four keyframes, ascending from 0 to 1
-uniform vec4 u_key_offset[3];  // per segment: colour at age 0 of the segment's line
-uniform vec4 u_key_slope[3];   // per segment: change of colour per unit of age
+uniform vec4 u_key_age[4];      // per type: ages of the four keyframes, ascending from 0 to 1
+uniform vec4 u_key_offset[12];  // per type and segment (3·type + k): colour at age 0 of the line
+uniform vec4 u_key_slope[12];   // per type and segment: change of colour per unit of age
 
 // Finite (neither inf nor NaN), tested on the exponent bits so that no fast-math assumption
 // about NaN can remove the test.
@@ -26,7 +28,14 @@ float relative_age(float remaining, float total) {
     return clamp(1.0 - remaining / total, 0.0, 1.0);
 }
 
-vec4 keyframe_color(float age) {
-    int k = age < u_key_age.y ? 0 : (age < u_key_age.z ? 1 : 2);
+// Colour of particle type `type` (0..3) at relative age `age`.
+vec4 keyframe_color_of(int type, float age) {
+    vec4 a = u_key_age[type];
+    int k = 3 * type + (age < a.y ? 0 : (age < a.z ? 1 : 2));
     return u_key_offset[k] + age * u_key_slope[k];
+}
+
+// Colour of type 0 (the CPU engine's points: one set for the scene).
+vec4 keyframe_color(float age) {
+    return keyframe_color_of(0, age);
 }

@@ -1,5 +1,6 @@
 // The general particle renderer's fragment stage. Points take the keyframe colour; sprites
-// (SPRITES) rotate gl_PointCoord about the sprite centre by the particle's angle (Latta §3.4.6:
+// (SPRITES) rotate the sprite coordinate (gl_PointCoord, or for QUADS and STRETCHED the corner's
+// interpolated coordinate) about the sprite centre by the particle's angle (Latta §3.4.6:
 // point sprites are axis-aligned, so the rotation happens on the texture coordinates) and sample
 // the atlas tile of the particle's type; the same transform does the tile selection.
 // The output suits the blend function the renderer sets:
@@ -10,6 +11,7 @@
 uniform sampler2D u_atlas;
 
 in vec4 v_color;
+in vec2 v_coord;
 flat in vec2 v_rotation;
 flat in vec2 v_tile;
 layout(location = 0) out vec4 o_color;
@@ -17,7 +19,11 @@ layout(location = 0) out vec4 o_color;
 void main() {
     vec4 c = v_color;
 #ifdef SPRITES
+#if defined(QUADS) || defined(STRETCHED)
+    vec2 d = v_coord - 0.5;
+#else
     vec2 d = gl_PointCoord - 0.5;
+#endif
     vec2 r = vec2(v_rotation.x * d.x - v_rotation.y * d.y, v_rotation.y * d.x + v_rotation.x * d.y);
     vec4 tex = texture(u_atlas, (v_tile + clamp(r + 0.5, 0.0, 1.0)) * 0.5);
     // Outside the tile's inscribed circle a rotated corner would leave the tile: nothing there.

@@ -1,14 +1,25 @@
-// The general particle renderer's vertex stage: one vertex per particle, drawn as a point or a
-// point sprite. Where the state comes from is a compile-time choice:
+// The general particle renderer's vertex stage. Where the state comes from is a compile-time
+// choice:
 //   VERTEX_BUFFER defined: attributes 0 and 1 of a buffer the state textures were copied into on
 //     the GPU (glReadPixels into a pixel-pack buffer; UberFlow §4.7, Latta §3.4.5);
-//   otherwise: vertex texture fetch of texel gl_VertexID (thesis Listing 3).
+//   otherwise: vertex texture fetch of the particle's texel (thesis Listing 3).
+// What is drawn per particle:
+//   default: one vertex, a point or a point sprite of gl_PointSize pixels;
+//   QUADS: six vertices (two triangles) by vertex replication, Latta §3.4.5: "the static vertex
+//     data contains the index of a particle to be read from the texture; it can already be
+//     replicated": vertex gl_VertexID fetches particle gl_VertexID / 6 and moves to corner
+//     gl_VertexID % 6 of a camera-facing square of the point sprite's size in pixels;
+//   STRETCHED: the same six vertices, the square stretched along the particle's screen-space
+//     motion from where it was u_stretch seconds ago, x - v·u_stretch, to where it is (motion
+//     blur): length |v_screen|·u_stretch + size, width size. No point size limit applies.
 // Everything after the fetch is shared, so both paths draw bit-identical images.
-// SPRITES defined: the size is scaled by the particle's type and the fragment stage textures the
-// sprite from the atlas tile of its type, rotated by an angle from its random number.
+// SPRITES defined: the size is scaled by the particle's type and its size over life, and the
+// fragment stage textures the sprite from the atlas tile of its type, rotated by
+// angle0 + speed · age (render/sprite.glsl).
 
 #include "common/state.glsl"
 #include "render/keyframes.glsl"
+#include "render/sprite.glsl"
 
 #ifdef VERTEX_BUFFER
 layout(location = 0) in vec4 a_position;
@@ -18,26 +29,43 @@ uniform sampler2D u_position;
 uniform sampler2D u_static;
 uniform int u_width;
 #endif
+#ifdef STRETCHED
+uniform sampler2D u_motion;      // velocities, or (u_motion_previous) Verlet's previous positions
+uniform int u_motion_previous;
+uniform float u_motion_dt;       // the step between previous and current positions
+uniform float u_stretch;         // exposure in seconds
+#endif
 
 uniform mat4 u_view_proj;
+uniform vec2 u_viewport;         // frame size in pixels
 uniform float u_point_size;
 uniform float u_intensity;
-uniform vec4 u_type_scale;
-uniform ivec4 u_type_tile;    // atlas tile of each type
 
-out vec4 v_color;        // straight (not premultiplied) colour and opacity
+out vec4 v_color;         // straight (not premultiplied) colour and opacity
+out vec2 v_coord;         // quads: the corner's sprite coordinate, as gl_PointCoord (y down)
 flat out vec2 v_rotation; // cos and sin of the sprite's screen-space angle
 flat out vec2 v_tile;     // atlas tile origin in tile units
+
+#if defined(QUADS) || defined(STRETCHED)
+const int VERTICES = 6;
+// The two triangles' corners, in units of the size, y up.
+const vec2 CORNERS[6] = vec2[6](vec2(-0.5, -0.5), vec2(0.5, -0.5), vec2(0.5, 0.5),
+                                vec2(-0.5, -0.5), vec2(0.5, 0.5), vec2(-0.5, 0.5));
+#else
+const int VERTICES = 1;
+#endif
 
 void main() {
 #ifdef VERTEX_BUFFER
     vec4 p = a_position;
     vec4 s = a_static;
 #else
-    ivec2 t = particle_texel(gl_VertexID, u_width);
+    int index = gl_VertexID / VERTICES;
+    ivec2 t = particle_texel(index, u_width);
     vec4 p = texelFetch(u_position, t, 0);
     vec4 s = texelFetch(u_static, t, 0);
 #endif
+    v_coord = vec2(0.5);
     // Drawn only when alive (remaining life above 0: not dead, not unborn) and at a finite
     // position (dead particles sit at +inf). Everything else is moved outside the clip volume.
     // Finiteness is tested on the bits: float comparisons with NaN are not reliable under
@@ -51,17 +79,47 @@ void main() {
         return;
     }
     float age = relative_age(p.w, s.z);
-    vec4 c = keyframe_color(age);
-    v_color = vec4(c.rgb, clamp(c.a * u_intensity, 0.0, 1.0));
     int type = clamp(int(s.y + 0.5), 0, 3);
-    float angle = 6.28318530718 * s.w;
+    vec4 c = keyframe_color_of(type, age);
+    v_color = vec4(c.rgb, clamp(c.a * u_intensity, 0.0, 1.0));
+    float angle = sprite_angle(type, s.w, age_seconds(p.w, s.z, s.x));
     v_rotation = vec2(cos(angle), sin(angle));
     int tile = u_type_tile[type];
     v_tile = vec2(float(tile & 1), float(tile >> 1));
-    gl_Position = u_view_proj * vec4(p.xyz, 1.0);
+    vec4 clip = u_view_proj * vec4(p.xyz, 1.0);
 #ifdef SPRITES
-    gl_PointSize = u_point_size * u_type_scale[type];
+    float size = u_point_size * u_type_scale[type] * size_scale(type, age);
 #else
-    gl_PointSize = u_point_size;
+    float size = u_point_size;
 #endif
+    gl_PointSize = size;
+#if defined(QUADS) || defined(STRETCHED)
+    vec2 corner = CORNERS[gl_VertexID % 6];
+    v_coord = vec2(corner.x + 0.5, 0.5 - corner.y);
+#endif
+#if defined(QUADS)
+    // A square of `size` pixels around the projected centre: NDC spans 2 over the viewport.
+    clip.xy += corner * size * 2.0 / u_viewport * clip.w;
+#elif defined(STRETCHED)
+    // The velocity: the motion texture, or (Verlet) the difference of the positions.
+    vec4 m = texelFetch(u_motion, t, 0);
+    vec3 v = u_motion_previous != 0 ? (p.xyz - m.xyz) / u_motion_dt : m.xyz;
+    if (!all_finite(vec4(v, 0.0))) {
+        v = vec3(0.0);
+    }
+    // Head and tail in window pixels; a tail behind the eye is not stretched to.
+    vec2 head = (clip.xy / clip.w * 0.5 + 0.5) * u_viewport;
+    vec4 tail_clip = u_view_proj * vec4(p.xyz - v * u_stretch, 1.0);
+    vec2 tail = tail_clip.w > 0.0 ? (tail_clip.xy / tail_clip.w * 0.5 + 0.5) * u_viewport : head;
+    vec2 d = head - tail;
+    float len = length(d);
+    vec2 along = len > 1e-4 ? d / len : vec2(1.0, 0.0);
+    vec2 across = vec2(-along.y, along.x);
+    // The streak from tail to head, capped by half the size at both ends; the sprite is laid
+    // along the motion (its own rotation does not apply).
+    vec2 pixel = mix(tail, head, corner.x + 0.5) + along * corner.x * size + across * corner.y * size;
+    clip.xy = (pixel / u_viewport * 2.0 - 1.0) * clip.w;
+    v_rotation = vec2(1.0, 0.0);
+#endif
+    gl_Position = clip;
 }

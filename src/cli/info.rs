@@ -39,6 +39,10 @@ pub fn info(json: bool) -> texflow::Result<()> {
                     println!("  RGBA32F colour buffer {}", yes(l.float32_color_buffer));
                     println!("  RGBA16F colour buffer {}", yes(l.float16_color_buffer));
                     println!("  KHR_debug             {}", yes(l.khr_debug));
+                    println!(
+                        "  point size range      {} to {} pixels",
+                        l.point_size_range[0], l.point_size_range[1]
+                    );
                 }
                 Err(e) => println!("  no usable context: {e}"),
             }

@@ -42,14 +42,7 @@ impl Engine {
         crate::gl::check_size(ctx, "frame (render.resolution)", rw, rh)?;
         let sim = crate::sim::ParticleSim::new(ctx, scene, shader_seed(seed))?;
         let [w, h] = scene.particles.size;
-        let mut scales = [1.0f32; 4];
-        let mut tiles = [0, 1, 2, 3];
-        for (k, e) in scene.emitters.all().enumerate() {
-            scales[k] = e.sprite_scale;
-            tiles[k] = e.tile.unwrap_or(k as u32);
-        }
-        let mut style = crate::render::ParticleStyle::from_render(&scene.render, scales);
-        style.type_tile = tiles;
+        let style = crate::render::ParticleStyle::from_scene(scene);
         let renderer = crate::render::ParticleRenderer::new(ctx, style, w, h)?;
         let sort = match crate::engine::plan::sort_plan(scene) {
             None => None,
@@ -71,11 +64,11 @@ impl Engine {
                         },
                     )
                 };
-                let sorted = Framebuffer::new(
-                    ctx,
-                    "sorted",
-                    vec![tex("sorted position")?, tex("sorted static")?],
-                )?;
+                let mut textures = vec![tex("sorted position")?, tex("sorted static")?];
+                if renderer.needs_motion() {
+                    textures.push(tex("sorted motion")?);
+                }
+                let sorted = Framebuffer::new(ctx, "sorted", textures)?;
                 Some(SortStage {
                     sorter,
                     sorted,
@@ -133,21 +126,34 @@ impl Engine {
             let s = self.sort.as_ref().expect("a sort stage");
             let texels = self.sim.size().x as usize * self.sim.size().y as usize;
             // Dead particles sort last (+inf keys), so the live ones are a prefix.
-            self.renderer.draw(
-                &self.target,
-                s.sorted.texture(0),
-                s.sorted.texture(1),
-                &self.camera,
-                texels,
-            )?;
+            let motion = self.motion().map(|m| match m {
+                crate::render::Motion::Velocity(_) => {
+                    crate::render::Motion::Velocity(s.sorted.texture(2))
+                }
+                crate::render::Motion::Previous { dt, .. } => crate::render::Motion::Previous {
+                    positions: s.sorted.texture(2),
+                    dt,
+                },
+            });
+            let state = crate::render::FrameState {
+                positions: s.sorted.texture(0),
+                statics: s.sorted.texture(1),
+                motion,
+                time: self.sim.time() as f32,
+                count: texels,
+            };
+            self.renderer
+                .draw_frame(&self.target, &state, &self.camera)?;
         } else {
-            self.renderer.draw(
-                &self.target,
-                self.sim.positions(),
-                self.sim.statics(),
-                &self.camera,
+            let state = crate::render::FrameState {
+                positions: self.sim.positions(),
+                statics: self.sim.statics(),
+                motion: self.motion(),
+                time: self.sim.time() as f32,
                 count,
-            )?;
+            };
+            self.renderer
+                .draw_frame(&self.target, &state, &self.camera)?;
         }
         self.ctx.check_error("drawing a frame")
     }
@@ -180,8 +186,11 @@ impl Engine {
             s.keyed = true;
         }
         s.sorter.sort_frame();
-        s.sorter
-            .gather(&[self.sim.positions(), self.sim.statics()], &s.sorted)?;
+        let mut sources = vec![self.sim.positions(), self.sim.statics()];
+        if self.renderer.needs_motion() {
+            sources.extend(self.sim.velocities().or(self.sim.previous()));
+        }
+        s.sorter.gather(&sources, &s.sorted)?;
         s.ordered_at = Some(steps);
         Ok(true)
     }
@@ -190,6 +199,22 @@ impl Engine {
     fn turn_camera(&mut self) {
         let t = self.sim.time() as f32;
         self.camera.azimuth = self.camera_start.azimuth + self.orbit * t;
+    }
+
+    /// What stretched quads stretch along (only they need it): the velocities, or Verlet's
+    /// previous positions one step back.
+    fn motion(&self) -> Option<crate::render::Motion<'_>> {
+        if !self.renderer.needs_motion() {
+            return None;
+        }
+        match (self.sim.velocities(), self.sim.previous()) {
+            (Some(v), _) => Some(crate::render::Motion::Velocity(v)),
+            (None, Some(prev)) => Some(crate::render::Motion::Previous {
+                positions: prev,
+                dt: self.sim.scene().time.dt,
+            }),
+            (None, None) => None,
+        }
     }
 
     /// The sorter of an alpha-blended scene (its entries are the last frame's keys and ids).

@@ -99,6 +99,9 @@ pub struct Limits {
     pub float16_color_buffer: bool,
     /// Whether `GL_KHR_debug` is available.
     pub khr_debug: bool,
+    /// `GL_ALIASED_POINT_SIZE_RANGE` (where a core profile rejects that enum,
+    /// `GL_POINT_SIZE_RANGE`): the smallest and largest point sprite, in pixels.
+    pub point_size_range: [f32; 2],
 }
 
 thread_local! {
@@ -372,7 +375,34 @@ fn query_limits(gl: &glow::Context) -> Limits {
             float32_color_buffer: color_renderable(gl, glow::RGBA32F),
             float16_color_buffer: color_renderable(gl, glow::RGBA16F),
             khr_debug: exts.contains("GL_KHR_debug"),
+            point_size_range: point_size_range(gl),
         }
+    }
+}
+
+/// `GL_ALIASED_POINT_SIZE_RANGE`, or `GL_POINT_SIZE_RANGE` where the context rejects the first
+/// (it is not in every core profile); the error the query may raise is cleared.
+fn point_size_range(gl: &glow::Context) -> [f32; 2] {
+    // SAFETY: plain queries on a current context.
+    unsafe {
+        // Drains the pending errors; whether there were none.
+        let clear = || {
+            let none = gl.get_error() == glow::NO_ERROR;
+            for _ in 0..8 {
+                if gl.get_error() == glow::NO_ERROR {
+                    break;
+                }
+            }
+            none
+        };
+        clear();
+        let mut range = [0f32; 2];
+        gl.get_parameter_f32_slice(glow::ALIASED_POINT_SIZE_RANGE, &mut range);
+        if !clear() || range[1] <= 0.0 {
+            gl.get_parameter_f32_slice(glow::POINT_SIZE_RANGE, &mut range);
+            clear();
+        }
+        range
     }
 }
 

@@ -52,6 +52,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "render/points.vert",
     "render/points.frag",
     "render/keyframes.glsl",
+    "render/sprite.glsl",
     "render/particle.vert",
     "render/particle.frag",
     "render/background.frag",

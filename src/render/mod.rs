@@ -5,10 +5,14 @@ mod camera;
 mod keyframes;
 mod particles;
 mod points;
+mod sprite;
+mod style;
 mod target;
 
 pub use camera::Camera;
 pub use keyframes::{relative_age, KeyframeRamp};
-pub use particles::{default_keyframes, ParticleRenderer, ParticleStyle};
+pub use particles::{FrameState, Motion, ParticleRenderer, QUAD_VERTICES};
 pub use points::{PointRenderer, PointStyle};
+pub use sprite::{age_seconds, second_random, sprite_angle, SizeCurve};
+pub use style::{default_keyframes, ParticleStyle, TypeLook};
 pub use target::FrameTarget;

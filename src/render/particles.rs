@@ -1,178 +1,69 @@
-//! The general particle renderer: points or rotated, textured point sprites (Latta §3.4.6), fed
-//! either by vertex texture fetch (thesis Listing 3) or by a vertex buffer the state textures are
-//! copied into on the GPU (UberFlow §4.7, Latta §3.4.5), coloured by four keyframes of relative
-//! age, blended additively, multiplicatively, or with the over / under operator.
+//! The general particle renderer: points or rotated, textured point sprites (Latta §3.4.6), or
+//! camera-facing quads and velocity-stretched quads built by vertex replication (Latta §3.4.5:
+//! six vertices per particle fetch the same texel), fed either by vertex texture fetch (thesis
+//! Listing 3) or, for points, by a vertex buffer the state textures are copied into on the GPU
+//! (UberFlow §4.7, Latta §3.4.5), coloured by four keyframes of relative age per particle type,
+//! blended additively, multiplicatively, or with the over / under operator.
 //!
 //! State layout (fixed by the simulation): particle `i` is texel `(i % width, i / width)` of every
 //! state texture.
 //! - positions (RGBA32F): xyz position, w remaining life in seconds. Drawn only if w > 0 and xyz
 //!   is finite (dead: w <= 0 and xyz = +inf; unborn: w < 0).
 //! - statics (RGBA32F): x birth time, y type (0..3), z total life (0 or +inf: permanent, relative
-//!   age 0), w a random number in [0, 1) (the sprite's angle).
+//!   age 0), w a random number in [0, 1) (the sprite's angle; hashed, its rotation speed).
+//! - motion (stretched quads only): velocities (xyz), or the previous positions of Verlet.
 //!
 //! Relative age = clamp(1 − position.w / statics.z, 0, 1).
 
 use super::atlas;
-use super::keyframes::KeyframeRamp;
-use super::{Camera, FrameTarget};
+use super::{Camera, FrameTarget, ParticleStyle};
 use crate::error::{Error, Result};
 use crate::gl::{
-    Attribute, Blend, BlendComponent, BlendFactor, Buffer, BufferKind, BufferUsage, Context,
-    Defines, Draw, DrawState, PixelPack, PointSize, Primitive, Program, Texture, VertexArray,
+    Attribute, Buffer, BufferKind, BufferUsage, Context, Defines, Draw, PixelPack, Primitive,
+    Program, Texture, VertexArray,
 };
-use crate::scene::{Blending, DrawMode, DrawOrder, Keyframe, Render, RenderPath};
+use crate::scene::{DrawMode, DrawPrimitive, RenderPath};
 
-/// How particles are drawn.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct ParticleStyle {
-    /// Points or sprites.
-    pub mode: DrawMode,
-    /// Texture fetch or vertex buffer.
-    pub path: RenderPath,
-    /// Point size, or the base sprite size, in pixels.
-    pub point_size: f32,
-    /// Opacity scale (applied to the keyframe alpha, then clamped to 1).
-    pub intensity: f32,
-    /// Blending.
-    pub blending: Blending,
-    /// Order of alpha blending (the caller draws in this order; it picks over or under).
-    pub order: DrawOrder,
-    /// Colour and opacity at four relative ages, ascending from 0 to 1.
-    pub keyframes: [Keyframe; 4],
-    /// Sprite size per particle type, relative to `point_size` (sprites only).
-    pub type_scale: [f32; 4],
-    /// Atlas tile (0 to 3) of each type.
-    pub type_tile: [u32; 4],
-    /// Background colour.
-    pub background: [f32; 3],
+/// Vertices per particle of quads and stretched quads: two triangles.
+pub const QUAD_VERTICES: usize = 6;
+
+/// What the stretched quads stretch along (Latta's state: a velocity texture for explicit
+/// integrators, the previous positions for Verlet).
+#[derive(Debug, Clone, Copy)]
+pub enum Motion<'a> {
+    /// Velocities (xyz) in the state layout.
+    Velocity(&'a Texture),
+    /// Verlet's previous positions, one step of `dt` seconds back: v = (x − x_prev) / dt.
+    Previous {
+        /// The previous positions.
+        positions: &'a Texture,
+        /// The step between them and the current positions.
+        dt: f32,
+    },
 }
 
-/// The keyframes used when a scene gives none: white, fading out over the life.
-pub fn default_keyframes() -> [Keyframe; 4] {
-    let k = |age: f32, a: f32| Keyframe {
-        age,
-        rgba: [1.0, 1.0, 1.0, a],
-    };
-    [k(0.0, 1.0), k(0.5, 0.8), k(0.8, 0.4), k(1.0, 0.0)]
-}
-
-impl Default for ParticleStyle {
-    fn default() -> Self {
-        ParticleStyle {
-            mode: DrawMode::Points,
-            path: RenderPath::TextureFetch,
-            point_size: 2.0,
-            intensity: 1.0,
-            blending: Blending::Additive,
-            order: DrawOrder::BackToFront,
-            keyframes: default_keyframes(),
-            type_scale: [1.0; 4],
-            type_tile: [0, 1, 2, 3],
-            background: [0.0; 3],
+impl<'a> Motion<'a> {
+    fn texture(&self) -> &'a Texture {
+        match *self {
+            Motion::Velocity(t) => t,
+            Motion::Previous { positions, .. } => positions,
         }
     }
 }
 
-impl ParticleStyle {
-    /// Sets the colour and opacity keyframes that `glsl/render/keyframes.glsl` reads on `p`
-    /// (bound): the renderer and the CPU engine (E5) draw with the same ramp.
-    pub fn set_keyframes(&self, p: &Program) {
-        let ramp = self.ramp();
-        p.set_vec4("u_key_age", glam::Vec4::from_array(ramp.ages));
-        for k in 0..3 {
-            p.set_vec4(
-                &format!("u_key_offset[{k}]"),
-                glam::Vec4::from_array(ramp.offset[k]),
-            );
-            p.set_vec4(
-                &format!("u_key_slope[{k}]"),
-                glam::Vec4::from_array(ramp.slope[k]),
-            );
-        }
-    }
-
-    /// The blend state of this style's blending and order (the under operator for front to
-    /// back). One table, so that the CPU engine (E5) blends exactly as the renderer does.
-    pub fn blend(&self) -> Blend {
-        use BlendFactor::{DstColor, One, OneMinusDstAlpha, OneMinusSrcAlpha, SrcAlpha, Zero};
-        let (src, dst, src_a, dst_a) = match (self.blending, self.order) {
-            // The destination alpha stays as cleared (opaque).
-            (Blending::Additive, _) => (SrcAlpha, One, Zero, One),
-            (Blending::Multiplicative, _) => (DstColor, Zero, Zero, One),
-            (Blending::Alpha, DrawOrder::BackToFront) => {
-                (SrcAlpha, OneMinusSrcAlpha, One, OneMinusSrcAlpha)
-            }
-            (Blending::Alpha, DrawOrder::FrontToBack) => {
-                (OneMinusDstAlpha, One, OneMinusDstAlpha, One)
-            }
-        };
-        Blend {
-            color: BlendComponent::add(src, dst),
-            alpha: BlendComponent::add(src_a, dst_a),
-        }
-    }
-
-    /// The state particles (and the under operator's background) are drawn with: this style's
-    /// [`blend`](Self::blend), point sizes from the vertex shader.
-    pub fn draw_state(&self) -> DrawState {
-        DrawState {
-            blend: Some(self.blend()),
-            point_size: PointSize::Program,
-        }
-    }
-
-    /// The style of a scene's `[render]` section; `type_scales` are the emitters' sprite scales in
-    /// type order. A keyframe list that is not exactly four long (validation rejects those; an
-    /// empty list is allowed) gives [`default_keyframes`].
-    pub fn from_render(r: &Render, type_scales: [f32; 4]) -> Self {
-        let keyframes = match <[Keyframe; 4]>::try_from(r.keyframes.clone()) {
-            Ok(k) => k,
-            Err(_) => default_keyframes(),
-        };
-        ParticleStyle {
-            mode: r.mode,
-            path: r.path,
-            point_size: r.point_size,
-            intensity: r.intensity,
-            blending: r.blending,
-            order: r.order,
-            keyframes,
-            type_scale: type_scales,
-            type_tile: [0, 1, 2, 3],
-            background: r.background,
-        }
-    }
-
-    /// The keyframes in the form the shader evaluates.
-    pub fn ramp(&self) -> KeyframeRamp {
-        KeyframeRamp::new(&self.keyframes)
-    }
-
-    /// Whether the under operator is used (alpha blending, front to back).
-    pub fn under(&self) -> bool {
-        self.blending == Blending::Alpha && self.order == DrawOrder::FrontToBack
-    }
-
-    /// What the target is cleared to: the background, with alpha 0 for the under operator
-    /// (whose background is composited under the particles at the end of the draw, so the
-    /// clear colour is transparent black), else opaque.
-    pub fn clear_color(&self) -> [f32; 4] {
-        if self.under() {
-            [0.0; 4]
-        } else {
-            let [r, g, b] = self.background;
-            [r, g, b, 1.0]
-        }
-    }
-
-    fn blend_name(&self) -> &'static str {
-        match (self.blending, self.order) {
-            (Blending::Additive, _) => "additive",
-            (Blending::Multiplicative, _) => "multiplicative",
-            (Blending::Alpha, DrawOrder::BackToFront) => "alpha over, back to front",
-            (Blending::Alpha, DrawOrder::FrontToBack) => "alpha under, front to back",
-        }
-    }
+/// One frame's state for [`ParticleRenderer::draw_frame`].
+#[derive(Debug, Clone, Copy)]
+pub struct FrameState<'a> {
+    /// Positions and remaining life.
+    pub positions: &'a Texture,
+    /// Birth time, type, total life, random number.
+    pub statics: &'a Texture,
+    /// Velocities or previous positions (stretched quads need them).
+    pub motion: Option<Motion<'a>>,
+    /// Simulation time in seconds (the age of permanent particles, for their rotation).
+    pub time: f32,
+    /// Particles `0..count` are drawn.
+    pub count: usize,
 }
 
 /// The vertex-buffer path's objects: the two buffers, the read framebuffer, the vertex array.
@@ -224,6 +115,28 @@ impl ParticleRenderer {
                 style.point_size
             )));
         }
+        if style.primitive != DrawPrimitive::Points && style.path != RenderPath::TextureFetch {
+            return Err(Error::InvalidInput(
+                "quads and stretched quads replicate each particle's vertex by fetching its \
+                 texel (Latta §3.4.5): use path = \"texture_fetch\""
+                    .into(),
+            ));
+        }
+        if !(style.stretch >= 0.0 && style.stretch.is_finite()) {
+            return Err(Error::InvalidInput(format!(
+                "stretch {} must be a finite number of seconds, at least 0",
+                style.stretch
+            )));
+        }
+        let largest = style.largest_size();
+        let [_, max_point] = ctx.limits().point_size_range;
+        if style.primitive == DrawPrimitive::Points && largest > max_point {
+            return Err(Error::InvalidInput(format!(
+                "sprites up to {largest} pixels wide exceed this driver's largest point, {max_point} \
+                 pixels (GL_ALIASED_POINT_SIZE_RANGE): use render.primitive = \"quads\", which has \
+                 no such limit, or a smaller point_size"
+            )));
+        }
         let mut defines = Defines::new();
         let flag = |name: &str| (name.to_owned(), "1".to_owned());
         if style.path == RenderPath::VertexBuffer {
@@ -232,11 +145,12 @@ impl ParticleRenderer {
         if style.mode == DrawMode::Sprites {
             defines.push(flag("SPRITES"));
         }
-        match style.blending {
-            Blending::Multiplicative => defines.push(flag("MULTIPLY")),
-            Blending::Alpha if style.under() => defines.push(flag("PREMULTIPLIED")),
-            _ => {}
+        match style.primitive {
+            DrawPrimitive::Points => {}
+            DrawPrimitive::Quads => defines.push(flag("QUADS")),
+            DrawPrimitive::Stretched => defines.push(flag("STRETCHED")),
         }
+        defines.extend(style.blend_defines());
         let program = Program::new(
             ctx,
             "render/particle.vert",
@@ -314,6 +228,17 @@ impl ParticleRenderer {
         &self.style
     }
 
+    /// Replaces the sprite atlas (sprites only) by `image`, e.g. a scene's own tiles.
+    pub fn set_atlas(&mut self, image: &atlas::AtlasImage) -> Result<()> {
+        if self.style.mode != DrawMode::Sprites {
+            return Err(Error::InvalidInput(
+                "only sprites have an atlas: use mode = \"sprites\"".into(),
+            ));
+        }
+        self.atlas = Some(atlas::upload(&self.ctx, image)?);
+        Ok(())
+    }
+
     /// The sprite atlas (sprites only).
     pub fn atlas(&self) -> Option<&Texture> {
         self.atlas.as_ref()
@@ -333,9 +258,13 @@ impl ParticleRenderer {
             names.push("copy positions to vertex buffer (pixel pack)".to_owned());
             names.push("copy statics to vertex buffer (pixel pack)".to_owned());
         }
-        let mode = match s.mode {
-            DrawMode::Points => "points",
-            DrawMode::Sprites => "sprites",
+        let mode = match (s.mode, s.primitive) {
+            (DrawMode::Points, DrawPrimitive::Points) => "points",
+            (DrawMode::Sprites, DrawPrimitive::Points) => "sprites",
+            (DrawMode::Points, DrawPrimitive::Quads) => "quads",
+            (DrawMode::Sprites, DrawPrimitive::Quads) => "sprite quads",
+            (DrawMode::Points, DrawPrimitive::Stretched) => "stretched quads",
+            (DrawMode::Sprites, DrawPrimitive::Stretched) => "stretched sprite quads",
         };
         let path = match s.path {
             RenderPath::TextureFetch => "texture fetch",
@@ -367,10 +296,8 @@ impl ParticleRenderer {
         Ok(())
     }
 
-    /// Draws particles `0..count` in index order into `target` (not cleared first; see
-    /// [`clear`](Self::clear)). Alpha blending needs them already in the style's order (a GPU
-    /// sort rearranges the state). With the under operator the background is composited under
-    /// the particles at the end, which leaves the frame opaque.
+    /// Draws particles `0..count` in index order into `target` at time 0, without motion (see
+    /// [`draw_frame`](Self::draw_frame)).
     pub fn draw(
         &self,
         target: &FrameTarget,
@@ -379,8 +306,46 @@ impl ParticleRenderer {
         camera: &Camera,
         count: usize,
     ) -> Result<()> {
+        let state = FrameState {
+            positions,
+            statics,
+            motion: None,
+            time: 0.0,
+            count,
+        };
+        self.draw_frame(target, &state, camera)
+    }
+
+    /// Whether [`draw_frame`](Self::draw_frame) needs [`FrameState::motion`] (stretched quads).
+    pub fn needs_motion(&self) -> bool {
+        self.style.primitive == DrawPrimitive::Stretched
+    }
+
+    /// Draws particles `0..state.count` in index order into `target` (not cleared first; see
+    /// [`clear`](Self::clear)). Alpha blending needs them already in the style's order (a GPU
+    /// sort rearranges the state, the motion texture with it). With the under operator the
+    /// background is composited under the particles at the end, which leaves the frame opaque.
+    pub fn draw_frame(
+        &self,
+        target: &FrameTarget,
+        state: &FrameState<'_>,
+        camera: &Camera,
+    ) -> Result<()> {
+        let (positions, statics, count) = (state.positions, state.statics, state.count);
         self.check_state("position", positions)?;
         self.check_state("statics", statics)?;
+        let motion = match (self.needs_motion(), state.motion) {
+            (true, None) => {
+                return Err(Error::InvalidInput(
+                    "stretched quads need the velocities (or Verlet's previous positions)".into(),
+                ))
+            }
+            (true, Some(m)) => {
+                self.check_state("motion", m.texture())?;
+                Some(m)
+            }
+            (false, _) => None,
+        };
         let texels = self.width as usize * self.height as usize;
         if count > texels {
             return Err(Error::InvalidInput(format!(
@@ -410,24 +375,42 @@ impl ParticleRenderer {
             atlas.bind(2);
             p.set_i32("u_atlas", 2);
         }
+        if let Some(m) = motion {
+            m.texture().bind(3);
+            p.set_i32("u_motion", 3);
+            let (previous, dt) = match m {
+                Motion::Velocity(_) => (0, 1.0),
+                Motion::Previous { dt, .. } => (1, dt),
+            };
+            p.set_i32("u_motion_previous", previous);
+            p.set_f32("u_motion_dt", dt);
+            p.set_f32("u_stretch", s.stretch);
+        }
         let aspect = target.width() as f32 / target.height() as f32;
         p.set_mat4("u_view_proj", &camera.view_projection(aspect));
+        p.set_vec2(
+            "u_viewport",
+            glam::Vec2::new(target.width() as f32, target.height() as f32),
+        );
         p.set_f32("u_point_size", s.point_size);
         p.set_f32("u_intensity", s.intensity);
-        p.set_vec4("u_type_scale", glam::Vec4::from_array(s.type_scale));
-        let t = s.type_tile.map(|t| t.min(3) as i32);
-        p.set_ivec4("u_type_tile", t);
+        p.set_f32("u_time", state.time);
+        s.set_types(p);
         s.set_keyframes(p);
-        let state = s.draw_state();
+        let (primitive, per_particle) = match s.primitive {
+            DrawPrimitive::Points => (Primitive::Points, 1),
+            _ => (Primitive::Triangles, QUAD_VERTICES),
+        };
+        let draw_state = s.draw_state();
         let gl = &self.ctx;
         gl.draw(&Draw {
             program: p,
             target: target.framebuffer(),
             viewport: None,
             vertices,
-            primitive: Primitive::Points,
-            count: count as u32,
-            state: &state,
+            primitive,
+            count: (count * per_particle) as u32,
+            state: &draw_state,
         });
         if s.under() {
             let b = &self.background;
@@ -441,42 +424,9 @@ impl ParticleRenderer {
                 vertices: &self.empty,
                 primitive: Primitive::Triangles,
                 count: 3,
-                state: &state,
+                state: &draw_state,
             });
         }
         gl.check_error("drawing particles")
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn keys(ages: [f32; 4], rgba: [[f32; 4]; 4]) -> [Keyframe; 4] {
-        std::array::from_fn(|i| Keyframe {
-            age: ages[i],
-            rgba: rgba[i],
-        })
-    }
-
-    #[test]
-    fn style_from_render() {
-        let mut r = Render::default();
-        let s = ParticleStyle::from_render(&r, [1.0, 2.0, 3.0, 4.0]);
-        assert_eq!(s.keyframes, default_keyframes());
-        assert_eq!(s.type_scale, [1.0, 2.0, 3.0, 4.0]);
-        assert_eq!(s.clear_color(), [0.0, 0.0, 0.0, 1.0]);
-        // The default ramp is white and fades out.
-        let ramp = s.ramp();
-        assert_eq!(ramp.eval(0.0), [1.0; 4]);
-        assert!(ramp.eval(1.0)[3].abs() < 1e-6);
-        r.keyframes = keys([0.0, 0.3, 0.6, 1.0], [[0.5; 4]; 4]).to_vec();
-        r.blending = Blending::Alpha;
-        r.order = DrawOrder::FrontToBack;
-        r.background = [0.2, 0.3, 0.4];
-        let s = ParticleStyle::from_render(&r, [1.0; 4]);
-        assert_eq!(s.keyframes[1].age, 0.3);
-        assert!(s.under());
-        assert_eq!(s.clear_color(), [0.0; 4]);
     }
 }

@@ -143,6 +143,9 @@ mod tests {
             mass: None,
             sprite_scale: 1.0,
             tile: None,
+            rotation_speed: None,
+            size_over_life: Vec::new(),
+            keyframes: Vec::new(),
         }
     }
 

@@ -90,6 +90,15 @@ impl CpuEngine {
         if scene.render.mode == DrawMode::Sprites {
             return Err(unsupported(scene, "sprites (it draws points)"));
         }
+        if scene.render.primitive != crate::scene::DrawPrimitive::Points {
+            return Err(unsupported(scene, "quads (it draws points)"));
+        }
+        if scene.emitters.all().any(|e| !e.keyframes.is_empty()) {
+            return Err(unsupported(
+                scene,
+                "keyframes per emitter (it draws one set)",
+            ));
+        }
         let [rw, rh] = scene.render.resolution;
         crate::gl::check_size(ctx, "frame (render.resolution)", rw, rh)?;
         let style = ParticleStyle::from_render(&scene.render, [1.0; 4]);

@@ -3,6 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::one;
+use super::Keyframe;
 
 /// Emitters by kind.
 #[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
@@ -112,4 +113,17 @@ pub struct Emitter {
     /// Atlas tile of this type's sprites (0 soft blob, 1 snowflake, 2 smoke puff, 3 ring);
     /// default: the type's own number.
     pub tile: Option<u32>,
+    /// Range [min, max] of the sprites' rotation speed in degrees per second, drawn per particle
+    /// (Latta §3.4.6: "a rotation velocity (2D in screen space) ... determined randomly within a
+    /// defined type-based range"); angle = angle0 + speed · age. Default no rotation.
+    pub rotation_speed: Option<[f32; 2]>,
+    /// Sprite size over life: two to four points [relative age, scale], ages ascending from 0
+    /// to 1, linear between (Latta §3.4.6: attributes from the relative age and "a set of
+    /// keyframes"). Default a constant 1.
+    #[serde(default)]
+    pub size_over_life: Vec<[f32; 2]>,
+    /// Colour and opacity keyframes of this emitter's particle type (Latta §3.4.6: "defined for
+    /// each particle type"); four, or empty for the scene's `[render] keyframes`.
+    #[serde(default)]
+    pub keyframes: Vec<Keyframe>,
 }

@@ -16,8 +16,8 @@ pub use forces::{
     PlaneCollider, SdfCollider, SphereCollider, Spring, Vortex, Wind,
 };
 pub use render::{
-    Blending, CameraSection, DrawMode, DrawOrder, Keyframe, Render, RenderPath, SortSection,
-    Variant,
+    Blending, CameraSection, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath,
+    SortSection, Variant,
 };
 
 pub(super) fn one() -> f32 {

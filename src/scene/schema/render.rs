@@ -16,6 +16,23 @@ pub enum DrawMode {
     Sprites,
 }
 
+/// The geometry each particle is drawn as (Latta §3.4.5-3.4.6: "point sprites, triangles or
+/// quads").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DrawPrimitive {
+    /// One point (sprite) per particle; its size is limited by the driver's
+    /// `GL_ALIASED_POINT_SIZE_RANGE`.
+    #[default]
+    Points,
+    /// A camera-facing quad per particle by vertex replication: six vertices fetch the same
+    /// texel (`gl_VertexID / 6`). Needs the texture-fetch path.
+    Quads,
+    /// A quad stretched along the particle's screen-space motion over `render.stretch` seconds
+    /// (motion blur). Needs the texture-fetch path.
+    Stretched,
+}
+
 /// Where the vertex stage gets positions.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -187,6 +204,13 @@ pub struct Render {
     /// Texture fetch or vertex buffer.
     #[serde(default)]
     pub path: RenderPath,
+    /// Points, camera-facing quads or velocity-stretched quads (Latta §3.4.5).
+    #[serde(default)]
+    pub primitive: DrawPrimitive,
+    /// Exposure time of `stretched` quads in seconds: each is stretched from where the particle
+    /// was `stretch` seconds ago (x − v·stretch) to where it is.
+    #[serde(default = "thirtieth")]
+    pub stretch: f32,
     /// Point or sprite size in pixels.
     #[serde(default = "two")]
     pub point_size: f32,
@@ -217,6 +241,9 @@ fn resolution() -> [u32; 2] {
 fn two() -> f32 {
     2.0
 }
+fn thirtieth() -> f32 {
+    1.0 / 30.0
+}
 
 impl Default for Render {
     fn default() -> Self {
@@ -225,6 +252,8 @@ impl Default for Render {
             camera: CameraSection::default(),
             mode: DrawMode::default(),
             path: RenderPath::default(),
+            primitive: DrawPrimitive::default(),
+            stretch: thirtieth(),
             point_size: two(),
             intensity: 1.0,
             blending: Blending::default(),

@@ -2,11 +2,12 @@
 
 use super::{fail, path, Check};
 use crate::scene::locate::Key;
-use crate::scene::schema::{SceneFile, Variant};
+use crate::scene::schema::{DrawPrimitive, Emitter, Keyframe, RenderPath, SceneFile, Variant};
 
 use Key::{Index as I, Name as N};
 
-/// `[render]`, `[render.camera]`, `[[render.keyframes]]`, `[render.sort]`.
+/// `[render]`, `[render.camera]`, `[[render.keyframes]]`, `[render.sort]`, and the sprite keys of
+/// every emitter (rotation speed, size over life, keyframes per type).
 pub(super) fn render(s: &SceneFile) -> Check {
     let r = &s.render;
     if let Some(i) = r.resolution.iter().position(|s| *s == 0) {
@@ -39,39 +40,35 @@ pub(super) fn render(s: &SceneFile) -> Check {
             format!("distance {} must be above 0", r.camera.distance),
         );
     }
-    if !r.keyframes.is_empty() {
-        if r.keyframes.len() != 4 {
-            return fail(
-                path(&[N("render"), N("keyframes")]),
-                "give exactly four keyframes (three linear segments, Latta §3.4.6)",
-            );
-        }
-        let ages: Vec<f32> = r.keyframes.iter().map(|k| k.age).collect();
-        let bad_age = if ages[0] != 0.0 {
-            Some(0)
-        } else {
-            (1..4)
-                .find(|&i| ages[i] < ages[i - 1])
-                .or((ages[3] != 1.0).then_some(3))
-        };
-        if let Some(i) = bad_age {
-            return fail(
-                path(&[N("render"), N("keyframes"), I(i), N("age")]),
-                format!(
-                    "keyframe ages must ascend from 0 to 1 (the first 0, the last 1); \
-                     keyframe {} has age {}",
-                    i + 1,
-                    ages[i]
-                ),
-            );
-        }
-        for (i, k) in r.keyframes.iter().enumerate() {
-            if let Some(c) = k.rgba.iter().position(|v| *v < 0.0) {
-                return fail(
-                    path(&[N("render"), N("keyframes"), I(i), N("rgba"), I(c)]),
-                    "keyframe colours and opacities must not be negative",
-                );
-            }
+    keyframes(&[N("render"), N("keyframes")], &r.keyframes)?;
+    if r.primitive != DrawPrimitive::Points && r.path != RenderPath::TextureFetch {
+        return fail(
+            path(&[N("render"), N("primitive")]),
+            format!(
+                "primitive = \"{}\" replicates each particle's vertex by fetching its texel \
+                 (gl_VertexID / 6, Latta §3.4.5): use path = \"texture_fetch\", or primitive = \
+                 \"points\" with the vertex buffer",
+                primitive_name(r.primitive)
+            ),
+        );
+    }
+    if !(r.stretch >= 0.0 && r.stretch <= 10.0) {
+        return fail(
+            path(&[N("render"), N("stretch")]),
+            format!(
+                "stretch {} must lie in [0, 10] seconds (the exposure of stretched quads)",
+                r.stretch
+            ),
+        );
+    }
+    let kinds = [
+        ("allocator", &s.emitters.allocator),
+        ("timestamp", &s.emitters.timestamp),
+        ("initial", &s.emitters.initial),
+    ];
+    for (kind, list) in kinds {
+        for (i, e) in list.iter().enumerate() {
+            emitter_look(&[N("emitters"), N(kind), I(i)], e)?;
         }
     }
     if let Some(v) = &r.sort.variant {
@@ -86,4 +83,111 @@ pub(super) fn render(s: &SceneFile) -> Check {
         );
     }
     Ok(())
+}
+
+fn primitive_name(p: DrawPrimitive) -> &'static str {
+    match p {
+        DrawPrimitive::Points => "points",
+        DrawPrimitive::Quads => "quads",
+        DrawPrimitive::Stretched => "stretched",
+    }
+}
+
+fn at(base: &[Key], more: &[Key]) -> Vec<Key> {
+    [base, more].concat()
+}
+
+/// Empty, or four keyframes with ages ascending from 0 to 1 and no negative colour.
+fn keyframes(base: &[Key], keys: &[Keyframe]) -> Check {
+    if keys.is_empty() {
+        return Ok(());
+    }
+    if keys.len() != 4 {
+        return fail(
+            base.to_vec(),
+            "give exactly four keyframes (three linear segments, Latta §3.4.6)",
+        );
+    }
+    let ages: Vec<f32> = keys.iter().map(|k| k.age).collect();
+    let bad_age = if ages[0] != 0.0 {
+        Some(0)
+    } else {
+        (1..4)
+            .find(|&i| ages[i] < ages[i - 1])
+            .or((ages[3] != 1.0).then_some(3))
+    };
+    if let Some(i) = bad_age {
+        return fail(
+            at(base, &[I(i), N("age")]),
+            format!(
+                "keyframe ages must ascend from 0 to 1 (the first 0, the last 1); \
+                 keyframe {} has age {}",
+                i + 1,
+                ages[i]
+            ),
+        );
+    }
+    for (i, k) in keys.iter().enumerate() {
+        if let Some(c) = k.rgba.iter().position(|v| *v < 0.0) {
+            return fail(
+                at(base, &[I(i), N("rgba"), I(c)]),
+                "keyframe colours and opacities must not be negative",
+            );
+        }
+    }
+    Ok(())
+}
+
+/// An emitter's sprite keys: `rotation_speed`, `size_over_life`, `keyframes`.
+fn emitter_look(base: &[Key], e: &Emitter) -> Check {
+    if let Some([lo, hi]) = e.rotation_speed {
+        if !(lo.is_finite() && hi.is_finite() && lo <= hi && lo.abs().max(hi.abs()) <= 1e5) {
+            return fail(
+                at(base, &[N("rotation_speed")]),
+                format!(
+                    "rotation_speed [{lo}, {hi}] must be [min, max] degrees per second with \
+                     min <= max, both within ±100000"
+                ),
+            );
+        }
+    }
+    let curve = &e.size_over_life;
+    if !curve.is_empty() {
+        let here = at(base, &[N("size_over_life")]);
+        if !(2..=4).contains(&curve.len()) {
+            return fail(
+                here,
+                format!(
+                    "size_over_life has {} points: give two to four [relative age, scale] points",
+                    curve.len()
+                ),
+            );
+        }
+        let last = curve.len() - 1;
+        let bad = (0..curve.len()).find(|&i| {
+            let a = curve[i][0];
+            (i == 0 && a != 0.0) || (i == last && a != 1.0) || (i > 0 && a < curve[i - 1][0])
+        });
+        if let Some(i) = bad {
+            return fail(
+                at(&here, &[I(i), I(0)]),
+                format!(
+                    "size_over_life ages must ascend from 0 to 1 (the first 0, the last 1); \
+                     point {} has age {}",
+                    i + 1,
+                    curve[i][0]
+                ),
+            );
+        }
+        if let Some(i) = curve.iter().position(|p| !(p[1] >= 0.0 && p[1] <= 1e3)) {
+            return fail(
+                at(&here, &[I(i), I(1)]),
+                format!(
+                    "size_over_life scale {} must lie in [0, 1000] (relative to the sprite size)",
+                    curve[i][1]
+                ),
+            );
+        }
+    }
+    keyframes(&at(base, &[N("keyframes")]), &e.keyframes)
 }

@@ -1,0 +1,342 @@
+//! How particles look: the style of a scene's `[render]` section and of each emitter's particle
+//! type (Latta §3.4.6: size, rotation, colour and opacity keyframes per type), its blending, and
+//! the uniforms that carry it to `glsl/render/`.
+
+use super::keyframes::KeyframeRamp;
+use super::sprite::SizeCurve;
+use crate::gl::{Blend, BlendComponent, BlendFactor, DrawState, PointSize, Program};
+use crate::scene::{
+    Blending, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath, SceneFile,
+};
+
+/// Exactly four keyframes, or `None`.
+fn four(keys: &[Keyframe]) -> Option<[Keyframe; 4]> {
+    <[Keyframe; 4]>::try_from(keys.to_vec()).ok()
+}
+
+/// How particles are drawn.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ParticleStyle {
+    /// Points or sprites.
+    pub mode: DrawMode,
+    /// One point, a camera-facing quad or a velocity-stretched quad per particle (Latta §3.4.5).
+    pub primitive: DrawPrimitive,
+    /// Exposure of stretched quads in seconds: from x − v·stretch to x.
+    pub stretch: f32,
+    /// Texture fetch or vertex buffer.
+    pub path: RenderPath,
+    /// Point size, or the base sprite size, in pixels.
+    pub point_size: f32,
+    /// Opacity scale (applied to the keyframe alpha, then clamped to 1).
+    pub intensity: f32,
+    /// Blending.
+    pub blending: Blending,
+    /// Order of alpha blending (the caller draws in this order; it picks over or under).
+    pub order: DrawOrder,
+    /// Colour and opacity at four relative ages, ascending from 0 to 1 (the types without their
+    /// own).
+    pub keyframes: [Keyframe; 4],
+    /// What each particle type (emitter) looks like.
+    pub types: [TypeLook; 4],
+    /// Background colour.
+    pub background: [f32; 3],
+}
+
+/// The keyframes used when a scene gives none: white, fading out over the life.
+pub fn default_keyframes() -> [Keyframe; 4] {
+    let k = |age: f32, a: f32| Keyframe {
+        age,
+        rgba: [1.0, 1.0, 1.0, a],
+    };
+    [k(0.0, 1.0), k(0.5, 0.8), k(0.8, 0.4), k(1.0, 0.0)]
+}
+
+/// What one particle type (one emitter) looks like (Latta §3.4.6: the particle type's
+/// parameters). Scale, rotation and size over life apply to sprites only.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct TypeLook {
+    /// Sprite size relative to `point_size`.
+    pub scale: f32,
+    /// Atlas tile (0 to 3).
+    pub tile: u32,
+    /// Rotation speed range [min, max] in degrees per second.
+    pub spin: [f32; 2],
+    /// Size over life (times `scale`).
+    pub size: SizeCurve,
+    /// This type's own colour keyframes, or `None`: the style's.
+    pub keyframes: Option<[Keyframe; 4]>,
+}
+
+impl TypeLook {
+    /// Type `k`'s default: scale 1, tile k, no rotation, constant size, the style's keyframes.
+    pub fn new(k: u32) -> Self {
+        TypeLook {
+            scale: 1.0,
+            tile: k,
+            spin: [0.0; 2],
+            size: SizeCurve::default(),
+            keyframes: None,
+        }
+    }
+}
+
+impl Default for ParticleStyle {
+    fn default() -> Self {
+        ParticleStyle {
+            mode: DrawMode::Points,
+            primitive: DrawPrimitive::Points,
+            stretch: 1.0 / 30.0,
+            path: RenderPath::TextureFetch,
+            point_size: 2.0,
+            intensity: 1.0,
+            blending: Blending::Additive,
+            order: DrawOrder::BackToFront,
+            keyframes: default_keyframes(),
+            types: std::array::from_fn(|k| TypeLook::new(k as u32)),
+            background: [0.0; 3],
+        }
+    }
+}
+
+impl ParticleStyle {
+    /// Sets the colour and opacity keyframes of every type that `glsl/render/keyframes.glsl`
+    /// reads on `p` (bound): the renderer and the CPU engine (E5) draw with the same ramps.
+    pub fn set_keyframes(&self, p: &Program) {
+        for t in 0..4 {
+            let ramp = self.ramp_of(t);
+            p.set_vec4(
+                &format!("u_key_age[{t}]"),
+                glam::Vec4::from_array(ramp.ages),
+            );
+            for k in 0..3 {
+                let i = 3 * t + k;
+                p.set_vec4(
+                    &format!("u_key_offset[{i}]"),
+                    glam::Vec4::from_array(ramp.offset[k]),
+                );
+                p.set_vec4(
+                    &format!("u_key_slope[{i}]"),
+                    glam::Vec4::from_array(ramp.slope[k]),
+                );
+            }
+        }
+    }
+
+    /// Sets the per-type sprite uniforms of `glsl/render/sprite.glsl` on `p` (bound): scale,
+    /// tile, rotation speed range (radians per second), size over life.
+    pub fn set_types(&self, p: &Program) {
+        let each =
+            |f: &dyn Fn(&TypeLook) -> f32| glam::Vec4::from_array(self.types.each_ref().map(f));
+        p.set_vec4("u_type_scale", each(&|t| t.scale));
+        p.set_ivec4(
+            "u_type_tile",
+            self.types.each_ref().map(|t| t.tile.min(3) as i32),
+        );
+        p.set_vec4("u_spin_min", each(&|t| t.spin[0].to_radians()));
+        p.set_vec4("u_spin_max", each(&|t| t.spin[1].to_radians()));
+        for (k, t) in self.types.iter().enumerate() {
+            p.set_vec4(
+                &format!("u_size_age[{k}]"),
+                glam::Vec4::from_array(t.size.ages),
+            );
+            p.set_vec4(
+                &format!("u_size_scale[{k}]"),
+                glam::Vec4::from_array(t.size.scales),
+            );
+        }
+    }
+
+    /// The blend state of this style's blending and order (the under operator for front to
+    /// back). One table, so that the CPU engine (E5) blends exactly as the renderer does.
+    pub fn blend(&self) -> Blend {
+        use BlendFactor::{DstColor, One, OneMinusDstAlpha, OneMinusSrcAlpha, SrcAlpha, Zero};
+        let (src, dst, src_a, dst_a) = match (self.blending, self.order) {
+            // The destination alpha stays as cleared (opaque).
+            (Blending::Additive, _) => (SrcAlpha, One, Zero, One),
+            (Blending::Multiplicative, _) => (DstColor, Zero, Zero, One),
+            (Blending::Alpha, DrawOrder::BackToFront) => {
+                (SrcAlpha, OneMinusSrcAlpha, One, OneMinusSrcAlpha)
+            }
+            (Blending::Alpha, DrawOrder::FrontToBack) => {
+                (OneMinusDstAlpha, One, OneMinusDstAlpha, One)
+            }
+        };
+        Blend {
+            color: BlendComponent::add(src, dst),
+            alpha: BlendComponent::add(src_a, dst_a),
+        }
+    }
+
+    /// The state particles (and the under operator's background) are drawn with: this style's
+    /// [`blend`](Self::blend), point sizes from the vertex shader.
+    pub fn draw_state(&self) -> DrawState {
+        DrawState {
+            blend: Some(self.blend()),
+            point_size: PointSize::Program,
+        }
+    }
+
+    /// The style of a scene's `[render]` section; `type_scales` are the emitters' sprite scales in
+    /// type order. A keyframe list that is not exactly four long (validation rejects those; an
+    /// empty list is allowed) gives [`default_keyframes`].
+    pub fn from_render(r: &Render, type_scales: [f32; 4]) -> Self {
+        ParticleStyle {
+            mode: r.mode,
+            primitive: r.primitive,
+            stretch: r.stretch,
+            path: r.path,
+            point_size: r.point_size,
+            intensity: r.intensity,
+            blending: r.blending,
+            order: r.order,
+            keyframes: four(&r.keyframes).unwrap_or_else(default_keyframes),
+            types: std::array::from_fn(|k| TypeLook {
+                scale: type_scales[k],
+                ..TypeLook::new(k as u32)
+            }),
+            background: r.background,
+        }
+    }
+
+    /// The style of a whole scene: `[render]`, and each emitter's look (its type): sprite scale,
+    /// tile, rotation speed, size over life and keyframes.
+    pub fn from_scene(scene: &SceneFile) -> Self {
+        let mut style = ParticleStyle::from_render(&scene.render, [1.0; 4]);
+        for (k, e) in scene.emitters.all().take(4).enumerate() {
+            style.types[k] = TypeLook {
+                scale: e.sprite_scale,
+                tile: e.tile.unwrap_or(k as u32),
+                spin: e.rotation_speed.unwrap_or([0.0; 2]),
+                size: SizeCurve::from_points(&e.size_over_life),
+                keyframes: four(&e.keyframes),
+            };
+        }
+        style
+    }
+
+    /// Whether some type has its own keyframes (the CPU engine, E5, draws one set).
+    pub fn keyframes_per_type(&self) -> bool {
+        self.types.iter().any(|t| t.keyframes.is_some())
+    }
+
+    /// Type `t`'s keyframes in the form the shader evaluates.
+    pub fn ramp_of(&self, t: usize) -> KeyframeRamp {
+        KeyframeRamp::new(self.types[t].keyframes.as_ref().unwrap_or(&self.keyframes))
+    }
+
+    /// The style's own keyframes (types without their own) in the form the shader evaluates.
+    pub fn ramp(&self) -> KeyframeRamp {
+        KeyframeRamp::new(&self.keyframes)
+    }
+
+    /// The fragment stage's defines for this blending (`MULTIPLY`, `PREMULTIPLIED`), shared with
+    /// the CPU engine's points.
+    pub fn blend_defines(&self) -> crate::gl::Defines {
+        let flag = |name: &str| (name.to_owned(), "1".to_owned());
+        match self.blending {
+            Blending::Multiplicative => vec![flag("MULTIPLY")],
+            Blending::Alpha if self.under() => vec![flag("PREMULTIPLIED")],
+            _ => Vec::new(),
+        }
+    }
+
+    /// The widest particle in pixels: `point_size`, for sprites times the largest type scale and
+    /// size-over-life scale.
+    pub fn largest_size(&self) -> f32 {
+        if self.mode != DrawMode::Sprites {
+            return self.point_size;
+        }
+        let widest = self
+            .types
+            .iter()
+            .map(|t| t.scale * t.size.scales.iter().copied().fold(0.0, f32::max))
+            .fold(0.0, f32::max);
+        self.point_size * widest
+    }
+
+    /// Whether the under operator is used (alpha blending, front to back).
+    pub fn under(&self) -> bool {
+        self.blending == Blending::Alpha && self.order == DrawOrder::FrontToBack
+    }
+
+    /// What the target is cleared to: the background, with alpha 0 for the under operator
+    /// (whose background is composited under the particles at the end of the draw, so the
+    /// clear colour is transparent black), else opaque.
+    pub fn clear_color(&self) -> [f32; 4] {
+        if self.under() {
+            [0.0; 4]
+        } else {
+            let [r, g, b] = self.background;
+            [r, g, b, 1.0]
+        }
+    }
+
+    pub(super) fn blend_name(&self) -> &'static str {
+        match (self.blending, self.order) {
+            (Blending::Additive, _) => "additive",
+            (Blending::Multiplicative, _) => "multiplicative",
+            (Blending::Alpha, DrawOrder::BackToFront) => "alpha over, back to front",
+            (Blending::Alpha, DrawOrder::FrontToBack) => "alpha under, front to back",
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn keys(ages: [f32; 4], rgba: [[f32; 4]; 4]) -> [Keyframe; 4] {
+        std::array::from_fn(|i| Keyframe {
+            age: ages[i],
+            rgba: rgba[i],
+        })
+    }
+
+    #[test]
+    fn style_from_render() {
+        let mut r = Render::default();
+        let s = ParticleStyle::from_render(&r, [1.0, 2.0, 3.0, 4.0]);
+        assert_eq!(s.keyframes, default_keyframes());
+        assert_eq!(s.types.each_ref().map(|t| t.scale), [1.0, 2.0, 3.0, 4.0]);
+        assert_eq!(s.types.each_ref().map(|t| t.tile), [0, 1, 2, 3]);
+        assert!(!s.keyframes_per_type());
+        assert_eq!(s.clear_color(), [0.0, 0.0, 0.0, 1.0]);
+        // The default ramp is white and fades out.
+        let ramp = s.ramp();
+        assert_eq!(ramp.eval(0.0), [1.0; 4]);
+        assert!(ramp.eval(1.0)[3].abs() < 1e-6);
+        r.keyframes = keys([0.0, 0.3, 0.6, 1.0], [[0.5; 4]; 4]).to_vec();
+        r.blending = Blending::Alpha;
+        r.order = DrawOrder::FrontToBack;
+        r.background = [0.2, 0.3, 0.4];
+        let s = ParticleStyle::from_render(&r, [1.0; 4]);
+        assert_eq!(s.keyframes[1].age, 0.3);
+        assert!(s.under());
+        assert_eq!(s.clear_color(), [0.0; 4]);
+    }
+
+    #[test]
+    fn style_from_scene_takes_each_emitters_look() {
+        let src = crate::scene::builtin_source("fountain").expect("a built-in scene");
+        let mut scene = crate::scene::parse("fountain", src).expect("valid");
+        let e = scene.emitters.all().count();
+        assert!(e >= 1);
+        let first = scene
+            .emitters
+            .allocator
+            .iter_mut()
+            .chain(scene.emitters.timestamp.iter_mut())
+            .chain(scene.emitters.initial.iter_mut())
+            .next()
+            .unwrap();
+        first.rotation_speed = Some([10.0, 20.0]);
+        first.size_over_life = vec![[0.0, 1.0], [1.0, 3.0]];
+        first.keyframes = keys([0.0, 0.3, 0.6, 1.0], [[0.25; 4]; 4]).to_vec();
+        let s = ParticleStyle::from_scene(&scene);
+        assert_eq!(s.types[0].spin, [10.0, 20.0]);
+        assert_eq!(s.types[0].size.eval(0.5), 2.0);
+        assert!(s.keyframes_per_type());
+        assert_eq!(s.ramp_of(0).eval(0.5), [0.25; 4]);
+        assert_eq!(s.ramp_of(3), s.ramp());
+    }
+}

@@ -21,6 +21,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "common/state.glsl",
     "common/fullscreen.vert",
     "common/write_floor.frag",
+    "bench/render_floor.vert",
     "common/compare.glsl",
     "common/precision.glsl",
     "sort/keys.frag",

@@ -81,10 +81,10 @@ pub struct Resolved {
 }
 
 /// Builds the full text of shader `root`: version, `defines`, then the file with its includes.
-pub fn resolve(
+pub fn resolve<'a>(
     root: &str,
     defines: &[(String, String)],
-    lookup: &dyn Fn(&str) -> Option<&'static str>,
+    lookup: &dyn Fn(&str) -> Option<&'a str>,
 ) -> Result<Resolved> {
     let mut text = format!("{VERSION}\n");
     for (k, v) in defines {
@@ -96,9 +96,9 @@ pub fn resolve(
     Ok(Resolved { text, files })
 }
 
-fn splice(
+fn splice<'a>(
     path: &str,
-    lookup: &dyn Fn(&str) -> Option<&'static str>,
+    lookup: &dyn Fn(&str) -> Option<&'a str>,
     out: &mut String,
     files: &mut Vec<String>,
     seen: &mut HashSet<String>,

@@ -125,10 +125,10 @@ fn a_user_pass_matches_the_closed_form_of_explicit_euler() {
     // x_n = x0 + n dt v0 + a dt² n(n-1)/2, v_n = v0 + n dt a (exact in binary fractions).
     let t = steps as f32;
     for i in 0..n {
-        for c in 0..3 {
+        for (c, a) in a.iter().enumerate() {
             let k = 4 * i + c;
-            let xe = x0[k] + t * dt * v0[k] + a[c] * dt * dt * t * (t - 1.0) / 2.0;
-            let ve = v0[k] + t * dt * a[c];
+            let xe = x0[k] + t * dt * v0[k] + a * dt * dt * t * (t - 1.0) / 2.0;
+            let ve = v0[k] + t * dt * a;
             assert!((x[k] - xe).abs() < 1e-5, "x[{k}] {} vs {xe}", x[k]);
             assert!((v[k] - ve).abs() < 1e-5, "v[{k}] {} vs {ve}", v[k]);
         }

@@ -180,7 +180,15 @@ fn info_lists_the_devices_and_their_limits() {
     }
     let o = texflow(&["info", "--json"]);
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
-    assert!(v[0]["limits"]["max_texture_size"].as_u64().unwrap() >= 1024);
+    envelope(&v, "texflow.info/1");
+    let d = &v["devices"][0];
+    assert!(d["limits"]["max_texture_size"].as_u64().unwrap() >= 1024);
+    // The same vendor in text and JSON.
+    let vendor = d["vendor"].as_str().unwrap();
+    assert!(
+        text.contains(&format!("({vendor}")),
+        "{vendor} not in:\n{text}"
+    );
 }
 
 #[test]

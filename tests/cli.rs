@@ -180,7 +180,15 @@ fn info_lists_the_devices_and_their_limits() {
     }
     let o = texflow(&["info", "--json"]);
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
-    assert!(v[0]["limits"]["max_texture_size"].as_u64().unwrap() >= 1024);
+    envelope(&v, "texflow.info/1");
+    let d = &v["devices"][0];
+    assert!(d["limits"]["max_texture_size"].as_u64().unwrap() >= 1024);
+    // The same vendor in text and JSON.
+    let vendor = d["vendor"].as_str().unwrap();
+    assert!(
+        text.contains(&format!("({vendor}")),
+        "{vendor} not in:\n{text}"
+    );
 }
 
 #[test]
@@ -208,6 +216,7 @@ fn bench_step_prints_json_records() {
     let o = texflow(&[
         "bench",
         "step",
+        "fire",
         "--sizes",
         "16,24",
         "--repeats",
@@ -219,7 +228,8 @@ fn bench_step_prints_json_records() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
-    let records = v.as_array().unwrap();
+    envelope(&v, "texflow.bench.step/1");
+    let records = v["records"].as_array().unwrap();
     assert_eq!(records.len(), 2);
     for (r, size) in records.iter().zip([16u64, 24]) {
         assert_eq!(r["size"].as_u64(), Some(size));
@@ -228,4 +238,77 @@ fn bench_step_prints_json_records() {
             assert!(r[f].as_f64().unwrap() >= 0.0, "{f}");
         }
     }
+}
+
+/// Every command's JSON is an object naming the version, the schema and the device.
+fn envelope(v: &serde_json::Value, schema: &str) {
+    assert_eq!(v["texflow_version"], env!("CARGO_PKG_VERSION"), "{v}");
+    assert_eq!(v["schema"], schema, "{v}");
+    assert!(v["device"]["renderer"].as_str().is_some(), "{v}");
+    assert!(v["device"]["driver"].as_str().is_some(), "{v}");
+    assert_eq!(v["device"]["clocks"], "unknown", "{v}");
+}
+
+#[test]
+fn bench_step_keeps_the_old_scene_flag() {
+    let o = texflow(&[
+        "bench",
+        "step",
+        "--scene",
+        "fire",
+        "--sizes",
+        "8",
+        "--repeats",
+        "1",
+        "--resolution",
+        "16",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("| 8 | 64 |"));
+}
+
+#[test]
+fn bench_scene_times_every_phase_of_a_scene_file_against_its_floor() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("smoke.toml");
+    let text = texflow(&["scene", "list", "smoke"]);
+    assert!(text.status.success(), "{}", stderr(&text));
+    std::fs::write(&file, &text.stdout).unwrap();
+    let o = texflow(&[
+        "bench",
+        "scene",
+        file.to_str().unwrap(),
+        "--sizes",
+        "16",
+        "--repeats",
+        "2",
+        "--warmup",
+        "2",
+        "--resolution",
+        "32x32",
+        "--json",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    envelope(&v, "texflow.bench.scene/1");
+    let r = &v["records"][0];
+    assert_eq!(r["size"], 16);
+    assert_eq!(r["resolution"], serde_json::json!([32, 32]));
+    let phases: Vec<&str> = r["phases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["phase"].as_str().unwrap())
+        .collect();
+    // smoke is alpha-blended: its plan sorts before drawing.
+    for want in ["sort keys", "sort network", "gather", "render"] {
+        assert!(
+            phases.iter().any(|p| p.starts_with(want)),
+            "{want} in {phases:?}"
+        );
+    }
+    let o = texflow(&["bench", "scene", "no-such-scene", "--sizes", "16"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }

@@ -194,7 +194,7 @@ fn bench_sort_prints_json_records() {
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    let records = v.as_array().unwrap();
+    let records = v["records"].as_array().unwrap();
     // Per size: two variants and two CPU baselines.
     assert_eq!(records.len(), 8);
     for r in records {

@@ -76,7 +76,7 @@ fn key_sets(n: usize, seed: u64) -> Vec<(&'static str, Vec<f32>)> {
             (0..n)
                 .map(|_| {
                     let r = lcg(&mut s);
-                    if r % 3 == 0 {
+                    if r.is_multiple_of(3) {
                         specials[(r / 3) as usize % specials.len()]
                     } else {
                         (r % 100) as f32 - 50.0

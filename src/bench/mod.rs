@@ -3,11 +3,13 @@
 //! fragment path is bound by the bytes it writes, no pass that writes those targets can be
 //! faster).
 
+pub mod scene;
 pub mod scenes;
 pub mod sort;
 pub mod stats;
 pub mod step;
 
+pub use scene::{bench_scene, scene_markdown, SceneBenchOptions, SceneBenchRecord};
 pub use sort::{bench_sort, paper_table1_fps, sort_markdown, SortBenchOptions, SortRecord};
-pub use stats::{median, Clock, PassTimer, WriteFloor};
+pub use stats::{json_envelope, median, Clock, DeviceRecord, PassTimer, RenderFloor, WriteFloor};
 pub use step::{bench_step, step_markdown, StepOptions, StepRecord};

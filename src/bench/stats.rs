@@ -11,7 +11,8 @@ use glam::Vec4;
 
 use crate::error::Result;
 use crate::gl::{
-    Context, Defines, Framebuffer, FullscreenPass, Program, TimerQuery, FULLSCREEN_VERTEX,
+    Blend, Context, Defines, Draw, DrawState, Framebuffer, FullscreenPass, PointSize, Primitive,
+    Program, TimerQuery, VertexArray, FULLSCREEN_VERTEX,
 };
 
 /// A write-only pass into `targets` render targets: the floor of any pass writing them.
@@ -38,6 +39,122 @@ impl WriteFloor {
             .set_vec4("u_value", Vec4::new(0.25, 0.5, 0.75, 1.0));
         self.pass.draw(&self.program, fb);
     }
+
+    /// Writes rows `y0..y0+rows` only: the floor of a pass restricted to the live rows.
+    pub fn draw_rows(&self, fb: &Framebuffer, y0: u32, rows: u32) {
+        self.program.bind();
+        self.program
+            .set_vec4("u_value", Vec4::new(0.25, 0.5, 0.75, 1.0));
+        self.pass.draw_rows(&self.program, fb, y0, rows);
+    }
+}
+
+/// The floor of a render pass (issue 15 item 1): the clear, then as many points as the pass
+/// draws through the same target and blend state, from a vertex shader that fetches no texture
+/// (`glsl/bench/render_floor.vert`), at the smallest point size (1 pixel), writing a constant.
+/// No point-drawing pass with that blend state into that target can be cheaper; the ratio of the
+/// render pass to it is what the texel fetches, the point sizes and the shading cost.
+#[derive(Debug)]
+pub struct RenderFloor {
+    ctx: Context,
+    program: Program,
+    vao: VertexArray,
+}
+
+impl RenderFloor {
+    /// Builds the floor's program.
+    pub fn new(ctx: &Context) -> Result<Self> {
+        let defines: Defines = vec![("TARGETS".into(), "1".into())];
+        Ok(RenderFloor {
+            ctx: ctx.clone(),
+            program: Program::new(
+                ctx,
+                "bench/render_floor.vert",
+                "common/write_floor.frag",
+                &defines,
+            )?,
+            vao: VertexArray::empty(ctx, "render floor")?,
+        })
+    }
+
+    /// Clears `target` to `clear`, then draws `points` one-pixel points with `blend`.
+    pub fn draw(&self, target: &Framebuffer, clear: [f32; 4], blend: Option<Blend>, points: usize) {
+        target.clear(clear);
+        let p = &self.program;
+        p.bind();
+        p.set_u32("u_seed", 0x9e37_79b9);
+        p.set_vec4("u_value", Vec4::new(0.02, 0.01, 0.005, 0.1));
+        self.ctx.draw(&Draw {
+            program: p,
+            target,
+            viewport: None,
+            vertices: &self.vao,
+            primitive: Primitive::Points,
+            count: points as u32,
+            state: &DrawState {
+                blend,
+                point_size: PointSize::One,
+            },
+        });
+    }
+}
+
+/// The device a benchmark ran on, for its JSON (issue 15 item 4): the EGL device, the GL
+/// renderer and driver version, and the clocks where they can be read.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct DeviceRecord {
+    /// EGL device index.
+    pub index: usize,
+    /// `GL_RENDERER`.
+    pub renderer: String,
+    /// `GL_VENDOR`.
+    pub vendor: String,
+    /// `GL_VERSION` (names the driver: Mesa's version, NVIDIA's driver version).
+    pub driver: String,
+    /// `GL_SHADING_LANGUAGE_VERSION`.
+    pub glsl_version: String,
+    /// Whether it is a software rasterizer (llvmpipe): the CPU is its GPU.
+    pub software: bool,
+    /// Core and memory clocks, where GL exposes them; `"unknown"` otherwise (always, so far:
+    /// neither llvmpipe nor NVIDIA's EGL report clocks through GL).
+    pub clocks: String,
+    /// CPU threads of the host (llvmpipe rasterizes on them).
+    pub host_threads: usize,
+}
+
+impl DeviceRecord {
+    /// The record of `ctx`'s device.
+    pub fn of(ctx: &Context) -> Self {
+        let l = ctx.limits();
+        DeviceRecord {
+            index: ctx.device_index(),
+            renderer: l.renderer.clone(),
+            vendor: l.vendor.clone(),
+            driver: l.version.clone(),
+            glsl_version: l.glsl_version.clone(),
+            software: Clock::for_context(ctx) == Clock::Wall,
+            clocks: "unknown".into(),
+            host_threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        }
+    }
+}
+
+/// Wraps benchmark records in the object every command's JSON is (issue 14 item 6):
+/// `texflow_version`, `schema` (`texflow.<command>/<version>`), `device`, the clock and the
+/// records under `records`.
+pub fn json_envelope<T: serde::Serialize>(
+    schema: &str,
+    ctx: &Context,
+    clock: Option<Clock>,
+    records: &T,
+) -> serde_json::Value {
+    serde_json::json!({
+        "texflow_version": env!("CARGO_PKG_VERSION"),
+        "schema": schema,
+        "device": DeviceRecord::of(ctx),
+        "clock": clock,
+        "records": records,
+    })
 }
 
 /// The median of `v` (mean of the two middle values for an even count); NaN for none.

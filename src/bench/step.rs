@@ -1,7 +1,7 @@
 //! `texflow bench step`: the fire's simulation pass and render pass per state size, each next to
 //! its floor measured in the same run.
 
-use super::stats::{median, Clock, PassTimer, WriteFloor};
+use super::stats::{median, Clock, PassTimer, RenderFloor, WriteFloor};
 use crate::engine::FireEngine;
 use crate::error::Result;
 use crate::gl::Context;
@@ -26,7 +26,8 @@ pub struct StepRecord {
     pub particles_per_s: f64,
     /// Median GPU time of one render pass (clear + points), ms.
     pub render_ms: f64,
-    /// Median GPU time of a write-only full-screen pass into the frame target, ms.
+    /// Median GPU time of the render floor ([`RenderFloor`]: the clear and as many one-pixel
+    /// points through the same target and blend, fetching no texture), ms.
     pub render_floor_ms: f64,
     /// render_ms / render_floor_ms.
     pub render_ratio: f64,
@@ -41,8 +42,9 @@ pub struct StepRecord {
 /// The records of [`bench_step`] as a markdown table.
 pub fn step_markdown(records: &[StepRecord]) -> String {
     let mut out = format!(
-        "| state | particles | sim ms | floor ms | sim/floor | Mparticles/s | render ms ({}) | \
-         render floor ms | render/floor |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        "frame {}; column names are the JSON keys\n\n| size | particles | sim_ms | sim_floor_ms | \
+         sim_ratio | particles_per_s | render_ms | render_floor_ms | render_ratio |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
         records
             .first()
             .map(|r| format!("{}x{}", r.resolution[0], r.resolution[1]))
@@ -50,13 +52,13 @@ pub fn step_markdown(records: &[StepRecord]) -> String {
     );
     for r in records {
         out.push_str(&format!(
-            "| {0}x{0} | {1} | {2:.3} | {3:.3} | {4:.2} | {5:.1} | {6:.3} | {7:.3} | {8:.2} |\n",
+            "| {0} | {1} | {2:.3} | {3:.3} | {4:.2} | {5:.3e} | {6:.3} | {7:.3} | {8:.2} |\n",
             r.size,
             r.particles,
             r.sim_ms,
             r.sim_floor_ms,
             r.sim_ratio,
-            r.particles_per_s * 1e-6,
+            r.particles_per_s,
             r.render_ms,
             r.render_floor_ms,
             r.render_ratio
@@ -95,7 +97,8 @@ pub fn bench_step(
     mut progress: impl FnMut(u32),
 ) -> Result<Vec<StepRecord>> {
     let sim_floor = WriteFloor::new(ctx, 2)?;
-    let render_floor = WriteFloor::new(ctx, 1)?;
+    let render_floor = RenderFloor::new(ctx)?;
+    let blend = Some(super::scene::FIRE_BLEND);
     let timer = PassTimer::new(ctx, opts.clock.unwrap_or_else(|| Clock::for_context(ctx)))?;
     let mut records = Vec::new();
     for &size in sizes {
@@ -115,7 +118,9 @@ pub fn bench_step(
             // The timed pass wrote the back without swapping; advancing redoes it and swaps, so
             // the state keeps evolving between repetitions.
             engine.advance_frame();
-            t[2].push(timer.time(|| render_floor.draw(engine.target().framebuffer()))?);
+            let points = engine.sim().particle_count();
+            let fb = engine.target().framebuffer();
+            t[2].push(timer.time(|| render_floor.draw(fb, [0.0, 0.0, 0.0, 1.0], blend, points))?);
             t[3].push(timer.time(|| engine.draw())?);
         }
         ctx.check_error("benchmark")?;

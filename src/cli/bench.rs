@@ -14,20 +14,36 @@ use super::{at_least_one, bad, parse_size, progress_bar, ClockArg, Common};
 pub enum BenchCommand {
     /// UberFlow's Table 2: fps of whole frames of E1-E5 per state size, next to the paper's.
     Scenes(ScenesArgs),
-    /// GPU time of the simulation pass and the render pass per state size, with floors.
+    /// Every phase of any scene's pass plan, each next to its same-run floor, and the frame's
+    /// fps and particles per second.
+    Scene(SceneArgs),
+    /// GPU time of the fire's simulation pass and render pass per state size, with floors.
     #[command(allow_negative_numbers = true)]
     Step {
-        /// Scene to measure.
-        #[arg(long, default_value = scene::DEFAULT_SCENE)]
+        /// Built-in fire scene to measure (only the fire; other scenes: `bench scene`).
+        #[arg(value_name = "SCENE", default_value = scene::DEFAULT_SCENE)]
         scene: String,
+        /// The old spelling of SCENE (hidden; still accepted).
+        #[arg(
+            long = "scene",
+            value_name = "SCENE",
+            hide = true,
+            conflicts_with = "scene"
+        )]
+        scene_flag: Option<String>,
         /// Square state sizes, comma-separated.
-        #[arg(long, value_delimiter = ',', default_value = "256,512,1024,2048")]
+        #[arg(
+            long,
+            value_name = "N,...",
+            value_delimiter = ',',
+            default_value = "256,512,1024,2048"
+        )]
         sizes: Vec<u32>,
         /// Timed repetitions per size (the median is reported).
-        #[arg(long, default_value_t = 21, value_parser = at_least_one::<usize>)]
+        #[arg(long, value_name = "N", default_value_t = 21, value_parser = at_least_one::<usize>)]
         repeats: usize,
-        /// Frame size WxH of the render pass.
-        #[arg(long, value_parser = parse_size)]
+        /// Frame size of the render pass [default: the scene's].
+        #[arg(long, value_name = "WxH", value_parser = parse_size)]
         resolution: Option<[u32; 2]>,
         /// How to time passes: auto (wall time on llvmpipe, timer queries on a GPU), gpu, wall.
         #[arg(long, value_enum, default_value_t = ClockArg::Auto)]
@@ -121,11 +137,13 @@ pub fn bench(cmd: BenchCommand) -> texflow::Result<()> {
             let records = bench_sort(&ctx, &sizes, &variants, &opts, |_, _| bar.inc(1))?;
             bar.finish_and_clear();
             let clock = records.iter().find(|r| r.passes > 0).map(|r| r.clock);
-            report(json, &records, &ctx, clock, &format!("medians of {repeats}; full sort = key pass + network + rearrangement of 2 RGBA32F textures"), print_sort_table);
+            report(json.then_some("texflow.bench.sort/1"), &records, &ctx, clock, &format!("medians of {repeats}; full sort = key pass + network + rearrangement of 2 RGBA32F textures"), print_sort_table);
             Ok(())
         }
+        BenchCommand::Scene(a) => bench_scene(a),
         BenchCommand::Step {
             scene: name,
+            scene_flag,
             sizes,
             repeats,
             resolution,
@@ -133,6 +151,7 @@ pub fn bench(cmd: BenchCommand) -> texflow::Result<()> {
             json,
             common,
         } => {
+            let name = scene_flag.unwrap_or(name);
             let mut s = scene::builtin(&name)?;
             if let Some(r) = resolution {
                 s.resolution = r;
@@ -158,7 +177,7 @@ pub fn bench(cmd: BenchCommand) -> texflow::Result<()> {
             bar.finish_and_clear();
             let clock = records.first().map(|r| r.clock);
             report(
-                json,
+                json.then_some("texflow.bench.step/1"),
                 &records,
                 &ctx,
                 clock,
@@ -263,26 +282,31 @@ pub fn bench_scenes(a: ScenesArgs) -> texflow::Result<()> {
         a.repeats,
         rayon::current_num_threads()
     );
-    report(a.json, &records, &ctx, clock, &what, |r| {
-        print!("{}", bs::markdown(r))
-    });
+    report(
+        a.json.then_some("texflow.bench.scenes/1"),
+        &records,
+        &ctx,
+        clock,
+        &what,
+        |r| print!("{}", bs::markdown(r)),
+    );
     Ok(())
 }
 
-/// Prints benchmark records as JSON, or as a header naming the device and clock and a table.
+/// Prints benchmark records as JSON (an object: `texflow_version`, `schema`, `device`, `clock`,
+/// `records`), or as a header naming the device and clock and a table.
 pub fn report<T: serde::Serialize>(
-    json: bool,
+    json: Option<&str>,
     records: &[T],
     ctx: &Context,
     clock: Option<Clock>,
     what: &str,
     table: fn(&[T]),
 ) {
-    if json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(records).unwrap_or_default()
-        );
+    if let Some(schema) = json {
+        let mut v = texflow::bench::json_envelope(schema, ctx, clock, &records);
+        v["what"] = what.into();
+        println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
     } else {
         println!(
             "device {}: {}; {}; {what}",
@@ -296,4 +320,97 @@ pub fn report<T: serde::Serialize>(
 
 pub fn print_step_table(records: &[StepRecord]) {
     print!("{}", texflow::bench::step_markdown(records));
+}
+
+#[derive(Args)]
+#[command(allow_negative_numbers = true)]
+pub struct SceneArgs {
+    /// Scene to measure: a built-in name (fire, snow, fountain, smoke, e1, e2, e3, collide) or a
+    /// .toml scene file.
+    #[arg(value_name = "NAME|FILE")]
+    scene: String,
+    /// Square state sizes (size x size particles), comma-separated [default: the scene's
+    /// particles.size, when square].
+    #[arg(long, value_name = "N,...", value_delimiter = ',')]
+    sizes: Vec<u32>,
+    /// Timed repetitions per size (the medians are reported).
+    #[arg(long, value_name = "N", default_value_t = 11, value_parser = at_least_one::<usize>)]
+    repeats: usize,
+    /// Frames simulated before timing [default: one emission cycle of the scene].
+    #[arg(long, value_name = "FRAMES")]
+    warmup: Option<usize>,
+    /// Frame size [default: the scene's render.resolution].
+    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    resolution: Option<[u32; 2]>,
+    /// Seed of the engine.
+    #[arg(long, value_name = "SEED", default_value_t = 1)]
+    seed: u64,
+    /// How to time: auto (wall time on llvmpipe, timer queries on a GPU), gpu, wall.
+    #[arg(long, value_enum, default_value_t = ClockArg::Auto)]
+    clock: ClockArg,
+    /// Print JSON: an object with texflow_version, schema, device, clock and one record per size.
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    common: Common,
+}
+
+pub fn bench_scene(a: SceneArgs) -> texflow::Result<()> {
+    use texflow::bench::scene as bs;
+    let overrides = texflow::engine::Overrides {
+        particles: None,
+        resolution: a.resolution,
+        dt: None,
+        substeps: None,
+        no_collisions: false,
+        seed: a.seed,
+        device: a.common.device,
+    };
+    let prepared = overrides.prepare(&a.scene)?;
+    let s = &prepared.scene;
+    let sizes = if a.sizes.is_empty() {
+        let [w, h] = s.particles.size;
+        if w != h {
+            return Err(bad(format!(
+                "scene {} has a {w}x{h} state: give square sizes with --sizes, e.g. --sizes {w}",
+                s.name
+            )));
+        }
+        vec![w]
+    } else {
+        a.sizes.clone()
+    };
+    if sizes.contains(&0) {
+        return Err(bad("--sizes needs sizes of at least 1, e.g. 64,128"));
+    }
+    let ctx = Context::new(a.common.device)?;
+    overrides.check_device(&ctx, &prepared)?;
+    for &n in &sizes {
+        texflow::gl::check_size(&ctx, "--sizes", n, n)?;
+    }
+    let bar = progress_bar(sizes.len() as u64, a.common.quiet, "bench scene");
+    let opts = bs::SceneBenchOptions {
+        repeats: a.repeats,
+        warmup_frames: a.warmup,
+        clock: a.clock.clock(),
+        resolution: a.resolution,
+        seed: a.seed,
+    };
+    let records = bs::bench_scene(&ctx, s, &sizes, &opts, |_| bar.inc(1))?;
+    bar.finish_and_clear();
+    let clock = records.first().map(|r| r.clock);
+    let what = format!(
+        "scene {} ({}); medians of {}; each phase run alone and finished, next to its floor \
+         measured in the same run",
+        s.name, prepared.label, a.repeats
+    );
+    report(
+        a.json.then_some("texflow.bench.scene/1"),
+        &records,
+        &ctx,
+        clock,
+        &what,
+        |r| print!("{}", bs::scene_markdown(r)),
+    );
+    Ok(())
 }

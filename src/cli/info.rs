@@ -5,8 +5,19 @@ use texflow::gl::{list_devices, Context};
 pub fn info(json: bool) -> texflow::Result<()> {
     let devices = list_devices()?;
     let mut rows = Vec::new();
+    let mut first = None;
     for d in &devices {
-        let limits = Context::new(d.index).map(|c| c.limits().clone());
+        let ctx = Context::new(d.index);
+        let limits = ctx.as_ref().map(|c| c.limits().clone());
+        if let (None, Ok(c)) = (&first, &ctx) {
+            first = Some(texflow::bench::DeviceRecord::of(c));
+        }
+        // One vendor in text and JSON: EGL's, else GL_VENDOR, else "unknown".
+        let vendor = d
+            .vendor
+            .clone()
+            .or_else(|| limits.as_ref().ok().map(|l| l.vendor.clone()))
+            .unwrap_or_else(|| "unknown".into());
         if !json {
             println!(
                 "device {}: {} ({}){}",
@@ -16,7 +27,7 @@ pub fn info(json: bool) -> texflow::Result<()> {
                 } else {
                     "unnamed"
                 }),
-                d.vendor.as_deref().unwrap_or("unknown vendor"),
+                vendor,
                 if d.software { ", software" } else { "" }
             );
             match &limits {
@@ -50,7 +61,7 @@ pub fn info(json: bool) -> texflow::Result<()> {
         rows.push(serde_json::json!({
             "index": d.index,
             "name": d.name,
-            "vendor": d.vendor,
+            "vendor": vendor,
             "software": d.software,
             "drm_node": d.drm_node,
             "limits": limits.as_ref().ok(),
@@ -58,10 +69,13 @@ pub fn info(json: bool) -> texflow::Result<()> {
         }));
     }
     if json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&rows).unwrap_or_default()
-        );
+        let v = serde_json::json!({
+            "texflow_version": env!("CARGO_PKG_VERSION"),
+            "schema": "texflow.info/1",
+            "device": first,
+            "devices": rows,
+        });
+        println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
     }
     Ok(())
 }

@@ -55,9 +55,10 @@ pub enum Command {
 #[derive(Args)]
 pub struct Common {
     /// EGL device index (see `texflow info`).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, value_name = "N", default_value_t = 0)]
     device: usize,
-    /// No progress bar.
+    /// Hide the progress bar and the closing "wrote ..." line on stderr; results on stdout,
+    /// warnings and errors still print.
     #[arg(long, short)]
     quiet: bool,
 }

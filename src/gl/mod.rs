@@ -25,7 +25,7 @@ pub use draw::{
 };
 pub use framebuffer::Framebuffer;
 pub use pack::PixelPack;
-pub use pass::{FullscreenPass, FULLSCREEN_VERTEX};
+pub use pass::{FullscreenPass, StatePass, Uniform, FULLSCREEN_VERTEX};
 pub use pingpong::{PingPong, Ring3};
 pub use program::{Defines, Program};
 pub use query::TimerQuery;

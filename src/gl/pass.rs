@@ -1,7 +1,9 @@
 //! The full-screen pass: one attribute-less triangle covering the viewport, so that every texel
 //! of the target runs the fragment program once (the papers' full-screen quad, thesis §3.5).
 
-use super::{Context, Draw, DrawState, Framebuffer, Primitive, Program, Rect, VertexArray};
+use super::{
+    Context, Defines, Draw, DrawState, Framebuffer, PingPong, Primitive, Program, Rect, VertexArray,
+};
 use crate::error::Result;
 
 /// The vertex shader every full-screen pass uses.
@@ -45,5 +47,125 @@ impl FullscreenPass {
             count: 3,
             state: &DrawState::REPLACE,
         });
+    }
+}
+
+/// A uniform value for [`StatePass::run`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Uniform {
+    /// `float`.
+    F32(f32),
+    /// `int`.
+    I32(i32),
+    /// `vec2`.
+    Vec2(glam::Vec2),
+    /// `vec3`.
+    Vec3(glam::Vec3),
+    /// `vec4`.
+    Vec4(glam::Vec4),
+}
+
+/// A fragment pass of your own over a [`PingPong`] state: the public ping-pong pass API (what
+/// three.js's `GPUComputationRenderer.addVariable` does, here in Rust; thesis §3.4-3.5).
+///
+/// Your fragment shader reads the state's front textures through `uniform sampler2D u_state0`,
+/// `u_state1`, ... (one per texture, in the state's order, fetched with `texelFetch` at
+/// `ivec2(gl_FragCoord.xy)`) and writes the back textures through
+/// `layout(location = k) out vec4`, one output per texture. It is compiled like the crate's
+/// own passes: no `#version` line (`#version 330 core` is prepended), `#include "common/rng.glsl"`
+/// and the other files under `glsl/` work, and a compile error names your `name` and line.
+/// [`run`](Self::run) draws the full-screen pass into the back and swaps, so that what was
+/// written is the new front. State changes only by drawing, reads only by texel fetch.
+///
+/// ```
+/// use texflow::gl::{Context, PingPong, StatePass, TextureFormat, Uniform};
+///
+/// let ctx = Context::new(0)?;
+/// let formats = [TextureFormat::Rgba32F; 2];
+/// let mut state = PingPong::new(&ctx, "mine", &["x", "v"], &formats, 4, 4)?;
+/// state.front().texture(1).upload_f32(&[1.0; 4 * 16])?; // v = 1 everywhere, x = 0
+/// let pass = StatePass::new(
+///     &ctx,
+///     "euler.frag",
+///     "uniform sampler2D u_state0; uniform sampler2D u_state1; uniform float u_dt;
+///      layout(location = 0) out vec4 o_x; layout(location = 1) out vec4 o_v;
+///      void main() {
+///          ivec2 t = ivec2(gl_FragCoord.xy);
+///          vec4 v = texelFetch(u_state1, t, 0);
+///          o_x = texelFetch(u_state0, t, 0) + v * u_dt;
+///          o_v = v;
+///      }",
+///     state.front().textures().len(),
+/// )?;
+/// for _ in 0..10 {
+///     pass.run(&mut state, &[("u_dt", Uniform::F32(0.25))]);
+/// }
+/// let x = state.front().texture(0).read_f32()?;
+/// assert!(x.iter().all(|&x| (x - 2.5).abs() < 1e-6)); // x = v·t = 1 · 10 · 0.25
+/// ctx.check_error("the example")?;
+/// # Ok::<(), texflow::Error>(())
+/// ```
+#[derive(Debug)]
+pub struct StatePass {
+    program: Program,
+    pass: FullscreenPass,
+    targets: usize,
+}
+
+impl StatePass {
+    /// Compiles `source` (a fragment shader, named `name` in errors) for a state of `targets`
+    /// textures (1 to 4, the state's count: the pass writes every one).
+    pub fn new(ctx: &Context, name: &str, source: &str, targets: usize) -> Result<Self> {
+        if !(1..=4).contains(&targets) {
+            return Err(crate::Error::InvalidInput(format!(
+                "a state pass writes 1 to 4 textures, not {targets}"
+            )));
+        }
+        Ok(StatePass {
+            program: Program::with_fragment_source(
+                ctx,
+                FULLSCREEN_VERTEX,
+                name,
+                source,
+                &Defines::new(),
+            )?,
+            pass: FullscreenPass::new(ctx)?,
+            targets,
+        })
+    }
+
+    /// The linked program (to set uniforms that stay the same between runs).
+    pub fn program(&self) -> &Program {
+        &self.program
+    }
+
+    /// Runs the pass once: binds the front's textures to `u_state0`.. (units 0..), sets
+    /// `uniforms`, draws every texel of the back and swaps. Uniforms the shader does not use are
+    /// ignored, as GL ignores them. Panics if `state` has another number of textures than the
+    /// pass was made for (a programming error, like a wrong index).
+    pub fn run(&self, state: &mut PingPong, uniforms: &[(&str, Uniform)]) {
+        let n = state.front().textures().len();
+        assert_eq!(
+            n, self.targets,
+            "the state has {n} textures; this pass was made for {}",
+            self.targets
+        );
+        let p = &self.program;
+        p.bind();
+        for (k, t) in state.front().textures().iter().enumerate() {
+            t.bind(k as u32);
+            p.set_i32(&format!("u_state{k}"), k as i32);
+        }
+        for &(name, value) in uniforms {
+            match value {
+                Uniform::F32(v) => p.set_f32(name, v),
+                Uniform::I32(v) => p.set_i32(name, v),
+                Uniform::Vec2(v) => p.set_vec2(name, v),
+                Uniform::Vec3(v) => p.set_vec3(name, v),
+                Uniform::Vec4(v) => p.set_vec4(name, v),
+            }
+        }
+        self.pass.draw(p, state.back());
+        state.swap();
     }
 }

@@ -26,8 +26,14 @@ impl std::fmt::Debug for Program {
     }
 }
 
-fn compile(ctx: &Context, kind: u32, path: &str, defines: &Defines) -> Result<glow::Shader> {
-    let resolved = resolve(path, defines, &embedded)?;
+fn compile<'a>(
+    ctx: &Context,
+    kind: u32,
+    path: &str,
+    defines: &Defines,
+    lookup: &dyn Fn(&str) -> Option<&'a str>,
+) -> Result<glow::Shader> {
+    let resolved = resolve(path, defines, lookup)?;
     // SAFETY: plain shader compilation on a current context.
     unsafe {
         let shader = ctx.create_shader(kind).map_err(Error::Gl)?;
@@ -47,9 +53,33 @@ fn compile(ctx: &Context, kind: u32, path: &str, defines: &Defines) -> Result<gl
 impl Program {
     /// Compiles `vertex` and `fragment` (paths under `glsl/`) with `defines` and links them.
     pub fn new(ctx: &Context, vertex: &str, fragment: &str, defines: &Defines) -> Result<Self> {
+        Self::build(ctx, vertex, fragment, defines, &embedded)
+    }
+
+    /// Compiles the embedded `vertex` with a fragment shader of the caller's, `source` (its
+    /// `#include`s name embedded files, e.g. `"common/rng.glsl"`), named `name` in compile
+    /// errors (`name:line`), and links them.
+    pub fn with_fragment_source(
+        ctx: &Context,
+        vertex: &str,
+        name: &str,
+        source: &str,
+        defines: &Defines,
+    ) -> Result<Self> {
+        let lookup = |p: &str| if p == name { Some(source) } else { embedded(p) };
+        Self::build(ctx, vertex, name, defines, &lookup)
+    }
+
+    fn build<'a>(
+        ctx: &Context,
+        vertex: &str,
+        fragment: &str,
+        defines: &Defines,
+        lookup: &dyn Fn(&str) -> Option<&'a str>,
+    ) -> Result<Self> {
         let name = format!("{vertex}+{fragment}");
-        let vs = compile(ctx, glow::VERTEX_SHADER, vertex, defines)?;
-        let fs = match compile(ctx, glow::FRAGMENT_SHADER, fragment, defines) {
+        let vs = compile(ctx, glow::VERTEX_SHADER, vertex, defines, lookup)?;
+        let fs = match compile(ctx, glow::FRAGMENT_SHADER, fragment, defines, lookup) {
             Ok(fs) => fs,
             Err(e) => {
                 // SAFETY: vs is a live shader of this context.

@@ -21,6 +21,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "common/state.glsl",
     "common/fullscreen.vert",
     "common/write_floor.frag",
+    "bench/render_floor.vert",
     "common/compare.glsl",
     "common/precision.glsl",
     "sort/keys.frag",
@@ -82,10 +83,10 @@ pub struct Resolved {
 }
 
 /// Builds the full text of shader `root`: version, `defines`, then the file with its includes.
-pub fn resolve(
+pub fn resolve<'a>(
     root: &str,
     defines: &[(String, String)],
-    lookup: &dyn Fn(&str) -> Option<&'static str>,
+    lookup: &dyn Fn(&str) -> Option<&'a str>,
 ) -> Result<Resolved> {
     let mut text = format!("{VERSION}\n");
     for (k, v) in defines {
@@ -97,9 +98,9 @@ pub fn resolve(
     Ok(Resolved { text, files })
 }
 
-fn splice(
+fn splice<'a>(
     path: &str,
-    lookup: &dyn Fn(&str) -> Option<&'static str>,
+    lookup: &dyn Fn(&str) -> Option<&'a str>,
     out: &mut String,
     files: &mut Vec<String>,
     seen: &mut HashSet<String>,

@@ -272,10 +272,11 @@ pub fn write_json<T: serde::Serialize + ?Sized>(path: &Path, value: &T) -> Resul
     write_atomic(path, text.as_bytes())
 }
 
-/// A CSV table: a header and rows of already formatted fields (none holds a comma or a quote).
+/// A CSV table: a header and rows of formatted fields, written through the csv crate (RFC 4180:
+/// a field holding a comma, a quote or a newline is quoted, so no field can break a row).
 #[derive(Debug, Clone, Default)]
 pub struct Csv {
-    text: String,
+    rows: Vec<Vec<String>>,
 }
 
 impl Csv {
@@ -288,15 +289,24 @@ impl Csv {
 
     /// Appends a row.
     pub fn row(&mut self, fields: impl IntoIterator<Item = String>) {
-        let fields: Vec<String> = fields.into_iter().collect();
-        debug_assert!(fields.iter().all(|f| !f.contains([',', '"', '\n'])));
-        self.text.push_str(&fields.join(","));
-        self.text.push('\n');
+        self.rows.push(fields.into_iter().collect());
+    }
+
+    /// The table as CSV text.
+    pub fn to_text(&self) -> String {
+        let mut w = csv::WriterBuilder::new()
+            .flexible(true)
+            .from_writer(Vec::new());
+        for r in &self.rows {
+            // Writing into memory fails only on a broken invariant of the crate.
+            w.write_record(r).expect("CSV into memory");
+        }
+        String::from_utf8(w.into_inner().expect("CSV into memory")).expect("UTF-8 fields")
     }
 
     /// Writes the table.
     pub fn write(&self, path: &Path) -> Result<()> {
-        write_atomic(path, self.text.as_bytes())
+        write_atomic(path, self.to_text().as_bytes())
     }
 }
 
@@ -307,5 +317,27 @@ pub fn num(x: Option<f64>) -> String {
         Some(v) if v.is_nan() => "nan".into(),
         Some(v) if v.is_infinite() => if v > 0.0 { "inf" } else { "-inf" }.into(),
         Some(v) => format!("{v:e}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Csv;
+
+    #[test]
+    fn csv_fields_with_commas_quotes_and_newlines_keep_their_row() {
+        let mut c = Csv::new(&["name", "value"]);
+        c.row(["a, b".to_string(), "1".to_string()]);
+        c.row(["say \"hi\"\nthere".to_string(), "2".to_string()]);
+        let text = c.to_text();
+        let mut r = csv::Reader::from_reader(text.as_bytes());
+        let rows: Vec<Vec<String>> = r
+            .records()
+            .map(|x| x.unwrap().iter().map(str::to_owned).collect())
+            .collect();
+        assert_eq!(
+            rows,
+            [["a, b", "1"], ["say \"hi\"\nthere", "2"]].map(|r| r.map(str::to_owned).to_vec())
+        );
     }
 }

@@ -105,7 +105,7 @@ pub fn partner(step: &Step, i: u32, width: u32) -> Option<(u32, bool)> {
             }
         }
         Step::OddEvenEnd { step } => {
-            if (i / step) % 2 == 0 {
+            if (i / step).is_multiple_of(2) {
                 Some((i + step, true))
             } else {
                 Some((i - step, false))

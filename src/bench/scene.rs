@@ -1,0 +1,553 @@
+//! `texflow bench scene NAME|FILE`: every phase of any scene's pass plan
+//! ([`crate::engine::plan`]) timed alone, next to its floor measured in the same run, and the
+//! whole frame's fps and particles per second.
+//!
+//! The phases, for the particle pipeline ([`Engine`]): births and integration (one
+//! [`ParticleSim::step_without_collisions`](crate::sim::ParticleSim::step_without_collisions)),
+//! the collision stage ([`ParticleSim::collide`](crate::sim::ParticleSim::collide)), for alpha
+//! blending the sort's key pass, its network and the gather (a [`Sorter`] built from the same
+//! [`crate::engine::plan::sort_plan`] as the engine's, fed the simulation's positions), and the
+//! render pass (clear and points, or sprites). For the fire ([`FireEngine`]): its simulation
+//! pass and its render pass. The floors:
+//!
+//! - a state-writing pass: [`WriteFloor`] into a framebuffer of the same formats and size (over
+//!   the live rows where the pass is restricted to them);
+//! - the collision stage: one such write of the state (the stage runs several passes, so its
+//!   ratio counts passes as well as what each costs);
+//! - the sort network: one write of the sort texture times the passes run;
+//! - the render pass: [`RenderFloor`] (issue 15 item 1).
+//!
+//! Each repetition first times a whole frame (`substeps` steps, then the frame's drawing), then
+//! each phase once, each finished before the next (a phase's time is one step's, not a frame's).
+
+use super::scenes::default_warmup_frames;
+use super::stats::{median, Clock, PassTimer, RenderFloor, WriteFloor};
+use crate::engine::{Engine, FireEngine};
+use crate::error::{Error, Result};
+use crate::gl::{
+    Blend, BlendComponent, BlendFactor, Context, Framebuffer, Texture, TextureDesc, TextureFormat,
+};
+use crate::scene::{DrawOrder, Scene, SceneFile};
+use crate::sort::{KeyMode, SortOptions, Sorter};
+
+/// One phase of a frame and its floor.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct PhaseRecord {
+    /// The phase, in the pass plan's words.
+    pub phase: String,
+    /// Median milliseconds of one run of the phase.
+    pub ms: f64,
+    /// Median milliseconds of its floor, measured in the same run.
+    pub floor_ms: f64,
+    /// ms / floor_ms.
+    pub ratio: f64,
+    /// What the floor is.
+    pub floor: String,
+}
+
+/// One state size of `texflow bench scene`.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct SceneBenchRecord {
+    /// Scene name.
+    pub scene: String,
+    /// `fire` or `particles`.
+    pub engine: String,
+    /// State side: size × size particles.
+    pub size: u32,
+    /// Particles of the state (size²).
+    pub particles: u64,
+    /// Particles alive when the timing ended.
+    pub live: u64,
+    /// Simulation steps per frame.
+    pub substeps: u32,
+    /// Every phase with its floor.
+    pub phases: Vec<PhaseRecord>,
+    /// Median milliseconds of one whole frame.
+    pub frame_ms: f64,
+    /// 1000 / frame_ms.
+    pub fps: f64,
+    /// Particles of the state simulated and drawn per second (particles × fps).
+    pub particles_per_s: f64,
+    /// Frame size drawn.
+    pub resolution: [u32; 2],
+    /// Frames simulated before timing.
+    pub warmup_frames: usize,
+    /// Timed repetitions behind each median.
+    pub repeats: usize,
+    /// The clock.
+    pub clock: Clock,
+}
+
+/// Options of [`bench_scene`].
+#[derive(Debug, Clone)]
+pub struct SceneBenchOptions {
+    /// Timed repetitions per size (the medians are reported).
+    pub repeats: usize,
+    /// Frames of simulation before timing; `None`: one emission cycle (as `bench scenes`).
+    pub warmup_frames: Option<usize>,
+    /// The clock; `None` picks [`Clock::for_context`].
+    pub clock: Option<Clock>,
+    /// Frame size; `None` keeps the scene's.
+    pub resolution: Option<[u32; 2]>,
+    /// Seed of the engine.
+    pub seed: u64,
+}
+
+impl Default for SceneBenchOptions {
+    fn default() -> Self {
+        SceneBenchOptions {
+            repeats: 11,
+            warmup_frames: None,
+            clock: None,
+            resolution: None,
+            seed: 1,
+        }
+    }
+}
+
+/// Collects the times of named phases over repetitions, in first-seen order. The first
+/// repetition is a warm-up and is not kept: drivers build programs' variants for a draw state at
+/// its first draw (llvmpipe compiles them then), and that would be charged to the phase.
+#[derive(Default)]
+struct Phases {
+    list: Vec<(String, String, Vec<f64>, Vec<f64>)>,
+    warm: bool,
+}
+
+impl Phases {
+    /// Ends a repetition: from now on, times are kept.
+    fn next_repetition(&mut self) {
+        self.warm = true;
+    }
+
+    fn push(&mut self, name: &str, floor: &str, ms: f64, floor_ms: f64) {
+        if !self.warm {
+            return;
+        }
+        match self.list.iter_mut().find(|p| p.0 == name) {
+            Some(p) => {
+                p.2.push(ms);
+                p.3.push(floor_ms);
+            }
+            None => self
+                .list
+                .push((name.into(), floor.into(), vec![ms], vec![floor_ms])),
+        }
+    }
+
+    fn records(self) -> Vec<PhaseRecord> {
+        self.list
+            .into_iter()
+            .map(|(phase, floor, ms, fl)| {
+                let (ms, floor_ms) = (median(&ms), median(&fl));
+                PhaseRecord {
+                    phase,
+                    ms,
+                    floor_ms,
+                    ratio: ms / floor_ms,
+                    floor,
+                }
+            })
+            .collect()
+    }
+}
+
+/// Times `f` with `timer`, passing its error on.
+fn timed(timer: &PassTimer, f: impl FnOnce() -> Result<()>) -> Result<f64> {
+    let mut res = Ok(());
+    let t = timer.time(|| res = f())?;
+    res.map(|_| t)
+}
+
+/// A framebuffer of the same size and formats as `fb`: where floors of passes writing `fb` go,
+/// so that they leave the state alone.
+fn scratch_like(ctx: &Context, fb: &Framebuffer) -> Result<Framebuffer> {
+    let textures = fb
+        .textures()
+        .iter()
+        .enumerate()
+        .map(|(k, t)| {
+            Texture::new(
+                ctx,
+                TextureDesc {
+                    width: t.width(),
+                    height: t.height(),
+                    format: t.format(),
+                    label: &format!("floor scratch {k}"),
+                },
+            )
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Framebuffer::new(ctx, "floor scratch", textures)
+}
+
+/// The fire's blend (render/points.rs: additive colour, destination alpha kept).
+pub(crate) const FIRE_BLEND: Blend = Blend {
+    color: BlendComponent::add(BlendFactor::SrcAlpha, BlendFactor::One),
+    alpha: BlendComponent::add(BlendFactor::Zero, BlendFactor::One),
+};
+
+/// Times every phase of `scene` at each square state size; `progress(size)` after each.
+pub fn bench_scene(
+    ctx: &Context,
+    scene: &SceneFile,
+    sizes: &[u32],
+    opts: &SceneBenchOptions,
+    mut progress: impl FnMut(u32),
+) -> Result<Vec<SceneBenchRecord>> {
+    if opts.repeats == 0 {
+        return Err(Error::InvalidInput("repeats must be at least 1".into()));
+    }
+    let timer = PassTimer::new(ctx, opts.clock.unwrap_or_else(|| Clock::for_context(ctx)))?;
+    let render_floor = RenderFloor::new(ctx)?;
+    let mut records = Vec::new();
+    for &size in sizes {
+        let mut s = scene.clone();
+        s.particles.size = [size, size];
+        if let Some(r) = opts.resolution {
+            s.render.resolution = r;
+        }
+        let warmup = opts
+            .warmup_frames
+            .unwrap_or_else(|| default_warmup_frames(&s));
+        let (phases, frame, live) = if s.fire.is_some() {
+            fire(ctx, &s, warmup, &timer, &render_floor, opts)?
+        } else {
+            particles(ctx, &s, warmup, &timer, &render_floor, opts)?
+        };
+        ctx.check_error(&format!("benchmarking scene {} at {size}²", s.name))?;
+        let particles = size as u64 * size as u64;
+        records.push(SceneBenchRecord {
+            scene: s.name.clone(),
+            engine: if s.fire.is_some() {
+                "fire"
+            } else {
+                "particles"
+            }
+            .into(),
+            size,
+            particles,
+            live,
+            substeps: s.time.substeps,
+            phases: phases.records(),
+            frame_ms: frame,
+            fps: 1e3 / frame,
+            particles_per_s: particles as f64 * 1e3 / frame,
+            resolution: s.render.resolution,
+            warmup_frames: warmup,
+            repeats: opts.repeats,
+            clock: timer.clock(),
+        });
+        progress(size);
+    }
+    Ok(records)
+}
+
+fn fire(
+    ctx: &Context,
+    s: &SceneFile,
+    warmup: usize,
+    timer: &PassTimer,
+    render_floor: &RenderFloor,
+    opts: &SceneBenchOptions,
+) -> Result<(Phases, f64, u64)> {
+    let scene = Scene::from_file(s)?;
+    let dt = scene.dt;
+    let mut engine = FireEngine::new(ctx, scene, opts.seed)?;
+    let floor = WriteFloor::new(ctx, 2)?;
+    for _ in 0..warmup + 2 {
+        engine.advance_frame();
+    }
+    engine.draw();
+    let mut phases = Phases::default();
+    let mut frames = Vec::new();
+    let points = engine.sim().particle_count();
+    for _ in 0..=opts.repeats {
+        frames.push(timer.time(|| {
+            engine.advance_frame();
+            engine.draw();
+        })?);
+        let sim = engine.sim();
+        let f = timer.time(|| floor.draw(sim.state().back()))?;
+        sim.bind_step(dt);
+        let t = timer.time(|| sim.draw_step_only())?;
+        phases.push(
+            "fire: thesis physics, respawn, colour by age (MRT)",
+            "write-only pass into position + velocity",
+            t,
+            f,
+        );
+        // The timed pass wrote the back without swapping; a frame redoes it and swaps.
+        engine.advance_frame();
+        let fb = engine.target().framebuffer();
+        let f =
+            timer.time(|| render_floor.draw(fb, [0.0, 0.0, 0.0, 1.0], Some(FIRE_BLEND), points))?;
+        let t = timer.time(|| engine.draw())?;
+        phases.push(
+            "render points (clear, texture fetch, additive)",
+            "clear + as many 1-px points, no fetch, same blend",
+            t,
+            f,
+        );
+        phases.next_repetition();
+    }
+    let live = engine
+        .sim()
+        .positions()
+        .read_f32()?
+        .chunks_exact(4)
+        .filter(|p| p[3] > 0.0)
+        .count() as u64;
+    Ok((phases, median(&frames[1..]), live))
+}
+
+fn particles(
+    ctx: &Context,
+    s: &SceneFile,
+    warmup: usize,
+    timer: &PassTimer,
+    render_floor: &RenderFloor,
+    opts: &SceneBenchOptions,
+) -> Result<(Phases, f64, u64)> {
+    let mut engine = Engine::new(ctx, s, opts.seed)?;
+    for _ in 0..warmup {
+        engine.advance_frame_without_collisions()?;
+    }
+    for _ in 0..2 {
+        engine.advance_frame()?;
+        engine.draw()?;
+    }
+    let state_targets = engine.sim().front().textures().len();
+    let scratch = scratch_like(ctx, engine.sim().front())?;
+    let state_floor = WriteFloor::new(ctx, state_targets)?;
+    let floor1 = WriteFloor::new(ctx, 1)?;
+    let floor2 = WriteFloor::new(ctx, 2)?;
+    let [w, h] = s.particles.size;
+    let texels = w as usize * h as usize;
+    // The sort the engine runs, built from the same plan, with its own gather target.
+    let mut sort = match crate::engine::plan::sort_plan(s) {
+        None => None,
+        Some(p) => {
+            let options = SortOptions {
+                passes_per_frame: p.passes_per_frame.map(|n| n as usize),
+                ..Default::default()
+            };
+            let sorter = Sorter::new(ctx, p.variant, p.size[0], p.size[1], options)?;
+            let tex = |label: &str| {
+                Texture::new(
+                    ctx,
+                    TextureDesc {
+                        width: w,
+                        height: h,
+                        format: TextureFormat::Rgba32F,
+                        label,
+                    },
+                )
+            };
+            let sorted = Framebuffer::new(
+                ctx,
+                "bench sorted",
+                vec![tex("bench sorted position")?, tex("bench sorted static")?],
+            )?;
+            Some((sorter, sorted, p.passes_per_frame.is_some(), false))
+        }
+    };
+    let back_to_front = s.render.order == DrawOrder::BackToFront;
+    let has_births = engine.sim().allocator().is_some();
+    let step_name = if has_births {
+        "births (allocator) + integrate"
+    } else {
+        "integrate"
+    };
+    let style = engine.renderer().style().clone();
+    let blend = Some(style.blend());
+    let clear = style.clear_color();
+    let mut phases = Phases::default();
+    let mut frames = Vec::new();
+    for _ in 0..=opts.repeats {
+        frames.push(timed(timer, || {
+            engine.advance_frame()?;
+            engine.draw()
+        })?);
+        // One step, in its phases.
+        let rows = engine.sim().active_rows();
+        let f = timer.time(|| state_floor.draw_rows(&scratch, 0, rows))?;
+        let t = timed(timer, || engine.sim_mut().step_without_collisions())?;
+        phases.push(
+            step_name,
+            "write-only pass into the state's targets, live rows",
+            t,
+            f,
+        );
+        if engine.sim().collisions().is_some() {
+            let f = timer.time(|| state_floor.draw(&scratch))?;
+            let t = timed(timer, || engine.sim_mut().collide())?;
+            phases.push(
+                "collide (sorts, detection, response)",
+                "one write-only pass into the state's targets",
+                t,
+                f,
+            );
+        }
+        // The frame's sorting, then its drawing.
+        let sim = engine.sim();
+        let count = if let Some((sorter, sorted, spread, keyed)) = &mut sort {
+            let mode = KeyMode::ViewerDistance {
+                eye: engine.camera().eye(),
+                back_to_front,
+            };
+            let f = timer.time(|| floor1.draw(sorter.target()))?;
+            let t = timed(timer, || {
+                if *spread && *keyed {
+                    sorter.refresh_keys(sim.positions(), texels, &mode, true)
+                } else {
+                    sorter.write_keys(sim.positions(), texels, &mode, true)
+                }
+            })?;
+            *keyed = true;
+            phases.push(
+                "sort keys: distance to the viewer",
+                "write-only pass into the sort texture",
+                t,
+                f,
+            );
+            let f1 = timer.time(|| floor1.draw(sorter.target()))?;
+            let mut passes = 0;
+            let t = timer.time(|| passes = sorter.sort_frame())?;
+            phases.push(
+                &format!("sort network ({})", sorter.variant().name()),
+                "write-only pass into the sort texture × passes run",
+                t,
+                f1 * passes as f64,
+            );
+            let f = timer.time(|| floor2.draw(sorted))?;
+            let t = timed(timer, || {
+                sorter.gather(&[sim.positions(), sim.statics()], sorted)
+            })?;
+            phases.push(
+                "gather position and static textures",
+                "write-only pass into the two gathered textures",
+                t,
+                f,
+            );
+            texels
+        } else {
+            sim.active_count()
+        };
+        let target = engine.target();
+        let fb = target.framebuffer();
+        let f = timer.time(|| render_floor.draw(fb, clear, blend, count))?;
+        let r = engine.renderer();
+        let camera = engine.camera();
+        let t = timed(timer, || {
+            r.clear(target);
+            match &sort {
+                Some((_, sorted, ..)) => {
+                    r.draw(target, sorted.texture(0), sorted.texture(1), camera, count)
+                }
+                None => r.draw(target, sim.positions(), sim.statics(), camera, count),
+            }
+        })?;
+        phases.push(
+            &format!("render ({})", r.pass_names().join(", ")),
+            "clear + as many 1-px points, no fetch, same blend",
+            t,
+            f,
+        );
+        phases.next_repetition();
+    }
+    let live = engine
+        .sim()
+        .read_positions()?
+        .chunks_exact(4)
+        .filter(|p| p.iter().all(|x| x.is_finite()) && p[3] > 0.0)
+        .count() as u64;
+    Ok((phases, median(&frames[1..]), live))
+}
+
+/// The records as a Markdown table per size, with the column names of the JSON keys.
+pub fn scene_markdown(records: &[SceneBenchRecord]) -> String {
+    let mut out = String::new();
+    for r in records {
+        out += &format!(
+            "\n{} at {}x{} ({} particles, {} live, {}x{} frame, {} step(s) per frame): \
+             frame_ms {:.3}, fps {:.1}, particles_per_s {:.3e}\n\n",
+            r.scene,
+            r.size,
+            r.size,
+            r.particles,
+            r.live,
+            r.resolution[0],
+            r.resolution[1],
+            r.substeps,
+            r.frame_ms,
+            r.fps,
+            r.particles_per_s
+        );
+        out += "| phase | ms | floor_ms | ratio | floor |\n|---|---:|---:|---:|---|\n";
+        for p in &r.phases {
+            out += &format!(
+                "| {} | {:.3} | {:.3} | {:.2} | {} |\n",
+                p.phase, p.ms, p.floor_ms, p.ratio, p.floor
+            );
+        }
+    }
+    out
+}
+
+/// One paragraph about a run, like the CUDA `particles` sample's `-benchmark` line: frames,
+/// particles, median frame time, fps and particles per second, and each phase against its floor.
+/// `render --stats` prints it for the run it made; `record` is one size of [`bench_scene`].
+pub fn summary(record: &SceneBenchRecord) -> String {
+    let r = record;
+    let mut out = format!(
+        "texflow, scene {}: {} particles ({} live), {}x{} frame, {} step(s) per frame; \
+         median frame {:.3} ms = {:.1} fps, {:.4} M particles/s ({}, medians of {}).",
+        r.scene,
+        r.particles,
+        r.live,
+        r.resolution[0],
+        r.resolution[1],
+        r.substeps,
+        r.frame_ms,
+        r.fps,
+        r.particles_per_s * 1e-6,
+        r.clock.name(),
+        r.repeats
+    );
+    if !r.phases.is_empty() {
+        let parts: Vec<String> = r
+            .phases
+            .iter()
+            .map(|p| format!("{} {:.3} ms ({:.2}x floor)", p.phase, p.ms, p.ratio))
+            .collect();
+        out += &format!(" Phases: {}.", parts.join("; "));
+    }
+    out
+}
+
+/// One paragraph about a run that was not a benchmark (`render --stats`): the frames it made,
+/// their median time from `frame_ms` (one entry per frame: simulation and drawing, without
+/// writing files), fps and particles per second, like the CUDA `particles` sample's
+/// `-benchmark` line. For the phases and their floors, run `texflow bench scene` ([`summary`]).
+pub fn run_summary(scene: &SceneFile, frame_ms: &[f64], live: u64) -> String {
+    let [w, h] = scene.particles.size;
+    let particles = w as u64 * h as u64;
+    let m = median(frame_ms);
+    format!(
+        "texflow, scene {}: {} frames of {} particles ({} live at the end), {}x{} frame, {} \
+         step(s) per frame; median frame {:.3} ms = {:.1} fps, {:.4} M particles/s (wall time \
+         of simulation and drawing, files not counted). Phases and floors: texflow bench scene {}",
+        scene.name,
+        frame_ms.len(),
+        particles,
+        live,
+        scene.render.resolution[0],
+        scene.render.resolution[1],
+        scene.time.substeps,
+        m,
+        1e3 / m,
+        particles as f64 * 1e-3 / m,
+        scene.name
+    )
+}

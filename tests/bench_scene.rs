@@ -1,0 +1,154 @@
+//! `texflow bench scene` at tiny sizes (the phases of a scene's plan, each with a floor), the
+//! render floor's points, and the public ping-pong pass API against closed forms.
+
+mod common;
+
+use texflow::bench::{bench_scene, RenderFloor, SceneBenchOptions};
+use texflow::gl::{Framebuffer, PingPong, StatePass, Texture, TextureDesc, TextureFormat, Uniform};
+
+fn opts() -> SceneBenchOptions {
+    SceneBenchOptions {
+        repeats: 2,
+        warmup_frames: Some(3),
+        resolution: Some([64, 64]),
+        ..Default::default()
+    }
+}
+
+#[test]
+fn every_phase_of_the_plan_is_timed_next_to_a_floor() {
+    let ctx = common::context();
+    for (name, sorted, collides) in [
+        ("fire", false, false),
+        ("e3", true, false),
+        ("collide", false, true),
+    ] {
+        let scene = texflow::scene::load(name).unwrap();
+        let mut calls = 0;
+        let records = bench_scene(&ctx, &scene, &[16], &opts(), |_| calls += 1).unwrap();
+        assert_eq!((records.len(), calls), (1, 1));
+        let r = &records[0];
+        assert_eq!((r.size, r.particles, r.resolution), (16, 256, [64, 64]));
+        assert!(r.live <= r.particles);
+        assert!((r.fps * r.frame_ms - 1e3).abs() < 1e-6);
+        assert!((r.particles_per_s - r.particles as f64 * r.fps).abs() < 1e-6 * r.particles_per_s);
+        let has = |p: &str| r.phases.iter().any(|x| x.phase.starts_with(p));
+        assert_eq!(
+            has("sort keys") && has("sort network") && has("gather"),
+            sorted,
+            "{name}"
+        );
+        assert_eq!(has("collide"), collides, "{name}");
+        assert!(has("render"), "{name}");
+        for p in &r.phases {
+            assert!(p.ms > 0.0 && p.floor_ms > 0.0, "{name}: {p:?}");
+            assert!((p.ratio - p.ms / p.floor_ms).abs() < 1e-9);
+        }
+        // The same one-paragraph summary `render --stats` prints.
+        let s = texflow::bench::scene::summary(r);
+        assert!(
+            s.contains(&format!("scene {name}")) && s.contains("fps"),
+            "{s}"
+        );
+    }
+    common::no_gl_error(&ctx);
+}
+
+#[test]
+fn the_render_floor_draws_as_many_one_pixel_points_as_asked() {
+    let ctx = common::context();
+    let tex = Texture::new(
+        &ctx,
+        TextureDesc {
+            width: 64,
+            height: 64,
+            format: TextureFormat::Rgba8,
+            label: "floor frame",
+        },
+    )
+    .unwrap();
+    let fb = Framebuffer::new(&ctx, "floor frame", vec![tex]).unwrap();
+    let floor = RenderFloor::new(&ctx).unwrap();
+    let n = 200;
+    // Without blending, each point replaces one pixel: lit pixels are the distinct positions of
+    // n uniformly hashed points in 4096 pixels (about n - n²/8192 ≈ 195 expected).
+    floor.draw(&fb, [0.0; 4], None, n);
+    let lit = fb
+        .texture(0)
+        .read_u8()
+        .unwrap()
+        .chunks_exact(4)
+        .filter(|p| p[0] > 0)
+        .count();
+    assert!((180..=n).contains(&lit), "{lit} lit pixels for {n} points");
+    common::no_gl_error(&ctx);
+}
+
+const EULER: &str = "
+uniform sampler2D u_state0;
+uniform sampler2D u_state1;
+uniform float u_dt;
+uniform vec3 u_accel;
+layout(location = 0) out vec4 o_x;
+layout(location = 1) out vec4 o_v;
+void main() {
+    ivec2 t = ivec2(gl_FragCoord.xy);
+    vec4 x = texelFetch(u_state0, t, 0);
+    vec4 v = texelFetch(u_state1, t, 0);
+    o_x = vec4(x.xyz + v.xyz * u_dt, x.w);
+    o_v = vec4(v.xyz + u_accel * u_dt, v.w);
+}";
+
+#[test]
+fn a_user_pass_matches_the_closed_form_of_explicit_euler() {
+    let ctx = common::context();
+    let (w, h) = (16u32, 16u32);
+    let formats = [TextureFormat::Rgba32F; 2];
+    let mut state = PingPong::new(&ctx, "user", &["x", "v"], &formats, w, h).unwrap();
+    let n = (w * h) as usize;
+    let x0: Vec<f32> = (0..4 * n).map(|i| (i % 7) as f32 * 0.5).collect();
+    let v0: Vec<f32> = (0..4 * n).map(|i| (i % 5) as f32 - 2.0).collect();
+    state.front().texture(0).upload_f32(&x0).unwrap();
+    state.front().texture(1).upload_f32(&v0).unwrap();
+    let pass = StatePass::new(&ctx, "euler.frag", EULER, 2).unwrap();
+    let (dt, a, steps) = (0.125f32, [0.0f32, -1.0, 0.5], 8);
+    for _ in 0..steps {
+        let accel = Uniform::Vec3(glam::Vec3::from_array(a));
+        pass.run(
+            &mut state,
+            &[("u_dt", Uniform::F32(dt)), ("u_accel", accel)],
+        );
+    }
+    assert_eq!(state.swaps(), steps as u64);
+    let x = state.front().texture(0).read_f32().unwrap();
+    let v = state.front().texture(1).read_f32().unwrap();
+    // x_n = x0 + n dt v0 + a dt² n(n-1)/2, v_n = v0 + n dt a (exact in binary fractions).
+    let t = steps as f32;
+    for i in 0..n {
+        for (c, a) in a.iter().enumerate() {
+            let k = 4 * i + c;
+            let xe = x0[k] + t * dt * v0[k] + a * dt * dt * t * (t - 1.0) / 2.0;
+            let ve = v0[k] + t * dt * a;
+            assert!((x[k] - xe).abs() < 1e-5, "x[{k}] {} vs {xe}", x[k]);
+            assert!((v[k] - ve).abs() < 1e-5, "v[{k}] {} vs {ve}", v[k]);
+        }
+        assert_eq!((x[4 * i + 3], v[4 * i + 3]), (x0[4 * i + 3], v0[4 * i + 3]));
+    }
+    common::no_gl_error(&ctx);
+}
+
+#[test]
+fn a_user_pass_that_does_not_compile_names_its_file_and_line() {
+    let ctx = common::context();
+    let src = "layout(location = 0) out vec4 o;\nvoid main() {\n    o = undefined_thing;\n}\n";
+    let err = StatePass::new(&ctx, "mine.frag", src, 1)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("mine.frag"), "{err}");
+    assert!(err.contains(":3") || err.contains("line 3"), "{err}");
+    // Includes of the crate's GLSL work in a user pass.
+    let src = "#include \"common/rng.glsl\"\nlayout(location = 0) out vec4 o;\nvoid main() { o = vec4(1.0); }\n";
+    StatePass::new(&ctx, "with_include.frag", src, 1).unwrap();
+    assert!(StatePass::new(&ctx, "five.frag", src, 5).is_err());
+    common::no_gl_error(&ctx);
+}

@@ -94,7 +94,7 @@ fn bad_sort_input_is_refused() {
         p
     };
     let npy_dict = |mut h: String, data: &[u8]| {
-        while (10 + h.len() + 1) % 64 != 0 {
+        while !(10 + h.len() + 1).is_multiple_of(64) {
             h.push(' ');
         }
         h.push('\n');

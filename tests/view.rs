@@ -84,8 +84,9 @@ fn compare(display: &str, dir: &Path, scene: &str, frames: u64) {
     ];
     view.extend(common);
     run(display, &view);
-    let every = (frames - 1).to_string();
-    let mut render = vec!["render", scene, "--frames", &n, "--every", &every, "-q"];
+    // Every frame drawn, as the window draws every frame: a sort spread over frames (Latta
+    // §3.4.4) advances once per drawn frame.
+    let mut render = vec!["render", scene, "--frames", &n, "--every", "1", "-q"];
     render.extend(["--out", out.to_str().unwrap()]);
     render.extend(common);
     run(display, &render);

@@ -197,3 +197,46 @@ fn video_alone_writes_no_frame_folder() {
         "--video alone writes only the video"
     );
 }
+
+#[test]
+fn mp4_and_webm_through_ffmpeg_have_every_frame_padded_to_even_sides() {
+    if texflow::output::video::find_ffmpeg().is_none()
+        || Command::new("ffprobe").arg("-version").output().is_err()
+    {
+        eprintln!("skipped: no ffmpeg/ffprobe on PATH (apt-get install ffmpeg)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    for ext in ["mp4", "webm"] {
+        let video = dir.path().join(format!("run.{ext}"));
+        let o = texflow(&[
+            "render",
+            "fountain",
+            "--frames",
+            "6",
+            "--every",
+            "2",
+            "--particles",
+            "16",
+            "--resolution",
+            "33x17",
+            "-q",
+            "--video",
+            video.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let probe = Command::new("ffprobe")
+            .args(["-v", "error", "-select_streams", "v", "-count_frames"])
+            .args([
+                "-show_entries",
+                "stream=width,height,nb_read_frames",
+                "-of",
+                "csv=p=0",
+            ])
+            .arg(&video)
+            .output()
+            .unwrap();
+        let line = String::from_utf8_lossy(&probe.stdout).trim().to_owned();
+        assert_eq!(line, "34,18,3", "{ext}: width, height, frames");
+    }
+}

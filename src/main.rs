@@ -21,6 +21,7 @@ fn main() -> ExitCode {
     let result = match args.command {
         Command::Info { json } => cli::info::info(json),
         Command::Render(a) => cli::render::render(a),
+        Command::View(a) => cli::view::view(a),
         Command::Sort(a) => cli::sort::sort(a),
         Command::Scene(c) => cli::scene::scene_command(c),
         Command::CollideStats(a) => cli::collide::collide_stats(a),

@@ -9,6 +9,7 @@ pub mod report;
 pub mod scene;
 pub mod signals;
 pub mod sort;
+pub mod view;
 
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -37,6 +38,9 @@ pub enum Command {
     },
     /// Simulate a scene and write PNG frames.
     Render(render::RenderArgs),
+    /// Show a scene live in a window (X11 or Wayland): drag orbits, wheel zooms, space pauses,
+    /// `.` steps, `r` restarts; a scene file is reloaded when it changes.
+    View(view::ViewArgs),
     /// Sort float32 keys from a .npy file on the GPU.
     Sort(sort::SortArgs),
     /// How well the GPU finds colliding pairs: UberFlow's detection against a CPU reference.

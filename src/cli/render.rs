@@ -1,13 +1,15 @@
-//! `texflow render`: simulate a scene and write PNG frames.
+//! `texflow render`: simulate a scene and write PNG frames, an animation (`--video`), or both.
 
 use std::path::PathBuf;
 
 use std::ops::ControlFlow;
 
 use clap::Args;
-use texflow::engine::{Event, FolderSink, FrameLoop, LoopOptions, NonFinitePolicy, Overrides};
+use texflow::engine::{
+    Event, FolderSink, FrameLoop, FrameSink, LoopOptions, NonFinitePolicy, Overrides, StateDump,
+};
 use texflow::gl::Context;
-use texflow::output::FrameWriter;
+use texflow::output::{video, FrameWriter, VideoWriter};
 use texflow::scene;
 use texflow::SceneEngine;
 
@@ -23,9 +25,17 @@ pub struct RenderArgs {
     /// Number of frames to simulate.
     #[arg(long, default_value_t = 60, value_parser = at_least_one::<u64>)]
     frames: u64,
-    /// Output folder (created if missing).
-    #[arg(long, default_value = "frames")]
-    out: PathBuf,
+    /// Output folder of PNG frames (created if missing). Default: `frames`, unless --video is
+    /// given, which then writes the only output.
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Also (or only) write the frames as one animation: .gif, .png (APNG), .mp4 or .webm (the
+    /// last two through an `ffmpeg` on PATH). One video frame per written frame (--every).
+    #[arg(long, value_name = "FILE")]
+    video: Option<PathBuf>,
+    /// Frames a second of the video. Default: real time, 1 / (dt × substeps × every).
+    #[arg(long, value_parser = super::positive_finite, requires = "video")]
+    fps: Option<f32>,
     /// State texture size WxH (one particle per texel), or N for NxN.
     #[arg(long, value_parser = parse_size)]
     particles: Option<[u32; 2]>,
@@ -97,7 +107,18 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     let overrides = a.overrides();
     let prepared = overrides.prepare(&a.scene)?;
     let s = &prepared.scene;
-    FrameWriter::check(&a.out)?;
+    let out = match (&a.out, &a.video) {
+        (Some(o), _) => Some(o.clone()),
+        (None, None) => Some(PathBuf::from("frames")),
+        (None, Some(_)) => None,
+    };
+    if let Some(o) = &out {
+        FrameWriter::check(o)?;
+    }
+    // Before the run: a missing ffmpeg or an unwritable --video stops here, not after the frames.
+    if let Some(v) = &a.video {
+        video::check_video(v)?;
+    }
     if let Some(d) = &a.dump_state {
         FrameWriter::check_for(d, "--dump-state")?;
     }
@@ -105,7 +126,26 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     overrides.check_device(&ctx, &prepared)?;
     let mut engine = SceneEngine::new(&ctx, s, overrides.seed)?;
     let run = FrameLoop::new(&ctx, &engine, options)?;
-    let mut sink = FolderSink::create(&a.out, a.dump_state.as_deref())?;
+    // With --video alone, a folder sink still writes the dumps (into --dump-state; no frames).
+    let folder = match out.as_deref().or(a.dump_state.as_deref()) {
+        Some(dir) => Some(FolderSink::create(dir, a.dump_state.as_deref())?),
+        None => None,
+    };
+    let video = match &a.video {
+        Some(v) => {
+            let fps = a.fps.map(f64::from).unwrap_or_else(|| {
+                1.0 / (s.time.dt as f64 * s.time.substeps as f64 * a.every as f64)
+            });
+            let count = a.frames.div_ceil(a.every);
+            Some(VideoWriter::create(v, s.render.resolution, count, fps)?)
+        }
+        None => None,
+    };
+    let mut sink = RenderSink {
+        folder,
+        pngs: out.is_some(),
+        video,
+    };
     let bar = progress_bar(a.frames, a.common.quiet, "rendering");
     // SIGINT and SIGTERM stop the loop between frames (src/cli/signals.rs).
     signals::cooperate();
@@ -125,6 +165,11 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
         }
     })?;
     bar.finish_and_clear();
+    // Dropped unfinished (signal, early stop), the video's temporary file is removed.
+    let video_path = match sink.video.take() {
+        Some(v) if signals::received().is_none() && !summary.stopped => Some(v.finish()?),
+        _ => None,
+    };
     if let Some(signal) = signals::received() {
         texflow::output::remove_unfinished();
         return Err(texflow::Error::Interrupted { signal });
@@ -137,16 +182,45 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
         );
     }
     if !a.common.quiet {
+        let mut to: Vec<String> = out.iter().map(|o| o.display().to_string()).collect();
+        to.extend(video_path.iter().map(|v| v.display().to_string()));
         eprintln!(
             "wrote {} frame(s) of {}x{} to {} ({} particles, {} steps of {} s)",
             summary.written,
             s.render.resolution[0],
             s.render.resolution[1],
-            a.out.display(),
+            to.join(" and "),
             s.particle_count(),
             summary.steps,
             s.time.dt
         );
     }
     Ok(())
+}
+
+/// The frames of `render`: PNGs in a folder, an animation, or both.
+struct RenderSink {
+    folder: Option<FolderSink>,
+    /// Whether the folder sink takes the frames too (not only the dumps).
+    pngs: bool,
+    video: Option<VideoWriter>,
+}
+
+impl FrameSink for RenderSink {
+    fn frame(&mut self, index: u64, image: &image::RgbImage) -> texflow::Result<()> {
+        if let Some(f) = self.folder.as_mut().filter(|_| self.pngs) {
+            f.frame(index, image)?;
+        }
+        if let Some(v) = &mut self.video {
+            v.push(image)?;
+        }
+        Ok(())
+    }
+
+    fn dump(&mut self, index: u64, dump: &StateDump) -> texflow::Result<()> {
+        match &mut self.folder {
+            Some(f) => f.dump(index, dump),
+            None => Ok(()),
+        }
+    }
 }

@@ -1,5 +1,6 @@
 //! The headless context: an EGL device (EGL_EXT_device_enumeration), a surfaceless OpenGL 3.3
-//! core context on it, and glow loaded from it.
+//! core context on it, and glow loaded from it; or, for an application that draws the particles
+//! into its own frame, a GL context the caller made current ([`Context::from_current`]).
 //!
 //! Every GL object of this crate holds a [`Context`] (a reference-counted handle), so no object
 //! can outlive the context it was made in. GL contexts are bound to the thread that made them
@@ -112,16 +113,31 @@ thread_local! {
 /// Ids of contexts, unique in the process (0 is never given out).
 static NEXT_ID: AtomicU64 = AtomicU64::new(1);
 
-/// Owner of the EGL display, the GL context and the glow function table.
+/// How a context is made current again when another took its place on the thread.
+type Reactivate = Box<dyn Fn() -> std::result::Result<(), String>>;
+
+/// Who made the GL context.
+enum Owner {
+    /// This crate: a surfaceless context on an EGL device. Fields drop in order: the context,
+    /// then the display.
+    Egl {
+        context: PossiblyCurrentContext,
+        _display: Display,
+    },
+    /// The caller ([`Context::from_current`]): it owns the context; `reactivate`, if given, makes
+    /// it current again (and keeps whatever it captured alive as long as this crate's objects).
+    Caller { reactivate: Option<Reactivate> },
+}
+
+/// Owner of the GL context and the glow function table.
 ///
-/// Fields drop in declaration order: glow first, then the context, then the display.
+/// Fields drop in declaration order: glow first, then the owner of the context.
 struct Inner {
     gl: glow::Context,
     limits: Limits,
     device: usize,
     id: u64,
-    context: PossiblyCurrentContext,
-    _display: Display,
+    owner: Owner,
 }
 
 impl Drop for Inner {
@@ -208,12 +224,104 @@ impl Context {
                 limits,
                 device: index,
                 id,
-                context,
-                _display: display,
+                owner: Owner::Egl {
+                    context,
+                    _display: display,
+                },
             }),
         };
         ctx.require_capabilities()?;
         Ok(ctx)
+    }
+
+    /// Wraps the OpenGL context that the caller made current on this thread (a window's, made
+    /// with glutin, SDL or any other library), so that the engines draw into the caller's
+    /// frame: render into their [`FrameTarget`](crate::render::FrameTarget) as usual, then
+    /// [`Framebuffer::blit_to_default`](super::Framebuffer::blit_to_default) copies the frame
+    /// into the window's back buffer (or sample its texture in a pass of your own), and the
+    /// caller swaps buffers.
+    ///
+    /// `loader` returns the address of a GL function of that context (glutin's
+    /// `Display::get_proc_address`). `reactivate`, if given, makes the caller's context current
+    /// again: it is called only when a context made with [`Context::new`] on the same thread, or
+    /// an object of one, was used since. Without it such a switch back is an error.
+    ///
+    /// The context must be OpenGL 3.3 core or later with the capabilities [`Context::new`]
+    /// requires (RGBA32F colour buffers, two draw buffers, vertex texture fetch). The engines set
+    /// all the state of each of their draws and leave framebuffer 0 bound after a blit, but
+    /// change other state (programs, textures, blending, viewport): an application that draws
+    /// too sets its own state after them.
+    ///
+    /// # Safety
+    /// The caller's context must be current on this thread now, and `loader` must return its
+    /// functions. It must outlive the returned context and every object made with it (capture
+    /// it in `reactivate` to tie the two), and be current whenever they are used or dropped.
+    pub unsafe fn from_current(
+        mut loader: impl FnMut(&CStr) -> *const std::ffi::c_void,
+        reactivate: Option<Reactivate>,
+    ) -> Result<Self> {
+        let id = NEXT_ID.fetch_add(1, Ordering::Relaxed);
+        CURRENT.with(|c| c.set(id));
+        // SAFETY: the caller's context is current (this function's contract).
+        let gl = unsafe { glow::Context::from_loader_function_cstr(|name| loader(name)) };
+        let limits = query_limits(&gl);
+        if limits.version.is_empty() {
+            return Err(Error::Context {
+                device: 0,
+                reason: "no current OpenGL context: make the caller's context current before \
+                         Context::from_current"
+                    .into(),
+            });
+        }
+        let ctx = Context {
+            inner: Rc::new(Inner {
+                gl,
+                limits,
+                device: 0,
+                id,
+                owner: Owner::Caller { reactivate },
+            }),
+        };
+        ctx.require_capabilities()?;
+        Ok(ctx)
+    }
+
+    /// Whether the context is the caller's ([`Context::from_current`]) rather than this crate's.
+    pub fn is_wrapped(&self) -> bool {
+        matches!(self.inner.owner, Owner::Caller { .. })
+    }
+
+    /// Reads the bottom-left `width`×`height` pixels of the default framebuffer's back buffer
+    /// (a window's frame before the swap) as RGB with the first row at the top.
+    pub fn read_default_rgb(&self, width: u32, height: u32) -> Result<image::RgbImage> {
+        let mut rgba = vec![0u8; 4 * width as usize * height as usize];
+        // SAFETY: framebuffer 0 exists on a window's context; the buffer holds w*h RGBA texels.
+        unsafe {
+            self.bind_framebuffer(glow::FRAMEBUFFER, None);
+            self.read_buffer(glow::BACK);
+            self.pixel_store_i32(glow::PACK_ALIGNMENT, 1);
+            self.read_pixels(
+                0,
+                0,
+                width as i32,
+                height as i32,
+                glow::RGBA,
+                glow::UNSIGNED_BYTE,
+                glow::PixelPackData::Slice(Some(&mut rgba)),
+            );
+        }
+        self.check_error("reading the default framebuffer")?;
+        let mut out = image::RgbImage::new(width, height);
+        for (y, row) in rgba.chunks_exact(4 * width as usize).enumerate() {
+            for (x, px) in row.chunks_exact(4).enumerate() {
+                out.put_pixel(
+                    x as u32,
+                    height - 1 - y as u32,
+                    image::Rgb([px[0], px[1], px[2]]),
+                );
+            }
+        }
+        Ok(out)
     }
 
     /// What the context can do.
@@ -221,7 +329,7 @@ impl Context {
         &self.inner.limits
     }
 
-    /// The EGL device index the context lives on.
+    /// The EGL device index the context lives on (0 for a wrapped context).
     pub fn device_index(&self) -> usize {
         self.inner.device
     }
@@ -233,13 +341,31 @@ impl Context {
         if CURRENT.with(Cell::get) == self.inner.id {
             return Ok(());
         }
-        self.inner
-            .context
-            .make_current_surfaceless()
-            .map_err(|e| Error::Context {
+        match &self.inner.owner {
+            Owner::Egl { context, .. } => {
+                context
+                    .make_current_surfaceless()
+                    .map_err(|e| Error::Context {
+                        device: self.inner.device,
+                        reason: format!("eglMakeCurrent without surface: {e}"),
+                    })?
+            }
+            Owner::Caller {
+                reactivate: Some(f),
+            } => f().map_err(|reason| Error::Context {
                 device: self.inner.device,
-                reason: format!("eglMakeCurrent without surface: {e}"),
-            })?;
+                reason: format!("making the caller's context current again: {reason}"),
+            })?,
+            Owner::Caller { reactivate: None } => {
+                return Err(Error::Context {
+                    device: self.inner.device,
+                    reason: "another context was made current on this thread, and the caller's \
+                             context was wrapped without a way to make it current again: pass \
+                             `reactivate` to Context::from_current"
+                        .into(),
+                })
+            }
+        }
         CURRENT.with(|c| c.set(self.inner.id));
         Ok(())
     }

@@ -186,6 +186,40 @@ impl Framebuffer {
         }
     }
 
+    /// Copies attachment 0 into the rectangle `dst` = `[x, y, width, height]` (from the bottom
+    /// left) of the default framebuffer (a window's back buffer, see
+    /// [`Context::from_current`]), scaled linearly when the sizes differ, then leaves framebuffer
+    /// 0 bound for the caller's own drawing.
+    pub fn blit_to_default(&self, dst: [u32; 4]) -> Result<()> {
+        let [x, y, w, h] = dst.map(|v| v as i32);
+        let same = (w, h) == (self.width() as i32, self.height() as i32);
+        // SAFETY: both framebuffers exist; attachment 0 is a colour texture of this size.
+        unsafe {
+            self.ctx
+                .bind_framebuffer(glow::READ_FRAMEBUFFER, Some(self.raw));
+            self.ctx.read_buffer(glow::COLOR_ATTACHMENT0);
+            self.ctx.bind_framebuffer(glow::DRAW_FRAMEBUFFER, None);
+            self.ctx.disable(glow::SCISSOR_TEST);
+            self.ctx.blit_framebuffer(
+                0,
+                0,
+                self.width() as i32,
+                self.height() as i32,
+                x,
+                y,
+                x + w,
+                y + h,
+                glow::COLOR_BUFFER_BIT,
+                if same { glow::NEAREST } else { glow::LINEAR },
+            );
+            self.ctx.bind_framebuffer(glow::FRAMEBUFFER, None);
+        }
+        self.ctx.check_error(&format!(
+            "blitting {} to the default framebuffer",
+            self.label
+        ))
+    }
+
     /// Clears every attachment to `rgba`.
     pub fn clear(&self, rgba: [f32; 4]) {
         self.bind();

@@ -12,6 +12,7 @@
 //!   handler can remove them ([`remove_unfinished`]) before the process exits.
 
 mod frames;
+pub mod video;
 
 use std::fs;
 use std::io::Write;
@@ -21,6 +22,7 @@ use std::sync::Mutex;
 use tempfile::NamedTempFile;
 
 pub use frames::{write_png_atomic, FrameWriter};
+pub use video::{VideoFormat, VideoWriter};
 
 use crate::error::{Error, Result};
 

@@ -8,22 +8,12 @@
 //! the last good scene keeps running. `--frames N --screenshot FILE` writes the window's frame N
 //! and quits (for tests under Xvfb).
 
-use std::num::NonZeroU32;
 use std::path::PathBuf;
-use std::rc::Rc;
 use std::time::{Duration, Instant, SystemTime};
 
 use clap::Args;
-use glutin::config::{Config, ConfigTemplateBuilder, GlConfig};
-use glutin::context::{
-    ContextApi, ContextAttributesBuilder, GlProfile, NotCurrentGlContext, PossiblyCurrentContext,
-    PossiblyCurrentGlContext, Version,
-};
-use glutin::display::{GetGlDisplay, GlDisplay};
-use glutin::surface::{GlSurface, Surface, SwapInterval, WindowSurface};
-use glutin_winit::{DisplayBuilder, GlWindow};
 use texflow::engine::Overrides;
-use texflow::gl::Context;
+use texflow::gl::{Context, GlWindow};
 use texflow::render::Camera;
 use texflow::sim::nonfinite::NonFiniteCounter;
 use texflow::SceneEngine;
@@ -31,8 +21,7 @@ use winit::application::ApplicationHandler;
 use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
-use winit::raw_window_handle::HasWindowHandle;
-use winit::window::{Window, WindowId};
+use winit::window::WindowId;
 
 use super::{at_least_one, bad, parse_size, time_step};
 
@@ -83,18 +72,13 @@ impl ViewArgs {
     }
 }
 
-/// The window's GL context and surface, shared with the wrapped [`Context`] so that it lives as
-/// long as the engine's GL objects.
-type Shared = Rc<(PossiblyCurrentContext, Surface<WindowSurface>)>;
-
 /// What lives while the window is open. Fields drop in order: the engine's GL objects first,
 /// then the wrapped context, the window's context and surface, and the window last.
 struct Live {
     engine: SceneEngine,
     counter: NonFiniteCounter,
     ctx: Context,
-    gl: Shared,
-    window: Window,
+    gl: GlWindow,
 }
 
 /// Milliseconds of wall time per phase, averaged over the frames since the last title update.
@@ -166,54 +150,12 @@ fn mtime(path: &std::path::Path) -> Option<SystemTime> {
 
 impl App {
     fn open(&mut self, event_loop: &ActiveEventLoop) -> texflow::Result<()> {
-        let [w, h] = self.prepared.scene.render.resolution;
-        let attributes = Window::default_attributes()
-            .with_title("texflow view")
-            .with_inner_size(winit::dpi::PhysicalSize::new(w, h));
-        let template = ConfigTemplateBuilder::new();
-        let (window, config) = DisplayBuilder::new()
-            .with_window_attributes(Some(attributes))
-            .build(event_loop, template, |configs| {
-                // The first config without multisampling: a blit into a multisampled buffer of
-                // another size is not allowed.
-                let all: Vec<Config> = configs.collect();
-                let first = all[0].clone();
-                all.into_iter()
-                    .find(|c| c.num_samples() == 0)
-                    .unwrap_or(first)
-            })
-            .map_err(context_err)?;
-        let window = window.ok_or_else(|| context_err("no window was created"))?;
-        let raw = window.window_handle().map_err(context_err)?.as_raw();
-        let display = config.display();
-        let attributes = ContextAttributesBuilder::new()
-            .with_context_api(ContextApi::OpenGl(Some(Version::new(3, 3))))
-            .with_profile(GlProfile::Core)
-            .build(Some(raw));
-        // SAFETY: the config comes from this display, the handle from a live window.
-        let not_current = unsafe { display.create_context(&config, &attributes) }
-            .map_err(|e| context_err(format!("creating an OpenGL 3.3 core context: {e}")))?;
-        let surface_attributes = window
-            .build_surface_attributes(Default::default())
-            .map_err(context_err)?;
-        // SAFETY: as above.
-        let surface = unsafe { display.create_window_surface(&config, &surface_attributes) }
-            .map_err(context_err)?;
-        let current = not_current.make_current(&surface).map_err(context_err)?;
-        // The frame rate is the engine's; no wait for the display's refresh.
-        let _ = surface.set_swap_interval(&current, SwapInterval::DontWait);
-        let gl: Shared = Rc::new((current, surface));
-        let again = Rc::clone(&gl);
-        // SAFETY: the context was made current just now; `again` keeps it and its surface alive
-        // as long as the wrapped context, which every GL object of the engine holds.
-        let ctx = unsafe {
-            Context::from_current(
-                |name| display.get_proc_address(name),
-                Some(Box::new(move || {
-                    again.0.make_current(&again.1).map_err(|e| e.to_string())
-                })),
-            )
-        }?;
+        let gl = GlWindow::open(
+            event_loop,
+            "texflow view",
+            self.prepared.scene.render.resolution,
+        )?;
+        let ctx = gl.context().clone();
         let engine = SceneEngine::new(&ctx, &self.prepared.scene, self.args.seed)?;
         let [sw, sh] = engine.state_size();
         let counter = NonFiniteCounter::new(&ctx, sw, sh)?;
@@ -222,7 +164,6 @@ impl App {
             counter,
             ctx,
             gl,
-            window,
         });
         Ok(())
     }
@@ -288,7 +229,7 @@ impl App {
         live.ctx.finish();
         let t1 = Instant::now();
         let (target, sort_ms) = draw(&mut live.engine, &orbit, &live.ctx, t1)?;
-        let size = live.window.inner_size();
+        let size = live.gl.window().inner_size();
         target.framebuffer().blit_to_default(fit(
             [target.width(), target.height()],
             [size.width, size.height],
@@ -304,7 +245,7 @@ impl App {
                 texflow::output::write_png_atomic(path, &img)?;
             }
         }
-        live.gl.1.swap_buffers(&live.gl.0).map_err(context_err)?;
+        live.gl.swap_buffers()?;
         Ok(())
     }
 
@@ -338,7 +279,7 @@ impl App {
             title.push_str(" | error: ");
             title.push_str(e.lines().next().unwrap_or(""));
         }
-        live.window.set_title(&title);
+        live.gl.window().set_title(&title);
         self.phases = Phases::default();
         self.last_title = Instant::now();
     }
@@ -453,12 +394,8 @@ impl ApplicationHandler for App {
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::Resized(size) => {
-                if let (Some(live), Some(w), Some(h)) = (
-                    &self.live,
-                    NonZeroU32::new(size.width),
-                    NonZeroU32::new(size.height),
-                ) {
-                    live.gl.1.resize(&live.gl.0, w, h);
+                if let Some(live) = &self.live {
+                    live.gl.resize(size.width, size.height);
                 }
             }
             WindowEvent::KeyboardInput { event, .. } => self.key(&event, event_loop),
@@ -508,7 +445,7 @@ impl ApplicationHandler for App {
 
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
         if let Some(live) = &self.live {
-            live.window.request_redraw();
+            live.gl.window().request_redraw();
         }
         // Paused, the window is still redrawn (orbit), at about 30 frames a second.
         event_loop.set_control_flow(if self.paused {

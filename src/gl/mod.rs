@@ -17,6 +17,8 @@ mod query;
 pub mod source;
 mod texture;
 mod texture3d;
+#[cfg(feature = "window")]
+mod window;
 
 pub use buffer::{Attribute, Buffer, BufferKind, BufferUsage, VertexArray};
 pub use context::{gl_error_name, list_devices, Context, DeviceInfo, Limits};
@@ -31,3 +33,5 @@ pub use program::{Defines, Program};
 pub use query::TimerQuery;
 pub use texture::{check_size, Texture, TextureDesc, TextureFormat};
 pub use texture3d::{check_size_3d, Texture3D};
+#[cfg(feature = "window")]
+pub use window::GlWindow;

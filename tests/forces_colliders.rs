@@ -1123,3 +1123,190 @@ fn tolerance_is_not_vacuous() {
     }
     no_gl_error(&ctx);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Resilience over several bounces (issue 12, item 1)
+// ---------------------------------------------------------------------------------------------
+
+/// The heights of the first `count` apexes after a bounce of a trajectory given step by step as
+/// heights (a rise followed by a fall).
+fn apexes(mut next: impl FnMut() -> f32, start: f32, count: usize, max_steps: usize) -> Vec<f32> {
+    let (mut out, mut prev, mut rising) = (Vec::new(), start, false);
+    for _ in 0..max_steps {
+        let y = next();
+        if y > prev {
+            rising = true;
+        } else if rising && y < prev {
+            out.push(prev);
+            rising = false;
+            if out.len() == count {
+                break;
+            }
+        }
+        prev = y;
+    }
+    out
+}
+
+/// A ball dropped from `h` onto a plane of resilience `e` (no friction) leaves each bounce with
+/// `e` times its speed (Latta eq. 5), so its n-th apex is `e^(2n) h`. Every integrator must give
+/// that within 3 %, Verlet included (its implied velocity takes the response), on the GPU and in
+/// the reference. The step is small enough that the response's position error (the particle
+/// restarts from where it was at the start of the step, up to `|v| dt` above the plane) stays
+/// below 1 % of the third apex: `|v| dt <= 4.4 m/s / 4000 = 1.1e-3 m` against `0.6^6 = 0.047 m`.
+#[test]
+fn dropped_ball_apexes_follow_resilience_in_every_integrator() {
+    const H: f32 = 1.0;
+    const E: f32 = 0.6;
+    const DT: f32 = 1.0 / 4000.0;
+    // Fall, then three rises and falls: 0.45 s (1 + 2 (e + e^2) + e^3) < 1.4 s.
+    const MAX_STEPS: usize = 6000;
+    let ctx = context();
+    let body = format!(
+        "{GRAVITY}[colliders]\nslow_speed = 0.0\n[[colliders.plane]]\npoint = [0.0, 0.0, 0.0]\n\
+         normal = [0.0, 1.0, 0.0]\nfriction = 0.0\nresilience = {E:?}\n"
+    );
+    for integrator in ALL {
+        let s = scene(integrator, DT, &emitters(&[1.0], false), &body);
+        let x0 = Vec3::new(0.0, H, 0.0);
+        let mut sim = start(&ctx, &s, &[p(x0, Vec3::ZERO)]);
+        let gpu = apexes(
+            || {
+                sim.step().unwrap();
+                sim.read_positions().unwrap()[1]
+            },
+            H,
+            3,
+            MAX_STEPS,
+        );
+        let r = Reference::new(&s).unwrap();
+        let (mut x, mut other) = match r.integrator() {
+            scene::Integrator::Verlet => (x0, r.verlet_start(x0, Vec3::ZERO, 0)),
+            _ => (x0, Vec3::ZERO),
+        };
+        let cpu = apexes(
+            || {
+                let (xn, _, on, _) = cpu_step(&r, x, other, 1.0, 0);
+                (x, other) = (xn, on);
+                x.y
+            },
+            H,
+            3,
+            MAX_STEPS,
+        );
+        eprintln!("{integrator}: apexes GPU {gpu:?}, reference {cpu:?}");
+        for (side, got) in [("GPU", &gpu), ("reference", &cpu)] {
+            assert_eq!(got.len(), 3, "{integrator} ({side}): apexes {got:?}");
+            for (k, a) in got.iter().enumerate() {
+                let want = E.powi(2 * (k as i32 + 1)) * H;
+                assert!(
+                    (a - want).abs() <= 0.03 * want,
+                    "{integrator} ({side}): apex {} at {a}, e^{} h = {want}",
+                    k + 1,
+                    2 * (k + 1)
+                );
+            }
+        }
+    }
+    no_gl_error(&ctx);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Colliders that share a face (issue 12, item 2)
+// ---------------------------------------------------------------------------------------------
+
+const GROUND: &str = "[[colliders.plane]]\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 1.0, 0.0]\n\
+                      friction = 0.2\nresilience = 0.5\n";
+const BOX_ON_GROUND: &str = "[[colliders.box]]\nmin = [-0.5, 0.0, -0.5]\nmax = [0.5, 0.4, 0.5]\n\
+                             friction = 0.1\nresilience = 0.5\n";
+/// Sunk 0.05 into the box's top.
+const SPHERE_ON_BOX: &str = "[[colliders.sphere]]\ncenter = [0.0, 0.6, 0.0]\nradius = 0.25\n\
+                             friction = 0.1\nresilience = 0.5\n";
+const TERRAIN: &str = "[[colliders.heightfield]]\nextent = [-2.0, -2.0, 2.0, 2.0]\n\
+                       resolution = 33\nbase = -0.3\namplitude = 0.3\nfrequency = 2.0\n\
+                       friction = 0.3\nresilience = 0.6\n";
+/// Its bottom below the landscape everywhere under it (which lies within [-0.6, 0]).
+const BOX_ON_TERRAIN: &str = "[[colliders.box]]\nmin = [-0.4, -0.7, -0.4]\nmax = [0.4, 0.2, 0.4]\n\
+                              friction = 0.1\nresilience = 0.5\n";
+
+/// Particles on and just either side of the faces the colliders share, on the outer faces and
+/// raining on the stack: the placements of [`around`] at eight points.
+fn stack_particles(top: f32) -> Vec<P> {
+    let (d, u) = (Vec3::Y, -Vec3::Y);
+    let surface = [
+        (Vec3::new(0.2, 0.0, 0.1), d),
+        (Vec3::new(-0.3, 0.0, 0.25), u),
+        (Vec3::new(0.49, 0.0, -0.2), d),
+        (Vec3::new(0.5, 0.0, 0.3), Vec3::new(1.0, 1.0, 0.0)),
+        (Vec3::new(-0.5, 0.1, 0.0), -Vec3::X),
+        (Vec3::new(0.1, top, -0.1), d),
+        (Vec3::new(0.0, top, 0.0), u),
+        (Vec3::new(0.24, top, 0.02), Vec3::new(1.0, 0.3, 0.0)),
+    ];
+    let mut ps = around_all(&surface, COLLIDER_DT);
+    // Caught just under the box, where the plane's push-out and the box's used to alternate.
+    for (i, x) in [-0.3f32, 0.0, 0.35].iter().enumerate() {
+        ps[8 * i + 4].x = Vec3::new(*x, -SKIN, 0.1);
+        ps[8 * i + 5].x = Vec3::new(*x, SKIN, -0.1);
+    }
+    ps
+}
+
+const SKIN: f32 = texflow::sim::reference::SKIN;
+
+/// "No particle is left inside" (docs/pipeline.md) for stacks of colliders that share a face or
+/// sink into each other: box on the ground plane, a sphere on that box, a box sunk into the
+/// height field. Every integrator, with gravity, GPU against the reference in lockstep; then the
+/// GPU alone: after every step no particle is inside any collider (the height field's vertical
+/// distance included).
+#[test]
+fn stacked_colliders_leave_no_particle_inside() {
+    let ctx = context();
+    let stacks = [
+        ("box on plane", format!("{GROUND}{BOX_ON_GROUND}"), 0.4),
+        (
+            "sphere on box on plane",
+            format!("{GROUND}{BOX_ON_GROUND}{SPHERE_ON_BOX}"),
+            0.4,
+        ),
+        (
+            "sphere and box on the height field",
+            format!("{TERRAIN}{BOX_ON_TERRAIN}{SPHERE_ON_BOX}"),
+            0.2,
+        ),
+    ];
+    let mut walked = 0;
+    for (name, body, top) in &stacks {
+        let ps = stack_particles(*top);
+        for (what, sum) in collider(&ctx, body, &ps, TOL_STEP, false) {
+            walked += sum.events.walked_out;
+            eprintln!("{name}, {what}: {:?}", sum.events);
+        }
+        for integrator in ALL {
+            let s = scene(
+                integrator,
+                COLLIDER_DT,
+                &emitters(&[1.0, 2.0], false),
+                &format!("[colliders]\nslow_speed = 0.5\n{body}{GRAVITY}"),
+            );
+            let r = Reference::new(&s).unwrap();
+            let mut sim = start(&ctx, &s, &ps);
+            for step in 1..=COLLIDER_STEPS {
+                sim.step().unwrap();
+                for (i, x) in read(&sim).x.iter().enumerate() {
+                    let d = r.distance_to_colliders(*x);
+                    assert!(
+                        d >= -TOL_STEP,
+                        "{name}, {integrator}: step {step}: particle {i} at {x} is {} inside",
+                        -d
+                    );
+                }
+            }
+        }
+    }
+    assert!(
+        walked > 0,
+        "no particle needed the walk through a shared face"
+    );
+    no_gl_error(&ctx);
+}

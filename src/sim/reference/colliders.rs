@@ -101,7 +101,8 @@ impl Reference {
         }
     }
 
-    /// `constrain`: Verlet's position constraint for one collider.
+    /// `constrain`: Latta eq. 4-5 on Verlet's implied velocity `(xn - x) / dt`; the new
+    /// position is `x + v' dt`, so the next step's implied velocity is the response `v'`.
     pub(super) fn constrain(
         &self,
         d: f32,
@@ -114,16 +115,8 @@ impl Reference {
         if d >= 0.0 {
             return;
         }
-        ev.hits += 1;
-        let slow = (*xn - x).length() < self.slow_speed * self.dt;
-        *xn -= (1.0 + resp.y) * d * n;
-        let disp = *xn - x;
-        let disp_n = disp.dot(n) * n;
-        if slow {
-            ev.slow += 1;
-        } else {
-            *xn = x + disp_n + (1.0 - resp.x) * (disp - disp_n);
-        }
+        let v = (*xn - x) / self.dt;
+        *xn = x + self.response(v, n, resp, ev) * self.dt;
     }
 
     /// `collide` for Verlet.
@@ -139,30 +132,51 @@ impl Reference {
         }
     }
 
+    /// `push_distance`: collider `k` in the sweep's order (planes, spheres, boxes, the distance
+    /// field, then the height field): its distance at `p`, the push direction `u`, the normal
+    /// and whether it is bounded.
+    fn push_distance(&self, k: usize, p: Vec3) -> (f32, Vec3, Vec3, bool) {
+        match self.colliders.get(k) {
+            Some(c) => {
+                let (d, n) = Self::distance(&c.shape, p);
+                (d, n, n, !matches!(c.shape, Shape::Plane(_)))
+            }
+            None => {
+                let (field, _) = self.height.as_ref().expect("k counts the height field");
+                let (d, n) = Self::height_distance(field, p);
+                (d, Vec3::Y, n, false)
+            }
+        }
+    }
+
     /// `keep_outside`: projects a position still inside a collider out to `SKIN` above its
-    /// surface and takes away the velocity into the surface.
+    /// surface and takes away the velocity into the surface; a push that would undo the previous
+    /// one walks on through a bounded collider along the previous push's direction instead.
     pub(super) fn keep_outside(&self, x: &mut Vec3, v: &mut Vec3, ev: &mut Events) {
-        // Up to KEEP_OUTSIDE_SWEEPS sweeps: one collider's push-out can move a particle into
-        // another (a sphere sunk into a plane); stop after a sweep that moves nothing.
+        let count = self.colliders.len() + self.height.is_some() as usize;
+        let mut last = Vec3::ZERO;
         for _ in 0..KEEP_OUTSIDE_SWEEPS {
             let mut moved = false;
-            for c in &self.colliders {
-                let (d, n) = Self::distance(&c.shape, *x);
-                if d < 0.0 {
-                    *x -= (d - SKIN) * n;
-                    *v -= v.dot(n).min(0.0) * n;
-                    ev.kept_outside += 1;
-                    moved = true;
+            for k in 0..count {
+                let (mut d, u, mut n, bounded) = self.push_distance(k, *x);
+                if d >= 0.0 {
+                    continue;
                 }
-            }
-            if let Some((field, _)) = &self.height {
-                let (d, n) = Self::height_distance(field, *x);
-                if d < 0.0 {
-                    x.y -= d - SKIN;
-                    *v -= v.dot(n).min(0.0) * n;
-                    ev.kept_outside += 1;
-                    moved = true;
+                if bounded && u.dot(last) < 0.0 {
+                    let mut j = 0;
+                    while j < EXIT_STEPS && d < 0.0 {
+                        *x += (SKIN - d) * last;
+                        (d, _, n, _) = self.push_distance(k, *x);
+                        j += 1;
+                    }
+                    ev.walked_out += 1;
+                } else {
+                    *x -= (d - SKIN) * u;
+                    last = u;
                 }
+                *v -= v.dot(n).min(0.0) * n;
+                ev.kept_outside += 1;
+                moved = true;
             }
             if !moved {
                 break;
@@ -186,6 +200,9 @@ impl Reference {
 
 /// Sweeps of `keep_outside` over all colliders (`KEEP_OUTSIDE_SWEEPS` in colliders.glsl).
 const KEEP_OUTSIDE_SWEEPS: usize = 4;
+
+/// Steps of the walk through a collider (`EXIT_STEPS` in colliders.glsl).
+const EXIT_STEPS: usize = 24;
 
 /// `caught_response`: Latta eq. 7, the way out of a collider a particle is caught in.
 fn caught_response(v: Vec3, n: Vec3) -> Vec3 {

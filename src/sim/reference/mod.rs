@@ -56,7 +56,7 @@ pub const SKIN: f32 = 1e-4;
 /// it was meant for).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Events {
-    /// Latta eq. 4-5 responses applied (explicit) or position constraints applied (Verlet).
+    /// Latta eq. 4-5 responses applied (to the velocity, or to Verlet's implied velocity).
     pub hits: u32,
     /// Of those, responses or constraints without friction because the particle was slow.
     pub slow: u32,
@@ -67,6 +67,9 @@ pub struct Events {
     pub crossings: u32,
     /// Projections by the final `keep_outside`.
     pub kept_outside: u32,
+    /// Of those, walks through a collider that shares a face with another (along the previous
+    /// push's direction, onto the union's surface).
+    pub walked_out: u32,
     /// The particle died in this step (or was dead already).
     pub dead: bool,
 }
@@ -79,6 +82,7 @@ impl std::ops::AddAssign for Events {
         self.caught += o.caught;
         self.crossings += o.crossings;
         self.kept_outside += o.kept_outside;
+        self.walked_out += o.walked_out;
         self.dead |= o.dead;
     }
 }

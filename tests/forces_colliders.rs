@@ -1310,3 +1310,45 @@ fn stacked_colliders_leave_no_particle_inside() {
     );
     no_gl_error(&ctx);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Births dropped when the state texture is full (issue 12, item 3)
+// ---------------------------------------------------------------------------------------------
+
+/// 200 births per second of a 2 s life want 400 live particles in 16x16 = 256 texels. With
+/// `dt = 0.05` each step owes exactly 10 births; the texture is full after 25.6 steps, and the
+/// first index comes free (death at 2 s, reclaimed 3 steps late) after step 40. So after 40 steps
+/// 400 births were asked for, 256 placed and 144 dropped; `capacity_check` predicts the overflow
+/// and the texture that holds it.
+#[test]
+fn dropped_births_are_counted_and_predicted() {
+    let ctx = context();
+    let src = "name = \"full\"\nintegrator = \"euler\"\n[particles]\nsize = [16, 16]\n\
+               [time]\ndt = 0.05\n[[emitters.allocator]]\nrate = 200.0\nshape = \"point\"\n\
+               direction = [0.0, 1.0, 0.0]\nspeed = [1.0, 1.0]\nlife = [2.0, 2.0]\n";
+    let s = scene::parse("full", src).unwrap();
+    let w = s.capacity_check().expect("400 live > 256 texels");
+    assert_eq!((w.live, w.slots, w.side), (400.0, 256, 32));
+    let mut sim = ParticleSim::new(&ctx, &s, 3).unwrap();
+    for _ in 0..40 {
+        sim.step().unwrap();
+    }
+    assert_eq!(sim.emitted(), (400, 144));
+    assert_eq!(sim.dropped_births(), 144);
+    let live = sim
+        .read_positions()
+        .unwrap()
+        .chunks(4)
+        .filter(|p| p[3] > 0.0)
+        .count();
+    assert_eq!(live, 256, "every texel holds a live particle");
+    // The same rate in 32x32 drops nothing.
+    let big = scene::parse("big", &src.replace("[16, 16]", "[32, 32]")).unwrap();
+    assert_eq!(big.capacity_check(), None);
+    let mut sim = ParticleSim::new(&ctx, &big, 3).unwrap();
+    for _ in 0..40 {
+        sim.step().unwrap();
+    }
+    assert_eq!(sim.dropped_births(), 0);
+    no_gl_error(&ctx);
+}

@@ -24,6 +24,7 @@ pub use builtin::{
 pub use locate::{Invalid, Key};
 pub use parse::{check_limits, parse, SizeLimits};
 pub use schema::*;
+pub use validate::CapacityWarning;
 
 use crate::error::{Error, Result};
 

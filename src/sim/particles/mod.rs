@@ -369,6 +369,12 @@ impl ParticleSim {
         (self.emitted, self.dropped)
     }
 
+    /// Births dropped so far because every index of the state texture was live (allocator
+    /// emission; 0 otherwise). [`SceneFile::capacity_check`] predicts it from rate × life.
+    pub fn dropped_births(&self) -> u64 {
+        self.dropped
+    }
+
     /// Rows that passes must cover: the live rows under a min-heap allocator, else all.
     pub fn active_rows(&self) -> u32 {
         match &self.allocator {

@@ -1352,3 +1352,142 @@ fn dropped_births_are_counted_and_predicted() {
     assert_eq!(sim.dropped_births(), 0);
     no_gl_error(&ctx);
 }
+
+// ---------------------------------------------------------------------------------------------
+// The papers' forms of the wind and the vortex, and a mass per particle (issue 12, items 5-6)
+// ---------------------------------------------------------------------------------------------
+
+/// A steady wind (no turbulence): the flow field is `w` everywhere.
+fn steady_wind(form: &str, drag: &str) -> String {
+    format!(
+        "[[forces.wind]]\nform = \"{form}\"\nvelocity = [1.0, 0.0, 0.5]\nturbulence = 0.0\n\
+         resolution = 4\nbounds = [[-5.0, -5.0, -5.0], [5.0, 5.0, 5.0]]\n{drag}"
+    )
+}
+
+/// One Euler step of a particle at rest at the origin of type `ty`: its new velocity.
+fn one_euler_step(ctx: &Context, s: &SceneFile, ty: usize) -> Vec3 {
+    let mut sim = start(
+        ctx,
+        s,
+        &[P {
+            ty,
+            ..p(Vec3::ZERO, Vec3::ZERO)
+        }],
+    );
+    sim.step().unwrap();
+    let v = sim.read_velocities().unwrap();
+    Vec3::new(v[0], v[1], v[2])
+}
+
+/// Latta eq. 1-2 divide the drag by the mass; the default drag (an acceleration) does not;
+/// UberFlow eq. 1 adds the wind velocity itself. Closed forms after one Euler step from rest:
+/// `Δv = k w dt`, `Δv = c w dt / m`, `Δv = w`. Then every integrator against the twin.
+#[test]
+fn wind_forms_as_the_papers_write_them() {
+    let ctx = context();
+    let (w, dt) = (Vec3::new(1.0, 0.0, 0.5), 0.02);
+    let masses = [1.0, 5.0];
+    let forms = [
+        ("drag", "drag = 2.0\n", [2.0 * dt, 2.0 * dt]),
+        ("latta", "drag = 2.0\n", [2.0 * dt, 2.0 * dt / 5.0]),
+        ("uberflow", "", [1.0, 1.0]),
+    ];
+    for (form, drag, factor) in forms {
+        let body = steady_wind(form, drag);
+        let s = scene("euler", dt, &emitters(&masses, false), &body);
+        for (ty, f) in factor.iter().enumerate() {
+            let v = one_euler_step(&ctx, &s, ty);
+            assert!(
+                (v - *f * w).length() <= 1e-5,
+                "{form}, mass {}: Δv {v}, closed form {}",
+                masses[ty],
+                *f * w
+            );
+        }
+        let ps = scattered(21, N, 1.0, 1.0, 2);
+        for integrator in ALL {
+            let s = scene(integrator, dt, &emitters(&masses, false), &body);
+            locked(&ctx, &s, &ps, 20, TOL_STEP);
+        }
+    }
+    no_gl_error(&ctx);
+}
+
+/// Latta §3.4.2: a vortex accelerates a particle towards its closest point on the line, with an
+/// attractor's falloff. From rest at distance r from the y axis (inverse square, softening s):
+/// `Δv = S d / (r^2 + s^2)^(3/2) dt / m`, d pointing at the axis; a particle moving across it
+/// orbits. Then every integrator against the twin.
+#[test]
+fn latta_vortex_pulls_towards_the_line() {
+    let ctx = context();
+    let dt = 0.01;
+    let body = "[[forces.vortex]]\nform = \"latta\"\npoint = [0.0, 0.0, 0.0]\n\
+                axis = [0.0, 1.0, 0.0]\nstrength = 0.5\nsoftening = 0.1\n";
+    let s = scene("euler", dt, &emitters(&[2.0], false), body);
+    let x = Vec3::new(0.6, 0.3, -0.8);
+    let mut sim = start(&ctx, &s, &[p(x, Vec3::ZERO)]);
+    sim.step().unwrap();
+    let v = sim.read_velocities().unwrap();
+    let v = Vec3::new(v[0], v[1], v[2]);
+    let d = Vec3::new(-0.6, 0.0, 0.8);
+    let q: f32 = 1.0 + 0.01;
+    let want = 0.5 * d / (q * q.sqrt()) * dt / 2.0;
+    assert!((v - want).length() <= 1e-6, "Δv {v}, closed form {want}");
+    let mut ps = scattered(22, 48, 1.0, 0.5, 1);
+    // On the axis (no force) and beyond a max distance in the constant-falloff variant.
+    ps.push(p(Vec3::new(0.0, 0.4, 0.0), Vec3::ZERO));
+    ps.extend(scattered(23, 15, 3.0, 0.5, 1));
+    for (variant, extra) in [
+        ("inverse square", ""),
+        ("constant", "falloff = \"constant\"\nmax_distance = 1.5\n"),
+    ] {
+        let body = format!("{body}{extra}");
+        for integrator in ALL {
+            let s = scene(integrator, dt, &emitters(&[2.0], false), &body);
+            eprintln!("vortex {variant}, {integrator}");
+            locked(&ctx, &s, &ps, 30, TOL_STEP);
+        }
+    }
+    no_gl_error(&ctx);
+}
+
+/// Latta §3.3: a mass per particle. With `mass_range = [1, 5]` a particle whose static texel
+/// holds r has mass `1 + 4 fract(4096 r)`; under Latta's drag from rest its first Euler step is
+/// `Δv = c w dt / m`. Sixteen particles with r chosen so that fract(4096 r) is 0, 1/4, 1/2, 3/4:
+/// masses 1, 2, 3, 4, each four times; GPU, twin and closed form agree.
+#[test]
+fn mass_range_gives_each_particle_its_mass() {
+    let ctx = context();
+    let dt = 0.02;
+    let em = "[[emitters.initial]]\nshape = \"point\"\ndirection = [0.0, 1.0, 0.0]\n\
+              speed = [0.0, 0.0]\nmass_range = [1.0, 5.0]\n";
+    let s = scene("euler", dt, em, &steady_wind("latta", "drag = 2.0\n"));
+    let n = 16;
+    let rs: Vec<f32> = (0..n).map(|i| (4 * i + i % 4) as f32 / 16384.0).collect();
+    let ps = pad(vec![p(Vec3::ZERO, Vec3::ZERO); n]);
+    let mut sim = ParticleSim::new(&ctx, &s, 7).unwrap();
+    let pos: Vec<f32> = ps.iter().flat_map(|q| q.x.extend(1.0).to_array()).collect();
+    let vel = vec![0.0; N * 4];
+    let st: Vec<f32> = (0..N)
+        .flat_map(|i| [0.0, 0.0, 0.0, rs.get(i).copied().unwrap_or(0.5)])
+        .collect();
+    sim.set_state(&pos, &vel, &st).unwrap();
+    sim.step().unwrap();
+    let v = sim.read_velocities().unwrap();
+    let mut r = Reference::new(&s).unwrap();
+    let w = Vec3::new(1.0, 0.0, 0.5);
+    for (i, rv) in rs.iter().enumerate() {
+        let m = 1.0 + 4.0 * (i % 4) as f32 / 4.0;
+        let gpu = Vec3::new(v[4 * i], v[4 * i + 1], v[4 * i + 2]);
+        let want = 2.0 * w * dt / m;
+        r.set_static_random(*rv);
+        assert!((1.0 / r.particle_inv_mass(0, *rv) - m).abs() < 1e-6);
+        let (_, cpu, _) = r.step_explicit(Vec3::ZERO, Vec3::ZERO, 1.0, 0);
+        assert!(
+            (gpu - want).length() <= 1e-6 && (gpu - cpu).length() <= 1e-6,
+            "particle {i} (r = {rv}, mass {m}): GPU {gpu}, twin {cpu}, closed form {want}"
+        );
+    }
+    no_gl_error(&ctx);
+}

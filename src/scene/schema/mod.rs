@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 pub use emitters::{AllocatorKind, Emitter, Emitters, Shape, MAX_EMITTERS};
 pub use forces::{
     Attractor, BoxCollider, Colliders, Damping, Falloff, Forces, Gravity, HeightFieldCollider,
-    PlaneCollider, SdfCollider, SphereCollider, Spring, Vortex, Wind,
+    PlaneCollider, SdfCollider, SphereCollider, Spring, Vortex, VortexForm, Wind, WindForm,
 };
 pub use render::{
     Blending, CameraSection, DrawMode, DrawOrder, Keyframe, Render, RenderPath, SortSection,

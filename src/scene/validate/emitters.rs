@@ -158,6 +158,20 @@ fn check_spawn(at: &[Key], s: &Emitter) -> Check {
     if let Some(m) = s.mass.filter(|m| *m <= 0.0) {
         return fail(p("mass"), format!("mass {m} must be above 0 kg"));
     }
+    if let Some([lo, hi]) = s.mass_range {
+        if s.mass.is_some() {
+            return fail(
+                p("mass_range"),
+                "give mass (one mass for the type) or mass_range (a mass per particle), not both",
+            );
+        }
+        if !(lo > 0.0 && lo <= hi && hi.is_finite()) {
+            return fail(
+                p("mass_range"),
+                format!("mass_range [{lo}, {hi}] must be [lo, hi] with 0 < lo <= hi (kg)"),
+            );
+        }
+    }
     if s.sprite_scale <= 0.0 {
         return fail(
             p("sprite_scale"),

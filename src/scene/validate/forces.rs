@@ -2,7 +2,7 @@
 
 use super::{bounded, direction, fail, nonzero, path, Check, MAX_COORDINATE};
 use crate::scene::locate::Key;
-use crate::scene::schema::SceneFile;
+use crate::scene::schema::{Falloff, SceneFile, VortexForm, WindForm};
 
 use Key::{Index as I, Name as N};
 
@@ -67,6 +67,21 @@ pub(super) fn forces(s: &SceneFile) -> Check {
         }
         let at = |k| path(&[N("forces"), N("vortex"), I(i), N(k)]);
         direction(at("axis"), "axis", v.axis)?;
+        if v.softening <= 0.0 {
+            return fail(at("softening"), "softening must be above 0");
+        }
+        if v.max_distance.is_some_and(|d| d <= 0.0) {
+            return fail(at("max_distance"), "max_distance must be above 0");
+        }
+        if v.form == VortexForm::Swirl
+            && (v.max_distance.is_some() || v.falloff != Falloff::InverseSquare)
+        {
+            return fail(
+                at("form"),
+                "falloff and max_distance belong to form = \"latta\" (Latta §3.4.2: towards \
+                 the closest point on the line); the swirl has a fixed core",
+            );
+        }
         bounded(at("point"), "point", &v.point)?;
         bounded(at("strength"), "strength", &[v.strength])?;
     }
@@ -91,6 +106,13 @@ pub(super) fn forces(s: &SceneFile) -> Check {
         let at = |k| path(&[N("forces"), N("wind"), I(i), N(k)]);
         if wnd.drag < 0.0 {
             return fail(at("drag"), "drag must not be negative");
+        }
+        if wnd.form == WindForm::Uberflow && wnd.drag != 0.0 {
+            return fail(
+                at("drag"),
+                "form = \"uberflow\" adds the wind velocity to the velocity (UberFlow eq. 1) and \
+                 has no drag: remove drag, or use form = \"drag\" or \"latta\"",
+            );
         }
         per_step(at("drag"), "drag", wnd.drag)?;
         bounded(at("velocity"), "velocity", &wnd.velocity)?;

@@ -22,6 +22,7 @@ use crate::gl::{
 };
 use crate::scene::{Integrator, SceneFile, VelocityFormat};
 pub use features::{Emission, Features};
+pub use uniforms::{mass_range, vortex_shape};
 use uniforms::{set_constants_for, unit};
 
 /// The state framebuffers: position and velocity ping-pong for the explicit integrators, a ring

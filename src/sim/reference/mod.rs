@@ -101,12 +101,15 @@ struct Vortex {
     at: Vec4,
     /// unit axis: `u_vortex_axis[i]`.
     axis: Vec3,
+    /// Latta form (0/1), constant falloff (0/1), max distance, softening: `u_vortex_shape[i]`.
+    shape: Vec4,
 }
 
 #[derive(Debug, Clone)]
 struct Wind {
     field: FlowField,
     drag: f32,
+    form: scene::WindForm,
 }
 
 /// A collider's shape, with the uniforms the shader gets.
@@ -138,6 +141,11 @@ pub struct Reference {
     fp24: bool,
     dt: f32,
     inv_mass: [f32; 4],
+    /// Mass ranges per type (`u_mass_lo`, `u_mass_hi`), with `MASS_RANGE`.
+    mass_range: Option<([f32; 4], [f32; 4])>,
+    /// The static texel's random number of the particle being stepped (see
+    /// [`Reference::set_static_random`]).
+    random: f32,
     gravity: Option<Vec3>,
     damping: Option<f32>,
     wind: Option<Wind>,
@@ -183,9 +191,13 @@ impl Reference {
         }
         let s = scene;
         let mut inv_mass = [1.0 / s.particles.mass; 4];
+        let (mut lo, mut hi) = ([s.particles.mass; 4], [s.particles.mass; 4]);
         for (k, e) in s.emitters.all().enumerate() {
-            inv_mass[k] = 1.0 / e.mass.unwrap_or(s.particles.mass);
+            let [l, h] = crate::sim::particles::mass_range(s, e);
+            (lo[k], hi[k]) = (l, h);
+            inv_mass[k] = 1.0 / (0.5 * (l + h));
         }
+        let mass_range = features.mass_range.then_some((lo, hi));
         let f = &s.forces;
         let gravity = (!f.gravity.is_empty())
             .then(|| f.gravity.iter().map(|g| v3(g.acceleration)).sum::<Vec3>());
@@ -194,6 +206,7 @@ impl Reference {
             Some(w) => Some(Wind {
                 field: FlowField::new(w)?,
                 drag: w.drag,
+                form: w.form,
             }),
             None => None,
         };
@@ -216,6 +229,7 @@ impl Reference {
             .map(|v| Vortex {
                 at: v3(v.point).extend(v.strength),
                 axis: v3(v.axis).normalize(),
+                shape: crate::sim::particles::vortex_shape(v),
             })
             .collect();
         let c = &s.colliders;
@@ -260,6 +274,8 @@ impl Reference {
             fp24: s.particles.precision == Precision::Fp24,
             dt: s.time.dt,
             inv_mass,
+            mass_range,
+            random: 0.5,
             gravity,
             damping,
             wind,
@@ -269,6 +285,12 @@ impl Reference {
             colliders,
             height,
         })
+    }
+
+    /// Sets the random number of the static texel (`w`) of the particles stepped next: with a
+    /// mass range it chooses the particle's mass. 0.5 until set.
+    pub fn set_static_random(&mut self, r: f32) {
+        self.random = r;
     }
 
     /// The time step.
@@ -319,8 +341,8 @@ impl Reference {
                 return (self.store(Vec3::INFINITY), self.store(Vec3::ZERO), l, ev);
             }
         };
-        let a = self.acceleration(x, v, ty);
-        let mut vb = v + a * self.dt;
+        let a = self.acceleration_of(x, v, self.particle_inv_mass(ty, self.random));
+        let mut vb = v + self.wind_kick(x) + a * self.dt;
         let mut xb = self.advance(x, v, vb);
         if self.has_colliders() {
             self.collide_explicit(&mut x, v, &mut vb, &mut xb, &mut ev);
@@ -358,8 +380,8 @@ impl Reference {
                 return (self.store(Vec3::INFINITY), l, ev);
             }
         };
-        let a = self.acceleration(x, v, ty);
-        let mut xn = 2.0 * x - x_prev + a * (dt * dt);
+        let a = self.acceleration_of(x, v, self.particle_inv_mass(ty, self.random));
+        let mut xn = 2.0 * x - x_prev + a * (dt * dt) + self.wind_kick(x) * dt;
         if self.has_colliders() {
             self.collide_verlet(x, &mut xn, &mut ev);
             let mut vn = (xn - x) / dt;

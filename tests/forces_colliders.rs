@@ -1491,3 +1491,114 @@ fn mass_range_gives_each_particle_its_mass() {
     }
     no_gl_error(&ctx);
 }
+
+// ---------------------------------------------------------------------------------------------
+// User forces (issue 14, item 4)
+// ---------------------------------------------------------------------------------------------
+
+/// A fresh directory for this test's GLSL files.
+fn glsl_dir(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("texflow-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Two `[[forces.custom]]` files, paths relative to the scene's directory: a constant force
+/// `(0, 3 (type + 1), 0)` N and a force `(age, 0, 0)` N that grows with the particle's age.
+/// With mass 2 and Euler from rest, after n steps (age t_k = k dt at step k):
+/// `v_y = n dt 3 (type + 1) / 2` and `v_x = dt^2 n (n - 1) / 2 / 2`.
+#[test]
+fn custom_forces_match_the_closed_form() {
+    let ctx = context();
+    let dir = glsl_dir("custom");
+    std::fs::write(
+        dir.join("lift.glsl"),
+        "// A constant force per type.\nvec3 force(vec3 x, vec3 v, float age, int type) {\n    \
+         return vec3(0.0, 3.0, 0.0) * float(type + 1);\n}\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("push.glsl"),
+        "vec3 force(vec3 x, vec3 v, float age, int type) {\n    return vec3(age, 0.0, 0.0);\n}\n",
+    )
+    .unwrap();
+    let body = "[[forces.custom]]\nglsl = \"lift.glsl\"\n[[forces.custom]]\nglsl = \"push.glsl\"\n";
+    let mut s = scene("euler", 0.0625, &emitters(&[2.0, 2.0], false), body);
+    s.resolve_custom_paths(&dir);
+    assert!(s.forces.custom[0].glsl.starts_with(dir.to_str().unwrap()));
+    let mut sim = start(
+        &ctx,
+        &s,
+        &[
+            p(Vec3::ZERO, Vec3::ZERO),
+            P {
+                ty: 1,
+                ..p(Vec3::ONE, Vec3::ZERO)
+            },
+        ],
+    );
+    let (n, dt) = (16.0f32, 0.0625f32);
+    for _ in 0..16 {
+        sim.step().unwrap();
+    }
+    let v = sim.read_velocities().unwrap();
+    for ty in 0..2 {
+        let got = Vec3::new(v[4 * ty], v[4 * ty + 1], v[4 * ty + 2]);
+        let want = Vec3::new(
+            dt * dt * n * (n - 1.0) / 4.0,
+            n * dt * 1.5 * (ty as f32 + 1.0),
+            0.0,
+        );
+        assert!(
+            (got - want).length() <= 1e-5,
+            "type {ty}: v {got}, closed form {want}"
+        );
+    }
+    no_gl_error(&ctx);
+}
+
+/// A custom force that does not compile: the error names the user's file and line, and says
+/// what the file must define.
+#[test]
+fn broken_custom_force_names_its_file_and_line() {
+    let ctx = context();
+    let dir = glsl_dir("broken");
+    std::fs::write(
+        dir.join("broken.glsl"),
+        "vec3 force(vec3 x, vec3 v, float age, int type) {\n    \
+         return no_such_variable;\n}\n",
+    )
+    .unwrap();
+    let mut s = scene(
+        "euler",
+        0.02,
+        &emitters(&[1.0], false),
+        "[[forces.custom]]\nglsl = \"broken.glsl\"\n",
+    );
+    s.resolve_custom_paths(&dir);
+    let e = ParticleSim::new(&ctx, &s, 1).unwrap_err().to_string();
+    eprintln!("{e}");
+    let file = dir.join("broken.glsl");
+    assert!(
+        e.contains(&format!("{}:2", file.display())) && e.contains("vec3 force("),
+        "{e}"
+    );
+    assert!(
+        !e.contains("glsl/"),
+        "a user's file is not under glsl/: {e}"
+    );
+    // A missing file is an input error naming it.
+    let mut s = scene(
+        "euler",
+        0.02,
+        &emitters(&[1.0], false),
+        "[[forces.custom]]\nglsl = \"missing.glsl\"\n",
+    );
+    s.resolve_custom_paths(&dir);
+    let e = ParticleSim::new(&ctx, &s, 1).unwrap_err().to_string();
+    assert!(
+        e.contains("missing.glsl") && e.contains("relative to the scene file"),
+        "{e}"
+    );
+    no_gl_error(&ctx);
+}

@@ -31,6 +31,15 @@ uniform vec4 u_mass_hi;
 #ifndef WIND_FORM
 #define WIND_FORM 0
 #endif
+// User forces ([[forces.custom]]): the integration pass of such a scene is compiled from a root
+// that splices the user's files first, each with `force` renamed custom_force_<i>, and defines
+// N_CUSTOM (src/sim/particles/custom.rs). force_age and force_type are the particle's age and
+// type, set by integrate.frag's main before it calls acceleration.
+#ifndef N_CUSTOM
+#define N_CUSTOM 0
+#endif
+float force_age = 0.0;
+int force_type = 0;
 #ifdef GRAVITY
 uniform vec3 u_gravity;
 #endif
@@ -127,6 +136,18 @@ vec3 acceleration(vec3 x, vec3 v, float inv_mass) {
             f += u_vortex[i].w * cross(ax, perp) / (core * core);
         }
     }
+#endif
+#if N_CUSTOM > 0
+    f += custom_force_0(x, v, force_age, force_type);
+#endif
+#if N_CUSTOM > 1
+    f += custom_force_1(x, v, force_age, force_type);
+#endif
+#if N_CUSTOM > 2
+    f += custom_force_2(x, v, force_age, force_type);
+#endif
+#if N_CUSTOM > 3
+    f += custom_force_3(x, v, force_age, force_type);
 #endif
     return a + f * inv_mass;
 }

@@ -70,6 +70,8 @@ void main() {
     vec4 st = texelFetch(u_static, t, 0);
     int type = int(st.y);
     float im = particle_inv_mass(type, st.w);
+    force_type = type;
+    force_age = u_time - st.x;  // birth time (allocator) or 0 (initial emitters)
     vec3 x = p.xyz;
 #ifdef VERLET
     vec3 xp = texelFetch(u_previous, t, 0).xyz;
@@ -100,6 +102,7 @@ void main() {
         return;
     }
     life = st.z - age;
+    force_age = age;
 #ifdef VERLET
     if (age < 2.0 * u_dt) {
         // Born in the previous step, so x_prev belongs to the last life. Second-order start:

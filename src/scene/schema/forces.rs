@@ -26,6 +26,23 @@ pub struct Forces {
     /// Linear springs to an anchor (harmonic oscillators: the integrators' test problem).
     #[serde(default)]
     pub spring: Vec<Spring>,
+    /// User GLSL forces (at most four), added to the integration pass.
+    #[serde(default)]
+    pub custom: Vec<CustomForce>,
+}
+
+/// Most `[[forces.custom]]` of one scene.
+pub const MAX_CUSTOM_FORCES: usize = 4;
+
+/// A user force: a GLSL file defining `vec3 force(vec3 x, vec3 v, float age, int type)`, the
+/// force in N on a particle at `x` with velocity `v`, `age` seconds after its birth, of type
+/// `type`; divided by the particle's mass (Latta eq. 2) and added in the integration pass. It is
+/// compiled after `common/rng.glsl` and `sim/fields.glsl`, so their functions may be used.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CustomForce {
+    /// The file, relative to the scene file (see `SceneFile::resolve_custom_paths`).
+    pub glsl: String,
 }
 
 /// A linear spring pulling every particle towards an anchor: F = -k (x - anchor).

@@ -2,7 +2,7 @@
 
 use super::{bounded, direction, fail, nonzero, path, Check, MAX_COORDINATE};
 use crate::scene::locate::Key;
-use crate::scene::schema::{Falloff, SceneFile, VortexForm, WindForm};
+use crate::scene::schema::{Falloff, SceneFile, VortexForm, WindForm, MAX_CUSTOM_FORCES};
 
 use Key::{Index as I, Name as N};
 
@@ -133,6 +133,20 @@ pub(super) fn forces(s: &SceneFile) -> Check {
             );
         }
     }
+    if s.forces.custom.len() > MAX_CUSTOM_FORCES {
+        return fail(
+            path(&[N("forces"), N("custom"), I(MAX_CUSTOM_FORCES)]),
+            format!("at most {MAX_CUSTOM_FORCES} custom forces per scene"),
+        );
+    }
+    for (i, c) in s.forces.custom.iter().enumerate() {
+        if c.glsl.trim().is_empty() || c.glsl.contains('"') || c.glsl.contains('\n') {
+            return fail(
+                path(&[N("forces"), N("custom"), I(i), N("glsl")]),
+                "glsl must name a GLSL file (relative to the scene file), e.g. \"wind.glsl\"",
+            );
+        }
+    }
     if s.forces.wind.len() > 1 {
         return fail(
             path(&[N("forces"), N("wind"), I(1)]),
@@ -140,4 +154,18 @@ pub(super) fn forces(s: &SceneFile) -> Check {
         );
     }
     Ok(())
+}
+
+impl SceneFile {
+    /// Makes the relative `[[forces.custom]]` paths relative to `dir`, the directory of the
+    /// scene file (a scene's paths are relative to the file, not to the working directory).
+    /// Call it after parsing a scene read from a file; absolute paths are kept.
+    pub fn resolve_custom_paths(&mut self, dir: &std::path::Path) {
+        for c in &mut self.forces.custom {
+            let p = std::path::Path::new(&c.glsl);
+            if p.is_relative() {
+                c.glsl = dir.join(p).to_string_lossy().into_owned();
+            }
+        }
+    }
 }

@@ -7,6 +7,7 @@
 //! and which passes run, and is also what `texflow scene passes` prints.
 
 mod births;
+mod custom;
 mod features;
 mod uniforms;
 
@@ -182,7 +183,13 @@ impl ParticleSim {
         let emitters: Vec<EmitterUniforms> =
             scene.emitters.all().map(EmitterUniforms::new).collect();
         let mut sim = ParticleSim {
-            integrate: Program::new(ctx, FULLSCREEN_VERTEX, "sim/integrate.frag", &defines)?,
+            integrate: Program::new(
+                ctx,
+                FULLSCREEN_VERTEX,
+                &custom::integrate_root(scene)?,
+                &defines,
+            )
+            .map_err(|e| custom::user_error(scene, e))?,
             emit_state: emit("OUT_STATE")?,
             emit_previous: if verlet { emit("OUT_PREVIOUS")? } else { None },
             emit_static: emit("OUT_STATIC")?,

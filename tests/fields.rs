@@ -117,6 +117,7 @@ fn glsl_samplers_match_their_cpu_twins() {
         resolution: 13,
         bounds: [[-2.0, -1.1, -1.5], [2.0, 1.9, 1.5]],
         drag: 1.0,
+        form: Default::default(),
     })
     .unwrap();
 

@@ -1123,3 +1123,544 @@ fn tolerance_is_not_vacuous() {
     }
     no_gl_error(&ctx);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Resilience over several bounces (issue 12, item 1)
+// ---------------------------------------------------------------------------------------------
+
+/// The heights of the first `count` apexes after a bounce of a trajectory given step by step as
+/// heights (a rise followed by a fall).
+fn apexes(mut next: impl FnMut() -> f32, start: f32, count: usize, max_steps: usize) -> Vec<f32> {
+    let (mut out, mut prev, mut rising) = (Vec::new(), start, false);
+    for _ in 0..max_steps {
+        let y = next();
+        if y > prev {
+            rising = true;
+        } else if rising && y < prev {
+            out.push(prev);
+            rising = false;
+            if out.len() == count {
+                break;
+            }
+        }
+        prev = y;
+    }
+    out
+}
+
+/// A ball dropped from `h` onto a plane of resilience `e` (no friction) leaves each bounce with
+/// `e` times its speed (Latta eq. 5), so its n-th apex is `e^(2n) h`. Every integrator must give
+/// that within 3 %, Verlet included (its implied velocity takes the response), on the GPU and in
+/// the reference. The step is small enough that the response's position error (the particle
+/// restarts from where it was at the start of the step, up to `|v| dt` above the plane) stays
+/// below 1 % of the third apex: `|v| dt <= 4.4 m/s / 4000 = 1.1e-3 m` against `0.6^6 = 0.047 m`.
+#[test]
+fn dropped_ball_apexes_follow_resilience_in_every_integrator() {
+    const H: f32 = 1.0;
+    const E: f32 = 0.6;
+    const DT: f32 = 1.0 / 4000.0;
+    // Fall, then three rises and falls: 0.45 s (1 + 2 (e + e^2) + e^3) < 1.4 s.
+    const MAX_STEPS: usize = 6000;
+    let ctx = context();
+    let body = format!(
+        "{GRAVITY}[colliders]\nslow_speed = 0.0\n[[colliders.plane]]\npoint = [0.0, 0.0, 0.0]\n\
+         normal = [0.0, 1.0, 0.0]\nfriction = 0.0\nresilience = {E:?}\n"
+    );
+    for integrator in ALL {
+        let s = scene(integrator, DT, &emitters(&[1.0], false), &body);
+        let x0 = Vec3::new(0.0, H, 0.0);
+        let mut sim = start(&ctx, &s, &[p(x0, Vec3::ZERO)]);
+        let gpu = apexes(
+            || {
+                sim.step().unwrap();
+                sim.read_positions().unwrap()[1]
+            },
+            H,
+            3,
+            MAX_STEPS,
+        );
+        let r = Reference::new(&s).unwrap();
+        let (mut x, mut other) = match r.integrator() {
+            scene::Integrator::Verlet => (x0, r.verlet_start(x0, Vec3::ZERO, 0)),
+            _ => (x0, Vec3::ZERO),
+        };
+        let cpu = apexes(
+            || {
+                let (xn, _, on, _) = cpu_step(&r, x, other, 1.0, 0);
+                (x, other) = (xn, on);
+                x.y
+            },
+            H,
+            3,
+            MAX_STEPS,
+        );
+        eprintln!("{integrator}: apexes GPU {gpu:?}, reference {cpu:?}");
+        for (side, got) in [("GPU", &gpu), ("reference", &cpu)] {
+            assert_eq!(got.len(), 3, "{integrator} ({side}): apexes {got:?}");
+            for (k, a) in got.iter().enumerate() {
+                let want = E.powi(2 * (k as i32 + 1)) * H;
+                assert!(
+                    (a - want).abs() <= 0.03 * want,
+                    "{integrator} ({side}): apex {} at {a}, e^{} h = {want}",
+                    k + 1,
+                    2 * (k + 1)
+                );
+            }
+        }
+    }
+    no_gl_error(&ctx);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Colliders that share a face (issue 12, item 2)
+// ---------------------------------------------------------------------------------------------
+
+const GROUND: &str = "[[colliders.plane]]\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 1.0, 0.0]\n\
+                      friction = 0.2\nresilience = 0.5\n";
+const BOX_ON_GROUND: &str = "[[colliders.box]]\nmin = [-0.5, 0.0, -0.5]\nmax = [0.5, 0.4, 0.5]\n\
+                             friction = 0.1\nresilience = 0.5\n";
+/// Sunk 0.05 into the box's top.
+const SPHERE_ON_BOX: &str = "[[colliders.sphere]]\ncenter = [0.0, 0.6, 0.0]\nradius = 0.25\n\
+                             friction = 0.1\nresilience = 0.5\n";
+const TERRAIN: &str = "[[colliders.heightfield]]\nextent = [-2.0, -2.0, 2.0, 2.0]\n\
+                       resolution = 33\nbase = -0.3\namplitude = 0.3\nfrequency = 2.0\n\
+                       friction = 0.3\nresilience = 0.6\n";
+/// Its bottom below the landscape everywhere under it (which lies within [-0.6, 0]).
+const BOX_ON_TERRAIN: &str = "[[colliders.box]]\nmin = [-0.4, -0.7, -0.4]\nmax = [0.4, 0.2, 0.4]\n\
+                              friction = 0.1\nresilience = 0.5\n";
+
+/// Particles on and just either side of the faces the colliders share, on the outer faces and
+/// raining on the stack: the placements of [`around`] at eight points.
+fn stack_particles(top: f32) -> Vec<P> {
+    let (d, u) = (Vec3::Y, -Vec3::Y);
+    let surface = [
+        (Vec3::new(0.2, 0.0, 0.1), d),
+        (Vec3::new(-0.3, 0.0, 0.25), u),
+        (Vec3::new(0.49, 0.0, -0.2), d),
+        (Vec3::new(0.5, 0.0, 0.3), Vec3::new(1.0, 1.0, 0.0)),
+        (Vec3::new(-0.5, 0.1, 0.0), -Vec3::X),
+        (Vec3::new(0.1, top, -0.1), d),
+        (Vec3::new(0.0, top, 0.0), u),
+        (Vec3::new(0.24, top, 0.02), Vec3::new(1.0, 0.3, 0.0)),
+    ];
+    let mut ps = around_all(&surface, COLLIDER_DT);
+    // Caught just under the box, where the plane's push-out and the box's used to alternate.
+    for (i, x) in [-0.3f32, 0.0, 0.35].iter().enumerate() {
+        ps[8 * i + 4].x = Vec3::new(*x, -SKIN, 0.1);
+        ps[8 * i + 5].x = Vec3::new(*x, SKIN, -0.1);
+    }
+    ps
+}
+
+const SKIN: f32 = texflow::sim::reference::SKIN;
+
+/// "No particle is left inside" (docs/pipeline.md) for stacks of colliders that share a face or
+/// sink into each other: box on the ground plane, a sphere on that box, a box sunk into the
+/// height field. Every integrator, with gravity, GPU against the reference in lockstep; then the
+/// GPU alone: after every step no particle is inside any collider (the height field's vertical
+/// distance included).
+#[test]
+fn stacked_colliders_leave_no_particle_inside() {
+    let ctx = context();
+    let stacks = [
+        ("box on plane", format!("{GROUND}{BOX_ON_GROUND}"), 0.4),
+        (
+            "sphere on box on plane",
+            format!("{GROUND}{BOX_ON_GROUND}{SPHERE_ON_BOX}"),
+            0.4,
+        ),
+        (
+            "sphere and box on the height field",
+            format!("{TERRAIN}{BOX_ON_TERRAIN}{SPHERE_ON_BOX}"),
+            0.2,
+        ),
+    ];
+    let mut walked = 0;
+    for (name, body, top) in &stacks {
+        let ps = stack_particles(*top);
+        for (what, sum) in collider(&ctx, body, &ps, TOL_STEP, false) {
+            walked += sum.events.walked_out;
+            eprintln!("{name}, {what}: {:?}", sum.events);
+        }
+        for integrator in ALL {
+            let s = scene(
+                integrator,
+                COLLIDER_DT,
+                &emitters(&[1.0, 2.0], false),
+                &format!("[colliders]\nslow_speed = 0.5\n{body}{GRAVITY}"),
+            );
+            let r = Reference::new(&s).unwrap();
+            let mut sim = start(&ctx, &s, &ps);
+            for step in 1..=COLLIDER_STEPS {
+                sim.step().unwrap();
+                for (i, x) in read(&sim).x.iter().enumerate() {
+                    let d = r.distance_to_colliders(*x);
+                    assert!(
+                        d >= -TOL_STEP,
+                        "{name}, {integrator}: step {step}: particle {i} at {x} is {} inside",
+                        -d
+                    );
+                }
+            }
+        }
+    }
+    assert!(
+        walked > 0,
+        "no particle needed the walk through a shared face"
+    );
+    no_gl_error(&ctx);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Births dropped when the state texture is full (issue 12, item 3)
+// ---------------------------------------------------------------------------------------------
+
+/// 200 births per second of a 2 s life want 400 live particles in 16x16 = 256 texels. With
+/// `dt = 0.05` each step owes exactly 10 births; the texture is full after 25.6 steps, and the
+/// first index comes free (death at 2 s, reclaimed 3 steps late) after step 40. So after 40 steps
+/// 400 births were asked for, 256 placed and 144 dropped; `capacity_check` predicts the overflow
+/// and the texture that holds it.
+#[test]
+fn dropped_births_are_counted_and_predicted() {
+    let ctx = context();
+    let src = "name = \"full\"\nintegrator = \"euler\"\n[particles]\nsize = [16, 16]\n\
+               [time]\ndt = 0.05\n[[emitters.allocator]]\nrate = 200.0\nshape = \"point\"\n\
+               direction = [0.0, 1.0, 0.0]\nspeed = [1.0, 1.0]\nlife = [2.0, 2.0]\n";
+    let s = scene::parse("full", src).unwrap();
+    let w = s.capacity_check().expect("400 live > 256 texels");
+    assert_eq!((w.live, w.slots, w.side), (400.0, 256, 32));
+    let mut sim = ParticleSim::new(&ctx, &s, 3).unwrap();
+    for _ in 0..40 {
+        sim.step().unwrap();
+    }
+    assert_eq!(sim.emitted(), (400, 144));
+    assert_eq!(sim.dropped_births(), 144);
+    let live = sim
+        .read_positions()
+        .unwrap()
+        .chunks(4)
+        .filter(|p| p[3] > 0.0)
+        .count();
+    assert_eq!(live, 256, "every texel holds a live particle");
+    // The same rate in 32x32 drops nothing.
+    let big = scene::parse("big", &src.replace("[16, 16]", "[32, 32]")).unwrap();
+    assert_eq!(big.capacity_check(), None);
+    let mut sim = ParticleSim::new(&ctx, &big, 3).unwrap();
+    for _ in 0..40 {
+        sim.step().unwrap();
+    }
+    assert_eq!(sim.dropped_births(), 0);
+    no_gl_error(&ctx);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The papers' forms of the wind and the vortex, and a mass per particle (issue 12, items 5-6)
+// ---------------------------------------------------------------------------------------------
+
+/// A steady wind (no turbulence): the flow field is `w` everywhere.
+fn steady_wind(form: &str, drag: &str) -> String {
+    format!(
+        "[[forces.wind]]\nform = \"{form}\"\nvelocity = [1.0, 0.0, 0.5]\nturbulence = 0.0\n\
+         resolution = 4\nbounds = [[-5.0, -5.0, -5.0], [5.0, 5.0, 5.0]]\n{drag}"
+    )
+}
+
+/// One Euler step of a particle at rest at the origin of type `ty`: its new velocity.
+fn one_euler_step(ctx: &Context, s: &SceneFile, ty: usize) -> Vec3 {
+    let mut sim = start(
+        ctx,
+        s,
+        &[P {
+            ty,
+            ..p(Vec3::ZERO, Vec3::ZERO)
+        }],
+    );
+    sim.step().unwrap();
+    let v = sim.read_velocities().unwrap();
+    Vec3::new(v[0], v[1], v[2])
+}
+
+/// Latta eq. 1-2 divide the drag by the mass; the default drag (an acceleration) does not;
+/// UberFlow eq. 1 adds the wind velocity itself. Closed forms after one Euler step from rest:
+/// `Δv = k w dt`, `Δv = c w dt / m`, `Δv = w`. Then every integrator against the twin.
+#[test]
+fn wind_forms_as_the_papers_write_them() {
+    let ctx = context();
+    let (w, dt) = (Vec3::new(1.0, 0.0, 0.5), 0.02);
+    let masses = [1.0, 5.0];
+    let forms = [
+        ("drag", "drag = 2.0\n", [2.0 * dt, 2.0 * dt]),
+        ("latta", "drag = 2.0\n", [2.0 * dt, 2.0 * dt / 5.0]),
+        ("uberflow", "", [1.0, 1.0]),
+    ];
+    for (form, drag, factor) in forms {
+        let body = steady_wind(form, drag);
+        let s = scene("euler", dt, &emitters(&masses, false), &body);
+        for (ty, f) in factor.iter().enumerate() {
+            let v = one_euler_step(&ctx, &s, ty);
+            assert!(
+                (v - *f * w).length() <= 1e-5,
+                "{form}, mass {}: Δv {v}, closed form {}",
+                masses[ty],
+                *f * w
+            );
+        }
+        let ps = scattered(21, N, 1.0, 1.0, 2);
+        for integrator in ALL {
+            let s = scene(integrator, dt, &emitters(&masses, false), &body);
+            locked(&ctx, &s, &ps, 20, TOL_STEP);
+        }
+    }
+    no_gl_error(&ctx);
+}
+
+/// Latta §3.4.2: a vortex accelerates a particle towards its closest point on the line, with an
+/// attractor's falloff. From rest at distance r from the y axis (inverse square, softening s):
+/// `Δv = S d / (r^2 + s^2)^(3/2) dt / m`, d pointing at the axis; a particle moving across it
+/// orbits. Then every integrator against the twin.
+#[test]
+fn latta_vortex_pulls_towards_the_line() {
+    let ctx = context();
+    let dt = 0.01;
+    let body = "[[forces.vortex]]\nform = \"latta\"\npoint = [0.0, 0.0, 0.0]\n\
+                axis = [0.0, 1.0, 0.0]\nstrength = 0.5\nsoftening = 0.1\n";
+    let s = scene("euler", dt, &emitters(&[2.0], false), body);
+    let x = Vec3::new(0.6, 0.3, -0.8);
+    let mut sim = start(&ctx, &s, &[p(x, Vec3::ZERO)]);
+    sim.step().unwrap();
+    let v = sim.read_velocities().unwrap();
+    let v = Vec3::new(v[0], v[1], v[2]);
+    let d = Vec3::new(-0.6, 0.0, 0.8);
+    let q: f32 = 1.0 + 0.01;
+    let want = 0.5 * d / (q * q.sqrt()) * dt / 2.0;
+    assert!((v - want).length() <= 1e-6, "Δv {v}, closed form {want}");
+    let mut ps = scattered(22, 48, 1.0, 0.5, 1);
+    // On the axis (no force) and beyond a max distance in the constant-falloff variant.
+    ps.push(p(Vec3::new(0.0, 0.4, 0.0), Vec3::ZERO));
+    ps.extend(scattered(23, 15, 3.0, 0.5, 1));
+    for (variant, extra) in [
+        ("inverse square", ""),
+        ("constant", "falloff = \"constant\"\nmax_distance = 1.5\n"),
+    ] {
+        let body = format!("{body}{extra}");
+        for integrator in ALL {
+            let s = scene(integrator, dt, &emitters(&[2.0], false), &body);
+            eprintln!("vortex {variant}, {integrator}");
+            locked(&ctx, &s, &ps, 30, TOL_STEP);
+        }
+    }
+    no_gl_error(&ctx);
+}
+
+/// Latta §3.3: a mass per particle. With `mass_range = [1, 5]` a particle whose static texel
+/// holds r has mass `1 + 4 fract(4096 r)`; under Latta's drag from rest its first Euler step is
+/// `Δv = c w dt / m`. Sixteen particles with r chosen so that fract(4096 r) is 0, 1/4, 1/2, 3/4:
+/// masses 1, 2, 3, 4, each four times; GPU, twin and closed form agree.
+#[test]
+fn mass_range_gives_each_particle_its_mass() {
+    let ctx = context();
+    let dt = 0.02;
+    let em = "[[emitters.initial]]\nshape = \"point\"\ndirection = [0.0, 1.0, 0.0]\n\
+              speed = [0.0, 0.0]\nmass_range = [1.0, 5.0]\n";
+    let s = scene("euler", dt, em, &steady_wind("latta", "drag = 2.0\n"));
+    let n = 16;
+    let rs: Vec<f32> = (0..n).map(|i| (4 * i + i % 4) as f32 / 16384.0).collect();
+    let ps = pad(vec![p(Vec3::ZERO, Vec3::ZERO); n]);
+    let mut sim = ParticleSim::new(&ctx, &s, 7).unwrap();
+    let pos: Vec<f32> = ps.iter().flat_map(|q| q.x.extend(1.0).to_array()).collect();
+    let vel = vec![0.0; N * 4];
+    let st: Vec<f32> = (0..N)
+        .flat_map(|i| [0.0, 0.0, 0.0, rs.get(i).copied().unwrap_or(0.5)])
+        .collect();
+    sim.set_state(&pos, &vel, &st).unwrap();
+    sim.step().unwrap();
+    let v = sim.read_velocities().unwrap();
+    let mut r = Reference::new(&s).unwrap();
+    let w = Vec3::new(1.0, 0.0, 0.5);
+    for (i, rv) in rs.iter().enumerate() {
+        let m = 1.0 + 4.0 * (i % 4) as f32 / 4.0;
+        let gpu = Vec3::new(v[4 * i], v[4 * i + 1], v[4 * i + 2]);
+        let want = 2.0 * w * dt / m;
+        r.set_static_random(*rv);
+        assert!((1.0 / r.particle_inv_mass(0, *rv) - m).abs() < 1e-6);
+        let (_, cpu, _) = r.step_explicit(Vec3::ZERO, Vec3::ZERO, 1.0, 0);
+        assert!(
+            (gpu - want).length() <= 1e-6 && (gpu - cpu).length() <= 1e-6,
+            "particle {i} (r = {rv}, mass {m}): GPU {gpu}, twin {cpu}, closed form {want}"
+        );
+    }
+    no_gl_error(&ctx);
+}
+
+// ---------------------------------------------------------------------------------------------
+// User forces (issue 14, item 4)
+// ---------------------------------------------------------------------------------------------
+
+/// A fresh directory for this test's GLSL files.
+fn glsl_dir(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("texflow-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Two `[[forces.custom]]` files, paths relative to the scene's directory: a constant force
+/// `(0, 3 (type + 1), 0)` N and a force `(age, 0, 0)` N that grows with the particle's age.
+/// With mass 2 and Euler from rest, after n steps (age t_k = k dt at step k):
+/// `v_y = n dt 3 (type + 1) / 2` and `v_x = dt^2 n (n - 1) / 2 / 2`.
+#[test]
+fn custom_forces_match_the_closed_form() {
+    let ctx = context();
+    let dir = glsl_dir("custom");
+    std::fs::write(
+        dir.join("lift.glsl"),
+        "// A constant force per type.\nvec3 force(vec3 x, vec3 v, float age, int type) {\n    \
+         return vec3(0.0, 3.0, 0.0) * float(type + 1);\n}\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("push.glsl"),
+        "vec3 force(vec3 x, vec3 v, float age, int type) {\n    return vec3(age, 0.0, 0.0);\n}\n",
+    )
+    .unwrap();
+    let body = "[[forces.custom]]\nglsl = \"lift.glsl\"\n[[forces.custom]]\nglsl = \"push.glsl\"\n";
+    let mut s = scene("euler", 0.0625, &emitters(&[2.0, 2.0], false), body);
+    s.resolve_custom_paths(&dir);
+    assert!(s.forces.custom[0].glsl.starts_with(dir.to_str().unwrap()));
+    let mut sim = start(
+        &ctx,
+        &s,
+        &[
+            p(Vec3::ZERO, Vec3::ZERO),
+            P {
+                ty: 1,
+                ..p(Vec3::ONE, Vec3::ZERO)
+            },
+        ],
+    );
+    let (n, dt) = (16.0f32, 0.0625f32);
+    for _ in 0..16 {
+        sim.step().unwrap();
+    }
+    let v = sim.read_velocities().unwrap();
+    for ty in 0..2 {
+        let got = Vec3::new(v[4 * ty], v[4 * ty + 1], v[4 * ty + 2]);
+        let want = Vec3::new(
+            dt * dt * n * (n - 1.0) / 4.0,
+            n * dt * 1.5 * (ty as f32 + 1.0),
+            0.0,
+        );
+        assert!(
+            (got - want).length() <= 1e-5,
+            "type {ty}: v {got}, closed form {want}"
+        );
+    }
+    no_gl_error(&ctx);
+}
+
+/// A custom force that does not compile: the error names the user's file and line, and says
+/// what the file must define.
+#[test]
+fn broken_custom_force_names_its_file_and_line() {
+    let ctx = context();
+    let dir = glsl_dir("broken");
+    std::fs::write(
+        dir.join("broken.glsl"),
+        "vec3 force(vec3 x, vec3 v, float age, int type) {\n    \
+         return no_such_variable;\n}\n",
+    )
+    .unwrap();
+    let mut s = scene(
+        "euler",
+        0.02,
+        &emitters(&[1.0], false),
+        "[[forces.custom]]\nglsl = \"broken.glsl\"\n",
+    );
+    s.resolve_custom_paths(&dir);
+    let e = ParticleSim::new(&ctx, &s, 1).unwrap_err().to_string();
+    eprintln!("{e}");
+    let file = dir.join("broken.glsl");
+    assert!(
+        e.contains(&format!("{}:2", file.display())) && e.contains("vec3 force("),
+        "{e}"
+    );
+    assert!(
+        !e.contains("glsl/"),
+        "a user's file is not under glsl/: {e}"
+    );
+    // A missing file is an input error naming it.
+    let mut s = scene(
+        "euler",
+        0.02,
+        &emitters(&[1.0], false),
+        "[[forces.custom]]\nglsl = \"missing.glsl\"\n",
+    );
+    s.resolve_custom_paths(&dir);
+    let e = ParticleSim::new(&ctx, &s, 1).unwrap_err().to_string();
+    assert!(
+        e.contains("missing.glsl") && e.contains("relative to the scene file"),
+        "{e}"
+    );
+    no_gl_error(&ctx);
+}
+
+// ---------------------------------------------------------------------------------------------
+// fp24 scenes sort with the paper's identifiers (issue 12, item 5 of the defects)
+// ---------------------------------------------------------------------------------------------
+
+/// `smoke` at 16x16 in `precision = "fp24"`: its sort runs with UberFlow §4.3.1's identifier
+/// table (24-bit floats cannot hold every index of a large texture exactly), and what it gathers
+/// is still every live particle of the state, back to front from the eye, none lost or
+/// duplicated: the identifiers were decoded to the right particles.
+#[test]
+fn fp24_scenes_sort_with_the_identifier_table() {
+    let ctx = context();
+    let src = scene::builtin_source("smoke")
+        .unwrap()
+        .replace("size = [64, 64]", "size = [16, 16]\nprecision = \"fp24\"")
+        .replace("resolution = [512, 512]", "resolution = [64, 64]");
+    let s = scene::parse("smoke-fp24", &src).unwrap();
+    let mut engine = texflow::engine::Engine::new(&ctx, &s, 3).unwrap();
+    for _ in 0..30 {
+        engine.advance_frame().unwrap();
+    }
+    engine.draw().unwrap();
+    let o = engine.sorter().expect("smoke sorts").options();
+    assert!(o.id_table && o.precision.is_some(), "{o:?}");
+    let eye = engine.camera().eye();
+    let live = |p: &[f32]| p[3] > 0.0;
+    let mut state: Vec<[u32; 3]> = engine
+        .sim()
+        .read_positions()
+        .unwrap()
+        .chunks(4)
+        .filter(|p| live(p))
+        .map(|p| [p[0].to_bits(), p[1].to_bits(), p[2].to_bits()])
+        .collect();
+    let sorted: Vec<Vec3> = engine
+        .sorted()
+        .unwrap()
+        .texture(0)
+        .read_f32()
+        .unwrap()
+        .chunks(4)
+        .filter(|p| live(p))
+        .map(|p| Vec3::new(p[0], p[1], p[2]))
+        .collect();
+    assert!(state.len() > 100, "{} live particles", state.len());
+    let mut got: Vec<[u32; 3]> = sorted
+        .iter()
+        .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
+        .collect();
+    state.sort();
+    got.sort();
+    assert_eq!(
+        got, state,
+        "the sort gathered other particles than the state's"
+    );
+    // Back to front: distances do not increase, up to the keys' 16-bit mantissa.
+    for w in sorted.windows(2) {
+        let (a, b) = (w[0].distance(eye), w[1].distance(eye));
+        assert!(b <= a * (1.0 + 1e-4), "{a} then {b}");
+    }
+    no_gl_error(&ctx);
+}

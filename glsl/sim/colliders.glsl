@@ -8,8 +8,8 @@
 // previous position is already inside (Fig. 2b) is pushed out at once and its velocity follows
 // eq. 7. The height field follows UberFlow §4.6 instead: the particle is reset to the crossing
 // point of its path with the surface, its velocity reflected, and it travels the rest of the step.
-// Verlet: position constraints (Latta §3.4.3): the new position is moved out of the collider, the
-// penetration mirrored by eps, the tangential displacement reduced by mu; the velocity is implied.
+// Verlet (Latta §3.4.3, eq. 9): the velocity is implied, (x - x_prev) / dt; a step that ends
+// inside takes eq. 4-5 on that implied velocity and restarts from x with the response (below).
 // Last, any position still inside (sharp edges, two colliders) is projected out to SKIN above the
 // surface, so no particle is ever left inside.
 
@@ -191,14 +191,15 @@ void collide(inout vec3 x, vec3 v, inout vec3 vb, inout vec3 xb) {
 #endif
 }
 #else
-// Verlet position constraint for one collider: x the current position, xn the new one.
+// Verlet: Latta eq. 4-5 on the implied velocity v = (xn - x) / dt of a step that ends inside
+// a collider; the new position becomes x + v' dt, so the next step's implied velocity
+// (x_next - x_prev) / dt is the response v' (the previous position is rewritten in effect: the
+// next step reads x as its previous position). Resilience and friction then act as on the
+// explicit integrators' velocity.
 void constrain(float d, vec3 n, vec2 resp, vec3 x, inout vec3 xn) {
     if (d >= 0.0) return;
-    bool slow = length(xn - x) < u_slow_speed * u_dt;
-    xn -= (1.0 + resp.y) * d * n;
-    vec3 disp = xn - x;
-    vec3 disp_n = dot(disp, n) * n;
-    if (!slow) xn = x + disp_n + (1.0 - resp.x) * (disp - disp_n);
+    vec3 v = (xn - x) / u_dt;
+    xn = x + collision_response(v, n, resp) * u_dt;
 }
 
 void collide(vec3 x, inout vec3 xn) {
@@ -237,41 +238,97 @@ void collide(vec3 x, inout vec3 xn) {
 // Last resort: project any position still inside a collider out to SKIN above its surface and
 // take away the velocity into the surface. One push-out can move a particle into another
 // collider (a sphere sunk into a plane), so the sweep repeats, up to KEEP_OUTSIDE_SWEEPS times,
-// until one moves nothing.
+// until one moves nothing. Colliders that share a face (a box resting on the ground plane) would
+// push a particle between them for ever: a push that would undo the previous one (its direction
+// against the previous push's) instead carries the particle on through this collider along the
+// previous push's direction until it is out, onto the surface of the union. Only a bounded
+// collider (sphere, box, distance field) can be left that way; a plane or the height field is
+// left along its own normal, and the bounded one it conflicts with is crossed in the next sweep.
 const int KEEP_OUTSIDE_SWEEPS = 4;
+// Steps of the walk through a collider: each advances by the distance to its nearest surface,
+// a lower bound on the way out along any direction, so it never overshoots the exit; from SKIN
+// inside it doubles until the far half, then leaves (about log2(size / SKIN) steps).
+const int EXIT_STEPS = 24;
 
-void keep_outside(inout vec3 x, inout vec3 v) {
-    vec3 n;
-    float d;
-    for (int sweep = 0; sweep < KEEP_OUTSIDE_SWEEPS; sweep++) {
-        bool moved = false;
-
-#if N_PLANES > 0
-        for (int i = 0; i < N_PLANES; i++) {
-            d = plane_distance(i, x, n);
-            if (d < 0.0) { x -= (d - SKIN) * n; v -= min(dot(v, n), 0.0) * n; moved = true; }
-        }
-#endif
-#if N_SPHERES > 0
-        for (int i = 0; i < N_SPHERES; i++) {
-            d = sphere_distance(i, x, n);
-            if (d < 0.0) { x -= (d - SKIN) * n; v -= min(dot(v, n), 0.0) * n; moved = true; }
-        }
-#endif
-#if N_BOXES > 0
-        for (int i = 0; i < N_BOXES; i++) {
-            d = box_distance(i, x, n);
-            if (d < 0.0) { x -= (d - SKIN) * n; v -= min(dot(v, n), 0.0) * n; moved = true; }
-        }
-#endif
+// Colliders numbered in the order of the sweep: planes, spheres, boxes, distance field, height
+// field.
+const int K_SPHERES = N_PLANES;
+const int K_BOXES = K_SPHERES + N_SPHERES;
 #ifdef SDF
-        d = sdf_distance(x, n);
-        if (d < 0.0) { x -= (d - SKIN) * n; v -= min(dot(v, n), 0.0) * n; moved = true; }
+const int K_SDF_END = K_BOXES + N_BOXES + 1;
+#else
+const int K_SDF_END = K_BOXES + N_BOXES;
 #endif
 #ifdef HEIGHTFIELD
-        d = height_distance(x, n);
-        if (d < 0.0) { x.y -= d - SKIN; v -= min(dot(v, n), 0.0) * n; moved = true; }
+const int N_COLLIDERS = K_SDF_END + 1;
+#else
+const int N_COLLIDERS = K_SDF_END;
 #endif
+
+// Collider k's distance at p, the direction u that a push-out moves along (the normal; up for
+// the height field, whose distance is vertical), the normal n, and whether it is bounded.
+float push_distance(int k, vec3 p, out vec3 u, out vec3 n, out bool bounded) {
+    bounded = true;
+    float d = 1e30;
+    n = vec3(0.0, 1.0, 0.0);
+#if N_PLANES > 0
+    if (k < K_SPHERES) {
+        bounded = false;
+        d = plane_distance(k, p, n);
+        u = n;
+        return d;
+    }
+#endif
+#if N_SPHERES > 0
+    if (k < K_BOXES) {
+        d = sphere_distance(k - K_SPHERES, p, n);
+        u = n;
+        return d;
+    }
+#endif
+#if N_BOXES > 0
+    if (k < K_BOXES + N_BOXES) {
+        d = box_distance(k - K_BOXES, p, n);
+        u = n;
+        return d;
+    }
+#endif
+#ifdef SDF
+    if (k < K_SDF_END) {
+        d = sdf_distance(p, n);
+        u = n;
+        return d;
+    }
+#endif
+#ifdef HEIGHTFIELD
+    bounded = false;
+    d = height_distance(p, n);
+#endif
+    u = vec3(0.0, 1.0, 0.0);
+    return d;
+}
+
+void keep_outside(inout vec3 x, inout vec3 v) {
+    vec3 u, n;
+    bool bounded;
+    vec3 last = vec3(0.0);
+    for (int sweep = 0; sweep < KEEP_OUTSIDE_SWEEPS; sweep++) {
+        bool moved = false;
+        for (int k = 0; k < N_COLLIDERS; k++) {
+            float d = push_distance(k, x, u, n, bounded);
+            if (d >= 0.0) continue;
+            if (bounded && dot(u, last) < 0.0) {
+                for (int j = 0; j < EXIT_STEPS && d < 0.0; j++) {
+                    x += (SKIN - d) * last;
+                    d = push_distance(k, x, u, n, bounded);
+                }
+            } else {
+                x -= (d - SKIN) * u;
+                last = u;
+            }
+            v -= min(dot(v, n), 0.0) * n;
+            moved = true;
+        }
         if (!moved) break;
     }
 }

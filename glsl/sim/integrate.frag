@@ -8,6 +8,8 @@
 //   EULER     Latta eq. 3 and 8: v' = v + a dt, x' = x + v' dt (velocity first)
 //   UBERFLOW  UberFlow eq. 1-2: v' = v + a dt, x' = x + (v + v') dt / 2
 //   VERLET    Latta eq. 9: x' = 2x - x_prev + a dt^2, velocity implied: (x - x_prev) / dt
+// With the wind in UberFlow's form (eq. 1) the velocity also gains v_ext = w(x) in each step
+// (wind_kick; Verlet: x' gains w(x) dt).
 // Explicit integrators write position and velocity through MRT; Verlet writes positions only.
 // Life: LIFE counts the remaining life down and moves the dead to infinity (Latta §3.4.1; the CPU
 // frees the index on its own clock). TIMESTAMP is UberFlow's emission (§4.1, §4.7): the static
@@ -67,6 +69,9 @@ void main() {
     vec4 p = texelFetch(u_position, t, 0);
     vec4 st = texelFetch(u_static, t, 0);
     int type = int(st.y);
+    float im = particle_inv_mass(type, st.w);
+    force_type = type;
+    force_age = u_time - st.x;  // birth time (allocator) or 0 (initial emitters)
     vec3 x = p.xyz;
 #ifdef VERLET
     vec3 xp = texelFetch(u_previous, t, 0).xyz;
@@ -97,13 +102,14 @@ void main() {
         return;
     }
     life = st.z - age;
+    force_age = age;
 #ifdef VERLET
     if (age < 2.0 * u_dt) {
         // Born in the previous step, so x_prev belongs to the last life. Second-order start:
         // x_prev = x0 - v0 dt + a0 dt^2 / 2, which makes this step x0 + v0 dt + a0 dt^2 / 2.
         spawn_position(type, rng);
         v = spawn_velocity(type, rng);
-        xp = x - v * u_dt + 0.5 * acceleration(x, v, type) * u_dt * u_dt;
+        xp = x - v * u_dt + 0.5 * acceleration(x, v, im) * u_dt * u_dt;
     }
 #endif
 #elif defined(LIFE)
@@ -118,9 +124,9 @@ void main() {
     }
 #endif
 
-    vec3 a = acceleration(x, v, type);
+    vec3 a = acceleration(x, v, im);
 #ifdef VERLET
-    vec3 xn = 2.0 * x - xp + a * (u_dt * u_dt);
+    vec3 xn = 2.0 * x - xp + a * (u_dt * u_dt) + wind_kick(x) * u_dt;
 #if HAS_COLLIDERS
     collide(x, xn);
     vec3 vn = (xn - x) / u_dt;
@@ -128,7 +134,7 @@ void main() {
 #endif
     write_state(xn, life, vec3(0.0));
 #else
-    vec3 vb = v + a * u_dt;
+    vec3 vb = v + wind_kick(x) + a * u_dt;
     vec3 xb = advance(x, v, vb);
 #if HAS_COLLIDERS
     collide(x, v, vb, xb);

@@ -17,11 +17,12 @@ void main() {
     ivec2 t = ivec2(gl_FragCoord.xy);
     vec4 p = texelFetch(u_position, t, 0);
     vec3 v = texelFetch(u_velocity, t, 0).xyz;
-    int type = int(texelFetch(u_static, t, 0).y);
+    vec4 st = texelFetch(u_static, t, 0);
+    int type = int(st.y);
     if (!(p.w > 0.0)) {
         o_previous = p;
         return;
     }
-    vec3 a = acceleration(p.xyz, v, type);
+    vec3 a = acceleration(p.xyz, v, particle_inv_mass(type, st.w));
     o_previous = fp_store(vec4(p.xyz - v * u_dt + 0.5 * a * u_dt * u_dt, p.w));
 }

@@ -47,8 +47,13 @@ impl Engine {
         let sort = match crate::engine::plan::sort_plan(scene) {
             None => None,
             Some(p) => {
+                // fp24 scenes sort as on the 2004 hardware: 24-bit floats with the paper's
+                // identifier table (UberFlow §4.3.1).
+                let fp24 = scene.particles.precision == crate::scene::Precision::Fp24;
                 let options = crate::sort::SortOptions {
                     passes_per_frame: p.passes_per_frame.map(|n| n as usize),
+                    precision: fp24.then_some(crate::sort::precision::R300),
+                    id_table: fp24,
                     ..Default::default()
                 };
                 let sorter =

@@ -65,9 +65,39 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "test/fields.frag",
 ];
 
-/// Looks an embedded file up.
+/// Looks an embedded file up, then a source added at run time ([`add_runtime_source`]).
 pub fn embedded(path: &str) -> Option<&'static str> {
-    EMBEDDED.iter().find(|(p, _)| *p == path).map(|(_, s)| *s)
+    EMBEDDED
+        .iter()
+        .find(|(p, _)| *p == path)
+        .map(|(_, s)| *s)
+        .or_else(|| runtime_sources().lock().ok()?.get(path).copied())
+}
+
+fn runtime_sources() -> &'static std::sync::Mutex<std::collections::HashMap<String, &'static str>> {
+    static SOURCES: std::sync::OnceLock<
+        std::sync::Mutex<std::collections::HashMap<String, &'static str>>,
+    > = std::sync::OnceLock::new();
+    SOURCES.get_or_init(Default::default)
+}
+
+/// Adds a shader source that is not under `glsl/` (a scene's custom force, read from the user's
+/// file), found by `#include "path"` and by [`Program::new`](super::Program::new) like an
+/// embedded file; compile errors in it name `path` as given (no `glsl/` prefix). Adding the same
+/// path again replaces its text (the old text stays allocated: sources live for the process).
+pub fn add_runtime_source(path: &str, text: &str) {
+    if let Ok(mut map) = runtime_sources().lock() {
+        if map.get(path).is_some_and(|t| *t == text) {
+            return;
+        }
+        map.insert(path.to_owned(), Box::leak(text.to_owned().into_boxed_str()));
+    }
+}
+
+/// Whether `path` is a source added by [`add_runtime_source`] (and not an embedded file).
+pub fn is_runtime_source(path: &str) -> bool {
+    !EMBEDDED.iter().any(|(p, _)| *p == path)
+        && runtime_sources().lock().is_ok_and(|m| m.contains_key(path))
 }
 
 /// The GLSL version line every program starts with.
@@ -189,7 +219,12 @@ pub fn map_log(log: &str, files: &[String]) -> (String, Option<(String, u32)>) {
                 if first.is_none() {
                     first = Some((files[s].clone(), n));
                 }
-                out.push_str(&format!("glsl/{}:{}{}\n", files[s], n, &line[end..]));
+                let prefix = if is_runtime_source(&files[s]) {
+                    ""
+                } else {
+                    "glsl/"
+                };
+                out.push_str(&format!("{prefix}{}:{}{}\n", files[s], n, &line[end..]));
             }
             None => {
                 out.push_str(line);

@@ -28,6 +28,7 @@ pub use locate::{Invalid, Key};
 pub use mesh::{read_obj, Triangle, MAX_TRIANGLES};
 pub use parse::{check_limits, parse, SizeLimits};
 pub use schema::*;
+pub use validate::CapacityWarning;
 
 use crate::error::{Error, Result};
 

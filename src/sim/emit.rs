@@ -141,6 +141,7 @@ mod tests {
             speed: [1.0, 2.0],
             life: Some([0.5, 1.5]),
             mass: None,
+            mass_range: None,
             sprite_scale: 1.0,
             tile: None,
             rotation_speed: None,

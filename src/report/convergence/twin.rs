@@ -69,7 +69,12 @@ impl Twin {
             let mut xn = 2.0 * s.x - s.prev + self.accel(s.x, v) * dt * dt;
             if let Some(e) = self.plane {
                 if xn.y < 0.0 {
-                    xn.y -= (1.0 + e) * xn.y;
+                    // Latta eq. 5 on the implied velocity, restarted from x (colliders.glsl).
+                    let mut vi = (xn - s.x) / dt;
+                    if vi.y < 0.0 {
+                        vi.y *= -e;
+                    }
+                    xn = s.x + vi * dt;
                 }
                 if xn.y < 0.0 {
                     xn.y = SKIN;

@@ -107,6 +107,9 @@ pub struct Emitter {
     pub life: Option<[f32; 2]>,
     /// Mass of this emitter's particles (its type); default `particles.mass`.
     pub mass: Option<f32>,
+    /// Latta §3.3: a mass range [lo, hi] in kg; each particle's mass lies in it, drawn from the
+    /// random number of its static texel (in place of `mass`).
+    pub mass_range: Option<[f32; 2]>,
     /// Sprite size of this type relative to `render.point_size`.
     #[serde(default = "one")]
     pub sprite_scale: f32,

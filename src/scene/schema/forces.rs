@@ -26,6 +26,23 @@ pub struct Forces {
     /// Linear springs to an anchor (harmonic oscillators: the integrators' test problem).
     #[serde(default)]
     pub spring: Vec<Spring>,
+    /// User GLSL forces (at most four), added to the integration pass.
+    #[serde(default)]
+    pub custom: Vec<CustomForce>,
+}
+
+/// Most `[[forces.custom]]` of one scene.
+pub const MAX_CUSTOM_FORCES: usize = 4;
+
+/// A user force: a GLSL file defining `vec3 force(vec3 x, vec3 v, float age, int type)`, the
+/// force in N on a particle at `x` with velocity `v`, `age` seconds after its birth, of type
+/// `type`; divided by the particle's mass (Latta eq. 2) and added in the integration pass. It is
+/// compiled after `common/rng.glsl` and `sim/fields.glsl`, so their functions may be used.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CustomForce {
+    /// The file, relative to the scene file (see `SceneFile::resolve_custom_paths`).
+    pub glsl: String,
 }
 
 /// A linear spring pulling every particle towards an anchor: F = -k (x - anchor).
@@ -80,6 +97,19 @@ fn softening() -> f32 {
     0.05
 }
 
+/// Which vortex: the papers' or the swirl.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VortexForm {
+    /// A tangential force around the axis, `s (a × r) / max(|r|, 0.1)²` (a Rankine vortex; the
+    /// default, what the scenes had before the paper's form).
+    #[default]
+    Swirl,
+    /// Latta §3.4.2: towards the closest point on the line, with the falloff of an attractor
+    /// (`falloff`, `max_distance`, `softening`); particles moving across it orbit the line.
+    Latta,
+}
+
 /// A vortex around a line.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -88,8 +118,20 @@ pub struct Vortex {
     pub point: [f32; 3],
     /// Axis direction.
     pub axis: [f32; 3],
-    /// Tangential acceleration at distance 1.
+    /// Force at distance 1 (N; N·m² for the inverse square of `form = "latta"`); tangential for
+    /// `swirl`, towards the line for `latta` (negative pushes away).
     pub strength: f32,
+    /// Which form.
+    #[serde(default)]
+    pub form: VortexForm,
+    /// `latta` only: falloff with the distance to the line.
+    #[serde(default)]
+    pub falloff: Falloff,
+    /// `latta` only: no force beyond this distance from the line.
+    pub max_distance: Option<f32>,
+    /// `latta` only, inverse square: Plummer softening length.
+    #[serde(default = "softening")]
+    pub softening: f32,
 }
 
 /// Linear damping.
@@ -100,10 +142,29 @@ pub struct Damping {
     pub rate: f32,
 }
 
+/// How the wind acts on a particle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WindForm {
+    /// `a = k (w(x) - v)`: Stokes drag as an acceleration, `k = drag` in 1/s, the same for every
+    /// mass (the default, what the scenes had before the papers' forms).
+    #[default]
+    Drag,
+    /// Latta eq. 1-2: the force `F = c (w(x) - v)`, `c = drag` in kg/s, divided by the
+    /// particle's mass, `a = F / m`.
+    Latta,
+    /// UberFlow eq. 1: the wind velocity added to the velocity every step,
+    /// `v' = v + w(x) + (F / m) dt` (no `drag`).
+    Uberflow,
+}
+
 /// Wind from a flow field.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Wind {
+    /// Which form.
+    #[serde(default)]
+    pub form: WindForm,
     /// Mean wind velocity.
     pub velocity: [f32; 3],
     /// Amplitude of the field's variation around the mean.
@@ -114,7 +175,8 @@ pub struct Wind {
     pub resolution: u32,
     /// Region the field covers: [min corner, max corner].
     pub bounds: [[f32; 3]; 2],
-    /// Stokes drag coefficient (1/s).
+    /// Stokes drag coefficient: 1/s for `drag`, kg/s for `latta`, absent for `uberflow`.
+    #[serde(default)]
     pub drag: f32,
 }
 

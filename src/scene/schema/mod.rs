@@ -12,8 +12,9 @@ use serde::{Deserialize, Serialize};
 
 pub use emitters::{AllocatorKind, Emitter, Emitters, Shape, MAX_EMITTERS};
 pub use forces::{
-    Attractor, BoxCollider, Colliders, Damping, Falloff, Forces, Gravity, HeightFieldCollider,
-    PlaneCollider, SdfCollider, SphereCollider, Spring, Vortex, Wind,
+    Attractor, BoxCollider, Colliders, CustomForce, Damping, Falloff, Forces, Gravity,
+    HeightFieldCollider, PlaneCollider, SdfCollider, SphereCollider, Spring, Vortex, VortexForm,
+    Wind, WindForm, MAX_CUSTOM_FORCES,
 };
 pub use render::{
     Blending, CameraSection, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath,

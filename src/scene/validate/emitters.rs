@@ -158,6 +158,20 @@ fn check_spawn(at: &[Key], s: &Emitter) -> Check {
     if let Some(m) = s.mass.filter(|m| *m <= 0.0) {
         return fail(p("mass"), format!("mass {m} must be above 0 kg"));
     }
+    if let Some([lo, hi]) = s.mass_range {
+        if s.mass.is_some() {
+            return fail(
+                p("mass_range"),
+                "give mass (one mass for the type) or mass_range (a mass per particle), not both",
+            );
+        }
+        if !(lo > 0.0 && lo <= hi && hi.is_finite()) {
+            return fail(
+                p("mass_range"),
+                format!("mass_range [{lo}, {hi}] must be [lo, hi] with 0 < lo <= hi (kg)"),
+            );
+        }
+    }
     if s.sprite_scale <= 0.0 {
         return fail(
             p("sprite_scale"),
@@ -198,5 +212,94 @@ fn check_spawn(at: &[Key], s: &Emitter) -> Check {
             fail(p("normal"), "normal must not be zero")
         }
         _ => Ok(()),
+    }
+}
+
+/// What [`SceneFile::capacity_check`] predicts: allocator emitters that want more live particles
+/// than the state texture has texels, so that births will be dropped (Latta §3.4.1: a birth
+/// needs a free index).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct CapacityWarning {
+    /// Live particles in the steady state: the sum over allocator emitters of rate × mean life
+    /// (Little's law), after the first life has passed.
+    pub live: f64,
+    /// Texels of the state texture (`particles.size`).
+    pub slots: u64,
+    /// The smallest power-of-two square texture side that holds `live`.
+    pub side: u32,
+    /// Births per second that find no free index in the steady state: `(live - slots) / mean
+    /// life`, summed as rate × (1 - slots / live).
+    pub dropped_per_second: f64,
+}
+
+impl std::fmt::Display for CapacityWarning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the allocator emitters want about {:.0} live particles (rate × mean life) but the \
+             state texture has {} texels: about {:.0} births per second will be dropped; use \
+             particles.size = [{s}, {s}] or lower the rate or the life",
+            self.live,
+            self.slots,
+            self.dropped_per_second,
+            s = self.side
+        )
+    }
+}
+
+impl SceneFile {
+    /// Predicts whether allocator births will be dropped for want of a free index: the steady
+    /// state holds rate × mean life particles per allocator emitter (a uniform life in
+    /// `[lo, hi]` has mean `(lo + hi) / 2`). `None` when they fit, or without allocator
+    /// emitters. A pure function of the scene: `scene check` prints it, and the run's count is
+    /// `ParticleSim::dropped_births`.
+    pub fn capacity_check(&self) -> Option<CapacityWarning> {
+        let mut live = 0.0f64;
+        let mut rate = 0.0f64;
+        for e in &self.emitters.allocator {
+            let r = e.rate.unwrap_or(0.0) as f64;
+            let [lo, hi] = e.life.unwrap_or([0.0, 0.0]);
+            live += r * 0.5 * (lo as f64 + hi as f64);
+            rate += r;
+        }
+        let slots = self.particle_count();
+        if live <= slots as f64 {
+            return None;
+        }
+        let mut side = 1u32;
+        while (side as f64) * (side as f64) < live && side < 1 << 16 {
+            side *= 2;
+        }
+        Some(CapacityWarning {
+            live,
+            slots,
+            side,
+            dropped_per_second: rate * (1.0 - slots as f64 / live),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::load;
+
+    #[test]
+    fn capacity_check_predicts_the_fountain_overflowing_at_128() {
+        let mut s = load("fountain").unwrap();
+        assert_eq!(s.capacity_check(), None, "256² holds 12,000/s × 3 s");
+        s.particles.size = [128, 128];
+        let w = s.capacity_check().expect("36,000 live > 16,384 texels");
+        // 12,000/s × mean life (2.5 + 3.5) / 2 = 36,000 live particles.
+        assert!((w.live - 36_000.0).abs() < 1e-6, "{w:?}");
+        assert_eq!((w.slots, w.side), (16_384, 256));
+        let drop = 12_000.0 * (1.0 - 16_384.0 / 36_000.0);
+        assert!((w.dropped_per_second - drop).abs() < 1e-6, "{w:?}");
+        let text = w.to_string();
+        assert!(
+            text.contains("16384 texels") && text.contains("[256, 256]"),
+            "{text}"
+        );
+        // Without allocator emitters there is nothing to predict.
+        assert_eq!(load("smoke").unwrap().capacity_check(), None);
     }
 }

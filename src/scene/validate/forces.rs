@@ -2,7 +2,7 @@
 
 use super::{bounded, direction, fail, nonzero, path, Check, MAX_COORDINATE};
 use crate::scene::locate::Key;
-use crate::scene::schema::SceneFile;
+use crate::scene::schema::{Falloff, SceneFile, VortexForm, WindForm, MAX_CUSTOM_FORCES};
 
 use Key::{Index as I, Name as N};
 
@@ -67,6 +67,21 @@ pub(super) fn forces(s: &SceneFile) -> Check {
         }
         let at = |k| path(&[N("forces"), N("vortex"), I(i), N(k)]);
         direction(at("axis"), "axis", v.axis)?;
+        if v.softening <= 0.0 {
+            return fail(at("softening"), "softening must be above 0");
+        }
+        if v.max_distance.is_some_and(|d| d <= 0.0) {
+            return fail(at("max_distance"), "max_distance must be above 0");
+        }
+        if v.form == VortexForm::Swirl
+            && (v.max_distance.is_some() || v.falloff != Falloff::InverseSquare)
+        {
+            return fail(
+                at("form"),
+                "falloff and max_distance belong to form = \"latta\" (Latta §3.4.2: towards \
+                 the closest point on the line); the swirl has a fixed core",
+            );
+        }
         bounded(at("point"), "point", &v.point)?;
         bounded(at("strength"), "strength", &[v.strength])?;
     }
@@ -92,6 +107,13 @@ pub(super) fn forces(s: &SceneFile) -> Check {
         if wnd.drag < 0.0 {
             return fail(at("drag"), "drag must not be negative");
         }
+        if wnd.form == WindForm::Uberflow && wnd.drag != 0.0 {
+            return fail(
+                at("drag"),
+                "form = \"uberflow\" adds the wind velocity to the velocity (UberFlow eq. 1) and \
+                 has no drag: remove drag, or use form = \"drag\" or \"latta\"",
+            );
+        }
         per_step(at("drag"), "drag", wnd.drag)?;
         bounded(at("velocity"), "velocity", &wnd.velocity)?;
         bounded(at("turbulence"), "turbulence", &[wnd.turbulence])?;
@@ -111,6 +133,20 @@ pub(super) fn forces(s: &SceneFile) -> Check {
             );
         }
     }
+    if s.forces.custom.len() > MAX_CUSTOM_FORCES {
+        return fail(
+            path(&[N("forces"), N("custom"), I(MAX_CUSTOM_FORCES)]),
+            format!("at most {MAX_CUSTOM_FORCES} custom forces per scene"),
+        );
+    }
+    for (i, c) in s.forces.custom.iter().enumerate() {
+        if c.glsl.trim().is_empty() || c.glsl.contains('"') || c.glsl.contains('\n') {
+            return fail(
+                path(&[N("forces"), N("custom"), I(i), N("glsl")]),
+                "glsl must name a GLSL file (relative to the scene file), e.g. \"wind.glsl\"",
+            );
+        }
+    }
     if s.forces.wind.len() > 1 {
         return fail(
             path(&[N("forces"), N("wind"), I(1)]),
@@ -118,4 +154,18 @@ pub(super) fn forces(s: &SceneFile) -> Check {
         );
     }
     Ok(())
+}
+
+impl SceneFile {
+    /// Makes the relative `[[forces.custom]]` paths relative to `dir`, the directory of the
+    /// scene file (a scene's paths are relative to the file, not to the working directory).
+    /// Call it after parsing a scene read from a file; absolute paths are kept.
+    pub fn resolve_custom_paths(&mut self, dir: &std::path::Path) {
+        for c in &mut self.forces.custom {
+            let p = std::path::Path::new(&c.glsl);
+            if p.is_relative() {
+                c.glsl = dir.join(p).to_string_lossy().into_owned();
+            }
+        }
+    }
 }

@@ -7,6 +7,7 @@
 
 mod colliders;
 mod emitters;
+pub use emitters::CapacityWarning;
 mod forces;
 mod render;
 

@@ -129,6 +129,7 @@ mod tests {
             resolution: 12,
             bounds: [[-2.0, 0.0, -1.0], [2.0, 3.0, 1.0]],
             drag: 1.0,
+            form: Default::default(),
         }
     }
 

@@ -42,6 +42,10 @@ pub struct Features {
     pub damping: bool,
     /// A wind flow field.
     pub wind: bool,
+    /// How the wind acts (0 drag, 1 Latta eq. 1-2, 2 UberFlow eq. 1).
+    pub wind_form: scene::WindForm,
+    /// Some emitter gives a mass range: a mass per particle (Latta §3.3).
+    pub mass_range: bool,
     /// Plane colliders.
     pub planes: usize,
     /// Sphere colliders.
@@ -88,6 +92,8 @@ impl Features {
             vortices: f.vortex.len(),
             damping: !f.damping.is_empty(),
             wind: !f.wind.is_empty(),
+            wind_form: f.wind.first().map(|w| w.form).unwrap_or_default(),
+            mass_range: em.all().any(|e| e.mass_range.is_some()),
             planes: c.plane.len(),
             spheres: c.sphere.len(),
             boxes: c.boxes.len(),
@@ -148,6 +154,10 @@ impl Features {
         }
         if self.wind {
             def("WIND", "1".into());
+            def("WIND_FORM", (self.wind_form as u8).to_string());
+        }
+        if self.mass_range {
+            def("MASS_RANGE", "1".into());
         }
         def("N_ATTRACTORS", self.attractors.to_string());
         def("N_SPRINGS", self.springs.to_string());
@@ -222,7 +232,18 @@ impl Features {
             forces.push("damping".to_owned());
         }
         if self.wind {
-            forces.push("wind (flow-field texture, Stokes drag)".to_owned());
+            forces.push(
+                match self.wind_form {
+                    scene::WindForm::Drag => "wind (flow-field texture, Stokes drag)",
+                    scene::WindForm::Latta => {
+                        "wind (flow-field texture, Latta eq. 1-2: drag / mass)"
+                    }
+                    scene::WindForm::Uberflow => {
+                        "wind (flow-field texture, UberFlow eq. 1: v += v_ext)"
+                    }
+                }
+                .to_owned(),
+            );
         }
         if !forces.is_empty() {
             what.push(format!("forces: {}", forces.join(", ")));

@@ -7,6 +7,7 @@
 //! and which passes run, and is also what `texflow scene passes` prints.
 
 mod births;
+mod custom;
 mod features;
 mod uniforms;
 
@@ -22,6 +23,7 @@ use crate::gl::{
 };
 use crate::scene::{Integrator, SceneFile, VelocityFormat};
 pub use features::{Emission, Features};
+pub use uniforms::{mass_range, vortex_shape};
 use uniforms::{set_constants_for, unit};
 
 /// The state framebuffers: position and velocity ping-pong for the explicit integrators, a ring
@@ -181,7 +183,13 @@ impl ParticleSim {
         let emitters: Vec<EmitterUniforms> =
             scene.emitters.all().map(EmitterUniforms::new).collect();
         let mut sim = ParticleSim {
-            integrate: Program::new(ctx, FULLSCREEN_VERTEX, "sim/integrate.frag", &defines)?,
+            integrate: Program::new(
+                ctx,
+                FULLSCREEN_VERTEX,
+                &custom::integrate_root(scene)?,
+                &defines,
+            )
+            .map_err(|e| custom::user_error(scene, e))?,
             emit_state: emit("OUT_STATE")?,
             emit_previous: if verlet { emit("OUT_PREVIOUS")? } else { None },
             emit_static: emit("OUT_STATIC")?,
@@ -367,6 +375,12 @@ impl ParticleSim {
     /// Particles emitted by the allocator, and those dropped because every index was live.
     pub fn emitted(&self) -> (u64, u64) {
         (self.emitted, self.dropped)
+    }
+
+    /// Births dropped so far because every index of the state texture was live (allocator
+    /// emission; 0 otherwise). [`SceneFile::capacity_check`] predicts it from rate × life.
+    pub fn dropped_births(&self) -> u64 {
+        self.dropped
     }
 
     /// Rows that passes must cover: the live rows under a min-heap allocator, else all.

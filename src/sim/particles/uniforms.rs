@@ -47,11 +47,16 @@ pub(super) fn set_constants_for(
     p.set_i32("u_emitters", types as i32);
     let mut inv_mass = [1.0 / s.particles.mass; 4];
     let mut cycle = [1.0f32; 4];
+    let (mut lo, mut hi) = ([s.particles.mass; 4], [s.particles.mass; 4]);
     for (k, e) in s.emitters.all().enumerate() {
-        inv_mass[k] = 1.0 / e.mass.unwrap_or(s.particles.mass);
+        let [l, h] = mass_range(s, e);
+        (lo[k], hi[k]) = (l, h);
+        inv_mass[k] = 1.0 / (0.5 * (l + h));
         cycle[k] = e.cycle.unwrap_or(1.0);
     }
     p.set_vec4("u_inv_mass", Vec4::from(inv_mass));
+    p.set_vec4("u_mass_lo", Vec4::from(lo));
+    p.set_vec4("u_mass_hi", Vec4::from(hi));
     p.set_vec4("u_cycle", Vec4::from(cycle));
     for (k, e) in s.emitters.all().map(EmitterUniforms::new).enumerate() {
         p.set_vec4(&format!("u_em_center[{k}]"), e.center);
@@ -88,6 +93,7 @@ pub(super) fn set_constants_for(
     for (i, v) in f.vortex.iter().enumerate() {
         p.set_vec4(&format!("u_vortex[{i}]"), v3(v.point).extend(v.strength));
         p.set_vec3(&format!("u_vortex_axis[{i}]"), v3(v.axis).normalize());
+        p.set_vec4(&format!("u_vortex_shape[{i}]"), vortex_shape(v));
     }
     if let (Some(w), Some((_, field))) = (f.wind.first(), &fields.flow) {
         p.set_vec3("u_flow_min", v3(w.bounds[0]));
@@ -131,4 +137,25 @@ pub(super) fn set_constants_for(
         p.set_ivec3("u_sdf_res", r, r, r);
         p.set_vec2("u_sdf_resp", resp(d.friction, d.resilience));
     }
+}
+
+/// An emitter's mass range `[lo, hi]` (Latta §3.3): `mass_range`, else `[m, m]` with its type's
+/// mass `mass` or `particles.mass`. The inverse mass of a particle is
+/// `1 / mix(lo, hi, fract(4096 r))`, `r` the random number of its static texel.
+pub fn mass_range(s: &SceneFile, e: &crate::scene::Emitter) -> [f32; 2] {
+    e.mass_range.unwrap_or_else(|| {
+        let m = e.mass.unwrap_or(s.particles.mass);
+        [m, m]
+    })
+}
+
+/// `u_vortex_shape[i]`: the Latta form (0/1), constant falloff (0/1), max distance (< 0: none),
+/// softening.
+pub fn vortex_shape(v: &crate::scene::Vortex) -> Vec4 {
+    Vec4::new(
+        (v.form == scene::VortexForm::Latta) as u8 as f32,
+        (v.falloff == scene::Falloff::Constant) as u8 as f32,
+        v.max_distance.unwrap_or(-1.0),
+        v.softening,
+    )
 }

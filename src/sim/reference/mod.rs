@@ -1,0 +1,432 @@
+//! A CPU twin of the integration pass (`glsl/sim/integrate.frag` with `glsl/sim/forces.glsl` and
+//! `glsl/sim/colliders.glsl`): one time step of one particle, in `f32`, with the same operations
+//! in the same order as the GLSL.
+//!
+//! # Why it exists
+//!
+//! The GPU pass is the thing the project is about, and it cannot be stepped through or printed.
+//! This twin lets tests (tests/forces_colliders.rs) put particles exactly where a branch of the
+//! shader fires (a particle hitting a sphere during the step, one caught inside a box, one slower
+//! than `slow_speed`, one crossing the height field) and check the GPU's result against an
+//! independent, readable evaluation of the same formulas. Both sides do the same `f32`
+//! arithmetic, so they agree up to rounding (the GPU may fuse multiply-adds, divide through a
+//! reciprocal and normalise with a reciprocal square root): any difference beyond a few ulps per
+//! operation is a bug on one side.
+//!
+//! # What it covers
+//!
+//! - Integrators: Latta's Euler (eq. 3, 8), UberFlow's velocity-averaged update (eq. 1-2) and
+//!   Verlet (Latta eq. 9), plus Verlet's second-order start (`glsl/sim/verlet_start.frag`).
+//! - Forces: gravity, damping, wind (Stokes drag towards [`FlowField::sample`]), attractors
+//!   (inverse square with softening, or constant; `max_distance`), vortices, per-type inverse
+//!   mass.
+//! - Colliders: planes, spheres, boxes, the height field ([`HeightField::sample`]) and the
+//!   distance field ([`DistanceField::sample`], [`DistanceField::normal`]), with Latta's response
+//!   (eq. 4-5), the slow-speed threshold, the push-out of caught particles (eq. 7), UberFlow's
+//!   crossing point on the height field (§4.6), Verlet's position constraints and the final
+//!   `keep_outside` projection.
+//! - Life: `LIFE` scenes (allocator emission, or initial emitters with a life) count the
+//!   remaining life down and move the dead to `+inf`; permanent particles keep their `w`.
+//! - `fp24` scenes: what the pass writes is rounded with [`crate::sort::precision::R300`], the
+//!   twin of `fp_store`.
+//!
+//! Not covered (rejected by [`Reference::new`]): time-stamp emission (the respawn needs the
+//! shader's random streams), `rgba16f` velocities (the driver's rounding to half floats is not
+//! specified), and the fire scene.
+//!
+//! Keep this file in step with the GLSL: a change to one without the other fails
+//! tests/forces_colliders.rs.
+
+mod colliders;
+mod forces;
+#[cfg(test)]
+mod tests;
+
+use glam::{Vec2, Vec3, Vec4};
+
+use super::fields::{DistanceField, FlowField, HeightField};
+use super::particles::{Emission, Features};
+use crate::error::{Error, Result};
+use crate::scene::{self, Integrator, Precision, SceneFile, VelocityFormat};
+
+/// `SKIN` in `glsl/sim/colliders.glsl`: how far above a surface a particle is put back.
+pub const SKIN: f32 = 1e-4;
+
+/// The branches one step took (for tests that must show that a placement exercises the branch
+/// it was meant for).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Events {
+    /// Latta eq. 4-5 responses applied (to the velocity, or to Verlet's implied velocity).
+    pub hits: u32,
+    /// Of those, responses or constraints without friction because the particle was slow.
+    pub slow: u32,
+    /// Particles already inside at the start of the step, pushed out (Latta eq. 7).
+    pub caught: u32,
+    /// Height-field crossings (UberFlow §4.6): back to the crossing point, then the rest of the
+    /// step.
+    pub crossings: u32,
+    /// Projections by the final `keep_outside`.
+    pub kept_outside: u32,
+    /// Of those, walks through a collider that shares a face with another (along the previous
+    /// push's direction, onto the union's surface).
+    pub walked_out: u32,
+    /// The particle died in this step (or was dead already).
+    pub dead: bool,
+}
+
+impl std::ops::AddAssign for Events {
+    /// Sums the counters of several steps or particles (`dead`: any).
+    fn add_assign(&mut self, o: Events) {
+        self.hits += o.hits;
+        self.slow += o.slow;
+        self.caught += o.caught;
+        self.crossings += o.crossings;
+        self.kept_outside += o.kept_outside;
+        self.walked_out += o.walked_out;
+        self.dead |= o.dead;
+    }
+}
+
+#[derive(Debug, Clone)]
+struct Attractor {
+    /// centre, strength: `u_attractor[i]`.
+    at: Vec4,
+    /// constant falloff (0/1), max distance (< 0: none), softening: `u_attractor_shape[i]`.
+    shape: Vec4,
+}
+
+#[derive(Debug, Clone)]
+struct Vortex {
+    /// point on the axis, strength: `u_vortex[i]`.
+    at: Vec4,
+    /// unit axis: `u_vortex_axis[i]`.
+    axis: Vec3,
+    /// Latta form (0/1), constant falloff (0/1), max distance, softening: `u_vortex_shape[i]`.
+    shape: Vec4,
+}
+
+#[derive(Debug, Clone)]
+struct Wind {
+    field: FlowField,
+    drag: f32,
+    form: scene::WindForm,
+}
+
+/// A collider's shape, with the uniforms the shader gets.
+#[derive(Debug, Clone)]
+enum Shape {
+    /// unit normal, offset: `u_plane[i]`.
+    Plane(Vec4),
+    /// centre, radius: `u_sphere[i]`.
+    Sphere(Vec4),
+    /// `u_box_min[i]`, `u_box_max[i]`.
+    Box(Vec3, Vec3),
+    /// `u_sdf_min`, `u_sdf_max` and the field.
+    Sdf(Vec3, Vec3, Box<DistanceField>),
+}
+
+#[derive(Debug, Clone)]
+struct Collider {
+    shape: Shape,
+    /// friction, resilience.
+    resp: Vec2,
+}
+
+/// One integration step of one particle on the CPU, the twin of `glsl/sim/integrate.frag` for a
+/// scene (see the module documentation).
+#[derive(Debug, Clone)]
+pub struct Reference {
+    integrator: Integrator,
+    life: bool,
+    fp24: bool,
+    dt: f32,
+    inv_mass: [f32; 4],
+    /// Mass ranges per type (`u_mass_lo`, `u_mass_hi`), with `MASS_RANGE`.
+    mass_range: Option<([f32; 4], [f32; 4])>,
+    /// The static texel's random number of the particle being stepped (see
+    /// [`Reference::set_static_random`]).
+    random: f32,
+    gravity: Option<Vec3>,
+    damping: Option<f32>,
+    wind: Option<Wind>,
+    attractors: Vec<Attractor>,
+    vortices: Vec<Vortex>,
+    slow_speed: f32,
+    /// Planes, spheres, boxes, then the distance field: the order of `collide`.
+    colliders: Vec<Collider>,
+    height: Option<(HeightField, Vec2)>,
+}
+
+fn v3(a: [f32; 3]) -> Vec3 {
+    Vec3::from(a)
+}
+
+impl Reference {
+    /// The twin of the integration pass that `ParticleSim::new` compiles for `scene`, with the
+    /// uniform values that `ParticleSim::set_constants` computes, computed the same way.
+    pub fn new(scene: &SceneFile) -> Result<Self> {
+        if scene.fire.is_some() {
+            return Err(Error::InvalidInput(format!(
+                "scene `{}` is the thesis's fire: the reference covers the particle system",
+                scene.name
+            )));
+        }
+        scene
+            .validate()
+            .map_err(|e| Error::InvalidInput(e.message))?;
+        let features = Features::of(scene);
+        if features.emission == Emission::Timestamp {
+            return Err(Error::InvalidInput(format!(
+                "scene `{}`: the reference does not cover time-stamp emission",
+                scene.name
+            )));
+        }
+        if scene.particles.velocity_format == VelocityFormat::Rgba16f
+            && scene.integrator != Integrator::Verlet
+        {
+            return Err(Error::InvalidInput(format!(
+                "scene `{}`: the reference models rgba32f velocities only",
+                scene.name
+            )));
+        }
+        let s = scene;
+        let mut inv_mass = [1.0 / s.particles.mass; 4];
+        let (mut lo, mut hi) = ([s.particles.mass; 4], [s.particles.mass; 4]);
+        for (k, e) in s.emitters.all().enumerate() {
+            let [l, h] = crate::sim::particles::mass_range(s, e);
+            (lo[k], hi[k]) = (l, h);
+            inv_mass[k] = 1.0 / (0.5 * (l + h));
+        }
+        let mass_range = features.mass_range.then_some((lo, hi));
+        let f = &s.forces;
+        let gravity = (!f.gravity.is_empty())
+            .then(|| f.gravity.iter().map(|g| v3(g.acceleration)).sum::<Vec3>());
+        let damping = (!f.damping.is_empty()).then(|| f.damping.iter().map(|d| d.rate).sum());
+        let wind = match f.wind.first() {
+            Some(w) => Some(Wind {
+                field: FlowField::new(w)?,
+                drag: w.drag,
+                form: w.form,
+            }),
+            None => None,
+        };
+        let attractors = f
+            .attractor
+            .iter()
+            .map(|a| Attractor {
+                at: v3(a.position).extend(a.strength),
+                shape: Vec4::new(
+                    (a.falloff == scene::Falloff::Constant) as u8 as f32,
+                    a.max_distance.unwrap_or(-1.0),
+                    a.softening,
+                    0.0,
+                ),
+            })
+            .collect();
+        let vortices = f
+            .vortex
+            .iter()
+            .map(|v| Vortex {
+                at: v3(v.point).extend(v.strength),
+                axis: v3(v.axis).normalize(),
+                shape: crate::sim::particles::vortex_shape(v),
+            })
+            .collect();
+        let c = &s.colliders;
+        let resp = |mu: f32, eps: f32| Vec2::new(mu, eps);
+        let mut colliders = Vec::new();
+        for pl in &c.plane {
+            let n = v3(pl.normal).normalize();
+            colliders.push(Collider {
+                shape: Shape::Plane(n.extend(n.dot(v3(pl.point)))),
+                resp: resp(pl.friction, pl.resilience),
+            });
+        }
+        for sp in &c.sphere {
+            colliders.push(Collider {
+                shape: Shape::Sphere(v3(sp.center).extend(sp.radius)),
+                resp: resp(sp.friction, sp.resilience),
+            });
+        }
+        for b in &c.boxes {
+            colliders.push(Collider {
+                shape: Shape::Box(v3(b.min), v3(b.max)),
+                resp: resp(b.friction, b.resilience),
+            });
+        }
+        if let Some(d) = c.sdf.first() {
+            colliders.push(Collider {
+                shape: Shape::Sdf(
+                    v3(d.bounds[0]),
+                    v3(d.bounds[1]),
+                    Box::new(DistanceField::new(d)?),
+                ),
+                resp: resp(d.friction, d.resilience),
+            });
+        }
+        let height = match c.heightfield.first() {
+            Some(h) => Some((HeightField::new(h)?, resp(h.friction, h.resilience))),
+            None => None,
+        };
+        Ok(Reference {
+            integrator: s.integrator,
+            life: features.life(),
+            fp24: s.particles.precision == Precision::Fp24,
+            dt: s.time.dt,
+            inv_mass,
+            mass_range,
+            random: 0.5,
+            gravity,
+            damping,
+            wind,
+            attractors,
+            vortices,
+            slow_speed: c.slow_speed,
+            colliders,
+            height,
+        })
+    }
+
+    /// Sets the random number of the static texel (`w`) of the particles stepped next: with a
+    /// mass range it chooses the particle's mass. 0.5 until set.
+    pub fn set_static_random(&mut self, r: f32) {
+        self.random = r;
+    }
+
+    /// The time step.
+    pub fn dt(&self) -> f32 {
+        self.dt
+    }
+
+    /// The scene's integrator.
+    pub fn integrator(&self) -> Integrator {
+        self.integrator
+    }
+
+    /// Whether the pass counts life down (`LIFE`).
+    pub fn has_life(&self) -> bool {
+        self.life
+    }
+
+    /// Whether the scene has any collider (`HAS_COLLIDERS`).
+    pub fn has_colliders(&self) -> bool {
+        !self.colliders.is_empty() || self.height.is_some()
+    }
+
+    /// One step of an explicit integrator (Euler or UberFlow): position, velocity and remaining
+    /// life as the pass writes them. Panics for a Verlet scene.
+    pub fn step_explicit(&self, x: Vec3, v: Vec3, life: f32, ty: usize) -> (Vec3, Vec3, f32) {
+        let (x, v, life, _) = self.step_explicit_events(x, v, life, ty);
+        (x, v, life)
+    }
+
+    /// [`Reference::step_explicit`], also telling which branches the step took.
+    pub fn step_explicit_events(
+        &self,
+        x: Vec3,
+        v: Vec3,
+        life: f32,
+        ty: usize,
+    ) -> (Vec3, Vec3, f32, Events) {
+        assert!(
+            self.integrator != Integrator::Verlet,
+            "step_explicit on a Verlet scene: use step_verlet"
+        );
+        let mut ev = Events::default();
+        let mut x = x;
+        let life = match self.life(life) {
+            Ok(l) => l,
+            Err(l) => {
+                ev.dead = true;
+                return (self.store(Vec3::INFINITY), self.store(Vec3::ZERO), l, ev);
+            }
+        };
+        let a = self.acceleration_of(x, v, self.particle_inv_mass(ty, self.random));
+        let mut vb = v + self.wind_kick(x) + a * self.dt;
+        let mut xb = self.advance(x, v, vb);
+        if self.has_colliders() {
+            self.collide_explicit(&mut x, v, &mut vb, &mut xb, &mut ev);
+            self.keep_outside(&mut xb, &mut vb, &mut ev);
+        }
+        (self.store(xb), self.store(vb), self.store1(life), ev)
+    }
+
+    /// One Verlet step: the new position and remaining life, from the current position `x` and
+    /// the previous one `x_prev`. Panics for a scene with an explicit integrator.
+    pub fn step_verlet(&self, x: Vec3, x_prev: Vec3, life: f32, ty: usize) -> (Vec3, f32) {
+        let (x, life, _) = self.step_verlet_events(x, x_prev, life, ty);
+        (x, life)
+    }
+
+    /// [`Reference::step_verlet`], also telling which branches the step took.
+    pub fn step_verlet_events(
+        &self,
+        x: Vec3,
+        x_prev: Vec3,
+        life: f32,
+        ty: usize,
+    ) -> (Vec3, f32, Events) {
+        assert!(
+            self.integrator == Integrator::Verlet,
+            "step_verlet on a scene with an explicit integrator: use step_explicit"
+        );
+        let mut ev = Events::default();
+        let dt = self.dt;
+        let v = (x - x_prev) / dt;
+        let life = match self.life(life) {
+            Ok(l) => l,
+            Err(l) => {
+                ev.dead = true;
+                return (self.store(Vec3::INFINITY), l, ev);
+            }
+        };
+        let a = self.acceleration_of(x, v, self.particle_inv_mass(ty, self.random));
+        let mut xn = 2.0 * x - x_prev + a * (dt * dt) + self.wind_kick(x) * dt;
+        if self.has_colliders() {
+            self.collide_verlet(x, &mut xn, &mut ev);
+            let mut vn = (xn - x) / dt;
+            self.keep_outside(&mut xn, &mut vn, &mut ev);
+        }
+        (self.store(xn), self.store1(life), ev)
+    }
+
+    /// The `LIFE` block of `main`: `Ok(remaining life)` for a particle that lives on, `Err(w)`
+    /// with the `w` the pass writes for one that is (or just became) dead. Without `LIFE` the
+    /// life passes through.
+    // `!(w > 0.0)` as in the shader: a NaN life counts as dead.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    fn life(&self, w: f32) -> std::result::Result<f32, f32> {
+        if !self.life {
+            return Ok(w);
+        }
+        if !(w > 0.0) {
+            return Err(w);
+        }
+        let life = w - self.dt;
+        if life <= 0.0 {
+            return Err(0.0);
+        }
+        Ok(life)
+    }
+
+    /// `advance(x, v, vb)`.
+    fn advance(&self, x: Vec3, v: Vec3, vb: Vec3) -> Vec3 {
+        match self.integrator {
+            Integrator::Uberflow => x + 0.5 * (v + vb) * self.dt,
+            _ => x + vb * self.dt,
+        }
+    }
+
+    /// `fp_store` on three channels.
+    fn store(&self, v: Vec3) -> Vec3 {
+        Vec3::new(self.store1(v.x), self.store1(v.y), self.store1(v.z))
+    }
+
+    fn store1(&self, x: f32) -> f32 {
+        if self.fp24 {
+            crate::sort::precision::R300.round(x)
+        } else {
+            x
+        }
+    }
+}

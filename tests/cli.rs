@@ -312,3 +312,79 @@ fn bench_scene_times_every_phase_of_a_scene_file_against_its_floor() {
     let o = texflow(&["bench", "scene", "no-such-scene", "--sizes", "16"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }
+
+#[test]
+fn dropped_births_are_predicted_warned_and_counted() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("full.toml");
+    // Fountain at 32x32: 12,000 births/s × 3 s of life want 36,000 slots of 1,024.
+    let src = texflow::scene::builtin_source("fountain")
+        .unwrap()
+        .replace("size = [256, 256]", "size = [32, 32]");
+    assert!(src.contains("size = [32, 32]"), "the fountain's size line");
+    std::fs::write(&scene, src).unwrap();
+    let check = texflow(&["scene", "check", scene.to_str().unwrap()]);
+    assert!(check.status.success(), "{}", stderr(&check));
+    let text = String::from_utf8_lossy(&check.stdout);
+    assert!(text.contains("births per second will be dropped"), "{text}");
+    let out = dir.path().join("out");
+    let o = texflow(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--frames",
+        "30",
+        "--every",
+        "29",
+        "--resolution",
+        "32",
+        "--json",
+        "--stats",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert_eq!(
+        err.matches("warning: frame").count(),
+        1,
+        "warned once: {err}"
+    );
+    assert!(err.contains("is full"), "{err}");
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    let json_start = stdout.find('{').unwrap();
+    let v: serde_json::Value = serde_json::from_str(&stdout[json_start..]).unwrap();
+    assert_eq!(v["schema"], "texflow.render/1");
+    let dropped = v["records"]["dropped_births"].as_u64().unwrap();
+    assert!(dropped > 0, "{v}");
+    assert!(err.contains(&format!("{dropped} births dropped")), "{err}");
+    assert_eq!(v["records"]["frames"], 30);
+    assert_eq!(v["records"]["written"], 2);
+    // --stats: the paragraph with each phase's median.
+    let para = &stdout[..json_start];
+    for part in [
+        "median simulate",
+        "sort",
+        "draw and read back",
+        "fps",
+        "M particles/s",
+    ] {
+        assert!(para.contains(part), "{para}");
+    }
+    // A state that fits drops nothing and says nothing.
+    let o = texflow(&[
+        "render",
+        "fountain",
+        "--frames",
+        "3",
+        "--resolution",
+        "32",
+        "--json",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["records"]["dropped_births"], 0);
+}

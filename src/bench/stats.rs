@@ -1,19 +1,14 @@
-//! Shared measuring tools: the median, the two clocks, a pass timer and the write-only floor pass.
-//!
-//! Two clocks: on a hardware GPU, `GL_TIME_ELAPSED` timer queries; on Mesa's llvmpipe, wall time
-//! between two `glFinish` calls. llvmpipe bins draws and rasterizes them only when the scene is
-//! flushed (at the next framebuffer change, say), so its timer queries charge a pass's work to
-//! whatever query is open at the flush; the CPU is its GPU, so finished wall time is exact there.
-
-use std::time::Instant;
+//! Shared measuring tools: the median, the write-only floor passes, and the JSON records. The
+//! two clocks and the pass timer are the GL layer's ([`crate::gl::Clock`], [`crate::gl::PassTimer`]).
 
 use glam::Vec4;
 
 use crate::error::Result;
 use crate::gl::{
     Blend, Context, Defines, Draw, DrawState, Framebuffer, FullscreenPass, PointSize, Primitive,
-    Program, TimerQuery, VertexArray, FULLSCREEN_VERTEX,
+    Program, VertexArray, FULLSCREEN_VERTEX,
 };
+pub use crate::gl::{Clock, PassTimer};
 
 /// A write-only pass into `targets` render targets: the floor of any pass writing them.
 #[derive(Debug)]
@@ -169,73 +164,5 @@ pub fn median(v: &[f64]) -> f64 {
         s[n / 2]
     } else {
         0.5 * (s[n / 2 - 1] + s[n / 2])
-    }
-}
-
-/// How passes are timed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Clock {
-    /// `GL_TIME_ELAPSED` queries around the pass (hardware GPUs).
-    Gpu,
-    /// Wall time from one `glFinish` to another around the pass (software rasterizers).
-    Wall,
-}
-
-impl Clock {
-    /// The right clock for a context: wall time on software renderers, timer queries otherwise.
-    pub fn for_context(ctx: &Context) -> Clock {
-        let r = ctx.limits().renderer.to_ascii_lowercase();
-        if r.contains("llvmpipe") || r.contains("softpipe") || r.contains("swrast") {
-            Clock::Wall
-        } else {
-            Clock::Gpu
-        }
-    }
-
-    /// The clock's name in tables.
-    pub fn name(self) -> &'static str {
-        match self {
-            Clock::Gpu => "GPU timer query",
-            Clock::Wall => "glFinish wall time",
-        }
-    }
-}
-
-/// Times GL work with one [`Clock`].
-#[derive(Debug)]
-pub struct PassTimer {
-    ctx: Context,
-    clock: Clock,
-    query: TimerQuery,
-}
-
-impl PassTimer {
-    /// A timer on `ctx` using `clock`.
-    pub fn new(ctx: &Context, clock: Clock) -> Result<Self> {
-        Ok(PassTimer {
-            ctx: ctx.clone(),
-            clock,
-            query: TimerQuery::new(ctx)?,
-        })
-    }
-
-    /// The clock in use.
-    pub fn clock(&self) -> Clock {
-        self.clock
-    }
-
-    /// Milliseconds the GL commands issued by `f` take.
-    pub fn time(&self, f: impl FnOnce()) -> Result<f64> {
-        match self.clock {
-            Clock::Gpu => Ok(self.query.time(f)?.1),
-            Clock::Wall => {
-                self.ctx.finish();
-                let t0 = Instant::now();
-                f();
-                self.ctx.finish();
-                Ok(t0.elapsed().as_secs_f64() * 1e3)
-            }
-        }
     }
 }

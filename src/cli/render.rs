@@ -6,7 +6,8 @@ use std::ops::ControlFlow;
 
 use clap::Args;
 use texflow::engine::{
-    Event, FolderSink, FrameLoop, FrameSink, LoopOptions, NonFinitePolicy, Overrides, StateDump,
+    Event, FolderSink, FrameLoop, FrameSink, LoopOptions, LoopSummary, NonFinitePolicy, Overrides,
+    StateDump,
 };
 use texflow::gl::Context;
 use texflow::output::{video, FrameWriter, VideoWriter};
@@ -63,6 +64,15 @@ pub struct RenderArgs {
     /// Dump every K-th frame.
     #[arg(long, default_value_t = 1, value_parser = at_least_one::<u64>)]
     dump_every: u64,
+    /// After the run, print one paragraph with the median time of each phase (simulate, sort,
+    /// draw), fps and particles per second, like CUDA's `particles -benchmark`; timing waits for
+    /// the GPU after each phase. `texflow bench scene` adds floors.
+    #[arg(long)]
+    stats: bool,
+    /// Print the run's summary as JSON on stdout (frames, steps, births dropped, non-finite
+    /// counts, and the phase times with --stats).
+    #[arg(long)]
+    json: bool,
     /// Write the frames even when the state turns NaN or infinite (by default the run stops
     /// there with exit code 3; see docs/reliability.md).
     #[arg(long)]
@@ -97,6 +107,7 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
         } else {
             NonFinitePolicy::Fail
         },
+        timing: a.stats,
     };
     options.check()?;
     if a.dump_every == 0 {
@@ -158,6 +169,20 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
                     count.non_finite, count.live
                 )
             }),
+            Event::BirthsDropped { index, total } => bar.suspend(|| {
+                let hint = match s.capacity_check() {
+                    Some(w) => format!(
+                        "; a {0}x{0} state texture (--particles {0}) would hold them",
+                        w.side
+                    ),
+                    None => String::new(),
+                };
+                eprintln!(
+                    "warning: frame {index}: the state texture ({}x{}) is full: {total} \
+                     birth(s) dropped{hint}",
+                    s.particles.size[0], s.particles.size[1]
+                )
+            }),
         }
         match signals::received() {
             Some(_) => ControlFlow::Break(()),
@@ -184,8 +209,12 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     if !a.common.quiet {
         let mut to: Vec<String> = out.iter().map(|o| o.display().to_string()).collect();
         to.extend(video_path.iter().map(|v| v.display().to_string()));
+        let dropped = match summary.dropped_births {
+            0 => String::new(),
+            n => format!(", {n} births dropped: the state texture was full"),
+        };
         eprintln!(
-            "wrote {} frame(s) of {}x{} to {} ({} particles, {} steps of {} s)",
+            "wrote {} frame(s) of {}x{} to {} ({} particles, {} steps of {} s{dropped})",
             summary.written,
             s.render.resolution[0],
             s.render.resolution[1],
@@ -195,7 +224,63 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
             s.time.dt
         );
     }
+    if a.stats {
+        println!("{}", stats_paragraph(s, &summary));
+    }
+    if a.json {
+        let t = summary.times.as_ref();
+        let body = serde_json::json!({
+            "scene": s.name,
+            "particles": s.particle_count(),
+            "live": summary.live,
+            "resolution": s.render.resolution,
+            "frames": summary.frames,
+            "written": summary.written,
+            "dumps": summary.dumps,
+            "steps": summary.steps,
+            "dt": s.time.dt,
+            "dropped_births": summary.dropped_births,
+            "max_non_finite": summary.max_non_finite,
+            "non_finite_frames": summary.non_finite_frames,
+            "median_ms": t.map(|t| {
+                let [sim, sort, draw] = t.medians();
+                serde_json::json!({ "simulate": sim, "sort": sort, "draw": draw })
+            }),
+        });
+        let clock = t.map(|t| t.clock);
+        let v = texflow::bench::json_envelope("texflow.render/1", &ctx, clock, &body);
+        println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
+    }
     Ok(())
+}
+
+/// The one-paragraph summary of `render --stats`.
+fn stats_paragraph(s: &texflow::scene::SceneFile, summary: &LoopSummary) -> String {
+    let Some(t) = &summary.times else {
+        return String::new();
+    };
+    let [sim, sort, draw] = t.medians();
+    // A frame that is written costs all three; one that is not, the first two.
+    let frame = sim + sort + if draw.is_nan() { 0.0 } else { draw };
+    let particles = s.particle_count() as f64;
+    format!(
+        "texflow render, scene {}: {} frames of {} particles ({} live at the last written \
+         frame), {}x{} frame, {} step(s) of {} s per frame; median simulate {sim:.3} ms, sort \
+         {sort:.3} ms, draw and read back {draw:.3} ms: {frame:.3} ms = {:.1} fps, {:.4} M \
+         particles/s ({}). Floors per phase: texflow bench scene {}",
+        s.name,
+        summary.frames,
+        s.particle_count(),
+        summary.live,
+        s.render.resolution[0],
+        s.render.resolution[1],
+        s.time.substeps,
+        s.time.dt,
+        1e3 / frame,
+        particles * 1e-3 / frame,
+        t.clock.name(),
+        s.name
+    )
 }
 
 /// The frames of `render`: PNGs in a folder, an animation, or both.

@@ -63,6 +63,10 @@ pub fn scene_command(c: SceneCommand) -> texflow::Result<()> {
                 s.name,
                 s.particle_count()
             );
+            // Valid, but the run will drop births: said now, predicted from rate × life.
+            if let Some(w) = s.capacity_check() {
+                println!("{name}: warning: {w}");
+            }
         }
         SceneCommand::Passes { scene: name, json } => {
             let plan = texflow::engine::plan::plan(&scene::load(&name)?);

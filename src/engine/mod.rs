@@ -23,7 +23,8 @@ pub use fire::FireEngine;
 pub use overrides::{Overrides, Prepared};
 pub use particles::Engine;
 pub use run::{
-    Event, FolderSink, FrameLoop, FrameSink, LoopOptions, LoopSummary, MemorySink, NonFinitePolicy,
+    Event, FolderSink, FrameLoop, FrameSink, FrameTimes, LoopOptions, LoopSummary, MemorySink,
+    NonFinitePolicy,
 };
 pub use scene_engine::{SceneEngine, StateDump};
 

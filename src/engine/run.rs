@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use super::{SceneEngine, StateDump};
 use crate::error::{Error, Result};
-use crate::gl::Context;
+use crate::gl::{Clock, Context, PassTimer};
 use crate::output::FrameWriter;
 use crate::sim::nonfinite::{NonFiniteCount, NonFiniteCounter};
 
@@ -32,6 +32,9 @@ pub struct LoopOptions {
     pub dump_every: Option<u64>,
     /// What NaN or infinite state does to the run.
     pub non_finite: NonFinitePolicy,
+    /// Time each frame's phases (simulate, sort, draw) with [`PassTimer`]: GPU timer queries on
+    /// a GPU, `glFinish` wall time on llvmpipe. Off by default: the wall clock waits for the GPU.
+    pub timing: bool,
 }
 
 impl Default for LoopOptions {
@@ -41,6 +44,7 @@ impl Default for LoopOptions {
             every: 1,
             dump_every: None,
             non_finite: NonFinitePolicy::Report,
+            timing: false,
         }
     }
 }
@@ -80,6 +84,13 @@ pub enum Event<'a> {
         /// The frame's index.
         index: u64,
     },
+    /// The first frame after which births were dropped because the state texture was full.
+    BirthsDropped {
+        /// The frame's index.
+        index: u64,
+        /// Births dropped so far.
+        total: u64,
+    },
     /// The first written frame with NaN or infinite state (later ones only count in the summary).
     NonFinite {
         /// The frame's index.
@@ -90,7 +101,7 @@ pub enum Event<'a> {
 }
 
 /// What a run did.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct LoopSummary {
     /// Frames simulated.
     pub frames: u64,
@@ -106,6 +117,41 @@ pub struct LoopSummary {
     pub non_finite_frames: u64,
     /// Whether the caller stopped the loop early (through its event callback).
     pub stopped: bool,
+    /// Births the allocator dropped because the state texture was full.
+    pub dropped_births: u64,
+    /// Live particles at the last written frame's census.
+    pub live: u64,
+    /// Per-frame phase times, when [`LoopOptions::timing`] asked for them.
+    pub times: Option<FrameTimes>,
+}
+
+/// Milliseconds per phase of every frame (`render --stats`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameTimes {
+    /// The clock the times come from.
+    pub clock: Clock,
+    /// The simulation steps of each frame.
+    pub simulate: Vec<f64>,
+    /// The sort stage of each frame (0 for scenes that do not sort).
+    pub sort: Vec<f64>,
+    /// Drawing and reading back each written frame.
+    pub draw: Vec<f64>,
+}
+
+impl FrameTimes {
+    /// The median of each phase, in milliseconds: simulate, sort, draw.
+    pub fn medians(&self) -> [f64; 3] {
+        let m = |v: &[f64]| {
+            let mut s = v.to_vec();
+            s.sort_by(f64::total_cmp);
+            match s.len() {
+                0 => f64::NAN,
+                n if n % 2 == 1 => s[n / 2],
+                n => 0.5 * (s[n / 2 - 1] + s[n / 2]),
+            }
+        };
+        [m(&self.simulate), m(&self.sort), m(&self.draw)]
+    }
 }
 
 /// Runs a [`SceneEngine`] frame after frame.
@@ -113,6 +159,7 @@ pub struct LoopSummary {
 pub struct FrameLoop {
     options: LoopOptions,
     counter: NonFiniteCounter,
+    timer: Option<PassTimer>,
 }
 
 impl FrameLoop {
@@ -120,9 +167,14 @@ impl FrameLoop {
     pub fn new(ctx: &Context, engine: &SceneEngine, options: LoopOptions) -> Result<Self> {
         options.check()?;
         let [w, h] = engine.state_size();
+        let timer = match options.timing {
+            true => Some(PassTimer::new(ctx, Clock::for_context(ctx))?),
+            false => None,
+        };
         Ok(FrameLoop {
             options,
             counter: NonFiniteCounter::new(ctx, w, h)?,
+            timer,
         })
     }
 
@@ -141,15 +193,54 @@ impl FrameLoop {
     ) -> Result<LoopSummary> {
         let o = &self.options;
         let mut s = LoopSummary::default();
+        let mut times = self.timer.as_ref().map(|t| FrameTimes {
+            clock: t.clock(),
+            simulate: Vec::new(),
+            sort: Vec::new(),
+            draw: Vec::new(),
+        });
+        // Runs `f`, timed into `into` when timing is on.
+        let timed = |f: &mut dyn FnMut() -> Result<()>, into: Option<&mut Vec<f64>>| match (
+            &self.timer,
+            into,
+        ) {
+            (Some(t), Some(v)) => {
+                let mut r = Ok(());
+                v.push(t.time(|| r = f())?);
+                r
+            }
+            _ => f(),
+        };
         for index in 0..o.frames {
-            engine.advance_frame()?;
+            timed(
+                &mut || engine.advance_frame(),
+                times.as_mut().map(|t| &mut t.simulate),
+            )?;
             // The sort belongs to every frame, written or not (issue 12: no option that chooses
             // what is written may change what a frame shows).
-            engine.order_for_drawing()?;
+            timed(
+                &mut || engine.order_for_drawing(),
+                times.as_mut().map(|t| &mut t.sort),
+            )?;
             s.frames += 1;
+            let dropped = engine.dropped_births();
+            if dropped > 0
+                && s.dropped_births == 0
+                && on_event(Event::BirthsDropped {
+                    index,
+                    total: dropped,
+                })
+                .is_break()
+            {
+                s.stopped = true;
+                s.dropped_births = dropped;
+                break;
+            }
+            s.dropped_births = dropped;
             if index % o.every == 0 {
                 // Garbage is reported, not rendered silently.
                 let count = engine.non_finite(&self.counter)?;
+                s.live = count.live;
                 if count.non_finite > 0 {
                     if o.non_finite == NonFinitePolicy::Fail {
                         return Err(Error::NonFinite {
@@ -171,7 +262,15 @@ impl FrameLoop {
                     s.non_finite_frames += 1;
                     s.max_non_finite = s.max_non_finite.max(count.non_finite);
                 }
-                sink.frame(index, &engine.render()?)?;
+                let mut image = None;
+                timed(
+                    &mut || {
+                        image = Some(engine.render()?);
+                        Ok(())
+                    },
+                    times.as_mut().map(|t| &mut t.draw),
+                )?;
+                sink.frame(index, &image.expect("rendered"))?;
                 s.written += 1;
             }
             if o.dump_every.is_some_and(|n| index % n == 0) {
@@ -186,6 +285,7 @@ impl FrameLoop {
             }
         }
         s.steps = engine.steps();
+        s.times = times;
         Ok(s)
     }
 }

@@ -60,6 +60,15 @@ impl SceneEngine {
         }
     }
 
+    /// Births the allocator has dropped so far because the state texture was full (the fire
+    /// respawns in place and drops none).
+    pub fn dropped_births(&self) -> u64 {
+        match self {
+            SceneEngine::Fire(_) => 0,
+            SceneEngine::Particles(e) => e.sim().dropped_births(),
+        }
+    }
+
     /// Renders the current state.
     pub fn render(&mut self) -> Result<image::RgbImage> {
         match self {

@@ -17,6 +17,7 @@ mod query;
 pub mod source;
 mod texture;
 mod texture3d;
+mod timer;
 #[cfg(feature = "window")]
 mod window;
 
@@ -33,5 +34,6 @@ pub use program::{Defines, Program};
 pub use query::TimerQuery;
 pub use texture::{check_size, Texture, TextureDesc, TextureFormat};
 pub use texture3d::{check_size_3d, Texture3D};
+pub use timer::{Clock, PassTimer};
 #[cfg(feature = "window")]
 pub use window::GlWindow;

@@ -48,6 +48,12 @@ pub fn parse(path: &str, src: &str) -> Result<SceneFile> {
         ));
     }
     super::mesh::load_meshes(path, src, &doc, &mut scene)?;
+    // A custom force's GLSL file is named relative to the scene file, like its meshes.
+    if !path.ends_with(" (built-in)") {
+        if let Some(dir) = std::path::Path::new(path).parent() {
+            scene.resolve_custom_paths(dir);
+        }
+    }
     Ok(scene)
 }
 

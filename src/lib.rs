@@ -13,14 +13,19 @@
 //! - [`bench`] and [`report`]: timings against floors, the papers' tables, error against run time.
 //! - [`output`], [`npy`], [`error`]: files written atomically, `.npy` arrays, the error type.
 //!
-//! ```no_run
+//! ```
 //! use texflow::{gl::Context, scene, FireEngine};
 //! let ctx = Context::new(0)?;                       // first EGL device
-//! let mut engine = FireEngine::new(&ctx, scene::builtin("fire")?, 7)?;
+//! let mut fire = scene::builtin("fire")?;
+//! fire.particles = [64, 64];                        // small, so that the example runs fast
+//! fire.resolution = [64, 48];
+//! let mut engine = FireEngine::new(&ctx, fire, 7)?;
 //! for _ in 0..30 {
 //!     engine.advance_frame();
 //! }
-//! engine.render()?.save("fire.png").expect("write");
+//! let frame = engine.render()?;
+//! assert_eq!(frame.dimensions(), (64, 48));
+//! frame.save(std::env::temp_dir().join("texflow-doc-fire.png")).expect("write");
 //! # Ok::<(), texflow::Error>(())
 //! ```
 

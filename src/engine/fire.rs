@@ -10,7 +10,19 @@ use crate::render::{FrameTarget, PointRenderer};
 use crate::scene::Scene;
 use crate::sim::FireSim;
 
-/// Runs one scene.
+/// Runs the thesis's fire: its simulation pass, its point renderer and its frame target.
+///
+/// ```
+/// use texflow::{gl::Context, scene, FireEngine};
+/// let ctx = Context::new(0)?;
+/// let mut fire = scene::builtin("fire")?;
+/// fire.particles = [32, 32];
+/// fire.resolution = [32, 32];
+/// let mut engine = FireEngine::new(&ctx, fire, 1)?;
+/// engine.advance_frame();
+/// assert_eq!(engine.sim().steps(), engine.scene().substeps as u64);
+/// # Ok::<(), texflow::Error>(())
+/// ```
 #[derive(Debug)]
 pub struct FireEngine {
     scene: Scene,

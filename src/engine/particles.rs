@@ -7,6 +7,22 @@ use crate::gl::Context;
 use crate::render::FrameTarget;
 
 /// Runs a scene of the particle pipeline: simulation, the sort alpha blending needs, rendering.
+///
+/// ```
+/// use texflow::{gl::Context, scene, Engine};
+/// let ctx = Context::new(0)?;
+/// let mut smoke = scene::load("smoke")?;            // alpha blending: sorted on the GPU
+/// smoke.particles.size = [16, 16];
+/// smoke.render.resolution = [32, 32];
+/// let mut engine = Engine::new(&ctx, &smoke, 1)?;
+/// for _ in 0..10 {
+///     engine.advance_frame()?;
+/// }
+/// assert!(engine.order_for_drawing()?, "smoke sorts back to front");
+/// let frame = engine.render()?;
+/// assert_eq!(frame.dimensions(), (32, 32));
+/// # Ok::<(), texflow::Error>(())
+/// ```
 #[derive(Debug)]
 pub struct Engine {
     sim: crate::sim::ParticleSim,

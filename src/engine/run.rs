@@ -155,6 +155,25 @@ impl FrameTimes {
 }
 
 /// Runs a [`SceneEngine`] frame after frame.
+///
+/// ```
+/// use std::ops::ControlFlow;
+/// use texflow::engine::{FrameLoop, LoopOptions, MemorySink};
+/// use texflow::{gl::Context, scene, SceneEngine};
+/// let ctx = Context::new(0)?;
+/// let mut s = scene::load("snow")?;
+/// s.particles.size = [16, 16];
+/// s.render.resolution = [24, 16];
+/// let mut engine = SceneEngine::new(&ctx, &s, 1)?;
+/// let options = LoopOptions { frames: 9, every: 4, ..LoopOptions::default() };
+/// let run = FrameLoop::new(&ctx, &engine, options)?;
+/// let mut sink = MemorySink::default();
+/// let summary = run.run(&mut engine, &mut sink, |_| ControlFlow::Continue(()))?;
+/// let written: Vec<u64> = sink.frames.iter().map(|(i, _)| *i).collect();
+/// assert_eq!(written, [0, 4, 8]);
+/// assert_eq!(summary.max_non_finite, 0);
+/// # Ok::<(), texflow::Error>(())
+/// ```
 #[derive(Debug)]
 pub struct FrameLoop {
     options: LoopOptions,

@@ -6,6 +6,21 @@ use crate::gl::Context;
 use crate::scene::Scene;
 
 /// Either engine, chosen by the scene: the thesis's fire or the particle pipeline.
+///
+/// ```
+/// use texflow::{gl::Context, scene, SceneEngine};
+/// let ctx = Context::new(0)?;
+/// for name in ["fire", "fountain"] {
+///     let mut s = scene::load(name)?;
+///     s.particles.size = [16, 16];
+///     s.render.resolution = [16, 16];
+///     let mut engine = SceneEngine::new(&ctx, &s, 1)?;
+///     engine.advance_frame()?;
+///     assert_eq!(engine.state_size(), [16, 16]);
+///     assert!(engine.dump()?.non_finite == 0);
+/// }
+/// # Ok::<(), texflow::Error>(())
+/// ```
 #[derive(Debug)]
 pub enum SceneEngine {
     /// A scene with a `[fire]` section.

@@ -150,6 +150,15 @@ impl Drop for Inner {
 }
 
 /// A current, surfaceless OpenGL 3.3 core context on one EGL device. Cheap to clone.
+///
+/// ```
+/// let ctx = texflow::gl::Context::new(0)?;          // the first EGL device (llvmpipe in CI)
+/// let limits = ctx.limits();
+/// assert!(limits.max_texture_size >= 1024 && limits.max_draw_buffers >= 4);
+/// assert!(limits.float32_color_buffer, "float render targets are needed");
+/// ctx.check_error("nothing yet")?;
+/// # Ok::<(), texflow::Error>(())
+/// ```
 #[derive(Clone)]
 pub struct Context {
     inner: Rc<Inner>,

@@ -43,6 +43,8 @@ pub struct Snapshot {
     pub first: LatticeSnapshot,
     /// The staggered lattice.
     pub second: Option<LatticeSnapshot>,
+    /// The exact mode: `first.partners` holds (partners found, truncated, 0, 0) per particle.
+    pub exact: bool,
 }
 
 /// How well one step's detection did against the true set of overlapping pairs.
@@ -75,6 +77,16 @@ pub struct CollisionStats {
     pub tunnelled: usize,
     /// Mean live particles per occupied cell of the first lattice.
     pub particles_per_cell: f64,
+    /// Overlapping neighbours per live particle (2 x true pairs / particles): the density.
+    pub overlaps_per_particle: f64,
+    /// Particles that overlap at least one other.
+    pub overlapping: usize,
+    /// Of those, the ones the response acts on: a mutual partner (UberFlow), or at least one
+    /// partner found (exact).
+    pub partnered: usize,
+    /// Exact mode: particles whose search met a run of cells holding more particles than it
+    /// walks (`sim::collide::EXACT_SCAN`); their missing partners are missed for that reason.
+    pub truncated: usize,
     /// Median GPU time of the collision passes of one step (ms; [`measure`] fills it in).
     pub gpu_ms: f64,
 }
@@ -139,6 +151,7 @@ impl Snapshot {
             dt: stage.dt(),
             first: lattice(first, false)?,
             second: second.map(|l| lattice(l, true)).transpose()?,
+            exact: stage.detection() == scene::Detection::Exact,
         })
     }
 
@@ -156,6 +169,16 @@ impl Snapshot {
             .map(|i| (i, pos(&a.positions, i)))
             .collect();
         let truth: HashSet<(usize, usize)> = close_pairs(&points, reach).into_iter().collect();
+        let mut true_count = vec![0usize; n];
+        for &(i, j) in &truth {
+            true_count[i] += 1;
+            true_count[j] += 1;
+        }
+        let overlapping = true_count.iter().filter(|&&c| c > 0).count();
+        let density = 2.0 * truth.len() as f64 / points.len().max(1) as f64;
+        if self.exact {
+            return self.exact_stats(&points, &truth, &true_count, overlapping, density);
+        }
         // Lattice B's order -> lattice A's, by the positions' bits (unique in practice).
         let key = |p: Vec3| (p.x.to_bits(), p.y.to_bits(), p.z.to_bits());
         let index_a: HashMap<_, usize> = points.iter().map(|&(i, p)| (key(p), i)).collect();
@@ -197,6 +220,9 @@ impl Snapshot {
                 (None, None) => None,
             })
             .collect();
+        let partnered = (0..n)
+            .filter(|&i| true_count[i] > 0 && chosen[i].is_some())
+            .count();
         let conflicts = (0..n)
             .filter(|&i| matches!(chosen[i], Some(j) if chosen[j] != Some(i)))
             .count();
@@ -211,6 +237,9 @@ impl Snapshot {
             false_pairs,
             mutual: mutual.len(),
             conflicts,
+            overlaps_per_particle: density,
+            overlapping,
+            partnered,
             ..Default::default()
         };
         for &(i, j) in truth.difference(&found) {
@@ -260,6 +289,57 @@ impl Snapshot {
         }
         s.particles_per_cell = points.len() as f64 / cells.len().max(1) as f64;
         s
+    }
+}
+
+impl Snapshot {
+    /// The exact mode's statistics: its search only counts particles closer than 2r, so what it
+    /// found of particle i's true partners is its count, and a pair is missed from i's side if
+    /// the count falls short. `missed` counts the missing ends of pairs halved, rounded up (a
+    /// pair missed from both sides counts once, from one side half); `found` is the rest.
+    fn exact_stats(
+        &self,
+        points: &[(usize, Vec3)],
+        truth: &std::collections::HashSet<(usize, usize)>,
+        true_count: &[usize],
+        overlapping: usize,
+        density: f64,
+    ) -> CollisionStats {
+        let a = &self.first;
+        let mut short = 0usize;
+        let mut extra = 0usize;
+        let mut partnered = 0usize;
+        let mut truncated = 0usize;
+        for &(i, _) in points {
+            let found = a.partners[i * 4].max(0.0) as usize;
+            short += true_count[i].saturating_sub(found);
+            extra += found.saturating_sub(true_count[i]);
+            if true_count[i] > 0 && found > 0 {
+                partnered += 1;
+            }
+            if a.partners[i * 4 + 1] > 0.5 {
+                truncated += 1;
+            }
+        }
+        let missed = short.div_ceil(2);
+        let mut cells: std::collections::HashMap<u64, usize> = Default::default();
+        for (_, p) in points {
+            *cells.entry(a.lattice.key(a.lattice.cell(*p))).or_default() += 1;
+        }
+        CollisionStats {
+            particles: points.len(),
+            pairs_true: truth.len(),
+            found: truth.len() - missed.min(truth.len()) + extra.div_ceil(2),
+            missed,
+            false_pairs: extra.div_ceil(2),
+            mutual: truth.len() - missed.min(truth.len()),
+            overlaps_per_particle: density,
+            overlapping,
+            partnered,
+            truncated,
+            particles_per_cell: points.len() as f64 / cells.len().max(1) as f64,
+            ..Default::default()
+        }
     }
 }
 

@@ -58,6 +58,8 @@ pub struct Features {
     pub precision: Precision,
     /// Collisions between particles: (neighbours, staggered, rows_only).
     pub collisions: Option<(u32, bool, Option<u32>)>,
+    /// The collision detection mode (with `collisions`).
+    pub detection: crate::scene::Detection,
 }
 
 impl Features {
@@ -99,6 +101,10 @@ impl Features {
                 .collisions
                 .as_ref()
                 .map(|c| (c.neighbours, c.staggered, c.rows_only)),
+            detection: scene
+                .collisions
+                .as_ref()
+                .map_or(Default::default(), |c| c.detection),
         }
     }
 
@@ -271,7 +277,9 @@ impl Features {
             targets
         );
         out.push(integrate);
-        if let Some((k, staggered, rows)) = self.collisions {
+        if self.collisions.is_some() && self.detection == crate::scene::Detection::Exact {
+            out.extend(crate::sim::collide::exact_passes(self.colliders()));
+        } else if let Some((k, staggered, rows)) = self.collisions {
             let sort = match rows {
                 Some(1) => "rows-only bitonic sort (GP/FP packed)".to_owned(),
                 Some(r) => format!("bitonic sort within sets of {r} rows (GP/FP packed)"),
@@ -299,7 +307,7 @@ impl Features {
                 ));
             }
             out.push(format!(
-                "collision response: back-tracking to contact, momentum exchange{}",
+                "collision response: back-tracking to contact, momentum exchange, overlap separation{}",
                 if self.colliders() {
                     "; boundary conditions (colliders)"
                 } else {

@@ -202,3 +202,80 @@ fn response_separates_a_resting_overlap() {
         no_gl_error(&ctx);
     }
 }
+
+/// A time-stamp scene of 16x16 particles whose cycle is 16 steps: with row-coherent phases each
+/// step's release is one row.
+fn release_scene(collisions: &str) -> scene::SceneFile {
+    let src = format!(
+        r#"
+name = "release"
+integrator = "euler"
+[particles]
+size = [16, 16]
+[time]
+dt = 0.01
+[[emitters.timestamp]]
+cycle = 0.16
+shape = "disc"
+center = [0.0, 0.5, 0.0]
+radius = 0.1
+normal = [0.0, 1.0, 0.0]
+direction = [0.0, 1.0, 0.0]
+speed = [0.0, 0.0]
+life = [0.16, 0.16]
+[collisions]
+radius = 0.02
+bounds = [[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]]
+{collisions}
+"#
+    );
+    scene::parse("test", &src).unwrap_or_else(|e| panic!("{e}\n{src}"))
+}
+
+/// With row-coherent emission the particles of each row share one birth time, and the rows are
+/// the 16 steps of the cycle in order.
+#[test]
+fn row_coherent_emission_shares_birth_time_per_row() {
+    let ctx = context();
+    let sim = ParticleSim::new(&ctx, &release_scene(""), 1).unwrap();
+    let st = sim.statics().read_f32().unwrap();
+    for y in 0..16 {
+        let want = (y as f32 + 0.5) * 0.01;
+        for x in 0..16 {
+            let phase = st[(y * 16 + x) * 4];
+            assert!(
+                (phase - want).abs() < 1e-6,
+                "texel ({x}, {y}): phase {phase}, row {want}"
+            );
+        }
+    }
+    no_gl_error(&ctx);
+}
+
+fn found_after_first_release(collisions: &str) -> texflow::report::collide_stats::CollisionStats {
+    let ctx = context();
+    let mut sim = ParticleSim::new(&ctx, &release_scene(collisions), 1).unwrap();
+    sim.step().unwrap();
+    let stats = Snapshot::read(sim.collisions().unwrap()).unwrap().stats();
+    no_gl_error(&ctx);
+    stats
+}
+
+/// Rows-only sorting finds the collisions of one release as the full sort does when the
+/// release shares a row; with random phases the release is spread over the rows and rows-only
+/// sorting finds almost nothing.
+#[test]
+fn rows_only_sorting_finds_a_release_s_collisions() {
+    let full = found_after_first_release("");
+    let rows = found_after_first_release("rows_only = 1");
+    let random = found_after_first_release("rows_only = 1\nrow_phases = false");
+    eprintln!("full {full:?}\nrows {rows:?}\nrandom {random:?}");
+    assert_eq!(rows.particles, 16);
+    assert!(full.pairs_true >= 8, "{full:?}");
+    assert_eq!(rows.pairs_true, full.pairs_true);
+    assert_eq!((rows.found, rows.missed), (full.found, full.missed));
+    assert!(
+        random.found < rows.found,
+        "random {random:?}\nrows {rows:?}"
+    );
+}

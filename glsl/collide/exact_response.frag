@@ -17,6 +17,10 @@ uniform sampler2D u_static;
 uniform sampler2D u_counts;     // first pass: (partners, truncated, 0, 0)
 uniform vec4 u_inv_mass;
 
+#ifndef EXACT_PUSH
+#define EXACT_PUSH 1.0
+#endif
+
 #include "collide/pair.glsl"
 
 vec3 advance(vec3 x, vec3 v, vec3 vb) {
@@ -47,7 +51,7 @@ void visit(int j) {
     float n_j = texelFetch(u_counts, tj, 0).x;
     pair_response(g_x, g_v, 1.0 / u_inv_mass[int(g_st.y)], g_st.w, q.xyz,
                   texelFetch(u_velocity, tj, 0).xyz, 1.0 / u_inv_mass[int(st_q.y)], st_q.w,
-                  1.0 / max(max(g_n, n_j), 1.0), g_dv, g_dx);
+                  1.0 / max(max(g_n, n_j), 1.0), EXACT_PUSH, g_dv, g_dx);
 }
 
 void main() {

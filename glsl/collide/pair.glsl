@@ -10,16 +10,17 @@
 // Both particles of a pair compute the same numbers with opposite signs (the formulas are odd in
 // dx and dv), so momentum is conserved and the centre of mass stays where it was. Kinetic energy
 // never grows: with e <= 1 the exchange removes (1 - e^2) of the normal relative energy. Each
-// result is scaled by the caller's weight (1 with one partner; see collide/exact_response.frag).
+// result is scaled by the caller's weights (1 with one partner; see collide/exact_response.frag).
 // Coincident centres take a fixed normal, +y or -y by the particles' random numbers hi, hj.
 
 uniform float u_radius;
 uniform float u_restitution;
 uniform float u_dt;
 
-// Adds particle i's velocity change to dv and position change to dx, times `weight`.
+// Adds particle i's velocity change to dv and position change to dx: the exchange (and the
+// move it makes over tau) times `weight`, the separation times `push_weight`.
 void pair_response(vec3 x, vec3 v, float mi, float hi, vec3 xq, vec3 w, float mj, float hj,
-                   float weight, inout vec3 dv_out, inout vec3 dx_out) {
+                   float weight, float push_weight, inout vec3 dv_out, inout vec3 dx_out) {
     float reach = 2.0 * u_radius;
     vec3 dx = x - xq;
     vec3 dv = v - w;
@@ -51,5 +52,5 @@ void pair_response(vec3 x, vec3 v, float mi, float hi, vec3 xq, vec3 w, float mj
         push = mu_i * depth * (l > 0.0 ? sep / l : n);
     }
     dv_out += weight * di;
-    dx_out += weight * (di * tau + push);
+    dx_out += weight * di * tau + push_weight * push;
 }

@@ -39,7 +39,7 @@ void respond(inout vec3 x, inout vec3 v, vec4 st, vec4 q, vec3 w, vec4 st_q) {
     vec3 dv = vec3(0.0);
     vec3 dx = vec3(0.0);
     pair_response(x, v, 1.0 / u_inv_mass[int(st.y)], st.w, q.xyz, w,
-                  1.0 / u_inv_mass[int(st_q.y)], st_q.w, 1.0, dv, dx);
+                  1.0 / u_inv_mass[int(st_q.y)], st_q.w, 1.0, 1.0, dv, dx);
     v += dv;
     x += dx;
 }

@@ -84,6 +84,9 @@ pub struct CollisionStats {
     /// Of those, the ones the response acts on: a mutual partner (UberFlow), or at least one
     /// partner found (exact).
     pub partnered: usize,
+    /// Mean overlap depth of the true pairs, as a fraction of the diameter:
+    /// mean of (2r - |x_i - x_j|) / 2r.
+    pub mean_depth: f64,
     /// Exact mode: particles whose search met a run of cells holding more particles than it
     /// walks (`sim::collide::EXACT_SCAN`); their missing partners are missed for that reason.
     pub truncated: usize,
@@ -175,9 +178,18 @@ impl Snapshot {
             true_count[j] += 1;
         }
         let overlapping = true_count.iter().filter(|&&c| c > 0).count();
+        let mean_depth = truth
+            .iter()
+            .map(|&(i, j)| {
+                (1.0 - pos(&a.positions, i).distance(pos(&a.positions, j)) / reach) as f64
+            })
+            .sum::<f64>()
+            / truth.len().max(1) as f64;
         let density = 2.0 * truth.len() as f64 / points.len().max(1) as f64;
         if self.exact {
-            return self.exact_stats(&points, &truth, &true_count, overlapping, density);
+            let mut s = self.exact_stats(&points, &truth, &true_count, overlapping, density);
+            s.mean_depth = mean_depth;
+            return s;
         }
         // Lattice B's order -> lattice A's, by the positions' bits (unique in practice).
         let key = |p: Vec3| (p.x.to_bits(), p.y.to_bits(), p.z.to_bits());
@@ -240,6 +252,7 @@ impl Snapshot {
             overlaps_per_particle: density,
             overlapping,
             partnered,
+            mean_depth,
             ..Default::default()
         };
         for &(i, j) in truth.difference(&found) {

@@ -145,6 +145,7 @@ enum Passes {
     /// Every partner in the 27 cells around each particle: a count pass, then the response.
     Exact {
         counts: Framebuffer,
+        more_counts: Framebuffer,
         count: Program,
         response: Program,
     },
@@ -258,6 +259,17 @@ impl Collisions {
                         TextureFormat::Rgba32F,
                     )?],
                 )?,
+                more_counts: Framebuffer::new(
+                    ctx,
+                    "partner counts, later iterations",
+                    vec![texture(
+                        ctx,
+                        "partner counts 2",
+                        w,
+                        h,
+                        TextureFormat::Rgba32F,
+                    )?],
+                )?,
                 count: Program::new(ctx, FULLSCREEN_VERTEX, "collide/exact_count.frag", &d)?,
                 response: Program::new(ctx, FULLSCREEN_VERTEX, "collide/exact_response.frag", &d)?,
             }
@@ -352,6 +364,7 @@ impl Collisions {
         )?;
         if let Passes::Exact {
             counts,
+            more_counts,
             count,
             response,
         } = &self.passes
@@ -362,7 +375,7 @@ impl Collisions {
                 dt,
                 inv_mass,
                 &set_response_constants,
-                counts,
+                [counts, more_counts],
                 count,
                 response,
             );
@@ -443,42 +456,54 @@ impl Collisions {
         dt: f32,
         inv_mass: glam::Vec4,
         set_response_constants: &impl Fn(&Program),
-        counts: &Framebuffer,
+        [counts, more_counts]: [&Framebuffer; 2],
         count: &Program,
         response: &Program,
     ) {
         let g = &self.first;
         let dims = g.lattice.dims;
+        let entries = (self.width * state.height()) as i32;
         let search = |p: &Program| {
             g.sorter.keys().bind(8);
             p.set_i32("u_keys", 8);
             p.set_i32("u_key_width", self.width as i32);
-            p.set_i32("u_count", (self.width * state.height()) as i32);
+            p.set_i32("u_count", entries);
             p.set_ivec3("u_dims", dims.x as i32, dims.y as i32, dims.z as i32);
             p.set_f32("u_radius", self.config.radius);
         };
-        count.bind();
-        search(count);
-        g.layout.texture(0).bind(0);
-        count.set_i32("u_position", 0);
-        self.pass.draw(count, counts);
-        let p = response;
-        p.bind();
-        set_response_constants(p);
-        search(p);
-        g.layout.texture(0).bind(0);
-        g.layout.texture(1).bind(1);
-        g.layout.texture(2).bind(2);
-        counts.texture(0).bind(9);
-        p.set_i32("u_position", 0);
-        p.set_i32("u_velocity", 1);
-        p.set_i32("u_static", 2);
-        p.set_i32("u_counts", 9);
-        p.set_f32("u_restitution", self.config.restitution);
-        p.set_f32("u_dt", dt);
-        p.set_vec4("u_inv_mass", inv_mass);
-        self.pass.draw(p, state.back());
-        state.swap();
+        // Iteration 0 reads the gathered layout (and its counts are what `read_back` shows);
+        // further iterations (`collisions.iterations`) relax the state the previous one wrote,
+        // which is in the same order, so the sorted keys still index it.
+        for it in 0..self.config.iterations.max(1) {
+            let (pos, vel) = if it == 0 {
+                (g.layout.texture(0), g.layout.texture(1))
+            } else {
+                (state.front().texture(0), state.front().texture(1))
+            };
+            let target = if it == 0 { counts } else { more_counts };
+            count.bind();
+            search(count);
+            pos.bind(0);
+            count.set_i32("u_position", 0);
+            self.pass.draw(count, target);
+            let p = response;
+            p.bind();
+            set_response_constants(p);
+            search(p);
+            pos.bind(0);
+            vel.bind(1);
+            g.layout.texture(2).bind(2);
+            target.texture(0).bind(9);
+            p.set_i32("u_position", 0);
+            p.set_i32("u_velocity", 1);
+            p.set_i32("u_static", 2);
+            p.set_i32("u_counts", 9);
+            p.set_f32("u_restitution", self.config.restitution);
+            p.set_f32("u_dt", dt);
+            p.set_vec4("u_inv_mass", inv_mass);
+            self.pass.draw(p, state.back());
+            state.swap();
+        }
         let c = &self.copy;
         c.bind();
         g.layout.texture(2).bind(0);

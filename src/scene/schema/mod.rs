@@ -166,6 +166,14 @@ pub struct Collisions {
     /// and a cell of at least 2 radius; `neighbours` and `staggered` do not apply).
     #[serde(default)]
     pub detection: Detection,
+    /// Time-stamp emission with phases in texel order, so that the particles released in one
+    /// step share a row (UberFlow §5; default); `false`: random phases.
+    #[serde(default = "yes")]
+    pub row_phases: bool,
+    /// Exact mode: detection and response passes per step (1 to 16); each one relaxes what the
+    /// last left overlapping (a resting pile needs a few).
+    #[serde(default = "one_u32")]
+    pub iterations: u32,
 }
 
 /// `collisions.detection`: how collision partners are found.

@@ -198,6 +198,9 @@ fn collisions(s: &SceneFile) -> Check {
             );
         }
     }
+    if !(1..=16).contains(&c.iterations) {
+        return fail(at("iterations"), "iterations must lie in 1..=16");
+    }
     if c.detection == crate::scene::schema::Detection::Exact {
         if c.rows_only.is_some() {
             return fail(

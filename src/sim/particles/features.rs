@@ -60,6 +60,8 @@ pub struct Features {
     pub collisions: Option<(u32, bool, Option<u32>)>,
     /// The collision detection mode (with `collisions`).
     pub detection: crate::scene::Detection,
+    /// Time stamps in texel order (`collisions.row_phases`), so a release shares a row.
+    pub row_phases: bool,
 }
 
 impl Features {
@@ -105,6 +107,7 @@ impl Features {
                 .collisions
                 .as_ref()
                 .map_or(Default::default(), |c| c.detection),
+            row_phases: scene.collisions.as_ref().is_some_and(|c| c.row_phases),
         }
     }
 
@@ -138,7 +141,12 @@ impl Features {
                 def("ALLOCATOR", "1".into());
                 def("LIFE", "1".into());
             }
-            Emission::Timestamp => def("TIMESTAMP", "1".into()),
+            Emission::Timestamp => {
+                def("TIMESTAMP", "1".into());
+                if self.row_phases {
+                    def("ROW_PHASES", "1".into());
+                }
+            }
             Emission::Initial { life } => {
                 def("INITIAL", "1".into());
                 if life {

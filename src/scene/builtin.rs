@@ -19,7 +19,7 @@ macro_rules! builtin_scenes {
     };
 }
 
-builtin_scenes!["fire", "snow", "fountain", "smoke", "e1", "e2", "e3", "collide"];
+builtin_scenes!["fire", "snow", "fountain", "smoke", "e1", "e2", "e3", "collide", "gas"];
 
 /// The scene rendered when none is named.
 pub const DEFAULT_SCENE: &str = "fire";

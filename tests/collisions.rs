@@ -279,3 +279,97 @@ fn rows_only_sorting_finds_a_release_s_collisions() {
         "random {random:?}\nrows {rows:?}"
     );
 }
+
+/// collide-stats' attribution of misses against a brute-force classification of a small random
+/// gas: all pairs by brute force, each particle found in each lattice's layout by its position,
+/// and each missed pair classified in the layout of the lattice that could have found it.
+#[test]
+fn miss_causes_match_a_brute_force_classification() {
+    let ctx = context();
+    let s = collide_scene(
+        [32, 32],
+        "radius = 0.03\nneighbours = 4\nbounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]",
+    );
+    let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+    set(&mut sim, &random_gas(1024, 9, 0.0));
+    sim.collide().unwrap();
+    let snap = Snapshot::read(sim.collisions().unwrap()).unwrap();
+    let stats = snap.stats();
+    no_gl_error(&ctx);
+    let lattices: Vec<_> = std::iter::once(&snap.first).chain(&snap.second).collect();
+    let at = |v: &[f32], i: usize| [v[i * 4], v[i * 4 + 1], v[i * 4 + 2]];
+    let bits = |p: [f32; 3]| p.map(f32::to_bits);
+    // Each particle's place in every layout, by position (the first layout names particles).
+    let place: Vec<std::collections::HashMap<[u32; 3], usize>> = lattices
+        .iter()
+        .map(|l| (0..1024).map(|i| (bits(at(&l.positions, i)), i)).collect())
+        .collect();
+    let a = &snap.first.positions;
+    let (w, k) = (32usize, 4usize);
+    let mut found = std::collections::HashSet::new();
+    for (g, l) in lattices.iter().enumerate() {
+        for i in 0..1024 {
+            let raw = l.partners[i * 4 + 3];
+            if raw >= 0.0 {
+                let x = place[0][&bits(at(&l.positions, i))];
+                let y = place[0][&bits(at(&l.positions, raw as usize))];
+                found.insert((x.min(y), x.max(y)));
+                assert!(g < 2);
+            }
+        }
+    }
+    let cell = |l: &texflow::sim::collide::Lattice, p: [f32; 3]| {
+        let c: Vec<u32> = (0..3)
+            .map(|d| {
+                let v = ((p[d] - l.origin[d]) / l.spacing).floor();
+                v.clamp(0.0, (l.dims[d] - 1) as f32) as u32
+            })
+            .collect();
+        c
+    };
+    let mut causes = [0usize; 4]; // adjacent, other row, far, closer
+    let mut pairs = 0;
+    for i in 0..1024 {
+        for j in i + 1..1024 {
+            let (p, q) = (at(a, i), at(a, j));
+            let d: f32 = (0..3).map(|c| (p[c] - q[c]).powi(2)).sum::<f32>().sqrt();
+            if d >= 0.06 {
+                continue;
+            }
+            pairs += 1;
+            if found.contains(&(i, j)) {
+                continue;
+            }
+            let idx: Vec<(usize, usize)> =
+                place.iter().map(|m| (m[&bits(p)], m[&bits(q)])).collect();
+            if idx
+                .iter()
+                .any(|&(x, y)| x / w == y / w && x.abs_diff(y) <= k)
+            {
+                causes[3] += 1;
+            } else if let Some(g) = (0..lattices.len())
+                .find(|&g| cell(&lattices[g].lattice, p) == cell(&lattices[g].lattice, q))
+            {
+                let (x, y) = idx[g];
+                causes[if x / w != y / w { 1 } else { 2 }] += 1;
+            } else {
+                causes[0] += 1;
+            }
+        }
+    }
+    eprintln!("{pairs} pairs; brute-force causes {causes:?}; {stats:?}");
+    assert_eq!(stats.pairs_true, pairs);
+    assert!(
+        causes.iter().sum::<usize>() > 20,
+        "too few misses to test: {causes:?}"
+    );
+    assert_eq!(
+        [
+            stats.missed_adjacent_cells,
+            stats.missed_other_row,
+            stats.missed_far_along_row,
+            stats.missed_closer_partner
+        ],
+        causes
+    );
+}

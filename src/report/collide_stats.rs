@@ -64,13 +64,14 @@ pub struct CollisionStats {
     pub mutual: usize,
     /// Particles whose chosen partner took a closer partner from the other lattice.
     pub conflicts: usize,
-    /// Missed: the two are in different cells of the first lattice (and of the staggered one).
+    /// Missed: the two are in different cells of every lattice, and no lattice fetched them.
     pub missed_adjacent_cells: usize,
-    /// Missed: same cell, but sorted into different rows.
+    /// Missed: in one cell of a lattice, but sorted into different rows of its layout.
     pub missed_other_row: usize,
-    /// Missed: same row, further apart than `neighbours`.
+    /// Missed: in one cell and one row of a lattice's layout, further apart than `neighbours`.
     pub missed_far_along_row: usize,
-    /// Missed: within reach, but each particle keeps only its closest partner.
+    /// Missed: fetched by some lattice (same row of its layout, at most `neighbours` apart) but
+    /// each particle keeps only its closest partner.
     pub missed_closer_partner: usize,
     /// Pairs that came closer than 2 radius during the step but no longer overlap at its end
     /// (tunnelling between frames; not among `pairs_true`).
@@ -255,21 +256,41 @@ impl Snapshot {
             mean_depth,
             ..Default::default()
         };
+        // Each missed pair is put down to the lattice that could have found it, in that
+        // lattice's own layout: fetched in some lattice (same row, at most k apart) but lost to
+        // a closer partner; else sharing a cell in some lattice (the first that does) but sorted
+        // into different rows there or further apart than k; else in different cells of every
+        // lattice.
+        let b_of: Option<Vec<usize>> = self.second.as_ref().map(|b| {
+            let mut m = vec![usize::MAX; n];
+            for ib in 0..n {
+                if let Some(&ia) = index_a.get(&key(pos(&b.positions, ib))) {
+                    m[ia] = ib;
+                }
+            }
+            m
+        });
         for &(i, j) in truth.difference(&found) {
             s.missed += 1;
             let (pi, pj) = (pos(&a.positions, i), pos(&a.positions, j));
-            let same_b = self
-                .second
-                .as_ref()
-                .map(|b| b.lattice.cell(pi) == b.lattice.cell(pj));
-            if a.lattice.cell(pi) != a.lattice.cell(pj) && same_b != Some(true) {
-                s.missed_adjacent_cells += 1;
-            } else if i / w != j / w {
-                s.missed_other_row += 1;
-            } else if i.abs_diff(j) > k {
-                s.missed_far_along_row += 1;
-            } else {
+            let mut layouts = vec![(a.lattice, i, j)];
+            if let (Some(b), Some(m)) = (&self.second, &b_of) {
+                layouts.push((b.lattice, m[i], m[j]));
+            }
+            let fetched =
+                |&(_, x, y): &(Lattice, usize, usize)| x / w == y / w && x.abs_diff(y) <= k;
+            if layouts.iter().any(fetched) {
                 s.missed_closer_partner += 1;
+            } else if let Some(&(_, x, y)) =
+                layouts.iter().find(|(l, _, _)| l.cell(pi) == l.cell(pj))
+            {
+                if x / w != y / w {
+                    s.missed_other_row += 1;
+                } else {
+                    s.missed_far_along_row += 1;
+                }
+            } else {
+                s.missed_adjacent_cells += 1;
             }
         }
         // Tunnelling: with x_prev = x - v dt (the explicit step's last move), pairs whose

@@ -6,7 +6,9 @@
 
 use std::path::{Path, PathBuf};
 
-use super::collide_stats::{sweep, sweep_table, SweepRow};
+use super::collide_stats::{
+    density_configs, density_sweep, density_table, sweep, sweep_table, DensityPoint, SweepRow,
+};
 use super::plot::{self, Legend, Marker, Series};
 use super::{num, Csv, Progress, ReportOptions, SectionOutput, Size};
 use crate::bench::Clock;
@@ -165,6 +167,102 @@ pub fn markdown(rows: &[SweepRow], steps: u64, clock: Clock) -> String {
     )
 }
 
+/// Radii of the density sweep on the `gas` scene (overlaps per particle grow as r^3), and its
+/// steps and particles.
+pub fn density_plan(size: Size) -> (Vec<f32>, u64, [u32; 2]) {
+    match size {
+        Size::Full => (vec![0.004, 0.008, 0.016], 100, [128, 128]),
+        Size::Quick => (vec![0.016, 0.032], 10, [32, 32]),
+    }
+}
+
+/// Writes `collisions_density.csv` and the plot `collisions_density.png` (miss rate against
+/// overlaps per particle, one curve per configuration; zero miss rates cannot be drawn on log
+/// axes and are named in the legend instead).
+pub fn write_density(points: &[DensityPoint], device: &str, out: &Path) -> Result<Vec<PathBuf>> {
+    let mut csv = Csv::new(&[
+        "config",
+        "radius_m",
+        "overlaps_per_particle",
+        "pairs_true",
+        "missed",
+        "miss_rate_percent",
+        "partnered_percent",
+        "gpu_ms",
+    ]);
+    for p in points {
+        let s = &p.stats;
+        csv.row([
+            p.config.replace(',', ";"),
+            num(Some(p.radius as f64)),
+            num(Some(s.overlaps_per_particle)),
+            s.pairs_true.to_string(),
+            s.missed.to_string(),
+            num(Some(100.0 * s.missed as f64 / s.pairs_true.max(1) as f64)),
+            num(Some(
+                100.0 * s.partnered as f64 / s.overlapping.max(1) as f64,
+            )),
+            num(Some(s.gpu_ms)),
+        ]);
+    }
+    let csv_path = out.join("collisions_density.csv");
+    csv.write(&csv_path)?;
+    let colors = [
+        (40, 100, 200),
+        (200, 60, 40),
+        (40, 150, 60),
+        (150, 60, 170),
+        (220, 140, 20),
+        (90, 90, 90),
+    ];
+    let series: Vec<Series> = density_configs()
+        .iter()
+        .enumerate()
+        .map(|(i, (name, _))| {
+            let pts: Vec<(f64, f64)> = points
+                .iter()
+                .filter(|p| p.config == *name)
+                .map(|p| {
+                    (
+                        p.stats.overlaps_per_particle,
+                        100.0 * p.stats.missed as f64 / p.stats.pairs_true.max(1) as f64,
+                    )
+                })
+                .collect();
+            let zero = pts.iter().filter(|p| p.1 == 0.0).count();
+            Series {
+                label: if zero > 0 {
+                    format!("{name} (0 missed at {zero} densities: not drawn)")
+                } else {
+                    (*name).to_owned()
+                },
+                points: pts,
+                hollow: Vec::new(),
+                color: colors[i % colors.len()],
+                marker: if i % 2 == 0 {
+                    Marker::Circle
+                } else {
+                    Marker::Triangle
+                },
+                dashed: false,
+            }
+        })
+        .collect();
+    let png = out.join("collisions_density.png");
+    plot::loglog(
+        &png,
+        &format!("collision detection against density: gas scene ({device})"),
+        (
+            "overlapping neighbours per particle",
+            "missed overlapping pairs (%)",
+        ),
+        &series,
+        (900, 600),
+        Legend::UpperLeft,
+    )?;
+    Ok(vec![csv_path, png])
+}
+
 /// `report all`'s section.
 pub fn section(
     ctx: &Context,
@@ -185,9 +283,30 @@ pub fn section(
             r.variant, r.stats.false_pairs
         ));
     }
+    let mut files = write_files(&rows, &ctx.limits().renderer, clock, steps, out)?;
+    let (radii, dsteps, size) = density_plan(opts.size);
+    let mut gas = crate::scene::load("gas")?;
+    gas.particles.size = size;
+    let points = density_sweep(
+        ctx,
+        &gas,
+        &radii,
+        dsteps,
+        crate::engine::shader_seed(1),
+        |name| progress(&format!("collisions against density: {name}")),
+    )?;
+    files.extend(write_density(&points, &ctx.limits().renderer, out)?);
+    let mut md = markdown(&rows, steps, clock);
+    md += &format!(
+        "\n### Miss rate against density\n\n`gas` scene at {}x{} particles, step {dsteps}, \
+         radius varied; plot: `collisions_density.png`.\n\n{}",
+        size[0],
+        size[1],
+        density_table(&points)
+    );
     Ok(SectionOutput {
-        files: write_files(&rows, &ctx.limits().renderer, clock, steps, out)?,
-        markdown: markdown(&rows, steps, clock),
+        files,
+        markdown: md,
         warnings,
     })
 }

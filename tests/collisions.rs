@@ -373,3 +373,25 @@ fn miss_causes_match_a_brute_force_classification() {
         causes
     );
 }
+
+/// E4 reports what it found: its record carries the fraction of overlapping pairs, and the
+/// markdown table prints it beside the fps.
+#[test]
+fn e4_reports_the_fraction_of_pairs_found() {
+    use texflow::bench::scenes::{bench_scenes, markdown, ScenesOptions};
+    let ctx = context();
+    let opts = ScenesOptions {
+        repeats: 1,
+        warmup_frames: Some(60),
+        resolution: Some([64, 64]),
+        experiments: vec!["E4".into()],
+        ..ScenesOptions::default()
+    };
+    let records = bench_scenes(&ctx, &[32], &opts, |_, _| {}).expect("bench");
+    let e4 = records.iter().find(|r| r.experiment == "E4").unwrap();
+    let f = e4.pairs_found.expect("E4 measures the pairs it found");
+    assert!((0.0..=1.0).contains(&f), "{e4:?}");
+    assert!(e4.pairs_true.is_some());
+    assert!(markdown(&records).contains("% of pairs found"));
+    no_gl_error(&ctx);
+}

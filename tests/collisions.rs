@@ -395,3 +395,21 @@ fn e4_reports_the_fraction_of_pairs_found() {
     assert!(markdown(&records).contains("% of pairs found"));
     no_gl_error(&ctx);
 }
+
+/// Bad `[collisions]` keys of the new modes are errors that name the key and the fix.
+#[test]
+fn exact_mode_settings_are_validated() {
+    let base = scene::load_source("collide").unwrap().1;
+    for (extra, want) in [
+        ("detection = \"exact\"\nrows_only = 1", "remove rows_only"),
+        ("detection = \"exact\"\ncell = 0.01", "at least 2 radius"),
+        ("detection = \"exakt\"", "expected `uberflow` or `exact`"),
+        ("iterations = 0", "iterations must lie in 1..=16"),
+    ] {
+        let src = base
+            .replace("cell = 0.024\n", "")
+            .replace("staggered = true", &format!("staggered = true\n{extra}"));
+        let err = scene::parse("bad.toml", &src).expect_err(extra).to_string();
+        assert!(err.contains(want) && err.contains("bad.toml:"), "{extra}: {err}");
+    }
+}

@@ -410,6 +410,9 @@ fn exact_mode_settings_are_validated() {
             .replace("cell = 0.024\n", "")
             .replace("staggered = true", &format!("staggered = true\n{extra}"));
         let err = scene::parse("bad.toml", &src).expect_err(extra).to_string();
-        assert!(err.contains(want) && err.contains("bad.toml:"), "{extra}: {err}");
+        assert!(
+            err.contains(want) && err.contains("bad.toml:"),
+            "{extra}: {err}"
+        );
     }
 }

@@ -422,6 +422,8 @@ fn cli_report_all_quick_writes_every_file() {
         "collisions.csv",
         "collisions.json",
         "collisions_miss_rate.png",
+        "collisions_density.csv",
+        "collisions_density.png",
         "stability.json",
         "stability.md",
         "summary.md",
@@ -447,6 +449,7 @@ fn cli_report_all_quick_writes_every_file() {
         "sort_frames_passes.png",
         "sort_frames_time.png",
         "collisions_miss_rate.png",
+        "collisions_density.png",
     ] {
         let img = image::open(out_dir.join(p)).unwrap();
         assert_eq!((img.width(), img.height()), (900, 600), "{p}");

@@ -15,6 +15,16 @@ cp "$tmp/collide/frame_00299.png" docs/img/collide.png
 "$bin" render collide --frames 300 --every 299 --no-collisions --out "$tmp/collide_off" --quiet
 cp "$tmp/collide_off/frame_00299.png" docs/img/collide_off.png
 echo docs/img/collide.png docs/img/collide_off.png
+# Issue 11: 3 s of the collide scene at 64x64 particles without collisions, with UberFlow's
+# detection, and with the exact detection (4 iterations)
+"$bin" render collide --particles 64 --frames 301 --every 300 --resolution 384 --no-collisions --out "$tmp/c0" --quiet
+cp "$tmp/c0/frame_00300.png" docs/img/collide_none_3s.png
+"$bin" render collide --particles 64 --frames 301 --every 300 --resolution 384 --out "$tmp/c1" --quiet
+cp "$tmp/c1/frame_00300.png" docs/img/collide_uberflow_3s.png
+sed 's/^staggered = true/staggered = true\ndetection = "exact"\niterations = 4/' examples/scenes/collide.toml > "$tmp/collide_exact.toml"
+"$bin" render "$tmp/collide_exact.toml" --particles 64 --frames 301 --every 300 --resolution 384 --out "$tmp/c2" --quiet
+cp "$tmp/c2/frame_00300.png" docs/img/collide_exact_3s.png
+echo docs/img/collide_none_3s.png docs/img/collide_uberflow_3s.png docs/img/collide_exact_3s.png
 for spec in snow:360 fountain:150 smoke:300 e1:90 e2:150 e3:90; do
     name=${spec%%:*}
     frames=${spec##*:}

@@ -2,12 +2,9 @@
 // conditions (§4.6). Each fragment updates its own particle from its mutual partner: the closer
 // of the partner found in this layout (PARTNER 1) and, with STAGGERED, the one found on the
 // staggered lattice (PARTNER 2, whose index refers to the other layout's textures).
-// Both are backed up in time to first contact, |x_ij - v_ij tau| = 2r (tau at most dt), exchange
-// momentum along the contact normal with restitution e (elastic: kinetic energy conserved too),
-//   v_i' = v_i - (1 + e) m_j / (m_i + m_j) ((v_i - v_j) . n) n,
-// and advance by tau again with the new velocity. Both particles of a pair compute the same
-// impulse with opposite signs, so linear momentum is conserved to rounding. Coincident centres
-// take a fixed normal, +y or -y by the particles' random numbers, so the pair still agrees.
+// The pair is backed up to first contact, exchanges momentum if approaching, and what still
+// overlaps is separated along the line of centres, mass-weighted (collide/pair.glsl). Both
+// particles of a mutual pair compute the same change with opposite signs.
 
 #include "common/state.glsl"
 #include "common/precision.glsl"
@@ -23,10 +20,9 @@ uniform sampler2D u_velocity2;
 uniform sampler2D u_static2;
 #endif
 uniform int u_width;
-uniform float u_radius;
-uniform float u_restitution;
-uniform float u_dt;
 uniform vec4 u_inv_mass;
+
+#include "collide/pair.glsl"
 
 vec3 advance(vec3 x, vec3 v, vec3 vb) {
     return x + vb * u_dt;
@@ -40,25 +36,12 @@ layout(location = 0) out vec4 o_position;
 layout(location = 1) out vec4 o_velocity;
 
 void respond(inout vec3 x, inout vec3 v, vec4 st, vec4 q, vec3 w, vec4 st_q) {
-    float mi = 1.0 / u_inv_mass[int(st.y)];
-    float mj = 1.0 / u_inv_mass[int(st_q.y)];
-    vec3 dx = x - q.xyz;
-    vec3 dv = v - w;
-    float vv = dot(dv, dv);
-    float xv = dot(dx, dv);
-    float c = dot(dx, dx) - 4.0 * u_radius * u_radius;
-    float tau = 0.0;
-    if (vv > 0.0) {
-        tau = clamp((xv + sqrt(max(xv * xv - vv * c, 0.0))) / vv, 0.0, u_dt);
-    }
-    vec3 xc = dx - dv * tau;
-    float len = length(xc);
-    vec3 n = len > 0.0 ? xc / len : vec3(0.0, st.w < st_q.w ? 1.0 : -1.0, 0.0);
-    float vn = dot(dv, n);
-    if (vn >= 0.0) return;   // separating at contact: nothing to do
-    vec3 back = x - v * tau;
-    v -= (1.0 + u_restitution) * mj / (mi + mj) * vn * n;
-    x = back + v * tau;
+    vec3 dv = vec3(0.0);
+    vec3 dx = vec3(0.0);
+    pair_response(x, v, 1.0 / u_inv_mass[int(st.y)], st.w, q.xyz, w,
+                  1.0 / u_inv_mass[int(st_q.y)], st_q.w, 1.0, 1.0, dv, dx);
+    v += dv;
+    x += dx;
 }
 
 void main() {

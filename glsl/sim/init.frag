@@ -2,7 +2,12 @@
 //   INITIAL    every particle spawned now from its emitter (type = index mod emitter count);
 //              with LIFE it lives once, else it is permanent (life 1, total life 0)
 //   TIMESTAMP  every particle unborn, its phase spread uniformly over its type's first cycle,
-//              its life drawn once (UberFlow §4.1)
+//              its life drawn once (UberFlow §4.1); with ROW_PHASES (collision scenes) the
+//              phases follow the texel order instead of a random draw: texel i of N takes
+//              the middle of step floor((i + 0.5) / N * S) of the S = cycle / dt steps of a
+//              cycle, so one step's release is a run of consecutive texels, in one row (or two,
+//              where the run crosses a row's end), and rows-only sorting can find its collisions
+//              (UberFlow §5)
 //   ALLOCATOR  every texel dead and free; the CPU allocator emits into it
 // OUT_STATE writes position (and velocity), OUT_PREVIOUS the Verlet previous position
 // x0 - v0 dt + a0 dt^2 / 2 (the second-order start), OUT_STATIC the static texture.
@@ -17,6 +22,9 @@ uniform int u_emitters;
 uniform float u_dt;
 #ifdef TIMESTAMP
 uniform vec4 u_cycle;
+#endif
+#ifdef ROW_PHASES
+uniform ivec2 u_size;
 #endif
 
 #include "sim/forces.glsl"
@@ -48,6 +56,11 @@ void main() {
 #endif
 #elif defined(TIMESTAMP)
     st.x = rng_uniform(rng) * u_cycle[type];
+#ifdef ROW_PHASES
+    float steps = max(1.0, floor(u_cycle[type] / u_dt + 0.5));
+    float f = (float(index) + 0.5) / (float(u_size.x) * float(u_size.y));
+    st.x = (floor(f * steps) + 0.5) * u_dt;
+#endif
     st.z = spawn_life(type, rng);
     pos.w = -1.0;
 #endif

@@ -71,6 +71,11 @@ pub trait FrameSource {
     /// Runs one whole frame timed in parts (each part finished before the next starts): names
     /// and milliseconds.
     fn phases(&mut self, timer: &PassTimer) -> Result<Vec<(&'static str, f64)>>;
+    /// With inter-particle collisions: how many overlapping pairs the last step's detection
+    /// found (the CPU counts them from a read-back).
+    fn census(&self) -> Result<Option<crate::sim::collide::PairCensus>> {
+        Ok(None)
+    }
 }
 
 /// Times `f` with `timer`, passing its error on.
@@ -98,6 +103,10 @@ impl FrameSource for GpuScene {
     fn frame(&mut self) -> Result<()> {
         self.0.advance_frame()?;
         self.0.draw()
+    }
+
+    fn census(&self) -> Result<Option<crate::sim::collide::PairCensus>> {
+        self.0.sim().collisions().map(|c| c.census()).transpose()
     }
 
     fn live(&self) -> Result<u64> {
@@ -366,6 +375,11 @@ pub struct SceneRecord {
     pub repeats: usize,
     /// Clock of `ms` (E5: wall).
     pub clock: Option<Clock>,
+    /// Collision experiments (E4): the fraction of overlapping pairs the last timed frame's
+    /// detection found (what its fps buys), and the pairs it was measured on.
+    pub pairs_found: Option<f64>,
+    /// Overlapping pairs behind `pairs_found`.
+    pub pairs_true: Option<usize>,
     /// Why it was not run.
     pub note: Option<String>,
 }
@@ -456,6 +470,8 @@ fn run_one(
         repeats: opts.repeats,
         clock: None,
         note: None,
+        pairs_found: None,
+        pairs_true: None,
     };
     let Some(build) = e.build else {
         r.note = Some("not run: E4's scene is not wired in yet (bench_scenes::E4_SCENE)".into());
@@ -508,6 +524,10 @@ fn run_one(
     r.wall_ms = Some(median(&wall));
     r.clock = Some(if e.cpu { Clock::Wall } else { timer.clock() });
     r.live = Some(src.live()?);
+    if let Some(c) = src.census()? {
+        r.pairs_found = Some(c.fraction());
+        r.pairs_true = Some(c.pairs);
+    }
     Ok(r)
 }
 
@@ -588,7 +608,10 @@ pub fn markdown(records: &[SceneRecord]) -> String {
                 row += " |";
                 continue;
             };
-            let measured = r.fps.map(num).unwrap_or_else(|| "—".into());
+            let mut measured = r.fps.map(num).unwrap_or_else(|| "—".into());
+            if let Some(f) = r.pairs_found {
+                measured += &format!(", {:.1}% of pairs found", 100.0 * f);
+            }
             row += &match r.paper_fps {
                 Some(p) => format!(" {measured} ({}) |", num(p)),
                 None => format!(" {measured} |"),

@@ -25,6 +25,13 @@ pub struct CollideStatsArgs {
     /// Lattice mesh size g0 in metres (default: the scene's).
     #[arg(long, value_parser = positive_finite, allow_hyphen_values = true)]
     cell: Option<f32>,
+    /// Detection mode: uberflow (k neighbours per side in the sorted rows) or exact (every
+    /// particle of the 27 neighbouring cells).
+    #[arg(long, value_parser = ["uberflow", "exact"])]
+    detection: Option<String>,
+    /// Exact mode: detection and response passes per step (1 to 16).
+    #[arg(long)]
+    iterations: Option<u32>,
     /// Steps to run; the statistics are taken at the last one.
     #[arg(long, default_value_t = 240, value_parser = at_least_one::<u64>)]
     steps: u64,
@@ -84,6 +91,19 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
     if let Some(g) = a.cell {
         c.cell = Some(g);
     }
+    if let Some(n) = a.iterations {
+        c.iterations = n;
+    }
+    if let Some(d) = &a.detection {
+        c.detection = if d == "exact" {
+            scene::Detection::Exact
+        } else {
+            scene::Detection::Uberflow
+        };
+        if c.detection == scene::Detection::Exact {
+            c.rows_only = None;
+        }
+    }
     overrides.apply(&mut s)?;
     let prepared = Prepared {
         label,
@@ -127,6 +147,7 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
         v["k"] = c.neighbours.into();
         v["staggered"] = c.staggered.into();
         v["rows_only"] = c.rows_only.into();
+        v["detection"] = format!("{:?}", c.detection).to_lowercase().into();
         v["steps"] = a.steps.into();
         v["device"] = ctx.limits().renderer.clone().into();
         println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
@@ -134,7 +155,7 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
         let pct = |n: usize| 100.0 * n as f64 / stats.pairs_true.max(1) as f64;
         println!(
             "{} on {}: step {}, {} live particles, {:.2} per occupied cell; k = {}, staggered {}, \
-             sort {}",
+             sort {}, detection {}",
             s.name,
             ctx.limits().renderer,
             a.steps,
@@ -146,7 +167,14 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
                 None => "full".to_owned(),
                 Some(1) => "rows only".to_owned(),
                 Some(r) => format!("within {r} rows"),
-            }
+            },
+            format!("{:?}", c.detection).to_lowercase()
+        );
+        println!(
+            "density      {:>8.2}  overlapping neighbours per particle; mean depth {:.1}% of \
+             the diameter",
+            stats.overlaps_per_particle,
+            100.0 * stats.mean_depth
         );
         println!("pairs_true   {:>8}", stats.pairs_true);
         println!("found        {:>8}", stats.found);
@@ -159,6 +187,18 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
         println!("  partner in another row {:>3}", stats.missed_other_row);
         println!("  far along the row   {:>6}", stats.missed_far_along_row);
         println!("  closer partner kept {:>6}", stats.missed_closer_partner);
+        println!(
+            "partnered    {:>8}  of {} overlapping particles ({:.1}%) got a partner",
+            stats.partnered,
+            stats.overlapping,
+            100.0 * stats.partnered as f64 / stats.overlapping.max(1) as f64
+        );
+        if stats.truncated > 0 {
+            println!(
+                "truncated    {:>8}  particles met a run of cells over the exact search's bound",
+                stats.truncated
+            );
+        }
         println!("false_pairs  {:>8}", stats.false_pairs);
         println!("mutual       {:>8}", stats.mutual);
         println!(

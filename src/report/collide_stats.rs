@@ -43,6 +43,8 @@ pub struct Snapshot {
     pub first: LatticeSnapshot,
     /// The staggered lattice.
     pub second: Option<LatticeSnapshot>,
+    /// The exact mode: `first.partners` holds (partners found, truncated, 0, 0) per particle.
+    pub exact: bool,
 }
 
 /// How well one step's detection did against the true set of overlapping pairs.
@@ -62,19 +64,33 @@ pub struct CollisionStats {
     pub mutual: usize,
     /// Particles whose chosen partner took a closer partner from the other lattice.
     pub conflicts: usize,
-    /// Missed: the two are in different cells of the first lattice (and of the staggered one).
+    /// Missed: the two are in different cells of every lattice, and no lattice fetched them.
     pub missed_adjacent_cells: usize,
-    /// Missed: same cell, but sorted into different rows.
+    /// Missed: in one cell of a lattice, but sorted into different rows of its layout.
     pub missed_other_row: usize,
-    /// Missed: same row, further apart than `neighbours`.
+    /// Missed: in one cell and one row of a lattice's layout, further apart than `neighbours`.
     pub missed_far_along_row: usize,
-    /// Missed: within reach, but each particle keeps only its closest partner.
+    /// Missed: fetched by some lattice (same row of its layout, at most `neighbours` apart) but
+    /// each particle keeps only its closest partner.
     pub missed_closer_partner: usize,
     /// Pairs that came closer than 2 radius during the step but no longer overlap at its end
     /// (tunnelling between frames; not among `pairs_true`).
     pub tunnelled: usize,
     /// Mean live particles per occupied cell of the first lattice.
     pub particles_per_cell: f64,
+    /// Overlapping neighbours per live particle (2 x true pairs / particles): the density.
+    pub overlaps_per_particle: f64,
+    /// Particles that overlap at least one other.
+    pub overlapping: usize,
+    /// Of those, the ones the response acts on: a mutual partner (UberFlow), or at least one
+    /// partner found (exact).
+    pub partnered: usize,
+    /// Mean overlap depth of the true pairs, as a fraction of the diameter:
+    /// mean of (2r - |x_i - x_j|) / 2r.
+    pub mean_depth: f64,
+    /// Exact mode: particles whose search met a run of cells holding more particles than it
+    /// walks (`sim::collide::EXACT_SCAN`); their missing partners are missed for that reason.
+    pub truncated: usize,
     /// Median GPU time of the collision passes of one step (ms; [`measure`] fills it in).
     pub gpu_ms: f64,
 }
@@ -139,6 +155,7 @@ impl Snapshot {
             dt: stage.dt(),
             first: lattice(first, false)?,
             second: second.map(|l| lattice(l, true)).transpose()?,
+            exact: stage.detection() == scene::Detection::Exact,
         })
     }
 
@@ -156,6 +173,25 @@ impl Snapshot {
             .map(|i| (i, pos(&a.positions, i)))
             .collect();
         let truth: HashSet<(usize, usize)> = close_pairs(&points, reach).into_iter().collect();
+        let mut true_count = vec![0usize; n];
+        for &(i, j) in &truth {
+            true_count[i] += 1;
+            true_count[j] += 1;
+        }
+        let overlapping = true_count.iter().filter(|&&c| c > 0).count();
+        let mean_depth = truth
+            .iter()
+            .map(|&(i, j)| {
+                (1.0 - pos(&a.positions, i).distance(pos(&a.positions, j)) / reach) as f64
+            })
+            .sum::<f64>()
+            / truth.len().max(1) as f64;
+        let density = 2.0 * truth.len() as f64 / points.len().max(1) as f64;
+        if self.exact {
+            let mut s = self.exact_stats(&points, &truth, &true_count, overlapping, density);
+            s.mean_depth = mean_depth;
+            return s;
+        }
         // Lattice B's order -> lattice A's, by the positions' bits (unique in practice).
         let key = |p: Vec3| (p.x.to_bits(), p.y.to_bits(), p.z.to_bits());
         let index_a: HashMap<_, usize> = points.iter().map(|&(i, p)| (key(p), i)).collect();
@@ -197,6 +233,9 @@ impl Snapshot {
                 (None, None) => None,
             })
             .collect();
+        let partnered = (0..n)
+            .filter(|&i| true_count[i] > 0 && chosen[i].is_some())
+            .count();
         let conflicts = (0..n)
             .filter(|&i| matches!(chosen[i], Some(j) if chosen[j] != Some(i)))
             .count();
@@ -211,23 +250,47 @@ impl Snapshot {
             false_pairs,
             mutual: mutual.len(),
             conflicts,
+            overlaps_per_particle: density,
+            overlapping,
+            partnered,
+            mean_depth,
             ..Default::default()
         };
+        // Each missed pair is put down to the lattice that could have found it, in that
+        // lattice's own layout: fetched in some lattice (same row, at most k apart) but lost to
+        // a closer partner; else sharing a cell in some lattice (the first that does) but sorted
+        // into different rows there or further apart than k; else in different cells of every
+        // lattice.
+        let b_of: Option<Vec<usize>> = self.second.as_ref().map(|b| {
+            let mut m = vec![usize::MAX; n];
+            for ib in 0..n {
+                if let Some(&ia) = index_a.get(&key(pos(&b.positions, ib))) {
+                    m[ia] = ib;
+                }
+            }
+            m
+        });
         for &(i, j) in truth.difference(&found) {
             s.missed += 1;
             let (pi, pj) = (pos(&a.positions, i), pos(&a.positions, j));
-            let same_b = self
-                .second
-                .as_ref()
-                .map(|b| b.lattice.cell(pi) == b.lattice.cell(pj));
-            if a.lattice.cell(pi) != a.lattice.cell(pj) && same_b != Some(true) {
-                s.missed_adjacent_cells += 1;
-            } else if i / w != j / w {
-                s.missed_other_row += 1;
-            } else if i.abs_diff(j) > k {
-                s.missed_far_along_row += 1;
-            } else {
+            let mut layouts = vec![(a.lattice, i, j)];
+            if let (Some(b), Some(m)) = (&self.second, &b_of) {
+                layouts.push((b.lattice, m[i], m[j]));
+            }
+            let fetched =
+                |&(_, x, y): &(Lattice, usize, usize)| x / w == y / w && x.abs_diff(y) <= k;
+            if layouts.iter().any(fetched) {
                 s.missed_closer_partner += 1;
+            } else if let Some(&(_, x, y)) =
+                layouts.iter().find(|(l, _, _)| l.cell(pi) == l.cell(pj))
+            {
+                if x / w != y / w {
+                    s.missed_other_row += 1;
+                } else {
+                    s.missed_far_along_row += 1;
+                }
+            } else {
+                s.missed_adjacent_cells += 1;
             }
         }
         // Tunnelling: with x_prev = x - v dt (the explicit step's last move), pairs whose
@@ -260,6 +323,57 @@ impl Snapshot {
         }
         s.particles_per_cell = points.len() as f64 / cells.len().max(1) as f64;
         s
+    }
+}
+
+impl Snapshot {
+    /// The exact mode's statistics: its search only counts particles closer than 2r, so what it
+    /// found of particle i's true partners is its count, and a pair is missed from i's side if
+    /// the count falls short. `missed` counts the missing ends of pairs halved, rounded up (a
+    /// pair missed from both sides counts once, from one side half); `found` is the rest.
+    fn exact_stats(
+        &self,
+        points: &[(usize, Vec3)],
+        truth: &std::collections::HashSet<(usize, usize)>,
+        true_count: &[usize],
+        overlapping: usize,
+        density: f64,
+    ) -> CollisionStats {
+        let a = &self.first;
+        let mut short = 0usize;
+        let mut extra = 0usize;
+        let mut partnered = 0usize;
+        let mut truncated = 0usize;
+        for &(i, _) in points {
+            let found = a.partners[i * 4].max(0.0) as usize;
+            short += true_count[i].saturating_sub(found);
+            extra += found.saturating_sub(true_count[i]);
+            if true_count[i] > 0 && found > 0 {
+                partnered += 1;
+            }
+            if a.partners[i * 4 + 1] > 0.5 {
+                truncated += 1;
+            }
+        }
+        let missed = short.div_ceil(2);
+        let mut cells: std::collections::HashMap<u64, usize> = Default::default();
+        for (_, p) in points {
+            *cells.entry(a.lattice.key(a.lattice.cell(*p))).or_default() += 1;
+        }
+        CollisionStats {
+            particles: points.len(),
+            pairs_true: truth.len(),
+            found: truth.len() - missed.min(truth.len()) + extra.div_ceil(2),
+            missed,
+            false_pairs: extra.div_ceil(2),
+            mutual: truth.len() - missed.min(truth.len()),
+            overlaps_per_particle: density,
+            overlapping,
+            partnered,
+            truncated,
+            particles_per_cell: points.len() as f64 / cells.len().max(1) as f64,
+            ..Default::default()
+        }
     }
 }
 

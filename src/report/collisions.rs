@@ -2,16 +2,18 @@
 //! against the GPU time of the collision passes, for the neighbour count k, the staggered
 //! lattice, rows-only sorting and the cell size, on the built-in `collide` scene. The numbers are
 //! those of `texflow collide-stats collide --sweep` ([`super::collide_stats::sweep`]): the pairs
-//! the GPU found at the last step against all overlapping pairs from a CPU cell-list reference.
+//! the GPU found at the last step against all overlapping pairs from a CPU cell-list reference;
+//! and the miss rate against density on the `gas` scene ([`density_sweep`]).
 
 use std::path::{Path, PathBuf};
 
-use super::collide_stats::{sweep, sweep_table, SweepRow};
+use super::collide_stats::{measure, sweep, sweep_table, CollisionStats, SweepRow};
 use super::plot::{self, Legend, Marker, Series};
 use super::{num, Csv, Progress, ReportOptions, SectionOutput, Size};
-use crate::bench::Clock;
-use crate::error::Result;
+use crate::bench::{median, Clock};
+use crate::error::{Error, Result};
 use crate::gl::Context;
+use crate::scene::{self, SceneFile};
 
 /// Steps simulated before the measured one: the docs' 240 (the pile has formed), 60 with
 /// `--quick`.
@@ -165,6 +167,102 @@ pub fn markdown(rows: &[SweepRow], steps: u64, clock: Clock) -> String {
     )
 }
 
+/// Radii of the density sweep on the `gas` scene (overlaps per particle grow as r^3), and its
+/// steps and particles.
+pub fn density_plan(size: Size) -> (Vec<f32>, u64, [u32; 2]) {
+    match size {
+        Size::Full => (vec![0.004, 0.008, 0.016], 100, [128, 128]),
+        Size::Quick => (vec![0.016, 0.032], 10, [32, 32]),
+    }
+}
+
+/// Writes `collisions_density.csv` and the plot `collisions_density.png` (miss rate against
+/// overlaps per particle, one curve per configuration; zero miss rates cannot be drawn on log
+/// axes and are named in the legend instead).
+pub fn write_density(points: &[DensityPoint], device: &str, out: &Path) -> Result<Vec<PathBuf>> {
+    let mut csv = Csv::new(&[
+        "config",
+        "radius_m",
+        "overlaps_per_particle",
+        "pairs_true",
+        "missed",
+        "miss_rate_percent",
+        "partnered_percent",
+        "gpu_ms",
+    ]);
+    for p in points {
+        let s = &p.stats;
+        csv.row([
+            p.config.replace(',', ";"),
+            num(Some(p.radius as f64)),
+            num(Some(s.overlaps_per_particle)),
+            s.pairs_true.to_string(),
+            s.missed.to_string(),
+            num(Some(100.0 * s.missed as f64 / s.pairs_true.max(1) as f64)),
+            num(Some(
+                100.0 * s.partnered as f64 / s.overlapping.max(1) as f64,
+            )),
+            num(Some(s.gpu_ms)),
+        ]);
+    }
+    let csv_path = out.join("collisions_density.csv");
+    csv.write(&csv_path)?;
+    let colors = [
+        (40, 100, 200),
+        (200, 60, 40),
+        (40, 150, 60),
+        (150, 60, 170),
+        (220, 140, 20),
+        (90, 90, 90),
+    ];
+    let series: Vec<Series> = density_configs()
+        .iter()
+        .enumerate()
+        .map(|(i, (name, _))| {
+            let pts: Vec<(f64, f64)> = points
+                .iter()
+                .filter(|p| p.config == *name)
+                .map(|p| {
+                    (
+                        p.stats.overlaps_per_particle,
+                        100.0 * p.stats.missed as f64 / p.stats.pairs_true.max(1) as f64,
+                    )
+                })
+                .collect();
+            let zero = pts.iter().filter(|p| p.1 == 0.0).count();
+            Series {
+                label: if zero > 0 {
+                    format!("{name} (0 missed at {zero} densities: not drawn)")
+                } else {
+                    (*name).to_owned()
+                },
+                points: pts,
+                hollow: Vec::new(),
+                color: colors[i % colors.len()],
+                marker: if i % 2 == 0 {
+                    Marker::Circle
+                } else {
+                    Marker::Triangle
+                },
+                dashed: false,
+            }
+        })
+        .collect();
+    let png = out.join("collisions_density.png");
+    plot::loglog(
+        &png,
+        &format!("collision detection against density: gas scene ({device})"),
+        (
+            "overlapping neighbours per particle",
+            "missed overlapping pairs (%)",
+        ),
+        &series,
+        (900, 600),
+        Legend::UpperLeft,
+    )?;
+    Ok(vec![csv_path, png])
+}
+
 /// `report all`'s section.
 pub fn section(
     ctx: &Context,
@@ -185,9 +283,140 @@ pub fn section(
             r.variant, r.stats.false_pairs
         ));
     }
+    let mut files = write_files(&rows, &ctx.limits().renderer, clock, steps, out)?;
+    let (radii, dsteps, size) = density_plan(opts.size);
+    let mut gas = crate::scene::load("gas")?;
+    gas.particles.size = size;
+    let points = density_sweep(
+        ctx,
+        &gas,
+        &radii,
+        dsteps,
+        crate::engine::shader_seed(1),
+        |name| progress(&format!("collisions against density: {name}")),
+    )?;
+    files.extend(write_density(&points, &ctx.limits().renderer, out)?);
+    let mut md = markdown(&rows, steps, clock);
+    md += &format!(
+        "\n### Miss rate against density\n\n`gas` scene at {}x{} particles, step {dsteps}, \
+         radius varied; plot: `collisions_density.png`.\n\n{}",
+        size[0],
+        size[1],
+        density_table(&points)
+    );
     Ok(SectionOutput {
-        files: write_files(&rows, &ctx.limits().renderer, clock, steps, out)?,
-        markdown: markdown(&rows, steps, clock),
+        files,
+        markdown: md,
         warnings,
     })
+}
+
+/// One point of [`density_sweep`]: a detection configuration at one density.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct DensityPoint {
+    /// The configuration (one curve of the plot).
+    pub config: String,
+    /// Sphere radius (m).
+    pub radius: f32,
+    /// The measurement.
+    pub stats: CollisionStats,
+}
+
+/// How a configuration of [`density_configs`] changes a scene's `[collisions]`.
+pub type ConfigChange = fn(&mut scene::Collisions);
+
+/// The detection configurations of [`density_sweep`]: name and how it changes the scene's
+/// `[collisions]` at radius r (cell 2r or 8r, staggering, k, rows-only, exact).
+pub fn density_configs() -> Vec<(&'static str, ConfigChange)> {
+    fn cell(c: &mut scene::Collisions, f: f32) {
+        c.cell = Some(f * c.radius);
+    }
+    vec![
+        ("staggered, full sort, k 8, cell 2r", |c| cell(c, 2.0)),
+        ("staggered, full sort, k 8, cell 8r", |c| cell(c, 8.0)),
+        ("one lattice, full sort, k 8, cell 8r", |c| {
+            cell(c, 8.0);
+            c.staggered = false;
+        }),
+        ("staggered, full sort, k 2, cell 8r", |c| {
+            cell(c, 8.0);
+            c.neighbours = 2;
+        }),
+        ("staggered, rows only, k 8, cell 8r", |c| {
+            cell(c, 8.0);
+            c.rows_only = Some(1);
+        }),
+        ("exact, cell 2r", |c| {
+            cell(c, 2.0);
+            c.detection = scene::Detection::Exact;
+        }),
+    ]
+}
+
+/// The miss rate against density: `scene` (a gas such as the built-in `gas`) at each sphere
+/// radius of `radii`, measured with every configuration of [`density_configs`].
+pub fn density_sweep(
+    ctx: &Context,
+    scene: &SceneFile,
+    radii: &[f32],
+    steps: u64,
+    seed: u32,
+    mut progress: impl FnMut(&str),
+) -> Result<Vec<DensityPoint>> {
+    let mut out = Vec::new();
+    for &r in radii {
+        for (name, change) in density_configs() {
+            progress(&format!("{name}, r = {r}"));
+            let mut s = scene.clone();
+            let Some(c) = s.collisions.as_mut() else {
+                return Err(Error::InvalidInput(format!(
+                    "scene `{}` has no [collisions] section",
+                    scene.name
+                )));
+            };
+            c.radius = r;
+            change(c);
+            let stats = measure(ctx, &s, steps, seed, || {})?;
+            out.push(DensityPoint {
+                config: name.to_owned(),
+                radius: r,
+                stats,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// The density sweep as a markdown table: one row per density, the miss rate of each
+/// configuration (the density is the median of the configurations' own, which differ because
+/// each detection moves the gas differently).
+pub fn density_table(points: &[DensityPoint]) -> String {
+    let configs: Vec<&str> = density_configs().iter().map(|c| c.0).collect();
+    let mut out = String::from("| radius (m) | overlaps per particle |");
+    let mut rule = String::from("| ---: | ---: |");
+    for c in &configs {
+        out += &format!(" {c}: missed |");
+        rule += " ---: |";
+    }
+    out += &format!("\n{rule}\n");
+    let mut radii: Vec<f32> = points.iter().map(|p| p.radius).collect();
+    radii.dedup();
+    for r in radii {
+        let row: Vec<&DensityPoint> = points.iter().filter(|p| p.radius == r).collect();
+        let d: Vec<f64> = row.iter().map(|p| p.stats.overlaps_per_particle).collect();
+        out += &format!("| {r} | {:.3} |", median(&d));
+        for c in &configs {
+            match row.iter().find(|p| p.config == *c) {
+                Some(p) => {
+                    out += &format!(
+                        " {:.1}% |",
+                        100.0 * p.stats.missed as f64 / p.stats.pairs_true.max(1) as f64
+                    )
+                }
+                None => out += " — |",
+            }
+        }
+        out.push('\n');
+    }
+    out
 }

@@ -11,6 +11,15 @@
 //! (`glsl/collide/mutual.frag`), so both sides of a pair apply opposite impulses. Across the two
 //! lattices a particle may still take a partner from one lattice while that partner takes a closer
 //! one from the other; the collision statistics of `report::collide_stats` count these conflicts.
+//! The response (`glsl/collide/pair.glsl`) also separates what still overlaps along the line of
+//! centres, mass-weighted, so that a resting pile settles instead of sinking into itself.
+//!
+//! Beyond the paper, `collisions.detection = "exact"` finds every pair closer than 2r (up to
+//! [`EXACT_SCAN`] particles in a run of three cells): one full sort, then a count pass and a
+//! response pass that each walk the 27 cells around a particle, found by a binary search of the
+//! sorted keys (`glsl/collide/cells.glsl`); the response takes every partner, weighted
+//! 1 / max(n_i, n_j), which conserves momentum and cannot add kinetic energy.
+//!
 //! The statistics themselves (what a step's detection found against the true pairs) are measured
 //! there, from [`Collisions::read_back`]: this module only runs the passes.
 
@@ -23,6 +32,10 @@ use crate::gl::{
 };
 use crate::scene::{self, SceneFile};
 use crate::sort::{KeyMode, SortOptions, Sorter, Variant};
+
+mod census;
+
+pub use census::PairCensus;
 
 /// Most neighbours per side the detection loop is compiled for.
 pub const MAX_NEIGHBOURS: u32 = 32;
@@ -101,15 +114,59 @@ pub struct Collisions {
     config: scene::Collisions,
     first: Grid,
     second: Option<Grid>,
-    raw: Framebuffer,
-    detect: Program,
-    mutual: Program,
-    response: Program,
+    passes: Passes,
     copy: Program,
     pass: FullscreenPass,
     width: u32,
     dt: f32,
 }
+
+/// The exact mode's passes of one step, as `texflow scene passes` lists them.
+pub fn exact_passes(colliders: bool) -> Vec<String> {
+    vec![
+        "collision keys: cell index in the lattice (z, y, x)".into(),
+        "collision sort: full bitonic sort (GP/FP packed)".into(),
+        "gather position, velocity, static in cell order".into(),
+        format!(
+            "exact detection: partners closer than 2r counted in the 27 cells around each \
+             particle (binary search of the sorted keys per row of 3 cells, at most {EXACT_SCAN} \
+             particles per run)"
+        ),
+        format!(
+            "exact response: every partner, weighted 1/max(n_i, n_j); back-tracking to contact, \
+             momentum exchange, overlap separation{}",
+            if colliders {
+                "; boundary conditions (colliders)"
+            } else {
+                ""
+            }
+        ),
+        "copy static texture in the new order".into(),
+    ]
+}
+
+/// The programs of one detection mode.
+#[derive(Debug)]
+enum Passes {
+    /// UberFlow §4.4: closest of k neighbours in the row, mutual check, one partner.
+    Uberflow {
+        raw: Framebuffer,
+        detect: Program,
+        mutual: Program,
+        response: Program,
+    },
+    /// Every partner in the 27 cells around each particle: a count pass, then the response.
+    Exact {
+        counts: Framebuffer,
+        more_counts: Framebuffer,
+        count: Program,
+        response: Program,
+    },
+}
+
+/// Most particles the exact detection walks in a run of three cells along x (its stated
+/// density limit: past it, `collide-stats` counts the run as truncated).
+pub const EXACT_SCAN: u32 = 64;
 
 fn texture(ctx: &Context, label: &str, w: u32, h: u32, format: TextureFormat) -> Result<Texture> {
     Texture::new(
@@ -138,8 +195,9 @@ impl Collisions {
             ));
         };
         let [w, h] = scene.particles.size;
+        let exact = config.detection == scene::Detection::Exact;
         let options = SortOptions {
-            rows: config.rows_only,
+            rows: if exact { None } else { config.rows_only },
             ..Default::default()
         };
         let grid = |staggered: bool, extra: bool| -> Result<Grid> {
@@ -190,25 +248,58 @@ impl Collisions {
             })
         };
         let first = grid(false, false)?;
-        let second = if config.staggered {
+        let second = if config.staggered && !exact {
             Some(grid(true, true)?)
         } else {
             None
         };
         let mut d = defines.clone();
         d.push(("MAX_NEIGHBOURS".into(), MAX_NEIGHBOURS.to_string()));
-        if config.staggered {
+        d.push(("EXACT_SCAN".into(), EXACT_SCAN.to_string()));
+        if second.is_some() {
             d.push(("STAGGERED".into(), "1".into()));
         }
+        let passes = if exact {
+            Passes::Exact {
+                counts: Framebuffer::new(
+                    ctx,
+                    "partner counts",
+                    vec![texture(
+                        ctx,
+                        "partner counts",
+                        w,
+                        h,
+                        TextureFormat::Rgba32F,
+                    )?],
+                )?,
+                more_counts: Framebuffer::new(
+                    ctx,
+                    "partner counts, later iterations",
+                    vec![texture(
+                        ctx,
+                        "partner counts 2",
+                        w,
+                        h,
+                        TextureFormat::Rgba32F,
+                    )?],
+                )?,
+                count: Program::new(ctx, FULLSCREEN_VERTEX, "collide/exact_count.frag", &d)?,
+                response: Program::new(ctx, FULLSCREEN_VERTEX, "collide/exact_response.frag", &d)?,
+            }
+        } else {
+            Passes::Uberflow {
+                raw: Framebuffer::new(
+                    ctx,
+                    "detection",
+                    vec![texture(ctx, "detection", w, h, TextureFormat::Rgba32F)?],
+                )?,
+                detect: Program::new(ctx, FULLSCREEN_VERTEX, "collide/detect.frag", &d)?,
+                mutual: Program::new(ctx, FULLSCREEN_VERTEX, "collide/mutual.frag", &d)?,
+                response: Program::new(ctx, FULLSCREEN_VERTEX, "collide/response.frag", &d)?,
+            }
+        };
         let stage = Collisions {
-            raw: Framebuffer::new(
-                ctx,
-                "detection",
-                vec![texture(ctx, "detection", w, h, TextureFormat::Rgba32F)?],
-            )?,
-            detect: Program::new(ctx, FULLSCREEN_VERTEX, "collide/detect.frag", &d)?,
-            mutual: Program::new(ctx, FULLSCREEN_VERTEX, "collide/mutual.frag", &d)?,
-            response: Program::new(ctx, FULLSCREEN_VERTEX, "collide/response.frag", &d)?,
+            passes,
             copy: Program::new(ctx, FULLSCREEN_VERTEX, "collide/copy.frag", &d)?,
             pass: FullscreenPass::new(ctx)?,
             ctx: ctx.clone(),
@@ -231,18 +322,32 @@ impl Collisions {
         (self.first.lattice, self.second.as_ref().map(|g| g.lattice))
     }
 
+    /// The detection mode.
+    pub fn detection(&self) -> scene::Detection {
+        self.config.detection
+    }
+
     fn detect_into(&self, positions: &Texture, out: &Framebuffer) {
-        let p = &self.detect;
+        let Passes::Uberflow {
+            raw,
+            detect,
+            mutual,
+            ..
+        } = &self.passes
+        else {
+            return;
+        };
+        let p = detect;
         p.bind();
         positions.bind(0);
         p.set_i32("u_position", 0);
         p.set_i32("u_width", self.width as i32);
         p.set_i32("u_neighbours", self.config.neighbours as i32);
         p.set_f32("u_radius", self.config.radius);
-        self.pass.draw(p, &self.raw);
-        let m = &self.mutual;
+        self.pass.draw(p, raw);
+        let m = mutual;
         m.bind();
-        self.raw.texture(0).bind(0);
+        raw.texture(0).bind(0);
         m.set_i32("u_partner", 0);
         m.set_i32("u_width", self.width as i32);
         self.pass.draw(m, out);
@@ -270,6 +375,25 @@ impl Collisions {
             &[front.texture(0), front.texture(1), statics.texture(0)],
             &g.layout,
         )?;
+        if let Passes::Exact {
+            counts,
+            more_counts,
+            count,
+            response,
+        } = &self.passes
+        {
+            self.run_exact(
+                state,
+                statics,
+                dt,
+                inv_mass,
+                &set_response_constants,
+                [counts, more_counts],
+                count,
+                response,
+            );
+            return Ok(());
+        }
         self.detect_into(self.first.layout.texture(0), &self.first.partner);
         // Staggered lattice: sort the gathered state again, taking the first detection along.
         if let Some(g2) = &mut self.second {
@@ -295,7 +419,9 @@ impl Collisions {
             Some(g2) => (&g2.layout, &g2.partner),
             None => (&self.first.layout, &self.first.partner),
         };
-        let p = &self.response;
+        let Passes::Uberflow { response: p, .. } = &self.passes else {
+            unreachable!("the exact mode returned above");
+        };
         p.bind();
         set_response_constants(p);
         // Units 0-2 as the simulation's programs; 3-5 hold its fields (colliders); 8-12 here.
@@ -333,6 +459,71 @@ impl Collisions {
         Ok(())
     }
 
+    /// The exact mode's passes after the sort and gather: partner counts, then the response
+    /// with every partner, then the static texture in the new order.
+    #[allow(clippy::too_many_arguments)]
+    fn run_exact(
+        &self,
+        state: &mut PingPong,
+        statics: &Framebuffer,
+        dt: f32,
+        inv_mass: glam::Vec4,
+        set_response_constants: &impl Fn(&Program),
+        [counts, more_counts]: [&Framebuffer; 2],
+        count: &Program,
+        response: &Program,
+    ) {
+        let g = &self.first;
+        let dims = g.lattice.dims;
+        let entries = (self.width * state.height()) as i32;
+        let search = |p: &Program| {
+            g.sorter.keys().bind(8);
+            p.set_i32("u_keys", 8);
+            p.set_i32("u_key_width", self.width as i32);
+            p.set_i32("u_count", entries);
+            p.set_ivec3("u_dims", dims.x as i32, dims.y as i32, dims.z as i32);
+            p.set_f32("u_radius", self.config.radius);
+        };
+        // Iteration 0 reads the gathered layout (and its counts are what `read_back` shows);
+        // further iterations (`collisions.iterations`) relax the state the previous one wrote,
+        // which is in the same order, so the sorted keys still index it.
+        for it in 0..self.config.iterations.max(1) {
+            let (pos, vel) = if it == 0 {
+                (g.layout.texture(0), g.layout.texture(1))
+            } else {
+                (state.front().texture(0), state.front().texture(1))
+            };
+            let target = if it == 0 { counts } else { more_counts };
+            count.bind();
+            search(count);
+            pos.bind(0);
+            count.set_i32("u_position", 0);
+            self.pass.draw(count, target);
+            let p = response;
+            p.bind();
+            set_response_constants(p);
+            search(p);
+            pos.bind(0);
+            vel.bind(1);
+            g.layout.texture(2).bind(2);
+            target.texture(0).bind(9);
+            p.set_i32("u_position", 0);
+            p.set_i32("u_velocity", 1);
+            p.set_i32("u_static", 2);
+            p.set_i32("u_counts", 9);
+            p.set_f32("u_restitution", self.config.restitution);
+            p.set_f32("u_dt", dt);
+            p.set_vec4("u_inv_mass", inv_mass);
+            self.pass.draw(p, state.back());
+            state.swap();
+        }
+        let c = &self.copy;
+        c.bind();
+        g.layout.texture(2).bind(0);
+        c.set_i32("u_source", 0);
+        self.pass.draw(c, statics);
+    }
+
     /// Reads back one lattice's state after the last step's detection, in that lattice's sorted
     /// order (the first lattice, or with `staggered` the second; `None` if there is none), so
     /// that statistics can be taken on the CPU.
@@ -343,10 +534,14 @@ impl Collisions {
             Some(&self.first)
         };
         grid.map(|g| {
+            let partners = match &self.passes {
+                Passes::Exact { counts, .. } => counts.texture(0),
+                Passes::Uberflow { .. } => g.partner.texture(0),
+            };
             Ok(Readback {
                 positions: g.layout.texture(0).read_f32()?,
                 velocities: g.layout.texture(1).read_f32()?,
-                partners: g.partner.texture(0).read_f32()?,
+                partners: partners.read_f32()?,
             })
         })
         .transpose()
@@ -376,6 +571,7 @@ pub struct Readback {
     pub positions: Vec<f32>,
     /// Velocities.
     pub velocities: Vec<f32>,
-    /// (partner after the mutual check or -1, distance, mutual, partner before the check).
+    /// (partner after the mutual check or -1, distance, mutual, partner before the check); in
+    /// the exact mode (partners closer than 2 radius, 1 if a run was truncated, 0, 0).
     pub partners: Vec<f32>,
 }

@@ -161,6 +161,32 @@ pub struct Collisions {
     /// Sort only within sets of this many consecutive rows (1 = rows only, UberFlow §5); default
     /// the whole texture.
     pub rows_only: Option<u32>,
+    /// How pairs are found: `uberflow` (closest of `neighbours` each side in the sorted rows,
+    /// one partner per lattice) or `exact` (every particle of the 27 neighbouring cells, from a
+    /// binary search of the sorted cell keys; several partners per particle; needs the full sort
+    /// and a cell of at least 2 radius; `neighbours` and `staggered` do not apply).
+    #[serde(default)]
+    pub detection: Detection,
+    /// Time-stamp emission with phases in texel order, so that the particles released in one
+    /// step share a row (UberFlow §5; default); `false`: random phases.
+    #[serde(default = "yes")]
+    pub row_phases: bool,
+    /// Exact mode: detection and response passes per step (1 to 16); each one relaxes what the
+    /// last left overlapping (a resting pile needs a few).
+    #[serde(default = "one_u32")]
+    pub iterations: u32,
+}
+
+/// `collisions.detection`: how collision partners are found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Detection {
+    /// UberFlow §4.4: the closest of k neighbours to each side in the sorted row, per lattice.
+    #[default]
+    Uberflow,
+    /// Every particle within 2 radius, found in the 27 cells around each particle through a
+    /// binary search of the sorted keys (fragment passes only).
+    Exact,
 }
 
 fn eight() -> u32 {

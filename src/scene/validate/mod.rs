@@ -199,6 +199,28 @@ fn collisions(s: &SceneFile) -> Check {
             );
         }
     }
+    if !(1..=16).contains(&c.iterations) {
+        return fail(at("iterations"), "iterations must lie in 1..=16");
+    }
+    if c.detection == crate::scene::schema::Detection::Exact {
+        if c.rows_only.is_some() {
+            return fail(
+                at("rows_only"),
+                "exact detection searches the fully sorted keys: remove rows_only (or use \
+                 detection = \"uberflow\")",
+            );
+        }
+        if c.cell.is_some_and(|g| g < 2.0 * c.radius) {
+            return fail(
+                at("cell"),
+                format!(
+                    "exact detection searches the 27 cells around a particle, so the cell must be \
+                     at least 2 radius = {} m",
+                    2.0 * c.radius
+                ),
+            );
+        }
+    }
     if s.integrator == Integrator::Verlet {
         return fail(
             path(&[N("integrator")]),

@@ -62,6 +62,10 @@ pub struct Features {
     pub precision: Precision,
     /// Collisions between particles: (neighbours, staggered, rows_only).
     pub collisions: Option<(u32, bool, Option<u32>)>,
+    /// The collision detection mode (with `collisions`).
+    pub detection: crate::scene::Detection,
+    /// Time stamps in texel order (`collisions.row_phases`), so a release shares a row.
+    pub row_phases: bool,
 }
 
 impl Features {
@@ -105,6 +109,11 @@ impl Features {
                 .collisions
                 .as_ref()
                 .map(|c| (c.neighbours, c.staggered, c.rows_only)),
+            detection: scene
+                .collisions
+                .as_ref()
+                .map_or(Default::default(), |c| c.detection),
+            row_phases: scene.collisions.as_ref().is_some_and(|c| c.row_phases),
         }
     }
 
@@ -138,7 +147,12 @@ impl Features {
                 def("ALLOCATOR", "1".into());
                 def("LIFE", "1".into());
             }
-            Emission::Timestamp => def("TIMESTAMP", "1".into()),
+            Emission::Timestamp => {
+                def("TIMESTAMP", "1".into());
+                if self.row_phases {
+                    def("ROW_PHASES", "1".into());
+                }
+            }
             Emission::Initial { life } => {
                 def("INITIAL", "1".into());
                 if life {
@@ -292,7 +306,9 @@ impl Features {
             targets
         );
         out.push(integrate);
-        if let Some((k, staggered, rows)) = self.collisions {
+        if self.collisions.is_some() && self.detection == crate::scene::Detection::Exact {
+            out.extend(crate::sim::collide::exact_passes(self.colliders()));
+        } else if let Some((k, staggered, rows)) = self.collisions {
             let sort = match rows {
                 Some(1) => "rows-only bitonic sort (GP/FP packed)".to_owned(),
                 Some(r) => format!("bitonic sort within sets of {r} rows (GP/FP packed)"),
@@ -320,7 +336,7 @@ impl Features {
                 ));
             }
             out.push(format!(
-                "collision response: back-tracking to contact, momentum exchange{}",
+                "collision response: back-tracking to contact, momentum exchange, overlap separation{}",
                 if self.colliders() {
                     "; boundary conditions (colliders)"
                 } else {

@@ -1,0 +1,108 @@
+//! What a collision frame rate is worth: how many of the overlapping pairs a step's detection
+//! found, counted on the CPU from a read-back ([`Collisions::census`]).
+
+use glam::Vec3;
+
+use super::Collisions;
+use crate::error::Result;
+use crate::scene;
+
+/// How many of the overlapping pairs a step's detection found (see [`Collisions::census`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct PairCensus {
+    /// Pairs of live particles closer than 2 radius.
+    pub pairs: usize,
+    /// Of those, the ones the detection found (by either lattice; exact mode: from both sides).
+    pub found: usize,
+}
+
+impl PairCensus {
+    /// Found over true pairs (1 when there are none).
+    pub fn fraction(&self) -> f64 {
+        if self.pairs == 0 {
+            1.0
+        } else {
+            self.found as f64 / self.pairs as f64
+        }
+    }
+}
+
+impl Collisions {
+    /// Counts, on the CPU, the pairs closer than 2 radius after the last step's detection and
+    /// how many of them it found: what a collision frame rate is worth. (`report::collide_stats`
+    /// takes the full statistics; this is the number the benchmarks print beside their fps.)
+    pub fn census(&self) -> Result<PairCensus> {
+        use std::collections::{HashMap, HashSet};
+        let reach = 2.0 * self.config.radius;
+        let key = |p: Vec3| (p.x.to_bits(), p.y.to_bits(), p.z.to_bits());
+        let a = self.read_back(false)?.expect("the first lattice");
+        let p = |v: &[f32], i: usize| Vec3::new(v[i * 4], v[i * 4 + 1], v[i * 4 + 2]);
+        let n = a.positions.len() / 4;
+        let live: Vec<usize> = (0..n)
+            .filter(|&i| a.positions[i * 4 + 3] > 0.0 && p(&a.positions, i).is_finite())
+            .collect();
+        let mut cells: HashMap<glam::IVec3, Vec<usize>> = HashMap::new();
+        for &i in &live {
+            cells
+                .entry((p(&a.positions, i) / reach).floor().as_ivec3())
+                .or_default()
+                .push(i);
+        }
+        let mut truth = Vec::new();
+        for &i in &live {
+            let c = (p(&a.positions, i) / reach).floor().as_ivec3();
+            for d in 0..27 {
+                let o = glam::IVec3::new(d % 3 - 1, (d / 3) % 3 - 1, d / 9 - 1);
+                for &j in cells.get(&(c + o)).into_iter().flatten() {
+                    if j > i && p(&a.positions, i).distance(p(&a.positions, j)) < reach {
+                        truth.push((i, j));
+                    }
+                }
+            }
+        }
+        if self.config.detection == scene::Detection::Exact {
+            let mut short = 0usize;
+            let mut count = vec![0usize; n];
+            for &(i, j) in &truth {
+                count[i] += 1;
+                count[j] += 1;
+            }
+            for &i in &live {
+                short += count[i].saturating_sub(a.partners[i * 4].max(0.0) as usize);
+            }
+            let missed = short.div_ceil(2).min(truth.len());
+            return Ok(PairCensus {
+                pairs: truth.len(),
+                found: truth.len() - missed,
+            });
+        }
+        let mut found: HashSet<(usize, usize)> = HashSet::new();
+        let index_a: HashMap<_, usize> =
+            live.iter().map(|&i| (key(p(&a.positions, i)), i)).collect();
+        let lattices = [Some(a), self.read_back(true)?];
+        for (g, r) in lattices.iter().enumerate() {
+            let Some(r) = r else { continue };
+            for i in 0..n {
+                let raw = r.partners[i * 4 + 3];
+                if raw < 0.0 {
+                    continue;
+                }
+                let name = |k: usize| {
+                    if g == 0 {
+                        Some(k)
+                    } else {
+                        index_a.get(&key(p(&r.positions, k))).copied()
+                    }
+                };
+                if let (Some(x), Some(y)) = (name(i), name(raw as usize)) {
+                    found.insert((x.min(y), x.max(y)));
+                }
+            }
+        }
+        let hit = truth.iter().filter(|t| found.contains(t)).count();
+        Ok(PairCensus {
+            pairs: truth.len(),
+            found: hit,
+        })
+    }
+}

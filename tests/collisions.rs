@@ -1,0 +1,418 @@
+//! Collisions between particles against CPU references: the exact detection finds every pair
+//! of random gases (brute force on the CPU), the response separates resting overlaps without
+//! adding kinetic energy and conserves momentum.
+
+mod common;
+
+use common::{context, no_gl_error};
+use texflow::report::collide_stats::Snapshot;
+use texflow::scene;
+use texflow::sim::ParticleSim;
+
+fn collide_scene(size: [u32; 2], collisions: &str) -> scene::SceneFile {
+    let src = format!(
+        r#"
+name = "collide"
+integrator = "euler"
+[particles]
+size = [{}, {}]
+[time]
+dt = 0.01
+[[emitters.initial]]
+direction = [0.0, 1.0, 0.0]
+speed = [0.0, 0.0]
+[collisions]
+{collisions}
+"#,
+        size[0], size[1]
+    );
+    scene::parse("test", &src).unwrap_or_else(|e| panic!("{e}\n{src}"))
+}
+
+/// Uploads particles (position, velocity) as type 0, permanent; the rest of the texture dead.
+fn set(sim: &mut ParticleSim, particles: &[([f32; 3], [f32; 3])]) {
+    let n = (sim.size().x * sim.size().y) as usize;
+    assert!(particles.len() <= n);
+    let mut pos = vec![f32::INFINITY; n * 4];
+    let mut vel = vec![0.0; n * 4];
+    let mut st = vec![0.0; n * 4];
+    for i in 0..n {
+        pos[i * 4 + 3] = 0.0;
+    }
+    for (i, (x, v)) in particles.iter().enumerate() {
+        pos[i * 4..i * 4 + 4].copy_from_slice(&[x[0], x[1], x[2], 1.0]);
+        vel[i * 4..i * 4 + 3].copy_from_slice(v);
+        st[i * 4 + 3] = (i as f32 + 0.5) / n as f32;
+    }
+    sim.set_state(&pos, &vel, &st).unwrap();
+}
+
+fn random_gas(n: usize, seed: u32, speed: f32) -> Vec<([f32; 3], [f32; 3])> {
+    let mut rng = texflow::sim::emit::Rng::new(seed, 0, 11);
+    (0..n)
+        .map(|_| {
+            let p = [rng.uniform(), rng.uniform(), rng.uniform()];
+            let v = [
+                (rng.uniform() - 0.5) * speed,
+                (rng.uniform() - 0.5) * speed,
+                (rng.uniform() - 0.5) * speed,
+            ];
+            (p, v)
+        })
+        .collect()
+}
+
+/// Brute force: every particle's number of others closer than 2 radius.
+fn brute_counts(x: &[f32], radius: f32) -> Vec<usize> {
+    let n = x.len() / 4;
+    let live = |i: usize| x[i * 4 + 3] > 0.0 && x[i * 4].is_finite();
+    let mut c = vec![0; n];
+    for i in 0..n {
+        for j in i + 1..n {
+            if !(live(i) && live(j)) {
+                continue;
+            }
+            let d2: f32 = (0..3).map(|k| (x[i * 4 + k] - x[j * 4 + k]).powi(2)).sum();
+            if d2.sqrt() < 2.0 * radius {
+                c[i] += 1;
+                c[j] += 1;
+            }
+        }
+    }
+    c
+}
+
+/// The exact mode finds every pair of random gases from 0.3 to about 30 overlapping neighbours
+/// per particle: each particle's partner count equals the brute-force count, and the statistics
+/// report no miss.
+#[test]
+fn exact_mode_finds_every_pair_of_random_gases() {
+    let ctx = context();
+    for (radius, seed) in [(0.02f32, 1u32), (0.04, 2), (0.06, 3), (0.1, 4)] {
+        let s = collide_scene(
+            [32, 32],
+            &format!(
+                "radius = {radius}\ndetection = \"exact\"\n\
+                 bounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]"
+            ),
+        );
+        let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+        set(&mut sim, &random_gas(1000, seed, 0.0));
+        sim.collide().unwrap();
+        let snap = Snapshot::read(sim.collisions().unwrap()).unwrap();
+        let brute = brute_counts(&snap.first.positions, radius);
+        let found: Vec<usize> = snap
+            .first
+            .partners
+            .chunks(4)
+            .map(|c| c[0] as usize)
+            .collect();
+        let pairs: usize = brute.iter().sum::<usize>() / 2;
+        assert!(pairs > 50, "radius {radius}: only {pairs} pairs");
+        assert_eq!(found, brute, "radius {radius}: partner counts");
+        let stats = snap.stats();
+        assert_eq!(stats.pairs_true, pairs);
+        assert_eq!(
+            (stats.missed, stats.false_pairs, stats.truncated),
+            (0, 0, 0)
+        );
+        assert_eq!(stats.partnered, stats.overlapping);
+        eprintln!(
+            "radius {radius}: {pairs} pairs, {:.2} overlaps per particle, all found",
+            stats.overlaps_per_particle
+        );
+        no_gl_error(&ctx);
+    }
+}
+
+/// A moving dense gas under the exact response: momentum conserved and kinetic energy never
+/// above its start (elastic, every partner at once, weights 1/max(n_i, n_j)).
+#[test]
+fn exact_response_conserves_momentum_and_adds_no_energy() {
+    let ctx = context();
+    let s = collide_scene(
+        [16, 16],
+        "radius = 0.06\nrestitution = 1.0\ndetection = \"exact\"\n\
+         bounds = [[-1.0, -1.0, -1.0], [2.0, 2.0, 2.0]]",
+    );
+    let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+    let gas: Vec<_> = random_gas(256, 5, 1.0)
+        .into_iter()
+        .map(|(p, v)| (p.map(|c| c * 0.5), v))
+        .collect();
+    set(&mut sim, &gas);
+    let sums = |sim: &ParticleSim| -> ([f64; 3], f64) {
+        let v = sim.read_velocities().unwrap();
+        let mut p = [0.0; 3];
+        let mut e = 0.0;
+        for c in v.chunks(4) {
+            for k in 0..3 {
+                p[k] += c[k] as f64;
+            }
+            e += 0.5 * (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) as f64;
+        }
+        (p, e)
+    };
+    let (p0, e0) = sums(&sim);
+    for _ in 0..40 {
+        sim.step().unwrap();
+        let (p, e) = sums(&sim);
+        for k in 0..3 {
+            assert!((p[k] - p0[k]).abs() < 1e-4, "momentum {p:?} vs {p0:?}");
+        }
+        assert!(e <= e0 * (1.0 + 1e-5), "energy {e} above {e0}");
+    }
+    no_gl_error(&ctx);
+}
+
+/// Two particles at rest overlapping by half a diameter are separated to contact within a few
+/// steps, in both modes, without gaining kinetic energy; momentum stays zero.
+#[test]
+fn response_separates_a_resting_overlap() {
+    let ctx = context();
+    for mode in ["uberflow", "exact"] {
+        let s = collide_scene(
+            [2, 1],
+            &format!(
+                "radius = 0.1\nrestitution = 0.5\ndetection = \"{mode}\"\n\
+                 bounds = [[-2.0, -2.0, -2.0], [2.0, 2.0, 2.0]]"
+            ),
+        );
+        let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+        set(
+            &mut sim,
+            &[([0.25, 0.3, 0.3], [0.0; 3]), ([0.35, 0.3, 0.3], [0.0; 3])],
+        );
+        for _ in 0..3 {
+            sim.step().unwrap();
+        }
+        let x = sim.read_positions().unwrap();
+        let v = sim.read_velocities().unwrap();
+        let d: f32 = (0..3)
+            .map(|k| (x[k] - x[4 + k]).powi(2))
+            .sum::<f32>()
+            .sqrt();
+        assert!(d >= 0.2 - 1e-5, "{mode}: still overlapping, distance {d}");
+        assert!(v.iter().all(|c| *c == 0.0), "{mode}: velocities {v:?}");
+        let mid = (x[0] + x[4]) / 2.0;
+        assert!(
+            (mid - 0.3).abs() < 1e-6,
+            "{mode}: centre of mass moved to {mid}"
+        );
+        no_gl_error(&ctx);
+    }
+}
+
+/// A time-stamp scene of 16x16 particles whose cycle is 16 steps: with row-coherent phases each
+/// step's release is one row.
+fn release_scene(collisions: &str) -> scene::SceneFile {
+    let src = format!(
+        r#"
+name = "release"
+integrator = "euler"
+[particles]
+size = [16, 16]
+[time]
+dt = 0.01
+[[emitters.timestamp]]
+cycle = 0.16
+shape = "disc"
+center = [0.0, 0.5, 0.0]
+radius = 0.1
+normal = [0.0, 1.0, 0.0]
+direction = [0.0, 1.0, 0.0]
+speed = [0.0, 0.0]
+life = [0.16, 0.16]
+[collisions]
+radius = 0.02
+bounds = [[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]]
+{collisions}
+"#
+    );
+    scene::parse("test", &src).unwrap_or_else(|e| panic!("{e}\n{src}"))
+}
+
+/// With row-coherent emission the particles of each row share one birth time, and the rows are
+/// the 16 steps of the cycle in order.
+#[test]
+fn row_coherent_emission_shares_birth_time_per_row() {
+    let ctx = context();
+    let sim = ParticleSim::new(&ctx, &release_scene(""), 1).unwrap();
+    let st = sim.statics().read_f32().unwrap();
+    for y in 0..16 {
+        let want = (y as f32 + 0.5) * 0.01;
+        for x in 0..16 {
+            let phase = st[(y * 16 + x) * 4];
+            assert!(
+                (phase - want).abs() < 1e-6,
+                "texel ({x}, {y}): phase {phase}, row {want}"
+            );
+        }
+    }
+    no_gl_error(&ctx);
+}
+
+fn found_after_first_release(collisions: &str) -> texflow::report::collide_stats::CollisionStats {
+    let ctx = context();
+    let mut sim = ParticleSim::new(&ctx, &release_scene(collisions), 1).unwrap();
+    sim.step().unwrap();
+    let stats = Snapshot::read(sim.collisions().unwrap()).unwrap().stats();
+    no_gl_error(&ctx);
+    stats
+}
+
+/// Rows-only sorting finds the collisions of one release as the full sort does when the
+/// release shares a row; with random phases the release is spread over the rows and rows-only
+/// sorting finds almost nothing.
+#[test]
+fn rows_only_sorting_finds_a_release_s_collisions() {
+    let full = found_after_first_release("");
+    let rows = found_after_first_release("rows_only = 1");
+    let random = found_after_first_release("rows_only = 1\nrow_phases = false");
+    eprintln!("full {full:?}\nrows {rows:?}\nrandom {random:?}");
+    assert_eq!(rows.particles, 16);
+    assert!(full.pairs_true >= 8, "{full:?}");
+    assert_eq!(rows.pairs_true, full.pairs_true);
+    assert_eq!((rows.found, rows.missed), (full.found, full.missed));
+    assert!(
+        random.found < rows.found,
+        "random {random:?}\nrows {rows:?}"
+    );
+}
+
+/// collide-stats' attribution of misses against a brute-force classification of a small random
+/// gas: all pairs by brute force, each particle found in each lattice's layout by its position,
+/// and each missed pair classified in the layout of the lattice that could have found it.
+#[test]
+fn miss_causes_match_a_brute_force_classification() {
+    let ctx = context();
+    let s = collide_scene(
+        [32, 32],
+        "radius = 0.03\nneighbours = 4\nbounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]",
+    );
+    let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+    set(&mut sim, &random_gas(1024, 9, 0.0));
+    sim.collide().unwrap();
+    let snap = Snapshot::read(sim.collisions().unwrap()).unwrap();
+    let stats = snap.stats();
+    no_gl_error(&ctx);
+    let lattices: Vec<_> = std::iter::once(&snap.first).chain(&snap.second).collect();
+    let at = |v: &[f32], i: usize| [v[i * 4], v[i * 4 + 1], v[i * 4 + 2]];
+    let bits = |p: [f32; 3]| p.map(f32::to_bits);
+    // Each particle's place in every layout, by position (the first layout names particles).
+    let place: Vec<std::collections::HashMap<[u32; 3], usize>> = lattices
+        .iter()
+        .map(|l| (0..1024).map(|i| (bits(at(&l.positions, i)), i)).collect())
+        .collect();
+    let a = &snap.first.positions;
+    let (w, k) = (32usize, 4usize);
+    let mut found = std::collections::HashSet::new();
+    for (g, l) in lattices.iter().enumerate() {
+        for i in 0..1024 {
+            let raw = l.partners[i * 4 + 3];
+            if raw >= 0.0 {
+                let x = place[0][&bits(at(&l.positions, i))];
+                let y = place[0][&bits(at(&l.positions, raw as usize))];
+                found.insert((x.min(y), x.max(y)));
+                assert!(g < 2);
+            }
+        }
+    }
+    let cell = |l: &texflow::sim::collide::Lattice, p: [f32; 3]| {
+        let c: Vec<u32> = (0..3)
+            .map(|d| {
+                let v = ((p[d] - l.origin[d]) / l.spacing).floor();
+                v.clamp(0.0, (l.dims[d] - 1) as f32) as u32
+            })
+            .collect();
+        c
+    };
+    let mut causes = [0usize; 4]; // adjacent, other row, far, closer
+    let mut pairs = 0;
+    for i in 0..1024 {
+        for j in i + 1..1024 {
+            let (p, q) = (at(a, i), at(a, j));
+            let d: f32 = (0..3).map(|c| (p[c] - q[c]).powi(2)).sum::<f32>().sqrt();
+            if d >= 0.06 {
+                continue;
+            }
+            pairs += 1;
+            if found.contains(&(i, j)) {
+                continue;
+            }
+            let idx: Vec<(usize, usize)> =
+                place.iter().map(|m| (m[&bits(p)], m[&bits(q)])).collect();
+            if idx
+                .iter()
+                .any(|&(x, y)| x / w == y / w && x.abs_diff(y) <= k)
+            {
+                causes[3] += 1;
+            } else if let Some(g) = (0..lattices.len())
+                .find(|&g| cell(&lattices[g].lattice, p) == cell(&lattices[g].lattice, q))
+            {
+                let (x, y) = idx[g];
+                causes[if x / w != y / w { 1 } else { 2 }] += 1;
+            } else {
+                causes[0] += 1;
+            }
+        }
+    }
+    eprintln!("{pairs} pairs; brute-force causes {causes:?}; {stats:?}");
+    assert_eq!(stats.pairs_true, pairs);
+    assert!(
+        causes.iter().sum::<usize>() > 20,
+        "too few misses to test: {causes:?}"
+    );
+    assert_eq!(
+        [
+            stats.missed_adjacent_cells,
+            stats.missed_other_row,
+            stats.missed_far_along_row,
+            stats.missed_closer_partner
+        ],
+        causes
+    );
+}
+
+/// E4 reports what it found: its record carries the fraction of overlapping pairs, and the
+/// markdown table prints it beside the fps.
+#[test]
+fn e4_reports_the_fraction_of_pairs_found() {
+    use texflow::bench::scenes::{bench_scenes, markdown, ScenesOptions};
+    let ctx = context();
+    let opts = ScenesOptions {
+        repeats: 1,
+        warmup_frames: Some(60),
+        resolution: Some([64, 64]),
+        experiments: vec!["E4".into()],
+        ..ScenesOptions::default()
+    };
+    let records = bench_scenes(&ctx, &[32], &opts, |_, _| {}).expect("bench");
+    let e4 = records.iter().find(|r| r.experiment == "E4").unwrap();
+    let f = e4.pairs_found.expect("E4 measures the pairs it found");
+    assert!((0.0..=1.0).contains(&f), "{e4:?}");
+    assert!(e4.pairs_true.is_some());
+    assert!(markdown(&records).contains("% of pairs found"));
+    no_gl_error(&ctx);
+}
+
+/// Bad `[collisions]` keys of the new modes are errors that name the key and the fix.
+#[test]
+fn exact_mode_settings_are_validated() {
+    let base = scene::load_source("collide").unwrap().1;
+    for (extra, want) in [
+        ("detection = \"exact\"\nrows_only = 1", "remove rows_only"),
+        ("detection = \"exact\"\ncell = 0.01", "at least 2 radius"),
+        ("detection = \"exakt\"", "expected `uberflow` or `exact`"),
+        ("iterations = 0", "iterations must lie in 1..=16"),
+    ] {
+        let src = base
+            .replace("cell = 0.024\n", "")
+            .replace("staggered = true", &format!("staggered = true\n{extra}"));
+        let err = scene::parse("bad.toml", &src).expect_err(extra).to_string();
+        assert!(
+            err.contains(want) && err.contains("bad.toml:"),
+            "{extra}: {err}"
+        );
+    }
+}

@@ -115,17 +115,17 @@ fn bad_input_is_refused_with_exit_code_2() {
     refused(&["render", "--frames", "0"], "0 is not allowed");
     refused(
         &["render", "--frames", "-1"],
-        "--frames <FRAMES>': -1 is not allowed",
+        "--frames <N>': -1 is not allowed",
     );
     refused(
         &["render", "--every", "0"],
-        "--every <EVERY>': 0 is not allowed",
+        "--every <K>': 0 is not allowed",
     );
     refused(&["render", "--dt", "-0.01"], "time step");
     refused(&["render", "--dt", "nan"], "time step");
     refused(
         &["render", "--dt", "-inf"],
-        "--dt <DT>': -inf is not allowed",
+        "--dt <SECONDS>': -inf is not allowed",
     );
     refused(&["render", "--substeps", "0"], "substeps");
     refused(
@@ -387,4 +387,23 @@ fn dropped_births_are_predicted_warned_and_counted() {
     assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["records"]["dropped_births"], 0);
+}
+
+#[test]
+fn help_names_every_built_in_scene_and_the_scenes_defaults() {
+    for cmd in ["render", "view"] {
+        let o = texflow(&[cmd, "--help"]);
+        assert!(o.status.success());
+        let help = String::from_utf8_lossy(&o.stdout).replace("\n", " ");
+        for name in texflow::scene::BUILTIN {
+            assert!(
+                help.contains(name),
+                "`{cmd} --help` leaves out the scene {name}"
+            );
+        }
+        if cmd == "render" {
+            assert!(help.contains("<WxH>"), "{help}");
+            assert!(help.contains("[default: the scene's time.dt]"), "{help}");
+        }
+    }
 }

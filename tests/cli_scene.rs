@@ -47,7 +47,10 @@ fn scene_passes_prints_the_plan() {
     let t = text(&o);
     assert!(t.contains("sort: oddeven") && t.contains("emit"), "{t}");
     let o = texflow(&["scene", "passes", "fire", "--json"]);
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let all: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(all["schema"], "texflow.scene.passes/1");
+    assert!(all["texflow_version"].is_string());
+    let v = &all["records"];
     assert_eq!(v["scene"], "fire");
     assert!(v["per_frame"].as_array().unwrap().len() == 1);
 }
@@ -179,13 +182,15 @@ fn collide_stats_prints_the_promised_fields() {
         "32x32",
         "--k",
         "4",
-        "--staggered",
-        "off",
+        "--no-staggered",
         "--json",
         "-q",
     ]);
     assert!(o.status.success(), "{}", text(&o));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let all: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(all["schema"], "texflow.collide-stats/1");
+    assert!(all["device"]["renderer"].is_string(), "{all}");
+    let v = &all["records"];
     for f in ["pairs_true", "found", "missed", "false_pairs", "gpu_ms"] {
         assert!(v[f].is_number(), "{f} missing: {v}");
     }

@@ -299,7 +299,9 @@ fn cli_stability_report() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(!stderr.contains("warning"), "{stderr}");
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let all: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(all["schema"], "texflow.report.stability/1");
+    let v = &all["records"];
     for b in v["boundaries"].as_array().unwrap() {
         let (case, integrator) = (
             b["case"].as_str().unwrap(),

@@ -325,8 +325,8 @@ pub fn print_step_table(records: &[StepRecord]) {
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
 pub struct SceneArgs {
-    /// Scene to measure: a built-in name (fire, snow, fountain, smoke, e1, e2, e3, collide) or a
-    /// .toml scene file.
+    /// Scene to measure: a built-in name (`texflow scene list`: fire, snow,
+    /// fountain, smoke, e1, e2, e3, collide, gas, mesh) or a .toml scene file.
     #[arg(value_name = "NAME|FILE")]
     scene: String,
     /// Square state sizes (size x size particles), comma-separated [default: the scene's

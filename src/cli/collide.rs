@@ -16,9 +16,12 @@ pub struct CollideStatsArgs {
     /// Neighbours fetched to each side in the sorted row (UberFlow: 8).
     #[arg(long)]
     k: Option<u32>,
-    /// Second sort and detection on the staggered lattice.
-    #[arg(long, value_parser = ["on", "off"])]
-    staggered: Option<String>,
+    /// Second sort and detection on the staggered lattice [default: the scene's].
+    #[arg(long, overrides_with = "no_staggered")]
+    staggered: bool,
+    /// No second sort and detection on the staggered lattice.
+    #[arg(long, overrides_with = "staggered")]
+    no_staggered: bool,
     /// Sort only within sets of N consecutive rows (1 = rows only); 0 = the whole texture.
     #[arg(long)]
     rows_only: Option<u32>,
@@ -80,8 +83,11 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
     if let Some(k) = a.k {
         c.neighbours = k;
     }
-    if let Some(st) = &a.staggered {
-        c.staggered = st == "on";
+    if a.staggered {
+        c.staggered = true;
+    }
+    if a.no_staggered {
+        c.staggered = false;
     }
     match a.rows_only {
         Some(0) => c.rows_only = None,
@@ -122,10 +128,7 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
         })?;
         bar.finish_and_clear();
         if a.json {
-            println!(
-                "{}",
-                serde_json::to_string_pretty(&rows).unwrap_or_default()
-            );
+            super::print_json("texflow.collide-stats.sweep/1", Some(&ctx), &rows);
         } else {
             println!(
                 "{} on {}, step {} (one setting changed at a time):\n",
@@ -149,8 +152,7 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
         v["rows_only"] = c.rows_only.into();
         v["detection"] = format!("{:?}", c.detection).to_lowercase().into();
         v["steps"] = a.steps.into();
-        v["device"] = ctx.limits().renderer.clone().into();
-        println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
+        super::print_json("texflow.collide-stats/1", Some(&ctx), &v);
     } else {
         let pct = |n: usize| 100.0 * n as f64 / stats.pairs_true.max(1) as f64;
         println!(

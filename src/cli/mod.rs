@@ -137,6 +137,22 @@ pub fn at_least_one<T: TryFrom<i128>>(s: &str) -> Result<T, String> {
     }
 }
 
+/// Prints `body` as the JSON object every command prints (`texflow_version`, `schema`,
+/// `device`, `clock`, `records`); `device` is null for commands that use no context.
+pub fn print_json<T: serde::Serialize>(schema: &str, ctx: Option<&texflow::gl::Context>, body: &T) {
+    let v = match ctx {
+        Some(ctx) => texflow::bench::json_envelope(schema, ctx, None, body),
+        None => serde_json::json!({
+            "texflow_version": env!("CARGO_PKG_VERSION"),
+            "schema": schema,
+            "device": null,
+            "clock": null,
+            "records": body,
+        }),
+    };
+    println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
+}
+
 pub fn bad(msg: impl Into<String>) -> Error {
     Error::InvalidInput(msg.into())
 }

@@ -19,12 +19,12 @@ use super::{at_least_one, bad, parse_size, progress_bar, signals, time_step, Com
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
 pub struct RenderArgs {
-    /// Scene to render: a built-in name (fire, snow, fountain, smoke, e1, e2, e3, collide) or a
-    /// .toml scene file.
+    /// Scene to render: a built-in name (`texflow scene list`: fire, snow,
+    /// fountain, smoke, e1, e2, e3, collide, gas, mesh) or a .toml scene file.
     #[arg(default_value = scene::DEFAULT_SCENE)]
     scene: String,
     /// Number of frames to simulate.
-    #[arg(long, default_value_t = 60, value_parser = at_least_one::<u64>)]
+    #[arg(long, value_name = "N", default_value_t = 60, value_parser = at_least_one::<u64>)]
     frames: u64,
     /// Output folder of PNG frames (created if missing). Default: `frames`, unless --video is
     /// given, which then writes the only output.
@@ -37,29 +37,30 @@ pub struct RenderArgs {
     /// Frames a second of the video. Default: real time, 1 / (dt × substeps × every).
     #[arg(long, value_parser = super::positive_finite, requires = "video")]
     fps: Option<f32>,
-    /// State texture size WxH (one particle per texel), or N for NxN.
-    #[arg(long, value_parser = parse_size)]
+    /// State texture size WxH (one particle per texel), or N for NxN [default: the scene's
+    /// particles.size].
+    #[arg(long, value_parser = parse_size, value_name = "WxH")]
     particles: Option<[u32; 2]>,
-    /// Frame size WxH in pixels, or N for NxN.
-    #[arg(long, value_parser = parse_size)]
+    /// Frame size WxH in pixels, or N for NxN [default: the scene's render.resolution].
+    #[arg(long, value_parser = parse_size, value_name = "WxH")]
     resolution: Option<[u32; 2]>,
     /// Random seed (same seed, same device: same frames).
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Simulation time step in seconds.
-    #[arg(long, value_parser = time_step, allow_hyphen_values = true)]
+    /// Simulation time step in seconds [default: the scene's time.dt].
+    #[arg(long, value_name = "SECONDS", value_parser = time_step, allow_hyphen_values = true)]
     dt: Option<f32>,
-    /// Simulation steps per frame.
-    #[arg(long, value_parser = at_least_one::<u32>)]
+    /// Simulation steps per frame [default: the scene's time.substeps].
+    #[arg(long, value_name = "N", value_parser = at_least_one::<u32>)]
     substeps: Option<u32>,
     /// Write every K-th frame (frames keep their index in the name).
-    #[arg(long, default_value_t = 1, value_parser = at_least_one::<u64>)]
+    #[arg(long, value_name = "K", default_value_t = 1, value_parser = at_least_one::<u64>)]
     every: u64,
     /// Drop the scene's collisions between particles (to compare, UberFlow Fig. 4 right).
     #[arg(long)]
     no_collisions: bool,
-    /// Also write the live particles' positions and velocities as .npy (N×4 float32).
-    #[arg(long)]
+    /// Also write the live particles' positions and velocities as .npy (N×4 float32) into DIR.
+    #[arg(long, value_name = "DIR")]
     dump_state: Option<PathBuf>,
     /// Dump every K-th frame.
     #[arg(long, default_value_t = 1, value_parser = at_least_one::<u64>)]

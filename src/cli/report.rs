@@ -89,7 +89,7 @@ pub fn report_cmd(cmd: ReportCommand) -> texflow::Result<()> {
                 convergence::write_files(&r, d)?;
             }
             if json {
-                println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
+                super::print_json("texflow.report.convergence/1", Some(&ctx), &r);
             } else {
                 println!(
                     "device {}: {}; {}",
@@ -106,7 +106,7 @@ pub fn report_cmd(cmd: ReportCommand) -> texflow::Result<()> {
             let opts = stability::StabilityOptions::default();
             let r = stability::run(&ctx, &opts, &mut say(common.quiet))?;
             if json {
-                println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
+                super::print_json("texflow.report.stability/1", Some(&ctx), &r);
             } else {
                 println!("device {}: {}", ctx.device_index(), r.device);
                 print!("{}", stability::table(&r));

@@ -71,10 +71,7 @@ pub fn scene_command(c: SceneCommand) -> texflow::Result<()> {
         SceneCommand::Passes { scene: name, json } => {
             let plan = texflow::engine::plan::plan(&scene::load(&name)?);
             if json {
-                println!(
-                    "{}",
-                    serde_json::to_string_pretty(&plan).unwrap_or_default()
-                );
+                super::print_json("texflow.scene.passes/1", None, &plan);
             } else {
                 print!("{plan}");
             }

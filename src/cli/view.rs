@@ -28,8 +28,8 @@ use super::{at_least_one, bad, parse_size, time_step};
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
 pub struct ViewArgs {
-    /// Scene to show: a built-in name (fire, snow, fountain, smoke, e1, e2, e3, collide) or a
-    /// .toml scene file (reloaded when it changes on disk).
+    /// Scene to show: a built-in name (`texflow scene list`: fire, snow,
+    /// fountain, smoke, e1, e2, e3, collide, gas, mesh) or a .toml scene file (reloaded when it changes on disk).
     #[arg(default_value = texflow::scene::DEFAULT_SCENE)]
     scene: String,
     /// Stop after N frames (default: run until the window is closed).

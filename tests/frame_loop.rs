@@ -95,3 +95,45 @@ fn the_loop_can_be_stopped_between_frames() {
     assert_eq!(summary.steps, 5 * s.time.substeps as u64);
     common::no_gl_error(&ctx);
 }
+
+#[test]
+fn the_sort_follows_the_viewers_camera() {
+    // The live window turns the camera (`Engine::set_view`): alpha blending must stay back to
+    // front for the new eye, not the scene's.
+    let ctx = common::context();
+    let mut s = scene::load("smoke").unwrap();
+    s.particles.size = [16, 16];
+    s.render.resolution = [32, 32];
+    let mut e = texflow::Engine::new(&ctx, &s, 2).unwrap();
+    for _ in 0..30 {
+        e.advance_frame().unwrap();
+    }
+    let start = *e.camera();
+    let view = texflow::render::ViewOffset {
+        azimuth: 150.0,
+        elevation: -20.0,
+        zoom: 0.7,
+    };
+    e.set_view(view);
+    assert!(e.order_for_drawing().unwrap());
+    let eye = e.camera().eye();
+    assert!((e.camera().azimuth - (start.azimuth + 150.0)).abs() < 1e-3);
+    assert!((eye - start.eye()).length() > 1.0, "the eye moved");
+    let sorted = e.sorted().unwrap().texture(0).read_f32().unwrap();
+    let live: Vec<f32> = sorted
+        .chunks_exact(4)
+        .filter(|p| p[3] > 0.0)
+        .map(|p| (glam::Vec3::new(p[0], p[1], p[2]) - eye).length())
+        .collect();
+    assert!(live.len() > 20, "{} live", live.len());
+    for w in live.windows(2) {
+        assert!(
+            w[0] >= w[1] - 1e-4,
+            "not back to front for the new eye: {w:?}"
+        );
+    }
+    // The identity view is the scene's camera again.
+    e.set_view(texflow::render::ViewOffset::default());
+    assert_eq!(e.camera().eye(), start.eye());
+    common::no_gl_error(&ctx);
+}

@@ -14,7 +14,7 @@ use std::time::{Duration, Instant, SystemTime};
 use clap::Args;
 use texflow::engine::Overrides;
 use texflow::gl::{Context, GlWindow};
-use texflow::render::Camera;
+use texflow::render::ViewOffset;
 use texflow::sim::nonfinite::NonFiniteCounter;
 use texflow::SceneEngine;
 use winit::application::ApplicationHandler;
@@ -105,15 +105,6 @@ impl Default for Orbit {
             elevation: 0.0,
             zoom: 1.0,
         }
-    }
-}
-
-impl Orbit {
-    fn apply(&self, mut c: Camera) -> Camera {
-        c.azimuth += self.azimuth;
-        c.elevation = (c.elevation + self.elevation).clamp(-89.0, 89.0);
-        c.distance *= self.zoom;
-        c
     }
 }
 
@@ -312,59 +303,25 @@ impl App {
     }
 }
 
-/// Sorts (alpha blending) and draws the current state with the user's orbit into the engine's
-/// frame target, the calls `Engine::draw` and `FireEngine::draw` make, with the camera turned.
-/// Returns the target and the milliseconds from `start` to the end of the sort.
+/// Draws the engine's frame for the viewer's `orbit`: the same sort stage and draw as `render`
+/// (the sort follows the viewer's camera); returns the frame target and the sort's ms.
 fn draw<'a>(
     engine: &'a mut SceneEngine,
     orbit: &Orbit,
     ctx: &Context,
     start: Instant,
 ) -> texflow::Result<(&'a texflow::render::FrameTarget, f64)> {
-    match engine {
-        SceneEngine::Particles(e) => {
-            let sorted = e.order_for_drawing()?;
-            ctx.finish();
-            let sort_ms = start.elapsed().as_secs_f64() * 1e3;
-            let camera = orbit.apply(*e.camera());
-            let target = e.target();
-            e.renderer().clear(target);
-            match e.sorted().filter(|_| sorted) {
-                Some(s) => {
-                    let texels = e.sim().size().x as usize * e.sim().size().y as usize;
-                    e.renderer()
-                        .draw(target, s.texture(0), s.texture(1), &camera, texels)?
-                }
-                None => e.renderer().draw(
-                    target,
-                    e.sim().positions(),
-                    e.sim().statics(),
-                    &camera,
-                    e.sim().active_count(),
-                )?,
-            }
-            ctx.check_error("drawing a frame")?;
-            Ok((e.target(), sort_ms))
-        }
-        SceneEngine::Fire(e) => {
-            let scene = e.scene();
-            let mut camera = Camera::from(&scene.camera);
-            camera.azimuth +=
-                scene.camera.orbit * (e.sim().steps() as f64 * scene.dt as f64) as f32;
-            let camera = orbit.apply(camera);
-            let target = e.target();
-            target.clear();
-            e.points().draw(
-                target,
-                e.sim().positions(),
-                e.sim().velocities(),
-                &camera,
-                &(&scene.style).into(),
-            );
-            ctx.check_error("drawing a frame")?;
-            Ok((e.target(), 0.0))
-        }
-    }
+    engine.set_view(ViewOffset {
+        azimuth: orbit.azimuth,
+        elevation: orbit.elevation,
+        zoom: orbit.zoom,
+    });
+    engine.order_for_drawing()?;
+    ctx.finish();
+    let sort_ms = start.elapsed().as_secs_f64() * 1e3;
+    engine.draw()?;
+    ctx.check_error("drawing a frame")?;
+    Ok((engine.target(), sort_ms))
 }
 
 /// The largest rectangle of the frame's aspect centred in the window (1:1 when the sizes match).

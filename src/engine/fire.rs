@@ -29,6 +29,7 @@ pub struct FireEngine {
     sim: FireSim,
     points: PointRenderer,
     target: FrameTarget,
+    view: crate::render::ViewOffset,
     ctx: Context,
 }
 
@@ -46,6 +47,7 @@ impl FireEngine {
             target: FrameTarget::new(ctx, rw, rh)?,
             sim,
             scene,
+            view: crate::render::ViewOffset::default(),
             ctx: ctx.clone(),
         })
     }
@@ -63,6 +65,7 @@ impl FireEngine {
         let mut camera = crate::render::Camera::from(&self.scene.camera);
         camera.azimuth +=
             self.scene.camera.orbit * (self.sim.steps() as f64 * self.scene.dt as f64) as f32;
+        let camera = self.view.apply(camera);
         self.points.draw(
             &self.target,
             self.sim.positions(),
@@ -70,6 +73,11 @@ impl FireEngine {
             &camera,
             &(&self.scene.style).into(),
         );
+    }
+
+    /// Sets the viewer's change to the scene's camera (the live window).
+    pub fn set_view(&mut self, view: crate::render::ViewOffset) {
+        self.view = view;
     }
 
     /// Draws the current state and reads the frame back.

@@ -33,6 +33,8 @@ pub struct Engine {
     /// The camera at time 0; `camera` is it turned by `orbit` degrees per simulated second.
     camera_start: crate::render::Camera,
     orbit: f32,
+    /// A viewer's change to the camera (the live window); the identity by default.
+    view: crate::render::ViewOffset,
     ctx: Context,
 }
 
@@ -106,6 +108,7 @@ impl Engine {
             camera,
             camera_start: camera,
             orbit: scene.render.camera.orbit,
+            view: crate::render::ViewOffset::default(),
             sim,
             renderer,
             sort,
@@ -216,10 +219,20 @@ impl Engine {
         Ok(true)
     }
 
-    /// Turns the camera to the current simulated time (`render.camera.orbit`).
+    /// Turns the camera to the current simulated time (`render.camera.orbit`), then by the
+    /// viewer's offset.
     fn turn_camera(&mut self) {
         let t = self.sim.time() as f32;
-        self.camera.azimuth = self.camera_start.azimuth + self.orbit * t;
+        let mut camera = self.camera_start;
+        camera.azimuth = self.camera_start.azimuth + self.orbit * t;
+        self.camera = self.view.apply(camera);
+    }
+
+    /// Sets the viewer's change to the scene's camera; the next sort stage sorts for it, so
+    /// alpha blending stays in order however the viewer turns.
+    pub fn set_view(&mut self, view: crate::render::ViewOffset) {
+        self.view = view;
+        self.turn_camera();
     }
 
     /// What stretched quads stretch along (only they need it): the velocities, or Verlet's

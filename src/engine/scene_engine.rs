@@ -84,6 +84,33 @@ impl SceneEngine {
         }
     }
 
+    /// Sets the viewer's change to the scene's camera (see [`Engine::set_view`]).
+    pub fn set_view(&mut self, view: crate::render::ViewOffset) {
+        match self {
+            SceneEngine::Fire(e) => e.set_view(view),
+            SceneEngine::Particles(e) => e.set_view(view),
+        }
+    }
+
+    /// Draws the current state into the frame target, without reading it back.
+    pub fn draw(&mut self) -> Result<()> {
+        match self {
+            SceneEngine::Fire(e) => {
+                e.draw();
+                Ok(())
+            }
+            SceneEngine::Particles(e) => e.draw(),
+        }
+    }
+
+    /// The frame target the engine draws into.
+    pub fn target(&self) -> &crate::render::FrameTarget {
+        match self {
+            SceneEngine::Fire(e) => e.target(),
+            SceneEngine::Particles(e) => e.target(),
+        }
+    }
+
     /// Renders the current state.
     pub fn render(&mut self) -> Result<image::RgbImage> {
         match self {

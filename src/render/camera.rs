@@ -88,3 +88,39 @@ impl Camera {
         Some((x.min(width - 1), height - 1 - y_up.min(height - 1)))
     }
 }
+
+/// A viewer's change to a scene's camera (the live window's mouse): turned by `azimuth` and
+/// `elevation` degrees and moved `zoom` times as far. The identity changes nothing, so a frame
+/// drawn with it is the headless frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ViewOffset {
+    /// Degrees added to the orbit angle around +y.
+    pub azimuth: f32,
+    /// Degrees added to the angle above the horizon (the sum kept within ±89°).
+    pub elevation: f32,
+    /// Factor on the distance from the target.
+    pub zoom: f32,
+}
+
+impl Default for ViewOffset {
+    fn default() -> Self {
+        ViewOffset {
+            azimuth: 0.0,
+            elevation: 0.0,
+            zoom: 1.0,
+        }
+    }
+}
+
+impl ViewOffset {
+    /// `camera` as this offset changes it.
+    pub fn apply(&self, mut camera: Camera) -> Camera {
+        if *self == ViewOffset::default() {
+            return camera;
+        }
+        camera.azimuth += self.azimuth;
+        camera.elevation = (camera.elevation + self.elevation).clamp(-89.0, 89.0);
+        camera.distance *= self.zoom;
+        camera
+    }
+}

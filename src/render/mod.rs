@@ -9,7 +9,7 @@ mod sprite;
 mod style;
 mod target;
 
-pub use camera::Camera;
+pub use camera::{Camera, ViewOffset};
 pub use keyframes::{relative_age, KeyframeRamp};
 pub use particles::{FrameState, Motion, ParticleRenderer, QUAD_VERTICES};
 pub use points::{PointRenderer, PointStyle};

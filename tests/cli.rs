@@ -141,7 +141,7 @@ fn unwritable_output_paths_are_refused() {
     let file = dir.path().join("file");
     std::fs::write(&file, b"x").unwrap();
     for (out, message) in [
-        (file.clone(), "is a file"),
+        (file.clone(), "exists and is not a folder"),
         (file.join("sub"), "is a file"),
         // Nobody, root included, can create files in /proc.
         (

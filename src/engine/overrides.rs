@@ -69,6 +69,28 @@ impl Overrides {
         v
     }
 
+    /// The options given, as typed (`--dt 0.5`), for messages.
+    fn given(&self) -> Vec<String> {
+        let size = |s: [u32; 2]| format!("{}x{}", s[0], s[1]);
+        let mut v = Vec::new();
+        if let Some(p) = self.particles {
+            v.push(format!("--particles {}", size(p)));
+        }
+        if let Some(r) = self.resolution {
+            v.push(format!("--resolution {}", size(r)));
+        }
+        if let Some(dt) = self.dt {
+            v.push(format!("--dt {dt}"));
+        }
+        if let Some(n) = self.substeps {
+            v.push(format!("--substeps {n}"));
+        }
+        if self.no_collisions {
+            v.push("--no-collisions".into());
+        }
+        v
+    }
+
     /// Sets the overridden values in `scene` and validates the result; an error names the option
     /// whose value it is about, or the scene key.
     pub fn apply(&self, scene: &mut SceneFile) -> Result<()> {
@@ -101,11 +123,15 @@ impl Overrides {
                 .into_iter()
                 .find(|(k, _)| *k == key)
                 .map(|(_, o)| o);
-            return Err(Error::InvalidInput(match option {
-                Some(o) => format!("{o}: {}", e.message),
-                None => format!(
-                    "scene `{}` with the options given: {} (at `{key}`)",
-                    scene.name, e.message
+            let given = self.given();
+            return Err(Error::InvalidInput(match (option, given.is_empty()) {
+                (Some(o), _) => format!("{o}: {}", e.message),
+                (None, true) => format!("scene `{}`: {} (at `{key}`)", scene.name, e.message),
+                (None, false) => format!(
+                    "scene `{}` with {}: {} (at `{key}`)",
+                    scene.name,
+                    given.join(" "),
+                    e.message
                 ),
             }));
         }

@@ -52,7 +52,7 @@ impl FrameWriter {
         let bad = |m: String| Err(Error::InvalidInput(m));
         if dir.exists() && !dir.is_dir() {
             return bad(format!(
-                "{flag} {} is a file, not a folder: pass a folder to {flag}",
+                "{flag} {} exists and is not a folder: pass a folder to {flag}",
                 dir.display()
             ));
         }

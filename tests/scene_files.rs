@@ -228,3 +228,83 @@ fn a_file_that_is_not_utf8_is_located() {
         other => panic!("want a scene error, got {other:?}"),
     }
 }
+
+/// The value ranges the mutation test (`tests/scene_mutations.rs`) found missing, one class per
+/// key: each refused at its own line and column with the range in the message (issue 13, item 3).
+#[test]
+fn values_that_overflow_the_state_are_refused_at_their_key() {
+    let base = "name = \"x\"\nparticles = { size = [8, 8] }\n";
+    let initial = "[[emitters.initial]]\ndirection = [0.0, 1.0, 0.0]\nspeed = [0.0, 1.0]\n";
+    let fire = "[fire]\nemitter_center = [0.0, 0.0, 0.0]\nemitter_radius = 0.3\nspeed = 0.8\n\
+                spread = 0.15\nconverge = 1.1\nbuoyancy = [0.0, 2.5, 0.0]\nturbulence = 4.0\n\
+                damping = 0.7\nlife = [0.6, 1.4]\nmax_age = 1.6\n";
+    // Every fire magnitude is bounded like the emitters' (the first mutant found was damping).
+    for (key, bad, message) in [
+        ("damping = 0.7", "damping = -1e30", "must not be negative"),
+        (
+            "damping = 0.7",
+            "damping = 1e6",
+            "|damping × dt| must be at most 4",
+        ),
+        ("speed = 0.8", "speed = 1e30", "is outside [-1e6, 1e6]"),
+        ("spread = 0.15", "spread = 1e30", "is outside [-1e6, 1e6]"),
+        (
+            "converge = 1.1",
+            "converge = -1e30",
+            "is outside [-1e6, 1e6]",
+        ),
+        (
+            "turbulence = 4.0",
+            "turbulence = 1e38",
+            "is outside [-1e6, 1e6]",
+        ),
+        (
+            "emitter_radius = 0.3",
+            "emitter_radius = 1e30",
+            "is outside [-1e6, 1e6]",
+        ),
+        (
+            "[0.0, 0.0, 0.0]",
+            "[1e30, 0.0, 0.0]",
+            "is outside [-1e6, 1e6]",
+        ),
+    ] {
+        let src = format!("{base}{}", fire.replace(key, bad));
+        let (l, c, m) = location(&src);
+        let want = src.lines().position(|x| x.contains(bad)).unwrap() + 1;
+        assert_eq!(l, want, "{bad}: {m}");
+        assert!(c > 1 && m.contains(message), "{bad}: {l}:{c}: {m}");
+    }
+    // Time steps, masses and a mass-divided drag.
+    let (l, c, m) = location(&format!("{base}{initial}[time]\ndt = 1.5\n"));
+    assert_eq!((l, c), (7, 6), "{m}");
+    assert!(m.contains("is above 1 s"), "{m}");
+    for mass in ["1e-30", "2e6"] {
+        let src = format!("{base}{initial}mass_range = [{mass}, {mass}]\n");
+        let (l, _, m) = location(&src);
+        assert_eq!(l, 6, "{m}");
+        assert!(m.contains("is outside [1e-6, 1e6]"), "{m}");
+    }
+    // Height fields and distance fields are coordinates too.
+    for (line, message) in [
+        (
+            "[[colliders.heightfield]]\nextent = [-1.0, -1.0, 1e30, 1.0]\nresolution = 4\n\
+             amplitude = 0.1\nfrequency = 1.0\n",
+            "extent component",
+        ),
+        (
+            "[[colliders.heightfield]]\nextent = [-1.0, -1.0, 1.0, 1.0]\nresolution = 4\n\
+             amplitude = 0.1\nfrequency = 1e30\n",
+            "frequency component",
+        ),
+        (
+            "[[colliders.sdf]]\nbounds = [[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]]\nresolution = 4\n\
+             spheres = [[0.0, 0.0, 0.0, 1e30]]\n",
+            "sphere component",
+        ),
+    ] {
+        let src = format!("{base}{initial}{line}");
+        let (_, c, m) = location(&src);
+        assert!(c > 1 && m.contains(message), "{line}: {m}");
+    }
+}

@@ -71,7 +71,18 @@ pub(super) fn colliders(s: &SceneFile) -> Check {
             b.resilience,
         )?;
     }
+    bounded(
+        path(&[N("colliders"), N("slow_speed")]),
+        "slow_speed",
+        &[c.slow_speed],
+    )?;
     for (i, hf) in c.heightfield.iter().enumerate() {
+        let at = |k| path(&[N("colliders"), N("heightfield"), I(i), N(k)]);
+        // Heights and extents are coordinates; the frequency (1/m) multiplies one inside a sine.
+        bounded(at("extent"), "extent", &hf.extent)?;
+        bounded(at("base"), "base", &[hf.base])?;
+        bounded(at("amplitude"), "amplitude", &[hf.amplitude])?;
+        bounded(at("frequency"), "frequency", &[hf.frequency])?;
         if !(2..=4096).contains(&hf.resolution) {
             return fail(
                 path(&[N("colliders"), N("heightfield"), I(i), N("resolution")]),
@@ -103,6 +114,13 @@ pub(super) fn colliders(s: &SceneFile) -> Check {
                 "bounds",
                 corner,
             )?;
+        }
+        let at = |k| path(&[N("colliders"), N("sdf"), I(i), N(k)]);
+        for (k, sphere) in sdf.spheres.iter().enumerate() {
+            bounded([&at("spheres")[..], &[I(k)]].concat(), "sphere", sphere)?;
+        }
+        for (k, b) in sdf.boxes.iter().enumerate() {
+            bounded([&at("boxes")[..], &[I(k)]].concat(), "box", b)?;
         }
         let shapes = !(sdf.spheres.is_empty() && sdf.boxes.is_empty());
         match &sdf.mesh {

@@ -1,6 +1,6 @@
 //! `[[emitters.*]]`: one kind per scene, at most four, each with what its kind needs.
 
-use super::{bounded, direction, fail, nonzero, path, Check, MAX_COORDINATE};
+use super::{bounded, direction, duration, fail, mass, nonzero, path, Check, MAX_COORDINATE};
 use crate::scene::locate::Key;
 use crate::scene::schema::{Emitter, SceneFile, Shape, MAX_EMITTERS};
 
@@ -131,7 +131,7 @@ pub(super) fn emitters(s: &SceneFile) -> Check {
             Some(c) if e.life.is_some_and(|l| c < l[1]) => {
                 return fail(key("cycle"), "cycle must be at least the longest life")
             }
-            _ => {}
+            Some(c) => duration(key("cycle"), "cycle", c)?,
         }
     }
     Ok(())
@@ -154,9 +154,13 @@ fn check_spawn(at: &[Key], s: &Emitter) -> Check {
         if !(life[0] > 0.0 && life[0] <= life[1]) {
             return fail(p("life"), "life must be [min, max] with 0 < min <= max");
         }
+        duration([&p("life")[..], &[I(1)]].concat(), "life", life[1])?;
     }
     if let Some(m) = s.mass.filter(|m| *m <= 0.0) {
         return fail(p("mass"), format!("mass {m} must be above 0 kg"));
+    }
+    if let Some(m) = s.mass {
+        mass(p("mass"), m)?;
     }
     if let Some([lo, hi]) = s.mass_range {
         if s.mass.is_some() {
@@ -170,6 +174,9 @@ fn check_spawn(at: &[Key], s: &Emitter) -> Check {
                 p("mass_range"),
                 format!("mass_range [{lo}, {hi}] must be [lo, hi] with 0 < lo <= hi (kg)"),
             );
+        }
+        for (i, m) in [lo, hi].into_iter().enumerate() {
+            mass([&p("mass_range")[..], &[I(i)]].concat(), m)?;
         }
     }
     if s.sprite_scale <= 0.0 {

@@ -9,25 +9,28 @@ use Key::{Index as I, Name as N};
 /// Largest |rate × dt| of a damping rate or a wind drag (see [`forces`]).
 pub const MAX_RATE_DT: f32 = 4.0;
 
+/// A rate (1/s) whose explicit step multiplies the velocity by about 1 - rate·dt: |rate·dt| > 2
+/// grows it every step. The stability report runs just past 2 on purpose (its drag sweep ends at
+/// 2.1), so the limit is [`MAX_RATE_DT`]: at most 3 times per step, finite over a short run,
+/// refusing ±1e30.
+pub(super) fn per_step(dt: f32, at: Vec<Key>, what: &str, rate: f32) -> Check {
+    if (rate * dt).abs() > MAX_RATE_DT {
+        return fail(
+            at,
+            format!(
+                "{what} {rate} 1/s times dt {dt} s is {}: |{what} × dt| must be at most \
+                 {MAX_RATE_DT}, or the velocity overflows; lower it or dt",
+                rate * dt
+            ),
+        );
+    }
+    Ok(())
+}
+
 /// `[[forces.spring]]`, `[[forces.vortex]]`, `[[forces.attractor]]`, `[[forces.wind]]`.
 pub(super) fn forces(s: &SceneFile) -> Check {
     let dt = s.time.dt;
-    // An explicit step multiplies the velocity by about 1 - rate·dt, so |rate·dt| > 2 grows it
-    // every step. The stability report runs just past 2 on purpose (its drag sweep ends at 2.1),
-    // so the limit is 4: at most 3 times per step, finite over a short run, refusing ±1e30.
-    let per_step = |at: Vec<_>, what: &str, rate: f32| {
-        if (rate * dt).abs() > MAX_RATE_DT {
-            return fail(
-                at,
-                format!(
-                    "{what} {rate} 1/s times dt {dt} s is {}: |{what} × dt| must be at most \
-                     {MAX_RATE_DT}, or the velocity overflows; lower it or dt",
-                    rate * dt
-                ),
-            );
-        }
-        Ok(())
-    };
+    let per_step = |at, what: &str, rate| per_step(dt, at, what, rate);
     for (i, g) in s.forces.gravity.iter().enumerate() {
         bounded(
             path(&[N("forces"), N("gravity"), I(i), N("acceleration")]),
@@ -115,6 +118,12 @@ pub(super) fn forces(s: &SceneFile) -> Check {
             );
         }
         per_step(at("drag"), "drag", wnd.drag)?;
+        if wnd.form == WindForm::Latta {
+            // Latta eq. 1-2: the drag is a force, divided by the mass: its rate per step is
+            // drag / mass for the lightest particle.
+            let m = lightest(s);
+            per_step(at("drag"), "drag / lightest mass", wnd.drag / m)?;
+        }
         bounded(at("velocity"), "velocity", &wnd.velocity)?;
         bounded(at("turbulence"), "turbulence", &[wnd.turbulence])?;
         for (c, corner) in wnd.bounds.iter().enumerate() {
@@ -154,6 +163,19 @@ pub(super) fn forces(s: &SceneFile) -> Check {
         );
     }
     Ok(())
+}
+
+/// The smallest mass any particle of `s` has (kg): `particles.mass`, or an emitter's `mass` or
+/// the low end of its `mass_range`.
+fn lightest(s: &SceneFile) -> f32 {
+    let em = &s.emitters;
+    em.allocator
+        .iter()
+        .chain(&em.timestamp)
+        .chain(&em.initial)
+        .flat_map(|e| [e.mass, e.mass_range.map(|r| r[0])])
+        .flatten()
+        .fold(s.particles.mass, f32::min)
 }
 
 impl SceneFile {

@@ -42,6 +42,48 @@ pub const MAX_COORDINATE: f32 = 1e6;
 /// squared length underflows and normalising it gives NaN.
 pub const MIN_DIRECTION: f32 = 1e-6;
 
+/// Longest time step (s): with every acceleration and velocity within ±[`MAX_COORDINATE`], one
+/// step's `a dt` and `v dt` stay within it too. Longer steps overflow the state within a few
+/// steps (dt = 1e30 under gravity); use `substeps` to cover more time per frame.
+pub const MAX_DT: f32 = 1.0;
+
+/// Longest life, cycle or fire cycle (s): the state stores remaining lives, and with
+/// `precision = "fp24"` (at most about 1.8e19) a life of 1e30 is written as infinity.
+pub const MAX_TIME: f32 = 1e6;
+
+/// A time within (0, [`MAX_TIME`]] seconds (the lower bound is checked by the caller).
+fn duration(at: Vec<Key>, what: &str, t: f32) -> Check {
+    if t > MAX_TIME {
+        return fail(
+            at,
+            format!(
+                "{what} {t} s is above {MAX_TIME:e} s: the state stores it, and 24-bit floats \
+                 cannot; give a shorter time"
+            ),
+        );
+    }
+    Ok(())
+}
+
+/// Range of a particle mass (kg): forces are divided by it (Latta eq. 2), so a tiny mass turns a
+/// bounded force into an overflowing acceleration.
+pub const MASS_RANGE: [f32; 2] = [1e-6, 1e6];
+
+/// A mass within [`MASS_RANGE`].
+fn mass(at: Vec<Key>, m: f32) -> Check {
+    let [lo, hi] = MASS_RANGE;
+    if !(lo..=hi).contains(&m) {
+        return fail(
+            at,
+            format!(
+                "mass {m:e} kg is outside [{lo:e}, {hi:e}]: forces are divided by the mass, so \
+                 give a mass in that range"
+            ),
+        );
+    }
+    Ok(())
+}
+
 /// Every component within ±[`MAX_COORDINATE`], reported at the first one out of range.
 fn bounded(at: Vec<Key>, what: &str, v: &[f32]) -> Check {
     match v.iter().position(|x| x.abs() > MAX_COORDINATE) {
@@ -108,7 +150,7 @@ fn particles(s: &SceneFile) -> Check {
             format!("mass {} must be above 0 kg", s.particles.mass),
         );
     }
-    Ok(())
+    mass(path(&[N("particles"), N("mass")]), s.particles.mass)
 }
 
 /// `[time]`.
@@ -119,6 +161,16 @@ fn time(s: &SceneFile) -> Check {
             path(&[N("time"), N("dt")]),
             format!(
                 "time step dt {} must be a finite number of seconds above 0",
+                s.time.dt
+            ),
+        );
+    }
+    if s.time.dt > MAX_DT {
+        return fail(
+            path(&[N("time"), N("dt")]),
+            format!(
+                "time step dt {} s is above {MAX_DT} s: longer steps overflow the velocities; \
+                 use a shorter dt, and substeps for more time per frame",
                 s.time.dt
             ),
         );
@@ -155,6 +207,10 @@ fn collisions(s: &SceneFile) -> Check {
     }
     if c.cell.is_some_and(|g| g <= 0.0) {
         return fail(at("cell"), "cell must be above 0 m");
+    }
+    bounded(at("radius"), "radius", &[c.radius])?;
+    if let Some(g) = c.cell {
+        bounded(at("cell"), "cell", &[g])?;
     }
     for (i, corner) in c.bounds.iter().enumerate() {
         bounded(
@@ -285,5 +341,19 @@ fn fire(s: &SceneFile) -> Check {
             return fail(at(key), format!("{key} {v} must not be negative"));
         }
     }
-    Ok(())
+    duration(at("max_age"), "max_age", f.max_age)?;
+    // Positions, speeds and accelerations, as for emitters and forces.
+    bounded(at("emitter_center"), "emitter_center", &f.emitter_center)?;
+    bounded(at("buoyancy"), "buoyancy", &f.buoyancy)?;
+    for (key, v) in [
+        ("emitter_radius", f.emitter_radius),
+        ("speed", f.speed),
+        ("spread", f.spread),
+        ("converge", f.converge),
+        ("turbulence", f.turbulence),
+    ] {
+        bounded(at(key), key, &[v])?;
+    }
+    // The fire's damping is a rate like `[[forces.damping]]` (v' = v (1 - damping dt)).
+    forces::per_step(s.time.dt, at("damping"), "damping", f.damping)
 }

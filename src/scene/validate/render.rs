@@ -2,7 +2,9 @@
 
 use super::{fail, path, Check};
 use crate::scene::locate::Key;
-use crate::scene::schema::{DrawPrimitive, Emitter, Keyframe, RenderPath, SceneFile, Variant};
+use crate::scene::schema::{
+    Blending, DrawPrimitive, Emitter, Keyframe, Precision, RenderPath, SceneFile, Variant,
+};
 
 use Key::{Index as I, Name as N};
 
@@ -80,6 +82,18 @@ pub(super) fn render(s: &SceneFile) -> Check {
         return fail(
             path(&[N("render"), N("sort"), N("passes_per_frame")]),
             "passes_per_frame must be at least 1",
+        );
+    }
+    if r.blending == Blending::Alpha
+        && r.sort.passes_per_frame.is_some()
+        && s.particles.precision == Precision::Fp24
+    {
+        // The engine would refuse it at the second frame, without a location.
+        return fail(
+            path(&[N("render"), N("sort"), N("passes_per_frame")]),
+            "a sort spread over frames refreshes its keys in place (Latta §3.4.4), which the \
+             identifier table of precision = \"fp24\" (UberFlow §4.3.1) cannot follow: remove \
+             passes_per_frame, or use precision = \"fp32\"",
         );
     }
     Ok(())

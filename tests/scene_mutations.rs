@@ -290,6 +290,7 @@ fn run_all(accepted: &[&Accepted]) -> Runs {
             every: 1,
             dump_every: Some(FRAMES - 1),
             non_finite: NonFinitePolicy::Report,
+            timing: false,
         };
         let frame_loop = FrameLoop::new(&ctx, &engine, options).unwrap();
         let mut sink = MemorySink::default();

@@ -247,7 +247,7 @@ fn interrupted_render(signal: &str) -> (Option<i32>, Vec<String>, String) {
 
 #[test]
 fn sigint_and_sigterm_stop_between_frames_and_leave_nothing_unfinished() {
-    for (signal, code) in [("-INT", 130), ("-TERM", 143)] {
+    for (signal, code) in [("-INT", 130), ("-TERM", 143), ("-HUP", 129)] {
         let (status, files, err) = interrupted_render(signal);
         assert_eq!(status, Some(code), "{signal}: {err}");
         assert!(err.contains("interrupted"), "{err}");

@@ -1,15 +1,15 @@
-//! SIGINT and SIGTERM: no command leaves a temporary file behind, and `render` stops between
-//! frames.
+//! SIGINT, SIGTERM and SIGHUP (a closed terminal): no command leaves a temporary file behind,
+//! and `render` stops between frames.
 //!
 //! A thread waits for the signals. For a command that has asked to [`cooperate`] (render), the
 //! first signal is only recorded: the frame loop stops after the frame it is on, the command
 //! returns [`texflow::Error::Interrupted`], and the process exits with 128 + the signal (130 for
-//! SIGINT, 143 for SIGTERM). Any other command, or a second signal, removes the unfinished
+//! SIGINT, 143 for SIGTERM, 129 for SIGHUP). Any other command, or a second signal, removes the unfinished
 //! temporary files and exits at once with the same code.
 
 use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 
-use signal_hook::consts::{SIGINT, SIGTERM};
+use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
 use signal_hook::iterator::Signals;
 
 static RECEIVED: AtomicI32 = AtomicI32::new(0);
@@ -17,7 +17,7 @@ static COOPERATIVE: AtomicBool = AtomicBool::new(false);
 
 /// Starts the signal thread. Without it (an error here), signals keep their default action.
 pub fn install() {
-    let Ok(mut signals) = Signals::new([SIGINT, SIGTERM]) else {
+    let Ok(mut signals) = Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
         return;
     };
     std::thread::spawn(move || {

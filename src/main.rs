@@ -10,12 +10,22 @@ mod cli;
 use cli::{Cli, Command};
 
 fn main() -> ExitCode {
-    // A closed stdout (`texflow info | head -1`) ends the process quietly, as it does Unix tools,
-    // instead of a panic on the failed write.
-    // SAFETY: restoring the default action of SIGPIPE before any thread exists.
-    unsafe {
-        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
-    }
+    // A closed stdout or stderr (`texflow info | head -1`) ends the process quietly with 141 (as
+    // SIGPIPE ends Unix tools), after removing unfinished files, instead of a panic message and
+    // exit 101: Rust ignores SIGPIPE, so the failed write panics, and this hook catches that.
+    let default_hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let payload = info.payload();
+        let message = payload
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| payload.downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if message.starts_with("failed printing to std") && message.contains("Broken pipe") {
+            match texflow::output::abandon(|| std::process::exit(141)) {}
+        }
+        default_hook(info);
+    }));
     cli::signals::install();
     let args = Cli::parse();
     let result = match args.command {

@@ -296,6 +296,7 @@ fn numbers_out_of_range_are_refused_by_option() {
         (&["render", "--dt", "-inf"][..], "--dt"),
         (&["render", "--dt", "1e39"][..], "--dt"),
         (&["render", "--substeps", "-2"][..], "--substeps"),
+        (&["render", "--substeps", "1001"][..], "--substeps: substeps 1001 is more than 1000"),
         (&["collide-stats", "--cell", "inf"][..], "--cell"),
         (&["collide-stats", "--cell", "nan"][..], "--cell"),
         (&["bench", "sort", "--repeats", "0"][..], "--repeats"),
@@ -361,4 +362,76 @@ stiffness = 1000000.0
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(stderr(&o).contains("warning"), "{}", stderr(&o));
     assert_eq!(names(&out).len(), 60);
+}
+
+#[test]
+fn a_video_that_would_replace_a_frame_and_inputs_that_never_end_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("frames");
+    std::fs::create_dir(&out).unwrap();
+    let link = dir.path().join("link");
+    symlink(&out, &link).unwrap();
+    for video in [out.join("frame_00000.png"), link.join("frame_00001.png")] {
+        let o = texflow(&[
+            "render",
+            "--frames",
+            "2",
+            "--particles",
+            "8",
+            "--resolution",
+            "8",
+            "--quiet",
+            "--out",
+            s(&out),
+            "--video",
+            s(&video),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{video:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains("will write"), "{}", stderr(&o));
+    }
+    assert!(names(&out).is_empty(), "nothing written");
+    // A device or a fifo as --input would be read without end or block: refused at once.
+    let fifo = dir.path().join("keys.fifo");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    for input in [Path::new("/dev/zero"), fifo.as_path()] {
+        let o = texflow(&[
+            "sort",
+            "--input",
+            s(input),
+            "--output",
+            s(&dir.path().join("k.npy")),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{input:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains("not a regular file"), "{}", stderr(&o));
+    }
+    // A dangling link as --out, and a file as an output's folder, say what they are.
+    let dangling = dir.path().join("dangling");
+    symlink(dir.path().join("nowhere"), &dangling).unwrap();
+    let o = texflow(&["render", "--frames", "1", "--quiet", "--out", s(&dangling)]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("link to a missing path"),
+        "{}",
+        stderr(&o)
+    );
+    let file = dir.path().join("file");
+    std::fs::write(&file, b"x").unwrap();
+    let input = keys(dir.path());
+    let o = texflow(&[
+        "sort",
+        "--input",
+        s(&input),
+        "--output",
+        s(&file.join("x.npy")),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("is a file, not a folder"),
+        "{}",
+        stderr(&o)
+    );
 }

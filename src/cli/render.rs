@@ -130,6 +130,19 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     // Before the run: a missing ffmpeg or an unwritable --video stops here, not after the frames.
     if let Some(v) = &a.video {
         video::check_video(v)?;
+        // The video must not be one of the files the frame folders will hold.
+        for (dir, flag) in [(&out, "--out"), (&a.dump_state, "--dump-state")] {
+            if let Some(dir) = dir {
+                if names_a_frame_file(v, dir) {
+                    return Err(bad(format!(
+                        "--video {} is a file that {flag} {} will write: give the video another \
+                         name or folder",
+                        v.display(),
+                        dir.display()
+                    )));
+                }
+            }
+        }
     }
     if let Some(d) = &a.dump_state {
         FrameWriter::check_for(d, "--dump-state")?;
@@ -253,6 +266,29 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
         println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
     }
     Ok(())
+}
+
+/// Whether `video` lies in `dir` (by its canonical folder where both exist) under a name of the
+/// frames or dumps written there (`frame_00000.png`, `positions_00000.npy`, ...).
+fn names_a_frame_file(video: &std::path::Path, dir: &std::path::Path) -> bool {
+    let canon = |p: &std::path::Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
+    let parent = match video.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => std::path::Path::new("."),
+    };
+    if canon(parent) != canon(dir) {
+        return false;
+    }
+    let name = video
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    ["frame_", "positions_", "velocities_"].iter().any(|p| {
+        name.strip_prefix(p).is_some_and(|rest| {
+            let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
+            !digits.is_empty() && matches!(&rest[digits.len()..], ".png" | ".npy")
+        })
+    })
 }
 
 /// The one-paragraph summary of `render --stats`.

@@ -29,7 +29,9 @@ pub fn install() {
             {
                 continue;
             }
-            texflow::output::abandon(|| std::process::exit(128 + sig));
+            // `_exit`, not `exit`: the main thread may be inside the GL driver, and `exit` would
+            // run the driver's atexit teardown under it (seen: aborts and segfaults in Mesa).
+            texflow::output::abandon(|| signal_hook::low_level::exit(128 + sig));
         }
     });
 }

@@ -32,6 +32,16 @@ pub struct SortArgs {
 
 pub fn sort(a: SortArgs) -> texflow::Result<()> {
     let variant = Variant::from_name(&a.variant)?;
+    // A device or a pipe would be read without end (`/dev/zero`) or block (a fifo).
+    match std::fs::metadata(&a.input) {
+        Ok(m) if !m.is_file() => {
+            return Err(bad(format!(
+                "--input {} is not a regular file (a device, pipe or folder): give a .npy file",
+                a.input.display()
+            )))
+        }
+        _ => {}
+    }
     let keys = texflow::npy::read_f32(&a.input).map_err(|e| match e {
         Error::Io { path, source } => bad(format!("--input {}: {source}", path.display())),
         e => e,

@@ -50,6 +50,12 @@ impl FrameWriter {
     /// [`check`](Self::check), naming the option `flag` in its messages.
     pub fn check_for(dir: &Path, flag: &str) -> Result<()> {
         let bad = |m: String| Err(Error::InvalidInput(m));
+        if !dir.exists() && fs::symlink_metadata(dir).is_ok() {
+            return bad(format!(
+                "{flag} {} is a link to a missing path: remove it or name another folder",
+                dir.display()
+            ));
+        }
         if dir.exists() && !dir.is_dir() {
             return bad(format!(
                 "{flag} {} exists and is not a folder: pass a folder to {flag}",

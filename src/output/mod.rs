@@ -104,10 +104,12 @@ pub fn check_target(path: &Path, flag: &str) -> Result<()> {
     }
     let dir = folder_of(path);
     if !dir.is_dir() {
-        return bad(format!(
-            "{flag} {shown}: folder {} does not exist",
-            dir.display()
-        ));
+        let why = match fs::metadata(dir) {
+            Ok(_) => "is a file, not a folder",
+            Err(_) if fs::symlink_metadata(dir).is_ok() => "is a link to a missing path",
+            Err(_) => "does not exist",
+        };
+        return bad(format!("{flag} {shown}: {} {why}", dir.display()));
     }
     probe_writable(dir).or_else(|e| {
         bad(format!(

@@ -19,6 +19,9 @@ use Key::{Index as I, Name as N};
 /// The result of one check: nothing, or where and what.
 pub(super) type Check = std::result::Result<(), Invalid>;
 
+/// The most simulation steps one frame may take.
+pub const MAX_SUBSTEPS: u32 = 1000;
+
 fn fail(at: Vec<Key>, message: impl Into<String>) -> Check {
     Err(Invalid {
         at,
@@ -179,6 +182,18 @@ fn time(s: &SceneFile) -> Check {
         return fail(
             path(&[N("time"), N("substeps")]),
             "substeps must be at least 1",
+        );
+    }
+    // One frame's work is substeps × passes: bounded, so that a signal is answered within a
+    // frame and no frame runs without end.
+    if s.time.substeps > MAX_SUBSTEPS {
+        return fail(
+            path(&[N("time"), N("substeps")]),
+            format!(
+                "substeps {} is more than {MAX_SUBSTEPS} steps per frame: use a larger dt or \
+                 more frames",
+                s.time.substeps
+            ),
         );
     }
     Ok(())

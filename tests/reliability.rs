@@ -296,7 +296,10 @@ fn numbers_out_of_range_are_refused_by_option() {
         (&["render", "--dt", "-inf"][..], "--dt"),
         (&["render", "--dt", "1e39"][..], "--dt"),
         (&["render", "--substeps", "-2"][..], "--substeps"),
-        (&["render", "--substeps", "1001"][..], "--substeps: substeps 1001 is more than 1000"),
+        (
+            &["render", "--substeps", "1001"][..],
+            "--substeps: substeps 1001 is more than 1000",
+        ),
         (&["collide-stats", "--cell", "inf"][..], "--cell"),
         (&["collide-stats", "--cell", "nan"][..], "--cell"),
         (&["bench", "sort", "--repeats", "0"][..], "--repeats"),

@@ -113,9 +113,6 @@ pub fn bench(cmd: BenchCommand) -> texflow::Result<()> {
                     "--sizes takes powers of two of at least 2, e.g. 128,256,512",
                 ));
             }
-            if repeats == 0 {
-                return Err(bad("--repeats must be at least 1"));
-            }
             let ctx = Context::new(common.device)?;
             for &n in &sizes {
                 texflow::gl::check_size(&ctx, "--sizes", n, n)?;
@@ -158,9 +155,6 @@ pub fn bench(cmd: BenchCommand) -> texflow::Result<()> {
             }
             if sizes.is_empty() || sizes.contains(&0) {
                 return Err(bad("--sizes needs sizes of at least 1, e.g. 256,512"));
-            }
-            if repeats == 0 {
-                return Err(bad("--repeats must be at least 1"));
             }
             s.validate()?;
             let ctx = Context::new(common.device)?;
@@ -224,9 +218,6 @@ pub fn bench_scenes(a: ScenesArgs) -> texflow::Result<()> {
     use texflow::bench::scenes as bs;
     if a.sizes.is_empty() || a.sizes.contains(&0) {
         return Err(bad("--sizes needs sizes of at least 1, e.g. 256,512,1024"));
-    }
-    if a.repeats == 0 {
-        return Err(bad("--repeats must be at least 1"));
     }
     let experiments: Vec<String> = if a.experiments.iter().any(|e| e == "all") {
         Vec::new()

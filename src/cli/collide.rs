@@ -56,16 +56,6 @@ pub struct CollideStatsArgs {
 }
 
 pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
-    if a.steps == 0 {
-        return Err(bad("--steps 0 runs nothing: ask for at least 1 step"));
-    }
-    if let Some(g) = a.cell {
-        if !(g.is_finite() && g > 0.0) {
-            return Err(bad(format!(
-                "--cell {g}: the lattice mesh size must be a positive, finite number of metres"
-            )));
-        }
-    }
     let overrides = Overrides {
         particles: a.particles,
         seed: a.seed,

@@ -111,11 +111,6 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
         timing: a.stats,
     };
     options.check()?;
-    if a.dump_every == 0 {
-        return Err(bad(
-            "--dump-every 0 is meaningless: use 1 to dump every frame",
-        ));
-    }
     let overrides = a.overrides();
     let prepared = overrides.prepare(&a.scene)?;
     let s = &prepared.scene;

@@ -6,7 +6,7 @@ use clap::Subcommand;
 use texflow::gl::Context;
 use texflow::output::FrameWriter;
 
-use super::{at_least_one, bad, Common};
+use super::{at_least_one, Common};
 
 #[derive(Subcommand)]
 pub enum ReportCommand {
@@ -123,9 +123,6 @@ pub fn report_cmd(cmd: ReportCommand) -> texflow::Result<()> {
             runs,
             common,
         } => {
-            if runs == 0 {
-                return Err(bad("--runs must be at least 1"));
-            }
             let sections = if only.is_empty() {
                 report::sections()
             } else {

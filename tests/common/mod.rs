@@ -43,3 +43,26 @@ pub fn context() -> TestContext {
 pub fn no_gl_error(ctx: &Context) {
     ctx.check_error("the test").expect("no pending GL error");
 }
+
+/// Uploads particles (position, velocity) as type 0, permanent, the rest of the texture dead;
+/// `random(i, n)` is particle i's static random number (statics.w) of n texels.
+pub fn set_particles(
+    sim: &mut texflow::sim::ParticleSim,
+    particles: &[([f32; 3], [f32; 3])],
+    random: impl Fn(usize, usize) -> f32,
+) {
+    let n = (sim.size().x * sim.size().y) as usize;
+    assert!(particles.len() <= n);
+    let mut pos = vec![f32::INFINITY; n * 4];
+    let mut vel = vec![0.0; n * 4];
+    let mut st = vec![0.0; n * 4];
+    for i in 0..n {
+        pos[i * 4 + 3] = 0.0;
+    }
+    for (i, (x, v)) in particles.iter().enumerate() {
+        pos[i * 4..i * 4 + 4].copy_from_slice(&[x[0], x[1], x[2], 1.0]);
+        vel[i * 4..i * 4 + 3].copy_from_slice(v);
+        st[i * 4 + 3] = random(i, n);
+    }
+    sim.set_state(&pos, &vel, &st).unwrap();
+}

@@ -5,11 +5,11 @@ use std::time::Instant;
 
 use glam::Vec3;
 
-use super::stats::{median, Clock, PassTimer, WriteFloor};
+use super::stats::{load_average, Clock, PassTimer, Spread, WriteFloor};
 use crate::error::Result;
 use crate::gl::{Context, PingPong, TextureFormat};
 use crate::sort::network::{key_order_bits, Entry};
-use crate::sort::{KeyMode, SortOptions, Sorter, Variant};
+use crate::sort::{BlockedShape, KeyMode, SortOptions, Sorter, Variant};
 
 /// UberFlow's Table 1 (fps on an ATI 9800 Pro, 2004) for a variant and texture side, if the paper
 /// has it.
@@ -34,8 +34,9 @@ pub fn paper_table1_fps(variant: Variant, size: u32) -> Option<f64> {
 /// the rearrangement of two RGBA32F state textures, or a CPU baseline on the same keys.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct SortRecord {
-    /// `fp`, `gpfp`, `packed`, `oddeven`, `multistep`, or `cpu-sort_unstable_by`,
-    /// `cpu-par_sort_unstable_by`.
+    /// `fp`, `gpfp`, `packed`, `oddeven`, `multistep`, `blocked` (`blocked-b3`, `blocked-b4p`:
+    /// 2^b entries per fragment, `p` with the pinned lane, when several shapes are run), or
+    /// `cpu-sort_unstable_by`, `cpu-par_sort_unstable_by`.
     pub variant: String,
     /// Texture side (size × size entries).
     pub size: u32,
@@ -57,13 +58,22 @@ pub struct SortRecord {
     pub clock: Clock,
     /// Timed runs behind the median.
     pub repeats: usize,
+    /// Count, min, median and max of the timed runs (ms).
+    pub spread: Spread,
+    /// The floor's own spread (ms), for GPU rows.
+    pub floor_spread: Option<Spread>,
+    /// The machine's one-minute load average when the cell started and ended.
+    pub load: [Option<f64>; 2],
+    /// Whether the cell is unreliable at a glance: runs spread over 1.5× (min to max), or the
+    /// sort ran under its floor (a floor that failed).
+    pub flagged: bool,
 }
 
 /// The records of [`bench_sort`] as a markdown table (UberFlow's Table 1 beside them).
 pub fn sort_markdown(records: &[SortRecord]) -> String {
     let mut out = String::from(
-        "| variant | size | ms | fps | paper fps (9800 Pro) | M entries/s | passes | floor ms | \
-         ms / floor |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        "| variant | size | ms | min–max (n) | fps | paper fps (9800 Pro) | M entries/s | passes | \
+         floor ms | ms / floor |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     let opt = |v: Option<f64>, digits: usize| {
         v.map(|x| format!("{x:.digits$}"))
@@ -71,10 +81,14 @@ pub fn sort_markdown(records: &[SortRecord]) -> String {
     };
     for r in records {
         out.push_str(&format!(
-            "| {} | {}² | {:.3} | {:.1} | {} | {:.1} | {} | {} | {} |\n",
+            "| {} | {}² | {:.3}{} | {:.3}–{:.3} ({}) | {:.1} | {} | {:.1} | {} | {} | {} |\n",
             r.variant,
             r.size,
             r.ms,
+            if r.flagged { " ⚠" } else { "" },
+            r.spread.min,
+            r.spread.max,
+            r.spread.count,
             r.fps,
             opt(r.paper_fps, 1),
             r.mtexels_per_s,
@@ -101,6 +115,22 @@ pub struct SortBenchOptions {
     pub cpu: bool,
     /// Steps per pass of the multistep variant.
     pub steps_per_pass: usize,
+    /// Shapes of the blocked variant to run (one row each); empty: the default shape.
+    pub blocked_shapes: Vec<BlockedShape>,
+}
+
+/// The row name of a blocked shape: `blocked` alone for the default shape when it is the only
+/// one, else `blocked-b<bits>` with `p` for the pinned lane.
+fn blocked_name(shape: BlockedShape, several: bool) -> String {
+    if !several && shape == BlockedShape::default() {
+        "blocked".into()
+    } else {
+        format!(
+            "blocked-b{}{}",
+            shape.bits,
+            if shape.pinned { "p" } else { "" }
+        )
+    }
 }
 
 fn lcg(state: &mut u64) -> f32 {
@@ -147,20 +177,36 @@ pub fn bench_sort(
             eye: Vec3::new(0.0, 0.0, 40.0),
             back_to_front: true,
         };
-        let median_of = |f: &mut dyn FnMut() -> Result<f64>| -> Result<f64> {
+        let runs_of = |f: &mut dyn FnMut() -> Result<f64>| -> Result<Spread> {
             let mut t = Vec::with_capacity(opts.repeats);
             for _ in 0..opts.repeats {
                 t.push(f()?);
             }
-            Ok(median(&t))
+            Ok(Spread::of(&t))
         };
-        let rearrange_floor = median_of(&mut || timer.time(|| floor2.draw(state.back())))?;
+        let rearrange_floor = runs_of(&mut || timer.time(|| floor2.draw(state.back())))?.median;
         let mut keys_for_cpu = None;
+        let mut runs: Vec<(Variant, SortOptions, String)> = Vec::new();
         for &variant in variants {
             let options = SortOptions {
                 steps_per_pass: opts.steps_per_pass,
                 ..SortOptions::default()
             };
+            if variant == Variant::Blocked && !opts.blocked_shapes.is_empty() {
+                let several = opts.blocked_shapes.len() > 1;
+                for &shape in &opts.blocked_shapes {
+                    let o = SortOptions {
+                        blocked: shape,
+                        ..options
+                    };
+                    runs.push((variant, o, blocked_name(shape, several)));
+                }
+            } else {
+                runs.push((variant, options, variant.name().to_string()));
+            }
+        }
+        for (variant, options, name) in runs {
+            let load_start = load_average();
             let mut sorter = Sorter::new(ctx, variant, n, n, options)?;
             let full = |s: &mut Sorter| -> Result<()> {
                 s.write_keys(state.front().texture(0), count, &mode, false)?;
@@ -172,17 +218,31 @@ pub fn bench_sort(
                 sorter.write_keys(state.front().texture(0), count, &mode, false)?;
                 keys_for_cpu = Some(sorter.read()?);
             }
-            let ms = median_of(&mut || {
+            let spread = runs_of(&mut || {
                 let mut r = Ok(());
                 let t = timer.time(|| r = full(&mut sorter))?;
                 r.map(|_| t)
             })?;
-            let sort_floor = median_of(&mut || timer.time(|| floor1.draw(sorter.target())))?;
+            // The network's passes write the sorter's target (for the blocked variant, its
+            // layers through MRT); the key pass and the blocked unpack pass write the row-major
+            // sort texture; the rearrangement writes the two state textures.
+            let natural = runs_of(&mut || timer.time(|| floor1.draw(sorter.keys_target())))?;
+            let layers = sorter.target().attachments();
+            let network_floor = if layers > 1 {
+                let f = WriteFloor::new(ctx, layers)?;
+                runs_of(&mut || timer.time(|| f.draw(sorter.target())))?
+            } else {
+                natural
+            };
             ctx.check_error("sort benchmark")?;
             let passes = sorter.pass_count() + 2;
-            let floor = sort_floor * (passes - 1) as f64 + rearrange_floor;
+            let network = sorter.network_pass_count();
+            let floor = network_floor.median * network as f64
+                + natural.median * (passes - 1 - network) as f64
+                + rearrange_floor;
+            let ms = spread.median;
             records.push(SortRecord {
-                variant: variant.name().into(),
+                variant: name.clone(),
                 size: n,
                 ms,
                 fps: 1e3 / ms,
@@ -193,8 +253,12 @@ pub fn bench_sort(
                 paper_fps: paper_table1_fps(variant, n),
                 clock,
                 repeats: opts.repeats,
+                spread,
+                floor_spread: Some(network_floor),
+                load: [load_start, load_average()],
+                flagged: spread.unreliable() || ms < 0.95 * floor,
             });
-            progress(variant.name(), n);
+            progress(&name, n);
         }
         if let (true, Some(keys)) = (opts.cpu, keys_for_cpu) {
             fn order(a: &Entry, b: &Entry) -> std::cmp::Ordering {
@@ -209,6 +273,7 @@ pub fn bench_sort(
                 }),
             ];
             for (name, sort) in baselines {
+                let load_start = load_average();
                 let mut t = Vec::new();
                 for _ in 0..opts.repeats {
                     let mut v = keys.clone();
@@ -217,7 +282,8 @@ pub fn bench_sort(
                     t.push(t0.elapsed().as_secs_f64() * 1e3);
                     std::hint::black_box(&v);
                 }
-                let ms = median(&t);
+                let spread = Spread::of(&t);
+                let ms = spread.median;
                 records.push(SortRecord {
                     variant: name.into(),
                     size: n,
@@ -230,6 +296,10 @@ pub fn bench_sort(
                     paper_fps: None,
                     clock: Clock::Wall,
                     repeats: opts.repeats,
+                    spread,
+                    floor_spread: None,
+                    load: [load_start, load_average()],
+                    flagged: spread.unreliable(),
                 });
             }
             progress("cpu", n);

@@ -152,6 +152,46 @@ pub fn json_envelope<T: serde::Serialize>(
     })
 }
 
+/// How a benchmark cell's timed runs spread: count, min, median and max, in milliseconds.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Spread {
+    /// Timed runs.
+    pub count: usize,
+    /// The fastest run.
+    pub min: f64,
+    /// The median run (what the tables print).
+    pub median: f64,
+    /// The slowest run.
+    pub max: f64,
+}
+
+impl Spread {
+    /// The spread of `v` (NaN fields for none).
+    pub fn of(v: &[f64]) -> Self {
+        let min = v.iter().copied().fold(f64::NAN, f64::min);
+        let max = v.iter().copied().fold(f64::NAN, f64::max);
+        Spread {
+            count: v.len(),
+            min,
+            median: median(v),
+            max,
+        }
+    }
+
+    /// Whether the runs spread too far to trust the median at a glance: the slowest over 1.5×
+    /// the fastest.
+    pub fn unreliable(&self) -> bool {
+        self.count > 1 && self.max > 1.5 * self.min
+    }
+}
+
+/// The machine's one-minute load average (Linux `/proc/loadavg`), if it can be read: a busy
+/// machine makes timings of a shared CPU (llvmpipe, the CPU baselines) unreliable.
+pub fn load_average() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/loadavg").ok()?;
+    s.split_whitespace().next()?.parse().ok()
+}
+
 /// The median of `v` (mean of the two middle values for an even count); NaN for none.
 pub fn median(v: &[f64]) -> f64 {
     if v.is_empty() {

@@ -72,6 +72,10 @@ pub enum BenchCommand {
         /// Steps of distance 2 or more per pass of the multistep variant (1 to 3).
         #[arg(long, default_value_t = 2)]
         steps: usize,
+        /// Shapes of the blocked variant, one row each: `b` entries-per-fragment bits (2, 3 or
+        /// 4: 4, 8 or 16 entries), with a `p` suffix for the pinned lane, e.g. `4,3p`.
+        #[arg(long, value_delimiter = ',', value_name = "B[p],...")]
+        blocked: Vec<String>,
         /// How to time: auto, gpu, wall.
         #[arg(long, value_enum, default_value_t = ClockArg::Auto)]
         clock: ClockArg,
@@ -81,6 +85,21 @@ pub enum BenchCommand {
         #[command(flatten)]
         common: Common,
     },
+}
+
+/// `--blocked 4`, `3p`: entries-per-fragment bits and the pinned lane.
+fn parse_blocked_shape(s: &str) -> texflow::Result<texflow::sort::BlockedShape> {
+    let (digits, pinned) = match s.strip_suffix('p') {
+        Some(d) => (d, true),
+        None => (s, false),
+    };
+    match digits.parse::<u32>() {
+        Ok(bits @ 2..=4) => Ok(texflow::sort::BlockedShape { bits, pinned }),
+        _ => Err(bad(format!(
+            "--blocked {s}: give 2, 3 or 4 (bits of entries per fragment), with `p` for the \
+             pinned lane, e.g. --blocked 4,3p"
+        ))),
+    }
 }
 
 pub fn print_sort_table(records: &[SortRecord]) {
@@ -96,10 +115,15 @@ pub fn bench(cmd: BenchCommand) -> texflow::Result<()> {
             repeats,
             no_cpu,
             steps,
+            blocked,
             clock,
             json,
             common,
         } => {
+            let blocked_shapes = blocked
+                .iter()
+                .map(|b| parse_blocked_shape(b))
+                .collect::<texflow::Result<Vec<_>>>()?;
             let variants: Vec<Variant> = if variants.iter().any(|v| v == "all") {
                 Variant::ALL.to_vec()
             } else {
@@ -130,6 +154,7 @@ pub fn bench(cmd: BenchCommand) -> texflow::Result<()> {
                 clock: clock.clock(),
                 cpu: !no_cpu,
                 steps_per_pass: steps,
+                blocked_shapes,
             };
             let records = bench_sort(&ctx, &sizes, &variants, &opts, |_, _| bar.inc(1))?;
             bar.finish_and_clear();

@@ -52,6 +52,11 @@ pub fn sort_plan(scene: &SceneFile) -> Option<SortPlan> {
     let passes = match variant {
         Variant::OddEven => odd_even_schedule(block).len(),
         Variant::Multistep => group_steps(&bitonic_schedule(w, block), 2).len(),
+        Variant::Blocked => {
+            let shape = crate::sort::BlockedShape::default();
+            let (n, b) = ((w * h).trailing_zeros(), block.trailing_zeros());
+            crate::sort::blocked::schedule(n, b, shape.bits, shape.pinned).len() + 1
+        }
         _ => bitonic_schedule(w, block).len(),
     };
     Some(SortPlan {

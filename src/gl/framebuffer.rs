@@ -132,6 +132,52 @@ impl Framebuffer {
         .checked()
     }
 
+    /// A framebuffer whose colour attachments `0..depth` are the layers of `texture` in order,
+    /// checked for completeness: one pass writes every layer through multiple render targets
+    /// (output `i` into layer `i`). Like [`Framebuffer::layer`], it does not own the texture.
+    pub fn layers(ctx: &Context, label: &str, texture: &Texture3D) -> Result<Self> {
+        let [w, h, d] = texture.size();
+        let limits = ctx.limits();
+        let max = limits
+            .max_draw_buffers
+            .min(limits.max_color_attachments)
+            .min(8);
+        if d == 0 || d > max {
+            return Err(Error::InvalidInput(format!(
+                "framebuffer {label}: {d} layers as render targets (1 to {max})"
+            )));
+        }
+        // SAFETY: a fresh framebuffer; the texture is alive and belongs to this context, and
+        // every layer lies inside it.
+        let raw = unsafe {
+            let raw = ctx.create_framebuffer().map_err(Error::Gl)?;
+            ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
+            let mut draw = Vec::with_capacity(d as usize);
+            for layer in 0..d {
+                let point = glow::COLOR_ATTACHMENT0 + layer;
+                ctx.framebuffer_texture_layer(
+                    glow::FRAMEBUFFER,
+                    point,
+                    Some(texture.raw()),
+                    0,
+                    layer as i32,
+                );
+                draw.push(point);
+            }
+            ctx.draw_buffers(&draw);
+            raw
+        };
+        Framebuffer {
+            ctx: ctx.clone(),
+            raw,
+            textures: Vec::new(),
+            size: [w, h],
+            attachments: d as usize,
+            label: label.to_owned(),
+        }
+        .checked()
+    }
+
     /// Labels the (bound) framebuffer, checks its completeness and unbinds it.
     fn checked(self) -> Result<Self> {
         let (ctx, label) = (&self.ctx, &self.label);
@@ -150,6 +196,10 @@ impl Framebuffer {
         Ok(self)
     }
 
+    /// Number of colour attachments (render targets).
+    pub fn attachments(&self) -> usize {
+        self.attachments
+    }
     /// Width of the attachments.
     pub fn width(&self) -> u32 {
         self.size[0]

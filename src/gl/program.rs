@@ -141,6 +141,15 @@ impl Program {
         // SAFETY: the program is current (see `bind`).
         unsafe { self.ctx.uniform_1_i32(self.location(name).as_ref(), v) }
     }
+    /// Sets an `int[]` uniform array from its first element on (`name` without `[0]`).
+    pub fn set_i32_array(&self, name: &str, v: &[i32]) {
+        let first = format!("{name}[0]");
+        // SAFETY: as above.
+        unsafe {
+            self.ctx
+                .uniform_1_i32_slice(self.location(&first).as_ref(), v)
+        }
+    }
     /// Sets a `uint` uniform.
     pub fn set_u32(&self, name: &str, v: u32) {
         // SAFETY: as above.

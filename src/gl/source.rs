@@ -32,6 +32,8 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "sort/oddeven_recursion.frag",
     "sort/oddeven_end.frag",
     "sort/multistep.frag",
+    "sort/blocked.frag",
+    "sort/blocked_unpack.frag",
     "sort/rearrange.frag",
     "sim/fire_init.frag",
     "sim/fire.frag",

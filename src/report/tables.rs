@@ -60,6 +60,7 @@ pub fn table1(ctx: &Context, size: Size, progress: Progress<'_>) -> Result<Vec<S
         clock: None,
         cpu: true,
         steps_per_pass: 2,
+        blocked_shapes: Vec::new(),
     };
     bench_sort(ctx, &sizes, &Variant::ALL, &opts, |v, n| {
         progress(&format!("Table 1: {v} at {n}²"))

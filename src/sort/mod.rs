@@ -2,9 +2,10 @@
 //! Latta's odd-even merge sort, and a multistep variant of our own; sort keys, identifiers under
 //! emulated 24-bit floats, and the rearrangement of particle state in sorted order.
 
+pub mod blocked;
 mod gpu;
 pub mod network;
 pub mod precision;
 
-pub use gpu::{KeyMode, SortOptions, Sorter, Variant};
+pub use gpu::{BlockedShape, KeyMode, SortOptions, Sorter, Variant};
 pub use network::{entry_less, Entry, Step};

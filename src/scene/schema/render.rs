@@ -130,7 +130,7 @@ pub struct Keyframe {
 #[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SortSection {
-    /// Sort variant (`fp`, `gpfp`, `packed`, `oddeven`, `multistep`); default `oddeven`.
+    /// Sort variant (`fp`, `gpfp`, `packed`, `oddeven`, `multistep`, `blocked`); default `oddeven`.
     pub variant: Option<String>,
     /// Spread one sort over frames with this many passes per frame (Latta).
     pub passes_per_frame: Option<u32>,
@@ -151,16 +151,20 @@ pub enum Variant {
     OddEven,
     /// Ours: several bitonic steps per pass on the packed layout.
     Multistep,
+    /// Ours: a bitonic network in registers, 16 entries per fragment through multiple render
+    /// targets, in a layout that changes from pass to pass (`crate::sort::blocked`).
+    Blocked,
 }
 
 impl Variant {
     /// Every variant, in table order.
-    pub const ALL: [Variant; 5] = [
+    pub const ALL: [Variant; 6] = [
         Variant::Fp,
         Variant::GpFp,
         Variant::Packed,
         Variant::OddEven,
         Variant::Multistep,
+        Variant::Blocked,
     ];
 
     /// The CLI name.
@@ -171,6 +175,7 @@ impl Variant {
             Variant::Packed => "packed",
             Variant::OddEven => "oddeven",
             Variant::Multistep => "multistep",
+            Variant::Blocked => "blocked",
         }
     }
 

@@ -1,5 +1,6 @@
 //! The GPU sorter: every pass a draw into ping-pong framebuffers.
 
+mod blocked;
 mod geometry;
 mod options;
 mod rearrange;
@@ -14,8 +15,9 @@ use crate::gl::{
     Context, Defines, Draw, DrawState, Framebuffer, FullscreenPass, PingPong, Primitive, Program,
     Texture, TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
 };
+use blocked::Blocked;
 use geometry::{Geometry, GpProgram};
-pub use options::{KeyMode, SortOptions, Variant};
+pub use options::{BlockedShape, KeyMode, SortOptions, Variant};
 
 /// One pass of the sorter.
 #[derive(Debug)]
@@ -27,6 +29,10 @@ enum Pass {
         program: GpProgram,
     },
     Group(Vec<Step>),
+    /// Pass `i` of the blocked network.
+    Blocked(usize),
+    /// The blocked network's last pass: back to the row-major texture.
+    Unpack,
 }
 
 /// The sorter's programs, one per key, built once each.
@@ -71,6 +77,7 @@ pub struct Sorter {
     fullscreen: FullscreenPass,
     id_table: Option<Texture>,
     rearrange: RefCell<HashMap<usize, Program>>,
+    blocked: Option<Blocked>,
 }
 
 impl Sorter {
@@ -106,6 +113,15 @@ impl Sorter {
         if !(1..=3).contains(&options.steps_per_pass) {
             return bad("steps per pass must be 1, 2 or 3".into());
         }
+        if variant == Variant::Blocked
+            && (options.precision.is_some() || options.passes_per_frame.is_some())
+        {
+            return bad(
+                "the blocked sort runs whole sorts in fp32: no emulated precision and no sort \
+                 spread over frames (its layout changes from pass to pass)"
+                    .into(),
+            );
+        }
         if options.passes_per_frame == Some(0) {
             return bad("passes per frame must be at least 1".into());
         }
@@ -130,6 +146,7 @@ impl Sorter {
             fullscreen: FullscreenPass::new(ctx)?,
             id_table: None,
             rearrange: RefCell::new(HashMap::new()),
+            blocked: None,
         };
         sorter.build(block)?;
         if options.id_table {
@@ -223,6 +240,15 @@ impl Sorter {
                 }
                 self.passes = groups.into_iter().map(Pass::Group).collect();
             }
+            Variant::Blocked => {
+                self.passes.clear();
+                if self.width * self.height > 1 {
+                    let b = Blocked::new(&self.ctx, w, self.height, block, self.options.blocked)?;
+                    self.passes = (0..b.network_passes()).map(Pass::Blocked).collect();
+                    self.passes.push(Pass::Unpack);
+                    self.blocked = Some(b);
+                }
+            }
             Variant::GpFp | Variant::Packed => {
                 let frag = if self.variant.packed() {
                     "sort/bitonic_packed.frag"
@@ -292,10 +318,28 @@ impl Sorter {
     pub fn keys(&self) -> &Texture {
         self.state.front().texture(0)
     }
-    /// The framebuffer the next pass writes (for floors in benchmarks).
+    /// The framebuffer the next pass writes (for floors in benchmarks): for the blocked
+    /// variant, the layers its network passes write.
     pub fn target(&self) -> &Framebuffer {
+        match &self.blocked {
+            Some(b) => b.target(),
+            None => self.state.back(),
+        }
+    }
+    /// The framebuffer the key pass writes next (the row-major sort texture), for floors.
+    pub fn keys_target(&self) -> &Framebuffer {
         self.state.back()
     }
+
+    /// The passes of one full sort that are network passes (all but the blocked variant's
+    /// unpack pass).
+    pub fn network_pass_count(&self) -> usize {
+        self.passes
+            .iter()
+            .filter(|p| !matches!(p, Pass::Unpack))
+            .count()
+    }
+
     /// The options.
     pub fn options(&self) -> &SortOptions {
         &self.options
@@ -453,6 +497,10 @@ impl Sorter {
     }
 
     fn run_pass(&mut self, index: usize) {
+        if let (Some(b), Pass::Blocked(i)) = (self.blocked.as_mut(), &self.passes[index]) {
+            b.run(*i, self.state.front().texture(0), &self.fullscreen);
+            return;
+        }
         let w = self.width as i32;
         let front = self.state.front().texture(0);
         front.bind(0);
@@ -511,6 +559,12 @@ impl Sorter {
                     p.set_i32(&format!("u_mirror[{s}]"), mirror as i32);
                 }
                 self.fullscreen.draw(p, self.state.back());
+            }
+            Pass::Blocked(_) => unreachable!("blocked passes return above"),
+            Pass::Unpack => {
+                if let Some(b) = &self.blocked {
+                    b.unpack(self.state.back(), &self.fullscreen);
+                }
             }
             Pass::Geometry {
                 geometry,

@@ -2,6 +2,7 @@
 
 use glam::{UVec3, Vec3};
 
+pub use super::blocked::BlockedShape;
 use crate::sort::precision::FloatFormat;
 
 pub use crate::scene::Variant;
@@ -52,6 +53,8 @@ pub struct SortOptions {
     /// Passes [`Sorter::sort_frame`] runs per frame; `None`: the whole sort every frame. Latta
     /// spreads one odd-even sort over 20-50 frames (§3.4.4); the sequence restarts when done.
     pub passes_per_frame: Option<usize>,
+    /// Entries per fragment and lane pinning of the blocked variant.
+    pub blocked: BlockedShape,
 }
 
 impl Default for SortOptions {
@@ -62,6 +65,7 @@ impl Default for SortOptions {
             id_table: false,
             steps_per_pass: 2,
             passes_per_frame: None,
+            blocked: BlockedShape::default(),
         }
     }
 }

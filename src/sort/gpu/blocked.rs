@@ -1,0 +1,238 @@
+//! The GPU side of our blocked sort ([`crate::sort::blocked`]): the 3D textures whose layers
+//! hold the entries between passes, the passes' programs and uniforms.
+
+use std::collections::HashMap;
+
+use crate::error::{Error, Result};
+use crate::gl::{
+    Context, Defines, Framebuffer, FullscreenPass, Program, Texture, Texture3D, TextureFormat,
+    FULLSCREEN_VERTEX,
+};
+use crate::sort::blocked::{schedule, BlockPass};
+
+/// Group bits per pass and whether logical bit 0 is pinned to the lane.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BlockedShape {
+    /// Entries per fragment: 2^bits (2 to 4: 2 to 8 render targets).
+    pub bits: u32,
+    /// Logical bit 0 stays in the lane of every layout (half the fetches, one bit less).
+    pub pinned: bool,
+}
+
+impl Default for BlockedShape {
+    fn default() -> Self {
+        BlockedShape {
+            bits: 4,
+            pinned: false,
+        }
+    }
+}
+
+/// The blocked network's state and passes. Framebuffers before textures: they are dropped first.
+pub(super) struct Blocked {
+    fbs: [Framebuffer; 2],
+    tex: [Texture3D; 2],
+    /// Which of `tex` holds the entries after the last pass run.
+    front: usize,
+    passes: Vec<BlockPass>,
+    /// Logical bits.
+    n: u32,
+    bits: u32,
+    pinned: bool,
+    log_w: u32,
+    natural_log_w: u32,
+    programs: HashMap<(bool, Vec<u32>), Program>,
+    unpack: Program,
+}
+
+impl std::fmt::Debug for Blocked {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "Blocked({} passes, 2^{} entries per fragment)",
+            self.passes.len(),
+            self.bits
+        )
+    }
+}
+
+fn log2(v: u32) -> u32 {
+    v.trailing_zeros()
+}
+
+impl Blocked {
+    /// A blocked network over a `width`×`height` natural texture, sorting blocks of `block`
+    /// entries (all powers of two).
+    pub(super) fn new(
+        ctx: &Context,
+        width: u32,
+        height: u32,
+        block: u32,
+        shape: BlockedShape,
+    ) -> Result<Self> {
+        if !(2..=4).contains(&shape.bits) {
+            return Err(Error::InvalidInput(format!(
+                "the blocked sort holds 4, 8 or 16 entries per fragment (bits 2 to 4), not 2^{}",
+                shape.bits
+            )));
+        }
+        let n = log2(width * height);
+        let bits = shape.bits.min(n).max(1);
+        let passes = schedule(n, log2(block), bits, shape.pinned);
+        let pixels = (width * height) >> bits;
+        let w = width.min(pixels).max(1);
+        let h = (pixels / w).max(1);
+        let layers = (1u32 << bits).div_ceil(2);
+        let make = |i: usize| {
+            Texture3D::new(
+                ctx,
+                &format!("blocked sort {i}"),
+                TextureFormat::Rgba32F,
+                [w, h, layers],
+                None,
+            )
+        };
+        let tex = [make(0)?, make(1)?];
+        let fbs = [
+            Framebuffer::layers(ctx, "blocked sort 0", &tex[0])?,
+            Framebuffer::layers(ctx, "blocked sort 1", &tex[1])?,
+        ];
+        let unpack = Program::new(
+            ctx,
+            FULLSCREEN_VERTEX,
+            "sort/blocked_unpack.frag",
+            &vec![("BITS".to_string(), bits.to_string())],
+        )?;
+        let mut b = Blocked {
+            fbs,
+            tex,
+            front: 0,
+            passes,
+            n,
+            bits,
+            pinned: shape.pinned && bits >= 2,
+            log_w: log2(w),
+            natural_log_w: log2(width),
+            programs: HashMap::new(),
+            unpack,
+        };
+        for i in 0..b.passes.len() {
+            let key = b.program_key(i);
+            if !b.programs.contains_key(&key) {
+                let p = b.build_program(ctx, &key)?;
+                b.programs.insert(key, p);
+            }
+        }
+        Ok(b)
+    }
+
+    /// Network passes (the unpack pass not counted).
+    pub(super) fn network_passes(&self) -> usize {
+        self.passes.len()
+    }
+
+    /// The framebuffer the next network pass writes (for floors).
+    pub(super) fn target(&self) -> &Framebuffer {
+        &self.fbs[1 - self.front]
+    }
+
+    fn program_key(&self, i: usize) -> (bool, Vec<u32>) {
+        (i == 0, self.passes[i].local_bits())
+    }
+
+    fn build_program(&self, ctx: &Context, key: &(bool, Vec<u32>)) -> Result<Program> {
+        let bits: Vec<String> = key.1.iter().map(|b| b.to_string()).collect();
+        let mut d: Defines = vec![
+            ("BITS".into(), self.bits.to_string()),
+            ("STEP_COUNT".into(), key.1.len().to_string()),
+            ("STEP_BITS".into(), bits.join(",")),
+        ];
+        if key.0 {
+            d.push(("NATURAL_INPUT".into(), "1".into()));
+        }
+        if self.pinned {
+            d.push(("PINNED".into(), "1".into()));
+        }
+        Program::new(ctx, FULLSCREEN_VERTEX, "sort/blocked.frag", &d)
+    }
+
+    /// Storage bit of every logical bit in the layout pass `i` reads (`i = 0`: row-major).
+    fn input_layout(&self, i: usize) -> Vec<u32> {
+        if i == 0 {
+            (0..self.n).collect()
+        } else {
+            self.passes[i - 1].layout(self.n)
+        }
+    }
+
+    /// Runs network pass `i`; the first reads `natural`, the others the last pass's blocks.
+    pub(super) fn run(&mut self, i: usize, natural: &Texture, fullscreen: &FullscreenPass) {
+        let pass = &self.passes[i];
+        let prev = self.input_layout(i);
+        let p = &self.programs[&self.program_key(i)];
+        p.bind();
+        if i == 0 {
+            natural.bind(0);
+            p.set_i32("u_natural", 0);
+            p.set_i32("u_in_log_w", self.natural_log_w as i32);
+        } else {
+            self.tex[self.front].bind(0);
+            p.set_i32("u_blocks", 0);
+            p.set_i32("u_in_log_w", self.log_w as i32);
+        }
+        p.set_i32("u_log_w", self.log_w as i32);
+        let pixel_bits = pass.pixel_bits(self.n);
+        p.set_i32("u_pixel_bits", pixel_bits.len() as i32);
+        let pix_prev: Vec<i32> = pixel_bits
+            .iter()
+            .map(|&l| prev[l as usize] as i32)
+            .collect();
+        let pix_logical: Vec<i32> = pixel_bits.iter().map(|&l| l as i32).collect();
+        if !pixel_bits.is_empty() {
+            p.set_i32_array("u_pix_prev", &pix_prev);
+            p.set_i32_array("u_pix_logical", &pix_logical);
+        }
+        let size = 1usize << self.bits;
+        let mut prev_slot = vec![0i32; size];
+        let mut slot_logical = vec![0i32; size];
+        for c in 0..size {
+            for (t, &g) in pass.group.iter().enumerate() {
+                if c >> t & 1 == 1 {
+                    prev_slot[c] |= 1 << prev[g as usize];
+                    slot_logical[c] |= 1 << g;
+                }
+            }
+        }
+        p.set_i32_array("u_prev_slot", &prev_slot);
+        p.set_i32_array("u_slot_logical", &slot_logical);
+        let dir: Vec<i32> = pass
+            .steps
+            .iter()
+            .map(|s| s.dir.map_or(-1, |d| d as i32))
+            .collect();
+        p.set_i32_array("u_dir", &dir);
+        fullscreen.draw(p, &self.fbs[1 - self.front]);
+        self.front = 1 - self.front;
+    }
+
+    /// The last pass: the sorted entries, row-major, into `target` (the sorter's texture).
+    pub(super) fn unpack(&self, target: &Framebuffer, fullscreen: &FullscreenPass) {
+        let p = &self.unpack;
+        p.bind();
+        self.tex[self.front].bind(0);
+        p.set_i32("u_blocks", 0);
+        p.set_i32("u_in_log_w", self.log_w as i32);
+        p.set_i32("u_width_log", self.natural_log_w as i32);
+        p.set_i32("u_bits", self.n as i32);
+        let perm: Vec<i32> = self
+            .passes
+            .last()
+            .map(|l| l.layout(self.n))
+            .unwrap_or_default()
+            .iter()
+            .map(|&b| b as i32)
+            .collect();
+        p.set_i32_array("u_perm", &perm);
+        fullscreen.draw(p, target);
+    }
+}

@@ -35,6 +35,9 @@ uniform uint u_seed;
 #ifdef TIMESTAMP
 uniform vec4 u_cycle;   // cycle length per type
 #endif
+#ifdef RELEASE_SPREAD
+uniform vec4 u_release_spread[4];   // (box size, slots per side) per type
+#endif
 
 vec3 advance(vec3 x, vec3 v, vec3 vb) {
 #ifdef UBERFLOW
@@ -98,6 +101,16 @@ void main() {
     if (age < u_dt) {
         vec3 x0 = spawn_position(type, rng);
         vec3 v0 = spawn_velocity(type, rng);
+#ifdef RELEASE_SPREAD
+        // A release is every particle of this phase (one step's births). Release k of the cycle
+        // lands as a whole in slot k of a grid of side^3 slots over the box, so that releases
+        // alive at once never share a place (UberFlow §5: sets that do not mix).
+        vec4 spread = u_release_spread[type];
+        int side = int(spread.w);
+        int k = int(floor(st.x / u_dt));
+        vec3 slot = vec3(k % side, (k / side) % side, (k / (side * side)) % side);
+        x0 += ((slot + 0.5) / float(side) - 0.5) * spread.xyz;
+#endif
         write_state(x0, st.z - age, v0);          // born during this step
         return;
     }

@@ -131,6 +131,7 @@ mod tests {
             rate: Some(10.0),
             allocator: None,
             cycle: None,
+            release_spread: None,
             shape,
             center: [1.0, 2.0, 3.0],
             size: [2.0, 1.0, 0.5],

@@ -7,7 +7,7 @@
 //! | E1 | collisionless motion (`examples/scenes/e1.toml`) | GPU | integration pass, points (vertex texture fetch, additive) |
 //! | E2 | height-field collisions (`e2.toml`) | GPU | integration pass with the height field, points |
 //! | E3 | collisionless motion, front-to-back sorting and rendering (`e3.toml`) | GPU | integration pass, key pass, GP/FP-packed bitonic sort, gather, points under the under operator |
-//! | E4 | inter-particle collisions, rows-only sort, 8 neighbours each side | GPU | see [`E4_SCENE`] (not run until it is set) |
+//! | E4 | inter-particle collisions, rows-only sort, 8 neighbours each side | GPU | integration, two rows-only cell sorts (lattice and staggered lattice), detection, response ([`e4`]: one release per row, density held) |
 //! | E5 | E3 on the CPU: the same scene, physics and spawns | CPU ([`crate::engine::cpu`]) | steps on all cores, quicksort by viewer distance, upload of the vertices, point draw |
 //!
 //! Every experiment runs at each size with the scene's `particles.size` set to size × size. The
@@ -24,6 +24,7 @@
 
 use std::time::Instant;
 
+pub mod e4;
 mod source;
 mod table;
 
@@ -40,30 +41,8 @@ use crate::scene::SceneFile;
 /// The state sizes of the paper's Table 2.
 pub const PAPER_SIZES: [u32; 3] = [256, 512, 1024];
 
-// ------------------------------------------------------------------------------------------------
-// E4: inter-particle collisions (`crate::sim::collide`) run from a scene like E1-E3: each size
-// overrides `particles.size`, `Engine::advance_frame` runs the collision stage inside
-// `ParticleSim::step`, `draw` draws the frame; the warm-up is one emission cycle (`--warmup`
-// shortens it). `tests/bench_scenes.rs` checks either state: not run, or measured.
-// ------------------------------------------------------------------------------------------------
-
-/// A function that makes an experiment's scene.
-pub type SceneFn = fn() -> Result<SceneFile>;
-
-/// E4's scene: the built-in `collide` scene with UberFlow's E4 settings (rows-only sort,
-/// 8 neighbours each side) and a 2 s emission cycle, so that one cycle of warm-up fills it.
-pub const E4_SCENE: Option<SceneFn> = Some(|| {
-    let mut s = crate::scene::load("collide")?;
-    if let Some(c) = s.collisions.as_mut() {
-        c.rows_only = Some(1);
-        c.neighbours = 8;
-    }
-    for e in &mut s.emitters.timestamp {
-        e.cycle = Some(2.0);
-        e.life = Some([2.0, 2.0]);
-    }
-    Ok(s)
-});
+/// A function that makes an experiment's scene at a state side (E1-E3 and E5 ignore it).
+pub type SceneFn = fn(u32) -> Result<SceneFile>;
 
 /// Makes an experiment's frame source at a size.
 pub type BuildFn = fn(&Context, u32, &ScenesOptions) -> Result<Box<dyn FrameSource>>;
@@ -81,7 +60,7 @@ pub struct Experiment {
     pub paper_fps: [f64; 3],
     /// The scene whose emission cycle sets the default warm-up.
     pub scene: Option<SceneFn>,
-    /// How to build it; `None`: listed, not run (E4 until [`E4_SCENE`] is set).
+    /// How to build it; `None`: listed, not run.
     pub build: Option<BuildFn>,
 }
 
@@ -101,21 +80,14 @@ impl Experiment {
     }
 }
 
-fn e1() -> Result<SceneFile> {
+fn e1(_: u32) -> Result<SceneFile> {
     crate::scene::load("e1")
 }
-fn e2() -> Result<SceneFile> {
+fn e2(_: u32) -> Result<SceneFile> {
     crate::scene::load("e2")
 }
-fn e3() -> Result<SceneFile> {
+fn e3(_: u32) -> Result<SceneFile> {
     crate::scene::load("e3")
-}
-
-fn build_e4(ctx: &Context, size: u32, opts: &ScenesOptions) -> Result<Box<dyn FrameSource>> {
-    let make = E4_SCENE.ok_or_else(|| {
-        Error::InvalidInput("E4 (inter-particle collisions) is not available yet".into())
-    })?;
-    gpu_scene(ctx, make()?, size, opts)
 }
 
 /// The experiments of Table 2, in the paper's order.
@@ -127,7 +99,7 @@ pub fn experiments() -> Vec<Experiment> {
             cpu: false,
             paper_fps: [640.0, 320.0, 120.0],
             scene: Some(e1),
-            build: Some(|ctx, n, o| gpu_scene(ctx, e1()?, n, o)),
+            build: Some(|ctx, n, o| gpu_scene(ctx, e1(n)?, n, o)),
         },
         Experiment {
             name: "E2",
@@ -135,7 +107,7 @@ pub fn experiments() -> Vec<Experiment> {
             cpu: false,
             paper_fps: [155.0, 96.0, 42.0],
             scene: Some(e2),
-            build: Some(|ctx, n, o| gpu_scene(ctx, e2()?, n, o)),
+            build: Some(|ctx, n, o| gpu_scene(ctx, e2(n)?, n, o)),
         },
         Experiment {
             name: "E3",
@@ -143,19 +115,15 @@ pub fn experiments() -> Vec<Experiment> {
             cpu: false,
             paper_fps: [39.0, 8.0, 1.4],
             scene: Some(e3),
-            build: Some(|ctx, n, o| gpu_scene(ctx, e3()?, n, o)),
+            build: Some(|ctx, n, o| gpu_scene(ctx, e3(n)?, n, o)),
         },
         Experiment {
             name: "E4",
             what: "inter-particle collisions (rows-only sort, 8 neighbours)",
             cpu: false,
             paper_fps: [133.0, 31.0, 7.0],
-            scene: E4_SCENE,
-            build: if E4_SCENE.is_some() {
-                Some(build_e4)
-            } else {
-                None
-            },
+            scene: Some(e4::scene),
+            build: Some(|ctx, n, o| gpu_scene(ctx, e4::scene(n)?, n, o)),
         },
         Experiment {
             name: "E5",
@@ -163,7 +131,7 @@ pub fn experiments() -> Vec<Experiment> {
             cpu: true,
             paper_fps: [7.0, 2.0, 0.4],
             scene: Some(e3),
-            build: Some(|ctx, n, o| cpu_scene(ctx, e3()?, n, o)),
+            build: Some(|ctx, n, o| cpu_scene(ctx, e3(n)?, n, o)),
         },
     ]
 }
@@ -256,6 +224,9 @@ pub struct SceneRecord {
     pub pairs_found: Option<f64>,
     /// Overlapping pairs behind `pairs_found`.
     pub pairs_true: Option<usize>,
+    /// Overlapping partners per live particle (2 × pairs / live): the density the found share
+    /// was measured at, held as the state grows.
+    pub overlaps_per_particle: Option<f64>,
     /// Why it was not run.
     pub note: Option<String>,
 }
@@ -319,7 +290,7 @@ fn run_one(
     size: u32,
     opts: &ScenesOptions,
 ) -> Result<SceneRecord> {
-    let scene = e.scene.map(|f| f()).transpose()?;
+    let scene = e.scene.map(|f| f(size)).transpose()?;
     let resolution = opts
         .resolution
         .or(scene.as_ref().map(|s| s.render.resolution))
@@ -348,9 +319,10 @@ fn run_one(
         note: None,
         pairs_found: None,
         pairs_true: None,
+        overlaps_per_particle: None,
     };
     let Some(build) = e.build else {
-        r.note = Some("not run: E4's scene is not wired in yet (bench_scenes::E4_SCENE)".into());
+        r.note = Some("not run".into());
         return Ok(r);
     };
     let mut src = build(ctx, size, opts)?;
@@ -403,6 +375,8 @@ fn run_one(
     if let Some(c) = src.census()? {
         r.pairs_found = Some(c.fraction());
         r.pairs_true = Some(c.pairs);
+        let live = r.live.unwrap_or(0).max(1) as f64;
+        r.overlaps_per_particle = Some(2.0 * c.pairs as f64 / live);
     }
     Ok(r)
 }

@@ -82,6 +82,12 @@ pub struct Emitter {
     pub allocator: Option<AllocatorKind>,
     /// Length of one life cycle in seconds (timestamp emitters).
     pub cycle: Option<f32>,
+    /// Timestamp emitters: every release (the particles born in one step, one row with
+    /// `collisions.row_phases`) is moved as a whole to its own place: release k of a cycle to
+    /// slot k of a cube of slots filling a box of this size [x, y, z] around `center` (UberFlow
+    /// §5's "particles released in time-sequential order": releases that do not mix). Default:
+    /// no offset.
+    pub release_spread: Option<[f32; 3]>,
     /// Emitter shape.
     #[serde(default)]
     pub shape: Shape,

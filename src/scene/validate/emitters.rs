@@ -60,6 +60,7 @@ pub(super) fn emitters(s: &SceneFile) -> Check {
             ("rate", e.rate.is_some()),
             ("allocator", e.allocator.is_some()),
             ("cycle", e.cycle.is_some()),
+            ("release_spread", e.release_spread.is_some()),
         ]
         .iter()
         .find(|k| k.1)
@@ -104,10 +105,15 @@ pub(super) fn emitters(s: &SceneFile) -> Check {
             }
             _ => {}
         }
-        if e.cycle.is_some() {
+        if e.cycle.is_some() || e.release_spread.is_some() {
+            let k = if e.cycle.is_some() {
+                "cycle"
+            } else {
+                "release_spread"
+            };
             return fail(
-                key("cycle"),
-                "`cycle` belongs to timestamp emitters ([[emitters.timestamp]])",
+                key(k),
+                format!("`{k}` belongs to timestamp emitters ([[emitters.timestamp]])"),
             );
         }
         check_spawn(&at, e)?;
@@ -132,6 +138,14 @@ pub(super) fn emitters(s: &SceneFile) -> Check {
                 return fail(key("cycle"), "cycle must be at least the longest life")
             }
             Some(c) => duration(key("cycle"), "cycle", c)?,
+        }
+        if let Some(r) = e.release_spread {
+            if r.iter().any(|v| !v.is_finite() || *v < 0.0 || *v > 1e6) {
+                return fail(
+                    key("release_spread"),
+                    "release_spread takes three sizes in metres from 0 to 1e6, e.g. [4.0, 4.0, 4.0]",
+                );
+            }
         }
     }
     Ok(())

@@ -66,6 +66,8 @@ pub struct Features {
     pub detection: crate::scene::Detection,
     /// Time stamps in texel order (`collisions.row_phases`), so a release shares a row.
     pub row_phases: bool,
+    /// Some timestamp emitter moves each release to its own place (`release_spread`).
+    pub release_spread: bool,
 }
 
 impl Features {
@@ -114,6 +116,7 @@ impl Features {
                 .as_ref()
                 .map_or(Default::default(), |c| c.detection),
             row_phases: scene.collisions.as_ref().is_some_and(|c| c.row_phases),
+            release_spread: em.timestamp.iter().any(|e| e.release_spread.is_some()),
         }
     }
 
@@ -149,6 +152,9 @@ impl Features {
             }
             Emission::Timestamp => {
                 def("TIMESTAMP", "1".into());
+                if self.release_spread {
+                    def("RELEASE_SPREAD", "1".into());
+                }
                 if self.row_phases {
                     def("ROW_PHASES", "1".into());
                 }

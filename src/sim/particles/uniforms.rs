@@ -65,6 +65,16 @@ pub(super) fn set_constants_for(
         p.set_vec4(&format!("u_em_dir[{k}]"), e.dir);
         p.set_vec4(&format!("u_em_range[{k}]"), e.range);
     }
+    for (k, e) in s.emitters.all().enumerate() {
+        let r = e.release_spread.unwrap_or([0.0; 3]);
+        // Releases per cycle: one per step; a cube of slots holds them all.
+        let releases = (e.cycle.unwrap_or(1.0) / s.time.dt).round().max(1.0);
+        let side = releases.cbrt().ceil();
+        p.set_vec4(
+            &format!("u_release_spread[{k}]"),
+            Vec4::new(r[0], r[1], r[2], side),
+        );
+    }
     let f = &s.forces;
     let gravity: Vec3 = f.gravity.iter().map(|g| v3(g.acceleration)).sum();
     p.set_vec3("u_gravity", gravity);

@@ -37,6 +37,7 @@ uniform vec4 u_cycle;   // cycle length per type
 #endif
 #ifdef RELEASE_SPREAD
 uniform vec4 u_release_spread[4];   // (box size, slots per side) per type
+uniform vec4 u_release_cloud;       // texels per cloud per type; 0: a cloud is a release
 #endif
 
 vec3 advance(vec3 x, vec3 v, vec3 vb) {
@@ -105,9 +106,11 @@ void main() {
         // A release is every particle of this phase (one step's births). Release k of the cycle
         // lands as a whole in slot k of a grid of side^3 slots over the box, so that releases
         // alive at once never share a place (UberFlow §5: sets that do not mix).
+        // With a cloud size, every run of that many consecutive texels is a cloud of its own.
         vec4 spread = u_release_spread[type];
         int side = int(spread.w);
-        int k = int(floor(st.x / u_dt));
+        int cloud = int(u_release_cloud[type]);
+        int k = cloud > 0 ? int(index) / cloud : int(floor(st.x / u_dt));
         vec3 slot = vec3(k % side, (k / side) % side, (k / (side * side)) % side);
         x0 += ((slot + 0.5) / float(side) - 0.5) * spread.xyz;
 #endif

@@ -6,8 +6,8 @@
 //
 // Why: a pass costs about the bytes it writes plus the texels it fetches; this writes each entry
 // once and fetches it once for several network steps, where UberFlow's variants do one step.
-// Slot bits are compile-time constants (STEP_BITS) so that every array index is constant once
-// the loops unroll and the entries stay in registers.
+// The compare-exchanges come written out (NETWORK) so that every array index is a constant and
+// the entries stay in registers.
 
 #include "common/compare.glsl"
 
@@ -18,7 +18,7 @@
 #define LAYERS (SIZE / 2)
 #ifndef STEP_COUNT
 #define STEP_COUNT 1
-#define STEP_BITS 0
+#define NETWORK CX(0, 0, 1)
 #endif
 #define MAX_PIXEL_BITS 24
 
@@ -45,6 +45,10 @@ uniform int u_slot_logical[SIZE];
 uniform int u_dir[STEP_COUNT];
 
 layout(location = 0) out vec4 o_blocks[LAYERS];
+
+// One compare-exchange of step S between slots C < O (one line: GLSL 3.30 has no line
+// continuation). The pair ascends where the direction bit of the logical index is 0.
+#define CX(S, C, O) { bool up = u_dir[S] < 0 || (((logical | u_slot_logical[C]) >> u_dir[S]) & 1) == 0; vec2 a = e[C]; vec2 b = e[O]; bool sw = entry_less(b, a) == up; e[C] = sw ? b : a; e[O] = sw ? a : b; }
 
 vec4 fetch_texel(int s) {
 #ifdef NATURAL_INPUT
@@ -88,21 +92,10 @@ void main() {
 #endif
     }
 #endif
-    const int STEP_BIT[STEP_COUNT] = int[STEP_COUNT](STEP_BITS);
-    for (int s = 0; s < STEP_COUNT; s++) {
-        int m = 1 << STEP_BIT[s];
-        int d = u_dir[s];
-        for (int c = 0; c < SIZE; c++) {
-            if ((c & m) != 0) continue;
-            int o = c | m;
-            bool ascending = d < 0 || (((logical | u_slot_logical[c]) >> d) & 1) == 0;
-            vec2 a = e[c];
-            vec2 b = e[o];
-            bool swap = entry_less(b, a) == ascending;
-            e[c] = swap ? b : a;
-            e[o] = swap ? a : b;
-        }
-    }
+    // NETWORK is the pass's compare-exchanges written out, CX(step, c, o) each (the sorter
+    // generates it): straight-line code with constant indices, which no compiler leaves in
+    // local memory, where loops of 16 entries and several steps were not always unrolled.
+    NETWORK
     for (int l = 0; l < LAYERS; l++) {
         o_blocks[l] = vec4(e[2 * l], e[2 * l + 1]);
     }

@@ -12,7 +12,7 @@ pub mod step;
 pub use scene::{bench_scene, scene_markdown, SceneBenchOptions, SceneBenchRecord};
 pub use sort::{bench_sort, paper_table1_fps, sort_markdown, SortBenchOptions, SortRecord};
 pub use stats::{
-    json_envelope, load_average, median, Clock, DeviceRecord, PassTimer, RenderFloor, Spread,
-    WriteFloor,
+    json_envelope, load_average, median, Clock, DeviceRecord, FixedCost, PassTimer,
+    PlacedRenderFloor, RenderFloor, Spread, WriteFloor,
 };
 pub use step::{bench_step, step_markdown, StepOptions, StepRecord};

@@ -21,7 +21,9 @@
 //! each phase once, each finished before the next (a phase's time is one step's, not a frame's).
 
 use super::scenes::default_warmup_frames;
-use super::stats::{median, Clock, PassTimer, RenderFloor, WriteFloor};
+use super::stats::{
+    median, Clock, FixedCost, PassTimer, PlacedRenderFloor, RenderFloor, WriteFloor,
+};
 use crate::engine::{Engine, FireEngine};
 use crate::error::{Error, Result};
 use crate::gl::{
@@ -213,7 +215,7 @@ pub fn bench_scene(
         let (phases, frame, live) = if s.fire.is_some() {
             fire(ctx, &s, warmup, &timer, &render_floor, opts)?
         } else {
-            particles(ctx, &s, warmup, &timer, &render_floor, opts)?
+            particles(ctx, &s, warmup, &timer, opts)?
         };
         ctx.check_error(&format!("benchmarking scene {} at {size}²", s.name))?;
         let particles = size as u64 * size as u64;
@@ -285,7 +287,7 @@ fn fire(
         let t = timer.time(|| engine.draw())?;
         phases.push(
             "render points (clear, texture fetch, additive)",
-            "clear + as many 1-px points, no fetch, same blend",
+            "clear + the live particles as points where they are, same size and blend, no fetch",
             t,
             f,
         );
@@ -306,7 +308,6 @@ fn particles(
     s: &SceneFile,
     warmup: usize,
     timer: &PassTimer,
-    render_floor: &RenderFloor,
     opts: &SceneBenchOptions,
 ) -> Result<(Phases, f64, u64)> {
     let mut engine = Engine::new(ctx, s, opts.seed)?;
@@ -320,6 +321,9 @@ fn particles(
     let state_targets = engine.sim().front().textures().len();
     let scratch = scratch_like(ctx, engine.sim().front())?;
     let state_floor = WriteFloor::new(ctx, state_targets)?;
+    let fixed_cost = FixedCost::new(ctx)?;
+    let scratch_bytes =
+        scratch.width() as u64 * scratch.height() as u64 * scratch.bytes_per_texel() as u64;
     let floor1 = WriteFloor::new(ctx, 1)?;
     let floor2 = WriteFloor::new(ctx, 2)?;
     let [w, h] = s.particles.size;
@@ -380,13 +384,19 @@ fn particles(
             f,
         );
         if engine.sim().collisions().is_some() {
+            // The stage's floor: its passes' fixed cost plus its bytes written at the rate of a
+            // write-only pass into the state's targets, both measured now.
+            let fixed = fixed_cost.measure(timer)?;
             let f = timer.time(|| state_floor.draw(&scratch))?;
+            let rate = scratch_bytes as f64 / (f - fixed).max(1e-9);
+            ctx.take_draw_stats();
             let t = timed(timer, || engine.sim_mut().collide())?;
+            let stage = ctx.take_draw_stats();
             phases.push(
                 "collide (sorts, detection, response)",
-                "one write-only pass into the state's targets",
+                "its passes × the fixed cost of a pass + its bytes at the state's write rate",
                 t,
-                f,
+                stage.draws as f64 * fixed + stage.bytes_written as f64 / rate,
             );
         }
         // The frame's sorting, then its drawing.
@@ -411,14 +421,25 @@ fn particles(
                 t,
                 f,
             );
+            // Each pass's floor writes what it writes: the sort texture, or for the blocked
+            // variant its layers (and the row-major texture once, in its unpack pass).
+            let layers = sorter.target().attachments();
             let f1 = timer.time(|| floor1.draw(sorter.target()))?;
+            let fl = if layers > 1 {
+                let f = WriteFloor::new(ctx, layers)?;
+                timer.time(|| f.draw(sorter.target()))?
+            } else {
+                f1
+            };
+            let fk = timer.time(|| floor1.draw(sorter.keys_target()))?;
             let mut passes = 0;
             let t = timer.time(|| passes = sorter.sort_frame())?;
+            let unpack = passes.saturating_sub(sorter.network_pass_count().min(passes));
             phases.push(
                 &format!("sort network ({})", sorter.variant().name()),
-                "write-only pass into the sort texture × passes run",
+                "write-only pass into each pass's targets × passes run",
                 t,
-                f1 * passes as f64,
+                fl * (passes - unpack) as f64 + fk * unpack as f64,
             );
             let f = timer.time(|| floor2.draw(sorted))?;
             let t = timed(timer, || {
@@ -436,7 +457,13 @@ fn particles(
         };
         let target = engine.target();
         let fb = target.framebuffer();
-        let f = timer.time(|| render_floor.draw(fb, clear, blend, count))?;
+        // The floor draws the live particles where they are, at the pass's point size and
+        // blend, without fetching or shading (a snapshot of this repetition's positions).
+        let placed = PlacedRenderFloor::new(ctx, &engine.sim().positions().read_f32()?)?;
+        let [rw, rh] = s.render.resolution;
+        let view_proj = engine.camera().view_projection(rw as f32 / rh as f32);
+        let point_size = engine.renderer().style().point_size;
+        let f = timer.time(|| placed.draw(fb, clear, blend, &view_proj, point_size))?;
         let r = engine.renderer();
         let camera = engine.camera();
         let t = timed(timer, || {
@@ -450,7 +477,7 @@ fn particles(
         })?;
         phases.push(
             &format!("render ({})", r.pass_names().join(", ")),
-            "clear + as many 1-px points, no fetch, same blend",
+            "clear + the live particles as points where they are, same size and blend, no fetch",
             t,
             f,
         );

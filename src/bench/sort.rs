@@ -67,6 +67,11 @@ pub struct SortRecord {
     /// Whether the cell is unreliable at a glance: runs spread over 1.5× (min to max), or the
     /// sort ran under its floor (a floor that failed).
     pub flagged: bool,
+    /// What one full sort drew, as the GL layer counted it (passes, bytes written), for GPU rows.
+    pub draws: Option<crate::gl::DrawStats>,
+    /// Texel fetches of one full sort: the key pass (1 per entry), the network, and the
+    /// rearrangement (the sorted entry and one texel per state texture).
+    pub fetches: Option<u64>,
 }
 
 /// The records of [`bench_sort`] as a markdown table (UberFlow's Table 1 beside them).
@@ -214,6 +219,10 @@ pub fn bench_sort(
                 s.rearrange(state.front(), state.back())
             };
             full(&mut sorter)?; // warm-up: compiles lazily built programs, touches every buffer
+            ctx.take_draw_stats();
+            full(&mut sorter)?;
+            let draws = ctx.take_draw_stats();
+            let fetches = sorter.network_fetches() + count as u64 + 3 * count as u64;
             if keys_for_cpu.is_none() {
                 sorter.write_keys(state.front().texture(0), count, &mode, false)?;
                 keys_for_cpu = Some(sorter.read()?);
@@ -257,6 +266,8 @@ pub fn bench_sort(
                 floor_spread: Some(network_floor),
                 load: [load_start, load_average()],
                 flagged: spread.unreliable() || ms < 0.95 * floor,
+                draws: Some(draws),
+                fetches: Some(fetches),
             });
             progress(&name, n);
         }
@@ -300,6 +311,8 @@ pub fn bench_sort(
                     floor_spread: None,
                     load: [load_start, load_average()],
                     flagged: spread.unreliable(),
+                    draws: None,
+                    fetches: None,
                 });
             }
             progress("cpu", n);

@@ -5,8 +5,8 @@ use glam::Vec4;
 
 use crate::error::Result;
 use crate::gl::{
-    Blend, Context, Defines, Draw, DrawState, Framebuffer, FullscreenPass, PointSize, Primitive,
-    Program, VertexArray, FULLSCREEN_VERTEX,
+    Attribute, Blend, Buffer, BufferKind, BufferUsage, Context, Defines, Draw, DrawState,
+    Framebuffer, FullscreenPass, PointSize, Primitive, Program, VertexArray, FULLSCREEN_VERTEX,
 };
 pub use crate::gl::{Clock, PassTimer};
 
@@ -41,6 +41,47 @@ impl WriteFloor {
         self.program
             .set_vec4("u_value", Vec4::new(0.25, 0.5, 0.75, 1.0));
         self.pass.draw_rows(&self.program, fb, y0, rows);
+    }
+}
+
+/// The fixed cost of a pass: many write-only passes into a 1×1 target, timed together, divided
+/// by their count. What a pass costs however little it writes (state changes, the draw, the
+/// rasterizer's set-up); below about 256² it dominates on a GPU.
+#[derive(Debug)]
+pub struct FixedCost {
+    floor: WriteFloor,
+    target: Framebuffer,
+}
+
+impl FixedCost {
+    /// Passes timed together per measurement.
+    pub const PASSES: usize = 200;
+
+    /// Builds the 1×1 RGBA32F target.
+    pub fn new(ctx: &Context) -> Result<Self> {
+        let t = crate::gl::Texture::new(
+            ctx,
+            crate::gl::TextureDesc {
+                width: 1,
+                height: 1,
+                format: crate::gl::TextureFormat::Rgba32F,
+                label: "fixed cost",
+            },
+        )?;
+        Ok(FixedCost {
+            floor: WriteFloor::new(ctx, 1)?,
+            target: Framebuffer::new(ctx, "fixed cost", vec![t])?,
+        })
+    }
+
+    /// Milliseconds of one pass, from [`FixedCost::PASSES`] timed together.
+    pub fn measure(&self, timer: &PassTimer) -> Result<f64> {
+        let t = timer.time(|| {
+            for _ in 0..Self::PASSES {
+                self.floor.draw(&self.target);
+            }
+        })?;
+        Ok(t / Self::PASSES as f64)
     }
 }
 
@@ -89,6 +130,85 @@ impl RenderFloor {
             state: &DrawState {
                 blend,
                 point_size: PointSize::One,
+            },
+        });
+    }
+}
+
+/// The render floor drawn where the particles are (see `glsl/bench/render_floor_at.vert`): a
+/// snapshot of their positions in a vertex buffer, drawn with the pass's camera, point size and
+/// blend, fetching no texture and shading with a constant.
+#[derive(Debug)]
+pub struct PlacedRenderFloor {
+    ctx: Context,
+    program: Program,
+    _buffer: Buffer,
+    vao: VertexArray,
+    count: usize,
+}
+
+impl PlacedRenderFloor {
+    /// A floor over `positions` (xyzw per particle, w the remaining life).
+    pub fn new(ctx: &Context, positions: &[f32]) -> Result<Self> {
+        let defines: Defines = vec![("TARGETS".into(), "1".into())];
+        let program = Program::new(
+            ctx,
+            "bench/render_floor_at.vert",
+            "common/write_floor.frag",
+            &defines,
+        )?;
+        let buffer = Buffer::with_data(
+            ctx,
+            "render floor positions",
+            BufferKind::Vertex,
+            bytemuck::cast_slice(positions),
+            BufferUsage::StaticDraw,
+        )?;
+        let vao = VertexArray::with_attributes(
+            ctx,
+            "render floor positions",
+            &[Attribute {
+                buffer: &buffer,
+                location: 0,
+                components: 4,
+                stride: 16,
+                offset: 0,
+            }],
+        )?;
+        Ok(PlacedRenderFloor {
+            ctx: ctx.clone(),
+            program,
+            _buffer: buffer,
+            vao,
+            count: positions.len() / 4,
+        })
+    }
+
+    /// Clears `target`, then draws every particle as a point of `point_size` with `blend`.
+    pub fn draw(
+        &self,
+        target: &Framebuffer,
+        clear: [f32; 4],
+        blend: Option<Blend>,
+        view_proj: &glam::Mat4,
+        point_size: f32,
+    ) {
+        target.clear(clear);
+        let p = &self.program;
+        p.bind();
+        p.set_mat4("u_view_proj", view_proj);
+        p.set_f32("u_point_size", point_size);
+        p.set_vec4("u_value", Vec4::new(0.02, 0.01, 0.005, 0.1));
+        self.ctx.draw(&Draw {
+            program: p,
+            target,
+            viewport: None,
+            vertices: &self.vao,
+            primitive: Primitive::Points,
+            count: self.count as u32,
+            state: &DrawState {
+                blend,
+                point_size: PointSize::Program,
             },
         });
     }

@@ -138,6 +138,25 @@ struct Inner {
     device: usize,
     id: u64,
     owner: Owner,
+    /// What the draws since the last [`Context::take_draw_stats`] did (for floors and the cost
+    /// model: passes and bytes written).
+    stats: Cell<DrawStats>,
+}
+
+/// What a sequence of draws did: how many, and the bytes their fragments wrote into colour
+/// attachments (full-screen and rectangle passes: the viewport's texels times the bytes per
+/// texel of every attachment; point draws count as draws without bytes, their coverage being
+/// unknown to the GL layer).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct DrawStats {
+    /// Draw calls (passes).
+    pub draws: u64,
+    /// Of those, triangle draws over a rectangle of the target (full-screen passes).
+    pub passes: u64,
+    /// Bytes the triangle draws wrote into colour attachments.
+    pub bytes_written: u64,
+    /// Vertices of the point draws (particles drawn as points or sprites).
+    pub points: u64,
 }
 
 impl Drop for Inner {
@@ -233,6 +252,7 @@ impl Context {
                 limits,
                 device: index,
                 id,
+                stats: Cell::new(DrawStats::default()),
                 owner: Owner::Egl {
                     context,
                     _display: display,
@@ -288,11 +308,27 @@ impl Context {
                 limits,
                 device: 0,
                 id,
+                stats: Cell::new(DrawStats::default()),
                 owner: Owner::Caller { reactivate },
             }),
         };
         ctx.require_capabilities()?;
         Ok(ctx)
+    }
+
+    /// What the draws since the last call did, and starts counting again.
+    pub fn take_draw_stats(&self) -> DrawStats {
+        self.inner.stats.take()
+    }
+
+    /// Counts one draw (see [`DrawStats`]).
+    pub(crate) fn count_draw(&self, pass: bool, bytes: u64, points: u64) {
+        let mut s = self.inner.stats.get();
+        s.draws += 1;
+        s.passes += pass as u64;
+        s.bytes_written += bytes;
+        s.points += points;
+        self.inner.stats.set(s);
     }
 
     /// Whether the context is the caller's ([`Context::from_current`]) rather than this crate's.

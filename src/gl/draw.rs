@@ -196,6 +196,16 @@ impl Context {
         }
         d.vertices.bind();
         self.set_state(d.state);
+        let texels = match d.viewport {
+            Some(r) => r.width as u64 * r.height as u64,
+            None => d.target.width() as u64 * d.target.height() as u64,
+        };
+        match d.primitive {
+            Primitive::Triangles => {
+                self.count_draw(true, texels * d.target.bytes_per_texel() as u64, 0)
+            }
+            Primitive::Points => self.count_draw(false, 0, d.count as u64),
+        }
         let mode = match d.primitive {
             Primitive::Points => glow::POINTS,
             Primitive::Triangles => glow::TRIANGLES,

@@ -17,6 +17,8 @@ pub struct Framebuffer {
     size: [u32; 2],
     /// Number of colour attachments.
     attachments: usize,
+    /// Bytes per texel of all attachments together.
+    bytes_per_texel: usize,
     label: String,
 }
 
@@ -81,12 +83,14 @@ impl Framebuffer {
             raw
         };
         let attachments = textures.len();
+        let bytes_per_texel = textures.iter().map(|t| t.format().bytes_per_texel()).sum();
         Framebuffer {
             ctx: ctx.clone(),
             raw,
             textures,
             size: [w, h],
             attachments,
+            bytes_per_texel,
             label: label.to_owned(),
         }
         .checked()
@@ -127,6 +131,7 @@ impl Framebuffer {
             textures: Vec::new(),
             size: [w, h],
             attachments: 1,
+            bytes_per_texel: texture.format().bytes_per_texel(),
             label: label.to_owned(),
         }
         .checked()
@@ -173,6 +178,7 @@ impl Framebuffer {
             textures: Vec::new(),
             size: [w, h],
             attachments: d as usize,
+            bytes_per_texel: d as usize * texture.format().bytes_per_texel(),
             label: label.to_owned(),
         }
         .checked()
@@ -199,6 +205,10 @@ impl Framebuffer {
     /// Number of colour attachments (render targets).
     pub fn attachments(&self) -> usize {
         self.attachments
+    }
+    /// Bytes a fragment writes into all attachments.
+    pub fn bytes_per_texel(&self) -> usize {
+        self.bytes_per_texel
     }
     /// Width of the attachments.
     pub fn width(&self) -> u32 {

@@ -22,7 +22,7 @@ mod timer;
 mod window;
 
 pub use buffer::{Attribute, Buffer, BufferKind, BufferUsage, VertexArray};
-pub use context::{gl_error_name, list_devices, Context, DeviceInfo, Limits};
+pub use context::{gl_error_name, list_devices, Context, DeviceInfo, DrawStats, Limits};
 pub use draw::{
     Blend, BlendComponent, BlendFactor, BlendOperation, Draw, DrawState, PointSize, Primitive, Rect,
 };

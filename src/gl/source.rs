@@ -22,6 +22,8 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "common/fullscreen.vert",
     "common/write_floor.frag",
     "bench/render_floor.vert",
+    "bench/render_floor_at.vert",
+    "bench/fetch_probe.frag",
     "common/compare.glsl",
     "common/precision.glsl",
     "sort/keys.frag",

@@ -22,6 +22,7 @@
 pub mod collide_stats;
 pub mod collisions;
 pub mod convergence;
+pub mod cost;
 pub mod plot;
 pub mod sort_frames;
 pub mod stability;
@@ -118,6 +119,10 @@ pub fn sections() -> Vec<Section> {
         Section {
             name: "stability",
             run: stability::section,
+        },
+        Section {
+            name: "cost",
+            run: cost::section,
         },
     ]
 }

@@ -132,6 +132,7 @@ mod tests {
             allocator: None,
             cycle: None,
             release_spread: None,
+            release_cloud: None,
             shape,
             center: [1.0, 2.0, 3.0],
             size: [2.0, 1.0, 0.5],

@@ -3,12 +3,12 @@
 //! in one time step ... as long as these sets do not mix up entirely, the number of missed
 //! collisions will be small".
 //!
-//! Each step releases one row of the state texture as a compact cloud of spheres at its own
-//! random place (`release_spread`), with small random velocities, so its particles collide among
-//! themselves and rarely with other releases. The whole state is one emission cycle of `size`
-//! releases. The density is held as the state grows: a release of `size` particles fills a ball
-//! of the same packing at every size, and the region the releases land in grows with the
-//! particle count (its side ∝ N^(1/3)), up to the largest lattice whose cell keys stay exact.
+//! Each step releases one row of the state texture, split into compact clouds of [`CLOUD`]
+//! spheres, each in a place of its own (`release_spread`, `release_cloud`), with small random
+//! velocities, so its particles collide among themselves and not with other releases. The whole
+//! state is one emission cycle of `size` releases. The density is held as the state grows: a
+//! cloud is the same at every size, and the region the clouds land in grows with the particle
+//! count (its side ∝ N^(1/3)), up to the largest lattice whose cell keys stay exact.
 //! Collisions as the paper runs E4: rows-only sort, 8 neighbours to each side, and the staggered
 //! lattice.
 
@@ -28,7 +28,11 @@ pub const SPREAD_256: f32 = 3.8;
 const SUBSTEPS: u32 = 2;
 const DT: f32 = 0.005;
 
-/// Radius of a fresh release of `n` spheres at [`PACKING`].
+/// Particles of a cloud: a release (one row) is split into clouds of this many consecutive
+/// texels, each in its own place, so that a cloud looks the same at every row width.
+pub const CLOUD: u32 = 64;
+
+/// Radius of a fresh cloud of `n` spheres at [`PACKING`].
 pub fn release_radius(n: u32) -> f32 {
     RADIUS * (n as f32 / PACKING).cbrt()
 }
@@ -37,14 +41,14 @@ pub fn release_radius(n: u32) -> f32 {
 /// capped so that the lattice over it stays within the exact float keys.
 pub fn spread(size: u32) -> f32 {
     let held = SPREAD_256 * (size as f32 / 256.0).powf(2.0 / 3.0);
-    let cap = (MAX_LATTICE_CELLS as f32).cbrt() * CELL - 2.0 * release_radius(size) - 4.0 * CELL;
+    let cap = (MAX_LATTICE_CELLS as f32).cbrt() * CELL - 2.0 * release_radius(CLOUD) - 4.0 * CELL;
     held.min(cap)
 }
 
 /// E4's scene at size × size particles.
 pub fn scene(size: u32) -> Result<SceneFile> {
     let cycle = size as f32 * DT;
-    let r0 = release_radius(size);
+    let r0 = release_radius(CLOUD.min(size));
     let l = spread(size);
     let half = 0.5 * l + r0 + 2.0 * CELL;
     let text = format!(
@@ -68,6 +72,7 @@ cone_degrees = 180.0
 speed = [0.0, 0.05]
 life = [{cycle}, {cycle}]
 release_spread = [{l}, {l}, {l}]
+release_cloud = {cloud}
 
 [[forces.damping]]
 rate = 0.5
@@ -87,7 +92,8 @@ point_size = 1.0
 intensity = 0.5
 camera = {{ target = [0.0, 0.0, 0.0], distance = {dist}, azimuth = 30.0, elevation = 20.0 }}
 "#,
-        dist = 1.8 * l
+        dist = 1.8 * l,
+        cloud = CLOUD.min(size)
     );
     parse("E4 (built in)", &text)
 }

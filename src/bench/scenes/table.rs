@@ -84,6 +84,9 @@ pub fn markdown(records: &[SceneRecord]) -> String {
             if let Some(f) = r.pairs_found {
                 measured += &format!(", {:.1}% of pairs found", 100.0 * f);
             }
+            if let Some(o) = r.overlaps_per_particle {
+                measured += &format!(" at {o:.3} overlaps per particle");
+            }
             row += &match r.paper_fps {
                 Some(p) => format!(" {measured} ({}) |", num(p)),
                 None => format!(" {measured} |"),

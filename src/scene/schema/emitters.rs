@@ -88,6 +88,9 @@ pub struct Emitter {
     /// §5's "particles released in time-sequential order": releases that do not mix). Default:
     /// no offset.
     pub release_spread: Option<[f32; 3]>,
+    /// With `release_spread`: split every release into clouds of this many consecutive texels,
+    /// each in a slot of its own (a cloud's size then stays the same whatever the row width).
+    pub release_cloud: Option<u32>,
     /// Emitter shape.
     #[serde(default)]
     pub shape: Shape,

@@ -61,6 +61,7 @@ pub(super) fn emitters(s: &SceneFile) -> Check {
             ("allocator", e.allocator.is_some()),
             ("cycle", e.cycle.is_some()),
             ("release_spread", e.release_spread.is_some()),
+            ("release_cloud", e.release_cloud.is_some()),
         ]
         .iter()
         .find(|k| k.1)
@@ -105,11 +106,13 @@ pub(super) fn emitters(s: &SceneFile) -> Check {
             }
             _ => {}
         }
-        if e.cycle.is_some() || e.release_spread.is_some() {
+        if e.cycle.is_some() || e.release_spread.is_some() || e.release_cloud.is_some() {
             let k = if e.cycle.is_some() {
                 "cycle"
-            } else {
+            } else if e.release_spread.is_some() {
                 "release_spread"
+            } else {
+                "release_cloud"
             };
             return fail(
                 key(k),
@@ -146,6 +149,25 @@ pub(super) fn emitters(s: &SceneFile) -> Check {
                     "release_spread takes three sizes in metres from 0 to 1e6, e.g. [4.0, 4.0, 4.0]",
                 );
             }
+        }
+        match (e.release_cloud, e.release_spread) {
+            (Some(_), None) => {
+                return fail(
+                    key("release_cloud"),
+                    "release_cloud splits the releases that release_spread places: add \
+                     release_spread = [x, y, z]",
+                )
+            }
+            (Some(c), _) if c == 0 || c as u64 > s.particle_count() => {
+                return fail(
+                    key("release_cloud"),
+                    format!(
+                        "release_cloud is a count of texels from 1 to the {} particles",
+                        s.particle_count()
+                    ),
+                )
+            }
+            _ => {}
         }
     }
     Ok(())

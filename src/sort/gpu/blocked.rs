@@ -141,11 +141,18 @@ impl Blocked {
     }
 
     fn build_program(&self, ctx: &Context, key: &(bool, Vec<u32>)) -> Result<Program> {
-        let bits: Vec<String> = key.1.iter().map(|b| b.to_string()).collect();
+        // Every compare-exchange of the pass, in order: step s flips slot bit key.1[s].
+        let size = 1u32 << self.bits;
+        let mut network = String::new();
+        for (s, &bit) in key.1.iter().enumerate() {
+            for c in (0..size).filter(|c| c >> bit & 1 == 0) {
+                network.push_str(&format!("CX({s}, {c}, {}) ", c | 1 << bit));
+            }
+        }
         let mut d: Defines = vec![
             ("BITS".into(), self.bits.to_string()),
             ("STEP_COUNT".into(), key.1.len().to_string()),
-            ("STEP_BITS".into(), bits.join(",")),
+            ("NETWORK".into(), network),
         ];
         if key.0 {
             d.push(("NATURAL_INPUT".into(), "1".into()));

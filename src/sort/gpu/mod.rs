@@ -340,6 +340,23 @@ impl Sorter {
             .count()
     }
 
+    /// Texel fetches of one run of the network (every pass once), counted from what each pass's
+    /// fragment program fetches: for the cost model (`texflow report cost`).
+    pub fn network_fetches(&self) -> u64 {
+        let n = self.len() as u64;
+        self.passes
+            .iter()
+            .map(|p| match p {
+                Pass::Fragment(_) => 2 * n,
+                Pass::Group(steps) => (n / 2) << group_shape(steps).0,
+                Pass::Geometry { .. } if self.variant.packed() => n,
+                Pass::Geometry { .. } => 2 * n,
+                Pass::Blocked(_) if self.options.blocked.pinned => n / 2,
+                Pass::Blocked(_) | Pass::Unpack => n,
+            })
+            .sum()
+    }
+
     /// The options.
     pub fn options(&self) -> &SortOptions {
         &self.options

@@ -1,0 +1,320 @@
+//! A cost model of the papers' tables: every cell of Table 1 and Table 2 predicted from its pass
+//! list (passes, bytes written, texel fetches, points drawn) and four constants of the device,
+//! each measured by a microbenchmark in the same run:
+//!
+//! | constant | microbenchmark |
+//! | --- | --- |
+//! | fixed cost of a pass | [`FixedCost`]: 200 write-only passes into 1×1, divided by 200 |
+//! | time per byte written | a write-only pass into a side² RGBA32F target, less the fixed cost |
+//! | time per texel fetched | `bench/fetch_probe.frag` (8 scattered RGBA32F fetches a fragment) less the write-only pass, per fetch |
+//! | time per point | `side²` one-pixel points through `bench/render_floor.vert`, less the fixed cost |
+//!
+//! predicted ms = passes × fixed + bytes × per byte + fetches × per fetch + points × per point.
+//! The passes and bytes of each cell are what the GL layer counted while it ran
+//! ([`crate::gl::DrawStats`]); fetches are counted from each sort pass's program (Table 1 only:
+//! Table 2's frames are predicted without fetches, which the model then underestimates where a
+//! phase waits on them).
+//!
+//! The same model with the ATI Radeon 9800 Pro's published figures (fill rate and memory
+//! bandwidth) against UberFlow's own Table 1 says where the 2004 sorts were bound by memory and
+//! where by something else (see [`Gpu2004`]).
+
+use std::path::Path;
+
+use super::{write_json, Progress, ReportOptions, SectionOutput, Size};
+use crate::bench::scenes::{self as bs, ScenesOptions};
+use crate::bench::{bench_sort, median, Clock, FixedCost, PassTimer, SortBenchOptions};
+use crate::bench::{RenderFloor, WriteFloor};
+use crate::error::Result;
+use crate::gl::{
+    Context, Defines, Framebuffer, FullscreenPass, Program, Texture, TextureDesc, TextureFormat,
+    FULLSCREEN_VERTEX,
+};
+use crate::sort::Variant;
+
+/// The device's constants, in milliseconds.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+pub struct Constants {
+    /// One pass, however little it writes.
+    pub fixed_ms: f64,
+    /// One megabyte written into colour attachments.
+    pub ms_per_mb_written: f64,
+    /// One million texel fetches (RGBA32F, scattered).
+    pub ms_per_m_fetches: f64,
+    /// One million one-pixel points.
+    pub ms_per_m_points: f64,
+}
+
+impl Constants {
+    /// The model's time for a piece of work.
+    pub fn predict(&self, passes: u64, bytes: u64, fetches: u64, points: u64) -> f64 {
+        passes as f64 * self.fixed_ms
+            + bytes as f64 * 1e-6 * self.ms_per_mb_written
+            + fetches as f64 * 1e-6 * self.ms_per_m_fetches
+            + points as f64 * 1e-6 * self.ms_per_m_points
+    }
+}
+
+fn texture(ctx: &Context, side: u32, label: &str) -> Result<Texture> {
+    Texture::new(
+        ctx,
+        TextureDesc {
+            width: side,
+            height: side,
+            format: TextureFormat::Rgba32F,
+            label,
+        },
+    )
+}
+
+/// Measures the constants on `ctx` with side² targets (medians of `repeats`).
+pub fn measure_constants(
+    ctx: &Context,
+    timer: &PassTimer,
+    side: u32,
+    repeats: usize,
+) -> Result<Constants> {
+    let med = |f: &mut dyn FnMut() -> Result<f64>| -> Result<f64> {
+        let mut t = Vec::new();
+        for _ in 0..repeats.max(1) {
+            t.push(f()?);
+        }
+        Ok(median(&t))
+    };
+    let fixed = FixedCost::new(ctx)?;
+    let fixed_ms = med(&mut || fixed.measure(timer))?;
+    let target = Framebuffer::new(
+        ctx,
+        "cost model target",
+        vec![texture(ctx, side, "cost target")?],
+    )?;
+    let source = texture(ctx, side, "cost source")?;
+    let floor = WriteFloor::new(ctx, 1)?;
+    let write = med(&mut || timer.time(|| floor.draw(&target)))?;
+    let bytes = side as f64 * side as f64 * 16.0;
+    let fetches = 8u32;
+    let d: Defines = vec![("FETCHES".into(), fetches.to_string())];
+    let probe = Program::new(ctx, FULLSCREEN_VERTEX, "bench/fetch_probe.frag", &d)?;
+    let pass = FullscreenPass::new(ctx)?;
+    let fetch = med(&mut || {
+        timer.time(|| {
+            probe.bind();
+            source.bind(0);
+            probe.set_i32("u_source", 0);
+            probe.set_i32("u_log_w", side.trailing_zeros() as i32);
+            pass.draw(&probe, &target);
+        })
+    })?;
+    let points = side as usize * side as usize;
+    let render = RenderFloor::new(ctx)?;
+    let drawn = med(&mut || timer.time(|| render.draw(&target, [0.0; 4], None, points)))?;
+    let per_m = |t: f64, n: f64| (t.max(0.0) / n) * 1e6;
+    Ok(Constants {
+        fixed_ms,
+        ms_per_mb_written: per_m(write - fixed_ms, bytes),
+        ms_per_m_fetches: per_m(fetch - write, fetches as f64 * points as f64),
+        ms_per_m_points: per_m(drawn - write, points as f64),
+    })
+}
+
+/// The ATI Radeon 9800 Pro of UberFlow's tables, from ATI's published specifications (2003):
+/// 8 pixel pipelines at 380 MHz (3.04 G pixels/s) and 21.8 GB/s of memory bandwidth (256 bits
+/// at 340 MHz DDR). Fragments write and fetch RGBA32F (16 bytes): the card's float render
+/// targets are four-channel.
+#[derive(Debug, Clone, Copy)]
+pub struct Gpu2004;
+
+impl Gpu2004 {
+    /// Pixels per second.
+    pub const FILL: f64 = 3.04e9;
+    /// Bytes per second.
+    pub const BANDWIDTH: f64 = 21.8e9;
+
+    /// Milliseconds of one full sort of side² entries by `variant` (`passes` network passes):
+    /// the larger of the fill-rate time and the memory time, pass by pass.
+    pub fn sort_ms(variant: Variant, side: u32, passes: usize) -> f64 {
+        let n = side as f64 * side as f64;
+        // Fragments per network pass and texel fetches per fragment.
+        let (fragments, fetches) = match variant {
+            Variant::Packed => (n / 2.0, 2.0),
+            _ => (n, 2.0),
+        };
+        let bytes = fragments * 16.0 * (1.0 + fetches);
+        let pass = (fragments / Self::FILL).max(bytes / Self::BANDWIDTH);
+        passes as f64 * pass * 1e3
+    }
+}
+
+/// One predicted cell.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Cell {
+    /// `Table 1` or `Table 2`.
+    pub table: &'static str,
+    /// Variant or experiment.
+    pub what: String,
+    /// State side.
+    pub size: u32,
+    /// Measured median ms.
+    pub measured_ms: f64,
+    /// The model's ms.
+    pub predicted_ms: f64,
+    /// Passes, bytes written, fetches and points the prediction used.
+    pub passes: u64,
+    /// Bytes written.
+    pub bytes: u64,
+    /// Texel fetches (0: not counted).
+    pub fetches: u64,
+    /// Points drawn.
+    pub points: u64,
+}
+
+fn sizes(size: Size, clock: Clock) -> (Vec<u32>, usize) {
+    match (size, clock) {
+        (Size::Quick, _) => (vec![64, 128], 3),
+        (Size::Full, Clock::Gpu) => (vec![256, 512, 1024], 7),
+        (Size::Full, Clock::Wall) => (vec![128, 256], 3),
+    }
+}
+
+/// The report section: constants, Table 1 and Table 2 predicted against measured, and the 2004
+/// card against the paper.
+pub fn section(
+    ctx: &Context,
+    opts: &ReportOptions,
+    out: &Path,
+    progress: Progress<'_>,
+) -> Result<SectionOutput> {
+    let clock = Clock::for_context(ctx);
+    let timer = PassTimer::new(ctx, clock)?;
+    let (sizes, repeats) = sizes(opts.size, clock);
+    progress("cost model: constants");
+    let side = *sizes.last().unwrap_or(&256);
+    let c = measure_constants(ctx, &timer, side, repeats)?;
+    let mut cells = Vec::new();
+    let variants = [
+        Variant::Fp,
+        Variant::GpFp,
+        Variant::Packed,
+        Variant::OddEven,
+        Variant::Blocked,
+    ];
+    let sort_opts = SortBenchOptions {
+        repeats,
+        clock: None,
+        cpu: false,
+        steps_per_pass: 2,
+        blocked_shapes: Vec::new(),
+    };
+    let t1 = bench_sort(ctx, &sizes, &variants, &sort_opts, |v, n| {
+        progress(&format!("cost model: Table 1 {v} at {n}²"))
+    })?;
+    for r in &t1 {
+        let (Some(d), Some(f)) = (r.draws, r.fetches) else {
+            continue;
+        };
+        cells.push(Cell {
+            table: "Table 1",
+            what: r.variant.clone(),
+            size: r.size,
+            measured_ms: r.ms,
+            predicted_ms: c.predict(d.draws, d.bytes_written, f, d.points),
+            passes: d.draws,
+            bytes: d.bytes_written,
+            fetches: f,
+            points: d.points,
+        });
+    }
+    let scene_opts = ScenesOptions {
+        repeats,
+        warmup_frames: matches!(opts.size, Size::Quick).then_some(20),
+        experiments: ["E1", "E2", "E3", "E3p", "E4"].map(String::from).to_vec(),
+        ..ScenesOptions::default()
+    };
+    let t2 = bs::bench_scenes(ctx, &sizes, &scene_opts, |e, n| {
+        progress(&format!("cost model: Table 2 {e} at {n}²"))
+    })?;
+    for r in &t2 {
+        let (Some(ms), Some(d)) = (r.ms, r.frame_draws) else {
+            continue;
+        };
+        cells.push(Cell {
+            table: "Table 2",
+            what: r.experiment.clone(),
+            size: r.size,
+            measured_ms: ms,
+            predicted_ms: c.predict(d.draws, d.bytes_written, 0, d.points),
+            passes: d.draws,
+            bytes: d.bytes_written,
+            fetches: 0,
+            points: d.points,
+        });
+    }
+    let json = out.join("cost_model.json");
+    write_json(
+        &json,
+        &serde_json::json!({ "constants": c, "cells": cells }),
+    )?;
+    let markdown = markdown(ctx, &c, &cells);
+    let md = out.join("cost_model.md");
+    super::write_atomic(&md, markdown.as_bytes())?;
+    Ok(SectionOutput {
+        files: vec![json, md],
+        markdown,
+        warnings: Vec::new(),
+    })
+}
+
+fn markdown(ctx: &Context, c: &Constants, cells: &[Cell]) -> String {
+    let mut m = format!(
+        "## A cost model of Tables 1 and 2 (`texflow report all --only cost`)\n\n\
+         Device: {}. Constants measured in the same run: fixed cost of a pass {:.4} ms, \
+         {:.4} ms per MB written, {:.4} ms per million texel fetches, {:.4} ms per million \
+         points. Predicted ms = passes × fixed + bytes × per byte + fetches × per fetch + \
+         points × per point (Table 2: fetches not counted).\n\n\
+         | table | sort / experiment | size | passes | MB written | M fetches | M points | \
+         measured ms | predicted ms | predicted / measured |\n\
+         |---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        ctx.limits().renderer,
+        c.fixed_ms,
+        c.ms_per_mb_written,
+        c.ms_per_m_fetches,
+        c.ms_per_m_points
+    );
+    for x in cells {
+        m += &format!(
+            "| {} | {} | {}² | {} | {:.1} | {:.2} | {:.2} | {:.3} | {:.3} | {:.2} |\n",
+            x.table,
+            x.what,
+            x.size,
+            x.passes,
+            x.bytes as f64 * 1e-6,
+            x.fetches as f64 * 1e-6,
+            x.points as f64 * 1e-6,
+            x.measured_ms,
+            x.predicted_ms,
+            x.predicted_ms / x.measured_ms
+        );
+    }
+    m += "\n### The same model on the 2004 card against UberFlow's Table 1\n\n\
+          ATI Radeon 9800 Pro (ATI's specifications: 8 pipelines × 380 MHz = 3.04 G pixels/s, \
+          21.8 GB/s): each pass is bound by the larger of its fragments at the fill rate and its \
+          bytes (16 written and 16 per fetch, RGBA32F) at the bandwidth; the paper's fps beside \
+          it.\n\n\
+          | variant | size | passes | predicted fps | paper fps | paper / predicted |\n\
+          |---|---:|---:|---:|---:|---:|\n";
+    for v in [Variant::Fp, Variant::GpFp, Variant::Packed] {
+        for side in [128u32, 256, 512, 1024] {
+            let Some(paper) = crate::bench::paper_table1_fps(v, side) else {
+                continue;
+            };
+            let passes = crate::sort::network::bitonic_schedule(side, side * side).len();
+            let fps = 1e3 / Gpu2004::sort_ms(v, side, passes);
+            m += &format!(
+                "| {} | {side}² | {passes} | {fps:.1} | {paper:.1} | {:.2} |\n",
+                v.name(),
+                paper / fps
+            );
+        }
+    }
+    m
+}

@@ -125,7 +125,7 @@ fn read(scene: &str, name: &str) -> std::result::Result<Vec<u8>, String> {
     }
     let folder = Path::new(scene).parent().unwrap_or(Path::new(""));
     let file = folder.join(name);
-    std::fs::read(&file).map_err(|e| {
+    crate::input::read_bounded(&file, crate::input::MAX_MESH_BYTES).map_err(|e| {
         format!(
             "cannot read mesh file {}: {e} (the path is relative to the scene file's folder)",
             file.display()

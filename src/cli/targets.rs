@@ -47,6 +47,9 @@ pub struct Plan<'a> {
     pub inputs: &'a [(PathBuf, String)],
 }
 
+/// A folder written into: its path, the option that names it, and which names it gets.
+type Folder<'a> = (&'a Path, &'static str, Box<dyn Fn(&str) -> bool + 'a>);
+
 /// The index in a frame or dump name (`frame_00012.png` is frame 12 when `prefix` is `frame_`
 /// and `ext` `.png`), if the name is exactly what the writer makes for it.
 fn index_in(name: &str, prefix: &str, ext: &str) -> Option<u64> {
@@ -69,8 +72,8 @@ impl Plan<'_> {
     }
 
     /// The folders written into, with the option naming each and the names written there.
-    fn folders(&self) -> Vec<(&Path, &'static str, Box<dyn Fn(&str) -> bool + '_>)> {
-        let mut v: Vec<(&Path, &'static str, Box<dyn Fn(&str) -> bool + '_>)> = Vec::new();
+    fn folders(&self) -> Vec<Folder<'_>> {
+        let mut v: Vec<Folder<'_>> = Vec::new();
         if let Some(o) = self.out {
             v.push((o, "--out", Box::new(|n| self.writes_frame(n))));
         }
@@ -108,7 +111,7 @@ impl Plan<'_> {
                     _ => Path::new("."),
                 };
                 let name = v.file_name().map(|n| n.to_string_lossy().into_owned());
-                if same_file(parent, dir) && name.as_deref().is_some_and(|n| writes(n)) {
+                if same_file(parent, dir) && name.as_deref().is_some_and(&writes) {
                     return Err(bad(format!(
                         "--video {} is a file that {flag} {} will write: give the video another \
                          name or folder",

@@ -242,7 +242,11 @@ pub fn remove_stale_temporaries(dir: &Path, ours: impl Fn(&str) -> bool) -> usiz
     let Ok(entries) = fs::read_dir(dir) else {
         return 0;
     };
-    let live = unfinished();
+    // By name: the registry may hold the absolute path of a file `dir` names relatively.
+    let live: Vec<std::ffi::OsString> = unfinished()
+        .iter()
+        .filter_map(|p| p.file_name().map(|n| n.to_owned()))
+        .collect();
     let mut removed = 0;
     for e in entries.flatten() {
         let name = e.file_name();
@@ -251,7 +255,7 @@ pub fn remove_stale_temporaries(dir: &Path, ours: impl Fn(&str) -> bool) -> usiz
         };
         let path = e.path();
         let regular = e.file_type().is_ok_and(|t| t.is_file());
-        if regular && ours(target) && !live.contains(&path) && fs::remove_file(&path).is_ok() {
+        if regular && ours(target) && !live.contains(&name) && fs::remove_file(&path).is_ok() {
             removed += 1;
         }
     }

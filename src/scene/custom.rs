@@ -71,6 +71,17 @@ pub fn check_glsl(path: &str, bytes: &[u8]) -> std::result::Result<String, Strin
             ));
         }
     }
+    // A carriage return is a line end only before a line feed (CRLF): alone, a driver may
+    // count it as one and the lines of its errors would no longer be the file's.
+    if let Some(at) = text.match_indices('\r').map(|(i, _)| i).find(|&i| {
+        text.as_bytes().get(i + 1) != Some(&b'\n')
+    }) {
+        let (line, column) = line_column(text, at);
+        return Err(format!(
+            "{path}:{line}:{column}: a carriage return without a line feed: save the file with \
+             LF or CRLF line ends"
+        ));
+    }
     let code = strip_comments(text);
     for (n, line) in code.lines().enumerate() {
         let at = |why: String| format!("{path}:{}: {why}", n + 1);
@@ -236,6 +247,7 @@ mod tests {
             (b"vec3 force() {\n\xff}\n", "f.glsl:2:1: byte 0xff"),
             (b"vec3 f() { return vec3(0); }\n", "defines no `force`"),
             (b"#define A \\\n 1\n", "f.glsl:1: a line ends"),
+            (b"vec3 force() {}\r\r\n", "f.glsl:1:16: a carriage return"),
         ] {
             assert!(e(src).contains(want), "{:?}: {}", src, e(src));
         }

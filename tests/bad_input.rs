@@ -668,6 +668,28 @@ fn user_glsl_errors_name_the_users_file_and_a_bom_is_accepted() {
         "no internal names: {}",
         err(&o)
     );
+    // An include of a file that is not texflow's, and a `#line` that would move the error into
+    // texflow's files: bad input at the user's file and line, not "the machine failed".
+    for (name, text, want) in [
+        (
+            "inc.glsl",
+            format!("#include \"x.glsl\"\n{LIFT}"),
+            "inc.glsl:1",
+        ),
+        (
+            "line.glsl",
+            format!("{LIFT}#line 9999\nnot glsl\n"),
+            "line.glsl:4",
+        ),
+    ] {
+        fs::write(d.join(name), text).unwrap();
+        let sc = d.join(format!("{name}.toml"));
+        fs::write(&sc, scene_text(&custom(name))).unwrap();
+        let o = run(&["render", s(&sc), "--frames", "1", "--out", s(&d.join("o"))]);
+        assert_eq!(o.status.code(), Some(2), "{name}: {}", err(&o));
+        assert!(err(&o).contains(want), "{name}: {}", err(&o));
+        assert!(!err(&o).contains("glsl/"), "{name}: {}", err(&o));
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -775,6 +797,23 @@ fn bench_warmup_is_bounded() {
     if let Ok(c) = texflow::scene::parse("w", &cycle) {
         assert_eq!(warmup_frames(&c, None).unwrap(), MAX_WARMUP_FRAMES);
     }
+    // Through the command: the default warm-up of a `dt = 1e-30` scene is the cap (it used to
+    // overflow the frame count).
+    let dir = tempfile::tempdir().unwrap();
+    let sc = dir.path().join("tiny_dt.toml");
+    fs::write(&sc, base.replace("dt = 0.02", "dt = 1e-30")).unwrap();
+    let o = run(&[
+        "bench",
+        "scene",
+        sc.to_str().unwrap(),
+        "--repeats",
+        "1",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", err(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["records"][0]["warmup_frames"], MAX_WARMUP_FRAMES, "{v}");
+    assert_eq!(v["records"][0]["live"], 256, "{v}");
 }
 
 /// A benchmark of a state with no live particle is refused with the reason.
@@ -876,6 +915,31 @@ fn json_output_is_one_document_for_every_command() {
             "--no-cpu",
             "--json",
         ],
+        vec![
+            "collide-stats",
+            "--particles",
+            "16",
+            "--steps",
+            "2",
+            "--sweep",
+            "--json",
+        ],
+        vec![
+            "bench",
+            "scenes",
+            "--sizes",
+            "16",
+            "--repeats",
+            "1",
+            "--warmup",
+            "1",
+            "--resolution",
+            "16",
+            "--json",
+        ],
+        // The two slow ones (about 7 and 18 s on llvmpipe): every command is run.
+        vec!["report", "stability", "--json"],
+        vec!["report", "convergence", "--quick", "--json"],
     ];
     for args in &runs {
         let o = run(args);

@@ -73,9 +73,11 @@ pub fn check_glsl(path: &str, bytes: &[u8]) -> std::result::Result<String, Strin
     }
     // A carriage return is a line end only before a line feed (CRLF): alone, a driver may
     // count it as one and the lines of its errors would no longer be the file's.
-    if let Some(at) = text.match_indices('\r').map(|(i, _)| i).find(|&i| {
-        text.as_bytes().get(i + 1) != Some(&b'\n')
-    }) {
+    if let Some(at) = text
+        .match_indices('\r')
+        .map(|(i, _)| i)
+        .find(|&i| text.as_bytes().get(i + 1) != Some(&b'\n'))
+    {
         let (line, column) = line_column(text, at);
         return Err(format!(
             "{path}:{line}:{column}: a carriage return without a line feed: save the file with \

@@ -329,7 +329,7 @@ fn stale_temporary_files_of_a_killed_run_are_removed_by_the_next_run() {
     assert!(!d.join(".anim.gif.ZZZZ1111.tmp").exists());
     assert!(d.join(".other.gif.ZZZZ1111.tmp").exists());
     // A real SIGKILL: an encoder that never reads holds the run with its temporary video open.
-    let bin_dir = fake_ffmpeg(d, "exec sleep 30");
+    let bin_dir = fake_ffmpeg(d, "exec sleep 10");
     let mut c = bin();
     c.args(["render", s(&sc), "--frames", "2", "--resolution", "128"])
         .args(["--video", s(&d.join("k.mp4")), "--quiet"]);

@@ -35,6 +35,7 @@ pub mod bench;
 pub mod engine;
 pub mod error;
 pub mod gl;
+pub mod input;
 pub mod npy;
 pub mod output;
 pub mod render;

@@ -350,9 +350,9 @@ fn dropped_births_are_predicted_warned_and_counted() {
         "warned once: {err}"
     );
     assert!(err.contains("is full"), "{err}");
+    // With --json, stdout is the JSON document alone; the --stats paragraph is on stderr.
     let stdout = String::from_utf8_lossy(&o.stdout);
-    let json_start = stdout.find('{').unwrap();
-    let v: serde_json::Value = serde_json::from_str(&stdout[json_start..]).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     assert_eq!(v["schema"], "texflow.render/1");
     let dropped = v["records"]["dropped_births"].as_u64().unwrap();
     assert!(dropped > 0, "{v}");
@@ -360,7 +360,7 @@ fn dropped_births_are_predicted_warned_and_counted() {
     assert_eq!(v["records"]["frames"], 30);
     assert_eq!(v["records"]["written"], 2);
     // --stats: the paragraph with each phase's median.
-    let para = &stdout[..json_start];
+    let para = &err;
     for part in [
         "median simulate",
         "sort",

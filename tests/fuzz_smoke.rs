@@ -1,4 +1,5 @@
-//! The fuzz targets' checks (`fuzz/src/lib.rs`, included here) on stable Rust, for machines
+//! The fuzz targets' checks (`fuzz/src/lib.rs`, included here: `.npy`, scenes, OBJ meshes and
+//! custom-force GLSL) on stable Rust, for machines
 //! without nightly and cargo-fuzz: the seed corpus `fuzz/corpus/`, then random mutations of it
 //! (byte edits and splices of tokens that have broken readers before).
 //!
@@ -67,6 +68,43 @@ const SCENE_TOKENS: &[&[u8]] = &[
     b"true",
     b"{}",
     b"\xc3\xa9",
+];
+
+/// Tokens spliced into OBJ meshes.
+const OBJ_TOKENS: &[&[u8]] = &[
+    b"\nv 1e39 0 0\n",
+    b"\nv nan 0 0\n",
+    b"\nf 1 2 3\n",
+    b"\nf -1 -2 -3\n",
+    b"\nf 0 0 0\n",
+    b"\nf 4294967296 1 2\n",
+    b"/",
+    b"//",
+    b" -",
+    b"\\\n",
+    b"\nmtllib x.mtl\n",
+    b"\no \n",
+    b"\xff",
+];
+
+/// Tokens spliced into custom-force GLSL.
+const GLSL_TOKENS: &[&[u8]] = &[
+    b"\n#include \"common/rng.glsl\"\n",
+    b"\n#line 9999\n",
+    b"\n#version 450\n",
+    b"\n  #  extension GL_ARB_compute_shader : enable\n",
+    b"/*",
+    b"*/",
+    b"//",
+    b"\\\n",
+    b"\n#",
+    b"\0",
+    b"\r",
+    b"\xef\xbb\xbf",
+    b"for(;;)",
+    b"while (true)",
+    b"force",
+    b"\xff",
 ];
 
 fn corpus(name: &str) -> Vec<Vec<u8>> {
@@ -171,6 +209,16 @@ fn scene_corpus_and_mutations_pass_the_checks() {
     );
 }
 
+#[test]
+fn obj_corpus_and_mutations_pass_the_checks() {
+    run("obj", checks::obj, OBJ_TOKENS, 2_000, Duration::MAX, 1);
+}
+
+#[test]
+fn glsl_corpus_and_mutations_pass_the_checks() {
+    run("glsl", checks::glsl, GLSL_TOKENS, 20_000, Duration::MAX, 1);
+}
+
 fn budget() -> Duration {
     let secs = std::env::var("FUZZ_SMOKE_SECS").map_or(60, |s| s.parse().unwrap());
     Duration::from_secs(secs)
@@ -197,4 +245,20 @@ fn scene_fuzz_smoke() {
     let (t, s) = (budget(), seed());
     let n = run("scene", checks::scene, SCENE_TOKENS, usize::MAX, t, s);
     eprintln!("scene: {n} inputs in {t:?} (seed {s}), no failure");
+}
+
+#[test]
+#[ignore = "runs for FUZZ_SMOKE_SECS seconds"]
+fn obj_fuzz_smoke() {
+    let (t, s) = (budget(), seed());
+    let n = run("obj", checks::obj, OBJ_TOKENS, usize::MAX, t, s);
+    eprintln!("obj: {n} inputs in {t:?} (seed {s}), no failure");
+}
+
+#[test]
+#[ignore = "runs for FUZZ_SMOKE_SECS seconds"]
+fn glsl_fuzz_smoke() {
+    let (t, s) = (budget(), seed());
+    let n = run("glsl", checks::glsl, GLSL_TOKENS, usize::MAX, t, s);
+    eprintln!("glsl: {n} inputs in {t:?} (seed {s}), no failure");
 }

@@ -9,10 +9,10 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 /// Each top-level module's layer; a module may import its own layer's peers (acyclically) and
-/// anything below. `error`, `npy` and `output` are plain utilities every layer may use.
+/// anything below. `error`, `input`, `npy` and `output` are plain utilities every layer may use.
 fn layer(module: &str) -> Option<u32> {
     Some(match module {
-        "error" | "npy" | "output" => 0,
+        "error" | "input" | "npy" | "output" => 0,
         "gl" => 1,
         "scene" => 2,
         "sim" | "sort" | "render" => 3,

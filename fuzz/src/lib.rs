@@ -51,3 +51,59 @@ pub fn scene(data: &[u8]) {
         Err(e) => panic!("refused without a line and column: {e}"),
     }
 }
+
+/// Reads `data` as an OBJ mesh. It must be refused with a message, or give between 1 and
+/// `MAX_TRIANGLES` triangles, every vertex finite.
+pub fn obj(data: &[u8]) {
+    match texflow::scene::read_obj(data) {
+        Ok(t) => {
+            assert!(
+                !t.is_empty() && t.len() <= texflow::scene::MAX_TRIANGLES,
+                "{} triangles",
+                t.len()
+            );
+            assert!(
+                t.iter().flatten().flatten().all(|c| c.is_finite()),
+                "a vertex that is not finite"
+            );
+        }
+        Err(m) => assert!(!m.is_empty(), "refused without a message"),
+    }
+}
+
+/// The custom-force front end on `data` as the user's file: the text checks refuse it with the
+/// file and a line, or accept it; what they accept is spliced by the include resolver as one
+/// source, every one of its lines in order, none taken for an include, and a driver's location
+/// in it maps back to the user's file and that line.
+pub fn glsl(data: &[u8]) {
+    use texflow::gl::source::{embedded, map_log, resolve};
+    let text = match texflow::scene::check_glsl("user.glsl", data) {
+        Ok(t) => t,
+        Err(m) => {
+            assert!(m.starts_with("user.glsl:"), "no location: {m}");
+            return;
+        }
+    };
+    let root = "#include \"common/rng.glsl\"\n#define force custom_force_0\n\
+                #include \"user.glsl\"\n#undef force\nvoid main() {}\n";
+    let user: &str = &text;
+    let lookup = |p: &str| match p {
+        "root" => Some(root),
+        "user.glsl" => Some(user),
+        p => embedded(p),
+    };
+    let r = resolve("root", &[], &lookup).expect("an accepted file resolves");
+    assert_eq!(r.files, ["root", "common/rng.glsl", "user.glsl"]);
+    // The user's lines, in order, between `#line 1 2` and the root's next `#line`.
+    let start = r.text.find("#line 1 2\n").expect("the user's source") + "#line 1 2\n".len();
+    let end = start
+        + r.text[start..]
+            .find("#line 4 0\n")
+            .expect("back to the root");
+    let spliced: Vec<&str> = r.text[start..end].lines().collect();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(spliced, lines, "the user's text is spliced as it is");
+    let n = lines.len().max(1) as u32;
+    let (_, first) = map_log(&format!("2:{n}(1): error: x\n"), &r.files);
+    assert_eq!(first, Some(("user.glsl".to_owned(), n)));
+}

@@ -209,14 +209,20 @@ pub fn bench_scene(
         if let Some(r) = opts.resolution {
             s.render.resolution = r;
         }
-        let warmup = opts
-            .warmup_frames
-            .unwrap_or_else(|| default_warmup_frames(&s));
+        let warmup = warmup_frames(&s, opts.warmup_frames)?;
         let (phases, frame, live) = if s.fire.is_some() {
             fire(ctx, &s, warmup, &timer, &render_floor, opts)?
         } else {
             particles(ctx, &s, warmup, &timer, opts)?
         };
+        if live == 0 {
+            return Err(Error::InvalidInput(format!(
+                "scene {} at {size}x{size} has no live particle after {warmup} warm-up frame(s) \
+                 and the timed ones: a benchmark of an empty state measures nothing; give a \
+                 longer --warmup, or emitters that keep particles alive",
+                s.name
+            )));
+        }
         ctx.check_error(&format!("benchmarking scene {} at {size}²", s.name))?;
         let particles = size as u64 * size as u64;
         records.push(SceneBenchRecord {
@@ -243,6 +249,37 @@ pub fn bench_scene(
         progress(size);
     }
     Ok(records)
+}
+
+/// Most warm-up frames: the default (one emission cycle) is capped here, and a `--warmup`
+/// above it is refused, so that no cycle length or time step makes the warm-up run for hours.
+pub const MAX_WARMUP_FRAMES: usize = 10_000;
+
+/// The warm-up of scene `s`: `asked` (at most [`MAX_WARMUP_FRAMES`]), or one emission cycle
+/// capped at [`MAX_WARMUP_FRAMES`] (computed in floating point first: a long cycle at a tiny
+/// time step would overflow the count, or wrap it to nothing).
+pub fn warmup_frames(s: &SceneFile, asked: Option<usize>) -> Result<usize> {
+    if let Some(n) = asked {
+        if n > MAX_WARMUP_FRAMES {
+            return Err(Error::InvalidInput(format!(
+                "--warmup {n}: at most {MAX_WARMUP_FRAMES} frames of warm-up"
+            )));
+        }
+        return Ok(n);
+    }
+    let frame = s.time.dt as f64 * s.time.substeps.max(1) as f64;
+    let cycle = s
+        .emitters
+        .timestamp
+        .iter()
+        .filter_map(|e| e.cycle)
+        .fold(0.0f32, f32::max) as f64;
+    let frames = if cycle > 0.0 { cycle } else { 1.0 } / frame;
+    Ok(if frames.is_finite() && frames < MAX_WARMUP_FRAMES as f64 {
+        default_warmup_frames(s).min(MAX_WARMUP_FRAMES)
+    } else {
+        MAX_WARMUP_FRAMES
+    })
 }
 
 fn fire(

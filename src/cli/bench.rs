@@ -352,7 +352,8 @@ pub struct SceneArgs {
     /// Timed repetitions per size (the medians are reported).
     #[arg(long, value_name = "N", default_value_t = 11, value_parser = at_least_one::<usize>)]
     repeats: usize,
-    /// Frames simulated before timing [default: one emission cycle of the scene].
+    /// Frames simulated before timing, at most 10000 [default: one emission cycle of the scene,
+    /// capped at 10000 frames]. A state with no live particle is refused.
     #[arg(long, value_name = "FRAMES")]
     warmup: Option<usize>,
     /// Frame size [default: the scene's render.resolution].

@@ -55,6 +55,34 @@ pub struct CollideStatsArgs {
     common: Common,
 }
 
+/// The scene keys this command's options set, with the option typed, so that an error about
+/// the key names the option.
+fn option_keys(a: &CollideStatsArgs) -> Vec<(&'static str, &'static str)> {
+    let mut v = Vec::new();
+    let given = [
+        (a.k.is_some(), "collisions.neighbours", "--k"),
+        (
+            a.staggered || a.no_staggered,
+            "collisions.staggered",
+            "--staggered",
+        ),
+        (a.rows_only.is_some(), "collisions.rows_only", "--rows-only"),
+        (a.cell.is_some(), "collisions.cell", "--cell"),
+        (a.detection.is_some(), "collisions.detection", "--detection"),
+        (
+            a.iterations.is_some(),
+            "collisions.iterations",
+            "--iterations",
+        ),
+    ];
+    for (set, key, flag) in given {
+        if set {
+            v.push((key, flag));
+        }
+    }
+    v
+}
+
 pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
     let overrides = Overrides {
         particles: a.particles,
@@ -64,6 +92,7 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
     };
     let (label, src) = scene::load_source(&a.scene)?;
     let mut s = scene::parse(&label, &src)?;
+    scene::load_custom(&label, &src, &mut s)?;
     let Some(c) = s.collisions.as_mut() else {
         return Err(bad(format!(
             "scene `{}` has no [collisions] section: try `collide`",
@@ -100,7 +129,7 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
             c.rows_only = None;
         }
     }
-    overrides.apply(&mut s)?;
+    overrides.apply_naming(&mut s, &option_keys(&a))?;
     let prepared = Prepared {
         label,
         source: src,

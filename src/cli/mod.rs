@@ -9,6 +9,7 @@ pub mod report;
 pub mod scene;
 pub mod signals;
 pub mod sort;
+pub mod targets;
 pub mod view;
 
 use clap::{Args, Parser, Subcommand};

@@ -14,7 +14,7 @@ use texflow::output::{video, FrameWriter, VideoWriter};
 use texflow::scene;
 use texflow::SceneEngine;
 
-use super::{at_least_one, bad, parse_size, progress_bar, signals, time_step, Common};
+use super::{at_least_one, parse_size, progress_bar, signals, targets, time_step, Common};
 
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
@@ -122,45 +122,51 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     if let Some(o) = &out {
         FrameWriter::check(o)?;
     }
-    // Before the run: a missing ffmpeg or an unwritable --video stops here, not after the frames.
+    // Before the run: a missing ffmpeg, an unwritable --video, or a video the format cannot
+    // hold stops here, not after the frames.
+    let count = a.frames.div_ceil(a.every);
+    let fps = a
+        .fps
+        .map(f64::from)
+        .unwrap_or_else(|| 1.0 / (s.time.dt as f64 * s.time.substeps as f64 * a.every as f64));
     if let Some(v) = &a.video {
-        video::check_video(v)?;
-        // The video must not be one of the files the frame folders will hold.
-        for (dir, flag) in [(&out, "--out"), (&a.dump_state, "--dump-state")] {
-            if let Some(dir) = dir {
-                if names_a_frame_file(v, dir) {
-                    return Err(bad(format!(
-                        "--video {} is a file that {flag} {} will write: give the video another \
-                         name or folder",
-                        v.display(),
-                        dir.display()
-                    )));
-                }
-            }
-        }
+        video::check_video_run(v, s.render.resolution, count, fps)?;
     }
     if let Some(d) = &a.dump_state {
         FrameWriter::check_for(d, "--dump-state")?;
     }
+    // Every output against every input and every other output, and every frame target.
+    let inputs = targets::inputs(
+        &prepared.label,
+        s,
+        scene::builtin_source(&a.scene).is_some(),
+    );
+    let plan = targets::Plan {
+        frames: a.frames,
+        every: a.every,
+        dump_every: a.dump_every,
+        out: out.as_deref(),
+        dumps: a.dump_state.as_deref(),
+        video: a.video.as_deref(),
+        inputs: &inputs,
+    };
+    plan.check()?;
     let ctx = Context::new(overrides.device)?;
     overrides.check_device(&ctx, &prepared)?;
     let mut engine = SceneEngine::new(&ctx, s, overrides.seed)?;
     let run = FrameLoop::new(&ctx, &engine, options)?;
+    // The video first: should its encoder fail to start, no folder has been made yet.
+    let video = match &a.video {
+        Some(v) => Some(VideoWriter::create(v, s.render.resolution, count, fps)?),
+        None => None,
+    };
     // With --video alone, a folder sink still writes the dumps (into --dump-state; no frames).
     let folder = match out.as_deref().or(a.dump_state.as_deref()) {
         Some(dir) => Some(FolderSink::create(dir, a.dump_state.as_deref())?),
         None => None,
     };
-    let video = match &a.video {
-        Some(v) => {
-            let fps = a.fps.map(f64::from).unwrap_or_else(|| {
-                1.0 / (s.time.dt as f64 * s.time.substeps as f64 * a.every as f64)
-            });
-            let count = a.frames.div_ceil(a.every);
-            Some(VideoWriter::create(v, s.render.resolution, count, fps)?)
-        }
-        None => None,
-    };
+    // What a killed run left in these folders (its own temporary files only) goes now.
+    plan.remove_stale();
     let mut sink = RenderSink {
         folder,
         pngs: out.is_some(),
@@ -197,12 +203,30 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
             Some(_) => ControlFlow::Break(()),
             None => ControlFlow::Continue(()),
         }
-    })?;
+    });
+    // A signal may have ended the encoder under a frame being written: the signal is the
+    // reason, not the broken pipe it left.
+    let summary = match (summary, signals::received()) {
+        (Err(_), Some(signal)) => {
+            drop(sink);
+            texflow::output::remove_unfinished();
+            return Err(texflow::Error::Interrupted { signal });
+        }
+        (r, _) => r?,
+    };
     bar.finish_and_clear();
     // Dropped unfinished (signal, early stop), the video's temporary file is removed.
     let video_path = match sink.video.take() {
-        Some(v) if signals::received().is_none() && !summary.stopped => Some(v.finish()?),
+        Some(v) if signals::received().is_none() && !summary.stopped => Some(v.finish()),
         _ => None,
+    };
+    // A signal while the encoder finished (and was killed) is the reason it failed.
+    let video_path = match (video_path, signals::received()) {
+        (Some(Err(_)), Some(signal)) => {
+            texflow::output::remove_unfinished();
+            return Err(texflow::Error::Interrupted { signal });
+        }
+        (v, _) => v.transpose()?,
     };
     if let Some(signal) = signals::received() {
         texflow::output::remove_unfinished();
@@ -233,7 +257,10 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
             s.time.dt
         );
     }
-    if a.stats {
+    // With --json, stdout holds the JSON document alone; the paragraph goes to stderr.
+    if a.stats && a.json {
+        eprintln!("{}", stats_paragraph(s, &summary));
+    } else if a.stats {
         println!("{}", stats_paragraph(s, &summary));
     }
     if a.json {
@@ -261,29 +288,6 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
         println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
     }
     Ok(())
-}
-
-/// Whether `video` lies in `dir` (by its canonical folder where both exist) under a name of the
-/// frames or dumps written there (`frame_00000.png`, `positions_00000.npy`, ...).
-fn names_a_frame_file(video: &std::path::Path, dir: &std::path::Path) -> bool {
-    let canon = |p: &std::path::Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
-    let parent = match video.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => std::path::Path::new("."),
-    };
-    if canon(parent) != canon(dir) {
-        return false;
-    }
-    let name = video
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    ["frame_", "positions_", "velocities_"].iter().any(|p| {
-        name.strip_prefix(p).is_some_and(|rest| {
-            let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
-            !digits.is_empty() && matches!(&rest[digits.len()..], ".png" | ".npy")
-        })
-    })
 }
 
 /// The one-paragraph summary of `render --stats`.

@@ -415,6 +415,11 @@ impl ApplicationHandler for App {
 
 pub fn view(a: ViewArgs) -> texflow::Result<()> {
     let prepared = a.overrides().prepare(&a.scene)?;
+    // Sizes (and custom forces) against a headless device first, so that a size over the limit
+    // is refused for the size, with or without a display.
+    if let Ok(ctx) = Context::new(0) {
+        a.overrides().check_device(&ctx, &prepared)?;
+    }
     if let Some(s) = &a.screenshot {
         texflow::output::check_target(s, "--screenshot")?;
     }

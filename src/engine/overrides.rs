@@ -94,6 +94,13 @@ impl Overrides {
     /// Sets the overridden values in `scene` and validates the result; an error names the option
     /// whose value it is about, or the scene key.
     pub fn apply(&self, scene: &mut SceneFile) -> Result<()> {
+        self.apply_naming(scene, &[])
+    }
+
+    /// [`apply`](Self::apply) for a command that also set scene keys from its own options:
+    /// `options` maps each such key (`collisions.iterations`) to the option typed
+    /// (`--iterations`), so that an error about the key names the option.
+    pub fn apply_naming(&self, scene: &mut SceneFile, options: &[(&str, &str)]) -> Result<()> {
         if let Some(p) = self.particles {
             scene.particles.size = p;
         }
@@ -121,6 +128,7 @@ impl Overrides {
             let option = self
                 .replaced()
                 .into_iter()
+                .chain(options.iter().copied())
                 .find(|(k, _)| *k == key)
                 .map(|(_, o)| o);
             let given = self.given();
@@ -146,6 +154,7 @@ impl Overrides {
     pub fn prepare(&self, name_or_path: &str) -> Result<Prepared> {
         let (label, source) = scene::load_source(name_or_path)?;
         let mut s = scene::parse(&label, &source)?;
+        scene::load_custom(&label, &source, &mut s)?;
         self.apply(&mut s)?;
         Ok(Prepared {
             label,
@@ -163,7 +172,35 @@ impl Overrides {
             max_3d_texture: l.max_3d_texture_size,
         };
         let skip: Vec<&str> = self.replaced().iter().map(|(k, _)| *k).collect();
-        // Overridden sizes are checked by the engines, which name the option.
-        check_limits(&p.label, &p.source, &p.scene, limits, &skip)
+        check_limits(&p.label, &p.source, &p.scene, limits, &skip)?;
+        // Overridden sizes, by the option that gave them.
+        let max = l.max_texture_size;
+        let over = |flag: &str, what: &str, side: u32| {
+            Err(Error::InvalidInput(format!(
+                "{flag}: {what} {side} is over this device's limit of {max} \
+                 (GL_MAX_TEXTURE_SIZE): give sides of at most {max}"
+            )))
+        };
+        if let Some([w, h]) = self.particles {
+            if w.max(h) > max {
+                return over("--particles", "the state texture side", w.max(h));
+            }
+            let sort = w.next_power_of_two().max(h.next_power_of_two());
+            if p.scene.render.blending == scene::Blending::Alpha && sort > max {
+                return over(
+                    "--particles",
+                    "the sort texture side (the state's, rounded up to a power of two)",
+                    sort,
+                );
+            }
+        }
+        if let Some([w, h]) = self.resolution {
+            if w.max(h) > max {
+                return over("--resolution", "the frame side", w.max(h));
+            }
+        }
+        scene::check_point_size(&p.label, &p.source, &p.scene, l.point_size_range[1])?;
+        // Custom forces compile here too, so that `scene check` refuses what `render` would.
+        crate::sim::particles::check_custom_forces(ctx, &p.scene)
     }
 }

@@ -6,7 +6,6 @@
 //! the data exactly as long as the shape declares. Anything else is an
 //! [`Error::InvalidInput`] that names what was found and what is accepted.
 
-use std::fs;
 use std::path::Path;
 
 use crate::error::{Error, Result};
@@ -22,9 +21,13 @@ fn bad(path: &Path, msg: impl std::fmt::Display) -> Error {
 }
 
 fn read_file(path: &Path) -> Result<Vec<u8>> {
-    fs::read(path).map_err(|source| Error::Io {
-        path: path.to_owned(),
-        source,
+    use crate::input::{read_bounded, Refused, MAX_NPY_BYTES};
+    read_bounded(path, MAX_NPY_BYTES).map_err(|r| match r {
+        Refused::Io(source) => Error::Io {
+            path: path.to_owned(),
+            source,
+        },
+        r => bad(path, r),
     })
 }
 

@@ -2,6 +2,7 @@
 //! of malformed file (each message names what was found and what is accepted).
 
 use super::*;
+use std::fs;
 
 #[test]
 fn round_trips_and_aligns() {

@@ -74,7 +74,7 @@ impl FrameWriter {
         }
         if !probe.is_dir() {
             return bad(format!(
-                "output folder {} cannot be created: {} is a file",
+                "{flag} {}: the folder cannot be created, {} is a file: name a folder",
                 dir.display(),
                 probe.display()
             ));

@@ -129,6 +129,7 @@ fn temporary_beside(path: &Path) -> Result<NamedTempFile> {
     tempfile::Builder::new()
         .prefix(&format!(".{name}."))
         .suffix(".tmp")
+        .rand_bytes(8)
         .make_in(dir, |p| {
             registry().push(p.to_owned());
             let f = fs::OpenOptions::new().write(true).create_new(true).open(p);
@@ -216,6 +217,51 @@ fn identity(path: &Path) -> (Option<PathBuf>, Option<(u64, u64)>) {
     (full, inode)
 }
 
+/// Whether `a` and `b` name the same file or folder: the same canonical folder and name (so
+/// `dir/./x`, `dir/x/` and a linked folder count), or the same device and inode where both
+/// exist (a hard link, a link to the file).
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    let (pa, ia) = identity(a);
+    let (pb, ib) = identity(b);
+    (pa.is_some() && pa == pb) || (ia.is_some() && ia == ib)
+}
+
+/// Whether `file` is a temporary file that texflow's writer left for a target named `name`:
+/// `.NAME.XXXXXXXX.tmp` (eight letters or digits; six in earlier versions).
+pub fn temporary_of(file: &str) -> Option<&str> {
+    let rest = file.strip_prefix('.')?.strip_suffix(".tmp")?;
+    let (name, random) = rest.rsplit_once('.')?;
+    let ours = matches!(random.len(), 6 | 8) && random.bytes().all(|b| b.is_ascii_alphanumeric());
+    (ours && !name.is_empty()).then_some(name)
+}
+
+/// Removes the temporary files in `dir` that a killed run of texflow left for targets whose
+/// name `ours` accepts (see [`temporary_of`]), except the ones this process is writing; returns
+/// how many were removed. Nothing else is touched.
+pub fn remove_stale_temporaries(dir: &Path, ours: impl Fn(&str) -> bool) -> usize {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return 0;
+    };
+    // By name: the registry may hold the absolute path of a file `dir` names relatively.
+    let live: Vec<std::ffi::OsString> = unfinished()
+        .iter()
+        .filter_map(|p| p.file_name().map(|n| n.to_owned()))
+        .collect();
+    let mut removed = 0;
+    for e in entries.flatten() {
+        let name = e.file_name();
+        let Some(target) = name.to_str().and_then(temporary_of) else {
+            continue;
+        };
+        let path = e.path();
+        let regular = e.file_type().is_ok_and(|t| t.is_file());
+        if regular && ours(target) && !live.contains(&name) && fs::remove_file(&path).is_ok() {
+            removed += 1;
+        }
+    }
+    removed
+}
+
 /// All the files one command writes, checked up front and renamed into place together.
 #[derive(Debug, Default)]
 pub struct Outputs {
@@ -279,9 +325,16 @@ impl Outputs {
                 self.targets[i].0.display()
             )));
         }
-        self.staged
+        let done: Vec<PathBuf> = self
+            .staged
             .drain(..)
             .map(|s| s.expect("checked above").persist())
-            .collect()
+            .collect::<Result<_>>()?;
+        // What a killed run left for these targets goes now.
+        for p in &done {
+            let name = p.file_name().map(|n| n.to_string_lossy().into_owned());
+            remove_stale_temporaries(folder_of(p), |t| Some(t) == name.as_deref());
+        }
+        Ok(done)
     }
 }

@@ -81,6 +81,69 @@ pub fn check_video(path: &Path) -> Result<VideoFormat> {
     Ok(format)
 }
 
+/// [`check_video`], and what the format can hold: an APNG counts its frames in 32 bits, a GIF
+/// is at most 65535 pixels a side, and the rate must be a positive number. Everything
+/// [`VideoWriter::create`] would refuse, refused before anything runs.
+pub fn check_video_run(
+    path: &Path,
+    [w, h]: [u32; 2],
+    frames: u64,
+    fps: f64,
+) -> Result<VideoFormat> {
+    let format = check_video(path)?;
+    if !(fps.is_finite() && fps > 0.0) {
+        return Err(Error::InvalidInput(format!(
+            "--fps {fps}: give a positive number of frames a second"
+        )));
+    }
+    if format == VideoFormat::Gif && (w > u16::MAX as u32 || h > u16::MAX as u32) {
+        return Err(Error::InvalidInput(format!(
+            "--video {}: a GIF is at most 65535x65535 pixels, the frames are {w}x{h}",
+            path.display()
+        )));
+    }
+    if format == VideoFormat::Apng && frames > u32::MAX as u64 {
+        return Err(Error::InvalidInput(format!(
+            "--video {}: an APNG holds at most {} frames, the run writes {frames}: write fewer \
+             frames (--frames, --every)",
+            path.display(),
+            u32::MAX
+        )));
+    }
+    Ok(format)
+}
+
+/// The encoders running now, so that a signal can end them ([`kill_encoders`]).
+static ENCODERS: std::sync::Mutex<Vec<std::sync::Weak<std::sync::Mutex<Child>>>> =
+    std::sync::Mutex::new(Vec::new());
+
+/// Kills every encoder process this process started and that still runs (for a signal: an
+/// encoder that stopped reading, or never exits, would otherwise hold the run). Returns how many
+/// were running.
+pub fn kill_encoders() -> usize {
+    let list = ENCODERS.lock().unwrap_or_else(|e| e.into_inner());
+    let mut n = 0;
+    for c in list.iter().filter_map(std::sync::Weak::upgrade) {
+        let mut c = c.lock().unwrap_or_else(|e| e.into_inner());
+        if matches!(c.try_wait(), Ok(None)) {
+            let _ = c.kill();
+            n += 1;
+        }
+    }
+    n
+}
+
+/// Whether `head`, the first bytes of a finished file, looks like `format`'s container: an ISO
+/// media file (`ftyp` box) for MP4, an EBML header for WebM.
+fn looks_like(format: VideoFormat, head: &[u8]) -> bool {
+    match format {
+        VideoFormat::Mp4 => head.get(4..8) == Some(b"ftyp".as_slice()),
+        VideoFormat::Webm => head.starts_with(&[0x1a, 0x45, 0xdf, 0xa3]),
+        VideoFormat::Gif => head.starts_with(b"GIF8"),
+        VideoFormat::Apng => head.starts_with(b"\x89PNG"),
+    }
+}
+
 /// Bytes an encoder wrote and the writer has not yet moved to the file. The image and png
 /// encoders own their writer until they are dropped or finished; this one is shared, so that the
 /// bytes can be moved to disk after every frame and every write error is seen.
@@ -101,7 +164,8 @@ enum Encoder {
     Gif(Box<image::codecs::gif::GifEncoder<Shared>>, Shared),
     Apng(Box<png::Writer<Shared>>, Shared),
     Ffmpeg {
-        child: Child,
+        /// Shared with [`ENCODERS`], so that a signal can kill it.
+        child: std::sync::Arc<std::sync::Mutex<Child>>,
         stdin: Option<ChildStdin>,
         log: std::thread::JoinHandle<String>,
     },
@@ -148,19 +212,8 @@ impl VideoWriter {
     /// Starts a `width`×`height` animation of exactly `frames` frames at `fps` frames a second
     /// (GIF keeps delays in hundredths of a second, so it plays at the nearest such delay).
     pub fn create(path: &Path, size: [u32; 2], frames: u64, fps: f64) -> Result<Self> {
-        let format = check_video(path)?;
-        if !(fps.is_finite() && fps > 0.0) {
-            return Err(Error::InvalidInput(format!(
-                "--fps {fps}: give a positive number of frames a second"
-            )));
-        }
+        let format = check_video_run(path, size, frames, fps)?;
         let [w, h] = size;
-        if format == VideoFormat::Gif && (w > u16::MAX as u32 || h > u16::MAX as u32) {
-            return Err(Error::InvalidInput(format!(
-                "--video {}: a GIF is at most 65535x65535 pixels, the frames are {w}x{h}",
-                path.display()
-            )));
-        }
         let temp = super::temporary_beside(path)?;
         let err = encoding(path);
         let encoder = match format {
@@ -265,7 +318,8 @@ impl VideoWriter {
             // A write to an ffmpeg that has exited would raise SIGPIPE (the CLI keeps its default
             // action); an ffmpeg that stopped early is reported instead.
             Encoder::Ffmpeg { child, stdin, .. } => {
-                if matches!(child.try_wait(), Ok(Some(_))) {
+                let exited = matches!(lock(child).try_wait(), Ok(Some(_)));
+                if exited {
                     Err(err("ffmpeg exited before every frame was written".into()))
                 } else {
                     stdin
@@ -305,15 +359,16 @@ impl VideoWriter {
                 writer.finish().map_err(|e| err(e.to_string()))?;
                 self.drain(&shared)?;
             }
-            Encoder::Ffmpeg {
-                mut child,
-                stdin,
-                log,
-            } => {
+            Encoder::Ffmpeg { child, stdin, log } => {
                 drop(stdin);
-                let status = child
-                    .wait()
-                    .map_err(|e| err(format!("waiting for ffmpeg: {e}")))?;
+                // Polled, not waited for under the lock, so that a signal can kill it meanwhile.
+                let status = loop {
+                    match lock(&child).try_wait() {
+                        Ok(Some(status)) => break status,
+                        Ok(None) => std::thread::sleep(std::time::Duration::from_millis(5)),
+                        Err(e) => return Err(err(format!("waiting for ffmpeg: {e}"))),
+                    }
+                };
                 let log = log.join().unwrap_or_default();
                 if !status.success() {
                     return Err(err(format!(
@@ -328,6 +383,30 @@ impl VideoWriter {
             path: path.clone(),
             source,
         })?;
+        // Written only if the encoder wrote something that is the container asked for (an
+        // encoder that exits 0 without writing leaves an empty file).
+        let mut head = [0u8; 16];
+        let read = File::open(temp.path())
+            .and_then(|mut f| f.read(&mut head))
+            .map_err(|source| Error::Io {
+                path: path.clone(),
+                source,
+            })?;
+        if !looks_like(self.format, &head[..read]) {
+            let p = temp.path().to_owned();
+            drop(temp);
+            super::forget(&p);
+            return Err(err(format!(
+                "the encoder wrote {}: not a {:?} file; nothing was written (is the `ffmpeg` on \
+                 PATH a working ffmpeg?)",
+                if read == 0 {
+                    "nothing".to_owned()
+                } else {
+                    "something else".to_owned()
+                },
+                self.format
+            )));
+        }
         super::Staged {
             target: path.clone(),
             temp: Some(temp),
@@ -338,11 +417,9 @@ impl VideoWriter {
 
 impl Drop for VideoWriter {
     fn drop(&mut self) {
-        if let Some(Encoder::Ffmpeg {
-            mut child, stdin, ..
-        }) = self.encoder.take()
-        {
+        if let Some(Encoder::Ffmpeg { child, stdin, .. }) = self.encoder.take() {
             drop(stdin);
+            let mut child = lock(&child);
             let _ = child.kill();
             let _ = child.wait();
         }
@@ -352,6 +429,10 @@ impl Drop for VideoWriter {
             super::forget(&p);
         }
     }
+}
+
+fn lock(c: &std::sync::Mutex<Child>) -> std::sync::MutexGuard<'_, Child> {
+    c.lock().unwrap_or_else(|e| e.into_inner())
 }
 
 /// Starts ffmpeg reading raw RGB frames on its standard input and writing `temp`.
@@ -402,7 +483,13 @@ fn spawn_ffmpeg(
             reason: format!("starting {}: {e}", ffmpeg.display()),
         })?;
     let stdin = child.stdin.take();
-    let mut stderr = child.stderr.take().expect("piped");
+    let child = std::sync::Arc::new(std::sync::Mutex::new(child));
+    {
+        let mut list = ENCODERS.lock().unwrap_or_else(|e| e.into_inner());
+        list.retain(|w| w.strong_count() > 0);
+        list.push(std::sync::Arc::downgrade(&child));
+    }
+    let mut stderr = lock(&child).stderr.take().expect("piped");
     // Read ffmpeg's messages while frames are written, so that a full pipe never blocks it.
     let log = std::thread::spawn(move || {
         let mut s = String::new();

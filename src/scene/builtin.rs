@@ -59,7 +59,9 @@ pub fn builtin_source(name: &str) -> Option<&'static str> {
 /// Loads a scene by built-in name or from a `.toml` file (errors name file, line and column).
 pub fn load(name_or_path: &str) -> Result<SceneFile> {
     let (label, src) = load_source(name_or_path)?;
-    parse(&label, &src)
+    let mut scene = parse(&label, &src)?;
+    super::load_custom(&label, &src, &mut scene)?;
+    Ok(scene)
 }
 
 /// The label errors use for a scene and its TOML source, by built-in name or file path.
@@ -78,7 +80,8 @@ pub fn load_source(name_or_path: &str) -> Result<(String, String)> {
         )));
     }
     // Bytes, not `read_to_string`: a file that is not UTF-8 gets a line and column.
-    let bytes = std::fs::read(path).map_err(|e| {
+    // A regular file of bounded size only: a fifo or `/dev/zero` would never end.
+    let bytes = crate::input::read_bounded(path, crate::input::MAX_SCENE_BYTES).map_err(|e| {
         Error::InvalidInput(format!("cannot read scene file {}: {e}", path.display()))
     })?;
     let label = path.display().to_string();

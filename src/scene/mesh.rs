@@ -38,6 +38,10 @@ pub fn read_obj(bytes: &[u8]) -> std::result::Result<Vec<Triangle>, String> {
         single_index: true,
         ..Default::default()
     };
+    // Only positions are used: each face element keeps its vertex index alone (`1/2/3` -> `1`).
+    // tobj 4.0.5 multiplies a texture or normal index without checking it (`f 1/-9` overflows:
+    // a panic in a debug build; found by the `obj` fuzz check).
+    let bytes = vertex_indices_only(bytes);
     // Materials are not needed: a `mtllib` line gets "no materials" and is otherwise ignored.
     let (models, _) = tobj::load_obj_buf(&mut &bytes[..], &options, |_| {
         Err(tobj::LoadError::OpenFileFailed)
@@ -79,6 +83,24 @@ pub fn read_obj(bytes: &[u8]) -> std::result::Result<Vec<Triangle>, String> {
         ));
     }
     Ok(triangles)
+}
+
+/// `bytes` with everything from a `/` to the next whitespace removed: face elements `v/vt/vn`
+/// become `v` (a `/` appears nowhere else that matters here: names are not used).
+fn vertex_indices_only(bytes: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut skipping = false;
+    for &b in bytes {
+        if b.is_ascii_whitespace() {
+            skipping = false;
+        } else if b == b'/' {
+            skipping = true;
+        }
+        if !skipping {
+            out.push(b);
+        }
+    }
+    out
 }
 
 /// Twice the area of a triangle, in double precision.
@@ -125,7 +147,7 @@ fn read(scene: &str, name: &str) -> std::result::Result<Vec<u8>, String> {
     }
     let folder = Path::new(scene).parent().unwrap_or(Path::new(""));
     let file = folder.join(name);
-    std::fs::read(&file).map_err(|e| {
+    crate::input::read_bounded(&file, crate::input::MAX_MESH_BYTES).map_err(|e| {
         format!(
             "cannot read mesh file {}: {e} (the path is relative to the scene file's folder)",
             file.display()
@@ -143,6 +165,13 @@ mod tests {
         let t = read_obj(quad.as_bytes()).unwrap();
         assert_eq!(t.len(), 2);
         assert_eq!(t[0], [[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]]);
+    }
+
+    #[test]
+    fn texture_and_normal_indices_are_ignored_even_out_of_range() {
+        let t =
+            read_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1/1 2/-9 3//4\nf 1/-9\n").unwrap();
+        assert_eq!(t, [[[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]]);
     }
 
     #[test]

@@ -11,9 +11,11 @@
 //! - `locate`: an error's path into the document ([`Key`], [`Invalid`]) to line and column;
 //! - `parse`: [`parse`] and the device-size check [`check_limits`];
 //! - `builtin`: the built-in scenes and loading by name or path ([`load`], [`BUILTIN`]);
-//! - `mesh`: the OBJ meshes of distance fields, read while parsing ([`read_obj`]).
+//! - `mesh`: the OBJ meshes of distance fields, read while parsing ([`read_obj`]);
+//! - `custom`: the custom forces' GLSL files, read and checked before compiling ([`load_custom`]).
 
 mod builtin;
+mod custom;
 mod locate;
 mod mesh;
 mod parse;
@@ -24,9 +26,10 @@ pub use builtin::{
     builtin, builtin_source, fire, load, load_source, BUILTIN, BUILTIN_MESHES, BUILTIN_SOURCES,
     DEFAULT_SCENE,
 };
+pub use custom::{check_glsl, load_custom, read_glsl};
 pub use locate::{Invalid, Key};
 pub use mesh::{read_obj, Triangle, MAX_TRIANGLES};
-pub use parse::{check_limits, parse, SizeLimits};
+pub use parse::{check_limits, check_point_size, parse, SizeLimits};
 pub use schema::*;
 pub use validate::{CapacityWarning, MAX_LATTICE_CELLS};
 

@@ -149,3 +149,77 @@ pub fn check_limits(
         format!("{what} {value} is over this device's limit of {max}: use a smaller size"),
     ))
 }
+
+/// Checks the widest point a particle scene draws (`render.point_size`, for sprites times an
+/// emitter's `sprite_scale` and its largest `size_over_life` scale) against the device's
+/// largest point, `max_point` pixels, as the renderer does; the error is at the key to change.
+/// Quads have no such limit, and the fire's points are not checked by its renderer either.
+pub fn check_point_size(path: &str, src: &str, scene: &SceneFile, max_point: f32) -> Result<()> {
+    use super::schema::{DrawMode, DrawPrimitive};
+    let r = &scene.render;
+    if scene.fire.is_some() || r.primitive != DrawPrimitive::Points {
+        return Ok(());
+    }
+    let fix = "use render.primitive = \"quads\", which has no such limit, or smaller sizes";
+    let mut over: Option<(Vec<Key>, String)> = None;
+    if r.point_size > max_point {
+        over = Some((
+            vec![N("render"), N("point_size")],
+            format!("point_size {} is wider", r.point_size),
+        ));
+    } else if r.mode == DrawMode::Sprites {
+        let kinds = [
+            ("allocator", &scene.emitters.allocator),
+            ("timestamp", &scene.emitters.timestamp),
+            ("initial", &scene.emitters.initial),
+        ];
+        // The renderer looks at the first four emitters, in this order (one type each).
+        let emitters = kinds
+            .iter()
+            .flat_map(|(k, list)| list.iter().enumerate().map(move |(j, e)| (*k, j, e)))
+            .take(4);
+        for (kind, j, e) in emitters {
+            let curve = if (2..=4).contains(&e.size_over_life.len()) {
+                e.size_over_life.iter().map(|p| p[1]).fold(0.0, f32::max)
+            } else {
+                1.0
+            };
+            let widest = r.point_size * e.sprite_scale * curve;
+            if widest > max_point {
+                let (key, what) = if r.point_size * e.sprite_scale > max_point {
+                    (
+                        N("sprite_scale"),
+                        format!("sprite_scale {}", e.sprite_scale),
+                    )
+                } else {
+                    (N("size_over_life"), format!("size_over_life up to {curve}"))
+                };
+                over = Some((
+                    vec![N("emitters"), N(kind), I(j), key],
+                    format!("{what} makes sprites {widest} pixels wide, which is wider"),
+                ));
+                break;
+            }
+        }
+    }
+    let Some((at, what)) = over else {
+        return Ok(());
+    };
+    let doc = DeTable::parse(src).map_err(|e| {
+        scene_error(
+            path,
+            src,
+            e.span().map_or(0, |s| s.start),
+            e.message().into(),
+        )
+    })?;
+    Err(scene_error(
+        path,
+        src,
+        locate(&doc, &at),
+        format!(
+            "{what} than this device's largest point, {max_point} pixels \
+             (GL_ALIASED_POINT_SIZE_RANGE): {fix}"
+        ),
+    ))
+}

@@ -43,6 +43,10 @@ pub const MAX_CUSTOM_FORCES: usize = 4;
 pub struct CustomForce {
     /// The file, relative to the scene file (see `SceneFile::resolve_custom_paths`).
     pub glsl: String,
+    /// The file's text, once read and checked ([`crate::scene::load_custom`]); `None` until
+    /// then (the engine then reads the file itself).
+    #[serde(skip)]
+    pub source: Option<String>,
 }
 
 /// A linear spring pulling every particle towards an anchor: F = -k (x - anchor).

@@ -16,8 +16,36 @@ use crate::error::{Error, Result};
 use crate::gl::source::{add_runtime_source, is_runtime_source};
 use crate::scene::SceneFile;
 
+/// The name a custom force's text is added under: unique to its index, path and text, and
+/// never the name of one of texflow's files, so that a user's `common/rng.glsl` is not shadowed
+/// by the built-in one, and one file named twice is spliced twice (as two forces).
+fn source_key(i: usize, path: &str, text: &str) -> String {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    (path, text).hash(&mut h);
+    format!("custom-force-{i}-{:016x}", h.finish())
+}
+
+/// The text of each custom force: read and checked when the scene was loaded, or read now.
+fn sources(scene: &SceneFile) -> Result<Vec<String>> {
+    scene
+        .forces
+        .custom
+        .iter()
+        .enumerate()
+        .map(|(i, c)| match &c.source {
+            Some(t) => Ok(t.clone()),
+            None => crate::scene::read_glsl(&c.glsl).map_err(|m| {
+                Error::InvalidInput(format!(
+                    "forces.custom[{i}].glsl: {m}; the path is relative to the scene file"
+                ))
+            }),
+        })
+        .collect()
+}
+
 /// The fragment shader of the integration pass: `sim/integrate.frag`, or for a scene with
-/// custom forces, the root that splices them in front of it (read from the files now).
+/// custom forces, the root that splices them in front of it.
 pub(super) fn integrate_root(scene: &SceneFile) -> Result<String> {
     if scene.forces.custom.is_empty() {
         return Ok("sim/integrate.frag".to_owned());
@@ -26,36 +54,38 @@ pub(super) fn integrate_root(scene: &SceneFile) -> Result<String> {
         "// The integration pass with the scene's custom forces (src/sim/particles/custom.rs).\n\
          #include \"common/rng.glsl\"\n#include \"sim/fields.glsl\"\n",
     );
-    for (i, c) in scene.forces.custom.iter().enumerate() {
-        let text = std::fs::read_to_string(&c.glsl).map_err(|e| {
-            Error::InvalidInput(format!(
-                "forces.custom[{i}].glsl: cannot read `{}`: {e}; the path is relative to the \
-                 scene file",
-                c.glsl
-            ))
-        })?;
-        add_runtime_source(&c.glsl, &text);
-        root += &format!(
-            "#define force custom_force_{i}\n#include \"{}\"\n#undef force\n",
-            c.glsl
-        );
+    let mut keys = Vec::new();
+    for (i, (c, text)) in scene.forces.custom.iter().zip(sources(scene)?).enumerate() {
+        let key = source_key(i, &c.glsl, &text);
+        add_runtime_source(&key, &text);
+        root += &format!("#define force custom_force_{i}\n#include \"{key}\"\n#undef force\n");
+        keys.push(key);
     }
     root += &format!(
         "#define N_CUSTOM {}\n#include \"sim/integrate.frag\"\n",
         scene.forces.custom.len()
     );
-    let name = format!(
-        "custom-integrate:{}",
-        scene
-            .forces
-            .custom
-            .iter()
-            .map(|c| c.glsl.as_str())
-            .collect::<Vec<_>>()
-            .join("+")
-    );
+    let name = format!("custom-integrate:{}", keys.join("+"));
     add_runtime_source(&name, &root);
     Ok(name)
+}
+
+/// Compiles the integration pass of `scene` on `ctx`, as [`super::ParticleSim::new`] does, so
+/// that `scene check` refuses what `render` would (scenes without custom forces compile only
+/// texflow's own shaders, which the tests compile).
+pub fn check_custom_forces(ctx: &crate::gl::Context, scene: &SceneFile) -> Result<()> {
+    if scene.forces.custom.is_empty() {
+        return Ok(());
+    }
+    let defines = super::Features::of(scene).defines();
+    crate::gl::Program::new(
+        ctx,
+        crate::gl::FULLSCREEN_VERTEX,
+        &integrate_root(scene)?,
+        &defines,
+    )
+    .map(drop)
+    .map_err(|e| user_error(scene, e))
 }
 
 /// A compile error in a user's file becomes an input error that names the file and line (not
@@ -65,6 +95,19 @@ pub(super) fn integrate_root(scene: &SceneFile) -> Result<String> {
 pub(super) fn user_error(scene: &SceneFile, e: Error) -> Error {
     match e {
         Error::ShaderCompile { file, line, log } if is_runtime_source(&file) => {
+            // The log names the sources by key: name the user's files instead.
+            let mut log = log;
+            let mut file = file;
+            for (i, c) in scene.forces.custom.iter().enumerate() {
+                let text = sources(scene).ok().and_then(|t| t.into_iter().nth(i));
+                if let Some(text) = text {
+                    let key = source_key(i, &c.glsl, &text);
+                    log = log.replace(&key, &c.glsl);
+                    if file == key {
+                        file.clone_from(&c.glsl);
+                    }
+                }
+            }
             let at = log.lines().find_map(|l| {
                 scene.forces.custom.iter().find_map(|c| {
                     let rest = l.strip_prefix(c.glsl.as_str())?.strip_prefix(':')?;

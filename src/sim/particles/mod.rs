@@ -22,6 +22,7 @@ use crate::gl::{
     TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
 };
 use crate::scene::{Integrator, SceneFile, VelocityFormat};
+pub use custom::check_custom_forces;
 pub use features::{Emission, Features};
 pub use uniforms::{mass_range, vortex_shape};
 use uniforms::{set_constants_for, unit};

@@ -1,0 +1,3 @@
+﻿vec3 force(vec3 x, vec3 v, float age, int type) {
+    return -x;
+}

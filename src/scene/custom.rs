@@ -1,0 +1,261 @@
+//! The front end of custom forces (`[[forces.custom]] glsl = "wind.glsl"`): the user's file is
+//! read (a regular file of at most [`MAX_GLSL_BYTES`](crate::input::MAX_GLSL_BYTES)) and its text
+//! checked before any compiler sees it, so that `scene check` and `render` refuse the same files
+//! with the same message, naming the user's file, line and column.
+//!
+//! texflow writes the `#version` line and splices the force after `common/rng.glsl` and
+//! `sim/fields.glsl` itself, so a user's file may not have `#version`, `#extension` (the
+//! pipeline is GL 3.3 core fragment passes: no compute, storage buffers or image stores),
+//! `#include` (it would be looked up among texflow's own files) or `#line` (it would make
+//! compile errors point at texflow's files). A byte-order mark is dropped; NUL and other control
+//! bytes are refused (a driver stops at a NUL and reports a missing `main` instead).
+//!
+//! A shader that never ends hangs a real GPU's frame (and then the driver resets it); llvmpipe
+//! caps loops, so there it ends. Loops written to never end, `for (;;)`, `while (true)` and
+//! `do ... while (true)`, are refused here; a loop whose bound comes from data is the user's
+//! responsibility (docs/scenes.md says so beside the feature).
+
+use std::path::Path;
+
+use toml::de::DeTable;
+
+use super::locate::{line_column, locate, scene_error, Key};
+use super::schema::SceneFile;
+use crate::error::Result;
+
+use Key::{Index as I, Name as N};
+
+/// Reads the custom force file `path` and checks its text; an error names `path`, the line and
+/// the column.
+pub fn read_glsl(path: &str) -> std::result::Result<String, String> {
+    let bytes = crate::input::read_bounded(Path::new(path), crate::input::MAX_GLSL_BYTES)
+        .map_err(|e| format!("cannot read `{path}`: {e}"))?;
+    check_glsl(path, &bytes)
+}
+
+/// Checks the bytes of a custom force file named `path` (in messages) and returns its text.
+pub fn check_glsl(path: &str, bytes: &[u8]) -> std::result::Result<String, String> {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    let text = match std::str::from_utf8(bytes) {
+        Ok(t) => t,
+        Err(e) => {
+            let valid = e.valid_up_to();
+            let before = std::str::from_utf8(&bytes[..valid]).unwrap_or_default();
+            let (line, column) = line_column(before, valid);
+            return Err(format!(
+                "{path}:{line}:{column}: byte 0x{:02x} is not UTF-8: save the file as UTF-8",
+                bytes[valid]
+            ));
+        }
+    };
+    if let Some((at, c)) = text
+        .char_indices()
+        .find(|(_, c)| c.is_control() && !matches!(c, '\n' | '\r' | '\t' | '\x0b' | '\x0c'))
+    {
+        let (line, column) = line_column(text, at);
+        return Err(format!(
+            "{path}:{line}:{column}: control character U+{:04X} in the GLSL: remove it",
+            c as u32
+        ));
+    }
+    // texflow's include resolver reads lines, comments or not: an `#include` line in a
+    // comment would be spliced too.
+    for (n, line) in text.lines().enumerate() {
+        let rest = line.trim_start().strip_prefix('#').map(str::trim_start);
+        if rest.is_some_and(|r| r.starts_with("include")) {
+            return Err(format!(
+                "{path}:{}: `#include` is not allowed (not even in a comment): the force is \
+                 compiled after common/rng.glsl and sim/fields.glsl, whose functions need no \
+                 include; put other code in this file",
+                n + 1
+            ));
+        }
+    }
+    // A carriage return is a line end only before a line feed (CRLF): alone, a driver may
+    // count it as one and the lines of its errors would no longer be the file's.
+    if let Some(at) = text
+        .match_indices('\r')
+        .map(|(i, _)| i)
+        .find(|&i| text.as_bytes().get(i + 1) != Some(&b'\n'))
+    {
+        let (line, column) = line_column(text, at);
+        return Err(format!(
+            "{path}:{line}:{column}: a carriage return without a line feed: save the file with \
+             LF or CRLF line ends"
+        ));
+    }
+    let code = strip_comments(text);
+    for (n, line) in code.lines().enumerate() {
+        let at = |why: String| format!("{path}:{}: {why}", n + 1);
+        if line.trim_end().ends_with('\\') {
+            return Err(at(
+                "a line ends with `\\` (a line continuation): join the lines".into(),
+            ));
+        }
+        if let Some(directive) = line.trim_start().strip_prefix('#') {
+            let name: String = directive
+                .trim_start()
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                .collect();
+            let why = match name.as_str() {
+                "version" => "`#version` is not allowed: texflow writes `#version 330 core` itself",
+                "extension" => {
+                    "`#extension` is not allowed: forces run in a GL 3.3 core fragment pass \
+                     (no compute shaders, storage buffers or image stores)"
+                }
+                "include" => {
+                    "`#include` is not allowed: the force is compiled after common/rng.glsl and \
+                     sim/fields.glsl, whose functions need no include; put other code in this file"
+                }
+                "line" => {
+                    "`#line` is not allowed: it would make compile errors point at other files"
+                }
+                _ => continue,
+            };
+            return Err(at(why.into()));
+        }
+    }
+    let flat: String = code.split_whitespace().collect::<Vec<_>>().join("");
+    for endless in ["for(;;)", "while(true)", "while(1)"] {
+        if let Some(i) = flat.find(endless) {
+            // The line of the loop: count the words before it in the text.
+            let words = flat[..i].len();
+            let line = line_of_flat_offset(&code, words);
+            return Err(format!(
+                "{path}:{line}: `{endless}` never ends: a shader that does not end hangs the GPU's \
+                 frame; give the loop a fixed bound"
+            ));
+        }
+    }
+    let defines_force = code
+        .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .any(|w| w == "force");
+    if !defines_force {
+        return Err(format!(
+            "{path}: it defines no `force`: a custom force file defines \
+             `vec3 force(vec3 x, vec3 v, float age, int type)`"
+        ));
+    }
+    Ok(text.to_owned())
+}
+
+/// The line of `code` holding the `n`-th non-whitespace character.
+fn line_of_flat_offset(code: &str, n: usize) -> usize {
+    let mut seen = 0;
+    for (i, line) in code.lines().enumerate() {
+        let k = line.chars().filter(|c| !c.is_whitespace()).count();
+        if seen + k > n {
+            return i + 1;
+        }
+        seen += k;
+    }
+    code.lines().count().max(1)
+}
+
+/// `text` with comments blanked (newlines kept, so lines keep their numbers).
+fn strip_comments(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut chars = text.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, chars.peek()) {
+            ('/', Some('/')) => {
+                for c in chars.by_ref() {
+                    if c == '\n' {
+                        out.push('\n');
+                        break;
+                    }
+                }
+            }
+            ('/', Some('*')) => {
+                chars.next();
+                out.push(' ');
+                let mut last = ' ';
+                for c in chars.by_ref() {
+                    if c == '\n' {
+                        out.push('\n');
+                    }
+                    if last == '*' && c == '/' {
+                        break;
+                    }
+                    last = c;
+                }
+            }
+            _ => out.push(c),
+        }
+    }
+    out
+}
+
+/// Reads and checks every custom force file of `scene` (paths already resolved against the
+/// scene's folder) into its `source`; a failure is a scene error at the `glsl` key.
+pub fn load_custom(path: &str, src: &str, scene: &mut SceneFile) -> Result<()> {
+    if scene.forces.custom.is_empty() {
+        return Ok(());
+    }
+    let doc = DeTable::parse(src).map_err(|e| {
+        scene_error(
+            path,
+            src,
+            e.span().map_or(0, |s| s.start),
+            e.message().into(),
+        )
+    })?;
+    for (i, c) in scene.forces.custom.iter_mut().enumerate() {
+        let text = read_glsl(&c.glsl).map_err(|m| {
+            let at = locate(&doc, &[N("forces"), N("custom"), I(i), N("glsl")]);
+            scene_error(
+                path,
+                src,
+                at,
+                format!("custom force: {m} (the path is relative to the scene file)"),
+            )
+        })?;
+        c.source = Some(text);
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn text_checks_name_the_file_and_line() {
+        let ok = "vec3 force(vec3 x, vec3 v, float age, int type) { return x; }\n";
+        assert_eq!(check_glsl("f.glsl", ok.as_bytes()).unwrap(), ok);
+        let bom = [b"\xEF\xBB\xBF".as_slice(), ok.as_bytes()].concat();
+        assert_eq!(check_glsl("f.glsl", &bom).unwrap(), ok);
+        let e = |s: &[u8]| check_glsl("f.glsl", s).unwrap_err();
+        for (src, want) in [
+            (b"#version 330 core\n".as_slice(), "f.glsl:1: `#version`"),
+            (
+                b"// x\n  #  extension GL_ARB_compute_shader : enable\n",
+                "f.glsl:2: `#extension`",
+            ),
+            (
+                b"/* a\nb */ #include \"common/rng.glsl\"\n",
+                "f.glsl:2: `#include`",
+            ),
+            (b"\n\n#line 9999\n", "f.glsl:3: `#line`"),
+            (
+                b"vec3 force() {\n for ( ; ; ) {}\n}\n",
+                "f.glsl:2: `for(;;)`",
+            ),
+            (
+                b"vec3 force() {\0}\n",
+                "f.glsl:1:15: control character U+0000",
+            ),
+            (b"vec3 force() {\n\xff}\n", "f.glsl:2:1: byte 0xff"),
+            (b"vec3 f() { return vec3(0); }\n", "defines no `force`"),
+            (b"#define A \\\n 1\n", "f.glsl:1: a line ends"),
+            (b"vec3 force() {}\r\r\n", "f.glsl:1:16: a carriage return"),
+        ] {
+            assert!(e(src).contains(want), "{:?}: {}", src, e(src));
+        }
+        // In a comment, a directive is text.
+        let commented = "// #version 330\nvec3 force(vec3 x, vec3 v, float age, int type) {\
+                         return x; }\n";
+        assert!(check_glsl("f.glsl", commented.as_bytes()).is_ok());
+    }
+}

@@ -99,6 +99,7 @@ fn particle_lands_on_the_projected_pixel() {
         point_size: 1.0,
         intensity: 1.0,
         max_age: 2.0,
+        soft: false,
     };
     // World positions behind chosen pixel centres, from the inverse of glam's projection.
     let inverse = camera.view_projection(fw as f32 / fh as f32).inverse();

@@ -290,8 +290,8 @@ fn key(age: f32, rgba: [f32; 4]) -> Keyframe {
     Keyframe { age, rgba }
 }
 
-fn test_keyframes() -> [Keyframe; 4] {
-    [
+fn test_keyframes() -> Vec<Keyframe> {
+    vec![
         key(0.0, [1.0, 0.2, 0.0, 0.9]),
         key(0.25, [0.2, 1.0, 0.4, 1.0]),
         key(0.6, [0.0, 0.4, 1.0, 0.6]),
@@ -383,7 +383,7 @@ fn particle_colour_follows_the_keyframes_by_age() {
 fn over_back_to_front_equals_under_front_to_back() {
     let ctx = context();
     // Piecewise constant keyframes: red (alpha 0.6) for ages below 0.5, blue (alpha 0.7) after.
-    let keys = [
+    let keys = vec![
         key(0.0, [1.0, 0.1, 0.0, 0.6]),
         key(0.5, [1.0, 0.1, 0.0, 0.6]),
         key(0.5, [0.0, 0.3, 1.0, 0.7]),
@@ -491,7 +491,7 @@ fn white_sprites(path: RenderPath, size: f32) -> ParticleStyle {
         path,
         point_size: size,
         intensity: 1.0,
-        keyframes: [
+        keyframes: vec![
             key(0.0, [1.0; 4]),
             key(0.3, [1.0; 4]),
             key(0.6, [1.0; 4]),
@@ -970,11 +970,16 @@ fn size_over_life_scales_the_area_by_the_curve() {
 fn keyframes_per_type_colour_each_emitters_particles() {
     let ctx = context();
     let flat = |rgba: [f32; 4], end: [f32; 4]| {
-        Some([key(0.0, rgba), key(0.3, rgba), key(0.6, end), key(1.0, end)])
+        Some(vec![
+            key(0.0, rgba),
+            key(0.3, rgba),
+            key(0.6, end),
+            key(1.0, end),
+        ])
     };
     let mut s = white(DrawMode::Points, DrawPrimitive::Points, 5.0);
     s.blending = Blending::Alpha;
-    s.keyframes = [
+    s.keyframes = vec![
         key(0.0, [0.2, 0.2, 1.0, 1.0]),
         key(0.3, [0.2, 0.2, 1.0, 1.0]),
         key(0.6, [0.2, 0.2, 1.0, 1.0]),
@@ -1225,8 +1230,17 @@ fn sprite_keys_are_validated_with_their_place() {
     );
     let e = bad("size_over_life = [[0.0, 1.0], [0.5, 2.0]]", "");
     assert!(e.contains("the last 1"), "{e}");
-    let e = bad("keyframes = [{ age = 0.0, rgba = [1, 1, 1, 1] }]", "");
-    assert!(e.contains("exactly four keyframes"), "{e}");
+    let nine = (0..9)
+        .map(|i| format!("{{ age = {}, rgba = [1, 1, 1, 1] }}", i as f32 / 8.0))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let e = bad(&format!("keyframes = [{nine}]"), "");
+    assert!(e.contains("9 keyframes are too many"), "{e}");
+    let e = bad(
+        "keyframes = [{ age = 0.5, rgba = [1, 1, 1, 1] }, { age = 0.25, rgba = [1, 1, 1, 1] }]",
+        "",
+    );
+    assert!(e.contains("must ascend"), "{e}");
     let e = bad("", "primitive = \"quads\"\npath = \"vertex_buffer\"");
     assert!(
         e.contains("texture_fetch") && e.contains("primitive"),

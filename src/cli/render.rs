@@ -14,12 +14,13 @@ use texflow::output::{video, FrameWriter, VideoWriter};
 use texflow::scene;
 use texflow::SceneEngine;
 
+use super::video_loop::LoopedVideo;
 use super::{at_least_one, bad, parse_size, progress_bar, signals, time_step, Common};
 
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
 pub struct RenderArgs {
-    /// Scene to render: a built-in name (`texflow scene list`: fire, snow,
+    /// Scene to render: a built-in name (`texflow scene list`: fire, fire-points, snow,
     /// fountain, smoke, e1, e2, e3, collide, gas, mesh) or a .toml scene file.
     #[arg(default_value = scene::DEFAULT_SCENE)]
     scene: String,
@@ -37,6 +38,10 @@ pub struct RenderArgs {
     /// Frames a second of the video. Default: real time, 1 / (dt × substeps × every).
     #[arg(long, value_parser = super::positive_finite, requires = "video")]
     fps: Option<f32>,
+    /// Make the video loop without a seam: its last F written frames are cross-faded into its
+    /// first F (the video holds F frames fewer than were written).
+    #[arg(long = "loop", value_name = "F", default_value_t = 0, requires = "video")]
+    loop_fade: u64,
     /// State texture size WxH (one particle per texel), or N for NxN [default: the scene's
     /// particles.size].
     #[arg(long, value_parser = parse_size, value_name = "WxH")]
@@ -56,6 +61,10 @@ pub struct RenderArgs {
     /// Write every K-th frame (frames keep their index in the name).
     #[arg(long, value_name = "K", default_value_t = 1, value_parser = at_least_one::<u64>)]
     every: u64,
+    /// First frame to write: the frames before it are simulated, not written (a video that
+    /// skips the build-up). Frames keep their index.
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    start: u64,
     /// Drop the scene's collisions between particles (to compare, UberFlow Fig. 4 right).
     #[arg(long)]
     no_collisions: bool,
@@ -79,6 +88,8 @@ pub struct RenderArgs {
     #[arg(long)]
     allow_non_finite: bool,
     #[command(flatten)]
+    set: super::set::SetArgs,
+    #[command(flatten)]
     common: Common,
 }
 
@@ -93,6 +104,7 @@ impl RenderArgs {
             no_collisions: self.no_collisions,
             seed: self.seed,
             device: self.common.device,
+            set: self.set.set.clone(),
         }
     }
 }
@@ -102,6 +114,7 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     let options = LoopOptions {
         frames: a.frames,
         every: a.every,
+        start: a.start,
         dump_every: a.dump_state.as_ref().map(|_| a.dump_every),
         non_finite: if a.allow_non_finite {
             NonFinitePolicy::Report
@@ -111,6 +124,7 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
         timing: a.stats,
     };
     options.check()?;
+    super::video_loop::check(a.loop_fade, options.written_count())?;
     let overrides = a.overrides();
     let prepared = overrides.prepare(&a.scene)?;
     let s = &prepared.scene;
@@ -145,7 +159,7 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     let ctx = Context::new(overrides.device)?;
     overrides.check_device(&ctx, &prepared)?;
     let mut engine = SceneEngine::new(&ctx, s, overrides.seed)?;
-    let run = FrameLoop::new(&ctx, &engine, options)?;
+    let run = FrameLoop::new(&ctx, &engine, options.clone())?;
     // With --video alone, a folder sink still writes the dumps (into --dump-state; no frames).
     let folder = match out.as_deref().or(a.dump_state.as_deref()) {
         Some(dir) => Some(FolderSink::create(dir, a.dump_state.as_deref())?),
@@ -156,8 +170,10 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
             let fps = a.fps.map(f64::from).unwrap_or_else(|| {
                 1.0 / (s.time.dt as f64 * s.time.substeps as f64 * a.every as f64)
             });
-            let count = a.frames.div_ceil(a.every);
-            Some(VideoWriter::create(v, s.render.resolution, count, fps)?)
+            let written = options.written_count();
+            let count = LoopedVideo::length(written, a.loop_fade);
+            let writer = VideoWriter::create(v, s.render.resolution, count, fps)?;
+            Some(LoopedVideo::new(writer, written, a.loop_fade))
         }
         None => None,
     };
@@ -178,20 +194,9 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
                     count.non_finite, count.live
                 )
             }),
-            Event::BirthsDropped { index, total } => bar.suspend(|| {
-                let hint = match s.capacity_check() {
-                    Some(w) => format!(
-                        "; a {0}x{0} state texture (--particles {0}) would hold them",
-                        w.side
-                    ),
-                    None => String::new(),
-                };
-                eprintln!(
-                    "warning: frame {index}: the state texture ({}x{}) is full: {total} \
-                     birth(s) dropped{hint}",
-                    s.particles.size[0], s.particles.size[1]
-                )
-            }),
+            Event::BirthsDropped { index, total } => {
+                bar.suspend(|| eprintln!("{}", super::warn::births_dropped(s, index, total)))
+            }
         }
         match signals::received() {
             Some(_) => ControlFlow::Break(()),
@@ -234,7 +239,7 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
         );
     }
     if a.stats {
-        println!("{}", stats_paragraph(s, &summary));
+        println!("{}", stats_paragraph(s, &a.scene, &summary));
     }
     if a.json {
         let t = summary.times.as_ref();
@@ -286,8 +291,9 @@ fn names_a_frame_file(video: &std::path::Path, dir: &std::path::Path) -> bool {
     })
 }
 
-/// The one-paragraph summary of `render --stats`.
-fn stats_paragraph(s: &texflow::scene::SceneFile, summary: &LoopSummary) -> String {
+/// The one-paragraph summary of `render --stats`; `given` is the scene as typed (a name or a
+/// file), which the closing hint repeats.
+fn stats_paragraph(s: &texflow::scene::SceneFile, given: &str, summary: &LoopSummary) -> String {
     let Some(t) = &summary.times else {
         return String::new();
     };
@@ -311,7 +317,7 @@ fn stats_paragraph(s: &texflow::scene::SceneFile, summary: &LoopSummary) -> Stri
         1e3 / frame,
         particles * 1e-3 / frame,
         t.clock.name(),
-        s.name
+        given
     )
 }
 
@@ -320,7 +326,7 @@ struct RenderSink {
     folder: Option<FolderSink>,
     /// Whether the folder sink takes the frames too (not only the dumps).
     pngs: bool,
-    video: Option<VideoWriter>,
+    video: Option<LoopedVideo>,
 }
 
 impl FrameSink for RenderSink {

@@ -11,23 +11,29 @@
 //! - `locate`: an error's path into the document ([`Key`], [`Invalid`]) to line and column;
 //! - `parse`: [`parse`] and the device-size check [`check_limits`];
 //! - `builtin`: the built-in scenes and loading by name or path ([`load`], [`BUILTIN`]);
-//! - `mesh`: the OBJ meshes of distance fields, read while parsing ([`read_obj`]).
+//! - `mesh`: the OBJ meshes of distance fields, read while parsing ([`read_obj`]);
+//! - `set`: `--set KEY=VALUE`, keys changed from the command line ([`parse_with`]);
+//! - `suggest`: "did you mean" for mistyped scene names and keys ([`closest`]).
 
 mod builtin;
 mod locate;
 mod mesh;
 mod parse;
 mod schema;
+mod set;
+mod suggest;
 mod validate;
 
 pub use builtin::{
     builtin, builtin_source, fire, load, load_source, BUILTIN, BUILTIN_MESHES, BUILTIN_SOURCES,
-    DEFAULT_SCENE,
+    DEFAULT_SCENE, THESIS_SCENE,
 };
 pub use locate::{Invalid, Key};
 pub use mesh::{read_obj, Triangle, MAX_TRIANGLES};
 pub use parse::{check_limits, parse, SizeLimits};
 pub use schema::*;
+pub use set::{parse_with, Setting};
+pub use suggest::{closest, did_you_mean, edit_distance};
 pub use validate::CapacityWarning;
 
 use crate::error::{Error, Result};
@@ -42,6 +48,8 @@ pub struct PointStyleSection {
     pub intensity: f32,
     /// The fire cycle length (`fire.max_age`).
     pub max_age: f32,
+    /// Soft round sprites (`render.mode = "sprites"`) instead of the thesis's square points.
+    pub soft: bool,
 }
 
 /// A complete description of a run.
@@ -85,6 +93,7 @@ impl Scene {
                 point_size: f.render.point_size,
                 intensity: f.render.intensity,
                 max_age: fire.max_age,
+                soft: f.render.mode == DrawMode::Sprites,
             },
             fire: fire.clone(),
         })

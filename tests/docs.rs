@@ -209,7 +209,14 @@ fn small(line: &str, tmp: &Path, n: usize) -> Vec<String> {
             .and_then(|i| words.get(i + 1))
             .map(|v| v.to_string())
     };
-    let start: u64 = value("--start").and_then(|v| v.parse().ok()).unwrap_or(0);
+    let number = |flag: &str, default: u64| {
+        value(flag)
+            .and_then(|v| v.parse::<u64>().ok())
+            .unwrap_or(default)
+    };
+    let start = number("--start", 0);
+    // Enough frames for what is written: three, or the frames a `--loop` fade needs.
+    let frames = start + number("--every", 1) * (3 + 2 * number("--loop", 0));
     let out = |what: &str| tmp.join(format!("{n}_{what}")).display().to_string();
     let mut args: Vec<String> = Vec::new();
     let mut i = 0;
@@ -219,7 +226,7 @@ fn small(line: &str, tmp: &Path, n: usize) -> Vec<String> {
         let replaced = match w {
             "--particles" | "--resolution" => Some("32x32".to_owned()),
             "--frames" => Some(next.parse::<u64>().map_or(next.to_owned(), |f| {
-                f.min(start + 3).to_string()
+                f.min(frames).to_string()
             })),
             "--sizes" => Some("16".to_owned()),
             "--steps" => Some("4".to_owned()),
@@ -245,21 +252,21 @@ fn small(line: &str, tmp: &Path, n: usize) -> Vec<String> {
         }
         i += 1;
     }
-    let has = |f: &str| args.iter().any(|a| a == f);
+    let has = |args: &[String], f: &str| args.iter().any(|a| a == f);
     if matches!(args[0].as_str(), "render" | "view") {
         for (flag, v) in [("--particles", "32x32"), ("--resolution", "32x32")] {
-            if !has(flag) {
+            if !has(&args, flag) {
                 args.extend([flag.to_owned(), v.to_owned()]);
             }
         }
-        if !has("--frames") {
-            args.extend(["--frames".to_owned(), (start + 3).to_string()]);
+        if !has(&args, "--frames") {
+            args.extend(["--frames".to_owned(), frames.to_string()]);
         }
     }
-    if args[0] == "render" && !has("--out") && !has("--video") {
+    if args[0] == "render" && !has(&args, "--out") && !has(&args, "--video") {
         args.extend(["--out".to_owned(), out("out")]);
     }
-    if args[0] == "view" && !has("--screenshot") {
+    if args[0] == "view" && !has(&args, "--screenshot") {
         args.extend(["--screenshot".to_owned(), out("view.png")]);
     }
     args
@@ -281,6 +288,7 @@ fn every_command_of_the_readmes_runs() {
     let mut failed = Vec::new();
     for (n, (file, line)) in lines.iter().enumerate() {
         let args = small(line, tmp.path(), n);
+        eprintln!("{file}: texflow {}", args.join(" "));
         let mut cmd = Command::new(env!("CARGO_BIN_EXE_texflow"));
         cmd.args(&args).current_dir(tmp.path());
         // `view` needs a display, which CI may not have: without one, a run that got past the

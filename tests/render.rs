@@ -308,13 +308,36 @@ fn to_u8(v: f32) -> i32 {
 /// three segments, at the keyframes, and permanent particles (age 0).
 #[test]
 fn particle_colour_follows_the_keyframes_by_age() {
+    colour_follows(test_keyframes());
+}
+
+/// Six keyframes, the first after age 0 and the last before 1: the colour is held outside them
+/// (ages 0, 0.05 and 0.95 of `colour_follows`).
+#[test]
+fn any_number_of_keyframes_colours_by_age() {
+    colour_follows(vec![
+        key(0.08, [1.0, 0.9, 0.2, 0.8]),
+        key(0.2, [0.9, 0.3, 0.1, 1.0]),
+        key(0.28, [0.1, 0.8, 0.3, 0.5]),
+        key(0.55, [0.3, 0.2, 0.9, 0.9]),
+        key(0.7, [0.7, 0.7, 0.1, 0.4]),
+        key(0.9, [0.2, 0.5, 0.5, 0.7]),
+    ]);
+    // The ramp the pixels were compared with against linear interpolation written out.
+    let r = KeyframeRamp::new(&[key(0.2, [0.0; 4]), key(0.6, [1.0, 0.5, 0.0, 1.0])]);
+    assert_eq!(r.eval(0.0), [0.0; 4]);
+    assert!((r.eval(0.5)[0] - 0.75).abs() < 1e-6 && (r.eval(0.5)[1] - 0.375).abs() < 1e-6);
+    assert_eq!(r.eval(0.9), [1.0, 0.5, 0.0, 1.0]);
+}
+
+fn colour_follows(keys: Vec<Keyframe>) {
     let ctx = context();
-    let keys = test_keyframes();
     let ramp = KeyframeRamp::new(&keys);
     let intensity = 0.9;
     // (remaining, total) pairs and the relative age they mean.
-    let lives: [(f32, f32, f32); 10] = [
+    let lives: [(f32, f32, f32); 11] = [
         (4.0, 4.0, 0.0),
+        (3.8, 4.0, 0.05),
         (3.6, 4.0, 0.1),
         (3.0, 4.0, 0.25),
         (2.8, 4.0, 0.3),

@@ -64,10 +64,16 @@ fn timestamp_bursts_share_one_time_stamp() {
     let mut sim = ParticleSim::new(&ctx, &s, 5).unwrap();
     let statics = sim.statics().read_f32().unwrap();
     let stamps: Vec<f32> = statics.chunks_exact(4).map(|t| t[0]).collect();
-    assert!(stamps[..100].iter().all(|t| *t == 0.055f32), "{:?}", &stamps[..100]);
+    assert!(
+        stamps[..100].iter().all(|t| *t == 0.055f32),
+        "{:?}",
+        &stamps[..100]
+    );
     assert!(stamps[100..150].iter().all(|t| *t == 0.205f32));
     // The rest keep phases spread over the cycle: none of them lands on a burst's time.
-    assert!(stamps[150..].iter().all(|t| *t != 0.055f32 && *t != 0.205f32));
+    assert!(stamps[150..]
+        .iter()
+        .all(|t| *t != 0.055f32 && *t != 0.205f32));
     let mut checked = 0;
     for _ in 0..30 {
         sim.step().unwrap();

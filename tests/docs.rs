@@ -137,7 +137,11 @@ fn every_relative_link_points_to_a_file_in_the_repository() {
             }
         }
     }
-    assert!(broken.is_empty(), "links to no file:\n{}", broken.join("\n"));
+    assert!(
+        broken.is_empty(),
+        "links to no file:\n{}",
+        broken.join("\n")
+    );
 }
 
 /// The commands a reader would copy: `texflow ...` lines in code blocks (fenced or indented,
@@ -225,17 +229,18 @@ fn small(line: &str, tmp: &Path, n: usize) -> Vec<String> {
         let next = words.get(i + 1).copied().unwrap_or("");
         let replaced = match w {
             "--particles" | "--resolution" => Some("32x32".to_owned()),
-            "--frames" => Some(next.parse::<u64>().map_or(next.to_owned(), |f| {
-                f.min(frames).to_string()
-            })),
+            "--frames" => Some(
+                next.parse::<u64>()
+                    .map_or(next.to_owned(), |f| f.min(frames).to_string()),
+            ),
             "--sizes" => Some("16".to_owned()),
             "--steps" => Some("4".to_owned()),
             "--repeats" | "--runs" => Some("1".to_owned()),
             "--out" | "--dump-state" => Some(out(&w[2..])),
             "--video" | "--screenshot" => {
-                let ext = Path::new(next).extension().map_or(String::new(), |e| {
-                    format!(".{}", e.to_string_lossy())
-                });
+                let ext = Path::new(next)
+                    .extension()
+                    .map_or(String::new(), |e| format!(".{}", e.to_string_lossy()));
                 Some(format!("{}{ext}", out(&w[2..])))
             }
             _ => None,

@@ -185,8 +185,16 @@ fn fire_sprites_fall_off_as_one_minus_r_squared_squared() {
     )
     .unwrap();
     // Total life 2 s, 1 s left: relative age 0.5.
-    state.front().texture(0).upload_f32(&[p.x, p.y, p.z, 1.0]).unwrap();
-    state.front().texture(1).upload_f32(&[0.0, 0.0, 0.0, 1.0]).unwrap();
+    state
+        .front()
+        .texture(0)
+        .upload_f32(&[p.x, p.y, p.z, 1.0])
+        .unwrap();
+    state
+        .front()
+        .texture(1)
+        .upload_f32(&[0.0, 0.0, 0.0, 1.0])
+        .unwrap();
     let draw = |soft: bool| {
         let style = PointStyle {
             point_size: size as f32,
@@ -206,16 +214,31 @@ fn fire_sprites_fall_off_as_one_minus_r_squared_squared() {
     };
     let (square, soft) = (draw(false), draw(true));
     let centre = square.get_pixel(cx, cy).0;
-    assert!(centre.iter().any(|c| *c > 20), "a visible centre: {centre:?}");
-    assert_eq!(soft.get_pixel(cx, cy).0, centre, "the sprite's centre is the point's colour");
+    assert!(
+        centre.iter().any(|c| *c > 20),
+        "a visible centre: {centre:?}"
+    );
+    assert_eq!(
+        soft.get_pixel(cx, cy).0,
+        centre,
+        "the sprite's centre is the point's colour"
+    );
     let half = size / 2;
     for (x, y, px) in soft.enumerate_pixels() {
         let (dx, dy) = (x as i32 - cx as i32, y as i32 - cy as i32);
         let inside = dx.abs() <= half && dy.abs() <= half;
         let sq = square.get_pixel(x, y).0;
-        assert_eq!(sq, if inside { centre } else { [0; 3] }, "square at {dx},{dy}");
+        assert_eq!(
+            sq,
+            if inside { centre } else { [0; 3] },
+            "square at {dx},{dy}"
+        );
         let r2 = (4 * (dx * dx + dy * dy)) as f32 / (size * size) as f32;
-        let k = if inside { (1.0 - r2).max(0.0).powi(2) } else { 0.0 };
+        let k = if inside {
+            (1.0 - r2).max(0.0).powi(2)
+        } else {
+            0.0
+        };
         for c in 0..3 {
             let want = centre[c] as f32 * k;
             assert!(

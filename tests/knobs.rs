@@ -51,7 +51,11 @@ fn set_gives_the_scene_that_editing_the_file_gives() {
     let s = scene::parse_with(
         label,
         src,
-        &set(&["render.sort.variant=packed", "time.substeps=2", "time.substeps=3"]),
+        &set(&[
+            "render.sort.variant=packed",
+            "time.substeps=2",
+            "time.substeps=3",
+        ]),
     )
     .unwrap();
     assert_eq!(s.render.sort.variant.as_deref(), Some("packed"));
@@ -87,7 +91,10 @@ fn set_errors_name_the_setting_as_typed() {
             &["render.point_size=inf"],
             &["--set render.point_size=inf", "finite"],
         ),
-        (&["render.point_size"], &["--set render.point_size", "KEY=VALUE"]),
+        (
+            &["render.point_size"],
+            &["--set render.point_size", "KEY=VALUE"],
+        ),
         (
             &["render.point_size.x=1"],
             &["--set render.point_size.x=1", "is a value, not a table"],
@@ -130,9 +137,24 @@ fn every_command_that_takes_a_scene_takes_set() {
     let out = out.to_str().unwrap();
     let ok: [&[&str]; 3] = [
         &["scene", "check", "fountain", "--set", "render.point_size=3"],
-        &["scene", "passes", "smoke", "--set", "render.blending=additive"],
         &[
-            "render", "fire", "--particles", "16", "--frames", "1", "--out", out, "-q", "--set",
+            "scene",
+            "passes",
+            "smoke",
+            "--set",
+            "render.blending=additive",
+        ],
+        &[
+            "render",
+            "fire",
+            "--particles",
+            "16",
+            "--frames",
+            "1",
+            "--out",
+            out,
+            "-q",
+            "--set",
             "render.mode=points",
         ],
     ];
@@ -141,7 +163,13 @@ fn every_command_that_takes_a_scene_takes_set() {
         assert!(o.status.success(), "{args:?}: {}", stderr(&o));
     }
     // Without the sort (additive blending), smoke's pass list has no sort stage.
-    let o = texflow(&["scene", "passes", "smoke", "--set", "render.blending=additive"]);
+    let o = texflow(&[
+        "scene",
+        "passes",
+        "smoke",
+        "--set",
+        "render.blending=additive",
+    ]);
     assert!(!String::from_utf8_lossy(&o.stdout).contains("sort"));
     for cmd in [
         &["render", "fire"][..],

@@ -40,7 +40,12 @@ pub struct RenderArgs {
     fps: Option<f32>,
     /// Make the video loop without a seam: its last F written frames are cross-faded into its
     /// first F (the video holds F frames fewer than were written).
-    #[arg(long = "loop", value_name = "F", default_value_t = 0, requires = "video")]
+    #[arg(
+        long = "loop",
+        value_name = "F",
+        default_value_t = 0,
+        requires = "video"
+    )]
     loop_fade: u64,
     /// State texture size WxH (one particle per texel), or N for NxN [default: the scene's
     /// particles.size].

@@ -448,8 +448,7 @@ pub fn view(a: ViewArgs) -> texflow::Result<()> {
             "neither DISPLAY nor WAYLAND_DISPLAY is set".into(),
         ));
     }
-    let event_loop =
-        EventLoop::new().map_err(|e| no_display(super::warn::window_reason(&e)))?;
+    let event_loop = EventLoop::new().map_err(|e| no_display(super::warn::window_reason(&e)))?;
     let mut app = App {
         args: a,
         prepared,

@@ -316,8 +316,7 @@ impl FrameLoop {
                 sink.frame(index, &image.expect("rendered"))?;
                 s.written += 1;
             }
-            if o
-                .dump_every
+            if o.dump_every
                 .is_some_and(|n| index >= o.start && (index - o.start) % n == 0)
             {
                 let d = engine.dump()?;

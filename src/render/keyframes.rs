@@ -2,11 +2,11 @@
 //! [`MAX_KEYFRAMES`] keyframes of relative age, in the form the GPU evaluates, and the relative
 //! age itself.
 
-pub use crate::scene::MAX_KEYFRAMES;
 use crate::scene::Keyframe;
+pub use crate::scene::MAX_KEYFRAMES;
 
 /// Keyframes as linear segments in the GPU's form (Latta §3.4.6: "converted into a form for
-/// efficient GPU evaluation"): on segment k, colour = offset[k] + age · slope[k]. Fewer than
+/// efficient GPU evaluation"): on segment k, colour = `offset[k] + age · slope[k]`. Fewer than
 /// [`MAX_KEYFRAMES`] keyframes are padded with copies of the last; before the first keyframe's
 /// age the colour is the first's, from the last's age on it is the last's. The CPU twin of
 /// `keyframe_color` in `glsl/render/keyframes.glsl`.
@@ -142,7 +142,11 @@ mod tests {
             // Ages spread over [0.1, 0.9] (held before and after), colours varying per key.
             let keys: Vec<Keyframe> = (0..n)
                 .map(|i| Keyframe {
-                    age: if n == 1 { 0.4 } else { 0.1 + 0.8 * i as f32 / (n - 1) as f32 },
+                    age: if n == 1 {
+                        0.4
+                    } else {
+                        0.1 + 0.8 * i as f32 / (n - 1) as f32
+                    },
                     rgba: [i as f32, (i * i) as f32 * 0.1, 1.0 - 0.1 * i as f32, 0.5],
                 })
                 .collect();

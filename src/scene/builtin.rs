@@ -22,7 +22,16 @@ macro_rules! builtin_scenes {
 builtin_scenes![
     "fire",
     "fire-points",
-    "snow", "fountain", "smoke", "e1", "e2", "e3", "collide", "gas", "mesh"];
+    "snow",
+    "fountain",
+    "smoke",
+    "e1",
+    "e2",
+    "e3",
+    "collide",
+    "gas",
+    "mesh"
+];
 
 /// The meshes the built-in scenes name (`[[colliders.sdf]] mesh`), by the path they give
 /// (relative to `examples/scenes/`), compiled into the binary.

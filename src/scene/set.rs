@@ -48,7 +48,12 @@ impl Setting {
         let value = match toml::from_str::<Table>(&format!("v = {raw}")) {
             Ok(mut t) => t.remove("v").expect("the one key"),
             // A bare word is a string: `--set render.mode=sprites`.
-            Err(_) if !raw.is_empty() && raw.chars().all(|c| c.is_alphanumeric() || "_-./".contains(c)) => {
+            Err(_)
+                if !raw.is_empty()
+                    && raw
+                        .chars()
+                        .all(|c| c.is_alphanumeric() || "_-./".contains(c)) =>
+            {
                 Value::String(raw.to_owned())
             }
             Err(e) => {
@@ -107,12 +112,7 @@ impl Setting {
                 Ok(i) if i < a.len() => a[i] = self.value.clone(),
                 _ => return bad(index_message(&self.key(), last, a.len())),
             },
-            _ => {
-                return bad(format!(
-                    "`{}` is a value, not a table",
-                    parents.join(".")
-                ))
-            }
+            _ => return bad(format!("`{}` is a value, not a table", parents.join("."))),
         }
         Ok(())
     }
@@ -178,7 +178,10 @@ pub fn parse_with(path: &str, src: &str, settings: &[String]) -> Result<SceneFil
             )));
         }
         let doc = DeTable::parse(src).map_err(|e| Error::InvalidInput(e.to_string()))?;
-        let with: Vec<String> = settings.iter().map(|s| format!("--set {}", s.typed)).collect();
+        let with: Vec<String> = settings
+            .iter()
+            .map(|s| format!("--set {}", s.typed))
+            .collect();
         return Err(scene_error(
             path,
             src,

@@ -42,10 +42,7 @@ pub(super) fn bursts(s: &SceneFile) -> Check {
                     };
                     return fail(
                         at(&[I(b), N("time")]),
-                        format!(
-                            "burst time {} s must be at least 0{within}",
-                            burst.time
-                        ),
+                        format!("burst time {} s must be at least 0{within}", burst.time),
                     );
                 }
                 if burst.count == 0 {

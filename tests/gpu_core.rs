@@ -239,10 +239,10 @@ fn fire_sprites_fall_off_as_one_minus_r_squared_squared() {
         } else {
             0.0
         };
-        for c in 0..3 {
-            let want = centre[c] as f32 * k;
+        for (c, (got, centre)) in px.0.iter().zip(centre).enumerate() {
+            let want = centre as f32 * k;
             assert!(
-                (px.0[c] as f32 - want).abs() <= 1.5,
+                (*got as f32 - want).abs() <= 1.5,
                 "sprite at {dx},{dy}: {:?}, want {want} in channel {c}",
                 px.0
             );

@@ -301,7 +301,7 @@ fn loop_cross_fades_the_last_frames_into_the_first() {
             .map(|(t, h)| ((1.0 - w) * *t as f32 + w * *h as f32).round() as u8)
             .collect()
     };
-    let expected = vec![
+    let expected = [
         png(4),
         png(5),
         png(6),

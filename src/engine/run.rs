@@ -78,7 +78,7 @@ impl LoopOptions {
 
     /// Whether frame `index` is one to draw and hand over.
     pub fn writes(&self, index: u64) -> bool {
-        index >= self.start && (index - self.start) % self.every.max(1) == 0
+        index >= self.start && (index - self.start).is_multiple_of(self.every.max(1))
     }
 
     /// Frames the run hands over (all `frames` simulated): those from `start` on, every
@@ -317,7 +317,7 @@ impl FrameLoop {
                 s.written += 1;
             }
             if o.dump_every
-                .is_some_and(|n| index >= o.start && (index - o.start) % n == 0)
+                .is_some_and(|n| index >= o.start && (index - o.start).is_multiple_of(n))
             {
                 let d = engine.dump()?;
                 s.max_non_finite = s.max_non_finite.max(d.non_finite as u64);

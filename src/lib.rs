@@ -10,7 +10,7 @@
 //! - [`sim`], [`sort`], [`render`]: the papers' passes (emit, integrate, collide, boundary;
 //!   bitonic and odd-even merge sorts; point sprites and vertex texture fetch).
 //! - [`engine`]: the engines that run a scene's passes, the pass plan and the frame loop.
-//! - [`bench`] and [`report`]: timings against floors, the papers' tables, error against run time.
+//! - [`mod@bench`] and [`report`]: timings against floors, the papers' tables, error against run time.
 //! - [`output`], [`npy`], [`error`]: files written atomically, `.npy` arrays, the error type.
 //!
 //! ```

@@ -103,7 +103,7 @@ fn refused(args: &[&str], message: &str) {
 fn bad_input_is_refused_with_exit_code_2() {
     refused(
         &["render", "smok"],
-        "unknown scene `smok`: the built-in scenes are fire, snow",
+        "unknown scene `smok`: the built-in scenes are fire, fire-points, snow",
     );
     refused(&["render", "--particles", "0x5"], "empty");
     refused(&["render", "--particles", "abc"], "not a size");

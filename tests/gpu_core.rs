@@ -99,6 +99,7 @@ fn particle_lands_on_the_projected_pixel() {
         point_size: 1.0,
         intensity: 1.0,
         max_age: 2.0,
+        soft: false,
     };
     // World positions behind chosen pixel centres, from the inverse of glam's projection.
     let inverse = camera.view_projection(fw as f32 / fh as f32).inverse();
@@ -151,6 +152,101 @@ fn particle_lands_on_the_projected_pixel() {
             .map(|(x, y, _)| (x, y))
             .collect();
         assert_eq!(lit, vec![(px, py)], "particle at {p}: lit pixels");
+    }
+    no_gl_error(&ctx);
+}
+
+/// The fire's soft sprites (render.mode = "sprites"): a 9-pixel sprite lights its 9×9 square
+/// with the centre's colour times (1 − r²)², r the distance of the pixel centre from the sprite's
+/// centre in units of its radius; the thesis's square point lights all 81 pixels alike.
+#[test]
+fn fire_sprites_fall_off_as_one_minus_r_squared_squared() {
+    let ctx = context();
+    let camera = Camera::default();
+    let (fw, fh, size) = (64u32, 48u32, 9i32);
+    let target = FrameTarget::new(&ctx, fw, fh).unwrap();
+    let renderer = PointRenderer::new(&ctx).unwrap();
+    let (cx, cy) = (30u32, 20u32);
+    let ndc = glam::Vec4::new(
+        (cx as f32 + 0.5) / fw as f32 * 2.0 - 1.0,
+        1.0 - (cy as f32 + 0.5) / fh as f32 * 2.0,
+        0.4,
+        1.0,
+    );
+    let w = camera.view_projection(fw as f32 / fh as f32).inverse() * ndc;
+    let p = w.truncate() / w.w;
+    let state = PingPong::new(
+        &ctx,
+        "one",
+        &["position", "velocity"],
+        &[TextureFormat::Rgba32F, TextureFormat::Rgba32F],
+        1,
+        1,
+    )
+    .unwrap();
+    // Total life 2 s, 1 s left: relative age 0.5.
+    state
+        .front()
+        .texture(0)
+        .upload_f32(&[p.x, p.y, p.z, 1.0])
+        .unwrap();
+    state
+        .front()
+        .texture(1)
+        .upload_f32(&[0.0, 0.0, 0.0, 1.0])
+        .unwrap();
+    let draw = |soft: bool| {
+        let style = PointStyle {
+            point_size: size as f32,
+            intensity: 1.0,
+            max_age: 3.0,
+            soft,
+        };
+        target.clear();
+        renderer.draw(
+            &target,
+            state.front().texture(0),
+            state.front().texture(1),
+            &camera,
+            &style,
+        );
+        target.read_rgb().unwrap()
+    };
+    let (square, soft) = (draw(false), draw(true));
+    let centre = square.get_pixel(cx, cy).0;
+    assert!(
+        centre.iter().any(|c| *c > 20),
+        "a visible centre: {centre:?}"
+    );
+    assert_eq!(
+        soft.get_pixel(cx, cy).0,
+        centre,
+        "the sprite's centre is the point's colour"
+    );
+    let half = size / 2;
+    for (x, y, px) in soft.enumerate_pixels() {
+        let (dx, dy) = (x as i32 - cx as i32, y as i32 - cy as i32);
+        let inside = dx.abs() <= half && dy.abs() <= half;
+        let sq = square.get_pixel(x, y).0;
+        assert_eq!(
+            sq,
+            if inside { centre } else { [0; 3] },
+            "square at {dx},{dy}"
+        );
+        let r2 = (4 * (dx * dx + dy * dy)) as f32 / (size * size) as f32;
+        let k = if inside {
+            (1.0 - r2).max(0.0).powi(2)
+        } else {
+            0.0
+        };
+        for (c, (got, centre)) in px.0.iter().zip(centre).enumerate() {
+            let want = centre as f32 * k;
+            assert!(
+                (*got as f32 - want).abs() <= 1.5,
+                "sprite at {dx},{dy}: {:?}, want {want} in channel {c}",
+                px.0
+            );
+        }
     }
     no_gl_error(&ctx);
 }

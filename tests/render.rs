@@ -290,8 +290,8 @@ fn key(age: f32, rgba: [f32; 4]) -> Keyframe {
     Keyframe { age, rgba }
 }
 
-fn test_keyframes() -> [Keyframe; 4] {
-    [
+fn test_keyframes() -> Vec<Keyframe> {
+    vec![
         key(0.0, [1.0, 0.2, 0.0, 0.9]),
         key(0.25, [0.2, 1.0, 0.4, 1.0]),
         key(0.6, [0.0, 0.4, 1.0, 0.6]),
@@ -308,13 +308,36 @@ fn to_u8(v: f32) -> i32 {
 /// three segments, at the keyframes, and permanent particles (age 0).
 #[test]
 fn particle_colour_follows_the_keyframes_by_age() {
+    colour_follows(test_keyframes());
+}
+
+/// Six keyframes, the first after age 0 and the last before 1: the colour is held outside them
+/// (ages 0, 0.05 and 0.95 of `colour_follows`).
+#[test]
+fn any_number_of_keyframes_colours_by_age() {
+    colour_follows(vec![
+        key(0.08, [1.0, 0.9, 0.2, 0.8]),
+        key(0.2, [0.9, 0.3, 0.1, 1.0]),
+        key(0.28, [0.1, 0.8, 0.3, 0.5]),
+        key(0.55, [0.3, 0.2, 0.9, 0.9]),
+        key(0.7, [0.7, 0.7, 0.1, 0.4]),
+        key(0.9, [0.2, 0.5, 0.5, 0.7]),
+    ]);
+    // The ramp the pixels were compared with against linear interpolation written out.
+    let r = KeyframeRamp::new(&[key(0.2, [0.0; 4]), key(0.6, [1.0, 0.5, 0.0, 1.0])]);
+    assert_eq!(r.eval(0.0), [0.0; 4]);
+    assert!((r.eval(0.5)[0] - 0.75).abs() < 1e-6 && (r.eval(0.5)[1] - 0.375).abs() < 1e-6);
+    assert_eq!(r.eval(0.9), [1.0, 0.5, 0.0, 1.0]);
+}
+
+fn colour_follows(keys: Vec<Keyframe>) {
     let ctx = context();
-    let keys = test_keyframes();
     let ramp = KeyframeRamp::new(&keys);
     let intensity = 0.9;
     // (remaining, total) pairs and the relative age they mean.
-    let lives: [(f32, f32, f32); 10] = [
+    let lives: [(f32, f32, f32); 11] = [
         (4.0, 4.0, 0.0),
+        (3.8, 4.0, 0.05),
         (3.6, 4.0, 0.1),
         (3.0, 4.0, 0.25),
         (2.8, 4.0, 0.3),
@@ -383,7 +406,7 @@ fn particle_colour_follows_the_keyframes_by_age() {
 fn over_back_to_front_equals_under_front_to_back() {
     let ctx = context();
     // Piecewise constant keyframes: red (alpha 0.6) for ages below 0.5, blue (alpha 0.7) after.
-    let keys = [
+    let keys = vec![
         key(0.0, [1.0, 0.1, 0.0, 0.6]),
         key(0.5, [1.0, 0.1, 0.0, 0.6]),
         key(0.5, [0.0, 0.3, 1.0, 0.7]),
@@ -491,7 +514,7 @@ fn white_sprites(path: RenderPath, size: f32) -> ParticleStyle {
         path,
         point_size: size,
         intensity: 1.0,
-        keyframes: [
+        keyframes: vec![
             key(0.0, [1.0; 4]),
             key(0.3, [1.0; 4]),
             key(0.6, [1.0; 4]),
@@ -970,11 +993,16 @@ fn size_over_life_scales_the_area_by_the_curve() {
 fn keyframes_per_type_colour_each_emitters_particles() {
     let ctx = context();
     let flat = |rgba: [f32; 4], end: [f32; 4]| {
-        Some([key(0.0, rgba), key(0.3, rgba), key(0.6, end), key(1.0, end)])
+        Some(vec![
+            key(0.0, rgba),
+            key(0.3, rgba),
+            key(0.6, end),
+            key(1.0, end),
+        ])
     };
     let mut s = white(DrawMode::Points, DrawPrimitive::Points, 5.0);
     s.blending = Blending::Alpha;
-    s.keyframes = [
+    s.keyframes = vec![
         key(0.0, [0.2, 0.2, 1.0, 1.0]),
         key(0.3, [0.2, 0.2, 1.0, 1.0]),
         key(0.6, [0.2, 0.2, 1.0, 1.0]),
@@ -1225,8 +1253,17 @@ fn sprite_keys_are_validated_with_their_place() {
     );
     let e = bad("size_over_life = [[0.0, 1.0], [0.5, 2.0]]", "");
     assert!(e.contains("the last 1"), "{e}");
-    let e = bad("keyframes = [{ age = 0.0, rgba = [1, 1, 1, 1] }]", "");
-    assert!(e.contains("exactly four keyframes"), "{e}");
+    let nine = (0..9)
+        .map(|i| format!("{{ age = {}, rgba = [1, 1, 1, 1] }}", i as f32 / 8.0))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let e = bad(&format!("keyframes = [{nine}]"), "");
+    assert!(e.contains("9 keyframes are too many"), "{e}");
+    let e = bad(
+        "keyframes = [{ age = 0.5, rgba = [1, 1, 1, 1] }, { age = 0.25, rgba = [1, 1, 1, 1] }]",
+        "",
+    );
+    assert!(e.contains("must ascend"), "{e}");
     let e = bad("", "primitive = \"quads\"\npath = \"vertex_buffer\"");
     assert!(
         e.contains("texture_fetch") && e.contains("primitive"),

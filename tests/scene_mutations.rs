@@ -288,6 +288,7 @@ fn run_all(accepted: &[&Accepted]) -> Runs {
         let options = LoopOptions {
             frames: FRAMES,
             every: 1,
+            start: 0,
             dump_every: Some(FRAMES - 1),
             non_finite: NonFinitePolicy::Report,
             timing: false,

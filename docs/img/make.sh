@@ -5,17 +5,22 @@ set -eu
 bin=target/release/texflow
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-# scene:frames to simulate (the picture is the last frame); the fire as the README shows it
-"$bin" render fire --frames 121 --every 120 --particles 512x512 --out "$tmp/fire" --quiet
+# The fire as the README shows it: frame 120 (steady state) of the default render, in soft
+# sprites and in the thesis's points; and the README's animation, a seamless loop (--loop)
+"$bin" render fire --start 120 --frames 121 --out "$tmp/fire" --quiet
 cp "$tmp/fire/frame_00120.png" docs/img/fire.png
-echo docs/img/fire.png
+"$bin" render fire-points --start 120 --frames 121 --out "$tmp/fire-points" --quiet
+cp "$tmp/fire-points/frame_00120.png" docs/img/fire-points.png
+"$bin" render fire --start 120 --frames 264 --every 2 --resolution 320x240 \
+    --set render.point_size=7 --set render.intensity=0.07 --video docs/img/fire.gif --loop 12 --quiet
+echo docs/img/fire.png docs/img/fire-points.png docs/img/fire.gif
 # UberFlow Fig. 4 right: the same scene with collisions between particles on and off
 "$bin" render collide --frames 300 --every 299 --out "$tmp/collide" --quiet
 cp "$tmp/collide/frame_00299.png" docs/img/collide.png
 "$bin" render collide --frames 300 --every 299 --no-collisions --out "$tmp/collide_off" --quiet
 cp "$tmp/collide_off/frame_00299.png" docs/img/collide_off.png
 echo docs/img/collide.png docs/img/collide_off.png
-# Issue 11: 3 s of the collide scene at 64x64 particles without collisions, with UberFlow's
+# 3 s of the collide scene at 64x64 particles without collisions, with UberFlow's
 # detection, and with the exact detection (4 iterations)
 "$bin" render collide --particles 64 --frames 301 --every 300 --resolution 384 --no-collisions --out "$tmp/c0" --quiet
 cp "$tmp/c0/frame_00300.png" docs/img/collide_none_3s.png

@@ -1,4 +1,4 @@
-// The render pass's floor (issue 15 item 1): one point per particle like render/particle.vert,
+// The render pass's floor: one point per particle like render/particle.vert,
 // but placed by a hash of gl_VertexID instead of a texel fetch, so that no texture is read. The
 // points fall uniformly over the frame; the draw state sets the smallest point size (1 pixel).
 

@@ -8,6 +8,8 @@
 //              cycle, so one step's release is a run of consecutive texels, in one row (or two,
 //              where the run crosses a row's end), and rows-only sorting can find its collisions
 //              (UberFlow §5)
+//              A burst (count particles at one time) takes the type's next texels in texel
+//              order and stamps them all with its time.
 //   ALLOCATOR  every texel dead and free; the CPU allocator emits into it
 // OUT_STATE writes position (and velocity), OUT_PREVIOUS the Verlet previous position
 // x0 - v0 dt + a0 dt^2 / 2 (the second-order start), OUT_STATIC the static texture.
@@ -22,6 +24,10 @@ uniform int u_emitters;
 uniform float u_dt;
 #ifdef TIMESTAMP
 uniform vec4 u_cycle;
+// Bursts per type: up to four times, and the particle counts at the end of each (cumulative);
+// zero counts: no burst.
+uniform vec4 u_burst_time[4];
+uniform vec4 u_burst_end[4];
 #endif
 #ifdef ROW_PHASES
 uniform ivec2 u_size;
@@ -61,6 +67,14 @@ void main() {
     float f = (float(index) + 0.5) / (float(u_size.x) * float(u_size.y));
     st.x = (floor(f * steps) + 0.5) * u_dt;
 #endif
+    // Bursts: the type's first particles (in texel order) share the bursts' time stamps, in
+    // the order of the bursts.
+    float rank = float(index / uint(u_emitters));
+    vec4 ends = u_burst_end[type];
+    if (rank < ends.w) {
+        int b = rank < ends.x ? 0 : (rank < ends.y ? 1 : (rank < ends.z ? 2 : 3));
+        st.x = u_burst_time[type][b];
+    }
     st.z = spawn_life(type, rng);
     pos.w = -1.0;
 #endif

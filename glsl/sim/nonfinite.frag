@@ -1,5 +1,5 @@
-// Non-finite particle state, counted on the GPU (../shared/docs/numerics.md: "a pass that counts
-// non-finite values (a reduction) lets the engine report them instead of rendering garbage").
+// Non-finite particle state, counted on the GPU: a pass that counts non-finite values (a
+// reduction) lets the engine report them instead of rendering garbage (docs/numerics.md).
 // A reduction by fragment passes only, as 2004 hardware would do it (src/sim/nonfinite.rs):
 //   MARK  each output texel covers a BLOCK x BLOCK tile of the state and counts, over the texels
 //         of the tile that lie inside u_src_size (any size, odd ones included):

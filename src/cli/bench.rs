@@ -20,8 +20,9 @@ pub enum BenchCommand {
     /// GPU time of the fire's simulation pass and render pass per state size, with floors.
     #[command(allow_negative_numbers = true)]
     Step {
-        /// Built-in fire scene to measure (only the fire; other scenes: `bench scene`).
-        #[arg(value_name = "SCENE", default_value = scene::DEFAULT_SCENE)]
+        /// Fire scene to measure, built in or a file (only fire scenes; other scenes: `bench
+        /// scene`). The default is the thesis's look, `fire-points`.
+        #[arg(value_name = "SCENE", default_value = scene::THESIS_SCENE)]
         scene: String,
         /// The old spelling of SCENE (hidden; still accepted).
         #[arg(
@@ -51,6 +52,8 @@ pub enum BenchCommand {
         /// Print JSON (one record per size).
         #[arg(long)]
         json: bool,
+        #[command(flatten)]
+        set: super::set::SetArgs,
         #[command(flatten)]
         common: Common,
     },
@@ -171,10 +174,12 @@ pub fn bench(cmd: BenchCommand) -> texflow::Result<()> {
             resolution,
             clock,
             json,
+            set,
             common,
         } => {
             let name = scene_flag.unwrap_or(name);
-            let mut s = scene::builtin(&name)?;
+            let (label, src) = scene::load_source(&name)?;
+            let mut s = scene::Scene::from_file(&scene::parse_with(&label, &src, &set.set)?)?;
             if let Some(r) = resolution {
                 s.resolution = r;
             }
@@ -341,7 +346,7 @@ pub fn print_step_table(records: &[StepRecord]) {
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
 pub struct SceneArgs {
-    /// Scene to measure: a built-in name (`texflow scene list`: fire, snow,
+    /// Scene to measure: a built-in name (`texflow scene list`: fire, fire-points, snow,
     /// fountain, smoke, e1, e2, e3, collide, gas, mesh) or a .toml scene file.
     #[arg(value_name = "NAME|FILE")]
     scene: String,
@@ -369,6 +374,8 @@ pub struct SceneArgs {
     #[arg(long)]
     json: bool,
     #[command(flatten)]
+    set: super::set::SetArgs,
+    #[command(flatten)]
     common: Common,
 }
 
@@ -382,6 +389,7 @@ pub fn bench_scene(a: SceneArgs) -> texflow::Result<()> {
         no_collisions: false,
         seed: a.seed,
         device: a.common.device,
+        set: a.set.set.clone(),
     };
     let prepared = overrides.prepare(&a.scene)?;
     let s = &prepared.scene;

@@ -52,6 +52,8 @@ pub struct CollideStatsArgs {
     #[arg(long)]
     json: bool,
     #[command(flatten)]
+    set: super::set::SetArgs,
+    #[command(flatten)]
     common: Common,
 }
 
@@ -88,10 +90,11 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
         particles: a.particles,
         seed: a.seed,
         device: a.common.device,
+        set: a.set.set.clone(),
         ..Overrides::default()
     };
     let (label, src) = scene::load_source(&a.scene)?;
-    let mut s = scene::parse(&label, &src)?;
+    let mut s = scene::parse_with(&label, &src, &overrides.set)?;
     scene::load_custom(&label, &src, &mut s)?;
     let Some(c) = s.collisions.as_mut() else {
         return Err(bad(format!(
@@ -156,6 +159,9 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
                 a.steps
             );
             print!("{}", texflow::report::collide_stats::sweep_table(&rows));
+            if rows.iter().all(|r| r.stats.pairs_true == 0) {
+                println!("\n{}", nothing_collided(a.steps));
+            }
         }
         return Ok(());
     }
@@ -220,6 +226,9 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
                 stats.truncated
             );
         }
+        if stats.pairs_true == 0 {
+            println!("{}", nothing_collided(a.steps));
+        }
         println!("false_pairs  {:>8}", stats.false_pairs);
         println!("mutual       {:>8}", stats.mutual);
         println!(
@@ -236,4 +245,13 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// Said when no two particles overlap at the measured step: the rates are then 0 of 0.
+fn nothing_collided(steps: u64) -> String {
+    format!(
+        "note: no two particles overlapped at step {steps}: nothing has collided yet, so every \
+         count and rate above is of 0 pairs. Run more --steps (a poured scene needs time to \
+         pile up) or more --particles."
+    )
 }

@@ -7,10 +7,13 @@ pub mod info;
 pub mod render;
 pub mod report;
 pub mod scene;
+pub mod set;
 pub mod signals;
 pub mod sort;
 pub mod targets;
+pub mod video_loop;
 pub mod view;
+pub mod warn;
 
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};

@@ -14,12 +14,13 @@ use texflow::output::{video, FrameWriter, VideoWriter};
 use texflow::scene;
 use texflow::SceneEngine;
 
+use super::video_loop::LoopedVideo;
 use super::{at_least_one, parse_size, progress_bar, signals, targets, time_step, Common};
 
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
 pub struct RenderArgs {
-    /// Scene to render: a built-in name (`texflow scene list`: fire, snow,
+    /// Scene to render: a built-in name (`texflow scene list`: fire, fire-points, snow,
     /// fountain, smoke, e1, e2, e3, collide, gas, mesh) or a .toml scene file.
     #[arg(default_value = scene::DEFAULT_SCENE)]
     scene: String,
@@ -37,6 +38,15 @@ pub struct RenderArgs {
     /// Frames a second of the video. Default: real time, 1 / (dt × substeps × every).
     #[arg(long, value_parser = super::positive_finite, requires = "video")]
     fps: Option<f32>,
+    /// Make the video loop without a seam: its last F written frames are cross-faded into its
+    /// first F (the video holds F frames fewer than were written).
+    #[arg(
+        long = "loop",
+        value_name = "F",
+        default_value_t = 0,
+        requires = "video"
+    )]
+    loop_fade: u64,
     /// State texture size WxH (one particle per texel), or N for NxN [default: the scene's
     /// particles.size].
     #[arg(long, value_parser = parse_size, value_name = "WxH")]
@@ -56,6 +66,10 @@ pub struct RenderArgs {
     /// Write every K-th frame (frames keep their index in the name).
     #[arg(long, value_name = "K", default_value_t = 1, value_parser = at_least_one::<u64>)]
     every: u64,
+    /// First frame to write: the frames before it are simulated, not written (a video that
+    /// skips the build-up). Frames keep their index.
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    start: u64,
     /// Drop the scene's collisions between particles (to compare, UberFlow Fig. 4 right).
     #[arg(long)]
     no_collisions: bool,
@@ -79,6 +93,8 @@ pub struct RenderArgs {
     #[arg(long)]
     allow_non_finite: bool,
     #[command(flatten)]
+    set: super::set::SetArgs,
+    #[command(flatten)]
     common: Common,
 }
 
@@ -93,6 +109,7 @@ impl RenderArgs {
             no_collisions: self.no_collisions,
             seed: self.seed,
             device: self.common.device,
+            set: self.set.set.clone(),
         }
     }
 }
@@ -102,6 +119,7 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     let options = LoopOptions {
         frames: a.frames,
         every: a.every,
+        start: a.start,
         dump_every: a.dump_state.as_ref().map(|_| a.dump_every),
         non_finite: if a.allow_non_finite {
             NonFinitePolicy::Report
@@ -111,6 +129,7 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
         timing: a.stats,
     };
     options.check()?;
+    super::video_loop::check(a.loop_fade, options.written_count())?;
     let overrides = a.overrides();
     let prepared = overrides.prepare(&a.scene)?;
     let s = &prepared.scene;
@@ -124,7 +143,7 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     }
     // Before the run: a missing ffmpeg, an unwritable --video, or a video the format cannot
     // hold stops here, not after the frames.
-    let count = a.frames.div_ceil(a.every);
+    let count = LoopedVideo::length(options.written_count(), a.loop_fade);
     let fps = a
         .fps
         .map(f64::from)
@@ -154,10 +173,17 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     let ctx = Context::new(overrides.device)?;
     overrides.check_device(&ctx, &prepared)?;
     let mut engine = SceneEngine::new(&ctx, s, overrides.seed)?;
-    let run = FrameLoop::new(&ctx, &engine, options)?;
+    let run = FrameLoop::new(&ctx, &engine, options.clone())?;
     // The video first: should its encoder fail to start, no folder has been made yet.
     let video = match &a.video {
-        Some(v) => Some(VideoWriter::create(v, s.render.resolution, count, fps)?),
+        Some(v) => {
+            let writer = VideoWriter::create(v, s.render.resolution, count, fps)?;
+            Some(LoopedVideo::new(
+                writer,
+                options.written_count(),
+                a.loop_fade,
+            ))
+        }
         None => None,
     };
     // With --video alone, a folder sink still writes the dumps (into --dump-state; no frames).
@@ -184,20 +210,9 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
                     count.non_finite, count.live
                 )
             }),
-            Event::BirthsDropped { index, total } => bar.suspend(|| {
-                let hint = match s.capacity_check() {
-                    Some(w) => format!(
-                        "; a {0}x{0} state texture (--particles {0}) would hold them",
-                        w.side
-                    ),
-                    None => String::new(),
-                };
-                eprintln!(
-                    "warning: frame {index}: the state texture ({}x{}) is full: {total} \
-                     birth(s) dropped{hint}",
-                    s.particles.size[0], s.particles.size[1]
-                )
-            }),
+            Event::BirthsDropped { index, total } => {
+                bar.suspend(|| eprintln!("{}", super::warn::births_dropped(s, index, total)))
+            }
         }
         match signals::received() {
             Some(_) => ControlFlow::Break(()),
@@ -259,9 +274,9 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     }
     // With --json, stdout holds the JSON document alone; the paragraph goes to stderr.
     if a.stats && a.json {
-        eprintln!("{}", stats_paragraph(s, &summary));
+        eprintln!("{}", stats_paragraph(s, &a.scene, &summary));
     } else if a.stats {
-        println!("{}", stats_paragraph(s, &summary));
+        println!("{}", stats_paragraph(s, &a.scene, &summary));
     }
     if a.json {
         let t = summary.times.as_ref();
@@ -290,8 +305,9 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     Ok(())
 }
 
-/// The one-paragraph summary of `render --stats`.
-fn stats_paragraph(s: &texflow::scene::SceneFile, summary: &LoopSummary) -> String {
+/// The one-paragraph summary of `render --stats`; `given` is the scene as typed (a name or a
+/// file), which the closing hint repeats.
+fn stats_paragraph(s: &texflow::scene::SceneFile, given: &str, summary: &LoopSummary) -> String {
     let Some(t) = &summary.times else {
         return String::new();
     };
@@ -315,7 +331,7 @@ fn stats_paragraph(s: &texflow::scene::SceneFile, summary: &LoopSummary) -> Stri
         1e3 / frame,
         particles * 1e-3 / frame,
         t.clock.name(),
-        s.name
+        given
     )
 }
 
@@ -324,7 +340,7 @@ struct RenderSink {
     folder: Option<FolderSink>,
     /// Whether the folder sink takes the frames too (not only the dumps).
     pngs: bool,
-    video: Option<VideoWriter>,
+    video: Option<LoopedVideo>,
 }
 
 impl FrameSink for RenderSink {

@@ -16,7 +16,7 @@ pub enum ReportCommand {
         /// Also write CSV and PNG plots into this folder (created if missing).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Fewer and shorter runs (about 8 s on llvmpipe).
+        /// Fewer and shorter runs (for CI and a software renderer).
         #[arg(long)]
         quick: bool,
         /// Print JSON (every point) instead of the table of orders.
@@ -41,7 +41,8 @@ pub enum ReportCommand {
         /// Output folder (created if missing).
         #[arg(long)]
         out: PathBuf,
-        /// Sized for llvmpipe: about a minute instead of a quarter of an hour.
+        /// Small sizes, for CI and a software renderer such as llvmpipe; the full report takes
+        /// most of an hour there (minutes on a GPU).
         #[arg(long)]
         quick: bool,
         /// Only these sections, comma-separated: tables, convergence, sort_frames, collisions,

@@ -17,6 +17,8 @@ pub enum SceneCommand {
         /// EGL device whose size limits to check against.
         #[arg(long, default_value_t = 0)]
         device: usize,
+        #[command(flatten)]
+        set: super::set::SetArgs,
     },
     /// Print the passes a scene runs per frame.
     #[command(allow_negative_numbers = true)]
@@ -26,6 +28,8 @@ pub enum SceneCommand {
         /// Print JSON.
         #[arg(long)]
         json: bool,
+        #[command(flatten)]
+        set: super::set::SetArgs,
     },
     /// List the built-in scenes, or print one's TOML source.
     #[command(allow_negative_numbers = true)]
@@ -40,10 +44,12 @@ pub fn scene_command(c: SceneCommand) -> texflow::Result<()> {
         SceneCommand::Check {
             scene: name,
             device,
+            set,
         } => {
             // The same validation path as render and every other command.
             let overrides = Overrides {
                 device,
+                set: set.set,
                 ..Overrides::default()
             };
             let prepared = overrides.prepare(&name)?;
@@ -68,8 +74,16 @@ pub fn scene_command(c: SceneCommand) -> texflow::Result<()> {
                 println!("{name}: warning: {w}");
             }
         }
-        SceneCommand::Passes { scene: name, json } => {
-            let plan = texflow::engine::plan::plan(&scene::load(&name)?);
+        SceneCommand::Passes {
+            scene: name,
+            json,
+            set,
+        } => {
+            let overrides = Overrides {
+                set: set.set,
+                ..Overrides::default()
+            };
+            let plan = texflow::engine::plan::plan(&overrides.prepare(&name)?.scene);
             if json {
                 super::print_json("texflow.scene.passes/1", None, &plan);
             } else {
@@ -85,8 +99,9 @@ pub fn scene_command(c: SceneCommand) -> texflow::Result<()> {
             Some(src) => print!("{src}"),
             None => {
                 return Err(bad(format!(
-                    "unknown scene `{n}`: the built-in scenes are {}",
-                    scene::BUILTIN.join(", ")
+                    "unknown scene `{n}`: the built-in scenes are {}{}",
+                    scene::BUILTIN.join(", "),
+                    scene::did_you_mean(&n, scene::BUILTIN.iter().copied()),
                 )))
             }
         },

@@ -28,7 +28,7 @@ use super::{at_least_one, bad, parse_size, time_step};
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
 pub struct ViewArgs {
-    /// Scene to show: a built-in name (`texflow scene list`: fire, snow,
+    /// Scene to show: a built-in name (`texflow scene list`: fire, fire-points, snow,
     /// fountain, smoke, e1, e2, e3, collide, gas, mesh) or a .toml scene file (reloaded when it changes on disk).
     #[arg(default_value = texflow::scene::DEFAULT_SCENE)]
     scene: String,
@@ -56,6 +56,8 @@ pub struct ViewArgs {
     /// Drop the scene's collisions between particles.
     #[arg(long)]
     no_collisions: bool,
+    #[command(flatten)]
+    set: super::set::SetArgs,
 }
 
 impl ViewArgs {
@@ -68,6 +70,7 @@ impl ViewArgs {
             no_collisions: self.no_collisions,
             seed: self.seed,
             device: 0,
+            set: self.set.set.clone(),
         }
     }
 }
@@ -124,6 +127,8 @@ struct App {
     error: Option<String>,
     phases: Phases,
     live_particles: u64,
+    /// Whether this engine's dropped births were warned about (once per engine, as `render`).
+    warned_drops: bool,
     last_title: Instant,
     last_poll: Instant,
 }
@@ -168,6 +173,7 @@ impl App {
         let [sw, sh] = live.engine.state_size();
         live.counter = NonFiniteCounter::new(&live.ctx, sw, sh)?;
         self.frame = 0;
+        self.warned_drops = false;
         Ok(())
     }
 
@@ -216,6 +222,12 @@ impl App {
         if advance {
             live.engine.advance_frame()?;
             self.frame += 1;
+            let total = live.engine.dropped_births();
+            if total > 0 && !self.warned_drops {
+                self.warned_drops = true;
+                let s = &self.prepared.scene;
+                eprintln!("{}", super::warn::births_dropped(s, self.frame - 1, total));
+            }
         }
         live.ctx.finish();
         let t1 = Instant::now();
@@ -428,12 +440,20 @@ pub fn view(a: ViewArgs) -> texflow::Result<()> {
         let t = mtime(&file);
         (file, t)
     });
-    let event_loop = EventLoop::new().map_err(|e| {
+    let no_display = |reason: String| {
         bad(format!(
-            "cannot open a window ({e}): `texflow view` needs a display (X11 or Wayland; set \
-             DISPLAY or WAYLAND_DISPLAY, or run it under xvfb-run); `texflow render` needs none"
+            "cannot open a window ({reason}): `texflow view` needs a display (X11 or Wayland; \
+             set DISPLAY or WAYLAND_DISPLAY, or run it under xvfb-run); `texflow render` needs \
+             none"
         ))
-    })?;
+    };
+    let set = |v: &str| std::env::var_os(v).is_some_and(|s| !s.is_empty());
+    if !set("DISPLAY") && !set("WAYLAND_DISPLAY") {
+        return Err(no_display(
+            "neither DISPLAY nor WAYLAND_DISPLAY is set".into(),
+        ));
+    }
+    let event_loop = EventLoop::new().map_err(|e| no_display(super::warn::window_reason(&e)))?;
     let mut app = App {
         args: a,
         prepared,
@@ -449,6 +469,7 @@ pub fn view(a: ViewArgs) -> texflow::Result<()> {
         error: None,
         phases: Phases::default(),
         live_particles: 0,
+        warned_drops: false,
         last_title: Instant::now(),
         last_poll: Instant::now(),
     };

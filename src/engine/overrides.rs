@@ -23,6 +23,9 @@ pub struct Overrides {
     pub seed: u64,
     /// EGL device (`--device`).
     pub device: usize,
+    /// Scene keys set as `KEY=VALUE` (`--set`, repeatable), applied in order to the parsed
+    /// file before the options above.
+    pub set: Vec<String>,
 }
 
 impl Default for Overrides {
@@ -35,6 +38,7 @@ impl Default for Overrides {
             no_collisions: false,
             seed: 1,
             device: 0,
+            set: Vec::new(),
         }
     }
 }
@@ -88,6 +92,7 @@ impl Overrides {
         if self.no_collisions {
             v.push("--no-collisions".into());
         }
+        v.extend(self.set.iter().map(|s| format!("--set {s}")));
         v
     }
 
@@ -153,7 +158,7 @@ impl Overrides {
     /// without a GPU.
     pub fn prepare(&self, name_or_path: &str) -> Result<Prepared> {
         let (label, source) = scene::load_source(name_or_path)?;
-        let mut s = scene::parse(&label, &source)?;
+        let mut s = scene::parse_with(&label, &source, &self.set)?;
         scene::load_custom(&label, &source, &mut s)?;
         self.apply(&mut s)?;
         Ok(Prepared {
@@ -171,7 +176,13 @@ impl Overrides {
             max_texture: l.max_texture_size,
             max_3d_texture: l.max_3d_texture_size,
         };
-        let skip: Vec<&str> = self.replaced().iter().map(|(k, _)| *k).collect();
+        let set: Vec<String> = (self.set.iter())
+            .filter_map(|s| scene::Setting::parse(s).ok())
+            .map(|s| s.key())
+            .collect();
+        let skip: Vec<&str> = (self.replaced().iter().map(|(k, _)| *k))
+            .chain(set.iter().map(String::as_str))
+            .collect();
         check_limits(&p.label, &p.source, &p.scene, limits, &skip)?;
         // Overridden sizes, by the option that gave them.
         let max = l.max_texture_size;

@@ -26,8 +26,11 @@ pub enum NonFinitePolicy {
 pub struct LoopOptions {
     /// Frames to simulate.
     pub frames: u64,
-    /// Draw and hand over every `every`-th frame (frame 0 first).
+    /// Draw and hand over every `every`-th frame from `start` on (`start` first).
     pub every: u64,
+    /// The first frame drawn and handed over (and dumped): the frames before it are simulated
+    /// only, so that a video can skip a scene's build-up. Frames keep their index.
+    pub start: u64,
     /// Dump the live state every `n`-th frame, or never.
     pub dump_every: Option<u64>,
     /// What NaN or infinite state does to the run.
@@ -42,6 +45,7 @@ impl Default for LoopOptions {
         LoopOptions {
             frames: 60,
             every: 1,
+            start: 0,
             dump_every: None,
             non_finite: NonFinitePolicy::Report,
             timing: false,
@@ -62,7 +66,27 @@ impl LoopOptions {
         if self.dump_every == Some(0) {
             return bad("--dump-every 0 is meaningless: use 1 to dump every frame");
         }
+        if self.start >= self.frames {
+            return Err(Error::InvalidInput(format!(
+                "--start {} is not before --frames {}: nothing would be written; frames are \
+                 numbered from 0, so ask for more frames or an earlier start",
+                self.start, self.frames
+            )));
+        }
         Ok(())
+    }
+
+    /// Whether frame `index` is one to draw and hand over.
+    pub fn writes(&self, index: u64) -> bool {
+        index >= self.start && (index - self.start).is_multiple_of(self.every.max(1))
+    }
+
+    /// Frames the run hands over (all `frames` simulated): those from `start` on, every
+    /// `every`-th.
+    pub fn written_count(&self) -> u64 {
+        self.frames
+            .saturating_sub(self.start)
+            .div_ceil(self.every.max(1))
     }
 }
 
@@ -235,8 +259,8 @@ impl FrameLoop {
                 &mut || engine.advance_frame(),
                 times.as_mut().map(|t| &mut t.simulate),
             )?;
-            // The sort belongs to every frame, written or not (issue 12: no option that chooses
-            // what is written may change what a frame shows).
+            // The sort belongs to every frame, written or not: no option that chooses what is
+            // written may change what a frame shows.
             timed(
                 &mut || engine.order_for_drawing(),
                 times.as_mut().map(|t| &mut t.sort),
@@ -256,7 +280,7 @@ impl FrameLoop {
                 break;
             }
             s.dropped_births = dropped;
-            if index % o.every == 0 {
+            if o.writes(index) {
                 // Garbage is reported, not rendered silently.
                 let count = engine.non_finite(&self.counter)?;
                 s.live = count.live;
@@ -292,7 +316,9 @@ impl FrameLoop {
                 sink.frame(index, &image.expect("rendered"))?;
                 s.written += 1;
             }
-            if o.dump_every.is_some_and(|n| index % n == 0) {
+            if o.dump_every
+                .is_some_and(|n| index >= o.start && (index - o.start).is_multiple_of(n))
+            {
                 let d = engine.dump()?;
                 s.max_non_finite = s.max_non_finite.max(d.non_finite as u64);
                 sink.dump(index, &d)?;

@@ -2,7 +2,7 @@
 //! camera-facing quads and velocity-stretched quads built by vertex replication (Latta §3.4.5:
 //! six vertices per particle fetch the same texel), fed either by vertex texture fetch (thesis
 //! Listing 3) or, for points, by a vertex buffer the state textures are copied into on the GPU
-//! (UberFlow §4.7, Latta §3.4.5), coloured by four keyframes of relative age per particle type,
+//! (UberFlow §4.7, Latta §3.4.5), coloured by keyframes of relative age per particle type,
 //! blended additively, multiplicatively, or with the over / under operator.
 //!
 //! State layout (fixed by the simulation): particle `i` is texel `(i % width, i / width)` of every

@@ -23,6 +23,9 @@ pub struct PointStyle {
     pub intensity: f32,
     /// The fire cycle length, to derive each particle's age from its state (see fire.frag).
     pub max_age: f32,
+    /// Soft round sprites (opacity falling to 0 at the rim) instead of square points: the
+    /// thesis draws points and names their look a flaw (§4.1, §4.5.1).
+    pub soft: bool,
 }
 
 impl From<&crate::scene::PointStyleSection> for PointStyle {
@@ -31,6 +34,7 @@ impl From<&crate::scene::PointStyleSection> for PointStyle {
             point_size: s.point_size,
             intensity: s.intensity,
             max_age: s.max_age,
+            soft: s.soft,
         }
     }
 }
@@ -79,6 +83,7 @@ impl PointRenderer {
         p.set_f32("u_point_size", style.point_size);
         p.set_f32("u_intensity", style.intensity);
         p.set_f32("u_max_age", style.max_age);
+        p.set_i32("u_soft", style.soft as i32);
         self.ctx.draw(&Draw {
             program: p,
             target: target.framebuffer(),

@@ -2,16 +2,16 @@
 //! type (Latta §3.4.6: size, rotation, colour and opacity keyframes per type), its blending, and
 //! the uniforms that carry it to `glsl/render/`.
 
-use super::keyframes::KeyframeRamp;
+use super::keyframes::{KeyframeRamp, MAX_KEYFRAMES};
 use super::sprite::SizeCurve;
 use crate::gl::{Blend, BlendComponent, BlendFactor, DrawState, PointSize, Program};
 use crate::scene::{
     Blending, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath, SceneFile,
 };
 
-/// Exactly four keyframes, or `None`.
-fn four(keys: &[Keyframe]) -> Option<[Keyframe; 4]> {
-    <[Keyframe; 4]>::try_from(keys.to_vec()).ok()
+/// The keyframes given, or `None` when there are none.
+fn given(keys: &[Keyframe]) -> Option<Vec<Keyframe>> {
+    (!keys.is_empty()).then(|| keys.to_vec())
 }
 
 /// How particles are drawn.
@@ -33,9 +33,8 @@ pub struct ParticleStyle {
     pub blending: Blending,
     /// Order of alpha blending (the caller draws in this order; it picks over or under).
     pub order: DrawOrder,
-    /// Colour and opacity at four relative ages, ascending from 0 to 1 (the types without their
-    /// own).
-    pub keyframes: [Keyframe; 4],
+    /// Colour and opacity at 1 to 8 relative ages, ascending (the types without their own).
+    pub keyframes: Vec<Keyframe>,
     /// What each particle type (emitter) looks like.
     pub types: [TypeLook; 4],
     /// Background colour.
@@ -43,12 +42,12 @@ pub struct ParticleStyle {
 }
 
 /// The keyframes used when a scene gives none: white, fading out over the life.
-pub fn default_keyframes() -> [Keyframe; 4] {
+pub fn default_keyframes() -> Vec<Keyframe> {
     let k = |age: f32, a: f32| Keyframe {
         age,
         rgba: [1.0, 1.0, 1.0, a],
     };
-    [k(0.0, 1.0), k(0.5, 0.8), k(0.8, 0.4), k(1.0, 0.0)]
+    vec![k(0.0, 1.0), k(0.5, 0.8), k(0.8, 0.4), k(1.0, 0.0)]
 }
 
 /// What one particle type (one emitter) looks like (Latta §3.4.6: the particle type's
@@ -64,7 +63,7 @@ pub struct TypeLook {
     /// Size over life (times `scale`).
     pub size: SizeCurve,
     /// This type's own colour keyframes, or `None`: the style's.
-    pub keyframes: Option<[Keyframe; 4]>,
+    pub keyframes: Option<Vec<Keyframe>>,
 }
 
 impl TypeLook {
@@ -104,12 +103,15 @@ impl ParticleStyle {
     pub fn set_keyframes(&self, p: &Program) {
         for t in 0..4 {
             let ramp = self.ramp_of(t);
-            p.set_vec4(
-                &format!("u_key_age[{t}]"),
-                glam::Vec4::from_array(ramp.ages),
-            );
-            for k in 0..3 {
-                let i = 3 * t + k;
+            for half in 0..2 {
+                let ages: [f32; 4] = std::array::from_fn(|i| ramp.ages[4 * half + i]);
+                p.set_vec4(
+                    &format!("u_key_age[{}]", 2 * t + half),
+                    glam::Vec4::from_array(ages),
+                );
+            }
+            for k in 0..MAX_KEYFRAMES {
+                let i = MAX_KEYFRAMES * t + k;
                 p.set_vec4(
                     &format!("u_key_offset[{i}]"),
                     glam::Vec4::from_array(ramp.offset[k]),
@@ -177,8 +179,7 @@ impl ParticleStyle {
     }
 
     /// The style of a scene's `[render]` section; `type_scales` are the emitters' sprite scales in
-    /// type order. A keyframe list that is not exactly four long (validation rejects those; an
-    /// empty list is allowed) gives [`default_keyframes`].
+    /// type order. An empty keyframe list gives [`default_keyframes`].
     pub fn from_render(r: &Render, type_scales: [f32; 4]) -> Self {
         ParticleStyle {
             mode: r.mode,
@@ -189,7 +190,7 @@ impl ParticleStyle {
             intensity: r.intensity,
             blending: r.blending,
             order: r.order,
-            keyframes: four(&r.keyframes).unwrap_or_else(default_keyframes),
+            keyframes: given(&r.keyframes).unwrap_or_else(default_keyframes),
             types: std::array::from_fn(|k| TypeLook {
                 scale: type_scales[k],
                 ..TypeLook::new(k as u32)
@@ -208,7 +209,7 @@ impl ParticleStyle {
                 tile: e.tile.unwrap_or(k as u32),
                 spin: e.rotation_speed.unwrap_or([0.0; 2]),
                 size: SizeCurve::from_points(&e.size_over_life),
-                keyframes: four(&e.keyframes),
+                keyframes: given(&e.keyframes),
             };
         }
         style

@@ -13,6 +13,8 @@
 //! - `builtin`: the built-in scenes and loading by name or path ([`load`], [`BUILTIN`]);
 //! - `mesh`: the OBJ meshes of distance fields, read while parsing ([`read_obj`]);
 //! - `custom`: the custom forces' GLSL files, read and checked before compiling ([`load_custom`]).
+//! - `set`: `--set KEY=VALUE`, keys changed from the command line ([`parse_with`]);
+//! - `suggest`: "did you mean" for mistyped scene names and keys ([`closest`]).
 
 mod builtin;
 mod custom;
@@ -20,17 +22,21 @@ mod locate;
 mod mesh;
 mod parse;
 mod schema;
+mod set;
+mod suggest;
 mod validate;
 
 pub use builtin::{
     builtin, builtin_source, fire, load, load_source, BUILTIN, BUILTIN_MESHES, BUILTIN_SOURCES,
-    DEFAULT_SCENE,
+    DEFAULT_SCENE, THESIS_SCENE,
 };
 pub use custom::{check_glsl, load_custom, read_glsl};
 pub use locate::{Invalid, Key};
 pub use mesh::{read_obj, Triangle, MAX_TRIANGLES};
 pub use parse::{check_limits, check_point_size, parse, SizeLimits};
 pub use schema::*;
+pub use set::{parse_with, Setting};
+pub use suggest::{closest, did_you_mean, edit_distance};
 pub use validate::{CapacityWarning, MAX_LATTICE_CELLS};
 
 use crate::error::{Error, Result};
@@ -45,6 +51,8 @@ pub struct PointStyleSection {
     pub intensity: f32,
     /// The fire cycle length (`fire.max_age`).
     pub max_age: f32,
+    /// Soft round sprites (`render.mode = "sprites"`) instead of the thesis's square points.
+    pub soft: bool,
 }
 
 /// A complete description of a run.
@@ -88,6 +96,7 @@ impl Scene {
                 point_size: f.render.point_size,
                 intensity: f.render.intensity,
                 max_age: fire.max_age,
+                soft: f.render.mode == DrawMode::Sprites,
             },
             fire: fire.clone(),
         })

@@ -36,7 +36,7 @@ pub fn parse(path: &str, src: &str) -> Result<SceneFile> {
             path,
             src,
             e.span().map_or(0, |s| s.start),
-            e.message().trim().to_owned(),
+            super::suggest::suggest_in_message(e.message().trim()),
         )
     })?;
     if let Err(invalid) = scene.validate() {

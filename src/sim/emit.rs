@@ -149,6 +149,7 @@ mod tests {
             rotation_speed: None,
             size_over_life: Vec::new(),
             keyframes: Vec::new(),
+            bursts: Vec::new(),
         }
     }
 

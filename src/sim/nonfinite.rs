@@ -1,5 +1,5 @@
 //! Counts non-finite particle state on the GPU, so that garbage is reported instead of rendered
-//! silently (../shared/docs/numerics.md, "Special values on GPUs").
+//! silently (docs/numerics.md).
 //!
 //! A reduction by fragment passes (`glsl/sim/nonfinite.frag`): the first pass marks, for every
 //! 4×4 tile of the state, how many live particles (life `w > 0`) have a NaN or infinite component

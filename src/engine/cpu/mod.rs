@@ -6,10 +6,10 @@
 //!
 //! - [`CpuSim`]: the particle state in three arrays in main memory (position and remaining life,
 //!   velocity, static data), stepped in parallel on every core with rayon. The step of one
-//!   particle is [`Reference::step_explicit`], the CPU twin of `glsl/sim/integrate.frag`; the
+//!   particle is [`Reference::step_explicit`](crate::sim::reference::Reference::step_explicit), the CPU twin of `glsl/sim/integrate.frag`; the
 //!   time-stamp birth, respawn and death around it (UberFlow §4.1, the `TIMESTAMP` block of the
 //!   shader) and the initial fill (`glsl/sim/init.frag`) are twinned here with the GPU's spawn
-//!   streams ([`Rng`], [`EmitterUniforms`]), so that the same seed gives the same particles as
+//!   streams ([`Rng`](crate::sim::emit::Rng), [`EmitterUniforms`](crate::sim::emit::EmitterUniforms)), so that the same seed gives the same particles as
 //!   [`crate::Engine`], up to rounding.
 //! - [`CpuEngine`]: a [`CpuSim`] and what a CPU engine does every frame to draw it: the viewer
 //!   distance of every live particle, a quicksort of them (rayon's parallel pattern-defeating

@@ -1,4 +1,4 @@
-//! Work-precision diagrams (../shared/docs/numerics.md): for each problem with an exact solution,
+//! Work-precision diagrams (docs/numerics.md): for each problem with an exact solution,
 //! each integrator (Latta's Euler, UberFlow's update, Verlet) and each storage precision (fp32,
 //! half-float velocities, emulated 24-bit floats), a sweep of time steps run on the GPU through
 //! [`ParticleSim`](crate::sim::ParticleSim); the error at a fixed end time (or its maximum over

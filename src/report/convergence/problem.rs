@@ -163,9 +163,9 @@ impl Problem {
         }
     }
 
-    /// The order theory expects (../shared/docs/numerics.md, docs/pipeline.md); `None` where
+    /// The order theory expects (docs/numerics.md, docs/pipeline.md); `None` where
     /// there is none to expect (exact schemes). Verlet's bounce is first order like the others
-    /// since its contact takes Latta eq. 4-5 on the implied velocity (issue 12).
+    /// since its contact takes Latta eq. 4-5 on the implied velocity.
     pub fn expected_order(&self, i: Integrator) -> Option<f64> {
         use Integrator::*;
         match (self, i) {

@@ -1,4 +1,4 @@
-//! Stability on stiff and extreme cases (../shared/docs/numerics.md), on the GPU.
+//! Stability on stiff and extreme cases (docs/numerics.md), on the GPU.
 //!
 //! - **Stiff spring** x'' = −ω² x, swept in ω·dt across 2 for each integrator: where it diverges
 //!   (amplitude beyond [`DIVERGED`] times the start, or non-finite state counted on the GPU by

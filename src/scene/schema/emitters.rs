@@ -135,7 +135,25 @@ pub struct Emitter {
     #[serde(default)]
     pub size_over_life: Vec<[f32; 2]>,
     /// Colour and opacity keyframes of this emitter's particle type (Latta §3.4.6: "defined for
-    /// each particle type"); four, or empty for the scene's `[render] keyframes`.
+    /// each particle type"); 1 to 8, or empty for the scene's `[render] keyframes`.
     #[serde(default)]
     pub keyframes: Vec<Keyframe>,
+    /// Bursts: `count` particles born at once at `time` seconds, beside the steady `rate`
+    /// (allocator emitters) or the phases spread over the `cycle` (timestamp emitters, whose
+    /// bursts repeat every cycle: the time stamps are written once). At most [`MAX_BURSTS`].
+    #[serde(default)]
+    pub bursts: Vec<Burst>,
+}
+
+/// Most bursts per emitter.
+pub const MAX_BURSTS: usize = 4;
+
+/// `count` particles born at `time`.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Burst {
+    /// Seconds from the start of the run (timestamp emitters: within the first cycle).
+    pub time: f32,
+    /// Particles born.
+    pub count: u32,
 }

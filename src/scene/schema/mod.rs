@@ -10,7 +10,7 @@ mod render;
 
 use serde::{Deserialize, Serialize};
 
-pub use emitters::{AllocatorKind, Emitter, Emitters, Shape, MAX_EMITTERS};
+pub use emitters::{AllocatorKind, Burst, Emitter, Emitters, Shape, MAX_BURSTS, MAX_EMITTERS};
 pub use forces::{
     Attractor, BoxCollider, Colliders, CustomForce, Damping, Falloff, Forces, Gravity,
     HeightFieldCollider, PlaneCollider, SdfCollider, SphereCollider, Spring, Vortex, VortexForm,
@@ -18,7 +18,7 @@ pub use forces::{
 };
 pub use render::{
     Blending, CameraSection, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath,
-    SortSection, Variant,
+    SortSection, Variant, MAX_KEYFRAMES,
 };
 
 pub(super) fn one() -> f32 {

@@ -116,6 +116,9 @@ impl Default for CameraSection {
     }
 }
 
+/// The most colour keyframes one ramp takes (`render.keyframes`, an emitter's `keyframes`).
+pub const MAX_KEYFRAMES: usize = 8;
+
 /// One colour keyframe: at relative age `age`, colour and opacity `rgba`.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -225,7 +228,8 @@ pub struct Render {
     /// Blending.
     #[serde(default)]
     pub blending: Blending,
-    /// Four keyframes of relative age (three linear segments, Latta §3.4.6); empty: the fire ramp.
+    /// 1 to [`MAX_KEYFRAMES`] keyframes of relative age, linear between them (Latta §3.4.6 uses
+    /// four); empty: white, fading out.
     #[serde(default)]
     pub keyframes: Vec<Keyframe>,
     /// Drawing order of alpha blending: `back_to_front` (the over operator) or `front_to_back`

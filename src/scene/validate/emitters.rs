@@ -83,6 +83,8 @@ pub(super) fn emitters(s: &SceneFile) -> Check {
         let at = [N("emitters"), N("allocator"), I(i)];
         let key = |k| [&at[..], &[N(k)]].concat();
         match e.rate {
+            // Bursts alone are a way to emit too.
+            r if !e.bursts.is_empty() && r.unwrap_or(0.0) == 0.0 => {}
             None => {
                 return fail(
                     at.to_vec(),
@@ -90,7 +92,10 @@ pub(super) fn emitters(s: &SceneFile) -> Check {
                 )
             }
             Some(r) if r <= 0.0 => {
-                return fail(key("rate"), "rate must be above 0 particles per second")
+                return fail(
+                    key("rate"),
+                    "rate must be above 0 particles per second (0 only with `bursts`)",
+                )
             }
             Some(r) if r as f64 * s.time.dt as f64 > s.particle_count() as f64 => {
                 return fail(

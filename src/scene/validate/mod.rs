@@ -5,6 +5,7 @@
 //! is reported. Device limits are checked later, once a context exists
 //! ([`super::check_limits`]).
 
+mod bursts;
 mod colliders;
 mod emitters;
 pub use emitters::CapacityWarning;
@@ -126,6 +127,7 @@ impl SceneFile {
         particles(self)?;
         time(self)?;
         emitters::emitters(self)?;
+        bursts::bursts(self)?;
         forces::forces(self)?;
         colliders::colliders(self)?;
         collisions(self)?;

@@ -111,31 +111,31 @@ fn at(base: &[Key], more: &[Key]) -> Vec<Key> {
     [base, more].concat()
 }
 
-/// Empty, or four keyframes with ages ascending from 0 to 1 and no negative colour.
+/// Empty, or 1 to 8 keyframes with ages ascending within [0, 1] and no negative colour.
 fn keyframes(base: &[Key], keys: &[Keyframe]) -> Check {
+    let max = crate::scene::MAX_KEYFRAMES;
     if keys.is_empty() {
         return Ok(());
     }
-    if keys.len() != 4 {
+    if keys.len() > max {
         return fail(
-            base.to_vec(),
-            "give exactly four keyframes (three linear segments, Latta §3.4.6)",
+            at(base, &[I(max)]),
+            format!(
+                "{} keyframes are too many: give 1 to {max} (linear between them; Latta \
+                 §3.4.6 uses 4)",
+                keys.len()
+            ),
         );
     }
     let ages: Vec<f32> = keys.iter().map(|k| k.age).collect();
-    let bad_age = if ages[0] != 0.0 {
-        Some(0)
-    } else {
-        (1..4)
-            .find(|&i| ages[i] < ages[i - 1])
-            .or((ages[3] != 1.0).then_some(3))
-    };
+    let bad_age = (0..keys.len())
+        .find(|&i| !(0.0..=1.0).contains(&ages[i]) || (i > 0 && ages[i] < ages[i - 1]));
     if let Some(i) = bad_age {
         return fail(
             at(base, &[I(i), N("age")]),
             format!(
-                "keyframe ages must ascend from 0 to 1 (the first 0, the last 1); \
-                 keyframe {} has age {}",
+                "keyframe ages must ascend within [0, 1] (relative age; the colour is held \
+                 before the first and after the last); keyframe {} has age {}",
                 i + 1,
                 ages[i]
             ),

@@ -25,8 +25,15 @@ impl ParticleSim {
         let mut data: Vec<f32> = Vec::new();
         for (k, e) in self.scene.emitters.allocator.iter().enumerate() {
             self.owed[k] += e.rate.unwrap_or(0.0) as f64 * dt;
-            let n = self.owed[k].floor();
-            self.owed[k] -= n;
+            let steady = self.owed[k].floor();
+            self.owed[k] -= steady;
+            // A burst belongs to the step whose interval (now - dt, now] holds its time; the
+            // intervals tile the time line, so each burst fires once.
+            let burst: u64 = (e.bursts.iter())
+                .filter(|b| (b.time as f64) <= now && (b.time as f64) > now - dt)
+                .map(|b| b.count as u64)
+                .sum();
+            let n = steady + burst as f64;
             let u = &self.emitters[k];
             for _ in 0..n as u64 {
                 let mut rng = Rng::new(self.emitted as u32, self.step as u32, self.seed);

@@ -58,6 +58,19 @@ pub(super) fn set_constants_for(
     p.set_vec4("u_mass_lo", Vec4::from(lo));
     p.set_vec4("u_mass_hi", Vec4::from(hi));
     p.set_vec4("u_cycle", Vec4::from(cycle));
+    for (k, e) in s.emitters.all().enumerate() {
+        let (mut time, mut end) = ([0f32; 4], [0f32; 4]);
+        let mut total = 0u64;
+        for b in 0..4 {
+            if let Some(burst) = e.bursts.get(b) {
+                time[b] = burst.time;
+                total += burst.count as u64;
+            }
+            end[b] = total as f32;
+        }
+        p.set_vec4(&format!("u_burst_time[{k}]"), Vec4::from(time));
+        p.set_vec4(&format!("u_burst_end[{k}]"), Vec4::from(end));
+    }
     for (k, e) in s.emitters.all().map(EmitterUniforms::new).enumerate() {
         p.set_vec4(&format!("u_em_center[{k}]"), e.center);
         p.set_vec4(&format!("u_em_size[{k}]"), e.size);

@@ -1,0 +1,47 @@
+//! Warnings that `render` and `view` print alike.
+
+use texflow::scene::SceneFile;
+
+/// The warning for the first frame after which births were dropped because the state texture
+/// was full, with the size that would hold them when the scene's rates predict one.
+pub fn births_dropped(s: &SceneFile, index: u64, total: u64) -> String {
+    let hint = match s.capacity_check() {
+        Some(w) => format!(
+            "; a {0}x{0} state texture (--particles {0}) would hold them",
+            w.side
+        ),
+        None => String::new(),
+    };
+    format!(
+        "warning: frame {index}: the state texture ({}x{}) is full: {total} birth(s) \
+         dropped{hint}",
+        s.particles.size[0], s.particles.size[1]
+    )
+}
+
+/// A window-system error without the source location winit puts in front of it
+/// (`os error at /path/to/winit/src/...rs:123: reason`): the reason is what the user needs.
+pub fn window_reason(e: &dyn std::fmt::Display) -> String {
+    let text = e.to_string();
+    match text.strip_prefix("os error at ") {
+        Some(rest) => rest
+            .split_once(": ")
+            .map_or(text.clone(), |(_, reason)| reason.to_owned()),
+        None => text,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn window_reason_drops_the_source_path() {
+        let e = "os error at /root/.cargo/registry/src/winit-0.30.12/src/platform_impl/linux/mod.rs:765: neither WAYLAND_DISPLAY nor DISPLAY is set";
+        assert_eq!(
+            window_reason(&e),
+            "neither WAYLAND_DISPLAY nor DISPLAY is set"
+        );
+        assert_eq!(window_reason(&"plain"), "plain");
+    }
+}

@@ -1,0 +1,140 @@
+//! Bursts (`count` particles at `time`) on allocator and timestamp emitters, against counts worked
+//! out here from the scene's numbers alone.
+
+mod common;
+
+use common::{context, no_gl_error};
+use texflow::scene;
+use texflow::sim::ParticleSim;
+
+const DT: f64 = 0.01;
+
+fn scene_with(kind: &str, extra: &str, bursts: &str) -> scene::SceneFile {
+    let src = format!(
+        "name = \"bursts\"\n[particles]\nsize = [32, 32]\n[time]\ndt = {DT}\n\
+         [[emitters.{kind}]]\n{extra}direction = [0.0, 1.0, 0.0]\nspeed = [0.0, 0.0]\n\
+         life = [5.0, 5.0]\nbursts = {bursts}\n"
+    );
+    scene::parse("bursts.toml", &src).unwrap_or_else(|e| panic!("{e}\n{src}"))
+}
+
+fn alive(sim: &ParticleSim) -> Vec<bool> {
+    let pos = sim.read_positions().unwrap();
+    pos.chunks_exact(4).map(|p| p[3] > 0.0).collect()
+}
+
+/// An allocator burst fires in the step whose interval (t - dt, t] holds its time: after step k
+/// (emitting at time k dt) the live particles are the bursts with time <= k dt, and nothing else
+/// (no rate).
+#[test]
+fn allocator_bursts_add_their_counts_at_their_times() {
+    let ctx = context();
+    let bursts = [(0.105, 37usize), (0.305, 100)];
+    let s = scene_with(
+        "allocator",
+        "",
+        "[{ time = 0.105, count = 37 }, { time = 0.305, count = 100 }]",
+    );
+    let mut sim = ParticleSim::new(&ctx, &s, 5).unwrap();
+    for k in 0..40u32 {
+        sim.step().unwrap();
+        let now = k as f64 * DT;
+        let want: usize = bursts
+            .iter()
+            .filter(|(t, _)| *t <= now)
+            .map(|(_, n)| n)
+            .sum();
+        let got = alive(&sim).iter().filter(|a| **a).count();
+        assert_eq!(got, want, "after step {k} (time {now:.2} s)");
+    }
+    assert_eq!(sim.dropped_births(), 0);
+    no_gl_error(&ctx);
+}
+
+/// A timestamp burst stamps the emitter's first texels with its time: 100 texels share 0.055 s
+/// and the next 50 share 0.205 s; they are unborn before their time and alive after it.
+#[test]
+fn timestamp_bursts_share_one_time_stamp() {
+    let ctx = context();
+    let s = scene_with(
+        "timestamp",
+        "cycle = 10.0\n",
+        "[{ time = 0.055, count = 100 }, { time = 0.205, count = 50 }]",
+    );
+    let mut sim = ParticleSim::new(&ctx, &s, 5).unwrap();
+    let statics = sim.statics().read_f32().unwrap();
+    let stamps: Vec<f32> = statics.chunks_exact(4).map(|t| t[0]).collect();
+    assert!(
+        stamps[..100].iter().all(|t| *t == 0.055f32),
+        "{:?}",
+        &stamps[..100]
+    );
+    assert!(stamps[100..150].iter().all(|t| *t == 0.205f32));
+    // The rest keep phases spread over the cycle: none of them lands on a burst's time.
+    assert!(stamps[150..]
+        .iter()
+        .all(|t| *t != 0.055f32 && *t != 0.205f32));
+    let mut checked = 0;
+    for _ in 0..30 {
+        sim.step().unwrap();
+        let t = sim.time();
+        let a = alive(&sim);
+        for (range, time) in [(0..100, 0.055), (100..150, 0.205)] {
+            // A step away from the stamp either way, whatever side of the step the birth falls.
+            if t < time - DT {
+                assert!(a[range].iter().all(|x| !x), "born early at {t:.2} s");
+                checked += 1;
+            } else if t > time + DT {
+                assert!(a[range].iter().all(|x| *x), "not born at {t:.2} s");
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 40);
+    no_gl_error(&ctx);
+}
+
+#[test]
+fn bad_bursts_are_errors_at_their_place() {
+    let src = |kind: &str, extra: &str, bursts: &str| {
+        format!(
+            "name = \"b\"\n[particles]\nsize = [8, 8]\n[[emitters.{kind}]]\n{extra}\
+             direction = [0.0, 1.0, 0.0]\nspeed = [0.0, 0.0]\nlife = [1.0, 1.0]\n\
+             bursts = {bursts}\n"
+        )
+    };
+    let cases = [
+        (
+            src("initial", "", "[{ time = 0.0, count = 1 }]"),
+            "belong to allocator and timestamp",
+        ),
+        (
+            src("timestamp", "cycle = 2.0\n", "[{ time = 2.5, count = 1 }]"),
+            "below the cycle",
+        ),
+        (
+            src("allocator", "rate = 1.0\n", "[{ time = 1.0, count = 0 }]"),
+            "at least 1",
+        ),
+        (
+            src("timestamp", "cycle = 2.0\n", "[{ time = 1.0, count = 65 }]"),
+            "more than the 64 texels",
+        ),
+        (
+            src(
+                "allocator",
+                "",
+                &format!("[{}]", ["{ time = 1.0, count = 1 }"; 5].join(", ")),
+            ),
+            "at most 4",
+        ),
+        (src("allocator", "", "[]"), "needs `rate`"),
+    ];
+    for (text, wanted) in cases {
+        let e = scene::parse("b.toml", &text).unwrap_err().to_string();
+        assert!(
+            e.contains(wanted) && e.starts_with("b.toml:"),
+            "`{wanted}` with a line and column expected: {e}"
+        );
+    }
+}

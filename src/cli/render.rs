@@ -79,6 +79,8 @@ pub struct RenderArgs {
     #[arg(long)]
     allow_non_finite: bool,
     #[command(flatten)]
+    compare: super::compare::CompareArgs,
+    #[command(flatten)]
     common: Common,
 }
 
@@ -99,10 +101,12 @@ impl RenderArgs {
 
 pub fn render(a: RenderArgs) -> texflow::Result<()> {
     // Everything that can be checked without a GPU is checked before anything is created.
+    let golden = a.compare.prepare(a.frames)?;
+    let user_dumps = a.dump_state.as_ref().map(|_| a.dump_every);
     let options = LoopOptions {
         frames: a.frames,
         every: a.every,
-        dump_every: a.dump_state.as_ref().map(|_| a.dump_every),
+        dump_every: dump_every(user_dumps, golden.as_ref().map(|g| g.frame()), a.frames),
         non_finite: if a.allow_non_finite {
             NonFinitePolicy::Report
         } else {
@@ -141,6 +145,13 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     }
     if let Some(d) = &a.dump_state {
         FrameWriter::check_for(d, "--dump-state")?;
+        if let Some(r) = a.compare.file().filter(|r| names_a_frame_file(r, d)) {
+            return Err(bad(format!(
+                "--compare {} is a file that --dump-state {} will write: dump into another folder",
+                r.display(),
+                d.display()
+            )));
+        }
     }
     let ctx = Context::new(overrides.device)?;
     overrides.check_device(&ctx, &prepared)?;
@@ -165,6 +176,8 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
         folder,
         pngs: out.is_some(),
         video,
+        user_dumps,
+        golden,
     };
     let bar = progress_bar(a.frames, a.common.quiet, "rendering");
     // SIGINT and SIGTERM stop the loop between frames (src/cli/signals.rs).
@@ -207,6 +220,12 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     if let Some(signal) = signals::received() {
         texflow::output::remove_unfinished();
         return Err(texflow::Error::Interrupted { signal });
+    }
+    if let Some(g) = &sink.golden {
+        let line = g.verdict()?;
+        if !a.common.quiet {
+            eprintln!("{line}");
+        }
     }
     if summary.max_non_finite > 0 {
         eprintln!(
@@ -321,6 +340,29 @@ struct RenderSink {
     /// Whether the folder sink takes the frames too (not only the dumps).
     pngs: bool,
     video: Option<VideoWriter>,
+    /// --dump-every when --dump-state is given: the dumps the folder receives.
+    user_dumps: Option<u64>,
+    /// The reference of --compare, which takes the dump of its frame.
+    golden: Option<super::compare::Golden>,
+}
+
+/// The loop's dump period: every frame the folder wants (--dump-every) and the frame --compare
+/// needs are multiples of it (their greatest common divisor); `None` when neither asks.
+fn dump_every(user: Option<u64>, compare: Option<u64>, frames: u64) -> Option<u64> {
+    fn gcd(a: u64, b: u64) -> u64 {
+        if b == 0 {
+            a
+        } else {
+            gcd(b, a % b)
+        }
+    }
+    match (user, compare) {
+        (None, None) => None,
+        (Some(k), None) => Some(k),
+        // Frame 0 is dumped whatever the period.
+        (None, Some(f)) => Some(if f == 0 { frames } else { f }),
+        (Some(k), Some(f)) => Some(gcd(k, f)),
+    }
 }
 
 impl FrameSink for RenderSink {
@@ -335,9 +377,12 @@ impl FrameSink for RenderSink {
     }
 
     fn dump(&mut self, index: u64, dump: &StateDump) -> texflow::Result<()> {
+        if let Some(g) = &mut self.golden {
+            g.offer(index, dump);
+        }
         match &mut self.folder {
-            Some(f) => f.dump(index, dump),
-            None => Ok(()),
+            Some(f) if self.user_dumps.is_some_and(|k| index % k == 0) => f.dump(index, dump),
+            _ => Ok(()),
         }
     }
 }

@@ -381,7 +381,9 @@ impl FrameSink for RenderSink {
             g.offer(index, dump);
         }
         match &mut self.folder {
-            Some(f) if self.user_dumps.is_some_and(|k| index % k == 0) => f.dump(index, dump),
+            Some(f) if self.user_dumps.is_some_and(|k| index.is_multiple_of(k)) => {
+                f.dump(index, dump)
+            }
             _ => Ok(()),
         }
     }

@@ -101,7 +101,8 @@ pub fn positions(texels: &[f32], width: u32, height: u32, bounds: [[f32; 3]; 2])
         let Some(p) = texels.get(4 * i..4 * i + 4) else {
             return DEAD;
         };
-        if !(p[3] > 0.0) {
+        // A NaN life counts as dead too.
+        if p[3].is_nan() || p[3] <= 0.0 {
             return DEAD;
         }
         let mut c = [0u8; 3];

@@ -149,6 +149,9 @@ pub enum Error {
         /// The signal number.
         signal: i32,
     },
+    /// A run's state differs from a saved reference beyond the tolerance (`render --compare`).
+    #[error("{0}")]
+    Mismatch(String),
     /// Encoding an image failed.
     #[error("could not encode {path}: {reason}")]
     Image {
@@ -174,10 +177,13 @@ impl Error {
 
 impl Error {
     /// The CLI's exit code for this error (docs/reliability.md): 2 for bad input, 3 for a run
-    /// whose state turned NaN or infinite, 128 + the signal for an interrupted run, 1 otherwise.
+    /// whose state turned NaN or infinite, 4 for a
+    /// state that differs from its reference (`render --compare`), 128 + the signal for an
+    /// interrupted run, 1 otherwise.
     pub fn exit_code(&self) -> u8 {
         match self {
             Error::NonFinite { .. } => 3,
+            Error::Mismatch(_) => 4,
             Error::Interrupted { signal } => (128 + signal).clamp(0, 255) as u8,
             e if e.is_bad_input() => 2,
             _ => 1,

@@ -11,6 +11,7 @@
 //!   bitonic and odd-even merge sorts; point sprites and vertex texture fetch).
 //! - [`engine`]: the engines that run a scene's passes, the pass plan and the frame loop.
 //! - [`mod@bench`] and [`report`]: timings against floors, the papers' tables, error against run time.
+//! - [`trace`]: the state textures drawn pass by pass (`texflow trace`).
 //! - [`output`], [`npy`], [`error`]: files written atomically, `.npy` arrays, the error type.
 //!
 //! ```
@@ -43,6 +44,7 @@ pub mod report;
 pub mod scene;
 pub mod sim;
 pub mod sort;
+pub mod trace;
 
 pub use engine::{CpuEngine, Engine, FireEngine, SceneEngine};
 pub use error::{Error, Result};

@@ -33,6 +33,7 @@ fn main() -> ExitCode {
         Command::Render(a) => cli::render::render(a),
         Command::View(a) => cli::view::view(a),
         Command::Sort(a) => cli::sort::sort(a),
+        Command::Trace(a) => cli::trace::trace_cmd(a),
         Command::Scene(c) => cli::scene::scene_command(c),
         Command::CollideStats(a) => cli::collide::collide_stats(a),
         Command::Bench(b) => cli::bench::bench(b),

@@ -17,7 +17,7 @@ fn layer(module: &str) -> Option<u32> {
         "scene" => 2,
         "sim" | "sort" | "render" => 3,
         "engine" => 4,
-        "bench" | "report" => 5,
+        "bench" | "report" | "trace" => 5,
         _ => return None,
     })
 }

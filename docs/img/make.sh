@@ -38,3 +38,9 @@ for spec in snow:360 fountain:150 smoke:300 e1:90 e2:150 e3:90; do
     cp "$tmp/$name/frame_$(printf %05d "$last").png" "docs/img/$name.png"
     echo "docs/img/$name.png"
 done
+# texflow trace: Latta's odd-even merge sort of 16x16 random keys, four of its 37 pictures
+"$bin" trace sort --variant oddeven --size 16 --seed 1 --out "$tmp/trace" --quiet
+for i in 000 010 021 036; do
+    cp "$tmp/trace/pass_$i.png" "docs/img/trace_oddeven_16_pass_$i.png"
+done
+echo docs/img/trace_oddeven_16_pass_*.png

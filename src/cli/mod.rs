@@ -3,6 +3,7 @@
 
 pub mod bench;
 pub mod collide;
+pub mod compare;
 pub mod info;
 pub mod render;
 pub mod report;
@@ -12,6 +13,7 @@ pub mod signals;
 pub mod sort;
 pub mod targets;
 pub mod video_loop;
+pub mod trace;
 pub mod view;
 pub mod warn;
 
@@ -47,6 +49,9 @@ pub enum Command {
     View(view::ViewArgs),
     /// Sort float32 keys from a .npy file on the GPU.
     Sort(sort::SortArgs),
+    /// Draw a frame of a scene, or a sort of random keys, pass by pass: each pass's output
+    /// textures as PNGs and an index.md (`texflow trace sort` adds an animated GIF).
+    Trace(trace::TraceArgs),
     /// How well the GPU finds colliding pairs: UberFlow's detection against a CPU reference.
     CollideStats(collide::CollideStatsArgs),
     /// Check scene files and list the passes a scene runs.

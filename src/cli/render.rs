@@ -15,7 +15,7 @@ use texflow::scene;
 use texflow::SceneEngine;
 
 use super::video_loop::LoopedVideo;
-use super::{at_least_one, parse_size, progress_bar, signals, targets, time_step, Common};
+use super::{at_least_one, bad, parse_size, progress_bar, signals, targets, time_step, Common};
 
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
@@ -95,6 +95,8 @@ pub struct RenderArgs {
     #[command(flatten)]
     set: super::set::SetArgs,
     #[command(flatten)]
+    compare: super::compare::CompareArgs,
+    #[command(flatten)]
     common: Common,
 }
 
@@ -116,11 +118,13 @@ impl RenderArgs {
 
 pub fn render(a: RenderArgs) -> texflow::Result<()> {
     // Everything that can be checked without a GPU is checked before anything is created.
+    let golden = a.compare.prepare(a.frames)?;
+    let user_dumps = a.dump_state.as_ref().map(|_| a.dump_every);
     let options = LoopOptions {
         frames: a.frames,
         every: a.every,
         start: a.start,
-        dump_every: a.dump_state.as_ref().map(|_| a.dump_every),
+        dump_every: dump_every(user_dumps, golden.as_ref().map(|g| g.frame()), a.frames),
         non_finite: if a.allow_non_finite {
             NonFinitePolicy::Report
         } else {
@@ -153,6 +157,13 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     }
     if let Some(d) = &a.dump_state {
         FrameWriter::check_for(d, "--dump-state")?;
+        if let Some(r) = a.compare.file().filter(|r| names_a_frame_file(r, d)) {
+            return Err(bad(format!(
+                "--compare {} is a file that --dump-state {} will write: dump into another folder",
+                r.display(),
+                d.display()
+            )));
+        }
     }
     // Every output against every input and every other output, and every frame target.
     let inputs = targets::inputs(
@@ -197,6 +208,8 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
         folder,
         pngs: out.is_some(),
         video,
+        user_dumps,
+        golden,
     };
     let bar = progress_bar(a.frames, a.common.quiet, "rendering");
     // SIGINT and SIGTERM stop the loop between frames (src/cli/signals.rs).
@@ -246,6 +259,12 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     if let Some(signal) = signals::received() {
         texflow::output::remove_unfinished();
         return Err(texflow::Error::Interrupted { signal });
+    }
+    if let Some(g) = &sink.golden {
+        let line = g.verdict()?;
+        if !a.common.quiet {
+            eprintln!("{line}");
+        }
     }
     if summary.max_non_finite > 0 {
         eprintln!(
@@ -305,6 +324,29 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     Ok(())
 }
 
+/// Whether `video` lies in `dir` (by its canonical folder where both exist) under a name of the
+/// frames or dumps written there (`frame_00000.png`, `positions_00000.npy`, ...).
+fn names_a_frame_file(video: &std::path::Path, dir: &std::path::Path) -> bool {
+    let canon = |p: &std::path::Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
+    let parent = match video.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => std::path::Path::new("."),
+    };
+    if canon(parent) != canon(dir) {
+        return false;
+    }
+    let name = video
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    ["frame_", "positions_", "velocities_"].iter().any(|p| {
+        name.strip_prefix(p).is_some_and(|rest| {
+            let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
+            !digits.is_empty() && matches!(&rest[digits.len()..], ".png" | ".npy")
+        })
+    })
+}
+
 /// The one-paragraph summary of `render --stats`; `given` is the scene as typed (a name or a
 /// file), which the closing hint repeats.
 fn stats_paragraph(s: &texflow::scene::SceneFile, given: &str, summary: &LoopSummary) -> String {
@@ -341,6 +383,29 @@ struct RenderSink {
     /// Whether the folder sink takes the frames too (not only the dumps).
     pngs: bool,
     video: Option<LoopedVideo>,
+    /// --dump-every when --dump-state is given: the dumps the folder receives.
+    user_dumps: Option<u64>,
+    /// The reference of --compare, which takes the dump of its frame.
+    golden: Option<super::compare::Golden>,
+}
+
+/// The loop's dump period: every frame the folder wants (--dump-every) and the frame --compare
+/// needs are multiples of it (their greatest common divisor); `None` when neither asks.
+fn dump_every(user: Option<u64>, compare: Option<u64>, frames: u64) -> Option<u64> {
+    fn gcd(a: u64, b: u64) -> u64 {
+        if b == 0 {
+            a
+        } else {
+            gcd(b, a % b)
+        }
+    }
+    match (user, compare) {
+        (None, None) => None,
+        (Some(k), None) => Some(k),
+        // Frame 0 is dumped whatever the period.
+        (None, Some(f)) => Some(if f == 0 { frames } else { f }),
+        (Some(k), Some(f)) => Some(gcd(k, f)),
+    }
 }
 
 impl FrameSink for RenderSink {
@@ -355,9 +420,14 @@ impl FrameSink for RenderSink {
     }
 
     fn dump(&mut self, index: u64, dump: &StateDump) -> texflow::Result<()> {
+        if let Some(g) = &mut self.golden {
+            g.offer(index, dump);
+        }
         match &mut self.folder {
-            Some(f) => f.dump(index, dump),
-            None => Ok(()),
+            Some(f) if self.user_dumps.is_some_and(|k| index.is_multiple_of(k)) => {
+                f.dump(index, dump)
+            }
+            _ => Ok(()),
         }
     }
 }

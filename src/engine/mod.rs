@@ -10,6 +10,7 @@
 //! - [`FrameLoop`]: frames, `every`, dumps and the non-finite census, shared by the CLI, the
 //!   examples and the tests.
 
+pub mod compare;
 pub mod cpu;
 mod fire;
 mod overrides;

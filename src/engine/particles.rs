@@ -191,6 +191,16 @@ impl Engine {
     /// written; [`draw`](Self::draw) runs it when it has not run at this step. It is public so
     /// that the sort's cost and quality can be measured alone.
     pub fn order_for_drawing(&mut self) -> Result<bool> {
+        self.order_for_drawing_observed(&mut |_, _| Ok(()))
+    }
+
+    /// [`order_for_drawing`](Self::order_for_drawing), handing the sorter to `seen` after the
+    /// key pass (`"keys"`) and after this frame's network passes (`"network"`), before the
+    /// gather: what `texflow trace` draws.
+    pub fn order_for_drawing_observed(
+        &mut self,
+        seen: &mut dyn FnMut(&str, &crate::sort::Sorter) -> Result<()>,
+    ) -> Result<bool> {
         self.turn_camera();
         let steps = self.sim.steps();
         let Some(s) = &mut self.sort else {
@@ -209,7 +219,9 @@ impl Engine {
                 .write_keys(self.sim.positions(), texels, &mode, true)?;
             s.keyed = true;
         }
+        seen("keys", &s.sorter)?;
         s.sorter.sort_frame();
+        seen("network", &s.sorter)?;
         let mut sources = vec![self.sim.positions(), self.sim.statics()];
         if self.renderer.needs_motion() {
             sources.extend(self.sim.velocities().or(self.sim.previous()));

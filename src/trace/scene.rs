@@ -1,0 +1,421 @@
+//! `texflow trace SCENE --frame N`: a scene run to frame N, then frame N pass by pass, each
+//! pass's output textures read back and drawn, with an index naming the pass, its paper and
+//! section, its inputs and outputs.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use super::picture::{finite_range, live_bounds, positions, scalar};
+use super::Written;
+use crate::engine::{Engine, SceneEngine};
+use crate::error::{Error, Result};
+use crate::gl::{Context, Texture};
+use crate::output::{write_atomic, write_png_atomic};
+use crate::scene::SceneFile;
+
+/// The largest state texture side a scene trace draws (256×256 particles: pictures of 512×512
+/// pixels, two pixels a texel).
+pub const MAX_TRACE_SIDE: u32 = 256;
+
+/// The last frame a scene trace runs to.
+pub const MAX_TRACE_FRAME: u64 = 10_000;
+
+/// Refuses a trace too large to draw or too long to run, before any GPU work.
+pub fn check_scene_trace(scene: &SceneFile, frame: u64) -> Result<()> {
+    let [w, h] = scene.particles.size;
+    if w > MAX_TRACE_SIDE || h > MAX_TRACE_SIDE {
+        return Err(Error::InvalidInput(format!(
+            "scene `{}` has a {w}x{h} state texture: a trace draws at most \
+             {MAX_TRACE_SIDE}x{MAX_TRACE_SIDE}; pass --particles {MAX_TRACE_SIDE} or less",
+            scene.name
+        )));
+    }
+    if frame > MAX_TRACE_FRAME {
+        return Err(Error::InvalidInput(format!(
+            "--frame {frame}: a trace runs to frame {MAX_TRACE_FRAME} at most"
+        )));
+    }
+    Ok(())
+}
+
+/// One texture of a pass, drawn.
+struct Shot {
+    /// What it shows ("position", "velocity", ...).
+    what: String,
+    /// The picture.
+    image: image::RgbImage,
+    /// How to read it: the colours and the range.
+    legend: String,
+}
+
+/// The pictures and the index of a trace being written.
+struct Recorder<'a> {
+    out: &'a Path,
+    md: String,
+    files: Vec<PathBuf>,
+    passes: usize,
+    /// The box positions are coloured within, fixed at the first position picture.
+    bounds: Option<[[f32; 3]; 2]>,
+    from_scene: bool,
+}
+
+impl Recorder<'_> {
+    fn pass(
+        &mut self,
+        name: &str,
+        source: &str,
+        inputs: &str,
+        outputs: &str,
+        shots: Vec<Shot>,
+    ) -> Result<()> {
+        self.passes += 1;
+        let n = self.passes;
+        let _ = writeln!(
+            self.md,
+            "## {n}. {name}\n\n- Source: {source}\n- Reads: {inputs}\n- Writes: {outputs}\n"
+        );
+        for s in shots {
+            let slug: String = s
+                .what
+                .chars()
+                .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+                .collect();
+            let file = format!("{n:02}_{slug}.png");
+            let path = self.out.join(&file);
+            write_png_atomic(&path, &s.image)?;
+            let _ = writeln!(
+                self.md,
+                "**{}**: {}\n\n![{}]({file})\n",
+                s.what, s.legend, s.what
+            );
+            self.files.push(path);
+        }
+        Ok(())
+    }
+
+    /// Positions (xyz, life) as colours within the trace's box.
+    fn positions(&mut self, what: &str, texels: &[f32], size: [u32; 2]) -> Shot {
+        let any_live = texels.chunks_exact(4).any(|p| p[3] > 0.0);
+        if self.bounds.is_none() && any_live {
+            self.bounds = Some(live_bounds(texels));
+        }
+        let b = self.bounds.unwrap_or([[0.0; 3], [1.0; 3]]);
+        let live = texels.chunks_exact(4).filter(|p| p[3] > 0.0).count();
+        Shot {
+            what: what.to_owned(),
+            image: positions(texels, size[0], size[1], b),
+            legend: format!(
+                "red, green, blue = x, y, z within [{:.3}, {:.3}] × [{:.3}, {:.3}] × [{:.3}, \
+                 {:.3}] ({}); black: dead (life ≤ 0). {live} of {} texels live.",
+                b[0][0],
+                b[1][0],
+                b[0][1],
+                b[1][1],
+                b[0][2],
+                b[1][2],
+                if self.from_scene {
+                    "the scene's collision bounds"
+                } else {
+                    "the live particles' box at the first picture of the frame"
+                },
+                texels.len() / 4
+            ),
+        }
+    }
+}
+
+/// A scalar per texel on the ramp over its finite range, the range in the legend.
+fn ramp_shot(what: &str, values: &[f32], size: [u32; 2], note: &str) -> Shot {
+    let range = finite_range(values.iter().copied()).unwrap_or((0.0, 1.0));
+    Shot {
+        what: what.to_owned(),
+        image: scalar(values, size[0], size[1], range),
+        legend: format!(
+            "{note}, on the ramp from dark blue ({:.4}) to yellow ({:.4}); magenta: not finite.",
+            range.0, range.1
+        ),
+    }
+}
+
+/// Speeds |v| of RGBA velocity texels, 0 where the particle is dead.
+fn speeds(velocities: &[f32], positions: &[f32]) -> Vec<f32> {
+    velocities
+        .chunks_exact(4)
+        .zip(positions.chunks_exact(4))
+        .map(|(v, p)| {
+            if p[3] > 0.0 {
+                (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+            } else {
+                f32::NAN
+            }
+        })
+        .collect()
+}
+
+fn size_of(t: &Texture) -> [u32; 2] {
+    [t.width(), t.height()]
+}
+
+fn frame_shot(image: image::RgbImage) -> Shot {
+    Shot {
+        what: "frame".to_owned(),
+        image,
+        legend: "the frame as `texflow render` writes it.".to_owned(),
+    }
+}
+
+/// Runs `scene` to frame `frame` (frames 0..frame as `render` runs them), then traces frame
+/// `frame` pass by pass into `out` (which must exist): PNGs of each pass's outputs and
+/// `index.md`.
+pub fn trace_scene(
+    ctx: &Context,
+    scene: &SceneFile,
+    seed: u64,
+    frame: u64,
+    out: &Path,
+) -> Result<Written> {
+    check_scene_trace(scene, frame)?;
+    let mut engine = SceneEngine::new(ctx, scene, seed)?;
+    for _ in 0..frame {
+        engine.advance_frame()?;
+        engine.order_for_drawing()?;
+    }
+    let mut r = Recorder {
+        out,
+        md: String::new(),
+        files: Vec::new(),
+        passes: 0,
+        bounds: scene.collisions.as_ref().map(|c| c.bounds),
+        from_scene: scene.collisions.is_some(),
+    };
+    let _ = writeln!(
+        r.md,
+        "# Trace of scene `{}`, frame {frame}\n\n`texflow trace {} --frame {frame} --seed {seed}`: \
+         frames 0 to {} ran as `texflow render` runs them; then each pass of frame {frame} ran \
+         alone and its output textures were read back. Each picture has one square per texel, \
+         texel (0, 0) at the top left. `texflow scene passes {}` lists the same passes.\n",
+        scene.name,
+        scene.name,
+        frame.saturating_sub(1),
+        scene.name
+    );
+    match &mut engine {
+        SceneEngine::Fire(e) => {
+            e.advance_frame();
+            let sim = e.sim();
+            let size = size_of(sim.positions());
+            let p = sim.positions().read_f32()?;
+            let v = sim.velocities().read_f32()?;
+            let shots = vec![
+                r.positions("position", &p, size),
+                ramp_shot(
+                    "velocity",
+                    &speeds(&v, &p),
+                    size,
+                    "speed |v| of live particles",
+                ),
+            ];
+            r.pass(
+                &format!(
+                    "fire: physics, respawn in alpha (`glsl/sim/fire.frag`, × {} substep(s); the \
+                     state after the last)",
+                    scene.time.substeps
+                ),
+                "thesis §3.4, Listing 1-2",
+                "front: position (xyz, life), velocity (xyz, wait)",
+                "back: position, velocity (MRT), then swap",
+                shots,
+            )?;
+            let img = e.render()?;
+            r.pass(
+                "render points (`glsl/render/points.vert`, vertex texture fetch, additive)",
+                "thesis Listing 3",
+                "position, velocity (vertex texture fetch)",
+                "the frame (RGBA8), read back",
+                vec![frame_shot(img)],
+            )?;
+        }
+        SceneEngine::Particles(e) => trace_particles(e, &mut r)?,
+    }
+    let index = out.join("index.md");
+    write_atomic(&index, r.md.as_bytes())?;
+    r.files.push(index);
+    Ok(Written {
+        files: r.files,
+        passes: r.passes,
+        ok: true,
+    })
+}
+
+/// The state outputs of a simulation pass: positions, and velocities (or Verlet's implied ones).
+fn state_shots(e: &Engine, r: &mut Recorder<'_>) -> Result<Vec<Shot>> {
+    let sim = e.sim();
+    let size = sim.size().to_array();
+    let p = sim.read_positions()?;
+    let v = sim.read_velocities()?;
+    let note = match sim.velocities() {
+        Some(_) => "speed |v| of live particles",
+        None => "speed |x − x_prev| / dt of live particles (Verlet keeps no velocity)",
+    };
+    Ok(vec![
+        r.positions("position", &p, size),
+        ramp_shot("velocity", &speeds(&v, &p), size, note),
+    ])
+}
+
+fn trace_particles(e: &mut Engine, r: &mut Recorder<'_>) -> Result<()> {
+    let substeps = e.sim().scene().time.substeps;
+    let allocator = e.sim().allocator().is_some();
+    let verlet = e.sim().velocities().is_none();
+    let state = if verlet {
+        "previous and current position"
+    } else {
+        "position, velocity"
+    };
+    let size = e.sim().size().to_array();
+    for s in 0..substeps {
+        let step = format!("step {} of {substeps}", s + 1);
+        if allocator {
+            e.sim_mut().emit()?;
+            let mut shots = state_shots(e, r)?;
+            let statics = e.sim().statics().read_f32()?;
+            let births: Vec<f32> = statics.chunks_exact(4).map(|c| c[0]).collect();
+            shots.push(ramp_shot(
+                "static birth time",
+                &births,
+                size,
+                "birth time (s)",
+            ));
+            r.pass(
+                &format!("{step}: births (`glsl/sim/emit.vert` + `emit.frag`, points)"),
+                "Latta §3.4.1 (CPU allocator, one pixel per new particle)",
+                "a vertex buffer of this step's births, from the CPU allocator",
+                &format!("front: {state} and static, in place at the allocated texels"),
+                shots,
+            )?;
+        }
+        e.sim_mut().integrate_only();
+        let shots = state_shots(e, r)?;
+        r.pass(
+            &format!("{step}: integrate (`glsl/sim/integrate.frag`)"),
+            "Latta §3.4.2-3.4.3 (forces, colliders, Euler or Verlet); UberFlow §4.2, §4.6",
+            &format!("front: {state}; static; the scene's fields"),
+            &format!("back: {state} (MRT), then swap"),
+            shots,
+        )?;
+        if e.sim().collisions().is_some() {
+            e.sim_mut().collide()?;
+            let mut shots = state_shots(e, r)?;
+            shots.extend(cell_shots(e)?);
+            r.pass(
+                &format!("{step}: collision stage (cell keys, sort, gather, detection, response)"),
+                "UberFlow §4.3-4.5, Fig. 3",
+                "position, velocity, static",
+                "position, velocity (swap); static copied in the new order",
+                shots,
+            )?;
+        }
+    }
+    if e.sorter().is_some() {
+        let mut shots: Vec<(String, Vec<Shot>)> = Vec::new();
+        e.order_for_drawing_observed(&mut |phase, sorter| {
+            let entries = sorter.read()?;
+            let sz = [sorter.width(), sorter.height()];
+            let keys: Vec<f32> = entries.iter().map(|x| x[0]).collect();
+            let ids: Vec<f32> = entries.iter().map(|x| x[1]).collect();
+            shots.push((
+                phase.to_owned(),
+                vec![
+                    ramp_shot("sort key", &keys, sz, "key: signed distance to the viewer"),
+                    ramp_shot("sort id", &ids, sz, "id: the particle's texel index"),
+                ],
+            ));
+            Ok(())
+        })?;
+        let variant = e.sorter().map_or("", |s| s.variant().name());
+        for (phase, s) in shots {
+            match phase.as_str() {
+                "keys" => r.pass(
+                    "sort keys (`glsl/sort/keys.frag`)",
+                    "UberFlow §4.3 (keys by viewer distance); Latta §3.4.4",
+                    "position",
+                    "sort texture: (key, id) per entry; dead particles +inf (last)",
+                    s,
+                )?,
+                _ => r.pass(
+                    &format!(
+                        "sort network: {variant}, this frame's passes (`texflow trace sort \
+                         --variant {variant}` shows them one by one)"
+                    ),
+                    "UberFlow §4.3.2-4.3.3, Fig. 1-2 (bitonic); Latta §3.4.4, Fig. 3-5 \
+                     (odd-even merge)",
+                    "sort texture (ping-pong)",
+                    "sort texture in order of key, then id",
+                    s,
+                )?,
+            }
+        }
+        if let Some(sorted) = e.sorted() {
+            let p = sorted.texture(0).read_f32()?;
+            let sz = size_of(sorted.texture(0));
+            let shots = vec![r.positions("sorted position", &p, sz)];
+            r.pass(
+                "gather (`glsl/sort/rearrange.frag`)",
+                "UberFlow §4.3 (the state re-ordered by the sorted ids)",
+                "sort texture (ids), position, static",
+                "sorted position and static (MRT), in drawing order",
+                shots,
+            )?;
+        }
+    }
+    let img = e.render()?;
+    r.pass(
+        "render (`glsl/render/particle.vert` + `particle.frag`)",
+        "Latta §3.4.5-3.4.6; UberFlow §4.7",
+        "position and static (sorted ones with alpha blending), by vertex texture fetch or vertex \
+         buffers",
+        "the frame (RGBA8), read back",
+        vec![frame_shot(img)],
+    )?;
+    Ok(())
+}
+
+/// The first lattice's view after the collision stage: each texel's cell index (UberFlow's sort
+/// key) in the lattice's sorted order, and the partner found.
+fn cell_shots(e: &Engine) -> Result<Vec<Shot>> {
+    let Some(c) = e.sim().collisions() else {
+        return Ok(Vec::new());
+    };
+    let Some(back) = c.read_back(false)? else {
+        return Ok(Vec::new());
+    };
+    let size = e.sim().size().to_array();
+    let (lattice, _) = c.lattices();
+    let cells: Vec<f32> = back
+        .positions
+        .chunks_exact(4)
+        .map(|p| {
+            if p[3] > 0.0 {
+                lattice.key(lattice.cell(glam::Vec3::new(p[0], p[1], p[2]))) as f32
+            } else {
+                f32::NAN
+            }
+        })
+        .collect();
+    let partners: Vec<f32> = back.partners.chunks_exact(4).map(|q| q[0]).collect();
+    Ok(vec![
+        ramp_shot(
+            "cell index",
+            &cells,
+            size,
+            "lattice cell index of each texel in the cell-sorted order (rows read left to right \
+             rise)",
+        ),
+        ramp_shot(
+            "partner",
+            &partners,
+            size,
+            "partner found by the detection (texel index, −1 none)",
+        ),
+    ])
+}

@@ -1,0 +1,197 @@
+//! `texflow trace sort`: random keys sorted on the GPU pass by pass, each pass's texture read
+//! back and drawn (UberFlow Fig. 1-3, Latta Fig. 3-5, on real data), with an animated GIF.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use super::picture::{ramp_position, scalar};
+use super::Written;
+use crate::error::{Error, Result};
+use crate::gl::Context;
+use crate::output::{write_atomic, write_png_atomic, VideoWriter};
+use crate::sort::network::{bitonic_schedule, group_steps, odd_even_schedule, Entry, Step};
+use crate::sort::{SortOptions, Sorter, Variant};
+
+/// The largest side of a traced sort: 64×64 keys, 4096 entries, at most 78 passes (bitonic) and
+/// so at most 79 pictures.
+pub const MAX_SORT_SIDE: u32 = 64;
+
+/// Refuses a size the trace does not draw: a power of two from 2 to [`MAX_SORT_SIDE`].
+pub fn check_sort_size(side: u32) -> Result<()> {
+    if !(2..=MAX_SORT_SIDE).contains(&side) || !side.is_power_of_two() {
+        return Err(Error::InvalidInput(format!(
+            "--size {side}: a traced sort is a power of two from 2 to {MAX_SORT_SIDE} (N×N keys, \
+             one picture per pass); for larger sorts use `texflow sort` or `texflow bench sort`"
+        )));
+    }
+    Ok(())
+}
+
+/// What one pass of a variant does, in the papers' terms.
+pub fn describe_step(step: &Step, width: u32) -> String {
+    match *step {
+        Step::Bitonic { block, mirror, .. } if mirror => format!(
+            "bitonic merge of {}-row blocks ({block} entries): the reversing first pass, entry \
+             i against i XOR {} (UberFlow §4.3.3, Fig. 2)",
+            block / width,
+            block - 1
+        ),
+        Step::Bitonic { block, dist, .. } if block <= width => format!(
+            "bitonic stage of {block}-entry runs within rows, compare at distance {dist} (runs \
+             alternate ascending and descending; UberFlow §4.3.2, Fig. 1)"
+        ),
+        Step::Bitonic { block, dist, .. } => format!(
+            "bitonic merge of {}-row blocks, compare at distance {dist}{} (UberFlow §4.3.3)",
+            block / width,
+            if dist >= width {
+                format!(" ({} rows)", dist / width)
+            } else {
+                String::new()
+            }
+        ),
+        Step::OddEvenRecursion { step, count } => format!(
+            "odd-even merge, recursion program: stride {step}, sub-sequences of {count} entries, \
+             odd m against m+1 (Latta §3.4.4, Fig. 4-5)"
+        ),
+        Step::OddEvenEnd { step } => format!(
+            "odd-even merge, end program: stride {step}, halves of {} entries compared (Latta \
+             §3.4.4, Fig. 4-5)",
+            step
+        ),
+    }
+}
+
+/// The descriptions of a variant's passes on a `side`×`side` texture, in the order the sorter
+/// runs them (the sorter builds its passes from the same schedules).
+pub fn pass_descriptions(variant: Variant, side: u32, options: &SortOptions) -> Vec<String> {
+    let block = side * side;
+    match variant {
+        Variant::OddEven => odd_even_schedule(block)
+            .iter()
+            .map(|s| describe_step(s, side))
+            .collect(),
+        Variant::Multistep => group_steps(&bitonic_schedule(side, block), options.steps_per_pass)
+            .iter()
+            .map(|g| {
+                let parts: Vec<String> = g.iter().map(|s| describe_step(s, side)).collect();
+                format!("{} steps in one pass: {}", g.len(), parts.join("; then "))
+            })
+            .collect(),
+        _ => bitonic_schedule(side, block)
+            .iter()
+            .map(|s| describe_step(s, side))
+            .collect(),
+    }
+}
+
+/// Keys uniform in [0, 1) from `seed` (splitmix64), ids 0, 1, 2, ...
+pub fn random_entries(n: usize, seed: u64) -> Vec<Entry> {
+    let mut state = seed;
+    (0..n)
+        .map(|i| {
+            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            z ^= z >> 31;
+            [(z >> 40) as f32 / (1u64 << 24) as f32, i as f32]
+        })
+        .collect()
+}
+
+/// Reads a picture of keys back: the ramp position of each entry's square (key in [0, 1)), or
+/// `None` where a square is off the ramp. For tests and for checking a trace by eye.
+pub fn keys_from_picture(img: &image::RgbImage, side: u32) -> Vec<Option<f32>> {
+    let s = img.width() / side;
+    (0..side * side)
+        .map(|i| {
+            let (x, y) = ((i % side) * s + s / 2, (i / side) * s + s / 2);
+            ramp_position(img.get_pixel(x, y).0)
+        })
+        .collect()
+}
+
+/// Sorts `side`×`side` random keys with `variant`, writing `pass_000.png` (the input),
+/// `pass_001.png`, ... (the entries after each pass), `sort.gif` and `index.md` into `out`
+/// (which must exist).
+pub fn trace_sort(
+    ctx: &Context,
+    variant: Variant,
+    side: u32,
+    seed: u64,
+    out: &Path,
+) -> Result<Written> {
+    check_sort_size(side)?;
+    let options = SortOptions::default();
+    let mut sorter = Sorter::new(ctx, variant, side, side, options)?;
+    let entries = random_entries((side * side) as usize, seed);
+    sorter.load(&entries)?;
+    let descriptions = pass_descriptions(variant, side, &options);
+    if descriptions.len() != sorter.pass_count() {
+        return Err(Error::Gl(format!(
+            "the {} sorter runs {} passes, its schedule has {}",
+            variant.name(),
+            sorter.pass_count(),
+            descriptions.len()
+        )));
+    }
+    let mut pictures: Vec<image::RgbImage> = Vec::new();
+    let mut files: Vec<PathBuf> = Vec::new();
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "# Sort trace: {} on {side}×{side} random keys\n\n\
+         `texflow trace sort --variant {} --size {side} --seed {seed}`. Each picture is the sort \
+         texture read back after one pass: entry i is the square at column i mod {side}, row i \
+         div {side} (row 0 at the top); its colour is its key on a ramp from dark blue (0) to \
+         yellow (1). The keys are uniform in [0, 1); ids are the entries' starting places. \
+         Animation: [sort.gif](sort.gif).\n",
+        variant.name(),
+        variant.name()
+    );
+    let mut record = |index: usize, entries: &[Entry], what: &str| -> Result<()> {
+        let keys: Vec<f32> = entries.iter().map(|e| e[0]).collect();
+        let img = scalar(&keys, side, side, (0.0, 1.0));
+        let name = format!("pass_{index:03}.png");
+        let path = out.join(&name);
+        write_png_atomic(&path, &img)?;
+        let inversions = crate::sort::network::inversions(entries);
+        let _ = writeln!(
+            md,
+            "## {}\n\n{what}. Out of order afterwards: {inversions} pairs.\n\n![{name}]({name})\n",
+            if index == 0 {
+                "Input".to_owned()
+            } else {
+                format!("Pass {index} of {}", descriptions.len())
+            }
+        );
+        pictures.push(img);
+        files.push(path);
+        Ok(())
+    };
+    record(0, &entries, "The keys as loaded, before any pass")?;
+    for (i, d) in descriptions.iter().enumerate() {
+        sorter.run_passes(1);
+        let now = sorter.read()?;
+        record(i + 1, &now, d)?;
+    }
+    let last = sorter.read()?;
+    let sorted = last
+        .windows(2)
+        .all(|w| !crate::sort::entry_less(w[1], w[0]));
+    let gif = out.join("sort.gif");
+    let size = [pictures[0].width(), pictures[0].height()];
+    let mut video = VideoWriter::create(&gif, size, pictures.len() as u64, 4.0)?;
+    for p in &pictures {
+        video.push(p)?;
+    }
+    files.push(video.finish()?);
+    let index = out.join("index.md");
+    write_atomic(&index, md.as_bytes())?;
+    files.push(index);
+    Ok(Written {
+        files,
+        passes: descriptions.len(),
+        ok: sorted,
+    })
+}

@@ -14,6 +14,7 @@
 //! - `mesh`: the OBJ meshes of distance fields, read while parsing ([`read_obj`]).
 
 mod builtin;
+mod field_files;
 mod locate;
 mod mesh;
 mod parse;
@@ -24,6 +25,7 @@ pub use builtin::{
     builtin, builtin_source, fire, load, load_source, BUILTIN, BUILTIN_MESHES, BUILTIN_SOURCES,
     DEFAULT_SCENE,
 };
+pub use field_files::{grey_image, npy_field, MAX_FIELD_FILE};
 pub use locate::{Invalid, Key};
 pub use mesh::{read_obj, Triangle, MAX_TRIANGLES};
 pub use parse::{check_limits, parse, SizeLimits};

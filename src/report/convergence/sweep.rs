@@ -125,7 +125,7 @@ pub fn default_sweeps(size: Size) -> Vec<Sweep> {
         .with_coarsest(Integrator::Uberflow, 9)
         .with_coarsest(Integrator::Verlet, 4)
         .with_coarsest(Integrator::Heun, 5)
-        .with_coarsest(Integrator::Rk4, 3)
+        .with_coarsest(Integrator::Rk4, 4)
         .with_coarsest(Integrator::Leapfrog, 4),
         Sweep::new(
             Problem::Bounce {

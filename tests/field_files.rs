@@ -228,3 +228,46 @@ fn particles_rest_on_a_terrain_from_an_image() {
     assert!(landed > 10, "{landed} particles on the ground");
     common::no_gl_error(&ctx);
 }
+
+/// A non-square terrain from an `.npy` (24 nodes along x, 40 along z, a slope along z and ripples
+/// along x) on the GPU: the pass samples it with its own size per axis, so particles dropped on
+/// it rest on the CPU twin's surface (a swapped axis would put them a slope's height off).
+#[test]
+fn particles_rest_on_a_non_square_npy_terrain() {
+    let dir = tempfile::tempdir().unwrap();
+    let (nx, nz) = (24usize, 40usize);
+    let v: Vec<f32> = (0..nx * nz)
+        .map(|k| {
+            let (i, j) = (k % nx, k / nx);
+            j as f32 / (nz - 1) as f32 + 0.1 * (i as f32 * 0.9).sin()
+        })
+        .collect();
+    texflow::npy::write_f32_shaped(&dir.path().join("t.npy"), &[nz, nx], &v).unwrap();
+    let src = "name = \"slope\"\n[particles]\nsize = [16, 16]\n[time]\ndt = 0.01\n\
+               [[emitters.initial]]\nshape = \"box\"\ncenter = [0.0, 3.0, 0.0]\n\
+               size = [3.0, 0.1, 5.0]\ndirection = [0.0, -1.0, 0.0]\nspeed = [0.0, 0.5]\n\
+               [[forces.gravity]]\nacceleration = [0.0, -9.81, 0.0]\n\
+               [[forces.damping]]\nrate = 2.0\n\
+               [[colliders.heightfield]]\nnpy = \"t.npy\"\nextent = [-2.0, -3.0, 2.0, 3.0]\n\
+               amplitude = 1.5\nfriction = 1.0\nresilience = 0.0\n";
+    let path = dir.path().join("slope.toml");
+    std::fs::write(&path, src).unwrap();
+    let s = scene::load(path.to_str().unwrap()).unwrap();
+    let hf = HeightField::new(&s.colliders.heightfield[0]).unwrap();
+    assert_eq!(hf.resolution(), [24, 40]);
+    let ctx = common::context();
+    let mut sim = ParticleSim::new(&ctx, &s, 3).unwrap();
+    for _ in 0..300 {
+        sim.step().unwrap();
+    }
+    let mut resting = 0;
+    for p in sim.read_positions().unwrap().chunks(4) {
+        let (h, _) = hf.sample(p[0], p[2]);
+        assert!(p[1] >= h - 1e-3, "{p:?} below the terrain at {h}");
+        if p[1] < h + 0.02 {
+            resting += 1;
+        }
+    }
+    assert!(resting > 200, "{resting} of 256 resting on the terrain");
+    common::no_gl_error(&ctx);
+}

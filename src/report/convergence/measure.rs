@@ -293,7 +293,10 @@ pub fn run(
         sweep.check()?;
         for &integrator in &Integrator::ALL {
             for &precision in precisions {
-                if !precision.applies_to(integrator) {
+                let thesis_skipped = !sweep.thesis_in_every_precision
+                    && integrator.multistage()
+                    && precision != StatePrecision::Fp32;
+                if !precision.applies_to(integrator) || thesis_skipped {
                     continue;
                 }
                 progress(&format!(

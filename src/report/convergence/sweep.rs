@@ -27,6 +27,9 @@ pub struct Sweep {
     pub batch: usize,
     /// Refuse end times at turning points (off only to show what the check prevents).
     pub check_turning_points: bool,
+    /// Run the thesis's integrators ([`super::THESIS_INTEGRATORS`]) in every storage precision
+    /// asked for; when false, in fp32 alone (the quick report, which CI runs).
+    pub thesis_in_every_precision: bool,
 }
 
 impl Sweep {
@@ -40,6 +43,7 @@ impl Sweep {
             repeats: 9,
             batch: 10,
             check_turning_points: true,
+            thesis_in_every_precision: true,
         }
     }
 
@@ -139,6 +143,7 @@ pub fn default_sweeps(size: Size) -> Vec<Sweep> {
     ];
     for w in &mut s {
         w.repeats = repeats;
+        w.thesis_in_every_precision = size == Size::Full;
     }
     s
 }

@@ -239,3 +239,45 @@ fn stateless_time_stamps_follow_the_life_cycle() {
     assert!(seen > 100, "{seen}");
     no_gl_error(&ctx);
 }
+
+/// The CPU engine (E5) steps the thesis's integrators with the reference's `stages`: after 90
+/// frames of E1 (time-stamp emission, gravity) with each of them, every live particle is where
+/// the GPU engine put it, within the tolerance `tests/bench_scenes.rs` argues for the papers'
+/// integrators (2e-4 m + 1e-5 relative). It refuses a stateless scene, whose twin is the
+/// closed form, not a step.
+#[test]
+fn cpu_engine_steps_the_thesis_integrators() {
+    use texflow::engine::cpu::CpuSim;
+    let ctx = context();
+    for integrator in [Integrator::Heun, Integrator::Rk4, Integrator::Leapfrog] {
+        let mut s = scene::load("e1").unwrap();
+        s.particles.size = [16, 16];
+        s.integrator = integrator;
+        let mut gpu = texflow::Engine::new(&ctx, &s, 7).unwrap();
+        let mut cpu = CpuSim::new(&s, 7).unwrap();
+        for _ in 0..90 {
+            gpu.advance_frame().unwrap();
+            cpu.advance_frame();
+        }
+        let p = gpu.sim().read_positions().unwrap();
+        let mut compared = 0;
+        for i in 0..256 {
+            let g = glam::Vec4::from_slice(&p[4 * i..4 * i + 4]);
+            if !(g.is_finite() && g.w > 0.0) || !cpu.is_live(i) {
+                continue;
+            }
+            let d = (cpu.positions()[i].truncate() - g.truncate()).length();
+            assert!(
+                d <= 2e-4 + 1e-5 * g.truncate().length(),
+                "{integrator:?} particle {i}: {d}"
+            );
+            compared += 1;
+        }
+        assert!(compared > 50, "{integrator:?}: {compared} compared");
+    }
+    let mut s = scene::load("e1").unwrap();
+    s.integrator = Integrator::Euler;
+    s.simulation = scene::Simulation::Stateless;
+    assert!(CpuSim::new(&s, 1).is_err());
+    no_gl_error(&ctx);
+}

@@ -263,7 +263,8 @@ fn cpu_engine_steps_the_thesis_integrators() {
         let mut compared = 0;
         for i in 0..256 {
             let g = glam::Vec4::from_slice(&p[4 * i..4 * i + 4]);
-            if !(g.is_finite() && g.w > 0.0) || !cpu.is_live(i) {
+            let live = g.is_finite() && g.w > 0.0 && cpu.is_live(i);
+            if !live {
                 continue;
             }
             let d = (cpu.positions()[i].truncate() - g.truncate()).length();

@@ -98,6 +98,9 @@ fn glsl_samplers_match_their_cpu_twins() {
         frequency: 1.3,
         friction: 0.0,
         resilience: 1.0,
+        image: None,
+        npy: None,
+        heights: None,
     })
     .unwrap();
     let sdf = DistanceField::new(&SdfCollider {
@@ -107,6 +110,8 @@ fn glsl_samplers_match_their_cpu_twins() {
         boxes: vec![[0.1, -0.9, -0.6, 1.1, -0.2, 0.7]],
         mesh: None,
         triangles: vec![],
+        field: None,
+        distances: None,
         friction: 0.0,
         resilience: 1.0,
     })
@@ -118,6 +123,10 @@ fn glsl_samplers_match_their_cpu_twins() {
         bounds: [[-2.0, -1.1, -1.5], [2.0, 1.9, 1.5]],
         drag: 1.0,
         form: Default::default(),
+        curl: 0.0,
+        curl_scale: 1.0,
+        field: None,
+        data: None,
     })
     .unwrap();
 
@@ -439,6 +448,8 @@ fn mesh_collider(mesh: Vec<[[f32; 3]; 3]>, bounds: [[f32; 3]; 2], resolution: u3
         boxes: vec![],
         mesh: Some("test".into()),
         triangles: mesh,
+        field: None,
+        distances: None,
         friction: 0.0,
         resilience: 1.0,
     }

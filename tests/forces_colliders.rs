@@ -1664,3 +1664,66 @@ fn fp24_scenes_sort_with_the_identifier_table() {
     }
     no_gl_error(&ctx);
 }
+
+// ---------------------------------------------------------------------------------------------
+// The thesis's integrators (§2.1)
+// ---------------------------------------------------------------------------------------------
+
+/// Heun, RK4 and leapfrog (`glsl/sim/stages.glsl`) against the reference's `stages`, with
+/// gravity, damping, a vortex, an attractor and a wind at once (every force the reference
+/// models), so that each stage evaluates them at a state of its own (a wrong stage
+/// weight or a stage evaluated at the wrong state is off by O(dt²), thousands of tolerances),
+/// then with a sphere collider, whose response re-advances a stage-integrated step.
+#[test]
+fn thesis_integrators_match_the_reference() {
+    let ctx = context();
+    let body = "[[forces.gravity]]\nacceleration = [0.5, -9.81, 0.25]\n\
+                [[forces.damping]]\nrate = 0.4\n\
+                [[forces.vortex]]\npoint = [0.2, 0.0, -0.1]\naxis = [1.0, 2.0, 0.5]\n\
+                strength = 1.2\n\
+                [[forces.attractor]]\nposition = [0.0, 1.0, 0.0]\nstrength = 2.0\n\
+                softening = 0.3\n\
+                [[forces.wind]]\nvelocity = [1.0, 0.2, -0.5]\nturbulence = 0.8\n\
+                resolution = 9\nbounds = [[-1.0, -0.5, -1.5], [1.5, 2.0, 1.0]]\ndrag = 2.5\n";
+    let sphere = "[colliders]\nslow_speed = 0.5\n[[colliders.sphere]]\n\
+                  center = [0.2, 0.1, -0.3]\nradius = 0.6\nfriction = 0.3\nresilience = 0.8\n";
+    let dirs = [
+        Vec3::X,
+        -Vec3::X,
+        Vec3::Y,
+        -Vec3::Y,
+        Vec3::Z,
+        -Vec3::Z,
+        Vec3::new(1.0, 1.0, 1.0),
+        Vec3::new(-1.0, 0.5, -2.0),
+    ];
+    let surface: Vec<(Vec3, Vec3)> = dirs
+        .iter()
+        .map(|d| {
+            (
+                Vec3::new(0.2, 0.1, -0.3) + 0.6 * d.normalize(),
+                d.normalize(),
+            )
+        })
+        .collect();
+    for integrator in ["heun", "rk4", "leapfrog"] {
+        let s = scene(integrator, 0.02, &emitters(&[1.0, 2.0], false), body);
+        both(&ctx, &s, &scattered(7, N, 2.0, 3.0, 2), 50, TOL_STEP);
+        let s = scene(
+            integrator,
+            COLLIDER_DT,
+            &emitters(&[1.0, 2.0], false),
+            &format!("{sphere}{GRAVITY}"),
+        );
+        let sum = locked(
+            &ctx,
+            &s,
+            &around_all(&surface, COLLIDER_DT),
+            COLLIDER_STEPS,
+            TOL_STEP,
+        );
+        assert!(sum.events.hits > 0, "{integrator}: {:?}", sum.events);
+        assert!(sum.deepest >= -TOL_STEP, "{integrator}: left inside");
+    }
+    no_gl_error(&ctx);
+}

@@ -428,6 +428,7 @@ fn cli_report_all_quick_writes_every_file() {
         "collisions_density.png",
         "stability.json",
         "stability.md",
+        "baselines.csv",
         "summary.md",
     ];
     let problems = ["drag", "oscillator", "kepler", "bounce"];
@@ -532,9 +533,10 @@ fn cli_report_all_quick_writes_every_file() {
         assert!(r["stats"]["pairs_true"].as_u64().unwrap() > 0, "{r}");
     }
     assert!(missed("scene") <= missed("staggered off"), "{col:?}");
-    // Every curve: 3 integrators x 3 precisions, less Verlet's half-float velocities.
+    // Every curve: the papers' 3 integrators x 3 precisions, less Verlet's half-float
+    // velocities, and (quick) the thesis's 3 in fp32.
     let orders = std::fs::read_to_string(out_dir.join("convergence_orders.csv")).unwrap();
-    assert_eq!(orders.lines().count(), 1 + problems.len() * 8, "{orders}");
+    assert_eq!(orders.lines().count(), 1 + problems.len() * 11, "{orders}");
     let points = std::fs::read_to_string(out_dir.join("convergence.csv")).unwrap();
     assert!(points
         .lines()
@@ -551,6 +553,7 @@ fn cli_report_all_quick_writes_every_file() {
         "## Sort spread over frames",
         "## Collisions between particles",
         "## Stability on stiff and extreme cases",
+        "## Stateless against stateful",
         "## Files",
     ] {
         assert!(summary.contains(heading), "{heading} missing:\n{summary}");

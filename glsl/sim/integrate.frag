@@ -8,9 +8,15 @@
 //   EULER     Latta eq. 3 and 8: v' = v + a dt, x' = x + v' dt (velocity first)
 //   UBERFLOW  UberFlow eq. 1-2: v' = v + a dt, x' = x + (v + v') dt / 2
 //   VERLET    Latta eq. 9: x' = 2x - x_prev + a dt^2, velocity implied: (x - x_prev) / dt
+//   HEUN, RK4, LEAPFROG  the thesis's other schemes (§2.1): Heun's predictor-corrector, the
+//             classical fourth-order Runge-Kutta, leapfrog kick-drift-kick (sim/stages.glsl)
 // With the wind in UberFlow's form (eq. 1) the velocity also gains v_ext = w(x) in each step
 // (wind_kick; Verlet: x' gains w(x) dt).
 // Explicit integrators write position and velocity through MRT; Verlet writes positions only.
+// Without MRT (`passes = "separate"`, Latta §3.1) the pass is drawn twice: OUT_VELOCITY writes
+// the velocity alone, then OUT_POSITION the position alone; with POSITION_FROM_VELOCITY (Euler
+// and UberFlow without colliders, fp32 writes) the position pass reads the velocity the first
+// pass wrote, as Latta's does, else it recomputes the step: either way the bits are the MRT's.
 // Life: LIFE counts the remaining life down and moves the dead to infinity (Latta §3.4.1; the CPU
 // frees the index on its own clock). TIMESTAMP is UberFlow's emission (§4.1, §4.7): the static
 // texture holds each particle's phase; before it the particle is unborn and out of view; at the
@@ -41,7 +47,7 @@ uniform vec4 u_release_cloud;       // texels per cloud per type; 0: a cloud is 
 #endif
 
 vec3 advance(vec3 x, vec3 v, vec3 vb) {
-#ifdef UBERFLOW
+#if defined(UBERFLOW) || defined(MULTISTAGE)
     return x + 0.5 * (v + vb) * u_dt;
 #else
     return x + vb * u_dt;
@@ -49,20 +55,32 @@ vec3 advance(vec3 x, vec3 v, vec3 vb) {
 }
 
 #include "sim/forces.glsl"
+#ifdef MULTISTAGE
+#include "sim/stages.glsl"
+#endif
 #if HAS_COLLIDERS
 #include "sim/colliders.glsl"
 #endif
 
+#if defined(OUT_VELOCITY)
+layout(location = 0) out vec4 o_velocity;
+#elif defined(OUT_POSITION) || defined(VERLET)
 layout(location = 0) out vec4 o_position;
-#ifndef VERLET
+#else
+layout(location = 0) out vec4 o_position;
 layout(location = 1) out vec4 o_velocity;
+#endif
+#ifdef POSITION_FROM_VELOCITY
+uniform sampler2D u_new_velocity;
 #endif
 
 const float INF = uintBitsToFloat(0x7f800000u);
 
 void write_state(vec3 x, float life, vec3 v) {
+#ifndef OUT_VELOCITY
     o_position = fp_store(vec4(x, life));
-#ifndef VERLET
+#endif
+#if !defined(VERLET) && !defined(OUT_POSITION)
     o_velocity = fp_store(vec4(v, 0.0));
 #endif
 }
@@ -140,8 +158,14 @@ void main() {
     }
 #endif
 
-    vec3 a = acceleration(x, v, im);
+#ifdef POSITION_FROM_VELOCITY
+    // Latta's position pass: the new velocity is the one the velocity pass just wrote.
+    vec3 vn = texelFetch(u_new_velocity, t, 0).xyz;
+    write_state(advance(x, v, vn), life, vn);
+    return;
+#endif
 #ifdef VERLET
+    vec3 a = acceleration(x, v, im);
     vec3 xn = 2.0 * x - xp + a * (u_dt * u_dt) + wind_kick(x) * u_dt;
 #if HAS_COLLIDERS
     collide(x, xn);
@@ -150,8 +174,14 @@ void main() {
 #endif
     write_state(xn, life, vec3(0.0));
 #else
+#ifdef MULTISTAGE
+    vec3 xb, vb;
+    stages(x, v + wind_kick(x), im, force_age, xb, vb);
+#else
+    vec3 a = acceleration(x, v, im);
     vec3 vb = v + wind_kick(x) + a * u_dt;
     vec3 xb = advance(x, v, vb);
+#endif
 #if HAS_COLLIDERS
     collide(x, v, vb, xb);
     keep_outside(xb, vb);

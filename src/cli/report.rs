@@ -46,7 +46,7 @@ pub enum ReportCommand {
         #[arg(long)]
         quick: bool,
         /// Only these sections, comma-separated: tables, convergence, sort_frames, collisions,
-        /// stability, cost (default: all).
+        /// stability, cost, baselines (default: all).
         #[arg(long, value_delimiter = ',')]
         only: Vec<String>,
         /// Runs of each benchmark table (the tables section); every cell reports the run of

@@ -184,6 +184,42 @@ impl Framebuffer {
         .checked()
     }
 
+    /// A framebuffer whose one colour attachment is attachment `i` of `source`, which it does
+    /// not own: a pass into it writes that texture alone (a pass without multiple render
+    /// targets, Latta §3.1). Drop it before `source`, as for [`Framebuffer::layer`].
+    pub fn attachment(ctx: &Context, label: &str, source: &Framebuffer, i: usize) -> Result<Self> {
+        let Some(texture) = source.textures.get(i) else {
+            return Err(Error::InvalidInput(format!(
+                "framebuffer {label}: {} has no attachment {i}",
+                source.label
+            )));
+        };
+        // SAFETY: a fresh framebuffer; the texture is alive and belongs to this context.
+        let raw = unsafe {
+            let raw = ctx.create_framebuffer().map_err(Error::Gl)?;
+            ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
+            ctx.framebuffer_texture_2d(
+                glow::FRAMEBUFFER,
+                glow::COLOR_ATTACHMENT0,
+                glow::TEXTURE_2D,
+                Some(texture.raw()),
+                0,
+            );
+            ctx.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
+            raw
+        };
+        Framebuffer {
+            ctx: ctx.clone(),
+            raw,
+            textures: Vec::new(),
+            size: source.size,
+            attachments: 1,
+            bytes_per_texel: texture.format().bytes_per_texel(),
+            label: label.to_owned(),
+        }
+        .checked()
+    }
+
     /// Labels the (bound) framebuffer, checks its completeness and unbinds it.
     fn checked(self) -> Result<Self> {
         let (ctx, label) = (&self.ctx, &self.label);

@@ -12,6 +12,9 @@ use crate::error::Result;
 /// Double-buffered state of N textures.
 #[derive(Debug)]
 pub struct PingPong {
+    /// Per side, one framebuffer per texture ([`PingPong::with_single_targets`]); declared
+    /// first so that they drop before the textures they draw into.
+    singles: Option<[Vec<Framebuffer>; 2]>,
     sides: [Framebuffer; 2],
     front: usize,
     swaps: u64,
@@ -30,6 +33,7 @@ impl PingPong {
     ) -> Result<Self> {
         let side = |s: usize| side(ctx, label, names, formats, width, height, s);
         Ok(PingPong {
+            singles: None,
             sides: [side(0)?, side(1)?],
             front: 0,
             swaps: 0,
@@ -44,6 +48,29 @@ impl PingPong {
     /// The next state: write it.
     pub fn back(&self) -> &Framebuffer {
         &self.sides[1 - self.front]
+    }
+
+    /// Adds, for each side, a framebuffer per texture, for passes that write one texture of the
+    /// back alone ([`PingPong::back_single`]).
+    pub fn with_single_targets(mut self, ctx: &Context) -> Result<Self> {
+        let views = |s: usize| -> Result<Vec<Framebuffer>> {
+            let side = &self.sides[s];
+            (0..side.textures().len())
+                .map(|i| Framebuffer::attachment(ctx, &format!("{}/{i}", side.label()), side, i))
+                .collect()
+        };
+        self.singles = Some([views(0)?, views(1)?]);
+        Ok(self)
+    }
+
+    /// A framebuffer of texture `i` of the back alone. Panics unless made
+    /// [`with_single_targets`](PingPong::with_single_targets).
+    pub fn back_single(&self, i: usize) -> &Framebuffer {
+        let singles = self
+            .singles
+            .as_ref()
+            .expect("PingPong::with_single_targets before back_single");
+        &singles[1 - self.front][i]
     }
 
     /// Makes the back the front. Call once per step, after the passes that write the back.

@@ -10,6 +10,8 @@
 //!   (`texflow collide-stats`), and the sweep of its settings.
 //! - [`collisions`]: the miss rate of the collision detection against its GPU time.
 //! - [`plot`]: the log-log plots (the only user of `plotters` and the DejaVu font).
+//! - [`baselines`]: the stateless particle system (a closed form of start values and time)
+//!   against the stateful engine, on error and GPU time per step.
 //! - [`stability`]: the stiff spring and the stiff drag swept across their stability limits, and
 //!   the extreme cases (huge speeds and coordinates, tiny and zero time steps, half-float
 //!   overflow, identifiers beyond the float mantissa, 10^5 particles in one cell), each with its
@@ -19,6 +21,7 @@
 //! files into `DIR` and returns a markdown fragment, and `summary.md` joins the fragments. A new
 //! report is one more entry in [`sections`].
 
+pub mod baselines;
 pub mod collide_stats;
 pub mod collisions;
 pub mod convergence;
@@ -123,6 +126,10 @@ pub fn sections() -> Vec<Section> {
         Section {
             name: "cost",
             run: cost::section,
+        },
+        Section {
+            name: "baselines",
+            run: baselines::section,
         },
     ]
 }

@@ -18,6 +18,7 @@
 
 mod builtin;
 mod custom;
+mod field_files;
 mod locate;
 mod mesh;
 mod parse;
@@ -31,6 +32,7 @@ pub use builtin::{
     DEFAULT_SCENE, THESIS_SCENE,
 };
 pub use custom::{check_glsl, load_custom, read_glsl};
+pub use field_files::{grey_image, npy_field, MAX_FIELD_FILE};
 pub use locate::{Invalid, Key};
 pub use mesh::{read_obj, Triangle, MAX_TRIANGLES};
 pub use parse::{check_limits, check_point_size, parse, SizeLimits};

@@ -48,6 +48,7 @@ pub fn parse(path: &str, src: &str) -> Result<SceneFile> {
         ));
     }
     super::mesh::load_meshes(path, src, &doc, &mut scene)?;
+    super::field_files::load_field_files(path, src, &doc, &mut scene)?;
     // A custom force's GLSL file is named relative to the scene file, like its meshes.
     if !path.ends_with(" (built-in)") {
         if let Some(dir) = std::path::Path::new(path).parent() {
@@ -108,12 +109,41 @@ pub fn check_limits(
         ));
     }
     for (i, hf) in scene.colliders.heightfield.iter().enumerate() {
+        let (key, side) = match &hf.heights {
+            Some(d) => (
+                if hf.image.is_some() { "image" } else { "npy" },
+                d.size[0].max(d.size[1]),
+            ),
+            None => ("resolution", hf.resolution),
+        };
         over.push((
-            vec![N("colliders"), N("heightfield"), I(i), N("resolution")],
+            vec![N("colliders"), N("heightfield"), I(i), N(key)],
             "height-field texture side",
-            hf.resolution,
+            side,
             t,
         ));
+    }
+    // Fields from files: their sides are the files' shapes.
+    let side3 = |d: &Option<super::FieldData>| d.as_ref().map(|d| d.size.into_iter().max());
+    for (i, s) in scene.colliders.sdf.iter().enumerate() {
+        if let Some(Some(side)) = side3(&s.distances) {
+            over.push((
+                vec![N("colliders"), N("sdf"), I(i), N("field")],
+                "distance-field 3D texture side (the file's shape)",
+                side,
+                limits.max_3d_texture,
+            ));
+        }
+    }
+    for (i, w) in scene.forces.wind.iter().enumerate() {
+        if let Some(Some(side)) = side3(&w.data) {
+            over.push((
+                vec![N("forces"), N("wind"), I(i), N("field")],
+                "flow-field 3D texture side (the file's shape)",
+                side,
+                limits.max_3d_texture,
+            ));
+        }
     }
     for (i, s) in scene.colliders.sdf.iter().enumerate() {
         over.push((

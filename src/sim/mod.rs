@@ -12,4 +12,4 @@ pub mod reference;
 
 pub use fields::{DistanceField, FlowField, HeightField};
 pub use fire::{FireParams, FireSim};
-pub use particles::{Features, ParticleSim};
+pub use particles::{ClosedForm, Features, ParticleSim};

@@ -67,6 +67,9 @@ impl CpuSim {
         if scene.integrator == Integrator::Verlet {
             return Err(unsupported(scene, "Verlet integration"));
         }
+        if scene.simulation == crate::scene::Simulation::Stateless {
+            return Err(unsupported(scene, "the stateless simulation"));
+        }
         if scene.particles.precision == Precision::Fp24 {
             return Err(unsupported(scene, "fp24 precision"));
         }

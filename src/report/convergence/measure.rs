@@ -6,7 +6,7 @@ use serde::Serialize;
 
 use super::twin::{twin_sample, TwinState};
 use super::{fit, integrator_name, Curve, Metric, Point, PointStatus, Problem, StatePrecision};
-use super::{Sweep, FLOOR_FRACTION, INTEGRATORS, LARGE_FRACTION};
+use super::{Sweep, FLOOR_FRACTION, LARGE_FRACTION};
 use crate::bench::{median, Clock, PassTimer};
 use crate::error::{Error, Result};
 use crate::gl::Context;
@@ -279,7 +279,8 @@ pub struct ConvergenceReport {
     pub curves: Vec<Curve>,
 }
 
-/// Runs every sweep for every integrator and precision that applies.
+/// Runs every sweep for every integrator (the papers' and the thesis's, [`Integrator::ALL`]) and
+/// precision that applies.
 pub fn run(
     ctx: &Context,
     sweeps: &[Sweep],
@@ -290,9 +291,12 @@ pub fn run(
     let mut curves = Vec::new();
     for sweep in sweeps {
         sweep.check()?;
-        for &integrator in &INTEGRATORS {
+        for &integrator in &Integrator::ALL {
             for &precision in precisions {
-                if !precision.applies_to(integrator) {
+                let thesis_skipped = !sweep.thesis_in_every_precision
+                    && integrator.multistage()
+                    && precision != StatePrecision::Fp32;
+                if !precision.applies_to(integrator) || thesis_skipped {
                     continue;
                 }
                 progress(&format!(

@@ -1,5 +1,6 @@
 //! Work-precision diagrams (docs/numerics.md): for each problem with an exact solution,
-//! each integrator (Latta's Euler, UberFlow's update, Verlet) and each storage precision (fp32,
+//! each integrator (Latta's Euler, UberFlow's update, Verlet, and the thesis's Heun, fourth-order
+//! Runge-Kutta and leapfrog, §2.1) and each storage precision (fp32,
 //! half-float velocities, emulated 24-bit floats), a sweep of time steps run on the GPU through
 //! [`ParticleSim`](crate::sim::ParticleSim); the error at a fixed end time (or its maximum over
 //! the run) against the GPU time per simulated second, and the observed convergence order from
@@ -70,25 +71,24 @@ pub const LARGE_FRACTION: f64 = 0.3;
 /// Successive orders spreading more than this make a curve `erratic`.
 pub const ERRATIC_SPREAD: f64 = 0.3;
 
-/// The three integrators, in table order.
+/// The papers' three integrators (Latta, UberFlow), in table order.
 pub const INTEGRATORS: [Integrator; 3] =
     [Integrator::Euler, Integrator::Uberflow, Integrator::Verlet];
 
+/// The thesis's other three (§2.1), which the work-precision study measures beside them.
+pub const THESIS_INTEGRATORS: [Integrator; 3] =
+    [Integrator::Heun, Integrator::Rk4, Integrator::Leapfrog];
+
 fn integrator_index(i: Integrator) -> usize {
-    match i {
-        Integrator::Euler => 0,
-        Integrator::Uberflow => 1,
-        Integrator::Verlet => 2,
-    }
+    Integrator::ALL
+        .iter()
+        .position(|&j| j == i)
+        .expect("every integrator is in Integrator::ALL")
 }
 
 /// The scene-file name of an integrator.
 pub fn integrator_name(i: Integrator) -> &'static str {
-    match i {
-        Integrator::Euler => "euler",
-        Integrator::Uberflow => "uberflow",
-        Integrator::Verlet => "verlet",
-    }
+    i.name()
 }
 
 /// `texflow report all`'s convergence section.

@@ -161,6 +161,9 @@ pub fn write_files(r: &ConvergenceReport, out: &Path) -> Result<Vec<std::path::P
                     color: match c.integrator {
                         "euler" => (200, 40, 40),
                         "uberflow" => (30, 90, 200),
+                        "heun" => (230, 140, 20),
+                        "rk4" => (140, 50, 170),
+                        "leapfrog" => (20, 170, 180),
                         _ => (20, 140, 60),
                     },
                     marker: match c.precision {

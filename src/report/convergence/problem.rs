@@ -170,11 +170,22 @@ impl Problem {
         use Integrator::*;
         match (self, i) {
             // Exact for constant acceleration: errors are rounding only.
-            (Problem::Drag { drag, .. }, Uberflow | Verlet) if *drag == 0.0 => None,
-            // Velocity-dependent force: Euler's velocity update (all), and Verlet's
-            // backward-difference velocity, are first order.
+            (Problem::Drag { drag, .. }, Uberflow | Verlet | Heun | Rk4 | Leapfrog)
+                if *drag == 0.0 =>
+            {
+                None
+            }
+            // The Runge-Kutta schemes keep their order for velocity-dependent forces.
+            (Problem::Drag { .. }, Heun) => Some(2.0),
+            (Problem::Drag { .. }, Rk4) => Some(4.0),
+            // Velocity-dependent force: Euler's velocity update (all), Verlet's
+            // backward-difference velocity, and leapfrog's second kick with the half-step
+            // velocity, are first order.
             (Problem::Drag { .. }, _) => Some(1.0),
-            (Problem::Oscillator { .. } | Problem::Kepler { .. }, Verlet) => Some(2.0),
+            (Problem::Oscillator { .. } | Problem::Kepler { .. }, Rk4) => Some(4.0),
+            (Problem::Oscillator { .. } | Problem::Kepler { .. }, Verlet | Heun | Leapfrog) => {
+                Some(2.0)
+            }
             (Problem::Oscillator { .. } | Problem::Kepler { .. }, _) => Some(1.0),
             (Problem::Bounce { .. }, _) => Some(1.0),
         }

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use super::{integrator_index, Problem, INTEGRATORS};
+use super::{integrator_index, Problem};
 use crate::error::{Error, Result};
 use crate::report::Size;
 use crate::scene::Integrator;
@@ -14,9 +14,9 @@ use crate::scene::Integrator;
 pub struct Sweep {
     /// The problem.
     pub problem: Problem,
-    /// Per integrator (in [`INTEGRATORS`] order): the coarsest time step is 2^-k s. Powers of
-    /// two are exact in f32, so the end time is exactly n·dt.
-    pub coarsest: [i32; 3],
+    /// Per integrator (in [`Integrator::ALL`] order): the coarsest time step is 2^-k s. Powers
+    /// of two are exact in f32, so the end time is exactly n·dt.
+    pub coarsest: [i32; 6],
     /// Time steps per integrator, each half the one before.
     pub count: usize,
     /// State side: side × side particles per run.
@@ -27,6 +27,9 @@ pub struct Sweep {
     pub batch: usize,
     /// Refuse end times at turning points (off only to show what the check prevents).
     pub check_turning_points: bool,
+    /// Run the thesis's integrators ([`super::THESIS_INTEGRATORS`]) in every storage precision
+    /// asked for; when false, in fp32 alone (the quick report, which CI runs).
+    pub thesis_in_every_precision: bool,
 }
 
 impl Sweep {
@@ -34,12 +37,13 @@ impl Sweep {
     pub fn new(problem: Problem, coarsest: i32, count: usize, side: u32) -> Self {
         Sweep {
             problem,
-            coarsest: [coarsest; 3],
+            coarsest: [coarsest; 6],
             count,
             side,
             repeats: 9,
             batch: 10,
             check_turning_points: true,
+            thesis_in_every_precision: true,
         }
     }
 
@@ -68,7 +72,7 @@ impl Sweep {
             return Err(Error::InvalidInput("a sweep needs time steps".into()));
         }
         if self.check_turning_points {
-            for &i in &INTEGRATORS {
+            for &i in &Integrator::ALL {
                 for dt in self.dts(i) {
                     self.problem.check_end_time(self.steps(dt) as f64 * dt)?;
                 }
@@ -82,6 +86,9 @@ impl Sweep {
 /// asymptotic range or hit the floor: on the Kepler orbit UberFlow's energy drifts by about
 /// 3·dt·t (it needs dt eight times smaller than Euler for the same error) and Verlet reaches the
 /// f32 floor (its velocity is a difference of positions) near 10^-4, so it starts coarser.
+/// Fourth-order Runge-Kutta reaches the f32 floor within a few halvings from the others' start,
+/// so it starts at dt = 1 s (ω·dt = 1, inside its stability region) on the oscillator and the
+/// drag, and coarser on the orbit.
 pub fn default_sweeps(size: Size) -> Vec<Sweep> {
     let (side, n, periods, repeats) = match size {
         Size::Full => (32, 5, 50.0, 9),
@@ -98,7 +105,8 @@ pub fn default_sweeps(size: Size) -> Vec<Sweep> {
             n,
             side,
         )
-        .with_coarsest(Integrator::Verlet, 4),
+        .with_coarsest(Integrator::Verlet, 4)
+        .with_coarsest(Integrator::Rk4, 1),
         Sweep::new(
             Problem::Oscillator {
                 omega: 1.0,
@@ -107,7 +115,8 @@ pub fn default_sweeps(size: Size) -> Vec<Sweep> {
             2,
             n,
             side,
-        ),
+        )
+        .with_coarsest(Integrator::Rk4, 0),
         Sweep::new(
             Problem::Kepler {
                 eccentricity: 0.6,
@@ -118,7 +127,10 @@ pub fn default_sweeps(size: Size) -> Vec<Sweep> {
             side,
         )
         .with_coarsest(Integrator::Uberflow, 9)
-        .with_coarsest(Integrator::Verlet, 4),
+        .with_coarsest(Integrator::Verlet, 4)
+        .with_coarsest(Integrator::Heun, 5)
+        .with_coarsest(Integrator::Rk4, 4)
+        .with_coarsest(Integrator::Leapfrog, 4),
         Sweep::new(
             Problem::Bounce {
                 resilience: 0.8,
@@ -131,6 +143,7 @@ pub fn default_sweeps(size: Size) -> Vec<Sweep> {
     ];
     for w in &mut s {
         w.repeats = repeats;
+        w.thesis_in_every_precision = size == Size::Full;
     }
     s
 }

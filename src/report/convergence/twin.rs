@@ -57,8 +57,40 @@ impl Twin {
 
     fn advance(&self, x: DVec3, v: DVec3, vb: DVec3) -> DVec3 {
         match self.integrator {
-            Integrator::Uberflow => x + 0.5 * (v + vb) * self.dt,
-            _ => x + vb * self.dt,
+            Integrator::Euler | Integrator::Verlet => x + vb * self.dt,
+            _ => x + 0.5 * (v + vb) * self.dt,
+        }
+    }
+
+    /// `stages` of `glsl/sim/stages.glsl`: Heun, RK4 or leapfrog. New (x, v).
+    fn stages(&self, x: DVec3, v: DVec3) -> (DVec3, DVec3) {
+        let h = self.dt;
+        let acc = |x: DVec3, v: DVec3| self.accel(x, v);
+        match self.integrator {
+            Integrator::Heun => {
+                let a1 = acc(x, v);
+                let (x2, v2) = (x + h * v, v + h * a1);
+                (x + 0.5 * h * (v + v2), v + 0.5 * h * (a1 + acc(x2, v2)))
+            }
+            Integrator::Rk4 => {
+                let hh = 0.5 * h;
+                let a1 = acc(x, v);
+                let v2 = v + hh * a1;
+                let a2 = acc(x + hh * v, v2);
+                let v3 = v + hh * a2;
+                let a3 = acc(x + hh * v2, v3);
+                let v4 = v + h * a3;
+                let a4 = acc(x + h * v3, v4);
+                (
+                    x + h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4),
+                    v + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4),
+                )
+            }
+            _ => {
+                let vh = v + 0.5 * h * acc(x, v);
+                let xn = x + h * vh;
+                (xn, vh + 0.5 * h * acc(xn, vh))
+            }
         }
     }
 
@@ -86,8 +118,12 @@ impl Twin {
         }
         let mut x = s.x;
         let v = s.v;
-        let mut vb = v + self.accel(x, v) * dt;
-        let mut xb = self.advance(x, v, vb);
+        let (mut xb, mut vb) = if self.integrator.multistage() {
+            self.stages(x, v)
+        } else {
+            let vb = v + self.accel(x, v) * dt;
+            (self.advance(x, v, vb), vb)
+        };
         if let Some(e) = self.plane {
             if xb.y < 0.0 {
                 if x.y < 0.0 {

@@ -34,6 +34,19 @@ pub fn spring_theory(integrator: Integrator, h: f64) -> f64 {
         Integrator::Uberflow => spectral_radius(2.0 - h * h / 2.0, 1.0 + h * h / 2.0),
         // x' = (2 - h²) x - x_prev: det 1, trace 2 - h².
         Integrator::Verlet => spectral_radius(2.0 - h * h, 1.0),
+        // I + hA + (hA)²/2 with A² = -I: [[1 - h²/2, h], [-h, 1 - h²/2]].
+        Integrator::Heun => {
+            let c = 1.0 - h * h / 2.0;
+            spectral_radius(2.0 * c, c * c + h * h)
+        }
+        // Σ (hA)^k / k! to k = 4: c I + s A, eigenvalues c ± i s.
+        Integrator::Rk4 => {
+            let c = 1.0 - h * h / 2.0 + h.powi(4) / 24.0;
+            let s = h - h.powi(3) / 6.0;
+            spectral_radius(2.0 * c, c * c + s * s)
+        }
+        // Kick-drift-kick: symplectic, trace 2 - h², det 1, as Verlet.
+        Integrator::Leapfrog => spectral_radius(2.0 - h * h, 1.0),
     }
 }
 

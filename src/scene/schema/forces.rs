@@ -169,12 +169,20 @@ pub struct Wind {
     /// Which form.
     #[serde(default)]
     pub form: WindForm,
-    /// Mean wind velocity.
+    /// Mean wind velocity (added to `field` and to the curl noise, when given).
+    #[serde(default)]
     pub velocity: [f32; 3],
     /// Amplitude of the field's variation around the mean.
     #[serde(default)]
     pub turbulence: f32,
-    /// Flow-field texture size per axis.
+    /// Amplitude (m/s) of curl noise added to the wind: the curl of a gradient-noise vector
+    /// potential, divergence-free (the discrete divergence of the texture vanishes).
+    #[serde(default)]
+    pub curl: f32,
+    /// Size (m) of the curl noise's swirls: the period of its noise lattice.
+    #[serde(default = "one")]
+    pub curl_scale: f32,
+    /// Flow-field texture size per axis (not with `field`, whose shape gives it).
     #[serde(default = "wind_resolution")]
     pub resolution: u32,
     /// Region the field covers: [min corner, max corner].
@@ -182,6 +190,25 @@ pub struct Wind {
     /// Stokes drag coefficient: 1/s for `drag`, kg/s for `latta`, absent for `uberflow`.
     #[serde(default)]
     pub drag: f32,
+    /// A measured or precomputed wind: a float32 `.npy` of shape (nz, ny, nx, 3), or (nz, nx, 3)
+    /// for a layer the same at every height, spread over `bounds` (relative to the scene file).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub field: Option<String>,
+    /// The velocities of `field`, read when the scene file is parsed.
+    #[serde(skip)]
+    pub data: Option<FieldData>,
+}
+
+/// Values of a field read from a file a scene names: `size` nodes per axis (x fastest, then y,
+/// then z), `channels` floats per node.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct FieldData {
+    /// Nodes per axis [x, y, z] (1 for an axis the file does not have).
+    pub size: [u32; 3],
+    /// Floats per node.
+    pub channels: usize,
+    /// The values, x fastest.
+    pub data: Vec<f32>,
 }
 
 fn wind_resolution() -> u32 {
@@ -267,15 +294,28 @@ pub struct BoxCollider {
 pub struct HeightFieldCollider {
     /// Region [min x, min z, max x, max z].
     pub extent: [f32; 4],
-    /// Texture size per axis.
+    /// Texture size per axis (procedural hills only: a file's size gives it).
+    #[serde(default)]
     pub resolution: u32,
     /// Base height.
     #[serde(default)]
     pub base: f32,
-    /// Amplitude of the hills.
+    /// Amplitude of the hills, or the height of a file's value 1 above `base`.
     pub amplitude: f32,
-    /// Spatial frequency of the hills (1/m).
+    /// Spatial frequency of the hills (1/m; procedural hills only).
+    #[serde(default)]
     pub frequency: f32,
+    /// A grey PNG, 8 or 16 bits (relative to the scene file): height = base + amplitude ·
+    /// grey / max grey; its first row is min z, its columns run along x.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub image: Option<String>,
+    /// A float32 `.npy` of shape (nz, nx) (relative to the scene file): height = base +
+    /// amplitude · value.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub npy: Option<String>,
+    /// The values of `image` or `npy` (in [0, 1] for an image), read when the scene is parsed.
+    #[serde(skip)]
+    pub heights: Option<FieldData>,
     /// Friction μ in [0, 1] (Latta eq. 5).
     #[serde(default)]
     pub friction: f32,
@@ -291,8 +331,16 @@ pub struct HeightFieldCollider {
 pub struct SdfCollider {
     /// Region the field covers: [min corner, max corner].
     pub bounds: [[f32; 3]; 2],
-    /// Texture size per axis.
+    /// Texture size per axis (not with `field`, whose shape gives it).
+    #[serde(default)]
     pub resolution: u32,
+    /// A signed distance field from a file: a float32 `.npy` of shape (nz, ny, nx), metres,
+    /// negative inside, over `bounds` (relative to the scene file).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub field: Option<String>,
+    /// The distances of `field`, read when the scene file is parsed.
+    #[serde(skip)]
+    pub distances: Option<FieldData>,
     /// Spheres [x, y, z, radius] united into the shape.
     #[serde(default)]
     pub spheres: Vec<[f32; 4]>,

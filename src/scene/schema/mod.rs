@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 
 pub use emitters::{AllocatorKind, Burst, Emitter, Emitters, Shape, MAX_BURSTS, MAX_EMITTERS};
 pub use forces::{
-    Attractor, BoxCollider, Colliders, CustomForce, Damping, Falloff, Forces, Gravity,
+    Attractor, BoxCollider, Colliders, CustomForce, Damping, Falloff, FieldData, Forces, Gravity,
     HeightFieldCollider, PlaneCollider, SdfCollider, SphereCollider, Spring, Vortex, VortexForm,
     Wind, WindForm, MAX_CUSTOM_FORCES,
 };
@@ -42,9 +42,19 @@ pub struct SceneFile {
     /// Time step.
     #[serde(default)]
     pub time: Time,
-    /// Integrator: `euler` (Latta eq. 3, 8), `uberflow` (eq. 1-2), `verlet` (Latta eq. 9).
+    /// Integrator: `euler` (Latta eq. 3, 8), `uberflow` (eq. 1-2), `verlet` (Latta eq. 9), or
+    /// the thesis's others (§2.1): `heun`, `rk4`, `leapfrog`.
     #[serde(default)]
     pub integrator: Integrator,
+    /// How an explicit integrator writes position and velocity: `mrt` (one pass, two render
+    /// targets) or `separate` (a velocity pass, then a position pass: Latta §3.1 without MRT).
+    #[serde(default)]
+    pub passes: UpdatePasses,
+    /// `stateful` (the default: state textures updated step by step) or `stateless` (Latta
+    /// §2.1, thesis §2.2.5: every step from start values and time, by a closed form; gravity,
+    /// damping and a constant wind only).
+    #[serde(default)]
+    pub simulation: Simulation,
     /// Emitters by kind.
     #[serde(default)]
     pub emitters: Emitters,
@@ -135,6 +145,66 @@ pub enum Integrator {
     Uberflow,
     /// Position Verlet with three position textures and no velocity pass.
     Verlet,
+    /// Heun's predictor-corrector (explicit trapezoid), second order.
+    Heun,
+    /// The classical fourth-order Runge-Kutta.
+    Rk4,
+    /// Leapfrog, kick-drift-kick: second order, symplectic for forces of position alone.
+    Leapfrog,
+}
+
+impl Integrator {
+    /// Every integrator, in table order.
+    pub const ALL: [Integrator; 6] = [
+        Integrator::Euler,
+        Integrator::Uberflow,
+        Integrator::Verlet,
+        Integrator::Heun,
+        Integrator::Rk4,
+        Integrator::Leapfrog,
+    ];
+
+    /// The scene-file name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Integrator::Euler => "euler",
+            Integrator::Uberflow => "uberflow",
+            Integrator::Verlet => "verlet",
+            Integrator::Heun => "heun",
+            Integrator::Rk4 => "rk4",
+            Integrator::Leapfrog => "leapfrog",
+        }
+    }
+
+    /// Whether the scheme evaluates the forces at intermediate states (`glsl/sim/stages.glsl`).
+    pub fn multistage(self) -> bool {
+        matches!(
+            self,
+            Integrator::Heun | Integrator::Rk4 | Integrator::Leapfrog
+        )
+    }
+}
+
+/// Whether particles keep a state between steps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Simulation {
+    /// Position and velocity textures integrated step by step (Latta §3, UberFlow §4.2).
+    #[default]
+    Stateful,
+    /// Positions and velocities from start values and time by a closed form (Latta §2.1).
+    Stateless,
+}
+
+/// How the velocity and position textures of an explicit integrator are written in a step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum UpdatePasses {
+    /// One pass writing both through multiple render targets (thesis §3.2, UberFlow).
+    #[default]
+    Mrt,
+    /// A velocity pass, then a position pass (Latta §3.1, hardware without MRT).
+    Separate,
 }
 
 /// Inter-particle collisions as UberFlow does them: particles sorted by the index of their cell

@@ -83,11 +83,36 @@ pub(super) fn colliders(s: &SceneFile) -> Check {
         bounded(at("base"), "base", &[hf.base])?;
         bounded(at("amplitude"), "amplitude", &[hf.amplitude])?;
         bounded(at("frequency"), "frequency", &[hf.frequency])?;
-        if !(2..=4096).contains(&hf.resolution) {
-            return fail(
-                path(&[N("colliders"), N("heightfield"), I(i), N("resolution")]),
-                "resolution must lie in 2..=4096",
-            );
+        match (&hf.image, &hf.npy) {
+            (Some(_), Some(_)) => {
+                return fail(
+                    at("npy"),
+                    "a height field is an image or an npy file: remove one",
+                );
+            }
+            (None, None) => {
+                if !(2..=4096).contains(&hf.resolution) {
+                    return fail(at("resolution"), "resolution must lie in 2..=4096");
+                }
+                if hf.frequency <= 0.0 {
+                    return fail(
+                        at("frequency"),
+                        "procedural hills need a frequency above 0 (1/m), or give image or npy",
+                    );
+                }
+            }
+            _ if hf.resolution != 0 || hf.frequency != 0.0 => {
+                return fail(
+                    at(if hf.resolution != 0 {
+                        "resolution"
+                    } else {
+                        "frequency"
+                    }),
+                    "a height field from a file takes its resolution from the file and has no \
+                     frequency: remove the key",
+                );
+            }
+            _ => {}
         }
         if hf.extent[0] >= hf.extent[2] || hf.extent[1] >= hf.extent[3] {
             return fail(
@@ -102,6 +127,39 @@ pub(super) fn colliders(s: &SceneFile) -> Check {
         )?;
     }
     for (i, sdf) in c.sdf.iter().enumerate() {
+        if sdf.field.is_some() {
+            let at = |k| path(&[N("colliders"), N("sdf"), I(i), N(k)]);
+            if sdf.resolution != 0 || sdf.mesh.is_some() {
+                return fail(
+                    at(if sdf.resolution != 0 {
+                        "resolution"
+                    } else {
+                        "mesh"
+                    }),
+                    "a distance field from a file takes its resolution and shape from the file: \
+                     remove the key",
+                );
+            }
+            if !(sdf.spheres.is_empty() && sdf.boxes.is_empty()) {
+                return fail(
+                    at("field"),
+                    "a distance field is a file or spheres and boxes: remove one",
+                );
+            }
+            for (c, corner) in sdf.bounds.iter().enumerate() {
+                bounded(
+                    path(&[N("colliders"), N("sdf"), I(i), N("bounds"), I(c)]),
+                    "bounds",
+                    corner,
+                )?;
+            }
+            check_response(
+                path(&[N("colliders"), N("sdf"), I(i)]),
+                sdf.friction,
+                sdf.resilience,
+            )?;
+            continue;
+        }
         if !(2..=256).contains(&sdf.resolution) {
             return fail(
                 path(&[N("colliders"), N("sdf"), I(i), N("resolution")]),

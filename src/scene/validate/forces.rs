@@ -132,6 +132,29 @@ pub(super) fn forces(s: &SceneFile) -> Check {
         if wnd.turbulence < 0.0 {
             return fail(at("turbulence"), "turbulence must not be negative");
         }
+        bounded(at("curl"), "curl", &[wnd.curl])?;
+        if wnd.curl < 0.0 {
+            return fail(at("curl"), "curl must not be negative");
+        }
+        if !(wnd.curl_scale > 0.0 && wnd.curl_scale <= super::MAX_COORDINATE) {
+            return fail(at("curl_scale"), "curl_scale must be above 0 m");
+        }
+        if wnd.field.is_some() && (wnd.turbulence != 0.0 || wnd.curl != 0.0) {
+            return fail(
+                at(if wnd.curl != 0.0 {
+                    "curl"
+                } else {
+                    "turbulence"
+                }),
+                "a wind from a file is the file's field plus the mean velocity: remove the key",
+            );
+        }
+        if wnd.field.is_some() && wnd.resolution != 32 {
+            return fail(
+                at("resolution"),
+                "a wind from a file takes its resolution from the file's shape: remove resolution",
+            );
+        }
         if !(2..=256).contains(&wnd.resolution) {
             return fail(at("resolution"), "resolution must lie in 2..=256");
         }

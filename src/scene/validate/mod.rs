@@ -13,7 +13,7 @@ mod forces;
 mod render;
 
 use super::locate::{Invalid, Key};
-use super::schema::{Integrator, SceneFile};
+use super::schema::{Integrator, SceneFile, Simulation, UpdatePasses, WindForm};
 
 use Key::{Index as I, Name as N};
 
@@ -126,6 +126,8 @@ impl SceneFile {
         }
         particles(self)?;
         time(self)?;
+        update_passes(self)?;
+        stateless(self)?;
         emitters::emitters(self)?;
         bursts::bursts(self)?;
         forces::forces(self)?;
@@ -196,6 +198,106 @@ fn time(s: &SceneFile) -> Check {
                  more frames",
                 s.time.substeps
             ),
+        );
+    }
+    Ok(())
+}
+
+/// `passes`: only what writes two state textures can write them in two passes.
+fn update_passes(s: &SceneFile) -> Check {
+    if s.passes == UpdatePasses::Separate && s.integrator == Integrator::Verlet {
+        return fail(
+            path(&[N("passes")]),
+            "Verlet writes one texture per step (the next position; Latta §3.4.3: no velocity \
+             pass), so there is nothing to split: use passes = \"mrt\" or an explicit integrator",
+        );
+    }
+    if s.passes == UpdatePasses::Separate && s.fire.is_some() {
+        return fail(
+            path(&[N("passes")]),
+            "the fire's step is one MRT pass (thesis §3.2): remove passes",
+        );
+    }
+    Ok(())
+}
+
+/// `simulation = "stateless"`: only motions with a closed form (Latta §2.1).
+fn stateless(s: &SceneFile) -> Check {
+    if s.simulation != Simulation::Stateless {
+        return Ok(());
+    }
+    let why = "a stateless simulation computes positions from start values and time by a \
+               closed form (gravity, damping and a constant wind only)";
+    if s.fire.is_some() {
+        return fail(
+            path(&[N("simulation")]),
+            "the fire respawns in its shader step by step (thesis §3.4): remove simulation",
+        );
+    }
+    let f = &s.forces;
+    let c = &s.colliders;
+    let refused: [(&str, &str, usize); 9] = [
+        ("forces", "attractor", f.attractor.len()),
+        ("forces", "spring", f.spring.len()),
+        ("forces", "vortex", f.vortex.len()),
+        ("forces", "custom", f.custom.len()),
+        ("colliders", "plane", c.plane.len()),
+        ("colliders", "sphere", c.sphere.len()),
+        ("colliders", "box", c.boxes.len()),
+        ("colliders", "heightfield", c.heightfield.len()),
+        ("colliders", "sdf", c.sdf.len()),
+    ];
+    for (section, kind, n) in refused {
+        if n > 0 {
+            return fail(
+                path(&[N(section), N(kind), I(0)]),
+                format!("{why}: a {kind} has none; remove it or use simulation = \"stateful\""),
+            );
+        }
+    }
+    if let Some((i, w)) = f.wind.iter().enumerate().find(|(_, w)| {
+        w.turbulence != 0.0 || w.curl != 0.0 || w.field.is_some() || w.form == WindForm::Uberflow
+    }) {
+        let key = if w.turbulence != 0.0 {
+            "turbulence"
+        } else if w.curl != 0.0 {
+            "curl"
+        } else if w.field.is_some() {
+            "field"
+        } else {
+            "form"
+        };
+        return fail(
+            path(&[N("forces"), N("wind"), I(i), N(key)]),
+            format!(
+                "{why}: the wind must be constant (no turbulence, curl or field) and act through drag \
+                 (form = \"drag\" or \"latta\"; UberFlow's v += w is a per-step kick)"
+            ),
+        );
+    }
+    if s.collisions.is_some() {
+        return fail(
+            path(&[N("collisions")]),
+            format!("{why}: remove [collisions]"),
+        );
+    }
+    if !s.emitters.allocator.is_empty() {
+        return fail(
+            path(&[N("emitters"), N("allocator"), I(0)]),
+            format!(
+                "{why}; the allocator's births are placed by the CPU step by step: use timestamp \
+                 or initial emitters"
+            ),
+        );
+    }
+    if s.integrator != Integrator::Euler || s.passes != UpdatePasses::Mrt {
+        return fail(
+            path(&[N(if s.integrator != Integrator::Euler {
+                "integrator"
+            } else {
+                "passes"
+            })]),
+            format!("{why}, with no integrator and one pass: remove the key"),
         );
     }
     Ok(())

@@ -51,6 +51,8 @@ enum Shapes {
     /// A closed triangle mesh: scan-converted on the GPU (`scan`), the CPU's texels computed
     /// only when the CPU samples the field.
     Mesh(Vec<Triangle>),
+    /// Distances read from a file (`field`): its texels, interpolated trilinearly.
+    File(Box<Grid3>),
 }
 
 impl Shapes {
@@ -58,6 +60,7 @@ impl Shapes {
         match self {
             Shapes::Union { spheres, boxes } => union_distance(spheres, boxes, p),
             Shapes::Mesh(triangles) => mesh_distance(triangles, p),
+            Shapes::File(grid) => grid.trilinear(p).x,
         }
     }
 }
@@ -86,6 +89,15 @@ impl DistanceField {
     /// axis; for a mesh (`c.triangles`, read by `scene::parse` from `c.mesh`) that is left to
     /// the GPU's scan conversion in [`DistanceField::upload`].
     pub fn new(c: &SdfCollider) -> Result<Self> {
+        if let Some(d) = &c.distances {
+            let axes = grid::axes("distance field", c.bounds, d.size)?;
+            let grid = Grid3::from_data("distance field", axes, 1, d.data.clone())?;
+            return Ok(DistanceField {
+                axes,
+                shapes: Shapes::File(Box::new(grid.clone())),
+                grid: OnceLock::from(grid),
+            });
+        }
         let r = c.resolution;
         let axes = grid::axes("distance field", c.bounds, [r, r, r])?;
         if c.mesh.is_some() || !c.triangles.is_empty() {
@@ -172,11 +184,12 @@ impl DistanceField {
     pub fn triangles(&self) -> &[Triangle] {
         match &self.shapes {
             Shapes::Mesh(t) => t,
-            Shapes::Union { .. } => &[],
+            Shapes::Union { .. } | Shapes::File(_) => &[],
         }
     }
 
-    /// The exact distance of the union or the mesh at `p` (double precision, rounded once).
+    /// The exact distance of the union or the mesh at `p` (double precision, rounded once); for
+    /// a field from a file, its trilinear interpolation.
     pub fn analytic_distance(&self, p: Vec3) -> f32 {
         self.shapes.distance(p)
     }
@@ -251,7 +264,7 @@ impl DistanceField {
     /// and boxes; a mesh scan-converted on the GPU, one fragment pass per slice (UberFlow §4.6).
     pub fn upload(&self, ctx: &Context) -> Result<Texture3D> {
         match &self.shapes {
-            Shapes::Union { .. } => self.grid().upload(ctx, "sdf"),
+            Shapes::Union { .. } | Shapes::File(_) => self.grid().upload(ctx, "sdf"),
             Shapes::Mesh(t) => scan_convert(ctx, t, self.bounds(), self.resolution()),
         }
     }
@@ -270,6 +283,8 @@ mod tests {
             boxes: vec![[0.2, -0.6, -0.4, 0.8, 0.0, 0.3]],
             mesh: None,
             triangles: vec![],
+            field: None,
+            distances: None,
             friction: 0.0,
             resilience: 1.0,
         }
@@ -334,6 +349,8 @@ mod tests {
             boxes: vec![],
             mesh: None,
             triangles: vec![],
+            field: None,
+            distances: None,
             friction: 0.0,
             resilience: 1.0,
         };
@@ -365,6 +382,8 @@ mod tests {
             boxes: vec![],
             mesh: None,
             triangles: vec![],
+            field: None,
+            distances: None,
             friction: 0.0,
             resilience: 1.0,
         };

@@ -75,16 +75,6 @@ pub(super) fn axes(what: &str, bounds: [[f32; 3]; 2], res: [u32; 3]) -> Result<[
 }
 
 impl Grid3 {
-    pub(super) fn build(
-        what: &str,
-        bounds: [[f32; 3]; 2],
-        res: [u32; 3],
-        channels: usize,
-        f: impl Fn(Vec3) -> Vec4,
-    ) -> Result<Self> {
-        Ok(Self::from_axes(axes(what, bounds, res)?, channels, f))
-    }
-
     /// The grid on `axes` with texel `(i, j, k)` the first `channels` of `f` at its node.
     pub(super) fn from_axes(axes: [Axis; 3], channels: usize, f: impl Fn(Vec3) -> Vec4) -> Self {
         let [nx, ny, nz] = axes.map(|a| a.n as usize);
@@ -102,6 +92,27 @@ impl Grid3 {
             channels,
             data,
         }
+    }
+
+    /// The grid on `axes` with the given texels (x fastest, `channels` each), checked for length.
+    pub(super) fn from_data(
+        what: &str,
+        axes: [Axis; 3],
+        channels: usize,
+        data: Vec<f32>,
+    ) -> Result<Self> {
+        let want = axes.iter().map(|a| a.n as usize).product::<usize>() * channels;
+        if data.len() != want {
+            return Err(Error::InvalidInput(format!(
+                "{what}: {} values given, the grid needs {want}",
+                data.len()
+            )));
+        }
+        Ok(Grid3 {
+            axes,
+            channels,
+            data,
+        })
     }
 
     pub(super) fn res(&self) -> [u32; 3] {

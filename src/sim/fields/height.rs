@@ -23,7 +23,17 @@ pub struct HeightField {
 impl HeightField {
     /// The scene's landscape: the height [`HeightField::analytic`] sampled at the nodes of
     /// `extent` with `resolution` nodes per axis.
+    /// With an image or `.npy` file (`c.heights`, read by `scene::parse`), the nodes are the
+    /// file's values, `base + amplitude * value`, row j at z_j (row 0 at min z).
     pub fn new(c: &HeightFieldCollider) -> Result<Self> {
+        if let Some(d) = &c.heights {
+            let heights: Vec<f32> = d
+                .data
+                .iter()
+                .map(|v| (c.base as f64 + c.amplitude as f64 * *v as f64) as f32)
+                .collect();
+            return Self::from_heights(c.extent, [d.size[0], d.size[1]], &heights);
+        }
         let x = Axis::new("height field x", c.extent[0], c.extent[2], c.resolution)?;
         let z = Axis::new("height field z", c.extent[1], c.extent[3], c.resolution)?;
         let (nx, nz) = (x.n as usize, z.n as usize);
@@ -171,6 +181,9 @@ mod tests {
             frequency: 0.7,
             friction: 0.0,
             resilience: 1.0,
+            image: None,
+            npy: None,
+            heights: None,
         }
     }
 

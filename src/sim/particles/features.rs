@@ -26,6 +26,10 @@ pub enum Emission {
 pub struct Features {
     /// Integrator.
     pub integrator: Integrator,
+    /// One MRT pass or a velocity pass and a position pass (explicit integrators).
+    pub passes: scene::UpdatePasses,
+    /// Positions from start values and time by a closed form (`simulation = "stateless"`).
+    pub stateless: bool,
     /// Birth and death.
     pub emission: Emission,
     /// Number of particle types (emitters).
@@ -90,6 +94,8 @@ impl Features {
         let c = &scene.colliders;
         Features {
             integrator: scene.integrator,
+            passes: scene.passes,
+            stateless: scene.simulation == scene::Simulation::Stateless,
             emission,
             types: em.len().max(1),
             gravity: !f.gravity.is_empty(),
@@ -136,6 +142,22 @@ impl Features {
         self.emission == Emission::Allocator(AllocatorKind::MinHeap)
     }
 
+    /// Whether a step writes velocity and position in two passes (`passes = "separate"`).
+    pub fn separate(&self) -> bool {
+        self.passes == scene::UpdatePasses::Separate && self.integrator != Integrator::Verlet
+    }
+
+    /// Whether the position pass of a separate update can read the new velocity instead of
+    /// recomputing the step and still write the MRT pass's bits: Euler and UberFlow advance the
+    /// position from the new velocity alone, unless a collider moves it too, or the velocity is
+    /// stored rounded (rgba16f, fp24) while the MRT pass advances with the unrounded one.
+    pub fn position_from_velocity(&self) -> bool {
+        matches!(self.integrator, Integrator::Euler | Integrator::Uberflow)
+            && !self.colliders()
+            && self.velocity_format == VelocityFormat::Rgba32f
+            && self.precision == Precision::Fp32
+    }
+
     /// The `#define`s of the simulation programs.
     pub fn defines(&self) -> Defines {
         let mut d: Defines = Vec::new();
@@ -144,6 +166,12 @@ impl Features {
             Integrator::Euler => def("EULER", "1".into()),
             Integrator::Uberflow => def("UBERFLOW", "1".into()),
             Integrator::Verlet => def("VERLET", "1".into()),
+            Integrator::Heun => def("HEUN", "1".into()),
+            Integrator::Rk4 => def("RK4", "1".into()),
+            Integrator::Leapfrog => def("LEAPFROG", "1".into()),
+        }
+        if self.integrator.multistage() {
+            def("MULTISTAGE", "1".into());
         }
         match self.emission {
             Emission::Allocator(_) => {
@@ -234,6 +262,15 @@ impl Features {
             Integrator::Euler => "Latta's Euler (eq. 3, 8)".to_owned(),
             Integrator::Uberflow => "UberFlow's velocity-averaged update (eq. 1-2)".to_owned(),
             Integrator::Verlet => "Verlet (Latta eq. 9)".to_owned(),
+            Integrator::Heun => {
+                "Heun's predictor-corrector (thesis §2.1; 2 force stages)".to_owned()
+            }
+            Integrator::Rk4 => {
+                "classical Runge-Kutta (thesis §2.1; 4 force stages in registers)".to_owned()
+            }
+            Integrator::Leapfrog => {
+                "leapfrog kick-drift-kick (thesis §2.1; 2 force stages)".to_owned()
+            }
         }];
         let mut forces = Vec::new();
         if self.gravity {
@@ -301,17 +338,41 @@ impl Features {
         if self.precision == Precision::Fp24 {
             what.push("24-bit float emulation".into());
         }
-        let integrate = format!(
-            "integrate{}: {} [{}]",
-            if self.live_rows() {
-                " (live rows only)"
-            } else {
-                ""
-            },
-            what.join("; "),
-            targets
-        );
-        out.push(integrate);
+        let rows = if self.live_rows() {
+            " (live rows only)"
+        } else {
+            ""
+        };
+        if self.stateless {
+            out.push(format!(
+                "stateless{rows}: closed form from start values and time (Latta §2.1, thesis \
+                 §2.2.5); {} [position + velocity through MRT; the last state is not read]",
+                what[1..].join("; ")
+            ));
+        } else if self.separate() {
+            let vel = match self.velocity_format {
+                VelocityFormat::Rgba32f => "rgba32f",
+                VelocityFormat::Rgba16f => "rgba16f",
+            };
+            out.push(format!(
+                "integrate velocity{rows}: {} [velocity ({vel}) only, no MRT]",
+                what.join("; ")
+            ));
+            out.push(format!(
+                "integrate position{rows}: {} [position only, no MRT]",
+                if self.position_from_velocity() {
+                    "from the new velocity texture (Latta §3.1)".to_owned()
+                } else {
+                    format!("{} again, position written", what[0])
+                }
+            ));
+        } else {
+            out.push(format!(
+                "integrate{rows}: {} [{}]",
+                what.join("; "),
+                targets
+            ));
+        }
         if self.collisions.is_some() && self.detection == crate::scene::Detection::Exact {
             out.extend(crate::sim::collide::exact_passes(self.colliders()));
         } else if let Some((k, staggered, rows)) = self.collisions {

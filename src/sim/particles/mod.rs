@@ -9,6 +9,8 @@
 mod births;
 mod custom;
 mod features;
+mod state_io;
+mod stateless;
 mod uniforms;
 
 use glam::{UVec2, Vec4};
@@ -21,9 +23,10 @@ use crate::gl::{
     Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Ring3, Texture, Texture3D,
     TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
 };
-use crate::scene::{Integrator, SceneFile, VelocityFormat};
+use crate::scene::{Integrator, SceneFile, Simulation, VelocityFormat};
 pub use custom::check_custom_forces;
 pub use features::{Emission, Features};
+pub use stateless::ClosedForm;
 pub use uniforms::{mass_range, vortex_shape};
 use uniforms::{set_constants_for, unit};
 
@@ -50,6 +53,11 @@ pub struct ParticleSim {
     state: State,
     statics: Framebuffer,
     integrate: Program,
+    /// The position pass of a separate update (`passes = "separate"`); `integrate` then writes
+    /// the velocity alone.
+    integrate_position: Option<Program>,
+    /// The closed-form pass of a stateless scene, which replaces the integration.
+    stateless: Option<stateless::Stateless>,
     emit_state: Option<Program>,
     emit_previous: Option<Program>,
     emit_static: Option<Program>,
@@ -118,14 +126,19 @@ impl ParticleSim {
                 height,
             )?)
         } else {
-            State::Explicit(PingPong::new(
+            let pp = PingPong::new(
                 ctx,
                 "particles",
                 &["position", "velocity"],
                 &[TextureFormat::Rgba32F, vel_format],
                 width,
                 height,
-            )?)
+            )?;
+            State::Explicit(if features.separate() {
+                pp.with_single_targets(ctx)?
+            } else {
+                pp
+            })
         };
         let statics = Framebuffer::new(
             ctx,
@@ -183,14 +196,34 @@ impl ParticleSim {
         };
         let emitters: Vec<EmitterUniforms> =
             scene.emitters.all().map(EmitterUniforms::new).collect();
-        let mut sim = ParticleSim {
-            integrate: Program::new(
-                ctx,
-                FULLSCREEN_VERTEX,
-                &custom::integrate_root(scene)?,
-                &defines,
+        let root = custom::integrate_root(scene)?;
+        let integrate_program = |d: &Defines| {
+            Program::new(ctx, FULLSCREEN_VERTEX, &root, d).map_err(|e| custom::user_error(scene, e))
+        };
+        let (integrate, integrate_position) = if features.separate() {
+            let mut position = with("OUT_POSITION");
+            if features.position_from_velocity() {
+                position.push(("POSITION_FROM_VELOCITY".to_owned(), "1".to_owned()));
+            }
+            (
+                integrate_program(&with("OUT_VELOCITY"))?,
+                Some(integrate_program(&position)?),
             )
-            .map_err(|e| custom::user_error(scene, e))?,
+        } else {
+            (integrate_program(&defines)?, None)
+        };
+        let mut sim = ParticleSim {
+            integrate,
+            integrate_position,
+            stateless: match scene.simulation {
+                Simulation::Stateless => Some(stateless::Stateless::new(
+                    ctx,
+                    scene,
+                    &defines,
+                    [width, height],
+                )?),
+                Simulation::Stateful => None,
+            },
             emit_state: emit("OUT_STATE")?,
             emit_previous: if verlet { emit("OUT_PREVIOUS")? } else { None },
             emit_static: emit("OUT_STATIC")?,
@@ -233,6 +266,8 @@ impl ParticleSim {
         };
         for p in [
             Some(&sim.integrate),
+            sim.integrate_position.as_ref(),
+            sim.stateless.as_ref().map(|s| &s.program),
             sim.emit_state.as_ref(),
             sim.emit_previous.as_ref(),
             sim.emit_static.as_ref(),
@@ -291,6 +326,9 @@ impl ParticleSim {
                 // Both sides, so rows a live-row restricted pass never touches are dead too.
                 self.pass.draw(&state, pp.front());
                 self.pass.draw(&state, pp.back());
+                if let Some(sl) = &self.stateless {
+                    self.pass.draw(&state, &sl.start);
+                }
             }
             State::Verlet(ring) => {
                 let previous = program("OUT_PREVIOUS", &mut defines)?;
@@ -462,11 +500,26 @@ impl ParticleSim {
         self.statics.texture(0).bind(unit::STATIC);
         self.bind_fields();
         match &mut self.state {
+            State::Explicit(pp) if self.stateless.is_some() => {
+                if let Some(sl) = &self.stateless {
+                    sl.draw(&self.pass, pp.back(), self.time as f32, rows);
+                }
+                pp.swap();
+            }
             State::Explicit(pp) => {
                 pp.front().texture(0).bind(unit::POSITION);
                 pp.front().texture(1).bind(unit::VELOCITY);
-                if rows > 0 {
-                    self.pass.draw_rows(p, pp.back(), 0, rows);
+                match &self.integrate_position {
+                    None if rows > 0 => self.pass.draw_rows(p, pp.back(), 0, rows),
+                    Some(q) if rows > 0 => {
+                        // Latta §3.1 without MRT: the velocity first, then the position.
+                        self.pass.draw_rows(p, pp.back_single(1), 0, rows);
+                        q.bind();
+                        q.set_f32("u_time", self.time as f32);
+                        pp.back().texture(1).bind(unit::NEW_VELOCITY);
+                        self.pass.draw_rows(q, pp.back_single(0), 0, rows);
+                    }
+                    _ => {}
                 }
                 pp.swap();
             }
@@ -481,79 +534,5 @@ impl ParticleSim {
         }
         self.step += 1;
         self.time = self.step as f64 * self.scene.time.dt as f64;
-    }
-
-    /// Reads the current positions back (4 floats per texel).
-    pub fn read_positions(&self) -> Result<Vec<f32>> {
-        self.positions().read_f32()
-    }
-
-    /// Reads the current velocities back; for Verlet, the implied (x - x_prev) / dt.
-    pub fn read_velocities(&self) -> Result<Vec<f32>> {
-        match self.velocities() {
-            Some(t) => t.read_f32(),
-            None => {
-                let x = self.read_positions()?;
-                let xp = self.previous().map(|t| t.read_f32()).transpose()?;
-                let xp = xp.unwrap_or_else(|| x.clone());
-                let dt = self.scene.time.dt;
-                Ok(x.chunks(4)
-                    .zip(xp.chunks(4))
-                    .flat_map(|(a, b)| {
-                        [
-                            (a[0] - b[0]) / dt,
-                            (a[1] - b[1]) / dt,
-                            (a[2] - b[2]) / dt,
-                            0.0,
-                        ]
-                    })
-                    .collect())
-            }
-        }
-    }
-
-    /// Replaces the whole state (for tests and experiments): 4 floats per texel each, positions
-    /// (xyz, life), velocities (xyz, 0) and statics (birth, type, total life, random). Verlet
-    /// derives the previous positions on the GPU with the second-order start
-    /// x_prev = x - v dt + a dt^2 / 2.
-    pub fn set_state(
-        &mut self,
-        positions: &[f32],
-        velocities: &[f32],
-        statics: &[f32],
-    ) -> Result<()> {
-        let n = self.width as usize * self.height as usize * 4;
-        if positions.len() != n || velocities.len() != n || statics.len() != n {
-            return Err(Error::InvalidInput(format!(
-                "set_state needs {n} floats per texture ({}x{} texels, 4 each)",
-                self.width, self.height
-            )));
-        }
-        self.statics.texture(0).upload_f32(statics)?;
-        match &self.state {
-            State::Explicit(pp) => {
-                pp.front().texture(0).upload_f32(positions)?;
-                pp.front().texture(1).upload_f32(velocities)?;
-            }
-            State::Verlet(ring) => {
-                ring.current().texture(0).upload_f32(positions)?;
-                let v = state_texture(
-                    &self.ctx,
-                    "start velocity",
-                    self.width,
-                    self.height,
-                    TextureFormat::Rgba32F,
-                )?;
-                v.upload_f32(velocities)?;
-                let p = self.start.as_ref().expect("Verlet has a start program");
-                p.bind();
-                ring.current().texture(0).bind(unit::POSITION);
-                v.bind(unit::VELOCITY);
-                self.statics.texture(0).bind(unit::STATIC);
-                self.bind_fields();
-                self.pass.draw(p, ring.previous());
-            }
-        }
-        self.ctx.check_error("setting the particle state")
     }
 }

@@ -16,6 +16,8 @@ pub(super) mod unit {
     pub const FLOW: u32 = 3;
     pub const HEIGHT: u32 = 4;
     pub const SDF: u32 = 5;
+    /// The velocity a separate velocity pass just wrote (`passes = "separate"`).
+    pub const NEW_VELOCITY: u32 = 6;
 }
 
 fn v3(a: [f32; 3]) -> Vec3 {
@@ -40,6 +42,7 @@ pub(super) fn set_constants_for(
     p.set_i32("u_flow", unit::FLOW as i32);
     p.set_i32("u_height", unit::HEIGHT as i32);
     p.set_i32("u_sdf", unit::SDF as i32);
+    p.set_i32("u_new_velocity", unit::NEW_VELOCITY as i32);
     p.set_i32("u_width", size[0] as i32);
     p.set_ivec2("u_size", size[0] as i32, size[1] as i32);
     p.set_u32("u_seed", seed);
@@ -148,9 +151,10 @@ pub(super) fn set_constants_for(
         p.set_vec3(&format!("u_box_max[{i}]"), v3(b.max));
         p.set_vec2(&format!("u_box_resp[{i}]"), resp(b.friction, b.resilience));
     }
-    if let Some(h) = c.heightfield.first() {
+    if let (Some(h), Some((_, field))) = (c.heightfield.first(), &fields.height) {
         p.set_vec4("u_height_extent", Vec4::from(h.extent));
-        p.set_ivec2("u_height_res", h.resolution as i32, h.resolution as i32);
+        let [nx, nz] = field.resolution();
+        p.set_ivec2("u_height_res", nx as i32, nz as i32);
         p.set_vec2("u_height_resp", resp(h.friction, h.resilience));
     }
     if let Some(d) = c.sdf.first() {

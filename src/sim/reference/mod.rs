@@ -15,7 +15,8 @@
 //!
 //! # What it covers
 //!
-//! - Integrators: Latta's Euler (eq. 3, 8), UberFlow's velocity-averaged update (eq. 1-2) and
+//! - Integrators: Latta's Euler (eq. 3, 8), UberFlow's velocity-averaged update (eq. 1-2),
+//!   the thesis's Heun, fourth-order Runge-Kutta and leapfrog (`glsl/sim/stages.glsl`) and
 //!   Verlet (Latta eq. 9), plus Verlet's second-order start (`glsl/sim/verlet_start.frag`).
 //! - Forces: gravity, damping, wind (Stokes drag towards [`FlowField::sample`]), attractors
 //!   (inverse square with softening, or constant; `max_distance`), vortices, per-type inverse
@@ -175,6 +176,13 @@ impl Reference {
             .validate()
             .map_err(|e| Error::InvalidInput(e.message))?;
         let features = Features::of(scene);
+        if features.stateless {
+            return Err(Error::InvalidInput(format!(
+                "scene `{}`: the reference steps the stateful pass; a stateless scene's twin is \
+                 its closed form (sim::ClosedForm)",
+                scene.name
+            )));
+        }
         if features.emission == Emission::Timestamp {
             return Err(Error::InvalidInput(format!(
                 "scene `{}`: the reference does not cover time-stamp emission",
@@ -341,9 +349,14 @@ impl Reference {
                 return (self.store(Vec3::INFINITY), self.store(Vec3::ZERO), l, ev);
             }
         };
-        let a = self.acceleration_of(x, v, self.particle_inv_mass(ty, self.random));
-        let mut vb = v + self.wind_kick(x) + a * self.dt;
-        let mut xb = self.advance(x, v, vb);
+        let im = self.particle_inv_mass(ty, self.random);
+        let (mut xb, mut vb) = if self.integrator.multistage() {
+            self.stages(x, v + self.wind_kick(x), im)
+        } else {
+            let a = self.acceleration_of(x, v, im);
+            let vb = v + self.wind_kick(x) + a * self.dt;
+            (self.advance(x, v, vb), vb)
+        };
         if self.has_colliders() {
             self.collide_explicit(&mut x, v, &mut vb, &mut xb, &mut ev);
             self.keep_outside(&mut xb, &mut vb, &mut ev);
@@ -409,10 +422,47 @@ impl Reference {
         Ok(life)
     }
 
+    /// `stages(x, v, im)` of `glsl/sim/stages.glsl`: Heun, RK4 or leapfrog, in the shader's
+    /// order of operations. Returns the new position and velocity.
+    fn stages(&self, x: Vec3, v: Vec3, im: f32) -> (Vec3, Vec3) {
+        let h = self.dt;
+        let acc = |x: Vec3, v: Vec3| self.acceleration_of(x, v, im);
+        match self.integrator {
+            Integrator::Heun => {
+                let a1 = acc(x, v);
+                let x2 = x + h * v;
+                let v2 = v + h * a1;
+                let a2 = acc(x2, v2);
+                (x + (0.5 * h) * (v + v2), v + (0.5 * h) * (a1 + a2))
+            }
+            Integrator::Rk4 => {
+                let hh = 0.5 * h;
+                let a1 = acc(x, v);
+                let v2 = v + hh * a1;
+                let a2 = acc(x + hh * v, v2);
+                let v3 = v + hh * a2;
+                let a3 = acc(x + hh * v2, v3);
+                let v4 = v + h * a3;
+                let a4 = acc(x + h * v3, v4);
+                (
+                    x + (h / 6.0) * (v + 2.0 * v2 + 2.0 * v3 + v4),
+                    v + (h / 6.0) * (a1 + 2.0 * a2 + 2.0 * a3 + a4),
+                )
+            }
+            _ => {
+                let vh = v + (0.5 * h) * acc(x, v);
+                let xn = x + h * vh;
+                (xn, vh + (0.5 * h) * acc(xn, vh))
+            }
+        }
+    }
+
     /// `advance(x, v, vb)`.
     fn advance(&self, x: Vec3, v: Vec3, vb: Vec3) -> Vec3 {
         match self.integrator {
-            Integrator::Uberflow => x + 0.5 * (v + vb) * self.dt,
+            Integrator::Uberflow | Integrator::Heun | Integrator::Rk4 | Integrator::Leapfrog => {
+                x + 0.5 * (v + vb) * self.dt
+            }
             _ => x + vb * self.dt,
         }
     }

@@ -24,6 +24,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "bench/render_floor.vert",
     "common/compare.glsl",
     "common/precision.glsl",
+    "common/mass.glsl",
     "sort/keys.frag",
     "sort/bitonic_fp.frag",
     "sort/gpfp.vert",

@@ -19,6 +19,7 @@
 //! files into `DIR` and returns a markdown fragment, and `summary.md` joins the fragments. A new
 //! report is one more entry in [`sections`].
 
+pub mod collide_iterations;
 pub mod collide_stats;
 pub mod collisions;
 pub mod convergence;

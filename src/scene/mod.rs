@@ -28,7 +28,7 @@ pub use locate::{Invalid, Key};
 pub use mesh::{read_obj, Triangle, MAX_TRIANGLES};
 pub use parse::{check_limits, parse, SizeLimits};
 pub use schema::*;
-pub use validate::CapacityWarning;
+pub use validate::{largest_exact_cell, run_capacity, CapacityWarning, EXACT_SCAN};
 
 use crate::error::{Error, Result};
 

@@ -119,7 +119,10 @@ fn every_collider_under_every_collision_mode_stays_finite_and_outside() {
                 "{kind}, {mode}: a particle is {deepest} m inside the collider"
             );
             // And they reached it: the closest particle is within 1 cm of the surface.
-            assert!(deepest > -0.01, "{kind}, {mode}: never reached the collider");
+            assert!(
+                deepest > -0.01,
+                "{kind}, {mode}: never reached the collider"
+            );
             eprintln!("{kind}, {mode}: deepest {deepest:+.2e} m");
             no_gl_error(&ctx);
         }

@@ -88,7 +88,14 @@ impl Program {
     ) -> Result<Self> {
         let name = format!("{vertex}+{fragment}");
         let mut declared = HashSet::new();
-        let vs = compile(ctx, glow::VERTEX_SHADER, vertex, defines, lookup, &mut declared)?;
+        let vs = compile(
+            ctx,
+            glow::VERTEX_SHADER,
+            vertex,
+            defines,
+            lookup,
+            &mut declared,
+        )?;
         let fs = match compile(
             ctx,
             glow::FRAGMENT_SHADER,

@@ -77,7 +77,8 @@ pub fn energy_momentum_of(s: &SceneFile, x: &[f32], v: &[f32], st: &[f32]) -> (f
     let mut e = 0.0;
     let mut p = [0.0; 3];
     for i in 0..x.len() / 4 {
-        if !(x[i * 4 + 3] > 0.0) {
+        // Live only (life above 0; NaN is not).
+        if x[i * 4 + 3].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             continue;
         }
         let ty = st[i * 4 + 1] as usize;

@@ -15,10 +15,12 @@
 //! centres, mass-weighted, so that a resting pile settles instead of sinking into itself.
 //!
 //! Beyond the paper, `collisions.detection = "exact"` finds every pair closer than 2r (up to
-//! [`EXACT_SCAN`] particles in a run of three cells): one full sort, then a count pass and a
-//! response pass that each walk the 27 cells around a particle, found by a binary search of the
-//! sorted keys (`glsl/collide/cells.glsl`); the response takes every partner, weighted
-//! 1 / max(n_i, n_j), which conserves momentum and cannot add kinetic energy.
+//! [`EXACT_SCAN`] particles in a run of three cells): per iteration a full sort, then a count
+//! pass and a response pass that each walk the 27 cells around a particle, found by a binary
+//! search of the sorted keys (`glsl/collide/cells.glsl`). The momentum exchange is applied to
+//! mutual closest pairs (weight 1, two-body collisions: momentum conserved, energy kept at
+//! e = 1); the separation of overlaps to every partner, weighted 1 / max(n_i, n_j). Every
+//! iteration sorts again, so each one searches the cells the particles are in now.
 //!
 //! The statistics themselves (what a step's detection found against the true pairs) are measured
 //! there, from [`Collisions::read_back`]: this module only runs the passes.
@@ -125,20 +127,22 @@ pub struct Collisions {
     recorded: Vec<Readback>,
 }
 
-/// The exact mode's passes of one step, as `texflow scene passes` lists them.
+/// The exact mode's passes of one iteration (`collisions.iterations` per step), as `texflow
+/// scene passes` lists them.
 pub fn exact_passes(colliders: bool) -> Vec<String> {
     vec![
-        "collision keys: cell index in the lattice (z, y, x)".into(),
-        "collision sort: full bitonic sort (GP/FP packed)".into(),
+        "collision keys: cell index in the lattice (z, y, x), every iteration".into(),
+        "collision sort: full bitonic sort (GP/FP packed), every iteration".into(),
         "gather position, velocity, static in cell order".into(),
         format!(
             "exact detection: partners closer than 2r counted in the 27 cells around each \
-             particle (binary search of the sorted keys per row of 3 cells, at most {EXACT_SCAN} \
-             particles per run)"
+             particle, and the closest (binary search of the sorted keys per row of 3 cells, at \
+             most {EXACT_SCAN} particles per run)"
         ),
         format!(
-            "exact response: every partner, weighted 1/max(n_i, n_j); back-tracking to contact, \
-             momentum exchange, overlap separation{}",
+            "exact response: momentum exchange with the closest partner if it chose this particle \
+             too (back-tracking to contact); overlap separation with every partner, weighted \
+             1/max(n_i, n_j){}",
             if colliders {
                 "; boundary conditions (colliders)"
             } else {

@@ -23,8 +23,8 @@ use crate::gl::{
 };
 use crate::scene::{Integrator, SceneFile, VelocityFormat};
 pub use features::{Emission, Features};
-pub use uniforms::{mass_range, vortex_shape};
 use uniforms::set_constants_for;
+pub use uniforms::{mass_range, vortex_shape};
 
 /// The state framebuffers: position and velocity ping-pong for the explicit integrators, a ring
 /// of previous, current and next positions for Verlet.
@@ -459,7 +459,13 @@ impl ParticleSim {
         // The masses come with the scene's constants (glsl/common/mass.glsl): the response
         // weighs each particle by its own mass, as integration does.
         let set = |p: &Program| set_constants_for(p, scene, fields, size, seed, types);
-        c.run(pp, &self.statics, self.scene.time.dt, &fields.textures(), set)?;
+        c.run(
+            pp,
+            &self.statics,
+            self.scene.time.dt,
+            &fields.textures(),
+            set,
+        )?;
         Ok(())
     }
 

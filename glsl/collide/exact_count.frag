@@ -1,6 +1,7 @@
 // Exact detection, first pass: for every particle (in the cell-sorted layout) the number of live
 // particles closer than 2r in the 27 cells around it (collide/cells.glsl).
-// Output: (partners, 1 if a run of cells held more than EXACT_SCAN particles, 0, 0).
+// Output: (partners, 1 if a run of cells held more than EXACT_SCAN particles, sorted index of
+// the closest partner or -1, its distance).
 
 #include "collide/cells.glsl"
 
@@ -16,11 +17,21 @@ bool live(vec4 p) {
 
 vec3 g_x;
 int g_found = 0;
+int g_closest = -1;
+float g_d2 = 1e30;
 
 void visit(int j) {
     vec4 q = texelFetch(u_position, ivec2(j % u_key_width, j / u_key_width), 0);
     vec3 d = g_x - q.xyz;
-    if (live(q) && dot(d, d) < 4.0 * u_radius * u_radius) g_found++;
+    float d2 = dot(d, d);
+    if (live(q) && d2 < 4.0 * u_radius * u_radius) {
+        g_found++;
+        // A tie keeps the first visited: it can cost a match, never the symmetry of one.
+        if (d2 < g_d2) {
+            g_d2 = d2;
+            g_closest = j;
+        }
+    }
 }
 
 void main() {
@@ -31,5 +42,6 @@ void main() {
         g_x = p.xyz;
         search_neighbours(self);
     }
-    o_count = vec4(float(g_found), exact_truncated ? 1.0 : 0.0, 0.0, 0.0);
+    o_count = vec4(float(g_found), exact_truncated ? 1.0 : 0.0, float(g_closest),
+                   g_closest >= 0 ? sqrt(g_d2) : 0.0);
 }

@@ -1,11 +1,15 @@
-// Exact detection, second pass: the response with every partner at once (beyond UberFlow §4.5).
-// Each particle visits the particles of the 27 cells around it again (collide/cells.glsl) and
-// sums the pair responses of collide/pair.glsl over all partners closer than 2r, pair (i, j)
-// weighted by w_ij = 1 / max(n_i, n_j), with n the partner counts of the first pass. Both sides
-// use the same weight, so momentum is conserved; and since every particle's weights sum to at
-// most 1, the new velocities are (per particle) a convex combination of single-pair outcomes,
-// each of which loses kinetic energy or keeps it (e <= 1): by Jensen's inequality the sum
-// cannot gain any. Then the boundary conditions (§4.6).
+// Exact detection, second pass: the response (beyond UberFlow §4.5). Each particle visits the
+// particles of the 27 cells around it again (collide/cells.glsl). Of its partners (closer than
+// 2r), the momentum exchange of collide/pair.glsl is applied with one only: its closest, and only
+// if that partner's closest is this particle too (a mutual pair, weight 1). Such pairs are
+// disjoint, so every exchange is a two-body collision on its own: momentum is conserved, and
+// kinetic energy is kept exactly at e = 1 and lost only by (1 - e^2) of the normal relative
+// energy below it. (Splitting one impulse over every partner with weights 1/max(n_i, n_j) made
+// even e = 1 inelastic: a weight 1/2 leaves the normal approach at 0.) Contacts left unmatched
+// are matched by the next iteration, which sorts again. The separation of what overlaps acts on
+// every partner, pair (i, j) weighted 1/max(n_i, n_j), positions only: the same weight on both
+// sides, so the centre of mass stays put, and no particle is pushed by more than its deepest
+// overlap. Then the boundary conditions (§4.6).
 
 #include "common/state.glsl"
 #include "common/precision.glsl"
@@ -14,8 +18,9 @@
 uniform sampler2D u_position;   // the cell-sorted layout
 uniform sampler2D u_velocity;
 uniform sampler2D u_static;
-uniform sampler2D u_counts;     // first pass: (partners, truncated, 0, 0)
-uniform vec4 u_inv_mass;
+uniform sampler2D u_counts;     // first pass: (partners, truncated, closest, its distance)
+
+#include "common/mass.glsl"
 
 #ifndef EXACT_PUSH
 #define EXACT_PUSH 1.0
@@ -38,6 +43,8 @@ vec3 g_x;
 vec3 g_v;
 vec4 g_st;
 float g_n;
+int g_closest;
+int g_self;
 vec3 g_dv = vec3(0.0);
 vec3 g_dx = vec3(0.0);
 
@@ -48,10 +55,13 @@ void visit(int j) {
     vec3 d = g_x - q.xyz;
     if (!(dot(d, d) < 4.0 * u_radius * u_radius)) return;
     vec4 st_q = texelFetch(u_static, tj, 0);
-    float n_j = texelFetch(u_counts, tj, 0).x;
-    pair_response(g_x, g_v, 1.0 / u_inv_mass[int(g_st.y)], g_st.w, q.xyz,
-                  texelFetch(u_velocity, tj, 0).xyz, 1.0 / u_inv_mass[int(st_q.y)], st_q.w,
-                  1.0 / max(max(g_n, n_j), 1.0), EXACT_PUSH, g_dv, g_dx);
+    vec4 c_j = texelFetch(u_counts, tj, 0);
+    float n_j = c_j.x;
+    float w = 1.0 / max(max(g_n, n_j), 1.0);
+    bool matched = j == g_closest && int(c_j.z) == g_self;
+    pair_response(g_x, g_v, 1.0 / particle_inv_mass(int(g_st.y), g_st.w), g_st.w, q.xyz,
+                  texelFetch(u_velocity, tj, 0).xyz, 1.0 / particle_inv_mass(int(st_q.y), st_q.w),
+                  st_q.w, matched ? 1.0 : 0.0, w * EXACT_PUSH, g_dv, g_dx);
 }
 
 void main() {
@@ -62,11 +72,14 @@ void main() {
     vec3 x = p.xyz;
     vec3 v = v4.xyz;
     if (p.w > 0.0) {
-        g_n = texelFetch(u_counts, t, 0).x;
+        vec4 c = texelFetch(u_counts, t, 0);
+        g_n = c.x;
+        g_closest = int(c.z);
+        g_self = t.y * u_key_width + t.x;
         if (g_n > 0.0) {
             g_x = x;
             g_v = v;
-            search_neighbours(t.y * u_key_width + t.x);
+            search_neighbours(g_self);
             x += g_dx;
             v += g_dv;
         }

@@ -20,7 +20,8 @@ uniform sampler2D u_velocity2;
 uniform sampler2D u_static2;
 #endif
 uniform int u_width;
-uniform vec4 u_inv_mass;
+
+#include "common/mass.glsl"
 
 #include "collide/pair.glsl"
 
@@ -38,8 +39,8 @@ layout(location = 1) out vec4 o_velocity;
 void respond(inout vec3 x, inout vec3 v, vec4 st, vec4 q, vec3 w, vec4 st_q) {
     vec3 dv = vec3(0.0);
     vec3 dx = vec3(0.0);
-    pair_response(x, v, 1.0 / u_inv_mass[int(st.y)], st.w, q.xyz, w,
-                  1.0 / u_inv_mass[int(st_q.y)], st_q.w, 1.0, 1.0, dv, dx);
+    pair_response(x, v, 1.0 / particle_inv_mass(int(st.y), st.w), st.w, q.xyz, w,
+                  1.0 / particle_inv_mass(int(st_q.y), st_q.w), st_q.w, 1.0, 1.0, dv, dx);
     v += dv;
     x += dx;
 }

@@ -16,18 +16,13 @@
 //               (a Rankine vortex: smooth on the axis);
 //               latta (Latta §3.4.2): towards the closest point on the line, d = -r_perp, with
 //               an attractor's falloff: s d / (r^2 + soft^2)^(3/2) or s d / r within max_distance
-// Forces are divided by the particle's mass (Latta eq. 2): inv_mass is u_inv_mass[type], or with
-// MASS_RANGE (Latta §3.3, a mass per particle) 1 / mix(lo, hi, fract(4096 r)), r the random
-// number of the particle's static texel (particle_inv_mass).
+// Forces are divided by the particle's mass (Latta eq. 2): particle_inv_mass of
+// common/mass.glsl, which the collision response uses too.
 
 // Included unconditionally: the resolver splices each file once, whatever #if surrounds it.
 #include "sim/fields.glsl"
 
-uniform vec4 u_inv_mass;
-#ifdef MASS_RANGE
-uniform vec4 u_mass_lo;
-uniform vec4 u_mass_hi;
-#endif
+#include "common/mass.glsl"
 #ifndef WIND_FORM
 #define WIND_FORM 0
 #endif
@@ -65,15 +60,6 @@ uniform vec4 u_vortex[N_VORTICES];      // point on the axis, strength
 uniform vec3 u_vortex_axis[N_VORTICES]; // unit axis
 uniform vec4 u_vortex_shape[N_VORTICES]; // latta form (0/1), constant falloff (0/1), max distance (<0: none), softening
 #endif
-
-// The inverse mass of a particle of `type` whose static texel holds the random number `r`.
-float particle_inv_mass(int type, float r) {
-#ifdef MASS_RANGE
-    return 1.0 / mix(u_mass_lo[type], u_mass_hi[type], fract(4096.0 * r));
-#else
-    return u_inv_mass[type];
-#endif
-}
 
 // UberFlow eq. 1's v_ext: the wind velocity added to the velocity in a step (0 unless
 // WIND_FORM 2).

@@ -243,6 +243,22 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
             "gpu_ms       {:>8.3}  (collision passes of one step)",
             stats.gpu_ms
         );
+        for it in &stats.iterations {
+            println!(
+                "iteration {:>2}  {:>8} true pairs, {} found, {} missed, {} truncated",
+                it.iteration, it.pairs_true, it.found, it.missed, it.truncated
+            );
+        }
+        let [e0, e1] = stats.kinetic_energy;
+        let [p0, p1] = stats.momentum;
+        let dp = (0..3).map(|k| (p1[k] - p0[k]).powi(2)).sum::<f64>().sqrt();
+        println!(
+            "energy       {:>8.4} J -> {:.4} J ({:+.2}%); momentum change {:.3e} kg m/s",
+            e0,
+            e1,
+            100.0 * (e1 - e0) / e0.max(f64::MIN_POSITIVE),
+            dp
+        );
     }
     Ok(())
 }

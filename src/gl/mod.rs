@@ -5,6 +5,7 @@
 //! ([`Draw`], [`DrawState`], [`Blend`]) and [`Context::draw`] sets all of that state on every
 //! draw, so no pass depends on what the one before it left bound or enabled.
 
+mod bindings;
 mod buffer;
 mod context;
 mod draw;
@@ -21,6 +22,7 @@ mod timer;
 #[cfg(feature = "window")]
 mod window;
 
+pub use bindings::Sampled;
 pub use buffer::{Attribute, Buffer, BufferKind, BufferUsage, VertexArray};
 pub use context::{gl_error_name, list_devices, Context, DeviceInfo, DrawStats, Limits};
 pub use draw::{

@@ -152,19 +152,21 @@ impl StatePass {
         );
         let p = &self.program;
         p.bind();
-        for (k, t) in state.front().textures().iter().enumerate() {
-            t.bind(k as u32);
-            p.set_i32(&format!("u_state{k}"), k as i32);
-        }
-        for &(name, value) in uniforms {
-            match value {
-                Uniform::F32(v) => p.set_f32(name, v),
-                Uniform::I32(v) => p.set_i32(name, v),
-                Uniform::Vec2(v) => p.set_vec2(name, v),
-                Uniform::Vec3(v) => p.set_vec3(name, v),
-                Uniform::Vec4(v) => p.set_vec4(name, v),
+        p.optional(|| {
+            for (k, t) in state.front().textures().iter().enumerate() {
+                t.bind(k as u32);
+                p.set_i32(&format!("u_state{k}"), k as i32);
             }
-        }
+            for &(name, value) in uniforms {
+                match value {
+                    Uniform::F32(v) => p.set_f32(name, v),
+                    Uniform::I32(v) => p.set_i32(name, v),
+                    Uniform::Vec2(v) => p.set_vec2(name, v),
+                    Uniform::Vec3(v) => p.set_vec3(name, v),
+                    Uniform::Vec4(v) => p.set_vec4(name, v),
+                }
+            }
+        });
         self.pass.draw(p, state.back());
         state.swap();
     }

@@ -1,10 +1,11 @@
 //! Shader programs built from the embedded `glsl/` files.
 
-use std::cell::RefCell;
-use std::collections::HashMap;
+use std::cell::{Cell, RefCell};
+use std::collections::{HashMap, HashSet};
 
 use glow::HasContext;
 
+use super::bindings::{base_name, declared_uniforms, is_sampler};
 use super::source::{embedded, map_log, resolve};
 use super::Context;
 use crate::error::{Error, Result};
@@ -18,6 +19,12 @@ pub struct Program {
     raw: glow::Program,
     name: String,
     locations: RefCell<HashMap<String, Option<glow::UniformLocation>>>,
+    /// Uniform names the resolved sources declare (active or dropped by the optimiser).
+    declared: HashSet<String>,
+    /// The active samplers, as GL names them.
+    samplers: Vec<String>,
+    /// While set, names the program does not declare are ignored (see [`Program::optional`]).
+    lenient: Cell<bool>,
 }
 
 impl std::fmt::Debug for Program {
@@ -32,8 +39,10 @@ fn compile<'a>(
     path: &str,
     defines: &Defines,
     lookup: &dyn Fn(&str) -> Option<&'a str>,
+    declared: &mut HashSet<String>,
 ) -> Result<glow::Shader> {
     let resolved = resolve(path, defines, lookup)?;
+    declared.extend(declared_uniforms(&resolved.text));
     // SAFETY: plain shader compilation on a current context.
     unsafe {
         let shader = ctx.create_shader(kind).map_err(Error::Gl)?;
@@ -78,8 +87,23 @@ impl Program {
         lookup: &dyn Fn(&str) -> Option<&'a str>,
     ) -> Result<Self> {
         let name = format!("{vertex}+{fragment}");
-        let vs = compile(ctx, glow::VERTEX_SHADER, vertex, defines, lookup)?;
-        let fs = match compile(ctx, glow::FRAGMENT_SHADER, fragment, defines, lookup) {
+        let mut declared = HashSet::new();
+        let vs = compile(
+            ctx,
+            glow::VERTEX_SHADER,
+            vertex,
+            defines,
+            lookup,
+            &mut declared,
+        )?;
+        let fs = match compile(
+            ctx,
+            glow::FRAGMENT_SHADER,
+            fragment,
+            defines,
+            lookup,
+            &mut declared,
+        ) {
             Ok(fs) => fs,
             Err(e) => {
                 // SAFETY: vs is a live shader of this context.
@@ -105,13 +129,47 @@ impl Program {
             raw
         };
         ctx.label(glow::PROGRAM, raw.0.get(), &name);
+        // SAFETY: queries of a linked program.
+        let samplers = unsafe {
+            (0..ctx.get_active_uniforms(raw))
+                .filter_map(|i| ctx.get_active_uniform(raw, i))
+                .filter(|u| is_sampler(u.utype))
+                .map(|u| u.name)
+                .collect()
+        };
         ctx.check_error(&format!("building program {name}"))?;
         Ok(Program {
             ctx: ctx.clone(),
             raw,
             name,
             locations: RefCell::new(HashMap::new()),
+            declared,
+            samplers,
+            lenient: Cell::new(false),
         })
+    }
+
+    /// Whether the program's sources declare uniform `name` (`u_plane[2]` counts as `u_plane`),
+    /// whether or not the optimiser kept it.
+    pub fn declares(&self, name: &str) -> bool {
+        self.declared.contains(base_name(name))
+    }
+
+    /// The samplers the program reads (active sampler uniforms).
+    pub fn samplers(&self) -> &[String] {
+        &self.samplers
+    }
+
+    pub(super) fn context(&self) -> &Context {
+        &self.ctx
+    }
+
+    /// Runs `f` with names the program does not declare ignored instead of refused: for setters
+    /// shared by several programs (a scene's constants), each of which declares only some.
+    pub fn optional(&self, f: impl FnOnce()) {
+        let before = self.lenient.replace(true);
+        f();
+        self.lenient.set(before);
     }
 
     /// The program's name, `vertex+fragment`.
@@ -132,6 +190,14 @@ impl Program {
         // SAFETY: the program is alive. An unused uniform (optimised away) gives None, which the
         // setters ignore as GL does for location -1.
         let l = unsafe { self.ctx.get_uniform_location(self.raw, name) };
+        // A name no source declares is a mistake, not an optimisation: refused in debug builds.
+        if cfg!(debug_assertions) && l.is_none() && !self.lenient.get() && !self.declares(name) {
+            panic!(
+                "program {} declares no uniform `{name}` (misspelt, or the wrong program); \
+                 wrap setters shared by several programs in Program::optional",
+                self.name
+            );
+        }
         self.locations.borrow_mut().insert(name.to_owned(), l);
         l
     }

@@ -26,6 +26,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "bench/fetch_probe.frag",
     "common/compare.glsl",
     "common/precision.glsl",
+    "common/mass.glsl",
     "sort/keys.frag",
     "sort/bitonic_fp.frag",
     "sort/gpfp.vert",

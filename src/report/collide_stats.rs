@@ -15,6 +15,9 @@ use crate::scene::{self, SceneFile};
 use crate::sim::collide::{Collisions, Lattice};
 use crate::sim::ParticleSim;
 
+pub use super::collide_iterations::IterationStats;
+use super::collide_iterations::{energy_momentum, iteration_stats};
+
 /// One lattice's view of a step: the positions in its sorted order and each one's partner.
 #[derive(Debug, Clone)]
 pub struct LatticeSnapshot {
@@ -93,6 +96,13 @@ pub struct CollisionStats {
     pub truncated: usize,
     /// Median GPU time of the collision passes of one step (ms; [`measure`] fills it in).
     pub gpu_ms: f64,
+    /// Exact mode: found and missed per iteration of the last step ([`measure`] fills it in).
+    pub iterations: Vec<IterationStats>,
+    /// Total kinetic energy of the live particles before the first step and after the last
+    /// (J, each particle with its own mass; [`measure`] fills it in).
+    pub kinetic_energy: [f64; 2],
+    /// Total momentum before the first step and after the last (kg m/s).
+    pub momentum: [[f64; 3]; 2],
 }
 
 fn pos(v: &[f32], i: usize) -> Vec3 {
@@ -135,12 +145,16 @@ fn close_pairs(points: &[(usize, Vec3)], reach: f32) -> Vec<(usize, usize)> {
 
 impl Snapshot {
     /// Reads back what the last step's detection of `stage` saw.
+    /// In the exact mode with [`Collisions::record_iterations`] on, the first iteration's.
     pub fn read(stage: &Collisions) -> Result<Snapshot> {
         let (first, second) = stage.lattices();
         let lattice = |lattice: Lattice, staggered: bool| -> Result<LatticeSnapshot> {
-            let r = stage
-                .read_back(staggered)?
-                .ok_or_else(|| Error::Gl("a lattice without its read-back".into()))?;
+            let r = match stage.recorded().first() {
+                Some(r) if !staggered => r.clone(),
+                _ => stage
+                    .read_back(staggered)?
+                    .ok_or_else(|| Error::Gl("a lattice without its read-back".into()))?,
+            };
             Ok(LatticeSnapshot {
                 lattice,
                 positions: r.positions,
@@ -404,24 +418,37 @@ pub fn measure(
         )));
     }
     let timer = PassTimer::new(ctx, Clock::for_context(ctx))?;
+    let (e0, p0) = energy_momentum(&sim)?;
     let timed = TIMED_STEPS.min(steps);
     for _ in timed..steps {
         sim.step()?;
         progress();
     }
     // Collision scenes emit by time stamps, so a step is the integration pass and the collision
-    // stage: the same step, with the stage timed alone.
+    // stage: the same step, with the stage timed alone. The last step also reads back each
+    // exact iteration (untimed, unless it is the only timed step).
     let mut times = Vec::new();
-    for _ in 0..timed {
+    for k in 0..timed {
+        let last = k + 1 == timed;
+        if let Some(c) = sim.collisions_mut() {
+            c.record_iterations(last);
+        }
         sim.integrate_only();
         let mut result = Ok(());
-        times.push(timer.time(|| result = sim.collide())?);
+        let t = timer.time(|| result = sim.collide())?;
+        if !last || timed == 1 {
+            times.push(t);
+        }
         result?;
         progress();
     }
     let stage = sim.collisions().expect("checked above");
     let mut stats = Snapshot::read(stage)?.stats();
     stats.gpu_ms = median(&times);
+    stats.iterations = iteration_stats(stage);
+    let (e1, p1) = energy_momentum(&sim)?;
+    stats.kinetic_energy = [e0, e1];
+    stats.momentum = [p0, p1];
     ctx.check_error("measuring collisions")?;
     Ok(stats)
 }

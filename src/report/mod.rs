@@ -22,6 +22,7 @@
 //! report is one more entry in [`sections`].
 
 pub mod baselines;
+pub mod collide_iterations;
 pub mod collide_stats;
 pub mod collisions;
 pub mod convergence;

@@ -39,7 +39,9 @@ pub use parse::{check_limits, check_point_size, parse, SizeLimits};
 pub use schema::*;
 pub use set::{parse_with, Setting};
 pub use suggest::{closest, did_you_mean, edit_distance};
-pub use validate::{CapacityWarning, MAX_LATTICE_CELLS};
+pub use validate::{
+    largest_exact_cell, run_capacity, CapacityWarning, EXACT_SCAN, MAX_LATTICE_CELLS,
+};
 
 use crate::error::{Error, Result};
 

@@ -344,6 +344,21 @@ fn collisions(s: &SceneFile) -> Check {
             "bounds must be [min corner, max corner] with min < max",
         );
     }
+    if c.detection == crate::scene::Detection::Exact {
+        let g = c.cell.unwrap_or(2.0 * c.radius);
+        if run_capacity(g, c.radius) > EXACT_SCAN as f64 {
+            let largest = largest_exact_cell(c.radius);
+            return fail(
+                at("cell"),
+                format!(
+                    "cell {g} m is too large for the exact detection: a run of three cells could \
+                     hold more than the {EXACT_SCAN} particles its search walks (spheres of radius \
+                     {} m that do not overlap); use a cell of at most {largest:.6} m",
+                    c.radius
+                ),
+            );
+        }
+    }
     let cells = lattice_cells(c);
     if cells > MAX_LATTICE_CELLS {
         return fail(
@@ -417,6 +432,32 @@ fn collisions(s: &SceneFile) -> Check {
 
 /// Most cells of a collision lattice: its cell keys are sorted as floats, exact up to 2^24.
 pub const MAX_LATTICE_CELLS: u64 = 1 << 24;
+
+/// Most particles the exact detection walks in a run of three cells along x (its density
+/// limit); `sim::collide` compiles its search for it.
+pub const EXACT_SCAN: u32 = 64;
+
+/// An upper bound on the spheres of radius `r` with disjoint interiors whose centres lie in a run
+/// of three cells of side `g` (3g × g × g): each lies inside the run grown by r on every side,
+/// so their volumes sum to at most that box's.
+pub fn run_capacity(g: f32, r: f32) -> f64 {
+    let (g, r) = (g as f64, r as f64);
+    (3.0 * g + 2.0 * r) * (g + 2.0 * r).powi(2) / (4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
+}
+
+/// The largest cell whose runs cannot exceed [`EXACT_SCAN`] by [`run_capacity`] (about 2.96 r).
+pub fn largest_exact_cell(r: f32) -> f32 {
+    let (mut lo, mut hi) = (0.0f32, 10.0 * r);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if run_capacity(mid, r) <= EXACT_SCAN as f64 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
 
 /// Cells of the lattice `[collisions]` describes, counted as the collision stage does
 /// (`sim::collide::Lattice`: ceil of extent over cell per axis, at least 1, one more per axis

@@ -84,6 +84,8 @@ impl ParticleSim {
             point_size: PointSize::Program,
         };
         let draw = |program: &Program, target: &Framebuffer| {
+            program.bind();
+            super::bind_textures(program, &[], &self.fields);
             self.ctx.draw(&Draw {
                 program,
                 target,
@@ -94,7 +96,6 @@ impl ParticleSim {
                 state: &state,
             })
         };
-        self.bind_fields();
         if let Some(p) = &self.emit_static {
             draw(p, &self.statics);
         }

@@ -13,22 +13,22 @@ mod state_io;
 mod stateless;
 mod uniforms;
 
-use glam::{UVec2, Vec4};
+use glam::UVec2;
 
 use super::allocator::Allocator;
 use super::emit::EmitterUniforms;
 use super::fields::{DistanceField, FlowField, HeightField};
 use crate::error::{Error, Result};
 use crate::gl::{
-    Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Ring3, Texture, Texture3D,
-    TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
+    Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Ring3, Sampled, Texture,
+    Texture3D, TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
 };
 use crate::scene::{Integrator, SceneFile, Simulation, VelocityFormat};
 pub use custom::check_custom_forces;
 pub use features::{Emission, Features};
 pub use stateless::ClosedForm;
+use uniforms::set_constants_for;
 pub use uniforms::{mass_range, vortex_shape};
-use uniforms::{set_constants_for, unit};
 
 /// The state framebuffers: position and velocity ping-pong for the explicit integrators, a ring
 /// of previous, current and next positions for Verlet.
@@ -41,6 +41,31 @@ struct Fields {
     flow: Option<(Texture3D, FlowField)>,
     height: Option<(Texture, HeightField)>,
     sdf: Option<(Texture3D, DistanceField)>,
+}
+
+impl Fields {
+    /// The fields' textures under the sampler names of `glsl/sim/` (those the scene has).
+    fn textures(&self) -> Vec<(&'static str, Sampled<'_>)> {
+        let mut out = Vec::new();
+        if let Some((t, _)) = &self.flow {
+            out.push(("u_flow", t.into()));
+        }
+        if let Some((t, _)) = &self.height {
+            out.push(("u_height", t.into()));
+        }
+        if let Some((t, _)) = &self.sdf {
+            out.push(("u_sdf", t.into()));
+        }
+        out
+    }
+}
+
+/// Binds the textures of one simulation draw: `own` (each of which the program must declare)
+/// and the fields the program declares.
+fn bind_textures(p: &Program, own: &[(&str, Sampled<'_>)], fields: &Fields) {
+    let mut list = own.to_vec();
+    list.extend(fields.textures().into_iter().filter(|(n, _)| p.declares(n)));
+    p.textures(&list);
 }
 
 /// The particle simulation of a scene.
@@ -295,18 +320,6 @@ impl ParticleSim {
         );
     }
 
-    fn bind_fields(&self) {
-        if let Some((t, _)) = &self.fields.flow {
-            t.bind(unit::FLOW);
-        }
-        if let Some((t, _)) = &self.fields.height {
-            t.bind(unit::HEIGHT);
-        }
-        if let Some((t, _)) = &self.fields.sdf {
-            t.bind(unit::SDF);
-        }
-    }
-
     /// Draws the initial state with `sim/init.frag` (one pass per target) and restarts the clock.
     fn initialise(&mut self) -> Result<()> {
         let mut defines = self.features.defines();
@@ -319,7 +332,10 @@ impl ParticleSim {
         };
         let state = program("OUT_STATE", &mut defines)?;
         let statics = program("OUT_STATIC", &mut defines)?;
-        self.bind_fields();
+        for p in [&state, &statics] {
+            p.bind();
+            bind_textures(p, &[], &self.fields);
+        }
         self.pass.draw(&statics, &self.statics);
         match &self.state {
             State::Explicit(pp) => {
@@ -332,6 +348,8 @@ impl ParticleSim {
             }
             State::Verlet(ring) => {
                 let previous = program("OUT_PREVIOUS", &mut defines)?;
+                previous.bind();
+                bind_textures(&previous, &[], &self.fields);
                 let [p, c, n] = ring.roles();
                 self.pass.draw(&previous, p);
                 self.pass.draw(&state, c);
@@ -458,13 +476,14 @@ impl ParticleSim {
         self.collisions.as_ref()
     }
 
+    /// The collision stage, to change what it records (statistics).
+    pub fn collisions_mut(&mut self) -> Option<&mut super::collide::Collisions> {
+        self.collisions.as_mut()
+    }
+
     /// Runs the collision stage on the current state (part of [`step`](Self::step); public for
     /// benchmarks, which time it alone).
     pub fn collide(&mut self) -> Result<()> {
-        if self.collisions.is_none() {
-            return Ok(());
-        }
-        self.bind_fields();
         let Some(c) = self.collisions.as_mut() else {
             return Ok(());
         };
@@ -473,19 +492,17 @@ impl ParticleSim {
                 "collisions need the explicit integrators".into(),
             ));
         };
-        let mut inv_mass = [1.0 / self.scene.particles.mass; 4];
-        for (k, e) in self.scene.emitters.all().enumerate() {
-            inv_mass[k] = 1.0 / e.mass.unwrap_or(self.scene.particles.mass);
-        }
         let fields = &self.fields;
         let scene = &self.scene;
         let (size, seed, types) = ([self.width, self.height], self.seed, self.features.types);
+        // The masses come with the scene's constants (glsl/common/mass.glsl): the response
+        // weighs each particle by its own mass, as integration does.
         let set = |p: &Program| set_constants_for(p, scene, fields, size, seed, types);
         c.run(
             pp,
             &self.statics,
             self.scene.time.dt,
-            Vec4::from(inv_mass),
+            &fields.textures(),
             set,
         )?;
         Ok(())
@@ -497,8 +514,7 @@ impl ParticleSim {
         let p = &self.integrate;
         p.bind();
         p.set_f32("u_time", self.time as f32);
-        self.statics.texture(0).bind(unit::STATIC);
-        self.bind_fields();
+        let statics = ("u_static", self.statics.texture(0).into());
         match &mut self.state {
             State::Explicit(pp) if self.stateless.is_some() => {
                 if let Some(sl) = &self.stateless {
@@ -507,8 +523,12 @@ impl ParticleSim {
                 pp.swap();
             }
             State::Explicit(pp) => {
-                pp.front().texture(0).bind(unit::POSITION);
-                pp.front().texture(1).bind(unit::VELOCITY);
+                let own = [
+                    ("u_position", pp.front().texture(0).into()),
+                    ("u_velocity", pp.front().texture(1).into()),
+                    statics,
+                ];
+                bind_textures(p, &own, &self.fields);
                 match &self.integrate_position {
                     None if rows > 0 => self.pass.draw_rows(p, pp.back(), 0, rows),
                     Some(q) if rows > 0 => {
@@ -516,7 +536,16 @@ impl ParticleSim {
                         self.pass.draw_rows(p, pp.back_single(1), 0, rows);
                         q.bind();
                         q.set_f32("u_time", self.time as f32);
-                        pp.back().texture(1).bind(unit::NEW_VELOCITY);
+                        let own: Vec<_> = [
+                            ("u_position", pp.front().texture(0).into()),
+                            ("u_velocity", pp.front().texture(1).into()),
+                            ("u_new_velocity", pp.back().texture(1).into()),
+                            statics,
+                        ]
+                        .into_iter()
+                        .filter(|(n, _)| q.declares(n))
+                        .collect();
+                        bind_textures(q, &own, &self.fields);
                         self.pass.draw_rows(q, pp.back_single(0), 0, rows);
                     }
                     _ => {}
@@ -524,8 +553,12 @@ impl ParticleSim {
                 pp.swap();
             }
             State::Verlet(ring) => {
-                ring.current().texture(0).bind(unit::POSITION);
-                ring.previous().texture(0).bind(unit::VELOCITY);
+                let own = [
+                    ("u_position", ring.current().texture(0).into()),
+                    ("u_previous", ring.previous().texture(0).into()),
+                    statics,
+                ];
+                bind_textures(p, &own, &self.fields);
                 if rows > 0 {
                     self.pass.draw_rows(p, ring.next(), 0, rows);
                 }

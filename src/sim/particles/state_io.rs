@@ -1,6 +1,6 @@
 //! Reading the state back and replacing it (tests, experiments, dumps).
 
-use super::{state_texture, unit, ParticleSim, State};
+use super::{bind_textures, state_texture, ParticleSim, State};
 use crate::error::{Error, Result};
 use crate::gl::TextureFormat;
 
@@ -74,10 +74,12 @@ impl ParticleSim {
                 v.upload_f32(velocities)?;
                 let p = self.start.as_ref().expect("Verlet has a start program");
                 p.bind();
-                ring.current().texture(0).bind(unit::POSITION);
-                v.bind(unit::VELOCITY);
-                self.statics.texture(0).bind(unit::STATIC);
-                self.bind_fields();
+                let own = [
+                    ("u_position", ring.current().texture(0).into()),
+                    ("u_velocity", (&v).into()),
+                    ("u_static", self.statics.texture(0).into()),
+                ];
+                bind_textures(p, &own, &self.fields);
                 self.pass.draw(p, ring.previous());
             }
         }

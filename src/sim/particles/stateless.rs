@@ -6,7 +6,6 @@
 
 use glam::{DVec3, Vec3};
 
-use super::uniforms::unit;
 use crate::error::Result;
 use crate::gl::{Context, Defines, Framebuffer, Program, Texture, TextureDesc, TextureFormat};
 use crate::gl::{FullscreenPass, FULLSCREEN_VERTEX};
@@ -111,8 +110,10 @@ impl Stateless {
         let p = &self.program;
         p.bind();
         p.set_f32("u_time", time);
-        self.start.texture(0).bind(unit::POSITION);
-        self.start.texture(1).bind(unit::VELOCITY);
+        p.textures(&[
+            ("u_position", self.start.texture(0).into()),
+            ("u_velocity", self.start.texture(1).into()),
+        ]);
         if rows > 0 {
             pass.draw_rows(p, target, 0, rows);
         }

@@ -1,5 +1,5 @@
-//! The uniforms of the simulation programs that do not change during a run, and the texture
-//! units their samplers read.
+//! The uniforms of the simulation programs that do not change during a run. Textures are not
+//! among them: every draw names its own (`gl::Program::textures`).
 
 use glam::{Vec3, Vec4};
 
@@ -8,24 +8,12 @@ use super::Fields;
 use crate::gl::Program;
 use crate::scene::{self, SceneFile};
 
-/// Texture units of the simulation programs.
-pub(super) mod unit {
-    pub const POSITION: u32 = 0;
-    pub const VELOCITY: u32 = 1;
-    pub const STATIC: u32 = 2;
-    pub const FLOW: u32 = 3;
-    pub const HEIGHT: u32 = 4;
-    pub const SDF: u32 = 5;
-    /// The velocity a separate velocity pass just wrote (`passes = "separate"`).
-    pub const NEW_VELOCITY: u32 = 6;
-}
-
 fn v3(a: [f32; 3]) -> Vec3 {
     Vec3::from(a)
 }
 
-/// Sets the uniforms that do not change during a run (emitters, masses, forces, colliders,
-/// samplers) on `p`; uniforms the program lacks are skipped.
+/// Sets the uniforms that do not change during a run (emitters, masses, forces, colliders) on
+/// `p`; uniforms the program lacks are skipped (the same set serves every simulation program).
 pub(super) fn set_constants_for(
     p: &Program,
     s: &SceneFile,
@@ -35,19 +23,23 @@ pub(super) fn set_constants_for(
     types: usize,
 ) {
     p.bind();
-    p.set_i32("u_position", unit::POSITION as i32);
-    p.set_i32("u_velocity", unit::VELOCITY as i32);
-    p.set_i32("u_previous", unit::VELOCITY as i32);
-    p.set_i32("u_static", unit::STATIC as i32);
-    p.set_i32("u_flow", unit::FLOW as i32);
-    p.set_i32("u_height", unit::HEIGHT as i32);
-    p.set_i32("u_sdf", unit::SDF as i32);
-    p.set_i32("u_new_velocity", unit::NEW_VELOCITY as i32);
+    p.optional(|| set_constants(p, s, fields, size, seed, types));
+}
+
+fn set_constants(
+    p: &Program,
+    s: &SceneFile,
+    fields: &Fields,
+    size: [u32; 2],
+    seed: u32,
+    types: usize,
+) {
     p.set_i32("u_width", size[0] as i32);
     p.set_ivec2("u_size", size[0] as i32, size[1] as i32);
     p.set_u32("u_seed", seed);
     p.set_f32("u_dt", s.time.dt);
     p.set_i32("u_emitters", types as i32);
+    // The masses of glsl/common/mass.glsl, which integration and collisions share.
     let mut inv_mass = [1.0 / s.particles.mass; 4];
     let mut cycle = [1.0f32; 4];
     let (mut lo, mut hi) = ([s.particles.mass; 4], [s.particles.mass; 4]);

@@ -15,10 +15,12 @@
 //! centres, mass-weighted, so that a resting pile settles instead of sinking into itself.
 //!
 //! Beyond the paper, `collisions.detection = "exact"` finds every pair closer than 2r (up to
-//! [`EXACT_SCAN`] particles in a run of three cells): one full sort, then a count pass and a
-//! response pass that each walk the 27 cells around a particle, found by a binary search of the
-//! sorted keys (`glsl/collide/cells.glsl`); the response takes every partner, weighted
-//! 1 / max(n_i, n_j), which conserves momentum and cannot add kinetic energy.
+//! [`EXACT_SCAN`] particles in a run of three cells): per iteration a full sort, then a count
+//! pass and a response pass that each walk the 27 cells around a particle, found by a binary
+//! search of the sorted keys (`glsl/collide/cells.glsl`). The momentum exchange is applied to
+//! mutual closest pairs (weight 1, two-body collisions: momentum conserved, energy kept at
+//! e = 1); the separation of overlaps to every partner, weighted 1 / max(n_i, n_j). Every
+//! iteration sorts again, so each one searches the cells the particles are in now.
 //!
 //! The statistics themselves (what a step's detection found against the true pairs) are measured
 //! there, from [`Collisions::read_back`]: this module only runs the passes.
@@ -27,13 +29,14 @@ use glam::{UVec3, Vec3};
 
 use crate::error::{Error, Result};
 use crate::gl::{
-    Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Texture, TextureDesc,
-    TextureFormat, FULLSCREEN_VERTEX,
+    Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Sampled, Texture,
+    TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
 };
 use crate::scene::{self, SceneFile};
 use crate::sort::{KeyMode, SortOptions, Sorter, Variant};
 
 mod census;
+mod exact;
 
 pub use census::PairCensus;
 
@@ -119,22 +122,27 @@ pub struct Collisions {
     pass: FullscreenPass,
     width: u32,
     dt: f32,
+    /// Exact mode: read back each iteration's detection into `recorded`.
+    record: bool,
+    recorded: Vec<Readback>,
 }
 
-/// The exact mode's passes of one step, as `texflow scene passes` lists them.
+/// The exact mode's passes of one iteration (`collisions.iterations` per step), as `texflow
+/// scene passes` lists them.
 pub fn exact_passes(colliders: bool) -> Vec<String> {
     vec![
-        "collision keys: cell index in the lattice (z, y, x)".into(),
-        "collision sort: full bitonic sort (GP/FP packed)".into(),
+        "collision keys: cell index in the lattice (z, y, x), every iteration".into(),
+        "collision sort: full bitonic sort (GP/FP packed), every iteration".into(),
         "gather position, velocity, static in cell order".into(),
         format!(
             "exact detection: partners closer than 2r counted in the 27 cells around each \
-             particle (binary search of the sorted keys per row of 3 cells, at most {EXACT_SCAN} \
-             particles per run)"
+             particle, and the closest (binary search of the sorted keys per row of 3 cells, at \
+             most {EXACT_SCAN} particles per run)"
         ),
         format!(
-            "exact response: every partner, weighted 1/max(n_i, n_j); back-tracking to contact, \
-             momentum exchange, overlap separation{}",
+            "exact response: momentum exchange with the closest partner if it chose this particle \
+             too (back-tracking to contact); overlap separation with every partner, weighted \
+             1/max(n_i, n_j){}",
             if colliders {
                 "; boundary conditions (colliders)"
             } else {
@@ -158,15 +166,15 @@ enum Passes {
     /// Every partner in the 27 cells around each particle: a count pass, then the response.
     Exact {
         counts: Framebuffer,
-        more_counts: Framebuffer,
         count: Program,
         response: Program,
     },
 }
 
 /// Most particles the exact detection walks in a run of three cells along x (its stated
-/// density limit: past it, `collide-stats` counts the run as truncated).
-pub const EXACT_SCAN: u32 = 64;
+/// density limit: validation refuses a cell whose runs could hold more spheres that do not
+/// overlap; past it, `collide-stats` counts the run as truncated).
+pub use crate::scene::EXACT_SCAN;
 
 fn texture(ctx: &Context, label: &str, w: u32, h: u32, format: TextureFormat) -> Result<Texture> {
     Texture::new(
@@ -272,17 +280,6 @@ impl Collisions {
                         TextureFormat::Rgba32F,
                     )?],
                 )?,
-                more_counts: Framebuffer::new(
-                    ctx,
-                    "partner counts, later iterations",
-                    vec![texture(
-                        ctx,
-                        "partner counts 2",
-                        w,
-                        h,
-                        TextureFormat::Rgba32F,
-                    )?],
-                )?,
                 count: Program::new(ctx, FULLSCREEN_VERTEX, "collide/exact_count.frag", &d)?,
                 response: Program::new(ctx, FULLSCREEN_VERTEX, "collide/exact_response.frag", &d)?,
             }
@@ -308,6 +305,8 @@ impl Collisions {
             second,
             width: w,
             dt: scene.time.dt,
+            record: false,
+            recorded: Vec::new(),
         };
         Ok(stage)
     }
@@ -339,33 +338,22 @@ impl Collisions {
         };
         let p = detect;
         p.bind();
-        positions.bind(0);
-        p.set_i32("u_position", 0);
+        p.textures(&[("u_position", positions.into())]);
         p.set_i32("u_width", self.width as i32);
         p.set_i32("u_neighbours", self.config.neighbours as i32);
         p.set_f32("u_radius", self.config.radius);
         self.pass.draw(p, raw);
         let m = mutual;
         m.bind();
-        raw.texture(0).bind(0);
-        m.set_i32("u_partner", 0);
+        m.textures(&[("u_partner", raw.texture(0).into())]);
         m.set_i32("u_width", self.width as i32);
         self.pass.draw(m, out);
     }
 
-    /// One collision step on the state after the collisionless motion: sorts, detects, responds
-    /// into `state.back()` (then swaps) and leaves the static texture in the new order.
-    /// `set_response_constants` sets the colliders' uniforms on the response program.
-    pub fn run(
-        &mut self,
-        state: &mut PingPong,
-        statics: &Framebuffer,
-        dt: f32,
-        inv_mass: glam::Vec4,
-        set_response_constants: impl Fn(&Program),
-    ) -> Result<()> {
+    /// Keys on the first lattice from the current state, the sort, and the gather of position,
+    /// velocity and static into the lattice's layout.
+    fn sort_first(&mut self, state: &PingPong, statics: &Framebuffer) -> Result<()> {
         let count = self.width as usize * state.height() as usize;
-        // First lattice: keys from the current state, sort, gather.
         let front = state.front();
         let g = &mut self.first;
         g.sorter
@@ -374,26 +362,35 @@ impl Collisions {
         g.sorter.gather(
             &[front.texture(0), front.texture(1), statics.texture(0)],
             &g.layout,
-        )?;
-        if let Passes::Exact {
-            counts,
-            more_counts,
-            count,
-            response,
-        } = &self.passes
-        {
-            self.run_exact(
-                state,
-                statics,
-                dt,
-                inv_mass,
-                &set_response_constants,
-                [counts, more_counts],
-                count,
-                response,
-            );
-            return Ok(());
+        )
+    }
+
+    /// Copies the static texture of `layout` (the order the response wrote the state in) into
+    /// the simulation's static texture.
+    fn copy_statics(&self, layout: &Framebuffer, statics: &Framebuffer) {
+        let c = &self.copy;
+        c.bind();
+        c.textures(&[("u_source", layout.texture(2).into())]);
+        self.pass.draw(c, statics);
+    }
+
+    /// One collision step on the state after the collisionless motion: sorts, detects, responds
+    /// into `state.back()` (then swaps) and leaves the static texture in the new order.
+    /// `set_response_constants` sets the colliders' and masses' uniforms on the response
+    /// program; `fields` are the colliders' textures under their sampler names.
+    pub fn run(
+        &mut self,
+        state: &mut PingPong,
+        statics: &Framebuffer,
+        dt: f32,
+        fields: &[(&str, Sampled<'_>)],
+        set_response_constants: impl Fn(&Program),
+    ) -> Result<()> {
+        if matches!(self.passes, Passes::Exact { .. }) {
+            return self.run_exact(state, statics, dt, fields, &set_response_constants);
         }
+        let count = self.width as usize * state.height() as usize;
+        self.sort_first(state, statics)?;
         self.detect_into(self.first.layout.texture(0), &self.first.partner);
         // Staggered lattice: sort the gathered state again, taking the first detection along.
         if let Some(g2) = &mut self.second {
@@ -424,104 +421,33 @@ impl Collisions {
         };
         p.bind();
         set_response_constants(p);
-        // Units 0-2 as the simulation's programs; 3-5 hold its fields (colliders); 8-12 here.
-        own.texture(0).bind(0);
-        own.texture(1).bind(1);
-        own.texture(2).bind(2);
-        partner.texture(0).bind(8);
-        p.set_i32("u_position", 0);
-        p.set_i32("u_velocity", 1);
-        p.set_i32("u_static", 2);
-        p.set_i32("u_partner", 8);
+        // Every sampler named on this draw: the gathers above bind their own textures, and
+        // nothing they leave is read here.
+        let mut textures: Vec<(&str, Sampled)> = vec![
+            ("u_position", own.texture(0).into()),
+            ("u_velocity", own.texture(1).into()),
+            ("u_static", own.texture(2).into()),
+            ("u_partner", partner.texture(0).into()),
+        ];
         if self.second.is_some() {
             let a = &self.first.layout;
-            own.texture(3).bind(9);
-            a.texture(0).bind(10);
-            a.texture(1).bind(11);
-            a.texture(2).bind(12);
-            p.set_i32("u_partner2", 9);
-            p.set_i32("u_position2", 10);
-            p.set_i32("u_velocity2", 11);
-            p.set_i32("u_static2", 12);
+            textures.extend([
+                ("u_partner2", own.texture(3).into()),
+                ("u_position2", a.texture(0).into()),
+                ("u_velocity2", a.texture(1).into()),
+                ("u_static2", a.texture(2).into()),
+            ]);
         }
+        textures.extend(fields.iter().filter(|(n, _)| p.declares(n)).copied());
+        p.textures(&textures);
         p.set_i32("u_width", self.width as i32);
         p.set_f32("u_radius", self.config.radius);
         p.set_f32("u_restitution", self.config.restitution);
         p.set_f32("u_dt", dt);
-        p.set_vec4("u_inv_mass", inv_mass);
         self.pass.draw(p, state.back());
         state.swap();
-        let c = &self.copy;
-        c.bind();
-        own.texture(2).bind(0);
-        c.set_i32("u_source", 0);
-        self.pass.draw(c, statics);
+        self.copy_statics(own, statics);
         Ok(())
-    }
-
-    /// The exact mode's passes after the sort and gather: partner counts, then the response
-    /// with every partner, then the static texture in the new order.
-    #[allow(clippy::too_many_arguments)]
-    fn run_exact(
-        &self,
-        state: &mut PingPong,
-        statics: &Framebuffer,
-        dt: f32,
-        inv_mass: glam::Vec4,
-        set_response_constants: &impl Fn(&Program),
-        [counts, more_counts]: [&Framebuffer; 2],
-        count: &Program,
-        response: &Program,
-    ) {
-        let g = &self.first;
-        let dims = g.lattice.dims;
-        let entries = (self.width * state.height()) as i32;
-        let search = |p: &Program| {
-            g.sorter.keys().bind(8);
-            p.set_i32("u_keys", 8);
-            p.set_i32("u_key_width", self.width as i32);
-            p.set_i32("u_count", entries);
-            p.set_ivec3("u_dims", dims.x as i32, dims.y as i32, dims.z as i32);
-            p.set_f32("u_radius", self.config.radius);
-        };
-        // Iteration 0 reads the gathered layout (and its counts are what `read_back` shows);
-        // further iterations (`collisions.iterations`) relax the state the previous one wrote,
-        // which is in the same order, so the sorted keys still index it.
-        for it in 0..self.config.iterations.max(1) {
-            let (pos, vel) = if it == 0 {
-                (g.layout.texture(0), g.layout.texture(1))
-            } else {
-                (state.front().texture(0), state.front().texture(1))
-            };
-            let target = if it == 0 { counts } else { more_counts };
-            count.bind();
-            search(count);
-            pos.bind(0);
-            count.set_i32("u_position", 0);
-            self.pass.draw(count, target);
-            let p = response;
-            p.bind();
-            set_response_constants(p);
-            search(p);
-            pos.bind(0);
-            vel.bind(1);
-            g.layout.texture(2).bind(2);
-            target.texture(0).bind(9);
-            p.set_i32("u_position", 0);
-            p.set_i32("u_velocity", 1);
-            p.set_i32("u_static", 2);
-            p.set_i32("u_counts", 9);
-            p.set_f32("u_restitution", self.config.restitution);
-            p.set_f32("u_dt", dt);
-            p.set_vec4("u_inv_mass", inv_mass);
-            self.pass.draw(p, state.back());
-            state.swap();
-        }
-        let c = &self.copy;
-        c.bind();
-        g.layout.texture(2).bind(0);
-        c.set_i32("u_source", 0);
-        self.pass.draw(c, statics);
     }
 
     /// Reads back one lattice's state after the last step's detection, in that lattice's sorted

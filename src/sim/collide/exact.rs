@@ -1,0 +1,89 @@
+//! The exact mode's step: every iteration keys, sorts and gathers the state it reads again, so
+//! each iteration's search walks the cells the particles are in now, not where the step's first
+//! sort found them. An iteration is the whole stage: keys, sort, gather, partner counts, the
+//! response with every partner, and the static texture copied in the new order.
+
+use super::{Collisions, Passes, Readback};
+use crate::error::Result;
+use crate::gl::{Framebuffer, PingPong, Program, Sampled};
+
+impl Collisions {
+    /// `collisions.iterations` exact iterations; with [`record_iterations`]
+    /// (Self::record_iterations) on, each one's detection is read back after its count pass.
+    pub(super) fn run_exact(
+        &mut self,
+        state: &mut PingPong,
+        statics: &Framebuffer,
+        dt: f32,
+        fields: &[(&str, Sampled<'_>)],
+        set_response_constants: &impl Fn(&Program),
+    ) -> Result<()> {
+        self.recorded.clear();
+        for _ in 0..self.config.iterations.max(1) {
+            self.sort_first(state, statics)?;
+            let Passes::Exact {
+                counts,
+                count,
+                response,
+            } = &self.passes
+            else {
+                unreachable!("called in the exact mode only");
+            };
+            let g = &self.first;
+            let dims = g.lattice.dims;
+            let entries = (self.width * state.height()) as i32;
+            let search = |p: &Program| {
+                p.set_i32("u_key_width", self.width as i32);
+                p.set_i32("u_count", entries);
+                p.set_ivec3("u_dims", dims.x as i32, dims.y as i32, dims.z as i32);
+                p.set_f32("u_radius", self.config.radius);
+            };
+            count.bind();
+            search(count);
+            count.textures(&[
+                ("u_keys", g.sorter.keys().into()),
+                ("u_position", g.layout.texture(0).into()),
+            ]);
+            self.pass.draw(count, counts);
+            if self.record {
+                self.recorded.push(Readback {
+                    positions: g.layout.texture(0).read_f32()?,
+                    velocities: g.layout.texture(1).read_f32()?,
+                    partners: counts.texture(0).read_f32()?,
+                });
+            }
+            let p = response;
+            p.bind();
+            set_response_constants(p);
+            search(p);
+            let mut textures: Vec<(&str, Sampled)> = vec![
+                ("u_keys", g.sorter.keys().into()),
+                ("u_position", g.layout.texture(0).into()),
+                ("u_velocity", g.layout.texture(1).into()),
+                ("u_static", g.layout.texture(2).into()),
+                ("u_counts", counts.texture(0).into()),
+            ];
+            textures.extend(fields.iter().filter(|(n, _)| p.declares(n)).copied());
+            p.textures(&textures);
+            p.set_f32("u_restitution", self.config.restitution);
+            p.set_f32("u_dt", dt);
+            self.pass.draw(p, state.back());
+            state.swap();
+            self.copy_statics(&self.first.layout, statics);
+        }
+        Ok(())
+    }
+
+    /// Whether the exact mode reads back every iteration's detection ([`recorded`]
+    /// (Self::recorded)): for statistics, which cost a read-back per iteration.
+    pub fn record_iterations(&mut self, on: bool) {
+        self.record = on;
+    }
+
+    /// The exact mode's detection of each iteration of the last step, in the order they ran,
+    /// if [`record_iterations`](Self::record_iterations) was on (else empty). Each is in that
+    /// iteration's sorted order; `partners` holds (partners found, truncated, 0, 0).
+    pub fn recorded(&self) -> &[Readback] {
+        &self.recorded
+    }
+}

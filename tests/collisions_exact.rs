@@ -1,0 +1,187 @@
+//! The exact mode keeps its promises: every iteration finds every pair (each one sorts again),
+//! restitution 1 keeps kinetic energy, each particle collides with its own mass, and a cell whose
+//! runs could overflow the search is refused with the largest that fits.
+
+mod common;
+
+use common::{context, no_gl_error};
+use texflow::report::collide_iterations::energy_momentum;
+use texflow::scene;
+use texflow::sim::ParticleSim;
+
+fn gas_scene(collisions: &str, emitter: &str) -> scene::SceneFile {
+    let src = format!(
+        r#"
+name = "gas"
+integrator = "euler"
+[particles]
+size = [16, 16]
+[time]
+dt = 0.01
+[[emitters.initial]]
+direction = [0.0, 1.0, 0.0]
+speed = [0.0, 0.0]
+{emitter}
+[collisions]
+radius = 0.04
+restitution = 1.0
+detection = "exact"
+bounds = [[-2.0, -2.0, -2.0], [3.0, 3.0, 3.0]]
+{collisions}
+"#
+    );
+    scene::parse("test", &src).unwrap_or_else(|e| panic!("{e}\n{src}"))
+}
+
+fn random_gas(n: usize, seed: u32, speed: f32) -> Vec<([f32; 3], [f32; 3])> {
+    let mut rng = texflow::sim::emit::Rng::new(seed, 0, 11);
+    (0..n)
+        .map(|_| {
+            let p = [rng.uniform(), rng.uniform(), rng.uniform()].map(|c| c * 0.6);
+            let v = [0; 3].map(|_| (rng.uniform() - 0.5) * speed);
+            (p, v)
+        })
+        .collect()
+}
+
+/// Brute force: every particle's number of others closer than `reach`.
+fn brute_counts(x: &[f32], reach: f32) -> Vec<usize> {
+    let n = x.len() / 4;
+    let live = |i: usize| x[i * 4 + 3] > 0.0;
+    let mut c = vec![0; n];
+    for i in 0..n {
+        for j in i + 1..n {
+            let d2: f32 = (0..3).map(|k| (x[i * 4 + k] - x[j * 4 + k]).powi(2)).sum();
+            if live(i) && live(j) && d2.sqrt() < reach {
+                c[i] += 1;
+                c[j] += 1;
+            }
+        }
+    }
+    c
+}
+
+/// Four iterations of a step on a dense moving gas: each iteration's partner counts equal the
+/// all-pairs count of the state that iteration searched (later iterations used to reuse the
+/// first sort's cells and miss pairs that had changed cell). Pairs the separation left at
+/// contact, 2r to rounding, may count on either side: the count lies between the all-pairs
+/// counts at 2r (1 ∓ 1e-5).
+#[test]
+fn every_exact_iteration_finds_every_pair() {
+    let ctx = context();
+    let s = gas_scene("iterations = 4", "");
+    let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+    common::set_particles(&mut sim, &random_gas(256, 7, 4.0), |i, n| {
+        (i as f32 + 0.5) / n as f32
+    });
+    sim.collisions_mut().unwrap().record_iterations(true);
+    let mut later_pairs = 0;
+    for step in 0..3 {
+        sim.step().unwrap();
+        let rec = sim.collisions().unwrap().recorded();
+        assert_eq!(rec.len(), 4);
+        for (it, r) in rec.iter().enumerate() {
+            let lo = brute_counts(&r.positions, 0.08 * (1.0 - 1e-5));
+            let hi = brute_counts(&r.positions, 0.08 * (1.0 + 1e-5));
+            for (i, c) in r.partners.chunks(4).enumerate() {
+                let found = c[0] as usize;
+                assert!(
+                    (lo[i]..=hi[i]).contains(&found),
+                    "step {step}, iteration {}, particle {i}: {found} found, {} true",
+                    it + 1,
+                    lo[i]
+                );
+            }
+            if it > 0 {
+                later_pairs += lo.iter().sum::<usize>() / 2;
+            }
+        }
+    }
+    assert!(
+        later_pairs > 20,
+        "later iterations saw only {later_pairs} pairs"
+    );
+    no_gl_error(&ctx);
+}
+
+/// Restitution 1 without walls: kinetic energy is kept (to rounding) and momentum conserved, in
+/// a gas where many particles touch two or more others at once.
+#[test]
+fn elastic_exact_collisions_keep_kinetic_energy() {
+    let ctx = context();
+    for iterations in [1, 3] {
+        let s = gas_scene(&format!("iterations = {iterations}"), "");
+        let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+        common::set_particles(&mut sim, &random_gas(256, 3, 2.0), |i, n| {
+            (i as f32 + 0.5) / n as f32
+        });
+        let (e0, p0) = energy_momentum(&sim).unwrap();
+        for _ in 0..40 {
+            sim.step().unwrap();
+        }
+        let (e1, p1) = energy_momentum(&sim).unwrap();
+        let scale = (2.0 * e0 * 256.0).sqrt();
+        assert!(
+            ((e1 - e0) / e0).abs() < 1e-4,
+            "{iterations} iterations: energy {e0} -> {e1}"
+        );
+        for k in 0..3 {
+            assert!(
+                (p1[k] - p0[k]).abs() < 1e-5 * scale,
+                "momentum {p0:?} -> {p1:?}"
+            );
+        }
+    }
+    no_gl_error(&ctx);
+}
+
+/// With `mass_range` the response weighs each particle by its own mass: momentum Σ m v with
+/// those masses is conserved, and energy is kept, which one mass for all would not give.
+#[test]
+fn collisions_use_each_particle_s_own_mass() {
+    let ctx = context();
+    let s = gas_scene("", "mass_range = [0.5, 8.0]");
+    let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+    common::set_particles(&mut sim, &random_gas(256, 5, 2.0), |i, n| {
+        (i as f32 + 0.5) / n as f32
+    });
+    let (e0, p0) = energy_momentum(&sim).unwrap();
+    for _ in 0..30 {
+        sim.step().unwrap();
+    }
+    let (e1, p1) = energy_momentum(&sim).unwrap();
+    let scale = (2.0 * e0 * 256.0 * 8.0).sqrt();
+    for k in 0..3 {
+        assert!(
+            (p1[k] - p0[k]).abs() < 1e-5 * scale,
+            "momentum {p0:?} -> {p1:?}"
+        );
+    }
+    assert!(((e1 - e0) / e0).abs() < 1e-4, "energy {e0} -> {e1}");
+    no_gl_error(&ctx);
+}
+
+/// A cell whose run of three could hold more non-overlapping spheres than the search walks is
+/// refused, naming the largest cell that fits; that cell is accepted.
+#[test]
+fn an_exact_cell_too_large_is_refused_with_the_largest_that_fits() {
+    let largest = scene::largest_exact_cell(0.04);
+    assert!((largest / 0.04 - 2.96).abs() < 0.01, "{largest}");
+    assert!(scene::run_capacity(largest, 0.04) <= scene::EXACT_SCAN as f64);
+    let src = |cell: f32| {
+        format!(
+            "name = \"g\"\nintegrator = \"euler\"\n[particles]\nsize = [16, 16]\n[time]\n\
+             dt = 0.01\n[[emitters.initial]]\ndirection = [0.0, 1.0, 0.0]\nspeed = [0.0, 0.0]\n[collisions]\n\
+             radius = 0.04\ndetection = \"exact\"\ncell = {cell}\n\
+             bounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]\n"
+        )
+    };
+    let err = scene::parse("big.toml", &src(0.32))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("big.toml:") && err.contains(&format!("at most {largest:.6} m")),
+        "{err}"
+    );
+    scene::parse("ok.toml", &src(largest)).unwrap();
+}

@@ -5,7 +5,7 @@ use glam::Vec4;
 
 use crate::error::Result;
 use crate::gl::{
-    Blend, Context, Defines, Draw, DrawState, Framebuffer, FullscreenPass, PointSize, Primitive,
+    Blend, Context, Defines, Draw, DrawState, Framebuffer, FullscreenPass, Primitive,
     Program, VertexArray, FULLSCREEN_VERTEX,
 };
 pub use crate::gl::{Clock, PassTimer};
@@ -88,7 +88,7 @@ impl RenderFloor {
             count: points as u32,
             state: &DrawState {
                 blend,
-                point_size: PointSize::One,
+                ..DrawState::REPLACE
             },
         });
     }

@@ -17,6 +17,8 @@ pub struct Framebuffer {
     size: [u32; 2],
     /// Number of colour attachments.
     attachments: usize,
+    /// A depth renderbuffer (frame targets that draw geometry only).
+    depth: Option<glow::Renderbuffer>,
     label: String,
 }
 
@@ -87,9 +89,44 @@ impl Framebuffer {
             textures,
             size: [w, h],
             attachments,
+            depth: None,
             label: label.to_owned(),
         }
         .checked()
+    }
+
+    /// Like [`Framebuffer::new`], plus a 24-bit depth renderbuffer of the same size, for draws
+    /// with a [`Depth`](super::Depth) test; [`clear`](Self::clear) resets it to the far plane.
+    pub fn with_depth(ctx: &Context, label: &str, textures: Vec<Texture>) -> Result<Self> {
+        let mut fb = Framebuffer::new(ctx, label, textures)?;
+        let [w, h] = fb.size;
+        // SAFETY: a fresh renderbuffer attached to a framebuffer this function owns.
+        let raw = unsafe {
+            let raw = ctx.create_renderbuffer().map_err(Error::Gl)?;
+            ctx.bind_renderbuffer(glow::RENDERBUFFER, Some(raw));
+            ctx.renderbuffer_storage(
+                glow::RENDERBUFFER,
+                glow::DEPTH_COMPONENT24,
+                w as i32,
+                h as i32,
+            );
+            ctx.bind_renderbuffer(glow::RENDERBUFFER, None);
+            ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(fb.raw));
+            ctx.framebuffer_renderbuffer(
+                glow::FRAMEBUFFER,
+                glow::DEPTH_ATTACHMENT,
+                glow::RENDERBUFFER,
+                Some(raw),
+            );
+            raw
+        };
+        fb.depth = Some(raw);
+        fb.checked()
+    }
+
+    /// Whether it has a depth attachment ([`Framebuffer::with_depth`]).
+    pub fn has_depth(&self) -> bool {
+        self.depth.is_some()
     }
 
     /// A framebuffer whose one colour attachment is layer `layer` (the z slice `k = layer`) of
@@ -127,6 +164,7 @@ impl Framebuffer {
             textures: Vec::new(),
             size: [w, h],
             attachments: 1,
+            depth: None,
             label: label.to_owned(),
         }
         .checked()
@@ -173,6 +211,7 @@ impl Framebuffer {
             textures: Vec::new(),
             size: [w, h],
             attachments: d as usize,
+            depth: None,
             label: label.to_owned(),
         }
         .checked()
@@ -270,7 +309,8 @@ impl Framebuffer {
         ))
     }
 
-    /// Clears every attachment to `rgba`.
+    /// Clears every colour attachment to `rgba`, and the depth attachment (if any) to the far
+    /// plane.
     pub fn clear(&self, rgba: [f32; 4]) {
         self.bind();
         // SAFETY: the framebuffer is bound.
@@ -278,6 +318,11 @@ impl Framebuffer {
             for i in 0..self.attachments {
                 self.ctx
                     .clear_buffer_f32_slice(glow::COLOR, i as u32, &rgba);
+            }
+            if self.depth.is_some() {
+                // A clear obeys the depth mask, which the last draw may have turned off.
+                self.ctx.depth_mask(true);
+                self.ctx.clear_buffer_f32_slice(glow::DEPTH, 0, &[1.0]);
             }
         }
     }
@@ -287,7 +332,12 @@ impl Drop for Framebuffer {
     fn drop(&mut self) {
         if let Some(gl) = self.ctx.gl_for_drop() {
             // SAFETY: the object belongs to this context, made current just now.
-            unsafe { gl.delete_framebuffer(self.raw) }
+            unsafe {
+                gl.delete_framebuffer(self.raw);
+                if let Some(d) = self.depth {
+                    gl.delete_renderbuffer(d);
+                }
+            }
         }
     }
 }

@@ -2,6 +2,7 @@
 
 pub mod atlas;
 mod camera;
+pub mod geometry;
 mod keyframes;
 mod particles;
 mod points;
@@ -10,6 +11,7 @@ mod style;
 mod target;
 
 pub use camera::{Camera, ViewOffset};
+pub use geometry::{GeometryRenderer, Mesh, Terrain};
 pub use keyframes::{relative_age, KeyframeRamp};
 pub use particles::{FrameState, Motion, ParticleRenderer, QUAD_VERTICES};
 pub use points::{PointRenderer, PointStyle};

@@ -4,7 +4,7 @@
 
 use super::keyframes::KeyframeRamp;
 use super::sprite::SizeCurve;
-use crate::gl::{Blend, BlendComponent, BlendFactor, DrawState, PointSize, Program};
+use crate::gl::{Blend, BlendComponent, BlendFactor, Depth, DrawState, PointSize, Program};
 use crate::scene::{
     Blending, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath, SceneFile,
 };
@@ -40,6 +40,9 @@ pub struct ParticleStyle {
     pub types: [TypeLook; 4],
     /// Background colour.
     pub background: [f32; 3],
+    /// Whether particles are depth-tested against drawn geometry (`render.geometry`); they
+    /// never write depth, so none hides another and the blending alone composites them.
+    pub depth_test: bool,
 }
 
 /// The keyframes used when a scene gives none: white, fading out over the life.
@@ -94,6 +97,7 @@ impl Default for ParticleStyle {
             keyframes: default_keyframes(),
             types: std::array::from_fn(|k| TypeLook::new(k as u32)),
             background: [0.0; 3],
+            depth_test: false,
         }
     }
 }
@@ -168,11 +172,17 @@ impl ParticleStyle {
     }
 
     /// The state particles (and the under operator's background) are drawn with: this style's
-    /// [`blend`](Self::blend), point sizes from the vertex shader.
+    /// [`blend`](Self::blend), point sizes from the vertex shader, and with drawn geometry a
+    /// depth test without a depth write.
     pub fn draw_state(&self) -> DrawState {
         DrawState {
             blend: Some(self.blend()),
             point_size: PointSize::Program,
+            depth: if self.depth_test {
+                Depth::Test
+            } else {
+                Depth::Off
+            },
         }
     }
 
@@ -195,6 +205,7 @@ impl ParticleStyle {
                 ..TypeLook::new(k as u32)
             }),
             background: r.background,
+            depth_test: r.geometry,
         }
     }
 

@@ -238,6 +238,11 @@ pub struct Render {
     /// Background colour; multiplicative blending needs a light one.
     #[serde(default)]
     pub background: [f32; 3],
+    /// Draw the scene's colliders (planes as bounded checker grids, spheres, boxes, the height
+    /// field, distance-field shapes and meshes) in the same camera, opaque and depth-tested
+    /// against the particles.
+    #[serde(default)]
+    pub geometry: bool,
 }
 
 fn resolution() -> [u32; 2] {
@@ -266,6 +271,7 @@ impl Default for Render {
             keyframes: Vec::new(),
             sort: SortSection::default(),
             background: [0.0; 3],
+            geometry: false,
         }
     }
 }

@@ -5,8 +5,8 @@ use glam::Vec4;
 
 use crate::error::Result;
 use crate::gl::{
-    Blend, Context, Defines, Draw, DrawState, Framebuffer, FullscreenPass, Primitive,
-    Program, VertexArray, FULLSCREEN_VERTEX,
+    Blend, Context, Defines, Draw, DrawState, Framebuffer, FullscreenPass, Primitive, Program,
+    VertexArray, FULLSCREEN_VERTEX,
 };
 pub use crate::gl::{Clock, PassTimer};
 

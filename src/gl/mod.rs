@@ -24,7 +24,8 @@ mod window;
 pub use buffer::{Attribute, Buffer, BufferKind, BufferUsage, VertexArray};
 pub use context::{gl_error_name, list_devices, Context, DeviceInfo, Limits};
 pub use draw::{
-    Blend, BlendComponent, BlendFactor, BlendOperation, Depth, Draw, DrawState, PointSize, Primitive, Rect,
+    Blend, BlendComponent, BlendFactor, BlendOperation, Depth, Draw, DrawState, PointSize,
+    Primitive, Rect,
 };
 pub use framebuffer::Framebuffer;
 pub use pack::PixelPack;

@@ -129,12 +129,42 @@ impl Mesh {
         };
         // Each face: four corners in order around it.
         let faces = [
-            [p(false, false, false), p(false, true, false), p(false, true, true), p(false, false, true)],
-            [p(true, false, false), p(true, false, true), p(true, true, true), p(true, true, false)],
-            [p(false, false, false), p(false, false, true), p(true, false, true), p(true, false, false)],
-            [p(false, true, false), p(true, true, false), p(true, true, true), p(false, true, true)],
-            [p(false, false, false), p(true, false, false), p(true, true, false), p(false, true, false)],
-            [p(false, false, true), p(false, true, true), p(true, true, true), p(true, false, true)],
+            [
+                p(false, false, false),
+                p(false, true, false),
+                p(false, true, true),
+                p(false, false, true),
+            ],
+            [
+                p(true, false, false),
+                p(true, false, true),
+                p(true, true, true),
+                p(true, true, false),
+            ],
+            [
+                p(false, false, false),
+                p(false, false, true),
+                p(true, false, true),
+                p(true, false, false),
+            ],
+            [
+                p(false, true, false),
+                p(true, true, false),
+                p(true, true, true),
+                p(false, true, true),
+            ],
+            [
+                p(false, false, false),
+                p(true, false, false),
+                p(true, true, false),
+                p(false, true, false),
+            ],
+            [
+                p(false, false, true),
+                p(false, true, true),
+                p(true, true, true),
+                p(true, false, true),
+            ],
         ];
         for q in faces {
             self.flat([q[0], q[1], q[2]], color);
@@ -162,7 +192,12 @@ impl Mesh {
         };
         for j in 0..nz - 1 {
             for i in 0..nx - 1 {
-                let q = [node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)];
+                let q = [
+                    node(i, j),
+                    node(i + 1, j),
+                    node(i + 1, j + 1),
+                    node(i, j + 1),
+                ];
                 for tri in [[0, 2, 1], [0, 3, 2]] {
                     let p = tri.map(|k| q[k].0);
                     let n = tri.map(|k| q[k].1);
@@ -184,7 +219,13 @@ impl Mesh {
         let half = cam.distance.max(1e-3);
         for p in &c.plane {
             let (point, normal) = (Vec3::from(p.point), Vec3::from(p.normal));
-            m.plane(point, normal, Vec3::from(cam.target), half, checker_cell(half));
+            m.plane(
+                point,
+                normal,
+                Vec3::from(cam.target),
+                half,
+                checker_cell(half),
+            );
         }
         for s in &c.sphere {
             m.sphere(Vec3::from(s.center), s.radius, SOLID_COLOR);

@@ -119,6 +119,14 @@ pub fn plan(scene: &SceneFile) -> Plan {
             "vertex buffer".to_owned()
         }
     };
+    if r.geometry {
+        let what = crate::render::geometry::describe(scene);
+        per_frame.push(if r.blending == Blending::Alpha && r.order == DrawOrder::FrontToBack {
+            format!("render geometry ({what}): depth only, its colour composited under the particles after them")
+        } else {
+            format!("render geometry ({what}): opaque, depth written; particles depth-tested, no depth write")
+        });
+    }
     let blend = match (r.blending, r.order) {
         (Blending::Additive, _) => "additive",
         (Blending::Multiplicative, _) => "multiplicative",

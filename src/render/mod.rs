@@ -15,6 +15,8 @@ pub use geometry::{GeometryRenderer, Mesh, Terrain};
 pub use keyframes::{relative_age, KeyframeRamp};
 pub use particles::{FrameState, Motion, ParticleRenderer, QUAD_VERTICES};
 pub use points::{PointRenderer, PointStyle};
-pub use sprite::{age_seconds, second_random, sprite_angle, SizeCurve};
+pub use sprite::{
+    age_seconds, flipbook_tile, random_size, second_random, sprite_angle, third_random, SizeCurve,
+};
 pub use style::{default_keyframes, ParticleStyle, TypeLook};
 pub use target::FrameTarget;

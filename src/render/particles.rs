@@ -118,8 +118,8 @@ impl ParticleRenderer {
         }
         if style.primitive != DrawPrimitive::Points && style.path != RenderPath::TextureFetch {
             return Err(Error::InvalidInput(
-                "quads and stretched quads replicate each particle's vertex by fetching its \
-                 texel (Latta §3.4.5): use path = \"texture_fetch\""
+                "triangles, quads and stretched quads replicate each particle's vertex by \
+                 fetching its texel (Latta §3.4.5): use path = \"texture_fetch\""
                     .into(),
             ));
         }
@@ -150,6 +150,7 @@ impl ParticleRenderer {
             DrawPrimitive::Points => {}
             DrawPrimitive::Quads => defines.push(flag("QUADS")),
             DrawPrimitive::Stretched => defines.push(flag("STRETCHED")),
+            DrawPrimitive::Triangles => defines.push(flag("TRIANGLES")),
         }
         defines.extend(style.blend_defines());
         let program = Program::new(
@@ -282,6 +283,8 @@ impl ParticleRenderer {
             (DrawMode::Sprites, DrawPrimitive::Quads) => "sprite quads",
             (DrawMode::Points, DrawPrimitive::Stretched) => "stretched quads",
             (DrawMode::Sprites, DrawPrimitive::Stretched) => "stretched sprite quads",
+            (DrawMode::Points, DrawPrimitive::Triangles) => "triangles",
+            (DrawMode::Sprites, DrawPrimitive::Triangles) => "sprite triangles",
         };
         let path = match s.path {
             RenderPath::TextureFetch => "texture fetch",
@@ -433,7 +436,10 @@ impl ParticleRenderer {
         s.set_keyframes(p);
         let (primitive, per_particle) = match s.primitive {
             DrawPrimitive::Points => (Primitive::Points, 1),
-            _ => (Primitive::Triangles, QUAD_VERTICES),
+            DrawPrimitive::Triangles => (Primitive::Triangles, 3),
+            DrawPrimitive::Quads | DrawPrimitive::Stretched => {
+                (Primitive::Triangles, QUAD_VERTICES)
+            }
         };
         let draw_state = s.draw_state();
         let gl = &self.ctx;

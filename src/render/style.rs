@@ -68,6 +68,10 @@ pub struct TypeLook {
     pub size: SizeCurve,
     /// This type's own colour keyframes, or `None`: the style's.
     pub keyframes: Option<[Keyframe; 4]>,
+    /// Range of the random size factor per particle (Latta §3.4.6); [1, 1]: none.
+    pub size_range: [f32; 2],
+    /// Flipbook: tiles (1: none) and tiles per second of age (0: the tiles over the life).
+    pub flipbook: (u32, f32),
 }
 
 impl TypeLook {
@@ -79,6 +83,8 @@ impl TypeLook {
             spin: [0.0; 2],
             size: SizeCurve::default(),
             keyframes: None,
+            size_range: [1.0; 2],
+            flipbook: (1, 0.0),
         }
     }
 }
@@ -138,6 +144,10 @@ impl ParticleStyle {
         );
         p.set_vec4("u_spin_min", each(&|t| t.spin[0].to_radians()));
         p.set_vec4("u_spin_max", each(&|t| t.spin[1].to_radians()));
+        p.set_vec4("u_size_min", each(&|t| t.size_range[0]));
+        p.set_vec4("u_size_max", each(&|t| t.size_range[1]));
+        p.set_vec4("u_flip_frames", each(&|t| t.flipbook.0 as f32));
+        p.set_vec4("u_flip_rate", each(&|t| t.flipbook.1));
         for (k, t) in self.types.iter().enumerate() {
             p.set_vec4(
                 &format!("u_size_age[{k}]"),
@@ -220,6 +230,10 @@ impl ParticleStyle {
                 spin: e.rotation_speed.unwrap_or([0.0; 2]),
                 size: SizeCurve::from_points(&e.size_over_life),
                 keyframes: four(&e.keyframes),
+                size_range: e.size_range.unwrap_or([1.0; 2]),
+                flipbook: e
+                    .flipbook
+                    .map_or((1, 0.0), |f| (f.frames, f.rate.unwrap_or(0.0))),
             };
         }
         style
@@ -251,16 +265,20 @@ impl ParticleStyle {
         }
     }
 
-    /// The widest particle in pixels: `point_size`, for sprites times the largest type scale and
-    /// size-over-life scale.
+    /// The widest particle in pixels: `point_size` times the largest random size factor, for
+    /// sprites also times the largest type scale and size-over-life scale.
     pub fn largest_size(&self) -> f32 {
-        if self.mode != DrawMode::Sprites {
-            return self.point_size;
-        }
         let widest = self
             .types
             .iter()
-            .map(|t| t.scale * t.size.scales.iter().copied().fold(0.0, f32::max))
+            .map(|t| {
+                let sprite = if self.mode == DrawMode::Sprites {
+                    t.scale * t.size.scales.iter().copied().fold(0.0, f32::max)
+                } else {
+                    1.0
+                };
+                sprite * t.size_range[1].max(t.size_range[0])
+            })
             .fold(0.0, f32::max);
         self.point_size * widest
     }

@@ -61,6 +61,8 @@ pub struct Scene {
     pub camera: CameraSection,
     /// Point size and brightness.
     pub style: PointStyleSection,
+    /// Background colour the frame is cleared to (`render.background`).
+    pub background: [f32; 3],
     /// The fire pass's parameters.
     pub fire: Fire,
 }
@@ -86,6 +88,7 @@ impl Scene {
                 intensity: f.render.intensity,
                 max_age: fire.max_age,
             },
+            background: f.render.background,
             fire: fire.clone(),
         })
     }

@@ -148,6 +148,8 @@ mod tests {
             rotation_speed: None,
             size_over_life: Vec::new(),
             keyframes: Vec::new(),
+            size_range: None,
+            flipbook: None,
         }
     }
 

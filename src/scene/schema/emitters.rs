@@ -135,4 +135,22 @@ pub struct Emitter {
     /// each particle type"); four, or empty for the scene's `[render] keyframes`.
     #[serde(default)]
     pub keyframes: Vec<Keyframe>,
+    /// Range [min, max] of a random size factor per particle, relative to the type's size
+    /// (Latta §3.4.6: "The size of a particle is random within a range that is defined by the
+    /// particle type"). Default [1, 1].
+    pub size_range: Option<[f32; 2]>,
+    /// An animated texture (the thesis §2.3): consecutive atlas tiles from `tile` shown in turn.
+    pub flipbook: Option<Flipbook>,
+}
+
+/// A flipbook: `frames` atlas tiles from the type's `tile` on (wrapping after the atlas's four),
+/// advancing at `rate` tiles per second of the particle's age, looping; without a rate, spread
+/// evenly over its life.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Flipbook {
+    /// Number of tiles, 1 to 4.
+    pub frames: u32,
+    /// Tiles per second of age; default: `frames` over the particle's life.
+    pub rate: Option<f32>,
 }

@@ -10,7 +10,7 @@ mod render;
 
 use serde::{Deserialize, Serialize};
 
-pub use emitters::{AllocatorKind, Emitter, Emitters, Shape, MAX_EMITTERS};
+pub use emitters::{AllocatorKind, Emitter, Emitters, Flipbook, Shape, MAX_EMITTERS};
 pub use forces::{
     Attractor, BoxCollider, Colliders, CustomForce, Damping, Falloff, Forces, Gravity,
     HeightFieldCollider, PlaneCollider, SdfCollider, SphereCollider, Spring, Vortex, VortexForm,

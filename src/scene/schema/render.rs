@@ -31,6 +31,10 @@ pub enum DrawPrimitive {
     /// A quad stretched along the particle's screen-space motion over `render.stretch` seconds
     /// (motion blur). Needs the texture-fetch path.
     Stretched,
+    /// One triangle per particle by vertex replication (three vertices fetch the same texel):
+    /// the equilateral triangle around the sprite's inscribed circle. Needs the texture-fetch
+    /// path.
+    Triangles,
 }
 
 /// Where the vertex stage gets positions.

@@ -127,7 +127,7 @@ impl Mesh {
                 if z { max.z } else { min.z },
             )
         };
-        // Each face: four corners in order around it.
+        // Each face: four corners in order around it (either way round).
         let faces = [
             [
                 p(false, false, false),
@@ -166,7 +166,13 @@ impl Mesh {
                 p(true, false, true),
             ],
         ];
-        for q in faces {
+        let centre = (min + max) * 0.5;
+        for mut q in faces {
+            // Wound counter-clockwise seen from outside, so that the face normal points out.
+            let n = (q[1] - q[0]).cross(q[2] - q[0]);
+            if n.dot(q[0] - centre) < 0.0 {
+                q.reverse();
+            }
             self.flat([q[0], q[1], q[2]], color);
             self.flat([q[0], q[2], q[3]], color);
         }

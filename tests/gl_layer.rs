@@ -6,7 +6,7 @@ mod common;
 
 use common::{context, no_gl_error};
 use texflow::gl::{
-    Blend, BlendComponent, BlendFactor, Context, Defines, Draw, DrawState, Framebuffer,
+    Blend, BlendComponent, BlendFactor, Context, Defines, Depth, Draw, DrawState, Framebuffer,
     FullscreenPass, PointSize, Primitive, Program, Ring3, Texture, TextureDesc, TextureFormat,
     VertexArray, FULLSCREEN_VERTEX,
 };
@@ -162,6 +162,7 @@ fn every_draw_sets_its_own_blend_state() {
                 alpha: add,
             }),
             point_size: PointSize::One,
+            depth: Depth::Off,
         },
     });
     assert!(fb.texture(0).read_f32().unwrap().iter().all(|&v| v == 1.5));

@@ -123,6 +123,7 @@ fn style(
             [13.0 / 255.0, 26.0 / 255.0, 38.0 / 255.0]
         },
         keyframes: test_keyframes(),
+        depth_test: false,
     }
 }
 

@@ -19,7 +19,7 @@ layout(location = 0) out vec4 o_color;
 void main() {
     vec4 c = v_color;
 #ifdef SPRITES
-#if defined(QUADS) || defined(STRETCHED)
+#if defined(QUADS) || defined(STRETCHED) || defined(TRIANGLES)
     vec2 d = v_coord - 0.5;
 #else
     vec2 d = gl_PointCoord - 0.5;

@@ -9,6 +9,9 @@
 //     data contains the index of a particle to be read from the texture; it can already be
 //     replicated": vertex gl_VertexID fetches particle gl_VertexID / 6 and moves to corner
 //     gl_VertexID % 6 of a camera-facing square of the point sprite's size in pixels;
+//   TRIANGLES: three vertices, the equilateral triangle around the sprite's inscribed circle
+//     (Latta §3.4.5-3.4.6: "point sprites, triangles or quads"; half a quad's six vertices,
+//     3·sqrt(3)/4 = 1.3 times its pixels);
 //   STRETCHED: the same six vertices, the square stretched along the particle's screen-space
 //     motion from where it was u_stretch seconds ago, x - v·u_stretch, to where it is (motion
 //     blur): length |v_screen|·u_stretch + size, width size. No point size limit applies.
@@ -51,6 +54,11 @@ const int VERTICES = 6;
 // The two triangles' corners, in units of the size, y up.
 const vec2 CORNERS[6] = vec2[6](vec2(-0.5, -0.5), vec2(0.5, -0.5), vec2(0.5, 0.5),
                                 vec2(-0.5, -0.5), vec2(0.5, 0.5), vec2(-0.5, 0.5));
+#elif defined(TRIANGLES)
+const int VERTICES = 3;
+// The equilateral triangle around the sprite's inscribed circle (radius 0.5): corners at
+// distance 1 from the centre, in units of the size, y up.
+const vec2 CORNERS[3] = vec2[3](vec2(0.0, 1.0), vec2(-0.8660254, -0.5), vec2(0.8660254, -0.5));
 #else
 const int VERTICES = 1;
 #endif
@@ -82,22 +90,23 @@ void main() {
     int type = clamp(int(s.y + 0.5), 0, 3);
     vec4 c = keyframe_color_of(type, age);
     v_color = vec4(c.rgb, clamp(c.a * u_intensity, 0.0, 1.0));
-    float angle = sprite_angle(type, s.w, age_seconds(p.w, s.z, s.x));
+    float age_s = age_seconds(p.w, s.z, s.x);
+    float angle = sprite_angle(type, s.w, age_s);
     v_rotation = vec2(cos(angle), sin(angle));
-    int tile = u_type_tile[type];
+    int tile = flipbook_tile(type, age, age_s);
     v_tile = vec2(float(tile & 1), float(tile >> 1));
     vec4 clip = u_view_proj * vec4(p.xyz, 1.0);
 #ifdef SPRITES
-    float size = u_point_size * u_type_scale[type] * size_scale(type, age);
+    float size = u_point_size * random_size(type, s.w) * u_type_scale[type] * size_scale(type, age);
 #else
-    float size = u_point_size;
+    float size = u_point_size * random_size(type, s.w);
 #endif
     gl_PointSize = size;
-#if defined(QUADS) || defined(STRETCHED)
-    vec2 corner = CORNERS[gl_VertexID % 6];
+#if defined(QUADS) || defined(STRETCHED) || defined(TRIANGLES)
+    vec2 corner = CORNERS[gl_VertexID % VERTICES];
     v_coord = vec2(corner.x + 0.5, 0.5 - corner.y);
 #endif
-#if defined(QUADS)
+#if defined(QUADS) || defined(TRIANGLES)
     // A square of `size` pixels around the projected centre: NDC spans 2 over the viewport.
     clip.xy += corner * size * 2.0 / u_viewport * clip.w;
 #elif defined(STRETCHED)

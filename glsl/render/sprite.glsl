@@ -11,6 +11,10 @@ uniform vec4 u_spin_max;
 uniform vec4 u_size_age[4];   // per type: relative ages of the size curve's four points
 uniform vec4 u_size_scale[4]; // per type: the scale at each point
 uniform float u_time;         // simulation time (the age of permanent particles)
+uniform vec4 u_size_min;      // per type: the random size factor's range (Latta §3.4.6)
+uniform vec4 u_size_max;
+uniform vec4 u_flip_frames;   // per type: flipbook tiles (1: none)
+uniform vec4 u_flip_rate;     // per type: tiles per second of age (0: the tiles over the life)
 
 // Scale of type `type` at relative age `age`: linear on the segment it falls on.
 float size_scale(int type, float age) {
@@ -45,4 +49,28 @@ float age_seconds(float remaining, float total, float birth) {
 float sprite_angle(int type, float r, float age_s) {
     float speed = mix(u_spin_min[type], u_spin_max[type], second_random(r));
     return 6.28318530718 * r + speed * age_s;
+}
+
+// A third random number in [0, 1): the hash applied twice (CPU twin: third_random).
+float third_random(float r) {
+    return second_random(second_random(r));
+}
+
+// The particle's random size factor in the type's range, lo + (hi - lo) t: exactly 1 for [1, 1].
+float random_size(int type, float r) {
+    return u_size_min[type] + (u_size_max[type] - u_size_min[type]) * third_random(r);
+}
+
+// The atlas tile a flipbook shows (the thesis §2.3): the type's tile advanced by
+// floor(age_s · rate) mod frames, or with no rate by floor(age · frames); wraps after four.
+int flipbook_tile(int type, float age, float age_s) {
+    int tile = u_type_tile[type];
+    int frames = int(u_flip_frames[type] + 0.5);
+    if (frames <= 1) {
+        return tile;
+    }
+    float rate = u_flip_rate[type];
+    int k = rate > 0.0 ? int(floor(age_s * rate)) % frames
+                       : min(int(floor(age * float(frames))), frames - 1);
+    return (tile + k) & 3;
 }

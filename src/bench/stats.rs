@@ -129,7 +129,7 @@ impl RenderFloor {
             count: points as u32,
             state: &DrawState {
                 blend,
-                point_size: PointSize::One,
+                ..DrawState::REPLACE
             },
         });
     }
@@ -209,6 +209,7 @@ impl PlacedRenderFloor {
             state: &DrawState {
                 blend,
                 point_size: PointSize::Program,
+                depth: crate::gl::Depth::Off,
             },
         });
     }

@@ -12,8 +12,8 @@ pub mod set;
 pub mod signals;
 pub mod sort;
 pub mod targets;
-pub mod video_loop;
 pub mod trace;
+pub mod video_loop;
 pub mod view;
 pub mod warn;
 

@@ -61,7 +61,8 @@ impl FireEngine {
 
     /// Draws the current state into the frame target (cleared first).
     pub fn draw(&self) {
-        self.target.clear();
+        let [r, g, b] = self.scene.background;
+        self.target.clear_to([r, g, b, 1.0]);
         let mut camera = crate::render::Camera::from(&self.scene.camera);
         camera.azimuth +=
             self.scene.camera.orbit * (self.sim.steps() as f64 * self.scene.dt as f64) as f32;

@@ -61,7 +61,16 @@ impl Engine {
         let sim = crate::sim::ParticleSim::new(ctx, scene, shader_seed(seed))?;
         let [w, h] = scene.particles.size;
         let style = crate::render::ParticleStyle::from_scene(scene);
-        let renderer = crate::render::ParticleRenderer::new(ctx, style, w, h)?;
+        let mut renderer = crate::render::ParticleRenderer::new(ctx, style, w, h)?;
+        if scene.render.geometry {
+            let terrain = sim.height_field().map(|f| crate::render::Terrain {
+                extent: f.extent(),
+                size: f.resolution(),
+                texels: f.texels(),
+            });
+            let mesh = crate::render::Mesh::of_scene(scene, terrain.as_ref())?;
+            renderer.set_geometry(crate::render::GeometryRenderer::new(ctx, &mesh)?);
+        }
         let sort = match crate::engine::plan::sort_plan(scene) {
             None => None,
             Some(p) => {
@@ -104,7 +113,11 @@ impl Engine {
         };
         let camera = crate::render::Camera::from(&scene.render.camera);
         Ok(Engine {
-            target: FrameTarget::new(ctx, rw, rh)?,
+            target: if scene.render.geometry {
+                FrameTarget::with_depth(ctx, rw, rh)?
+            } else {
+                FrameTarget::new(ctx, rw, rh)?
+            },
             camera,
             camera_start: camera,
             orbit: scene.render.camera.orbit,

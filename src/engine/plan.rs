@@ -4,7 +4,7 @@
 
 use std::fmt;
 
-use crate::scene::{Blending, DrawMode, DrawOrder, RenderPath, SceneFile};
+use crate::scene::{Blending, DrawMode, DrawOrder, DrawPrimitive, RenderPath, SceneFile};
 use crate::sim::particles::Features;
 use crate::sort::network::{bitonic_schedule, group_steps, odd_even_schedule};
 use crate::sort::Variant;
@@ -77,9 +77,11 @@ pub fn plan(scene: &SceneFile) -> Plan {
                  [position + velocity through MRT]"
                 .into()],
             substeps: scene.time.substeps,
-            per_frame: vec![
-                "render points: vertex texture fetch, additive blending (order-independent)".into(),
-            ],
+            per_frame: vec![format!(
+                "render points: vertex texture fetch, additive blending (order-independent), \
+                 {} px, intensity {}, coloured by the fire's age ramp, background {:?}",
+                r.point_size, r.intensity, r.background
+            )],
         };
     }
     let features = Features::of(scene);
@@ -119,6 +121,14 @@ pub fn plan(scene: &SceneFile) -> Plan {
             "vertex buffer".to_owned()
         }
     };
+    if r.geometry {
+        let what = crate::render::geometry::describe(scene);
+        per_frame.push(if r.blending == Blending::Alpha && r.order == DrawOrder::FrontToBack {
+            format!("render geometry ({what}): depth only, its colour composited under the particles after them")
+        } else {
+            format!("render geometry ({what}): opaque, depth written; particles depth-tested, no depth write")
+        });
+    }
     let blend = match (r.blending, r.order) {
         (Blending::Additive, _) => "additive",
         (Blending::Multiplicative, _) => "multiplicative",
@@ -126,10 +136,16 @@ pub fn plan(scene: &SceneFile) -> Plan {
         (Blending::Alpha, DrawOrder::FrontToBack) => "alpha, under operator",
     };
     per_frame.push(format!(
-        "render {}: {path}, {blend}{}",
+        "render {}{}: {path}, {blend}{}",
         match r.mode {
             DrawMode::Points => "points",
             DrawMode::Sprites => "sprites (rotated atlas tiles)",
+        },
+        match r.primitive {
+            DrawPrimitive::Points => "",
+            DrawPrimitive::Quads => " as quads",
+            DrawPrimitive::Stretched => " as velocity-stretched quads",
+            DrawPrimitive::Triangles => " as triangles",
         },
         if features.live_rows() && r.blending != Blending::Alpha {
             ", live rows only"
@@ -137,6 +153,15 @@ pub fn plan(scene: &SceneFile) -> Plan {
             ""
         }
     ));
+    let emitters = || scene.emitters.all();
+    if let Some(line) = per_frame.last_mut() {
+        if emitters().any(|e| e.size_range.is_some()) {
+            line.push_str(", sizes random within each type's size_range");
+        }
+        if emitters().any(|e| e.flipbook.is_some_and(|f| f.frames > 1)) {
+            line.push_str(", flipbooks (atlas tiles advancing with the particle's age)");
+        }
+    }
     Plan {
         scene: scene.name.clone(),
         per_step: features.step_passes(),

@@ -119,22 +119,41 @@ pub enum PointSize {
     One,
 }
 
+/// Depth testing against the target's depth attachment (see [`Framebuffer::with_depth`]);
+/// only the frame target of a scene that draws its geometry has one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Depth {
+    /// No test, no write: every simulation and sort pass, and every frame without geometry.
+    #[default]
+    Off,
+    /// Nearer fragments pass (`GL_LESS`) and write their depth: opaque geometry.
+    Write,
+    /// Nearer fragments pass (`GL_LESS`); the depth is kept: blended particles in front of the
+    /// geometry, none of which hides another.
+    Test,
+    /// Fragments at or before the stored depth pass (`GL_LEQUAL`), the depth is kept: the
+    /// same geometry drawn a second time onto the depth it wrote.
+    Equal,
+}
+
 /// The fixed-function state of a draw, all of it set by [`Context::draw`].
-///
-/// Depth testing is always off: no framebuffer of this crate has a depth attachment.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct DrawState {
     /// `None`: fragments replace what is in the target.
     pub blend: Option<Blend>,
     /// Point size (points only).
     pub point_size: PointSize,
+    /// Depth test and write (a target without a depth attachment passes every test).
+    pub depth: Depth,
 }
 
 impl DrawState {
-    /// No blending, points one pixel wide: what every simulation and sort pass draws with.
+    /// No blending, points one pixel wide, no depth test: what every simulation and sort pass
+    /// draws with.
     pub const REPLACE: DrawState = DrawState {
         blend: None,
         point_size: PointSize::One,
+        depth: Depth::Off,
     };
 }
 
@@ -223,7 +242,19 @@ impl Context {
     fn set_state(&self, s: &DrawState) {
         // SAFETY: plain state changes on the current context.
         unsafe {
-            self.disable(glow::DEPTH_TEST);
+            match s.depth {
+                Depth::Off => self.disable(glow::DEPTH_TEST),
+                Depth::Write | Depth::Test | Depth::Equal => {
+                    self.enable(glow::DEPTH_TEST);
+                    let func = if s.depth == Depth::Equal {
+                        glow::LEQUAL
+                    } else {
+                        glow::LESS
+                    };
+                    self.depth_func(func);
+                    self.depth_mask(s.depth == Depth::Write);
+                }
+            }
             match s.point_size {
                 PointSize::Program => self.enable(glow::PROGRAM_POINT_SIZE),
                 PointSize::One => self.disable(glow::PROGRAM_POINT_SIZE),

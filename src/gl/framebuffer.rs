@@ -19,6 +19,8 @@ pub struct Framebuffer {
     attachments: usize,
     /// Bytes per texel of all attachments together.
     bytes_per_texel: usize,
+    /// A depth renderbuffer (frame targets that draw geometry only).
+    depth: Option<glow::Renderbuffer>,
     label: String,
 }
 
@@ -91,9 +93,44 @@ impl Framebuffer {
             size: [w, h],
             attachments,
             bytes_per_texel,
+            depth: None,
             label: label.to_owned(),
         }
         .checked()
+    }
+
+    /// Like [`Framebuffer::new`], plus a 24-bit depth renderbuffer of the same size, for draws
+    /// with a [`Depth`](super::Depth) test; [`clear`](Self::clear) resets it to the far plane.
+    pub fn with_depth(ctx: &Context, label: &str, textures: Vec<Texture>) -> Result<Self> {
+        let mut fb = Framebuffer::new(ctx, label, textures)?;
+        let [w, h] = fb.size;
+        // SAFETY: a fresh renderbuffer attached to a framebuffer this function owns.
+        let raw = unsafe {
+            let raw = ctx.create_renderbuffer().map_err(Error::Gl)?;
+            ctx.bind_renderbuffer(glow::RENDERBUFFER, Some(raw));
+            ctx.renderbuffer_storage(
+                glow::RENDERBUFFER,
+                glow::DEPTH_COMPONENT24,
+                w as i32,
+                h as i32,
+            );
+            ctx.bind_renderbuffer(glow::RENDERBUFFER, None);
+            ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(fb.raw));
+            ctx.framebuffer_renderbuffer(
+                glow::FRAMEBUFFER,
+                glow::DEPTH_ATTACHMENT,
+                glow::RENDERBUFFER,
+                Some(raw),
+            );
+            raw
+        };
+        fb.depth = Some(raw);
+        fb.checked()
+    }
+
+    /// Whether it has a depth attachment ([`Framebuffer::with_depth`]).
+    pub fn has_depth(&self) -> bool {
+        self.depth.is_some()
     }
 
     /// A framebuffer whose one colour attachment is layer `layer` (the z slice `k = layer`) of
@@ -132,6 +169,7 @@ impl Framebuffer {
             size: [w, h],
             attachments: 1,
             bytes_per_texel: texture.format().bytes_per_texel(),
+            depth: None,
             label: label.to_owned(),
         }
         .checked()
@@ -179,6 +217,7 @@ impl Framebuffer {
             size: [w, h],
             attachments: d as usize,
             bytes_per_texel: d as usize * texture.format().bytes_per_texel(),
+            depth: None,
             label: label.to_owned(),
         }
         .checked()
@@ -215,6 +254,7 @@ impl Framebuffer {
             size: source.size,
             attachments: 1,
             bytes_per_texel: texture.format().bytes_per_texel(),
+            depth: None,
             label: label.to_owned(),
         }
         .checked()
@@ -316,7 +356,8 @@ impl Framebuffer {
         ))
     }
 
-    /// Clears every attachment to `rgba`.
+    /// Clears every colour attachment to `rgba`, and the depth attachment (if any) to the far
+    /// plane.
     pub fn clear(&self, rgba: [f32; 4]) {
         self.bind();
         // SAFETY: the framebuffer is bound.
@@ -324,6 +365,11 @@ impl Framebuffer {
             for i in 0..self.attachments {
                 self.ctx
                     .clear_buffer_f32_slice(glow::COLOR, i as u32, &rgba);
+            }
+            if self.depth.is_some() {
+                // A clear obeys the depth mask, which the last draw may have turned off.
+                self.ctx.depth_mask(true);
+                self.ctx.clear_buffer_f32_slice(glow::DEPTH, 0, &[1.0]);
             }
         }
     }
@@ -333,7 +379,12 @@ impl Drop for Framebuffer {
     fn drop(&mut self) {
         if let Some(gl) = self.ctx.gl_for_drop() {
             // SAFETY: the object belongs to this context, made current just now.
-            unsafe { gl.delete_framebuffer(self.raw) }
+            unsafe {
+                gl.delete_framebuffer(self.raw);
+                if let Some(d) = self.depth {
+                    gl.delete_renderbuffer(d);
+                }
+            }
         }
     }
 }

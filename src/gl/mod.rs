@@ -26,7 +26,8 @@ pub use bindings::Sampled;
 pub use buffer::{Attribute, Buffer, BufferKind, BufferUsage, VertexArray};
 pub use context::{gl_error_name, list_devices, Context, DeviceInfo, DrawStats, Limits};
 pub use draw::{
-    Blend, BlendComponent, BlendFactor, BlendOperation, Draw, DrawState, PointSize, Primitive, Rect,
+    Blend, BlendComponent, BlendFactor, BlendOperation, Depth, Draw, DrawState, PointSize,
+    Primitive, Rect,
 };
 pub use framebuffer::Framebuffer;
 pub use pack::PixelPack;

@@ -70,6 +70,8 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "render/background.frag",
     "render/cpu_points.vert",
     "render/cpu_points.frag",
+    "render/geometry.vert",
+    "render/geometry.frag",
     "test/increment.frag",
     "test/write8.frag",
     "test/broken.frag",

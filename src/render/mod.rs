@@ -2,6 +2,7 @@
 
 pub mod atlas;
 mod camera;
+pub mod geometry;
 mod keyframes;
 mod particles;
 mod points;
@@ -10,9 +11,12 @@ mod style;
 mod target;
 
 pub use camera::{Camera, ViewOffset};
+pub use geometry::{GeometryRenderer, Mesh, Terrain};
 pub use keyframes::{relative_age, KeyframeRamp};
 pub use particles::{FrameState, Motion, ParticleRenderer, QUAD_VERTICES};
 pub use points::{PointRenderer, PointStyle};
-pub use sprite::{age_seconds, second_random, sprite_angle, SizeCurve};
+pub use sprite::{
+    age_seconds, flipbook_tile, random_size, second_random, sprite_angle, third_random, SizeCurve,
+};
 pub use style::{default_keyframes, ParticleStyle, TypeLook};
 pub use target::FrameTarget;

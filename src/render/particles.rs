@@ -16,11 +16,11 @@
 //! Relative age = clamp(1 − position.w / statics.z, 0, 1).
 
 use super::atlas;
-use super::{Camera, FrameTarget, ParticleStyle};
+use super::{Camera, FrameTarget, GeometryRenderer, ParticleStyle};
 use crate::error::{Error, Result};
 use crate::gl::{
-    Attribute, Buffer, BufferKind, BufferUsage, Context, Defines, Draw, PixelPack, Primitive,
-    Program, Texture, VertexArray,
+    Attribute, Blend, BlendComponent, BlendFactor, Buffer, BufferKind, BufferUsage, Context,
+    Defines, Depth, Draw, DrawState, PixelPack, Primitive, Program, Texture, VertexArray,
 };
 use crate::scene::{DrawMode, DrawPrimitive, RenderPath};
 
@@ -85,6 +85,7 @@ pub struct ParticleRenderer {
     empty: VertexArray,
     vertex: Option<VertexPath>,
     atlas: Option<Texture>,
+    geometry: Option<GeometryRenderer>,
 }
 
 impl std::fmt::Debug for ParticleRenderer {
@@ -117,8 +118,8 @@ impl ParticleRenderer {
         }
         if style.primitive != DrawPrimitive::Points && style.path != RenderPath::TextureFetch {
             return Err(Error::InvalidInput(
-                "quads and stretched quads replicate each particle's vertex by fetching its \
-                 texel (Latta §3.4.5): use path = \"texture_fetch\""
+                "triangles, quads and stretched quads replicate each particle's vertex by \
+                 fetching its texel (Latta §3.4.5): use path = \"texture_fetch\""
                     .into(),
             ));
         }
@@ -149,6 +150,7 @@ impl ParticleRenderer {
             DrawPrimitive::Points => {}
             DrawPrimitive::Quads => defines.push(flag("QUADS")),
             DrawPrimitive::Stretched => defines.push(flag("STRETCHED")),
+            DrawPrimitive::Triangles => defines.push(flag("TRIANGLES")),
         }
         defines.extend(style.blend_defines());
         let program = Program::new(
@@ -220,7 +222,16 @@ impl ParticleRenderer {
             empty: VertexArray::empty(ctx, "particles")?,
             vertex,
             atlas,
+            geometry: None,
         })
+    }
+
+    /// Draws `geometry` (the scene's colliders) with every frame, opaque, and the particles
+    /// depth-tested against it (the style's `depth_test`); the target needs a depth attachment
+    /// ([`FrameTarget::with_depth`]).
+    pub fn set_geometry(&mut self, geometry: GeometryRenderer) {
+        self.style.depth_test = true;
+        self.geometry = Some(geometry);
     }
 
     /// The style.
@@ -254,6 +265,13 @@ impl ParticleRenderer {
     pub fn pass_names(&self) -> Vec<String> {
         let s = &self.style;
         let mut names = Vec::new();
+        if self.geometry.is_some() {
+            names.push(if s.under() {
+                "render geometry: depth only (colour kept for the under operator)".to_owned()
+            } else {
+                "render geometry: opaque, depth written".to_owned()
+            });
+        }
         if s.path == RenderPath::VertexBuffer {
             names.push("copy positions to vertex buffer (pixel pack)".to_owned());
             names.push("copy statics to vertex buffer (pixel pack)".to_owned());
@@ -265,12 +283,22 @@ impl ParticleRenderer {
             (DrawMode::Sprites, DrawPrimitive::Quads) => "sprite quads",
             (DrawMode::Points, DrawPrimitive::Stretched) => "stretched quads",
             (DrawMode::Sprites, DrawPrimitive::Stretched) => "stretched sprite quads",
+            (DrawMode::Points, DrawPrimitive::Triangles) => "triangles",
+            (DrawMode::Sprites, DrawPrimitive::Triangles) => "sprite triangles",
         };
         let path = match s.path {
             RenderPath::TextureFetch => "texture fetch",
             RenderPath::VertexBuffer => "vertex buffer",
         };
-        names.push(format!("render {mode} ({path}, {})", s.blend_name()));
+        let depth = if self.geometry.is_some() {
+            ", depth-tested against the geometry, no depth write"
+        } else {
+            ""
+        };
+        names.push(format!("render {mode} ({path}, {}{depth})", s.blend_name()));
+        if s.under() && self.geometry.is_some() {
+            names.push("composite geometry under (its own depth, equal passes)".to_owned());
+        }
         if s.under() {
             names.push("composite background under".to_owned());
         }
@@ -353,6 +381,15 @@ impl ParticleRenderer {
             )));
         }
         let s = &self.style;
+        if let Some(g) = &self.geometry {
+            if !target.has_depth() {
+                return Err(Error::InvalidInput(
+                    "drawing geometry needs a frame target with depth (FrameTarget::with_depth)"
+                        .into(),
+                ));
+            }
+            g.draw(target, camera, &geometry_first(s.under()));
+        }
         if let (Some(v), true) = (&self.vertex, count > 0) {
             let rows = count.div_ceil(self.width as usize) as u32;
             v.pack.copy_rows(positions, &v.positions, rows)?;
@@ -399,7 +436,10 @@ impl ParticleRenderer {
         s.set_keyframes(p);
         let (primitive, per_particle) = match s.primitive {
             DrawPrimitive::Points => (Primitive::Points, 1),
-            _ => (Primitive::Triangles, QUAD_VERTICES),
+            DrawPrimitive::Triangles => (Primitive::Triangles, 3),
+            DrawPrimitive::Quads | DrawPrimitive::Stretched => {
+                (Primitive::Triangles, QUAD_VERTICES)
+            }
         };
         let draw_state = s.draw_state();
         let gl = &self.ctx;
@@ -412,11 +452,23 @@ impl ParticleRenderer {
             count: (count * per_particle) as u32,
             state: &draw_state,
         });
+        if let (Some(g), true) = (&self.geometry, s.under()) {
+            // Behind the particles accumulated so far, on the depth the first pass wrote.
+            g.draw(
+                target,
+                camera,
+                &DrawState {
+                    depth: Depth::Equal,
+                    ..draw_state
+                },
+            );
+        }
         if s.under() {
             let b = &self.background;
             b.bind();
             b.set_vec3("u_background", glam::Vec3::from_array(s.background));
-            // The same blend state: the under operator composites the background last.
+            // The same blend state: the under operator composites the background last, behind
+            // everything (no depth test).
             gl.draw(&Draw {
                 program: b,
                 target: target.framebuffer(),
@@ -424,9 +476,29 @@ impl ParticleRenderer {
                 vertices: &self.empty,
                 primitive: Primitive::Triangles,
                 count: 3,
-                state: &draw_state,
+                state: &DrawState {
+                    depth: Depth::Off,
+                    ..draw_state
+                },
             });
         }
         gl.check_error("drawing particles")
+    }
+}
+
+/// The state of the geometry's first pass: opaque with a depth write, before the particles. For
+/// the under operator (front to back, the target cleared transparent) an opaque surface drawn
+/// first would hide everything composited after it, so the first pass writes only depth (the
+/// colour blended with factors 0 and 1 stays as it is); the geometry's colour is composited
+/// under the particles after them, at the depth it wrote.
+fn geometry_first(under: bool) -> DrawState {
+    let keep = BlendComponent::add(BlendFactor::Zero, BlendFactor::One);
+    DrawState {
+        blend: under.then_some(Blend {
+            color: keep,
+            alpha: keep,
+        }),
+        depth: Depth::Write,
+        ..DrawState::REPLACE
     }
 }

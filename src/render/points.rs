@@ -94,6 +94,7 @@ impl PointRenderer {
             state: &DrawState {
                 blend: Some(ADDITIVE),
                 point_size: PointSize::Program,
+                ..DrawState::REPLACE
             },
         });
     }

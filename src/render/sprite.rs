@@ -68,6 +68,33 @@ pub fn second_random(r: f32) -> f32 {
     (x >> 8) as f32 / 16_777_216.0
 }
 
+/// A third random number in [0, 1) from the particle's random number: the hash applied twice.
+/// It picks the size within the type's `size_range`.
+pub fn third_random(r: f32) -> f32 {
+    second_random(second_random(r))
+}
+
+/// The random size factor of a particle with random number `r` in `[lo, hi]` (Latta §3.4.6),
+/// written `lo + (hi − lo)·t` so that a range [1, 1] is exactly 1.
+pub fn random_size(range: [f32; 2], r: f32) -> f32 {
+    range[0] + (range[1] - range[0]) * third_random(r)
+}
+
+/// The atlas tile a flipbook shows (the thesis §2.3, animated textures): `frames` tiles from
+/// `tile` on, wrapping after the atlas's four; at `rate` tiles per second of age `age_s`,
+/// looping, or with no rate (0) spread evenly over the relative age `age`.
+pub fn flipbook_tile(tile: u32, frames: u32, rate: f32, age: f32, age_s: f32) -> u32 {
+    if frames <= 1 {
+        return tile.min(3);
+    }
+    let k = if rate > 0.0 {
+        (age_s * rate).floor() as u32 % frames
+    } else {
+        ((age * frames as f32).floor() as u32).min(frames - 1)
+    };
+    (tile.min(3) + k) & 3
+}
+
 /// The particle's age in seconds: total − remaining life for a mortal particle, else the time
 /// since its birth (permanent particles: total life 0 or +inf).
 pub fn age_seconds(remaining: f32, total: f32, birth: f32, time: f32) -> f32 {

@@ -4,7 +4,7 @@
 
 use super::keyframes::{KeyframeRamp, MAX_KEYFRAMES};
 use super::sprite::SizeCurve;
-use crate::gl::{Blend, BlendComponent, BlendFactor, DrawState, PointSize, Program};
+use crate::gl::{Blend, BlendComponent, BlendFactor, Depth, DrawState, PointSize, Program};
 use crate::scene::{
     Blending, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath, SceneFile,
 };
@@ -39,6 +39,9 @@ pub struct ParticleStyle {
     pub types: [TypeLook; 4],
     /// Background colour.
     pub background: [f32; 3],
+    /// Whether particles are depth-tested against drawn geometry (`render.geometry`); they
+    /// never write depth, so none hides another and the blending alone composites them.
+    pub depth_test: bool,
 }
 
 /// The keyframes used when a scene gives none: white, fading out over the life.
@@ -64,6 +67,10 @@ pub struct TypeLook {
     pub size: SizeCurve,
     /// This type's own colour keyframes, or `None`: the style's.
     pub keyframes: Option<Vec<Keyframe>>,
+    /// Range of the random size factor per particle (Latta §3.4.6); [1, 1]: none.
+    pub size_range: [f32; 2],
+    /// Flipbook: tiles (1: none) and tiles per second of age (0: the tiles over the life).
+    pub flipbook: (u32, f32),
 }
 
 impl TypeLook {
@@ -75,6 +82,8 @@ impl TypeLook {
             spin: [0.0; 2],
             size: SizeCurve::default(),
             keyframes: None,
+            size_range: [1.0; 2],
+            flipbook: (1, 0.0),
         }
     }
 }
@@ -93,6 +102,7 @@ impl Default for ParticleStyle {
             keyframes: default_keyframes(),
             types: std::array::from_fn(|k| TypeLook::new(k as u32)),
             background: [0.0; 3],
+            depth_test: false,
         }
     }
 }
@@ -136,6 +146,10 @@ impl ParticleStyle {
         );
         p.set_vec4("u_spin_min", each(&|t| t.spin[0].to_radians()));
         p.set_vec4("u_spin_max", each(&|t| t.spin[1].to_radians()));
+        p.set_vec4("u_size_min", each(&|t| t.size_range[0]));
+        p.set_vec4("u_size_max", each(&|t| t.size_range[1]));
+        p.set_vec4("u_flip_frames", each(&|t| t.flipbook.0 as f32));
+        p.set_vec4("u_flip_rate", each(&|t| t.flipbook.1));
         for (k, t) in self.types.iter().enumerate() {
             p.set_vec4(
                 &format!("u_size_age[{k}]"),
@@ -170,11 +184,17 @@ impl ParticleStyle {
     }
 
     /// The state particles (and the under operator's background) are drawn with: this style's
-    /// [`blend`](Self::blend), point sizes from the vertex shader.
+    /// [`blend`](Self::blend), point sizes from the vertex shader, and with drawn geometry a
+    /// depth test without a depth write.
     pub fn draw_state(&self) -> DrawState {
         DrawState {
             blend: Some(self.blend()),
             point_size: PointSize::Program,
+            depth: if self.depth_test {
+                Depth::Test
+            } else {
+                Depth::Off
+            },
         }
     }
 
@@ -196,6 +216,7 @@ impl ParticleStyle {
                 ..TypeLook::new(k as u32)
             }),
             background: r.background,
+            depth_test: r.geometry,
         }
     }
 
@@ -210,6 +231,10 @@ impl ParticleStyle {
                 spin: e.rotation_speed.unwrap_or([0.0; 2]),
                 size: SizeCurve::from_points(&e.size_over_life),
                 keyframes: given(&e.keyframes),
+                size_range: e.size_range.unwrap_or([1.0; 2]),
+                flipbook: e
+                    .flipbook
+                    .map_or((1, 0.0), |f| (f.frames, f.rate.unwrap_or(0.0))),
             };
         }
         style
@@ -241,16 +266,20 @@ impl ParticleStyle {
         }
     }
 
-    /// The widest particle in pixels: `point_size`, for sprites times the largest type scale and
-    /// size-over-life scale.
+    /// The widest particle in pixels: `point_size` times the largest random size factor, for
+    /// sprites also times the largest type scale and size-over-life scale.
     pub fn largest_size(&self) -> f32 {
-        if self.mode != DrawMode::Sprites {
-            return self.point_size;
-        }
         let widest = self
             .types
             .iter()
-            .map(|t| t.scale * t.size.scales.iter().copied().fold(0.0, f32::max))
+            .map(|t| {
+                let sprite = if self.mode == DrawMode::Sprites {
+                    t.scale * t.size.scales.iter().copied().fold(0.0, f32::max)
+                } else {
+                    1.0
+                };
+                sprite * t.size_range[1].max(t.size_range[0])
+            })
             .fold(0.0, f32::max);
         self.point_size * widest
     }

@@ -12,6 +12,16 @@ pub struct FrameTarget {
 impl FrameTarget {
     /// Makes a `width`×`height` target; the size must fit the viewport and texture limits.
     pub fn new(ctx: &Context, width: u32, height: u32) -> Result<Self> {
+        Self::make(ctx, width, height, false)
+    }
+
+    /// Like [`new`](Self::new), with a depth attachment: the target of a scene that draws its
+    /// geometry, which the particles are depth-tested against.
+    pub fn with_depth(ctx: &Context, width: u32, height: u32) -> Result<Self> {
+        Self::make(ctx, width, height, true)
+    }
+
+    fn make(ctx: &Context, width: u32, height: u32, depth: bool) -> Result<Self> {
         let [vw, vh] = ctx.limits().max_viewport;
         if width > vw || height > vh {
             return Err(Error::InvalidInput(format!(
@@ -27,14 +37,22 @@ impl FrameTarget {
                 label: "frame",
             },
         )?;
-        Ok(FrameTarget {
-            fb: Framebuffer::new(ctx, "frame", vec![tex])?,
-        })
+        let fb = if depth {
+            Framebuffer::with_depth(ctx, "frame", vec![tex])?
+        } else {
+            Framebuffer::new(ctx, "frame", vec![tex])?
+        };
+        Ok(FrameTarget { fb })
     }
 
     /// The framebuffer.
     pub fn framebuffer(&self) -> &Framebuffer {
         &self.fb
+    }
+
+    /// Whether it has a depth attachment ([`with_depth`](Self::with_depth)).
+    pub fn has_depth(&self) -> bool {
+        self.fb.has_depth()
     }
 
     /// Width in pixels.
@@ -47,7 +65,7 @@ impl FrameTarget {
         self.fb.height()
     }
 
-    /// Clears to opaque black.
+    /// Clears to opaque black (and the depth, if any, to the far plane).
     pub fn clear(&self) {
         self.fb.clear([0.0, 0.0, 0.0, 1.0]);
     }

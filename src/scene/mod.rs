@@ -76,6 +76,8 @@ pub struct Scene {
     pub camera: CameraSection,
     /// Point size and brightness.
     pub style: PointStyleSection,
+    /// Background colour the frame is cleared to (`render.background`).
+    pub background: [f32; 3],
     /// The fire pass's parameters.
     pub fire: Fire,
 }
@@ -102,6 +104,7 @@ impl Scene {
                 max_age: fire.max_age,
                 soft: f.render.mode == DrawMode::Sprites,
             },
+            background: f.render.background,
             fire: fire.clone(),
         })
     }

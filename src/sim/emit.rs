@@ -150,6 +150,8 @@ mod tests {
             size_over_life: Vec::new(),
             keyframes: Vec::new(),
             bursts: Vec::new(),
+            size_range: None,
+            flipbook: None,
         }
     }
 

@@ -91,7 +91,16 @@ impl CpuEngine {
             return Err(unsupported(scene, "sprites (it draws points)"));
         }
         if scene.render.primitive != crate::scene::DrawPrimitive::Points {
-            return Err(unsupported(scene, "quads (it draws points)"));
+            return Err(unsupported(scene, "quads and triangles (it draws points)"));
+        }
+        if scene.render.geometry {
+            return Err(unsupported(scene, "render.geometry (it draws points only)"));
+        }
+        if scene.emitters.all().any(|e| e.size_range.is_some()) {
+            return Err(unsupported(
+                scene,
+                "size_range (it draws points of one size)",
+            ));
         }
         if scene.emitters.all().any(|e| !e.keyframes.is_empty()) {
             return Err(unsupported(

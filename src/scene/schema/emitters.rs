@@ -143,6 +143,12 @@ pub struct Emitter {
     /// bursts repeat every cycle: the time stamps are written once). At most [`MAX_BURSTS`].
     #[serde(default)]
     pub bursts: Vec<Burst>,
+    /// Range [min, max] of a random size factor per particle, relative to the type's size
+    /// (Latta §3.4.6: "The size of a particle is random within a range that is defined by the
+    /// particle type"). Default [1, 1].
+    pub size_range: Option<[f32; 2]>,
+    /// An animated texture (the thesis §2.3): consecutive atlas tiles from `tile` shown in turn.
+    pub flipbook: Option<Flipbook>,
 }
 
 /// Most bursts per emitter.
@@ -156,4 +162,16 @@ pub struct Burst {
     pub time: f32,
     /// Particles born.
     pub count: u32,
+}
+
+/// A flipbook: `frames` atlas tiles from the type's `tile` on (wrapping after the atlas's four),
+/// advancing at `rate` tiles per second of the particle's age, looping; without a rate, spread
+/// evenly over its life.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Flipbook {
+    /// Number of tiles, 1 to 4.
+    pub frames: u32,
+    /// Tiles per second of age; default: `frames` over the particle's life.
+    pub rate: Option<f32>,
 }

@@ -10,7 +10,9 @@ mod render;
 
 use serde::{Deserialize, Serialize};
 
-pub use emitters::{AllocatorKind, Burst, Emitter, Emitters, Shape, MAX_BURSTS, MAX_EMITTERS};
+pub use emitters::{
+    AllocatorKind, Burst, Emitter, Emitters, Flipbook, Shape, MAX_BURSTS, MAX_EMITTERS,
+};
 pub use forces::{
     Attractor, BoxCollider, Colliders, CustomForce, Damping, Falloff, FieldData, Forces, Gravity,
     HeightFieldCollider, PlaneCollider, SdfCollider, SphereCollider, Spring, Vortex, VortexForm,

@@ -31,6 +31,10 @@ pub enum DrawPrimitive {
     /// A quad stretched along the particle's screen-space motion over `render.stretch` seconds
     /// (motion blur). Needs the texture-fetch path.
     Stretched,
+    /// One triangle per particle by vertex replication (three vertices fetch the same texel):
+    /// the equilateral triangle around the sprite's inscribed circle. Needs the texture-fetch
+    /// path.
+    Triangles,
 }
 
 /// Where the vertex stage gets positions.
@@ -242,6 +246,11 @@ pub struct Render {
     /// Background colour; multiplicative blending needs a light one.
     #[serde(default)]
     pub background: [f32; 3],
+    /// Draw the scene's colliders (planes as bounded checker grids, spheres, boxes, the height
+    /// field, distance-field shapes and meshes) in the same camera, opaque and depth-tested
+    /// against the particles.
+    #[serde(default)]
+    pub geometry: bool,
 }
 
 fn resolution() -> [u32; 2] {
@@ -270,6 +279,7 @@ impl Default for Render {
             keyframes: Vec::new(),
             sort: SortSection::default(),
             background: [0.0; 3],
+            geometry: false,
         }
     }
 }

@@ -3,7 +3,7 @@
 use super::{fail, path, Check};
 use crate::scene::locate::Key;
 use crate::scene::schema::{
-    Blending, DrawPrimitive, Emitter, Keyframe, Precision, RenderPath, SceneFile, Variant,
+    Blending, DrawPrimitive, Emitter, Keyframe, Precision, Render, RenderPath, SceneFile, Variant,
 };
 
 use Key::{Index as I, Name as N};
@@ -43,12 +43,15 @@ pub(super) fn render(s: &SceneFile) -> Check {
         );
     }
     keyframes(&[N("render"), N("keyframes")], &r.keyframes)?;
+    if s.fire.is_some() {
+        fire_render(r)?;
+    }
     if r.primitive != DrawPrimitive::Points && r.path != RenderPath::TextureFetch {
         return fail(
             path(&[N("render"), N("primitive")]),
             format!(
                 "primitive = \"{}\" replicates each particle's vertex by fetching its texel \
-                 (gl_VertexID / 6, Latta §3.4.5): use path = \"texture_fetch\", or primitive = \
+                 (gl_VertexID / 3 or / 6, Latta §3.4.5): use path = \"texture_fetch\", or primitive = \
                  \"points\" with the vertex buffer",
                 primitive_name(r.primitive)
             ),
@@ -62,6 +65,21 @@ pub(super) fn render(s: &SceneFile) -> Check {
                 r.stretch
             ),
         );
+    }
+    if r.geometry {
+        let c = &s.colliders;
+        let none = c.plane.is_empty()
+            && c.sphere.is_empty()
+            && c.boxes.is_empty()
+            && c.heightfield.is_empty()
+            && c.sdf.is_empty();
+        if none {
+            return fail(
+                path(&[N("render"), N("geometry")]),
+                "geometry = true draws the scene's colliders, and this scene has none: add a \
+                 [[colliders.*]] table, or remove the key",
+            );
+        }
     }
     let kinds = [
         ("allocator", &s.emitters.allocator),
@@ -99,11 +117,42 @@ pub(super) fn render(s: &SceneFile) -> Check {
     Ok(())
 }
 
+/// The keys of `[render]` the fire's point renderer (the thesis, Listing 3) does not honour:
+/// each given with a value other than its default is refused, so that no key is silently
+/// ignored. It honours resolution, camera, point_size, intensity and background.
+fn fire_render(r: &Render) -> Check {
+    let d = Render::default();
+    let why = "the fire draws additive points of one size coloured by its own age ramp \
+               (the thesis, Listing 3)";
+    let ignored = [
+        ("mode", r.mode != d.mode),
+        ("path", r.path != d.path),
+        ("primitive", r.primitive != d.primitive),
+        ("stretch", r.stretch != d.stretch),
+        ("blending", r.blending != d.blending),
+        ("order", r.order != d.order),
+        ("keyframes", r.keyframes != d.keyframes),
+        ("sort", r.sort != d.sort),
+        ("geometry", r.geometry != d.geometry),
+    ];
+    match ignored.iter().find(|(_, differs)| *differs) {
+        Some((key, _)) => fail(
+            path(&[N("render"), N(key)]),
+            format!(
+                "{key} is not honoured in a [fire] scene: {why}; remove it, or describe the \
+                 scene with emitters and forces (the particle pipeline), which honours it"
+            ),
+        ),
+        None => Ok(()),
+    }
+}
+
 fn primitive_name(p: DrawPrimitive) -> &'static str {
     match p {
         DrawPrimitive::Points => "points",
         DrawPrimitive::Quads => "quads",
         DrawPrimitive::Stretched => "stretched",
+        DrawPrimitive::Triangles => "triangles",
     }
 }
 
@@ -201,6 +250,39 @@ fn emitter_look(base: &[Key], e: &Emitter) -> Check {
                     curve[i][1]
                 ),
             );
+        }
+    }
+    if let Some([lo, hi]) = e.size_range {
+        if !(lo > 0.0 && lo <= hi && hi <= 1e3) {
+            return fail(
+                at(base, &[N("size_range")]),
+                format!(
+                    "size_range [{lo}, {hi}] must be [min, max] size factors with \
+                     0 < min <= max <= 1000 (relative to the type's size)"
+                ),
+            );
+        }
+    }
+    if let Some(f) = &e.flipbook {
+        if !(1..=4).contains(&f.frames) {
+            return fail(
+                at(base, &[N("flipbook"), N("frames")]),
+                format!(
+                    "flipbook frames = {} must lie in 1 to 4: the atlas holds four tiles",
+                    f.frames
+                ),
+            );
+        }
+        if let Some(rate) = f.rate {
+            if !(rate > 0.0 && rate <= 1e4) {
+                return fail(
+                    at(base, &[N("flipbook"), N("rate")]),
+                    format!(
+                        "flipbook rate = {rate} must lie in (0, 10000] tiles per second; leave \
+                         it out to spread the tiles over the particle's life"
+                    ),
+                );
+            }
         }
     }
     keyframes(&at(base, &[N("keyframes")]), &e.keyframes)

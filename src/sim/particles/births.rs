@@ -82,6 +82,7 @@ impl ParticleSim {
         let state = DrawState {
             blend: None,
             point_size: PointSize::Program,
+            ..DrawState::REPLACE
         };
         let draw = |program: &Program, target: &Framebuffer| {
             program.bind();

@@ -385,6 +385,11 @@ impl ParticleSim {
         }
     }
 
+    /// The height field the colliders pass samples (the scene's first), with its nodes.
+    pub fn height_field(&self) -> Option<&HeightField> {
+        self.fields.height.as_ref().map(|(_, h)| h)
+    }
+
     /// The static texture (birth time or phase, type, total life, random number).
     pub fn statics(&self) -> &Texture {
         self.statics.texture(0)

@@ -1,0 +1,426 @@
+//! The scene's colliders drawn in the particles' camera (`render.geometry = true`): planes as
+//! bounded checker grids, spheres, boxes, the height-field terrain shaded by its normals, the
+//! shapes and the scanned mesh of distance fields. UberFlow's Fig. 4 (left) shows the landscape
+//! the snow settles on; this draws it.
+//!
+//! The triangles are built once on the CPU (the colliders do not move) into one vertex buffer
+//! and drawn opaque with a depth write before the particles, which are then depth-tested against
+//! it without writing depth (see [`super::ParticleRenderer::draw_frame`] for the order with
+//! each blending).
+
+use glam::Vec3;
+
+use super::{Camera, FrameTarget};
+use crate::error::{Error, Result};
+use crate::gl::{
+    Attribute, Buffer, BufferKind, BufferUsage, Context, Defines, Draw, DrawState, Primitive,
+    Program, VertexArray,
+};
+use crate::scene::SceneFile;
+
+/// Floats per vertex: position, normal, colour, checker cell size (0: plain).
+const FLOATS: usize = 10;
+/// Segments around a sphere's axis; rings are half as many.
+const SPHERE_SEGMENTS: usize = 32;
+
+const PLANE_COLOR: [f32; 3] = [0.50, 0.50, 0.52];
+const SOLID_COLOR: [f32; 3] = [0.46, 0.50, 0.58];
+const MESH_COLOR: [f32; 3] = [0.62, 0.56, 0.50];
+const TERRAIN_COLOR: [f32; 3] = [0.30, 0.30, 0.29];
+
+/// A height field's sampled nodes, as the simulation holds them: `texels[4·(j·nx + i)..]` is
+/// (height, normal) at node `(x_i, z_j)` of `extent` = `[min x, min z, max x, max z]`.
+#[derive(Debug, Clone, Copy)]
+pub struct Terrain<'a> {
+    /// Region over the xz plane.
+    pub extent: [f32; 4],
+    /// Nodes per axis `[nx, nz]`.
+    pub size: [u32; 2],
+    /// `nx·nz` texels of (height, normal.x, normal.y, normal.z).
+    pub texels: &'a [f32],
+}
+
+/// Triangles with per-vertex normals and colours, in the vertex buffer's layout.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Mesh {
+    /// [`FLOATS`] floats per vertex, three vertices per triangle.
+    pub vertices: Vec<f32>,
+}
+
+impl Mesh {
+    /// Number of vertices.
+    pub fn len(&self) -> usize {
+        self.vertices.len() / FLOATS
+    }
+
+    /// Whether it has no triangles.
+    pub fn is_empty(&self) -> bool {
+        self.vertices.is_empty()
+    }
+
+    fn vertex(&mut self, p: Vec3, n: Vec3, color: [f32; 3], cell: f32) {
+        self.vertices.extend_from_slice(&[
+            p.x, p.y, p.z, n.x, n.y, n.z, color[0], color[1], color[2], cell,
+        ]);
+    }
+
+    fn triangle(&mut self, p: [Vec3; 3], n: [Vec3; 3], color: [f32; 3], cell: f32) {
+        for k in 0..3 {
+            self.vertex(p[k], n[k], color, cell);
+        }
+    }
+
+    /// A flat-shaded triangle (its face normal; the fragment stage lights both sides).
+    fn flat(&mut self, p: [Vec3; 3], color: [f32; 3]) {
+        let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        self.triangle(p, [n; 3], color, 0.0);
+    }
+
+    /// The square of half side `half` on the plane through `point` with `normal`, centred at
+    /// `centre` projected onto it, checkered in cells of `cell` metres.
+    pub fn plane(&mut self, point: Vec3, normal: Vec3, centre: Vec3, half: f32, cell: f32) {
+        let n = normal.normalize_or_zero();
+        if n == Vec3::ZERO {
+            return;
+        }
+        let c = centre - n * (centre - point).dot(n);
+        let (u, v) = n.any_orthonormal_pair();
+        let corner = |a: f32, b: f32| c + (u * a + v * b) * half;
+        let q = [
+            corner(-1.0, -1.0),
+            corner(1.0, -1.0),
+            corner(1.0, 1.0),
+            corner(-1.0, 1.0),
+        ];
+        self.triangle([q[0], q[1], q[2]], [n; 3], PLANE_COLOR, cell);
+        self.triangle([q[0], q[2], q[3]], [n; 3], PLANE_COLOR, cell);
+    }
+
+    /// A sphere of latitude-longitude quads with smooth normals.
+    pub fn sphere(&mut self, centre: Vec3, radius: f32, color: [f32; 3]) {
+        let (seg, rings) = (SPHERE_SEGMENTS, SPHERE_SEGMENTS / 2);
+        let at = |i: usize, j: usize| {
+            let theta = std::f32::consts::PI * j as f32 / rings as f32;
+            let phi = std::f32::consts::TAU * i as f32 / seg as f32;
+            Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            )
+        };
+        for j in 0..rings {
+            for i in 0..seg {
+                let n = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)];
+                let p = n.map(|d| centre + d * radius);
+                self.triangle([p[0], p[1], p[2]], [n[0], n[1], n[2]], color, 0.0);
+                self.triangle([p[0], p[2], p[3]], [n[0], n[2], n[3]], color, 0.0);
+            }
+        }
+    }
+
+    /// An axis-aligned box, six flat faces.
+    pub fn cuboid(&mut self, min: Vec3, max: Vec3, color: [f32; 3]) {
+        let p = |x: bool, y: bool, z: bool| {
+            Vec3::new(
+                if x { max.x } else { min.x },
+                if y { max.y } else { min.y },
+                if z { max.z } else { min.z },
+            )
+        };
+        // Each face: four corners in order around it (either way round).
+        let faces = [
+            [
+                p(false, false, false),
+                p(false, true, false),
+                p(false, true, true),
+                p(false, false, true),
+            ],
+            [
+                p(true, false, false),
+                p(true, false, true),
+                p(true, true, true),
+                p(true, true, false),
+            ],
+            [
+                p(false, false, false),
+                p(false, false, true),
+                p(true, false, true),
+                p(true, false, false),
+            ],
+            [
+                p(false, true, false),
+                p(true, true, false),
+                p(true, true, true),
+                p(false, true, true),
+            ],
+            [
+                p(false, false, false),
+                p(true, false, false),
+                p(true, true, false),
+                p(false, true, false),
+            ],
+            [
+                p(false, false, true),
+                p(false, true, true),
+                p(true, true, true),
+                p(true, false, true),
+            ],
+        ];
+        let centre = (min + max) * 0.5;
+        for mut q in faces {
+            // Wound counter-clockwise seen from outside, so that the face normal points out.
+            let n = (q[1] - q[0]).cross(q[2] - q[0]);
+            if n.dot(q[0] - centre) < 0.0 {
+                q.reverse();
+            }
+            self.flat([q[0], q[1], q[2]], color);
+            self.flat([q[0], q[2], q[3]], color);
+        }
+    }
+
+    /// The height field's grid, two triangles per cell, each node at its sampled height with its
+    /// sampled normal (what the collision pass interpolates between).
+    pub fn terrain(&mut self, t: &Terrain<'_>) -> Result<()> {
+        let [nx, nz] = t.size.map(|n| n as usize);
+        if nx < 2 || nz < 2 || t.texels.len() != 4 * nx * nz {
+            return Err(Error::InvalidInput(format!(
+                "terrain of {nx}x{nz} nodes with {} floats: needs at least 2x2 nodes of 4 floats",
+                t.texels.len()
+            )));
+        }
+        let [x0, z0, x1, z1] = t.extent;
+        let node = |i: usize, j: usize| {
+            let k = 4 * (j * nx + i);
+            let x = x0 + (x1 - x0) * i as f32 / (nx - 1) as f32;
+            let z = z0 + (z1 - z0) * j as f32 / (nz - 1) as f32;
+            let s = &t.texels[k..k + 4];
+            (Vec3::new(x, s[0], z), Vec3::new(s[1], s[2], s[3]))
+        };
+        for j in 0..nz - 1 {
+            for i in 0..nx - 1 {
+                let q = [
+                    node(i, j),
+                    node(i + 1, j),
+                    node(i + 1, j + 1),
+                    node(i, j + 1),
+                ];
+                for tri in [[0, 2, 1], [0, 3, 2]] {
+                    let p = tri.map(|k| q[k].0);
+                    let n = tri.map(|k| q[k].1);
+                    self.triangle(p, n, TERRAIN_COLOR, 0.0);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Every collider of `scene`: planes as squares around the camera's target, `camera.distance`
+    /// to each side (an infinite plane cannot be drawn; this covers what the camera sees of it),
+    /// spheres, boxes, the first height field from `terrain` (the simulation's nodes), and each
+    /// distance field's spheres, boxes or mesh triangles.
+    pub fn of_scene(scene: &SceneFile, terrain: Option<&Terrain<'_>>) -> Result<Mesh> {
+        let c = &scene.colliders;
+        let cam = &scene.render.camera;
+        let mut m = Mesh::default();
+        let half = cam.distance.max(1e-3);
+        for p in &c.plane {
+            let (point, normal) = (Vec3::from(p.point), Vec3::from(p.normal));
+            m.plane(
+                point,
+                normal,
+                Vec3::from(cam.target),
+                half,
+                checker_cell(half),
+            );
+        }
+        for s in &c.sphere {
+            m.sphere(Vec3::from(s.center), s.radius, SOLID_COLOR);
+        }
+        for b in &c.boxes {
+            m.cuboid(Vec3::from(b.min), Vec3::from(b.max), SOLID_COLOR);
+        }
+        if let Some(t) = terrain {
+            m.terrain(t)?;
+        }
+        for sdf in &c.sdf {
+            for t in &sdf.triangles {
+                m.flat(t.map(Vec3::from), MESH_COLOR);
+            }
+            for s in &sdf.spheres {
+                m.sphere(Vec3::new(s[0], s[1], s[2]), s[3], SOLID_COLOR);
+            }
+            for b in &sdf.boxes {
+                let (lo, hi) = (Vec3::new(b[0], b[1], b[2]), Vec3::new(b[3], b[4], b[5]));
+                m.cuboid(lo, hi, SOLID_COLOR);
+            }
+        }
+        Ok(m)
+    }
+}
+
+/// A checker cell of 1, 2 or 5 times a power of ten, near an eighth of the plane's half side.
+fn checker_cell(half: f32) -> f32 {
+    let raw = half / 8.0;
+    let decade = 10f32.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|k| k * decade)
+        .min_by(|a, b| (a - raw).abs().total_cmp(&(b - raw).abs()))
+        .unwrap_or(decade);
+    step.max(1e-3)
+}
+
+/// What `render.geometry` draws of `scene`'s colliders, for the pass list.
+pub fn describe(scene: &SceneFile) -> String {
+    let c = &scene.colliders;
+    let count = |n: usize, one: &str, many: &str| match n {
+        0 => None,
+        1 => Some(format!("1 {one}")),
+        n => Some(format!("{n} {many}")),
+    };
+    let meshes: usize = c.sdf.iter().filter(|s| !s.triangles.is_empty()).count();
+    let triangles: usize = c.sdf.iter().map(|s| s.triangles.len()).sum();
+    let sdf_spheres: usize = c.sdf.iter().map(|s| s.spheres.len()).sum();
+    let sdf_boxes: usize = c.sdf.iter().map(|s| s.boxes.len()).sum();
+    let parts: Vec<String> = [
+        count(c.plane.len(), "plane (checker)", "planes (checker)"),
+        count(c.sphere.len() + sdf_spheres, "sphere", "spheres"),
+        count(c.boxes.len() + sdf_boxes, "box", "boxes"),
+        count(c.heightfield.len().min(1), "height field", "height fields"),
+        (meshes > 0).then(|| format!("{triangles} mesh triangles")),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    if parts.is_empty() {
+        "nothing".to_owned()
+    } else {
+        parts.join(", ")
+    }
+}
+
+/// Draws a scene's colliders.
+pub struct GeometryRenderer {
+    program: Program,
+    _buffer: Buffer,
+    vao: VertexArray,
+    count: u32,
+    ctx: Context,
+}
+
+impl std::fmt::Debug for GeometryRenderer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "GeometryRenderer({} vertices)", self.count)
+    }
+}
+
+impl GeometryRenderer {
+    /// Uploads `mesh` (not empty) and builds the program.
+    pub fn new(ctx: &Context, mesh: &Mesh) -> Result<Self> {
+        if mesh.is_empty() {
+            return Err(Error::InvalidInput(
+                "render.geometry = true draws the scene's colliders, and it has none: add a \
+                 collider or remove the key"
+                    .into(),
+            ));
+        }
+        let bytes: Vec<u8> = mesh.vertices.iter().flat_map(|v| v.to_ne_bytes()).collect();
+        let buffer = Buffer::with_data(
+            ctx,
+            "geometry vertices",
+            BufferKind::Vertex,
+            &bytes,
+            BufferUsage::StaticDraw,
+        )?;
+        let stride = (FLOATS * 4) as i32;
+        let attribute = |location, components, offset| Attribute {
+            buffer: &buffer,
+            location,
+            components,
+            stride,
+            offset,
+        };
+        let vao = VertexArray::with_attributes(
+            ctx,
+            "geometry",
+            &[attribute(0, 3, 0), attribute(1, 3, 12), attribute(2, 4, 24)],
+        )?;
+        let program = Program::new(
+            ctx,
+            "render/geometry.vert",
+            "render/geometry.frag",
+            &Defines::new(),
+        )?;
+        Ok(GeometryRenderer {
+            program,
+            count: mesh.len() as u32,
+            _buffer: buffer,
+            vao,
+            ctx: ctx.clone(),
+        })
+    }
+
+    /// Draws the triangles into `target` with `state` (the caller picks the depth and blend:
+    /// opaque with a depth write, a depth-only pass, or composited under).
+    pub fn draw(&self, target: &FrameTarget, camera: &Camera, state: &DrawState) {
+        let p = &self.program;
+        p.bind();
+        let aspect = target.width() as f32 / target.height() as f32;
+        p.set_mat4("u_view_proj", &camera.view_projection(aspect));
+        p.set_vec3("u_eye", camera.eye());
+        p.set_vec3("u_light", Vec3::new(-0.7, 0.6, 0.35).normalize());
+        self.ctx.draw(&Draw {
+            program: p,
+            target: target.framebuffer(),
+            viewport: None,
+            vertices: &self.vao,
+            primitive: Primitive::Triangles,
+            count: self.count,
+            state,
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn checker_cells_are_round_numbers() {
+        assert!((checker_cell(4.0) - 0.5).abs() < 1e-6);
+        assert_eq!(checker_cell(8.0), 1.0);
+        assert!((checker_cell(2.2) - 0.2).abs() < 1e-6);
+    }
+
+    #[test]
+    fn meshes_have_the_expected_triangles() {
+        let mut m = Mesh::default();
+        m.cuboid(Vec3::ZERO, Vec3::ONE, SOLID_COLOR);
+        assert_eq!(m.len(), 36);
+        // Every face normal points out of the box: away from its centre.
+        for v in m.vertices.chunks_exact(FLOATS) {
+            let (p, n) = (Vec3::new(v[0], v[1], v[2]), Vec3::new(v[3], v[4], v[5]));
+            assert!((p - Vec3::splat(0.5)).dot(n) > 0.0, "{p} {n}");
+        }
+        let mut s = Mesh::default();
+        s.sphere(Vec3::new(1.0, 2.0, 3.0), 0.5, SOLID_COLOR);
+        for v in s.vertices.chunks_exact(FLOATS) {
+            let p = Vec3::new(v[0], v[1], v[2]);
+            assert!(((p - Vec3::new(1.0, 2.0, 3.0)).length() - 0.5).abs() < 1e-5);
+        }
+        let texels: Vec<f32> = (0..9).flat_map(|k| [k as f32, 0.0, 1.0, 0.0]).collect();
+        let mut t = Mesh::default();
+        let terrain = Terrain {
+            extent: [0.0, 0.0, 2.0, 2.0],
+            size: [3, 3],
+            texels: &texels,
+        };
+        t.terrain(&terrain).unwrap();
+        assert_eq!(t.len(), 4 * 6);
+        // Node (2, 1) is at x = 2, z = 1 with height 5.
+        assert!(t
+            .vertices
+            .chunks_exact(FLOATS)
+            .any(|v| v[0] == 2.0 && v[2] == 1.0 && v[1] == 5.0));
+    }
+}

@@ -248,7 +248,7 @@ fn a_fire_scene_refuses_the_render_keys_it_would_ignore() {
     for line in [
         "blending = \"alpha\"",
         "primitive = \"stretched\"",
-        "mode = \"sprites\"",
+        "path = \"vertex_buffer\"",
         "geometry = true",
     ] {
         let src = fire_with(line);
@@ -262,8 +262,9 @@ fn a_fire_scene_refuses_the_render_keys_it_would_ignore() {
         assert!(text.contains("[fire]"), "{text}");
         assert!(err.is_bad_input());
     }
-    // The default written out is what the fire does: accepted.
+    // The default written out is what the fire does: accepted; and its soft sprites.
     scene::parse("fire.toml", &fire_with("blending = \"additive\"")).unwrap();
+    scene::parse("fire.toml", &fire_with("mode = \"sprites\"")).unwrap();
 }
 
 #[test]

@@ -18,6 +18,8 @@ use std::rc::Rc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use glow::HasContext;
+
+use super::stats::DrawStats;
 use glutin::api::egl::{
     context::PossiblyCurrentContext, device::Device as EglDevice, display::Display,
 };
@@ -141,22 +143,6 @@ struct Inner {
     /// What the draws since the last [`Context::take_draw_stats`] did (for floors and the cost
     /// model: passes and bytes written).
     stats: Cell<DrawStats>,
-}
-
-/// What a sequence of draws did: how many, and the bytes their fragments wrote into colour
-/// attachments (full-screen and rectangle passes: the viewport's texels times the bytes per
-/// texel of every attachment; point draws count as draws without bytes, their coverage being
-/// unknown to the GL layer).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
-pub struct DrawStats {
-    /// Draw calls (passes).
-    pub draws: u64,
-    /// Of those, triangle draws over a rectangle of the target (full-screen passes).
-    pub passes: u64,
-    /// Bytes the triangle draws wrote into colour attachments.
-    pub bytes_written: u64,
-    /// Vertices of the point draws (particles drawn as points or sprites).
-    pub points: u64,
 }
 
 impl Drop for Inner {

@@ -16,6 +16,7 @@ mod pingpong;
 mod program;
 mod query;
 pub mod source;
+mod stats;
 mod texture;
 mod texture3d;
 mod timer;
@@ -24,7 +25,7 @@ mod window;
 
 pub use bindings::Sampled;
 pub use buffer::{Attribute, Buffer, BufferKind, BufferUsage, VertexArray};
-pub use context::{gl_error_name, list_devices, Context, DeviceInfo, DrawStats, Limits};
+pub use context::{gl_error_name, list_devices, Context, DeviceInfo, Limits};
 pub use draw::{
     Blend, BlendComponent, BlendFactor, BlendOperation, Depth, Draw, DrawState, PointSize,
     Primitive, Rect,
@@ -35,6 +36,7 @@ pub use pass::{FullscreenPass, StatePass, Uniform, FULLSCREEN_VERTEX};
 pub use pingpong::{PingPong, Ring3};
 pub use program::{Defines, Program};
 pub use query::TimerQuery;
+pub use stats::DrawStats;
 pub use texture::{check_size, Texture, TextureDesc, TextureFormat};
 pub use texture3d::{check_size_3d, Texture3D};
 pub use timer::{Clock, PassTimer};

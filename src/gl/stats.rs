@@ -1,0 +1,18 @@
+//! What draws did, counted by the GL layer: passes, bytes written and points, for the
+//! benchmarks' floors and the cost model.
+
+/// What a sequence of draws did: how many, and the bytes their fragments wrote into colour
+/// attachments (full-screen and rectangle passes: the viewport's texels times the bytes per
+/// texel of every attachment; point draws count as draws without bytes, their coverage being
+/// unknown to the GL layer).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct DrawStats {
+    /// Draw calls (passes).
+    pub draws: u64,
+    /// Of those, triangle draws over a rectangle of the target (full-screen passes).
+    pub passes: u64,
+    /// Bytes the triangle draws wrote into colour attachments.
+    pub bytes_written: u64,
+    /// Vertices of the point draws (particles drawn as points or sprites).
+    pub points: u64,
+}

@@ -1,0 +1,110 @@
+//! The key pass of the sorter (UberFlow §4.3.1): keys and identifiers written into the sort
+//! texture, fresh or refreshed in place (Latta's sort spread over frames).
+
+use super::{KeyMode, ProgramKey, Sorter};
+use crate::error::{Error, Result};
+use crate::gl::{Texture, FULLSCREEN_VERTEX};
+
+impl Sorter {
+    /// The key pass: computes keys and identifiers of the particles in `positions` (xyz, life)
+    /// into the sort texture and restarts the pass sequence. `count` particles, row-major in the
+    /// position texture; the rest of the sort texture is padding.
+    pub fn write_keys(
+        &mut self,
+        positions: &Texture,
+        count: usize,
+        mode: &KeyMode,
+        cull_dead: bool,
+    ) -> Result<()> {
+        self.write_keys_with(positions, count, mode, cull_dead, false)
+    }
+
+    fn write_keys_with(
+        &mut self,
+        positions: &Texture,
+        count: usize,
+        mode: &KeyMode,
+        cull_dead: bool,
+        rekey: bool,
+    ) -> Result<()> {
+        if count > self.len() || count > positions.texels() {
+            return Err(Error::InvalidInput(format!(
+                "{count} particles do not fit a {}x{} sort texture",
+                self.width, self.height
+            )));
+        }
+        let grid = matches!(mode, KeyMode::GridCell { .. });
+        let key = ProgramKey::Keys { grid, rekey };
+        let mut extra: Vec<(&str, &str)> = Vec::new();
+        if rekey {
+            extra.push(("REKEY", "1"));
+        }
+        if grid {
+            extra.push(("KEY_GRID", "1"));
+        }
+        if self.variant.packed() {
+            extra.push(("PACKED", "1"));
+        }
+        if self.id_table.is_some() {
+            extra.push(("ID_TABLE", "1"));
+        }
+        self.program(key, FULLSCREEN_VERTEX, "sort/keys.frag", &extra)?;
+        let p = &self.programs[&key];
+        p.bind();
+        positions.bind(0);
+        p.set_i32("u_position", 0);
+        p.set_i32("u_state_width", positions.width() as i32);
+        p.set_i32("u_count", count as i32);
+        p.set_i32("u_sort_width", self.width as i32);
+        p.set_i32("u_cull_dead", cull_dead as i32);
+        match *mode {
+            KeyMode::ViewerDistance { eye, back_to_front } => {
+                p.set_vec3("u_eye", eye);
+                p.set_f32("u_direction", if back_to_front { -1.0 } else { 1.0 });
+            }
+            KeyMode::GridCell {
+                origin,
+                spacing,
+                dims,
+            } => {
+                p.set_vec3("u_grid_origin", origin);
+                p.set_f32("u_grid_spacing", spacing);
+                p.set_ivec3("u_grid_dims", dims.x as i32, dims.y as i32, dims.z as i32);
+            }
+        }
+        if let Some(t) = &self.id_table {
+            t.bind(1);
+            p.set_i32("u_id_table", 1);
+            p.set_i32("u_id_table_width", t.width() as i32);
+        }
+        if rekey {
+            self.state.front().texture(0).bind(2);
+            p.set_i32("u_sorted", 2);
+        }
+        self.fullscreen.draw(p, self.state.back());
+        self.state.swap();
+        self.next = 0;
+        Ok(())
+    }
+
+    /// Latta's sort spread over frames (§3.4.4): recomputes the key of every entry from the new
+    /// `positions` of its particle, keeping the order reached so far, and continues the pass
+    /// sequence where it stopped. Plain identifiers only (not with the identifier table).
+    pub fn refresh_keys(
+        &mut self,
+        positions: &Texture,
+        count: usize,
+        mode: &KeyMode,
+        cull_dead: bool,
+    ) -> Result<()> {
+        if self.id_table.is_some() {
+            return Err(Error::InvalidInput(
+                "refreshing keys in place needs plain identifiers, not the identifier table".into(),
+            ));
+        }
+        let next = self.next;
+        self.write_keys_with(positions, count, mode, cull_dead, true)?;
+        self.next = next;
+        Ok(())
+    }
+}

@@ -388,3 +388,38 @@ impl Drop for Framebuffer {
         }
     }
 }
+
+impl Context {
+    /// Reads the bottom-left `width`×`height` pixels of the default framebuffer's back buffer
+    /// (a window's frame before the swap) as RGB with the first row at the top.
+    pub fn read_default_rgb(&self, width: u32, height: u32) -> Result<image::RgbImage> {
+        let mut rgba = vec![0u8; 4 * width as usize * height as usize];
+        // SAFETY: framebuffer 0 exists on a window's context; the buffer holds w*h RGBA texels.
+        unsafe {
+            self.bind_framebuffer(glow::FRAMEBUFFER, None);
+            self.read_buffer(glow::BACK);
+            self.pixel_store_i32(glow::PACK_ALIGNMENT, 1);
+            self.read_pixels(
+                0,
+                0,
+                width as i32,
+                height as i32,
+                glow::RGBA,
+                glow::UNSIGNED_BYTE,
+                glow::PixelPackData::Slice(Some(&mut rgba)),
+            );
+        }
+        self.check_error("reading the default framebuffer")?;
+        let mut out = image::RgbImage::new(width, height);
+        for (y, row) in rgba.chunks_exact(4 * width as usize).enumerate() {
+            for (x, px) in row.chunks_exact(4).enumerate() {
+                out.put_pixel(
+                    x as u32,
+                    height - 1 - y as u32,
+                    image::Rgb([px[0], px[1], px[2]]),
+                );
+            }
+        }
+        Ok(out)
+    }
+}

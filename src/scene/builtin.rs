@@ -19,7 +19,10 @@ macro_rules! builtin_scenes {
     };
 }
 
-builtin_scenes!["fire", "snow", "fountain", "smoke", "e1", "e2", "e3", "collide", "gas", "mesh"];
+builtin_scenes![
+    "fire", "snow", "fountain", "smoke", "e1", "e2", "e3", "collide", "gas", "mesh", "cloth",
+    "hair"
+];
 
 /// The meshes the built-in scenes name (`[[colliders.sdf]] mesh`), by the path they give
 /// (relative to `examples/scenes/`), compiled into the binary.

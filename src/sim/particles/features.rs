@@ -66,6 +66,8 @@ pub struct Features {
     pub detection: crate::scene::Detection,
     /// Time stamps in texel order (`collisions.row_phases`), so a release shares a row.
     pub row_phases: bool,
+    /// Distance constraints (Latta §3.4.3): kind and relaxation passes per step.
+    pub constraints: Option<(scene::ConstraintKind, u32)>,
 }
 
 impl Features {
@@ -114,6 +116,7 @@ impl Features {
                 .as_ref()
                 .map_or(Default::default(), |c| c.detection),
             row_phases: scene.collisions.as_ref().is_some_and(|c| c.row_phases),
+            constraints: scene.constraints.as_ref().map(|c| (c.kind, c.iterations)),
         }
     }
 
@@ -306,6 +309,24 @@ impl Features {
             targets
         );
         out.push(integrate);
+        if let Some((kind, n)) = self.constraints {
+            out.push(format!(
+                "{n} × constrain: Jacobi relaxation of the {} [current position and rest \
+                 texture in, the ring's free side out, then swapped]{}",
+                match kind {
+                    scene::ConstraintKind::Cloth => {
+                        "cloth's distance constraints (4 grid neighbours, 4 diagonals)"
+                    }
+                    scene::ConstraintKind::Hair =>
+                        "hair's distance constraints (chains along rows)",
+                },
+                if self.colliders() {
+                    "; colliders' projection"
+                } else {
+                    ""
+                }
+            ));
+        }
         if self.collisions.is_some() && self.detection == crate::scene::Detection::Exact {
             out.extend(crate::sim::collide::exact_passes(self.colliders()));
         } else if let Some((k, staggered, rows)) = self.collisions {

@@ -9,6 +9,8 @@
 mod births;
 mod custom;
 mod features;
+mod relax;
+mod state_io;
 mod uniforms;
 
 use glam::UVec2;
@@ -79,6 +81,7 @@ pub struct ParticleSim {
     emit_static: Option<Program>,
     start: Option<Program>,
     collisions: Option<super::collide::Collisions>,
+    relax: Option<relax::Relaxation>,
     pass: FullscreenPass,
     fields: Fields,
     emitters: Vec<EmitterUniforms>,
@@ -234,6 +237,7 @@ impl ParticleSim {
                 )?),
                 None => None,
             },
+            relax: relax::Relaxation::new(ctx, scene, &defines)?,
             pass: FullscreenPass::new(ctx)?,
             allocator: match features.emission {
                 Emission::Allocator(kind) => Some(Allocator::new(kind, width * height)),
@@ -261,6 +265,7 @@ impl ParticleSim {
             sim.emit_previous.as_ref(),
             sim.emit_static.as_ref(),
             sim.start.as_ref(),
+            sim.relax.as_ref().map(|r| r.program()),
         ]
         .into_iter()
         .flatten()
@@ -268,6 +273,9 @@ impl ParticleSim {
             sim.set_constants(p);
         }
         sim.initialise()?;
+        if let (Some(r), State::Verlet(ring)) = (&sim.relax, &sim.state) {
+            r.place(ring)?;
+        }
         ctx.check_error("initialising the particle state")?;
         Ok(sim)
     }
@@ -429,7 +437,20 @@ impl ParticleSim {
             self.emit()?;
         }
         self.integrate_only();
+        self.relax();
         Ok(())
+    }
+
+    /// The constraint relaxation passes after the Verlet step (scenes with `[constraints]`).
+    pub fn relax(&mut self) {
+        if let (Some(r), State::Verlet(ring)) = (&self.relax, &mut self.state) {
+            r.run(&self.scene, ring, &self.pass, &self.fields, self.time);
+        }
+    }
+
+    /// The constrained particles' layout (scenes with `[constraints]`).
+    pub fn constraint_layout(&self) -> Option<&crate::sim::constraints::Layout> {
+        self.relax.as_ref().map(|r| r.layout())
     }
 
     /// The collision stage (scenes with `[collisions]`).
@@ -475,6 +496,8 @@ impl ParticleSim {
         let p = &self.integrate;
         p.bind();
         p.set_f32("u_time", self.time as f32);
+        // Orbiting spheres: where they are at the end of this step.
+        relax::move_spheres(p, &self.scene, self.time + self.scene.time.dt as f64);
         let statics = ("u_static", self.statics.texture(0).into());
         match &mut self.state {
             State::Explicit(pp) => {
@@ -509,76 +532,5 @@ impl ParticleSim {
     /// Reads the current positions back (4 floats per texel).
     pub fn read_positions(&self) -> Result<Vec<f32>> {
         self.positions().read_f32()
-    }
-
-    /// Reads the current velocities back; for Verlet, the implied (x - x_prev) / dt.
-    pub fn read_velocities(&self) -> Result<Vec<f32>> {
-        match self.velocities() {
-            Some(t) => t.read_f32(),
-            None => {
-                let x = self.read_positions()?;
-                let xp = self.previous().map(|t| t.read_f32()).transpose()?;
-                let xp = xp.unwrap_or_else(|| x.clone());
-                let dt = self.scene.time.dt;
-                Ok(x.chunks(4)
-                    .zip(xp.chunks(4))
-                    .flat_map(|(a, b)| {
-                        [
-                            (a[0] - b[0]) / dt,
-                            (a[1] - b[1]) / dt,
-                            (a[2] - b[2]) / dt,
-                            0.0,
-                        ]
-                    })
-                    .collect())
-            }
-        }
-    }
-
-    /// Replaces the whole state (for tests and experiments): 4 floats per texel each, positions
-    /// (xyz, life), velocities (xyz, 0) and statics (birth, type, total life, random). Verlet
-    /// derives the previous positions on the GPU with the second-order start
-    /// x_prev = x - v dt + a dt^2 / 2.
-    pub fn set_state(
-        &mut self,
-        positions: &[f32],
-        velocities: &[f32],
-        statics: &[f32],
-    ) -> Result<()> {
-        let n = self.width as usize * self.height as usize * 4;
-        if positions.len() != n || velocities.len() != n || statics.len() != n {
-            return Err(Error::InvalidInput(format!(
-                "set_state needs {n} floats per texture ({}x{} texels, 4 each)",
-                self.width, self.height
-            )));
-        }
-        self.statics.texture(0).upload_f32(statics)?;
-        match &self.state {
-            State::Explicit(pp) => {
-                pp.front().texture(0).upload_f32(positions)?;
-                pp.front().texture(1).upload_f32(velocities)?;
-            }
-            State::Verlet(ring) => {
-                ring.current().texture(0).upload_f32(positions)?;
-                let v = state_texture(
-                    &self.ctx,
-                    "start velocity",
-                    self.width,
-                    self.height,
-                    TextureFormat::Rgba32F,
-                )?;
-                v.upload_f32(velocities)?;
-                let p = self.start.as_ref().expect("Verlet has a start program");
-                p.bind();
-                let own = [
-                    ("u_position", ring.current().texture(0).into()),
-                    ("u_velocity", (&v).into()),
-                    ("u_static", self.statics.texture(0).into()),
-                ];
-                bind_textures(p, &own, &self.fields);
-                self.pass.draw(p, ring.previous());
-            }
-        }
-        self.ctx.check_error("setting the particle state")
     }
 }

@@ -1,0 +1,78 @@
+//! Reading the state back and replacing it (tests, experiments, the CLI's dumps).
+
+use super::{bind_textures, state_texture, ParticleSim, State};
+use crate::error::{Error, Result};
+use crate::gl::TextureFormat;
+
+impl ParticleSim {
+    /// Reads the current velocities back; for Verlet, the implied (x - x_prev) / dt.
+    pub fn read_velocities(&self) -> Result<Vec<f32>> {
+        match self.velocities() {
+            Some(t) => t.read_f32(),
+            None => {
+                let x = self.read_positions()?;
+                let xp = self.previous().map(|t| t.read_f32()).transpose()?;
+                let xp = xp.unwrap_or_else(|| x.clone());
+                let dt = self.scene.time.dt;
+                Ok(x.chunks(4)
+                    .zip(xp.chunks(4))
+                    .flat_map(|(a, b)| {
+                        [
+                            (a[0] - b[0]) / dt,
+                            (a[1] - b[1]) / dt,
+                            (a[2] - b[2]) / dt,
+                            0.0,
+                        ]
+                    })
+                    .collect())
+            }
+        }
+    }
+
+    /// Replaces the whole state (for tests and experiments): 4 floats per texel each, positions
+    /// (xyz, life), velocities (xyz, 0) and statics (birth, type, total life, random). Verlet
+    /// derives the previous positions on the GPU with the second-order start
+    /// x_prev = x - v dt + a dt^2 / 2.
+    pub fn set_state(
+        &mut self,
+        positions: &[f32],
+        velocities: &[f32],
+        statics: &[f32],
+    ) -> Result<()> {
+        let n = self.width as usize * self.height as usize * 4;
+        if positions.len() != n || velocities.len() != n || statics.len() != n {
+            return Err(Error::InvalidInput(format!(
+                "set_state needs {n} floats per texture ({}x{} texels, 4 each)",
+                self.width, self.height
+            )));
+        }
+        self.statics.texture(0).upload_f32(statics)?;
+        match &self.state {
+            State::Explicit(pp) => {
+                pp.front().texture(0).upload_f32(positions)?;
+                pp.front().texture(1).upload_f32(velocities)?;
+            }
+            State::Verlet(ring) => {
+                ring.current().texture(0).upload_f32(positions)?;
+                let v = state_texture(
+                    &self.ctx,
+                    "start velocity",
+                    self.width,
+                    self.height,
+                    TextureFormat::Rgba32F,
+                )?;
+                v.upload_f32(velocities)?;
+                let p = self.start.as_ref().expect("Verlet has a start program");
+                p.bind();
+                let own = [
+                    ("u_position", ring.current().texture(0).into()),
+                    ("u_velocity", (&v).into()),
+                    ("u_static", self.statics.texture(0).into()),
+                ];
+                bind_textures(p, &own, &self.fields);
+                self.pass.draw(p, ring.previous());
+            }
+        }
+        self.ctx.check_error("setting the particle state")
+    }
+}

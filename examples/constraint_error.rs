@@ -1,6 +1,6 @@
 //! The distance constraints' error (Latta §3.4.3) against the relaxation passes per step, and
 //! its stability against the time step and the stiffness, on the GPU next to the CPU twin
-//! (`sim::constraints::twin`). Prints the tables of docs/pipeline.md.
+//! (`sim::reference::constraints`). Prints the tables of docs/pipeline.md.
 //!
 //!     cargo run --release --example constraint_error
 //!
@@ -10,8 +10,8 @@
 
 use texflow::gl::Context;
 use texflow::scene::{self, SceneFile};
-use texflow::sim::constraints::twin::Twin;
 use texflow::sim::constraints::ConstraintError;
+use texflow::sim::reference::constraints::Twin;
 use texflow::sim::ParticleSim;
 
 /// The errors of one run, averaged over its steps.

@@ -1,11 +1,11 @@
 //! Distance constraints (Latta §3.4.3): the GPU's Verlet step and relaxation passes against the
-//! CPU twin (`sim::constraints::twin`), the constraint error falling with the relaxation passes,
+//! CPU twin (`sim::reference::constraints`), the constraint error falling with the relaxation passes,
 //! pinned particles held, and hair roots following their orbiting sphere.
 
 mod common;
 
 use texflow::scene::{self, SceneFile};
-use texflow::sim::constraints::twin::Twin;
+use texflow::sim::reference::constraints::Twin;
 use texflow::sim::ParticleSim;
 
 /// A 16×16 cloth pinned at two corners under gravity; `extra` adds keys or sections.

@@ -13,7 +13,7 @@
 // texel goes to its rest position plus u_pin_offset (hair roots follow their sphere). Last, the
 // colliders' projection (sim/colliders.glsl, the Verlet step's keep_outside) puts a particle that
 // the correction pushed into a collider back on its surface.
-// src/sim/constraints/twin.rs is the CPU twin: keep the two in step.
+// src/sim/reference/constraints.rs is the CPU twin: keep the two in step.
 
 #include "common/state.glsl"
 #include "common/precision.glsl"

@@ -40,9 +40,11 @@ pub struct Constraints {
     /// Cloth: direction of increasing texel y.
     #[serde(default = "z_axis")]
     pub v: [f32; 3],
-    /// Texels `[x, y]` held where the layout puts them (hair: every root is held).
+    /// Texels `[x, y]` held where the layout puts them (hair: every root is held). A negative
+    /// coordinate counts from the far side (`-1` is the last column or row), so a pin stays at
+    /// its corner when the state texture is resized.
     #[serde(default)]
-    pub pinned: Vec<[u32; 2]>,
+    pub pinned: Vec<[i64; 2]>,
     /// Hair: the `[[colliders.sphere]]` (index) the roots sit on; they follow its orbit.
     pub root_sphere: Option<usize>,
 }
@@ -59,3 +61,15 @@ fn z_axis() -> [f32; 3] {
 
 /// Most relaxation passes per step.
 pub const MAX_CONSTRAINT_ITERATIONS: u32 = 64;
+
+impl Constraints {
+    /// The texels [`pinned`](Self::pinned) names in a `size` state texture (negative coordinates
+    /// counted from the far side), or `None` for one outside it.
+    pub fn pinned_texel(p: [i64; 2], size: [u32; 2]) -> Option<[u32; 2]> {
+        let at = |c: i64, n: u32| {
+            let c = if c < 0 { c + n as i64 } else { c };
+            (0..n as i64).contains(&c).then_some(c as u32)
+        };
+        Some([at(p[0], size[0])?, at(p[1], size[1])?])
+    }
+}

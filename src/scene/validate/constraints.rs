@@ -16,7 +16,7 @@ pub(super) fn orbits(s: &SceneFile) -> Check {
         if o.radius < 0.0 {
             return fail(at("radius"), "orbit radius must not be negative");
         }
-        if !(o.period > 0.0) {
+        if o.period <= 0.0 {
             return fail(at("period"), "orbit period must be above 0 s");
         }
         super::duration(at("period"), "orbit period", o.period)?;
@@ -58,7 +58,7 @@ pub(super) fn constraints(s: &SceneFile) -> Check {
         );
     }
     bounded(at("spacing"), "spacing", &[c.spacing])?;
-    if !(c.spacing > 0.0) {
+    if c.spacing <= 0.0 {
         return fail(
             at("spacing"),
             format!("spacing {} m must be above 0", c.spacing),
@@ -76,11 +76,12 @@ pub(super) fn constraints(s: &SceneFile) -> Check {
     }
     let [w, h] = s.particles.size;
     for (i, p) in c.pinned.iter().enumerate() {
-        if p[0] >= w || p[1] >= h {
+        if crate::scene::Constraints::pinned_texel(*p, [w, h]).is_none() {
             return fail(
                 path(&[N("constraints"), N("pinned"), I(i)]),
                 format!(
-                    "pinned texel [{}, {}] is outside the {w}x{h} state texture",
+                    "pinned texel [{}, {}] is outside the {w}x{h} state texture (x in -{w}..{w}, \
+                     y in -{h}..{h}; negative counts from the far side)",
                     p[0], p[1]
                 ),
             );

@@ -38,6 +38,7 @@
 //! tests/forces_colliders.rs.
 
 mod colliders;
+pub mod constraints;
 mod forces;
 #[cfg(test)]
 mod tests;

@@ -2,11 +2,9 @@
 //! strands in the state texture, the neighbours each texel is joined to, the constraint error,
 //! and a CPU twin of the relaxation ([`twin`]).
 //!
-//! The GPU pass is `glsl/sim/constrain.frag` (run by `sim::particles`); it and [`twin`] read the
+//! The GPU pass is `glsl/sim/constrain.frag` (run by `sim::particles`); it and the twin read the
 //! same [`Layout`]: a rest texture holding every particle's initial position and whether it is
 //! pinned. Rest lengths are distances in that layout, so the same pass serves any layout.
-
-pub mod twin;
 
 use glam::Vec3;
 
@@ -92,7 +90,9 @@ impl Layout {
             }
         }
         for p in &c.pinned {
-            rest[(p[1] * w + p[0]) as usize][3] = 1.0;
+            if let Some([x, y]) = crate::scene::Constraints::pinned_texel(*p, [w, h]) {
+                rest[(y * w + x) as usize][3] = 1.0;
+            }
         }
         Some(Layout {
             kind: c.kind,

@@ -8,10 +8,10 @@
 
 use glam::Vec3;
 
-use super::{neighbours, pin_offset, sphere_centres, ConstraintError, Layout};
+use super::Reference;
 use crate::error::{Error, Result};
 use crate::scene::{Precision, SceneFile};
-use crate::sim::reference::Reference;
+use crate::sim::constraints::{neighbours, pin_offset, sphere_centres, ConstraintError, Layout};
 
 /// A constrained scene stepped on the CPU.
 #[derive(Debug, Clone)]

@@ -192,3 +192,75 @@ pub fn sphere_centres(scene: &SceneFile, t: f64) -> Vec<Vec3> {
         .map(|s| Vec3::from(s.center) + s.orbit.map_or(Vec3::ZERO, |o| Vec3::from(o.offset(t))))
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{self, Constraints};
+
+    fn scene(kind: &str, size: [u32; 2], extra: &str) -> SceneFile {
+        let src = format!(
+            "name = \"t\"\nintegrator = \"verlet\"\n[particles]\nsize = [{}, {}]\n\
+             [constraints]\nkind = \"{kind}\"\nspacing = 0.1\n{extra}\n\
+             [[colliders.sphere]]\ncenter = [0.0, 1.0, 0.0]\nradius = 0.5\n",
+            size[0], size[1]
+        );
+        scene::parse("t", &src).unwrap_or_else(|e| panic!("{e}\n{src}"))
+    }
+
+    #[test]
+    fn cloth_has_structural_and_shear_constraints_of_the_layout() {
+        let s = scene("cloth", [5, 4], "pinned = [[0, 0], [-1, -1]]");
+        let l = Layout::of(&s).unwrap();
+        let e = l.edges();
+        // 4×4 + 5×3 structural, 2 × 4×3 diagonal.
+        assert_eq!(e.len(), 4 * 4 + 5 * 3 + 2 * 4 * 3);
+        let diagonals = e.iter().filter(|(_, _, r)| *r > 0.11).count();
+        assert_eq!(diagonals, 24);
+        for (_, _, r) in &e {
+            let want = if *r > 0.11 { 0.1 * 2f32.sqrt() } else { 0.1 };
+            assert!((r - want).abs() < 1e-6, "{r}");
+        }
+        let pinned: Vec<usize> = (0..20).filter(|&k| l.rest[k][3] == 1.0).collect();
+        assert_eq!(pinned, [0, 19]);
+        // At rest the error is zero; stretching one texel shows in the worst.
+        let mut x = l.initial_positions();
+        assert_eq!(l.error(&x).worst, 0.0);
+        x[4 * 19] += 0.05;
+        assert!((l.error(&x).worst - 0.5).abs() < 1e-5);
+    }
+
+    #[test]
+    fn hair_is_one_chain_per_row_rooted_on_its_sphere() {
+        let s = scene("hair", [6, 3], "root_sphere = 0");
+        let l = Layout::of(&s).unwrap();
+        assert_eq!(l.edges().len(), 3 * 5);
+        for j in 0..3 {
+            let root = Vec3::from_slice(&l.rest[6 * j][..3]);
+            assert!(((root - Vec3::Y).length() - 0.5).abs() < 1e-6);
+            assert_eq!(l.rest[6 * j][3], 1.0);
+            assert_eq!(l.rest[6 * j + 1][3], 0.0);
+        }
+    }
+
+    #[test]
+    fn pins_count_from_the_far_side_when_negative() {
+        assert_eq!(Constraints::pinned_texel([-1, 0], [8, 4]), Some([7, 0]));
+        assert_eq!(Constraints::pinned_texel([2, -4], [8, 4]), Some([2, 0]));
+        assert_eq!(Constraints::pinned_texel([8, 0], [8, 4]), None);
+        assert_eq!(Constraints::pinned_texel([0, -5], [8, 4]), None);
+    }
+
+    #[test]
+    fn an_orbit_starts_at_the_centre_and_turns_once_per_period() {
+        let o = scene::Orbit {
+            radius: 2.0,
+            period: 4.0,
+        };
+        let at = |t| Vec3::from(o.offset(t));
+        assert!(at(0.0).length() < 1e-6);
+        assert!((at(1.0) - Vec3::new(-2.0, 0.0, 2.0)).length() < 1e-6);
+        assert!((at(2.0) - Vec3::new(-4.0, 0.0, 0.0)).length() < 1e-6);
+        assert!(at(4.0).length() < 1e-5);
+    }
+}

@@ -1,6 +1,7 @@
 //! The general particle system of Latta (§3.3-3.4) and UberFlow (§4.1-4.2, 4.6): state in
 //! RGBA float textures, one full-screen integration pass per step, birth by a CPU allocator or by
-//! time stamps, forces and colliders compiled into the pass only when the scene has them.
+//! time stamps, forces and colliders compiled into the pass only when the scene has them; with
+//! `[constraints]`, relaxation passes after each Verlet step (`relax.rs`, Latta §3.4.3).
 //!
 //! The state layout, the integrators and the collision response are described in
 //! `glsl/sim/integrate.frag` and `glsl/sim/colliders.glsl`; [`Features`] decides what is compiled
@@ -423,7 +424,8 @@ impl ParticleSim {
     }
 
     /// One time step: allocator births, then the integration pass, then the swap, then the
-    /// collision stage (scenes with `[collisions]`).
+    /// constraint relaxation (scenes with `[constraints]`) or the collision stage (scenes with
+    /// `[collisions]`).
     pub fn step(&mut self) -> Result<()> {
         self.step_without_collisions()?;
         self.collide()

@@ -189,6 +189,24 @@ fn ring_of_three_rotates_previous_current_next() {
     no_gl_error(&ctx);
 }
 
+#[test]
+fn ring_of_three_swaps_current_and_next_keeping_the_previous() {
+    // Constraint relaxation rewrites the current positions within a step; the previous ones
+    // must stay for the next step's implied velocity.
+    let ctx = context();
+    let mut ring = Ring3::new(&ctx, "verlet", &["position"], &[TextureFormat::R32F], 2, 2).unwrap();
+    let labels = |r: &Ring3| r.roles().map(|f| f.label().to_owned());
+    ring.rotate();
+    ring.swap_current_next();
+    assert_eq!(labels(&ring), ["verlet:1", "verlet:0", "verlet:2"]);
+    ring.swap_current_next();
+    assert_eq!(labels(&ring), ["verlet:1", "verlet:2", "verlet:0"]);
+    ring.swap_current_next();
+    ring.rotate();
+    assert_eq!(labels(&ring), ["verlet:0", "verlet:2", "verlet:1"]);
+    no_gl_error(&ctx);
+}
+
 /// Two contexts on one thread: EGL has one current context per thread, and GL names are per
 /// context (both contexts hand out the same names here), so using or dropping an object must
 /// make its own context current first, or it would read or delete the other context's object.

@@ -131,7 +131,8 @@ fn side(
 #[derive(Debug)]
 pub struct Ring3 {
     sides: [Framebuffer; 3],
-    current: usize,
+    /// The sides playing previous, current and next.
+    roles: [usize; 3],
 }
 
 impl Ring3 {
@@ -148,28 +149,36 @@ impl Ring3 {
         let side = |s: usize| side(ctx, label, names, formats, width, height, s);
         Ok(Ring3 {
             sides: [side(0)?, side(1)?, side(2)?],
-            current: 1,
+            roles: [0, 1, 2],
         })
     }
 
     /// The state of this step: read it.
     pub fn current(&self) -> &Framebuffer {
-        &self.sides[self.current]
+        &self.sides[self.roles[1]]
     }
 
     /// The state of the step before: read it.
     pub fn previous(&self) -> &Framebuffer {
-        &self.sides[(self.current + 2) % 3]
+        &self.sides[self.roles[0]]
     }
 
     /// The state of the next step: write it.
     pub fn next(&self) -> &Framebuffer {
-        &self.sides[(self.current + 1) % 3]
+        &self.sides[self.roles[2]]
     }
 
     /// Moves every role one place on. Call once per step, after the pass that writes the next.
     pub fn rotate(&mut self) {
-        self.current = (self.current + 1) % 3;
+        let [p, c, n] = self.roles;
+        self.roles = [c, n, p];
+    }
+
+    /// Exchanges the current and the next, keeping the previous: for passes that rewrite the
+    /// current positions within a step (constraint relaxation reads the current, writes the
+    /// next, then swaps), so that the previous step's positions still imply the velocity.
+    pub fn swap_current_next(&mut self) {
+        self.roles.swap(1, 2);
     }
 
     /// The three framebuffers in the order previous, current, next.

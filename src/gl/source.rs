@@ -51,6 +51,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "sim/emit.vert",
     "sim/emit.frag",
     "sim/verlet_start.frag",
+    "sim/constrain.frag",
     "sim/nonfinite.frag",
     "sim/sdf_slice.frag",
     "collide/detect.frag",

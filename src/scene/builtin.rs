@@ -30,7 +30,9 @@ builtin_scenes![
     "e3",
     "collide",
     "gas",
-    "mesh"
+    "mesh",
+    "cloth",
+    "hair"
 ];
 
 /// The meshes the built-in scenes name (`[[colliders.sdf]] mesh`), by the path they give

@@ -3,6 +3,7 @@
 
 pub mod allocator;
 pub mod collide;
+pub mod constraints;
 pub mod emit;
 pub mod fields;
 pub mod fire;

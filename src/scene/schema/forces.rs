@@ -270,6 +270,29 @@ pub struct SphereCollider {
     /// Resilience ε in [0, 1] (Latta eq. 5).
     #[serde(default = "one")]
     pub resilience: f32,
+    /// A horizontal circle the centre travels (Verlet scenes without `[collisions]`).
+    pub orbit: Option<Orbit>,
+}
+
+/// A sphere's motion: its centre at time t is
+/// `center + radius (cos(2 pi t / period) - 1, 0, sin(2 pi t / period))`, so it starts at
+/// `center`.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Orbit {
+    /// Radius of the circle (m).
+    pub radius: f32,
+    /// Time of one turn (s).
+    pub period: f32,
+}
+
+impl Orbit {
+    /// How far the centre has moved from `center` at time `t`.
+    pub fn offset(&self, t: f64) -> [f32; 3] {
+        let a = std::f64::consts::TAU * t / self.period as f64;
+        let r = self.radius as f64;
+        [(r * (a.cos() - 1.0)) as f32, 0.0, (r * a.sin()) as f32]
+    }
 }
 
 /// A box collider.

@@ -4,19 +4,21 @@
 //! (`[[forces.attractor]]`, `[[colliders.sphere]]`), not a `kind = ...` tag: serde's tagged enums
 //! buffer their content and would lose the spans that errors point at.
 
+mod constraints;
 mod emitters;
 mod forces;
 mod render;
 
 use serde::{Deserialize, Serialize};
 
+pub use constraints::{ConstraintKind, Constraints, MAX_CONSTRAINT_ITERATIONS};
 pub use emitters::{
     AllocatorKind, Burst, Emitter, Emitters, Flipbook, Shape, MAX_BURSTS, MAX_EMITTERS,
 };
 pub use forces::{
     Attractor, BoxCollider, Colliders, CustomForce, Damping, Falloff, FieldData, Forces, Gravity,
-    HeightFieldCollider, PlaneCollider, SdfCollider, SphereCollider, Spring, Vortex, VortexForm,
-    Wind, WindForm, MAX_CUSTOM_FORCES,
+    HeightFieldCollider, Orbit, PlaneCollider, SdfCollider, SphereCollider, Spring, Vortex,
+    VortexForm, Wind, WindForm, MAX_CUSTOM_FORCES,
 };
 pub use render::{
     Blending, CameraSection, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath,
@@ -68,6 +70,8 @@ pub struct SceneFile {
     pub colliders: Colliders,
     /// Collisions between particles (UberFlow §4.3-4.5).
     pub collisions: Option<Collisions>,
+    /// Distance constraints between particles (Latta §3.4.3): cloth or hair.
+    pub constraints: Option<Constraints>,
     /// The thesis's fire model (in-shader respawn), instead of emitters, forces and integrator.
     pub fire: Option<Fire>,
     /// How the scene is drawn.

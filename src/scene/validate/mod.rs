@@ -7,6 +7,7 @@
 
 mod bursts;
 mod colliders;
+mod constraints;
 mod emitters;
 pub use emitters::CapacityWarning;
 mod forces;
@@ -132,7 +133,9 @@ impl SceneFile {
         bursts::bursts(self)?;
         forces::forces(self)?;
         colliders::colliders(self)?;
+        constraints::orbits(self)?;
         collisions(self)?;
+        constraints::constraints(self)?;
         fire(self)?;
         render::render(self)
     }
@@ -477,10 +480,11 @@ fn lattice_cells(c: &crate::scene::schema::Collisions) -> u64 {
 /// `[fire]`, or, without it, that something is born at all.
 fn fire(s: &SceneFile) -> Check {
     let Some(f) = &s.fire else {
-        if s.emitters.is_empty() {
+        if s.emitters.is_empty() && s.constraints.is_none() {
             return fail(
                 path(&[N("emitters")]),
-                "the scene has no emitter and no [fire] model: nothing would ever be born",
+                "the scene has no emitter, no [constraints] layout and no [fire] model: nothing \
+                 would ever be born",
             );
         }
         return Ok(());

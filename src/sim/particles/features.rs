@@ -72,6 +72,8 @@ pub struct Features {
     pub row_phases: bool,
     /// Some timestamp emitter moves each release to its own place (`release_spread`).
     pub release_spread: bool,
+    /// Distance constraints (Latta §3.4.3): kind and relaxation passes per step.
+    pub constraints: Option<(scene::ConstraintKind, u32)>,
 }
 
 impl Features {
@@ -123,6 +125,7 @@ impl Features {
                 .map_or(Default::default(), |c| c.detection),
             row_phases: scene.collisions.as_ref().is_some_and(|c| c.row_phases),
             release_spread: em.timestamp.iter().any(|e| e.release_spread.is_some()),
+            constraints: scene.constraints.as_ref().map(|c| (c.kind, c.iterations)),
         }
     }
 
@@ -371,6 +374,24 @@ impl Features {
                 "integrate{rows}: {} [{}]",
                 what.join("; "),
                 targets
+            ));
+        }
+        if let Some((kind, n)) = self.constraints {
+            out.push(format!(
+                "{n} × constrain: Jacobi relaxation of the {} [current position and rest \
+                 texture in, the ring's free side out, then swapped]{}",
+                match kind {
+                    scene::ConstraintKind::Cloth => {
+                        "cloth's distance constraints (4 grid neighbours, 4 diagonals)"
+                    }
+                    scene::ConstraintKind::Hair =>
+                        "hair's distance constraints (chains along rows)",
+                },
+                if self.colliders() {
+                    "; colliders' projection"
+                } else {
+                    ""
+                }
             ));
         }
         if self.collisions.is_some() && self.detection == crate::scene::Detection::Exact {

@@ -1,6 +1,7 @@
 //! The general particle system of Latta (§3.3-3.4) and UberFlow (§4.1-4.2, 4.6): state in
 //! RGBA float textures, one full-screen integration pass per step, birth by a CPU allocator or by
-//! time stamps, forces and colliders compiled into the pass only when the scene has them.
+//! time stamps, forces and colliders compiled into the pass only when the scene has them; with
+//! `[constraints]`, relaxation passes after each Verlet step (`relax.rs`, Latta §3.4.3).
 //!
 //! The state layout, the integrators and the collision response are described in
 //! `glsl/sim/integrate.frag` and `glsl/sim/colliders.glsl`; [`Features`] decides what is compiled
@@ -9,6 +10,7 @@
 mod births;
 mod custom;
 mod features;
+mod relax;
 mod state_io;
 mod stateless;
 mod uniforms;
@@ -88,6 +90,7 @@ pub struct ParticleSim {
     emit_static: Option<Program>,
     start: Option<Program>,
     collisions: Option<super::collide::Collisions>,
+    relax: Option<relax::Relaxation>,
     pass: FullscreenPass,
     fields: Fields,
     emitters: Vec<EmitterUniforms>,
@@ -268,6 +271,7 @@ impl ParticleSim {
                 )?),
                 None => None,
             },
+            relax: relax::Relaxation::new(ctx, scene, &defines)?,
             pass: FullscreenPass::new(ctx)?,
             allocator: match features.emission {
                 Emission::Allocator(kind) => Some(Allocator::new(kind, width * height)),
@@ -297,6 +301,7 @@ impl ParticleSim {
             sim.emit_previous.as_ref(),
             sim.emit_static.as_ref(),
             sim.start.as_ref(),
+            sim.relax.as_ref().map(|r| r.program()),
         ]
         .into_iter()
         .flatten()
@@ -304,6 +309,9 @@ impl ParticleSim {
             sim.set_constants(p);
         }
         sim.initialise()?;
+        if let (Some(r), State::Verlet(ring)) = (&sim.relax, &sim.state) {
+            r.place(ring)?;
+        }
         ctx.check_error("initialising the particle state")?;
         Ok(sim)
     }
@@ -459,7 +467,8 @@ impl ParticleSim {
     }
 
     /// One time step: allocator births, then the integration pass, then the swap, then the
-    /// collision stage (scenes with `[collisions]`).
+    /// constraint relaxation (scenes with `[constraints]`) or the collision stage (scenes with
+    /// `[collisions]`).
     pub fn step(&mut self) -> Result<()> {
         self.step_without_collisions()?;
         self.collide()
@@ -473,7 +482,20 @@ impl ParticleSim {
             self.emit()?;
         }
         self.integrate_only();
+        self.relax();
         Ok(())
+    }
+
+    /// The constraint relaxation passes after the Verlet step (scenes with `[constraints]`).
+    pub fn relax(&mut self) {
+        if let (Some(r), State::Verlet(ring)) = (&self.relax, &mut self.state) {
+            r.run(&self.scene, ring, &self.pass, &self.fields, self.time);
+        }
+    }
+
+    /// The constrained particles' layout (scenes with `[constraints]`).
+    pub fn constraint_layout(&self) -> Option<&crate::sim::constraints::Layout> {
+        self.relax.as_ref().map(|r| r.layout())
     }
 
     /// The collision stage (scenes with `[collisions]`).
@@ -519,6 +541,8 @@ impl ParticleSim {
         let p = &self.integrate;
         p.bind();
         p.set_f32("u_time", self.time as f32);
+        // Orbiting spheres: where they are at the end of this step.
+        relax::move_spheres(p, &self.scene, self.time + self.scene.time.dt as f64);
         let statics = ("u_static", self.statics.texture(0).into());
         match &mut self.state {
             State::Explicit(pp) if self.stateless.is_some() => {

@@ -39,6 +39,7 @@
 //! tests/forces_colliders.rs.
 
 mod colliders;
+pub mod constraints;
 mod forces;
 #[cfg(test)]
 mod tests;
@@ -319,6 +320,32 @@ impl Reference {
     /// Whether the scene has any collider (`HAS_COLLIDERS`).
     pub fn has_colliders(&self) -> bool {
         !self.colliders.is_empty() || self.height.is_some()
+    }
+
+    /// Moves sphere collider `i` (in scene order) to `centre`, as `u_sphere[i]` is moved for an
+    /// orbiting sphere.
+    pub fn move_sphere(&mut self, i: usize, centre: Vec3) {
+        let sphere = self
+            .colliders
+            .iter_mut()
+            .filter_map(|c| match &mut c.shape {
+                Shape::Sphere(s) => Some(s),
+                _ => None,
+            })
+            .nth(i);
+        if let Some(s) = sphere {
+            *s = centre.extend(s.w);
+        }
+    }
+
+    /// `keep_outside` on a position alone (the constraint relaxation's last step), `fp_store`
+    /// not applied.
+    pub fn keep_outside_position(&self, mut x: Vec3) -> Vec3 {
+        if self.has_colliders() {
+            let mut v = Vec3::ZERO;
+            self.keep_outside(&mut x, &mut v, &mut Events::default());
+        }
+        x
     }
 
     /// One step of an explicit integrator (Euler or UberFlow): position, velocity and remaining

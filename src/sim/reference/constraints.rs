@@ -1,0 +1,169 @@
+//! The CPU twin of a constrained scene's step: the Verlet step of [`Reference`] for every
+//! particle, then the relaxation passes of `glsl/sim/constrain.frag`, in `f32`, with the same
+//! operations in the same order (the GPU may fuse multiply-adds and take square roots its own
+//! way, so the two agree to rounding, not bit for bit).
+//!
+//! Covers what [`Reference`] covers (forces and colliders, with orbiting spheres moved as the
+//! GPU moves them) for `fp32` scenes.
+
+use glam::Vec3;
+
+use super::Reference;
+use crate::error::{Error, Result};
+use crate::scene::{Precision, SceneFile};
+use crate::sim::constraints::{neighbours, pin_offset, sphere_centres, ConstraintError, Layout};
+
+/// A constrained scene stepped on the CPU.
+#[derive(Debug, Clone)]
+pub struct Twin {
+    scene: SceneFile,
+    reference: Reference,
+    layout: Layout,
+    stiffness: f32,
+    iterations: u32,
+    x: Vec<Vec3>,
+    previous: Vec<Vec3>,
+    life: Vec<f32>,
+    step: u64,
+}
+
+impl Twin {
+    /// The twin of `ParticleSim::new(scene)` for a scene with `[constraints]`: every particle at
+    /// rest in its layout.
+    pub fn new(scene: &SceneFile) -> Result<Self> {
+        let reference = Reference::new(scene)?;
+        let (Some(c), Some(layout)) = (&scene.constraints, Layout::of(scene)) else {
+            return Err(Error::InvalidInput(format!(
+                "scene `{}` has no [constraints]",
+                scene.name
+            )));
+        };
+        if scene.particles.precision != Precision::Fp32 {
+            return Err(Error::InvalidInput(format!(
+                "scene `{}`: the constraint twin models fp32 state only",
+                scene.name
+            )));
+        }
+        let x: Vec<Vec3> = layout
+            .rest
+            .iter()
+            .map(|r| Vec3::new(r[0], r[1], r[2]))
+            .collect();
+        Ok(Twin {
+            scene: scene.clone(),
+            reference,
+            stiffness: c.stiffness,
+            iterations: c.iterations,
+            previous: x.clone(),
+            life: vec![1.0; x.len()],
+            x,
+            layout,
+            step: 0,
+        })
+    }
+
+    /// Changes the relaxation passes per step (for measuring the error against them).
+    pub fn set_iterations(&mut self, n: u32) {
+        self.iterations = n;
+    }
+
+    fn move_spheres(&mut self, t: f64) {
+        for (i, (s, c)) in self
+            .scene
+            .colliders
+            .sphere
+            .iter()
+            .zip(sphere_centres(&self.scene, t))
+            .enumerate()
+        {
+            if s.orbit.is_some() {
+                self.reference.move_sphere(i, c);
+            }
+        }
+    }
+
+    /// One step: Verlet for every particle, then `iterations` relaxation passes.
+    pub fn step(&mut self) {
+        let dt = self.scene.time.dt as f64;
+        // The GPU's clocks: the step ends at time + dt; then time = steps × dt.
+        let time = self.step as f64 * dt;
+        self.move_spheres(time + dt);
+        let mut next = Vec::with_capacity(self.x.len());
+        for k in 0..self.x.len() {
+            let (xn, life) =
+                self.reference
+                    .step_verlet(self.x[k], self.previous[k], self.life[k], 0);
+            next.push(xn);
+            self.life[k] = life;
+        }
+        self.previous = std::mem::replace(&mut self.x, next);
+        self.step += 1;
+        let t = self.step as f64 * dt;
+        self.move_spheres(t);
+        let offset = pin_offset(&self.scene, t);
+        for _ in 0..self.iterations {
+            self.x = self.relax_once(offset);
+        }
+    }
+
+    /// One Jacobi pass: `glsl/sim/constrain.frag` for every texel.
+    fn relax_once(&self, offset: Vec3) -> Vec<Vec3> {
+        let [w, h] = self.layout.size.map(|s| s as i32);
+        let rest = |k: usize| {
+            let r = self.layout.rest[k];
+            (Vec3::new(r[0], r[1], r[2]), r[3] > 0.5)
+        };
+        let mut out = Vec::with_capacity(self.x.len());
+        for j in 0..h {
+            for i in 0..w {
+                let k = (j * w + i) as usize;
+                let (r, pinned) = rest(k);
+                if pinned {
+                    out.push(r + offset);
+                    continue;
+                }
+                let x = self.x[k];
+                let mut sum = Vec3::ZERO;
+                let mut n = 0;
+                for [dx, dy] in neighbours(self.layout.kind) {
+                    let (qx, qy) = (i + dx, j + dy);
+                    if qx < 0 || qy < 0 || qx >= w || qy >= h {
+                        continue;
+                    }
+                    let q = (qy * w + qx) as usize;
+                    let (rq, q_pinned) = rest(q);
+                    let rest_length = (rq - r).length();
+                    let d = self.x[q] - x;
+                    let len = d.length();
+                    let share = if q_pinned { 1.0 } else { 0.5 };
+                    if len > 0.0 {
+                        sum += (share * (len - rest_length) / len) * d;
+                    }
+                    n += 1;
+                }
+                let xn = x + (self.stiffness / n.max(1) as f32) * sum;
+                out.push(self.reference.keep_outside_position(xn));
+            }
+        }
+        out
+    }
+
+    /// Positions as the GPU's position texture holds them (x, y, z, life; 4 floats per texel).
+    pub fn positions(&self) -> Vec<f32> {
+        self.x
+            .iter()
+            .zip(&self.life)
+            .flat_map(|(x, l)| [x.x, x.y, x.z, *l])
+            .collect()
+    }
+
+    /// The layout.
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    /// The relative constraint error now.
+    pub fn error(&self) -> ConstraintError {
+        self.layout.error(&self.positions())
+    }
+}

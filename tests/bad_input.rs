@@ -29,7 +29,9 @@ fn run_in(dir: Option<&Path>, path: Option<&Path>, args: &[&str]) -> Output {
         c.env("PATH", format!("{}:{old}", p.display()));
     }
     let child = c.spawn().expect("run texflow");
-    finish(child, Duration::from_secs(60), args)
+    // A hang guard, not a timing: the quick report runs take a minute or more on a busy
+    // 2-core machine.
+    finish(child, Duration::from_secs(600), args)
 }
 
 fn run(args: &[&str]) -> Output {

@@ -129,7 +129,9 @@ void main() {
         int side = int(spread.w);
         int cloud = int(u_release_cloud[type]);
         int k = cloud > 0 ? int(index) / cloud : int(floor(st.x / u_dt));
-        vec3 slot = vec3(k % side, (k / side) % side, (k / (side * side)) % side);
+        // Consecutive places step along z, the slowest axis of the lattice's cell index, so the
+        // clouds that share a row keep apart in a row sorted by cell.
+        vec3 slot = vec3((k / (side * side)) % side, (k / side) % side, k % side);
         x0 += ((slot + 0.5) / float(side) - 0.5) * spread.xyz;
 #endif
         write_state(x0, st.z - age, v0);          // born during this step

@@ -3,10 +3,10 @@
 //! in one time step ... as long as these sets do not mix up entirely, the number of missed
 //! collisions will be small".
 //!
-//! Each step releases one row of the state texture, split into compact clouds of [`CLOUD`]
-//! spheres, each in a place of its own (`release_spread`, `release_cloud`), with small random
-//! velocities, so its particles collide among themselves and not with other releases. The whole
-//! state is one emission cycle of `size` releases. The density is held as the state grows: a
+//! Each step releases a run of rows of the state texture (one row at 256²), split into compact
+//! clouds of [`CLOUD`] spheres, each in a place of its own (`release_spread`, `release_cloud`),
+//! with small random velocities, so its particles collide among themselves and not with other
+//! releases. A cycle is 256 steps at every size. The density is held as the state grows: a
 //! cloud is the same at every size, and the region the clouds land in grows with the particle
 //! count (its side ∝ N^(1/3)), up to the largest lattice whose cell keys stay exact.
 //! Collisions as the paper runs E4: rows-only sort, 8 neighbours to each side, and the staggered
@@ -20,13 +20,19 @@ pub const RADIUS: f32 = 0.01;
 /// Lattice cell: four radii, so that a cell holds a few particles and most overlapping pairs
 /// share a cell on one of the two lattices (UberFlow §4.4's "cell size small enough").
 pub const CELL: f32 = 4.0 * RADIUS;
-/// Volume fraction of spheres inside a fresh release.
+/// Volume fraction of spheres inside a fresh cloud.
 pub const PACKING: f32 = 0.1;
+/// Damping rate (1/s): a cloud's random velocities die out within its life, so clouds stay
+/// apart.
+pub const DAMPING: f32 = 2.0;
 /// Side of the region the releases land in at 256² (m); it grows with N^(1/3).
 pub const SPREAD_256: f32 = 3.8;
 /// Steps per frame and step length (s).
 const SUBSTEPS: u32 = 2;
 const DT: f32 = 0.005;
+/// Steps of an emission cycle (every particle's life): the same at every size, so that the
+/// clouds' ages, and with them their spread and overlaps, are the same at every size.
+const CYCLE_STEPS: u32 = 256;
 
 /// Particles of a cloud: a release (one row) is split into clouds of this many consecutive
 /// texels, each in its own place, so that a cloud looks the same at every row width.
@@ -47,7 +53,7 @@ pub fn spread(size: u32) -> f32 {
 
 /// E4's scene at size × size particles.
 pub fn scene(size: u32) -> Result<SceneFile> {
-    let cycle = size as f32 * DT;
+    let cycle = CYCLE_STEPS.min(size) as f32 * DT;
     let r0 = release_radius(CLOUD.min(size));
     let l = spread(size);
     let half = 0.5 * l + r0 + 2.0 * CELL;
@@ -75,7 +81,7 @@ release_spread = [{l}, {l}, {l}]
 release_cloud = {cloud}
 
 [[forces.damping]]
-rate = 0.5
+rate = {DAMPING}
 
 [collisions]
 radius = {RADIUS}

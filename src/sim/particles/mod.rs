@@ -547,7 +547,13 @@ impl ParticleSim {
         match &mut self.state {
             State::Explicit(pp) if self.stateless.is_some() => {
                 if let Some(sl) = &self.stateless {
-                    sl.draw(&self.pass, pp.back(), self.time as f32, rows);
+                    sl.draw(
+                        &self.pass,
+                        pp.back(),
+                        self.statics.texture(0),
+                        self.time as f32,
+                        rows,
+                    );
                 }
                 pp.swap();
             }

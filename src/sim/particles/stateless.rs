@@ -106,14 +106,24 @@ impl Stateless {
     }
 
     /// One step: the state at the end of the step that starts at `time`, into `target`.
-    pub(super) fn draw(&self, pass: &FullscreenPass, target: &Framebuffer, time: f32, rows: u32) {
+    pub(super) fn draw(
+        &self,
+        pass: &FullscreenPass,
+        target: &Framebuffer,
+        statics: &Texture,
+        time: f32,
+        rows: u32,
+    ) {
         let p = &self.program;
         p.bind();
         p.set_f32("u_time", time);
-        p.textures(&[
+        let own = [
             ("u_position", self.start.texture(0).into()),
             ("u_velocity", self.start.texture(1).into()),
-        ]);
+            ("u_static", statics.into()),
+        ];
+        let own: Vec<_> = own.into_iter().filter(|(n, _)| p.declares(n)).collect();
+        p.textures(&own);
         if rows > 0 {
             pass.draw_rows(p, target, 0, rows);
         }

@@ -73,16 +73,23 @@ fn set_constants(
         p.set_vec4(&format!("u_em_dir[{k}]"), e.dir);
         p.set_vec4(&format!("u_em_range[{k}]"), e.range);
     }
+    let mut cloud = [0.0f32; 4];
     for (k, e) in s.emitters.all().enumerate() {
         let r = e.release_spread.unwrap_or([0.0; 3]);
-        // Releases per cycle: one per step; a cube of slots holds them all.
-        let releases = (e.cycle.unwrap_or(1.0) / s.time.dt).round().max(1.0);
-        let side = releases.cbrt().ceil();
+        // Places per cycle: one per release (a step), or one per cloud of texels; a cube of
+        // slots holds them all.
+        let places = match e.release_cloud {
+            Some(c) => (s.particle_count() as f32 / c as f32).ceil(),
+            None => (e.cycle.unwrap_or(1.0) / s.time.dt).round(),
+        };
+        let side = places.max(1.0).cbrt().ceil();
         p.set_vec4(
             &format!("u_release_spread[{k}]"),
             Vec4::new(r[0], r[1], r[2], side),
         );
+        cloud[k] = e.release_cloud.unwrap_or(0) as f32;
     }
+    p.set_vec4("u_release_cloud", Vec4::from(cloud));
     let f = &s.forces;
     let gravity: Vec3 = f.gravity.iter().map(|g| v3(g.acceleration)).sum();
     p.set_vec3("u_gravity", gravity);

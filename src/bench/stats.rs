@@ -44,41 +44,53 @@ impl WriteFloor {
     }
 }
 
-/// The fixed cost of a pass: many write-only passes into a 1×1 target, timed together, divided
-/// by their count. What a pass costs however little it writes (state changes, the draw, the
-/// rasterizer's set-up); below about 256² it dominates on a GPU.
+/// The fixed cost of a pass: many passes over 1×1 targets, each reading what the one before
+/// wrote (a ping-pong, as the papers' passes depend on each other), timed together and divided
+/// by their count. What a pass costs however little it writes (state changes, the draw, the wait
+/// for the pass before); below about 256² it dominates on a GPU.
 #[derive(Debug)]
 pub struct FixedCost {
-    floor: WriteFloor,
-    target: Framebuffer,
+    program: Program,
+    pass: FullscreenPass,
+    targets: [Framebuffer; 2],
 }
 
 impl FixedCost {
     /// Passes timed together per measurement.
     pub const PASSES: usize = 200;
 
-    /// Builds the 1×1 RGBA32F target.
+    /// Builds the two 1×1 RGBA32F targets and the pass (one texel fetch, one write).
     pub fn new(ctx: &Context) -> Result<Self> {
-        let t = crate::gl::Texture::new(
-            ctx,
-            crate::gl::TextureDesc {
-                width: 1,
-                height: 1,
-                format: crate::gl::TextureFormat::Rgba32F,
-                label: "fixed cost",
-            },
-        )?;
+        let target = |k: usize| -> Result<Framebuffer> {
+            let t = crate::gl::Texture::new(
+                ctx,
+                crate::gl::TextureDesc {
+                    width: 1,
+                    height: 1,
+                    format: crate::gl::TextureFormat::Rgba32F,
+                    label: "fixed cost",
+                },
+            )?;
+            Framebuffer::new(ctx, &format!("fixed cost {k}"), vec![t])
+        };
+        let d: Defines = vec![("FETCHES".into(), "1".into())];
         Ok(FixedCost {
-            floor: WriteFloor::new(ctx, 1)?,
-            target: Framebuffer::new(ctx, "fixed cost", vec![t])?,
+            program: Program::new(ctx, FULLSCREEN_VERTEX, "bench/fetch_probe.frag", &d)?,
+            pass: FullscreenPass::new(ctx)?,
+            targets: [target(0)?, target(1)?],
         })
     }
 
-    /// Milliseconds of one pass, from [`FixedCost::PASSES`] timed together.
+    /// Milliseconds of one pass, from [`FixedCost::PASSES`] dependent passes timed together.
     pub fn measure(&self, timer: &PassTimer) -> Result<f64> {
+        let p = &self.program;
         let t = timer.time(|| {
-            for _ in 0..Self::PASSES {
-                self.floor.draw(&self.target);
+            for i in 0..Self::PASSES {
+                let (from, to) = (&self.targets[i % 2], &self.targets[1 - i % 2]);
+                p.bind();
+                p.textures(&[("u_source", from.texture(0).into())]);
+                p.set_i32("u_log_w", 0);
+                self.pass.draw(p, to);
             }
         })?;
         Ok(t / Self::PASSES as f64)

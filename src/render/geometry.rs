@@ -43,7 +43,7 @@ pub struct Terrain<'a> {
 /// Triangles with per-vertex normals and colours, in the vertex buffer's layout.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Mesh {
-    /// [`FLOATS`] floats per vertex, three vertices per triangle.
+    /// `FLOATS` floats per vertex, three vertices per triangle.
     pub vertices: Vec<f32>,
 }
 

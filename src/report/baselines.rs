@@ -2,7 +2,7 @@
 //! against the stateful engine, on a motion with a closed form (gravity, linear damping and a
 //! constant wind through drag, `a = A - lambda v`). For each way of computing it, the error of
 //! every particle's position at the end against the closed form in `f64`
-//! ([`ClosedForm`](crate::sim::ClosedForm)), and the GPU time of one step, which is the cost of a
+//! ([`crate::sim::ClosedForm`]), and the GPU time of one step, which is the cost of a
 //! frame at one step per frame.
 //!
 //! The stateless pass evaluates the solution itself, so its error is rounding alone and does not

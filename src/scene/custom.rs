@@ -17,9 +17,7 @@
 
 use std::path::Path;
 
-use toml::de::DeTable;
-
-use super::locate::{line_column, locate, scene_error, Key};
+use super::locate::{document, line_column, locate, scene_error, Key};
 use super::schema::SceneFile;
 use crate::error::Result;
 
@@ -193,14 +191,7 @@ pub fn load_custom(path: &str, src: &str, scene: &mut SceneFile) -> Result<()> {
     if scene.forces.custom.is_empty() {
         return Ok(());
     }
-    let doc = DeTable::parse(src).map_err(|e| {
-        scene_error(
-            path,
-            src,
-            e.span().map_or(0, |s| s.start),
-            e.message().into(),
-        )
-    })?;
+    let doc = document(path, src)?;
     for (i, c) in scene.forces.custom.iter_mut().enumerate() {
         let text = read_glsl(&c.glsl).map_err(|m| {
             let at = locate(&doc, &[N("forces"), N("custom"), I(i), N("glsl")]);

@@ -66,6 +66,19 @@ pub(super) fn utf8(path: &str, bytes: Vec<u8>) -> Result<String, Error> {
 /// Finds where `at` starts in the untyped document (the deepest part that exists): a plain
 /// value or an array of plain values at the value, like the parser's own type errors; a table or
 /// an array of tables at its key (in its first header); an array element at the element.
+/// The untyped document of a scene that already parsed once (for locating keys); a syntax error
+/// is still reported at its place.
+pub(super) fn document<'a>(path: &str, src: &'a str) -> Result<Spanned<DeTable<'a>>, Error> {
+    DeTable::parse(src).map_err(|e| {
+        scene_error(
+            path,
+            src,
+            e.span().map_or(0, |s| s.start),
+            e.message().into(),
+        )
+    })
+}
+
 pub(super) fn locate(doc: &Spanned<DeTable<'_>>, at: &[Key]) -> usize {
     fn holds_tables(v: &DeValue<'_>) -> bool {
         match v {

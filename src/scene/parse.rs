@@ -3,7 +3,7 @@
 
 use toml::de::DeTable;
 
-use super::locate::{find_non_finite, locate, scene_error, Key};
+use super::locate::{document, find_non_finite, locate, scene_error, Key};
 use super::schema::{Blending, SceneFile};
 use crate::error::Result;
 
@@ -164,14 +164,7 @@ pub fn check_limits(
     let Some((at, what, value, max)) = over.into_iter().find(|o| o.2 > o.3) else {
         return Ok(());
     };
-    let doc = DeTable::parse(src).map_err(|e| {
-        scene_error(
-            path,
-            src,
-            e.span().map_or(0, |s| s.start),
-            e.message().into(),
-        )
-    })?;
+    let doc = document(path, src)?;
     Err(scene_error(
         path,
         src,
@@ -235,14 +228,7 @@ pub fn check_point_size(path: &str, src: &str, scene: &SceneFile, max_point: f32
     let Some((at, what)) = over else {
         return Ok(());
     };
-    let doc = DeTable::parse(src).map_err(|e| {
-        scene_error(
-            path,
-            src,
-            e.span().map_or(0, |s| s.start),
-            e.message().into(),
-        )
-    })?;
+    let doc = document(path, src)?;
     Err(scene_error(
         path,
         src,

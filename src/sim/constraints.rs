@@ -1,6 +1,6 @@
 //! Distance constraints between particles (Latta §3.4.3): the layout of a cloth sheet or of hair
 //! strands in the state texture, the neighbours each texel is joined to, the constraint error,
-//! and a CPU twin of the relaxation ([`twin`]).
+//! and a CPU twin of the relaxation (`twin`).
 //!
 //! The GPU pass is `glsl/sim/constrain.frag` (run by `sim::particles`); it and the twin read the
 //! same [`Layout`]: a rest texture holding every particle's initial position and whether it is

@@ -36,7 +36,7 @@ pub fn scene_markdown(records: &[SceneBenchRecord]) -> String {
 
 /// One paragraph about a run, like the CUDA `particles` sample's `-benchmark` line: frames,
 /// particles, median frame time, fps and particles per second, and each phase against its floor.
-/// `render --stats` prints it for the run it made; `record` is one size of [`bench_scene`].
+/// `render --stats` prints it for the run it made; `record` is one size of [`bench_scene`](super::bench_scene).
 pub fn summary(record: &SceneBenchRecord) -> String {
     let r = record;
     let mut out = format!(

@@ -74,7 +74,7 @@ impl Collisions {
         Ok(())
     }
 
-    /// Whether the exact mode reads back every iteration's detection ([`recorded`]
+    /// Whether the exact mode reads back every iteration's detection (`recorded`
     /// (Self::recorded)): for statistics, which cost a read-back per iteration.
     pub fn record_iterations(&mut self, on: bool) {
         self.record = on;

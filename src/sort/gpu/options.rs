@@ -37,7 +37,7 @@ pub enum KeyMode {
     },
 }
 
-/// Options of a [`Sorter`].
+/// Options of a [`Sorter`](super::Sorter).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SortOptions {
     /// `None`: sort the whole texture; `Some(k)`: sort within each set of k consecutive rows
@@ -50,7 +50,7 @@ pub struct SortOptions {
     /// Steps of distance 2 or more per pass of the multistep variant (1 to 3; distance-1 steps
     /// come free).
     pub steps_per_pass: usize,
-    /// Passes [`Sorter::sort_frame`] runs per frame; `None`: the whole sort every frame. Latta
+    /// Passes [`Sorter::sort_frame`](super::Sorter::sort_frame) runs per frame; `None`: the whole sort every frame. Latta
     /// spreads one odd-even sort over 20-50 frames (§3.4.4); the sequence restarts when done.
     pub passes_per_frame: Option<usize>,
     /// Entries per fragment and lane pinning of the blocked variant.

@@ -429,6 +429,8 @@ fn cli_report_all_quick_writes_every_file() {
         "stability.json",
         "stability.md",
         "baselines.csv",
+        "cost_model.json",
+        "cost_model.md",
         "summary.md",
     ];
     let problems = ["drag", "oscillator", "kepler", "bounce"];
@@ -631,4 +633,53 @@ fn cli_report_all_only_runs_the_sections_named() {
         "{stderr}"
     );
     assert!(!bad_dir.exists());
+}
+
+/// `report convergence --quick --json` prints exactly one JSON document on stdout (the progress
+/// goes to stderr), like every other command with `--json`.
+#[test]
+fn convergence_json_is_one_document() {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_texflow"))
+        .args(["report", "convergence", "--quick", "--json"])
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON document");
+    assert!(v.is_object(), "{v}");
+}
+
+/// The cost model's constants are measured (positive) and every cell has a prediction.
+#[test]
+fn the_cost_model_predicts_every_cell() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_texflow"))
+        .args(["report", "all", "--quick", "--only", "cost", "-q", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let text = std::fs::read_to_string(dir.path().join("cost_model.json")).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let c = &v["constants"];
+    for k in ["fixed_ms", "ms_per_mb_written", "ms_per_m_points"] {
+        assert!(c[k].as_f64().unwrap() > 0.0, "{k}: {c}");
+    }
+    let cells = v["cells"].as_array().unwrap();
+    // Table 1: five sorts at 64² and 128²; Table 2: E1, E2, E3, E3p and E4 at both sizes.
+    assert_eq!(cells.len(), 20, "{cells:?}");
+    for cell in cells {
+        let p = cell["predicted_ms"].as_f64().unwrap();
+        assert!(p.is_finite() && p > 0.0, "{cell}");
+        assert!(cell["passes"].as_u64().unwrap() > 0, "{cell}");
+    }
 }

@@ -369,49 +369,6 @@ impl ParticleSim {
         Ok(())
     }
 
-    /// The current positions (xyz, remaining life).
-    pub fn positions(&self) -> &Texture {
-        match &self.state {
-            State::Explicit(pp) => pp.front().texture(0),
-            State::Verlet(ring) => ring.current().texture(0),
-        }
-    }
-
-    /// The current velocities (explicit integrators only).
-    pub fn velocities(&self) -> Option<&Texture> {
-        match &self.state {
-            State::Explicit(pp) => Some(pp.front().texture(1)),
-            State::Verlet { .. } => None,
-        }
-    }
-
-    /// The previous positions (Verlet only).
-    pub fn previous(&self) -> Option<&Texture> {
-        match &self.state {
-            State::Explicit(_) => None,
-            State::Verlet(ring) => Some(ring.previous().texture(0)),
-        }
-    }
-
-    /// The height field the colliders pass samples (the scene's first), with its nodes.
-    pub fn height_field(&self) -> Option<&HeightField> {
-        self.fields.height.as_ref().map(|(_, h)| h)
-    }
-
-    /// The static texture (birth time or phase, type, total life, random number).
-    pub fn statics(&self) -> &Texture {
-        self.statics.texture(0)
-    }
-
-    /// The state framebuffer being read now (positions and, for explicit integrators,
-    /// velocities).
-    pub fn front(&self) -> &Framebuffer {
-        match &self.state {
-            State::Explicit(pp) => pp.front(),
-            State::Verlet(ring) => ring.current(),
-        }
-    }
-
     /// What the scene compiles and runs.
     pub fn features(&self) -> &Features {
         &self.features

@@ -1,10 +1,54 @@
-//! Reading the state back and replacing it (tests, experiments, dumps).
+//! The state textures, and reading the state back and replacing it (tests, experiments, dumps).
 
 use super::{bind_textures, state_texture, ParticleSim, State};
 use crate::error::{Error, Result};
-use crate::gl::TextureFormat;
+use crate::gl::{Framebuffer, Texture, TextureFormat};
+use crate::sim::fields::HeightField;
 
 impl ParticleSim {
+    /// The current positions (xyz, remaining life).
+    pub fn positions(&self) -> &Texture {
+        match &self.state {
+            State::Explicit(pp) => pp.front().texture(0),
+            State::Verlet(ring) => ring.current().texture(0),
+        }
+    }
+
+    /// The current velocities (explicit integrators only).
+    pub fn velocities(&self) -> Option<&Texture> {
+        match &self.state {
+            State::Explicit(pp) => Some(pp.front().texture(1)),
+            State::Verlet { .. } => None,
+        }
+    }
+
+    /// The previous positions (Verlet only).
+    pub fn previous(&self) -> Option<&Texture> {
+        match &self.state {
+            State::Explicit(_) => None,
+            State::Verlet(ring) => Some(ring.previous().texture(0)),
+        }
+    }
+
+    /// The height field the colliders pass samples (the scene's first), with its nodes.
+    pub fn height_field(&self) -> Option<&HeightField> {
+        self.fields.height.as_ref().map(|(_, h)| h)
+    }
+
+    /// The static texture (birth time or phase, type, total life, random number).
+    pub fn statics(&self) -> &Texture {
+        self.statics.texture(0)
+    }
+
+    /// The state framebuffer being read now (positions and, for explicit integrators,
+    /// velocities).
+    pub fn front(&self) -> &Framebuffer {
+        match &self.state {
+            State::Explicit(pp) => pp.front(),
+            State::Verlet(ring) => ring.current(),
+        }
+    }
+
     /// Reads the current positions back (4 floats per texel).
     pub fn read_positions(&self) -> Result<Vec<f32>> {
         self.positions().read_f32()

@@ -97,7 +97,7 @@ impl FixedCost {
     }
 }
 
-/// The floor of a render pass (issue 15 item 1): the clear, then as many points as the pass
+/// The floor of a render pass (used by `bench step`): the clear, then as many points as the pass
 /// draws through the same target and blend state, from a vertex shader that fetches no texture
 /// (`glsl/bench/render_floor.vert`), at the smallest point size (1 pixel), writing a constant.
 /// No point-drawing pass with that blend state into that target can be cheaper; the ratio of the
@@ -227,7 +227,7 @@ impl PlacedRenderFloor {
     }
 }
 
-/// The device a benchmark ran on, for its JSON (issue 15 item 4): the EGL device, the GL
+/// The device a benchmark ran on, for its JSON: the EGL device, the GL
 /// renderer and driver version, and the clocks where they can be read.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct DeviceRecord {
@@ -267,7 +267,7 @@ impl DeviceRecord {
     }
 }
 
-/// Wraps benchmark records in the object every command's JSON is (issue 14 item 6):
+/// Wraps benchmark records in the object every command's JSON is:
 /// `texflow_version`, `schema` (`texflow.<command>/<version>`), `device`, the clock and the
 /// records under `records`.
 pub fn json_envelope<T: serde::Serialize>(

@@ -15,7 +15,7 @@
 //! - the collision stage: one such write of the state (the stage runs several passes, so its
 //!   ratio counts passes as well as what each costs);
 //! - the sort network: one write of the sort texture times the passes run;
-//! - the render pass: [`RenderFloor`] (issue 15 item 1).
+//! - the render pass: [`PlacedRenderFloor`](super::PlacedRenderFloor), the live particles drawn where they are.
 //!
 //! Each repetition first times a whole frame (`substeps` steps, then the frame's drawing), then
 //! each phase once, each finished before the next (a phase's time is one step's, not a frame's).

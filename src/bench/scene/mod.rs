@@ -12,10 +12,12 @@
 //!
 //! - a state-writing pass: [`WriteFloor`] into a framebuffer of the same formats and size (over
 //!   the live rows where the pass is restricted to them);
-//! - the collision stage: one such write of the state (the stage runs several passes, so its
-//!   ratio counts passes as well as what each costs);
-//! - the sort network: one write of the sort texture times the passes run;
-//! - the render pass: [`PlacedRenderFloor`](super::PlacedRenderFloor), the live particles drawn where they are.
+//! - the collision stage: its passes (counted by the GL layer) times the fixed cost of a
+//!   dependent pass ([`FixedCost`]), plus its bytes written at the state's write rate;
+//! - the sort network: a write into what each pass writes (the sort texture, or the blocked
+//!   sort's layers) times the passes run;
+//! - the render pass: [`PlacedRenderFloor`], the live particles drawn where they are, at the
+//!   pass's point size and blend, fetching nothing.
 //!
 //! Each repetition first times a whole frame (`substeps` steps, then the frame's drawing), then
 //! each phase once, each finished before the next (a phase's time is one step's, not a frame's).

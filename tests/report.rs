@@ -462,20 +462,20 @@ fn cli_report_all_quick_writes_every_file() {
     let json = |f: &str| -> serde_json::Value {
         serde_json::from_str(&std::fs::read_to_string(out_dir.join(f)).unwrap()).unwrap()
     };
-    // Table 1: five variants and two CPU baselines at 64² and 128², every GPU sort with its floor.
+    // Table 1: six variants and two CPU baselines at 64² and 128², every GPU sort with its floor.
     let t1 = json("table1_sort.json");
     let t1 = t1.as_array().unwrap();
-    assert_eq!(t1.len(), 2 * 7, "{t1:?}");
+    assert_eq!(t1.len(), 2 * 8, "{t1:?}");
     for r in t1 {
         assert!(f64_of(&r["ms"]) > 0.0, "{r}");
         if !r["variant"].as_str().unwrap().starts_with("cpu") {
             assert!(f64_of(&r["ratio"]) > 0.0, "{r}");
         }
     }
-    // Table 2: E1-E5 at both sizes, every one measured with particles alive.
+    // Table 2: E1-E5 and E3p at both sizes, every one measured with particles alive.
     let t2 = json("table2_scenes.json");
     let t2 = t2.as_array().unwrap();
-    assert_eq!(t2.len(), 2 * 5, "{t2:?}");
+    assert_eq!(t2.len(), 2 * 6, "{t2:?}");
     for r in t2 {
         assert!(f64_of(&r["fps"]) > 0.0, "{r}");
         assert!(r["live"].as_u64().unwrap() > 0, "{r}");

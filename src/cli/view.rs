@@ -427,10 +427,17 @@ impl ApplicationHandler for App {
 
 pub fn view(a: ViewArgs) -> texflow::Result<()> {
     let prepared = a.overrides().prepare(&a.scene)?;
-    // Sizes (and custom forces) against a headless device first, so that a size over the limit
-    // is refused for the size, with or without a display.
-    if let Ok(ctx) = Context::new(0) {
-        a.overrides().check_device(&ctx, &prepared)?;
+    // Without a display, sizes (and custom forces) are checked against a headless device first,
+    // so that a size over the limit is refused for the size, not for the display. With one, the
+    // window's own context checks them: a headless EGL context made first in the same process
+    // makes Mesa's GLX refuse the window's context (BadAccess).
+    let display = ["DISPLAY", "WAYLAND_DISPLAY"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some_and(|d| !d.is_empty()));
+    if !display {
+        if let Ok(ctx) = Context::new(0) {
+            a.overrides().check_device(&ctx, &prepared)?;
+        }
     }
     if let Some(s) = &a.screenshot {
         texflow::output::check_target(s, "--screenshot")?;

@@ -141,45 +141,20 @@ impl Framebuffer {
     /// until it is detached, so the other order leaks the storage for a moment but is not
     /// undefined).
     pub fn layer(ctx: &Context, label: &str, texture: &Texture3D, layer: u32) -> Result<Self> {
-        let [w, h, d] = texture.size();
+        let d = texture.size()[2];
         if layer >= d {
             return Err(Error::InvalidInput(format!(
                 "framebuffer {label}: layer {layer} of a 3D texture of depth {d}"
             )));
         }
-        // SAFETY: a fresh framebuffer; the texture is alive and belongs to this context, and
-        // the layer lies inside it.
-        let raw = unsafe {
-            let raw = ctx.create_framebuffer().map_err(Error::Gl)?;
-            ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
-            ctx.framebuffer_texture_layer(
-                glow::FRAMEBUFFER,
-                glow::COLOR_ATTACHMENT0,
-                Some(texture.raw()),
-                0,
-                layer as i32,
-            );
-            ctx.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
-            raw
-        };
-        Framebuffer {
-            ctx: ctx.clone(),
-            raw,
-            textures: Vec::new(),
-            size: [w, h],
-            attachments: 1,
-            bytes_per_texel: texture.format().bytes_per_texel(),
-            depth: None,
-            label: label.to_owned(),
-        }
-        .checked()
+        Self::of_layers(ctx, label, texture, layer..layer + 1)
     }
 
     /// A framebuffer whose colour attachments `0..depth` are the layers of `texture` in order,
     /// checked for completeness: one pass writes every layer through multiple render targets
     /// (output `i` into layer `i`). Like [`Framebuffer::layer`], it does not own the texture.
     pub fn layers(ctx: &Context, label: &str, texture: &Texture3D) -> Result<Self> {
-        let [w, h, d] = texture.size();
+        let d = texture.size()[2];
         let limits = ctx.limits();
         let max = limits
             .max_draw_buffers
@@ -190,14 +165,26 @@ impl Framebuffer {
                 "framebuffer {label}: {d} layers as render targets (1 to {max})"
             )));
         }
+        Self::of_layers(ctx, label, texture, 0..d)
+    }
+
+    /// Attaches `layers` of `texture` (checked by the callers) to colour attachments 0.. in order.
+    fn of_layers(
+        ctx: &Context,
+        label: &str,
+        texture: &Texture3D,
+        layers: std::ops::Range<u32>,
+    ) -> Result<Self> {
+        let [w, h, _] = texture.size();
+        let n = layers.len();
         // SAFETY: a fresh framebuffer; the texture is alive and belongs to this context, and
-        // every layer lies inside it.
+        // every layer lies inside it (the callers check).
         let raw = unsafe {
             let raw = ctx.create_framebuffer().map_err(Error::Gl)?;
             ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
-            let mut draw = Vec::with_capacity(d as usize);
-            for layer in 0..d {
-                let point = glow::COLOR_ATTACHMENT0 + layer;
+            let mut draw = Vec::with_capacity(n);
+            for (k, layer) in layers.enumerate() {
+                let point = glow::COLOR_ATTACHMENT0 + k as u32;
                 ctx.framebuffer_texture_layer(
                     glow::FRAMEBUFFER,
                     point,
@@ -215,8 +202,8 @@ impl Framebuffer {
             raw,
             textures: Vec::new(),
             size: [w, h],
-            attachments: d as usize,
-            bytes_per_texel: d as usize * texture.format().bytes_per_texel(),
+            attachments: n,
+            bytes_per_texel: n * texture.format().bytes_per_texel(),
             depth: None,
             label: label.to_owned(),
         }

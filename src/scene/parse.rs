@@ -125,24 +125,21 @@ pub fn check_limits(
     }
     // Fields from files: their sides are the files' shapes.
     let side3 = |d: &Option<super::FieldData>| d.as_ref().map(|d| d.size.into_iter().max());
-    for (i, s) in scene.colliders.sdf.iter().enumerate() {
-        if let Some(Some(side)) = side3(&s.distances) {
-            over.push((
-                vec![N("colliders"), N("sdf"), I(i), N("field")],
-                "distance-field 3D texture side (the file's shape)",
-                side,
-                limits.max_3d_texture,
-            ));
-        }
-    }
-    for (i, w) in scene.forces.wind.iter().enumerate() {
-        if let Some(Some(side)) = side3(&w.data) {
-            over.push((
-                vec![N("forces"), N("wind"), I(i), N("field")],
-                "flow-field 3D texture side (the file's shape)",
-                side,
-                limits.max_3d_texture,
-            ));
+    let sdf_files = scene.colliders.sdf.iter().enumerate().map(|(i, s)| {
+        let at = vec![N("colliders"), N("sdf"), I(i), N("field")];
+        (
+            at,
+            "distance-field 3D texture side (the file's shape)",
+            &s.distances,
+        )
+    });
+    let wind_files = scene.forces.wind.iter().enumerate().map(|(i, w)| {
+        let at = vec![N("forces"), N("wind"), I(i), N("field")];
+        (at, "flow-field 3D texture side (the file's shape)", &w.data)
+    });
+    for (at, what, data) in sdf_files.chain(wind_files) {
+        if let Some(Some(side)) = side3(data) {
+            over.push((at, what, side, limits.max_3d_texture));
         }
     }
     for (i, s) in scene.colliders.sdf.iter().enumerate() {

@@ -200,6 +200,7 @@ fn blocked_sort_every_shape() {
                     blocked: texflow::sort::BlockedShape {
                         bits: bits_per_pass,
                         pinned,
+                        compact: false,
                     },
                     rows,
                     ..SortOptions::default()
@@ -222,6 +223,106 @@ fn blocked_sort_every_shape() {
                 assert!(blocks_sorted(&got, block as usize), "{what}");
             }
         }
+    }
+    no_gl_error(&ctx);
+}
+
+/// The blocked sort with compact 4-byte entries (lossy keys), 4 to 32 entries per fragment:
+/// the identifiers come out in the order of a CPU sort by (quantisation level, identifier), the
+/// levels computed by the twin of the shader's quantiser; keys come back as their level's lower
+/// bound; and wherever two keys lie two levels apart or more, the order is the exact one.
+#[test]
+fn compact_blocked_sort_orders_by_level_then_id() {
+    let ctx = context();
+    for bits_per_pass in [2, 3, 4, 5] {
+        for (w, h, rows) in [
+            (32, 32, None),
+            (64, 4, None),
+            (2, 128, None),
+            (16, 16, Some(2)),
+        ] {
+            let options = SortOptions {
+                blocked: texflow::sort::BlockedShape {
+                    bits: bits_per_pass,
+                    pinned: false,
+                    compact: true,
+                },
+                rows,
+                ..SortOptions::default()
+            };
+            let mut sorter = Sorter::new(&ctx, Variant::Blocked, w, h, options).unwrap();
+            let (lo, hi) = (-150.0f32, 150.0f32);
+            sorter.set_key_range(lo, hi).unwrap();
+            let q = sorter.quantiser().unwrap();
+            let mut s = 5 + w as u64;
+            let specials = [f32::INFINITY, f32::NAN, f32::NEG_INFINITY, -1e9, 1e9];
+            let input: Vec<Entry> = (0..w * h)
+                .map(|i| {
+                    let r = lcg(&mut s);
+                    let key = if r % 17 == 0 {
+                        specials[(r / 17) as usize % specials.len()]
+                    } else {
+                        // Fine keys: many share a level at 2^10 entries (22 key bits).
+                        (r % 3_000_000) as f32 * 1e-4 - 150.0
+                    };
+                    [key, i as f32]
+                })
+                .collect();
+            sorter.load(&input).unwrap();
+            sorter.sort();
+            let got = sorter.read().unwrap();
+            let block = rows.map_or(w * h, |k| w * k) as usize;
+            let what = format!("bits {bits_per_pass} {w}x{h} rows {rows:?}");
+            let mut expected: Vec<(u32, u32)> = Vec::new();
+            for chunk in input.chunks(block) {
+                let mut c: Vec<(u32, u32)> =
+                    chunk.iter().map(|e| (q.level(e[0]), e[1] as u32)).collect();
+                c.sort_unstable();
+                expected.extend(c);
+            }
+            let ids: Vec<u32> = got.iter().map(|e| e[1] as u32).collect();
+            let want: Vec<u32> = expected.iter().map(|e| e.1).collect();
+            assert_eq!(ids, want, "{what}: identifiers");
+            let top = (1u32 << (32 - q.id_bits)) - 1;
+            for (e, &(level, id)) in got.iter().zip(&expected) {
+                if level == top {
+                    assert_eq!(e[0], f32::INFINITY, "{what}: id {id} at the top level");
+                } else {
+                    let bound = q.lo + level as f32 / q.scale;
+                    assert!(
+                        (e[0] - bound).abs() <= 1e-5 * (1.0 + bound.abs()),
+                        "{what}: id {id} key {} for level {level} (lower bound {bound})",
+                        e[0]
+                    );
+                }
+            }
+            // Against the exact order: keys two levels apart or more never come out swapped.
+            for chunk in got.chunks(block) {
+                for pair in chunk.windows(2) {
+                    let (a, b) = (input[pair[0][1] as usize][0], input[pair[1][1] as usize][0]);
+                    if a.is_finite() && b.is_finite() && a - b >= 2.0 / q.scale {
+                        panic!("{what}: key {a} before {b}");
+                    }
+                }
+            }
+        }
+    }
+    // Too many entries for 8 key bits, and pinned lanes, are refused with the fix.
+    for (w, h, bits, pinned, needle) in [
+        (4096, 8192, 4, false, "2^24"),
+        (32, 32, 4, true, "pinned"),
+        (32, 32, 6, false, "bits 2 to 5"),
+    ] {
+        let options = SortOptions {
+            blocked: texflow::sort::BlockedShape {
+                bits,
+                pinned,
+                compact: true,
+            },
+            ..SortOptions::default()
+        };
+        let err = Sorter::new(&ctx, Variant::Blocked, w, h, options).unwrap_err();
+        assert!(err.to_string().contains(needle), "{err}");
     }
     no_gl_error(&ctx);
 }

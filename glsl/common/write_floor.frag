@@ -8,10 +8,19 @@
 
 uniform vec4 u_value;
 
+#ifdef UINT
+// Integer targets (the compact sort's entries).
+layout(location = 0) out uvec4 o_targets[TARGETS];
+#else
 layout(location = 0) out vec4 o_targets[TARGETS];
+#endif
 
 void main() {
     for (int i = 0; i < TARGETS; i++) {
+#ifdef UINT
+        o_targets[i] = floatBitsToUint(u_value);
+#else
         o_targets[i] = u_value;
+#endif
     }
 }

@@ -8,7 +8,16 @@
 #define SIZE (1 << BITS)
 #define MAX_BITS 24
 
+#ifdef COMPACT
+// 4-byte entries (blocked.frag): the identifier in the low u_id_bits bits; the key comes back
+// as its quantisation level's lower bound, the top level as +inf.
+uniform usampler3D u_blocks;
+uniform int u_id_bits;
+uniform float u_key_lo;
+uniform float u_key_scale;
+#else
 uniform sampler3D u_blocks;
+#endif
 uniform int u_in_log_w;
 uniform int u_width_log;
 uniform int u_bits;
@@ -27,6 +36,14 @@ void main() {
     }
     int p = s >> BITS;
     int mask = (1 << u_in_log_w) - 1;
+#ifdef COMPACT
+    uint e = texelFetch(u_blocks, ivec3(p & mask, p >> u_in_log_w, (s & (SIZE - 1)) >> 2), 0)[s & 3];
+    uint level = e >> uint(u_id_bits);
+    uint top = (1u << uint(32 - u_id_bits)) - 1u;
+    float key = level == top ? uintBitsToFloat(0x7f800000u) : u_key_lo + float(level) / u_key_scale;
+    o_entry = vec4(key, float(e & ((1u << uint(u_id_bits)) - 1u)), 0.0, 0.0);
+#else
     vec4 t = texelFetch(u_blocks, ivec3(p & mask, p >> u_in_log_w, (s & (SIZE - 1)) >> 1), 0);
     o_entry = vec4((s & 1) == 0 ? t.xy : t.zw, 0.0, 0.0);
+#endif
 }

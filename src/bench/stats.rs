@@ -27,6 +27,18 @@ impl WriteFloor {
         })
     }
 
+    /// The floor pass for `fb`: its number of attachments, float or integer.
+    pub fn for_target(ctx: &Context, fb: &Framebuffer) -> Result<Self> {
+        let mut defines: Defines = vec![("TARGETS".into(), fb.attachments().to_string())];
+        if fb.integer() {
+            defines.push(("UINT".into(), "1".into()));
+        }
+        Ok(WriteFloor {
+            program: Program::new(ctx, FULLSCREEN_VERTEX, "common/write_floor.frag", &defines)?,
+            pass: FullscreenPass::new(ctx)?,
+        })
+    }
+
     /// Writes a constant into every texel of every attachment of `fb`.
     pub fn draw(&self, fb: &Framebuffer) {
         self.program.bind();

@@ -76,8 +76,9 @@ pub enum BenchCommand {
         #[arg(long, default_value_t = 2)]
         steps: usize,
         /// Shapes of the blocked variant, one row each: `b` entries-per-fragment bits (2, 3 or
-        /// 4: 4, 8 or 16 entries), with a `p` suffix for the pinned lane, e.g. `4,3p`.
-        #[arg(long, value_delimiter = ',', value_name = "B[p],...")]
+        /// 4: 4, 8 or 16 entries), with a `p` suffix for the pinned lane, or 2 to 5 with a `c`
+        /// suffix for compact 4-byte entries (lossy keys), e.g. `4,3p,5c`.
+        #[arg(long, value_delimiter = ',', value_name = "B[p|c],...")]
         blocked: Vec<String>,
         /// How to time: auto, gpu, wall.
         #[arg(long, value_enum, default_value_t = ClockArg::Auto)]
@@ -90,17 +91,28 @@ pub enum BenchCommand {
     },
 }
 
-/// `--blocked 4`, `3p`: entries-per-fragment bits and the pinned lane.
+/// `--blocked 4`, `3p`, `5c`: entries-per-fragment bits, the pinned lane, compact entries.
 fn parse_blocked_shape(s: &str) -> texflow::Result<texflow::sort::BlockedShape> {
-    let (digits, pinned) = match s.strip_suffix('p') {
+    let (rest, compact) = match s.strip_suffix('c') {
         Some(d) => (d, true),
         None => (s, false),
     };
-    match digits.parse::<u32>() {
-        Ok(bits @ 2..=4) => Ok(texflow::sort::BlockedShape { bits, pinned }),
+    let (digits, pinned) = match rest.strip_suffix('p') {
+        Some(d) => (d, true),
+        None => (rest, false),
+    };
+    match (digits.parse::<u32>(), compact, pinned) {
+        (Ok(bits @ 2..=4), false, _) | (Ok(bits @ 2..=5), true, false) => {
+            Ok(texflow::sort::BlockedShape {
+                bits,
+                pinned,
+                compact,
+            })
+        }
         _ => Err(bad(format!(
-            "--blocked {s}: give 2, 3 or 4 (bits of entries per fragment), with `p` for the \
-             pinned lane, e.g. --blocked 4,3p"
+            "--blocked {s}: give 2, 3 or 4 (bits of exact entries per fragment) with `p` for \
+             the pinned lane, or 2 to 5 with `c` for compact 4-byte entries (not pinned), \
+             e.g. --blocked 4,3p,5c"
         ))),
     }
 }

@@ -4,7 +4,7 @@
 
 use glow::HasContext;
 
-use super::{Context, Texture, Texture3D};
+use super::{Context, Texture, Texture3D, TextureFormat};
 use crate::error::{Error, Incomplete, Result};
 
 /// A framebuffer object with 1 to 8 owned colour attachments, all drawn to by every pass; or
@@ -19,6 +19,8 @@ pub struct Framebuffer {
     attachments: usize,
     /// Bytes per texel of all attachments together.
     bytes_per_texel: usize,
+    /// Whether the attachments hold unsigned integers (written as `uvec4`).
+    integer: bool,
     /// A depth renderbuffer (frame targets that draw geometry only).
     depth: Option<glow::Renderbuffer>,
     label: String,
@@ -86,6 +88,7 @@ impl Framebuffer {
         };
         let attachments = textures.len();
         let bytes_per_texel = textures.iter().map(|t| t.format().bytes_per_texel()).sum();
+        let integer = textures_integer(&textures);
         Framebuffer {
             ctx: ctx.clone(),
             raw,
@@ -93,6 +96,7 @@ impl Framebuffer {
             size: [w, h],
             attachments,
             bytes_per_texel,
+            integer,
             depth: None,
             label: label.to_owned(),
         }
@@ -204,6 +208,7 @@ impl Framebuffer {
             size: [w, h],
             attachments: n,
             bytes_per_texel: n * texture.format().bytes_per_texel(),
+            integer: texture.format() == TextureFormat::Rgba32Ui,
             depth: None,
             label: label.to_owned(),
         }
@@ -241,6 +246,7 @@ impl Framebuffer {
             size: source.size,
             attachments: 1,
             bytes_per_texel: texture.format().bytes_per_texel(),
+            integer: texture.format() == TextureFormat::Rgba32Ui,
             depth: None,
             label: label.to_owned(),
         }
@@ -268,6 +274,10 @@ impl Framebuffer {
     /// Number of colour attachments (render targets).
     pub fn attachments(&self) -> usize {
         self.attachments
+    }
+    /// Whether the attachments hold unsigned integers: a pass into it writes `uvec4`s.
+    pub fn integer(&self) -> bool {
+        self.integer
     }
     /// Bytes a fragment writes into all attachments.
     pub fn bytes_per_texel(&self) -> usize {
@@ -409,4 +419,10 @@ impl Context {
         }
         Ok(out)
     }
+}
+
+fn textures_integer(textures: &[Texture]) -> bool {
+    textures
+        .iter()
+        .any(|t| t.format() == TextureFormat::Rgba32Ui)
 }

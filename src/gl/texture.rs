@@ -19,6 +19,9 @@ pub enum TextureFormat {
     R32F,
     /// Four 8-bit normalised channels: rendered frames.
     Rgba8,
+    /// Four 32-bit unsigned integers: the compact blocked sort's packed entries (bit patterns
+    /// that a float format might canonicalise or flush). Render targets only: no upload.
+    Rgba32Ui,
 }
 
 impl TextureFormat {
@@ -30,6 +33,7 @@ impl TextureFormat {
             TextureFormat::Rg32F => glow::RG32F,
             TextureFormat::R32F => glow::R32F,
             TextureFormat::Rgba8 => glow::RGBA8,
+            TextureFormat::Rgba32Ui => glow::RGBA32UI,
         }
     }
 
@@ -39,13 +43,26 @@ impl TextureFormat {
             TextureFormat::Rgba32F | TextureFormat::Rgba16F | TextureFormat::Rgba8 => glow::RGBA,
             TextureFormat::Rg32F => glow::RG,
             TextureFormat::R32F => glow::RED,
+            TextureFormat::Rgba32Ui => glow::RGBA_INTEGER,
+        }
+    }
+
+    /// The client type of uploads and read-backs.
+    pub fn client_type(self) -> u32 {
+        match self {
+            TextureFormat::Rgba8 => glow::UNSIGNED_BYTE,
+            TextureFormat::Rgba32Ui => glow::UNSIGNED_INT,
+            _ => glow::FLOAT,
         }
     }
 
     /// Channels per texel.
     pub fn channels(self) -> usize {
         match self {
-            TextureFormat::Rgba32F | TextureFormat::Rgba16F | TextureFormat::Rgba8 => 4,
+            TextureFormat::Rgba32F
+            | TextureFormat::Rgba16F
+            | TextureFormat::Rgba8
+            | TextureFormat::Rgba32Ui => 4,
             TextureFormat::Rg32F => 2,
             TextureFormat::R32F => 1,
         }
@@ -54,7 +71,7 @@ impl TextureFormat {
     /// Bytes one texel occupies on the GPU, which is what a pass writing it costs.
     pub fn bytes_per_texel(self) -> usize {
         match self {
-            TextureFormat::Rgba32F => 16,
+            TextureFormat::Rgba32F | TextureFormat::Rgba32Ui => 16,
             TextureFormat::Rgba16F | TextureFormat::Rg32F => 8,
             TextureFormat::R32F | TextureFormat::Rgba8 => 4,
         }
@@ -62,7 +79,7 @@ impl TextureFormat {
 
     /// Whether the channels are floats (read back as `f32`).
     pub fn is_float(self) -> bool {
-        !matches!(self, TextureFormat::Rgba8)
+        !matches!(self, TextureFormat::Rgba8 | TextureFormat::Rgba32Ui)
     }
 
     /// A short name for tables and labels.
@@ -73,6 +90,7 @@ impl TextureFormat {
             TextureFormat::Rg32F => "RG32F",
             TextureFormat::R32F => "R32F",
             TextureFormat::Rgba8 => "RGBA8",
+            TextureFormat::Rgba32Ui => "RGBA32UI",
         }
     }
 }
@@ -144,11 +162,7 @@ impl Texture {
                 desc.height as i32,
                 0,
                 desc.format.client_format(),
-                if desc.format.is_float() {
-                    glow::FLOAT
-                } else {
-                    glow::UNSIGNED_BYTE
-                },
+                desc.format.client_type(),
                 glow::PixelUnpackData::Slice(None),
             );
             for (p, v) in [

@@ -53,7 +53,7 @@ pub fn check_size_3d(ctx: &Context, what: &str, size: [u32; 3]) -> Result<()> {
 impl Texture3D {
     /// Allocates a `size = [width, height, depth]` texture of a float `format` (the fields use
     /// RGBA32F and R32F), filled with `data` if given (see the type for the layout), else
-    /// uninitialised.
+    /// uninitialised; or of RGBA32UI, uninitialised (render targets of the compact sort).
     pub fn new(
         ctx: &Context,
         label: &str,
@@ -61,7 +61,8 @@ impl Texture3D {
         size: [u32; 3],
         data: Option<&[f32]>,
     ) -> Result<Self> {
-        if !format.is_float() {
+        let targets_only = format == TextureFormat::Rgba32Ui && data.is_none();
+        if !format.is_float() && !targets_only {
             return Err(Error::InvalidInput(format!(
                 "3D texture {label}: {} is not a float format (use RGBA32F or R32F)",
                 format.name()
@@ -87,7 +88,7 @@ impl Texture3D {
                 d as i32,
                 0,
                 format.client_format(),
-                glow::FLOAT,
+                format.client_type(),
                 glow::PixelUnpackData::Slice(data.map(bytemuck::cast_slice)),
             );
             for (p, v) in [
@@ -134,6 +135,13 @@ impl Texture3D {
 
     /// Replaces the whole texture with `data` (layout: see the type).
     pub fn upload_f32(&self, data: &[f32]) -> Result<()> {
+        if !self.format.is_float() {
+            return Err(Error::InvalidInput(format!(
+                "3D texture {}: {} holds no floats",
+                self.label,
+                self.format.name()
+            )));
+        }
         expect_len(&self.label, self.format, self.size, data.len())?;
         let [w, h, d] = self.size;
         // SAFETY: the data length was checked against the texture.
@@ -161,6 +169,13 @@ impl Texture3D {
 
     /// Reads the whole texture back as floats (layout: see the type). For tests.
     pub fn read_f32(&self) -> Result<Vec<f32>> {
+        if !self.format.is_float() {
+            return Err(Error::InvalidInput(format!(
+                "3D texture {}: {} holds no floats",
+                self.label,
+                self.format.name()
+            )));
+        }
         let mut out = vec![0f32; self.texels() * self.format.channels()];
         // SAFETY: `out` holds exactly the texture's texels in its client format.
         unsafe {

@@ -7,5 +7,5 @@ mod gpu;
 pub mod network;
 pub mod precision;
 
-pub use gpu::{BlockedShape, KeyMode, SortOptions, Sorter, Variant};
+pub use gpu::{BlockedShape, KeyMode, Quantiser, SortOptions, Sorter, Variant};
 pub use network::{entry_less, Entry, Step};

@@ -10,13 +10,18 @@ use crate::gl::{
 };
 use crate::sort::blocked::{schedule, BlockPass};
 
-/// Group bits per pass and whether logical bit 0 is pinned to the lane.
+/// Group bits per pass, whether logical bit 0 is pinned to the lane, and the entry size.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct BlockedShape {
-    /// Entries per fragment: 2^bits (2 to 4: 2 to 8 render targets).
+    /// Entries per fragment: 2^bits (exact: 2 to 4, 2 to 8 render targets; compact: 2 to 5,
+    /// 1 to 8).
     pub bits: u32,
     /// Logical bit 0 stays in the lane of every layout (half the fetches, one bit less).
     pub pinned: bool,
+    /// 4-byte entries: the key quantised into the bits the identifier leaves free of one uint
+    /// (lossy among keys closer than one quantisation step; see [`compact_level`]). Needs the
+    /// keys' range ([`Sorter::set_key_range`](super::Sorter::set_key_range)).
+    pub compact: bool,
 }
 
 impl Default for BlockedShape {
@@ -24,7 +29,79 @@ impl Default for BlockedShape {
         BlockedShape {
             bits: 4,
             pinned: false,
+            compact: false,
         }
+    }
+}
+
+impl BlockedShape {
+    /// The shape's short name in tables: bits, then `p` if pinned, `c` if compact (`"5c"`).
+    pub fn label(&self) -> String {
+        format!(
+            "{}{}{}",
+            self.bits,
+            if self.pinned { "p" } else { "" },
+            if self.compact { "c" } else { "" }
+        )
+    }
+}
+
+/// How the compact entries quantise keys: level `floor((key - lo) * scale)` clamped to
+/// `0..=top - 1`, where `top = 2^(32 - id_bits) - 1` is the level of +inf and NaN keys.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Quantiser {
+    /// Bits of the identifier (log2 of the entries sorted).
+    pub id_bits: u32,
+    /// The key of level 0.
+    pub lo: f32,
+    /// Levels per unit of key.
+    pub scale: f32,
+}
+
+impl Quantiser {
+    /// The quantiser that spreads `[lo, hi]` over every finite level of `id_bits`-bit
+    /// identifiers.
+    pub fn new(id_bits: u32, lo: f32, hi: f32) -> Result<Self> {
+        if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+            return Err(Error::InvalidInput(format!(
+                "key range [{lo}, {hi}] for the compact sort: give finite bounds, low first"
+            )));
+        }
+        let top = (1u64 << (32 - id_bits)) - 1;
+        let scale = if hi > lo {
+            (top - 1) as f32 / (hi - lo)
+        } else {
+            0.0
+        };
+        Ok(Quantiser { id_bits, lo, scale })
+    }
+
+    /// The level of `key`: the CPU twin of `compact_entry` in `glsl/sort/blocked.frag`.
+    pub fn level(&self, key: f32) -> u32 {
+        compact_level(key, self.lo, self.scale, self.id_bits)
+    }
+
+    /// The packed entry of `(key, id)`.
+    pub fn entry(&self, key: f32, id: u32) -> u32 {
+        (self.level(key) << self.id_bits) | id
+    }
+}
+
+/// The quantisation level of `key` (see [`Quantiser`]): the same float operations as the shader;
+/// -inf takes level 0, +inf and NaN the top level.
+pub fn compact_level(key: f32, lo: f32, scale: f32, id_bits: u32) -> u32 {
+    let top = ((1u64 << (32 - id_bits)) - 1) as u32;
+    let u = key.to_bits();
+    if u & 0x7f80_0000 == 0x7f80_0000 {
+        return if u == 0xff80_0000 { 0 } else { top };
+    }
+    let q = ((key - lo) * scale).floor();
+    if q >= (top - 1) as f32 {
+        top - 1
+    } else if q > 0.0 {
+        q as u32
+    } else {
+        0
     }
 }
 
@@ -43,6 +120,8 @@ pub(super) struct Blocked {
     natural_log_w: u32,
     programs: HashMap<(bool, Vec<u32>), Program>,
     unpack: Program,
+    /// With 4-byte entries: how keys are quantised (the range is set before each sort).
+    quantiser: Option<Quantiser>,
 }
 
 impl std::fmt::Debug for Blocked {
@@ -70,24 +149,36 @@ impl Blocked {
         block: u32,
         shape: BlockedShape,
     ) -> Result<Self> {
-        if !(2..=4).contains(&shape.bits) {
-            return Err(Error::InvalidInput(format!(
-                "the blocked sort holds 4, 8 or 16 entries per fragment (bits 2 to 4), not 2^{}",
-                shape.bits
-            )));
-        }
         let n = log2(width * height);
+        let quantiser = if shape.compact {
+            check_compact(shape, n)?;
+            Some(Quantiser::new(n, 0.0, 1.0)?)
+        } else {
+            if !(2..=4).contains(&shape.bits) {
+                return Err(Error::InvalidInput(format!(
+                    "the blocked sort holds 4, 8 or 16 exact entries per fragment (bits 2 to 4), \
+                     not 2^{}: 32 (bits 5) takes compact entries",
+                    shape.bits
+                )));
+            }
+            None
+        };
         let bits = shape.bits.min(n).max(1);
         let passes = schedule(n, log2(block), bits, shape.pinned);
         let pixels = (width * height) >> bits;
         let w = width.min(pixels).max(1);
         let h = (pixels / w).max(1);
-        let layers = (1u32 << bits).div_ceil(2);
+        let (lanes, format) = if shape.compact {
+            (4, TextureFormat::Rgba32Ui)
+        } else {
+            (2, TextureFormat::Rgba32F)
+        };
+        let layers = (1u32 << bits).div_ceil(lanes);
         let make = |i: usize| {
             Texture3D::new(
                 ctx,
                 &format!("blocked sort {i}"),
-                TextureFormat::Rgba32F,
+                format,
                 [w, h, layers],
                 None,
             )
@@ -97,12 +188,11 @@ impl Blocked {
             Framebuffer::layers(ctx, "blocked sort 0", &tex[0])?,
             Framebuffer::layers(ctx, "blocked sort 1", &tex[1])?,
         ];
-        let unpack = Program::new(
-            ctx,
-            FULLSCREEN_VERTEX,
-            "sort/blocked_unpack.frag",
-            &vec![("BITS".to_string(), bits.to_string())],
-        )?;
+        let mut d: Defines = vec![("BITS".to_string(), bits.to_string())];
+        if shape.compact {
+            d.push(("COMPACT".into(), "1".into()));
+        }
+        let unpack = Program::new(ctx, FULLSCREEN_VERTEX, "sort/blocked_unpack.frag", &d)?;
         let mut b = Blocked {
             fbs,
             tex,
@@ -115,6 +205,7 @@ impl Blocked {
             natural_log_w: log2(width),
             programs: HashMap::new(),
             unpack,
+            quantiser,
         };
         for i in 0..b.passes.len() {
             let key = b.program_key(i);
@@ -124,6 +215,26 @@ impl Blocked {
             }
         }
         Ok(b)
+    }
+
+    /// Sets the range of keys the compact entries spread over their levels; an error for exact
+    /// entries.
+    pub(super) fn set_key_range(&mut self, lo: f32, hi: f32) -> Result<()> {
+        match &mut self.quantiser {
+            Some(q) => {
+                *q = Quantiser::new(q.id_bits, lo, hi)?;
+                Ok(())
+            }
+            None => Err(Error::InvalidInput(
+                "a key range is for the compact blocked sort only: exact entries keep the keys"
+                    .into(),
+            )),
+        }
+    }
+
+    /// The quantiser of compact entries.
+    pub(super) fn quantiser(&self) -> Option<Quantiser> {
+        self.quantiser
     }
 
     /// Network passes (the unpack pass not counted).
@@ -160,6 +271,9 @@ impl Blocked {
         if self.pinned {
             d.push(("PINNED".into(), "1".into()));
         }
+        if self.quantiser.is_some() {
+            d.push(("COMPACT".into(), "1".into()));
+        }
         Program::new(ctx, FULLSCREEN_VERTEX, "sort/blocked.frag", &d)
     }
 
@@ -188,6 +302,9 @@ impl Blocked {
             p.set_i32("u_in_log_w", self.log_w as i32);
         }
         p.set_i32("u_log_w", self.log_w as i32);
+        if let (true, Some(q)) = (i == 0, self.quantiser) {
+            set_quantiser(p, &q);
+        }
         let pixel_bits = pass.pixel_bits(self.n);
         p.set_i32("u_pixel_bits", pixel_bits.len() as i32);
         let pix_prev: Vec<i32> = pixel_bits
@@ -231,6 +348,9 @@ impl Blocked {
         p.set_i32("u_in_log_w", self.log_w as i32);
         p.set_i32("u_width_log", self.natural_log_w as i32);
         p.set_i32("u_bits", self.n as i32);
+        if let Some(q) = self.quantiser {
+            set_quantiser(p, &q);
+        }
         let perm: Vec<i32> = self
             .passes
             .last()
@@ -242,4 +362,36 @@ impl Blocked {
         p.set_i32_array("u_perm", &perm);
         fullscreen.draw(p, target);
     }
+}
+
+fn set_quantiser(p: &Program, q: &Quantiser) {
+    p.set_i32("u_id_bits", q.id_bits as i32);
+    p.set_f32("u_key_lo", q.lo);
+    p.set_f32("u_key_scale", q.scale);
+}
+
+/// Compact entries: 2 to 5 bits a pass, no pinned lane, and at least 8 key bits beside the
+/// identifier.
+pub(super) fn check_compact(shape: BlockedShape, n: u32) -> Result<()> {
+    let bad = |m: String| Err(Error::InvalidInput(m));
+    if !(2..=5).contains(&shape.bits) {
+        return bad(format!(
+            "the compact blocked sort holds 4 to 32 entries per fragment (bits 2 to 5), not 2^{}",
+            shape.bits
+        ));
+    }
+    if shape.pinned {
+        return bad("the compact blocked sort has four entries per texel: no pinned lane".into());
+    }
+    if n < 2 {
+        return bad("the compact blocked sort needs at least 4 entries".into());
+    }
+    if n > 24 {
+        return bad(format!(
+            "2^{n} entries leave {} bits of a compact entry for the key: use at most 2^24 \
+             entries (8 key bits), or exact entries",
+            32 - n
+        ));
+    }
+    Ok(())
 }

@@ -17,6 +17,7 @@ use crate::gl::{
     Texture, TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
 };
 use blocked::Blocked;
+pub use blocked::Quantiser;
 use geometry::{Geometry, GpProgram};
 pub use options::{BlockedShape, KeyMode, SortOptions, Variant};
 
@@ -122,6 +123,9 @@ impl Sorter {
                  spread over frames (its layout changes from pass to pass)"
                     .into(),
             );
+        }
+        if variant == Variant::Blocked && options.blocked.compact {
+            blocked::check_compact(options.blocked, (width * height).trailing_zeros())?;
         }
         if options.passes_per_frame == Some(0) {
             return bad("passes per frame must be at least 1".into());
@@ -361,6 +365,23 @@ impl Sorter {
     /// The options.
     pub fn options(&self) -> &SortOptions {
         &self.options
+    }
+
+    /// The range of keys that the blocked sort's compact entries spread over their levels
+    /// (keys outside it take the end levels): set it before sorting, e.g. from the distances
+    /// of the scene's bounds to the eye. An error for any other sort.
+    pub fn set_key_range(&mut self, lo: f32, hi: f32) -> Result<()> {
+        match &mut self.blocked {
+            Some(b) => b.set_key_range(lo, hi),
+            None => Err(Error::InvalidInput(
+                "a key range is for the compact blocked sort only".into(),
+            )),
+        }
+    }
+
+    /// How the compact blocked sort quantises keys (`None` for exact entries).
+    pub fn quantiser(&self) -> Option<blocked::Quantiser> {
+        self.blocked.as_ref().and_then(|b| b.quantiser())
     }
 
     /// Uploads entries (row-major, `len()` of them) and restarts the pass sequence. For the CLI and

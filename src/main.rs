@@ -35,6 +35,7 @@ fn main() -> ExitCode {
         Command::Sort(a) => cli::sort::sort(a),
         Command::Trace(a) => cli::trace::trace_cmd(a),
         Command::Scene(c) => cli::scene::scene_command(c),
+        Command::Diff(a) => cli::diff::diff(a),
         Command::CollideStats(a) => cli::collide::collide_stats(a),
         Command::Bench(b) => cli::bench::bench(b),
         Command::Report(r) => cli::report::report_cmd(r),

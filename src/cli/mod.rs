@@ -4,6 +4,7 @@
 pub mod bench;
 pub mod collide;
 pub mod compare;
+pub mod diff;
 pub mod info;
 pub mod render;
 pub mod report;
@@ -57,6 +58,9 @@ pub enum Command {
     /// Check scene files and list the passes a scene runs.
     #[command(subcommand)]
     Scene(scene::SceneCommand),
+    /// How far two frames are apart: mean and largest channel difference, changed pixels, PSNR
+    /// (e.g. a frame sorted with compact entries against the exact sort's).
+    Diff(diff::DiffArgs),
     /// Benchmarks (GPU timer queries, medians, floors measured in the same run).
     #[command(subcommand)]
     Bench(bench::BenchCommand),

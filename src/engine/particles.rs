@@ -81,6 +81,7 @@ impl Engine {
                     passes_per_frame: p.passes_per_frame.map(|n| n as usize),
                     precision: fp24.then_some(crate::sort::precision::R300),
                     id_table: fp24,
+                    blocked: p.shape,
                     ..Default::default()
                 };
                 let sorter =
@@ -224,6 +225,15 @@ impl Engine {
             back_to_front: s.back_to_front,
         };
         let texels = self.sim.size().x as usize * self.sim.size().y as usize;
+        if s.sorter.quantiser().is_some() {
+            let (lo, hi) = compact_depth_range(self.camera.distance);
+            let (lo, hi) = if s.back_to_front {
+                (-hi, -lo)
+            } else {
+                (lo, hi)
+            };
+            s.sorter.set_key_range(lo, hi)?;
+        }
         if s.spread && s.keyed {
             s.sorter
                 .refresh_keys(self.sim.positions(), texels, &mode, true)?;
@@ -317,4 +327,11 @@ impl Engine {
     pub fn renderer(&self) -> &crate::render::ParticleRenderer {
         &self.renderer
     }
+}
+
+/// The depths the compact sort spreads its levels over: from the eye out to three times the
+/// distance of what it looks at (farther particles share the last level; what is drawn there
+/// is small).
+pub fn compact_depth_range(distance: f32) -> (f32, f32) {
+    (0.0, 3.0 * distance.max(1e-3))
 }

@@ -33,6 +33,8 @@ pub struct SortPlan {
     pub passes: usize,
     /// Passes per frame when the sort is spread over frames (Latta).
     pub passes_per_frame: Option<u32>,
+    /// The blocked variant's shape: 16 exact entries per fragment, or 32 compact ones.
+    pub shape: crate::sort::BlockedShape,
 }
 
 /// The sort a scene needs: only alpha blending depends on the drawing order.
@@ -49,11 +51,19 @@ pub fn sort_plan(scene: &SceneFile) -> Option<SortPlan> {
         .unwrap_or(Variant::OddEven);
     let [w, h] = scene.particles.size.map(|s| s.next_power_of_two().max(2));
     let block = w * h;
+    let shape = if scene.render.sort.entries == Some(crate::scene::SortEntries::Compact) {
+        crate::sort::BlockedShape {
+            bits: 5,
+            pinned: false,
+            compact: true,
+        }
+    } else {
+        crate::sort::BlockedShape::default()
+    };
     let passes = match variant {
         Variant::OddEven => odd_even_schedule(block).len(),
         Variant::Multistep => group_steps(&bitonic_schedule(w, block), 2).len(),
         Variant::Blocked => {
-            let shape = crate::sort::BlockedShape::default();
             let (n, b) = ((w * h).trailing_zeros(), block.trailing_zeros());
             crate::sort::blocked::schedule(n, b, shape.bits, shape.pinned).len() + 1
         }
@@ -64,6 +74,7 @@ pub fn sort_plan(scene: &SceneFile) -> Option<SortPlan> {
         size: [w, h],
         passes,
         passes_per_frame: scene.render.sort.passes_per_frame,
+        shape,
     })
 }
 

@@ -11,6 +11,7 @@
 //! - Temporary files that exist right now are listed in a process-wide registry, so that a signal
 //!   handler can remove them ([`remove_unfinished`]) before the process exits.
 
+pub mod diff;
 mod frames;
 pub mod video;
 

@@ -376,6 +376,7 @@ fn particles(
         Some(p) => {
             let options = SortOptions {
                 passes_per_frame: p.passes_per_frame.map(|n| n as usize),
+                blocked: p.shape,
                 ..Default::default()
             };
             let sorter = Sorter::new(ctx, p.variant, p.size[0], p.size[1], options)?;
@@ -448,7 +449,12 @@ fn particles(
                 eye: engine.camera().eye(),
                 back_to_front,
             };
-            let f = timer.time(|| floor1.draw(sorter.target()))?;
+            if sorter.quantiser().is_some() {
+                let (lo, hi) = crate::engine::compact_depth_range(engine.camera().distance);
+                let (lo, hi) = if back_to_front { (-hi, -lo) } else { (lo, hi) };
+                sorter.set_key_range(lo, hi)?;
+            }
+            let f = timer.time(|| floor1.draw(sorter.keys_target()))?;
             let t = timed(timer, || {
                 if *spread && *keyed {
                     sorter.refresh_keys(sim.positions(), texels, &mode, true)
@@ -465,13 +471,12 @@ fn particles(
             );
             // Each pass's floor writes what it writes: the sort texture, or for the blocked
             // variant its layers (and the row-major texture once, in its unpack pass).
-            let layers = sorter.target().attachments();
-            let f1 = timer.time(|| floor1.draw(sorter.target()))?;
-            let fl = if layers > 1 {
-                let f = WriteFloor::new(ctx, layers)?;
-                timer.time(|| f.draw(sorter.target()))?
+            let target = sorter.target();
+            let fl = if target.attachments() > 1 || target.integer() {
+                let f = WriteFloor::for_target(ctx, target)?;
+                timer.time(|| f.draw(target))?
             } else {
-                f1
+                timer.time(|| floor1.draw(target))?
             };
             let fk = timer.time(|| floor1.draw(sorter.keys_target()))?;
             let mut passes = 0;

@@ -141,6 +141,21 @@ pub struct SortSection {
     pub variant: Option<String>,
     /// Spread one sort over frames with this many passes per frame (Latta).
     pub passes_per_frame: Option<u32>,
+    /// The blocked sort's entries: `exact` (default) or `compact` (4 bytes, the depth quantised
+    /// beside the identifier: faster, lossy among particles at nearly the same depth).
+    pub entries: Option<SortEntries>,
+}
+
+/// How the blocked sort stores an entry (`render.sort.entries`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SortEntries {
+    /// Key and identifier as two floats: the exact order.
+    #[default]
+    Exact,
+    /// Key quantised into the bits the identifier leaves of one uint: twice the entries per
+    /// pass; particles closer in depth than one level keep the order of their identifiers.
+    Compact,
 }
 
 /// The sort implementations, named by `render.sort.variant` and `--variant` (the sorter itself,

@@ -3,7 +3,8 @@
 use super::{fail, path, Check};
 use crate::scene::locate::Key;
 use crate::scene::schema::{
-    Blending, DrawPrimitive, Emitter, Keyframe, Precision, Render, RenderPath, SceneFile, Variant,
+    Blending, DrawPrimitive, Emitter, Keyframe, Precision, Render, RenderPath, SceneFile,
+    SortEntries, Variant,
 };
 
 use Key::{Index as I, Name as N};
@@ -95,6 +96,21 @@ pub(super) fn render(s: &SceneFile) -> Check {
         if let Err(e) = Variant::from_name(v) {
             return fail(path(&[N("render"), N("sort"), N("variant")]), e.to_string());
         }
+    }
+    let blocked = r.sort.variant.as_deref() == Some(Variant::Blocked.name());
+    if r.sort.entries == Some(SortEntries::Compact) && !blocked {
+        return fail(
+            path(&[N("render"), N("sort"), N("entries")]),
+            "compact entries are the blocked sort's: set render.sort.variant = \"blocked\", or \
+             remove entries",
+        );
+    }
+    if blocked && r.blending == Blending::Alpha && r.sort.passes_per_frame.is_some() {
+        return fail(
+            path(&[N("render"), N("sort"), N("passes_per_frame")]),
+            "the blocked sort runs whole sorts (its layout changes from pass to pass): remove \
+             passes_per_frame, or use variant = \"oddeven\" to spread a sort over frames",
+        );
     }
     if r.sort.passes_per_frame == Some(0) {
         return fail(

@@ -22,7 +22,7 @@ pub use forces::{
 };
 pub use render::{
     Blending, CameraSection, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath,
-    SortSection, Variant, MAX_KEYFRAMES,
+    SortKey, SortSection, Variant, MAX_KEYFRAMES,
 };
 
 pub(super) fn one() -> f32 {

@@ -3,7 +3,7 @@
 use super::{fail, path, Check};
 use crate::scene::locate::Key;
 use crate::scene::schema::{
-    Blending, DrawPrimitive, Emitter, Keyframe, Precision, Render, RenderPath, SceneFile, Variant,
+    Blending, DrawPrimitive, Emitter, Keyframe, Precision, Render, RenderPath, SceneFile, SortKey,
 };
 
 use Key::{Index as I, Name as N};
@@ -91,10 +91,16 @@ pub(super) fn render(s: &SceneFile) -> Check {
             emitter_look(&[N("emitters"), N(kind), I(i)], e)?;
         }
     }
-    if let Some(v) = &r.sort.variant {
-        if let Err(e) = Variant::from_name(v) {
-            return fail(path(&[N("render"), N("sort"), N("variant")]), e.to_string());
-        }
+    if r.sort.key != SortKey::Distance && r.blending != Blending::Alpha {
+        return fail(
+            path(&[N("render"), N("sort"), N("key")]),
+            format!(
+                "key = \"{}\" orders the drawing of alpha blending, and blending = \"{}\" \
+                 draws in any order: set blending = \"alpha\", or remove the key",
+                r.sort.key.name(),
+                blending_name(r.blending)
+            ),
+        );
     }
     if r.sort.passes_per_frame == Some(0) {
         return fail(
@@ -143,6 +149,14 @@ fn fire_render(r: &Render) -> Check {
             ),
         ),
         None => Ok(()),
+    }
+}
+
+fn blending_name(b: Blending) -> &'static str {
+    match b {
+        Blending::Additive => "additive",
+        Blending::Multiplicative => "multiplicative",
+        Blending::Alpha => "alpha",
     }
 }
 

@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 pub use constraints::{ConstraintKind, Constraints, MAX_CONSTRAINT_ITERATIONS};
 pub use emitters::{
     AllocatorKind, Burst, Emitter, Emitters, Flipbook, Shape, MAX_BURSTS, MAX_EMITTERS,
+    MAX_EMITTER_FORCES,
 };
 pub use forces::{
     Attractor, BoxCollider, Colliders, CustomForce, Damping, Falloff, FieldData, Forces, Gravity,

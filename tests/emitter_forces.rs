@@ -142,3 +142,13 @@ fn cpu_twins_refuse_forces_per_emitter() {
         .to_string();
     assert!(e.contains("[[emitters.*.forces.*]]"), "{e}");
 }
+
+/// The example of docs/scenes.md parses and uses both knobs.
+#[test]
+fn the_example_scene_has_forces_per_emitter_and_an_age_sort() {
+    let s = scene::load("examples/knobs/two-falls.toml").unwrap();
+    assert_eq!(s.emitters.allocator[0].forces.gravity.len(), 1);
+    assert!(s.emitters.allocator[1].forces == Default::default());
+    assert_eq!(s.render.sort.key, scene::SortKey::YoungestOnTop);
+    assert!(texflow::sim::particles::Features::of(&s).emitter_forces);
+}

@@ -105,6 +105,33 @@ fn gpu_sorts_by_age_in_every_variant() {
     no_gl_error(&ctx);
 }
 
+/// Latta's sort spread over frames refreshes the keys in place: by age too. With as many passes
+/// per frame as the whole sort has, every frame ends fully sorted by the ages of that frame,
+/// starting from the last frame's order (the re-keyed path of the key pass).
+#[test]
+fn a_sort_spread_over_frames_refreshes_age_keys() {
+    let ctx = context();
+    let key = SortKey::YoungestOnTop;
+    let mut s = scene(Variant::OddEven, key, DrawOrder::BackToFront, ALLOCATOR);
+    let passes = texflow::engine::plan::sort_plan(&s).unwrap().passes;
+    s.render.sort.passes_per_frame = Some(passes as u32);
+    let mut engine = texflow::engine::Engine::new(&ctx, &s, 5).unwrap();
+    for frame in 0..30 {
+        engine.advance_frame().unwrap();
+        assert!(engine.order_for_drawing().unwrap());
+        if frame % 10 != 9 {
+            continue;
+        }
+        let positions = engine.sim().read_positions().unwrap();
+        let statics = engine.sim().statics().read_f32().unwrap();
+        let want = expected(&positions, &statics, key, DrawOrder::BackToFront);
+        let entries = engine.sorter().unwrap().read().unwrap();
+        let got: Vec<u32> = entries[..want.len()].iter().map(|e| e[1] as u32).collect();
+        assert_eq!(got, want, "frame {frame}");
+    }
+    no_gl_error(&ctx);
+}
+
 /// The CPU engine (E5) sorts by the same key: its drawing order is the CPU ordering of the ages
 /// of its own state, for both keys.
 #[test]

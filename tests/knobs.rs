@@ -58,7 +58,7 @@ fn set_gives_the_scene_that_editing_the_file_gives() {
         ]),
     )
     .unwrap();
-    assert_eq!(s.render.sort.variant.as_deref(), Some("packed"));
+    assert_eq!(s.render.sort.variant, Some(texflow::sort::Variant::Packed));
     assert_eq!(s.time.substeps, 3);
 }
 

@@ -95,7 +95,10 @@ fn good_scene_parses() {
     assert_eq!(scene.render.path, RenderPath::VertexBuffer);
     assert_eq!(scene.render.blending, Blending::Alpha);
     assert_eq!(scene.render.keyframes.len(), 4);
-    assert_eq!(scene.render.sort.variant.as_deref(), Some("oddeven"));
+    assert_eq!(
+        scene.render.sort.variant,
+        Some(texflow::sort::Variant::OddEven)
+    );
 }
 
 #[test]

@@ -23,7 +23,8 @@ void main() {
 #elif defined(OUT_PREVIOUS)
     vec3 x = v_position.xyz;
     vec3 v = v_velocity.xyz;
-    vec3 a = acceleration(x, v, particle_inv_mass(int(v_static.y), v_static.w));
+    force_type = int(v_static.y);
+    vec3 a = acceleration(x, v, particle_inv_mass(force_type, v_static.w));
     o_0 = fp_store(vec4(x - v * u_dt + 0.5 * a * u_dt * u_dt, v_position.w));
 #else
     o_0 = fp_store(v_position);

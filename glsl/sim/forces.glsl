@@ -18,6 +18,10 @@
 //               an attractor's falloff: s d / (r^2 + soft^2)^(3/2) or s d / r within max_distance
 // Forces are divided by the particle's mass (Latta eq. 2): particle_inv_mass of
 // common/mass.glsl, which the collision response uses too.
+// EMITTER_FORCES: forces of one emitter act on its particles only (force_type, the particle's
+// type, is its emitter's place): gravity and damping summed per type (u_type_gravity,
+// u_type_damping), and every attractor, spring and vortex has an owner type (-1: every type;
+// the scene's come first, then each emitter's).
 
 // Included unconditionally: the resolver splices each file once, whatever #if surrounds it.
 #include "sim/fields.glsl"
@@ -47,6 +51,26 @@ uniform vec3 u_flow_min;
 uniform vec3 u_flow_max;
 uniform ivec3 u_flow_res;
 uniform float u_drag;
+#endif
+#ifdef EMITTER_FORCES
+uniform vec3 u_type_gravity[4];
+uniform vec4 u_type_damping;
+#if N_ATTRACTORS > 0
+uniform int u_attractor_owner[N_ATTRACTORS];
+#endif
+#if N_SPRINGS > 0
+uniform int u_spring_owner[N_SPRINGS];
+#endif
+#if N_VORTICES > 0
+uniform int u_vortex_owner[N_VORTICES];
+#endif
+// Whether a force owned by type `owner` acts on this particle.
+bool acts(int owner) {
+    return owner < 0 || owner == force_type;
+}
+#define ACTS(owner) acts(owner)
+#else
+#define ACTS(owner) true
 #endif
 #if N_ATTRACTORS > 0
 uniform vec4 u_attractor[N_ATTRACTORS];       // centre, strength
@@ -94,6 +118,10 @@ vec3 acceleration(vec3 x, vec3 v, float inv_mass) {
 #ifdef DAMPING
     a -= u_damping * v;
 #endif
+#ifdef EMITTER_FORCES
+    a += u_type_gravity[force_type];
+    a -= u_type_damping[force_type] * v;
+#endif
 #if defined(WIND) && WIND_FORM == 0
     a += u_drag * (flow_sample(u_flow, u_flow_min, u_flow_max, u_flow_res, x) - v);
 #elif defined(WIND) && WIND_FORM == 1
@@ -101,16 +129,19 @@ vec3 acceleration(vec3 x, vec3 v, float inv_mass) {
 #endif
 #if N_ATTRACTORS > 0
     for (int i = 0; i < N_ATTRACTORS; i++) {
+        if (!ACTS(u_attractor_owner[i])) continue;
         f += point_force(u_attractor[i].xyz - x, u_attractor[i].w, u_attractor_shape[i].xyz);
     }
 #endif
 #if N_SPRINGS > 0
     for (int i = 0; i < N_SPRINGS; i++) {
+        if (!ACTS(u_spring_owner[i])) continue;
         f -= u_spring[i].w * (x - u_spring[i].xyz);
     }
 #endif
 #if N_VORTICES > 0
     for (int i = 0; i < N_VORTICES; i++) {
+        if (!ACTS(u_vortex_owner[i])) continue;
         vec3 rel = x - u_vortex[i].xyz;
         vec3 ax = u_vortex_axis[i];
         vec3 perp = rel - dot(rel, ax) * ax;
@@ -141,5 +172,6 @@ vec3 acceleration(vec3 x, vec3 v, float inv_mass) {
 // The same for a particle of `type` at its type's mass (init.frag's Verlet start; with a mass
 // range, u_inv_mass holds the inverse of the range's middle).
 vec3 acceleration(vec3 x, vec3 v, int type) {
+    force_type = type;
     return acceleration(x, v, u_inv_mass[type]);
 }

@@ -23,6 +23,7 @@ void main() {
         o_previous = p;
         return;
     }
+    force_type = type;
     vec3 a = acceleration(p.xyz, v, particle_inv_mass(type, st.w));
     o_previous = fp_store(vec4(p.xyz - v * u_dt + 0.5 * a * u_dt * u_dt, p.w));
 }

@@ -2,7 +2,9 @@
 // unique identifier into R and G (PACKED: two consecutive entries per RGBA texel, §4.3.3).
 // Keys: the signed distance to the viewer (u_direction = +1 front to back, -1 back to front), or
 // with KEY_GRID the index of the particle's cell in a lattice of mesh size u_grid_spacing, cells
-// enumerated in z, y, x order. Dead particles (u_cull_dead and life <= 0) get +inf; entries past
+// enumerated in z, y, x order, or with KEY_AGE the particle's age (total life from the static
+// texture minus the remaining life) times u_direction * u_age_sign: u_age_sign = +1 puts the
+// youngest where the nearest would be (on top), -1 the oldest. Dead particles (u_cull_dead and life <= 0) get +inf; entries past
 // the particle count are padding with a NaN key, which sorts after everything (ids break ties,
 // so padding lands after every real particle, NaN keys included).
 // Identifiers are the particle index, or with ID_TABLE the paper's 24-bit-safe enumeration
@@ -23,6 +25,10 @@ uniform float u_direction;
 uniform vec3 u_grid_origin;
 uniform float u_grid_spacing;
 uniform ivec3 u_grid_dims;
+#ifdef KEY_AGE
+uniform sampler2D u_static;
+uniform float u_age_sign;
+#endif
 #ifdef ID_TABLE
 uniform sampler2D u_id_table;
 uniform int u_id_table_width;
@@ -60,6 +66,9 @@ vec2 entry(int i) {
 #ifdef KEY_GRID
     ivec3 c = clamp(ivec3(floor((p.xyz - u_grid_origin) / u_grid_spacing)), ivec3(0), u_grid_dims - 1);
     return vec2(float((c.z * u_grid_dims.y + c.y) * u_grid_dims.x + c.x), id);
+#elif defined(KEY_AGE)
+    float total = texelFetch(u_static, ivec2(i % u_state_width, i / u_state_width), 0).z;
+    return vec2(u_direction * u_age_sign * (total - p.w), id);
 #else
     return vec2(u_direction * distance(p.xyz, u_eye), id);
 #endif

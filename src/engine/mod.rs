@@ -22,7 +22,7 @@ mod scene_engine;
 pub use cpu::{CpuEngine, CpuSim, FramePhases};
 pub use fire::FireEngine;
 pub use overrides::{Overrides, Prepared};
-pub use particles::{compact_depth_range, Engine};
+pub use particles::{compact_depth_range, key_mode, Engine};
 pub use run::{
     Event, FolderSink, FrameLoop, FrameSink, FrameTimes, LoopOptions, LoopSummary, MemorySink,
     NonFinitePolicy,

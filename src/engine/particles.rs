@@ -5,6 +5,7 @@ use super::shader_seed;
 use crate::error::Result;
 use crate::gl::Context;
 use crate::render::FrameTarget;
+use crate::scene::SortKey;
 
 /// Runs a scene of the particle pipeline: simulation, the sort alpha blending needs, rendering.
 ///
@@ -44,6 +45,7 @@ struct SortStage {
     sorter: crate::sort::Sorter,
     sorted: crate::gl::Framebuffer,
     back_to_front: bool,
+    key: SortKey,
     spread: bool,
     keyed: bool,
     /// The simulation step the sorted textures were made at: a draw at the same step reuses
@@ -106,6 +108,7 @@ impl Engine {
                     sorter,
                     sorted,
                     back_to_front: scene.render.order == DrawOrder::BackToFront,
+                    key: scene.render.sort.key,
                     spread: p.passes_per_frame.is_some(),
                     keyed: false,
                     ordered_at: None,
@@ -220,10 +223,7 @@ impl Engine {
         let Some(s) = &mut self.sort else {
             return Ok(false);
         };
-        let mode = crate::sort::KeyMode::ViewerDistance {
-            eye: self.camera.eye(),
-            back_to_front: s.back_to_front,
-        };
+        let mode = key_mode(s.key, self.camera.eye(), s.back_to_front);
         let texels = self.sim.size().x as usize * self.sim.size().y as usize;
         if s.sorter.quantiser().is_some() {
             let (lo, hi) = compact_depth_range(self.camera.distance);
@@ -234,14 +234,16 @@ impl Engine {
             };
             s.sorter.set_key_range(lo, hi)?;
         }
-        if s.spread && s.keyed {
-            s.sorter
-                .refresh_keys(self.sim.positions(), texels, &mode, true)?;
-        } else {
-            s.sorter
-                .write_keys(self.sim.positions(), texels, &mode, true)?;
-            s.keyed = true;
-        }
+        let refresh = s.spread && s.keyed;
+        s.sorter.write_keys_with_statics(
+            self.sim.positions(),
+            self.sim.statics(),
+            texels,
+            &mode,
+            true,
+            refresh,
+        )?;
+        s.keyed = true;
         seen("keys", &s.sorter)?;
         s.sorter.sort_frame();
         seen("network", &s.sorter)?;
@@ -334,4 +336,15 @@ impl Engine {
 /// is small).
 pub fn compact_depth_range(distance: f32) -> (f32, f32) {
     (0.0, 3.0 * distance.max(1e-3))
+}
+
+/// What the key pass computes for a scene's `render.sort.key`, seen from `eye`.
+pub fn key_mode(key: SortKey, eye: glam::Vec3, back_to_front: bool) -> crate::sort::KeyMode {
+    match key {
+        SortKey::Distance => crate::sort::KeyMode::ViewerDistance { eye, back_to_front },
+        age => crate::sort::KeyMode::Age {
+            youngest_on_top: age == SortKey::YoungestOnTop,
+            back_to_front,
+        },
+    }
 }

@@ -4,7 +4,7 @@
 
 use std::fmt;
 
-use crate::scene::{Blending, DrawMode, DrawOrder, DrawPrimitive, RenderPath, SceneFile};
+use crate::scene::{Blending, DrawMode, DrawOrder, DrawPrimitive, RenderPath, SceneFile, SortKey};
 use crate::sim::particles::Features;
 use crate::sort::network::{bitonic_schedule, group_steps, odd_even_schedule};
 use crate::sort::Variant;
@@ -42,13 +42,7 @@ pub fn sort_plan(scene: &SceneFile) -> Option<SortPlan> {
     if scene.render.blending != Blending::Alpha {
         return None;
     }
-    let variant = scene
-        .render
-        .sort
-        .variant
-        .as_deref()
-        .map_or(Ok(Variant::OddEven), Variant::from_name)
-        .unwrap_or(Variant::OddEven);
+    let variant = scene.render.sort.variant.unwrap_or(Variant::OddEven);
     let [w, h] = scene.particles.size.map(|s| s.next_power_of_two().max(2));
     let block = w * h;
     let shape = if scene.render.sort.entries == Some(crate::scene::SortEntries::Compact) {
@@ -102,8 +96,13 @@ pub fn plan(scene: &SceneFile) -> Plan {
             DrawOrder::BackToFront => "back to front",
             DrawOrder::FrontToBack => "front to back",
         };
+        let key = match r.sort.key {
+            SortKey::Distance => "distance to the viewer",
+            SortKey::YoungestOnTop => "age, the youngest on top",
+            SortKey::OldestOnTop => "age, the oldest on top",
+        };
         per_frame.push(format!(
-            "sort keys: distance to the viewer ({order}), {}x{} entries{}",
+            "sort keys: {key} ({order}), {}x{} entries{}",
             s.size[0],
             s.size[1],
             if s.passes_per_frame.is_some() {

@@ -152,6 +152,7 @@ mod tests {
             bursts: Vec::new(),
             size_range: None,
             flipbook: None,
+            forces: Default::default(),
         }
     }
 

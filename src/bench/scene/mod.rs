@@ -32,7 +32,7 @@ use crate::gl::{
     Blend, BlendComponent, BlendFactor, Context, Framebuffer, Texture, TextureDesc, TextureFormat,
 };
 use crate::scene::{DrawOrder, Scene, SceneFile};
-use crate::sort::{KeyMode, SortOptions, Sorter};
+use crate::sort::{SortOptions, Sorter};
 
 mod text;
 pub use text::{run_summary, scene_markdown, summary};
@@ -445,10 +445,8 @@ fn particles(
         // The frame's sorting, then its drawing.
         let sim = engine.sim();
         let count = if let Some((sorter, sorted, spread, keyed)) = &mut sort {
-            let mode = KeyMode::ViewerDistance {
-                eye: engine.camera().eye(),
-                back_to_front,
-            };
+            let mode =
+                crate::engine::key_mode(s.render.sort.key, engine.camera().eye(), back_to_front);
             if sorter.quantiser().is_some() {
                 let (lo, hi) = crate::engine::compact_depth_range(engine.camera().distance);
                 let (lo, hi) = if back_to_front { (-hi, -lo) } else { (lo, hi) };
@@ -456,15 +454,22 @@ fn particles(
             }
             let f = timer.time(|| floor1.draw(sorter.keys_target()))?;
             let t = timed(timer, || {
-                if *spread && *keyed {
-                    sorter.refresh_keys(sim.positions(), texels, &mode, true)
-                } else {
-                    sorter.write_keys(sim.positions(), texels, &mode, true)
-                }
+                let refresh = *spread && *keyed;
+                sorter.write_keys_with_statics(
+                    sim.positions(),
+                    sim.statics(),
+                    texels,
+                    &mode,
+                    true,
+                    refresh,
+                )
             })?;
             *keyed = true;
             phases.push(
-                "sort keys: distance to the viewer",
+                match s.render.sort.key {
+                    crate::scene::SortKey::Distance => "sort keys: distance to the viewer",
+                    _ => "sort keys: age",
+                },
                 "write-only pass into the sort texture",
                 t,
                 f,

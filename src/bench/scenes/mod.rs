@@ -90,7 +90,7 @@ fn e2(_: u32) -> Result<SceneFile> {
 /// E3 as this machine runs it best: the e3 scene with our blocked sort (fragment passes only).
 fn e3(_: u32) -> Result<SceneFile> {
     let mut s = crate::scene::load("e3")?;
-    s.render.sort.variant = Some(crate::sort::Variant::Blocked.name().into());
+    s.render.sort.variant = Some(crate::sort::Variant::Blocked);
     Ok(s)
 }
 /// E3 as the paper runs it: the e3 scene's own GP/FP packed bitonic sort.

@@ -39,7 +39,7 @@ use crate::gl::{
     VertexArray, FULLSCREEN_VERTEX,
 };
 use crate::render::{relative_age, Camera, FrameTarget, ParticleStyle};
-use crate::scene::{Blending, DrawMode, DrawOrder, SceneFile};
+use crate::scene::{Blending, DrawMode, DrawOrder, SceneFile, SortKey};
 
 /// Where the time of one CPU-engine frame goes ([`CpuEngine::timed_frame`]), in milliseconds.
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
@@ -237,6 +237,8 @@ impl CpuEngine {
         let positions = &self.sim.positions;
         let sort = self.style.blending == Blending::Alpha;
         let back_to_front = self.style.order == DrawOrder::BackToFront;
+        let by = self.sim.scene.render.sort.key;
+        let statics = &self.sim.statics;
         self.keys.clear();
         self.keys.par_extend(
             positions
@@ -248,9 +250,14 @@ impl CpuEngine {
                     if !sort {
                         return i as u64;
                     }
-                    // Squared distance: the order of the distance, without the root. Its bits
-                    // order as the numbers do (finite, non-negative); inverted: far first.
-                    let bits = p.truncate().distance_squared(eye).to_bits();
+                    // m: smaller is more on top. Squared distance: the order of the distance,
+                    // without the root; the age (as the GPU's key pass computes it), negated
+                    // for the oldest on top. Inverted: the least on top drawn first.
+                    let bits = match by {
+                        SortKey::Distance => p.truncate().distance_squared(eye).to_bits(),
+                        SortKey::YoungestOnTop => ordered_bits(statics[i].z - p.w),
+                        SortKey::OldestOnTop => ordered_bits(-(statics[i].z - p.w)),
+                    };
                     let key = if back_to_front { !bits } else { bits };
                     ((key as u64) << 32) | i as u64
                 }),
@@ -258,7 +265,6 @@ impl CpuEngine {
         if sort {
             self.keys.par_sort_unstable();
         }
-        let statics = &self.sim.statics;
         self.keys
             .par_iter()
             .with_min_len(CHUNK)
@@ -355,5 +361,15 @@ impl CpuEngine {
     /// The context.
     pub fn context(&self) -> &Context {
         &self.ctx
+    }
+}
+
+/// The bits of a finite float, mapped so that they order as the numbers do (negative ones too).
+fn ordered_bits(x: f32) -> u32 {
+    let b = x.to_bits();
+    if b >> 31 == 1 {
+        !b
+    } else {
+        b | 0x8000_0000
     }
 }

@@ -76,6 +76,13 @@ impl CpuSim {
         if scene.collisions.is_some() {
             return Err(unsupported(scene, "collisions between particles"));
         }
+        if features.emitter_forces {
+            return Err(unsupported(
+                scene,
+                "forces per emitter ([[emitters.*.forces.*]]): give them in [[forces.*]], \
+                 or run the scene on the GPU engine",
+            ));
+        }
         let birth = match features.emission {
             Emission::Timestamp => Birth::Timestamp,
             Emission::Initial { .. } => Birth::Initial,

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::one;
-use super::Keyframe;
+use super::{Forces, Keyframe};
 
 /// Emitters by kind.
 #[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
@@ -149,7 +149,17 @@ pub struct Emitter {
     pub size_range: Option<[f32; 2]>,
     /// An animated texture (the thesis §2.3): consecutive atlas tiles from `tile` shown in turn.
     pub flipbook: Option<Flipbook>,
+    /// Forces on this emitter's particles only (its type), beside the scene's `[[forces.*]]`,
+    /// which act on every particle: `[[emitters.<kind>.forces.gravity]]` and the other kinds,
+    /// with the same keys. Gravity, damping, attractors, springs and vortices (at most
+    /// [`MAX_EMITTER_FORCES`] of each of the last three); no wind or custom force.
+    #[serde(default)]
+    pub forces: Forces,
 }
+
+/// Most attractors, springs or vortices (each kind) one emitter carries: every one is a few
+/// uniform vectors of the integration pass, whose total the GL limits.
+pub const MAX_EMITTER_FORCES: usize = 4;
 
 /// Most bursts per emitter.
 pub const MAX_BURSTS: usize = 4;

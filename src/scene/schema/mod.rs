@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 pub use constraints::{ConstraintKind, Constraints, MAX_CONSTRAINT_ITERATIONS};
 pub use emitters::{
     AllocatorKind, Burst, Emitter, Emitters, Flipbook, Shape, MAX_BURSTS, MAX_EMITTERS,
+    MAX_EMITTER_FORCES,
 };
 pub use forces::{
     Attractor, BoxCollider, Colliders, CustomForce, Damping, Falloff, FieldData, Forces, Gravity,
@@ -22,7 +23,7 @@ pub use forces::{
 };
 pub use render::{
     Blending, CameraSection, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath,
-    SortEntries, SortSection, Variant, MAX_KEYFRAMES,
+    SortEntries, SortKey, SortSection, Variant, MAX_KEYFRAMES,
 };
 
 pub(super) fn one() -> f32 {

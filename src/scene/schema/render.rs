@@ -133,12 +133,40 @@ pub struct Keyframe {
     pub rgba: [f32; 4],
 }
 
+/// What alpha blending sorts by: which particles are drawn on top.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SortKey {
+    /// The distance to the viewer: the nearest on top (UberFlow §4.3, Latta §3.4.4).
+    #[default]
+    Distance,
+    /// The age (total life minus remaining life): the youngest on top, as bevy_hanabi's and
+    /// Unity VFX Graph's sort by age offers.
+    YoungestOnTop,
+    /// The age: the oldest on top.
+    OldestOnTop,
+}
+
+impl SortKey {
+    /// The name in scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            SortKey::Distance => "distance",
+            SortKey::YoungestOnTop => "youngest_on_top",
+            SortKey::OldestOnTop => "oldest_on_top",
+        }
+    }
+}
+
 /// Sorting for alpha blending.
 #[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SortSection {
     /// Sort variant (`fp`, `gpfp`, `packed`, `oddeven`, `multistep`, `blocked`); default `oddeven`.
-    pub variant: Option<String>,
+    pub variant: Option<Variant>,
+    /// What the sort orders by: `distance` (default), `youngest_on_top` or `oldest_on_top`.
+    #[serde(default)]
+    pub key: SortKey,
     /// Spread one sort over frames with this many passes per frame (Latta).
     pub passes_per_frame: Option<u32>,
     /// The blocked sort's entries: `exact` (default) or `compact` (4 bytes, the depth quantised
@@ -159,8 +187,9 @@ pub enum SortEntries {
 }
 
 /// The sort implementations, named by `render.sort.variant` and `--variant` (the sorter itself,
-/// and what each variant lays out, is `crate::sort`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+/// and what each variant lays out, is `crate::sort`). A scene file names them by the same words
+/// as the command line ([`Variant::name`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Variant {
     /// UberFlow's FP: everything derived in the fragment program.
@@ -208,8 +237,9 @@ impl Variant {
             .find(|v| v.name() == s)
             .ok_or_else(|| {
                 Error::InvalidInput(format!(
-                    "unknown sort variant `{s}`: use one of {}",
-                    Variant::ALL.map(Variant::name).join(", ")
+                    "unknown sort variant `{s}`: use one of {}{}",
+                    Variant::ALL.map(Variant::name).join(", "),
+                    crate::scene::did_you_mean(s, Variant::ALL.map(Variant::name))
                 ))
             })
     }

@@ -1,8 +1,11 @@
 //! `[[forces.*]]`: springs, vortices, attractors and the one wind field.
 
-use super::{bounded, direction, fail, nonzero, path, Check, MAX_COORDINATE};
+use super::{bounded, direction, fail, nonzero, Check, MAX_COORDINATE};
 use crate::scene::locate::Key;
-use crate::scene::schema::{Falloff, SceneFile, VortexForm, WindForm, MAX_CUSTOM_FORCES};
+use crate::scene::schema::{
+    Falloff, Forces, SceneFile, Simulation, VortexForm, WindForm, MAX_CUSTOM_FORCES,
+    MAX_EMITTER_FORCES,
+};
 
 use Key::{Index as I, Name as N};
 
@@ -27,32 +30,94 @@ pub(super) fn per_step(dt: f32, at: Vec<Key>, what: &str, rate: f32) -> Check {
     Ok(())
 }
 
-/// `[[forces.spring]]`, `[[forces.vortex]]`, `[[forces.attractor]]`, `[[forces.wind]]`.
+/// `[[forces.spring]]`, `[[forces.vortex]]`, `[[forces.attractor]]`, `[[forces.wind]]`, and
+/// the forces of every emitter (`[[emitters.<kind>.forces.*]]`).
 pub(super) fn forces(s: &SceneFile) -> Check {
+    kinds(s, &[N("forces")], &s.forces)?;
+    let lists = [
+        ("allocator", &s.emitters.allocator),
+        ("timestamp", &s.emitters.timestamp),
+        ("initial", &s.emitters.initial),
+    ];
+    for (kind, list) in lists {
+        for (i, e) in list.iter().enumerate() {
+            emitter_forces(s, &[N("emitters"), N(kind), I(i), N("forces")], &e.forces)?;
+        }
+    }
+    Ok(())
+}
+
+/// An emitter's own forces: the kinds that are uniforms of the integration pass, a few of each.
+fn emitter_forces(s: &SceneFile, base: &[Key], f: &Forces) -> Check {
+    if !f.wind.is_empty() {
+        return fail(
+            at(base, &[N("wind"), I(0)]),
+            "a wind is one 3D flow-field texture for the whole scene: give it in \
+             [[forces.wind]] (it acts on every emitter's particles)",
+        );
+    }
+    if !f.custom.is_empty() {
+        return fail(
+            at(base, &[N("custom"), I(0)]),
+            "a custom force is compiled once for the whole scene and gets each particle's \
+             `type` (its emitter's place): give it in [[forces.custom]] and act on the types \
+             it is for",
+        );
+    }
+    let counts = [
+        ("attractor", f.attractor.len()),
+        ("spring", f.spring.len()),
+        ("vortex", f.vortex.len()),
+    ];
+    for (kind, n) in counts {
+        if n > MAX_EMITTER_FORCES {
+            return fail(
+                at(base, &[N(kind), I(MAX_EMITTER_FORCES)]),
+                format!(
+                    "{n} {kind} forces on one emitter are too many: at most \
+                     {MAX_EMITTER_FORCES} of each kind per emitter (each is uniforms of the \
+                     integration pass, whose total the GL limits); move the ones shared by \
+                     every emitter to [[forces.{kind}]]"
+                ),
+            );
+        }
+    }
+    if s.simulation == Simulation::Stateless && *f != Forces::default() {
+        return fail(
+            base.to_vec(),
+            "a stateless simulation has one closed form for every particle: give its gravity \
+             and damping in [[forces.*]], or use simulation = \"stateful\"",
+        );
+    }
+    kinds(s, base, f)
+}
+
+fn at(base: &[Key], more: &[Key]) -> Vec<Key> {
+    [base, more].concat()
+}
+
+/// The forces of one list (the scene's, or an emitter's), at `base`.
+fn kinds(s: &SceneFile, base: &[Key], f: &Forces) -> Check {
     let dt = s.time.dt;
     let per_step = |at, what: &str, rate| per_step(dt, at, what, rate);
-    for (i, g) in s.forces.gravity.iter().enumerate() {
+    for (i, g) in f.gravity.iter().enumerate() {
         bounded(
-            path(&[N("forces"), N("gravity"), I(i), N("acceleration")]),
+            at(base, &[N("gravity"), I(i), N("acceleration")]),
             "acceleration",
             &g.acceleration,
         )?;
     }
-    for (i, d) in s.forces.damping.iter().enumerate() {
-        per_step(
-            path(&[N("forces"), N("damping"), I(i), N("rate")]),
-            "rate",
-            d.rate,
-        )?;
+    for (i, d) in f.damping.iter().enumerate() {
+        per_step(at(base, &[N("damping"), I(i), N("rate")]), "rate", d.rate)?;
     }
-    for (i, sp) in s.forces.spring.iter().enumerate() {
+    for (i, sp) in f.spring.iter().enumerate() {
         if sp.stiffness < 0.0 {
             return fail(
-                path(&[N("forces"), N("spring"), I(i), N("stiffness")]),
+                at(base, &[N("spring"), I(i), N("stiffness")]),
                 format!("stiffness {} N/m must not be negative", sp.stiffness),
             );
         }
-        let at = |k| path(&[N("forces"), N("spring"), I(i), N(k)]);
+        let at = |k| at(base, &[N("spring"), I(i), N(k)]);
         bounded(at("anchor"), "anchor", &sp.anchor)?;
         if sp.stiffness > MAX_COORDINATE {
             return fail(
@@ -61,14 +126,14 @@ pub(super) fn forces(s: &SceneFile) -> Check {
             );
         }
     }
-    for (i, v) in s.forces.vortex.iter().enumerate() {
+    for (i, v) in f.vortex.iter().enumerate() {
         if !nonzero(v.axis) {
             return fail(
-                path(&[N("forces"), N("vortex"), I(i), N("axis")]),
+                at(base, &[N("vortex"), I(i), N("axis")]),
                 "axis must not be zero",
             );
         }
-        let at = |k| path(&[N("forces"), N("vortex"), I(i), N(k)]);
+        let at = |k| at(base, &[N("vortex"), I(i), N(k)]);
         direction(at("axis"), "axis", v.axis)?;
         if v.softening <= 0.0 {
             return fail(at("softening"), "softening must be above 0");
@@ -88,25 +153,25 @@ pub(super) fn forces(s: &SceneFile) -> Check {
         bounded(at("point"), "point", &v.point)?;
         bounded(at("strength"), "strength", &[v.strength])?;
     }
-    for (i, a) in s.forces.attractor.iter().enumerate() {
+    for (i, a) in f.attractor.iter().enumerate() {
         if a.softening <= 0.0 {
             return fail(
-                path(&[N("forces"), N("attractor"), I(i), N("softening")]),
+                at(base, &[N("attractor"), I(i), N("softening")]),
                 "softening must be above 0",
             );
         }
         if a.max_distance.is_some_and(|d| d <= 0.0) {
             return fail(
-                path(&[N("forces"), N("attractor"), I(i), N("max_distance")]),
+                at(base, &[N("attractor"), I(i), N("max_distance")]),
                 "max_distance must be above 0",
             );
         }
-        let at = |k| path(&[N("forces"), N("attractor"), I(i), N(k)]);
+        let at = |k| at(base, &[N("attractor"), I(i), N(k)]);
         bounded(at("position"), "position", &a.position)?;
         bounded(at("strength"), "strength", &[a.strength])?;
     }
-    for (i, wnd) in s.forces.wind.iter().enumerate() {
-        let at = |k| path(&[N("forces"), N("wind"), I(i), N(k)]);
+    for (i, wnd) in f.wind.iter().enumerate() {
+        let at = |k| at(base, &[N("wind"), I(i), N(k)]);
         if wnd.drag < 0.0 {
             return fail(at("drag"), "drag must not be negative");
         }
@@ -165,23 +230,23 @@ pub(super) fn forces(s: &SceneFile) -> Check {
             );
         }
     }
-    if s.forces.custom.len() > MAX_CUSTOM_FORCES {
+    if f.custom.len() > MAX_CUSTOM_FORCES {
         return fail(
-            path(&[N("forces"), N("custom"), I(MAX_CUSTOM_FORCES)]),
+            at(base, &[N("custom"), I(MAX_CUSTOM_FORCES)]),
             format!("at most {MAX_CUSTOM_FORCES} custom forces per scene"),
         );
     }
-    for (i, c) in s.forces.custom.iter().enumerate() {
+    for (i, c) in f.custom.iter().enumerate() {
         if c.glsl.trim().is_empty() || c.glsl.contains('"') || c.glsl.contains('\n') {
             return fail(
-                path(&[N("forces"), N("custom"), I(i), N("glsl")]),
+                at(base, &[N("custom"), I(i), N("glsl")]),
                 "glsl must name a GLSL file (relative to the scene file), e.g. \"wind.glsl\"",
             );
         }
     }
-    if s.forces.wind.len() > 1 {
+    if f.wind.len() > 1 {
         return fail(
-            path(&[N("forces"), N("wind"), I(1)]),
+            at(base, &[N("wind"), I(1)]),
             "one wind field per scene (it is one 3D texture)",
         );
     }

@@ -4,7 +4,7 @@ use super::{fail, path, Check};
 use crate::scene::locate::Key;
 use crate::scene::schema::{
     Blending, DrawPrimitive, Emitter, Keyframe, Precision, Render, RenderPath, SceneFile,
-    SortEntries, Variant,
+    SortEntries, SortKey, Variant,
 };
 
 use Key::{Index as I, Name as N};
@@ -92,17 +92,30 @@ pub(super) fn render(s: &SceneFile) -> Check {
             emitter_look(&[N("emitters"), N(kind), I(i)], e)?;
         }
     }
-    if let Some(v) = &r.sort.variant {
-        if let Err(e) = Variant::from_name(v) {
-            return fail(path(&[N("render"), N("sort"), N("variant")]), e.to_string());
-        }
+    if r.sort.key != SortKey::Distance && r.blending != Blending::Alpha {
+        return fail(
+            path(&[N("render"), N("sort"), N("key")]),
+            format!(
+                "key = \"{}\" orders the drawing of alpha blending, and blending = \"{}\" \
+                 draws in any order: set blending = \"alpha\", or remove the key",
+                r.sort.key.name(),
+                blending_name(r.blending)
+            ),
+        );
     }
-    let blocked = r.sort.variant.as_deref() == Some(Variant::Blocked.name());
+    let blocked = r.sort.variant == Some(Variant::Blocked);
     if r.sort.entries == Some(SortEntries::Compact) && !blocked {
         return fail(
             path(&[N("render"), N("sort"), N("entries")]),
             "compact entries are the blocked sort's: set render.sort.variant = \"blocked\", or \
              remove entries",
+        );
+    }
+    if r.sort.entries == Some(SortEntries::Compact) && r.sort.key != SortKey::Distance {
+        return fail(
+            path(&[N("render"), N("sort"), N("entries")]),
+            "compact entries quantise the depth over the camera's range: sort by key = \
+             \"distance\", or remove entries",
         );
     }
     if blocked && r.blending == Blending::Alpha && r.sort.passes_per_frame.is_some() {
@@ -159,6 +172,14 @@ fn fire_render(r: &Render) -> Check {
             ),
         ),
         None => Ok(()),
+    }
+}
+
+fn blending_name(b: Blending) -> &'static str {
+    match b {
+        Blending::Additive => "additive",
+        Blending::Multiplicative => "multiplicative",
+        Blending::Alpha => "alpha",
     }
 }
 

@@ -36,12 +36,15 @@ pub struct Features {
     pub types: usize,
     /// Any gravity.
     pub gravity: bool,
-    /// Point attractors and repulsors.
+    /// Point attractors and repulsors (the scene's, then every emitter's).
     pub attractors: usize,
-    /// Springs.
+    /// Springs (the scene's, then every emitter's).
     pub springs: usize,
-    /// Vortices.
+    /// Vortices (the scene's, then every emitter's).
     pub vortices: usize,
+    /// Some emitter carries forces of its own: gravity and damping per type, and an owner
+    /// type for every attractor, spring and vortex.
+    pub emitter_forces: bool,
     /// Any damping.
     pub damping: bool,
     /// A wind flow field.
@@ -101,9 +104,11 @@ impl Features {
             emission,
             types: em.len().max(1),
             gravity: !f.gravity.is_empty(),
-            attractors: f.attractor.len(),
-            springs: f.spring.len(),
-            vortices: f.vortex.len(),
+            attractors: f.attractor.len()
+                + em.all().map(|e| e.forces.attractor.len()).sum::<usize>(),
+            springs: f.spring.len() + em.all().map(|e| e.forces.spring.len()).sum::<usize>(),
+            vortices: f.vortex.len() + em.all().map(|e| e.forces.vortex.len()).sum::<usize>(),
+            emitter_forces: em.all().any(|e| e.forces != scene::Forces::default()),
             damping: !f.damping.is_empty(),
             wind: !f.wind.is_empty(),
             wind_form: f.wind.first().map(|w| w.form).unwrap_or_default(),
@@ -203,6 +208,9 @@ impl Features {
         if self.damping {
             def("DAMPING", "1".into());
         }
+        if self.emitter_forces {
+            def("EMITTER_FORCES", "1".into());
+        }
         if self.wind {
             def("WIND", "1".into());
             def("WIND_FORM", (self.wind_form as u8).to_string());
@@ -290,6 +298,9 @@ impl Features {
         }
         if self.damping {
             forces.push("damping".to_owned());
+        }
+        if self.emitter_forces {
+            forces.push("forces per emitter (by the particle's type)".to_owned());
         }
         if self.wind {
             forces.push(

@@ -94,7 +94,21 @@ fn set_constants(
     let gravity: Vec3 = f.gravity.iter().map(|g| v3(g.acceleration)).sum();
     p.set_vec3("u_gravity", gravity);
     p.set_f32("u_damping", f.damping.iter().map(|d| d.rate).sum());
-    for (i, a) in f.attractor.iter().enumerate() {
+    // The scene's forces (owner -1: every type), then each emitter's (owner: its type), in the
+    // order Features counts them.
+    let lists = || {
+        std::iter::once((-1, f)).chain(
+            s.emitters
+                .all()
+                .enumerate()
+                .map(|(k, e)| (k as i32, &e.forces)),
+        )
+    };
+    let owned = |list: fn(&scene::Forces) -> usize| {
+        lists().flat_map(move |(owner, fs)| (0..list(fs)).map(move |j| (owner, fs, j)))
+    };
+    for (i, (owner, fs, j)) in owned(|f| f.attractor.len()).enumerate() {
+        let a = &fs.attractor[j];
         p.set_vec4(
             &format!("u_attractor[{i}]"),
             v3(a.position).extend(a.strength),
@@ -108,18 +122,30 @@ fn set_constants(
                 0.0,
             ),
         );
+        p.set_i32(&format!("u_attractor_owner[{i}]"), owner);
     }
-    for (i, sp) in f.spring.iter().enumerate() {
+    for (i, (owner, fs, j)) in owned(|f| f.spring.len()).enumerate() {
+        let sp = &fs.spring[j];
         p.set_vec4(
             &format!("u_spring[{i}]"),
             v3(sp.anchor).extend(sp.stiffness),
         );
+        p.set_i32(&format!("u_spring_owner[{i}]"), owner);
     }
-    for (i, v) in f.vortex.iter().enumerate() {
+    for (i, (owner, fs, j)) in owned(|f| f.vortex.len()).enumerate() {
+        let v = &fs.vortex[j];
         p.set_vec4(&format!("u_vortex[{i}]"), v3(v.point).extend(v.strength));
         p.set_vec3(&format!("u_vortex_axis[{i}]"), v3(v.axis).normalize());
         p.set_vec4(&format!("u_vortex_shape[{i}]"), vortex_shape(v));
+        p.set_i32(&format!("u_vortex_owner[{i}]"), owner);
     }
+    let mut damping = [0.0f32; 4];
+    for (k, e) in s.emitters.all().enumerate().take(4) {
+        let g: Vec3 = e.forces.gravity.iter().map(|g| v3(g.acceleration)).sum();
+        p.set_vec3(&format!("u_type_gravity[{k}]"), g);
+        damping[k] = e.forces.damping.iter().map(|d| d.rate).sum();
+    }
+    p.set_vec4("u_type_damping", Vec4::from(damping));
     if let (Some(w), Some((_, field))) = (f.wind.first(), &fields.flow) {
         p.set_vec3("u_flow_min", v3(w.bounds[0]));
         p.set_vec3("u_flow_max", v3(w.bounds[1]));

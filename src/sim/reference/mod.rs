@@ -184,6 +184,13 @@ impl Reference {
                 scene.name
             )));
         }
+        if features.emitter_forces {
+            return Err(Error::InvalidInput(format!(
+                "scene `{}`: the reference models the scene's [[forces.*]], not forces per \
+                 emitter ([[emitters.*.forces.*]])",
+                scene.name
+            )));
+        }
         if features.emission == Emission::Timestamp {
             return Err(Error::InvalidInput(format!(
                 "scene `{}`: the reference does not cover time-stamp emission",

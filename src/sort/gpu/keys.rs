@@ -16,12 +16,35 @@ impl Sorter {
         mode: &KeyMode,
         cull_dead: bool,
     ) -> Result<()> {
-        self.write_keys_with(positions, count, mode, cull_dead, false)
+        self.write_keys_with(positions, None, count, mode, cull_dead, false)
+    }
+
+    /// [`write_keys`](Self::write_keys) (or with `refresh`, [`refresh_keys`](Self::refresh_keys))
+    /// with the particles' static texture (birth time or phase, type, total life, random), which
+    /// [`KeyMode::Age`] reads the total life from.
+    pub fn write_keys_with_statics(
+        &mut self,
+        positions: &Texture,
+        statics: &Texture,
+        count: usize,
+        mode: &KeyMode,
+        cull_dead: bool,
+        refresh: bool,
+    ) -> Result<()> {
+        if refresh {
+            self.check_refresh()?;
+            let next = self.next;
+            self.write_keys_with(positions, Some(statics), count, mode, cull_dead, true)?;
+            self.next = next;
+            return Ok(());
+        }
+        self.write_keys_with(positions, Some(statics), count, mode, cull_dead, false)
     }
 
     fn write_keys_with(
         &mut self,
         positions: &Texture,
+        statics: Option<&Texture>,
         count: usize,
         mode: &KeyMode,
         cull_dead: bool,
@@ -34,13 +57,24 @@ impl Sorter {
             )));
         }
         let grid = matches!(mode, KeyMode::GridCell { .. });
-        let key = ProgramKey::Keys { grid, rekey };
+        let age = matches!(mode, KeyMode::Age { .. });
+        if age && statics.is_none_or(|t| t.texels() < count) {
+            return Err(Error::InvalidInput(
+                "age keys read each particle's total life from its static texture: use \
+                 write_keys_with_statics with a static texture of the state's size"
+                    .into(),
+            ));
+        }
+        let key = ProgramKey::Keys { grid, age, rekey };
         let mut extra: Vec<(&str, &str)> = Vec::new();
         if rekey {
             extra.push(("REKEY", "1"));
         }
         if grid {
             extra.push(("KEY_GRID", "1"));
+        }
+        if age {
+            extra.push(("KEY_AGE", "1"));
         }
         if self.variant.packed() {
             extra.push(("PACKED", "1"));
@@ -62,6 +96,15 @@ impl Sorter {
                 p.set_vec3("u_eye", eye);
                 p.set_f32("u_direction", if back_to_front { -1.0 } else { 1.0 });
             }
+            KeyMode::Age {
+                youngest_on_top,
+                back_to_front,
+            } => {
+                // Key = direction × m, where a smaller m is more on top (as a smaller distance
+                // is): m = age for the youngest on top, -age for the oldest.
+                p.set_f32("u_direction", if back_to_front { -1.0 } else { 1.0 });
+                p.set_f32("u_age_sign", if youngest_on_top { 1.0 } else { -1.0 });
+            }
             KeyMode::GridCell {
                 origin,
                 spacing,
@@ -81,6 +124,10 @@ impl Sorter {
             self.state.front().texture(0).bind(2);
             p.set_i32("u_sorted", 2);
         }
+        if let (true, Some(t)) = (age, statics) {
+            t.bind(3);
+            p.set_i32("u_static", 3);
+        }
         self.fullscreen.draw(p, self.state.back());
         self.state.swap();
         self.next = 0;
@@ -97,14 +144,19 @@ impl Sorter {
         mode: &KeyMode,
         cull_dead: bool,
     ) -> Result<()> {
+        self.check_refresh()?;
+        let next = self.next;
+        self.write_keys_with(positions, None, count, mode, cull_dead, true)?;
+        self.next = next;
+        Ok(())
+    }
+
+    fn check_refresh(&self) -> Result<()> {
         if self.id_table.is_some() {
             return Err(Error::InvalidInput(
                 "refreshing keys in place needs plain identifiers, not the identifier table".into(),
             ));
         }
-        let next = self.next;
-        self.write_keys_with(positions, count, mode, cull_dead, true)?;
-        self.next = next;
         Ok(())
     }
 }

@@ -26,6 +26,16 @@ pub enum KeyMode {
         /// Sort the farthest first (for alpha blending).
         back_to_front: bool,
     },
+    /// The particle's age (total life from the static texture minus the remaining life), for
+    /// drawing the youngest or the oldest on top; needs the static texture
+    /// ([`Sorter::write_keys_with_statics`](super::Sorter::write_keys_with_statics)).
+    Age {
+        /// The youngest drawn on top (else the oldest).
+        youngest_on_top: bool,
+        /// Drawn first to last with the over operator (else with the under operator, where the
+        /// first drawn is on top).
+        back_to_front: bool,
+    },
     /// Index of the cell of a lattice, enumerated z, y, x (UberFlow §4.3).
     GridCell {
         /// Corner of cell (0, 0, 0).

@@ -1,12 +1,14 @@
 //! Spinning spheres (UberFlow §4.5) against closed forms: a frictional collision between
 //! particles conserves the total angular momentum about any point, Σ (x − p) × m v + I ω with
 //! I = 2/5 m r², and loses no energy; a ball on an incline with Coulomb friction slips until
-//! ω r = v, then rolls with the acceleration 5/7 g sin θ.
+//! ω r = v, then rolls with the acceleration 5/7 g sin θ; sprites with `rotate = "spin"` turn by
+//! the angle the simulation integrated.
 
 mod common;
 
 use common::{context, no_gl_error};
 use glam::Vec3;
+use texflow::render::ParticleStyle;
 use texflow::scene;
 use texflow::sim::ParticleSim;
 
@@ -57,8 +59,7 @@ fn angular_momentum(s: &[(Vec3, Vec3, Vec3)], p: Vec3) -> glam::DVec3 {
     let inertia = 0.4 * MASS as f64 * (RADIUS as f64).powi(2);
     s.iter()
         .map(|(x, v, w)| {
-            (x.as_dvec3() - p.as_dvec3()).cross(v.as_dvec3()) * MASS as f64
-                + w.as_dvec3() * inertia
+            (x.as_dvec3() - p.as_dvec3()).cross(v.as_dvec3()) * MASS as f64 + w.as_dvec3() * inertia
         })
         .sum()
 }
@@ -133,12 +134,27 @@ fn frictional_collisions_conserve_angular_momentum() {
             "{detection}: L0 {l0:.6?} L1 {l1:.6?} relative error {err:.3e}; energy {e0:.5} -> \
              {e1:.5}"
         );
-        assert!(err < 1e-5, "{detection}: angular momentum {l0:?} -> {l1:?} ({err:e})");
-        assert!((m1 - m0).length() < 1e-4 * m0.length(), "{detection}: momentum {m0} -> {m1}");
+        assert!(
+            err < 1e-5,
+            "{detection}: angular momentum {l0:?} -> {l1:?} ({err:e})"
+        );
+        assert!(
+            (m1 - m0).length() < 1e-4 * m0.length(),
+            "{detection}: momentum {m0} -> {m1}"
+        );
         assert!(e1 <= e0 * (1.0 + 1e-5), "{detection}: energy {e0} -> {e1}");
-        // Every particle's spin changed: each pair collided, with friction.
-        for (b, a) in before.iter().zip(&after) {
-            assert!((a.2 - b.2).length() > 0.5, "{detection}: spin {} -> {}", b.2, a.2);
+        // Every particle's spin changed (each pair collided, with friction): no spin after is
+        // any spin before. (The collision sort reorders the state, so compare with all.)
+        for a in &after {
+            let nearest = before
+                .iter()
+                .map(|b| (a.2 - b.2).length())
+                .fold(f32::MAX, f32::min);
+            assert!(
+                nearest > 0.5,
+                "{detection}: spin {} is one from the start",
+                a.2
+            );
         }
         // Nothing left overlapping.
         for i in 0..after.len() {
@@ -157,7 +173,7 @@ fn frictional_collisions_conserve_angular_momentum() {
 /// d(ω r)/dt = ±5/2 μ g cos θ, until u = 0; from then on (μ ≥ 2/7 tan θ) the ball rolls,
 /// ω = v / r, with dv/dt = 5/7 g sin θ. After 1 s every ball rolls: ω r = v within 1e-4, the
 /// speed matches the closed form within 1e-3, and the acceleration over the last 0.3 s matches
-/// 5/7 g sin θ within 1e-3. (Each step's friction impulse is the closed form's over dt: the
+/// 5/7 g sin θ within 1e-3; the spin texture's angle is Σ ω_z dt. (Each step's friction impulse is the closed form's over dt: the
 /// normal impulse per step is g cos θ dt, so llvmpipe agrees to about 3e-7.)
 #[test]
 fn balls_on_an_incline_roll_without_slipping() {
@@ -190,7 +206,7 @@ resilience = 0.0
         .iter()
         .enumerate()
         .map(|(i, &(v0, _))| {
-            let x = n * 1e-4 + Vec3::new(0.0, 0.0, i as f32);
+            let x = n * 1e-4 + Vec3::new(0.0, 0.0, i as f32 - 1.5);
             (x.to_array(), (down * v0).to_array())
         })
         .collect();
@@ -200,6 +216,8 @@ resilience = 0.0
         .map(|&(_, wr)| (axis * wr / RADIUS).to_array())
         .collect();
     set_spins(&mut sim, &spins);
+    // The collision sort keeps the balls in texel order: z, the slowest axis of the cell key,
+    // grows with the index, and every ball is in a cell of its own within the bounds.
     let speeds = |sim: &ParticleSim| -> Vec<(f32, f32)> {
         state(sim)
             .iter()
@@ -211,6 +229,19 @@ resilience = 0.0
     for _ in 0..steps {
         sim.step().unwrap();
         history.push(speeds(&sim));
+    }
+    // The sprite angle: each step adds its new ω_z dt (the axis is +z here), kept in (−π, π].
+    assert!((axis - Vec3::Z).length() < 1e-6);
+    let angles: Vec<f32> = sim.read_spins().unwrap().chunks(4).map(|w| w[3]).collect();
+    for (i, angle) in angles.iter().take(starts.len()).enumerate() {
+        let turned: f64 = history.iter().map(|h| (h[i].1 / RADIUS * dt) as f64).sum();
+        let expected = (turned + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+            - std::f64::consts::PI;
+        println!("ball {i}: angle {angle:.5} rad, Σ ω_z dt = {turned:.4} ≡ {expected:.5}");
+        assert!(
+            (*angle as f64 - expected).abs() < 1e-3,
+            "ball {i}: angle {angle}"
+        );
     }
     let t = steps as f32 * dt;
     let rolling_a = 5.0 / 7.0 * g * theta.sin();
@@ -234,9 +265,110 @@ resilience = 0.0
              ω r = {wr:.5} (ω r / v − 1 = {:.2e}); a = {a:.5} m/s² (5/7 g sin θ = {rolling_a:.5})",
             wr / v - 1.0
         );
-        assert!((wr / v - 1.0).abs() < 1e-4, "ball {i}: ω r = {wr} against v = {v}");
-        assert!((v / expected - 1.0).abs() < 1e-3, "ball {i}: v = {v} against {expected}");
-        assert!((a / rolling_a - 1.0).abs() < 1e-3, "ball {i}: a = {a} against {rolling_a}");
+        assert!(
+            (wr / v - 1.0).abs() < 1e-4,
+            "ball {i}: ω r = {wr} against v = {v}"
+        );
+        assert!(
+            (v / expected - 1.0).abs() < 1e-3,
+            "ball {i}: v = {v} against {expected}"
+        );
+        assert!(
+            (a / rolling_a - 1.0).abs() < 1e-3,
+            "ball {i}: a = {a} against {rolling_a}"
+        );
     }
+    no_gl_error(&ctx);
+}
+
+/// Draws one snowflake sprite (tile 1, random number 0.1, permanent, born at 0) at the origin
+/// at time `time`, turned by `style.rotate`; the spin texture's angle is `angle`.
+fn sprite(ctx: &texflow::gl::Context, style: &ParticleStyle, angle: f32, time: f32) -> Vec<u8> {
+    use texflow::gl::{Texture, TextureDesc, TextureFormat};
+    use texflow::render::{Camera, FrameState, FrameTarget, ParticleRenderer};
+    const S: u32 = 2;
+    let make = |label, data: [[f32; 4]; 4]| {
+        let t = Texture::new(
+            ctx,
+            TextureDesc {
+                width: S,
+                height: S,
+                format: TextureFormat::Rgba32F,
+                label,
+            },
+        )
+        .unwrap();
+        t.upload_f32(data.as_flattened()).unwrap();
+        t
+    };
+    let dead = [f32::INFINITY, f32::INFINITY, f32::INFINITY, 0.0];
+    let pos = make("position", [[0.0, 0.0, 0.0, 1.0], dead, dead, dead]);
+    let stat = make(
+        "statics",
+        [[0.0, 0.0, 0.0, 0.1], [0.0; 4], [0.0; 4], [0.0; 4]],
+    );
+    let spin = make(
+        "spin",
+        [[0.0, 0.0, 3.0, angle], [0.0; 4], [0.0; 4], [0.0; 4]],
+    );
+    let target = FrameTarget::new(ctx, 48, 48).unwrap();
+    let r = ParticleRenderer::new(ctx, style.clone(), S, S).unwrap();
+    r.clear(&target);
+    let camera = Camera {
+        distance: 4.0,
+        elevation: 0.0,
+        ..Camera::default()
+    };
+    let frame = FrameState {
+        positions: &pos,
+        statics: &stat,
+        motion: None,
+        time,
+        spins: Some(&spin),
+        count: 1,
+    };
+    r.draw_frame(&target, &frame, &camera).unwrap();
+    target.read_rgb().unwrap().into_raw()
+}
+
+/// `render.rotate = "spin"` turns a sprite by the spin texture's angle: a quarter turn there
+/// draws the same pixels as a quarter turn from the type's rotation speed (90°/s for 1 s,
+/// `rotate = "age"`), and differs from no turn; the age does not turn it.
+#[test]
+fn sprites_turn_by_the_spin_angle() {
+    use texflow::scene::{DrawMode, Rotate};
+    let ctx = context();
+    let style = |rotate, speed: f32| {
+        let mut s = ParticleStyle {
+            mode: DrawMode::Sprites,
+            point_size: 40.0,
+            rotate,
+            ..ParticleStyle::default()
+        };
+        s.types[0].tile = 1;
+        s.types[0].spin = [speed, speed];
+        s.keyframes = vec![texflow::scene::Keyframe {
+            age: 0.0,
+            rgba: [1.0; 4],
+        }];
+        s
+    };
+    let quarter = std::f32::consts::FRAC_PI_2;
+    let by_spin = sprite(&ctx, &style(Rotate::Spin, 0.0), quarter, 1.0);
+    let by_age = sprite(&ctx, &style(Rotate::Age, 90.0), 0.0, 1.0);
+    let unturned = sprite(&ctx, &style(Rotate::Spin, 0.0), 0.0, 1.0);
+    let later = sprite(&ctx, &style(Rotate::Spin, 90.0), quarter, 5.0);
+    let differ = |a: &[u8], b: &[u8]| a.iter().zip(b).filter(|(x, y)| x.abs_diff(**y) > 8).count();
+    assert!(unturned.iter().any(|&c| c > 0), "the sprite is drawn");
+    assert!(
+        differ(&by_spin, &by_age) == 0,
+        "{} channels differ",
+        differ(&by_spin, &by_age)
+    );
+    assert!(
+        differ(&by_spin, &unturned) > 20,
+        "a quarter turn changes the snowflake"
+    );
+    assert_eq!(by_spin, later, "the age and rotation speed do not turn it");
     no_gl_error(&ctx);
 }

@@ -443,8 +443,9 @@ impl Features {
         }
         if self.spin {
             out.push(
-                "spin (UberFlow §4.5): angular velocity and angle in a third MRT target of \
-                 integration and response; contact friction turns v and ω together"
+                "spin (UberFlow §4.5): angular velocity and angle, a third MRT target of \
+                 integration and response, gathered in cell order by a pass of its own after \
+                 each collision sort; contact friction turns v and ω together"
                     .into(),
             );
         }

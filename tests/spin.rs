@@ -15,6 +15,9 @@ use texflow::sim::ParticleSim;
 const RADIUS: f32 = 0.05;
 const MASS: f32 = 2.0;
 
+/// A particle's position and velocity, as `common::set_particles` takes them.
+type Particle = ([f32; 3], [f32; 3]);
+
 fn spin_scene(size: [u32; 2], detection: &str, extra: &str) -> scene::SceneFile {
     let src = format!(
         r#"
@@ -77,7 +80,7 @@ fn energy(s: &[(Vec3, Vec3, Vec3)]) -> f64 {
 
 /// Three off-centre pairs, far apart from each other, each with spins of its own: every pair
 /// collides once within the run.
-fn pairs() -> (Vec<([f32; 3], [f32; 3])>, Vec<[f32; 3]>) {
+fn pairs() -> (Vec<Particle>, Vec<[f32; 3]>) {
     let particles = vec![
         ([-0.3, 0.03, 0.0], [2.0, 0.0, 0.0]),
         ([0.1, -0.02, 0.01], [-1.0, 0.1, 0.3]),

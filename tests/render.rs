@@ -124,6 +124,7 @@ fn style(
         },
         keyframes: test_keyframes(),
         depth_test: false,
+        rotate: texflow::scene::Rotate::Age,
     }
 }
 
@@ -754,6 +755,7 @@ fn render_frame(
         statics: &stat,
         motion: motion.map(Motion::Velocity),
         time,
+        spins: None,
         count: N,
     };
     renderer.draw_frame(&target, &frame, cam).unwrap();
@@ -1142,6 +1144,7 @@ fn stretched_quads_are_as_long_as_the_screen_motion() {
                 dt,
             }),
             time: 0.0,
+            spins: None,
             count: N,
         };
         r.draw_frame(&target, &frame, &cam).unwrap();

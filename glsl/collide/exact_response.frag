@@ -19,6 +19,9 @@ uniform sampler2D u_position;   // the cell-sorted layout
 uniform sampler2D u_velocity;
 uniform sampler2D u_static;
 uniform sampler2D u_counts;     // first pass: (partners, truncated, closest, its distance)
+#ifdef SPIN
+uniform sampler2D u_spin;       // angular velocity, angle (collide/spin.glsl)
+#endif
 
 #include "common/mass.glsl"
 
@@ -38,6 +41,9 @@ vec3 advance(vec3 x, vec3 v, vec3 vb) {
 
 layout(location = 0) out vec4 o_position;
 layout(location = 1) out vec4 o_velocity;
+#ifdef SPIN
+layout(location = 2) out vec4 o_spin;
+#endif
 
 vec3 g_x;
 vec3 g_v;
@@ -59,6 +65,10 @@ void visit(int j) {
     float n_j = c_j.x;
     float w = 1.0 / max(max(g_n, n_j), 1.0);
     bool matched = j == g_closest && int(c_j.z) == g_self;
+#ifdef SPIN
+    pair_wi = spin_w;
+    pair_wj = texelFetch(u_spin, tj, 0).xyz;
+#endif
     pair_response(g_x, g_v, 1.0 / particle_inv_mass(int(g_st.y), g_st.w), g_st.w, q.xyz,
                   texelFetch(u_velocity, tj, 0).xyz, 1.0 / particle_inv_mass(int(st_q.y), st_q.w),
                   st_q.w, matched ? 1.0 : 0.0, w * EXACT_PUSH, g_dv, g_dx);
@@ -71,6 +81,10 @@ void main() {
     g_st = texelFetch(u_static, t, 0);
     vec3 x = p.xyz;
     vec3 v = v4.xyz;
+#ifdef SPIN
+    vec4 spin = texelFetch(u_spin, t, 0);
+    spin_w = spin.xyz;
+#endif
     if (p.w > 0.0) {
         vec4 c = texelFetch(u_counts, t, 0);
         g_n = c.x;
@@ -82,6 +96,9 @@ void main() {
             search_neighbours(g_self);
             x += g_dx;
             v += g_dv;
+#ifdef SPIN
+            spin_w += pair_dw;
+#endif
         }
 #if HAS_COLLIDERS
         keep_outside(x, v);
@@ -89,4 +106,7 @@ void main() {
     }
     o_position = fp_store(vec4(x, p.w));
     o_velocity = fp_store(vec4(v, v4.w));
+#ifdef SPIN
+    o_spin = vec4(spin_w, spin.w);
+#endif
 }

@@ -12,10 +12,24 @@
 // never grows: with e <= 1 the exchange removes (1 - e^2) of the normal relative energy. Each
 // result is scaled by the caller's weights (1 with one partner; see collide/exact_response.frag).
 // Coincident centres take a fixed normal, +y or -y by the particles' random numbers hi, hj.
+// With SPIN (UberFlow §4.5's spherical rigid bodies), an approaching pair also exchanges a
+// tangential impulse at the contact point, Coulomb-limited by u_friction times the normal
+// impulse (collide/spin.glsl): it changes both velocities and both spins (pair_wi, pair_wj in,
+// pair_dw out), and is advanced over tau and weighted like the normal exchange.
 
 uniform float u_radius;
 uniform float u_restitution;
 uniform float u_dt;
+
+#ifdef SPIN
+#include "collide/spin.glsl"
+uniform float u_friction;
+// The spins of the pair pair_response is called for (set by the caller), and particle i's
+// change of spin, accumulated with the exchange's weight.
+vec3 pair_wi;
+vec3 pair_wj;
+vec3 pair_dw = vec3(0.0);
+#endif
 
 // Adds particle i's velocity change to dv and position change to dx: the exchange (and the
 // move it makes over tau) times `weight`, the separation times `push_weight`.
@@ -43,6 +57,16 @@ void pair_response(vec3 x, vec3 v, float mi, float hi, vec3 xq, vec3 w, float mj
     if (vn < 0.0) {
         di = -(1.0 + u_restitution) * mu_i * vn * n;
         dj = (1.0 + u_restitution) * mu_j * vn * n;
+#ifdef SPIN
+        // Relative surface velocity at the contact: dv + ω_i × (-r n) - ω_j × (r n).
+        vec3 u = dv - u_spin_radius * cross(pair_wi + pair_wj, n);
+        vec3 u_t = u - dot(u, n) * n;
+        float jn = -(1.0 + u_restitution) * mi * mj / (mi + mj) * vn;
+        vec3 jt = spin_friction_impulse(u_t, 3.5 * (1.0 / mi + 1.0 / mj), jn, u_friction);
+        di += jt / mi;
+        dj -= jt / mj;
+        pair_dw += weight * spin_from_impulse(n, jt, mi);
+#endif
     }
     vec3 sep = dx + (di - dj) * tau;
     float l = length(sep);

@@ -4,7 +4,8 @@
 // staggered lattice (PARTNER 2, whose index refers to the other layout's textures).
 // The pair is backed up to first contact, exchanges momentum if approaching, and what still
 // overlaps is separated along the line of centres, mass-weighted (collide/pair.glsl). Both
-// particles of a mutual pair compute the same change with opposite signs.
+// particles of a mutual pair compute the same change with opposite signs. With SPIN the spin
+// texture (angular velocity, angle) is read and written alongside (collide/spin.glsl).
 
 #include "common/state.glsl"
 #include "common/precision.glsl"
@@ -20,6 +21,12 @@ uniform sampler2D u_velocity2;
 uniform sampler2D u_static2;
 #endif
 uniform int u_width;
+#ifdef SPIN
+uniform sampler2D u_spin;
+#ifdef STAGGERED
+uniform sampler2D u_spin2;
+#endif
+#endif
 
 #include "common/mass.glsl"
 
@@ -35,14 +42,36 @@ vec3 advance(vec3 x, vec3 v, vec3 vb) {
 
 layout(location = 0) out vec4 o_position;
 layout(location = 1) out vec4 o_velocity;
+#ifdef SPIN
+layout(location = 2) out vec4 o_spin;
+#endif
 
-void respond(inout vec3 x, inout vec3 v, vec4 st, vec4 q, vec3 w, vec4 st_q) {
+void respond(inout vec3 x, inout vec3 v, vec4 st, vec4 q, vec3 w, vec4 st_q, vec3 wq) {
+#ifdef SPIN
+    pair_wi = spin_w;
+    pair_wj = wq;
+#endif
     vec3 dv = vec3(0.0);
     vec3 dx = vec3(0.0);
     pair_response(x, v, 1.0 / particle_inv_mass(int(st.y), st.w), st.w, q.xyz, w,
                   1.0 / particle_inv_mass(int(st_q.y), st_q.w), st_q.w, 1.0, 1.0, dv, dx);
     v += dv;
     x += dx;
+#ifdef SPIN
+    spin_w += pair_dw;
+#endif
+}
+
+// The partner's spin, from this layout's spin texture (or, `other`, the other layout's).
+vec3 partner_spin(ivec2 j, bool other) {
+#ifdef SPIN
+#ifdef STAGGERED
+    if (other) return texelFetch(u_spin2, j, 0).xyz;
+#endif
+    return texelFetch(u_spin, j, 0).xyz;
+#else
+    return vec3(0.0);
+#endif
 }
 
 void main() {
@@ -52,6 +81,10 @@ void main() {
     vec4 st = texelFetch(u_static, t, 0);
     vec3 x = p.xyz;
     vec3 v = v4.xyz;
+#ifdef SPIN
+    vec4 spin = texelFetch(u_spin, t, 0);
+    spin_w = spin.xyz;
+#endif
     if (p.w > 0.0) {
         vec4 c1 = texelFetch(u_partner, t, 0);
         float d1 = c1.x >= 0.0 ? c1.y : 1e30;
@@ -64,13 +97,13 @@ void main() {
         if (d1 <= d2 && c1.x >= 0.0) {
             ivec2 j = particle_texel(int(c1.x), u_width);
             respond(x, v, st, texelFetch(u_position, j, 0), texelFetch(u_velocity, j, 0).xyz,
-                    texelFetch(u_static, j, 0));
+                    texelFetch(u_static, j, 0), partner_spin(j, false));
         }
 #ifdef STAGGERED
         else if (c2.x >= 0.0) {
             ivec2 j = particle_texel(int(c2.x), u_width);
             respond(x, v, st, texelFetch(u_position2, j, 0), texelFetch(u_velocity2, j, 0).xyz,
-                    texelFetch(u_static2, j, 0));
+                    texelFetch(u_static2, j, 0), partner_spin(j, true));
         }
 #endif
 #if HAS_COLLIDERS
@@ -79,4 +112,7 @@ void main() {
     }
     o_position = fp_store(vec4(x, p.w));
     o_velocity = fp_store(vec4(v, v4.w));
+#ifdef SPIN
+    o_spin = vec4(spin_w, spin.w);
+#endif
 }

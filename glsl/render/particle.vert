@@ -18,7 +18,8 @@
 // Everything after the fetch is shared, so both paths draw bit-identical images.
 // SPRITES defined: the size is scaled by the particle's type and its size over life, and the
 // fragment stage textures the sprite from the atlas tile of its type, rotated by
-// angle0 + speed · age (render/sprite.glsl).
+// angle0 + speed · age (render/sprite.glsl), or with ROTATE_SPIN by angle0 + the angle the
+// simulation integrated from the particle's spin (w of the spin texture; texture fetch only).
 
 #include "common/state.glsl"
 #include "render/keyframes.glsl"
@@ -31,6 +32,9 @@ layout(location = 1) in vec4 a_static;
 uniform sampler2D u_position;
 uniform sampler2D u_static;
 uniform int u_width;
+#endif
+#ifdef ROTATE_SPIN
+uniform sampler2D u_spin;        // spinning spheres: (angular velocity, angle about z)
 #endif
 #ifdef STRETCHED
 uniform sampler2D u_motion;      // velocities, or (u_motion_previous) Verlet's previous positions
@@ -92,6 +96,10 @@ void main() {
     v_color = vec4(c.rgb, clamp(c.a * u_intensity, 0.0, 1.0));
     float age_s = age_seconds(p.w, s.z, s.x);
     float angle = sprite_angle(type, s.w, age_s);
+#ifdef ROTATE_SPIN
+    // Counter-clockwise on screen for a camera on +z looking at -z (azimuth 0).
+    angle = 6.28318530718 * s.w + texelFetch(u_spin, t, 0).w;
+#endif
     v_rotation = vec2(cos(angle), sin(angle));
     int tile = flipbook_tile(type, age, age_s);
     v_tile = vec2(float(tile & 1), float(tile >> 1));

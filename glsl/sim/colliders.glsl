@@ -15,6 +15,9 @@
 
 // Included unconditionally: the resolver splices each file once, whatever #if surrounds it.
 #include "sim/fields.glsl"
+#ifdef SPIN
+#include "collide/spin.glsl"
+#endif
 
 const float SKIN = 1e-4;
 
@@ -110,14 +113,19 @@ float sdf_distance(vec3 p, out vec3 n) {
 }
 #endif
 
-// Latta eq. 4-5, with the slow-speed threshold.
+// Latta eq. 4-5, with the slow-speed threshold. With SPIN, friction is Coulomb's on the slip of
+// the contact point and turns the sphere (collide/spin.glsl).
 vec3 collision_response(vec3 v, vec3 n, vec2 resp) {
     float vn = dot(v, n);
     if (vn >= 0.0) return v;
     vec3 v_n = vn * n;
     vec3 v_t = v - v_n;
     float mu = length(v) < u_slow_speed ? 0.0 : resp.x;
+#ifdef SPIN
+    return spin_collider_response(v, n, vn, mu, resp.y);
+#else
     return (1.0 - mu) * v_t - resp.y * v_n;
+#endif
 }
 
 // Latta eq. 7: the way out of a collider a particle is caught in.

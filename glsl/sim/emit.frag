@@ -16,6 +16,9 @@ layout(location = 0) out vec4 o_0;
 #if defined(OUT_STATE) && !defined(VERLET)
 layout(location = 1) out vec4 o_1;
 #endif
+#if defined(OUT_STATE) && defined(SPIN)
+layout(location = 2) out vec4 o_2;   // spin: at rest, angle 0 (sim/integrate.frag)
+#endif
 
 void main() {
 #if defined(OUT_STATIC)
@@ -30,6 +33,9 @@ void main() {
     o_0 = fp_store(v_position);
 #ifndef VERLET
     o_1 = fp_store(v_velocity);
+#endif
+#ifdef SPIN
+    o_2 = vec4(0.0);
 #endif
 #endif
 }

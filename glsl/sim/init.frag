@@ -39,6 +39,9 @@ layout(location = 0) out vec4 o_0;
 #if defined(OUT_STATE) && !defined(VERLET)
 layout(location = 1) out vec4 o_1;
 #endif
+#if defined(OUT_STATE) && defined(SPIN)
+layout(location = 2) out vec4 o_2;   // spin: at rest, angle 0 (sim/integrate.frag)
+#endif
 
 const float INF = uintBitsToFloat(0x7f800000u);
 
@@ -93,6 +96,9 @@ void main() {
     o_0 = fp_store(pos);
 #ifndef VERLET
     o_1 = fp_store(vec4(vel, 0.0));
+#endif
+#ifdef SPIN
+    o_2 = vec4(0.0);
 #endif
 #endif
 }

@@ -22,6 +22,9 @@
 // texture holds each particle's phase; before it the particle is unborn and out of view; at the
 // start of every cycle it respawns from its emitter, and it is dead for the rest of the cycle
 // after its life. Without either the particles are permanent and no life code is compiled.
+// SPIN (UberFlow §4.5, spinning spheres): a third target, spin (RGBA32F) = (ω, angle about z);
+// no torque acts between contacts, so ω changes only by the colliders' friction
+// (collide/spin.glsl) and the angle advances by ω_z dt; births and deaths start from rest.
 
 #include "common/state.glsl"
 #include "common/precision.glsl"
@@ -58,6 +61,11 @@ vec3 advance(vec3 x, vec3 v, vec3 vb) {
 #ifdef MULTISTAGE
 #include "sim/stages.glsl"
 #endif
+#ifdef SPIN
+#include "collide/spin.glsl"
+uniform sampler2D u_spin;
+vec4 spin = vec4(0.0);
+#endif
 #if HAS_COLLIDERS
 #include "sim/colliders.glsl"
 #endif
@@ -69,6 +77,9 @@ layout(location = 0) out vec4 o_position;
 #else
 layout(location = 0) out vec4 o_position;
 layout(location = 1) out vec4 o_velocity;
+#ifdef SPIN
+layout(location = 2) out vec4 o_spin;
+#endif
 #endif
 #ifdef POSITION_FROM_VELOCITY
 uniform sampler2D u_new_velocity;
@@ -82,6 +93,9 @@ void write_state(vec3 x, float life, vec3 v) {
 #endif
 #if !defined(VERLET) && !defined(OUT_POSITION)
     o_velocity = fp_store(vec4(v, 0.0));
+#endif
+#ifdef SPIN
+    o_spin = spin;
 #endif
 }
 
@@ -160,6 +174,10 @@ void main() {
     }
 #endif
 
+#ifdef SPIN
+    spin = texelFetch(u_spin, t, 0);
+    spin_w = spin.xyz;
+#endif
 #ifdef POSITION_FROM_VELOCITY
     // Latta's position pass: the new velocity is the one the velocity pass just wrote.
     vec3 vn = texelFetch(u_new_velocity, t, 0).xyz;
@@ -187,6 +205,10 @@ void main() {
 #if HAS_COLLIDERS
     collide(x, v, vb, xb);
     keep_outside(xb, vb);
+#endif
+#ifdef SPIN
+    // The angle kept in (-pi, pi], so that its float spacing stays fine however long it turns.
+    spin = vec4(spin_w, mod(spin.w + spin_w.z * u_dt + 3.14159265, 6.28318531) - 3.14159265);
 #endif
     write_state(xb, life, vb);
 #endif

@@ -103,6 +103,9 @@ impl Engine {
                 if renderer.needs_motion() {
                     textures.push(tex("sorted motion")?);
                 }
+                if renderer.needs_spins() {
+                    textures.push(tex("sorted spin")?);
+                }
                 let sorted = Framebuffer::new(ctx, "sorted", textures)?;
                 Some(SortStage {
                     sorter,
@@ -176,11 +179,18 @@ impl Engine {
                     dt,
                 },
             });
+            // The spins, when drawn, are the last texture gathered.
+            let spins = self
+                .renderer
+                .needs_spins()
+                .then(|| s.sorted.textures().last())
+                .flatten();
             let state = crate::render::FrameState {
                 positions: s.sorted.texture(0),
                 statics: s.sorted.texture(1),
                 motion,
                 time: self.sim.time() as f32,
+                spins,
                 count: texels,
             };
             self.renderer
@@ -191,6 +201,7 @@ impl Engine {
                 statics: self.sim.statics(),
                 motion: self.motion(),
                 time: self.sim.time() as f32,
+                spins: self.sim.spins(),
                 count,
             };
             self.renderer
@@ -250,6 +261,9 @@ impl Engine {
         let mut sources = vec![self.sim.positions(), self.sim.statics()];
         if self.renderer.needs_motion() {
             sources.extend(self.sim.velocities().or(self.sim.previous()));
+        }
+        if self.renderer.needs_spins() {
+            sources.extend(self.sim.spins());
         }
         s.sorter.gather(&sources, &s.sorted)?;
         s.ordered_at = Some(steps);

@@ -168,6 +168,9 @@ pub fn plan(scene: &SceneFile) -> Plan {
         if emitters().any(|e| e.size_range.is_some()) {
             line.push_str(", sizes random within each type's size_range");
         }
+        if r.rotate == crate::scene::Rotate::Spin {
+            line.push_str(", turned by the spin's angle");
+        }
         if emitters().any(|e| e.flipbook.is_some_and(|f| f.frames > 1)) {
             line.push_str(", flipbooks (atlas tiles advancing with the particle's age)");
         }

@@ -60,6 +60,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "collide/copy.frag",
     "collide/cells.glsl",
     "collide/pair.glsl",
+    "collide/spin.glsl",
     "collide/exact_count.frag",
     "collide/exact_response.frag",
     "render/points.vert",

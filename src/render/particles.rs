@@ -22,7 +22,7 @@ use crate::gl::{
     Attribute, Blend, BlendComponent, BlendFactor, Buffer, BufferKind, BufferUsage, Context,
     Defines, Depth, Draw, DrawState, PixelPack, Primitive, Program, Texture, VertexArray,
 };
-use crate::scene::{DrawMode, DrawPrimitive, RenderPath};
+use crate::scene::{DrawMode, DrawPrimitive, RenderPath, Rotate};
 
 /// Vertices per particle of quads and stretched quads: two triangles.
 pub const QUAD_VERTICES: usize = 6;
@@ -62,6 +62,9 @@ pub struct FrameState<'a> {
     pub motion: Option<Motion<'a>>,
     /// Simulation time in seconds (the age of permanent particles, for their rotation).
     pub time: f32,
+    /// Spinning spheres' spins (angular velocity, angle about z), in the same order as
+    /// `positions`: sprites with `rotate = "spin"` take their angle from them.
+    pub spins: Option<&'a Texture>,
     /// Particles `0..count` are drawn.
     pub count: usize,
 }
@@ -145,6 +148,16 @@ impl ParticleRenderer {
         }
         if style.mode == DrawMode::Sprites {
             defines.push(flag("SPRITES"));
+        }
+        if style.rotate == Rotate::Spin {
+            if style.path != RenderPath::TextureFetch {
+                return Err(Error::InvalidInput(
+                    "sprites turned by the spin fetch it from the spin texture: use path = \
+                     \"texture_fetch\""
+                        .into(),
+                ));
+            }
+            defines.push(flag("ROTATE_SPIN"));
         }
         match style.primitive {
             DrawPrimitive::Points => {}
@@ -339,9 +352,16 @@ impl ParticleRenderer {
             statics,
             motion: None,
             time: 0.0,
+            spins: None,
             count,
         };
         self.draw_frame(target, &state, camera)
+    }
+
+    /// Whether [`draw_frame`](Self::draw_frame) needs [`FrameState::spins`] (sprites turned by
+    /// the spin).
+    pub fn needs_spins(&self) -> bool {
+        self.style.rotate == Rotate::Spin
     }
 
     /// Whether [`draw_frame`](Self::draw_frame) needs [`FrameState::motion`] (stretched quads).
@@ -411,6 +431,16 @@ impl ParticleRenderer {
         if let Some(atlas) = &self.atlas {
             atlas.bind(2);
             p.set_i32("u_atlas", 2);
+        }
+        if self.needs_spins() {
+            let Some(spins) = state.spins else {
+                return Err(Error::InvalidInput(
+                    "sprites turned by the spin need the spin texture (collisions.spin)".into(),
+                ));
+            };
+            self.check_state("spin", spins)?;
+            spins.bind(4);
+            p.set_i32("u_spin", 4);
         }
         if let Some(m) = motion {
             m.texture().bind(3);

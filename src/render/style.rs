@@ -6,7 +6,7 @@ use super::keyframes::{KeyframeRamp, MAX_KEYFRAMES};
 use super::sprite::SizeCurve;
 use crate::gl::{Blend, BlendComponent, BlendFactor, Depth, DrawState, PointSize, Program};
 use crate::scene::{
-    Blending, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath, SceneFile,
+    Blending, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath, Rotate, SceneFile,
 };
 
 /// The keyframes given, or `None` when there are none.
@@ -42,6 +42,10 @@ pub struct ParticleStyle {
     /// Whether particles are depth-tested against drawn geometry (`render.geometry`); they
     /// never write depth, so none hides another and the blending alone composites them.
     pub depth_test: bool,
+    /// What turns sprites: each type's rotation speed over the age, or the simulation's spin
+    /// ([`FrameState::spins`](super::FrameState::spins)).
+    #[serde(skip_serializing_if = "by_age")]
+    pub rotate: Rotate,
 }
 
 /// The keyframes used when a scene gives none: white, fading out over the life.
@@ -103,8 +107,13 @@ impl Default for ParticleStyle {
             types: std::array::from_fn(|k| TypeLook::new(k as u32)),
             background: [0.0; 3],
             depth_test: false,
+            rotate: Rotate::Age,
         }
     }
+}
+
+fn by_age(r: &Rotate) -> bool {
+    *r == Rotate::Age
 }
 
 impl ParticleStyle {
@@ -217,6 +226,7 @@ impl ParticleStyle {
             }),
             background: r.background,
             depth_test: r.geometry,
+            rotate: r.rotate,
         }
     }
 

@@ -23,7 +23,7 @@ pub use forces::{
 };
 pub use render::{
     Blending, CameraSection, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath,
-    SortEntries, SortKey, SortSection, Variant, MAX_KEYFRAMES,
+    Rotate, SortEntries, SortKey, SortSection, Variant, MAX_KEYFRAMES,
 };
 
 pub(super) fn one() -> f32 {
@@ -252,6 +252,20 @@ pub struct Collisions {
     /// last left overlapping (a resting pile needs a few).
     #[serde(default = "one_u32")]
     pub iterations: u32,
+    /// Spinning spheres (UberFlow §4.5: "additional containers for angular momentum and
+    /// rotation"): every particle carries an angular velocity in a state texture of its own,
+    /// and contacts with friction exchange linear and angular momentum (solid spheres,
+    /// I = 2/5 m r²). Off: no spin texture and the passes of a scene without it.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub spin: bool,
+    /// With `spin`: the Coulomb friction coefficient of contacts between particles (the
+    /// tangential impulse is at most `friction` times the normal one); 0: frictionless.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub friction: f32,
+}
+
+fn is_zero(x: &f32) -> bool {
+    *x == 0.0
 }
 
 /// `collisions.detection`: how collision partners are found.

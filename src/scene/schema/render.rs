@@ -37,6 +37,18 @@ pub enum DrawPrimitive {
     Triangles,
 }
 
+/// What turns a sprite (`render.rotate`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Rotate {
+    /// Latta §3.4.6: an initial angle and a rotation speed per type, times the age.
+    #[default]
+    Age,
+    /// The angle the simulation integrates from each particle's angular velocity about the
+    /// z axis (`collisions.spin`; UberFlow §4.5's rotation), kept in the spin texture's w.
+    Spin,
+}
+
 /// Where the vertex stage gets positions.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -296,6 +308,14 @@ pub struct Render {
     /// against the particles.
     #[serde(default)]
     pub geometry: bool,
+    /// What turns sprites: `age` (each type's rotation speed, Latta §3.4.6) or `spin` (the
+    /// angle integrated from the angular velocity of spinning spheres; needs `collisions.spin`).
+    #[serde(default, skip_serializing_if = "is_age")]
+    pub rotate: Rotate,
+}
+
+fn is_age(r: &Rotate) -> bool {
+    *r == Rotate::Age
 }
 
 fn resolution() -> [u32; 2] {
@@ -325,6 +345,7 @@ impl Default for Render {
             sort: SortSection::default(),
             background: [0.0; 3],
             geometry: false,
+            rotate: Rotate::Age,
         }
     }
 }

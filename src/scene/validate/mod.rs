@@ -12,6 +12,7 @@ mod emitters;
 pub use emitters::CapacityWarning;
 mod forces;
 mod render;
+mod spin;
 
 use super::locate::{Invalid, Key};
 use super::schema::{Integrator, SceneFile, Simulation, UpdatePasses, WindForm};
@@ -135,6 +136,7 @@ impl SceneFile {
         colliders::colliders(self)?;
         constraints::orbits(self)?;
         collisions(self)?;
+        spin::spin(self)?;
         constraints::constraints(self)?;
         fire(self)?;
         render::render(self)

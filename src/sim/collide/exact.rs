@@ -63,6 +63,9 @@ impl Collisions {
                 ("u_static", g.layout.texture(2).into()),
                 ("u_counts", counts.texture(0).into()),
             ];
+            if let Some(s) = &g.spin {
+                textures.push(("u_spin", s.texture(0).into()));
+            }
             textures.extend(fields.iter().filter(|(n, _)| p.declares(n)).copied());
             p.textures(&textures);
             p.set_f32("u_restitution", self.config.restitution);

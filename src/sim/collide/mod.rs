@@ -108,6 +108,8 @@ struct Grid {
     layout: Framebuffer,
     /// Detection output after the mutual check: (partner or -1, distance, mutual, raw partner).
     partner: Framebuffer,
+    /// Spinning spheres: the spin (angular velocity, angle) in this lattice's sorted order.
+    spin: Option<Framebuffer>,
 }
 
 /// The collision stage of a scene.
@@ -238,8 +240,25 @@ impl Collisions {
                     TextureFormat::Rgba32F,
                 )?);
             }
+
+            // The spin in a framebuffer of its own: a gather takes at most four textures.
+            let spin = match config.spin {
+                true => Some(Framebuffer::new(
+                    ctx,
+                    &format!("{name} spin"),
+                    vec![texture(
+                        ctx,
+                        &format!("{name} spin"),
+                        w,
+                        h,
+                        TextureFormat::Rgba32F,
+                    )?],
+                )?),
+                false => None,
+            };
             Ok(Grid {
                 lattice,
+                spin,
                 sorter: Sorter::new(ctx, Variant::Packed, w, h, options)?,
                 layout: Framebuffer::new(ctx, &format!("{name} layout"), textures)?,
                 partner: Framebuffer::new(
@@ -362,7 +381,11 @@ impl Collisions {
         g.sorter.gather(
             &[front.texture(0), front.texture(1), statics.texture(0)],
             &g.layout,
-        )
+        )?;
+        match &g.spin {
+            Some(spin) => g.sorter.gather(&[front.texture(2)], spin),
+            None => Ok(()),
+        }
     }
 
     /// Copies the static texture of `layout` (the order the response wrote the state in) into
@@ -407,6 +430,9 @@ impl Collisions {
                 ],
                 &g2.layout,
             )?;
+            if let (Some(from), Some(to)) = (&self.first.spin, &g2.spin) {
+                g2.sorter.gather(&[from.texture(0)], to)?;
+            }
         }
         if let Some(g2) = &self.second {
             self.detect_into(g2.layout.texture(0), &g2.partner);
@@ -437,6 +463,17 @@ impl Collisions {
                 ("u_velocity2", a.texture(1).into()),
                 ("u_static2", a.texture(2).into()),
             ]);
+        }
+        // Spinning spheres: this layout's spin, and with the staggered lattice the first's.
+        let (spin, spin2) = match &self.second {
+            Some(g2) => (g2.spin.as_ref(), self.first.spin.as_ref()),
+            None => (self.first.spin.as_ref(), None),
+        };
+        if let Some(s) = spin {
+            textures.push(("u_spin", s.texture(0).into()));
+        }
+        if let Some(s) = spin2 {
+            textures.push(("u_spin2", s.texture(0).into()));
         }
         textures.extend(fields.iter().filter(|(n, _)| p.declares(n)).copied());
         p.textures(&textures);

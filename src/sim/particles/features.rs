@@ -77,6 +77,10 @@ pub struct Features {
     pub release_spread: bool,
     /// Distance constraints (Latta §3.4.3): kind and relaxation passes per step.
     pub constraints: Option<(scene::ConstraintKind, u32)>,
+    /// Spinning spheres (`collisions.spin`, UberFlow §4.5): a third state texture of angular
+    /// velocity and angle, written by integration and the collision response.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub spin: bool,
 }
 
 impl Features {
@@ -131,6 +135,7 @@ impl Features {
             row_phases: scene.collisions.as_ref().is_some_and(|c| c.row_phases),
             release_spread: em.timestamp.iter().any(|e| e.release_spread.is_some()),
             constraints: scene.constraints.as_ref().map(|c| (c.kind, c.iterations)),
+            spin: scene.collisions.as_ref().is_some_and(|c| c.spin),
         }
     }
 
@@ -231,6 +236,9 @@ impl Features {
             def("SDF", "1".into());
         }
         def("HAS_COLLIDERS", (self.colliders() as u8).to_string());
+        if self.spin {
+            def("SPIN", "1".into());
+        }
         if self.precision == Precision::Fp24 {
             let f = crate::sort::precision::R300;
             def("EMULATE_FLOAT", "1".into());
@@ -443,6 +451,14 @@ impl Features {
                 }
             ));
             out.push("copy static texture in the new order".into());
+        }
+        if self.spin {
+            out.push(
+                "spin (UberFlow §4.5): angular velocity and angle, a third MRT target of \
+                 integration and response, gathered in cell order by a pass of its own after \
+                 each collision sort; contact friction turns v and ω together"
+                    .into(),
+            );
         }
         out
     }

@@ -154,14 +154,19 @@ impl ParticleSim {
                 height,
             )?)
         } else {
-            let pp = PingPong::new(
-                ctx,
-                "particles",
-                &["position", "velocity"],
-                &[TextureFormat::Rgba32F, vel_format],
-                width,
-                height,
-            )?;
+            // Spinning spheres: a third target, (angular velocity, angle), only when asked for.
+            let (names, formats): (&[&str], &[TextureFormat]) = if features.spin {
+                (
+                    &["position", "velocity", "spin"],
+                    &[TextureFormat::Rgba32F, vel_format, TextureFormat::Rgba32F],
+                )
+            } else {
+                (
+                    &["position", "velocity"],
+                    &[TextureFormat::Rgba32F, vel_format],
+                )
+            };
+            let pp = PingPong::new(ctx, "particles", names, formats, width, height)?;
             State::Explicit(if features.separate() {
                 pp.with_single_targets(ctx)?
             } else {
@@ -515,11 +520,14 @@ impl ParticleSim {
                 pp.swap();
             }
             State::Explicit(pp) => {
-                let own = [
+                let mut own = vec![
                     ("u_position", pp.front().texture(0).into()),
                     ("u_velocity", pp.front().texture(1).into()),
                     statics,
                 ];
+                if self.features.spin {
+                    own.push(("u_spin", pp.front().texture(2).into()));
+                }
                 bind_textures(p, &own, &self.fields);
                 match &self.integrate_position {
                     None if rows > 0 => self.pass.draw_rows(p, pp.back(), 0, rows),

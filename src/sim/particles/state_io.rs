@@ -22,6 +22,38 @@ impl ParticleSim {
         }
     }
 
+    /// The current spins of spinning spheres (`collisions.spin`): angular velocity (rad/s) and
+    /// the angle about z (rad, in (-π, π]).
+    pub fn spins(&self) -> Option<&Texture> {
+        match &self.state {
+            State::Explicit(pp) if self.features.spin => Some(pp.front().texture(2)),
+            _ => None,
+        }
+    }
+
+    /// Reads the current spins back (4 floats per texel; see [`spins`](Self::spins)).
+    pub fn read_spins(&self) -> Result<Vec<f32>> {
+        self.spins()
+            .ok_or_else(|| Error::InvalidInput("the scene has no `collisions.spin`".into()))?
+            .read_f32()
+    }
+
+    /// Replaces the spins (4 floats per texel: angular velocity, angle), for tests and
+    /// experiments; [`set_state`](Self::set_state) leaves them as they are.
+    pub fn set_spins(&mut self, spins: &[f32]) -> Result<()> {
+        let n = self.width as usize * self.height as usize * 4;
+        if spins.len() != n {
+            return Err(Error::InvalidInput(format!(
+                "set_spins needs {n} floats ({}x{} texels, 4 each)",
+                self.width, self.height
+            )));
+        }
+        self.spins()
+            .ok_or_else(|| Error::InvalidInput("the scene has no `collisions.spin`".into()))?
+            .upload_f32(spins)?;
+        self.ctx.check_error("setting the spins")
+    }
+
     /// The previous positions (Verlet only).
     pub fn previous(&self) -> Option<&Texture> {
         match &self.state {

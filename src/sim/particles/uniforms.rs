@@ -153,6 +153,11 @@ fn set_constants(
         p.set_ivec3("u_flow_res", rx, ry, rz);
         p.set_f32("u_drag", w.drag);
     }
+    if let Some(k) = s.collisions.as_ref().filter(|k| k.spin) {
+        // Spinning spheres (glsl/collide/spin.glsl): their radius and the pairs' friction.
+        p.set_f32("u_spin_radius", k.radius);
+        p.set_f32("u_friction", k.friction);
+    }
     let c = &s.colliders;
     p.set_f32("u_slow_speed", c.slow_speed);
     let resp = |mu: f32, eps: f32| glam::Vec2::new(mu, eps);

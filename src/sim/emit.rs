@@ -152,6 +152,11 @@ mod tests {
             bursts: Vec::new(),
             size_range: None,
             flipbook: None,
+            parent: None,
+            per_parent: None,
+            on_death: None,
+            trail_rate: None,
+            inherit_velocity: None,
         }
     }
 

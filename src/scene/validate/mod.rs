@@ -6,6 +6,8 @@
 //! ([`super::check_limits`]).
 
 mod bursts;
+mod children;
+pub use children::{ChildLayout, ChildRange};
 mod colliders;
 mod constraints;
 mod emitters;
@@ -131,6 +133,7 @@ impl SceneFile {
         stateless(self)?;
         emitters::emitters(self)?;
         bursts::bursts(self)?;
+        children::children(self)?;
         forces::forces(self)?;
         colliders::colliders(self)?;
         constraints::orbits(self)?;

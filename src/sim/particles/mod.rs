@@ -8,6 +8,7 @@
 //! and which passes run, and is also what `texflow scene passes` prints.
 
 mod births;
+mod children;
 mod custom;
 mod features;
 mod relax;
@@ -274,7 +275,10 @@ impl ParticleSim {
             relax: relax::Relaxation::new(ctx, scene, &defines)?,
             pass: FullscreenPass::new(ctx)?,
             allocator: match features.emission {
-                Emission::Allocator(kind) => Some(Allocator::new(kind, width * height)),
+                // Child emitters keep texels of their own: the allocator hands out the rest.
+                Emission::Allocator(kind) => {
+                    Some(Allocator::new(kind, scene.parent_slots() as u32))
+                }
                 _ => None,
             },
             owed: vec![0.0; emitters.len()],

@@ -26,8 +26,10 @@ int trail_asks(int slot, int first, int count, int n0, int n1) {
     if (count <= 0 || slot < first || n1 <= n0) {
         return 0;
     }
+    // GLSL leaves % of negative operands undefined (llvmpipe computes it unsigned): keep both
+    // operands non-negative. n: the first birth numbered above n0 that falls to this texel.
     int m = slot - first;
-    int n = n0 + 1 + ((m - (n0 + 1)) % count + count) % count;
+    int n = n0 + 1 + (m + count - (n0 + 1) % count) % count;
     return n <= n1 ? 1 + (n1 - n) / count : 0;
 }
 

@@ -249,3 +249,90 @@ fn child_emitters_that_cannot_work_are_refused() {
         .to_string();
     assert!(e.contains("needs a parent"), "{e}");
 }
+
+/// `render` warns once, at the end, about the child births dropped, and counts them in its
+/// line and in `--json`: the twin's count for the run's steps, for every parent.
+#[test]
+fn render_warns_once_and_counts_dropped_child_births_in_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("trail.toml");
+    std::fs::write(&path, trail_scene(3, 8.0, 40)).unwrap();
+    let s = parse(&trail_scene(3, 8.0, 40));
+    let p = s.child_layout().parent_slots as u64;
+    let frames = 60;
+    let (_, drops) = trail_twin(3, 8.0 / 64.0, 40, frames);
+    let out = dir.path().join("out");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_texflow"))
+        .args([
+            "render",
+            path.to_str().unwrap(),
+            "--frames",
+            "60",
+            "--every",
+            "59",
+        ])
+        .args([
+            "--resolution",
+            "32",
+            "--json",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert_eq!(err.matches("child birth(s) dropped").count(), 1, "{err}");
+    assert!(
+        err.contains(&format!("{} child births dropped", drops * p)),
+        "{err}"
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["records"]["dropped_child_births"], drops * p, "{v}");
+    assert!(drops > 0);
+}
+
+/// The built-in `fireworks` (time-stamped rockets, UberFlow §4.1): every rocket that dies, at
+/// the end of its life, gives exactly its 96 sparks in one step, each on the rocket's last
+/// position (a point emitter), and none is dropped; the trails never overflow their 24 texels.
+#[test]
+fn fireworks_rockets_burst_into_their_96_sparks_where_they_die() {
+    let ctx = context();
+    let s = scene::load("fireworks").unwrap();
+    let layout = s.child_layout();
+    let (p, sparks) = (layout.parent_slots as usize, layout.ranges[0]);
+    assert_eq!(sparks.on_death, 96);
+    let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+    let statics = sim.statics().read_f32().unwrap();
+    let mut before = sim.read_positions().unwrap();
+    let (mut deaths, mut born) = (0usize, 0usize);
+    for _ in 0..240 {
+        sim.step().unwrap();
+        let after = sim.read_positions().unwrap();
+        for rocket in 0..p {
+            let (w0, w1) = (before[rocket * 4 + 3], after[rocket * 4 + 3]);
+            // Alive before; after, dead or born again in a new cycle (more life left).
+            if !(w0 > 0.0 && (w1 <= 0.0 || w1 > w0)) {
+                continue;
+            }
+            deaths += 1;
+            let first = sparks.start as usize + rocket * 96;
+            let new: Vec<usize> = (first..first + 96)
+                .filter(|&c| after[c * 4 + 3] == statics[c * 4 + 2])
+                .collect();
+            assert_eq!(new.len(), 96, "rocket {rocket}'s burst");
+            for c in new {
+                assert_eq!(
+                    &after[c * 4..c * 4 + 3],
+                    &before[rocket * 4..rocket * 4 + 3]
+                );
+            }
+            born += 96;
+        }
+        before = after;
+    }
+    assert!(deaths >= 20, "{deaths} rockets died in 4 s");
+    assert_eq!(born, 96 * deaths);
+    assert_eq!(sim.dropped_child_births().unwrap(), 0);
+    no_gl_error(&ctx);
+}

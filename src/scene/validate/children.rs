@@ -160,10 +160,12 @@ pub(super) fn children(s: &SceneFile) -> Check {
             );
         }
         match e.trail_rate {
-            Some(r) if !(r.is_finite() && (0.0..=1e6).contains(&r)) => {
+            // The shader numbers trail births in 32-bit integers: age × rate stays below 2³¹
+            // for ages up to 2·10⁵ s (two days) at the largest rate.
+            Some(r) if !(r.is_finite() && (0.0..=1e4).contains(&r)) => {
                 return fail(
                     key("trail_rate"),
-                    format!("trail_rate {r} must be a number of children per second in [0, 1e6]"),
+                    format!("trail_rate {r} must be a number of children per second in [0, 1e4]"),
                 )
             }
             Some(r) if r > 0.0 && b == k => {
@@ -185,11 +187,11 @@ pub(super) fn children(s: &SceneFile) -> Check {
         }
         if let Some(f) = e
             .inherit_velocity
-            .filter(|f| !(f.is_finite() && f.abs() <= 1e3))
+            .filter(|f| !(f.is_finite() && f.abs() <= 10.0))
         {
             return fail(
                 key("inherit_velocity"),
-                format!("inherit_velocity {f} must be a fraction within [-1000, 1000]"),
+                format!("inherit_velocity {f} must be a factor within [-10, 10] (1: the parent's velocity)"),
             );
         }
     }

@@ -337,3 +337,41 @@ fn fireworks_rockets_burst_into_their_128_sparks_where_they_die() {
     assert_eq!(sim.dropped_child_births().unwrap(), 0);
     no_gl_error(&ctx);
 }
+
+/// Allocator parents (Latta §3.4.1): the allocator hands out only the parent texels, so a burst
+/// of P + 3 parents drops 3 (counted by the allocator), and the P that were born give exactly
+/// P·B children when they die, in the step the life count-down predicts.
+#[test]
+fn allocator_parents_stay_in_their_texels_and_burst_too() {
+    let ctx = context();
+    let (b, life_steps) = (3u32, 16usize);
+    let probe = parse(&burst_scene(b, 1));
+    let p = probe.child_layout().parent_slots as usize;
+    let src = burst_scene(b, life_steps as u32).replace(
+        "[[emitters.initial]]",
+        &format!(
+            "[[emitters.allocator]]\nbursts = [{{ time = 0.0, count = {} }}]",
+            p + 3
+        ),
+    );
+    let s = parse(&src);
+    let mut sim = ParticleSim::new(&ctx, &s, 4).unwrap();
+    let children = p..p + p * b as usize;
+    for step in 0..life_steps + 3 {
+        sim.step().unwrap();
+        let pos = sim.read_positions().unwrap();
+        let (parents, kids) = (live(&pos, 0..p), live(&pos, children.clone()));
+        if step + 1 < life_steps {
+            assert_eq!((parents, kids), (p, 0), "after step {step}");
+        } else {
+            assert_eq!((parents, kids), (0, p * b as usize), "after step {step}");
+        }
+    }
+    assert_eq!(
+        sim.dropped_births(),
+        3,
+        "the allocator had P texels for P + 3 births"
+    );
+    assert_eq!(sim.dropped_child_births().unwrap(), 0);
+    no_gl_error(&ctx);
+}

@@ -76,6 +76,9 @@ impl CpuSim {
         if scene.collisions.is_some() {
             return Err(unsupported(scene, "collisions between particles"));
         }
+        if !scene.emitters.child.is_empty() {
+            return Err(unsupported(scene, "child emitters"));
+        }
         let birth = match features.emission {
             Emission::Timestamp => Birth::Timestamp,
             Emission::Initial { .. } => Birth::Initial,

@@ -290,6 +290,17 @@ fn render_warns_once_and_counts_dropped_child_births_in_json() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["records"]["dropped_child_births"], drops * p, "{v}");
     assert!(drops > 0);
+    assert!(err.contains("per_parent = 6 would hold"), "{err}");
+    // `scene check` predicts it: 8/s × 0.625 s = 5 children in 3 trail texels.
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_texflow"))
+        .args(["scene", "check", path.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success() && text.contains("use per_parent = 6"),
+        "{text}"
+    );
 }
 
 /// The built-in `fireworks` (time-stamped rockets, UberFlow §4.1): every rocket that dies, at

@@ -87,6 +87,60 @@ impl SceneFile {
     }
 }
 
+/// What [`SceneFile::child_capacity_check`] predicts: a child emitter whose trail texels are
+/// asked again before their children die, so that births will be dropped.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ChildCapacityWarning {
+    /// The child emitter (its place among `[[emitters.child]]`).
+    pub emitter: usize,
+    /// Children of one parent's trail that a full turn of its texels must hold: trail_rate × the
+    /// longest life.
+    pub live: f64,
+    /// The trail's texels per parent: per_parent − on_death.
+    pub texels: u32,
+    /// The smallest per_parent that holds them.
+    pub per_parent: u32,
+}
+
+impl std::fmt::Display for ChildCapacityWarning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "child emitter {}: a trail texel's turn comes back before its child dies \
+             (trail_rate × life = {:.1} children per parent, {} trail texels): births will be \
+             dropped; use per_parent = {} or lower trail_rate or life",
+            self.emitter, self.live, self.texels, self.per_parent
+        )
+    }
+}
+
+impl SceneFile {
+    /// Predicts the child births that will be dropped: trail texel j is asked every
+    /// (per_parent − on_death) / trail_rate seconds, and its child lives up to the longest
+    /// life, so a trail needs trail_rate × life_max texels. Bursts are not predicted (they
+    /// depend on how often a parent dies). A pure function of the scene: `scene check` prints
+    /// it, and the run's count is `ParticleSim::dropped_child_births`.
+    pub fn child_capacity_check(&self) -> Vec<ChildCapacityWarning> {
+        let mut out = Vec::new();
+        for (i, e) in self.emitters.child.iter().enumerate() {
+            let rate = e.trail_rate.unwrap_or(0.0) as f64;
+            let life = e.life.map_or(0.0, |l| l[1] as f64);
+            let on_death = e.on_death.unwrap_or(0);
+            let texels = e.per_parent.unwrap_or(0).saturating_sub(on_death);
+            let live = rate * life;
+            if rate > 0.0 && live > texels as f64 {
+                out.push(ChildCapacityWarning {
+                    emitter: i,
+                    live,
+                    texels,
+                    per_parent: on_death.saturating_add(live.floor() as u32 + 1),
+                });
+            }
+        }
+        out
+    }
+}
+
 /// Child emitters: a parent of another kind, their slots, their births, and the features they
 /// cannot be combined with (those that move texels or keep no velocity).
 pub(super) fn children(s: &SceneFile) -> Check {
@@ -244,4 +298,25 @@ pub(super) fn children(s: &SceneFile) -> Check {
         return refuse(path(&[N("constraints")]), "remove [constraints]");
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::load;
+
+    #[test]
+    fn child_capacity_check_warns_when_a_trail_outlives_its_turn() {
+        let mut s = load("fireworks").unwrap();
+        assert_eq!(
+            s.child_capacity_check(),
+            vec![],
+            "60/s × 0.5 s = 30 in 32 texels"
+        );
+        s.emitters.child[1].per_parent = Some(20);
+        let w = s.child_capacity_check();
+        assert_eq!(w.len(), 1);
+        assert_eq!((w[0].emitter, w[0].texels, w[0].per_parent), (1, 20, 31));
+        assert!((w[0].live - 30.0).abs() < 1e-9);
+        assert!(w[0].to_string().contains("per_parent = 31"), "{}", w[0]);
+    }
 }

@@ -7,7 +7,7 @@
 
 mod bursts;
 mod children;
-pub use children::{ChildLayout, ChildRange};
+pub use children::{ChildCapacityWarning, ChildLayout, ChildRange};
 mod colliders;
 mod constraints;
 mod emitters;

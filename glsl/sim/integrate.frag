@@ -22,6 +22,9 @@
 // texture holds each particle's phase; before it the particle is unborn and out of view; at the
 // start of every cycle it respawns from its emitter, and it is dead for the rest of the cycle
 // after its life. Without either the particles are permanent and no life code is compiled.
+// CHILDREN (the thesis §2, emitters that emit): texels from u_child_start on belong to child
+// emitters; a dead one is born here from its parent texel's state (sim/child_birth.glsl), a live
+// one counts its life down as LIFE does; velocity.w keeps its count of dropped births.
 
 #include "common/state.glsl"
 #include "common/precision.glsl"

@@ -386,3 +386,36 @@ fn allocator_parents_stay_in_their_texels_and_burst_too() {
     assert_eq!(sim.dropped_child_births().unwrap(), 0);
     no_gl_error(&ctx);
 }
+
+/// At a dt that is no binary fraction (0.01 s) the trail's births of consecutive steps still
+/// tile the parent's life: a parent living 0.537 s with 23 births per second asks for exactly
+/// ⌊0.537 · 23⌋ = 12, none twice (a second ask would find its texel taken and count a drop) and
+/// none skipped.
+#[test]
+fn trail_births_tile_the_parents_life_at_an_inexact_dt() {
+    let ctx = context();
+    let src = trail_scene(16, 23.0, 5)
+        .replace("dt = 0.015625", "dt = 0.01")
+        .replace(
+            "speed = [0.0, 0.0]\n",
+            "speed = [0.0, 0.0]\nlife = [0.537, 0.537]\n",
+        );
+    let s = parse(&src);
+    let p = s.child_layout().parent_slots as usize;
+    let mut sim = ParticleSim::new(&ctx, &s, 2).unwrap();
+    let statics = sim.statics().read_f32().unwrap();
+    let mut births = vec![0usize; p];
+    for _ in 0..60 {
+        sim.step().unwrap();
+        let pos = sim.read_positions().unwrap();
+        for (parent, n) in births.iter_mut().enumerate() {
+            let block = p + parent * 16..p + (parent + 1) * 16;
+            *n += block
+                .filter(|&c| pos[c * 4 + 3] > 0.0 && pos[c * 4 + 3] == statics[c * 4 + 2])
+                .count();
+        }
+    }
+    assert_eq!(births, vec![12; p]);
+    assert_eq!(sim.dropped_child_births().unwrap(), 0);
+    no_gl_error(&ctx);
+}

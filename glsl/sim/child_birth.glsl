@@ -50,26 +50,28 @@ ChildStep child_step(int index, vec4 p, vec4 vel) {
     }
     // The parent's age at the start of the step, and whether it dies in the step, computed as
     // its own pass computes them.
+    // The age at the end of the step is computed as the next step will compute its age at the
+    // start (from the remaining life the parent's pass writes, or the next step's time), so the
+    // trail's births of consecutive steps tile: none is asked twice or skipped.
 #if defined(TIMESTAMP)
     float generation;
     float age_now = timestamp_age(pst, int(pst.y), generation);
     bool dies = age_now >= pst.z || age_now < u_dt;  // its life ends, or a new cycle begins
     float age = pst.z - pp.w;
-    float total = pst.z;
+    float end = dies ? pst.z : pst.z - (pst.z - age_now);
 #elif defined(LIFE)
     bool dies = pp.w - u_dt <= 0.0;
     float age = pst.z - pp.w;
-    float total = pst.z;
+    float end = dies ? pst.z : pst.z - (pp.w - u_dt);
 #else
     bool dies = false;  // permanent parents
     float age = u_time - pst.x;
-    float total = 1e30;
+    float end = u_time_next - pst.x;
 #endif
     int asks = 0;
     if (slot < ch.w) {
         asks = dies ? 1 : 0;
     } else if (more.x > 0.0) {
-        float end = dies ? total : age + u_dt;
         int n0 = int(floor(age * more.x));
         int n1 = int(floor(end * more.x));
         asks = trail_asks(slot, ch.w, ch.y - ch.w, n0, n1);

@@ -502,6 +502,9 @@ impl ParticleSim {
         let p = &self.integrate;
         p.bind();
         p.set_f32("u_time", self.time as f32);
+        // Child emitters' trails: the next step's u_time, exactly (glsl/sim/child_birth.glsl).
+        let next = (self.step + 1) as f64 * self.scene.time.dt as f64;
+        p.optional(|| p.set_f32("u_time_next", next as f32));
         // Orbiting spheres: where they are at the end of this step.
         relax::move_spheres(p, &self.scene, self.time + self.scene.time.dt as f64);
         let statics = ("u_static", self.statics.texture(0).into());

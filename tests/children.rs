@@ -387,15 +387,17 @@ fn allocator_parents_stay_in_their_texels_and_burst_too() {
     no_gl_error(&ctx);
 }
 
-/// At a dt that is no binary fraction (0.01 s) the trail's births of consecutive steps still
-/// tile the parent's life: a parent living 0.537 s with 23 births per second asks for exactly
-/// ⌊0.537 · 23⌋ = 12, none twice (a second ask would find its texel taken and count a drop) and
-/// none skipped.
+/// At a dt that is no binary fraction (1/60 s) the trail's births of consecutive steps still
+/// tile the parent's life: a parent living 0.537 s with 60 births per second asks for exactly
+/// ⌊life · 60⌋ = 32, none twice (a second ask would find its texel taken and count a drop) and
+/// none skipped. (Taking the end of a step as age + dt instead, as a first version did, asks
+/// twice or skips at these numbers: the remaining life counted down by dt in floats is not
+/// age + dt.)
 #[test]
 fn trail_births_tile_the_parents_life_at_an_inexact_dt() {
     let ctx = context();
-    let src = trail_scene(16, 23.0, 5)
-        .replace("dt = 0.015625", "dt = 0.01")
+    let src = trail_scene(40, 60.0, 5)
+        .replace("dt = 0.015625", "dt = 0.016666668")
         .replace(
             "speed = [0.0, 0.0]\n",
             "speed = [0.0, 0.0]\nlife = [0.537, 0.537]\n",
@@ -405,17 +407,22 @@ fn trail_births_tile_the_parents_life_at_an_inexact_dt() {
     let mut sim = ParticleSim::new(&ctx, &s, 2).unwrap();
     let statics = sim.statics().read_f32().unwrap();
     let mut births = vec![0usize; p];
-    for _ in 0..60 {
+    for _ in 0..40 {
         sim.step().unwrap();
         let pos = sim.read_positions().unwrap();
         for (parent, n) in births.iter_mut().enumerate() {
-            let block = p + parent * 16..p + (parent + 1) * 16;
+            let block = p + parent * 40..p + (parent + 1) * 40;
             *n += block
                 .filter(|&c| pos[c * 4 + 3] > 0.0 && pos[c * 4 + 3] == statics[c * 4 + 2])
                 .count();
         }
     }
-    assert_eq!(births, vec![12; p]);
+    // Births n = 1 ..= ⌊total life · rate⌋, the product in f32 as the shader takes it.
+    let want: Vec<usize> = (0..p)
+        .map(|i| (statics[i * 4 + 2] * 60.0f32).floor() as usize)
+        .collect();
+    assert!(want.iter().all(|n| *n == 32), "{want:?}");
+    assert_eq!(births, want);
     assert_eq!(sim.dropped_child_births().unwrap(), 0);
     no_gl_error(&ctx);
 }

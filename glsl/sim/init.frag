@@ -11,6 +11,7 @@
 //              A burst (count particles at one time) takes the type's next texels in texel
 //              order and stamps them all with its time.
 //   ALLOCATOR  every texel dead and free; the CPU allocator emits into it
+//   CHILDREN   texels from u_child_start on belong to child emitters: dead until born
 // OUT_STATE writes position (and velocity), OUT_PREVIOUS the Verlet previous position
 // x0 - v0 dt + a0 dt^2 / 2 (the second-order start), OUT_STATIC the static texture.
 
@@ -34,6 +35,9 @@ uniform ivec2 u_size;
 #endif
 
 #include "sim/forces.glsl"
+#ifdef CHILDREN
+#include "sim/children.glsl"
+#endif
 
 layout(location = 0) out vec4 o_0;
 #if defined(OUT_STATE) && !defined(VERLET)
@@ -82,6 +86,18 @@ void main() {
     pos.w = -1.0;
 #endif
     st.w = rng_uniform(rng);
+#ifdef CHILDREN
+    // A child texel (sim/children.glsl) starts dead, with its type and a life drawn once, as
+    // time stamps' are; past the last range a texel stays dead.
+    if (int(index) >= u_child_start) {
+        int parent, slot;
+        int c = child_of(int(index), parent, slot);
+        int kind = c < 0 ? 0 : int(u_child_more[c].z);
+        pos = vec4(INF, INF, INF, 0.0);
+        vel = vec3(0.0);
+        st = vec4(0.0, float(kind), c < 0 ? 0.0 : spawn_life(kind, rng), rng_uniform(rng));
+    }
+#endif
 
 #if defined(OUT_STATIC)
     o_0 = st;

@@ -25,6 +25,9 @@
 // SPIN (UberFlow §4.5, spinning spheres): a third target, spin (RGBA32F) = (ω, angle about z);
 // no torque acts between contacts, so ω changes only by the colliders' friction
 // (collide/spin.glsl) and the angle advances by ω_z dt; births and deaths start from rest.
+// CHILDREN (the thesis §2, emitters that emit): texels from u_child_start on belong to child
+// emitters; a dead one is born here from its parent texel's state (sim/child_birth.glsl), a live
+// one counts its life down as LIFE does; velocity.w keeps its count of dropped births.
 
 #include "common/state.glsl"
 #include "common/precision.glsl"
@@ -57,6 +60,21 @@ vec3 advance(vec3 x, vec3 v, vec3 vb) {
 #endif
 }
 
+#ifdef TIMESTAMP
+// The age within the current cycle at the end of this step (for a particle born by then) and
+// the cycle's number; child texels ask it of their parents (sim/child_birth.glsl).
+float timestamp_age(vec4 st, int type, out float generation) {
+    float rel = u_time + u_dt - st.x;
+    float cycle = u_cycle[type];
+    generation = floor(rel / cycle);
+    return rel - generation * cycle;
+}
+#endif
+#ifdef CHILDREN
+#include "sim/children.glsl"
+#include "sim/child_birth.glsl"
+#endif
+
 #include "sim/forces.glsl"
 #ifdef MULTISTAGE
 #include "sim/stages.glsl"
@@ -87,12 +105,15 @@ uniform sampler2D u_new_velocity;
 
 const float INF = uintBitsToFloat(0x7f800000u);
 
+// velocity.w: 0, or a child texel's count of dropped births (sim/child_birth.glsl).
+float state_w = 0.0;
+
 void write_state(vec3 x, float life, vec3 v) {
 #ifndef OUT_VELOCITY
     o_position = fp_store(vec4(x, life));
 #endif
 #if !defined(VERLET) && !defined(OUT_POSITION)
-    o_velocity = fp_store(vec4(v, 0.0));
+    o_velocity = fp_store(vec4(v, state_w));
 #endif
 #ifdef SPIN
     o_spin = spin;
@@ -117,15 +138,31 @@ void main() {
 #endif
     float life = p.w;
 
+#ifdef CHILDREN
+    if (int(index) >= u_child_start) {
+        // A child texel: born from its parent in this step, or living out its own life.
+        ChildStep c = child_step(int(index), p, texelFetch(u_velocity, t, 0));
+        state_w = c.drops;
+        if (c.born) {
+            write_state(c.x, st.z, c.v);
+            return;
+        }
+        life = p.w - u_dt;
+        if (!(p.w > 0.0) || life <= 0.0) {
+            write_state(vec3(INF), 0.0, vec3(0.0));
+            return;
+        }
+        force_age = st.z - p.w;
+    } else {
+#endif
 #if defined(TIMESTAMP)
     float rel = u_time + u_dt - st.x;
     if (rel < 0.0) {
         write_state(vec3(INF), -1.0, vec3(0.0));  // not born yet: out of view
         return;
     }
-    float cycle = u_cycle[type];
-    float generation = floor(rel / cycle);
-    float age = rel - generation * cycle;
+    float generation;
+    float age = timestamp_age(st, type, generation);
     if (age >= st.z) {
         write_state(vec3(INF), 0.0, vec3(0.0));   // dead until its next cycle begins
         return;
@@ -171,6 +208,9 @@ void main() {
     if (life <= 0.0) {
         write_state(vec3(INF), 0.0, vec3(0.0));   // death by age: moved to infinity
         return;
+    }
+#endif
+#ifdef CHILDREN
     }
 #endif
 

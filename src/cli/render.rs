@@ -21,7 +21,7 @@ use super::{at_least_one, bad, parse_size, progress_bar, signals, targets, time_
 #[command(allow_negative_numbers = true)]
 pub struct RenderArgs {
     /// Scene to render: a built-in name (`texflow scene list`: fire, fire-points, snow,
-    /// fountain, smoke, e1, e2, e3, collide, gas, mesh, cloth, hair, spin) or a .toml scene file.
+    /// fountain, smoke, e1, e2, e3, collide, gas, mesh, cloth, hair, spin, fireworks) or a .toml scene file.
     #[arg(default_value = scene::DEFAULT_SCENE)]
     scene: String,
     /// Number of frames to simulate.
@@ -273,12 +273,22 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
             summary.max_non_finite, summary.non_finite_frames
         );
     }
+    if summary.dropped_child_births > 0 {
+        eprintln!(
+            "{}",
+            super::warn::child_births_dropped(s, summary.dropped_child_births)
+        );
+    }
     if !a.common.quiet {
         let mut to: Vec<String> = out.iter().map(|o| o.display().to_string()).collect();
         to.extend(video_path.iter().map(|v| v.display().to_string()));
         let dropped = match summary.dropped_births {
             0 => String::new(),
             n => format!(", {n} births dropped: the state texture was full"),
+        };
+        let dropped = match summary.dropped_child_births {
+            0 => dropped,
+            n => format!("{dropped}, {n} child births dropped"),
         };
         eprintln!(
             "wrote {} frame(s) of {}x{} to {} ({} particles, {} steps of {} s{dropped})",
@@ -310,6 +320,7 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
             "steps": summary.steps,
             "dt": s.time.dt,
             "dropped_births": summary.dropped_births,
+            "dropped_child_births": summary.dropped_child_births,
             "max_non_finite": summary.max_non_finite,
             "non_finite_frames": summary.non_finite_frames,
             "median_ms": t.map(|t| {

@@ -73,6 +73,9 @@ pub fn scene_command(c: SceneCommand) -> texflow::Result<()> {
             if let Some(w) = s.capacity_check() {
                 println!("{name}: warning: {w}");
             }
+            for w in s.child_capacity_check() {
+                println!("{name}: warning: {w}");
+            }
         }
         SceneCommand::Passes {
             scene: name,

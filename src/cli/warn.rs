@@ -19,6 +19,24 @@ pub fn births_dropped(s: &SceneFile, index: u64, total: u64) -> String {
     )
 }
 
+/// The warning for births that child emitters' texels could not take (their children still
+/// lived), printed once, at the end of a run.
+pub fn child_births_dropped(s: &SceneFile, total: u64) -> String {
+    let hint = match s.child_capacity_check().first() {
+        Some(w) => format!(
+            "; per_parent = {} would hold child emitter {}'s trail",
+            w.per_parent, w.emitter
+        ),
+        None => String::new(),
+    };
+    format!(
+        "warning: {total} child birth(s) dropped: a parent asked for a child while the texel \
+         reserved for it still held one; raise per_parent of [[emitters.child]] (the scene's \
+         {} texels then hold fewer parents) or lower trail_rate or life{hint}",
+        s.particle_count()
+    )
+}
+
 /// A window-system error without the source location winit puts in front of it
 /// (`os error at /path/to/winit/src/...rs:123: reason`): the reason is what the user needs.
 pub fn window_reason(e: &dyn std::fmt::Display) -> String {

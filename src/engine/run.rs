@@ -143,6 +143,9 @@ pub struct LoopSummary {
     pub stopped: bool,
     /// Births the allocator dropped because the state texture was full.
     pub dropped_births: u64,
+    /// Births that child emitters' texels could not take because their children still lived
+    /// (read back once, at the end of the run).
+    pub dropped_child_births: u64,
     /// Live particles at the last written frame's census.
     pub live: u64,
     /// Per-frame phase times, when [`LoopOptions::timing`] asked for them.
@@ -330,6 +333,7 @@ impl FrameLoop {
             }
         }
         s.steps = engine.steps();
+        s.dropped_child_births = engine.dropped_child_births()?;
         s.times = times;
         Ok(s)
     }

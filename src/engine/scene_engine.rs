@@ -84,6 +84,16 @@ impl SceneEngine {
         }
     }
 
+    /// Births that child emitters' texels could not take (see
+    /// [`ParticleSim::dropped_child_births`](crate::sim::ParticleSim::dropped_child_births): one
+    /// read-back, for the end of a run).
+    pub fn dropped_child_births(&self) -> Result<u64> {
+        match self {
+            SceneEngine::Fire(_) => Ok(0),
+            SceneEngine::Particles(e) => e.sim().dropped_child_births(),
+        }
+    }
+
     /// Sets the viewer's change to the scene's camera (see [`Engine::set_view`]).
     pub fn set_view(&mut self, view: crate::render::ViewOffset) {
         match self {

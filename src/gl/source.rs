@@ -45,6 +45,8 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "sim/forces.glsl",
     "sim/colliders.glsl",
     "sim/stages.glsl",
+    "sim/children.glsl",
+    "sim/child_birth.glsl",
     "sim/integrate.frag",
     "sim/stateless.frag",
     "sim/init.frag",

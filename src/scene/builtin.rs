@@ -33,7 +33,8 @@ builtin_scenes![
     "mesh",
     "cloth",
     "hair",
-    "spin"
+    "spin",
+    "fireworks",
 ];
 
 /// The meshes the built-in scenes name (`[[colliders.sdf]] mesh`), by the path they give

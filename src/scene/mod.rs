@@ -40,7 +40,8 @@ pub use schema::*;
 pub use set::{parse_with, Setting};
 pub use suggest::{closest, did_you_mean, edit_distance};
 pub use validate::{
-    largest_exact_cell, run_capacity, CapacityWarning, EXACT_SCAN, MAX_LATTICE_CELLS,
+    largest_exact_cell, run_capacity, CapacityWarning, ChildCapacityWarning, ChildLayout,
+    ChildRange, EXACT_SCAN, MAX_LATTICE_CELLS,
 };
 
 use crate::error::{Error, Result};

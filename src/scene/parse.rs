@@ -192,6 +192,7 @@ pub fn check_point_size(path: &str, src: &str, scene: &SceneFile, max_point: f32
             ("allocator", &scene.emitters.allocator),
             ("timestamp", &scene.emitters.timestamp),
             ("initial", &scene.emitters.initial),
+            ("child", &scene.emitters.child),
         ];
         // The renderer looks at the first four emitters, in this order (one type each).
         let emitters = kinds

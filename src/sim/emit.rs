@@ -153,6 +153,11 @@ mod tests {
             size_range: None,
             flipbook: None,
             forces: Default::default(),
+            parent: None,
+            per_parent: None,
+            on_death: None,
+            trail_rate: None,
+            inherit_velocity: None,
         }
     }
 

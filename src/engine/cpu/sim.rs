@@ -83,6 +83,9 @@ impl CpuSim {
                  or run the scene on the GPU engine",
             ));
         }
+        if !scene.emitters.child.is_empty() {
+            return Err(unsupported(scene, "child emitters"));
+        }
         let birth = match features.emission {
             Emission::Timestamp => Birth::Timestamp,
             Emission::Initial { .. } => Birth::Initial,

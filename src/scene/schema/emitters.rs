@@ -21,6 +21,11 @@ pub struct Emitters {
     /// particles are permanent and the scene runs no birth or death code.
     #[serde(default)]
     pub initial: Vec<Emitter>,
+    /// The thesis §2: emitters that emit. A child emitter's particles are born from the live
+    /// particles of a parent emitter (`parent`): a trail while the parent lives (`trail_rate`),
+    /// a burst when it dies (`on_death`). Needs `per_parent`, and an emitter of another kind.
+    #[serde(default)]
+    pub child: Vec<Emitter>,
 }
 
 impl Emitters {
@@ -30,10 +35,16 @@ impl Emitters {
             .iter()
             .chain(&self.timestamp)
             .chain(&self.initial)
+            .chain(&self.child)
     }
 
     /// Number of emitters.
     pub fn len(&self) -> usize {
+        self.parents() + self.child.len()
+    }
+
+    /// Number of emitters that are not child emitters (their types come first).
+    pub fn parents(&self) -> usize {
         self.allocator.len() + self.timestamp.len() + self.initial.len()
     }
 
@@ -155,6 +166,18 @@ pub struct Emitter {
     /// [`MAX_EMITTER_FORCES`] of each of the last three); no wind or custom force.
     #[serde(default)]
     pub forces: Forces,
+    /// Child emitters: the type number of the parent emitter (its place among the scene's other
+    /// emitters, in the order allocator, timestamp, initial). Default 0.
+    pub parent: Option<u32>,
+    /// Child emitters: texels of the state reserved for the children of each parent texel.
+    pub per_parent: Option<u32>,
+    /// Child emitters: children born at a parent's last position when it dies (a burst).
+    pub on_death: Option<u32>,
+    /// Child emitters: children per second born from each live parent (a trail).
+    pub trail_rate: Option<f32>,
+    /// Child emitters: the fraction of the parent's velocity a child starts with, beside the
+    /// velocity drawn from its own cone (`direction`, `cone_degrees`, `speed`). Default 1.
+    pub inherit_velocity: Option<f32>,
 }
 
 /// Most attractors, springs or vortices (each kind) one emitter carries: every one is a few

@@ -19,7 +19,9 @@ pub(super) fn bursts(s: &SceneFile) -> Check {
             );
         }
     }
-    let types = em.len().max(1) as u64;
+    // Child emitters take texels of their own (validate/children.rs): the others share the rest.
+    let types = em.parents().max(1) as u64;
+    let slots = s.parent_slots();
     for (kind, list) in [("allocator", &em.allocator), ("timestamp", &em.timestamp)] {
         for (i, e) in list.iter().enumerate() {
             let at = |more: &[Key]| [&[N("emitters"), N(kind), I(i), N("bursts")], more].concat();
@@ -54,7 +56,7 @@ pub(super) fn bursts(s: &SceneFile) -> Check {
             }
             if kind == "timestamp" {
                 // Texel k of the state is of type k mod (number of emitters).
-                let texels = (s.particle_count() + types - 1 - i as u64) / types;
+                let texels = (slots + types - 1 - i as u64) / types;
                 let total: u64 = e.bursts.iter().map(|b| b.count as u64).sum();
                 if total > texels {
                     return fail(

@@ -28,7 +28,18 @@ pub(super) fn emitters(s: &SceneFile) -> Check {
         );
     }
     if em.len() > MAX_EMITTERS {
-        // Only one kind is present here: the first emitter over the limit is its element.
+        // Only one kind besides children is present here: the first emitter over the limit is
+        // its element, or a child emitter's.
+        if em.parents() < MAX_EMITTERS {
+            return fail(
+                path(&[N("emitters"), N("child"), I(MAX_EMITTERS - em.parents())]),
+                format!(
+                    "{} emitters with the child emitters: at most {MAX_EMITTERS} (one particle \
+                     type and atlas tile each)",
+                    em.len()
+                ),
+            );
+        }
         let kind = if !em.allocator.is_empty() {
             "allocator"
         } else if !em.timestamp.is_empty() {
@@ -179,7 +190,7 @@ pub(super) fn emitters(s: &SceneFile) -> Check {
 }
 
 /// What every emitter shares: shape, velocity cone, life, mass, sprite.
-fn check_spawn(at: &[Key], s: &Emitter) -> Check {
+pub(super) fn check_spawn(at: &[Key], s: &Emitter) -> Check {
     let p = |k| {
         let mut v = at.to_vec();
         v.push(N(k));
@@ -310,7 +321,8 @@ impl SceneFile {
             live += r * 0.5 * (lo as f64 + hi as f64);
             rate += r;
         }
-        let slots = self.particle_count();
+        // Child emitters keep texels of their own: the allocator hands out the others.
+        let slots = self.parent_slots();
         if live <= slots as f64 {
             return None;
         }

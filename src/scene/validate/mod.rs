@@ -6,6 +6,8 @@
 //! ([`super::check_limits`]).
 
 mod bursts;
+mod children;
+pub use children::{ChildCapacityWarning, ChildLayout, ChildRange};
 mod colliders;
 mod constraints;
 mod emitters;
@@ -132,6 +134,7 @@ impl SceneFile {
         stateless(self)?;
         emitters::emitters(self)?;
         bursts::bursts(self)?;
+        children::children(self)?;
         forces::forces(self)?;
         colliders::colliders(self)?;
         constraints::orbits(self)?;

@@ -86,6 +86,7 @@ pub(super) fn render(s: &SceneFile) -> Check {
         ("allocator", &s.emitters.allocator),
         ("timestamp", &s.emitters.timestamp),
         ("initial", &s.emitters.initial),
+        ("child", &s.emitters.child),
     ];
     for (kind, list) in kinds {
         for (i, e) in list.iter().enumerate() {

@@ -81,6 +81,9 @@ pub struct Features {
     /// velocity and angle, written by integration and the collision response.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub spin: bool,
+    /// Child emitters (the thesis §2): their texels are born from their parents' state in the
+    /// integration pass.
+    pub children: usize,
 }
 
 impl Features {
@@ -136,6 +139,7 @@ impl Features {
             release_spread: em.timestamp.iter().any(|e| e.release_spread.is_some()),
             constraints: scene.constraints.as_ref().map(|c| (c.kind, c.iterations)),
             spin: scene.collisions.as_ref().is_some_and(|c| c.spin),
+            children: em.child.len(),
         }
     }
 
@@ -152,7 +156,8 @@ impl Features {
     /// Whether passes can be limited to the rows that hold live particles (the min-heap keeps
     /// them packed at the start, Latta §3.4.1).
     pub fn live_rows(&self) -> bool {
-        self.emission == Emission::Allocator(AllocatorKind::MinHeap)
+        // Child emitters' texels lie after the parents' and must be stepped too.
+        self.emission == Emission::Allocator(AllocatorKind::MinHeap) && self.children == 0
     }
 
     /// Whether a step writes velocity and position in two passes (`passes = "separate"`).
@@ -206,6 +211,9 @@ impl Features {
                     def("LIFE", "1".into());
                 }
             }
+        }
+        if self.children > 0 {
+            def("CHILDREN", "1".into());
         }
         if self.gravity {
             def("GRAVITY", "1".into());
@@ -356,6 +364,13 @@ impl Features {
             }
             Emission::Timestamp => what.push("time-stamp birth, respawn and death".into()),
             Emission::Initial { life: false } => {}
+        }
+        if self.children > 0 {
+            what.push(format!(
+                "{} child emitter(s): a dead child texel reads its parent texel and is born on \
+                 its trail or at its death (thesis §2)",
+                self.children
+            ));
         }
         if self.precision == Precision::Fp24 {
             what.push("24-bit float emulation".into());

@@ -8,6 +8,7 @@
 //! and which passes run, and is also what `texflow scene passes` prints.
 
 mod births;
+mod children;
 mod custom;
 mod features;
 mod relax;
@@ -279,7 +280,10 @@ impl ParticleSim {
             relax: relax::Relaxation::new(ctx, scene, &defines)?,
             pass: FullscreenPass::new(ctx)?,
             allocator: match features.emission {
-                Emission::Allocator(kind) => Some(Allocator::new(kind, width * height)),
+                // Child emitters keep texels of their own: the allocator hands out the rest.
+                Emission::Allocator(kind) => {
+                    Some(Allocator::new(kind, scene.parent_slots() as u32))
+                }
                 _ => None,
             },
             owed: vec![0.0; emitters.len()],
@@ -503,6 +507,9 @@ impl ParticleSim {
         let p = &self.integrate;
         p.bind();
         p.set_f32("u_time", self.time as f32);
+        // Child emitters' trails: the next step's u_time, exactly (glsl/sim/child_birth.glsl).
+        let next = (self.step + 1) as f64 * self.scene.time.dt as f64;
+        p.optional(|| p.set_f32("u_time_next", next as f32));
         // Orbiting spheres: where they are at the end of this step.
         relax::move_spheres(p, &self.scene, self.time + self.scene.time.dt as f64);
         let statics = ("u_static", self.statics.texture(0).into());

@@ -38,7 +38,9 @@ fn set_constants(
     p.set_ivec2("u_size", size[0] as i32, size[1] as i32);
     p.set_u32("u_seed", seed);
     p.set_f32("u_dt", s.time.dt);
-    p.set_i32("u_emitters", types as i32);
+    // Texel k of the other emitters is of type k mod their count; child emitters' types follow.
+    p.set_i32("u_emitters", (types - s.emitters.child.len()).max(1) as i32);
+    set_children(p, s);
     // The masses of glsl/common/mass.glsl, which integration and collisions share.
     let mut inv_mass = [1.0 / s.particles.mass; 4];
     let mut cycle = [1.0f32; 4];
@@ -193,6 +195,22 @@ fn set_constants(
         let r = d.resolution as i32;
         p.set_ivec3("u_sdf_res", r, r, r);
         p.set_vec2("u_sdf_resp", resp(d.friction, d.resilience));
+    }
+}
+
+/// The child emitters' layout (glsl/sim/children.glsl).
+fn set_children(p: &Program, s: &SceneFile) {
+    let layout = s.child_layout();
+    p.set_i32("u_child_start", layout.parent_slots as i32);
+    p.set_i32("u_children", layout.ranges.len() as i32);
+    for (c, (r, e)) in layout.ranges.iter().zip(&s.emitters.child).enumerate() {
+        let first = [r.start, r.per_parent, r.parent, r.on_death].map(|v| v as i32);
+        p.set_ivec4(&format!("u_child[{c}]"), first);
+        let inherit = e.inherit_velocity.unwrap_or(1.0);
+        p.set_vec4(
+            &format!("u_child_more[{c}]"),
+            Vec4::new(r.trail_rate, inherit, r.kind as f32, 0.0),
+        );
     }
 }
 

@@ -191,6 +191,12 @@ impl Reference {
                 scene.name
             )));
         }
+        if features.children > 0 {
+            return Err(Error::InvalidInput(format!(
+                "scene `{}`: the reference does not cover child emitters",
+                scene.name
+            )));
+        }
         if features.emission == Emission::Timestamp {
             return Err(Error::InvalidInput(format!(
                 "scene `{}`: the reference does not cover time-stamp emission",

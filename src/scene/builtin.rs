@@ -32,7 +32,8 @@ builtin_scenes![
     "gas",
     "mesh",
     "cloth",
-    "hair"
+    "hair",
+    "dem"
 ];
 
 /// The meshes the built-in scenes name (`[[colliders.sdf]] mesh`), by the path they give

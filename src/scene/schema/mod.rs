@@ -7,6 +7,7 @@
 mod constraints;
 mod emitters;
 mod forces;
+mod neighbours;
 mod render;
 
 use serde::{Deserialize, Serialize};
@@ -20,6 +21,7 @@ pub use forces::{
     HeightFieldCollider, Orbit, PlaneCollider, SdfCollider, SphereCollider, Spring, Vortex,
     VortexForm, Wind, WindForm, MAX_CUSTOM_FORCES,
 };
+pub use neighbours::{Dem, PairForce, Response, MAX_PAIR_FORCES};
 pub use render::{
     Blending, CameraSection, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath,
     SortSection, Variant, MAX_KEYFRAMES,
@@ -251,6 +253,13 @@ pub struct Collisions {
     /// last left overlapping (a resting pile needs a few).
     #[serde(default = "one_u32")]
     pub iterations: u32,
+    /// Exact mode: `impulse` (UberFlow §4.5, the default) or `dem`, the discrete-element contact
+    /// force of `[collisions.dem]` (one search per step; `iterations` then does not apply).
+    #[serde(default)]
+    pub response: Response,
+    /// The contact force of `response = "dem"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dem: Option<Dem>,
 }
 
 /// `collisions.detection`: how collision partners are found.

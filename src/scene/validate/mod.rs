@@ -11,6 +11,8 @@ mod constraints;
 mod emitters;
 pub use emitters::CapacityWarning;
 mod forces;
+mod neighbours;
+pub use neighbours::MAX_DEM_OMEGA_DT;
 mod render;
 
 use super::locate::{Invalid, Key};
@@ -135,6 +137,7 @@ impl SceneFile {
         colliders::colliders(self)?;
         constraints::orbits(self)?;
         collisions(self)?;
+        neighbours::neighbours(self)?;
         constraints::constraints(self)?;
         fire(self)?;
         render::render(self)

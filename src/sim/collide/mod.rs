@@ -37,8 +37,10 @@ use crate::sort::{KeyMode, SortOptions, Sorter, Variant};
 
 mod census;
 mod exact;
+mod neighbours;
 
 pub use census::PairCensus;
+pub use neighbours::{check_pair_forces, neighbour_passes, NeighbourReadback};
 
 /// Most neighbours per side the detection loop is compiled for.
 pub const MAX_NEIGHBOURS: u32 = 32;
@@ -118,6 +120,8 @@ pub struct Collisions {
     first: Grid,
     second: Option<Grid>,
     passes: Passes,
+    /// The dem response and the pair forces (`neighbours.rs`), if the scene has either.
+    neighbours: Option<neighbours::Neighbours>,
     copy: Program,
     pass: FullscreenPass,
     width: u32,
@@ -297,6 +301,7 @@ impl Collisions {
         };
         let stage = Collisions {
             passes,
+            neighbours: neighbours::Neighbours::new(ctx, scene, defines)?,
             copy: Program::new(ctx, FULLSCREEN_VERTEX, "collide/copy.frag", &d)?,
             pass: FullscreenPass::new(ctx)?,
             ctx: ctx.clone(),
@@ -386,6 +391,12 @@ impl Collisions {
         fields: &[(&str, Sampled<'_>)],
         set_response_constants: impl Fn(&Program),
     ) -> Result<()> {
+        if self.neighbours.is_some() {
+            self.run_neighbours(state, statics, dt, fields, &set_response_constants)?;
+            if !self.impulse_runs() {
+                return Ok(());
+            }
+        }
         if matches!(self.passes, Passes::Exact { .. }) {
             return self.run_exact(state, statics, dt, fields, &set_response_constants);
         }

@@ -66,7 +66,8 @@ fn force_root(scene: &SceneFile) -> Result<(String, Vec<(String, String)>)> {
     for (i, (c, text)) in pair.iter().zip(pair_sources(scene)?).enumerate() {
         let key = source_key("pair-force", i, &c.glsl, &text);
         add_runtime_source(&key, &text);
-        root += &format!("#define pair_force pair_force_{i}\n#include \"{key}\"\n#undef pair_force\n");
+        root +=
+            &format!("#define pair_force pair_force_{i}\n#include \"{key}\"\n#undef pair_force\n");
         files.push((key, c.glsl.clone()));
     }
     root += &format!(
@@ -94,7 +95,9 @@ fn force_program(ctx: &Context, scene: &SceneFile, defines: &Defines) -> Result<
 
 fn dem(scene: &SceneFile) -> Option<scene::Dem> {
     let c = scene.collisions.as_ref()?;
-    (c.response == scene::Response::Dem).then_some(c.dem).flatten()
+    (c.response == scene::Response::Dem)
+        .then_some(c.dem)
+        .flatten()
 }
 
 /// Compiles the pair forces of `scene` on `ctx`, as the collision stage does, so that `scene
@@ -122,7 +125,13 @@ impl Neighbours {
             force: Framebuffer::new(
                 ctx,
                 "neighbour force",
-                vec![texture(ctx, "neighbour force", w, h, TextureFormat::Rgba32F)?],
+                vec![texture(
+                    ctx,
+                    "neighbour force",
+                    w,
+                    h,
+                    TextureFormat::Rgba32F,
+                )?],
             )?,
             sum: force_program(ctx, scene, defines)?,
             apply: Program::new(
@@ -149,7 +158,9 @@ pub fn neighbour_passes(dem: bool, pair: usize) -> Vec<String> {
         what.push("the DEM contact force (spring, dashpot, shear, attraction) of every partner closer than 2r".to_owned());
     }
     if pair > 0 {
-        what.push(format!("{pair} user pair force(s) of every neighbour within their radius"));
+        what.push(format!(
+            "{pair} user pair force(s) of every neighbour within their radius"
+        ));
     }
     vec![
         "collision keys: cell index in the lattice (z, y, x)".into(),
@@ -254,6 +265,9 @@ impl Collisions {
 
     /// Whether the impulse response runs after the neighbour forces (not with `dem`).
     pub(super) fn impulse_runs(&self) -> bool {
-        !self.neighbours.as_ref().is_some_and(Neighbours::replaces_impulse)
+        !self
+            .neighbours
+            .as_ref()
+            .is_some_and(Neighbours::replaces_impulse)
     }
 }

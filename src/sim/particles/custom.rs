@@ -14,8 +14,8 @@
 
 use crate::error::{Error, Result};
 use crate::gl::source::add_runtime_source;
-use crate::sim::user_glsl::{source_key, user_compile_error};
 use crate::scene::SceneFile;
+use crate::sim::user_glsl::{source_key, user_compile_error};
 
 /// The text of each custom force: read and checked when the scene was loaded, or read now.
 fn sources(scene: &SceneFile) -> Result<Vec<String>> {
@@ -85,7 +85,12 @@ pub fn check_custom_forces(ctx: &crate::gl::Context, scene: &SceneFile) -> Resul
 pub(super) fn user_error(scene: &SceneFile, e: Error) -> Error {
     let texts = sources(scene).unwrap_or_default();
     let files: Vec<(String, String)> = (scene.forces.custom.iter().zip(texts).enumerate())
-        .map(|(i, (c, text))| (source_key("custom-force", i, &c.glsl, &text), c.glsl.clone()))
+        .map(|(i, (c, text))| {
+            (
+                source_key("custom-force", i, &c.glsl, &text),
+                c.glsl.clone(),
+            )
+        })
         .collect();
     user_compile_error(
         e,

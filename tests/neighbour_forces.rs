@@ -338,7 +338,7 @@ fn bad_neighbour_force_scenes_are_refused() {
                 "{}detection = \"exact\"\nresponse = \"dem\"\n[collisions.dem]\nspring = 8e5\n",
                 coll("")
             ),
-            "use a spring of at most 5.0000e5 N/m",
+            "use a spring of at most 5.0000e5 N/m together",
         ),
         (
             format!(

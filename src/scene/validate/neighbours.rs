@@ -7,7 +7,8 @@ use crate::scene::schema::{Detection, Response, SceneFile, MAX_PAIR_FORCES};
 
 use Key::{Index as I, Name as N};
 
-/// Largest ω dt of one contact between two of the lightest particles, ω = sqrt(2 spring / m)
+/// Largest ω dt of one contact between two of the lightest particles,
+/// ω = sqrt(2 (spring + attraction) / m)
 /// (the explicit step of a spring is stable below 2; a particle in a pile feels several
 /// springs at once, so the limit leaves a margin of 2).
 pub const MAX_DEM_OMEGA_DT: f32 = 1.0;
@@ -67,16 +68,18 @@ pub(super) fn neighbours(s: &SceneFile) -> Check {
                 }
                 let m = lightest(s);
                 let dt = s.time.dt;
-                let omega_dt = (2.0 * d.spring / m).sqrt() * dt;
+                // The attraction is a spring too (towards the partner), as stiff per metre.
+                let stiffness = d.spring + d.attraction;
+                let omega_dt = (2.0 * stiffness / m).sqrt() * dt;
                 if omega_dt > MAX_DEM_OMEGA_DT {
                     let largest = m / (2.0 * dt * dt) * MAX_DEM_OMEGA_DT.powi(2);
                     return fail(
                         dem("spring"),
                         format!(
-                            "spring {} N/m is too stiff for dt {dt} s and the lightest mass \
-                             {m} kg (ω dt = {omega_dt:.3}, at most {MAX_DEM_OMEGA_DT}): use a \
-                             spring of at most {largest:.4e} N/m, or a shorter dt",
-                            d.spring
+                            "spring + attraction {stiffness} N/m is too stiff for dt {dt} s and \
+                             the lightest mass {m} kg (ω dt = {omega_dt:.3}, at most \
+                             {MAX_DEM_OMEGA_DT}): use a spring of at most {largest:.4e} N/m \
+                             together, or a shorter dt"
                         ),
                     );
                 }

@@ -471,14 +471,15 @@ impl Collisions {
             Some(&self.first)
         };
         grid.map(|g| {
-            let partners = match &self.passes {
-                Passes::Exact { counts, .. } => counts.texture(0),
-                Passes::Uberflow { .. } => g.partner.texture(0),
+            let partners = match (&self.passes, self.neighbour_counts()?) {
+                (_, Some(counts)) => counts,
+                (Passes::Exact { counts, .. }, None) => counts.texture(0).read_f32()?,
+                (Passes::Uberflow { .. }, None) => g.partner.texture(0).read_f32()?,
             };
             Ok(Readback {
                 positions: g.layout.texture(0).read_f32()?,
                 velocities: g.layout.texture(1).read_f32()?,
-                partners: partners.read_f32()?,
+                partners,
             })
         })
         .transpose()
@@ -509,6 +510,8 @@ pub struct Readback {
     /// Velocities.
     pub velocities: Vec<f32>,
     /// (partner after the mutual check or -1, distance, mutual, partner before the check); in
-    /// the exact mode (partners closer than 2 radius, 1 if a run was truncated, 0, 0).
+    /// the exact mode (partners closer than 2 radius, 1 if a run was truncated, 0, 0); with the
+    /// dem response (partners closer than 2 radius, 0, -1, 0): its force pass does not flag
+    /// truncated runs.
     pub partners: Vec<f32>,
 }

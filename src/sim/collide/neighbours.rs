@@ -263,6 +263,21 @@ impl Collisions {
         }))
     }
 
+    /// With the dem response, the last step's partner counts as the exact detection's count
+    /// pass gives them, (partners closer than 2 radius, 0, -1, 0) per particle, from the force
+    /// texture's contact count (the dem response runs no count pass); else `None`.
+    pub(super) fn neighbour_counts(&self) -> Result<Option<Vec<f32>>> {
+        match &self.neighbours {
+            Some(n) if n.replaces_impulse() => {
+                let f = n.force.texture(0).read_f32()?;
+                Ok(Some(
+                    f.chunks(4).flat_map(|t| [t[3], 0.0, -1.0, 0.0]).collect(),
+                ))
+            }
+            _ => Ok(None),
+        }
+    }
+
     /// Whether the impulse response runs after the neighbour forces (not with `dem`).
     pub(super) fn impulse_runs(&self) -> bool {
         !self

@@ -30,19 +30,19 @@ const HOOK: &str = "vec3 pair_force(vec3 x, vec3 v, int type, float mass, vec3 x
                     return s * (xj - x) + 0.3 * distance * (vj - v);\n\
                     }\n";
 
-fn hook_cpu(
+/// One particle as the hook sees it: position, velocity, type, mass.
+struct Seen {
     x: [f32; 3],
     v: [f32; 3],
     ty: f32,
     m: f32,
-    xj: [f32; 3],
-    vj: [f32; 3],
-    tj: f32,
-    mj: f32,
-) -> [f64; 3] {
-    let d = dist(x, xj);
-    let s = (tj as f64 + 1.0) * mj as f64 - 0.25 * ty as f64 * m as f64;
-    [0, 1, 2].map(|k| s * (xj[k] - x[k]) as f64 + 0.3 * d * (vj[k] - v[k]) as f64)
+}
+
+/// The twin of HOOK, on `a` from `b`.
+fn hook_cpu(a: &Seen, b: &Seen) -> [f64; 3] {
+    let d = dist(a.x, b.x);
+    let s = (b.ty as f64 + 1.0) * b.m as f64 - 0.25 * a.ty as f64 * a.m as f64;
+    [0, 1, 2].map(|k| s * (b.x[k] - a.x[k]) as f64 + 0.3 * d * (b.v[k] - a.v[k]) as f64)
 }
 
 fn dist(a: [f32; 3], b: [f32; 3]) -> f64 {
@@ -57,7 +57,7 @@ fn dem_cpu(xa: [f32; 3], va: [f32; 3], xb: [f32; 3], vb: [f32; 3]) -> [f64; 3] {
     let d: [f64; 3] = [0, 1, 2].map(|k| (xb[k] - xa[k]) as f64);
     let l = dist(xa, xb);
     let reach = 2.0 * RADIUS as f64;
-    if !(l < reach) || l == 0.0 {
+    if l >= reach || l == 0.0 {
         return [0.0; 3];
     }
     let n = d.map(|c| c / l);
@@ -153,27 +153,25 @@ fn twin(r: &NeighbourReadback, hook: bool) -> Twin {
     let mut lives = 0usize;
     for i in (0..n).filter(|&i| live(i)) {
         lives += 1;
-        let (xi, vi) = (at(&r.positions, i), at(&r.velocities, i));
-        let (ti, mi) = (
-            r.statics[i * 4 + 1],
-            mass(r.statics[i * 4 + 1], r.statics[i * 4 + 3]),
-        );
+        let seen = |i: usize| Seen {
+            x: at(&r.positions, i),
+            v: at(&r.velocities, i),
+            ty: r.statics[i * 4 + 1],
+            m: mass(r.statics[i * 4 + 1], r.statics[i * 4 + 3]),
+        };
+        let a = seen(i);
         let mut f = [0.0f64; 3];
         let mut scale = 0.0f64;
         let mut near = 0;
         for j in (0..n).filter(|&j| j != i && live(j)) {
-            let (xj, vj) = (at(&r.positions, j), at(&r.velocities, j));
-            let (tj, mj) = (
-                r.statics[j * 4 + 1],
-                mass(r.statics[j * 4 + 1], r.statics[j * 4 + 3]),
-            );
-            let d = dist(xi, xj);
-            let mut terms = vec![dem_cpu(xi, vi, xj, vj)];
+            let b = seen(j);
+            let d = dist(a.x, b.x);
+            let mut terms = vec![dem_cpu(a.x, a.v, b.x, b.v)];
             if d < 2.0 * RADIUS as f64 {
                 near += 1;
             }
             if hook && d < CELL as f64 {
-                terms.push(hook_cpu(xi, vi, ti, mi, xj, vj, tj, mj));
+                terms.push(hook_cpu(&a, &b));
             }
             for t in terms {
                 for k in 0..3 {

@@ -357,3 +357,39 @@ fn bad_neighbour_force_scenes_are_refused() {
         );
     }
 }
+
+/// A pair force file that is missing, or defines no `pair_force`, is refused at its `glsl` key
+/// with the file named, before anything compiles.
+#[test]
+fn bad_pair_force_files_are_refused_at_their_key() {
+    let dir = std::env::temp_dir().join(format!("texflow-pair-file-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let toml = dir.join("scene.toml");
+    let scene_with = |glsl: &str| {
+        let mut src = String::from(
+            "name = \"p\"\nintegrator = \"euler\"\n[particles]\nsize = [16, 16]\n[time]\n\
+             dt = 0.001\n[[emitters.initial]]\ndirection = [0.0, 1.0, 0.0]\nspeed = [0.0, 0.0]\n\
+             [[forces.pair]]\n",
+        );
+        src += &format!("glsl = \"{glsl}\"\nradius = 0.05\n");
+        src += "[collisions]\nradius = 0.04\ndetection = \"exact\"\n\
+                bounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]\n";
+        std::fs::write(&toml, src).unwrap();
+        scene::load(toml.to_str().unwrap())
+    };
+    let err = scene_with("missing.glsl").unwrap_err().to_string();
+    assert!(
+        err.contains("scene.toml:11:") && err.contains("pair force: cannot read"),
+        "{err}"
+    );
+    std::fs::write(dir.join("f.glsl"), "vec3 force(vec3 x) { return x; }\n").unwrap();
+    let err = scene_with("f.glsl").unwrap_err().to_string();
+    assert!(
+        err.contains("scene.toml:11:") && err.contains("defines no `pair_force`"),
+        "{err}"
+    );
+    std::fs::write(dir.join("ok.glsl"), HOOK).unwrap();
+    let s = scene_with("ok.glsl").unwrap();
+    assert_eq!(s.forces.pair[0].source.as_deref(), Some(HOOK));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -393,3 +393,32 @@ fn bad_pair_force_files_are_refused_at_their_key() {
     assert_eq!(s.forces.pair[0].source.as_deref(), Some(HOOK));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Without walls or gravity the DEM force is the pairs' own (F_ji = -F_ij): momentum Σ m v,
+/// each particle with its own mass, is kept over 200 steps of a dense moving gas, while the
+/// dashpot takes kinetic energy out.
+#[test]
+fn dem_keeps_momentum_and_its_dashpot_takes_energy() {
+    let ctx = context();
+    let s = gas_scene(None);
+    let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+    upload_gas(&mut sim, 0.45, 21);
+    let energy_momentum = texflow::report::collide_iterations::energy_momentum;
+    let (e0, p0) = energy_momentum(&sim).unwrap();
+    for _ in 0..200 {
+        sim.step().unwrap();
+    }
+    let (e1, p1) = energy_momentum(&sim).unwrap();
+    // The scale of the momenta that cancel: Σ m |v| ≤ sqrt(2 E Σ m).
+    let scale = (2.0 * e0 * 256.0 * 3.0).sqrt();
+    let drift = (0..3).map(|k| (p1[k] - p0[k]).abs()).fold(0.0, f64::max) / scale;
+    println!("momentum drift {drift:e} of Σ m |v|; kinetic energy {e0} -> {e1} J");
+    for k in 0..3 {
+        assert!(
+            (p1[k] - p0[k]).abs() < 1e-5 * scale,
+            "momentum {p0:?} -> {p1:?}"
+        );
+    }
+    assert!(e1 < e0, "kinetic energy {e0} -> {e1}");
+    no_gl_error(&ctx);
+}

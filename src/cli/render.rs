@@ -21,7 +21,7 @@ use super::{at_least_one, bad, parse_size, progress_bar, signals, targets, time_
 #[command(allow_negative_numbers = true)]
 pub struct RenderArgs {
     /// Scene to render: a built-in name (`texflow scene list`: fire, fire-points, snow,
-    /// fountain, smoke, e1, e2, e3, collide, gas, mesh, cloth, hair, spin, fireworks) or a .toml scene file.
+    /// fountain, smoke, e1, e2, e3, collide, gas, mesh, cloth, hair, spin, fireworks, dem) or a .toml scene file.
     #[arg(default_value = scene::DEFAULT_SCENE)]
     scene: String,
     /// Number of frames to simulate.

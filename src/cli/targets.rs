@@ -20,6 +20,9 @@ pub fn inputs(label: &str, scene: &SceneFile, builtin: bool) -> Vec<(PathBuf, St
     for c in &scene.forces.custom {
         v.push((PathBuf::from(&c.glsl), "a custom force's GLSL".into()));
     }
+    for c in &scene.forces.pair {
+        v.push((PathBuf::from(&c.glsl), "a pair force's GLSL".into()));
+    }
     let folder = Path::new(label).parent().unwrap_or(Path::new(""));
     for s in &scene.colliders.sdf {
         if let Some(m) = &s.mesh {

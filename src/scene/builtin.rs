@@ -35,6 +35,7 @@ builtin_scenes![
     "hair",
     "spin",
     "fireworks",
+    "dem",
 ];
 
 /// The meshes the built-in scenes name (`[[colliders.sdf]] mesh`), by the path they give

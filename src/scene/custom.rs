@@ -23,16 +23,56 @@ use crate::error::Result;
 
 use Key::{Index as I, Name as N};
 
+/// What a user's GLSL file must define: a function's name and its signature, for messages.
+#[derive(Debug, Clone, Copy)]
+struct Defines {
+    name: &'static str,
+    signature: &'static str,
+}
+
+const FORCE: Defines = Defines {
+    name: "force",
+    signature: "vec3 force(vec3 x, vec3 v, float age, int type)",
+};
+
+/// The signature of a `[[forces.pair]]` file's function.
+pub const PAIR_SIGNATURE: &str = "vec3 pair_force(vec3 x, vec3 v, int type, float mass, vec3 xj, \
+                                  vec3 vj, int type_j, float mass_j, float distance)";
+
+const PAIR: Defines = Defines {
+    name: "pair_force",
+    signature: PAIR_SIGNATURE,
+};
+
 /// Reads the custom force file `path` and checks its text; an error names `path`, the line and
 /// the column.
 pub fn read_glsl(path: &str) -> std::result::Result<String, String> {
+    read_checked(path, FORCE)
+}
+
+/// Reads the pair force file `path` (`[[forces.pair]]`) and checks its text as [`read_glsl`]
+/// does; it must define `pair_force`.
+pub fn read_pair_glsl(path: &str) -> std::result::Result<String, String> {
+    read_checked(path, PAIR)
+}
+
+fn read_checked(path: &str, what: Defines) -> std::result::Result<String, String> {
     let bytes = crate::input::read_bounded(Path::new(path), crate::input::MAX_GLSL_BYTES)
         .map_err(|e| format!("cannot read `{path}`: {e}"))?;
-    check_glsl(path, &bytes)
+    check(path, &bytes, what)
 }
 
 /// Checks the bytes of a custom force file named `path` (in messages) and returns its text.
 pub fn check_glsl(path: &str, bytes: &[u8]) -> std::result::Result<String, String> {
+    check(path, bytes, FORCE)
+}
+
+/// Checks the bytes of a pair force file named `path` (in messages) and returns its text.
+pub fn check_pair_glsl(path: &str, bytes: &[u8]) -> std::result::Result<String, String> {
+    check(path, bytes, PAIR)
+}
+
+fn check(path: &str, bytes: &[u8], what: Defines) -> std::result::Result<String, String> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let text = match std::str::from_utf8(bytes) {
         Ok(t) => t,
@@ -128,11 +168,17 @@ pub fn check_glsl(path: &str, bytes: &[u8]) -> std::result::Result<String, Strin
     }
     let defines_force = code
         .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-        .any(|w| w == "force");
+        .any(|w| w == what.name);
     if !defines_force {
         return Err(format!(
-            "{path}: it defines no `force`: a custom force file defines \
-             `vec3 force(vec3 x, vec3 v, float age, int type)`"
+            "{path}: it defines no `{}`: a {} file defines `{}`",
+            what.name,
+            if what.name == "force" {
+                "custom force"
+            } else {
+                "pair force"
+            },
+            what.signature
         ));
     }
     Ok(text.to_owned())
@@ -185,10 +231,10 @@ fn strip_comments(text: &str) -> String {
     out
 }
 
-/// Reads and checks every custom force file of `scene` (paths already resolved against the
+/// Reads and checks every custom and pair force file of `scene` (paths already resolved against the
 /// scene's folder) into its `source`; a failure is a scene error at the `glsl` key.
 pub fn load_custom(path: &str, src: &str, scene: &mut SceneFile) -> Result<()> {
-    if scene.forces.custom.is_empty() {
+    if scene.forces.custom.is_empty() && scene.forces.pair.is_empty() {
         return Ok(());
     }
     let doc = document(path, src)?;
@@ -200,6 +246,18 @@ pub fn load_custom(path: &str, src: &str, scene: &mut SceneFile) -> Result<()> {
                 src,
                 at,
                 format!("custom force: {m} (the path is relative to the scene file)"),
+            )
+        })?;
+        c.source = Some(text);
+    }
+    for (i, c) in scene.forces.pair.iter_mut().enumerate() {
+        let text = read_pair_glsl(&c.glsl).map_err(|m| {
+            let at = locate(&doc, &[N("forces"), N("pair"), I(i), N("glsl")]);
+            scene_error(
+                path,
+                src,
+                at,
+                format!("pair force: {m} (the path is relative to the scene file)"),
             )
         })?;
         c.source = Some(text);

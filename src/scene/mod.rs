@@ -31,7 +31,9 @@ pub use builtin::{
     builtin, builtin_source, fire, load, load_source, BUILTIN, BUILTIN_MESHES, BUILTIN_SOURCES,
     DEFAULT_SCENE, THESIS_SCENE,
 };
-pub use custom::{check_glsl, load_custom, read_glsl};
+pub use custom::{
+    check_glsl, check_pair_glsl, load_custom, read_glsl, read_pair_glsl, PAIR_SIGNATURE,
+};
 pub use field_files::{grey_image, npy_field, MAX_FIELD_FILE};
 pub use locate::{Invalid, Key};
 pub use mesh::{read_obj, Triangle, MAX_TRIANGLES};
@@ -41,7 +43,7 @@ pub use set::{parse_with, Setting};
 pub use suggest::{closest, did_you_mean, edit_distance};
 pub use validate::{
     largest_exact_cell, run_capacity, CapacityWarning, ChildCapacityWarning, ChildLayout,
-    ChildRange, EXACT_SCAN, MAX_LATTICE_CELLS,
+    ChildRange, EXACT_SCAN, MAX_DEM_OMEGA_DT, MAX_LATTICE_CELLS,
 };
 
 use crate::error::{Error, Result};

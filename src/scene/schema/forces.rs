@@ -29,6 +29,10 @@ pub struct Forces {
     /// User GLSL forces (at most four), added to the integration pass.
     #[serde(default)]
     pub custom: Vec<CustomForce>,
+    /// User GLSL forces between neighbours (at most four), summed over the particles the exact
+    /// collision detection finds within each one's radius.
+    #[serde(default)]
+    pub pair: Vec<super::PairForce>,
 }
 
 /// Most `[[forces.custom]]` of one scene.

@@ -7,6 +7,7 @@
 mod constraints;
 mod emitters;
 mod forces;
+mod neighbours;
 mod render;
 
 use serde::{Deserialize, Serialize};
@@ -21,6 +22,7 @@ pub use forces::{
     HeightFieldCollider, Orbit, PlaneCollider, SdfCollider, SphereCollider, Spring, Vortex,
     VortexForm, Wind, WindForm, MAX_CUSTOM_FORCES,
 };
+pub use neighbours::{Dem, PairForce, Response, MAX_PAIR_FORCES};
 pub use render::{
     Blending, CameraSection, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath,
     Rotate, SortEntries, SortKey, SortSection, Variant, MAX_KEYFRAMES,
@@ -262,6 +264,13 @@ pub struct Collisions {
     /// tangential impulse is at most `friction` times the normal one); 0: frictionless.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub friction: f32,
+    /// Exact mode: `impulse` (UberFlow §4.5, the default) or `dem`, the discrete-element contact
+    /// force of `[collisions.dem]` (one search per step; `iterations` then does not apply).
+    #[serde(default)]
+    pub response: Response,
+    /// The contact force of `response = "dem"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dem: Option<Dem>,
 }
 
 fn is_zero(x: &f32) -> bool {

@@ -255,7 +255,7 @@ fn kinds(s: &SceneFile, base: &[Key], f: &Forces) -> Check {
 
 /// The smallest mass any particle of `s` has (kg): `particles.mass`, or an emitter's `mass` or
 /// the low end of its `mass_range`.
-fn lightest(s: &SceneFile) -> f32 {
+pub(super) fn lightest(s: &SceneFile) -> f32 {
     let em = &s.emitters;
     em.allocator
         .iter()
@@ -267,14 +267,16 @@ fn lightest(s: &SceneFile) -> f32 {
 }
 
 impl SceneFile {
-    /// Makes the relative `[[forces.custom]]` paths relative to `dir`, the directory of the
+    /// Makes the relative `[[forces.custom]]` and `[[forces.pair]]` paths relative to `dir`, the directory of the
     /// scene file (a scene's paths are relative to the file, not to the working directory).
     /// Call it after parsing a scene read from a file; absolute paths are kept.
     pub fn resolve_custom_paths(&mut self, dir: &std::path::Path) {
-        for c in &mut self.forces.custom {
-            let p = std::path::Path::new(&c.glsl);
+        let files = (self.forces.custom.iter_mut().map(|c| &mut c.glsl))
+            .chain(self.forces.pair.iter_mut().map(|c| &mut c.glsl));
+        for glsl in files {
+            let p = std::path::Path::new(glsl.as_str());
             if p.is_relative() {
-                c.glsl = dir.join(p).to_string_lossy().into_owned();
+                *glsl = dir.join(p).to_string_lossy().into_owned();
             }
         }
     }

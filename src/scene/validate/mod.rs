@@ -13,6 +13,8 @@ mod constraints;
 mod emitters;
 pub use emitters::CapacityWarning;
 mod forces;
+mod neighbours;
+pub use neighbours::MAX_DEM_OMEGA_DT;
 mod render;
 mod spin;
 
@@ -140,6 +142,7 @@ impl SceneFile {
         constraints::orbits(self)?;
         collisions(self)?;
         spin::spin(self)?;
+        neighbours::neighbours(self)?;
         constraints::constraints(self)?;
         fire(self)?;
         render::render(self)

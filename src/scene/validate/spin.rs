@@ -3,7 +3,7 @@
 
 use super::{fail, Check};
 use crate::scene::locate::Key;
-use crate::scene::schema::{DrawMode, RenderPath, Rotate, SceneFile, UpdatePasses};
+use crate::scene::schema::{DrawMode, RenderPath, Response, Rotate, SceneFile, UpdatePasses};
 
 use Key::Name as N;
 
@@ -33,6 +33,14 @@ pub(super) fn spin(s: &SceneFile) -> Check {
                 at,
                 "friction between particles acts through their spin: add `spin = true` to \
                  [collisions], or remove `friction`",
+            );
+        }
+        if c.spin && (c.response == Response::Dem || !s.forces.pair.is_empty()) {
+            return fail(
+                vec![N("collisions"), N("spin")],
+                "the neighbour-force passes (response = \"dem\", [[forces.pair]]) carry position \
+                 and velocity, not the spin: remove `spin`, or use response = \"impulse\" \
+                 without pair forces",
             );
         }
         if c.spin && s.passes == UpdatePasses::Separate {

@@ -37,8 +37,10 @@ use crate::sort::{KeyMode, SortOptions, Sorter, Variant};
 
 mod census;
 mod exact;
+mod neighbours;
 
 pub use census::PairCensus;
+pub use neighbours::{check_pair_forces, neighbour_passes, NeighbourReadback};
 
 /// Most neighbours per side the detection loop is compiled for.
 pub const MAX_NEIGHBOURS: u32 = 32;
@@ -120,6 +122,8 @@ pub struct Collisions {
     first: Grid,
     second: Option<Grid>,
     passes: Passes,
+    /// The dem response and the pair forces (`neighbours.rs`), if the scene has either.
+    neighbours: Option<neighbours::Neighbours>,
     copy: Program,
     pass: FullscreenPass,
     width: u32,
@@ -316,6 +320,7 @@ impl Collisions {
         };
         let stage = Collisions {
             passes,
+            neighbours: neighbours::Neighbours::new(ctx, scene, defines)?,
             copy: Program::new(ctx, FULLSCREEN_VERTEX, "collide/copy.frag", &d)?,
             pass: FullscreenPass::new(ctx)?,
             ctx: ctx.clone(),
@@ -409,6 +414,12 @@ impl Collisions {
         fields: &[(&str, Sampled<'_>)],
         set_response_constants: impl Fn(&Program),
     ) -> Result<()> {
+        if self.neighbours.is_some() {
+            self.run_neighbours(state, statics, dt, fields, &set_response_constants)?;
+            if !self.impulse_runs() {
+                return Ok(());
+            }
+        }
         if matches!(self.passes, Passes::Exact { .. }) {
             return self.run_exact(state, statics, dt, fields, &set_response_constants);
         }
@@ -497,14 +508,15 @@ impl Collisions {
             Some(&self.first)
         };
         grid.map(|g| {
-            let partners = match &self.passes {
-                Passes::Exact { counts, .. } => counts.texture(0),
-                Passes::Uberflow { .. } => g.partner.texture(0),
+            let partners = match (&self.passes, self.neighbour_counts()?) {
+                (_, Some(counts)) => counts,
+                (Passes::Exact { counts, .. }, None) => counts.texture(0).read_f32()?,
+                (Passes::Uberflow { .. }, None) => g.partner.texture(0).read_f32()?,
             };
             Ok(Readback {
                 positions: g.layout.texture(0).read_f32()?,
                 velocities: g.layout.texture(1).read_f32()?,
-                partners: partners.read_f32()?,
+                partners,
             })
         })
         .transpose()
@@ -535,6 +547,8 @@ pub struct Readback {
     /// Velocities.
     pub velocities: Vec<f32>,
     /// (partner after the mutual check or -1, distance, mutual, partner before the check); in
-    /// the exact mode (partners closer than 2 radius, 1 if a run was truncated, 0, 0).
+    /// the exact mode (partners closer than 2 radius, 1 if a run was truncated, 0, 0); with the
+    /// dem response (partners closer than 2 radius, 0, -1, 0): its force pass does not flag
+    /// truncated runs.
     pub partners: Vec<f32>,
 }

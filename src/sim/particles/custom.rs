@@ -13,18 +13,9 @@
 //! the collision stage use the built-in forces alone.
 
 use crate::error::{Error, Result};
-use crate::gl::source::{add_runtime_source, is_runtime_source};
+use crate::gl::source::add_runtime_source;
 use crate::scene::SceneFile;
-
-/// The name a custom force's text is added under: unique to its index, path and text, and
-/// never the name of one of texflow's files, so that a user's `common/rng.glsl` is not shadowed
-/// by the built-in one, and one file named twice is spliced twice (as two forces).
-fn source_key(i: usize, path: &str, text: &str) -> String {
-    use std::hash::{Hash, Hasher};
-    let mut h = std::collections::hash_map::DefaultHasher::new();
-    (path, text).hash(&mut h);
-    format!("custom-force-{i}-{:016x}", h.finish())
-}
+use crate::sim::user_glsl::{source_key, user_compile_error};
 
 /// The text of each custom force: read and checked when the scene was loaded, or read now.
 fn sources(scene: &SceneFile) -> Result<Vec<String>> {
@@ -56,7 +47,7 @@ pub(super) fn integrate_root(scene: &SceneFile) -> Result<String> {
     );
     let mut keys = Vec::new();
     for (i, (c, text)) in scene.forces.custom.iter().zip(sources(scene)?).enumerate() {
-        let key = source_key(i, &c.glsl, &text);
+        let key = source_key("custom-force", i, &c.glsl, &text);
         add_runtime_source(&key, &text);
         root += &format!("#define force custom_force_{i}\n#include \"{key}\"\n#undef force\n");
         keys.push(key);
@@ -70,14 +61,15 @@ pub(super) fn integrate_root(scene: &SceneFile) -> Result<String> {
     Ok(name)
 }
 
-/// Compiles the integration pass of `scene` on `ctx`, as [`super::ParticleSim::new`] does, so
-/// that `scene check` refuses what `render` would (scenes without custom forces compile only
+/// Compiles the integration pass of `scene` on `ctx`, as [`super::ParticleSim::new`] does, and
+/// its pair forces' pass, so that `scene check` refuses what `render` would (scenes without custom forces compile only
 /// texflow's own shaders, which the tests compile).
 pub fn check_custom_forces(ctx: &crate::gl::Context, scene: &SceneFile) -> Result<()> {
+    let defines = super::Features::of(scene).defines();
+    crate::sim::collide::check_pair_forces(ctx, scene, &defines)?;
     if scene.forces.custom.is_empty() {
         return Ok(());
     }
-    let defines = super::Features::of(scene).defines();
     crate::gl::Program::new(
         ctx,
         crate::gl::FULLSCREEN_VERTEX,
@@ -88,39 +80,22 @@ pub fn check_custom_forces(ctx: &crate::gl::Context, scene: &SceneFile) -> Resul
     .map_err(|e| user_error(scene, e))
 }
 
-/// A compile error in a user's file becomes an input error that names the file and line (not
-/// under `glsl/`); other errors pass through. The location is the first line of the driver's
-/// log that points into a user's file (Mesa may place an error in an expression of the user's
-/// file at the root's source number, so the log's first location is not always the one).
+/// A compile error in a user's file becomes an input error that names the file and line
+/// ([`user_compile_error`]); other errors pass through.
 pub(super) fn user_error(scene: &SceneFile, e: Error) -> Error {
-    match e {
-        Error::ShaderCompile { file, line, log } if is_runtime_source(&file) => {
-            // The log names the sources by key: name the user's files instead.
-            let mut log = log;
-            let mut file = file;
-            for (i, c) in scene.forces.custom.iter().enumerate() {
-                let text = sources(scene).ok().and_then(|t| t.into_iter().nth(i));
-                if let Some(text) = text {
-                    let key = source_key(i, &c.glsl, &text);
-                    log = log.replace(&key, &c.glsl);
-                    if file == key {
-                        file.clone_from(&c.glsl);
-                    }
-                }
-            }
-            let at = log.lines().find_map(|l| {
-                scene.forces.custom.iter().find_map(|c| {
-                    let rest = l.strip_prefix(c.glsl.as_str())?.strip_prefix(':')?;
-                    let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
-                    Some(format!("{}:{digits}", c.glsl))
-                })
-            });
-            let at = at.unwrap_or(format!("{file}:{line}"));
-            Error::InvalidInput(format!(
-                "custom force {at}: the GLSL does not compile; it must define \
-                 `vec3 force(vec3 x, vec3 v, float age, int type)`:\n{log}"
-            ))
-        }
-        e => e,
-    }
+    let texts = sources(scene).unwrap_or_default();
+    let files: Vec<(String, String)> = (scene.forces.custom.iter().zip(texts).enumerate())
+        .map(|(i, (c, text))| {
+            (
+                source_key("custom-force", i, &c.glsl, &text),
+                c.glsl.clone(),
+            )
+        })
+        .collect();
+    user_compile_error(
+        e,
+        &files,
+        "custom force",
+        "vec3 force(vec3 x, vec3 v, float age, int type)",
+    )
 }

@@ -71,6 +71,10 @@ pub struct Features {
     pub collisions: Option<(u32, bool, Option<u32>)>,
     /// The collision detection mode (with `collisions`).
     pub detection: crate::scene::Detection,
+    /// The exact detection's pairs respond with the DEM contact force (`collisions.response`).
+    pub dem: bool,
+    /// User pair forces (`[[forces.pair]]`).
+    pub pair_forces: usize,
     /// Time stamps in texel order (`collisions.row_phases`), so a release shares a row.
     pub row_phases: bool,
     /// Some timestamp emitter moves each release to its own place (`release_spread`).
@@ -135,6 +139,9 @@ impl Features {
                 .collisions
                 .as_ref()
                 .map_or(Default::default(), |c| c.detection),
+            dem: (scene.collisions.as_ref())
+                .is_some_and(|c| c.response == crate::scene::Response::Dem),
+            pair_forces: scene.forces.pair.len(),
             row_phases: scene.collisions.as_ref().is_some_and(|c| c.row_phases),
             release_spread: em.timestamp.iter().any(|e| e.release_spread.is_some()),
             constraints: scene.constraints.as_ref().map(|c| (c.kind, c.iterations)),
@@ -428,7 +435,15 @@ impl Features {
                 }
             ));
         }
-        if self.collisions.is_some() && self.detection == crate::scene::Detection::Exact {
+        if self.dem || self.pair_forces > 0 {
+            out.extend(crate::sim::collide::neighbour_passes(
+                self.dem,
+                self.pair_forces,
+            ));
+        }
+        if self.dem {
+            // The dem response replaces the impulse: the neighbour passes are the whole stage.
+        } else if self.collisions.is_some() && self.detection == crate::scene::Detection::Exact {
             out.extend(crate::sim::collide::exact_passes(self.colliders()));
         } else if let Some((k, staggered, rows)) = self.collisions {
             let sort = match rows {

@@ -144,7 +144,7 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
     let seed = texflow::engine::shader_seed(overrides.seed);
     if a.sweep {
         let bar = progress_bar(10, a.common.quiet, "collide-stats sweep");
-        let rows = texflow::report::collide_stats::sweep(&ctx, s, a.steps, seed, |name| {
+        let rows = texflow::report::collide_runs::sweep(&ctx, s, a.steps, seed, |name| {
             bar.set_message(name.to_owned());
             bar.inc(1);
         })?;
@@ -158,7 +158,7 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
                 ctx.limits().renderer,
                 a.steps
             );
-            print!("{}", texflow::report::collide_stats::sweep_table(&rows));
+            print!("{}", texflow::report::collide_runs::sweep_table(&rows));
             if rows.iter().all(|r| r.stats.pairs_true == 0) {
                 println!("\n{}", nothing_collided(a.steps));
             }
@@ -166,7 +166,7 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
         return Ok(());
     }
     let bar = progress_bar(a.steps, a.common.quiet, "collide-stats");
-    let stats = texflow::report::collide_stats::measure(&ctx, s, a.steps, seed, || bar.inc(1))?;
+    let stats = texflow::report::collide_runs::measure(&ctx, s, a.steps, seed, || bar.inc(1))?;
     bar.finish_and_clear();
     let c = s.collisions.as_ref().expect("checked");
     if a.json {

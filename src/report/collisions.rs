@@ -1,13 +1,14 @@
 //! Collisions between particles (UberFlow §4.3-4.5), measured: the miss rate of the detection
 //! against the GPU time of the collision passes, for the neighbour count k, the staggered
 //! lattice, rows-only sorting and the cell size, on the built-in `collide` scene. The numbers are
-//! those of `texflow collide-stats collide --sweep` ([`super::collide_stats::sweep`]): the pairs
+//! those of `texflow collide-stats collide --sweep` ([`super::collide_runs::sweep`]): the pairs
 //! the GPU found at the last step against all overlapping pairs from a CPU cell-list reference;
 //! and the miss rate against density on the `gas` scene ([`density_sweep`]).
 
 use std::path::{Path, PathBuf};
 
-use super::collide_stats::{measure, sweep, sweep_table, CollisionStats, SweepRow};
+use super::collide_runs::{measure, sweep, sweep_table, SweepRow};
+use super::collide_stats::CollisionStats;
 use super::plot::{self, Legend, Marker, Series};
 use super::{num, Csv, Progress, ReportOptions, SectionOutput, Size};
 use crate::bench::{median, Clock};

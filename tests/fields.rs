@@ -1,6 +1,6 @@
 //! The GLSL samplers of glsl/sim/fields.glsl against their CPU twins in `sim::fields`: the four
 //! functions evaluated at a few hundred points, inside and outside the fields' bounds, by one
-//! full-screen pass (glsl/test/fields.frag) through three RGBA32F render targets.
+//! full-screen pass (tests/glsl/fields.frag) through three RGBA32F render targets.
 //!
 //! Both sides run the same f32 operations in the same order on the same texels, so they differ
 //! by rounding only: the driver may compute `a / b` as `a * (1 / b)` (a few ulp instead of a
@@ -23,7 +23,7 @@
 
 mod common;
 
-use common::{context, no_gl_error};
+use common::{context, no_gl_error, test_shader};
 use glam::{Vec3, Vec4};
 use texflow::gl::{
     Defines, Framebuffer, FullscreenPass, Program, Texture, TextureDesc, TextureFormat,
@@ -200,8 +200,13 @@ fn glsl_samplers_match_their_cpu_twins() {
         .collect();
     let fb = Framebuffer::new(&ctx, "fields", targets).unwrap();
 
-    let program =
-        Program::new(&ctx, FULLSCREEN_VERTEX, "test/fields.frag", &Defines::new()).unwrap();
+    let program = Program::new(
+        &ctx,
+        FULLSCREEN_VERTEX,
+        &test_shader("fields.frag"),
+        &Defines::new(),
+    )
+    .unwrap();
     program.bind();
     point_tex.bind(0);
     height_tex.bind(1);

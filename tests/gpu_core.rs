@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{context, no_gl_error};
+use common::{context, no_gl_error, test_shader};
 use glam::Vec3;
 use texflow::gl::{Defines, FullscreenPass, PingPong, Program, TextureFormat, FULLSCREEN_VERTEX};
 use texflow::render::{Camera, FrameTarget, PointRenderer, PointStyle};
@@ -19,7 +19,7 @@ fn increment_pass_through_mrt_ping_pong() {
     let program = Program::new(
         &ctx,
         FULLSCREEN_VERTEX,
-        "test/increment.frag",
+        &test_shader("increment.frag"),
         &Defines::new(),
     )
     .expect("test program");

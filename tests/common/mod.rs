@@ -66,3 +66,19 @@ pub fn set_particles(
     }
     sim.set_state(&pos, &vel, &st).unwrap();
 }
+
+/// A shader only the tests draw (`tests/glsl/NAME`, kept out of the library), registered as a
+/// run-time source under the path it returns: `Program::new` finds it there, its `#include`s
+/// resolve to the library's files, and compile errors name that path.
+pub fn test_shader(name: &str) -> String {
+    let text = match name {
+        "broken.frag" => include_str!("../glsl/broken.frag"),
+        "fields.frag" => include_str!("../glsl/fields.frag"),
+        "increment.frag" => include_str!("../glsl/increment.frag"),
+        "write8.frag" => include_str!("../glsl/write8.frag"),
+        _ => panic!("no test shader tests/glsl/{name}"),
+    };
+    let path = format!("tests/glsl/{name}");
+    texflow::gl::source::add_runtime_source(&path, text);
+    path
+}

@@ -1,4 +1,6 @@
-//! Helpers shared by the GPU tests. Every test makes its own context on its own thread (GL
+//! Helpers shared by the tests, each written once: `cli` runs the built binary, `scene` writes
+//! scenes, random states and their CPU references, `image` probes and counts pixels; the GPU
+//! tests' context and state are here. Every GPU test makes its own context on its own thread (GL
 //! contexts are bound to a thread) and ends with `no_gl_error`.
 //!
 //! Mesa 22.3's llvmpipe crashed (SIGSEGV inside `swrast_dri.so`, about one run in eight of
@@ -7,6 +9,10 @@
 //! one after another (llvmpipe still rasterizes on every core), the CPU-only tests in parallel.
 
 #![allow(dead_code)]
+
+pub mod cli;
+pub mod image;
+pub mod scene;
 
 use std::ops::Deref;
 use std::sync::{Mutex, MutexGuard};

@@ -189,8 +189,6 @@ impl Snapshot {
         use std::collections::{HashMap, HashSet};
         let a = &self.first;
         let n = a.positions.len() / 4;
-        let w = self.width as usize;
-        let k = self.neighbours as usize;
         let reach = 2.0 * self.radius;
         let points: Vec<(usize, Vec3)> = (0..n)
             .filter(|&i| live(&a.positions, i))
@@ -217,8 +215,7 @@ impl Snapshot {
             return s;
         }
         // Lattice B's order -> lattice A's, by the positions' bits (unique in practice).
-        let key = |p: Vec3| (p.x.to_bits(), p.y.to_bits(), p.z.to_bits());
-        let index_a: HashMap<_, usize> = points.iter().map(|&(i, p)| (key(p), i)).collect();
+        let index_a: HashMap<_, usize> = points.iter().map(|&(i, p)| (bits(p), i)).collect();
         let mut found: HashSet<(usize, usize)> = HashSet::new();
         let mut mutual: HashSet<(usize, usize)> = HashSet::new();
         // Each particle's chosen partner and distance per lattice, in A's names.
@@ -228,7 +225,7 @@ impl Snapshot {
                 if g == 0 {
                     Some(i)
                 } else {
-                    index_a.get(&key(pos(&snap.positions, i))).copied()
+                    index_a.get(&bits(pos(&snap.positions, i))).copied()
                 }
             };
             for i in 0..n {
@@ -280,72 +277,9 @@ impl Snapshot {
             mean_depth,
             ..Default::default()
         };
-        // Each missed pair is put down to the lattice that could have found it, in that
-        // lattice's own layout: fetched in some lattice (same row, at most k apart) but lost to
-        // a closer partner; else sharing a cell in some lattice (the first that does) but sorted
-        // into different rows there or further apart than k; else in different cells of every
-        // lattice.
-        let b_of: Option<Vec<usize>> = self.second.as_ref().map(|b| {
-            let mut m = vec![usize::MAX; n];
-            for ib in 0..n {
-                if let Some(&ia) = index_a.get(&key(pos(&b.positions, ib))) {
-                    m[ia] = ib;
-                }
-            }
-            m
-        });
-        for &(i, j) in truth.difference(&found) {
-            s.missed += 1;
-            let (pi, pj) = (pos(&a.positions, i), pos(&a.positions, j));
-            let mut layouts = vec![(a.lattice, i, j)];
-            if let (Some(b), Some(m)) = (&self.second, &b_of) {
-                layouts.push((b.lattice, m[i], m[j]));
-            }
-            let fetched =
-                |&(_, x, y): &(Lattice, usize, usize)| x / w == y / w && x.abs_diff(y) <= k;
-            if layouts.iter().any(fetched) {
-                s.missed_closer_partner += 1;
-            } else if let Some(&(_, x, y)) =
-                layouts.iter().find(|(l, _, _)| l.cell(pi) == l.cell(pj))
-            {
-                if x / w != y / w {
-                    s.missed_other_row += 1;
-                } else {
-                    s.missed_far_along_row += 1;
-                }
-            } else {
-                s.missed_adjacent_cells += 1;
-            }
-        }
-        // Tunnelling: with x_prev = x - v dt (the explicit step's last move), pairs whose
-        // closest approach during the step was within 2r but which no longer overlap.
-        let vmax = (0..n)
-            .filter(|&i| live(&a.positions, i))
-            .map(|i| pos(&a.velocities, i).length())
-            .fold(0.0f32, f32::max);
-        let wide = reach + 2.0 * vmax * self.dt;
-        for (i, j) in close_pairs(&points, wide) {
-            if truth.contains(&(i, j)) {
-                continue;
-            }
-            let (xi, xj) = (pos(&a.positions, i), pos(&a.positions, j));
-            let dx = xi - xj;
-            let dv = (pos(&a.velocities, i) - pos(&a.velocities, j)) * self.dt;
-            // d(s) = dx - s dv for s in [0, 1] back in time.
-            let s_min = if dv.length_squared() > 0.0 {
-                (dx.dot(dv) / dv.length_squared()).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            if (dx - s_min * dv).length() < reach {
-                s.tunnelled += 1;
-            }
-        }
-        let mut cells: HashMap<u64, usize> = HashMap::new();
-        for (_, p) in &points {
-            *cells.entry(a.lattice.key(a.lattice.cell(*p))).or_default() += 1;
-        }
-        s.particles_per_cell = points.len() as f64 / cells.len().max(1) as f64;
+        self.classify_missed(&mut s, &truth, &found, &index_a);
+        s.tunnelled = self.tunnelled(&points, &truth, reach);
+        s.particles_per_cell = particles_per_cell(a.lattice, &points);
         s
     }
 }
@@ -398,5 +332,108 @@ impl Snapshot {
             particles_per_cell: points.len() as f64 / cells.len().max(1) as f64,
             ..Default::default()
         }
+    }
+}
+
+type Bits = (u32, u32, u32);
+
+/// A position's bits: B's order is mapped to A's by them (unique in practice).
+fn bits(p: Vec3) -> Bits {
+    (p.x.to_bits(), p.y.to_bits(), p.z.to_bits())
+}
+
+/// Live particles per occupied cell of `lattice`.
+fn particles_per_cell(lattice: Lattice, points: &[(usize, Vec3)]) -> f64 {
+    let mut cells: std::collections::HashMap<u64, usize> = Default::default();
+    for (_, p) in points {
+        *cells.entry(lattice.key(lattice.cell(*p))).or_default() += 1;
+    }
+    points.len() as f64 / cells.len().max(1) as f64
+}
+
+impl Snapshot {
+    /// Each missed pair is put down to the lattice that could have found it, in that
+    /// lattice's own layout: fetched in some lattice (same row, at most k apart) but lost to
+    /// a closer partner; else sharing a cell in some lattice (the first that does) but sorted
+    /// into different rows there or further apart than k; else in different cells of every
+    /// lattice.
+    fn classify_missed(
+        &self,
+        s: &mut CollisionStats,
+        truth: &std::collections::HashSet<(usize, usize)>,
+        found: &std::collections::HashSet<(usize, usize)>,
+        index_a: &std::collections::HashMap<Bits, usize>,
+    ) {
+        let a = &self.first;
+        let n = a.positions.len() / 4;
+        let (w, k) = (self.width as usize, self.neighbours as usize);
+        let b_of: Option<Vec<usize>> = self.second.as_ref().map(|b| {
+            let mut m = vec![usize::MAX; n];
+            for ib in 0..n {
+                if let Some(&ia) = index_a.get(&bits(pos(&b.positions, ib))) {
+                    m[ia] = ib;
+                }
+            }
+            m
+        });
+        for &(i, j) in truth.difference(found) {
+            s.missed += 1;
+            let (pi, pj) = (pos(&a.positions, i), pos(&a.positions, j));
+            let mut layouts = vec![(a.lattice, i, j)];
+            if let (Some(b), Some(m)) = (&self.second, &b_of) {
+                layouts.push((b.lattice, m[i], m[j]));
+            }
+            let fetched =
+                |&(_, x, y): &(Lattice, usize, usize)| x / w == y / w && x.abs_diff(y) <= k;
+            if layouts.iter().any(fetched) {
+                s.missed_closer_partner += 1;
+            } else if let Some(&(_, x, y)) =
+                layouts.iter().find(|(l, _, _)| l.cell(pi) == l.cell(pj))
+            {
+                if x / w != y / w {
+                    s.missed_other_row += 1;
+                } else {
+                    s.missed_far_along_row += 1;
+                }
+            } else {
+                s.missed_adjacent_cells += 1;
+            }
+        }
+    }
+
+    /// Tunnelling: with x_prev = x - v dt (the explicit step's last move), pairs whose
+    /// closest approach during the step was within 2r but which no longer overlap.
+    fn tunnelled(
+        &self,
+        points: &[(usize, Vec3)],
+        truth: &std::collections::HashSet<(usize, usize)>,
+        reach: f32,
+    ) -> usize {
+        let a = &self.first;
+        let n = a.positions.len() / 4;
+        let mut tunnelled = 0;
+        let vmax = (0..n)
+            .filter(|&i| live(&a.positions, i))
+            .map(|i| pos(&a.velocities, i).length())
+            .fold(0.0f32, f32::max);
+        let wide = reach + 2.0 * vmax * self.dt;
+        for (i, j) in close_pairs(points, wide) {
+            if truth.contains(&(i, j)) {
+                continue;
+            }
+            let (xi, xj) = (pos(&a.positions, i), pos(&a.positions, j));
+            let dx = xi - xj;
+            let dv = (pos(&a.velocities, i) - pos(&a.velocities, j)) * self.dt;
+            // d(s) = dx - s dv for s in [0, 1] back in time.
+            let s_min = if dv.length_squared() > 0.0 {
+                (dx.dot(dv) / dv.length_squared()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            if (dx - s_min * dv).length() < reach {
+                tunnelled += 1;
+            }
+        }
+        tunnelled
     }
 }

@@ -32,6 +32,7 @@ use crate::gl::{
     Blend, BlendComponent, BlendFactor, Context, Framebuffer, Texture, TextureDesc, TextureFormat,
 };
 use crate::scene::{DrawOrder, Scene, SceneFile};
+use crate::sim::ParticleSim;
 use crate::sort::{KeyMode, SortOptions, Sorter};
 
 mod text;
@@ -370,34 +371,7 @@ fn particles(
     let floor2 = WriteFloor::new(ctx, 2)?;
     let [w, h] = s.particles.size;
     let texels = w as usize * h as usize;
-    // The sort the engine runs, built from the same plan, with its own gather target.
-    let mut sort = match crate::engine::plan::sort_plan(s) {
-        None => None,
-        Some(p) => {
-            let options = SortOptions {
-                passes_per_frame: p.passes_per_frame.map(|n| n as usize),
-                ..Default::default()
-            };
-            let sorter = Sorter::new(ctx, p.variant, p.size[0], p.size[1], options)?;
-            let tex = |label: &str| {
-                Texture::new(
-                    ctx,
-                    TextureDesc {
-                        width: w,
-                        height: h,
-                        format: TextureFormat::Rgba32F,
-                        label,
-                    },
-                )
-            };
-            let sorted = Framebuffer::new(
-                ctx,
-                "bench sorted",
-                vec![tex("bench sorted position")?, tex("bench sorted static")?],
-            )?;
-            Some((sorter, sorted, p.passes_per_frame.is_some(), false))
-        }
-    };
+    let mut sort = bench_sort(ctx, s)?;
     let back_to_front = s.render.order == DrawOrder::BackToFront;
     let has_births = engine.sim().allocator().is_some();
     let step_name = if has_births {
@@ -443,56 +417,17 @@ fn particles(
         }
         // The frame's sorting, then its drawing.
         let sim = engine.sim();
-        let count = if let Some((sorter, sorted, spread, keyed)) = &mut sort {
+        let count = if let Some(sort) = &mut sort {
             let mode = KeyMode::ViewerDistance {
                 eye: engine.camera().eye(),
                 back_to_front,
             };
-            let f = timer.time(|| floor1.draw(sorter.target()))?;
-            let t = timed(timer, || {
-                if *spread && *keyed {
-                    sorter.refresh_keys(sim.positions(), texels, &mode, true)
-                } else {
-                    sorter.write_keys(sim.positions(), texels, &mode, true)
-                }
-            })?;
-            *keyed = true;
-            phases.push(
-                "sort keys: distance to the viewer",
-                "write-only pass into the sort texture",
-                t,
-                f,
-            );
-            // Each pass's floor writes what it writes: the sort texture, or for the blocked
-            // variant its layers (and the row-major texture once, in its unpack pass).
-            let layers = sorter.target().attachments();
-            let f1 = timer.time(|| floor1.draw(sorter.target()))?;
-            let fl = if layers > 1 {
-                let f = WriteFloor::new(ctx, layers)?;
-                timer.time(|| f.draw(sorter.target()))?
-            } else {
-                f1
+            let floors = SortFloors {
+                timer,
+                floor1: &floor1,
+                floor2: &floor2,
             };
-            let fk = timer.time(|| floor1.draw(sorter.keys_target()))?;
-            let mut passes = 0;
-            let t = timer.time(|| passes = sorter.sort_frame())?;
-            let unpack = passes.saturating_sub(sorter.network_pass_count().min(passes));
-            phases.push(
-                &format!("sort network ({})", sorter.variant().name()),
-                "write-only pass into each pass's targets × passes run",
-                t,
-                fl * (passes - unpack) as f64 + fk * unpack as f64,
-            );
-            let f = timer.time(|| floor2.draw(sorted))?;
-            let t = timed(timer, || {
-                sorter.gather(&[sim.positions(), sim.statics()], sorted)
-            })?;
-            phases.push(
-                "gather position and static textures",
-                "write-only pass into the two gathered textures",
-                t,
-                f,
-            );
+            sort_phases(ctx, &floors, &mut phases, sort, sim, &mode)?;
             texels
         } else {
             sim.active_count()
@@ -532,4 +467,106 @@ fn particles(
         .filter(|p| p.iter().all(|x| x.is_finite()) && p[3] > 0.0)
         .count() as u64;
     Ok((phases, median(&frames[1..]), live))
+}
+
+/// The sort the engine runs, built from the same plan, with its own gather target: the sorter,
+/// the gathered position and static textures, whether it is spread over frames, and whether
+/// keys were written yet.
+type BenchSort = (Sorter, Framebuffer, bool, bool);
+
+fn bench_sort(ctx: &Context, s: &SceneFile) -> Result<Option<BenchSort>> {
+    let [w, h] = s.particles.size;
+    Ok(match crate::engine::plan::sort_plan(s) {
+        None => None,
+        Some(p) => {
+            let options = SortOptions {
+                passes_per_frame: p.passes_per_frame.map(|n| n as usize),
+                ..Default::default()
+            };
+            let sorter = Sorter::new(ctx, p.variant, p.size[0], p.size[1], options)?;
+            let tex = |label: &str| {
+                Texture::new(
+                    ctx,
+                    TextureDesc {
+                        width: w,
+                        height: h,
+                        format: TextureFormat::Rgba32F,
+                        label,
+                    },
+                )
+            };
+            let sorted = Framebuffer::new(
+                ctx,
+                "bench sorted",
+                vec![tex("bench sorted position")?, tex("bench sorted static")?],
+            )?;
+            Some((sorter, sorted, p.passes_per_frame.is_some(), false))
+        }
+    })
+}
+
+/// What the sort's phases are timed with and measured against.
+struct SortFloors<'a> {
+    timer: &'a PassTimer,
+    floor1: &'a WriteFloor,
+    floor2: &'a WriteFloor,
+}
+
+/// One frame's sorting in its phases: keys, network, gather.
+fn sort_phases(
+    ctx: &Context,
+    on: &SortFloors,
+    phases: &mut Phases,
+    (sorter, sorted, spread, keyed): &mut BenchSort,
+    sim: &ParticleSim,
+    mode: &KeyMode,
+) -> Result<()> {
+    let [w, h] = sim.size().to_array();
+    let texels = w as usize * h as usize;
+    let f = on.timer.time(|| on.floor1.draw(sorter.target()))?;
+    let t = timed(on.timer, || {
+        if *spread && *keyed {
+            sorter.refresh_keys(sim.positions(), texels, mode, true)
+        } else {
+            sorter.write_keys(sim.positions(), texels, mode, true)
+        }
+    })?;
+    *keyed = true;
+    phases.push(
+        "sort keys: distance to the viewer",
+        "write-only pass into the sort texture",
+        t,
+        f,
+    );
+    // Each pass's floor writes what it writes: the sort texture, or for the blocked
+    // variant its layers (and the row-major texture once, in its unpack pass).
+    let layers = sorter.target().attachments();
+    let f1 = on.timer.time(|| on.floor1.draw(sorter.target()))?;
+    let fl = if layers > 1 {
+        let f = WriteFloor::new(ctx, layers)?;
+        on.timer.time(|| f.draw(sorter.target()))?
+    } else {
+        f1
+    };
+    let fk = on.timer.time(|| on.floor1.draw(sorter.keys_target()))?;
+    let mut passes = 0;
+    let t = on.timer.time(|| passes = sorter.sort_frame())?;
+    let unpack = passes.saturating_sub(sorter.network_pass_count().min(passes));
+    phases.push(
+        &format!("sort network ({})", sorter.variant().name()),
+        "write-only pass into each pass's targets × passes run",
+        t,
+        fl * (passes - unpack) as f64 + fk * unpack as f64,
+    );
+    let f = on.timer.time(|| on.floor2.draw(sorted))?;
+    let t = timed(on.timer, || {
+        sorter.gather(&[sim.positions(), sim.statics()], sorted)
+    })?;
+    phases.push(
+        "gather position and static textures",
+        "write-only pass into the two gathered textures",
+        t,
+        f,
+    );
+    Ok(())
 }

@@ -196,7 +196,22 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
         (r, _) => r?,
     };
     bar.finish_and_clear();
-    // Dropped unfinished (signal, early stop), the video's temporary file is removed.
+    let video_path = finish_video(&mut sink, &summary)?;
+    if let Some(g) = &sink.golden {
+        let line = g.verdict()?;
+        if !a.common.quiet {
+            eprintln!("{line}");
+        }
+    }
+    report(&a, s, &ctx, &summary, out.as_deref(), video_path.as_deref());
+    Ok(())
+}
+
+/// The frame loop's options from the command line.
+
+/// The video finished, unless a signal or an early stop ended the run (dropped unfinished, its
+/// temporary file is removed); a signal is the reason for any failure, and ends the command.
+fn finish_video(sink: &mut RenderSink, summary: &LoopSummary) -> texflow::Result<Option<PathBuf>> {
     let video_path = match sink.video.take() {
         Some(v) if signals::received().is_none() && !summary.stopped => Some(v.finish()),
         _ => None,
@@ -213,17 +228,9 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
         texflow::output::remove_unfinished();
         return Err(texflow::Error::Interrupted { signal });
     }
-    if let Some(g) = &sink.golden {
-        let line = g.verdict()?;
-        if !a.common.quiet {
-            eprintln!("{line}");
-        }
-    }
-    report(&a, s, &ctx, &summary, out.as_deref(), video_path.as_deref());
-    Ok(())
+    Ok(video_path)
 }
 
-/// The frame loop's options from the command line.
 fn loop_options(a: &RenderArgs, golden_frame: Option<u64>, user_dumps: Option<u64>) -> LoopOptions {
     LoopOptions {
         frames: a.frames,

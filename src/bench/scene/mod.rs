@@ -23,19 +23,16 @@
 //! each phase once, each finished before the next (a phase's time is one step's, not a frame's).
 
 use super::scenes::default_warmup_frames;
-use super::stats::{
-    median, Clock, FixedCost, PassTimer, PlacedRenderFloor, RenderFloor, WriteFloor,
-};
+use super::stats::{median, Clock, PassTimer, PlacedRenderFloor, RenderFloor, WriteFloor};
 use crate::engine::{Engine, FireEngine};
 use crate::error::{Error, Result};
-use crate::gl::{
-    Blend, BlendComponent, BlendFactor, Context, Framebuffer, Texture, TextureDesc, TextureFormat,
-};
+use crate::gl::{Blend, BlendComponent, BlendFactor, Context, Framebuffer, Texture, TextureDesc};
 use crate::scene::{DrawOrder, Scene, SceneFile};
-use crate::sim::ParticleSim;
-use crate::sort::{KeyMode, SortOptions, Sorter};
+use crate::sort::KeyMode;
 
+mod phases;
 mod text;
+use phases::{bench_sort, sort_phases, SortFloors, StateFloors};
 pub use text::{run_summary, scene_markdown, summary};
 
 /// One phase of a frame and its floor.
@@ -361,12 +358,7 @@ fn particles(
         engine.advance_frame()?;
         engine.draw()?;
     }
-    let state_targets = engine.sim().front().textures().len();
-    let scratch = scratch_like(ctx, engine.sim().front())?;
-    let state_floor = WriteFloor::new(ctx, state_targets)?;
-    let fixed_cost = FixedCost::new(ctx)?;
-    let scratch_bytes =
-        scratch.width() as u64 * scratch.height() as u64 * scratch.bytes_per_texel() as u64;
+    let state_floors = StateFloors::new(ctx, engine.sim())?;
     let floor1 = WriteFloor::new(ctx, 1)?;
     let floor2 = WriteFloor::new(ctx, 2)?;
     let [w, h] = s.particles.size;
@@ -390,31 +382,7 @@ fn particles(
             engine.draw()
         })?);
         // One step, in its phases.
-        let rows = engine.sim().active_rows();
-        let f = timer.time(|| state_floor.draw_rows(&scratch, 0, rows))?;
-        let t = timed(timer, || engine.sim_mut().step_without_collisions())?;
-        phases.push(
-            step_name,
-            "write-only pass into the state's targets, live rows",
-            t,
-            f,
-        );
-        if engine.sim().collisions().is_some() {
-            // The stage's floor: its passes' fixed cost plus its bytes written at the rate of a
-            // write-only pass into the state's targets, both measured now.
-            let fixed = fixed_cost.measure(timer)?;
-            let f = timer.time(|| state_floor.draw(&scratch))?;
-            let rate = scratch_bytes as f64 / (f - fixed).max(1e-9);
-            ctx.take_draw_stats();
-            let t = timed(timer, || engine.sim_mut().collide())?;
-            let stage = ctx.take_draw_stats();
-            phases.push(
-                "collide (sorts, detection, response)",
-                "its passes × the fixed cost of a pass + its bytes at the state's write rate",
-                t,
-                stage.draws as f64 * fixed + stage.bytes_written as f64 / rate,
-            );
-        }
+        state_floors.step_phases(ctx, timer, engine.sim_mut(), step_name, &mut phases)?;
         // The frame's sorting, then its drawing.
         let sim = engine.sim();
         let count = if let Some(sort) = &mut sort {
@@ -467,106 +435,4 @@ fn particles(
         .filter(|p| p.iter().all(|x| x.is_finite()) && p[3] > 0.0)
         .count() as u64;
     Ok((phases, median(&frames[1..]), live))
-}
-
-/// The sort the engine runs, built from the same plan, with its own gather target: the sorter,
-/// the gathered position and static textures, whether it is spread over frames, and whether
-/// keys were written yet.
-type BenchSort = (Sorter, Framebuffer, bool, bool);
-
-fn bench_sort(ctx: &Context, s: &SceneFile) -> Result<Option<BenchSort>> {
-    let [w, h] = s.particles.size;
-    Ok(match crate::engine::plan::sort_plan(s) {
-        None => None,
-        Some(p) => {
-            let options = SortOptions {
-                passes_per_frame: p.passes_per_frame.map(|n| n as usize),
-                ..Default::default()
-            };
-            let sorter = Sorter::new(ctx, p.variant, p.size[0], p.size[1], options)?;
-            let tex = |label: &str| {
-                Texture::new(
-                    ctx,
-                    TextureDesc {
-                        width: w,
-                        height: h,
-                        format: TextureFormat::Rgba32F,
-                        label,
-                    },
-                )
-            };
-            let sorted = Framebuffer::new(
-                ctx,
-                "bench sorted",
-                vec![tex("bench sorted position")?, tex("bench sorted static")?],
-            )?;
-            Some((sorter, sorted, p.passes_per_frame.is_some(), false))
-        }
-    })
-}
-
-/// What the sort's phases are timed with and measured against.
-struct SortFloors<'a> {
-    timer: &'a PassTimer,
-    floor1: &'a WriteFloor,
-    floor2: &'a WriteFloor,
-}
-
-/// One frame's sorting in its phases: keys, network, gather.
-fn sort_phases(
-    ctx: &Context,
-    on: &SortFloors,
-    phases: &mut Phases,
-    (sorter, sorted, spread, keyed): &mut BenchSort,
-    sim: &ParticleSim,
-    mode: &KeyMode,
-) -> Result<()> {
-    let [w, h] = sim.size().to_array();
-    let texels = w as usize * h as usize;
-    let f = on.timer.time(|| on.floor1.draw(sorter.target()))?;
-    let t = timed(on.timer, || {
-        if *spread && *keyed {
-            sorter.refresh_keys(sim.positions(), texels, mode, true)
-        } else {
-            sorter.write_keys(sim.positions(), texels, mode, true)
-        }
-    })?;
-    *keyed = true;
-    phases.push(
-        "sort keys: distance to the viewer",
-        "write-only pass into the sort texture",
-        t,
-        f,
-    );
-    // Each pass's floor writes what it writes: the sort texture, or for the blocked
-    // variant its layers (and the row-major texture once, in its unpack pass).
-    let layers = sorter.target().attachments();
-    let f1 = on.timer.time(|| on.floor1.draw(sorter.target()))?;
-    let fl = if layers > 1 {
-        let f = WriteFloor::new(ctx, layers)?;
-        on.timer.time(|| f.draw(sorter.target()))?
-    } else {
-        f1
-    };
-    let fk = on.timer.time(|| on.floor1.draw(sorter.keys_target()))?;
-    let mut passes = 0;
-    let t = on.timer.time(|| passes = sorter.sort_frame())?;
-    let unpack = passes.saturating_sub(sorter.network_pass_count().min(passes));
-    phases.push(
-        &format!("sort network ({})", sorter.variant().name()),
-        "write-only pass into each pass's targets × passes run",
-        t,
-        fl * (passes - unpack) as f64 + fk * unpack as f64,
-    );
-    let f = on.timer.time(|| on.floor2.draw(sorted))?;
-    let t = timed(on.timer, || {
-        sorter.gather(&[sim.positions(), sim.statics()], sorted)
-    })?;
-    phases.push(
-        "gather position and static textures",
-        "write-only pass into the two gathered textures",
-        t,
-        f,
-    );
-    Ok(())
 }

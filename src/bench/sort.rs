@@ -334,7 +334,7 @@ fn cpu_baselines(keys: &[Entry], n: u32, repeats: usize) -> Vec<SortRecord> {
             ratio: None,
             paper_fps: None,
             clock: Clock::Wall,
-            repeats: repeats,
+            repeats,
             spread,
             floor_spread: None,
             load: [load_start, load_average()],

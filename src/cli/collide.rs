@@ -177,13 +177,13 @@ fn sweep(
     seed: u32,
 ) -> texflow::Result<()> {
     let bar = progress_bar(10, a.common.quiet, "collide-stats sweep");
-    let rows = texflow::report::collide_runs::sweep(&ctx, s, a.steps, seed, |name| {
+    let rows = texflow::report::collide_runs::sweep(ctx, s, a.steps, seed, |name| {
         bar.set_message(name.to_owned());
         bar.inc(1);
     })?;
     bar.finish_and_clear();
     if a.json {
-        super::print_json("texflow.collide-stats.sweep/1", Some(&ctx), &rows);
+        super::print_json("texflow.collide-stats.sweep/1", Some(ctx), &rows);
     } else {
         println!(
             "{} on {}, step {} (one setting changed at a time):\n",

@@ -207,8 +207,6 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     Ok(())
 }
 
-/// The frame loop's options from the command line.
-
 /// The video finished, unless a signal or an early stop ended the run (dropped unfinished, its
 /// temporary file is removed); a signal is the reason for any failure, and ends the command.
 fn finish_video(sink: &mut RenderSink, summary: &LoopSummary) -> texflow::Result<Option<PathBuf>> {
@@ -231,6 +229,7 @@ fn finish_video(sink: &mut RenderSink, summary: &LoopSummary) -> texflow::Result
     Ok(video_path)
 }
 
+/// The frame loop's options from the command line.
 fn loop_options(a: &RenderArgs, golden_frame: Option<u64>, user_dumps: Option<u64>) -> LoopOptions {
     LoopOptions {
         frames: a.frames,

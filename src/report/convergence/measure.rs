@@ -220,7 +220,7 @@ impl Run<'_> {
                 n_done += 1;
             }
             let (x, v) = sample_state(sim, dt)?;
-            let (tx, tv) = twin_sample(&twin, &mut tw[0]);
+            let (tx, tv) = twin_sample(twin, &mut tw[0]);
             if integrator == Integrator::Verlet {
                 n_done += 1;
             }

@@ -459,7 +459,7 @@ fn modules() -> Vec<(Vec<String>, String)> {
 
 /// The paths a module's code names from `crate::`, `super::` and `self::` (use trees expanded),
 /// as absolute module paths (`["scene", "sources", "builtin_mesh"]`; `[]` is the crate root).
-fn paths_named(me: &[String], is_folder: bool, code: &str) -> Vec<Vec<String>> {
+fn paths_named(me: &[String], code: &str) -> Vec<Vec<String>> {
     fn ident(s: &str) -> &str {
         let n = s
             .find(|c: char| !(c.is_alphanumeric() || c == '_'))
@@ -525,8 +525,6 @@ fn paths_named(me: &[String], is_folder: bool, code: &str) -> Vec<Vec<String>> {
                     rest = r;
                 }
             }
-            // A file that is not a folder's `mod.rs` is a leaf: `self::` is still the file.
-            let _ = is_folder;
             tree(base, rest, &mut out);
         }
     }
@@ -539,20 +537,9 @@ fn paths_named(me: &[String], is_folder: bool, code: &str) -> Vec<Vec<String>> {
 /// `extremes -> sort_cases`, and naming `report::convergence` is `stability -> convergence`.
 /// References to a module's own ancestors or descendants (a folder and its files) are not edges.
 fn sibling_edges() -> BTreeMap<String, BTreeSet<String>> {
-    let mods = modules();
-    let known: BTreeSet<Vec<String>> = mods.iter().map(|(m, _)| m.clone()).collect();
     let mut edges: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
-    for (me, code) in &mods {
-        let folder = known
-            .iter()
-            .any(|k| k.len() > me.len() && k.starts_with(me));
-        for path in paths_named(me, folder, code) {
-            // The longest prefix that is a module: what the path resolves into.
-            let target = (0..=path.len())
-                .rev()
-                .map(|n| path[..n].to_vec())
-                .find(|p| known.contains(p))
-                .unwrap_or_default();
+    for (me, refs) in references() {
+        for (_, target) in refs {
             let common = me.iter().zip(&target).take_while(|(a, b)| a == b).count();
             if common < me.len() && common < target.len() {
                 edges
@@ -563,6 +550,30 @@ fn sibling_edges() -> BTreeMap<String, BTreeSet<String>> {
         }
     }
     edges
+}
+
+/// Each module with the paths it names, each beside the module it resolves into: the longest
+/// prefix that is a module (`[]`, the crate root, when none is).
+#[allow(clippy::type_complexity)]
+fn references() -> Vec<(Vec<String>, Vec<(Vec<String>, Vec<String>)>)> {
+    let mods = modules();
+    let known: BTreeSet<Vec<String>> = mods.iter().map(|(m, _)| m.clone()).collect();
+    mods.iter()
+        .map(|(me, code)| {
+            let refs = paths_named(me, code)
+                .into_iter()
+                .map(|path| {
+                    let owner = (0..=path.len())
+                        .rev()
+                        .map(|n| path[..n].to_vec())
+                        .find(|p| known.contains(p))
+                        .unwrap_or_default();
+                    (path, owner)
+                })
+                .collect();
+            (me.clone(), refs)
+        })
+        .collect()
 }
 
 /// The strongly connected components with more than one node (Tarjan's algorithm).
@@ -634,27 +645,18 @@ fn no_import_cycle_between_the_files_of_a_folder() {
 fn nothing_is_imported_from_the_crate_root_and_gl_only_from_below() {
     // The crate root re-exports for users (`texflow::Error`); inside the crate every path names
     // the module that owns the item, so no module depends on `lib.rs` and through it on all.
-    let mods = modules();
-    let known: BTreeSet<Vec<String>> = mods.iter().map(|(m, _)| m.clone()).collect();
     let mut bad = Vec::new();
-    for (me, code) in &mods {
-        let folder = known
-            .iter()
-            .any(|k| k.len() > me.len() && k.starts_with(me));
-        for path in paths_named(me, folder, code) {
-            let owner = (1..=path.len())
-                .rev()
-                .map(|n| path[..n].to_vec())
-                .find(|p| known.contains(p));
+    for (me, refs) in references() {
+        for (path, owner) in refs {
             let name = path.join("::");
-            match owner {
-                None if !path.is_empty() && me[0] != "cli" => {
-                    bad.push(format!("{}: crate::{name} (the crate root)", me.join("::")))
-                }
-                Some(o) if me[0] == "gl" && o[0] != "gl" && layer(&o[0]) != Some(0) => {
-                    bad.push(format!("{}: crate::{name} (above gl)", me.join("::")))
-                }
-                _ => {}
+            if owner.is_empty() && !path.is_empty() && me[0] != "cli" {
+                bad.push(format!("{}: crate::{name} (the crate root)", me.join("::")));
+            } else if me[0] == "gl"
+                && !owner.is_empty()
+                && owner[0] != "gl"
+                && layer(&owner[0]) != Some(0)
+            {
+                bad.push(format!("{}: crate::{name} (above gl)", me.join("::")));
             }
         }
     }
@@ -670,7 +672,7 @@ fn the_module_scanner_resolves_paths_and_finds_cycles() {
     ];
     let code =
         "use super::sort_cases::{ids, one};\nuse super::{case, Outcome};\nlet e = crate::Error::X;";
-    let p = paths_named(&me, false, code);
+    let p = paths_named(&me, code);
     assert!(
         p.contains(&vec![
             "report".into(),

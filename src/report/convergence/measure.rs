@@ -102,7 +102,7 @@ pub fn run_point(
         .collect();
     let which = |i: usize| if distinct == 1 { 0 } else { i };
     let steps = sweep.steps(dt);
-    let mut r = Run {
+    let r = Run {
         sim: &mut sim,
         problem,
         twin: &twin,
@@ -167,16 +167,16 @@ type Errors = (f64, f64, f64);
 
 impl Run<'_> {
     /// The position at the end against the closed form.
-    fn final_position(&mut self) -> Result<Errors> {
-        let (sim, problem, twin, ics, steps, dt) = (
-            &mut *self.sim,
-            self.problem,
-            self.twin,
-            self.ics,
-            self.steps,
-            self.dt,
-        );
-        let tw = &mut *self.tw;
+    fn final_position(self) -> Result<Errors> {
+        let Run {
+            sim,
+            problem,
+            twin,
+            tw,
+            ics,
+            steps,
+            dt,
+        } = self;
         let (mut error, mut deviation) = (0.0f64, 0.0f64);
         for _ in 0..steps {
             sim.integrate_only();
@@ -198,16 +198,16 @@ impl Run<'_> {
     }
 
     /// The largest relative energy error over the samples.
-    fn max_energy(&mut self, integrator: Integrator) -> Result<Errors> {
-        let (sim, problem, twin, ics, steps, dt) = (
-            &mut *self.sim,
-            self.problem,
-            self.twin,
-            self.ics,
-            self.steps,
-            self.dt,
-        );
-        let tw = &mut *self.tw;
+    fn max_energy(self, integrator: Integrator) -> Result<Errors> {
+        let Run {
+            sim,
+            problem,
+            twin,
+            tw,
+            ics,
+            steps,
+            dt,
+        } = self;
         let (mut error, mut scheme_error, mut deviation) = (0.0f64, 0.0f64, 0.0f64);
         let stride = ((problem.sample_interval() / dt).round() as u64).max(1);
         let e0 = problem.energy(ics[0].0, ics[0].1);
@@ -237,16 +237,16 @@ impl Run<'_> {
     }
 
     /// The apex heights of every bounce against the closed form.
-    fn apex(&mut self, which: impl Fn(usize) -> usize) -> Result<Errors> {
-        let (sim, problem, twin, ics, steps, dt) = (
-            &mut *self.sim,
-            self.problem,
-            self.twin,
-            self.ics,
-            self.steps,
-            self.dt,
-        );
-        let tw = &mut *self.tw;
+    fn apex(self, which: impl Fn(usize) -> usize) -> Result<Errors> {
+        let Run {
+            sim,
+            problem,
+            twin,
+            tw,
+            ics,
+            steps,
+            dt,
+        } = self;
         let (mut error, mut scheme_error) = (0.0f64, 0.0f64);
         let bounces = problem.bounces();
         let windows: Vec<Vec<(f64, f64)>> = ics

@@ -3,20 +3,20 @@
 //! run, a refused run creates nothing, `scene check` refuses what `render` refuses, and the
 //! messages name the option or the file, line and column (docs/reliability.md).
 
+mod common;
+
+use common::cli::{command, file_names, s, stderr};
+
 use std::fs;
 use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_texflow"))
-}
-
 /// Runs texflow in `dir` (None: the test's folder) with `path` prefixed to PATH when given, and
 /// fails the test instead of hanging if it has not ended after a minute.
 fn run_in(dir: Option<&Path>, path: Option<&Path>, args: &[&str]) -> Output {
-    let mut c = bin();
+    let mut c = command();
     c.args(args)
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
@@ -54,23 +54,6 @@ fn finish(mut child: Child, limit: Duration, args: &[&str]) -> Output {
         }
         std::thread::sleep(Duration::from_millis(20));
     }
-}
-
-fn err(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-fn names(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 fn mkfifo(p: &Path) {
@@ -138,11 +121,11 @@ fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
             s(&out),
             "--quiet",
         ]);
-        assert_eq!(o.status.code(), Some(2), "{}", err(&o));
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
         assert!(
-            err(&o).contains("--video") && err(&o).contains("GLSL"),
+            stderr(&o).contains("--video") && stderr(&o).contains("GLSL"),
             "{}",
-            err(&o)
+            stderr(&o)
         );
         assert_eq!(
             fs::read_to_string(d.join("force.png")).unwrap(),
@@ -155,8 +138,8 @@ fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
     let gif = d.join("scene.gif");
     fs::write(&gif, scene_text("")).unwrap();
     let o = run(&["render", s(&gif), "--frames", "1", "--video", s(&gif)]);
-    assert_eq!(o.status.code(), Some(2), "{}", err(&o));
-    assert!(err(&o).contains("scene file"), "{}", err(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("scene file"), "{}", stderr(&o));
     assert_eq!(fs::read_to_string(&gif).unwrap(), scene_text(""));
     // A mesh named like an animation.
     let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
@@ -173,8 +156,8 @@ fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
         "--video",
         s(&d.join("mesh.gif")),
     ]);
-    assert_eq!(o.status.code(), Some(2), "{}", err(&o));
-    assert!(err(&o).contains("mesh"), "{}", err(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("mesh"), "{}", stderr(&o));
     assert_eq!(fs::read_to_string(d.join("mesh.gif")).unwrap(), obj);
     // A frame the run would write that is an input: frames/frame_00000.png is the GLSL.
     fs::create_dir_all(&out).unwrap();
@@ -182,8 +165,8 @@ fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
     let sc3 = d.join("in_frames.toml");
     fs::write(&sc3, scene_text(&custom("frames/frame_00000.png"))).unwrap();
     let o = run(&["render", s(&sc3), "--frames", "1", "--out", s(&out)]);
-    assert_eq!(o.status.code(), Some(2), "{}", err(&o));
-    assert!(err(&o).contains("--out"), "{}", err(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--out"), "{}", stderr(&o));
     assert_eq!(
         fs::read_to_string(out.join("frame_00000.png")).unwrap(),
         LIFT
@@ -207,9 +190,9 @@ fn clashing_video_and_folders_are_refused_before_anything_is_created() {
         let mut all = vec!["render", s(&sc), "--frames", "1", "--quiet"];
         all.extend(&args);
         let o = run(&all);
-        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", err(&o));
-        assert!(err(&o).contains("--video"), "{}", err(&o));
-        assert_eq!(names(d), ["scene.toml"], "{args:?}: nothing created");
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains("--video"), "{}", stderr(&o));
+        assert_eq!(file_names(d), ["scene.toml"], "{args:?}: nothing created");
     }
     let out = d.join("out");
     let o = run(&[
@@ -224,9 +207,9 @@ fn clashing_video_and_folders_are_refused_before_anything_is_created() {
         "--dump-state",
         s(&d.join("dumps")),
     ]);
-    assert_eq!(o.status.code(), Some(2), "{}", err(&o));
-    assert!(err(&o).contains("APNG"), "{}", err(&o));
-    assert_eq!(names(d), ["scene.toml"], "nothing created");
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("APNG"), "{}", stderr(&o));
+    assert_eq!(file_names(d), ["scene.toml"], "nothing created");
 }
 
 /// A fifo, folder, device or socket at the name of a later frame or dump is refused before the
@@ -249,9 +232,13 @@ fn a_later_frame_target_in_the_way_is_refused_before_the_first_frame() {
         s(&out),
         "--quiet",
     ]);
-    assert_eq!(o.status.code(), Some(2), "{}", err(&o));
-    assert!(err(&o).contains("frame_00002.png"), "{}", err(&o));
-    assert_eq!(names(&out), ["frame_00002.png"], "frame 0 was not written");
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("frame_00002.png"), "{}", stderr(&o));
+    assert_eq!(
+        file_names(&out),
+        ["frame_00002.png"],
+        "frame 0 was not written"
+    );
     // Not written with --every 2 at 3 frames? It is (frames 0 and 2); at --every 3 it is not.
     let o = run(&[
         "render",
@@ -264,7 +251,7 @@ fn a_later_frame_target_in_the_way_is_refused_before_the_first_frame() {
         s(&out),
         "--quiet",
     ]);
-    assert_eq!(o.status.code(), Some(0), "{}", err(&o));
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     fs::remove_file(&fifo).unwrap();
     fs::remove_file(out.join("frame_00000.png")).unwrap();
     // A folder at a dump's name.
@@ -281,10 +268,10 @@ fn a_later_frame_target_in_the_way_is_refused_before_the_first_frame() {
         s(&dumps),
         "--quiet",
     ]);
-    assert_eq!(o.status.code(), Some(2), "{}", err(&o));
-    assert!(err(&o).contains("--dump-state"), "{}", err(&o));
-    assert!(names(&out).is_empty(), "{:?}", names(&out));
-    assert_eq!(names(&dumps), ["velocities_00001.npy"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--dump-state"), "{}", stderr(&o));
+    assert!(file_names(&out).is_empty(), "{:?}", file_names(&out));
+    assert_eq!(file_names(&dumps), ["velocities_00001.npy"]);
 }
 
 /// A killed run's temporary files (`.NAME.XXXXXXXX.tmp` of the names texflow writes there) are
@@ -323,16 +310,16 @@ fn stale_temporary_files_of_a_killed_run_are_removed_by_the_next_run() {
         s(&d.join("anim.gif")),
         "--quiet",
     ]);
-    assert_eq!(o.status.code(), Some(0), "{}", err(&o));
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let mut want: Vec<String> = kept.iter().map(|s| s.to_string()).collect();
     want.push("frame_00000.png".into());
     want.sort();
-    assert_eq!(names(&out), want);
+    assert_eq!(file_names(&out), want);
     assert!(!d.join(".anim.gif.ZZZZ1111.tmp").exists());
     assert!(d.join(".other.gif.ZZZZ1111.tmp").exists());
     // A real SIGKILL: an encoder that never reads holds the run with its temporary video open.
     let bin_dir = fake_ffmpeg(d, "exec sleep 10");
-    let mut c = bin();
+    let mut c = command();
     c.args(["render", s(&sc), "--frames", "2", "--resolution", "128"])
         .args(["--video", s(&d.join("k.mp4")), "--quiet"]);
     c.env(
@@ -344,7 +331,7 @@ fn stale_temporary_files_of_a_killed_run_are_removed_by_the_next_run() {
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
-    let temp = || names(d).into_iter().find(|n| n.starts_with(".k.mp4."));
+    let temp = || file_names(d).into_iter().find(|n| n.starts_with(".k.mp4."));
     let start = Instant::now();
     while temp().is_none() && start.elapsed() < Duration::from_secs(30) {
         std::thread::sleep(Duration::from_millis(20));
@@ -369,7 +356,7 @@ fn stale_temporary_files_of_a_killed_run_are_removed_by_the_next_run() {
             s(&d.join("k.mp4")),
         ],
     );
-    assert_ne!(o.status.code(), Some(0), "{}", err(&o));
+    assert_ne!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(!d.join(&t).exists());
     assert!(!d.join("k.mp4").exists());
 }
@@ -388,7 +375,7 @@ fn one_signal_ends_a_stuck_encoder(body: &str, signal: &str, code: i32) {
     let ready = d.join("ready");
     let bin_dir = fake_ffmpeg(d, &body.replace("READY", s(&ready)));
     let video = d.join("v.mp4");
-    let mut c = bin();
+    let mut c = command();
     // 256×256 RGB frames are 192 KiB: more than a pipe holds, so an encoder that does not read
     // blocks the first frame's write.
     c.args(["render", s(&sc), "--frames", "3", "--resolution", "256"])
@@ -414,14 +401,19 @@ fn one_signal_ends_a_stuck_encoder(body: &str, signal: &str, code: i32) {
         .unwrap()
         .success());
     let o = finish(child, Duration::from_secs(20), &[signal]);
-    assert_eq!(o.status.code(), Some(code), "{body} {signal}: {}", err(&o));
+    assert_eq!(
+        o.status.code(),
+        Some(code),
+        "{body} {signal}: {}",
+        stderr(&o)
+    );
     assert!(!video.exists());
-    let left: Vec<String> = names(d)
+    let left: Vec<String> = file_names(d)
         .into_iter()
         .filter(|n| n.ends_with(".tmp"))
         .collect();
     assert!(left.is_empty(), "{left:?}");
-    for n in names(&d.join("f")) {
+    for n in file_names(&d.join("f")) {
         assert!(!n.ends_with(".tmp"), "{n}");
     }
 }
@@ -463,13 +455,13 @@ fn an_encoder_that_writes_nothing_gives_no_video() {
             Some(&bin_dir),
             &["render", s(&sc), "--frames", "2", "--video", s(&video)],
         );
-        assert_eq!(o.status.code(), Some(1), "{body}: {}", err(&o));
-        assert!(err(&o).contains("encoder wrote"), "{}", err(&o));
+        assert_eq!(o.status.code(), Some(1), "{body}: {}", stderr(&o));
+        assert!(stderr(&o).contains("encoder wrote"), "{}", stderr(&o));
         assert!(!video.exists(), "{body}");
         assert!(
-            !names(d).iter().any(|n| n.ends_with(".tmp")),
+            !file_names(d).iter().any(|n| n.ends_with(".tmp")),
             "{:?}",
-            names(d)
+            file_names(d)
         );
     }
 }
@@ -523,11 +515,11 @@ fn inputs_that_are_not_regular_files_are_refused_before_reading() {
             ],
         ] {
             let o = run(&cmd);
-            assert_eq!(o.status.code(), Some(2), "{cmd:?}: {}", err(&o));
+            assert_eq!(o.status.code(), Some(2), "{cmd:?}: {}", stderr(&o));
             assert!(
-                err(&o).contains(named) && err(&o).contains(why),
+                stderr(&o).contains(named) && stderr(&o).contains(why),
                 "{cmd:?}: {}",
-                err(&o)
+                stderr(&o)
             );
         }
     }
@@ -540,8 +532,8 @@ fn inputs_that_are_not_regular_files_are_refused_before_reading() {
     )
     .unwrap();
     let o = run(&["scene", "check", s(&big)]);
-    assert_eq!(o.status.code(), Some(2), "{}", err(&o));
-    assert!(err(&o).contains("over the limit"), "{}", err(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("over the limit"), "{}", stderr(&o));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -577,13 +569,17 @@ fn scene_check_refuses_the_custom_glsl_render_refuses() {
         let check = run(&["scene", "check", s(&sc)]);
         let render = run(&["render", s(&sc), "--frames", "1", "--out", s(&d.join("o"))]);
         for (what, o) in [("check", &check), ("render", &render)] {
-            assert_eq!(o.status.code(), Some(2), "{what} {name}: {}", err(o));
+            assert_eq!(o.status.code(), Some(2), "{what} {name}: {}", stderr(o));
             assert!(
-                err(o).contains(want),
+                stderr(o).contains(want),
                 "{what} {name}: want {want}: {}",
-                err(o)
+                stderr(o)
             );
-            assert!(!err(o).contains("glsl/sim"), "{what} {name}: {}", err(o));
+            assert!(
+                !stderr(o).contains("glsl/sim"),
+                "{what} {name}: {}",
+                stderr(o)
+            );
         }
     }
     assert!(!d.join("o").exists());
@@ -610,7 +606,7 @@ fn user_glsl_is_found_by_its_own_path_and_may_be_used_twice() {
     for sc in ["once.toml", "twice.toml"] {
         // Run from the scene's folder, so that the path is exactly `common/rng.glsl`.
         let o = run_in(Some(d), None, &["scene", "check", sc]);
-        assert_eq!(o.status.code(), Some(0), "{sc}: {}", err(&o));
+        assert_eq!(o.status.code(), Some(0), "{sc}: {}", stderr(&o));
         let dumps = format!("dumps_{sc}");
         let o = run_in(
             Some(d),
@@ -626,7 +622,7 @@ fn user_glsl_is_found_by_its_own_path_and_may_be_used_twice() {
                 "a.gif",
             ],
         );
-        assert_eq!(o.status.code(), Some(0), "{sc}: {}", err(&o));
+        assert_eq!(o.status.code(), Some(0), "{sc}: {}", stderr(&o));
         let vel = texflow::npy::read_f32_shaped(&d.join(&dumps).join("velocities_00001.npy"));
         v.push(vel.unwrap().1);
     }
@@ -654,7 +650,7 @@ fn user_glsl_errors_name_the_users_file_and_a_bom_is_accepted() {
     let sc = d.join("bom.toml");
     fs::write(&sc, scene_text(&custom("bom.glsl"))).unwrap();
     let o = run(&["scene", "check", s(&sc)]);
-    assert_eq!(o.status.code(), Some(0), "{}", err(&o));
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     fs::write(
         d.join("undefined.glsl"),
         "\n\nvec3 force(vec3 x, vec3 v, float age, int type) {\n  return nothing_here;\n}\n",
@@ -663,12 +659,12 @@ fn user_glsl_errors_name_the_users_file_and_a_bom_is_accepted() {
     let sc = d.join("undefined.toml");
     fs::write(&sc, scene_text(&custom("undefined.glsl"))).unwrap();
     let o = run(&["render", s(&sc), "--frames", "1", "--out", s(&d.join("o"))]);
-    assert_eq!(o.status.code(), Some(2), "{}", err(&o));
-    assert!(err(&o).contains("undefined.glsl:4"), "{}", err(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("undefined.glsl:4"), "{}", stderr(&o));
     assert!(
-        !err(&o).contains("custom-force-"),
+        !stderr(&o).contains("custom-force-"),
         "no internal names: {}",
-        err(&o)
+        stderr(&o)
     );
     // An include of a file that is not texflow's, and a `#line` that would move the error into
     // texflow's files: bad input at the user's file and line, not "the machine failed".
@@ -688,9 +684,9 @@ fn user_glsl_errors_name_the_users_file_and_a_bom_is_accepted() {
         let sc = d.join(format!("{name}.toml"));
         fs::write(&sc, scene_text(&custom(name))).unwrap();
         let o = run(&["render", s(&sc), "--frames", "1", "--out", s(&d.join("o"))]);
-        assert_eq!(o.status.code(), Some(2), "{name}: {}", err(&o));
-        assert!(err(&o).contains(want), "{name}: {}", err(&o));
-        assert!(!err(&o).contains("glsl/"), "{name}: {}", err(&o));
+        assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
+        assert!(stderr(&o).contains(want), "{name}: {}", stderr(&o));
+        assert!(!stderr(&o).contains("glsl/"), "{name}: {}", stderr(&o));
     }
 }
 
@@ -720,11 +716,11 @@ fn messages_name_the_option_typed() {
         (vec!["render", s(&sc), "--out", s(&sub)], "--out"),
     ] {
         let o = run(&args);
-        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", err(&o));
-        assert!(err(&o).contains(flag), "{args:?}: {}", err(&o));
-        assert!(!err(&o).contains("particles.size"), "{}", err(&o));
-        assert!(!err(&o).contains("render.resolution"), "{}", err(&o));
-        assert!(!err(&o).contains("collisions."), "{}", err(&o));
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(flag), "{args:?}: {}", stderr(&o));
+        assert!(!stderr(&o).contains("particles.size"), "{}", stderr(&o));
+        assert!(!stderr(&o).contains("render.resolution"), "{}", stderr(&o));
+        assert!(!stderr(&o).contains("collisions."), "{}", stderr(&o));
     }
     // Without a display, `view` refuses a size over the limit for the size.
     let o = Command::new(env!("CARGO_BIN_EXE_texflow"))
@@ -733,9 +729,9 @@ fn messages_name_the_option_typed() {
         .env_remove("WAYLAND_DISPLAY")
         .output()
         .unwrap();
-    assert_eq!(o.status.code(), Some(2), "{}", err(&o));
-    assert!(err(&o).contains("--resolution"), "{}", err(&o));
-    assert!(!err(&o).contains("display"), "{}", err(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--resolution"), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("display"), "{}", stderr(&o));
 }
 
 /// Sprites wider than the device's largest point: `scene check` refuses them at the key.
@@ -761,15 +757,19 @@ fn scene_check_refuses_points_wider_than_the_device_draws() {
         let sc = d.join("wide.toml");
         fs::write(&sc, &text).unwrap();
         let o = run(&["scene", "check", s(&sc)]);
-        assert_eq!(o.status.code(), Some(2), "{text}: {}", err(&o));
+        assert_eq!(o.status.code(), Some(2), "{text}: {}", stderr(&o));
         assert!(
-            err(&o).contains(&format!("wide.toml{at}")) && err(&o).contains("largest point"),
+            stderr(&o).contains(&format!("wide.toml{at}")) && stderr(&o).contains("largest point"),
             "{text}: {}",
-            err(&o)
+            stderr(&o)
         );
         let o = run(&["render", s(&sc), "--frames", "1", "--out", s(&d.join("o"))]);
-        assert_eq!(o.status.code(), Some(2), "{}", err(&o));
-        assert!(err(&o).contains(&format!("wide.toml{at}")), "{}", err(&o));
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains(&format!("wide.toml{at}")),
+            "{}",
+            stderr(&o)
+        );
     }
 }
 
@@ -812,7 +812,7 @@ fn bench_warmup_is_bounded() {
         "1",
         "--json",
     ]);
-    assert_eq!(o.status.code(), Some(0), "{}", err(&o));
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["records"][0]["warmup_frames"], MAX_WARMUP_FRAMES, "{v}");
     assert_eq!(v["records"][0]["live"], 256, "{v}");
@@ -829,8 +829,8 @@ fn a_bench_of_an_empty_state_is_refused() {
     )
     .unwrap();
     let o = run(&["bench", "scene", s(&sc), "--repeats", "1", "--warmup", "2"]);
-    assert_eq!(o.status.code(), Some(2), "{}", err(&o));
-    assert!(err(&o).contains("no live particle"), "{}", err(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("no live particle"), "{}", stderr(&o));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -945,7 +945,7 @@ fn json_output_is_one_document_for_every_command() {
     ];
     for args in &runs {
         let o = run(args);
-        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", err(&o));
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", stderr(&o));
         let text = String::from_utf8(o.stdout).unwrap();
         let v: serde_json::Value = serde_json::from_str(&text)
             .unwrap_or_else(|e| panic!("{args:?}: stdout is not one JSON document ({e}): {text}"));

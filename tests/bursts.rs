@@ -15,7 +15,7 @@ fn scene_with(kind: &str, extra: &str, bursts: &str) -> scene::SceneFile {
          [[emitters.{kind}]]\n{extra}direction = [0.0, 1.0, 0.0]\nspeed = [0.0, 0.0]\n\
          life = [5.0, 5.0]\nbursts = {bursts}\n"
     );
-    scene::parse("bursts.toml", &src).unwrap_or_else(|e| panic!("{e}\n{src}"))
+    common::scene::parse("bursts.toml", &src)
 }
 
 fn alive(sim: &ParticleSim) -> Vec<bool> {

@@ -1,31 +1,12 @@
 //! The command line through the built binary: frames written and decodable, and every bad input
 //! refused with exit code 2, its message, and nothing written.
 
+mod common;
+
+use common::cli::{file_names, stderr, texflow};
+
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn texflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texflow"))
-        .args(args)
-        .output()
-        .expect("run texflow")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn pngs(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .map(|d| {
-            d.filter_map(|e| e.ok())
-                .map(|e| e.file_name().to_string_lossy().into_owned())
-                .collect()
-        })
-        .unwrap_or_default();
-    names.sort();
-    names
-}
+use std::process::Command;
 
 #[test]
 fn render_writes_decodable_frames_of_the_requested_size() {
@@ -48,10 +29,10 @@ fn render_writes_decodable_frames_of_the_requested_size() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(
-        pngs(&out),
+        file_names(&out),
         ["frame_00000.png", "frame_00002.png", "frame_00004.png"]
     );
-    for name in pngs(&out) {
+    for name in file_names(&out) {
         let img = image::open(out.join(&name)).expect("decodable PNG");
         assert_eq!((img.width(), img.height()), (80, 60), "{name}");
     }
@@ -77,7 +58,7 @@ fn default_scene_is_fire_and_default_out_is_frames() {
         .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(
-        pngs(&dir.path().join("frames")),
+        file_names(&dir.path().join("frames")),
         ["frame_00000.png", "frame_00001.png"]
     );
     assert!(stderr(&o).contains("wrote 2 frame(s)"), "{}", stderr(&o));

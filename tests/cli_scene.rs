@@ -1,14 +1,11 @@
 //! Scene files through the binary: render by name or file, `scene check`, `scene passes`,
 //! `--dump-state`, and malformed files refused with file, line, column and exit code 2.
 
-use std::process::{Command, Output};
+mod common;
 
-fn texflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texflow"))
-        .args(args)
-        .output()
-        .expect("run texflow")
-}
+use common::cli::texflow;
+
+use std::process::Output;
 
 fn text(o: &Output) -> String {
     format!(

@@ -1,21 +1,11 @@
 //! `texflow sort` through the built binary: .npy in, sorted .npy and permutation out, for every
 //! variant; bad files refused with exit code 2 and nothing written.
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod common;
+
+use common::cli::{s, texflow};
 
 use texflow::sort::network::key_order_bits;
-
-fn texflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texflow"))
-        .args(args)
-        .output()
-        .expect("run texflow")
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
 
 #[test]
 fn sort_writes_sorted_keys_and_the_permutation() {

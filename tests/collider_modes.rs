@@ -71,7 +71,7 @@ bounds = [[-2.0, -1.0, -2.0], [2.0, 1.0, 2.0]]
 {mode}
 "#
     );
-    scene::parse("test", &src).unwrap_or_else(|e| panic!("{e}\n{src}"))
+    common::scene::parse("test", &src)
 }
 
 /// How far inside the collider `p` is (positive: inside).

@@ -4,69 +4,15 @@
 
 mod common;
 
+use common::scene::{brute_counts, collide_scene, random_gas};
 use common::{context, no_gl_error};
 use texflow::report::collide_stats::Snapshot;
 use texflow::scene;
 use texflow::sim::ParticleSim;
 
-fn collide_scene(size: [u32; 2], collisions: &str) -> scene::SceneFile {
-    let src = format!(
-        r#"
-name = "collide"
-integrator = "euler"
-[particles]
-size = [{}, {}]
-[time]
-dt = 0.01
-[[emitters.initial]]
-direction = [0.0, 1.0, 0.0]
-speed = [0.0, 0.0]
-[collisions]
-{collisions}
-"#,
-        size[0], size[1]
-    );
-    scene::parse("test", &src).unwrap_or_else(|e| panic!("{e}\n{src}"))
-}
-
 /// Uploads particles (position, velocity) as type 0, permanent; the rest of the texture dead.
 fn set(sim: &mut ParticleSim, particles: &[([f32; 3], [f32; 3])]) {
     common::set_particles(sim, particles, |i, n| (i as f32 + 0.5) / n as f32);
-}
-
-fn random_gas(n: usize, seed: u32, speed: f32) -> Vec<([f32; 3], [f32; 3])> {
-    let mut rng = texflow::sim::emit::Rng::new(seed, 0, 11);
-    (0..n)
-        .map(|_| {
-            let p = [rng.uniform(), rng.uniform(), rng.uniform()];
-            let v = [
-                (rng.uniform() - 0.5) * speed,
-                (rng.uniform() - 0.5) * speed,
-                (rng.uniform() - 0.5) * speed,
-            ];
-            (p, v)
-        })
-        .collect()
-}
-
-/// Brute force: every particle's number of others closer than 2 radius.
-fn brute_counts(x: &[f32], radius: f32) -> Vec<usize> {
-    let n = x.len() / 4;
-    let live = |i: usize| x[i * 4 + 3] > 0.0 && x[i * 4].is_finite();
-    let mut c = vec![0; n];
-    for i in 0..n {
-        for j in i + 1..n {
-            if !(live(i) && live(j)) {
-                continue;
-            }
-            let d2: f32 = (0..3).map(|k| (x[i * 4 + k] - x[j * 4 + k]).powi(2)).sum();
-            if d2.sqrt() < 2.0 * radius {
-                c[i] += 1;
-                c[j] += 1;
-            }
-        }
-    }
-    c
 }
 
 /// The exact mode finds every pair of random gases from 0.3 to about 30 overlapping neighbours
@@ -79,15 +25,15 @@ fn exact_mode_finds_every_pair_of_random_gases() {
         let s = collide_scene(
             [32, 32],
             &format!(
-                "radius = {radius}\ndetection = \"exact\"\n\
+                "[collisions]\nradius = {radius}\ndetection = \"exact\"\n\
                  bounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]"
             ),
         );
         let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
-        set(&mut sim, &random_gas(1000, seed, 0.0));
+        set(&mut sim, &random_gas(1000, seed, 0.0, 1.0));
         sim.collide().unwrap();
         let snap = Snapshot::read(sim.collisions().unwrap()).unwrap();
-        let brute = brute_counts(&snap.first.positions, radius);
+        let brute = brute_counts(&snap.first.positions, 2.0 * radius);
         let found: Vec<usize> = snap
             .first
             .partners
@@ -119,11 +65,11 @@ fn exact_response_conserves_momentum_and_adds_no_energy() {
     let ctx = context();
     let s = collide_scene(
         [16, 16],
-        "radius = 0.06\nrestitution = 1.0\ndetection = \"exact\"\n\
+        "[collisions]\nradius = 0.06\nrestitution = 1.0\ndetection = \"exact\"\n\
          bounds = [[-1.0, -1.0, -1.0], [2.0, 2.0, 2.0]]",
     );
     let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
-    let gas: Vec<_> = random_gas(256, 5, 1.0)
+    let gas: Vec<_> = random_gas(256, 5, 1.0, 1.0)
         .into_iter()
         .map(|(p, v)| (p.map(|c| c * 0.5), v))
         .collect();
@@ -161,7 +107,7 @@ fn response_separates_a_resting_overlap() {
         let s = collide_scene(
             [2, 1],
             &format!(
-                "radius = 0.1\nrestitution = 0.5\ndetection = \"{mode}\"\n\
+                "[collisions]\nradius = 0.1\nrestitution = 0.5\ndetection = \"{mode}\"\n\
                  bounds = [[-2.0, -2.0, -2.0], [2.0, 2.0, 2.0]]"
             ),
         );
@@ -216,7 +162,7 @@ bounds = [[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]]
 {collisions}
 "#
     );
-    scene::parse("test", &src).unwrap_or_else(|e| panic!("{e}\n{src}"))
+    common::scene::parse("test", &src)
 }
 
 /// With row-coherent emission the particles of each row share one birth time, and the rows are
@@ -275,10 +221,10 @@ fn miss_causes_match_a_brute_force_classification() {
     let ctx = context();
     let s = collide_scene(
         [32, 32],
-        "radius = 0.03\nneighbours = 4\nbounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]",
+        "[collisions]\nradius = 0.03\nneighbours = 4\nbounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]",
     );
     let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
-    set(&mut sim, &random_gas(1024, 9, 0.0));
+    set(&mut sim, &random_gas(1024, 9, 0.0, 1.0));
     sim.collide().unwrap();
     let snap = Snapshot::read(sim.collisions().unwrap()).unwrap();
     let stats = snap.stats();

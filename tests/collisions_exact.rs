@@ -4,6 +4,7 @@
 
 mod common;
 
+use common::scene::{brute_counts, random_gas};
 use common::{context, no_gl_error};
 use texflow::report::collide_iterations::energy_momentum;
 use texflow::scene;
@@ -30,35 +31,7 @@ bounds = [[-2.0, -2.0, -2.0], [3.0, 3.0, 3.0]]
 {collisions}
 "#
     );
-    scene::parse("test", &src).unwrap_or_else(|e| panic!("{e}\n{src}"))
-}
-
-fn random_gas(n: usize, seed: u32, speed: f32) -> Vec<([f32; 3], [f32; 3])> {
-    let mut rng = texflow::sim::emit::Rng::new(seed, 0, 11);
-    (0..n)
-        .map(|_| {
-            let p = [rng.uniform(), rng.uniform(), rng.uniform()].map(|c| c * 0.6);
-            let v = [0; 3].map(|_| (rng.uniform() - 0.5) * speed);
-            (p, v)
-        })
-        .collect()
-}
-
-/// Brute force: every particle's number of others closer than `reach`.
-fn brute_counts(x: &[f32], reach: f32) -> Vec<usize> {
-    let n = x.len() / 4;
-    let live = |i: usize| x[i * 4 + 3] > 0.0;
-    let mut c = vec![0; n];
-    for i in 0..n {
-        for j in i + 1..n {
-            let d2: f32 = (0..3).map(|k| (x[i * 4 + k] - x[j * 4 + k]).powi(2)).sum();
-            if live(i) && live(j) && d2.sqrt() < reach {
-                c[i] += 1;
-                c[j] += 1;
-            }
-        }
-    }
-    c
+    common::scene::parse("test", &src)
 }
 
 /// Four iterations of a step on a dense moving gas: each iteration's partner counts equal the
@@ -71,7 +44,7 @@ fn every_exact_iteration_finds_every_pair() {
     let ctx = context();
     let s = gas_scene("iterations = 4", "");
     let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
-    common::set_particles(&mut sim, &random_gas(256, 7, 4.0), |i, n| {
+    common::set_particles(&mut sim, &random_gas(256, 7, 4.0, 0.6), |i, n| {
         (i as f32 + 0.5) / n as f32
     });
     sim.collisions_mut().unwrap().record_iterations(true);
@@ -112,7 +85,7 @@ fn elastic_exact_collisions_keep_kinetic_energy() {
     for iterations in [1, 3] {
         let s = gas_scene(&format!("iterations = {iterations}"), "");
         let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
-        common::set_particles(&mut sim, &random_gas(256, 3, 2.0), |i, n| {
+        common::set_particles(&mut sim, &random_gas(256, 3, 2.0, 0.6), |i, n| {
             (i as f32 + 0.5) / n as f32
         });
         let (e0, p0) = energy_momentum(&sim).unwrap();
@@ -142,7 +115,7 @@ fn collisions_use_each_particle_s_own_mass() {
     let ctx = context();
     let s = gas_scene("", "mass_range = [0.5, 8.0]");
     let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
-    common::set_particles(&mut sim, &random_gas(256, 5, 2.0), |i, n| {
+    common::set_particles(&mut sim, &random_gas(256, 5, 2.0, 0.6), |i, n| {
         (i as f32 + 0.5) / n as f32
     });
     let (e0, p0) = energy_momentum(&sim).unwrap();

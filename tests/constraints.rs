@@ -4,7 +4,7 @@
 
 mod common;
 
-use texflow::scene::{self, SceneFile};
+use texflow::scene::SceneFile;
 use texflow::sim::reference::constraints::Twin;
 use texflow::sim::ParticleSim;
 
@@ -17,7 +17,7 @@ fn cloth(iterations: u32, extra: &str) -> SceneFile {
          [constraints]\nkind = \"cloth\"\niterations = {iterations}\nspacing = 0.1\n\
          origin = [-0.75, 2.0, -0.75]\npinned = [[0, 0], [15, 0]]\n{extra}"
     );
-    scene::parse("cloth test", &src).unwrap_or_else(|e| panic!("{e}\n{src}"))
+    common::scene::parse("cloth test", &src)
 }
 
 /// 8 strands of 16 particles rooted on a sphere that orbits.
@@ -31,7 +31,7 @@ fn hair(iterations: u32) -> SceneFile {
          [[colliders.sphere]]\ncenter = [0.4, 1.2, 0.0]\nradius = 0.3\nfriction = 0.3\n\
          resilience = 0.0\norbit = {{ radius = 0.4, period = 1.0 }}\n"
     );
-    scene::parse("hair test", &src).unwrap_or_else(|e| panic!("{e}\n{src}"))
+    common::scene::parse("hair test", &src)
 }
 
 /// Largest |GPU - CPU| over every coordinate after `steps` steps of both.

@@ -5,9 +5,10 @@
 
 mod common;
 
+use common::scene::scene_error;
+
 use std::path::Path;
 
-use texflow::error::Error;
 use texflow::scene::{self, SizeLimits};
 use texflow::sim::{DistanceField, FlowField, HeightField, ParticleSim};
 
@@ -134,18 +135,6 @@ fn winds_and_distance_fields_from_npy() {
     assert_eq!(f.texel(1, 2, 3), d[(3 * ny + 2) * nx + 1]);
 }
 
-fn scene_err(e: texflow::Result<scene::SceneFile>) -> (usize, usize, String) {
-    match e {
-        Err(Error::Scene {
-            line,
-            column,
-            message,
-            ..
-        }) => (line, column, message),
-        other => panic!("expected a scene error, got {other:?}"),
-    }
-}
-
 /// A bad file is a scene error at the key that names it (line 8 of the scene, column 9: its value),
 /// saying what is wrong: shape, dtype, a non-finite value, colour instead of grey, a missing
 /// file; and a field larger than the device's 3D textures is refused by `check_limits` there.
@@ -179,11 +168,11 @@ fn bad_field_files_name_the_key_and_the_problem() {
         ("nan.npy", "flat index 17 is not finite"),
         ("missing.npy", "cannot read field file"),
     ] {
-        let (line, column, m) = scene_err(parse_in(p, &wind(file)));
+        let (line, column, m) = scene_error(parse_in(p, &wind(file)));
         assert_eq!((line, column), (8, 9), "{m}");
         assert!(m.contains(says) && m.contains(file), "{m}");
     }
-    let (line, column, m) = scene_err(parse_in(p, &format!("{HF}image = \"rgb.png\"\n")));
+    let (line, column, m) = scene_error(parse_in(p, &format!("{HF}image = \"rgb.png\"\n")));
     assert_eq!((line, column), (11, 9), "{m}");
     assert!(m.contains("not 8- or 16-bit greyscale"), "{m}");
     // The device's 3D texture limit, at the key.

@@ -1,6 +1,6 @@
 //! The GLSL samplers of glsl/sim/fields.glsl against their CPU twins in `sim::fields`: the four
 //! functions evaluated at a few hundred points, inside and outside the fields' bounds, by one
-//! full-screen pass (glsl/test/fields.frag) through three RGBA32F render targets.
+//! full-screen pass (tests/glsl/fields.frag) through three RGBA32F render targets.
 //!
 //! Both sides run the same f32 operations in the same order on the same texels, so they differ
 //! by rounding only: the driver may compute `a / b` as `a * (1 / b)` (a few ulp instead of a
@@ -23,7 +23,8 @@
 
 mod common;
 
-use common::{context, no_gl_error};
+use common::scene::Rng;
+use common::{context, no_gl_error, test_shader};
 use glam::{Vec3, Vec4};
 use texflow::gl::{
     Defines, Framebuffer, FullscreenPass, Program, Texture, TextureDesc, TextureFormat,
@@ -34,22 +35,6 @@ use texflow::sim::{DistanceField, FlowField, HeightField};
 
 const EPS: f32 = 1.0 / (1u32 << 24) as f32;
 const K: f32 = 8.0;
-
-/// splitmix64: deterministic test points.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.next()
-    }
-}
 
 /// Largest magnitude `M` and largest jump `J` between texels adjacent along one axis, over the
 /// first `used` channels of a field with `channels` floats a texel.
@@ -200,8 +185,13 @@ fn glsl_samplers_match_their_cpu_twins() {
         .collect();
     let fb = Framebuffer::new(&ctx, "fields", targets).unwrap();
 
-    let program =
-        Program::new(&ctx, FULLSCREEN_VERTEX, "test/fields.frag", &Defines::new()).unwrap();
+    let program = Program::new(
+        &ctx,
+        FULLSCREEN_VERTEX,
+        &test_shader("fields.frag"),
+        &Defines::new(),
+    )
+    .unwrap();
     program.bind();
     point_tex.bind(0);
     height_tex.bind(1);

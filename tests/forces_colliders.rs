@@ -53,6 +53,7 @@
 
 mod common;
 
+use common::scene::Rng;
 use common::{context, no_gl_error};
 use glam::Vec3;
 use texflow::gl::Context;
@@ -122,7 +123,7 @@ fn scene(integrator: &str, dt: f32, emitters: &str, body: &str) -> SceneFile {
         "name = \"forces_colliders\"\nintegrator = \"{integrator}\"\n[particles]\nsize = [8, 8]\n\
          [time]\ndt = {dt:?}\n{emitters}{body}"
     );
-    scene::parse("forces_colliders", &src).unwrap_or_else(|e| panic!("{e}\n{src}"))
+    common::scene::parse("forces_colliders", &src)
 }
 
 /// Fills the 64 texels: the given particles, then particles parked far from everything at rest.
@@ -133,25 +134,6 @@ fn pad(mut ps: Vec<P>) -> Vec<P> {
         ps.push(p(Vec3::new(40.0 + k, 30.0, -20.0), Vec3::ZERO));
     }
     ps
-}
-
-/// splitmix64: deterministic test values.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.next()
-    }
-    fn vec(&mut self, lo: f32, hi: f32) -> Vec3 {
-        Vec3::new(self.range(lo, hi), self.range(lo, hi), self.range(lo, hi))
-    }
 }
 
 /// `count` particles at random in a box, types alternating over `types`.

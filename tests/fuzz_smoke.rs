@@ -9,27 +9,13 @@
 
 #[path = "../fuzz/src/lib.rs"]
 mod checks;
+mod common;
+
+use common::scene::Rng;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 use std::time::{Duration, Instant};
-
-/// splitmix64.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
 
 /// Tokens spliced into .npy files.
 const NPY_TOKENS: &[&[u8]] = &[
@@ -132,9 +118,9 @@ fn mutate(rng: &mut Rng, mut b: Vec<u8>, tokens: &[&[u8]]) -> Vec<u8> {
     for _ in 0..1 + rng.below(4) {
         let at = rng.below(b.len() + 1);
         match rng.below(8) {
-            0 if at < b.len() => b[at] = rng.next() as u8,
+            0 if at < b.len() => b[at] = rng.next_u64() as u8,
             1 if at < b.len() => b[at] ^= 1 << rng.below(8),
-            2 => b.insert(at, rng.next() as u8),
+            2 => b.insert(at, rng.next_u64() as u8),
             3 if at < b.len() => {
                 b.remove(at);
             }

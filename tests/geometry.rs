@@ -3,12 +3,11 @@
 
 mod common;
 
+use common::image::{front_camera, texture};
 use common::{context, no_gl_error};
 use glam::Vec3;
-use texflow::gl::{Context, Texture, TextureDesc, TextureFormat};
-use texflow::render::{
-    Camera, FrameTarget, GeometryRenderer, Mesh, ParticleRenderer, ParticleStyle,
-};
+use texflow::gl::{Context, Texture, TextureFormat};
+use texflow::render::{FrameTarget, GeometryRenderer, Mesh, ParticleRenderer, ParticleStyle};
 use texflow::scene::{self, Blending, DrawOrder, Keyframe};
 use texflow::Engine;
 
@@ -25,30 +24,15 @@ fn state(ctx: &Context, live: &[Vec3]) -> (Texture, Texture) {
         pos[i] = [p.x, p.y, p.z, 1.0];
     }
     let make = |label, data: &[[f32; 4]]| {
-        let t = Texture::new(
+        texture(
             ctx,
-            TextureDesc {
-                width: S,
-                height: S,
-                format: TextureFormat::Rgba32F,
-                label,
-            },
+            label,
+            (S, S),
+            TextureFormat::Rgba32F,
+            data.as_flattened(),
         )
-        .unwrap();
-        t.upload_f32(data.as_flattened()).unwrap();
-        t
     };
     (make("position", &pos), make("statics", &stat))
-}
-
-fn camera() -> Camera {
-    Camera {
-        target: Vec3::ZERO,
-        distance: 4.0,
-        azimuth: 0.0,
-        elevation: 0.0,
-        ..Camera::default()
-    }
 }
 
 /// Renders `live` particles with `style`, with a sphere of radius 0.5 at the origin drawn as
@@ -66,7 +50,7 @@ fn render(ctx: &Context, style: &ParticleStyle, live: &[Vec3], geometry: bool) -
     let (pos, stat) = state(ctx, live);
     renderer.clear(&target);
     renderer
-        .draw(&target, &pos, &stat, &camera(), live.len())
+        .draw(&target, &pos, &stat, &front_camera(4.0), live.len())
         .unwrap();
     target.read_rgb().unwrap()
 }

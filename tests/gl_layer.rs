@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{context, no_gl_error};
+use common::{context, no_gl_error, test_shader};
 use texflow::gl::{
     Blend, BlendComponent, BlendFactor, Context, Defines, Depth, Draw, DrawState, Framebuffer,
     FullscreenPass, PointSize, Primitive, Program, Ring3, Texture, TextureDesc, TextureFormat,
@@ -46,8 +46,13 @@ fn eight_render_targets_are_written_by_one_pass() {
         })
         .collect();
     let fb = Framebuffer::new(&ctx, "eight", textures).unwrap();
-    let program =
-        Program::new(&ctx, FULLSCREEN_VERTEX, "test/write8.frag", &Defines::new()).unwrap();
+    let program = Program::new(
+        &ctx,
+        FULLSCREEN_VERTEX,
+        &test_shader("write8.frag"),
+        &Defines::new(),
+    )
+    .unwrap();
     FullscreenPass::new(&ctx).unwrap().draw(&program, &fb);
     for (i, t) in fb.textures().iter().enumerate() {
         let v = t.read_f32().unwrap();
@@ -104,10 +109,19 @@ fn framebuffer_misuse_gets_distinct_errors() {
 #[test]
 fn shader_errors_name_the_glsl_file_and_line() {
     let ctx = context();
-    match Program::new(&ctx, FULLSCREEN_VERTEX, "test/broken.frag", &Defines::new()) {
+    match Program::new(
+        &ctx,
+        FULLSCREEN_VERTEX,
+        &test_shader("broken.frag"),
+        &Defines::new(),
+    ) {
         Err(Error::ShaderCompile { file, line, log }) => {
-            assert_eq!((file.as_str(), line), ("test/broken.frag", 7), "{log}");
-            assert!(log.contains("glsl/test/broken.frag:7"), "{log}");
+            assert_eq!(
+                (file.as_str(), line),
+                ("tests/glsl/broken.frag", 7),
+                "{log}"
+            );
+            assert!(log.contains("tests/glsl/broken.frag:7"), "{log}");
         }
         other => panic!("expected a compile error, got {other:?}"),
     }
@@ -144,8 +158,13 @@ fn textures_round_trip_and_reject_wrong_lengths() {
 fn every_draw_sets_its_own_blend_state() {
     let ctx = context();
     let fb = Framebuffer::new(&ctx, "one", vec![tex(&ctx, 3, 2, TextureFormat::Rgba32F)]).unwrap();
-    let program =
-        Program::new(&ctx, FULLSCREEN_VERTEX, "test/write8.frag", &Defines::new()).unwrap();
+    let program = Program::new(
+        &ctx,
+        FULLSCREEN_VERTEX,
+        &test_shader("write8.frag"),
+        &Defines::new(),
+    )
+    .unwrap();
     let vao = VertexArray::empty(&ctx, "test").unwrap();
     let add = BlendComponent::add(BlendFactor::One, BlendFactor::One);
     fb.clear([0.5; 4]);

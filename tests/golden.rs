@@ -2,15 +2,12 @@
 //! fails (exit 4) on a perturbed one naming the particle, the component and how far, and accepts
 //! the perturbation once the tolerance covers it.
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod common;
 
-fn texflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texflow"))
-        .args(args)
-        .output()
-        .expect("run texflow")
-}
+use common::cli::{stderr, texflow};
+
+use std::path::Path;
+use std::process::Output;
 
 fn render(out: &Path, extra: &[&str]) -> Output {
     let mut args = vec![
@@ -27,10 +24,6 @@ fn render(out: &Path, extra: &[&str]) -> Output {
     ];
     args.extend_from_slice(extra);
     texflow(&args)
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 #[test]

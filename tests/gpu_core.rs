@@ -3,7 +3,8 @@
 
 mod common;
 
-use common::{context, no_gl_error};
+use common::image::probe;
+use common::{context, no_gl_error, test_shader};
 use glam::Vec3;
 use texflow::gl::{Defines, FullscreenPass, PingPong, Program, TextureFormat, FULLSCREEN_VERTEX};
 use texflow::render::{Camera, FrameTarget, PointRenderer, PointStyle};
@@ -19,7 +20,7 @@ fn increment_pass_through_mrt_ping_pong() {
     let program = Program::new(
         &ctx,
         FULLSCREEN_VERTEX,
-        "test/increment.frag",
+        &test_shader("increment.frag"),
         &Defines::new(),
     )
     .expect("test program");
@@ -227,12 +228,8 @@ fn fire_sprites_fall_off_as_one_minus_r_squared_squared() {
     for (x, y, px) in soft.enumerate_pixels() {
         let (dx, dy) = (x as i32 - cx as i32, y as i32 - cy as i32);
         let inside = dx.abs() <= half && dy.abs() <= half;
-        let sq = square.get_pixel(x, y).0;
-        assert_eq!(
-            sq,
-            if inside { centre } else { [0; 3] },
-            "square at {dx},{dy}"
-        );
+        let want = if inside { centre } else { [0; 3] };
+        probe(&square, x, y, &want, 0, &format!("square at {dx},{dy}"));
         let r2 = (4 * (dx * dx + dy * dy)) as f32 / (size * size) as f32;
         let k = if inside {
             (1.0 - r2).max(0.0).powi(2)

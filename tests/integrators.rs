@@ -4,6 +4,7 @@
 
 mod common;
 
+use common::scene::parse;
 use common::{context, no_gl_error};
 use texflow::bench::{Clock, PassTimer};
 use texflow::engine::plan::plan;
@@ -57,13 +58,9 @@ fn thesis_integrators_converge_at_their_order() {
     no_gl_error(&ctx);
 }
 
-fn parse(src: &str) -> scene::SceneFile {
-    scene::parse("test", src).unwrap_or_else(|e| panic!("{e}\n{src}"))
-}
-
 /// `(position, velocity)` bits after `steps` steps of `src` with `passes` set.
 fn run(src: &str, passes: &str, steps: usize) -> (Vec<u32>, Vec<u32>, Vec<String>) {
-    let s = parse(&format!("passes = \"{passes}\"\n{src}"));
+    let s = parse("test", &format!("passes = \"{passes}\"\n{src}"));
     let listed = plan(&s).per_step;
     let ctx = context();
     let mut sim = ParticleSim::new(&ctx, &s, 11).unwrap();
@@ -165,7 +162,7 @@ fn stateless_follows_the_closed_form() {
              bounds = [[-50.0, -50.0, -50.0], [50.0, 50.0, 50.0]]\ndrag = 0.8\n"
         );
         let run = |head: &str| {
-            let s = parse(&format!("name = \"closed\"\n{head}\n{body}"));
+            let s = parse("test", &format!("name = \"closed\"\n{head}\n{body}"));
             let closed = ClosedForm::of(&s);
             let mut sim = ParticleSim::new(&ctx, &s, 9).unwrap();
             let read = |v: Vec<f32>| -> Vec<DVec3> {
@@ -222,8 +219,9 @@ fn stateless_time_stamps_follow_the_life_cycle() {
         )
     };
     let ctx = context();
-    let mut a = ParticleSim::new(&ctx, &parse(&src("simulation = \"stateless\"")), 4).unwrap();
-    let mut b = ParticleSim::new(&ctx, &parse(&src("")), 4).unwrap();
+    let mut a =
+        ParticleSim::new(&ctx, &parse("test", &src("simulation = \"stateless\"")), 4).unwrap();
+    let mut b = ParticleSim::new(&ctx, &parse("test", &src("")), 4).unwrap();
     let alive = |v: &[f32]| v.chunks(4).map(|p| p[3] > 0.0).collect::<Vec<_>>();
     let mut seen = 0;
     for _ in 0..120 {

@@ -3,21 +3,13 @@
 //! `render --start` against the frames of a run without it, `--loop` against the cross-fade
 //! computed here from the run's own PNG frames, "did you mean" against the names.
 
+mod common;
+
+use common::cli::{stderr, texflow};
+
 use std::path::Path;
-use std::process::{Command, Output};
 
 use texflow::scene;
-
-fn texflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texflow"))
-        .args(args)
-        .output()
-        .expect("run texflow")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 fn set(settings: &[&str]) -> Vec<String> {
     settings.iter().map(|s| s.to_string()).collect()

@@ -3,6 +3,7 @@
 
 mod common;
 
+use common::scene::{collide_scene, parse};
 use common::{context, no_gl_error};
 use texflow::scene;
 use texflow::sim::ParticleSim;
@@ -36,15 +37,13 @@ fn builtin_scenes_step() {
     }
 }
 
-fn parse(src: &str) -> scene::SceneFile {
-    scene::parse("test", src).unwrap_or_else(|e| panic!("{e}\n{src}"))
-}
-
 /// A scene of permanent particles (state set by the test) with the given integrator and extra
 /// TOML (forces, colliders).
 fn scene_with(size: [u32; 2], integrator: &str, dt: f32, extra: &str) -> scene::SceneFile {
-    parse(&format!(
-        r#"
+    parse(
+        "test",
+        &format!(
+            r#"
 name = "test"
 integrator = "{integrator}"
 [particles]
@@ -56,8 +55,9 @@ direction = [0.0, 1.0, 0.0]
 speed = [0.0, 0.0]
 {extra}
 "#,
-        size[0], size[1]
-    ))
+            size[0], size[1]
+        ),
+    )
 }
 
 /// Uploads particles (position, velocity) as type 0, permanent; the rest of the texture dead.
@@ -326,6 +326,7 @@ acceleration = [0.0, -9.81, 0.0]
 fn min_heap_keeps_live_particles_packed() {
     let ctx = context();
     let s = parse(
+        "test",
         r#"
 name = "alloc"
 [particles]
@@ -612,24 +613,6 @@ fn oscillator_convergence_orders() {
             );
         }
     }
-}
-
-fn collide_scene(size: [u32; 2], extra: &str) -> scene::SceneFile {
-    parse(&format!(
-        r#"
-name = "collide"
-integrator = "euler"
-[particles]
-size = [{}, {}]
-[time]
-dt = 0.01
-[[emitters.initial]]
-direction = [0.0, 1.0, 0.0]
-speed = [0.0, 0.0]
-{extra}
-"#,
-        size[0], size[1]
-    ))
 }
 
 /// Two spheres on a head-on course collide once: momentum conserved, kinetic energy too when

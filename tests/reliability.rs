@@ -3,36 +3,16 @@
 //! planted link; SIGINT and SIGTERM that stop between frames and leave nothing unfinished; a
 //! closed stdout that ends quietly; numbers refused by option name.
 
+mod common;
+
+use common::cli::{file_names, s, stderr, texflow};
+
 use std::fs;
 use std::io::Read;
 use std::os::unix::fs::symlink;
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
-
-fn texflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texflow"))
-        .args(args)
-        .output()
-        .expect("run texflow")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-fn names(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
-}
 
 fn keys(dir: &Path) -> std::path::PathBuf {
     let p = dir.join("keys.npy");
@@ -144,7 +124,7 @@ fn both_outputs_appear_together_and_no_temporary_file_is_left() {
         texflow::npy::read_f32(&out).unwrap(),
         [-5.0, 0.5, 1.0, 2.0, 3.0]
     );
-    assert_eq!(names(dir.path()), ["i.npy", "k.npy", "keys.npy"]);
+    assert_eq!(file_names(dir.path()), ["i.npy", "k.npy", "keys.npy"]);
     // An --ids folder that cannot be written is found before the sort: nothing is written.
     let locked = dir.path().join("locked");
     fs::create_dir(&locked).unwrap();
@@ -241,7 +221,7 @@ fn interrupted_render(signal: &str) -> (Option<i32>, Vec<String>, String) {
         .unwrap()
         .read_to_string(&mut err)
         .unwrap();
-    let n = names(&out);
+    let n = file_names(&out);
     (status.code(), n, err)
 }
 
@@ -359,12 +339,12 @@ stiffness = 1000000.0
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert!(stderr(&o).contains("NaN or infinite"), "{}", stderr(&o));
     assert!(stderr(&o).contains("--allow-non-finite"), "{}", stderr(&o));
-    let written = names(&out).len();
+    let written = file_names(&out).len();
     assert!(written < 60, "the run stopped at the first bad frame");
     let o = run(&["--allow-non-finite"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(stderr(&o).contains("warning"), "{}", stderr(&o));
-    assert_eq!(names(&out).len(), 60);
+    assert_eq!(file_names(&out).len(), 60);
 }
 
 #[test]
@@ -392,7 +372,7 @@ fn a_video_that_would_replace_a_frame_and_inputs_that_never_end_are_refused() {
         assert_eq!(o.status.code(), Some(2), "{video:?}: {}", stderr(&o));
         assert!(stderr(&o).contains("will write"), "{}", stderr(&o));
     }
-    assert!(names(&out).is_empty(), "nothing written");
+    assert!(file_names(&out).is_empty(), "nothing written");
     // A device or a fifo as --input would be read without end or block: refused at once.
     let fifo = dir.path().join("keys.fifo");
     assert!(Command::new("mkfifo")

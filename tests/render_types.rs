@@ -4,12 +4,11 @@
 
 mod common;
 
+use common::image::{front_camera, lit_pixels, probe, texture};
 use common::{context, no_gl_error};
 use glam::Vec3;
-use texflow::gl::{Context, Texture, TextureDesc, TextureFormat};
-use texflow::render::{
-    flipbook_tile, random_size, Camera, FrameTarget, ParticleRenderer, ParticleStyle,
-};
+use texflow::gl::{Context, Texture, TextureFormat};
+use texflow::render::{flipbook_tile, random_size, FrameTarget, ParticleRenderer, ParticleStyle};
 use texflow::scene::{self, DrawMode, DrawPrimitive, Keyframe};
 
 const S: u32 = 8;
@@ -45,30 +44,15 @@ fn upload(ctx: &Context, live: &[P]) -> (Texture, Texture) {
         stat[i] = [0.0, q.ty as f32, q.total, q.rand];
     }
     let make = |label, data: &[[f32; 4]]| {
-        let t = Texture::new(
+        texture(
             ctx,
-            TextureDesc {
-                width: S,
-                height: S,
-                format: TextureFormat::Rgba32F,
-                label,
-            },
+            label,
+            (S, S),
+            TextureFormat::Rgba32F,
+            data.as_flattened(),
         )
-        .unwrap();
-        t.upload_f32(data.as_flattened()).unwrap();
-        t
     };
     (make("position", &pos), make("statics", &stat))
-}
-
-fn camera() -> Camera {
-    Camera {
-        target: Vec3::ZERO,
-        distance: 4.0,
-        azimuth: 0.0,
-        elevation: 0.0,
-        ..Camera::default()
-    }
 }
 
 /// Opaque white at every age, additive on black.
@@ -92,17 +76,14 @@ fn render(ctx: &Context, style: &ParticleStyle, live: &[P]) -> image::RgbImage {
     let r = ParticleRenderer::new(ctx, style.clone(), S, S).unwrap();
     let (pos, stat) = upload(ctx, live);
     r.clear(&target);
-    r.draw(&target, &pos, &stat, &camera(), live.len()).unwrap();
+    r.draw(&target, &pos, &stat, &front_camera(4.0), live.len())
+        .unwrap();
     target.read_rgb().unwrap()
-}
-
-fn lit(img: &image::RgbImage) -> usize {
-    img.pixels().filter(|p| p.0 != [0, 0, 0]).count()
 }
 
 /// Lit pixels within `half` pixels of where `at` projects.
 fn lit_around(img: &image::RgbImage, at: Vec3, half: i64) -> usize {
-    let (cx, cy) = camera().project_to_pixel(at, FW, FH).unwrap();
+    let (cx, cy) = front_camera(4.0).project_to_pixel(at, FW, FH).unwrap();
     let (cx, cy) = (cx as i64, cy as i64);
     img.enumerate_pixels()
         .filter(|(x, y, px)| {
@@ -119,16 +100,22 @@ fn a_triangle_covers_the_sprites_circle_with_1_3_times_a_quads_pixels() {
     let ctx = context();
     let one = [p(Vec3::ZERO, 0.0)];
     let size = 41.0;
-    let quad = lit(&render(
-        &ctx,
-        &white(DrawMode::Points, DrawPrimitive::Quads, size),
-        &one,
-    ));
-    let tri = lit(&render(
-        &ctx,
-        &white(DrawMode::Points, DrawPrimitive::Triangles, size),
-        &one,
-    ));
+    let quad = lit_pixels(
+        &render(
+            &ctx,
+            &white(DrawMode::Points, DrawPrimitive::Quads, size),
+            &one,
+        ),
+        [0; 3],
+    );
+    let tri = lit_pixels(
+        &render(
+            &ctx,
+            &white(DrawMode::Points, DrawPrimitive::Triangles, size),
+            &one,
+        ),
+        [0; 3],
+    );
     let ratio = tri as f64 / quad as f64;
     let want = 3.0 * 3f64.sqrt() / 4.0;
     assert!(
@@ -150,7 +137,10 @@ fn a_triangle_covers_the_sprites_circle_with_1_3_times_a_quads_pixels() {
         &white(DrawMode::Sprites, DrawPrimitive::Triangles, size),
         &one,
     );
-    let (q, t) = (lit(&quad) as f64, lit(&tri) as f64);
+    let (q, t) = (
+        lit_pixels(&quad, [0; 3]) as f64,
+        lit_pixels(&tri, [0; 3]) as f64,
+    );
     assert!(
         (t / q - 1.0).abs() < 0.05,
         "sprite pixels: triangle {t}, quad {q}"
@@ -277,7 +267,7 @@ fn a_fire_scene_draws_on_its_background() {
     let mut e = texflow::FireEngine::new(&ctx, s, 1).unwrap();
     e.advance_frame();
     let img = e.render().unwrap();
-    assert_eq!(img.get_pixel(0, 0).0, [51, 102, 153]);
+    probe(&img, 0, 0, &[51, 102, 153], 0, "the background");
     no_gl_error(&ctx);
 }
 
@@ -311,4 +301,21 @@ fn the_new_keys_are_validated_and_listed_in_the_passes() {
     for part in ["as triangles", "size_range", "flipbooks"] {
         assert!(plan.contains(part), "{part}: {plan}");
     }
+}
+
+/// The shared probe passes within its tolerance and otherwise fails naming the pixel, the
+/// expected and the observed colour.
+#[test]
+fn the_probe_names_where_expected_and_observed() {
+    let img = image::RgbImage::from_pixel(4, 3, image::Rgb([10, 20, 30]));
+    probe(&img, 3, 2, &[11, 19, 30], 1, "within 1");
+    let err = std::panic::catch_unwind(|| probe(&img, 1, 2, &[10, 20, 32], 1, "the corner"))
+        .expect_err("2 off is outside a tolerance of 1");
+    let msg = err.downcast_ref::<String>().cloned().unwrap_or_default();
+    assert!(
+        msg.contains("the corner: Probe at (1, 2)")
+            && msg.contains("Expected: [10, 20, 32]")
+            && msg.contains("Observed: [10, 20, 30]"),
+        "{msg}"
+    );
 }

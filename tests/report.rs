@@ -4,8 +4,9 @@
 
 mod common;
 
+use common::image::texture;
 use common::{context, no_gl_error};
-use texflow::gl::{Texture, TextureDesc, TextureFormat};
+use texflow::gl::TextureFormat;
 use texflow::sim::nonfinite::{NonFiniteCount, NonFiniteCounter};
 
 /// A small deterministic generator (xorshift) for test data.
@@ -21,21 +22,6 @@ impl Gen {
     fn below(&mut self, n: u64) -> u64 {
         self.next() % n
     }
-}
-
-fn texture(ctx: &texflow::gl::Context, w: u32, h: u32, f: TextureFormat, data: &[f32]) -> Texture {
-    let t = Texture::new(
-        ctx,
-        TextureDesc {
-            width: w,
-            height: h,
-            format: f,
-            label: "test state",
-        },
-    )
-    .unwrap();
-    t.upload_f32(data).unwrap();
-    t
 }
 
 /// State with every kind of special value: live and dead particles, NaN and infinities of both
@@ -92,9 +78,9 @@ fn non_finite_counter_matches_cpu() {
         let n = (w * h) as usize;
         let (pos, vel) = special_state(&mut g, n);
         let counter = NonFiniteCounter::new(&ctx, w, h).unwrap();
-        let p = texture(&ctx, w, h, TextureFormat::Rgba32F, &pos);
+        let p = texture(&ctx, "test state", (w, h), TextureFormat::Rgba32F, &pos);
         for f in [TextureFormat::Rgba32F, TextureFormat::Rgba16F] {
-            let v = texture(&ctx, w, h, f, &vel);
+            let v = texture(&ctx, "test state", (w, h), f, &vel);
             // What the texture holds (half floats overflow to inf on upload or not: read it).
             let held = v.read_f32().unwrap();
             let want = NonFiniteCount::of_slices(&pos, &held);
@@ -123,7 +109,13 @@ fn non_finite_counter_matches_cpu() {
     }
     // Size mismatch is an error, not a silent miscount.
     let counter = NonFiniteCounter::new(&ctx, 4, 4).unwrap();
-    let p = texture(&ctx, 5, 4, TextureFormat::Rgba32F, &[0.0; 80]);
+    let p = texture(
+        &ctx,
+        "test state",
+        (5, 4),
+        TextureFormat::Rgba32F,
+        &[0.0; 80],
+    );
     assert!(counter.count(&p, None).is_err());
     no_gl_error(&ctx);
 }
@@ -278,10 +270,6 @@ fn harness_finds_the_rounding_floor() {
     no_gl_error(&ctx);
 }
 
-fn texflow() -> std::process::Command {
-    std::process::Command::new(env!("CARGO_BIN_EXE_texflow"))
-}
-
 fn f64_of(v: &serde_json::Value) -> f64 {
     v.as_f64().unwrap_or(f64::NAN)
 }
@@ -292,7 +280,7 @@ fn f64_of(v: &serde_json::Value) -> f64 {
 /// its non-finite particles; every extreme case in its documented outcome.
 #[test]
 fn cli_stability_report() {
-    let out = texflow()
+    let out = common::cli::command()
         .args(["report", "stability", "--json", "--quiet"])
         .output()
         .unwrap();
@@ -392,7 +380,7 @@ fn cli_stability_report() {
 fn cli_report_all_quick_writes_every_file() {
     let dir = tempfile::tempdir().unwrap();
     let out_dir = dir.path().join("report");
-    let out = texflow()
+    let out = common::cli::command()
         .args(["report", "all", "--quick", "--quiet", "--out"])
         .arg(&out_dir)
         .output()
@@ -570,7 +558,7 @@ fn cli_report_all_quick_writes_every_file() {
     // A file where the folder should go: bad input, nothing created.
     let file = dir.path().join("a-file");
     std::fs::write(&file, b"x").unwrap();
-    let out = texflow()
+    let out = common::cli::command()
         .args(["report", "all", "--quick", "--quiet", "--out"])
         .arg(&file)
         .output()
@@ -590,7 +578,7 @@ fn cli_report_all_quick_writes_every_file() {
 fn cli_report_all_only_runs_the_sections_named() {
     let dir = tempfile::tempdir().unwrap();
     let out_dir = dir.path().join("only");
-    let out = texflow()
+    let out = common::cli::command()
         .args([
             "report",
             "all",
@@ -619,7 +607,7 @@ fn cli_report_all_only_runs_the_sections_named() {
     assert!(!summary.contains("## Error against run time"), "{summary}");
 
     let bad_dir = dir.path().join("bad");
-    let out = texflow()
+    let out = common::cli::command()
         .args([
             "report", "all", "--quick", "--quiet", "--only", "tabels", "--out",
         ])

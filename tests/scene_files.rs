@@ -4,6 +4,10 @@
 //! A mismatch prints the actual error with the source line and a caret under the column, so that
 //! a wrong location shows at a glance.
 
+mod common;
+
+use common::scene::scene_error;
+
 use std::path::{Path, PathBuf};
 
 use texflow::scene::{self, Blending, DrawMode, Integrator, Precision, RenderPath};
@@ -164,15 +168,7 @@ fn the_error_reads_path_line_column_message() {
 }
 
 fn location(src: &str) -> (usize, usize, String) {
-    match scene::parse("t.toml", src) {
-        Err(Error::Scene {
-            line,
-            column,
-            message,
-            ..
-        }) => (line, column, message),
-        other => panic!("expected a scene error, got {other:?}"),
-    }
+    scene_error(scene::parse("t.toml", src))
 }
 
 #[test]

@@ -13,6 +13,8 @@
 
 mod common;
 
+use common::scene::Rng;
+
 use std::ops::{ControlFlow, Range};
 use std::time::Instant;
 
@@ -238,19 +240,6 @@ fn parse_all(mutants: Vec<Mutant>) -> (Vec<Accepted>, usize) {
     (accepted, refused)
 }
 
-/// splitmix64.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-}
-
 /// What the GPU part did.
 #[derive(Debug, Default)]
 struct Runs {
@@ -328,7 +317,7 @@ fn check(limit: usize) {
         // A partial Fisher-Yates shuffle with a fixed seed: the same sample every run.
         let mut rng = Rng(13);
         for i in 0..limit {
-            let j = i + (rng.next() % (sample.len() - i) as u64) as usize;
+            let j = i + (rng.next_u64() % (sample.len() - i) as u64) as usize;
             sample.swap(i, j);
         }
         sample.truncate(limit);

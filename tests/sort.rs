@@ -2,9 +2,10 @@
 
 mod common;
 
+use common::image::texture;
 use common::{context, no_gl_error};
 use glam::{UVec3, Vec3};
-use texflow::gl::{Context, PingPong, Texture, TextureDesc, TextureFormat};
+use texflow::gl::{Context, PingPong, TextureFormat};
 use texflow::sort::blocked;
 use texflow::sort::network::{
     apply_group, apply_step, bitonic_schedule, blocks_sorted, group_steps, inversions,
@@ -430,21 +431,6 @@ fn passes_per_frame_spreads_the_sort() {
     no_gl_error(&ctx);
 }
 
-fn texture(ctx: &Context, w: u32, h: u32, data: &[f32]) -> Texture {
-    let t = Texture::new(
-        ctx,
-        TextureDesc {
-            width: w,
-            height: h,
-            format: TextureFormat::Rgba32F,
-            label: "test",
-        },
-    )
-    .unwrap();
-    t.upload_f32(data).unwrap();
-    t
-}
-
 fn random_positions(n: usize, seed: u64) -> Vec<f32> {
     let mut s = seed;
     (0..n)
@@ -462,7 +448,7 @@ fn key_pass_matches_the_cpu() {
     let (sw, sh) = (20u32, 10u32); // a state that is not a power of two
     let n = (sw * sh) as usize;
     let pos = random_positions(n, 3);
-    let positions = texture(&ctx, sw, sh, &pos);
+    let positions = texture(&ctx, "test", (sw, sh), TextureFormat::Rgba32F, &pos);
     let eye = Vec3::new(1.0, 2.0, 30.0);
     for variant in [Variant::Fp, Variant::Packed] {
         let mut sorter = Sorter::new(&ctx, variant, 16, 16, SortOptions::default()).unwrap();
@@ -605,7 +591,13 @@ fn identifiers_under_24_bit_floats() {
     // 2^20 ids from the key pass (no sort: llvmpipe would take seconds for its 210 passes).
     let (w, h) = (1024u32, 1024u32);
     let n = (w * h) as usize;
-    let positions = texture(&ctx, w, h, &vec![1.0; 4 * n]);
+    let positions = texture(
+        &ctx,
+        "test",
+        (w, h),
+        TextureFormat::Rgba32F,
+        &vec![1.0; 4 * n],
+    );
     let eye = KeyMode::ViewerDistance {
         eye: Vec3::ZERO,
         back_to_front: false,

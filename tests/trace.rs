@@ -3,31 +3,13 @@
 //! a scene trace's last picture is the frame `render` writes, pixel for pixel, and its sort
 //! pictures show the keys in order after the network.
 
+mod common;
+
+use common::cli::{pngs, stderr, texflow};
+
 use std::path::Path;
-use std::process::{Command, Output};
 
 use texflow::trace::{keys_from_picture, picture::ramp_position};
-
-fn texflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texflow"))
-        .args(args)
-        .output()
-        .expect("run texflow")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn pngs(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".png"))
-        .collect();
-    v.sort();
-    v
-}
 
 fn rgb(path: &Path) -> image::RgbImage {
     image::open(path).expect("decodable PNG").to_rgb8()

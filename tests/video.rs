@@ -3,19 +3,12 @@
 //! when the frame has at most 256 colours, which the gif encoder then keeps as its palette).
 //! A missing ffmpeg is refused before the run, with exit code 2.
 
+mod common;
+
+use common::cli::{stderr, texflow};
+
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn texflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_texflow"))
-        .args(args)
-        .output()
-        .expect("run texflow")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use std::process::Command;
 
 /// Renders a small fountain (5 frames, every 2nd written: frames 0, 2, 4) into `video` and PNGs.
 fn render(video: &Path, frames: &Path) {

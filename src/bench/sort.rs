@@ -157,23 +157,7 @@ pub fn bench_sort(
     let mut records = Vec::new();
     for &n in sizes {
         let count = (n * n) as usize;
-        let mut seed = 0x5eed_u64 + n as u64;
-        let pos: Vec<f32> = (0..count)
-            .flat_map(|_| {
-                let mut c = || lcg(&mut seed) * 20.0 - 10.0;
-                [c(), c(), c(), 1.0]
-            })
-            .collect();
-        let state = PingPong::new(
-            ctx,
-            "bench state",
-            &["position", "velocity"],
-            &[TextureFormat::Rgba32F, TextureFormat::Rgba32F],
-            n,
-            n,
-        )?;
-        state.front().texture(0).upload_f32(&pos)?;
-        state.front().texture(1).upload_f32(&pos)?;
+        let state = bench_state(ctx, n)?;
         let mode = KeyMode::ViewerDistance {
             eye: Vec3::new(0.0, 0.0, 40.0),
             back_to_front: true,
@@ -187,32 +171,10 @@ pub fn bench_sort(
         };
         let rearrange_floor = runs_of(&mut || timer.time(|| floor2.draw(state.back())))?.median;
         let mut keys_for_cpu = None;
-        let mut runs: Vec<(Variant, SortOptions, String)> = Vec::new();
-        for &variant in variants {
-            let options = SortOptions {
-                steps_per_pass: opts.steps_per_pass,
-                ..SortOptions::default()
-            };
-            if variant == Variant::Blocked && !opts.blocked_shapes.is_empty() {
-                let several = opts.blocked_shapes.len() > 1;
-                for &shape in &opts.blocked_shapes {
-                    let o = SortOptions {
-                        blocked: shape,
-                        ..options
-                    };
-                    runs.push((variant, o, blocked_name(shape, several)));
-                }
-            } else {
-                runs.push((variant, options, variant.name().to_string()));
-            }
-        }
+        let runs = named_runs(variants, opts);
         for (variant, options, name) in runs {
             let load_start = load_average();
-            let mut sorter = Sorter::new(ctx, variant, n, n, options)?;
-            if options.blocked.compact && variant == Variant::Blocked {
-                // The CPU knows the bounds of what it placed, as a renderer knows its scene's.
-                sorter.set_key_range(-2700f32.sqrt(), -30.0)?;
-            }
+            let mut sorter = bench_sorter(ctx, variant, n, options)?;
             let full = |s: &mut Sorter| -> Result<()> {
                 s.write_keys(state.front().texture(0), count, &mode, false)?;
                 s.sort();
@@ -272,51 +234,121 @@ pub fn bench_sort(
             progress(&name, n);
         }
         if let (true, Some(keys)) = (opts.cpu, keys_for_cpu) {
-            fn order(a: &Entry, b: &Entry) -> std::cmp::Ordering {
-                (key_order_bits(a[0]), a[1].to_bits()).cmp(&(key_order_bits(b[0]), b[1].to_bits()))
-            }
-            type CpuSort = fn(&mut [Entry]);
-            let baselines: [(&str, CpuSort); 2] = [
-                ("cpu-sort_unstable_by", |v| v.sort_unstable_by(order)),
-                ("cpu-par_sort_unstable_by", |v| {
-                    use rayon::slice::ParallelSliceMut;
-                    v.par_sort_unstable_by(order)
-                }),
-            ];
-            for (name, sort) in baselines {
-                let load_start = load_average();
-                let mut t = Vec::new();
-                for _ in 0..opts.repeats {
-                    let mut v = keys.clone();
-                    let t0 = Instant::now();
-                    sort(&mut v);
-                    t.push(t0.elapsed().as_secs_f64() * 1e3);
-                    std::hint::black_box(&v);
-                }
-                let spread = Spread::of(&t);
-                let ms = spread.median;
-                records.push(SortRecord {
-                    variant: name.into(),
-                    size: n,
-                    ms,
-                    fps: 1e3 / ms,
-                    mtexels_per_s: count as f64 / ms * 1e-3,
-                    passes: 0,
-                    floor_ms: None,
-                    ratio: None,
-                    paper_fps: None,
-                    clock: Clock::Wall,
-                    repeats: opts.repeats,
-                    spread,
-                    floor_spread: None,
-                    load: [load_start, load_average()],
-                    flagged: spread.unreliable(),
-                    draws: None,
-                    fetches: None,
-                });
-            }
+            records.extend(cpu_baselines(&keys, n, opts.repeats));
             progress("cpu", n);
         }
     }
     Ok(records)
+}
+
+/// An n×n state of random positions (also as velocities) for the sort to rearrange.
+fn bench_state(ctx: &Context, n: u32) -> Result<PingPong> {
+    let count = (n * n) as usize;
+    let mut seed = 0x5eed_u64 + n as u64;
+    let pos: Vec<f32> = (0..count)
+        .flat_map(|_| {
+            let mut c = || lcg(&mut seed) * 20.0 - 10.0;
+            [c(), c(), c(), 1.0]
+        })
+        .collect();
+    let state = PingPong::new(
+        ctx,
+        "bench state",
+        &["position", "velocity"],
+        &[TextureFormat::Rgba32F, TextureFormat::Rgba32F],
+        n,
+        n,
+    )?;
+    state.front().texture(0).upload_f32(&pos)?;
+    state.front().texture(1).upload_f32(&pos)?;
+    Ok(state)
+}
+
+/// The sorts to run, named: each variant, the blocked one once per shape asked for.
+/// A sorter of `n`×`n` entries; compact entries get the range of the benchmark's keys.
+fn bench_sorter(ctx: &Context, variant: Variant, n: u32, options: SortOptions) -> Result<Sorter> {
+    let mut sorter = Sorter::new(ctx, variant, n, n, options)?;
+    if options.blocked.compact && variant == Variant::Blocked {
+        // The CPU knows the bounds of what it placed (a cube of side 20 around the origin, seen
+        // from 40 along z, keys negated), as a renderer knows its scene's.
+        sorter.set_key_range(-2700f32.sqrt(), -30.0)?;
+    }
+    Ok(sorter)
+}
+
+fn named_runs(
+    variants: &[Variant],
+    opts: &SortBenchOptions,
+) -> Vec<(Variant, SortOptions, String)> {
+    let mut runs: Vec<(Variant, SortOptions, String)> = Vec::new();
+    for &variant in variants {
+        let options = SortOptions {
+            steps_per_pass: opts.steps_per_pass,
+            ..SortOptions::default()
+        };
+        if variant == Variant::Blocked && !opts.blocked_shapes.is_empty() {
+            let several = opts.blocked_shapes.len() > 1;
+            for &shape in &opts.blocked_shapes {
+                let o = SortOptions {
+                    blocked: shape,
+                    ..options
+                };
+                runs.push((variant, o, blocked_name(shape, several)));
+            }
+        } else {
+            runs.push((variant, options, variant.name().to_string()));
+        }
+    }
+    runs
+}
+
+/// The CPU baselines on the same keys: the standard library's unstable sort and rayon's
+/// parallel one (wall time).
+fn cpu_baselines(keys: &[Entry], n: u32, repeats: usize) -> Vec<SortRecord> {
+    fn order(a: &Entry, b: &Entry) -> std::cmp::Ordering {
+        (key_order_bits(a[0]), a[1].to_bits()).cmp(&(key_order_bits(b[0]), b[1].to_bits()))
+    }
+    type CpuSort = fn(&mut [Entry]);
+    let baselines: [(&str, CpuSort); 2] = [
+        ("cpu-sort_unstable_by", |v| v.sort_unstable_by(order)),
+        ("cpu-par_sort_unstable_by", |v| {
+            use rayon::slice::ParallelSliceMut;
+            v.par_sort_unstable_by(order)
+        }),
+    ];
+    let count = (n * n) as usize;
+    let mut records = Vec::new();
+    for (name, sort) in baselines {
+        let load_start = load_average();
+        let mut t = Vec::new();
+        for _ in 0..repeats {
+            let mut v = keys.to_vec();
+            let t0 = Instant::now();
+            sort(&mut v);
+            t.push(t0.elapsed().as_secs_f64() * 1e3);
+            std::hint::black_box(&v);
+        }
+        let spread = Spread::of(&t);
+        let ms = spread.median;
+        records.push(SortRecord {
+            variant: name.into(),
+            size: n,
+            ms,
+            fps: 1e3 / ms,
+            mtexels_per_s: count as f64 / ms * 1e-3,
+            passes: 0,
+            floor_ms: None,
+            ratio: None,
+            paper_fps: None,
+            clock: Clock::Wall,
+            repeats,
+            spread,
+            floor_spread: None,
+            load: [load_start, load_average()],
+            flagged: spread.unreliable(),
+            draws: None,
+            fetches: None,
+        });
+    }
+    records
 }

@@ -18,77 +18,9 @@ pub enum BenchCommand {
     /// fps and particles per second.
     Scene(SceneArgs),
     /// GPU time of the fire's simulation pass and render pass per state size, with floors.
-    #[command(allow_negative_numbers = true)]
-    Step {
-        /// Fire scene to measure, built in or a file (only fire scenes; other scenes: `bench
-        /// scene`). The default is the thesis's look, `fire-points`.
-        #[arg(value_name = "SCENE", default_value = scene::THESIS_SCENE)]
-        scene: String,
-        /// The old spelling of SCENE (hidden; still accepted).
-        #[arg(
-            long = "scene",
-            value_name = "SCENE",
-            hide = true,
-            conflicts_with = "scene"
-        )]
-        scene_flag: Option<String>,
-        /// Square state sizes, comma-separated.
-        #[arg(
-            long,
-            value_name = "N,...",
-            value_delimiter = ',',
-            default_value = "256,512,1024,2048"
-        )]
-        sizes: Vec<u32>,
-        /// Timed repetitions per size (the median is reported).
-        #[arg(long, value_name = "N", default_value_t = 21, value_parser = at_least_one::<usize>)]
-        repeats: usize,
-        /// Frame size of the render pass [default: the scene's].
-        #[arg(long, value_name = "WxH", value_parser = parse_size)]
-        resolution: Option<[u32; 2]>,
-        /// How to time passes: auto (wall time on llvmpipe, timer queries on a GPU), gpu, wall.
-        #[arg(long, value_enum, default_value_t = ClockArg::Auto)]
-        clock: ClockArg,
-        /// Print JSON (one record per size).
-        #[arg(long)]
-        json: bool,
-        #[command(flatten)]
-        set: super::set::SetArgs,
-        #[command(flatten)]
-        common: Common,
-    },
+    Step(StepArgs),
     /// UberFlow's Table 1: full sorts per variant and size, with floors and CPU baselines.
-    #[command(allow_negative_numbers = true)]
-    Sort {
-        /// Texture sides (size x size entries), powers of two, comma-separated.
-        #[arg(long, value_delimiter = ',', default_value = "128,256,512,1024,2048")]
-        sizes: Vec<u32>,
-        /// Variants, comma-separated, or `all`.
-        #[arg(long, value_delimiter = ',', default_value = "all")]
-        variants: Vec<String>,
-        /// Timed repetitions per variant and size (the median is reported).
-        #[arg(long, default_value_t = 11, value_parser = at_least_one::<usize>)]
-        repeats: usize,
-        /// Skip the CPU baselines.
-        #[arg(long)]
-        no_cpu: bool,
-        /// Steps of distance 2 or more per pass of the multistep variant (1 to 3).
-        #[arg(long, default_value_t = 2)]
-        steps: usize,
-        /// Shapes of the blocked variant, one row each: `b` entries-per-fragment bits (2, 3 or
-        /// 4: 4, 8 or 16 entries), with a `p` suffix for the pinned lane, or 2 to 5 with a `c`
-        /// suffix for compact 4-byte entries (lossy keys), e.g. `4,3p,5c`.
-        #[arg(long, value_delimiter = ',', value_name = "B[p|c],...")]
-        blocked: Vec<String>,
-        /// How to time: auto, gpu, wall.
-        #[arg(long, value_enum, default_value_t = ClockArg::Auto)]
-        clock: ClockArg,
-        /// Print JSON (one record per variant and size).
-        #[arg(long)]
-        json: bool,
-        #[command(flatten)]
-        common: Common,
-    },
+    Sort(SortArgs),
 }
 
 /// `--blocked 4`, `3p`, `5c`: entries-per-fragment bits, the pinned lane, compact entries.
@@ -124,105 +56,187 @@ pub fn print_sort_table(records: &[SortRecord]) {
 pub fn bench(cmd: BenchCommand) -> texflow::Result<()> {
     match cmd {
         BenchCommand::Scenes(a) => bench_scenes(a),
-        BenchCommand::Sort {
-            sizes,
-            variants,
-            repeats,
-            no_cpu,
-            steps,
-            blocked,
-            clock,
-            json,
-            common,
-        } => {
-            let blocked_shapes = blocked
-                .iter()
-                .map(|b| parse_blocked_shape(b))
-                .collect::<texflow::Result<Vec<_>>>()?;
-            let variants: Vec<Variant> = if variants.iter().any(|v| v == "all") {
-                Variant::ALL.to_vec()
-            } else {
-                variants
-                    .iter()
-                    .map(|v| Variant::from_name(v))
-                    .collect::<texflow::Result<_>>()?
-            };
-            if sizes.is_empty() || sizes.iter().any(|&s| s < 2 || !s.is_power_of_two()) {
-                return Err(bad(
-                    "--sizes takes powers of two of at least 2, e.g. 128,256,512",
-                ));
-            }
-            let ctx = Context::new(common.device)?;
-            for &n in &sizes {
-                texflow::gl::check_size(&ctx, "--sizes", n, n)?;
-            }
-            let bar = progress_bar(
-                (sizes.len() * (variants.len() + 1)) as u64,
-                common.quiet,
-                "bench sort",
-            );
-            if !(1..=3).contains(&steps) {
-                return Err(bad("--steps must be 1, 2 or 3"));
-            }
-            let opts = SortBenchOptions {
-                repeats,
-                clock: clock.clock(),
-                cpu: !no_cpu,
-                steps_per_pass: steps,
-                blocked_shapes,
-            };
-            let records = bench_sort(&ctx, &sizes, &variants, &opts, |_, _| bar.inc(1))?;
-            bar.finish_and_clear();
-            let clock = records.iter().find(|r| r.passes > 0).map(|r| r.clock);
-            report(json.then_some("texflow.bench.sort/1"), &records, &ctx, clock, &format!("medians of {repeats}; full sort = key pass + network + rearrangement of 2 RGBA32F textures"), print_sort_table);
-            Ok(())
-        }
+        BenchCommand::Sort(a) => sort(a),
         BenchCommand::Scene(a) => bench_scene(a),
-        BenchCommand::Step {
-            scene: name,
-            scene_flag,
-            sizes,
-            repeats,
-            resolution,
-            clock,
-            json,
-            set,
-            common,
-        } => {
-            let name = scene_flag.unwrap_or(name);
-            let (label, src) = scene::load_source(&name)?;
-            let mut s = scene::Scene::from_file(&scene::parse_with(&label, &src, &set.set)?)?;
-            if let Some(r) = resolution {
-                s.resolution = r;
-            }
-            if sizes.is_empty() || sizes.contains(&0) {
-                return Err(bad("--sizes needs sizes of at least 1, e.g. 256,512"));
-            }
-            s.validate()?;
-            let ctx = Context::new(common.device)?;
-            for &n in &sizes {
-                texflow::gl::check_size(&ctx, "--sizes", n, n)?;
-            }
-            let bar = progress_bar(sizes.len() as u64, common.quiet, "bench step");
-            let opts = StepOptions {
-                repeats,
-                clock: clock.clock(),
-                ..StepOptions::default()
-            };
-            let records = bench_step(&ctx, &s, &sizes, &opts, |_| bar.inc(1))?;
-            bar.finish_and_clear();
-            let clock = records.first().map(|r| r.clock);
-            report(
-                json.then_some("texflow.bench.step/1"),
-                &records,
-                &ctx,
-                clock,
-                &format!("medians of {repeats}"),
-                print_step_table,
-            );
-            Ok(())
-        }
+        BenchCommand::Step(a) => step(a),
     }
+}
+
+/// `texflow bench sort`: UberFlow's Table 1.
+fn sort(a: SortArgs) -> texflow::Result<()> {
+    let SortArgs {
+        sizes,
+        variants,
+        repeats,
+        no_cpu,
+        steps,
+        blocked,
+        clock,
+        json,
+        common,
+    } = a;
+    let blocked_shapes = blocked
+        .iter()
+        .map(|b| parse_blocked_shape(b))
+        .collect::<texflow::Result<Vec<_>>>()?;
+    let variants: Vec<Variant> = if variants.iter().any(|v| v == "all") {
+        Variant::ALL.to_vec()
+    } else {
+        variants
+            .iter()
+            .map(|v| Variant::from_name(v))
+            .collect::<texflow::Result<_>>()?
+    };
+    if sizes.is_empty() || sizes.iter().any(|&s| s < 2 || !s.is_power_of_two()) {
+        return Err(bad(
+            "--sizes takes powers of two of at least 2, e.g. 128,256,512",
+        ));
+    }
+    let ctx = Context::new(common.device)?;
+    for &n in &sizes {
+        texflow::gl::check_size(&ctx, "--sizes", n, n)?;
+    }
+    let bar = progress_bar(
+        (sizes.len() * (variants.len() + 1)) as u64,
+        common.quiet,
+        "bench sort",
+    );
+    if !(1..=3).contains(&steps) {
+        return Err(bad("--steps must be 1, 2 or 3"));
+    }
+    let opts = SortBenchOptions {
+        repeats,
+        clock: clock.clock(),
+        cpu: !no_cpu,
+        steps_per_pass: steps,
+        blocked_shapes,
+    };
+    let records = bench_sort(&ctx, &sizes, &variants, &opts, |_, _| bar.inc(1))?;
+    bar.finish_and_clear();
+    let clock = records.iter().find(|r| r.passes > 0).map(|r| r.clock);
+    report(json.then_some("texflow.bench.sort/1"), &records, &ctx, clock, &format!("medians of {repeats}; full sort = key pass + network + rearrangement of 2 RGBA32F textures"), print_sort_table);
+    Ok(())
+}
+
+/// `texflow bench step`: the fire's passes against their floors.
+fn step(a: StepArgs) -> texflow::Result<()> {
+    let StepArgs {
+        scene: name,
+        scene_flag,
+        sizes,
+        repeats,
+        resolution,
+        clock,
+        json,
+        set,
+        common,
+    } = a;
+    let name = scene_flag.unwrap_or(name);
+    let (label, src) = scene::load_source(&name)?;
+    let mut s = scene::Scene::from_file(&scene::parse_with(&label, &src, &set.set)?)?;
+    if let Some(r) = resolution {
+        s.resolution = r;
+    }
+    if sizes.is_empty() || sizes.contains(&0) {
+        return Err(bad("--sizes needs sizes of at least 1, e.g. 256,512"));
+    }
+    s.validate()?;
+    let ctx = Context::new(common.device)?;
+    for &n in &sizes {
+        texflow::gl::check_size(&ctx, "--sizes", n, n)?;
+    }
+    let bar = progress_bar(sizes.len() as u64, common.quiet, "bench step");
+    let opts = StepOptions {
+        repeats,
+        clock: clock.clock(),
+        ..StepOptions::default()
+    };
+    let records = bench_step(&ctx, &s, &sizes, &opts, |_| bar.inc(1))?;
+    bar.finish_and_clear();
+    let clock = records.first().map(|r| r.clock);
+    report(
+        json.then_some("texflow.bench.step/1"),
+        &records,
+        &ctx,
+        clock,
+        &format!("medians of {repeats}"),
+        print_step_table,
+    );
+    Ok(())
+}
+
+#[derive(Args)]
+#[command(allow_negative_numbers = true)]
+pub struct StepArgs {
+    /// Fire scene to measure, built in or a file (only fire scenes; other scenes: `bench
+    /// scene`). The default is the thesis's look, `fire-points`.
+    #[arg(value_name = "SCENE", default_value = scene::THESIS_SCENE)]
+    scene: String,
+    /// The old spelling of SCENE (hidden; still accepted).
+    #[arg(
+        long = "scene",
+        value_name = "SCENE",
+        hide = true,
+        conflicts_with = "scene"
+    )]
+    scene_flag: Option<String>,
+    /// Square state sizes, comma-separated.
+    #[arg(
+        long,
+        value_name = "N,...",
+        value_delimiter = ',',
+        default_value = "256,512,1024,2048"
+    )]
+    sizes: Vec<u32>,
+    /// Timed repetitions per size (the median is reported).
+    #[arg(long, value_name = "N", default_value_t = 21, value_parser = at_least_one::<usize>)]
+    repeats: usize,
+    /// Frame size of the render pass [default: the scene's].
+    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    resolution: Option<[u32; 2]>,
+    /// How to time passes: auto (wall time on llvmpipe, timer queries on a GPU), gpu, wall.
+    #[arg(long, value_enum, default_value_t = ClockArg::Auto)]
+    clock: ClockArg,
+    /// Print JSON (one record per size).
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    set: super::set::SetArgs,
+    #[command(flatten)]
+    common: Common,
+}
+
+#[derive(Args)]
+#[command(allow_negative_numbers = true)]
+pub struct SortArgs {
+    /// Texture sides (size x size entries), powers of two, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "128,256,512,1024,2048")]
+    sizes: Vec<u32>,
+    /// Variants, comma-separated, or `all`.
+    #[arg(long, value_delimiter = ',', default_value = "all")]
+    variants: Vec<String>,
+    /// Timed repetitions per variant and size (the median is reported).
+    #[arg(long, default_value_t = 11, value_parser = at_least_one::<usize>)]
+    repeats: usize,
+    /// Skip the CPU baselines.
+    #[arg(long)]
+    no_cpu: bool,
+    /// Steps of distance 2 or more per pass of the multistep variant (1 to 3).
+    #[arg(long, default_value_t = 2)]
+    steps: usize,
+    /// Shapes of the blocked variant, one row each: `b` entries-per-fragment bits (2, 3 or
+    /// 4: 4, 8 or 16 entries), with a `p` suffix for the pinned lane, or 2 to 5 with a `c`
+    /// suffix for compact 4-byte entries (lossy keys), e.g. `4,3p,5c`.
+    #[arg(long, value_delimiter = ',', value_name = "B[p|c],...")]
+    blocked: Vec<String>,
+    /// How to time: auto, gpu, wall.
+    #[arg(long, value_enum, default_value_t = ClockArg::Auto)]
+    clock: ClockArg,
+    /// Print JSON (one record per variant and size).
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    common: Common,
 }
 
 #[derive(Args)]

@@ -102,6 +102,41 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
             s.name
         )));
     };
+    apply_flags(c, &a);
+    overrides.apply_naming(&mut s, &option_keys(&a))?;
+    let prepared = Prepared {
+        label,
+        source: src,
+        scene: s,
+    };
+    let s = &prepared.scene;
+    let ctx = Context::new(overrides.device)?;
+    overrides.check_device(&ctx, &prepared)?;
+    let seed = texflow::engine::shader_seed(overrides.seed);
+    if a.sweep {
+        return sweep(&ctx, s, &a, seed);
+    }
+    let bar = progress_bar(a.steps, a.common.quiet, "collide-stats");
+    let stats = texflow::report::collide_runs::measure(&ctx, s, a.steps, seed, || bar.inc(1))?;
+    bar.finish_and_clear();
+    let c = s.collisions.as_ref().expect("checked");
+    if a.json {
+        let mut v = serde_json::to_value(&stats).unwrap_or_default();
+        v["scene"] = s.name.clone().into();
+        v["k"] = c.neighbours.into();
+        v["staggered"] = c.staggered.into();
+        v["rows_only"] = c.rows_only.into();
+        v["detection"] = format!("{:?}", c.detection).to_lowercase().into();
+        v["steps"] = a.steps.into();
+        super::print_json("texflow.collide-stats/1", Some(&ctx), &v);
+    } else {
+        print_stats(&ctx.limits().renderer, s, a.steps, &stats);
+    }
+    Ok(())
+}
+
+/// The command line's collision settings over the scene's.
+fn apply_flags(c: &mut scene::Collisions, a: &CollideStatsArgs) {
     if let Some(k) = a.k {
         c.neighbours = k;
     }
@@ -132,135 +167,126 @@ pub fn collide_stats(a: CollideStatsArgs) -> texflow::Result<()> {
             c.rows_only = None;
         }
     }
-    overrides.apply_naming(&mut s, &option_keys(&a))?;
-    let prepared = Prepared {
-        label,
-        source: src,
-        scene: s,
-    };
-    let s = &prepared.scene;
-    let ctx = Context::new(overrides.device)?;
-    overrides.check_device(&ctx, &prepared)?;
-    let seed = texflow::engine::shader_seed(overrides.seed);
-    if a.sweep {
-        let bar = progress_bar(10, a.common.quiet, "collide-stats sweep");
-        let rows = texflow::report::collide_stats::sweep(&ctx, s, a.steps, seed, |name| {
-            bar.set_message(name.to_owned());
-            bar.inc(1);
-        })?;
-        bar.finish_and_clear();
-        if a.json {
-            super::print_json("texflow.collide-stats.sweep/1", Some(&ctx), &rows);
-        } else {
-            println!(
-                "{} on {}, step {} (one setting changed at a time):\n",
-                s.name,
-                ctx.limits().renderer,
-                a.steps
-            );
-            print!("{}", texflow::report::collide_stats::sweep_table(&rows));
-            if rows.iter().all(|r| r.stats.pairs_true == 0) {
-                println!("\n{}", nothing_collided(a.steps));
-            }
-        }
-        return Ok(());
-    }
-    let bar = progress_bar(a.steps, a.common.quiet, "collide-stats");
-    let stats = texflow::report::collide_stats::measure(&ctx, s, a.steps, seed, || bar.inc(1))?;
+}
+
+/// `--sweep`: one setting changed at a time, as a table or JSON.
+fn sweep(
+    ctx: &Context,
+    s: &scene::SceneFile,
+    a: &CollideStatsArgs,
+    seed: u32,
+) -> texflow::Result<()> {
+    let bar = progress_bar(10, a.common.quiet, "collide-stats sweep");
+    let rows = texflow::report::collide_runs::sweep(ctx, s, a.steps, seed, |name| {
+        bar.set_message(name.to_owned());
+        bar.inc(1);
+    })?;
     bar.finish_and_clear();
-    let c = s.collisions.as_ref().expect("checked");
     if a.json {
-        let mut v = serde_json::to_value(&stats).unwrap_or_default();
-        v["scene"] = s.name.clone().into();
-        v["k"] = c.neighbours.into();
-        v["staggered"] = c.staggered.into();
-        v["rows_only"] = c.rows_only.into();
-        v["detection"] = format!("{:?}", c.detection).to_lowercase().into();
-        v["steps"] = a.steps.into();
-        super::print_json("texflow.collide-stats/1", Some(&ctx), &v);
+        super::print_json("texflow.collide-stats.sweep/1", Some(ctx), &rows);
     } else {
-        let pct = |n: usize| 100.0 * n as f64 / stats.pairs_true.max(1) as f64;
         println!(
-            "{} on {}: step {}, {} live particles, {:.2} per occupied cell; k = {}, staggered {}, \
-             sort {}, detection {}",
+            "{} on {}, step {} (one setting changed at a time):\n",
             s.name,
             ctx.limits().renderer,
-            a.steps,
-            stats.particles,
-            stats.particles_per_cell,
-            c.neighbours,
-            if c.staggered { "on" } else { "off" },
-            match c.rows_only {
-                None => "full".to_owned(),
-                Some(1) => "rows only".to_owned(),
-                Some(r) => format!("within {r} rows"),
-            },
-            format!("{:?}", c.detection).to_lowercase()
+            a.steps
         );
-        println!(
-            "density      {:>8.2}  overlapping neighbours per particle; mean depth {:.1}% of \
-             the diameter",
-            stats.overlaps_per_particle,
-            100.0 * stats.mean_depth
-        );
-        println!("pairs_true   {:>8}", stats.pairs_true);
-        println!("found        {:>8}", stats.found);
-        println!(
-            "missed       {:>8}  ({:.1}%)",
-            stats.missed,
-            pct(stats.missed)
-        );
-        println!("  adjacent cells      {:>6}", stats.missed_adjacent_cells);
-        println!("  partner in another row {:>3}", stats.missed_other_row);
-        println!("  far along the row   {:>6}", stats.missed_far_along_row);
-        println!("  closer partner kept {:>6}", stats.missed_closer_partner);
-        println!(
-            "partnered    {:>8}  of {} overlapping particles ({:.1}%) got a partner",
-            stats.partnered,
-            stats.overlapping,
-            100.0 * stats.partnered as f64 / stats.overlapping.max(1) as f64
-        );
-        if stats.truncated > 0 {
-            println!(
-                "truncated    {:>8}  particles met a run of cells over the exact search's bound",
-                stats.truncated
-            );
+        print!("{}", texflow::report::collide_runs::sweep_table(&rows));
+        if rows.iter().all(|r| r.stats.pairs_true == 0) {
+            println!("\n{}", nothing_collided(a.steps));
         }
-        if stats.pairs_true == 0 {
-            println!("{}", nothing_collided(a.steps));
-        }
-        println!("false_pairs  {:>8}", stats.false_pairs);
-        println!("mutual       {:>8}", stats.mutual);
-        println!(
-            "conflicts    {:>8}  (partner took a closer one on the other lattice)",
-            stats.conflicts
-        );
-        println!(
-            "tunnelled    {:>8}  (overlapped during the step, apart at its end)",
-            stats.tunnelled
-        );
-        println!(
-            "gpu_ms       {:>8.3}  (collision passes of one step)",
-            stats.gpu_ms
-        );
-        for it in &stats.iterations {
-            println!(
-                "iteration {:>2}  {:>8} true pairs, {} found, {} missed, {} truncated",
-                it.iteration, it.pairs_true, it.found, it.missed, it.truncated
-            );
-        }
-        let [e0, e1] = stats.kinetic_energy;
-        let [p0, p1] = stats.momentum;
-        let dp = (0..3).map(|k| (p1[k] - p0[k]).powi(2)).sum::<f64>().sqrt();
-        println!(
-            "energy       {:>8.4} J -> {:.4} J ({:+.2}%); momentum change {:.3e} kg m/s",
-            e0,
-            e1,
-            100.0 * (e1 - e0) / e0.max(f64::MIN_POSITIVE),
-            dp
-        );
     }
     Ok(())
+}
+
+/// One step's detection against the true pairs, as text.
+fn print_stats(
+    renderer: &str,
+    s: &scene::SceneFile,
+    steps: u64,
+    stats: &texflow::report::collide_stats::CollisionStats,
+) {
+    let c = s.collisions.as_ref().expect("checked");
+    let pct = |n: usize| 100.0 * n as f64 / stats.pairs_true.max(1) as f64;
+    println!(
+        "{} on {}: step {}, {} live particles, {:.2} per occupied cell; k = {}, staggered {}, \
+         sort {}, detection {}",
+        s.name,
+        renderer,
+        steps,
+        stats.particles,
+        stats.particles_per_cell,
+        c.neighbours,
+        if c.staggered { "on" } else { "off" },
+        match c.rows_only {
+            None => "full".to_owned(),
+            Some(1) => "rows only".to_owned(),
+            Some(r) => format!("within {r} rows"),
+        },
+        format!("{:?}", c.detection).to_lowercase()
+    );
+    println!(
+        "density      {:>8.2}  overlapping neighbours per particle; mean depth {:.1}% of \
+         the diameter",
+        stats.overlaps_per_particle,
+        100.0 * stats.mean_depth
+    );
+    println!("pairs_true   {:>8}", stats.pairs_true);
+    println!("found        {:>8}", stats.found);
+    println!(
+        "missed       {:>8}  ({:.1}%)",
+        stats.missed,
+        pct(stats.missed)
+    );
+    println!("  adjacent cells      {:>6}", stats.missed_adjacent_cells);
+    println!("  partner in another row {:>3}", stats.missed_other_row);
+    println!("  far along the row   {:>6}", stats.missed_far_along_row);
+    println!("  closer partner kept {:>6}", stats.missed_closer_partner);
+    println!(
+        "partnered    {:>8}  of {} overlapping particles ({:.1}%) got a partner",
+        stats.partnered,
+        stats.overlapping,
+        100.0 * stats.partnered as f64 / stats.overlapping.max(1) as f64
+    );
+    if stats.truncated > 0 {
+        println!(
+            "truncated    {:>8}  particles met a run of cells over the exact search's bound",
+            stats.truncated
+        );
+    }
+    if stats.pairs_true == 0 {
+        println!("{}", nothing_collided(steps));
+    }
+    println!("false_pairs  {:>8}", stats.false_pairs);
+    println!("mutual       {:>8}", stats.mutual);
+    println!(
+        "conflicts    {:>8}  (partner took a closer one on the other lattice)",
+        stats.conflicts
+    );
+    println!(
+        "tunnelled    {:>8}  (overlapped during the step, apart at its end)",
+        stats.tunnelled
+    );
+    println!(
+        "gpu_ms       {:>8.3}  (collision passes of one step)",
+        stats.gpu_ms
+    );
+    for it in &stats.iterations {
+        println!(
+            "iteration {:>2}  {:>8} true pairs, {} found, {} missed, {} truncated",
+            it.iteration, it.pairs_true, it.found, it.missed, it.truncated
+        );
+    }
+    let [e0, e1] = stats.kinetic_energy;
+    let [p0, p1] = stats.momentum;
+    let dp = (0..3).map(|k| (p1[k] - p0[k]).powi(2)).sum::<f64>().sqrt();
+    println!(
+        "energy       {:>8.4} J -> {:.4} J ({:+.2}%); momentum change {:.3e} kg m/s",
+        e0,
+        e1,
+        100.0 * (e1 - e0) / e0.max(f64::MIN_POSITIVE),
+        dp
+    );
 }
 
 /// Said when no two particles overlap at the measured step: the rates are then 0 of 0.

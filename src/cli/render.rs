@@ -120,18 +120,7 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     // Everything that can be checked without a GPU is checked before anything is created.
     let golden = a.compare.prepare(a.frames)?;
     let user_dumps = a.dump_state.as_ref().map(|_| a.dump_every);
-    let options = LoopOptions {
-        frames: a.frames,
-        every: a.every,
-        start: a.start,
-        dump_every: dump_every(user_dumps, golden.as_ref().map(|g| g.frame()), a.frames),
-        non_finite: if a.allow_non_finite {
-            NonFinitePolicy::Report
-        } else {
-            NonFinitePolicy::Fail
-        },
-        timing: a.stats,
-    };
+    let options = loop_options(&a, golden.as_ref().map(|g| g.frame()), user_dumps);
     options.check()?;
     super::video_loop::check(a.loop_fade, options.written_count())?;
     let overrides = a.overrides();
@@ -145,26 +134,7 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     if let Some(o) = &out {
         FrameWriter::check(o)?;
     }
-    // Before the run: a missing ffmpeg, an unwritable --video, or a video the format cannot
-    // hold stops here, not after the frames.
-    let count = LoopedVideo::length(options.written_count(), a.loop_fade);
-    let fps = a
-        .fps
-        .map(f64::from)
-        .unwrap_or_else(|| 1.0 / (s.time.dt as f64 * s.time.substeps as f64 * a.every as f64));
-    if let Some(v) = &a.video {
-        video::check_video_run(v, s.render.resolution, count, fps)?;
-    }
-    if let Some(d) = &a.dump_state {
-        FrameWriter::check_for(d, "--dump-state")?;
-        if let Some(r) = a.compare.file().filter(|r| names_a_frame_file(r, d)) {
-            return Err(bad(format!(
-                "--compare {} is a file that --dump-state {} will write: dump into another folder",
-                r.display(),
-                d.display()
-            )));
-        }
-    }
+    let (count, fps) = check_outputs(&a, s, options.written_count())?;
     // Every output against every input and every other output, and every frame target.
     let inputs = targets::inputs(
         &prepared.label,
@@ -214,24 +184,7 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     let bar = progress_bar(a.frames, a.common.quiet, "rendering");
     // SIGINT and SIGTERM stop the loop between frames (src/cli/signals.rs).
     signals::cooperate();
-    let summary = run.run(&mut engine, &mut sink, |event| {
-        match event {
-            Event::Frame { .. } => bar.inc(1),
-            Event::NonFinite { index, count } => bar.suspend(|| {
-                eprintln!(
-                    "warning: frame {index}: {} of {} live particles have NaN or infinite values",
-                    count.non_finite, count.live
-                )
-            }),
-            Event::BirthsDropped { index, total } => {
-                bar.suspend(|| eprintln!("{}", super::warn::births_dropped(s, index, total)))
-            }
-        }
-        match signals::received() {
-            Some(_) => ControlFlow::Break(()),
-            None => ControlFlow::Continue(()),
-        }
-    });
+    let summary = run.run(&mut engine, &mut sink, |event| on_event(&bar, s, event));
     // A signal may have ended the encoder under a frame being written: the signal is the
     // reason, not the broken pipe it left.
     let summary = match (summary, signals::received()) {
@@ -243,7 +196,20 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
         (r, _) => r?,
     };
     bar.finish_and_clear();
-    // Dropped unfinished (signal, early stop), the video's temporary file is removed.
+    let video_path = finish_video(&mut sink, &summary)?;
+    if let Some(g) = &sink.golden {
+        let line = g.verdict()?;
+        if !a.common.quiet {
+            eprintln!("{line}");
+        }
+    }
+    report(&a, s, &ctx, &summary, out.as_deref(), video_path.as_deref());
+    Ok(())
+}
+
+/// The video finished, unless a signal or an early stop ended the run (dropped unfinished, its
+/// temporary file is removed); a signal is the reason for any failure, and ends the command.
+fn finish_video(sink: &mut RenderSink, summary: &LoopSummary) -> texflow::Result<Option<PathBuf>> {
     let video_path = match sink.video.take() {
         Some(v) if signals::received().is_none() && !summary.stopped => Some(v.finish()),
         _ => None,
@@ -260,12 +226,87 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
         texflow::output::remove_unfinished();
         return Err(texflow::Error::Interrupted { signal });
     }
-    if let Some(g) = &sink.golden {
-        let line = g.verdict()?;
-        if !a.common.quiet {
-            eprintln!("{line}");
+    Ok(video_path)
+}
+
+/// The frame loop's options from the command line.
+fn loop_options(a: &RenderArgs, golden_frame: Option<u64>, user_dumps: Option<u64>) -> LoopOptions {
+    LoopOptions {
+        frames: a.frames,
+        every: a.every,
+        start: a.start,
+        dump_every: dump_every(user_dumps, golden_frame, a.frames),
+        non_finite: if a.allow_non_finite {
+            NonFinitePolicy::Report
+        } else {
+            NonFinitePolicy::Fail
+        },
+        timing: a.stats,
+    }
+}
+
+/// Before the run: a missing ffmpeg, an unwritable --video, a video the format cannot hold, or
+/// a --dump-state that would overwrite --compare's file stops here, not after the frames. The
+/// video's frame count and rate.
+fn check_outputs(
+    a: &RenderArgs,
+    s: &scene::SceneFile,
+    written: u64,
+) -> texflow::Result<(u64, f64)> {
+    let count = LoopedVideo::length(written, a.loop_fade);
+    let fps = a
+        .fps
+        .map(f64::from)
+        .unwrap_or_else(|| 1.0 / (s.time.dt as f64 * s.time.substeps as f64 * a.every as f64));
+    if let Some(v) = &a.video {
+        video::check_video_run(v, s.render.resolution, count, fps)?;
+    }
+    if let Some(d) = &a.dump_state {
+        FrameWriter::check_for(d, "--dump-state")?;
+        if let Some(r) = a.compare.file().filter(|r| names_a_frame_file(r, d)) {
+            return Err(bad(format!(
+                "--compare {} is a file that --dump-state {} will write: dump into another folder",
+                r.display(),
+                d.display()
+            )));
         }
     }
+    Ok((count, fps))
+}
+
+/// Progress and warnings while the loop runs; stops between frames on SIGINT and SIGTERM.
+fn on_event(
+    bar: &indicatif::ProgressBar,
+    s: &scene::SceneFile,
+    event: Event<'_>,
+) -> ControlFlow<()> {
+    match event {
+        Event::Frame { .. } => bar.inc(1),
+        Event::NonFinite { index, count } => bar.suspend(|| {
+            eprintln!(
+                "warning: frame {index}: {} of {} live particles have NaN or infinite values",
+                count.non_finite, count.live
+            )
+        }),
+        Event::BirthsDropped { index, total } => {
+            bar.suspend(|| eprintln!("{}", super::warn::births_dropped(s, index, total)))
+        }
+    }
+    match signals::received() {
+        Some(_) => ControlFlow::Break(()),
+        None => ControlFlow::Continue(()),
+    }
+}
+
+/// What the run did: warnings, the line naming what was written, --stats and --json.
+fn report(
+    a: &RenderArgs,
+    s: &scene::SceneFile,
+    ctx: &Context,
+    summary: &LoopSummary,
+    out: Option<&std::path::Path>,
+    video_path: Option<&std::path::Path>,
+) {
     if summary.max_non_finite > 0 {
         eprintln!(
             "warning: up to {} live particle(s) had NaN or infinite values \
@@ -303,9 +344,9 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     }
     // With --json, stdout holds the JSON document alone; the paragraph goes to stderr.
     if a.stats && a.json {
-        eprintln!("{}", stats_paragraph(s, &a.scene, &summary));
+        eprintln!("{}", stats_paragraph(s, &a.scene, summary));
     } else if a.stats {
-        println!("{}", stats_paragraph(s, &a.scene, &summary));
+        println!("{}", stats_paragraph(s, &a.scene, summary));
     }
     if a.json {
         let t = summary.times.as_ref();
@@ -329,10 +370,9 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
             }),
         });
         let clock = t.map(|t| t.clock);
-        let v = texflow::bench::json_envelope("texflow.render/1", &ctx, clock, &body);
+        let v = texflow::bench::json_envelope("texflow.render/1", ctx, clock, &body);
         println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
     }
-    Ok(())
 }
 
 /// Whether `video` lies in `dir` (by its canonical folder where both exist) under a name of the

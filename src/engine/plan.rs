@@ -76,52 +76,11 @@ pub fn sort_plan(scene: &SceneFile) -> Option<SortPlan> {
 pub fn plan(scene: &SceneFile) -> Plan {
     let r = &scene.render;
     if scene.fire.is_some() {
-        return Plan {
-            scene: scene.name.clone(),
-            per_step: vec!["fire: thesis physics, in-shader respawn, colour by age \
-                 [position + velocity through MRT]"
-                .into()],
-            substeps: scene.time.substeps,
-            per_frame: vec![format!(
-                "render points: vertex texture fetch, additive blending (order-independent), \
-                 {} px, intensity {}, coloured by the fire's age ramp, background {:?}",
-                r.point_size, r.intensity, r.background
-            )],
-        };
+        return fire_plan(scene);
     }
     let features = Features::of(scene);
     let mut per_frame = Vec::new();
-    if let Some(s) = sort_plan(scene) {
-        let order = match r.order {
-            DrawOrder::BackToFront => "back to front",
-            DrawOrder::FrontToBack => "front to back",
-        };
-        let key = match r.sort.key {
-            SortKey::Distance => "distance to the viewer",
-            SortKey::YoungestOnTop => "age, the youngest on top",
-            SortKey::OldestOnTop => "age, the oldest on top",
-        };
-        per_frame.push(format!(
-            "sort keys: {key} ({order}), {}x{} entries{}",
-            s.size[0],
-            s.size[1],
-            if s.passes_per_frame.is_some() {
-                ", re-keyed in the order reached so far"
-            } else {
-                ""
-            }
-        ));
-        per_frame.push(match s.passes_per_frame {
-            Some(n) => format!(
-                "sort: {} network, {n} of its {} passes per frame (spread over {} frames)",
-                s.variant.name(),
-                s.passes,
-                s.passes.div_ceil(n as usize)
-            ),
-            None => format!("sort: {} network, {} passes", s.variant.name(), s.passes),
-        });
-        per_frame.push("gather position and static textures in sorted order".into());
-    }
+    per_frame.extend(sort_lines(scene));
     let path = match r.path {
         RenderPath::TextureFetch => "vertex texture fetch".to_owned(),
         RenderPath::VertexBuffer => {
@@ -181,6 +140,62 @@ pub fn plan(scene: &SceneFile) -> Plan {
         substeps: scene.time.substeps,
         per_frame,
     }
+}
+
+/// The thesis's fire: one pass a step, points a frame.
+fn fire_plan(scene: &SceneFile) -> Plan {
+    let r = &scene.render;
+    Plan {
+        scene: scene.name.clone(),
+        per_step: vec!["fire: thesis physics, in-shader respawn, colour by age \
+             [position + velocity through MRT]"
+            .into()],
+        substeps: scene.time.substeps,
+        per_frame: vec![format!(
+            "render points: vertex texture fetch, additive blending (order-independent), \
+             {} px, intensity {}, coloured by the fire's age ramp, background {:?}",
+            r.point_size, r.intensity, r.background
+        )],
+    }
+}
+
+/// The sort's passes of a frame, where alpha blending needs one.
+fn sort_lines(scene: &SceneFile) -> Vec<String> {
+    let r = &scene.render;
+    let mut per_frame = Vec::new();
+    let Some(s) = sort_plan(scene) else {
+        return per_frame;
+    };
+    let order = match r.order {
+        DrawOrder::BackToFront => "back to front",
+        DrawOrder::FrontToBack => "front to back",
+    };
+    let key = match r.sort.key {
+        SortKey::Distance => "distance to the viewer",
+        SortKey::YoungestOnTop => "age, the youngest on top",
+        SortKey::OldestOnTop => "age, the oldest on top",
+    };
+    per_frame.push(format!(
+        "sort keys: {key} ({order}), {}x{} entries{}",
+        s.size[0],
+        s.size[1],
+        if s.passes_per_frame.is_some() {
+            ", re-keyed in the order reached so far"
+        } else {
+            ""
+        }
+    ));
+    per_frame.push(match s.passes_per_frame {
+        Some(n) => format!(
+            "sort: {} network, {n} of its {} passes per frame (spread over {} frames)",
+            s.variant.name(),
+            s.passes,
+            s.passes.div_ceil(n as usize)
+        ),
+        None => format!("sort: {} network, {} passes", s.variant.name(), s.passes),
+    });
+    per_frame.push("gather position and static textures in sorted order".into());
+    per_frame
 }
 
 impl fmt::Display for Plan {

@@ -285,28 +285,12 @@ impl FrameLoop {
             s.dropped_births = dropped;
             if o.writes(index) {
                 // Garbage is reported, not rendered silently.
-                let count = engine.non_finite(&self.counter)?;
-                s.live = count.live;
-                if count.non_finite > 0 {
-                    if o.non_finite == NonFinitePolicy::Fail {
-                        return Err(Error::NonFinite {
-                            frame: index,
-                            count: count.non_finite,
-                            live: count.live,
-                        });
-                    }
-                    if s.non_finite_frames == 0
-                        && on_event(Event::NonFinite {
-                            index,
-                            count: &count,
-                        })
-                        .is_break()
-                    {
-                        s.stopped = true;
-                        break;
-                    }
-                    s.non_finite_frames += 1;
-                    s.max_non_finite = s.max_non_finite.max(count.non_finite);
+                if self
+                    .census(engine, index, &mut s, &mut on_event)?
+                    .is_break()
+                {
+                    s.stopped = true;
+                    break;
                 }
                 let mut image = None;
                 timed(
@@ -336,6 +320,41 @@ impl FrameLoop {
         s.dropped_child_births = engine.dropped_child_births()?;
         s.times = times;
         Ok(s)
+    }
+
+    /// The non-finite census of frame `index` before it is written: counted into `s`, an error
+    /// under [`NonFinitePolicy::Fail`], else reported once (the caller may stop).
+    fn census(
+        &self,
+        engine: &mut SceneEngine,
+        index: u64,
+        s: &mut LoopSummary,
+        on_event: &mut impl FnMut(Event<'_>) -> ControlFlow<()>,
+    ) -> Result<ControlFlow<()>> {
+        let o = &self.options;
+        let count = engine.non_finite(&self.counter)?;
+        s.live = count.live;
+        if count.non_finite > 0 {
+            if o.non_finite == NonFinitePolicy::Fail {
+                return Err(Error::NonFinite {
+                    frame: index,
+                    count: count.non_finite,
+                    live: count.live,
+                });
+            }
+            if s.non_finite_frames == 0
+                && on_event(Event::NonFinite {
+                    index,
+                    count: &count,
+                })
+                .is_break()
+            {
+                return Ok(ControlFlow::Break(()));
+            }
+            s.non_finite_frames += 1;
+            s.max_non_finite = s.max_non_finite.max(count.non_finite);
+        }
+        Ok(ControlFlow::Continue(()))
     }
 }
 

@@ -117,7 +117,7 @@ impl StatePass {
     /// textures (1 to 4, the state's count: the pass writes every one).
     pub fn new(ctx: &Context, name: &str, source: &str, targets: usize) -> Result<Self> {
         if !(1..=4).contains(&targets) {
-            return Err(crate::Error::InvalidInput(format!(
+            return Err(crate::error::Error::InvalidInput(format!(
                 "a state pass writes 1 to 4 textures, not {targets}"
             )));
         }

@@ -79,10 +79,6 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "render/cpu_points.frag",
     "render/geometry.vert",
     "render/geometry.frag",
-    "test/increment.frag",
-    "test/write8.frag",
-    "test/broken.frag",
-    "test/fields.frag",
 ];
 
 /// Looks an embedded file up, then a source added at run time ([`add_runtime_source`]).

@@ -357,24 +357,42 @@ pub fn parse_header(path: &Path, bytes: &[u8]) -> Result<(Header, usize)> {
             )))
         }
     };
+    let shape = sizes(entries, &shape_text, &in_header)?;
+    Ok((
+        Header {
+            descr,
+            fortran_order,
+            shape,
+        },
+        data,
+    ))
+}
+
+/// The sizes of a shape tuple (`shape_text` as written), each a non-negative integer, whose
+/// product fits in a `usize`.
+fn sizes(
+    entries: Vec<(Lit, String)>,
+    shape_text: &str,
+    in_header: &dyn Fn(String) -> crate::error::Error,
+) -> Result<Vec<usize>> {
     let shape = entries
         .into_iter()
         .map(|(entry, text)| match entry {
             Lit::Int(n) if n.starts_with('-') => Err(in_header(format!(
                 "shape {} has the negative size {n}",
-                clip(&shape_text)
+                clip(shape_text)
             ))),
             Lit::Int(n) => n.parse::<usize>().map_err(|_| {
                 in_header(format!(
                     "shape {}: the size {} does not fit in {} bits",
-                    clip(&shape_text),
+                    clip(shape_text),
                     clip(&n),
                     usize::BITS
                 ))
             }),
             _ => Err(in_header(format!(
                 "shape {}: the entry {} is not a size (a non-negative integer)",
-                clip(&shape_text),
+                clip(shape_text),
                 clip(&text)
             ))),
         })
@@ -386,16 +404,9 @@ pub fn parse_header(path: &Path, bytes: &[u8]) -> Result<(Header, usize)> {
     {
         return Err(in_header(format!(
             "shape {} has more elements than a {}-bit count holds: the header is corrupt",
-            clip(&shape_text),
+            clip(shape_text),
             usize::BITS
         )));
     }
-    Ok((
-        Header {
-            descr,
-            fortran_order,
-            shape,
-        },
-        data,
-    ))
+    Ok(shape)
 }

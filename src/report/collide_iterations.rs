@@ -9,23 +9,8 @@ use crate::sim::collide::Collisions;
 use crate::sim::particles::mass_range;
 use crate::sim::ParticleSim;
 
+pub use super::collide_stats::IterationStats;
 use super::collide_stats::{LatticeSnapshot, Snapshot};
-
-/// Found and missed pairs of one iteration of the exact mode, against the true pairs of the
-/// state that iteration searched.
-#[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
-pub struct IterationStats {
-    /// 1-based.
-    pub iteration: u32,
-    /// Pairs closer than 2 radius in the state the iteration searched (CPU, cell lists).
-    pub pairs_true: usize,
-    /// Pairs its search found.
-    pub found: usize,
-    /// True pairs it did not find.
-    pub missed: usize,
-    /// Particles whose search met a run of cells holding more than it walks.
-    pub truncated: usize,
-}
 
 /// The recorded iterations of the last step of `stage` (see
 /// [`Collisions::record_iterations`]), each measured against the CPU's true pairs.

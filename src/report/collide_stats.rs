@@ -1,22 +1,16 @@
 //! `texflow collide-stats`: how well the collision detection of [`crate::sim::collide`] did. A
 //! step's detection is read back ([`Snapshot::read`]) and compared on the CPU with the true set of
-//! overlapping pairs (cell lists), each miss put down to its cause; [`measure`] runs a scene and
-//! times the collision passes, [`sweep`] varies one setting at a time.
+//! overlapping pairs (cell lists), each miss put down to its cause; `collide_runs` runs a scene
+//! and times the collision passes, and varies one setting at a time.
 //!
 //! This is measurement, not simulation: it lives in `report` so that `sim` needs nothing from
 //! `bench` (its timers and median).
 
 use glam::Vec3;
 
-use crate::bench::{median, Clock, PassTimer};
 use crate::error::{Error, Result};
-use crate::gl::Context;
-use crate::scene::{self, SceneFile};
+use crate::scene;
 use crate::sim::collide::{Collisions, Lattice};
-use crate::sim::ParticleSim;
-
-pub use super::collide_iterations::IterationStats;
-use super::collide_iterations::{energy_momentum, iteration_stats};
 
 /// One lattice's view of a step: the positions in its sorted order and each one's partner.
 #[derive(Debug, Clone)]
@@ -105,6 +99,22 @@ pub struct CollisionStats {
     pub momentum: [[f64; 3]; 2],
 }
 
+/// Found and missed pairs of one iteration of the exact mode, against the true pairs of the
+/// state that iteration searched.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
+pub struct IterationStats {
+    /// 1-based.
+    pub iteration: u32,
+    /// Pairs closer than 2 radius in the state the iteration searched (CPU, cell lists).
+    pub pairs_true: usize,
+    /// Pairs its search found.
+    pub found: usize,
+    /// True pairs it did not find.
+    pub missed: usize,
+    /// Particles whose search met a run of cells holding more than it walks.
+    pub truncated: usize,
+}
+
 fn pos(v: &[f32], i: usize) -> Vec3 {
     Vec3::new(v[i * 4], v[i * 4 + 1], v[i * 4 + 2])
 }
@@ -179,8 +189,6 @@ impl Snapshot {
         use std::collections::{HashMap, HashSet};
         let a = &self.first;
         let n = a.positions.len() / 4;
-        let w = self.width as usize;
-        let k = self.neighbours as usize;
         let reach = 2.0 * self.radius;
         let points: Vec<(usize, Vec3)> = (0..n)
             .filter(|&i| live(&a.positions, i))
@@ -207,8 +215,7 @@ impl Snapshot {
             return s;
         }
         // Lattice B's order -> lattice A's, by the positions' bits (unique in practice).
-        let key = |p: Vec3| (p.x.to_bits(), p.y.to_bits(), p.z.to_bits());
-        let index_a: HashMap<_, usize> = points.iter().map(|&(i, p)| (key(p), i)).collect();
+        let index_a: HashMap<_, usize> = points.iter().map(|&(i, p)| (bits(p), i)).collect();
         let mut found: HashSet<(usize, usize)> = HashSet::new();
         let mut mutual: HashSet<(usize, usize)> = HashSet::new();
         // Each particle's chosen partner and distance per lattice, in A's names.
@@ -218,7 +225,7 @@ impl Snapshot {
                 if g == 0 {
                     Some(i)
                 } else {
-                    index_a.get(&key(pos(&snap.positions, i))).copied()
+                    index_a.get(&bits(pos(&snap.positions, i))).copied()
                 }
             };
             for i in 0..n {
@@ -270,72 +277,9 @@ impl Snapshot {
             mean_depth,
             ..Default::default()
         };
-        // Each missed pair is put down to the lattice that could have found it, in that
-        // lattice's own layout: fetched in some lattice (same row, at most k apart) but lost to
-        // a closer partner; else sharing a cell in some lattice (the first that does) but sorted
-        // into different rows there or further apart than k; else in different cells of every
-        // lattice.
-        let b_of: Option<Vec<usize>> = self.second.as_ref().map(|b| {
-            let mut m = vec![usize::MAX; n];
-            for ib in 0..n {
-                if let Some(&ia) = index_a.get(&key(pos(&b.positions, ib))) {
-                    m[ia] = ib;
-                }
-            }
-            m
-        });
-        for &(i, j) in truth.difference(&found) {
-            s.missed += 1;
-            let (pi, pj) = (pos(&a.positions, i), pos(&a.positions, j));
-            let mut layouts = vec![(a.lattice, i, j)];
-            if let (Some(b), Some(m)) = (&self.second, &b_of) {
-                layouts.push((b.lattice, m[i], m[j]));
-            }
-            let fetched =
-                |&(_, x, y): &(Lattice, usize, usize)| x / w == y / w && x.abs_diff(y) <= k;
-            if layouts.iter().any(fetched) {
-                s.missed_closer_partner += 1;
-            } else if let Some(&(_, x, y)) =
-                layouts.iter().find(|(l, _, _)| l.cell(pi) == l.cell(pj))
-            {
-                if x / w != y / w {
-                    s.missed_other_row += 1;
-                } else {
-                    s.missed_far_along_row += 1;
-                }
-            } else {
-                s.missed_adjacent_cells += 1;
-            }
-        }
-        // Tunnelling: with x_prev = x - v dt (the explicit step's last move), pairs whose
-        // closest approach during the step was within 2r but which no longer overlap.
-        let vmax = (0..n)
-            .filter(|&i| live(&a.positions, i))
-            .map(|i| pos(&a.velocities, i).length())
-            .fold(0.0f32, f32::max);
-        let wide = reach + 2.0 * vmax * self.dt;
-        for (i, j) in close_pairs(&points, wide) {
-            if truth.contains(&(i, j)) {
-                continue;
-            }
-            let (xi, xj) = (pos(&a.positions, i), pos(&a.positions, j));
-            let dx = xi - xj;
-            let dv = (pos(&a.velocities, i) - pos(&a.velocities, j)) * self.dt;
-            // d(s) = dx - s dv for s in [0, 1] back in time.
-            let s_min = if dv.length_squared() > 0.0 {
-                (dx.dot(dv) / dv.length_squared()).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            if (dx - s_min * dv).length() < reach {
-                s.tunnelled += 1;
-            }
-        }
-        let mut cells: HashMap<u64, usize> = HashMap::new();
-        for (_, p) in &points {
-            *cells.entry(a.lattice.key(a.lattice.cell(*p))).or_default() += 1;
-        }
-        s.particles_per_cell = points.len() as f64 / cells.len().max(1) as f64;
+        self.classify_missed(&mut s, &truth, &found, &index_a);
+        s.tunnelled = self.tunnelled(&points, &truth, reach);
+        s.particles_per_cell = particles_per_cell(a.lattice, &points);
         s
     }
 }
@@ -391,195 +335,105 @@ impl Snapshot {
     }
 }
 
-/// Steps at the end of a [`measure`] run whose collision passes are timed (the median is
-/// reported: one step alone is at the mercy of a noisy machine).
-pub const TIMED_STEPS: u64 = 5;
+type Bits = (u32, u32, u32);
 
-/// Runs `scene` for `steps` steps and measures the last step's detection against the CPU
-/// reference, with the median GPU time of the collision passes over the last [`TIMED_STEPS`]
-/// steps (fewer if the run is shorter). `progress` is called after each step.
-pub fn measure(
-    ctx: &Context,
-    scene: &SceneFile,
-    steps: u64,
-    seed: u32,
-    mut progress: impl FnMut(),
-) -> Result<CollisionStats> {
-    if steps == 0 {
-        return Err(Error::InvalidInput(
-            "measuring needs at least 1 step".into(),
-        ));
-    }
-    let mut sim = ParticleSim::new(ctx, scene, seed)?;
-    if sim.collisions().is_none() {
-        return Err(Error::InvalidInput(format!(
-            "scene `{}` has no [collisions] section",
-            scene.name
-        )));
-    }
-    let timer = PassTimer::new(ctx, Clock::for_context(ctx))?;
-    let (e0, p0) = energy_momentum(&sim)?;
-    let timed = TIMED_STEPS.min(steps);
-    for _ in timed..steps {
-        sim.step()?;
-        progress();
-    }
-    // Collision scenes emit by time stamps, so a step is the integration pass and the collision
-    // stage: the same step, with the stage timed alone. The last step also reads back each
-    // exact iteration (untimed, unless it is the only timed step).
-    let mut times = Vec::new();
-    for k in 0..timed {
-        let last = k + 1 == timed;
-        if let Some(c) = sim.collisions_mut() {
-            c.record_iterations(last);
-        }
-        sim.integrate_only();
-        let mut result = Ok(());
-        let t = timer.time(|| result = sim.collide())?;
-        if !last || timed == 1 {
-            times.push(t);
-        }
-        result?;
-        progress();
-    }
-    let stage = sim.collisions().expect("checked above");
-    let mut stats = Snapshot::read(stage)?.stats();
-    stats.gpu_ms = median(&times);
-    stats.iterations = iteration_stats(stage);
-    let (e1, p1) = energy_momentum(&sim)?;
-    stats.kinetic_energy = [e0, e1];
-    stats.momentum = [p0, p1];
-    ctx.check_error("measuring collisions")?;
-    Ok(stats)
+/// A position's bits: B's order is mapped to A's by them (unique in practice).
+fn bits(p: Vec3) -> Bits {
+    (p.x.to_bits(), p.y.to_bits(), p.z.to_bits())
 }
 
-/// One row of [`sweep`]: what was varied and what it gave.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct SweepRow {
-    /// What differs from the scene's own settings.
-    pub variant: String,
-    /// Neighbours per side.
-    pub k: u32,
-    /// Staggered lattice.
-    pub staggered: bool,
-    /// Rows-only sort sets (None: full sort).
-    pub rows_only: Option<u32>,
-    /// Lattice mesh size (m).
-    pub cell: f32,
-    /// The measurement.
-    pub stats: CollisionStats,
+/// Live particles per occupied cell of `lattice`.
+fn particles_per_cell(lattice: Lattice, points: &[(usize, Vec3)]) -> f64 {
+    let mut cells: std::collections::HashMap<u64, usize> = Default::default();
+    for (_, p) in points {
+        *cells.entry(lattice.key(lattice.cell(*p))).or_default() += 1;
+    }
+    points.len() as f64 / cells.len().max(1) as f64
 }
 
-/// The scene's detection measured with one setting changed at a time: k, the staggered lattice,
-/// rows-only sorting, and the cell size (particles per cell).
-pub fn sweep(
-    ctx: &Context,
-    scene: &SceneFile,
-    steps: u64,
-    seed: u32,
-    mut progress: impl FnMut(&str),
-) -> Result<Vec<SweepRow>> {
-    let Some(base) = scene.collisions.clone() else {
-        return Err(Error::InvalidInput(format!(
-            "scene `{}` has no [collisions] section",
-            scene.name
-        )));
-    };
-    let g = base.cell.unwrap_or(2.0 * base.radius);
-    let mut variants: Vec<(String, scene::Collisions)> = vec![("scene".into(), base.clone())];
-    for k in [1u32, 2, 4, 16] {
-        if k != base.neighbours {
-            variants.push((
-                format!("k = {k}"),
-                scene::Collisions {
-                    neighbours: k,
-                    ..base.clone()
-                },
-            ));
-        }
-    }
-    variants.push((
-        format!("staggered {}", if base.staggered { "off" } else { "on" }),
-        scene::Collisions {
-            staggered: !base.staggered,
-            ..base.clone()
-        },
-    ));
-    for rows in [1u32, 8] {
-        variants.push((
-            format!(
-                "rows-only sort ({rows} row{})",
-                if rows == 1 { "" } else { "s" }
-            ),
-            scene::Collisions {
-                rows_only: Some(rows),
-                ..base.clone()
-            },
-        ));
-    }
-    for f in [2.0f32, 4.0] {
-        variants.push((
-            format!("cell {f} x"),
-            scene::Collisions {
-                cell: Some(g * f),
-                ..base.clone()
-            },
-        ));
-    }
-    let mut rows = Vec::new();
-    for (name, c) in variants {
-        progress(&name);
-        let mut s = scene.clone();
-        s.collisions = Some(c.clone());
-        let stats = measure(ctx, &s, steps, seed, || {})?;
-        rows.push(SweepRow {
-            variant: name,
-            k: c.neighbours,
-            staggered: c.staggered,
-            rows_only: c.rows_only,
-            cell: c.cell.unwrap_or(2.0 * c.radius),
-            stats,
+impl Snapshot {
+    /// Each missed pair is put down to the lattice that could have found it, in that
+    /// lattice's own layout: fetched in some lattice (same row, at most k apart) but lost to
+    /// a closer partner; else sharing a cell in some lattice (the first that does) but sorted
+    /// into different rows there or further apart than k; else in different cells of every
+    /// lattice.
+    fn classify_missed(
+        &self,
+        s: &mut CollisionStats,
+        truth: &std::collections::HashSet<(usize, usize)>,
+        found: &std::collections::HashSet<(usize, usize)>,
+        index_a: &std::collections::HashMap<Bits, usize>,
+    ) {
+        let a = &self.first;
+        let n = a.positions.len() / 4;
+        let (w, k) = (self.width as usize, self.neighbours as usize);
+        let b_of: Option<Vec<usize>> = self.second.as_ref().map(|b| {
+            let mut m = vec![usize::MAX; n];
+            for ib in 0..n {
+                if let Some(&ia) = index_a.get(&bits(pos(&b.positions, ib))) {
+                    m[ia] = ib;
+                }
+            }
+            m
         });
+        for &(i, j) in truth.difference(found) {
+            s.missed += 1;
+            let (pi, pj) = (pos(&a.positions, i), pos(&a.positions, j));
+            let mut layouts = vec![(a.lattice, i, j)];
+            if let (Some(b), Some(m)) = (&self.second, &b_of) {
+                layouts.push((b.lattice, m[i], m[j]));
+            }
+            let fetched =
+                |&(_, x, y): &(Lattice, usize, usize)| x / w == y / w && x.abs_diff(y) <= k;
+            if layouts.iter().any(fetched) {
+                s.missed_closer_partner += 1;
+            } else if let Some(&(_, x, y)) =
+                layouts.iter().find(|(l, _, _)| l.cell(pi) == l.cell(pj))
+            {
+                if x / w != y / w {
+                    s.missed_other_row += 1;
+                } else {
+                    s.missed_far_along_row += 1;
+                }
+            } else {
+                s.missed_adjacent_cells += 1;
+            }
+        }
     }
-    Ok(rows)
-}
 
-/// The sweep as a markdown table.
-pub fn sweep_table(rows: &[SweepRow]) -> String {
-    let mut out = String::from(
-        "| variant | k | staggered | sort | cell (m) | particles/cell | true pairs | found | \
-         missed | miss rate | adjacent cells | other row | far along row | closer kept | \
-         tunnelled | conflicts | GPU ms |\n\
-         | --- | ---: | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: \
-         | ---: | ---: | ---: | ---: |\n",
-    );
-    for r in rows {
-        let s = &r.stats;
-        out.push_str(&format!(
-            "| {} | {} | {} | {} | {:.3} | {:.2} | {} | {} | {} | {:.1}% | {} | {} | {} | {} | {} \
-             | {} | {:.2} |\n",
-            r.variant,
-            r.k,
-            if r.staggered { "on" } else { "off" },
-            match r.rows_only {
-                None => "full".to_owned(),
-                Some(1) => "rows".to_owned(),
-                Some(n) => format!("{n} rows"),
-            },
-            r.cell,
-            s.particles_per_cell,
-            s.pairs_true,
-            s.found,
-            s.missed,
-            100.0 * s.missed as f64 / s.pairs_true.max(1) as f64,
-            s.missed_adjacent_cells,
-            s.missed_other_row,
-            s.missed_far_along_row,
-            s.missed_closer_partner,
-            s.tunnelled,
-            s.conflicts,
-            s.gpu_ms
-        ));
+    /// Tunnelling: with x_prev = x - v dt (the explicit step's last move), pairs whose
+    /// closest approach during the step was within 2r but which no longer overlap.
+    fn tunnelled(
+        &self,
+        points: &[(usize, Vec3)],
+        truth: &std::collections::HashSet<(usize, usize)>,
+        reach: f32,
+    ) -> usize {
+        let a = &self.first;
+        let n = a.positions.len() / 4;
+        let mut tunnelled = 0;
+        let vmax = (0..n)
+            .filter(|&i| live(&a.positions, i))
+            .map(|i| pos(&a.velocities, i).length())
+            .fold(0.0f32, f32::max);
+        let wide = reach + 2.0 * vmax * self.dt;
+        for (i, j) in close_pairs(points, wide) {
+            if truth.contains(&(i, j)) {
+                continue;
+            }
+            let (xi, xj) = (pos(&a.positions, i), pos(&a.positions, j));
+            let dx = xi - xj;
+            let dv = (pos(&a.velocities, i) - pos(&a.velocities, j)) * self.dt;
+            // d(s) = dx - s dv for s in [0, 1] back in time.
+            let s_min = if dv.length_squared() > 0.0 {
+                (dx.dot(dv) / dv.length_squared()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            if (dx - s_min * dv).length() < reach {
+                tunnelled += 1;
+            }
+        }
+        tunnelled
     }
-    out
 }

@@ -1,13 +1,14 @@
 //! Collisions between particles (UberFlow §4.3-4.5), measured: the miss rate of the detection
 //! against the GPU time of the collision passes, for the neighbour count k, the staggered
 //! lattice, rows-only sorting and the cell size, on the built-in `collide` scene. The numbers are
-//! those of `texflow collide-stats collide --sweep` ([`super::collide_stats::sweep`]): the pairs
+//! those of `texflow collide-stats collide --sweep` ([`super::collide_runs::sweep`]): the pairs
 //! the GPU found at the last step against all overlapping pairs from a CPU cell-list reference;
 //! and the miss rate against density on the `gas` scene ([`density_sweep`]).
 
 use std::path::{Path, PathBuf};
 
-use super::collide_stats::{measure, sweep, sweep_table, CollisionStats, SweepRow};
+use super::collide_runs::{measure, sweep, sweep_table, SweepRow};
+use super::collide_stats::CollisionStats;
 use super::plot::{self, Legend, Marker, Series};
 use super::{num, Csv, Progress, ReportOptions, SectionOutput, Size};
 use crate::bench::{median, Clock};
@@ -37,6 +38,32 @@ pub fn write_files(
     steps: u64,
     out: &Path,
 ) -> Result<Vec<PathBuf>> {
+    let csv = table(rows);
+    let csv_path = out.join("collisions.csv");
+    csv.write(&csv_path)?;
+    let json_path = out.join("collisions.json");
+    super::write_json(&json_path, rows)?;
+    let series = miss_rate_series(rows);
+    let png = out.join("collisions_miss_rate.png");
+    plot::loglog(
+        &png,
+        &format!("collision detection: collide scene, step {steps} ({device})"),
+        (
+            &format!(
+                "GPU time of the collision passes of one step (ms, {})",
+                clock.name()
+            ),
+            "missed overlapping pairs (%)",
+        ),
+        &series,
+        (900, 600),
+        Legend::UpperRight,
+    )?;
+    Ok(vec![csv_path, json_path, png])
+}
+
+/// One CSV row per variant of the sweep.
+fn table(rows: &[SweepRow]) -> Csv {
     let mut csv = Csv::new(&[
         "variant",
         "k",
@@ -84,11 +111,11 @@ pub fn write_files(
             num(Some(s.gpu_ms)),
         ]);
     }
-    let csv_path = out.join("collisions.csv");
-    csv.write(&csv_path)?;
-    let json_path = out.join("collisions.json");
-    super::write_json(&json_path, rows)?;
-    // The k sweep (the scene's lattice and sort) is a curve; every other setting one point.
+    csv
+}
+
+/// The k sweep (the scene's lattice and sort) as a curve; every other setting one point.
+fn miss_rate_series(rows: &[SweepRow]) -> Vec<Series> {
     let scene = rows.first();
     let same_but_k = |r: &SweepRow| {
         scene.is_some_and(|s| {
@@ -137,22 +164,7 @@ pub fn write_files(
             dashed: false,
         });
     }
-    let png = out.join("collisions_miss_rate.png");
-    plot::loglog(
-        &png,
-        &format!("collision detection: collide scene, step {steps} ({device})"),
-        (
-            &format!(
-                "GPU time of the collision passes of one step (ms, {})",
-                clock.name()
-            ),
-            "missed overlapping pairs (%)",
-        ),
-        &series,
-        (900, 600),
-        Legend::UpperRight,
-    )?;
-    Ok(vec![csv_path, json_path, png])
+    series
 }
 
 /// The markdown of `summary.md`.

@@ -7,7 +7,7 @@
 //! - [`sort_frames`]: Latta's odd-even sort spread over frames under a moving camera:
 //!   inversions and displacements against passes per frame and GPU time.
 //! - [`collide_stats`]: what one step's collision detection found against the true pairs
-//!   (`texflow collide-stats`), and the sweep of its settings.
+//!   (`texflow collide-stats`); [`collide_runs`]: a run measured and the sweep of its settings.
 //! - [`collisions`]: the miss rate of the collision detection against its GPU time.
 //! - [`plot`]: the log-log plots (the only user of `plotters` and the DejaVu font).
 //! - [`baselines`]: the stateless particle system (a closed form of start values and time)
@@ -23,6 +23,7 @@
 
 pub mod baselines;
 pub mod collide_iterations;
+pub mod collide_runs;
 pub mod collide_stats;
 pub mod collisions;
 pub mod convergence;

@@ -105,27 +105,8 @@ pub fn loglog(
         path: path.to_owned(),
         reason: e.to_string(),
     };
-    let ok = |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0;
-    let pts: Vec<(f64, f64)> = series
-        .iter()
-        .flat_map(|s| s.points.iter().copied())
-        .filter(ok)
-        .collect();
-    let range = |f: fn(&(f64, f64)) -> f64| {
-        let lo = pts.iter().map(f).fold(f64::INFINITY, f64::min);
-        let hi = pts.iter().map(f).fold(0.0, f64::max);
-        if pts.is_empty() {
-            (0.1, 10.0)
-        } else {
-            // A margin of a fifth of a decade, and at least one decade shown.
-            let (lo, hi) = (lo.log10() - 0.2, hi.log10() + 0.2);
-            let mid = 0.5 * (lo + hi);
-            let half = (0.5 * (hi - lo)).max(0.5);
-            (10f64.powf(mid - half), 10f64.powf(mid + half))
-        }
-    };
-    let (x0, x1) = range(|p| p.0);
-    let (y0, y1) = range(|p| p.1);
+    let ok = on_log_axes;
+    let ((x0, x1), (y0, y1)) = log_ranges(series);
     let (w, h) = size;
     let mut buf = vec![0u8; w as usize * h as usize * 3];
     {
@@ -205,6 +186,36 @@ pub fn loglog(
         reason: "plot buffer of the wrong size".into(),
     })?;
     crate::output::write_png_atomic(path, &img)
+}
+
+/// Whether a point can be drawn on log axes (finite and positive).
+#[cfg(feature = "plots")]
+fn on_log_axes(p: &(f64, f64)) -> bool {
+    p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0
+}
+
+/// The x and y ranges of the drawable points of `series`, in whole decades and margins.
+#[cfg(feature = "plots")]
+fn log_ranges(series: &[Series]) -> ((f64, f64), (f64, f64)) {
+    let pts: Vec<(f64, f64)> = series
+        .iter()
+        .flat_map(|s| s.points.iter().copied())
+        .filter(on_log_axes)
+        .collect();
+    let range = |f: fn(&(f64, f64)) -> f64| {
+        let lo = pts.iter().map(f).fold(f64::INFINITY, f64::min);
+        let hi = pts.iter().map(f).fold(0.0, f64::max);
+        if pts.is_empty() {
+            (0.1, 10.0)
+        } else {
+            // A margin of a fifth of a decade, and at least one decade shown.
+            let (lo, hi) = (lo.log10() - 0.2, hi.log10() + 0.2);
+            let mid = 0.5 * (lo + hi);
+            let half = (0.5 * (hi - lo)).max(0.5);
+            (10f64.powf(mid - half), 10f64.powf(mid + half))
+        }
+    };
+    (range(|p| p.0), range(|p| p.1))
 }
 
 #[cfg(feature = "plots")]

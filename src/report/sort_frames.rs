@@ -315,6 +315,45 @@ pub fn table(r: &SpreadReport) -> String {
 
 /// Writes `sort_frames.csv`, `sort_frames.json` and the two plots; returns the files.
 pub fn write_files(r: &SpreadReport, out: &Path) -> Result<Vec<std::path::PathBuf>> {
+    let csv = csv_table(r);
+    let csv_path = out.join("sort_frames.csv");
+    csv.write(&csv_path)?;
+    let json_path = out.join("sort_frames.json");
+    super::write_json(&json_path, r)?;
+    let mut files = vec![csv_path, json_path];
+    let title = |what: &str| format!("{what}: {}² smoke ({})", r.side, r.device);
+    let unit = "fraction (whole sort: 0, off the log axis)";
+    let p1 = out.join("sort_frames_passes.png");
+    plot::loglog(
+        &p1,
+        &title("odd-even sort spread over frames"),
+        ("passes per frame", unit),
+        &curves(r, &|row| row.passes_per_frame as f64),
+        (900, 600),
+        Legend::UpperRight,
+    )?;
+    let p2 = out.join("sort_frames_time.png");
+    plot::loglog(
+        &p2,
+        &title("drawing order against GPU time"),
+        (
+            &format!(
+                "GPU time of the sort stage per frame (ms, {})",
+                r.clock.name()
+            ),
+            unit,
+        ),
+        &curves(r, &|row| row.gpu_ms),
+        (900, 600),
+        Legend::UpperRight,
+    )?;
+    files.push(p1);
+    files.push(p2);
+    Ok(files)
+}
+
+/// One CSV row per (orbit, passes per frame).
+fn csv_table(r: &SpreadReport) -> Csv {
     let mut csv = Csv::new(&[
         "orbit_deg_per_s",
         "passes_per_frame",
@@ -347,77 +386,46 @@ pub fn write_files(r: &SpreadReport, out: &Path) -> Result<Vec<std::path::PathBu
             num(Some(row.gpu_ms)),
         ]);
     }
-    let csv_path = out.join("sort_frames.csv");
-    csv.write(&csv_path)?;
-    let json_path = out.join("sort_frames.json");
-    super::write_json(&json_path, r)?;
-    let mut files = vec![csv_path, json_path];
+    csv
+}
+
+/// Per orbit speed, the inversions and the 99th percentile displacement against `x` of a row.
+fn curves(r: &SpreadReport, x: &dyn Fn(&SpreadRow) -> f64) -> Vec<Series> {
     let mut orbits: Vec<f32> = r.rows.iter().map(|row| row.orbit_deg_per_s).collect();
     orbits.dedup();
-    let curves = |x: &dyn Fn(&SpreadRow) -> f64| -> Vec<Series> {
-        let colors = [(40, 100, 200), (200, 60, 40), (40, 150, 60), (150, 60, 170)];
-        let mut out = Vec::new();
-        for (k, &orbit) in orbits.iter().enumerate() {
-            let rows: Vec<&SpreadRow> = r
-                .rows
+    let colors = [(40, 100, 200), (200, 60, 40), (40, 150, 60), (150, 60, 170)];
+    let mut out = Vec::new();
+    for (k, &orbit) in orbits.iter().enumerate() {
+        let rows: Vec<&SpreadRow> = r
+            .rows
+            .iter()
+            .filter(|row| row.orbit_deg_per_s == orbit)
+            .collect();
+        let color = colors[k % colors.len()];
+        out.push(Series {
+            label: format!("{orbit}°/s: inversions / all pairs"),
+            points: rows
                 .iter()
-                .filter(|row| row.orbit_deg_per_s == orbit)
-                .collect();
-            let color = colors[k % colors.len()];
-            out.push(Series {
-                label: format!("{orbit}°/s: inversions / all pairs"),
-                points: rows
-                    .iter()
-                    .map(|row| (x(row), row.inversion_fraction))
-                    .collect(),
-                hollow: Vec::new(),
-                color,
-                marker: Marker::Circle,
-                dashed: false,
-            });
-            out.push(Series {
-                label: format!("{orbit}°/s: 99th pct displacement / live"),
-                points: rows
-                    .iter()
-                    .map(|row| (x(row), row.p99_displacement as f64 / row.live_mean.max(1.0)))
-                    .collect(),
-                hollow: Vec::new(),
-                color,
-                marker: Marker::Triangle,
-                dashed: true,
-            });
-        }
-        out
-    };
-    let title = |what: &str| format!("{what}: {}² smoke ({})", r.side, r.device);
-    let unit = "fraction (whole sort: 0, off the log axis)";
-    let p1 = out.join("sort_frames_passes.png");
-    plot::loglog(
-        &p1,
-        &title("odd-even sort spread over frames"),
-        ("passes per frame", unit),
-        &curves(&|row| row.passes_per_frame as f64),
-        (900, 600),
-        Legend::UpperRight,
-    )?;
-    let p2 = out.join("sort_frames_time.png");
-    plot::loglog(
-        &p2,
-        &title("drawing order against GPU time"),
-        (
-            &format!(
-                "GPU time of the sort stage per frame (ms, {})",
-                r.clock.name()
-            ),
-            unit,
-        ),
-        &curves(&|row| row.gpu_ms),
-        (900, 600),
-        Legend::UpperRight,
-    )?;
-    files.push(p1);
-    files.push(p2);
-    Ok(files)
+                .map(|row| (x(row), row.inversion_fraction))
+                .collect(),
+            hollow: Vec::new(),
+            color,
+            marker: Marker::Circle,
+            dashed: false,
+        });
+        out.push(Series {
+            label: format!("{orbit}°/s: 99th pct displacement / live"),
+            points: rows
+                .iter()
+                .map(|row| (x(row), row.p99_displacement as f64 / row.live_mean.max(1.0)))
+                .collect(),
+            hollow: Vec::new(),
+            color,
+            marker: Marker::Triangle,
+            dashed: true,
+        });
+    }
+    out
 }
 
 /// The markdown of `summary.md`.

@@ -222,47 +222,9 @@ pub fn section(
     let (st_m, st_s) = median_of_runs(&st, |r| r.size, |r| Some(r.sim_ms));
     let (t1_m, t1_s) = median_of_runs(&t1, |r| (r.variant.clone(), r.size), |r| Some(r.ms));
     let (mut t2_m, t2_s) = median_of_runs(&t2, |r| (r.experiment.clone(), r.size), |r| r.ms);
-    // The GPU/CPU ratios of the median cells, which may come from different runs.
-    let e5: Vec<(u32, f64)> = t2_m
-        .iter()
-        .filter(|r| r.experiment == "E5")
-        .filter_map(|r| r.fps.map(|f| (r.size, f)))
-        .collect();
-    for r in &mut t2_m {
-        if let (Some(f), Some(&(_, cpu))) = (r.fps, e5.iter().find(|(n, _)| *n == r.size)) {
-            r.vs_e5 = Some(f / cpu);
-        }
-    }
+    with_vs_e5(&mut t2_m);
     let (rp_m, rp_s) = median_of_runs(&rp, |r| r.size, |r| Some(r.texture_fetch_ms));
-    let mut files = Vec::new();
-    let mut write = |name: &str, json_text: Result<()>, md: String| -> Result<()> {
-        json_text?;
-        let m = out.join(format!("{name}.md"));
-        super::write_atomic(&m, md.as_bytes())?;
-        files.push(out.join(format!("{name}.json")));
-        files.push(m);
-        Ok(())
-    };
-    write(
-        "step",
-        super::write_json(&out.join("step.json"), &st_m),
-        step_markdown(&st_m),
-    )?;
-    write(
-        "table1_sort",
-        super::write_json(&out.join("table1_sort.json"), &t1_m),
-        sort_markdown(&t1_m),
-    )?;
-    write(
-        "table2_scenes",
-        super::write_json(&out.join("table2_scenes.json"), &t2_m),
-        bs::markdown(&t2_m),
-    )?;
-    write(
-        "render_paths",
-        super::write_json(&out.join("render_paths.json"), &rp_m),
-        paths_markdown(&rp_m),
-    )?;
+    let mut files = write_medians(out, &st_m, &t1_m, &t2_m, &rp_m)?;
     let all_runs = out.join("tables_runs.json");
     super::write_json(
         &all_runs,
@@ -272,18 +234,7 @@ pub fn section(
     let (_, repeats0) = step_sizes(opts.size);
     let (_, repeats1) = sort_sizes(opts.size, clock);
     let (_, repeats2, warmup) = scene_sizes(opts.size);
-    let mut warnings = Vec::new();
-    for r in t2_m.iter().filter(|r| r.fps.is_none()) {
-        warnings.push(format!(
-            "Table 2: {} at {}² was not measured{}",
-            r.experiment,
-            r.size,
-            r.note
-                .as_deref()
-                .map(|n| format!(" ({n})"))
-                .unwrap_or_default()
-        ));
-    }
+    let warnings = unmeasured(&t2_m);
     let mut noisy: Vec<String> = Vec::new();
     noisy.extend(
         st_s.iter()
@@ -301,22 +252,7 @@ pub fn section(
         rp_s.iter()
             .map(|(r, x)| format!("render paths {}²: ×{x:.2}", r.size)),
     );
-    let runs_note = if runs > 1 {
-        format!(
-            "## How the benchmark tables were run\n\nEach table was run {runs} times, interleaved; every cell is the run of median time \
-             (all runs: `tables_runs.json`). {}\n\n",
-            if noisy.is_empty() {
-                "No cell's slowest run took over 1.25× its fastest.".to_owned()
-            } else {
-                format!(
-                    "Cells whose slowest run took over 1.25× their fastest: {}.",
-                    noisy.join("; ")
-                )
-            }
-        )
-    } else {
-        String::new()
-    };
+    let runs_note = runs_note(runs, &noisy);
     let markdown = format!(
         "{runs_note}## The fire's step against its floor (`texflow bench step`)\n\n\
          Median of {repeats0} passes of each kind, {}; floor = a write-only pass into the same \
@@ -352,6 +288,98 @@ pub fn section(
         markdown,
         warnings,
     })
+}
+
+/// The GPU/CPU ratios of the median cells (which may come from different runs): each size's
+/// frames per second against E5's.
+fn with_vs_e5(t2_m: &mut [SceneRecord]) {
+    let e5: Vec<(u32, f64)> = t2_m
+        .iter()
+        .filter(|r| r.experiment == "E5")
+        .filter_map(|r| r.fps.map(|f| (r.size, f)))
+        .collect();
+    for r in t2_m.iter_mut() {
+        if let (Some(f), Some(&(_, cpu))) = (r.fps, e5.iter().find(|(n, _)| *n == r.size)) {
+            r.vs_e5 = Some(f / cpu);
+        }
+    }
+}
+
+/// Writes each table's medians as JSON and markdown; the files written.
+fn write_medians(
+    out: &Path,
+    st_m: &[StepRecord],
+    t1_m: &[SortRecord],
+    t2_m: &[SceneRecord],
+    rp_m: &[PathRecord],
+) -> Result<Vec<std::path::PathBuf>> {
+    let mut files = Vec::new();
+    let mut write = |name: &str, json_text: Result<()>, md: String| -> Result<()> {
+        json_text?;
+        let m = out.join(format!("{name}.md"));
+        super::write_atomic(&m, md.as_bytes())?;
+        files.push(out.join(format!("{name}.json")));
+        files.push(m);
+        Ok(())
+    };
+    write(
+        "step",
+        super::write_json(&out.join("step.json"), st_m),
+        step_markdown(st_m),
+    )?;
+    write(
+        "table1_sort",
+        super::write_json(&out.join("table1_sort.json"), t1_m),
+        sort_markdown(t1_m),
+    )?;
+    write(
+        "table2_scenes",
+        super::write_json(&out.join("table2_scenes.json"), t2_m),
+        bs::markdown(t2_m),
+    )?;
+    write(
+        "render_paths",
+        super::write_json(&out.join("render_paths.json"), rp_m),
+        paths_markdown(rp_m),
+    )?;
+    Ok(files)
+}
+
+/// A warning for each Table 2 cell that was not measured.
+fn unmeasured(t2_m: &[SceneRecord]) -> Vec<String> {
+    let mut warnings = Vec::new();
+    for r in t2_m.iter().filter(|r| r.fps.is_none()) {
+        warnings.push(format!(
+            "Table 2: {} at {}² was not measured{}",
+            r.experiment,
+            r.size,
+            r.note
+                .as_deref()
+                .map(|n| format!(" ({n})"))
+                .unwrap_or_default()
+        ));
+    }
+    warnings
+}
+
+/// How the tables were run, with the cells whose runs spread (several runs only).
+fn runs_note(runs: usize, noisy: &[String]) -> String {
+    if runs > 1 {
+        format!(
+            "## How the benchmark tables were run\n\nEach table was run {runs} times, interleaved; every cell is the run of median time \
+             (all runs: `tables_runs.json`). {}\n\n",
+            if noisy.is_empty() {
+                "No cell's slowest run took over 1.25× its fastest.".to_owned()
+            } else {
+                format!(
+                    "Cells whose slowest run took over 1.25× their fastest: {}.",
+                    noisy.join("; ")
+                )
+            }
+        )
+    } else {
+        String::new()
+    }
 }
 
 #[cfg(test)]

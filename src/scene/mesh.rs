@@ -5,7 +5,7 @@
 //! `sim::fields` (one fragment pass per slice of the 3D texture).
 //!
 //! The file is read relative to the scene file's folder; a built-in scene reads the meshes
-//! compiled into the binary ([`super::builtin`]). Faces are triangulated (fans), triangles of
+//! compiled into the binary ([`super::sources`]). Faces are triangulated (fans), triangles of
 //! zero area (and the segments `l` and two-vertex faces, which the OBJ reader turns into such
 //! triangles) are dropped: they bound no volume.
 
@@ -14,9 +14,9 @@ use std::path::Path;
 use toml::de::DeTable;
 use toml::Spanned;
 
-use super::builtin::builtin_mesh;
 use super::locate::{locate, scene_error, Key};
 use super::schema::SceneFile;
+use super::sources::builtin_mesh;
 use crate::error::Result;
 
 use Key::{Index as I, Name as N};

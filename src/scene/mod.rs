@@ -10,7 +10,8 @@
 //! - `validate/`: one function per section, called by [`SceneFile::validate`];
 //! - `locate`: an error's path into the document ([`Key`], [`Invalid`]) to line and column;
 //! - `parse`: [`parse`] and the device-size check [`check_limits`];
-//! - `builtin`: the built-in scenes and loading by name or path ([`load`], [`BUILTIN`]);
+//! - `sources`: the built-in scenes' TOML and meshes, compiled in ([`BUILTIN`]);
+//! - `builtin`: loading a scene by built-in name or path ([`load`]);
 //! - `mesh`: the OBJ meshes of distance fields, read while parsing ([`read_obj`]);
 //! - `custom`: the custom forces' GLSL files, read and checked before compiling ([`load_custom`]).
 //! - `set`: `--set KEY=VALUE`, keys changed from the command line ([`parse_with`]);
@@ -24,13 +25,11 @@ mod mesh;
 mod parse;
 mod schema;
 mod set;
+mod sources;
 mod suggest;
 mod validate;
 
-pub use builtin::{
-    builtin, builtin_source, fire, load, load_source, BUILTIN, BUILTIN_MESHES, BUILTIN_SOURCES,
-    DEFAULT_SCENE, THESIS_SCENE,
-};
+pub use builtin::{builtin, fire, load, load_source, DEFAULT_SCENE, THESIS_SCENE};
 pub use custom::{
     check_glsl, check_pair_glsl, load_custom, read_glsl, read_pair_glsl, PAIR_SIGNATURE,
 };
@@ -40,6 +39,7 @@ pub use mesh::{read_obj, Triangle, MAX_TRIANGLES};
 pub use parse::{check_limits, check_point_size, parse, SizeLimits};
 pub use schema::*;
 pub use set::{parse_with, Setting};
+pub use sources::{builtin_source, BUILTIN, BUILTIN_MESHES, BUILTIN_SOURCES};
 pub use suggest::{closest, did_you_mean, edit_distance};
 pub use validate::{
     largest_exact_cell, run_capacity, CapacityWarning, ChildCapacityWarning, ChildLayout,

@@ -316,58 +316,7 @@ fn trace_particles(e: &mut Engine, r: &mut Recorder<'_>) -> Result<()> {
             )?;
         }
     }
-    if e.sorter().is_some() {
-        let mut shots: Vec<(String, Vec<Shot>)> = Vec::new();
-        e.order_for_drawing_observed(&mut |phase, sorter| {
-            let entries = sorter.read()?;
-            let sz = [sorter.width(), sorter.height()];
-            let keys: Vec<f32> = entries.iter().map(|x| x[0]).collect();
-            let ids: Vec<f32> = entries.iter().map(|x| x[1]).collect();
-            shots.push((
-                phase.to_owned(),
-                vec![
-                    ramp_shot("sort key", &keys, sz, "key: signed distance to the viewer"),
-                    ramp_shot("sort id", &ids, sz, "id: the particle's texel index"),
-                ],
-            ));
-            Ok(())
-        })?;
-        let variant = e.sorter().map_or("", |s| s.variant().name());
-        for (phase, s) in shots {
-            match phase.as_str() {
-                "keys" => r.pass(
-                    "sort keys (`glsl/sort/keys.frag`)",
-                    "UberFlow §4.3 (keys by viewer distance); Latta §3.4.4",
-                    "position",
-                    "sort texture: (key, id) per entry; dead particles +inf (last)",
-                    s,
-                )?,
-                _ => r.pass(
-                    &format!(
-                        "sort network: {variant}, this frame's passes (`texflow trace sort \
-                         --variant {variant}` shows them one by one)"
-                    ),
-                    "UberFlow §4.3.2-4.3.3, Fig. 1-2 (bitonic); Latta §3.4.4, Fig. 3-5 \
-                     (odd-even merge)",
-                    "sort texture (ping-pong)",
-                    "sort texture in order of key, then id",
-                    s,
-                )?,
-            }
-        }
-        if let Some(sorted) = e.sorted() {
-            let p = sorted.texture(0).read_f32()?;
-            let sz = size_of(sorted.texture(0));
-            let shots = vec![r.positions("sorted position", &p, sz)];
-            r.pass(
-                "gather (`glsl/sort/rearrange.frag`)",
-                "UberFlow §4.3 (the state re-ordered by the sorted ids)",
-                "sort texture (ids), position, static",
-                "sorted position and static (MRT), in drawing order",
-                shots,
-            )?;
-        }
-    }
+    trace_sort(e, r)?;
     let img = e.render()?;
     r.pass(
         "render (`glsl/render/particle.vert` + `particle.frag`)",
@@ -377,6 +326,65 @@ fn trace_particles(e: &mut Engine, r: &mut Recorder<'_>) -> Result<()> {
         "the frame (RGBA8), read back",
         vec![frame_shot(img)],
     )?;
+    Ok(())
+}
+
+/// The frame's sorting, where alpha blending needs it: keys, the network's passes of this frame,
+/// and the gather.
+fn trace_sort(e: &mut Engine, r: &mut Recorder<'_>) -> Result<()> {
+    if e.sorter().is_none() {
+        return Ok(());
+    }
+    let mut shots: Vec<(String, Vec<Shot>)> = Vec::new();
+    e.order_for_drawing_observed(&mut |phase, sorter| {
+        let entries = sorter.read()?;
+        let sz = [sorter.width(), sorter.height()];
+        let keys: Vec<f32> = entries.iter().map(|x| x[0]).collect();
+        let ids: Vec<f32> = entries.iter().map(|x| x[1]).collect();
+        shots.push((
+            phase.to_owned(),
+            vec![
+                ramp_shot("sort key", &keys, sz, "key: signed distance to the viewer"),
+                ramp_shot("sort id", &ids, sz, "id: the particle's texel index"),
+            ],
+        ));
+        Ok(())
+    })?;
+    let variant = e.sorter().map_or("", |s| s.variant().name());
+    for (phase, s) in shots {
+        match phase.as_str() {
+            "keys" => r.pass(
+                "sort keys (`glsl/sort/keys.frag`)",
+                "UberFlow §4.3 (keys by viewer distance); Latta §3.4.4",
+                "position",
+                "sort texture: (key, id) per entry; dead particles +inf (last)",
+                s,
+            )?,
+            _ => r.pass(
+                &format!(
+                    "sort network: {variant}, this frame's passes (`texflow trace sort \
+                     --variant {variant}` shows them one by one)"
+                ),
+                "UberFlow §4.3.2-4.3.3, Fig. 1-2 (bitonic); Latta §3.4.4, Fig. 3-5 \
+                 (odd-even merge)",
+                "sort texture (ping-pong)",
+                "sort texture in order of key, then id",
+                s,
+            )?,
+        }
+    }
+    if let Some(sorted) = e.sorted() {
+        let p = sorted.texture(0).read_f32()?;
+        let sz = size_of(sorted.texture(0));
+        let shots = vec![r.positions("sorted position", &p, sz)];
+        r.pass(
+            "gather (`glsl/sort/rearrange.frag`)",
+            "UberFlow §4.3 (the state re-ordered by the sorted ids)",
+            "sort texture (ids), position, static",
+            "sorted position and static (MRT), in drawing order",
+            shots,
+        )?;
+    }
     Ok(())
 }
 

@@ -1,4 +1,6 @@
-//! Helpers shared by the GPU tests. Every test makes its own context on its own thread (GL
+//! Helpers shared by the tests, each written once: `cli` runs the built binary, `scene` writes
+//! scenes, random states and their CPU references, `image` probes and counts pixels; the GPU
+//! tests' context and state are here. Every GPU test makes its own context on its own thread (GL
 //! contexts are bound to a thread) and ends with `no_gl_error`.
 //!
 //! Mesa 22.3's llvmpipe crashed (SIGSEGV inside `swrast_dri.so`, about one run in eight of
@@ -7,6 +9,10 @@
 //! one after another (llvmpipe still rasterizes on every core), the CPU-only tests in parallel.
 
 #![allow(dead_code)]
+
+pub mod cli;
+pub mod image;
+pub mod scene;
 
 use std::ops::Deref;
 use std::sync::{Mutex, MutexGuard};
@@ -65,4 +71,20 @@ pub fn set_particles(
         st[i * 4 + 3] = random(i, n);
     }
     sim.set_state(&pos, &vel, &st).unwrap();
+}
+
+/// A shader only the tests draw (`tests/glsl/NAME`, kept out of the library), registered as a
+/// run-time source under the path it returns: `Program::new` finds it there, its `#include`s
+/// resolve to the library's files, and compile errors name that path.
+pub fn test_shader(name: &str) -> String {
+    let text = match name {
+        "broken.frag" => include_str!("../glsl/broken.frag"),
+        "fields.frag" => include_str!("../glsl/fields.frag"),
+        "increment.frag" => include_str!("../glsl/increment.frag"),
+        "write8.frag" => include_str!("../glsl/write8.frag"),
+        _ => panic!("no test shader tests/glsl/{name}"),
+    };
+    let path = format!("tests/glsl/{name}");
+    texflow::gl::source::add_runtime_source(&path, text);
+    path
 }

@@ -23,18 +23,15 @@
 //! each phase once, each finished before the next (a phase's time is one step's, not a frame's).
 
 use super::scenes::default_warmup_frames;
-use super::stats::{
-    median, Clock, FixedCost, PassTimer, PlacedRenderFloor, RenderFloor, WriteFloor,
-};
+use super::stats::{median, Clock, PassTimer, PlacedRenderFloor, RenderFloor, WriteFloor};
 use crate::engine::{Engine, FireEngine};
 use crate::error::{Error, Result};
-use crate::gl::{
-    Blend, BlendComponent, BlendFactor, Context, Framebuffer, Texture, TextureDesc, TextureFormat,
-};
+use crate::gl::{Blend, BlendComponent, BlendFactor, Context, Framebuffer, Texture, TextureDesc};
 use crate::scene::{DrawOrder, Scene, SceneFile};
-use crate::sort::{SortOptions, Sorter};
 
+mod phases;
 mod text;
+use phases::{bench_sort, sort_phases, SortFloors, StateFloors};
 pub use text::{run_summary, scene_markdown, summary};
 
 /// One phase of a frame and its floor.
@@ -360,45 +357,12 @@ fn particles(
         engine.advance_frame()?;
         engine.draw()?;
     }
-    let state_targets = engine.sim().front().textures().len();
-    let scratch = scratch_like(ctx, engine.sim().front())?;
-    let state_floor = WriteFloor::new(ctx, state_targets)?;
-    let fixed_cost = FixedCost::new(ctx)?;
-    let scratch_bytes =
-        scratch.width() as u64 * scratch.height() as u64 * scratch.bytes_per_texel() as u64;
+    let state_floors = StateFloors::new(ctx, engine.sim())?;
     let floor1 = WriteFloor::new(ctx, 1)?;
     let floor2 = WriteFloor::new(ctx, 2)?;
     let [w, h] = s.particles.size;
     let texels = w as usize * h as usize;
-    // The sort the engine runs, built from the same plan, with its own gather target.
-    let mut sort = match crate::engine::plan::sort_plan(s) {
-        None => None,
-        Some(p) => {
-            let options = SortOptions {
-                passes_per_frame: p.passes_per_frame.map(|n| n as usize),
-                blocked: p.shape,
-                ..Default::default()
-            };
-            let sorter = Sorter::new(ctx, p.variant, p.size[0], p.size[1], options)?;
-            let tex = |label: &str| {
-                Texture::new(
-                    ctx,
-                    TextureDesc {
-                        width: w,
-                        height: h,
-                        format: TextureFormat::Rgba32F,
-                        label,
-                    },
-                )
-            };
-            let sorted = Framebuffer::new(
-                ctx,
-                "bench sorted",
-                vec![tex("bench sorted position")?, tex("bench sorted static")?],
-            )?;
-            Some((sorter, sorted, p.passes_per_frame.is_some(), false))
-        }
-    };
+    let mut sort = bench_sort(ctx, s)?;
     let back_to_front = s.render.order == DrawOrder::BackToFront;
     let has_births = engine.sim().allocator().is_some();
     let step_name = if has_births {
@@ -417,92 +381,23 @@ fn particles(
             engine.draw()
         })?);
         // One step, in its phases.
-        let rows = engine.sim().active_rows();
-        let f = timer.time(|| state_floor.draw_rows(&scratch, 0, rows))?;
-        let t = timed(timer, || engine.sim_mut().step_without_collisions())?;
-        phases.push(
-            step_name,
-            "write-only pass into the state's targets, live rows",
-            t,
-            f,
-        );
-        if engine.sim().collisions().is_some() {
-            // The stage's floor: its passes' fixed cost plus its bytes written at the rate of a
-            // write-only pass into the state's targets, both measured now.
-            let fixed = fixed_cost.measure(timer)?;
-            let f = timer.time(|| state_floor.draw(&scratch))?;
-            let rate = scratch_bytes as f64 / (f - fixed).max(1e-9);
-            ctx.take_draw_stats();
-            let t = timed(timer, || engine.sim_mut().collide())?;
-            let stage = ctx.take_draw_stats();
-            phases.push(
-                "collide (sorts, detection, response)",
-                "its passes × the fixed cost of a pass + its bytes at the state's write rate",
-                t,
-                stage.draws as f64 * fixed + stage.bytes_written as f64 / rate,
-            );
-        }
+        state_floors.step_phases(ctx, timer, engine.sim_mut(), step_name, &mut phases)?;
         // The frame's sorting, then its drawing.
         let sim = engine.sim();
-        let count = if let Some((sorter, sorted, spread, keyed)) = &mut sort {
+        let count = if let Some(sort) = &mut sort {
             let mode =
                 crate::engine::key_mode(s.render.sort.key, engine.camera().eye(), back_to_front);
-            if sorter.quantiser().is_some() {
+            if sort.0.quantiser().is_some() {
                 let (lo, hi) = crate::engine::compact_depth_range(engine.camera().distance);
                 let (lo, hi) = if back_to_front { (-hi, -lo) } else { (lo, hi) };
-                sorter.set_key_range(lo, hi)?;
+                sort.0.set_key_range(lo, hi)?;
             }
-            let f = timer.time(|| floor1.draw(sorter.keys_target()))?;
-            let t = timed(timer, || {
-                let refresh = *spread && *keyed;
-                sorter.write_keys_with_statics(
-                    sim.positions(),
-                    sim.statics(),
-                    texels,
-                    &mode,
-                    true,
-                    refresh,
-                )
-            })?;
-            *keyed = true;
-            phases.push(
-                match s.render.sort.key {
-                    crate::scene::SortKey::Distance => "sort keys: distance to the viewer",
-                    _ => "sort keys: age",
-                },
-                "write-only pass into the sort texture",
-                t,
-                f,
-            );
-            // Each pass's floor writes what it writes: the sort texture, or for the blocked
-            // variant its layers (and the row-major texture once, in its unpack pass).
-            let target = sorter.target();
-            let fl = if target.attachments() > 1 || target.integer() {
-                let f = WriteFloor::for_target(ctx, target)?;
-                timer.time(|| f.draw(target))?
-            } else {
-                timer.time(|| floor1.draw(target))?
+            let floors = SortFloors {
+                timer,
+                floor1: &floor1,
+                floor2: &floor2,
             };
-            let fk = timer.time(|| floor1.draw(sorter.keys_target()))?;
-            let mut passes = 0;
-            let t = timer.time(|| passes = sorter.sort_frame())?;
-            let unpack = passes.saturating_sub(sorter.network_pass_count().min(passes));
-            phases.push(
-                &format!("sort network ({})", sorter.variant().name()),
-                "write-only pass into each pass's targets × passes run",
-                t,
-                fl * (passes - unpack) as f64 + fk * unpack as f64,
-            );
-            let f = timer.time(|| floor2.draw(sorted))?;
-            let t = timed(timer, || {
-                sorter.gather(&[sim.positions(), sim.statics()], sorted)
-            })?;
-            phases.push(
-                "gather position and static textures",
-                "write-only pass into the two gathered textures",
-                t,
-                f,
-            );
+            sort_phases(ctx, &floors, &mut phases, sort, sim, &mode)?;
             texels
         } else {
             sim.active_count()

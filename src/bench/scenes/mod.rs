@@ -316,30 +316,7 @@ fn run_one(
     let warmup = opts
         .warmup_frames
         .unwrap_or_else(|| scene.as_ref().map_or(0, default_warmup_frames));
-    let mut r = SceneRecord {
-        experiment: e.name.into(),
-        what: e.what.into(),
-        engine: if e.cpu { "cpu" } else { "gpu" }.into(),
-        size,
-        particles: size as u64 * size as u64,
-        fps: None,
-        ms: None,
-        wall_ms: None,
-        paper_fps: e.paper(size),
-        vs_e5: None,
-        paper_vs_e5: None,
-        live: None,
-        phases: Vec::new(),
-        resolution,
-        warmup_frames: warmup,
-        repeats: opts.repeats,
-        clock: None,
-        note: None,
-        pairs_found: None,
-        pairs_true: None,
-        overlaps_per_particle: None,
-        frame_draws: None,
-    };
+    let mut r = unmeasured(e, size, opts, resolution, warmup);
     let Some(build) = e.build else {
         r.note = Some("not run".into());
         return Ok(r);
@@ -403,4 +380,38 @@ fn run_one(
         r.overlaps_per_particle = Some(2.0 * c.pairs as f64 / live);
     }
     Ok(r)
+}
+
+/// The record of `e` at `size` before anything is measured.
+fn unmeasured(
+    e: &Experiment,
+    size: u32,
+    opts: &ScenesOptions,
+    resolution: [u32; 2],
+    warmup: usize,
+) -> SceneRecord {
+    SceneRecord {
+        experiment: e.name.into(),
+        what: e.what.into(),
+        engine: if e.cpu { "cpu" } else { "gpu" }.into(),
+        size,
+        particles: size as u64 * size as u64,
+        fps: None,
+        ms: None,
+        wall_ms: None,
+        paper_fps: e.paper(size),
+        vs_e5: None,
+        paper_vs_e5: None,
+        live: None,
+        phases: Vec::new(),
+        resolution,
+        warmup_frames: warmup,
+        repeats: opts.repeats,
+        clock: None,
+        note: None,
+        pairs_found: None,
+        pairs_true: None,
+        overlaps_per_particle: None,
+        frame_draws: None,
+    }
 }

@@ -55,16 +55,27 @@ pub fn markdown(records: &[SceneRecord]) -> String {
             names.push(&r.experiment);
         }
     }
-    let find = |size: u32, name: &str| {
-        records
-            .iter()
-            .find(|r| r.size == size && r.experiment == name)
-    };
-    let ratio = names.contains(&"E3") && names.contains(&"E5");
+    let mut out = fps_table(records, &sizes, &names);
+    out.push('\n');
+    out += &ms_table(records, &sizes, &names);
+    out += &phases_table(records);
+    out
+}
+
+/// The experiment `name` at `size`, if it was run.
+fn find<'a>(records: &'a [SceneRecord], size: u32, name: &str) -> Option<&'a SceneRecord> {
+    records
+        .iter()
+        .find(|r| r.size == size && r.experiment == name)
+}
+
+/// Frames per second against the paper's, and E3/E5 where both ran.
+fn fps_table(records: &[SceneRecord], sizes: &[u32], names: &[&str]) -> String {
     let mut out = String::new();
+    let ratio = names.contains(&"E3") && names.contains(&"E5");
     let mut header = "| size | particles |".to_owned();
     let mut rule = "|---|---:|".to_owned();
-    for n in &names {
+    for n in names {
         header += &format!(" {n} fps (paper) |");
         rule += "---:|";
     }
@@ -73,10 +84,10 @@ pub fn markdown(records: &[SceneRecord]) -> String {
         rule += "---:|";
     }
     out += &format!("{header}\n{rule}\n");
-    for &size in &sizes {
+    for &size in sizes {
         let mut row = format!("| {size}² | {} |", thousands(size as u64 * size as u64));
-        for n in &names {
-            let Some(r) = find(size, n) else {
+        for n in names {
+            let Some(r) = find(records, size, n) else {
                 row += " |";
                 continue;
             };
@@ -93,7 +104,7 @@ pub fn markdown(records: &[SceneRecord]) -> String {
             };
         }
         if ratio {
-            let e3 = find(size, "E3");
+            let e3 = find(records, size, "E3");
             let measured = e3
                 .and_then(|r| r.vs_e5)
                 .map(num)
@@ -106,11 +117,16 @@ pub fn markdown(records: &[SceneRecord]) -> String {
         out += &row;
         out.push('\n');
     }
-    out.push('\n');
+    out
+}
+
+/// Milliseconds per frame, wall time beside the GPU clock's, and the live particles.
+fn ms_table(records: &[SceneRecord], sizes: &[u32], names: &[&str]) -> String {
+    let mut out = String::new();
     let gpu_clock = records.iter().any(|r| r.clock == Some(Clock::Gpu));
     let mut header = "| size |".to_owned();
     let mut rule = "|---|".to_owned();
-    for n in &names {
+    for n in names {
         header += &format!(" {n} ms |");
         rule += "---:|";
     }
@@ -121,12 +137,12 @@ pub fn markdown(records: &[SceneRecord]) -> String {
     header += " live particles |";
     rule += "---|";
     out += &format!("{header}\n{rule}\n");
-    for &size in &sizes {
+    for &size in sizes {
         let mut row = format!("| {size}² |");
         let mut walls = Vec::new();
         let mut lives = Vec::new();
-        for n in &names {
-            let r = find(size, n);
+        for n in names {
+            let r = find(records, size, n);
             row += &format!(
                 " {} |",
                 r.and_then(|r| r.ms)
@@ -159,6 +175,12 @@ pub fn markdown(records: &[SceneRecord]) -> String {
         out += &row;
         out.push('\n');
     }
+    out
+}
+
+/// The parts of a frame, where they were timed.
+fn phases_table(records: &[SceneRecord]) -> String {
+    let mut out = String::new();
     if records.iter().any(|r| !r.phases.is_empty()) {
         out += "\n| size | experiment | parts of a frame, ms (each finished before the next) |\n";
         out += "|---|---|---|\n";

@@ -4,7 +4,7 @@
 use glam::DVec3;
 use serde::Serialize;
 
-use super::twin::{twin_sample, TwinState};
+use super::twin::{twin_sample, Twin, TwinState};
 use super::{fit, integrator_name, Curve, Metric, Point, PointStatus, Problem, StatePrecision};
 use super::{Sweep, FLOOR_FRACTION, LARGE_FRACTION};
 use crate::bench::{median, Clock, PassTimer};
@@ -102,102 +102,20 @@ pub fn run_point(
         .collect();
     let which = |i: usize| if distinct == 1 { 0 } else { i };
     let steps = sweep.steps(dt);
-    let end = steps as f64 * dt;
-    let (mut error, mut scheme_error, mut deviation) = (0.0f64, 0.0f64, 0.0f64);
-    match problem.metric() {
-        Metric::FinalPosition => {
-            for _ in 0..steps {
-                sim.integrate_only();
-            }
-            for _ in 0..steps {
-                for t in &mut tw {
-                    twin.step(t);
-                }
-            }
-            let x = xyz(&sim.read_positions()?);
-            let (x0, v0) = ics[0];
-            let exact = problem.exact(x0, v0, end).0;
-            scheme_error = (tw[0].x - exact).length();
-            for p in &x {
-                error = nan_max(error, (*p - exact).length());
-                deviation = nan_max(deviation, (*p - tw[0].x).length());
-            }
-        }
-        Metric::MaxEnergy => {
-            let stride = ((problem.sample_interval() / dt).round() as u64).max(1);
-            let e0 = problem.energy(ics[0].0, ics[0].1);
-            let mut n_done = 0u64;
-            let mut sample = stride;
-            while sample <= steps {
-                while n_done < sample {
-                    sim.integrate_only();
-                    twin.step(&mut tw[0]);
-                    n_done += 1;
-                }
-                let (x, v) = sample_state(&mut sim, dt)?;
-                let (tx, tv) = twin_sample(&twin, &mut tw[0]);
-                if integrator == Integrator::Verlet {
-                    n_done += 1;
-                }
-                let et = problem.energy(tx, tv);
-                scheme_error = scheme_error.max(((et - e0) / e0).abs());
-                for (p, u) in x.iter().zip(&v) {
-                    let e = problem.energy(*p, *u);
-                    error = nan_max(error, ((e - e0) / e0).abs());
-                    deviation = nan_max(deviation, ((e - et) / e0).abs());
-                }
-                sample += stride;
-            }
-        }
-        Metric::Apex => {
-            let bounces = problem.bounces();
-            let windows: Vec<Vec<(f64, f64)>> = ics
-                .iter()
-                .map(|(x, _)| {
-                    (1..=bounces)
-                        .map(|k| {
-                            let (t, rise) = problem.apex_time(x.y, k);
-                            (t - 0.5 * rise, t + 0.5 * rise)
-                        })
-                        .collect()
-                })
-                .collect();
-            let mut apex = vec![vec![f64::NEG_INFINITY; bounces as usize]; n];
-            let mut apex_twin = apex.clone();
-            for step in 1..=steps {
-                sim.integrate_only();
-                for t in &mut tw {
-                    twin.step(t);
-                }
-                let t = step as f64 * dt;
-                let y: Vec<f32> = sim.read_positions()?;
-                for i in 0..n {
-                    for (k, w) in windows[i].iter().enumerate() {
-                        if t >= w.0 && t <= w.1 {
-                            apex[i][k] = nan_max(apex[i][k], y[i * 4 + 1] as f64);
-                            apex_twin[i][k] = apex_twin[i][k].max(tw[i].x.y);
-                        }
-                    }
-                }
-            }
-            let e = match problem {
-                Problem::Bounce { resilience, .. } => *resilience,
-                _ => 1.0,
-            };
-            for i in 0..n {
-                let h0 = ics[i].0.y;
-                for k in 0..bounces as usize {
-                    let exact = e.powi(2 * (k as i32 + 1)) * h0;
-                    error = nan_max(error, (apex[i][k] - exact).abs());
-                    scheme_error = scheme_error.max((apex_twin[which(i)][k] - exact).abs());
-                }
-            }
-            // Contacts are decisions: rounding can move one into the next step and change a
-            // particle's bounce by O(dt) without changing the statistics, so the measured error
-            // is compared with the scheme's, not particle by particle.
-            deviation = (error - scheme_error).abs();
-        }
-    }
+    let r = Run {
+        sim: &mut sim,
+        problem,
+        twin: &twin,
+        tw: &mut tw,
+        ics: &ics,
+        steps,
+        dt,
+    };
+    let (error, scheme_error, deviation) = match problem.metric() {
+        Metric::FinalPosition => r.final_position()?,
+        Metric::MaxEnergy => r.max_energy(integrator)?,
+        Metric::Apex => r.apex(which)?,
+    };
     let counter = NonFiniteCounter::for_sim(ctx, &sim)?;
     let non_finite = counter.count_sim(&sim)?.non_finite;
     let mut times = Vec::with_capacity(sweep.repeats);
@@ -231,6 +149,154 @@ pub fn run_point(
         gpu_ms_per_sim_s: ms / dt,
         non_finite,
     })
+}
+
+/// One point's GPU simulation beside its CPU twins, run to the end of the sweep's time.
+struct Run<'a> {
+    sim: &'a mut ParticleSim,
+    problem: &'a Problem,
+    twin: &'a Twin,
+    tw: &'a mut Vec<TwinState>,
+    ics: &'a [(DVec3, DVec3)],
+    steps: u64,
+    dt: f64,
+}
+
+/// (error, the twin's error, the GPU's deviation from the twin).
+type Errors = (f64, f64, f64);
+
+impl Run<'_> {
+    /// The position at the end against the closed form.
+    fn final_position(self) -> Result<Errors> {
+        let Run {
+            sim,
+            problem,
+            twin,
+            tw,
+            ics,
+            steps,
+            dt,
+        } = self;
+        let (mut error, mut deviation) = (0.0f64, 0.0f64);
+        for _ in 0..steps {
+            sim.integrate_only();
+        }
+        for _ in 0..steps {
+            for t in tw.iter_mut() {
+                twin.step(t);
+            }
+        }
+        let x = xyz(&sim.read_positions()?);
+        let (x0, v0) = ics[0];
+        let exact = problem.exact(x0, v0, steps as f64 * dt).0;
+        let scheme_error = (tw[0].x - exact).length();
+        for p in &x {
+            error = nan_max(error, (*p - exact).length());
+            deviation = nan_max(deviation, (*p - tw[0].x).length());
+        }
+        Ok((error, scheme_error, deviation))
+    }
+
+    /// The largest relative energy error over the samples.
+    fn max_energy(self, integrator: Integrator) -> Result<Errors> {
+        let Run {
+            sim,
+            problem,
+            twin,
+            tw,
+            ics,
+            steps,
+            dt,
+        } = self;
+        let (mut error, mut scheme_error, mut deviation) = (0.0f64, 0.0f64, 0.0f64);
+        let stride = ((problem.sample_interval() / dt).round() as u64).max(1);
+        let e0 = problem.energy(ics[0].0, ics[0].1);
+        let mut n_done = 0u64;
+        let mut sample = stride;
+        while sample <= steps {
+            while n_done < sample {
+                sim.integrate_only();
+                twin.step(&mut tw[0]);
+                n_done += 1;
+            }
+            let (x, v) = sample_state(sim, dt)?;
+            let (tx, tv) = twin_sample(twin, &mut tw[0]);
+            if integrator == Integrator::Verlet {
+                n_done += 1;
+            }
+            let et = problem.energy(tx, tv);
+            scheme_error = scheme_error.max(((et - e0) / e0).abs());
+            for (p, u) in x.iter().zip(&v) {
+                let e = problem.energy(*p, *u);
+                error = nan_max(error, ((e - e0) / e0).abs());
+                deviation = nan_max(deviation, ((e - et) / e0).abs());
+            }
+            sample += stride;
+        }
+        Ok((error, scheme_error, deviation))
+    }
+
+    /// The apex heights of every bounce against the closed form.
+    fn apex(self, which: impl Fn(usize) -> usize) -> Result<Errors> {
+        let Run {
+            sim,
+            problem,
+            twin,
+            tw,
+            ics,
+            steps,
+            dt,
+        } = self;
+        let (mut error, mut scheme_error) = (0.0f64, 0.0f64);
+        let bounces = problem.bounces();
+        let windows: Vec<Vec<(f64, f64)>> = ics
+            .iter()
+            .map(|(x, _)| {
+                (1..=bounces)
+                    .map(|k| {
+                        let (t, rise) = problem.apex_time(x.y, k);
+                        (t - 0.5 * rise, t + 0.5 * rise)
+                    })
+                    .collect()
+            })
+            .collect();
+        let n = ics.len();
+        let mut apex = vec![vec![f64::NEG_INFINITY; bounces as usize]; n];
+        let mut apex_twin = apex.clone();
+        for step in 1..=steps {
+            sim.integrate_only();
+            for t in tw.iter_mut() {
+                twin.step(t);
+            }
+            let t = step as f64 * dt;
+            let y: Vec<f32> = sim.read_positions()?;
+            for i in 0..n {
+                for (k, w) in windows[i].iter().enumerate() {
+                    if t >= w.0 && t <= w.1 {
+                        apex[i][k] = nan_max(apex[i][k], y[i * 4 + 1] as f64);
+                        apex_twin[i][k] = apex_twin[i][k].max(tw[i].x.y);
+                    }
+                }
+            }
+        }
+        let e = match problem {
+            Problem::Bounce { resilience, .. } => *resilience,
+            _ => 1.0,
+        };
+        for i in 0..n {
+            let h0 = ics[i].0.y;
+            for k in 0..bounces as usize {
+                let exact = e.powi(2 * (k as i32 + 1)) * h0;
+                error = nan_max(error, (apex[i][k] - exact).abs());
+                scheme_error = scheme_error.max((apex_twin[which(i)][k] - exact).abs());
+            }
+        }
+        // Contacts are decisions: rounding can move one into the next step and change a
+        // particle's bounce by O(dt) without changing the statistics, so the measured error
+        // is compared with the scheme's, not particle by particle.
+        let deviation = (error - scheme_error).abs();
+        Ok((error, scheme_error, deviation))
+    }
 }
 
 /// Runs one curve: every dt of `sweep` for one integrator and precision. Refuses sweeps whose

@@ -55,6 +55,52 @@ pub fn table(r: &ConvergenceReport) -> String {
 /// `dt_<problem>.png` (error against dt). Returns the files.
 pub fn write_files(r: &ConvergenceReport, out: &Path) -> Result<Vec<std::path::PathBuf>> {
     let mut files = Vec::new();
+    let (points, orders) = csv_tables(r);
+    let f = out.join("convergence.csv");
+    points.write(&f)?;
+    files.push(f);
+    let f = out.join("convergence_orders.csv");
+    orders.write(&f)?;
+    files.push(f);
+    for sweep in &r.sweeps {
+        let name = sweep.problem.name();
+        let curves: Vec<&Curve> = r.curves.iter().filter(|c| c.problem == name).collect();
+        // Errors fall with work (free corner: upper right) and rise with dt (upper left).
+        for (file, xlabel, x, legend) in [
+            (
+                format!("wp_{name}.png"),
+                "GPU time per simulated second (ms)",
+                (|p: &Point| p.gpu_ms_per_sim_s) as fn(&Point) -> f64,
+                Legend::UpperRight,
+            ),
+            (
+                format!("dt_{name}.png"),
+                "time step dt (s)",
+                |p: &Point| p.dt,
+                Legend::UpperLeft,
+            ),
+        ] {
+            let series: Vec<Series> = curves.iter().map(|c| series(c, x)).collect();
+            let path = out.join(file);
+            plot::loglog(
+                &path,
+                &format!("{} ({})", sweep.problem.title(), r.device),
+                (xlabel, sweep.problem.error_label()),
+                &series,
+                (1000, 720),
+                legend,
+            )?;
+            files.push(path);
+        }
+    }
+    let f = out.join("convergence.json");
+    crate::report::write_json(&f, r)?;
+    files.push(f);
+    Ok(files)
+}
+
+/// The points and the fitted orders as CSV tables.
+fn csv_tables(r: &ConvergenceReport) -> (Csv, Csv) {
     let mut points = Csv::new(&[
         "problem",
         "integrator",
@@ -115,81 +161,44 @@ pub fn write_files(r: &ConvergenceReport, out: &Path) -> Result<Vec<std::path::P
             c.fit.fitted.len().to_string(),
         ]);
     }
-    let f = out.join("convergence.csv");
-    points.write(&f)?;
-    files.push(f);
-    let f = out.join("convergence_orders.csv");
-    orders.write(&f)?;
-    files.push(f);
-    for sweep in &r.sweeps {
-        let name = sweep.problem.name();
-        let curves: Vec<&Curve> = r.curves.iter().filter(|c| c.problem == name).collect();
-        // Errors fall with work (free corner: upper right) and rise with dt (upper left).
-        for (file, xlabel, x, legend) in [
-            (
-                format!("wp_{name}.png"),
-                "GPU time per simulated second (ms)",
-                (|p: &Point| p.gpu_ms_per_sim_s) as fn(&Point) -> f64,
-                Legend::UpperRight,
-            ),
-            (
-                format!("dt_{name}.png"),
-                "time step dt (s)",
-                |p: &Point| p.dt,
-                Legend::UpperLeft,
-            ),
-        ] {
-            let series: Vec<Series> = curves
-                .iter()
-                .map(|c| Series {
-                    label: format!(
-                        "{} {}: p = {}{}",
-                        c.integrator,
-                        c.precision.name(),
-                        fmt_order(c.fit.order),
-                        match c.fit.status {
-                            CurveStatus::Measured => String::new(),
-                            s => format!(" ({})", s.name()),
-                        }
-                    ),
-                    points: c.points.iter().map(|p| (x(p), p.error)).collect(),
-                    hollow: c
-                        .points
-                        .iter()
-                        .map(|p| p.status != PointStatus::Ok)
-                        .collect(),
-                    color: match c.integrator {
-                        "euler" => (200, 40, 40),
-                        "uberflow" => (30, 90, 200),
-                        "heun" => (230, 140, 20),
-                        "rk4" => (140, 50, 170),
-                        "leapfrog" => (20, 170, 180),
-                        _ => (20, 140, 60),
-                    },
-                    marker: match c.precision {
-                        StatePrecision::Fp32 => Marker::Circle,
-                        StatePrecision::Fp16Velocity => Marker::Triangle,
-                        StatePrecision::Fp24 => Marker::Cross,
-                    },
-                    dashed: c.precision != StatePrecision::Fp32,
-                })
-                .collect();
-            let path = out.join(file);
-            plot::loglog(
-                &path,
-                &format!("{} ({})", sweep.problem.title(), r.device),
-                (xlabel, sweep.problem.error_label()),
-                &series,
-                (1000, 720),
-                legend,
-            )?;
-            files.push(path);
-        }
+    (points, orders)
+}
+
+/// One curve of a plot against `x`: colour by integrator, marker by precision, hollow where a
+/// point did not measure the scheme.
+fn series(c: &Curve, x: fn(&Point) -> f64) -> Series {
+    Series {
+        label: format!(
+            "{} {}: p = {}{}",
+            c.integrator,
+            c.precision.name(),
+            fmt_order(c.fit.order),
+            match c.fit.status {
+                CurveStatus::Measured => String::new(),
+                s => format!(" ({})", s.name()),
+            }
+        ),
+        points: c.points.iter().map(|p| (x(p), p.error)).collect(),
+        hollow: c
+            .points
+            .iter()
+            .map(|p| p.status != PointStatus::Ok)
+            .collect(),
+        color: match c.integrator {
+            "euler" => (200, 40, 40),
+            "uberflow" => (30, 90, 200),
+            "heun" => (230, 140, 20),
+            "rk4" => (140, 50, 170),
+            "leapfrog" => (20, 170, 180),
+            _ => (20, 140, 60),
+        },
+        marker: match c.precision {
+            StatePrecision::Fp32 => Marker::Circle,
+            StatePrecision::Fp16Velocity => Marker::Triangle,
+            StatePrecision::Fp24 => Marker::Cross,
+        },
+        dashed: c.precision != StatePrecision::Fp32,
     }
-    let f = out.join("convergence.json");
-    crate::report::write_json(&f, r)?;
-    files.push(f);
-    Ok(files)
 }
 
 /// The markdown of the section.

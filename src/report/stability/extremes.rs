@@ -5,7 +5,7 @@
 use glam::Vec3;
 
 use super::sort_cases::{ids_fp24, ids_fp32, one_cell};
-use super::{parse, scene, start, ExtremeCase, Outcome, StabilityOptions};
+use super::{case, parse, scene, start, ExtremeCase, Outcome, StabilityOptions};
 use crate::error::Result;
 use crate::gl::Context;
 use crate::report::convergence::{integrator_name, INTEGRATORS};
@@ -13,33 +13,6 @@ use crate::report::Progress;
 use crate::scene::Integrator;
 use crate::sim::nonfinite::{NonFiniteCount, NonFiniteCounter};
 use crate::sim::ParticleSim;
-
-/// An extreme case, `ok` when it ended as documented; the first few failing ids kept.
-pub(super) fn case(
-    name: &'static str,
-    setup: impl Into<String>,
-    expected: Outcome,
-    measured: Outcome,
-    detail: impl Into<String>,
-    failing: Vec<u64>,
-) -> ExtremeCase {
-    ExtremeCase {
-        name,
-        setup: setup.into(),
-        expected,
-        measured,
-        detail: detail.into(),
-        failing: failing.len() as u64,
-        failing_ids: {
-            let mut ids = failing;
-            ids.sort_unstable();
-            ids.dedup();
-            ids.truncate(8);
-            ids
-        },
-        ok: measured == expected,
-    }
-}
 
 fn count(ctx: &Context, sim: &ParticleSim) -> Result<NonFiniteCount> {
     NonFiniteCounter::for_sim(ctx, sim)?.count_sim(sim)

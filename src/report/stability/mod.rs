@@ -138,6 +138,33 @@ pub struct ExtremeCase {
     pub ok: bool,
 }
 
+/// An extreme case, `ok` when it ended as documented; the first few failing ids kept.
+fn case(
+    name: &'static str,
+    setup: impl Into<String>,
+    expected: Outcome,
+    measured: Outcome,
+    detail: impl Into<String>,
+    failing: Vec<u64>,
+) -> ExtremeCase {
+    ExtremeCase {
+        name,
+        setup: setup.into(),
+        expected,
+        measured,
+        detail: detail.into(),
+        failing: failing.len() as u64,
+        failing_ids: {
+            let mut ids = failing;
+            ids.sort_unstable();
+            ids.dedup();
+            ids.truncate(8);
+            ids
+        },
+        ok: measured == expected,
+    }
+}
+
 /// The whole report.
 #[derive(Debug, Clone, Serialize)]
 pub struct StabilityReport {

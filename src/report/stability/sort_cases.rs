@@ -5,8 +5,7 @@ use std::time::Instant;
 
 use glam::{UVec3, Vec3};
 
-use super::extremes::case;
-use super::{ExtremeCase, Outcome};
+use super::{case, ExtremeCase, Outcome};
 use crate::error::{Error, Result};
 use crate::gl::{Context, Texture, TextureDesc, TextureFormat};
 use crate::sort::precision::{FloatFormat, R300};

@@ -1,0 +1,175 @@
+//! The particle pipeline's phases that need more than a timer: the sort built as the engine
+//! builds it and timed in its passes, and the floors of the passes that write the state.
+
+use super::{scratch_like, timed, Phases};
+use crate::bench::stats::{FixedCost, PassTimer, WriteFloor};
+use crate::error::Result;
+use crate::gl::{Context, Framebuffer, Texture, TextureDesc, TextureFormat};
+use crate::scene::SceneFile;
+use crate::sim::ParticleSim;
+use crate::sort::{KeyMode, SortOptions, Sorter};
+
+/// The sort the engine runs, built from the same plan, with its own gather target: the sorter,
+/// the gathered position and static textures, whether it is spread over frames, and whether
+/// keys were written yet.
+pub(super) type BenchSort = (Sorter, Framebuffer, bool, bool);
+
+pub(super) fn bench_sort(ctx: &Context, s: &SceneFile) -> Result<Option<BenchSort>> {
+    let [w, h] = s.particles.size;
+    Ok(match crate::engine::plan::sort_plan(s) {
+        None => None,
+        Some(p) => {
+            let options = SortOptions {
+                passes_per_frame: p.passes_per_frame.map(|n| n as usize),
+                blocked: p.shape,
+                ..Default::default()
+            };
+            let sorter = Sorter::new(ctx, p.variant, p.size[0], p.size[1], options)?;
+            let tex = |label: &str| {
+                Texture::new(
+                    ctx,
+                    TextureDesc {
+                        width: w,
+                        height: h,
+                        format: TextureFormat::Rgba32F,
+                        label,
+                    },
+                )
+            };
+            let sorted = Framebuffer::new(
+                ctx,
+                "bench sorted",
+                vec![tex("bench sorted position")?, tex("bench sorted static")?],
+            )?;
+            Some((sorter, sorted, p.passes_per_frame.is_some(), false))
+        }
+    })
+}
+
+/// What the sort's phases are timed with and measured against.
+pub(super) struct SortFloors<'a> {
+    pub(super) timer: &'a PassTimer,
+    pub(super) floor1: &'a WriteFloor,
+    pub(super) floor2: &'a WriteFloor,
+}
+
+/// One frame's sorting in its phases: keys, network, gather.
+pub(super) fn sort_phases(
+    ctx: &Context,
+    on: &SortFloors,
+    phases: &mut Phases,
+    (sorter, sorted, spread, keyed): &mut BenchSort,
+    sim: &ParticleSim,
+    mode: &KeyMode,
+) -> Result<()> {
+    let [w, h] = sim.size().to_array();
+    let texels = w as usize * h as usize;
+    let f = on.timer.time(|| on.floor1.draw(sorter.keys_target()))?;
+    let t = timed(on.timer, || {
+        let refresh = *spread && *keyed;
+        sorter.write_keys_with_statics(sim.positions(), sim.statics(), texels, mode, true, refresh)
+    })?;
+    *keyed = true;
+    phases.push(
+        match mode {
+            KeyMode::Age { .. } => "sort keys: age",
+            _ => "sort keys: distance to the viewer",
+        },
+        "write-only pass into the sort texture",
+        t,
+        f,
+    );
+    // Each pass's floor writes what it writes: the sort texture, or for the blocked
+    // variant its layers (and the row-major texture once, in its unpack pass).
+    let target = sorter.target();
+    let fl = if target.attachments() > 1 || target.integer() {
+        let f = WriteFloor::for_target(ctx, target)?;
+        on.timer.time(|| f.draw(target))?
+    } else {
+        on.timer.time(|| on.floor1.draw(target))?
+    };
+    let fk = on.timer.time(|| on.floor1.draw(sorter.keys_target()))?;
+    let mut passes = 0;
+    let t = on.timer.time(|| passes = sorter.sort_frame())?;
+    let unpack = passes.saturating_sub(sorter.network_pass_count().min(passes));
+    phases.push(
+        &format!("sort network ({})", sorter.variant().name()),
+        "write-only pass into each pass's targets × passes run",
+        t,
+        fl * (passes - unpack) as f64 + fk * unpack as f64,
+    );
+    let f = on.timer.time(|| on.floor2.draw(sorted))?;
+    let t = timed(on.timer, || {
+        sorter.gather(&[sim.positions(), sim.statics()], sorted)
+    })?;
+    phases.push(
+        "gather position and static textures",
+        "write-only pass into the two gathered textures",
+        t,
+        f,
+    );
+    Ok(())
+}
+
+/// The floors of the passes that write the state: a write-only pass into a framebuffer of the
+/// state's formats and size, and the fixed cost of a dependent pass.
+pub(super) struct StateFloors {
+    state: WriteFloor,
+    fixed_cost: FixedCost,
+    scratch: Framebuffer,
+    scratch_bytes: u64,
+}
+
+impl StateFloors {
+    pub(super) fn new(ctx: &Context, sim: &ParticleSim) -> Result<Self> {
+        let scratch = scratch_like(ctx, sim.front())?;
+        let state = WriteFloor::new(ctx, sim.front().textures().len())?;
+        let fixed_cost = FixedCost::new(ctx)?;
+        let scratch_bytes =
+            scratch.width() as u64 * scratch.height() as u64 * scratch.bytes_per_texel() as u64;
+        Ok(Self {
+            state,
+            fixed_cost,
+            scratch,
+            scratch_bytes,
+        })
+    }
+
+    /// One step in its phases: births and integration over the live rows, then the collision
+    /// stage where there is one.
+    pub(super) fn step_phases(
+        &self,
+        ctx: &Context,
+        timer: &PassTimer,
+        sim: &mut ParticleSim,
+        step_name: &str,
+        phases: &mut Phases,
+    ) -> Result<()> {
+        let rows = sim.active_rows();
+        let f = timer.time(|| self.state.draw_rows(&self.scratch, 0, rows))?;
+        let t = timed(timer, || sim.step_without_collisions())?;
+        phases.push(
+            step_name,
+            "write-only pass into the state's targets, live rows",
+            t,
+            f,
+        );
+        if sim.collisions().is_some() {
+            // The stage's floor: its passes' fixed cost plus its bytes written at the rate of a
+            // write-only pass into the state's targets, both measured now.
+            let fixed = self.fixed_cost.measure(timer)?;
+            let f = timer.time(|| self.state.draw(&self.scratch))?;
+            let rate = self.scratch_bytes as f64 / (f - fixed).max(1e-9);
+            ctx.take_draw_stats();
+            let t = timed(timer, || sim.collide())?;
+            let stage = ctx.take_draw_stats();
+            phases.push(
+                "collide (sorts, detection, response)",
+                "its passes × the fixed cost of a pass + its bytes at the state's write rate",
+                t,
+                stage.draws as f64 * fixed + stage.bytes_written as f64 / rate,
+            );
+        }
+        Ok(())
+    }
+}

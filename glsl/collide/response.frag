@@ -107,7 +107,7 @@ void main() {
         }
 #endif
 #if HAS_COLLIDERS
-        keep_outside(x, v);
+        keep_outside_bouncing(x, v);
 #endif
     }
     o_position = fp_store(vec4(x, p.w));

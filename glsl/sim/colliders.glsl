@@ -316,7 +316,43 @@ float push_distance(int k, vec3 p, out vec3 u, out vec3 n, out bool bounded) {
     return d;
 }
 
+// Collider k's resilience (eps of its response).
+float push_resilience(int k) {
+#if N_PLANES > 0
+    if (k < K_SPHERES) return u_plane_resp[k].y;
+#endif
+#if N_SPHERES > 0
+    if (k < K_BOXES) return u_sphere_resp[k - K_SPHERES].y;
+#endif
+#if N_BOXES > 0
+    if (k < K_BOXES + N_BOXES) return u_box_resp[k - K_BOXES].y;
+#endif
+#ifdef SDF
+    if (k < K_SDF_END) return u_sdf_resp.y;
+#endif
+#ifdef HEIGHTFIELD
+    return u_height_resp.y;
+#else
+    return 0.0;
+#endif
+}
+
+void keep_outside_with(inout vec3 x, inout vec3 v, bool bounce);
+
+// The projection after integration: what still moves inward loses its normal velocity (the
+// colliders' response already ran on the step's path).
 void keep_outside(inout vec3 x, inout vec3 v) {
+    keep_outside_with(x, v, false);
+}
+
+// The projection after a collision response (UberFlow §4.6, the boundary after the response):
+// a particle that the exchange or the separation sent into a collider bounces with the
+// collider's resilience, so elastic walls keep the kinetic energy an elastic exchange kept.
+void keep_outside_bouncing(inout vec3 x, inout vec3 v) {
+    keep_outside_with(x, v, true);
+}
+
+void keep_outside_with(inout vec3 x, inout vec3 v, bool bounce) {
     vec3 u, n;
     bool bounded;
     vec3 last = vec3(0.0);
@@ -334,7 +370,7 @@ void keep_outside(inout vec3 x, inout vec3 v) {
                 x -= (d - SKIN) * u;
                 last = u;
             }
-            v -= min(dot(v, n), 0.0) * n;
+            v -= (bounce ? 1.0 + push_resilience(k) : 1.0) * min(dot(v, n), 0.0) * n;
             moved = true;
         }
         if (!moved) break;

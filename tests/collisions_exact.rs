@@ -158,3 +158,54 @@ fn an_exact_cell_too_large_is_refused_with_the_largest_that_fits() {
     );
     scene::parse("ok.toml", &src(largest)).unwrap();
 }
+
+/// Searches that hit their bound are counted on the GPU over the run (one texel read back at
+/// the end): the count equals the sum of the flags that each iteration's count pass wrote, read
+/// back iteration by iteration; and `render` warns once and puts it in its JSON.
+#[test]
+fn truncated_searches_are_counted_over_the_run_and_reported() {
+    let ctx = context();
+    // 256 particles born on one point: every run of cells holds all of them, past the bound.
+    let s = gas_scene("iterations = 2", "");
+    let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+    sim.collisions_mut().unwrap().record_iterations(true);
+    let mut flagged = 0u64;
+    for _ in 0..3 {
+        sim.step().unwrap();
+        for r in sim.collisions().unwrap().recorded() {
+            flagged += r.partners.chunks(4).filter(|t| t[1] > 0.5).count() as u64;
+        }
+    }
+    let tallied = sim.collisions().unwrap().truncated_searches().unwrap();
+    assert!(flagged > 0, "the cluster should truncate");
+    assert_eq!(tallied, flagged);
+    // A gas the search can walk: nothing counted.
+    let s = gas_scene("", "shape = \"box\"\nsize = [4.0, 4.0, 4.0]");
+    let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+    sim.step().unwrap();
+    assert_eq!(sim.collisions().unwrap().truncated_searches().unwrap(), 0);
+    no_gl_error(&ctx);
+
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("cluster.toml");
+    let src = "name = \"cluster\"\n[particles]\nsize = [16, 16]\n[time]\ndt = 0.01\n\
+               [[emitters.initial]]\ndirection = [0.0, 1.0, 0.0]\nspeed = [0.0, 0.0]\n[collisions]\nradius = 0.04\n\
+               detection = \"exact\"\nbounds = [[-2.0, -2.0, -2.0], [3.0, 3.0, 3.0]]\n\
+               [render]\nresolution = [32, 32]\n";
+    std::fs::write(&file, src).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_texflow"))
+        .args(["render"])
+        .arg(&file)
+        .args(["--frames", "2", "--json", "--quiet", "--out"])
+        .arg(dir.path().join("frames"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let n = v
+        .pointer("/records/truncated_searches")
+        .and_then(|n| n.as_u64());
+    assert!(n.is_some_and(|n| n > 0), "{v}");
+    assert_eq!(err.matches("exact collision search").count(), 1, "{err}");
+}

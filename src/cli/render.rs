@@ -320,6 +320,12 @@ fn report(
             super::warn::child_births_dropped(s, summary.dropped_child_births)
         );
     }
+    if summary.truncated_searches > 0 {
+        eprintln!(
+            "{}",
+            super::warn::searches_truncated(s, summary.truncated_searches, summary.steps)
+        );
+    }
     if !a.common.quiet {
         let mut to: Vec<String> = out.iter().map(|o| o.display().to_string()).collect();
         to.extend(video_path.iter().map(|v| v.display().to_string()));
@@ -362,6 +368,7 @@ fn report(
             "dt": s.time.dt,
             "dropped_births": summary.dropped_births,
             "dropped_child_births": summary.dropped_child_births,
+            "truncated_searches": summary.truncated_searches,
             "max_non_finite": summary.max_non_finite,
             "non_finite_frames": summary.non_finite_frames,
             "median_ms": t.map(|t| {

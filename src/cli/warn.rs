@@ -37,6 +37,18 @@ pub fn child_births_dropped(s: &SceneFile, total: u64) -> String {
     )
 }
 
+/// The warning for exact collision searches that hit their bound over a run.
+pub fn searches_truncated(s: &SceneFile, total: u64, steps: u64) -> String {
+    let cell = (s.collisions.as_ref()).map_or(0.0, |c| c.cell.unwrap_or(2.0 * c.radius));
+    format!(
+        "warning: {total} exact collision search(es) over {steps} step(s) met a run of three \
+         cells holding more than {} particles and walked only that many: partners past them were \
+         missed (a cluster denser than spheres that do not overlap); a smaller collisions.cell \
+         (now {cell} m) or more iterations separate it sooner",
+        texflow::scene::EXACT_SCAN
+    )
+}
+
 /// A window-system error without the source location winit puts in front of it
 /// (`os error at /path/to/winit/src/...rs:123: reason`): the reason is what the user needs.
 pub fn window_reason(e: &dyn std::fmt::Display) -> String {

@@ -146,6 +146,9 @@ pub struct LoopSummary {
     /// Births that child emitters' texels could not take because their children still lived
     /// (read back once, at the end of the run).
     pub dropped_child_births: u64,
+    /// Exact collision searches that walked past their bound of particles per run of cells
+    /// (read back once, at the end of the run), summed over steps and iterations.
+    pub truncated_searches: u64,
     /// Live particles at the last written frame's census.
     pub live: u64,
     /// Per-frame phase times, when [`LoopOptions::timing`] asked for them.
@@ -318,6 +321,7 @@ impl FrameLoop {
         }
         s.steps = engine.steps();
         s.dropped_child_births = engine.dropped_child_births()?;
+        s.truncated_searches = engine.truncated_searches()?;
         s.times = times;
         Ok(s)
     }

@@ -94,6 +94,19 @@ impl SceneEngine {
         }
     }
 
+    /// Exact collision searches that hit their bound over the run so far (see
+    /// [`Collisions::truncated_searches`](crate::sim::collide::Collisions::truncated_searches):
+    /// one read-back, for the end of a run).
+    pub fn truncated_searches(&self) -> Result<u64> {
+        match self {
+            SceneEngine::Fire(_) => Ok(0),
+            SceneEngine::Particles(e) => e
+                .sim()
+                .collisions()
+                .map_or(Ok(0), |c| c.truncated_searches()),
+        }
+    }
+
     /// Sets the viewer's change to the scene's camera (see [`Engine::set_view`]).
     pub fn set_view(&mut self, view: crate::render::ViewOffset) {
         match self {

@@ -45,6 +45,9 @@ impl Collisions {
                 ("u_position", g.layout.texture(0).into()),
             ]);
             self.pass.draw(count, counts);
+            if let Some(t) = &self.tally {
+                t.add(counts.texture(0), entries as usize);
+            }
             if self.record {
                 self.recorded.push(Readback {
                     positions: g.layout.texture(0).read_f32()?,

@@ -38,6 +38,7 @@ use crate::sort::{KeyMode, SortOptions, Sorter, Variant};
 mod census;
 mod exact;
 mod neighbours;
+mod tally;
 
 pub use census::PairCensus;
 pub use neighbours::{check_pair_forces, neighbour_passes, NeighbourReadback};
@@ -131,6 +132,8 @@ pub struct Collisions {
     /// Exact mode: read back each iteration's detection into `recorded`.
     record: bool,
     recorded: Vec<Readback>,
+    /// Exact mode: searches that hit their bound, counted over the run on the GPU.
+    tally: Option<tally::TruncationTally>,
 }
 
 /// The exact mode's passes of one iteration (`collisions.iterations` per step), as `texflow
@@ -155,6 +158,9 @@ pub fn exact_passes(colliders: bool) -> Vec<String> {
                 ""
             }
         ),
+        "truncation tally: one point per particle whose search hit the bound, added into one \
+         texel (read back once, at the end of a run)"
+            .into(),
         "copy static texture in the new order".into(),
     ]
 }
@@ -331,11 +337,23 @@ impl Collisions {
             dt: scene.time.dt,
             record: false,
             recorded: Vec::new(),
+            tally: if exact {
+                Some(tally::TruncationTally::new(ctx)?)
+            } else {
+                None
+            },
         };
         Ok(stage)
     }
 
-    /// The configuration.
+    /// Exact searches that walked a run of three cells past [`EXACT_SCAN`] particles (and so
+    /// may have missed partners), summed over every step and iteration so far: one read-back of
+    /// one texel, for the end of a run. 0 in UberFlow's mode, whose search has no such bound.
+    pub fn truncated_searches(&self) -> Result<u64> {
+        self.tally.as_ref().map_or(Ok(0), |t| t.total())
+    }
+
+    /// The stage's configuration.
     pub fn config(&self) -> &scene::Collisions {
         &self.config
     }

@@ -73,10 +73,10 @@ impl PointRenderer {
     ) {
         let p = &self.program;
         p.bind();
-        positions.bind(0);
-        velocities.bind(1);
-        p.set_i32("u_position", 0);
-        p.set_i32("u_velocity", 1);
+        p.textures(&[
+            ("u_position", positions.into()),
+            ("u_velocity", velocities.into()),
+        ]);
         p.set_i32("u_width", positions.width() as i32);
         let aspect = target.width() as f32 / target.height() as f32;
         p.set_mat4("u_view_proj", &camera.view_projection(aspect));

@@ -99,8 +99,7 @@ pub fn measure_constants(
     let fetch = med(&mut || {
         timer.time(|| {
             probe.bind();
-            source.bind(0);
-            probe.set_i32("u_source", 0);
+            probe.textures(&[("u_source", (&source).into())]);
             probe.set_i32("u_log_w", side.trailing_zeros() as i32);
             pass.draw(&probe, &target);
         })

@@ -187,10 +187,10 @@ impl FireSim {
         let q = &self.params;
         p.bind();
         let front = self.state.front();
-        front.texture(POSITION).bind(0);
-        front.texture(VELOCITY).bind(1);
-        p.set_i32("u_position", 0);
-        p.set_i32("u_velocity", 1);
+        p.textures(&[
+            ("u_position", front.texture(POSITION).into()),
+            ("u_velocity", front.texture(VELOCITY).into()),
+        ]);
         p.set_i32("u_width", self.state.width() as i32);
         p.set_f32("u_dt", dt);
         p.set_u32("u_step", self.step as u32);

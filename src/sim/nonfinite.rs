@@ -27,8 +27,8 @@
 
 use crate::error::{Error, Result};
 use crate::gl::{
-    Context, Defines, Framebuffer, FullscreenPass, Program, Texture, TextureDesc, TextureFormat,
-    FULLSCREEN_VERTEX,
+    Context, Defines, Framebuffer, FullscreenPass, Program, Sampled, Texture, TextureDesc,
+    TextureFormat, FULLSCREEN_VERTEX,
 };
 
 use super::ParticleSim;
@@ -142,11 +142,7 @@ impl NonFiniteCounter {
         let program = |extra: &[&str]| -> Result<Program> {
             let mut d: Defines = vec![("BLOCK".into(), BLOCK.to_string())];
             d.extend(extra.iter().map(|k| ((*k).to_owned(), "1".to_owned())));
-            let p = Program::new(ctx, FULLSCREEN_VERTEX, "sim/nonfinite.frag", &d)?;
-            p.bind();
-            p.set_i32("u_src", 0);
-            p.set_i32("u_velocity", 1);
-            Ok(p)
+            Program::new(ctx, FULLSCREEN_VERTEX, "sim/nonfinite.frag", &d)
         };
         let counter = NonFiniteCounter {
             width,
@@ -198,21 +194,20 @@ impl NonFiniteCounter {
                 )));
             }
         }
-        positions.bind(0);
         let mark = match velocities {
-            Some(v) => {
-                v.bind(1);
-                &self.mark_velocity
-            }
+            Some(_) => &self.mark_velocity,
             None => &self.mark,
         };
         mark.bind();
+        let mut textures: Vec<(&str, Sampled)> = vec![("u_src", positions.into())];
+        textures.extend(velocities.map(|v| ("u_velocity", v.into())));
+        mark.textures(&textures);
         mark.set_ivec2("u_src_size", self.width as i32, self.height as i32);
         self.pass.draw(mark, &self.levels[0]);
         for pair in self.levels.windows(2) {
             let (src, dst) = (&pair[0], &pair[1]);
-            src.texture(0).bind(0);
             self.sum.bind();
+            self.sum.textures(&[("u_src", src.texture(0).into())]);
             self.sum
                 .set_ivec2("u_src_size", src.width() as i32, src.height() as i32);
             self.pass.draw(&self.sum, dst);

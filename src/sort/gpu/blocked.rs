@@ -293,12 +293,10 @@ impl Blocked {
         let p = &self.programs[&self.program_key(i)];
         p.bind();
         if i == 0 {
-            natural.bind(0);
-            p.set_i32("u_natural", 0);
+            p.textures(&[("u_natural", natural.into())]);
             p.set_i32("u_in_log_w", self.natural_log_w as i32);
         } else {
-            self.tex[self.front].bind(0);
-            p.set_i32("u_blocks", 0);
+            p.textures(&[("u_blocks", (&self.tex[self.front]).into())]);
             p.set_i32("u_in_log_w", self.log_w as i32);
         }
         p.set_i32("u_log_w", self.log_w as i32);
@@ -343,8 +341,7 @@ impl Blocked {
     pub(super) fn unpack(&self, target: &Framebuffer, fullscreen: &FullscreenPass) {
         let p = &self.unpack;
         p.bind();
-        self.tex[self.front].bind(0);
-        p.set_i32("u_blocks", 0);
+        p.textures(&[("u_blocks", (&self.tex[self.front]).into())]);
         p.set_i32("u_in_log_w", self.log_w as i32);
         p.set_i32("u_width_log", self.natural_log_w as i32);
         p.set_i32("u_bits", self.n as i32);

@@ -3,7 +3,7 @@
 
 use super::{KeyMode, ProgramKey, Sorter};
 use crate::error::{Error, Result};
-use crate::gl::{Texture, FULLSCREEN_VERTEX};
+use crate::gl::{Sampled, Texture, FULLSCREEN_VERTEX};
 
 impl Sorter {
     /// The key pass: computes keys and identifiers of the particles in `positions` (xyz, life)
@@ -85,8 +85,7 @@ impl Sorter {
         self.program(key, FULLSCREEN_VERTEX, "sort/keys.frag", &extra)?;
         let p = &self.programs[&key];
         p.bind();
-        positions.bind(0);
-        p.set_i32("u_position", 0);
+        let mut textures: Vec<(&str, Sampled)> = vec![("u_position", positions.into())];
         p.set_i32("u_state_width", positions.width() as i32);
         p.set_i32("u_count", count as i32);
         p.set_i32("u_sort_width", self.width as i32);
@@ -116,18 +115,16 @@ impl Sorter {
             }
         }
         if let Some(t) = &self.id_table {
-            t.bind(1);
-            p.set_i32("u_id_table", 1);
+            textures.push(("u_id_table", t.into()));
             p.set_i32("u_id_table_width", t.width() as i32);
         }
         if rekey {
-            self.state.front().texture(0).bind(2);
-            p.set_i32("u_sorted", 2);
+            textures.push(("u_sorted", self.state.front().texture(0).into()));
         }
         if let (true, Some(t)) = (age, statics) {
-            t.bind(3);
-            p.set_i32("u_static", 3);
+            textures.push(("u_static", t.into()));
         }
+        p.textures(&textures);
         self.fullscreen.draw(p, self.state.back());
         self.state.swap();
         self.next = 0;

@@ -14,7 +14,7 @@ use super::precision::id_table;
 use crate::error::{Error, Result};
 use crate::gl::{
     Context, Defines, Draw, DrawState, Framebuffer, FullscreenPass, PingPong, Primitive, Program,
-    Texture, TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
+    Sampled, Texture, TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
 };
 use blocked::Blocked;
 pub use blocked::Quantiser;
@@ -461,7 +461,7 @@ impl Sorter {
         }
         let w = self.width as i32;
         let front = self.state.front().texture(0);
-        front.bind(0);
+        let keys = [("u_keys", Sampled::from(front))];
         match &self.passes[index] {
             Pass::Fragment(step) => {
                 let p = match step {
@@ -491,7 +491,7 @@ impl Sorter {
                         p
                     }
                 };
-                p.set_i32("u_keys", 0);
+                p.textures(&keys);
                 p.set_i32("u_width", w);
                 self.fullscreen.draw(p, self.state.back());
             }
@@ -502,7 +502,7 @@ impl Sorter {
                     steps: steps_n,
                 }];
                 p.bind();
-                p.set_i32("u_keys", 0);
+                p.textures(&keys);
                 p.set_i32("u_width", w);
                 if let Step::Bitonic { block, .. } = steps[0] {
                     p.set_i32("u_block", block as i32);
@@ -531,7 +531,7 @@ impl Sorter {
             } => {
                 let p = &self.programs[&ProgramKey::Geometry(*program)];
                 p.bind();
-                p.set_i32("u_keys", 0);
+                p.textures(&keys);
                 let fb = self.state.back();
                 p.set_vec2(
                     "u_size",

@@ -2,7 +2,7 @@
 
 use super::Sorter;
 use crate::error::{Error, Result};
-use crate::gl::{Framebuffer, Program, Texture, FULLSCREEN_VERTEX};
+use crate::gl::{Framebuffer, Program, Sampled, Texture, FULLSCREEN_VERTEX};
 
 impl Sorter {
     /// Gathers every texture of `source` into `dest` in sorted order: texel j of `dest` takes the
@@ -40,14 +40,17 @@ impl Sorter {
         }
         let p = &cache[&targets];
         p.bind();
-        self.keys().bind(0);
-        p.set_i32("u_sorted", 0);
         p.set_i32("u_sort_width", self.width as i32);
         p.set_i32("u_state_width", dest.width() as i32);
-        for (i, t) in sources.iter().enumerate() {
-            t.bind(1 + i as u32);
-            p.set_i32(&format!("u_state{i}"), 1 + i as i32);
-        }
+        let names: Vec<String> = (0..sources.len()).map(|i| format!("u_state{i}")).collect();
+        let mut textures: Vec<(&str, Sampled)> = vec![("u_sorted", self.keys().into())];
+        textures.extend(
+            names
+                .iter()
+                .map(String::as_str)
+                .zip(sources.iter().map(|&t| t.into())),
+        );
+        p.textures(&textures);
         self.fullscreen.draw(p, dest);
         Ok(())
     }

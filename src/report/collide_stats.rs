@@ -88,12 +88,12 @@ pub struct CollisionStats {
     /// Exact mode: particles whose search met a run of cells holding more particles than it
     /// walks (`sim::collide::EXACT_SCAN`); their missing partners are missed for that reason.
     pub truncated: usize,
-    /// Median GPU time of the collision passes of one step (ms; [`measure`] fills it in).
+    /// Median GPU time of the collision passes of one step (ms; [`measure`](super::collide_runs::measure) fills it in).
     pub gpu_ms: f64,
-    /// Exact mode: found and missed per iteration of the last step ([`measure`] fills it in).
+    /// Exact mode: found and missed per iteration of the last step ([`measure`](super::collide_runs::measure) fills it in).
     pub iterations: Vec<IterationStats>,
     /// Total kinetic energy of the live particles before the first step and after the last
-    /// (J, each particle with its own mass; [`measure`] fills it in).
+    /// (J, each particle with its own mass; [`measure`](super::collide_runs::measure) fills it in).
     pub kinetic_energy: [f64; 2],
     /// Total momentum before the first step and after the last (kg m/s).
     pub momentum: [[f64; 3]; 2],

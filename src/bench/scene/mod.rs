@@ -5,7 +5,7 @@
 //! The phases, for the particle pipeline ([`Engine`]): births and integration (one
 //! [`ParticleSim::step_without_collisions`](crate::sim::ParticleSim::step_without_collisions)),
 //! the collision stage ([`ParticleSim::collide`](crate::sim::ParticleSim::collide)), for alpha
-//! blending the sort's key pass, its network and the gather (a [`Sorter`] built from the same
+//! blending the sort's key pass, its network and the gather (a [`Sorter`](crate::sort::Sorter) built from the same
 //! [`crate::engine::plan::sort_plan`] as the engine's, fed the simulation's positions), and the
 //! render pass (clear and points, or sprites). For the fire ([`FireEngine`]): its simulation
 //! pass and its render pass. The floors:
@@ -13,7 +13,7 @@
 //! - a state-writing pass: [`WriteFloor`] into a framebuffer of the same formats and size (over
 //!   the live rows where the pass is restricted to them);
 //! - the collision stage: its passes (counted by the GL layer) times the fixed cost of a
-//!   dependent pass ([`FixedCost`]), plus its bytes written at the state's write rate;
+//!   dependent pass ([`FixedCost`](crate::bench::FixedCost)), plus its bytes written at the state's write rate;
 //! - the sort network: a write into what each pass writes (the sort texture, or the blocked
 //!   sort's layers) times the passes run;
 //! - the render pass: [`PlacedRenderFloor`], the live particles drawn where they are, at the

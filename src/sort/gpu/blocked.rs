@@ -19,7 +19,7 @@ pub struct BlockedShape {
     /// Logical bit 0 stays in the lane of every layout (half the fetches, one bit less).
     pub pinned: bool,
     /// 4-byte entries: the key quantised into the bits the identifier leaves free of one uint
-    /// (lossy among keys closer than one quantisation step; see [`compact_level`]). Needs the
+    /// (lossy among keys closer than one quantisation step; see `compact_level`). Needs the
     /// keys' range ([`Sorter::set_key_range`](super::Sorter::set_key_range)).
     pub compact: bool,
 }

@@ -16,7 +16,6 @@ use glutin::context::{
 use glutin::display::{GetGlDisplay, GlDisplay};
 use glutin::surface::{GlSurface, Surface, WindowSurface};
 use glutin_winit::{DisplayBuilder, GlWindow};
-use texflow::engine::Overrides;
 use texflow::gl::Context;
 use texflow::SceneEngine;
 use winit::application::ApplicationHandler;
@@ -85,12 +84,12 @@ impl App {
             ctx.limits().renderer
         );
         // The scene at the size of the inset it is drawn into.
-        let overrides = Overrides {
-            resolution: Some([320, 240]),
-            ..Overrides::default()
-        };
-        let prepared = overrides.prepare(&self.scene)?;
-        let engine = SceneEngine::new(&ctx, &prepared.scene, 1)?;
+        let mut scene = texflow::scene::load(&self.scene)?;
+        scene.render.resolution = [320, 240];
+        scene
+            .validate()
+            .map_err(|e| texflow::Error::InvalidInput(e.message))?;
+        let engine = SceneEngine::new(&ctx, &scene, 1)?;
         Ok(Running {
             engine,
             ctx,

@@ -49,6 +49,16 @@ fn parse_blocked_shape(s: &str) -> texflow::Result<texflow::sort::BlockedShape> 
     }
 }
 
+/// `--warmup N`: at most the library's bound, named as the option.
+fn warmup_frames(s: &str) -> Result<usize, String> {
+    let max = texflow::bench::scene::MAX_WARMUP_FRAMES;
+    match s.parse::<usize>() {
+        Ok(n) if n <= max => Ok(n),
+        Ok(n) => Err(format!("{n} frames of warm-up: give at most {max}")),
+        Err(e) => Err(format!("{e}: give a whole number of frames, at most {max}")),
+    }
+}
+
 pub fn print_sort_table(records: &[SortRecord]) {
     print!("{}", texflow::bench::sort_markdown(records));
 }
@@ -252,7 +262,7 @@ pub struct ScenesArgs {
     #[arg(long, default_value_t = 11, value_parser = at_least_one::<usize>)]
     repeats: usize,
     /// Frames simulated before timing (default: one full emission cycle of the scene).
-    #[arg(long)]
+    #[arg(long, value_parser = warmup_frames)]
     warmup: Option<usize>,
     /// Frame size WxH (default: the scenes' 512x512).
     #[arg(long, value_parser = parse_size)]
@@ -385,7 +395,7 @@ pub struct SceneArgs {
     repeats: usize,
     /// Frames simulated before timing, at most 10000 [default: one emission cycle of the scene,
     /// capped at 10000 frames]. A state with no live particle is refused.
-    #[arg(long, value_name = "FRAMES")]
+    #[arg(long, value_name = "FRAMES", value_parser = warmup_frames)]
     warmup: Option<usize>,
     /// Frame size [default: the scene's render.resolution].
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
@@ -407,7 +417,7 @@ pub struct SceneArgs {
 
 pub fn bench_scene(a: SceneArgs) -> texflow::Result<()> {
     use texflow::bench::scene as bs;
-    let overrides = texflow::engine::Overrides {
+    let overrides = super::overrides::Overrides {
         particles: None,
         resolution: a.resolution,
         dt: None,

@@ -1,7 +1,7 @@
 //! `texflow collide-stats`: how well the GPU finds colliding pairs.
 
+use super::overrides::{Overrides, Prepared};
 use clap::Args;
-use texflow::engine::{Overrides, Prepared};
 use texflow::gl::Context;
 use texflow::scene;
 

@@ -6,6 +6,7 @@ pub mod collide;
 pub mod compare;
 pub mod diff;
 pub mod info;
+pub mod overrides;
 pub mod render;
 pub mod report;
 pub mod scene;

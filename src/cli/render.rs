@@ -6,9 +6,10 @@ use std::ops::ControlFlow;
 
 use clap::Args;
 use texflow::engine::{
-    Event, FolderSink, FrameLoop, FrameSink, LoopOptions, LoopSummary, NonFinitePolicy, Overrides,
-    StateDump,
+    Event, FolderSink, FrameLoop, FrameSink, LoopOptions, LoopSummary, NonFinitePolicy, StateDump,
 };
+
+use super::overrides::Overrides;
 use texflow::gl::Context;
 use texflow::output::{video, FrameWriter, VideoWriter};
 use texflow::scene;
@@ -121,7 +122,14 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     let golden = a.compare.prepare(a.frames)?;
     let user_dumps = a.dump_state.as_ref().map(|_| a.dump_every);
     let options = loop_options(&a, golden.as_ref().map(|g| g.frame()), user_dumps);
-    options.check()?;
+    if let Some((field, reason)) = options.problem() {
+        // The library names LoopOptions' fields; the user typed options.
+        let flag = field.replace('_', "-");
+        return Err(bad(format!(
+            "--{flag} {} {reason}",
+            options.value_of(field)
+        )));
+    }
     super::video_loop::check(a.loop_fade, options.written_count())?;
     let overrides = a.overrides();
     let prepared = overrides.prepare(&a.scene)?;
@@ -169,7 +177,11 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     };
     // With --video alone, a folder sink still writes the dumps (into --dump-state; no frames).
     let folder = match out.as_deref().or(a.dump_state.as_deref()) {
-        Some(dir) => Some(FolderSink::create(dir, a.dump_state.as_deref())?),
+        Some(dir) => Some(FolderSink::create_named(
+            dir,
+            a.dump_state.as_deref(),
+            "--dump-state",
+        )?),
         None => None,
     };
     // What a killed run left in these folders (its own temporary files only) goes now.

@@ -1,7 +1,7 @@
 //! `texflow scene`: check scene files, list their passes, list the built-in scenes.
 
+use super::overrides::Overrides;
 use clap::Subcommand;
-use texflow::engine::Overrides;
 use texflow::gl::Context;
 use texflow::scene;
 

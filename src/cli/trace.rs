@@ -2,8 +2,8 @@
 
 use std::path::PathBuf;
 
+use super::overrides::Overrides;
 use clap::Args;
-use texflow::engine::Overrides;
 use texflow::gl::Context;
 use texflow::output::FrameWriter;
 use texflow::sort::Variant;

@@ -11,8 +11,8 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant, SystemTime};
 
+use super::overrides::Overrides;
 use clap::Args;
-use texflow::engine::Overrides;
 use texflow::gl::{Context, GlWindow};
 use texflow::render::ViewOffset;
 use texflow::sim::nonfinite::NonFiniteCounter;
@@ -113,7 +113,7 @@ impl Default for Orbit {
 
 struct App {
     args: ViewArgs,
-    prepared: texflow::engine::Prepared,
+    prepared: super::overrides::Prepared,
     /// The scene file and its modification time, when the scene is a file.
     watched: Option<(PathBuf, Option<SystemTime>)>,
     live: Option<Live>,

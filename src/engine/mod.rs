@@ -13,7 +13,6 @@
 pub mod compare;
 pub mod cpu;
 mod fire;
-mod overrides;
 mod particles;
 pub mod plan;
 mod run;
@@ -21,7 +20,6 @@ mod scene_engine;
 
 pub use cpu::{CpuEngine, CpuSim, FramePhases};
 pub use fire::FireEngine;
-pub use overrides::{Overrides, Prepared};
 pub use particles::{compact_depth_range, key_mode, Engine};
 pub use run::{
     Event, FolderSink, FrameLoop, FrameSink, FrameTimes, LoopOptions, LoopSummary, MemorySink,

@@ -54,26 +54,54 @@ impl Default for LoopOptions {
 }
 
 impl LoopOptions {
-    /// Refuses options that would run or write nothing, naming the CLI option.
+    /// Refuses options that would run or write nothing, naming the field.
     pub fn check(&self) -> Result<()> {
-        let bad = |m: &str| Err(Error::InvalidInput(m.into()));
+        match self.problem() {
+            Some((field, reason)) => Err(Error::InvalidInput(format!(
+                "LoopOptions::{field} = {}: {reason}",
+                self.value_of(field)
+            ))),
+            None => Ok(()),
+        }
+    }
+
+    /// What would make the loop run or write nothing: the field (`frames`, `every`,
+    /// `dump_every`, `start`) and why, for a caller to name in its own terms (the CLI names its
+    /// options).
+    pub fn problem(&self) -> Option<(&'static str, String)> {
         if self.frames == 0 {
-            return bad("--frames 0 renders nothing: ask for at least 1 frame");
+            return Some(("frames", "renders nothing: ask for at least 1 frame".into()));
         }
         if self.every == 0 {
-            return bad("--every 0 is meaningless: use 1 to write every frame");
+            return Some(("every", "is meaningless: use 1 to write every frame".into()));
         }
         if self.dump_every == Some(0) {
-            return bad("--dump-every 0 is meaningless: use 1 to dump every frame");
+            return Some((
+                "dump_every",
+                "is meaningless: use 1 to dump every frame".into(),
+            ));
         }
         if self.start >= self.frames {
-            return Err(Error::InvalidInput(format!(
-                "--start {} is not before --frames {}: nothing would be written; frames are \
-                 numbered from 0, so ask for more frames or an earlier start",
-                self.start, self.frames
-            )));
+            return Some((
+                "start",
+                format!(
+                    "is not before {} frames: nothing would be written; frames are numbered from \
+                     0, so ask for more frames or an earlier start",
+                    self.frames
+                ),
+            ));
         }
-        Ok(())
+        None
+    }
+
+    /// The value of a field [`problem`](Self::problem) names.
+    pub fn value_of(&self, field: &str) -> u64 {
+        match field {
+            "frames" => self.frames,
+            "every" => self.every,
+            "dump_every" => self.dump_every.unwrap_or(0),
+            _ => self.start,
+        }
     }
 
     /// Whether frame `index` is one to draw and hand over.
@@ -374,10 +402,16 @@ pub struct FolderSink {
 impl FolderSink {
     /// Creates the folders (and their parents) if needed.
     pub fn create(frames: &Path, dumps: Option<&Path>) -> Result<Self> {
+        Self::create_named(frames, dumps, "the state-dump folder")
+    }
+
+    /// [`create`](Self::create), with the dump folder called `dumps_name` in errors (the CLI
+    /// gives the option that named it).
+    pub fn create_named(frames: &Path, dumps: Option<&Path>, dumps_name: &str) -> Result<Self> {
         Ok(FolderSink {
             frames: FrameWriter::create(frames)?,
             dumps: dumps
-                .map(|d| FrameWriter::create_for(d, "--dump-state"))
+                .map(|d| FrameWriter::create_for(d, dumps_name))
                 .transpose()?,
             written: Vec::new(),
         })

@@ -264,7 +264,7 @@ pub fn warmup_frames(s: &SceneFile, asked: Option<usize>) -> Result<usize> {
     if let Some(n) = asked {
         if n > MAX_WARMUP_FRAMES {
             return Err(Error::InvalidInput(format!(
-                "--warmup {n}: at most {MAX_WARMUP_FRAMES} frames of warm-up"
+                "a warm-up of {n} frames: at most {MAX_WARMUP_FRAMES} frames of warm-up"
             )));
         }
         return Ok(n);

@@ -1,10 +1,11 @@
 //! Command-line values that replace a scene's own, applied and validated in one place for every
-//! command (render, collide-stats, the benchmarks, `scene check`).
+//! command (render, collide-stats, the benchmarks, `scene check`). The library speaks in scene
+//! keys; this is where an error about a key becomes one about the option a user typed.
 
-use crate::error::{Error, Result};
-use crate::gl::Context;
-use crate::scene::{self, SceneFile};
-use crate::scene::{check_limits, Key, SizeLimits};
+use texflow::gl::Context;
+use texflow::scene::{self, SceneFile};
+use texflow::scene::{check_limits, Key, SizeLimits};
+use texflow::{Error, Result};
 
 /// Values given on the command line instead of the scene's.
 #[derive(Debug, Clone, PartialEq)]
@@ -212,6 +213,6 @@ impl Overrides {
         }
         scene::check_point_size(&p.label, &p.source, &p.scene, l.point_size_range[1])?;
         // Custom forces compile here too, so that `scene check` refuses what `render` would.
-        crate::sim::particles::check_custom_forces(ctx, &p.scene)
+        texflow::sim::particles::check_custom_forces(ctx, &p.scene)
     }
 }

@@ -72,13 +72,13 @@ pub enum Shape {
     Disc,
 }
 
-/// Allocator strategy.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+/// Allocator strategy (Latta §3.4.1): how free indices are handed out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum AllocatorKind {
-    /// Last freed, first reused.
+    /// LIFO: the most recently freed index comes back first. O(1) per operation.
     Stack,
-    /// Smallest free index first: live particles stay in the first rows.
+    /// Always the smallest free index, so live particles stay in the first rows. O(log n).
     #[default]
     MinHeap,
 }

@@ -14,15 +14,9 @@
 use std::cmp::{Ordering, Reverse};
 use std::collections::BinaryHeap;
 
-/// How free indices are handed out.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum AllocatorKind {
-    /// LIFO: the most recently freed index comes back first. O(1) per operation.
-    Stack,
-    /// Always the smallest free index, so live particles stay in the first rows. O(log n).
-    MinHeap,
-}
+/// How free indices are handed out: the scene's `allocator` key, one type for the file and the
+/// allocator.
+pub use crate::scene::AllocatorKind;
 
 /// Why an allocator call was refused. Nothing changes in the allocator when one is returned.
 #[derive(Debug, thiserror::Error, PartialEq)]

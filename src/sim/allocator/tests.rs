@@ -377,10 +377,10 @@ fn live_rows_of_zero_width_panics() {
 }
 
 #[test]
-fn kind_serializes_lowercase() {
+fn kind_serializes_as_the_scene_file_writes_it() {
     assert_eq!(
         serde_json::to_string(&AllocatorKind::MinHeap).unwrap(),
-        "\"minheap\""
+        "\"min_heap\""
     );
     assert_eq!(
         serde_json::to_string(&AllocatorKind::Stack).unwrap(),

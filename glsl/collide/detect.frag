@@ -13,24 +13,20 @@ uniform float u_radius;
 
 layout(location = 0) out vec4 o_partner;
 
-bool live(vec4 p) {
-    // Bit test: NVIDIA's compiler drops NaN-sensitive float comparisons.
-    return p.w > 0.0 && (floatBitsToUint(p.x) & 0x7f800000u) != 0x7f800000u;
-}
 
 void main() {
     ivec2 t = ivec2(gl_FragCoord.xy);
     vec4 p = texelFetch(u_position, t, 0);
     float best = 2.0 * u_radius;
     float partner = -1.0;
-    if (live(p)) {
+    if (particle_live(p)) {
         for (int m = 1; m <= MAX_NEIGHBOURS; m++) {
             if (m > u_neighbours) break;
             for (int side = -1; side <= 1; side += 2) {
                 int x = t.x + side * m;
                 if (x < 0 || x >= u_width) continue;
                 vec4 q = texelFetch(u_position, ivec2(x, t.y), 0);
-                if (!live(q)) continue;
+                if (!particle_live(q)) continue;
                 float d = distance(p.xyz, q.xyz);
                 if (d < best) {
                     best = d;

@@ -3,6 +3,7 @@
 // Output: (partners, 1 if a run of cells held more than EXACT_SCAN particles, sorted index of
 // the closest partner or -1, its distance).
 
+#include "common/state.glsl"
 #include "collide/cells.glsl"
 
 uniform sampler2D u_position;   // gathered: sorted order
@@ -10,10 +11,6 @@ uniform float u_radius;
 
 layout(location = 0) out vec4 o_count;
 
-bool live(vec4 p) {
-    // Bit test: NVIDIA's compiler drops NaN-sensitive float comparisons.
-    return p.w > 0.0 && (floatBitsToUint(p.x) & 0x7f800000u) != 0x7f800000u;
-}
 
 vec3 g_x;
 int g_found = 0;
@@ -24,7 +21,7 @@ void visit(int j) {
     vec4 q = texelFetch(u_position, ivec2(j % u_key_width, j / u_key_width), 0);
     vec3 d = g_x - q.xyz;
     float d2 = dot(d, d);
-    if (live(q) && d2 < 4.0 * u_radius * u_radius) {
+    if (particle_live(q) && d2 < 4.0 * u_radius * u_radius) {
         g_found++;
         // A tie keeps the first visited: it can cost a match, never the symmetry of one.
         if (d2 < g_d2) {
@@ -38,7 +35,7 @@ void main() {
     ivec2 t = ivec2(gl_FragCoord.xy);
     int self = t.y * u_key_width + t.x;
     vec4 p = texelFetch(u_position, t, 0);
-    if (live(p)) {
+    if (particle_live(p)) {
         g_x = p.xyz;
         search_neighbours(self);
     }

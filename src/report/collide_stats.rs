@@ -120,7 +120,7 @@ fn pos(v: &[f32], i: usize) -> Vec3 {
 }
 
 fn live(v: &[f32], i: usize) -> bool {
-    v[i * 4 + 3] > 0.0 && pos(v, i).is_finite()
+    crate::sim::particle_live([v[i * 4], v[i * 4 + 1], v[i * 4 + 2], v[i * 4 + 3]])
 }
 
 /// Pairs (i < j) of live particles closer than `reach`, by cell lists of mesh `reach`.

@@ -13,5 +13,11 @@ pub mod reference;
 mod user_glsl;
 
 pub use fields::{DistanceField, FlowField, HeightField};
+
+/// A live particle (docs/pipeline.md): life `w > 0` and a finite position (dead particles are
+/// parked at +inf). The twin of `particle_live` in `glsl/common/state.glsl`.
+pub fn particle_live(p: [f32; 4]) -> bool {
+    p[3] > 0.0 && p[..3].iter().all(|c| c.is_finite())
+}
 pub use fire::{FireParams, FireSim};
 pub use particles::{ClosedForm, Features, ParticleSim};

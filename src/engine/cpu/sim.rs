@@ -296,5 +296,5 @@ impl Physics {
 }
 
 pub(super) fn live(p: Vec4) -> bool {
-    p.is_finite() && p.w > 0.0
+    crate::sim::particle_live(p.to_array())
 }

@@ -13,36 +13,7 @@ use Key::{Index as I, Name as N};
 /// every emitter (rotation speed, size over life, keyframes per type).
 pub(super) fn render(s: &SceneFile) -> Check {
     let r = &s.render;
-    if let Some(i) = r.resolution.iter().position(|s| *s == 0) {
-        return fail(
-            path(&[N("render"), N("resolution"), I(i)]),
-            "both sides of resolution must be at least 1 pixel",
-        );
-    }
-    if r.point_size <= 0.0 {
-        return fail(
-            path(&[N("render"), N("point_size")]),
-            format!("point_size {} must be above 0 pixels", r.point_size),
-        );
-    }
-    if r.intensity < 0.0 {
-        return fail(
-            path(&[N("render"), N("intensity")]),
-            format!("intensity {} must not be negative", r.intensity),
-        );
-    }
-    if !(r.camera.fov > 0.0 && r.camera.fov < 180.0) {
-        return fail(
-            path(&[N("render"), N("camera"), N("fov")]),
-            format!("fov {} must lie in (0, 180) degrees", r.camera.fov),
-        );
-    }
-    if r.camera.distance <= 0.0 {
-        return fail(
-            path(&[N("render"), N("camera"), N("distance")]),
-            format!("distance {} must be above 0", r.camera.distance),
-        );
-    }
+    frame_and_camera(r)?;
     keyframes(&[N("render"), N("keyframes")], &r.keyframes)?;
     if s.fire.is_some() {
         fire_render(r)?;
@@ -93,6 +64,46 @@ pub(super) fn render(s: &SceneFile) -> Check {
             emitter_look(&[N("emitters"), N(kind), I(i)], e)?;
         }
     }
+    sort(s, r)
+}
+
+/// `[render]` resolution, point size and intensity, and `[render.camera]`.
+fn frame_and_camera(r: &Render) -> Check {
+    if let Some(i) = r.resolution.iter().position(|s| *s == 0) {
+        return fail(
+            path(&[N("render"), N("resolution"), I(i)]),
+            "both sides of resolution must be at least 1 pixel",
+        );
+    }
+    if r.point_size <= 0.0 {
+        return fail(
+            path(&[N("render"), N("point_size")]),
+            format!("point_size {} must be above 0 pixels", r.point_size),
+        );
+    }
+    if r.intensity < 0.0 {
+        return fail(
+            path(&[N("render"), N("intensity")]),
+            format!("intensity {} must not be negative", r.intensity),
+        );
+    }
+    if !(r.camera.fov > 0.0 && r.camera.fov < 180.0) {
+        return fail(
+            path(&[N("render"), N("camera"), N("fov")]),
+            format!("fov {} must lie in (0, 180) degrees", r.camera.fov),
+        );
+    }
+    if r.camera.distance <= 0.0 {
+        return fail(
+            path(&[N("render"), N("camera"), N("distance")]),
+            format!("distance {} must be above 0", r.camera.distance),
+        );
+    }
+    Ok(())
+}
+
+/// `[render.sort]`: what each key, entry layout and spread over frames needs.
+fn sort(s: &SceneFile, r: &Render) -> Check {
     if r.sort.key != SortKey::Distance && r.blending != Blending::Alpha {
         return fail(
             path(&[N("render"), N("sort"), N("key")]),

@@ -762,7 +762,6 @@ const NOT_YET_SPLIT: &[(&str, &str)] = &[
     ("render/particles.rs", "new"),
     ("render/particles.rs", "draw_frame"),
     ("scene/custom.rs", "check"),
-    ("scene/validate/constraints.rs", "constraints"),
     ("sim/collide/mod.rs", "new"),
     ("sim/particles/features.rs", "step_passes"),
     ("sim/particles/mod.rs", "new"),

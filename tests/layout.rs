@@ -761,7 +761,6 @@ fn function_lengths() -> Vec<(String, String, usize)> {
 const NOT_YET_SPLIT: &[(&str, &str)] = &[
     ("render/particles.rs", "new"),
     ("render/particles.rs", "draw_frame"),
-    ("scene/custom.rs", "check"),
     ("sim/collide/mod.rs", "new"),
     ("sim/particles/features.rs", "step_passes"),
     ("sim/particles/mod.rs", "new"),

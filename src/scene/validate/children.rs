@@ -5,7 +5,9 @@
 
 use super::{fail, path, Check};
 use crate::scene::locate::Key;
-use crate::scene::schema::{Emitter, Integrator, SceneFile, Simulation, UpdatePasses, VelocityFormat};
+use crate::scene::schema::{
+    Emitter, Integrator, SceneFile, Simulation, UpdatePasses, VelocityFormat,
+};
 
 use Key::{Index as I, Name as N};
 
@@ -262,7 +264,9 @@ fn child_births(at: &[Key], e: &Emitter) -> Check {
     {
         return fail(
             key("inherit_velocity"),
-            format!("inherit_velocity {f} must be a factor within [-10, 10] (1: the parent's velocity)"),
+            format!(
+                "inherit_velocity {f} must be a factor within [-10, 10] (1: the parent's velocity)"
+            ),
         );
     }
     Ok(())
@@ -318,7 +322,6 @@ fn child_combinations(s: &SceneFile) -> Check {
     }
     Ok(())
 }
-
 
 #[cfg(test)]
 mod tests {

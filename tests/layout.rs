@@ -763,7 +763,6 @@ const NOT_YET_SPLIT: &[(&str, &str)] = &[
     ("render/particles.rs", "draw_frame"),
     ("sim/collide/mod.rs", "new"),
     ("sim/particles/mod.rs", "new"),
-    ("sim/reference/mod.rs", "new"),
 ];
 
 #[test]

@@ -762,7 +762,6 @@ const NOT_YET_SPLIT: &[(&str, &str)] = &[
     ("render/particles.rs", "new"),
     ("render/particles.rs", "draw_frame"),
     ("sim/collide/mod.rs", "new"),
-    ("sim/particles/mod.rs", "new"),
 ];
 
 #[test]

@@ -262,44 +262,7 @@ fn emitter_look(base: &[Key], e: &Emitter) -> Check {
             );
         }
     }
-    let curve = &e.size_over_life;
-    if !curve.is_empty() {
-        let here = at(base, &[N("size_over_life")]);
-        if !(2..=4).contains(&curve.len()) {
-            return fail(
-                here,
-                format!(
-                    "size_over_life has {} points: give two to four [relative age, scale] points",
-                    curve.len()
-                ),
-            );
-        }
-        let last = curve.len() - 1;
-        let bad = (0..curve.len()).find(|&i| {
-            let a = curve[i][0];
-            (i == 0 && a != 0.0) || (i == last && a != 1.0) || (i > 0 && a < curve[i - 1][0])
-        });
-        if let Some(i) = bad {
-            return fail(
-                at(&here, &[I(i), I(0)]),
-                format!(
-                    "size_over_life ages must ascend from 0 to 1 (the first 0, the last 1); \
-                     point {} has age {}",
-                    i + 1,
-                    curve[i][0]
-                ),
-            );
-        }
-        if let Some(i) = curve.iter().position(|p| !(p[1] >= 0.0 && p[1] <= 1e3)) {
-            return fail(
-                at(&here, &[I(i), I(1)]),
-                format!(
-                    "size_over_life scale {} must lie in [0, 1000] (relative to the sprite size)",
-                    curve[i][1]
-                ),
-            );
-        }
-    }
+    size_curve(base, &e.size_over_life)?;
     if let Some([lo, hi]) = e.size_range {
         if !(lo > 0.0 && lo <= hi && hi <= 1e3) {
             return fail(
@@ -334,4 +297,47 @@ fn emitter_look(base: &[Key], e: &Emitter) -> Check {
         }
     }
     keyframes(&at(base, &[N("keyframes")]), &e.keyframes)
+}
+
+/// `size_over_life`: two to four [relative age, scale] points, ages from 0 up to 1.
+fn size_curve(base: &[Key], curve: &[[f32; 2]]) -> Check {
+    if curve.is_empty() {
+        return Ok(());
+    }
+    let here = at(base, &[N("size_over_life")]);
+    if !(2..=4).contains(&curve.len()) {
+        return fail(
+            here,
+            format!(
+                "size_over_life has {} points: give two to four [relative age, scale] points",
+                curve.len()
+            ),
+        );
+    }
+    let last = curve.len() - 1;
+    let bad = (0..curve.len()).find(|&i| {
+        let a = curve[i][0];
+        (i == 0 && a != 0.0) || (i == last && a != 1.0) || (i > 0 && a < curve[i - 1][0])
+    });
+    if let Some(i) = bad {
+        return fail(
+            at(&here, &[I(i), I(0)]),
+            format!(
+                "size_over_life ages must ascend from 0 to 1 (the first 0, the last 1); \
+                 point {} has age {}",
+                i + 1,
+                curve[i][0]
+            ),
+        );
+    }
+    if let Some(i) = curve.iter().position(|p| !(p[1] >= 0.0 && p[1] <= 1e3)) {
+        return fail(
+            at(&here, &[I(i), I(1)]),
+            format!(
+                "size_over_life scale {} must lie in [0, 1000] (relative to the sprite size)",
+                curve[i][1]
+            ),
+        );
+    }
+    Ok(())
 }

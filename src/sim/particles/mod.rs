@@ -27,7 +27,7 @@ use crate::gl::{
     Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Ring3, Sampled, Texture,
     Texture3D, TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
 };
-use crate::scene::{Integrator, SceneFile, Simulation, VelocityFormat};
+use crate::scene::{Integrator, SceneFile, Simulation};
 pub use custom::check_custom_forces;
 pub use features::{Emission, Features};
 pub use stateless::ClosedForm;
@@ -142,10 +142,7 @@ impl ParticleSim {
         let [width, height] = scene.particles.size;
         crate::gl::check_size(ctx, "particle texture (particles.size)", width, height)?;
         let features = Features::of(scene);
-        let vel_format = match features.velocity_format {
-            VelocityFormat::Rgba32f => TextureFormat::Rgba32F,
-            VelocityFormat::Rgba16f => TextureFormat::Rgba16F,
-        };
+        let vel_format = setup::velocity_format(features.velocity_format);
         let state = setup::state(ctx, &features, vel_format, width, height)?;
         let statics = setup::statics(ctx, width, height)?;
         let fields = setup::fields(ctx, scene)?;
@@ -172,16 +169,7 @@ impl ParticleSim {
             emit_state,
             emit_previous,
             emit_static,
-            start: if verlet {
-                Some(Program::new(
-                    ctx,
-                    FULLSCREEN_VERTEX,
-                    "sim/verlet_start.frag",
-                    &defines,
-                )?)
-            } else {
-                None
-            },
+            start: setup::verlet_start(ctx, verlet, &defines)?,
             collisions: match &scene.collisions {
                 Some(_) => Some(super::collide::Collisions::new(
                     ctx, scene, &defines, vel_format,

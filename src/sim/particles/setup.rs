@@ -6,7 +6,7 @@ use crate::error::Result;
 use crate::gl::{
     Context, Defines, Framebuffer, PingPong, Program, Ring3, TextureFormat, FULLSCREEN_VERTEX,
 };
-use crate::scene::{Integrator, SceneFile};
+use crate::scene::{Integrator, SceneFile, VelocityFormat};
 use crate::sim::fields::{DistanceField, FlowField, HeightField};
 
 use super::Features;
@@ -105,6 +105,33 @@ pub(super) fn integrate_programs(
         )
     } else {
         (integrate_program(defines)?, None)
+    })
+}
+
+/// The texture format of the velocity state.
+pub(super) fn velocity_format(format: VelocityFormat) -> TextureFormat {
+    match format {
+        VelocityFormat::Rgba32f => TextureFormat::Rgba32F,
+        VelocityFormat::Rgba16f => TextureFormat::Rgba16F,
+    }
+}
+
+/// Verlet's second-order start (previous positions from explicit velocities); none for other
+/// integrators.
+pub(super) fn verlet_start(
+    ctx: &Context,
+    verlet: bool,
+    defines: &Defines,
+) -> Result<Option<Program>> {
+    Ok(if verlet {
+        Some(Program::new(
+            ctx,
+            FULLSCREEN_VERTEX,
+            "sim/verlet_start.frag",
+            defines,
+        )?)
+    } else {
+        None
     })
 }
 

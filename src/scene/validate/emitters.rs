@@ -230,7 +230,7 @@ pub(super) fn check_spawn(at: &[Key], s: &Emitter) -> Check {
         }
         duration([&p("life")[..], &[I(1)]].concat(), "life", life[1])?;
     }
-    spawn_mass(&p, s)?;
+    spawn_mass(p, s)?;
     if s.sprite_scale <= 0.0 {
         return fail(
             p("sprite_scale"),

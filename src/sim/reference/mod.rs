@@ -470,8 +470,11 @@ fn covered(scene: &SceneFile, features: &Features) -> Result<()> {
     Ok(())
 }
 
+/// Each type's lightest and heaviest mass.
+type MassRange = ([f32; 4], [f32; 4]);
+
 /// Each type's inverse mass (of its mean mass) and, with `mass_range`, each type's range.
-fn masses(s: &SceneFile, features: &Features) -> ([f32; 4], Option<([f32; 4], [f32; 4])>) {
+fn masses(s: &SceneFile, features: &Features) -> ([f32; 4], Option<MassRange>) {
     let mut inv_mass = [1.0 / s.particles.mass; 4];
     let (mut lo, mut hi) = ([s.particles.mass; 4], [s.particles.mass; 4]);
     for (k, e) in s.emitters.all().enumerate() {

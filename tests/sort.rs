@@ -260,7 +260,7 @@ fn compact_blocked_sort_orders_by_level_then_id() {
             let input: Vec<Entry> = (0..w * h)
                 .map(|i| {
                     let r = lcg(&mut s);
-                    let key = if r % 17 == 0 {
+                    let key = if r.is_multiple_of(17) {
                         specials[(r / 17) as usize % specials.len()]
                     } else {
                         // Fine keys: many share a level at 2^10 entries (22 key bits).

@@ -113,59 +113,7 @@ impl ParticleRenderer {
         state_height: u32,
     ) -> Result<Self> {
         crate::gl::check_size(ctx, "particle state", state_width, state_height)?;
-        if !(style.point_size > 0.0 && style.point_size.is_finite()) {
-            return Err(Error::InvalidInput(format!(
-                "point size {} must be a finite number above 0",
-                style.point_size
-            )));
-        }
-        if style.primitive != DrawPrimitive::Points && style.path != RenderPath::TextureFetch {
-            return Err(Error::InvalidInput(
-                "triangles, quads and stretched quads replicate each particle's vertex by \
-                 fetching its texel (Latta §3.4.5): use path = \"texture_fetch\""
-                    .into(),
-            ));
-        }
-        if !(style.stretch >= 0.0 && style.stretch.is_finite()) {
-            return Err(Error::InvalidInput(format!(
-                "stretch {} must be a finite number of seconds, at least 0",
-                style.stretch
-            )));
-        }
-        let largest = style.largest_size();
-        let [_, max_point] = ctx.limits().point_size_range;
-        if style.primitive == DrawPrimitive::Points && largest > max_point {
-            return Err(Error::InvalidInput(format!(
-                "sprites up to {largest} pixels wide exceed this driver's largest point, {max_point} \
-                 pixels (GL_ALIASED_POINT_SIZE_RANGE): use render.primitive = \"quads\", which has \
-                 no such limit, or a smaller point_size"
-            )));
-        }
-        let mut defines = Defines::new();
-        let flag = |name: &str| (name.to_owned(), "1".to_owned());
-        if style.path == RenderPath::VertexBuffer {
-            defines.push(flag("VERTEX_BUFFER"));
-        }
-        if style.mode == DrawMode::Sprites {
-            defines.push(flag("SPRITES"));
-        }
-        if style.rotate == Rotate::Spin {
-            if style.path != RenderPath::TextureFetch {
-                return Err(Error::InvalidInput(
-                    "sprites turned by the spin fetch it from the spin texture: use path = \
-                     \"texture_fetch\""
-                        .into(),
-                ));
-            }
-            defines.push(flag("ROTATE_SPIN"));
-        }
-        match style.primitive {
-            DrawPrimitive::Points => {}
-            DrawPrimitive::Quads => defines.push(flag("QUADS")),
-            DrawPrimitive::Stretched => defines.push(flag("STRETCHED")),
-            DrawPrimitive::Triangles => defines.push(flag("TRIANGLES")),
-        }
-        defines.extend(style.blend_defines());
+        let defines = style_defines(ctx, &style)?;
         let program = Program::new(
             ctx,
             "render/particle.vert",
@@ -179,44 +127,7 @@ impl ParticleRenderer {
             &Defines::new(),
         )?;
         let vertex = if style.path == RenderPath::VertexBuffer {
-            let bytes = state_width as u64 * state_height as u64 * 16;
-            if bytes > i32::MAX as u64 {
-                return Err(Error::InvalidInput(format!(
-                    "particle state {state_width}x{state_height} needs vertex buffers of {bytes} \
-                     bytes, over GL's limit of {} for one buffer: use the texture_fetch path or \
-                     a smaller state",
-                    i32::MAX
-                )));
-            }
-            let buffer = |label| {
-                Buffer::with_size(
-                    ctx,
-                    label,
-                    BufferKind::PixelPack,
-                    bytes as usize,
-                    BufferUsage::StreamCopy,
-                )
-            };
-            let positions = buffer("position vertices")?;
-            let statics = buffer("static vertices")?;
-            let attribute = |buffer, location| Attribute {
-                buffer,
-                location,
-                components: 4,
-                stride: 16,
-                offset: 0,
-            };
-            let vao = VertexArray::with_attributes(
-                ctx,
-                "particle vertices",
-                &[attribute(&positions, 0), attribute(&statics, 1)],
-            )?;
-            Some(VertexPath {
-                pack: PixelPack::new(ctx)?,
-                positions,
-                statics,
-                vao,
-            })
+            Some(vertex_path(ctx, state_width, state_height)?)
         } else {
             None
         };
@@ -379,6 +290,56 @@ impl ParticleRenderer {
         state: &FrameState<'_>,
         camera: &Camera,
     ) -> Result<()> {
+        let count = state.count;
+        let motion = self.frame_motion(state)?;
+        let s = &self.style;
+        if let Some(g) = &self.geometry {
+            if !target.has_depth() {
+                return Err(Error::InvalidInput(
+                    "drawing geometry needs a frame target with depth (FrameTarget::with_depth)"
+                        .into(),
+                ));
+            }
+            g.draw(target, camera, &geometry_first(s.under()));
+        }
+        let vertices = self.bind_inputs(state, motion)?;
+        let p = &self.program;
+        let aspect = target.width() as f32 / target.height() as f32;
+        p.set_mat4("u_view_proj", &camera.view_projection(aspect));
+        p.set_vec2(
+            "u_viewport",
+            glam::Vec2::new(target.width() as f32, target.height() as f32),
+        );
+        p.set_f32("u_point_size", s.point_size);
+        p.set_f32("u_intensity", s.intensity);
+        p.set_f32("u_time", state.time);
+        s.set_types(p);
+        s.set_keyframes(p);
+        let (primitive, per_particle) = match s.primitive {
+            DrawPrimitive::Points => (Primitive::Points, 1),
+            DrawPrimitive::Triangles => (Primitive::Triangles, 3),
+            DrawPrimitive::Quads | DrawPrimitive::Stretched => {
+                (Primitive::Triangles, QUAD_VERTICES)
+            }
+        };
+        let draw_state = s.draw_state();
+        let gl = &self.ctx;
+        gl.draw(&Draw {
+            program: p,
+            target: target.framebuffer(),
+            viewport: None,
+            vertices,
+            primitive,
+            count: (count * per_particle) as u32,
+            state: &draw_state,
+        });
+        self.draw_under(target, camera, &draw_state);
+        gl.check_error("drawing particles")
+    }
+
+    /// Checks the frame's textures and particle count; the motion texture when stretched quads
+    /// need it.
+    fn frame_motion<'s>(&self, state: &FrameState<'s>) -> Result<Option<Motion<'s>>> {
         let (positions, statics, count) = (state.positions, state.statics, state.count);
         self.check_state("position", positions)?;
         self.check_state("statics", statics)?;
@@ -400,16 +361,18 @@ impl ParticleRenderer {
                 "{count} particles to draw from a state of {texels}"
             )));
         }
+        Ok(motion)
+    }
+
+    /// Binds the program and the state it reads (packed into the vertex buffers, or as
+    /// textures), the atlas, spins and motion; gives the vertices to draw.
+    fn bind_inputs(
+        &self,
+        state: &FrameState<'_>,
+        motion: Option<Motion<'_>>,
+    ) -> Result<&VertexArray> {
+        let (positions, statics, count) = (state.positions, state.statics, state.count);
         let s = &self.style;
-        if let Some(g) = &self.geometry {
-            if !target.has_depth() {
-                return Err(Error::InvalidInput(
-                    "drawing geometry needs a frame target with depth (FrameTarget::with_depth)"
-                        .into(),
-                ));
-            }
-            g.draw(target, camera, &geometry_first(s.under()));
-        }
         if let (Some(v), true) = (&self.vertex, count > 0) {
             let rows = count.div_ceil(self.width as usize) as u32;
             v.pack.copy_rows(positions, &v.positions, rows)?;
@@ -453,35 +416,14 @@ impl ParticleRenderer {
             p.set_f32("u_motion_dt", dt);
             p.set_f32("u_stretch", s.stretch);
         }
-        let aspect = target.width() as f32 / target.height() as f32;
-        p.set_mat4("u_view_proj", &camera.view_projection(aspect));
-        p.set_vec2(
-            "u_viewport",
-            glam::Vec2::new(target.width() as f32, target.height() as f32),
-        );
-        p.set_f32("u_point_size", s.point_size);
-        p.set_f32("u_intensity", s.intensity);
-        p.set_f32("u_time", state.time);
-        s.set_types(p);
-        s.set_keyframes(p);
-        let (primitive, per_particle) = match s.primitive {
-            DrawPrimitive::Points => (Primitive::Points, 1),
-            DrawPrimitive::Triangles => (Primitive::Triangles, 3),
-            DrawPrimitive::Quads | DrawPrimitive::Stretched => {
-                (Primitive::Triangles, QUAD_VERTICES)
-            }
-        };
-        let draw_state = s.draw_state();
+        Ok(vertices)
+    }
+
+    /// The under operator's last passes: the geometry's colour behind the particles, then the
+    /// background behind everything.
+    fn draw_under(&self, target: &FrameTarget, camera: &Camera, draw_state: &DrawState) {
+        let s = &self.style;
         let gl = &self.ctx;
-        gl.draw(&Draw {
-            program: p,
-            target: target.framebuffer(),
-            viewport: None,
-            vertices,
-            primitive,
-            count: (count * per_particle) as u32,
-            state: &draw_state,
-        });
         if let (Some(g), true) = (&self.geometry, s.under()) {
             // Behind the particles accumulated so far, on the depth the first pass wrote.
             g.draw(
@@ -489,7 +431,7 @@ impl ParticleRenderer {
                 camera,
                 &DrawState {
                     depth: Depth::Equal,
-                    ..draw_state
+                    ..*draw_state
                 },
             );
         }
@@ -508,12 +450,113 @@ impl ParticleRenderer {
                 count: 3,
                 state: &DrawState {
                     depth: Depth::Off,
-                    ..draw_state
+                    ..*draw_state
                 },
             });
         }
-        gl.check_error("drawing particles")
     }
+}
+
+/// Checks `style` against what the pipeline and this driver can draw, and gives the defines of
+/// its program variant.
+fn style_defines(ctx: &Context, style: &ParticleStyle) -> Result<Defines> {
+    if !(style.point_size > 0.0 && style.point_size.is_finite()) {
+        return Err(Error::InvalidInput(format!(
+            "point size {} must be a finite number above 0",
+            style.point_size
+        )));
+    }
+    if style.primitive != DrawPrimitive::Points && style.path != RenderPath::TextureFetch {
+        return Err(Error::InvalidInput(
+            "triangles, quads and stretched quads replicate each particle's vertex by \
+             fetching its texel (Latta §3.4.5): use path = \"texture_fetch\""
+                .into(),
+        ));
+    }
+    if !(style.stretch >= 0.0 && style.stretch.is_finite()) {
+        return Err(Error::InvalidInput(format!(
+            "stretch {} must be a finite number of seconds, at least 0",
+            style.stretch
+        )));
+    }
+    let largest = style.largest_size();
+    let [_, max_point] = ctx.limits().point_size_range;
+    if style.primitive == DrawPrimitive::Points && largest > max_point {
+        return Err(Error::InvalidInput(format!(
+            "sprites up to {largest} pixels wide exceed this driver's largest point, {max_point} \
+             pixels (GL_ALIASED_POINT_SIZE_RANGE): use render.primitive = \"quads\", which has \
+             no such limit, or a smaller point_size"
+        )));
+    }
+    let mut defines = Defines::new();
+    let flag = |name: &str| (name.to_owned(), "1".to_owned());
+    if style.path == RenderPath::VertexBuffer {
+        defines.push(flag("VERTEX_BUFFER"));
+    }
+    if style.mode == DrawMode::Sprites {
+        defines.push(flag("SPRITES"));
+    }
+    if style.rotate == Rotate::Spin {
+        if style.path != RenderPath::TextureFetch {
+            return Err(Error::InvalidInput(
+                "sprites turned by the spin fetch it from the spin texture: use path = \
+                 \"texture_fetch\""
+                    .into(),
+            ));
+        }
+        defines.push(flag("ROTATE_SPIN"));
+    }
+    match style.primitive {
+        DrawPrimitive::Points => {}
+        DrawPrimitive::Quads => defines.push(flag("QUADS")),
+        DrawPrimitive::Stretched => defines.push(flag("STRETCHED")),
+        DrawPrimitive::Triangles => defines.push(flag("TRIANGLES")),
+    }
+    defines.extend(style.blend_defines());
+    Ok(defines)
+}
+
+/// The vertex-buffer path: two buffers of `state_width`×`state_height` RGBA float vertices
+/// (positions and statics, packed from the state textures each frame) and their vertex array.
+fn vertex_path(ctx: &Context, state_width: u32, state_height: u32) -> Result<VertexPath> {
+    let bytes = state_width as u64 * state_height as u64 * 16;
+    if bytes > i32::MAX as u64 {
+        return Err(Error::InvalidInput(format!(
+            "particle state {state_width}x{state_height} needs vertex buffers of {bytes} \
+             bytes, over GL's limit of {} for one buffer: use the texture_fetch path or \
+             a smaller state",
+            i32::MAX
+        )));
+    }
+    let buffer = |label| {
+        Buffer::with_size(
+            ctx,
+            label,
+            BufferKind::PixelPack,
+            bytes as usize,
+            BufferUsage::StreamCopy,
+        )
+    };
+    let positions = buffer("position vertices")?;
+    let statics = buffer("static vertices")?;
+    let attribute = |buffer, location| Attribute {
+        buffer,
+        location,
+        components: 4,
+        stride: 16,
+        offset: 0,
+    };
+    let vao = VertexArray::with_attributes(
+        ctx,
+        "particle vertices",
+        &[attribute(&positions, 0), attribute(&statics, 1)],
+    )?;
+    Ok(VertexPath {
+        pack: PixelPack::new(ctx)?,
+        positions,
+        statics,
+        vao,
+    })
 }
 
 /// The state of the geometry's first pass: opaque with a depth write, before the particles. For

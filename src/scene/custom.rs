@@ -73,6 +73,31 @@ pub fn check_pair_glsl(path: &str, bytes: &[u8]) -> std::result::Result<String, 
 }
 
 fn check(path: &str, bytes: &[u8], what: Defines) -> std::result::Result<String, String> {
+    let text = decode(path, bytes)?;
+    raw_lines(path, text)?;
+    let code = strip_comments(text);
+    directives(path, &code)?;
+    endless_loops(path, &code)?;
+    let defines_force = code
+        .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .any(|w| w == what.name);
+    if !defines_force {
+        return Err(format!(
+            "{path}: it defines no `{}`: a {} file defines `{}`",
+            what.name,
+            if what.name == "force" {
+                "custom force"
+            } else {
+                "pair force"
+            },
+            what.signature
+        ));
+    }
+    Ok(text.to_owned())
+}
+
+/// The file's text: UTF-8 (a byte-order mark dropped) without control characters.
+fn decode<'a>(path: &str, bytes: &'a [u8]) -> std::result::Result<&'a str, String> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let text = match std::str::from_utf8(bytes) {
         Ok(t) => t,
@@ -96,6 +121,11 @@ fn check(path: &str, bytes: &[u8], what: Defines) -> std::result::Result<String,
             c as u32
         ));
     }
+    Ok(text)
+}
+
+/// Checks on the text's lines before comments are stripped: `#include` and lone carriage returns.
+fn raw_lines(path: &str, text: &str) -> std::result::Result<(), String> {
     // texflow's include resolver reads lines, comments or not: an `#include` line in a
     // comment would be spliced too.
     for (n, line) in text.lines().enumerate() {
@@ -122,7 +152,11 @@ fn check(path: &str, bytes: &[u8], what: Defines) -> std::result::Result<String,
              LF or CRLF line ends"
         ));
     }
-    let code = strip_comments(text);
+    Ok(())
+}
+
+/// Line continuations and the directives texflow writes itself, in comment-free `code`.
+fn directives(path: &str, code: &str) -> std::result::Result<(), String> {
     for (n, line) in code.lines().enumerate() {
         let at = |why: String| format!("{path}:{}: {why}", n + 1);
         if line.trim_end().ends_with('\\') {
@@ -154,34 +188,24 @@ fn check(path: &str, bytes: &[u8], what: Defines) -> std::result::Result<String,
             return Err(at(why.into()));
         }
     }
+    Ok(())
+}
+
+/// Loops written to never end, in comment-free `code`.
+fn endless_loops(path: &str, code: &str) -> std::result::Result<(), String> {
     let flat: String = code.split_whitespace().collect::<Vec<_>>().join("");
     for endless in ["for(;;)", "while(true)", "while(1)"] {
         if let Some(i) = flat.find(endless) {
             // The line of the loop: count the words before it in the text.
             let words = flat[..i].len();
-            let line = line_of_flat_offset(&code, words);
+            let line = line_of_flat_offset(code, words);
             return Err(format!(
                 "{path}:{line}: `{endless}` never ends: a shader that does not end hangs the GPU's \
                  frame; give the loop a fixed bound"
             ));
         }
     }
-    let defines_force = code
-        .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-        .any(|w| w == what.name);
-    if !defines_force {
-        return Err(format!(
-            "{path}: it defines no `{}`: a {} file defines `{}`",
-            what.name,
-            if what.name == "force" {
-                "custom force"
-            } else {
-                "pair force"
-            },
-            what.signature
-        ));
-    }
-    Ok(text.to_owned())
+    Ok(())
 }
 
 /// The line of `code` holding the `n`-th non-whitespace character.

@@ -5,7 +5,9 @@
 
 use super::{fail, path, Check};
 use crate::scene::locate::Key;
-use crate::scene::schema::{Integrator, SceneFile, Simulation, UpdatePasses, VelocityFormat};
+use crate::scene::schema::{
+    Emitter, Integrator, SceneFile, Simulation, UpdatePasses, VelocityFormat,
+};
 
 use Key::{Index as I, Name as N};
 
@@ -148,110 +150,131 @@ pub(super) fn children(s: &SceneFile) -> Check {
     let parents = em.parents();
     for (i, e) in em.child.iter().enumerate() {
         let at = [N("emitters"), N("child"), I(i)];
-        let key = |k| [&at[..], &[N(k)]].concat();
-        if let Some(k) = [
-            ("rate", e.rate.is_some()),
-            ("allocator", e.allocator.is_some()),
-            ("cycle", e.cycle.is_some()),
-            ("release_spread", e.release_spread.is_some()),
-            ("release_cloud", e.release_cloud.is_some()),
-            ("bursts", !e.bursts.is_empty()),
-        ]
-        .iter()
-        .find(|k| k.1)
-        {
-            return fail(
-                key(k.0),
-                format!(
-                    "`{}` does not apply to child emitters: their births follow their parents \
-                     (use trail_rate and on_death)",
-                    k.0
-                ),
-            );
-        }
-        super::emitters::check_spawn(&at, e)?;
-        if parents == 0 {
-            return fail(
-                at.to_vec(),
-                "a child emitter needs a parent: add an allocator, timestamp or initial emitter",
-            );
-        }
-        if e.parent.unwrap_or(0) as usize >= parents {
-            return fail(
-                key("parent"),
-                format!(
-                    "parent {} is not an emitter of this scene: give the type number of one of \
-                     its {parents} other emitter(s), 0 to {}",
-                    e.parent.unwrap_or(0),
-                    parents - 1
-                ),
-            );
-        }
-        if e.life.is_none() {
-            return fail(
-                at.to_vec(),
-                "a child emitter needs `life` = [min, max] seconds",
-            );
-        }
-        let k = match e.per_parent {
-            None | Some(0) => {
-                return fail(
-                    key("per_parent"),
-                    "a child emitter needs per_parent, the texels reserved for each parent's \
-                     children (at least 1)",
-                )
-            }
-            Some(k) => k,
-        };
-        let b = e.on_death.unwrap_or(0);
-        if b > k {
-            return fail(
-                key("on_death"),
-                format!(
-                    "on_death {b} children do not fit the {k} texels per parent: raise \
-                     per_parent to at least {b}"
-                ),
-            );
-        }
-        match e.trail_rate {
-            // The shader numbers trail births in 32-bit integers: age × rate stays below 2³¹
-            // for ages up to 2·10⁵ s (two days) at the largest rate.
-            Some(r) if !(r.is_finite() && (0.0..=1e4).contains(&r)) => {
-                return fail(
-                    key("trail_rate"),
-                    format!("trail_rate {r} must be a number of children per second in [0, 1e4]"),
-                )
-            }
-            Some(r) if r > 0.0 && b == k => {
-                return fail(
-                    key("trail_rate"),
-                    format!(
-                        "the trail has no texels: on_death takes all {k} per parent; raise \
-                         per_parent above {b}"
-                    ),
-                )
-            }
-            None | Some(0.0) if b == 0 => {
-                return fail(
-                    at.to_vec(),
-                    "a child emitter with neither trail_rate nor on_death never emits: give one",
-                )
-            }
-            _ => {}
-        }
-        if let Some(f) = e
-            .inherit_velocity
-            .filter(|f| !(f.is_finite() && f.abs() <= 10.0))
-        {
-            return fail(
-                key("inherit_velocity"),
-                format!("inherit_velocity {f} must be a factor within [-10, 10] (1: the parent's velocity)"),
-            );
-        }
+        child(&at, e, parents)?;
+        child_births(&at, e)?;
     }
     if em.child.is_empty() {
         return Ok(());
     }
+    child_combinations(s)
+}
+
+/// `[[emitters.child]]` at `at`: no keys of the other kinds, the spawn keys, a parent, a life.
+fn child(at: &[Key], e: &Emitter, parents: usize) -> Check {
+    let key = |k| [at, &[N(k)]].concat();
+    if let Some(k) = [
+        ("rate", e.rate.is_some()),
+        ("allocator", e.allocator.is_some()),
+        ("cycle", e.cycle.is_some()),
+        ("release_spread", e.release_spread.is_some()),
+        ("release_cloud", e.release_cloud.is_some()),
+        ("bursts", !e.bursts.is_empty()),
+    ]
+    .iter()
+    .find(|k| k.1)
+    {
+        return fail(
+            key(k.0),
+            format!(
+                "`{}` does not apply to child emitters: their births follow their parents \
+                 (use trail_rate and on_death)",
+                k.0
+            ),
+        );
+    }
+    super::emitters::check_spawn(at, e)?;
+    if parents == 0 {
+        return fail(
+            at.to_vec(),
+            "a child emitter needs a parent: add an allocator, timestamp or initial emitter",
+        );
+    }
+    if e.parent.unwrap_or(0) as usize >= parents {
+        return fail(
+            key("parent"),
+            format!(
+                "parent {} is not an emitter of this scene: give the type number of one of \
+                 its {parents} other emitter(s), 0 to {}",
+                e.parent.unwrap_or(0),
+                parents - 1
+            ),
+        );
+    }
+    if e.life.is_none() {
+        return fail(
+            at.to_vec(),
+            "a child emitter needs `life` = [min, max] seconds",
+        );
+    }
+    Ok(())
+}
+
+/// `[[emitters.child]]` at `at`: texels per parent, births at death and along the trail.
+fn child_births(at: &[Key], e: &Emitter) -> Check {
+    let key = |k| [at, &[N(k)]].concat();
+    let k = match e.per_parent {
+        None | Some(0) => {
+            return fail(
+                key("per_parent"),
+                "a child emitter needs per_parent, the texels reserved for each parent's \
+                 children (at least 1)",
+            )
+        }
+        Some(k) => k,
+    };
+    let b = e.on_death.unwrap_or(0);
+    if b > k {
+        return fail(
+            key("on_death"),
+            format!(
+                "on_death {b} children do not fit the {k} texels per parent: raise \
+                 per_parent to at least {b}"
+            ),
+        );
+    }
+    match e.trail_rate {
+        // The shader numbers trail births in 32-bit integers: age × rate stays below 2³¹
+        // for ages up to 2·10⁵ s (two days) at the largest rate.
+        Some(r) if !(r.is_finite() && (0.0..=1e4).contains(&r)) => {
+            return fail(
+                key("trail_rate"),
+                format!("trail_rate {r} must be a number of children per second in [0, 1e4]"),
+            )
+        }
+        Some(r) if r > 0.0 && b == k => {
+            return fail(
+                key("trail_rate"),
+                format!(
+                    "the trail has no texels: on_death takes all {k} per parent; raise \
+                     per_parent above {b}"
+                ),
+            )
+        }
+        None | Some(0.0) if b == 0 => {
+            return fail(
+                at.to_vec(),
+                "a child emitter with neither trail_rate nor on_death never emits: give one",
+            )
+        }
+        _ => {}
+    }
+    if let Some(f) = e
+        .inherit_velocity
+        .filter(|f| !(f.is_finite() && f.abs() <= 10.0))
+    {
+        return fail(
+            key("inherit_velocity"),
+            format!(
+                "inherit_velocity {f} must be a factor within [-10, 10] (1: the parent's velocity)"
+            ),
+        );
+    }
+    Ok(())
+}
+
+/// With child emitters: room for a parent and its children, and no feature that moves texels
+/// or keeps no velocity.
+fn child_combinations(s: &SceneFile) -> Check {
     let at = |k| path(&[N("emitters"), N("child"), I(0), N(k)]);
     let layout = s.child_layout();
     if layout.parent_slots == 0 {

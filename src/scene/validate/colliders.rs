@@ -2,7 +2,9 @@
 
 use super::{bounded, direction, fail, nonzero, path, Check};
 use crate::scene::locate::Key;
-use crate::scene::schema::SceneFile;
+use crate::scene::schema::{
+    BoxCollider, HeightFieldCollider, PlaneCollider, SceneFile, SdfCollider, SphereCollider,
+};
 
 use Key::{Index as I, Name as N};
 
@@ -24,52 +26,13 @@ pub(super) fn colliders(s: &SceneFile) -> Check {
         );
     }
     for (i, p) in c.plane.iter().enumerate() {
-        if !nonzero(p.normal) {
-            return fail(
-                path(&[N("colliders"), N("plane"), I(i), N("normal")]),
-                "normal must not be zero",
-            );
-        }
-        let at = |k| path(&[N("colliders"), N("plane"), I(i), N(k)]);
-        direction(at("normal"), "normal", p.normal)?;
-        bounded(at("point"), "point", &p.point)?;
-        check_response(
-            path(&[N("colliders"), N("plane"), I(i)]),
-            p.friction,
-            p.resilience,
-        )?;
+        plane(i, p)?;
     }
     for (i, s) in c.sphere.iter().enumerate() {
-        let at = |k| path(&[N("colliders"), N("sphere"), I(i), N(k)]);
-        bounded(at("center"), "center", &s.center)?;
-        bounded(at("radius"), "radius", &[s.radius])?;
-        if s.radius <= 0.0 {
-            return fail(
-                path(&[N("colliders"), N("sphere"), I(i), N("radius")]),
-                "radius must be above 0",
-            );
-        }
-        check_response(
-            path(&[N("colliders"), N("sphere"), I(i)]),
-            s.friction,
-            s.resilience,
-        )?;
+        sphere(i, s)?;
     }
     for (i, b) in c.boxes.iter().enumerate() {
-        let at = |k| path(&[N("colliders"), N("box"), I(i), N(k)]);
-        bounded(at("min"), "min", &b.min)?;
-        bounded(at("max"), "max", &b.max)?;
-        if (0..3).any(|k| b.min[k] >= b.max[k]) {
-            return fail(
-                path(&[N("colliders"), N("box"), I(i), N("max")]),
-                "max must exceed min on every axis",
-            );
-        }
-        check_response(
-            path(&[N("colliders"), N("box"), I(i)]),
-            b.friction,
-            b.resilience,
-        )?;
+        aabb(i, b)?;
     }
     bounded(
         path(&[N("colliders"), N("slow_speed")]),
@@ -77,135 +40,204 @@ pub(super) fn colliders(s: &SceneFile) -> Check {
         &[c.slow_speed],
     )?;
     for (i, hf) in c.heightfield.iter().enumerate() {
-        let at = |k| path(&[N("colliders"), N("heightfield"), I(i), N(k)]);
-        // Heights and extents are coordinates; the frequency (1/m) multiplies one inside a sine.
-        bounded(at("extent"), "extent", &hf.extent)?;
-        bounded(at("base"), "base", &[hf.base])?;
-        bounded(at("amplitude"), "amplitude", &[hf.amplitude])?;
-        bounded(at("frequency"), "frequency", &[hf.frequency])?;
-        match (&hf.image, &hf.npy) {
-            (Some(_), Some(_)) => {
-                return fail(
-                    at("npy"),
-                    "a height field is an image or an npy file: remove one",
-                );
-            }
-            (None, None) => {
-                if !(2..=4096).contains(&hf.resolution) {
-                    return fail(at("resolution"), "resolution must lie in 2..=4096");
-                }
-                if hf.frequency <= 0.0 {
-                    return fail(
-                        at("frequency"),
-                        "procedural hills need a frequency above 0 (1/m), or give image or npy",
-                    );
-                }
-            }
-            _ if hf.resolution != 0 || hf.frequency != 0.0 => {
-                return fail(
-                    at(if hf.resolution != 0 {
-                        "resolution"
-                    } else {
-                        "frequency"
-                    }),
-                    "a height field from a file takes its resolution from the file and has no \
-                     frequency: remove the key",
-                );
-            }
-            _ => {}
-        }
-        if hf.extent[0] >= hf.extent[2] || hf.extent[1] >= hf.extent[3] {
-            return fail(
-                path(&[N("colliders"), N("heightfield"), I(i), N("extent")]),
-                "extent must be [min x, min z, max x, max z] with min < max",
-            );
-        }
-        check_response(
-            path(&[N("colliders"), N("heightfield"), I(i)]),
-            hf.friction,
-            hf.resilience,
-        )?;
+        heightfield(i, hf)?;
     }
     for (i, sdf) in c.sdf.iter().enumerate() {
         if sdf.field.is_some() {
-            let at = |k| path(&[N("colliders"), N("sdf"), I(i), N(k)]);
-            if sdf.resolution != 0 || sdf.mesh.is_some() {
-                return fail(
-                    at(if sdf.resolution != 0 {
-                        "resolution"
-                    } else {
-                        "mesh"
-                    }),
-                    "a distance field from a file takes its resolution and shape from the file: \
-                     remove the key",
-                );
-            }
-            if !(sdf.spheres.is_empty() && sdf.boxes.is_empty()) {
-                return fail(
-                    at("field"),
-                    "a distance field is a file or spheres and boxes: remove one",
-                );
-            }
-            for (c, corner) in sdf.bounds.iter().enumerate() {
-                bounded(
-                    path(&[N("colliders"), N("sdf"), I(i), N("bounds"), I(c)]),
-                    "bounds",
-                    corner,
-                )?;
-            }
-            check_response(
-                path(&[N("colliders"), N("sdf"), I(i)]),
-                sdf.friction,
-                sdf.resilience,
-            )?;
-            continue;
+            sdf_file(i, sdf)?;
+        } else {
+            sdf_shapes(i, sdf)?;
         }
-        if !(2..=256).contains(&sdf.resolution) {
+    }
+    Ok(())
+}
+
+/// `[[colliders.plane]]` number `i`.
+fn plane(i: usize, p: &PlaneCollider) -> Check {
+    if !nonzero(p.normal) {
+        return fail(
+            path(&[N("colliders"), N("plane"), I(i), N("normal")]),
+            "normal must not be zero",
+        );
+    }
+    let at = |k| path(&[N("colliders"), N("plane"), I(i), N(k)]);
+    direction(at("normal"), "normal", p.normal)?;
+    bounded(at("point"), "point", &p.point)?;
+    check_response(
+        path(&[N("colliders"), N("plane"), I(i)]),
+        p.friction,
+        p.resilience,
+    )
+}
+
+/// `[[colliders.sphere]]` number `i`.
+fn sphere(i: usize, s: &SphereCollider) -> Check {
+    let at = |k| path(&[N("colliders"), N("sphere"), I(i), N(k)]);
+    bounded(at("center"), "center", &s.center)?;
+    bounded(at("radius"), "radius", &[s.radius])?;
+    if s.radius <= 0.0 {
+        return fail(
+            path(&[N("colliders"), N("sphere"), I(i), N("radius")]),
+            "radius must be above 0",
+        );
+    }
+    check_response(
+        path(&[N("colliders"), N("sphere"), I(i)]),
+        s.friction,
+        s.resilience,
+    )
+}
+
+/// `[[colliders.box]]` number `i`.
+fn aabb(i: usize, b: &BoxCollider) -> Check {
+    let at = |k| path(&[N("colliders"), N("box"), I(i), N(k)]);
+    bounded(at("min"), "min", &b.min)?;
+    bounded(at("max"), "max", &b.max)?;
+    if (0..3).any(|k| b.min[k] >= b.max[k]) {
+        return fail(
+            path(&[N("colliders"), N("box"), I(i), N("max")]),
+            "max must exceed min on every axis",
+        );
+    }
+    check_response(
+        path(&[N("colliders"), N("box"), I(i)]),
+        b.friction,
+        b.resilience,
+    )
+}
+
+/// `[[colliders.heightfield]]` number `i`: procedural hills or heights from a file.
+fn heightfield(i: usize, hf: &HeightFieldCollider) -> Check {
+    let at = |k| path(&[N("colliders"), N("heightfield"), I(i), N(k)]);
+    // Heights and extents are coordinates; the frequency (1/m) multiplies one inside a sine.
+    bounded(at("extent"), "extent", &hf.extent)?;
+    bounded(at("base"), "base", &[hf.base])?;
+    bounded(at("amplitude"), "amplitude", &[hf.amplitude])?;
+    bounded(at("frequency"), "frequency", &[hf.frequency])?;
+    match (&hf.image, &hf.npy) {
+        (Some(_), Some(_)) => {
             return fail(
-                path(&[N("colliders"), N("sdf"), I(i), N("resolution")]),
-                "resolution must lie in 2..=256",
+                at("npy"),
+                "a height field is an image or an npy file: remove one",
             );
         }
-        for (c, corner) in sdf.bounds.iter().enumerate() {
-            bounded(
-                path(&[N("colliders"), N("sdf"), I(i), N("bounds"), I(c)]),
-                "bounds",
-                corner,
-            )?;
-        }
-        let at = |k| path(&[N("colliders"), N("sdf"), I(i), N(k)]);
-        for (k, sphere) in sdf.spheres.iter().enumerate() {
-            bounded([&at("spheres")[..], &[I(k)]].concat(), "sphere", sphere)?;
-        }
-        for (k, b) in sdf.boxes.iter().enumerate() {
-            bounded([&at("boxes")[..], &[I(k)]].concat(), "box", b)?;
-        }
-        let shapes = !(sdf.spheres.is_empty() && sdf.boxes.is_empty());
-        match &sdf.mesh {
-            None if !shapes => {
+        (None, None) => {
+            if !(2..=4096).contains(&hf.resolution) {
+                return fail(at("resolution"), "resolution must lie in 2..=4096");
+            }
+            if hf.frequency <= 0.0 {
                 return fail(
-                    path(&[N("colliders"), N("sdf"), I(i)]),
-                    "a distance field needs at least one sphere or box, or a mesh",
+                    at("frequency"),
+                    "procedural hills need a frequency above 0 (1/m), or give image or npy",
                 );
             }
-            Some(_) if shapes => {
-                return fail(
-                    path(&[N("colliders"), N("sdf"), I(i), N("mesh")]),
-                    "a distance field is either a mesh or spheres and boxes: remove one",
-                );
-            }
-            Some(m) if m.trim().is_empty() => {
-                return fail(
-                    path(&[N("colliders"), N("sdf"), I(i), N("mesh")]),
-                    "mesh must name an OBJ file (relative to the scene file)",
-                );
-            }
-            _ => {}
         }
-        check_response(
-            path(&[N("colliders"), N("sdf"), I(i)]),
-            sdf.friction,
-            sdf.resilience,
+        _ if hf.resolution != 0 || hf.frequency != 0.0 => {
+            return fail(
+                at(if hf.resolution != 0 {
+                    "resolution"
+                } else {
+                    "frequency"
+                }),
+                "a height field from a file takes its resolution from the file and has no \
+                 frequency: remove the key",
+            );
+        }
+        _ => {}
+    }
+    if hf.extent[0] >= hf.extent[2] || hf.extent[1] >= hf.extent[3] {
+        return fail(
+            path(&[N("colliders"), N("heightfield"), I(i), N("extent")]),
+            "extent must be [min x, min z, max x, max z] with min < max",
+        );
+    }
+    check_response(
+        path(&[N("colliders"), N("heightfield"), I(i)]),
+        hf.friction,
+        hf.resilience,
+    )
+}
+
+/// `[[colliders.sdf]]` number `i` read from a `field` file: no shapes, no resolution.
+fn sdf_file(i: usize, sdf: &SdfCollider) -> Check {
+    let at = |k| path(&[N("colliders"), N("sdf"), I(i), N(k)]);
+    if sdf.resolution != 0 || sdf.mesh.is_some() {
+        return fail(
+            at(if sdf.resolution != 0 {
+                "resolution"
+            } else {
+                "mesh"
+            }),
+            "a distance field from a file takes its resolution and shape from the file: \
+             remove the key",
+        );
+    }
+    if !(sdf.spheres.is_empty() && sdf.boxes.is_empty()) {
+        return fail(
+            at("field"),
+            "a distance field is a file or spheres and boxes: remove one",
+        );
+    }
+    sdf_bounds(i, sdf)?;
+    check_response(
+        path(&[N("colliders"), N("sdf"), I(i)]),
+        sdf.friction,
+        sdf.resilience,
+    )
+}
+
+/// `[[colliders.sdf]]` number `i` baked from spheres and boxes, or from a mesh.
+fn sdf_shapes(i: usize, sdf: &SdfCollider) -> Check {
+    if !(2..=256).contains(&sdf.resolution) {
+        return fail(
+            path(&[N("colliders"), N("sdf"), I(i), N("resolution")]),
+            "resolution must lie in 2..=256",
+        );
+    }
+    sdf_bounds(i, sdf)?;
+    let at = |k| path(&[N("colliders"), N("sdf"), I(i), N(k)]);
+    for (k, sphere) in sdf.spheres.iter().enumerate() {
+        bounded([&at("spheres")[..], &[I(k)]].concat(), "sphere", sphere)?;
+    }
+    for (k, b) in sdf.boxes.iter().enumerate() {
+        bounded([&at("boxes")[..], &[I(k)]].concat(), "box", b)?;
+    }
+    let shapes = !(sdf.spheres.is_empty() && sdf.boxes.is_empty());
+    match &sdf.mesh {
+        None if !shapes => {
+            return fail(
+                path(&[N("colliders"), N("sdf"), I(i)]),
+                "a distance field needs at least one sphere or box, or a mesh",
+            );
+        }
+        Some(_) if shapes => {
+            return fail(
+                path(&[N("colliders"), N("sdf"), I(i), N("mesh")]),
+                "a distance field is either a mesh or spheres and boxes: remove one",
+            );
+        }
+        Some(m) if m.trim().is_empty() => {
+            return fail(
+                path(&[N("colliders"), N("sdf"), I(i), N("mesh")]),
+                "mesh must name an OBJ file (relative to the scene file)",
+            );
+        }
+        _ => {}
+    }
+    check_response(
+        path(&[N("colliders"), N("sdf"), I(i)]),
+        sdf.friction,
+        sdf.resilience,
+    )
+}
+
+/// The corners of `[[colliders.sdf]]` number `i`'s `bounds`.
+fn sdf_bounds(i: usize, sdf: &SdfCollider) -> Check {
+    for (c, corner) in sdf.bounds.iter().enumerate() {
+        bounded(
+            path(&[N("colliders"), N("sdf"), I(i), N("bounds"), I(c)]),
+            "bounds",
+            corner,
         )?;
     }
     Ok(())

@@ -2,7 +2,9 @@
 
 use super::{bounded, direction, fail, path, Check};
 use crate::scene::locate::Key;
-use crate::scene::schema::{ConstraintKind, Integrator, SceneFile, MAX_CONSTRAINT_ITERATIONS};
+use crate::scene::schema::{
+    ConstraintKind, Constraints, Integrator, SceneFile, MAX_CONSTRAINT_ITERATIONS,
+};
 
 use Key::{Index as I, Name as N};
 
@@ -37,43 +39,7 @@ pub(super) fn constraints(s: &SceneFile) -> Check {
         return Ok(());
     };
     let at = |k| path(&[N("constraints"), N(k)]);
-    if !(1..=MAX_CONSTRAINT_ITERATIONS).contains(&c.iterations) {
-        return fail(
-            at("iterations"),
-            format!(
-                "iterations {} must lie in 1..={MAX_CONSTRAINT_ITERATIONS} relaxation passes per \
-                 step",
-                c.iterations
-            ),
-        );
-    }
-    if !(c.stiffness > 0.0 && c.stiffness <= 1.0) {
-        return fail(
-            at("stiffness"),
-            format!(
-                "stiffness {} is outside (0, 1]: it is the share of the averaged correction \
-                 applied per pass",
-                c.stiffness
-            ),
-        );
-    }
-    bounded(at("spacing"), "spacing", &[c.spacing])?;
-    if c.spacing <= 0.0 {
-        return fail(
-            at("spacing"),
-            format!("spacing {} m must be above 0", c.spacing),
-        );
-    }
-    bounded(at("origin"), "origin", &c.origin)?;
-    direction(at("u"), "u", c.u)?;
-    direction(at("v"), "v", c.v)?;
-    let (u, v) = (glam::Vec3::from(c.u), glam::Vec3::from(c.v));
-    if u.normalize().cross(v.normalize()).length() < 1e-3 {
-        return fail(
-            at("v"),
-            "u and v are parallel: the sheet would have no area; give two directions across it",
-        );
-    }
+    sheet(c)?;
     let [w, h] = s.particles.size;
     for (i, p) in c.pinned.iter().enumerate() {
         if crate::scene::Constraints::pinned_texel(*p, [w, h]).is_none() {
@@ -134,6 +100,49 @@ pub(super) fn constraints(s: &SceneFile) -> Check {
         return fail(
             path(&[N("collisions")]),
             "collisions need an explicit integrator and constraints need Verlet: remove one",
+        );
+    }
+    Ok(())
+}
+
+/// `[constraints]` relaxation keys and the sheet's spacing, origin and two directions.
+fn sheet(c: &Constraints) -> Check {
+    let at = |k| path(&[N("constraints"), N(k)]);
+    if !(1..=MAX_CONSTRAINT_ITERATIONS).contains(&c.iterations) {
+        return fail(
+            at("iterations"),
+            format!(
+                "iterations {} must lie in 1..={MAX_CONSTRAINT_ITERATIONS} relaxation passes per \
+                 step",
+                c.iterations
+            ),
+        );
+    }
+    if !(c.stiffness > 0.0 && c.stiffness <= 1.0) {
+        return fail(
+            at("stiffness"),
+            format!(
+                "stiffness {} is outside (0, 1]: it is the share of the averaged correction \
+                 applied per pass",
+                c.stiffness
+            ),
+        );
+    }
+    bounded(at("spacing"), "spacing", &[c.spacing])?;
+    if c.spacing <= 0.0 {
+        return fail(
+            at("spacing"),
+            format!("spacing {} m must be above 0", c.spacing),
+        );
+    }
+    bounded(at("origin"), "origin", &c.origin)?;
+    direction(at("u"), "u", c.u)?;
+    direction(at("v"), "v", c.v)?;
+    let (u, v) = (glam::Vec3::from(c.u), glam::Vec3::from(c.v));
+    if u.normalize().cross(v.normalize()).length() < 1e-3 {
+        return fail(
+            at("v"),
+            "u and v are parallel: the sheet would have no area; give two directions across it",
         );
     }
     Ok(())

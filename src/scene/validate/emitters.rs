@@ -2,13 +2,44 @@
 
 use super::{bounded, direction, duration, fail, mass, nonzero, path, Check, MAX_COORDINATE};
 use crate::scene::locate::Key;
-use crate::scene::schema::{Emitter, SceneFile, Shape, MAX_EMITTERS};
+use crate::scene::schema::{Emitter, Emitters, SceneFile, Shape, MAX_EMITTERS};
 
 use Key::{Index as I, Name as N};
 
 /// `[[emitters.allocator]]`, `[[emitters.timestamp]]`, `[[emitters.initial]]`.
 pub(super) fn emitters(s: &SceneFile) -> Check {
     let em = &s.emitters;
+    one_kind_and_count(em)?;
+    for (kind, list) in [("allocator", &em.allocator), ("timestamp", &em.timestamp)] {
+        for (i, e) in list.iter().enumerate() {
+            if e.life.is_none() {
+                return fail(
+                    vec![N("emitters"), N(kind), I(i)],
+                    format!("a {kind} emitter needs `life` = [min, max] seconds"),
+                );
+            }
+        }
+    }
+    for (i, e) in em.initial.iter().enumerate() {
+        initial(i, e)?;
+    }
+    if s.fire.is_some() && !em.is_empty() {
+        return fail(
+            path(&[N("fire")]),
+            "[fire] respawns its particles in the shader: remove the emitters, or [fire]",
+        );
+    }
+    for (i, e) in s.emitters.allocator.iter().enumerate() {
+        allocator(s, i, e)?;
+    }
+    for (i, e) in s.emitters.timestamp.iter().enumerate() {
+        timestamp(s, i, e)?;
+    }
+    Ok(())
+}
+
+/// One kind of parent emitter per scene, and at most [`MAX_EMITTERS`] with the child emitters.
+fn one_kind_and_count(em: &Emitters) -> Check {
     let kinds = [
         !em.allocator.is_empty(),
         !em.timestamp.is_empty(),
@@ -55,136 +86,127 @@ pub(super) fn emitters(s: &SceneFile) -> Check {
             ),
         );
     }
-    for (kind, list) in [("allocator", &em.allocator), ("timestamp", &em.timestamp)] {
-        for (i, e) in list.iter().enumerate() {
-            if e.life.is_none() {
-                return fail(
-                    vec![N("emitters"), N(kind), I(i)],
-                    format!("a {kind} emitter needs `life` = [min, max] seconds"),
-                );
-            }
-        }
-    }
-    for (i, e) in em.initial.iter().enumerate() {
-        let at = [N("emitters"), N("initial"), I(i)];
-        if let Some(k) = [
-            ("rate", e.rate.is_some()),
-            ("allocator", e.allocator.is_some()),
-            ("cycle", e.cycle.is_some()),
-            ("release_spread", e.release_spread.is_some()),
-            ("release_cloud", e.release_cloud.is_some()),
-        ]
-        .iter()
-        .find(|k| k.1)
-        {
-            return fail(
-                [&at[..], &[N(k.0)]].concat(),
-                format!("`{}` does not apply to initial emitters", k.0),
-            );
-        }
-        check_spawn(&at, e)?;
-    }
-    if s.fire.is_some() && !em.is_empty() {
+    Ok(())
+}
+
+/// `[[emitters.initial]]` number `i`: no keys of the emitting kinds.
+fn initial(i: usize, e: &Emitter) -> Check {
+    let at = [N("emitters"), N("initial"), I(i)];
+    if let Some(k) = [
+        ("rate", e.rate.is_some()),
+        ("allocator", e.allocator.is_some()),
+        ("cycle", e.cycle.is_some()),
+        ("release_spread", e.release_spread.is_some()),
+        ("release_cloud", e.release_cloud.is_some()),
+    ]
+    .iter()
+    .find(|k| k.1)
+    {
         return fail(
-            path(&[N("fire")]),
-            "[fire] respawns its particles in the shader: remove the emitters, or [fire]",
+            [&at[..], &[N(k.0)]].concat(),
+            format!("`{}` does not apply to initial emitters", k.0),
         );
     }
-    for (i, e) in s.emitters.allocator.iter().enumerate() {
-        let at = [N("emitters"), N("allocator"), I(i)];
-        let key = |k| [&at[..], &[N(k)]].concat();
-        match e.rate {
-            // Bursts alone are a way to emit too.
-            r if !e.bursts.is_empty() && r.unwrap_or(0.0) == 0.0 => {}
-            None => {
-                return fail(
-                    at.to_vec(),
-                    "an allocator emitter needs `rate` (particles per second)",
-                )
-            }
-            Some(r) if r <= 0.0 => {
-                return fail(
-                    key("rate"),
-                    "rate must be above 0 particles per second (0 only with `bursts`)",
-                )
-            }
-            Some(r) if r as f64 * s.time.dt as f64 > s.particle_count() as f64 => {
-                return fail(
-                    key("rate"),
-                    format!(
-                        "rate {r} per second times dt {} s is {} births per step, more than \
-                         the {} particles of the state: lower the rate or dt",
-                        s.time.dt,
-                        r as f64 * s.time.dt as f64,
-                        s.particle_count()
-                    ),
-                )
-            }
-            _ => {}
-        }
-        if e.cycle.is_some() || e.release_spread.is_some() || e.release_cloud.is_some() {
-            let k = if e.cycle.is_some() {
-                "cycle"
-            } else if e.release_spread.is_some() {
-                "release_spread"
-            } else {
-                "release_cloud"
-            };
+    check_spawn(&at, e)
+}
+
+/// `[[emitters.allocator]]` number `i`: a rate (or bursts) the state can hold, no timestamp keys.
+fn allocator(s: &SceneFile, i: usize, e: &Emitter) -> Check {
+    let at = [N("emitters"), N("allocator"), I(i)];
+    let key = |k| [&at[..], &[N(k)]].concat();
+    match e.rate {
+        // Bursts alone are a way to emit too.
+        r if !e.bursts.is_empty() && r.unwrap_or(0.0) == 0.0 => {}
+        None => {
             return fail(
-                key(k),
-                format!("`{k}` belongs to timestamp emitters ([[emitters.timestamp]])"),
-            );
+                at.to_vec(),
+                "an allocator emitter needs `rate` (particles per second)",
+            )
         }
-        check_spawn(&at, e)?;
+        Some(r) if r <= 0.0 => {
+            return fail(
+                key("rate"),
+                "rate must be above 0 particles per second (0 only with `bursts`)",
+            )
+        }
+        Some(r) if r as f64 * s.time.dt as f64 > s.particle_count() as f64 => {
+            return fail(
+                key("rate"),
+                format!(
+                    "rate {r} per second times dt {} s is {} births per step, more than \
+                     the {} particles of the state: lower the rate or dt",
+                    s.time.dt,
+                    r as f64 * s.time.dt as f64,
+                    s.particle_count()
+                ),
+            )
+        }
+        _ => {}
     }
-    for (i, e) in s.emitters.timestamp.iter().enumerate() {
-        let at = [N("emitters"), N("timestamp"), I(i)];
-        let key = |k| [&at[..], &[N(k)]].concat();
-        if e.rate.is_some() || e.allocator.is_some() {
+    if e.cycle.is_some() || e.release_spread.is_some() || e.release_cloud.is_some() {
+        let k = if e.cycle.is_some() {
+            "cycle"
+        } else if e.release_spread.is_some() {
+            "release_spread"
+        } else {
+            "release_cloud"
+        };
+        return fail(
+            key(k),
+            format!("`{k}` belongs to timestamp emitters ([[emitters.timestamp]])"),
+        );
+    }
+    check_spawn(&at, e)
+}
+
+/// `[[emitters.timestamp]]` number `i`: a cycle no shorter than the life, release keys in range.
+fn timestamp(s: &SceneFile, i: usize, e: &Emitter) -> Check {
+    let at = [N("emitters"), N("timestamp"), I(i)];
+    let key = |k| [&at[..], &[N(k)]].concat();
+    if e.rate.is_some() || e.allocator.is_some() {
+        return fail(
+            key(if e.rate.is_some() {
+                "rate"
+            } else {
+                "allocator"
+            }),
+            "`rate` and `allocator` belong to allocator emitters ([[emitters.allocator]])",
+        );
+    }
+    check_spawn(&at, e)?;
+    match e.cycle {
+        None => return fail(at.to_vec(), "a timestamp emitter needs `cycle` (seconds)"),
+        Some(c) if e.life.is_some_and(|l| c < l[1]) => {
+            return fail(key("cycle"), "cycle must be at least the longest life")
+        }
+        Some(c) => duration(key("cycle"), "cycle", c)?,
+    }
+    if let Some(r) = e.release_spread {
+        if r.iter().any(|v| !v.is_finite() || *v < 0.0 || *v > 1e6) {
             return fail(
-                key(if e.rate.is_some() {
-                    "rate"
-                } else {
-                    "allocator"
-                }),
-                "`rate` and `allocator` belong to allocator emitters ([[emitters.allocator]])",
+                key("release_spread"),
+                "release_spread takes three sizes in metres from 0 to 1e6, e.g. [4.0, 4.0, 4.0]",
             );
         }
-        check_spawn(&at, e)?;
-        match e.cycle {
-            None => return fail(at.to_vec(), "a timestamp emitter needs `cycle` (seconds)"),
-            Some(c) if e.life.is_some_and(|l| c < l[1]) => {
-                return fail(key("cycle"), "cycle must be at least the longest life")
-            }
-            Some(c) => duration(key("cycle"), "cycle", c)?,
+    }
+    match (e.release_cloud, e.release_spread) {
+        (Some(_), None) => {
+            return fail(
+                key("release_cloud"),
+                "release_cloud splits the releases that release_spread places: add \
+                 release_spread = [x, y, z]",
+            )
         }
-        if let Some(r) = e.release_spread {
-            if r.iter().any(|v| !v.is_finite() || *v < 0.0 || *v > 1e6) {
-                return fail(
-                    key("release_spread"),
-                    "release_spread takes three sizes in metres from 0 to 1e6, e.g. [4.0, 4.0, 4.0]",
-                );
-            }
+        (Some(c), _) if c == 0 || c as u64 > s.particle_count() => {
+            return fail(
+                key("release_cloud"),
+                format!(
+                    "release_cloud is a count of texels from 1 to the {} particles",
+                    s.particle_count()
+                ),
+            )
         }
-        match (e.release_cloud, e.release_spread) {
-            (Some(_), None) => {
-                return fail(
-                    key("release_cloud"),
-                    "release_cloud splits the releases that release_spread places: add \
-                     release_spread = [x, y, z]",
-                )
-            }
-            (Some(c), _) if c == 0 || c as u64 > s.particle_count() => {
-                return fail(
-                    key("release_cloud"),
-                    format!(
-                        "release_cloud is a count of texels from 1 to the {} particles",
-                        s.particle_count()
-                    ),
-                )
-            }
-            _ => {}
-        }
+        _ => {}
     }
     Ok(())
 }
@@ -208,29 +230,7 @@ pub(super) fn check_spawn(at: &[Key], s: &Emitter) -> Check {
         }
         duration([&p("life")[..], &[I(1)]].concat(), "life", life[1])?;
     }
-    if let Some(m) = s.mass.filter(|m| *m <= 0.0) {
-        return fail(p("mass"), format!("mass {m} must be above 0 kg"));
-    }
-    if let Some(m) = s.mass {
-        mass(p("mass"), m)?;
-    }
-    if let Some([lo, hi]) = s.mass_range {
-        if s.mass.is_some() {
-            return fail(
-                p("mass_range"),
-                "give mass (one mass for the type) or mass_range (a mass per particle), not both",
-            );
-        }
-        if !(lo > 0.0 && lo <= hi && hi.is_finite()) {
-            return fail(
-                p("mass_range"),
-                format!("mass_range [{lo}, {hi}] must be [lo, hi] with 0 < lo <= hi (kg)"),
-            );
-        }
-        for (i, m) in [lo, hi].into_iter().enumerate() {
-            mass([&p("mass_range")[..], &[I(i)]].concat(), m)?;
-        }
-    }
+    spawn_mass(p, s)?;
     if s.sprite_scale <= 0.0 {
         return fail(
             p("sprite_scale"),
@@ -272,6 +272,34 @@ pub(super) fn check_spawn(at: &[Key], s: &Emitter) -> Check {
         }
         _ => Ok(()),
     }
+}
+
+/// An emitter's `mass` (one for the type) or `mass_range` (one per particle), never both.
+fn spawn_mass(p: impl Fn(&'static str) -> Vec<Key>, s: &Emitter) -> Check {
+    if let Some(m) = s.mass.filter(|m| *m <= 0.0) {
+        return fail(p("mass"), format!("mass {m} must be above 0 kg"));
+    }
+    if let Some(m) = s.mass {
+        mass(p("mass"), m)?;
+    }
+    if let Some([lo, hi]) = s.mass_range {
+        if s.mass.is_some() {
+            return fail(
+                p("mass_range"),
+                "give mass (one mass for the type) or mass_range (a mass per particle), not both",
+            );
+        }
+        if !(lo > 0.0 && lo <= hi && hi.is_finite()) {
+            return fail(
+                p("mass_range"),
+                format!("mass_range [{lo}, {hi}] must be [lo, hi] with 0 < lo <= hi (kg)"),
+            );
+        }
+        for (i, m) in [lo, hi].into_iter().enumerate() {
+            mass([&p("mass_range")[..], &[I(i)]].concat(), m)?;
+        }
+    }
+    Ok(())
 }
 
 /// What [`SceneFile::capacity_check`] predicts: allocator emitters that want more live particles

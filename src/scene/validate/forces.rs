@@ -3,8 +3,8 @@
 use super::{bounded, direction, fail, nonzero, Check, MAX_COORDINATE};
 use crate::scene::locate::Key;
 use crate::scene::schema::{
-    Falloff, Forces, SceneFile, Simulation, VortexForm, WindForm, MAX_CUSTOM_FORCES,
-    MAX_EMITTER_FORCES,
+    Attractor, Falloff, Forces, SceneFile, Simulation, Vortex, VortexForm, Wind, WindForm,
+    MAX_CUSTOM_FORCES, MAX_EMITTER_FORCES,
 };
 
 use Key::{Index as I, Name as N};
@@ -127,108 +127,13 @@ fn kinds(s: &SceneFile, base: &[Key], f: &Forces) -> Check {
         }
     }
     for (i, v) in f.vortex.iter().enumerate() {
-        if !nonzero(v.axis) {
-            return fail(
-                at(base, &[N("vortex"), I(i), N("axis")]),
-                "axis must not be zero",
-            );
-        }
-        let at = |k| at(base, &[N("vortex"), I(i), N(k)]);
-        direction(at("axis"), "axis", v.axis)?;
-        if v.softening <= 0.0 {
-            return fail(at("softening"), "softening must be above 0");
-        }
-        if v.max_distance.is_some_and(|d| d <= 0.0) {
-            return fail(at("max_distance"), "max_distance must be above 0");
-        }
-        if v.form == VortexForm::Swirl
-            && (v.max_distance.is_some() || v.falloff != Falloff::InverseSquare)
-        {
-            return fail(
-                at("form"),
-                "falloff and max_distance belong to form = \"latta\" (Latta §3.4.2: towards \
-                 the closest point on the line); the swirl has a fixed core",
-            );
-        }
-        bounded(at("point"), "point", &v.point)?;
-        bounded(at("strength"), "strength", &[v.strength])?;
+        vortex(base, i, v)?;
     }
     for (i, a) in f.attractor.iter().enumerate() {
-        if a.softening <= 0.0 {
-            return fail(
-                at(base, &[N("attractor"), I(i), N("softening")]),
-                "softening must be above 0",
-            );
-        }
-        if a.max_distance.is_some_and(|d| d <= 0.0) {
-            return fail(
-                at(base, &[N("attractor"), I(i), N("max_distance")]),
-                "max_distance must be above 0",
-            );
-        }
-        let at = |k| at(base, &[N("attractor"), I(i), N(k)]);
-        bounded(at("position"), "position", &a.position)?;
-        bounded(at("strength"), "strength", &[a.strength])?;
+        attractor(base, i, a)?;
     }
     for (i, wnd) in f.wind.iter().enumerate() {
-        let at = |k| at(base, &[N("wind"), I(i), N(k)]);
-        if wnd.drag < 0.0 {
-            return fail(at("drag"), "drag must not be negative");
-        }
-        if wnd.form == WindForm::Uberflow && wnd.drag != 0.0 {
-            return fail(
-                at("drag"),
-                "form = \"uberflow\" adds the wind velocity to the velocity (UberFlow eq. 1) and \
-                 has no drag: remove drag, or use form = \"drag\" or \"latta\"",
-            );
-        }
-        per_step(at("drag"), "drag", wnd.drag)?;
-        if wnd.form == WindForm::Latta {
-            // Latta eq. 1-2: the drag is a force, divided by the mass: its rate per step is
-            // drag / mass for the lightest particle.
-            let m = lightest(s);
-            per_step(at("drag"), "drag / lightest mass", wnd.drag / m)?;
-        }
-        bounded(at("velocity"), "velocity", &wnd.velocity)?;
-        bounded(at("turbulence"), "turbulence", &[wnd.turbulence])?;
-        for (c, corner) in wnd.bounds.iter().enumerate() {
-            bounded([&at("bounds")[..], &[I(c)]].concat(), "bounds", corner)?;
-        }
-        if wnd.turbulence < 0.0 {
-            return fail(at("turbulence"), "turbulence must not be negative");
-        }
-        bounded(at("curl"), "curl", &[wnd.curl])?;
-        if wnd.curl < 0.0 {
-            return fail(at("curl"), "curl must not be negative");
-        }
-        if !(wnd.curl_scale > 0.0 && wnd.curl_scale <= super::MAX_COORDINATE) {
-            return fail(at("curl_scale"), "curl_scale must be above 0 m");
-        }
-        if wnd.field.is_some() && (wnd.turbulence != 0.0 || wnd.curl != 0.0) {
-            return fail(
-                at(if wnd.curl != 0.0 {
-                    "curl"
-                } else {
-                    "turbulence"
-                }),
-                "a wind from a file is the file's field plus the mean velocity: remove the key",
-            );
-        }
-        if wnd.field.is_some() && wnd.resolution != 32 {
-            return fail(
-                at("resolution"),
-                "a wind from a file takes its resolution from the file's shape: remove resolution",
-            );
-        }
-        if !(2..=256).contains(&wnd.resolution) {
-            return fail(at("resolution"), "resolution must lie in 2..=256");
-        }
-        if (0..3).any(|k| wnd.bounds[0][k] >= wnd.bounds[1][k]) {
-            return fail(
-                at("bounds"),
-                "bounds must be [min corner, max corner] with min < max",
-            );
-        }
+        wind(s, base, i, wnd)?;
     }
     if f.custom.len() > MAX_CUSTOM_FORCES {
         return fail(
@@ -248,6 +153,120 @@ fn kinds(s: &SceneFile, base: &[Key], f: &Forces) -> Check {
         return fail(
             at(base, &[N("wind"), I(1)]),
             "one wind field per scene (it is one 3D texture)",
+        );
+    }
+    Ok(())
+}
+
+/// `vortex` number `i` under `base`.
+fn vortex(base: &[Key], i: usize, v: &Vortex) -> Check {
+    if !nonzero(v.axis) {
+        return fail(
+            at(base, &[N("vortex"), I(i), N("axis")]),
+            "axis must not be zero",
+        );
+    }
+    let at = |k| at(base, &[N("vortex"), I(i), N(k)]);
+    direction(at("axis"), "axis", v.axis)?;
+    if v.softening <= 0.0 {
+        return fail(at("softening"), "softening must be above 0");
+    }
+    if v.max_distance.is_some_and(|d| d <= 0.0) {
+        return fail(at("max_distance"), "max_distance must be above 0");
+    }
+    if v.form == VortexForm::Swirl
+        && (v.max_distance.is_some() || v.falloff != Falloff::InverseSquare)
+    {
+        return fail(
+            at("form"),
+            "falloff and max_distance belong to form = \"latta\" (Latta §3.4.2: towards \
+             the closest point on the line); the swirl has a fixed core",
+        );
+    }
+    bounded(at("point"), "point", &v.point)?;
+    bounded(at("strength"), "strength", &[v.strength])?;
+    Ok(())
+}
+
+/// `attractor` number `i` under `base`.
+fn attractor(base: &[Key], i: usize, a: &Attractor) -> Check {
+    if a.softening <= 0.0 {
+        return fail(
+            at(base, &[N("attractor"), I(i), N("softening")]),
+            "softening must be above 0",
+        );
+    }
+    if a.max_distance.is_some_and(|d| d <= 0.0) {
+        return fail(
+            at(base, &[N("attractor"), I(i), N("max_distance")]),
+            "max_distance must be above 0",
+        );
+    }
+    let at = |k| at(base, &[N("attractor"), I(i), N(k)]);
+    bounded(at("position"), "position", &a.position)?;
+    bounded(at("strength"), "strength", &[a.strength])?;
+    Ok(())
+}
+
+/// `wind` number `i` under `base`: drag per form, procedural or file field, its box.
+fn wind(s: &SceneFile, base: &[Key], i: usize, wnd: &Wind) -> Check {
+    let per_step = |at, what: &str, rate| per_step(s.time.dt, at, what, rate);
+    let at = |k| at(base, &[N("wind"), I(i), N(k)]);
+    if wnd.drag < 0.0 {
+        return fail(at("drag"), "drag must not be negative");
+    }
+    if wnd.form == WindForm::Uberflow && wnd.drag != 0.0 {
+        return fail(
+            at("drag"),
+            "form = \"uberflow\" adds the wind velocity to the velocity (UberFlow eq. 1) and \
+             has no drag: remove drag, or use form = \"drag\" or \"latta\"",
+        );
+    }
+    per_step(at("drag"), "drag", wnd.drag)?;
+    if wnd.form == WindForm::Latta {
+        // Latta eq. 1-2: the drag is a force, divided by the mass: its rate per step is
+        // drag / mass for the lightest particle.
+        let m = lightest(s);
+        per_step(at("drag"), "drag / lightest mass", wnd.drag / m)?;
+    }
+    bounded(at("velocity"), "velocity", &wnd.velocity)?;
+    bounded(at("turbulence"), "turbulence", &[wnd.turbulence])?;
+    for (c, corner) in wnd.bounds.iter().enumerate() {
+        bounded([&at("bounds")[..], &[I(c)]].concat(), "bounds", corner)?;
+    }
+    if wnd.turbulence < 0.0 {
+        return fail(at("turbulence"), "turbulence must not be negative");
+    }
+    bounded(at("curl"), "curl", &[wnd.curl])?;
+    if wnd.curl < 0.0 {
+        return fail(at("curl"), "curl must not be negative");
+    }
+    if !(wnd.curl_scale > 0.0 && wnd.curl_scale <= super::MAX_COORDINATE) {
+        return fail(at("curl_scale"), "curl_scale must be above 0 m");
+    }
+    if wnd.field.is_some() && (wnd.turbulence != 0.0 || wnd.curl != 0.0) {
+        return fail(
+            at(if wnd.curl != 0.0 {
+                "curl"
+            } else {
+                "turbulence"
+            }),
+            "a wind from a file is the file's field plus the mean velocity: remove the key",
+        );
+    }
+    if wnd.field.is_some() && wnd.resolution != 32 {
+        return fail(
+            at("resolution"),
+            "a wind from a file takes its resolution from the file's shape: remove resolution",
+        );
+    }
+    if !(2..=256).contains(&wnd.resolution) {
+        return fail(at("resolution"), "resolution must lie in 2..=256");
+    }
+    if (0..3).any(|k| wnd.bounds[0][k] >= wnd.bounds[1][k]) {
+        return fail(
+            at("bounds"),
+            "bounds must be [min corner, max corner] with min < max",
         );
     }
     Ok(())

@@ -19,7 +19,7 @@ mod render;
 mod spin;
 
 use super::locate::{Invalid, Key};
-use super::schema::{Integrator, SceneFile, Simulation, UpdatePasses, WindForm};
+use super::schema::{Collisions, Integrator, SceneFile, Simulation, UpdatePasses, WindForm};
 
 use Key::{Index as I, Name as N};
 
@@ -319,72 +319,9 @@ fn collisions(s: &SceneFile) -> Check {
     let Some(c) = &s.collisions else {
         return Ok(());
     };
+    collision_keys(c)?;
+    collision_lattice(c)?;
     let at = |k| path(&[N("collisions"), N(k)]);
-    if c.radius <= 0.0 {
-        return fail(
-            at("radius"),
-            format!("radius {} m must be above 0", c.radius),
-        );
-    }
-    if !(0.0..=1.0).contains(&c.restitution) {
-        return fail(
-            at("restitution"),
-            format!("restitution {} is outside [0, 1]", c.restitution),
-        );
-    }
-    if !(1..=32).contains(&c.neighbours) {
-        return fail(at("neighbours"), "neighbours must lie in 1..=32");
-    }
-    if c.cell.is_some_and(|g| g <= 0.0) {
-        return fail(at("cell"), "cell must be above 0 m");
-    }
-    bounded(at("radius"), "radius", &[c.radius])?;
-    if let Some(g) = c.cell {
-        bounded(at("cell"), "cell", &[g])?;
-    }
-    for (i, corner) in c.bounds.iter().enumerate() {
-        bounded(
-            path(&[N("collisions"), N("bounds"), I(i)]),
-            "bounds",
-            corner,
-        )?;
-    }
-    if (0..3).any(|k| c.bounds[0][k] >= c.bounds[1][k]) {
-        return fail(
-            at("bounds"),
-            "bounds must be [min corner, max corner] with min < max",
-        );
-    }
-    if c.detection == crate::scene::Detection::Exact {
-        let g = c.cell.unwrap_or(2.0 * c.radius);
-        if run_capacity(g, c.radius) > EXACT_SCAN as f64 {
-            let largest = largest_exact_cell(c.radius);
-            return fail(
-                at("cell"),
-                format!(
-                    "cell {g} m is too large for the exact detection: a run of three cells could \
-                     hold more than the {EXACT_SCAN} particles its search walks (spheres of radius \
-                     {} m that do not overlap); use a cell of at most {largest:.6} m",
-                    c.radius
-                ),
-            );
-        }
-    }
-    let cells = lattice_cells(c);
-    if cells > MAX_LATTICE_CELLS {
-        return fail(
-            if c.cell.is_some() {
-                at("cell")
-            } else {
-                at("radius")
-            },
-            format!(
-                "the collision lattice has {cells} cells; cell keys are exact floats only up to \
-                 2^24 = {MAX_LATTICE_CELLS}: use a larger cell (default 2 radius) or smaller \
-                 bounds"
-            ),
-        );
-    }
     let [w, h] = s.particles.size;
     if !w.is_power_of_two() || !h.is_power_of_two() {
         return fail(
@@ -437,6 +374,83 @@ fn collisions(s: &SceneFile) -> Check {
     }
     if s.fire.is_some() {
         return fail(path(&[N("collisions")]), "the fire has no collisions");
+    }
+    Ok(())
+}
+
+/// `[collisions]` radius, restitution, neighbours, cell and bounds, each on its own.
+fn collision_keys(c: &Collisions) -> Check {
+    let at = |k| path(&[N("collisions"), N(k)]);
+    if c.radius <= 0.0 {
+        return fail(
+            at("radius"),
+            format!("radius {} m must be above 0", c.radius),
+        );
+    }
+    if !(0.0..=1.0).contains(&c.restitution) {
+        return fail(
+            at("restitution"),
+            format!("restitution {} is outside [0, 1]", c.restitution),
+        );
+    }
+    if !(1..=32).contains(&c.neighbours) {
+        return fail(at("neighbours"), "neighbours must lie in 1..=32");
+    }
+    if c.cell.is_some_and(|g| g <= 0.0) {
+        return fail(at("cell"), "cell must be above 0 m");
+    }
+    bounded(at("radius"), "radius", &[c.radius])?;
+    if let Some(g) = c.cell {
+        bounded(at("cell"), "cell", &[g])?;
+    }
+    for (i, corner) in c.bounds.iter().enumerate() {
+        bounded(
+            path(&[N("collisions"), N("bounds"), I(i)]),
+            "bounds",
+            corner,
+        )?;
+    }
+    if (0..3).any(|k| c.bounds[0][k] >= c.bounds[1][k]) {
+        return fail(
+            at("bounds"),
+            "bounds must be [min corner, max corner] with min < max",
+        );
+    }
+    Ok(())
+}
+
+/// `[collisions]`: a cell the exact search can scan, and a lattice whose keys stay exact.
+fn collision_lattice(c: &Collisions) -> Check {
+    let at = |k| path(&[N("collisions"), N(k)]);
+    if c.detection == crate::scene::Detection::Exact {
+        let g = c.cell.unwrap_or(2.0 * c.radius);
+        if run_capacity(g, c.radius) > EXACT_SCAN as f64 {
+            let largest = largest_exact_cell(c.radius);
+            return fail(
+                at("cell"),
+                format!(
+                    "cell {g} m is too large for the exact detection: a run of three cells could \
+                     hold more than the {EXACT_SCAN} particles its search walks (spheres of radius \
+                     {} m that do not overlap); use a cell of at most {largest:.6} m",
+                    c.radius
+                ),
+            );
+        }
+    }
+    let cells = lattice_cells(c);
+    if cells > MAX_LATTICE_CELLS {
+        return fail(
+            if c.cell.is_some() {
+                at("cell")
+            } else {
+                at("radius")
+            },
+            format!(
+                "the collision lattice has {cells} cells; cell keys are exact floats only up to \
+                 2^24 = {MAX_LATTICE_CELLS}: use a larger cell (default 2 radius) or smaller \
+                 bounds"
+            ),
+        );
     }
     Ok(())
 }

@@ -13,36 +13,7 @@ use Key::{Index as I, Name as N};
 /// every emitter (rotation speed, size over life, keyframes per type).
 pub(super) fn render(s: &SceneFile) -> Check {
     let r = &s.render;
-    if let Some(i) = r.resolution.iter().position(|s| *s == 0) {
-        return fail(
-            path(&[N("render"), N("resolution"), I(i)]),
-            "both sides of resolution must be at least 1 pixel",
-        );
-    }
-    if r.point_size <= 0.0 {
-        return fail(
-            path(&[N("render"), N("point_size")]),
-            format!("point_size {} must be above 0 pixels", r.point_size),
-        );
-    }
-    if r.intensity < 0.0 {
-        return fail(
-            path(&[N("render"), N("intensity")]),
-            format!("intensity {} must not be negative", r.intensity),
-        );
-    }
-    if !(r.camera.fov > 0.0 && r.camera.fov < 180.0) {
-        return fail(
-            path(&[N("render"), N("camera"), N("fov")]),
-            format!("fov {} must lie in (0, 180) degrees", r.camera.fov),
-        );
-    }
-    if r.camera.distance <= 0.0 {
-        return fail(
-            path(&[N("render"), N("camera"), N("distance")]),
-            format!("distance {} must be above 0", r.camera.distance),
-        );
-    }
+    frame_and_camera(r)?;
     keyframes(&[N("render"), N("keyframes")], &r.keyframes)?;
     if s.fire.is_some() {
         fire_render(r)?;
@@ -93,6 +64,46 @@ pub(super) fn render(s: &SceneFile) -> Check {
             emitter_look(&[N("emitters"), N(kind), I(i)], e)?;
         }
     }
+    sort(s, r)
+}
+
+/// `[render]` resolution, point size and intensity, and `[render.camera]`.
+fn frame_and_camera(r: &Render) -> Check {
+    if let Some(i) = r.resolution.iter().position(|s| *s == 0) {
+        return fail(
+            path(&[N("render"), N("resolution"), I(i)]),
+            "both sides of resolution must be at least 1 pixel",
+        );
+    }
+    if r.point_size <= 0.0 {
+        return fail(
+            path(&[N("render"), N("point_size")]),
+            format!("point_size {} must be above 0 pixels", r.point_size),
+        );
+    }
+    if r.intensity < 0.0 {
+        return fail(
+            path(&[N("render"), N("intensity")]),
+            format!("intensity {} must not be negative", r.intensity),
+        );
+    }
+    if !(r.camera.fov > 0.0 && r.camera.fov < 180.0) {
+        return fail(
+            path(&[N("render"), N("camera"), N("fov")]),
+            format!("fov {} must lie in (0, 180) degrees", r.camera.fov),
+        );
+    }
+    if r.camera.distance <= 0.0 {
+        return fail(
+            path(&[N("render"), N("camera"), N("distance")]),
+            format!("distance {} must be above 0", r.camera.distance),
+        );
+    }
+    Ok(())
+}
+
+/// `[render.sort]`: what each key, entry layout and spread over frames needs.
+fn sort(s: &SceneFile, r: &Render) -> Check {
     if r.sort.key != SortKey::Distance && r.blending != Blending::Alpha {
         return fail(
             path(&[N("render"), N("sort"), N("key")]),
@@ -251,44 +262,7 @@ fn emitter_look(base: &[Key], e: &Emitter) -> Check {
             );
         }
     }
-    let curve = &e.size_over_life;
-    if !curve.is_empty() {
-        let here = at(base, &[N("size_over_life")]);
-        if !(2..=4).contains(&curve.len()) {
-            return fail(
-                here,
-                format!(
-                    "size_over_life has {} points: give two to four [relative age, scale] points",
-                    curve.len()
-                ),
-            );
-        }
-        let last = curve.len() - 1;
-        let bad = (0..curve.len()).find(|&i| {
-            let a = curve[i][0];
-            (i == 0 && a != 0.0) || (i == last && a != 1.0) || (i > 0 && a < curve[i - 1][0])
-        });
-        if let Some(i) = bad {
-            return fail(
-                at(&here, &[I(i), I(0)]),
-                format!(
-                    "size_over_life ages must ascend from 0 to 1 (the first 0, the last 1); \
-                     point {} has age {}",
-                    i + 1,
-                    curve[i][0]
-                ),
-            );
-        }
-        if let Some(i) = curve.iter().position(|p| !(p[1] >= 0.0 && p[1] <= 1e3)) {
-            return fail(
-                at(&here, &[I(i), I(1)]),
-                format!(
-                    "size_over_life scale {} must lie in [0, 1000] (relative to the sprite size)",
-                    curve[i][1]
-                ),
-            );
-        }
-    }
+    size_curve(base, &e.size_over_life)?;
     if let Some([lo, hi]) = e.size_range {
         if !(lo > 0.0 && lo <= hi && hi <= 1e3) {
             return fail(
@@ -323,4 +297,47 @@ fn emitter_look(base: &[Key], e: &Emitter) -> Check {
         }
     }
     keyframes(&at(base, &[N("keyframes")]), &e.keyframes)
+}
+
+/// `size_over_life`: two to four [relative age, scale] points, ages from 0 up to 1.
+fn size_curve(base: &[Key], curve: &[[f32; 2]]) -> Check {
+    if curve.is_empty() {
+        return Ok(());
+    }
+    let here = at(base, &[N("size_over_life")]);
+    if !(2..=4).contains(&curve.len()) {
+        return fail(
+            here,
+            format!(
+                "size_over_life has {} points: give two to four [relative age, scale] points",
+                curve.len()
+            ),
+        );
+    }
+    let last = curve.len() - 1;
+    let bad = (0..curve.len()).find(|&i| {
+        let a = curve[i][0];
+        (i == 0 && a != 0.0) || (i == last && a != 1.0) || (i > 0 && a < curve[i - 1][0])
+    });
+    if let Some(i) = bad {
+        return fail(
+            at(&here, &[I(i), I(0)]),
+            format!(
+                "size_over_life ages must ascend from 0 to 1 (the first 0, the last 1); \
+                 point {} has age {}",
+                i + 1,
+                curve[i][0]
+            ),
+        );
+    }
+    if let Some(i) = curve.iter().position(|p| !(p[1] >= 0.0 && p[1] <= 1e3)) {
+        return fail(
+            at(&here, &[I(i), I(1)]),
+            format!(
+                "size_over_life scale {} must lie in [0, 1000] (relative to the sprite size)",
+                curve[i][1]
+            ),
+        );
+    }
+    Ok(())
 }

@@ -267,31 +267,44 @@ impl Features {
     pub fn step_passes(&self) -> Vec<String> {
         let mut out = Vec::new();
         let verlet = self.integrator == Integrator::Verlet;
-        let targets = if verlet {
-            "previous and current position textures in, next position out".to_owned()
-        } else {
-            format!(
-                "position + velocity ({}) through MRT",
-                match self.velocity_format {
-                    VelocityFormat::Rgba32f => "rgba32f",
-                    VelocityFormat::Rgba16f => "rgba16f",
-                }
-            )
-        };
-        if let Emission::Allocator(kind) = self.emission {
-            out.push(format!(
-                "emit: new particles drawn as single pixels into {} and static (CPU {} allocator)",
-                if verlet {
-                    "current and previous positions"
-                } else {
-                    "position and velocity"
-                },
-                match kind {
-                    AllocatorKind::Stack => "stack",
-                    AllocatorKind::MinHeap => "min-heap",
-                }
-            ));
+        out.extend(self.emit_pass(verlet));
+        let what = self.integration_terms(verlet);
+        self.integrate_passes(&what, verlet, &mut out);
+        out.extend(self.constrain_pass());
+        self.collision_passes(&mut out);
+        if self.spin {
+            out.push(
+                "spin (UberFlow §4.5): angular velocity and angle, a third MRT target of \
+                 integration and response, gathered in cell order by a pass of its own after \
+                 each collision sort; contact friction turns v and ω together"
+                    .into(),
+            );
         }
+        out
+    }
+
+    /// The allocator's emission pass, drawn before the integration.
+    fn emit_pass(&self, verlet: bool) -> Option<String> {
+        let Emission::Allocator(kind) = self.emission else {
+            return None;
+        };
+        Some(format!(
+            "emit: new particles drawn as single pixels into {} and static (CPU {} allocator)",
+            if verlet {
+                "current and previous positions"
+            } else {
+                "position and velocity"
+            },
+            match kind {
+                AllocatorKind::Stack => "stack",
+                AllocatorKind::MinHeap => "min-heap",
+            }
+        ))
+    }
+
+    /// What the integration pass does: the integrator first, then forces, colliders, death,
+    /// children and the float emulation.
+    fn integration_terms(&self, verlet: bool) -> Vec<String> {
         let mut what = vec![match self.integrator {
             Integrator::Euler => "Latta's Euler (eq. 3, 8)".to_owned(),
             Integrator::Uberflow => "UberFlow's velocity-averaged update (eq. 1-2)".to_owned(),
@@ -306,39 +319,7 @@ impl Features {
                 "leapfrog kick-drift-kick (thesis §2.1; 2 force stages)".to_owned()
             }
         }];
-        let mut forces = Vec::new();
-        if self.gravity {
-            forces.push("gravity".to_owned());
-        }
-        if self.attractors > 0 {
-            forces.push(format!("{} attractor(s)", self.attractors));
-        }
-        if self.springs > 0 {
-            forces.push(format!("{} spring(s)", self.springs));
-        }
-        if self.vortices > 0 {
-            forces.push(format!("{} vortex(es)", self.vortices));
-        }
-        if self.damping {
-            forces.push("damping".to_owned());
-        }
-        if self.emitter_forces {
-            forces.push("forces per emitter (by the particle's type)".to_owned());
-        }
-        if self.wind {
-            forces.push(
-                match self.wind_form {
-                    scene::WindForm::Drag => "wind (flow-field texture, Stokes drag)",
-                    scene::WindForm::Latta => {
-                        "wind (flow-field texture, Latta eq. 1-2: drag / mass)"
-                    }
-                    scene::WindForm::Uberflow => {
-                        "wind (flow-field texture, UberFlow eq. 1: v += v_ext)"
-                    }
-                }
-                .to_owned(),
-            );
-        }
+        let forces = self.force_names();
         if !forces.is_empty() {
             what.push(format!("forces: {}", forces.join(", ")));
         }
@@ -382,6 +363,60 @@ impl Features {
         if self.precision == Precision::Fp24 {
             what.push("24-bit float emulation".into());
         }
+        what
+    }
+
+    /// The forces the integration applies, in the order the shader adds them.
+    fn force_names(&self) -> Vec<String> {
+        let mut forces = Vec::new();
+        if self.gravity {
+            forces.push("gravity".to_owned());
+        }
+        if self.attractors > 0 {
+            forces.push(format!("{} attractor(s)", self.attractors));
+        }
+        if self.springs > 0 {
+            forces.push(format!("{} spring(s)", self.springs));
+        }
+        if self.vortices > 0 {
+            forces.push(format!("{} vortex(es)", self.vortices));
+        }
+        if self.damping {
+            forces.push("damping".to_owned());
+        }
+        if self.emitter_forces {
+            forces.push("forces per emitter (by the particle's type)".to_owned());
+        }
+        if self.wind {
+            forces.push(
+                match self.wind_form {
+                    scene::WindForm::Drag => "wind (flow-field texture, Stokes drag)",
+                    scene::WindForm::Latta => {
+                        "wind (flow-field texture, Latta eq. 1-2: drag / mass)"
+                    }
+                    scene::WindForm::Uberflow => {
+                        "wind (flow-field texture, UberFlow eq. 1: v += v_ext)"
+                    }
+                }
+                .to_owned(),
+            );
+        }
+        forces
+    }
+
+    /// The integration pass, or its velocity and position halves.
+    fn integrate_passes(&self, what: &[String], verlet: bool, out: &mut Vec<String>) {
+        let targets = if verlet {
+            "previous and current position textures in, next position out".to_owned()
+        } else {
+            format!(
+                "position + velocity ({}) through MRT",
+                match self.velocity_format {
+                    VelocityFormat::Rgba32f => "rgba32f",
+                    VelocityFormat::Rgba16f => "rgba16f",
+                }
+            )
+        };
         let rows = if self.live_rows() {
             " (live rows only)"
         } else {
@@ -417,24 +452,30 @@ impl Features {
                 targets
             ));
         }
-        if let Some((kind, n)) = self.constraints {
-            out.push(format!(
-                "{n} × constrain: Jacobi relaxation of the {} [current position and rest \
-                 texture in, the ring's free side out, then swapped]{}",
-                match kind {
-                    scene::ConstraintKind::Cloth => {
-                        "cloth's distance constraints (4 grid neighbours, 4 diagonals)"
-                    }
-                    scene::ConstraintKind::Hair =>
-                        "hair's distance constraints (chains along rows)",
-                },
-                if self.colliders() {
-                    "; colliders' projection"
-                } else {
-                    ""
+    }
+
+    /// The constraint relaxation passes of cloth and hair.
+    fn constrain_pass(&self) -> Option<String> {
+        let (kind, n) = self.constraints?;
+        Some(format!(
+            "{n} × constrain: Jacobi relaxation of the {} [current position and rest \
+             texture in, the ring's free side out, then swapped]{}",
+            match kind {
+                scene::ConstraintKind::Cloth => {
+                    "cloth's distance constraints (4 grid neighbours, 4 diagonals)"
                 }
-            ));
-        }
+                scene::ConstraintKind::Hair => "hair's distance constraints (chains along rows)",
+            },
+            if self.colliders() {
+                "; colliders' projection"
+            } else {
+                ""
+            }
+        ))
+    }
+
+    /// The collision stage: neighbour forces, the exact search or UberFlow's sorted rows.
+    fn collision_passes(&self, out: &mut Vec<String>) {
         if self.dem || self.pair_forces > 0 {
             out.extend(crate::sim::collide::neighbour_passes(
                 self.dem,
@@ -482,14 +523,5 @@ impl Features {
             ));
             out.push("copy static texture in the new order".into());
         }
-        if self.spin {
-            out.push(
-                "spin (UberFlow §4.5): angular velocity and angle, a third MRT target of \
-                 integration and response, gathered in cell order by a pass of its own after \
-                 each collision sort; contact friction turns v and ω together"
-                    .into(),
-            );
-        }
-        out
     }
 }

@@ -12,6 +12,7 @@ mod children;
 mod custom;
 mod features;
 mod relax;
+mod setup;
 mod state_io;
 mod stateless;
 mod uniforms;
@@ -26,7 +27,7 @@ use crate::gl::{
     Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Ring3, Sampled, Texture,
     Texture3D, TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
 };
-use crate::scene::{Integrator, SceneFile, Simulation, VelocityFormat};
+use crate::scene::{Integrator, SceneFile, Simulation};
 pub use custom::check_custom_forces;
 pub use features::{Emission, Features};
 pub use stateless::ClosedForm;
@@ -141,111 +142,18 @@ impl ParticleSim {
         let [width, height] = scene.particles.size;
         crate::gl::check_size(ctx, "particle texture (particles.size)", width, height)?;
         let features = Features::of(scene);
-        let vel_format = match features.velocity_format {
-            VelocityFormat::Rgba32f => TextureFormat::Rgba32F,
-            VelocityFormat::Rgba16f => TextureFormat::Rgba16F,
-        };
-        let state = if features.integrator == Integrator::Verlet {
-            State::Verlet(Ring3::new(
-                ctx,
-                "verlet",
-                &["position"],
-                &[TextureFormat::Rgba32F],
-                width,
-                height,
-            )?)
-        } else {
-            // Spinning spheres: a third target, (angular velocity, angle), only when asked for.
-            let (names, formats): (&[&str], &[TextureFormat]) = if features.spin {
-                (
-                    &["position", "velocity", "spin"],
-                    &[TextureFormat::Rgba32F, vel_format, TextureFormat::Rgba32F],
-                )
-            } else {
-                (
-                    &["position", "velocity"],
-                    &[TextureFormat::Rgba32F, vel_format],
-                )
-            };
-            let pp = PingPong::new(ctx, "particles", names, formats, width, height)?;
-            State::Explicit(if features.separate() {
-                pp.with_single_targets(ctx)?
-            } else {
-                pp
-            })
-        };
-        let statics = Framebuffer::new(
-            ctx,
-            "static",
-            vec![state_texture(
-                ctx,
-                "static",
-                width,
-                height,
-                TextureFormat::Rgba32F,
-            )?],
-        )?;
-        let fields = Fields {
-            flow: match scene.forces.wind.first() {
-                Some(w) => {
-                    let f = FlowField::new(w)?;
-                    Some((f.upload(ctx)?, f))
-                }
-                None => None,
-            },
-            height: match scene.colliders.heightfield.first() {
-                Some(h) => {
-                    let f = HeightField::new(h)?;
-                    Some((f.upload(ctx)?, f))
-                }
-                None => None,
-            },
-            sdf: match scene.colliders.sdf.first() {
-                Some(s) => {
-                    let f = DistanceField::new(s)?;
-                    Some((f.upload(ctx)?, f))
-                }
-                None => None,
-            },
-        };
+        let vel_format = setup::velocity_format(features.velocity_format);
+        let state = setup::state(ctx, &features, vel_format, width, height)?;
+        let statics = setup::statics(ctx, width, height)?;
+        let fields = setup::fields(ctx, scene)?;
         let defines = features.defines();
-        let with = |extra: &str| {
-            let mut d = defines.clone();
-            d.push((extra.to_owned(), "1".to_owned()));
-            d
-        };
         let verlet = features.integrator == Integrator::Verlet;
-        let allocator = matches!(features.emission, Emission::Allocator(_));
-        let emit = |out: &str| -> Result<Option<Program>> {
-            Ok(if allocator {
-                Some(Program::new(
-                    ctx,
-                    "sim/emit.vert",
-                    "sim/emit.frag",
-                    &with(out),
-                )?)
-            } else {
-                None
-            })
-        };
+        let (emit_state, emit_previous, emit_static) =
+            setup::emit_programs(ctx, &features, &defines)?;
         let emitters: Vec<EmitterUniforms> =
             scene.emitters.all().map(EmitterUniforms::new).collect();
-        let root = custom::integrate_root(scene)?;
-        let integrate_program = |d: &Defines| {
-            Program::new(ctx, FULLSCREEN_VERTEX, &root, d).map_err(|e| custom::user_error(scene, e))
-        };
-        let (integrate, integrate_position) = if features.separate() {
-            let mut position = with("OUT_POSITION");
-            if features.position_from_velocity() {
-                position.push(("POSITION_FROM_VELOCITY".to_owned(), "1".to_owned()));
-            }
-            (
-                integrate_program(&with("OUT_VELOCITY"))?,
-                Some(integrate_program(&position)?),
-            )
-        } else {
-            (integrate_program(&defines)?, None)
-        };
+        let (integrate, integrate_position) =
+            setup::integrate_programs(ctx, scene, &features, &defines)?;
         let mut sim = ParticleSim {
             integrate,
             integrate_position,
@@ -258,19 +166,10 @@ impl ParticleSim {
                 )?),
                 Simulation::Stateful => None,
             },
-            emit_state: emit("OUT_STATE")?,
-            emit_previous: if verlet { emit("OUT_PREVIOUS")? } else { None },
-            emit_static: emit("OUT_STATIC")?,
-            start: if verlet {
-                Some(Program::new(
-                    ctx,
-                    FULLSCREEN_VERTEX,
-                    "sim/verlet_start.frag",
-                    &defines,
-                )?)
-            } else {
-                None
-            },
+            emit_state,
+            emit_previous,
+            emit_static,
+            start: setup::verlet_start(ctx, verlet, &defines)?,
             collisions: match &scene.collisions {
                 Some(_) => Some(super::collide::Collisions::new(
                     ctx, scene, &defines, vel_format,
@@ -302,26 +201,7 @@ impl ParticleSim {
             step: 0,
             time: 0.0,
         };
-        for p in [
-            Some(&sim.integrate),
-            sim.integrate_position.as_ref(),
-            sim.stateless.as_ref().map(|s| &s.program),
-            sim.emit_state.as_ref(),
-            sim.emit_previous.as_ref(),
-            sim.emit_static.as_ref(),
-            sim.start.as_ref(),
-            sim.relax.as_ref().map(|r| r.program()),
-        ]
-        .into_iter()
-        .flatten()
-        {
-            sim.set_constants(p);
-        }
-        sim.initialise()?;
-        if let (Some(r), State::Verlet(ring)) = (&sim.relax, &sim.state) {
-            r.place(ring)?;
-        }
-        ctx.check_error("initialising the particle state")?;
+        sim.start_up()?;
         Ok(sim)
     }
 

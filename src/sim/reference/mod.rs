@@ -177,49 +177,9 @@ impl Reference {
             .validate()
             .map_err(|e| Error::InvalidInput(e.message))?;
         let features = Features::of(scene);
-        if features.stateless {
-            return Err(Error::InvalidInput(format!(
-                "scene `{}`: the reference steps the stateful pass; a stateless scene's twin is \
-                 its closed form (sim::ClosedForm)",
-                scene.name
-            )));
-        }
-        if features.emitter_forces {
-            return Err(Error::InvalidInput(format!(
-                "scene `{}`: the reference models the scene's [[forces.*]], not forces per \
-                 emitter ([[emitters.*.forces.*]])",
-                scene.name
-            )));
-        }
-        if features.children > 0 {
-            return Err(Error::InvalidInput(format!(
-                "scene `{}`: the reference does not cover child emitters",
-                scene.name
-            )));
-        }
-        if features.emission == Emission::Timestamp {
-            return Err(Error::InvalidInput(format!(
-                "scene `{}`: the reference does not cover time-stamp emission",
-                scene.name
-            )));
-        }
-        if scene.particles.velocity_format == VelocityFormat::Rgba16f
-            && scene.integrator != Integrator::Verlet
-        {
-            return Err(Error::InvalidInput(format!(
-                "scene `{}`: the reference models rgba32f velocities only",
-                scene.name
-            )));
-        }
+        covered(scene, &features)?;
         let s = scene;
-        let mut inv_mass = [1.0 / s.particles.mass; 4];
-        let (mut lo, mut hi) = ([s.particles.mass; 4], [s.particles.mass; 4]);
-        for (k, e) in s.emitters.all().enumerate() {
-            let [l, h] = crate::sim::particles::mass_range(s, e);
-            (lo[k], hi[k]) = (l, h);
-            inv_mass[k] = 1.0 / (0.5 * (l + h));
-        }
-        let mass_range = features.mass_range.then_some((lo, hi));
+        let (inv_mass, mass_range) = masses(s, &features);
         let f = &s.forces;
         let gravity = (!f.gravity.is_empty())
             .then(|| f.gravity.iter().map(|g| v3(g.acceleration)).sum::<Vec3>());
@@ -232,60 +192,10 @@ impl Reference {
             }),
             None => None,
         };
-        let attractors = f
-            .attractor
-            .iter()
-            .map(|a| Attractor {
-                at: v3(a.position).extend(a.strength),
-                shape: Vec4::new(
-                    (a.falloff == scene::Falloff::Constant) as u8 as f32,
-                    a.max_distance.unwrap_or(-1.0),
-                    a.softening,
-                    0.0,
-                ),
-            })
-            .collect();
-        let vortices = f
-            .vortex
-            .iter()
-            .map(|v| Vortex {
-                at: v3(v.point).extend(v.strength),
-                axis: v3(v.axis).normalize(),
-                shape: crate::sim::particles::vortex_shape(v),
-            })
-            .collect();
+        let (attractors, vortices) = point_forces(f);
         let c = &s.colliders;
         let resp = |mu: f32, eps: f32| Vec2::new(mu, eps);
-        let mut colliders = Vec::new();
-        for pl in &c.plane {
-            let n = v3(pl.normal).normalize();
-            colliders.push(Collider {
-                shape: Shape::Plane(n.extend(n.dot(v3(pl.point)))),
-                resp: resp(pl.friction, pl.resilience),
-            });
-        }
-        for sp in &c.sphere {
-            colliders.push(Collider {
-                shape: Shape::Sphere(v3(sp.center).extend(sp.radius)),
-                resp: resp(sp.friction, sp.resilience),
-            });
-        }
-        for b in &c.boxes {
-            colliders.push(Collider {
-                shape: Shape::Box(v3(b.min), v3(b.max)),
-                resp: resp(b.friction, b.resilience),
-            });
-        }
-        if let Some(d) = c.sdf.first() {
-            colliders.push(Collider {
-                shape: Shape::Sdf(
-                    v3(d.bounds[0]),
-                    v3(d.bounds[1]),
-                    Box::new(DistanceField::new(d)?),
-                ),
-                resp: resp(d.friction, d.resilience),
-            });
-        }
+        let colliders = shapes(c)?;
         let height = match c.heightfield.first() {
             Some(h) => Some((HeightField::new(h)?, resp(h.friction, h.resilience))),
             None => None,
@@ -519,4 +429,122 @@ impl Reference {
             x
         }
     }
+}
+
+/// Refuses the scenes whose features the reference does not model.
+fn covered(scene: &SceneFile, features: &Features) -> Result<()> {
+    if features.stateless {
+        return Err(Error::InvalidInput(format!(
+            "scene `{}`: the reference steps the stateful pass; a stateless scene's twin is \
+             its closed form (sim::ClosedForm)",
+            scene.name
+        )));
+    }
+    if features.emitter_forces {
+        return Err(Error::InvalidInput(format!(
+            "scene `{}`: the reference models the scene's [[forces.*]], not forces per \
+             emitter ([[emitters.*.forces.*]])",
+            scene.name
+        )));
+    }
+    if features.children > 0 {
+        return Err(Error::InvalidInput(format!(
+            "scene `{}`: the reference does not cover child emitters",
+            scene.name
+        )));
+    }
+    if features.emission == Emission::Timestamp {
+        return Err(Error::InvalidInput(format!(
+            "scene `{}`: the reference does not cover time-stamp emission",
+            scene.name
+        )));
+    }
+    if scene.particles.velocity_format == VelocityFormat::Rgba16f
+        && scene.integrator != Integrator::Verlet
+    {
+        return Err(Error::InvalidInput(format!(
+            "scene `{}`: the reference models rgba32f velocities only",
+            scene.name
+        )));
+    }
+    Ok(())
+}
+
+/// Each type's lightest and heaviest mass.
+type MassRange = ([f32; 4], [f32; 4]);
+
+/// Each type's inverse mass (of its mean mass) and, with `mass_range`, each type's range.
+fn masses(s: &SceneFile, features: &Features) -> ([f32; 4], Option<MassRange>) {
+    let mut inv_mass = [1.0 / s.particles.mass; 4];
+    let (mut lo, mut hi) = ([s.particles.mass; 4], [s.particles.mass; 4]);
+    for (k, e) in s.emitters.all().enumerate() {
+        let [l, h] = crate::sim::particles::mass_range(s, e);
+        (lo[k], hi[k]) = (l, h);
+        inv_mass[k] = 1.0 / (0.5 * (l + h));
+    }
+    let mass_range = features.mass_range.then_some((lo, hi));
+    (inv_mass, mass_range)
+}
+
+/// The scene's attractors and vortices, as the integration pass's uniforms hold them.
+fn point_forces(f: &scene::Forces) -> (Vec<Attractor>, Vec<Vortex>) {
+    let attractors = f
+        .attractor
+        .iter()
+        .map(|a| Attractor {
+            at: v3(a.position).extend(a.strength),
+            shape: Vec4::new(
+                (a.falloff == scene::Falloff::Constant) as u8 as f32,
+                a.max_distance.unwrap_or(-1.0),
+                a.softening,
+                0.0,
+            ),
+        })
+        .collect();
+    let vortices = f
+        .vortex
+        .iter()
+        .map(|v| Vortex {
+            at: v3(v.point).extend(v.strength),
+            axis: v3(v.axis).normalize(),
+            shape: crate::sim::particles::vortex_shape(v),
+        })
+        .collect();
+    (attractors, vortices)
+}
+
+/// The planes, spheres, boxes and distance field, in the order the shader tests them.
+fn shapes(c: &scene::Colliders) -> Result<Vec<Collider>> {
+    let resp = |mu: f32, eps: f32| Vec2::new(mu, eps);
+    let mut colliders = Vec::new();
+    for pl in &c.plane {
+        let n = v3(pl.normal).normalize();
+        colliders.push(Collider {
+            shape: Shape::Plane(n.extend(n.dot(v3(pl.point)))),
+            resp: resp(pl.friction, pl.resilience),
+        });
+    }
+    for sp in &c.sphere {
+        colliders.push(Collider {
+            shape: Shape::Sphere(v3(sp.center).extend(sp.radius)),
+            resp: resp(sp.friction, sp.resilience),
+        });
+    }
+    for b in &c.boxes {
+        colliders.push(Collider {
+            shape: Shape::Box(v3(b.min), v3(b.max)),
+            resp: resp(b.friction, b.resilience),
+        });
+    }
+    if let Some(d) = c.sdf.first() {
+        colliders.push(Collider {
+            shape: Shape::Sdf(
+                v3(d.bounds[0]),
+                v3(d.bounds[1]),
+                Box::new(DistanceField::new(d)?),
+            ),
+            resp: resp(d.friction, d.resilience),
+        });
+    }
+    Ok(colliders)
 }

@@ -117,19 +117,25 @@ impl RenderArgs {
     }
 }
 
+/// Refuses loop options that would run or write nothing, by the option the user typed (the
+/// library names LoopOptions' fields).
+fn check_loop(options: &LoopOptions) -> texflow::Result<()> {
+    match options.problem() {
+        Some((field, reason)) => Err(bad(format!(
+            "--{} {} {reason}",
+            field.replace('_', "-"),
+            options.value_of(field)
+        ))),
+        None => Ok(()),
+    }
+}
+
 pub fn render(a: RenderArgs) -> texflow::Result<()> {
     // Everything that can be checked without a GPU is checked before anything is created.
     let golden = a.compare.prepare(a.frames)?;
     let user_dumps = a.dump_state.as_ref().map(|_| a.dump_every);
     let options = loop_options(&a, golden.as_ref().map(|g| g.frame()), user_dumps);
-    if let Some((field, reason)) = options.problem() {
-        // The library names LoopOptions' fields; the user typed options.
-        let flag = field.replace('_', "-");
-        return Err(bad(format!(
-            "--{flag} {} {reason}",
-            options.value_of(field)
-        )));
-    }
+    check_loop(&options)?;
     super::video_loop::check(a.loop_fade, options.written_count())?;
     let overrides = a.overrides();
     let prepared = overrides.prepare(&a.scene)?;

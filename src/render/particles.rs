@@ -20,7 +20,7 @@ use super::{Camera, FrameTarget, GeometryRenderer, ParticleStyle};
 use crate::error::{Error, Result};
 use crate::gl::{
     Attribute, Blend, BlendComponent, BlendFactor, Buffer, BufferKind, BufferUsage, Context,
-    Defines, Depth, Draw, DrawState, PixelPack, Primitive, Program, Texture, VertexArray,
+    Defines, Depth, Draw, DrawState, PixelPack, Primitive, Program, Sampled, Texture, VertexArray,
 };
 use crate::scene::{DrawMode, DrawPrimitive, RenderPath, Rotate};
 
@@ -380,20 +380,18 @@ impl ParticleRenderer {
         }
         let p = &self.program;
         p.bind();
+        let mut textures: Vec<(&str, Sampled)> = Vec::new();
         let vertices = match &self.vertex {
             Some(v) => &v.vao,
             None => {
-                positions.bind(0);
-                statics.bind(1);
-                p.set_i32("u_position", 0);
-                p.set_i32("u_static", 1);
+                textures.push(("u_position", positions.into()));
+                textures.push(("u_static", statics.into()));
                 p.set_i32("u_width", self.width as i32);
                 &self.empty
             }
         };
         if let Some(atlas) = &self.atlas {
-            atlas.bind(2);
-            p.set_i32("u_atlas", 2);
+            textures.push(("u_atlas", atlas.into()));
         }
         if self.needs_spins() {
             let Some(spins) = state.spins else {
@@ -402,12 +400,10 @@ impl ParticleRenderer {
                 ));
             };
             self.check_state("spin", spins)?;
-            spins.bind(4);
-            p.set_i32("u_spin", 4);
+            textures.push(("u_spin", spins.into()));
         }
         if let Some(m) = motion {
-            m.texture().bind(3);
-            p.set_i32("u_motion", 3);
+            textures.push(("u_motion", m.texture().into()));
             let (previous, dt) = match m {
                 Motion::Velocity(_) => (0, 1.0),
                 Motion::Previous { dt, .. } => (1, dt),
@@ -416,6 +412,7 @@ impl ParticleRenderer {
             p.set_f32("u_motion_dt", dt);
             p.set_f32("u_stretch", s.stretch);
         }
+        p.textures(&textures);
         Ok(vertices)
     }
 

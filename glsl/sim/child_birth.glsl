@@ -57,8 +57,15 @@ ChildStep child_step(int index, vec4 p, vec4 vel) {
     float generation;
     float age_now = timestamp_age(pst, int(pst.y), generation);
     bool dies = age_now >= pst.z || age_now < u_dt;  // its life ends, or a new cycle begins
-    float age = pst.z - pp.w;
-    float end = dies ? pst.z : pst.z - (pst.z - age_now);
+    // Both ends of the step's age interval from one clock: u_time_next is the next step's
+    // u_time bit for bit, so consecutive intervals tile whatever a compiler makes of the
+    // arithmetic (an end written life - (life - age), to round as the next start from the
+    // stored remaining life does, may be folded to age: NVIDIA's asked some births twice).
+    float cycle = u_cycle[int(pst.y)];
+    float rel0 = u_time - pst.x;
+    float rel1 = u_time_next - pst.x;
+    float age = rel0 - floor(rel0 / cycle) * cycle;
+    float end = dies ? pst.z : rel1 - floor(rel1 / cycle) * cycle;
 #elif defined(LIFE)
     bool dies = pp.w - u_dt <= 0.0;
     float age = pst.z - pp.w;

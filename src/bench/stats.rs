@@ -20,7 +20,10 @@ pub struct WriteFloor {
 impl WriteFloor {
     /// Builds the floor pass for framebuffers of `targets` attachments.
     pub fn new(ctx: &Context, targets: usize) -> Result<Self> {
-        let defines: Defines = vec![("TARGETS".into(), targets.to_string())];
+        Self::with_defines(ctx, vec![("TARGETS".into(), targets.to_string())])
+    }
+
+    fn with_defines(ctx: &Context, defines: Defines) -> Result<Self> {
         Ok(WriteFloor {
             program: Program::new(ctx, FULLSCREEN_VERTEX, "common/write_floor.frag", &defines)?,
             pass: FullscreenPass::new(ctx)?,
@@ -33,10 +36,7 @@ impl WriteFloor {
         if fb.integer() {
             defines.push(("UINT".into(), "1".into()));
         }
-        Ok(WriteFloor {
-            program: Program::new(ctx, FULLSCREEN_VERTEX, "common/write_floor.frag", &defines)?,
-            pass: FullscreenPass::new(ctx)?,
-        })
+        Self::with_defines(ctx, defines)
     }
 
     /// Writes a constant into every texel of every attachment of `fb`.

@@ -17,7 +17,7 @@ use glutin::display::{GetGlDisplay, GlDisplay};
 use glutin::surface::{GlSurface, Surface, WindowSurface};
 use glutin_winit::{DisplayBuilder, GlWindow};
 use texflow::gl::Context;
-use texflow::SceneEngine;
+use texflow::{Engine, EngineKind};
 use winit::application::ApplicationHandler;
 use winit::event::WindowEvent;
 use winit::event_loop::{ActiveEventLoop, EventLoop};
@@ -28,7 +28,7 @@ type Gl = Rc<(PossiblyCurrentContext, Surface<WindowSurface>)>;
 
 /// The application's state; fields drop in order (texflow's objects before the window's context).
 struct Running {
-    engine: SceneEngine,
+    engine: Box<dyn Engine>,
     ctx: Context,
     gl: Gl,
     window: Window,
@@ -86,10 +86,8 @@ impl App {
         // The scene at the size of the inset it is drawn into.
         let mut scene = texflow::scene::load(&self.scene)?;
         scene.render.resolution = [320, 240];
-        scene
-            .validate()
-            .map_err(|e| texflow::Error::InvalidInput(e.message))?;
-        let engine = SceneEngine::new(&ctx, &scene, 1)?;
+        scene.check()?;
+        let engine = texflow::engine::build(&ctx, &scene, 1, EngineKind::Gpu)?;
         Ok(Running {
             engine,
             ctx,
@@ -103,14 +101,8 @@ impl App {
 fn redraw(r: &mut Running) -> texflow::Result<()> {
     r.engine.advance_frame()?;
     // texflow draws into its frame target (an offscreen framebuffer)...
-    match &mut r.engine {
-        SceneEngine::Particles(e) => e.draw()?,
-        SceneEngine::Fire(e) => e.draw(),
-    }
-    let target = match &r.engine {
-        SceneEngine::Particles(e) => e.target(),
-        SceneEngine::Fire(e) => e.target(),
-    };
+    r.engine.draw()?;
+    let target = r.engine.target();
     // ...the application draws its own frame: here a slate background with a lighter border...
     let size = r.window.inner_size();
     // SAFETY: the application's context is current; framebuffer 0 is its window.

@@ -5,7 +5,7 @@
 
 use texflow::gl::Context;
 use texflow::output::FrameWriter;
-use texflow::{scene, FireEngine};
+use texflow::{engine, scene, EngineKind};
 
 fn main() -> texflow::Result<()> {
     let out = std::env::args()
@@ -18,15 +18,16 @@ fn main() -> texflow::Result<()> {
 
     // The built-in scene, adjusted: 128x128 particles (one per state texel), 384x384 frames.
     let mut fire = scene::builtin("fire")?;
-    fire.particles = [128, 128];
-    fire.resolution = [384, 384];
+    fire.particles.size = [128, 128];
+    fire.render.resolution = [384, 384];
 
-    // Seed 7: the same seed gives the same frames on the same device.
-    let mut engine = FireEngine::new(&ctx, fire, 7)?;
+    // Seed 7: the same seed gives the same frames on the same device. The fire is one
+    // simulation of the GPU engine, drawn by its particle renderer with the fire's colour ramp.
+    let mut engine = engine::build(&ctx, &fire, 7, EngineKind::Gpu)?;
     let frames = FrameWriter::create(out.as_ref())?;
     for frame in 0..90 {
         // One frame = `substeps` fixed steps of `dt` seconds, each one full-screen MRT pass.
-        engine.advance_frame();
+        engine.advance_frame()?;
         if frame % 30 == 29 {
             let path = frames.write(frame, &engine.render()?)?;
             println!("wrote {}", path.display());

@@ -7,7 +7,7 @@ use std::ops::ControlFlow;
 
 use texflow::engine::{self, FolderSink, FrameLoop, LoopOptions};
 use texflow::gl::Context;
-use texflow::{scene, SceneEngine};
+use texflow::{scene, EngineKind};
 
 fn main() -> texflow::Result<()> {
     let mut args = std::env::args().skip(1);
@@ -17,10 +17,10 @@ fn main() -> texflow::Result<()> {
     // Built-in names come from examples/scenes/*.toml, compiled into the binary; anything else
     // is read as a file. Errors name the file, line and column.
     let scene = scene::load(&name)?;
-    print!("{}", engine::plan::plan(&scene));
-
     let ctx = Context::new(0)?;
-    let mut engine = SceneEngine::new(&ctx, &scene, 7)?;
+    let mut engine = engine::build(&ctx, &scene, 7, EngineKind::Gpu)?;
+    // The passes the engine holds, in the papers' words.
+    print!("{}", engine.plan());
     // The same frame loop as `texflow render`: 120 frames, every 40th written (0, 40, 80), the
     // non-finite census of each written frame.
     let options = LoopOptions {
@@ -28,9 +28,9 @@ fn main() -> texflow::Result<()> {
         every: 40,
         ..LoopOptions::default()
     };
-    let run = FrameLoop::new(&ctx, &engine, options)?;
+    let run = FrameLoop::new(&ctx, engine.as_ref(), options)?;
     let mut sink = FolderSink::create(out.as_ref(), None)?;
-    let summary = run.run(&mut engine, &mut sink, |_| ControlFlow::Continue(()))?;
+    let summary = run.run(engine.as_mut(), &mut sink, |_| ControlFlow::Continue(()))?;
     for path in sink.written() {
         println!("wrote {}", path.display());
     }

@@ -15,14 +15,14 @@
 //! - [`output`], [`npy`], [`error`]: files written atomically, `.npy` arrays, the error type.
 //!
 //! ```
-//! use texflow::{gl::Context, scene, FireEngine};
+//! use texflow::{engine, gl::Context, scene};
 //! let ctx = Context::new(0)?;                       // first EGL device
-//! let mut fire = scene::builtin("fire")?;
-//! fire.particles = [64, 64];                        // small, so that the example runs fast
-//! fire.resolution = [64, 48];
-//! let mut engine = FireEngine::new(&ctx, fire, 7)?;
+//! let mut fire = scene::load("fire")?;
+//! fire.particles.size = [64, 64];                   // small, so that the example runs fast
+//! fire.render.resolution = [64, 48];
+//! let mut engine = engine::build(&ctx, &fire, 7, engine::EngineKind::Gpu)?;
 //! for _ in 0..30 {
-//!     engine.advance_frame();
+//!     engine.advance_frame()?;
 //! }
 //! let frame = engine.render()?;
 //! assert_eq!(frame.dimensions(), (64, 48));
@@ -46,5 +46,5 @@ pub mod sim;
 pub mod sort;
 pub mod trace;
 
-pub use engine::{CpuEngine, Engine, FireEngine, SceneEngine};
+pub use engine::{CpuEngine, Engine, EngineKind, GpuEngine, ParticleEngine};
 pub use error::{Error, Result};

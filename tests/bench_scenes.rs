@@ -6,7 +6,7 @@ mod common;
 use glam::Vec3;
 use texflow::bench::scenes::{self, bench_scenes, ScenesOptions};
 use texflow::engine::cpu::{CpuEngine, CpuSim};
-use texflow::{scene, Engine};
+use texflow::{scene, ParticleEngine};
 
 fn sized(name: &str, n: u32) -> texflow::scene::SceneFile {
     let mut s = scene::load(name).expect("built-in scene");
@@ -101,7 +101,7 @@ fn paper_columns_and_ratios() {
 fn compare(name: &str, n: u32, frames: usize) {
     let ctx = common::context();
     let scene = sized(name, n);
-    let mut gpu = Engine::new(&ctx, &scene, 7).expect("GPU engine");
+    let mut gpu = ParticleEngine::new(&ctx, &scene, 7).expect("GPU engine");
     let mut cpu = CpuSim::new(&scene, 7).expect("CPU engine");
     // Step 0: the initial fill (statics: phase, type, total life, random number).
     let st_gpu = gpu.sim().statics().read_f32().unwrap();
@@ -221,7 +221,7 @@ fn cpu_engine_frame_matches_the_gpu_frame_on_e3() {
     // rounding of positions (a point may land in the neighbouring pixel) and of ties in the order.
     let ctx = common::context();
     let scene = sized("e3", 32);
-    let mut gpu = Engine::new(&ctx, &scene, 5).unwrap();
+    let mut gpu = ParticleEngine::new(&ctx, &scene, 5).unwrap();
     let mut cpu = CpuEngine::new(&ctx, &scene, 5).unwrap();
     for _ in 0..120 {
         gpu.advance_frame().unwrap();

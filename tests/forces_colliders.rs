@@ -1601,7 +1601,7 @@ fn fp24_scenes_sort_with_the_identifier_table() {
         .replace("size = [64, 64]", "size = [16, 16]\nprecision = \"fp24\"")
         .replace("resolution = [512, 512]", "resolution = [64, 64]");
     let s = scene::parse("smoke-fp24", &src).unwrap();
-    let mut engine = texflow::engine::Engine::new(&ctx, &s, 3).unwrap();
+    let mut engine = texflow::engine::ParticleEngine::new(&ctx, &s, 3).unwrap();
     for _ in 0..30 {
         engine.advance_frame().unwrap();
     }

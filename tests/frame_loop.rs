@@ -7,7 +7,7 @@ mod common;
 use std::ops::ControlFlow;
 
 use texflow::engine::{FrameLoop, LoopOptions, MemorySink};
-use texflow::{scene, SceneEngine};
+use texflow::{engine, scene, EngineKind};
 
 /// Runs `frames` frames of a built-in scene on a tiny state, writing every `every`-th frame and
 /// dumping every `dump_every`-th, and returns the sink.
@@ -29,17 +29,17 @@ fn run(name: &str, frames: u64, every: u64, dump_every: Option<u64>) -> MemorySi
     if let Some(c) = s.collisions.as_mut() {
         c.cell = None;
     }
-    let mut engine = SceneEngine::new(&ctx, &s, 3).unwrap();
+    let mut engine = engine::build(&ctx, &s, 3, EngineKind::Gpu).unwrap();
     let options = LoopOptions {
         frames,
         every,
         dump_every,
         ..LoopOptions::default()
     };
-    let run = FrameLoop::new(&ctx, &engine, options).unwrap();
+    let run = FrameLoop::new(&ctx, engine.as_ref(), options).unwrap();
     let mut sink = MemorySink::default();
     let summary = run
-        .run(&mut engine, &mut sink, |_| ControlFlow::Continue(()))
+        .run(engine.as_mut(), &mut sink, |_| ControlFlow::Continue(()))
         .unwrap();
     assert_eq!(summary.frames, frames);
     assert_eq!(summary.written, sink.frames.len() as u64);
@@ -80,11 +80,11 @@ fn the_loop_can_be_stopped_between_frames() {
         s.render.resolution = [16, 16];
         s
     };
-    let mut engine = SceneEngine::new(&ctx, &s, 1).unwrap();
-    let run = FrameLoop::new(&ctx, &engine, LoopOptions::default()).unwrap();
+    let mut engine = engine::build(&ctx, &s, 1, EngineKind::Gpu).unwrap();
+    let run = FrameLoop::new(&ctx, engine.as_ref(), LoopOptions::default()).unwrap();
     let mut sink = MemorySink::default();
     let summary = run
-        .run(&mut engine, &mut sink, |e| match e {
+        .run(engine.as_mut(), &mut sink, |e| match e {
             texflow::engine::Event::Frame { index: 4 } => ControlFlow::Break(()),
             _ => ControlFlow::Continue(()),
         })
@@ -104,7 +104,7 @@ fn the_sort_follows_the_viewers_camera() {
     let mut s = scene::load("smoke").unwrap();
     s.particles.size = [16, 16];
     s.render.resolution = [32, 32];
-    let mut e = texflow::Engine::new(&ctx, &s, 2).unwrap();
+    let mut e = texflow::ParticleEngine::new(&ctx, &s, 2).unwrap();
     for _ in 0..30 {
         e.advance_frame().unwrap();
     }

@@ -9,7 +9,7 @@ use glam::Vec3;
 use texflow::gl::{Context, Texture, TextureFormat};
 use texflow::render::{FrameTarget, GeometryRenderer, Mesh, ParticleRenderer, ParticleStyle};
 use texflow::scene::{self, Blending, DrawOrder, Keyframe};
-use texflow::Engine;
+use texflow::ParticleEngine;
 
 const S: u32 = 8;
 const FW: u32 = 48;
@@ -110,12 +110,12 @@ fn geometry_hides_the_particles_behind_it_with_every_blending() {
 }
 
 /// A built-in scene at a tiny size, geometry on or off.
-fn engine(ctx: &Context, name: &str, geometry: bool) -> Engine {
+fn engine(ctx: &Context, name: &str, geometry: bool) -> ParticleEngine {
     let mut s = scene::load(name).unwrap();
     s.particles.size = [16, 16];
     s.render.resolution = [64, 64];
     s.render.geometry = geometry;
-    Engine::new(ctx, &s, 7).unwrap()
+    ParticleEngine::new(ctx, &s, 7).unwrap()
 }
 
 #[test]

@@ -1,5 +1,5 @@
 //! The engine core on a real GL context (llvmpipe in CI): ping-pong through MRT, the projection
-//! of the point renderer, and the fire's invariants over 1,000 steps.
+//! of the particle renderer's fire ramp, and the fire's invariants over 1,000 steps.
 
 mod common;
 
@@ -7,10 +7,10 @@ use common::image::probe;
 use common::{context, no_gl_error, test_shader};
 use glam::Vec3;
 use texflow::gl::{Defines, FullscreenPass, PingPong, Program, TextureFormat, FULLSCREEN_VERTEX};
-use texflow::render::{Camera, FrameTarget, PointRenderer, PointStyle};
+use texflow::render::{Camera, FireRamp, FrameTarget, ParticleRenderer, ParticleStyle};
 use texflow::scene;
-use texflow::sim::{FireParams, FireSim};
-use texflow::FireEngine;
+use texflow::sim::{FireParams, FireSim, Simulation};
+use texflow::{engine, EngineKind};
 
 /// A pass that adds 1 to both MRT targets: after k steps both hold initial + k, texel by texel,
 /// at square, non-square and non-power-of-two sizes (a half-texel shift or a missed swap fails).
@@ -95,13 +95,8 @@ fn particle_lands_on_the_projected_pixel() {
     };
     let (fw, fh) = (96, 64);
     let target = FrameTarget::new(&ctx, fw, fh).unwrap();
-    let renderer = PointRenderer::new(&ctx).unwrap();
-    let style = PointStyle {
-        point_size: 1.0,
-        intensity: 1.0,
-        max_age: 2.0,
-        soft: false,
-    };
+    let max_age = 2.0;
+    let renderer = ParticleRenderer::new(&ctx, fire_style(1.0, max_age, false), 4, 3).unwrap();
     // World positions behind chosen pixel centres, from the inverse of glam's projection.
     let inverse = camera.view_projection(fw as f32 / fh as f32).inverse();
     let positions_to_try: Vec<Vec3> = [(10u32, 7u32, 0.3f32), (48, 32, 0.9), (90, 60, -0.5)]
@@ -135,17 +130,19 @@ fn particle_lands_on_the_projected_pixel() {
         let mut vel = vec![0f32; 12 * 4];
         let i = 5 + slot;
         pos[4 * i..4 * i + 4].copy_from_slice(&[p.x, p.y, p.z, 1.0]);
-        vel[4 * i + 3] = style.max_age - 2.0; // total life 2 s, 1 s left: relative age 0.5
+        vel[4 * i + 3] = max_age - 2.0; // total life 2 s, 1 s left: relative age 0.5
         state.front().texture(0).upload_f32(&pos).unwrap();
         state.front().texture(1).upload_f32(&vel).unwrap();
         target.clear();
-        renderer.draw(
-            &target,
-            state.front().texture(0),
-            state.front().texture(1),
-            &camera,
-            &style,
-        );
+        renderer
+            .draw(
+                &target,
+                state.front().texture(0),
+                state.front().texture(1),
+                &camera,
+                12,
+            )
+            .unwrap();
         let img = target.read_rgb().unwrap();
         let lit: Vec<(u32, u32)> = img
             .enumerate_pixels()
@@ -166,7 +163,6 @@ fn fire_sprites_fall_off_as_one_minus_r_squared_squared() {
     let camera = Camera::default();
     let (fw, fh, size) = (64u32, 48u32, 9i32);
     let target = FrameTarget::new(&ctx, fw, fh).unwrap();
-    let renderer = PointRenderer::new(&ctx).unwrap();
     let (cx, cy) = (30u32, 20u32);
     let ndc = glam::Vec4::new(
         (cx as f32 + 0.5) / fw as f32 * 2.0 - 1.0,
@@ -197,20 +193,18 @@ fn fire_sprites_fall_off_as_one_minus_r_squared_squared() {
         .upload_f32(&[0.0, 0.0, 0.0, 1.0])
         .unwrap();
     let draw = |soft: bool| {
-        let style = PointStyle {
-            point_size: size as f32,
-            intensity: 1.0,
-            max_age: 3.0,
-            soft,
-        };
+        let renderer =
+            ParticleRenderer::new(&ctx, fire_style(size as f32, 3.0, soft), 1, 1).unwrap();
         target.clear();
-        renderer.draw(
-            &target,
-            state.front().texture(0),
-            state.front().texture(1),
-            &camera,
-            &style,
-        );
+        renderer
+            .draw(
+                &target,
+                state.front().texture(0),
+                state.front().texture(1),
+                &camera,
+                1,
+            )
+            .unwrap();
         target.read_rgb().unwrap()
     };
     let (square, soft) = (draw(false), draw(true));
@@ -248,6 +242,16 @@ fn fire_sprites_fall_off_as_one_minus_r_squared_squared() {
     no_gl_error(&ctx);
 }
 
+/// The fire's look in the one particle renderer: its ramp, square points or soft sprites.
+fn fire_style(point_size: f32, max_age: f32, soft: bool) -> ParticleStyle {
+    ParticleStyle {
+        point_size,
+        intensity: 1.0,
+        fire: Some(FireRamp { max_age, soft }),
+        ..ParticleStyle::default()
+    }
+}
+
 fn count_alive(pos: &[f32]) -> usize {
     pos.chunks_exact(4).filter(|p| p[3] > 0.0).count()
 }
@@ -261,6 +265,7 @@ fn fire_stays_finite_and_in_bounds_for_1000_steps() {
     let (w, h) = (160u32, 120u32);
     let dt = 1.0 / 60.0;
     let mut sim = FireSim::new(&ctx, w, h, params.clone(), 42).unwrap();
+    sim.set_time_step(dt, 1).unwrap();
     let n = (w * h) as f64;
     // Every particle's cycle is max_age long; a life L in [life_min, life_max] of it is alive, so
     // in the steady state the live fraction is E[L]/max_age. Phases are independent, so the count
@@ -270,7 +275,7 @@ fn fire_stays_finite_and_in_bounds_for_1000_steps() {
     let slack = 6.0 * sigma + n * 3.0 * dt as f64 / params.max_age as f64;
     let mut counts = Vec::new();
     for step in 1..=1000 {
-        sim.step(dt);
+        sim.step().unwrap();
         if step % 250 == 0 {
             let pos = sim.positions().read_f32().unwrap();
             let vel = sim.velocities().read_f32().unwrap();
@@ -325,11 +330,12 @@ fn fire_births_are_spread_over_the_cycle() {
     let params = FireParams::default();
     let dt = 1.0 / 60.0;
     let mut sim = FireSim::new(&ctx, 64, 64, params.clone(), 3).unwrap();
+    sim.set_time_step(dt, 1).unwrap();
     let n = 64.0 * 64.0;
     let per_step = n * dt as f64 / params.max_age as f64;
     let mut last = 0usize;
     for _ in 0..(params.max_age / dt) as usize {
-        sim.step(dt);
+        sim.step().unwrap();
         let alive = count_alive(&sim.positions().read_f32().unwrap());
         let born = alive.saturating_sub(last) as f64;
         assert!(
@@ -344,11 +350,11 @@ fn fire_births_are_spread_over_the_cycle() {
 fn png_bytes(seed: u64) -> Vec<u8> {
     let ctx = context();
     let mut s = scene::fire();
-    s.particles = [96, 80];
-    s.resolution = [128, 96];
-    let mut engine = FireEngine::new(&ctx, s, seed).unwrap();
+    s.particles.size = [96, 80];
+    s.render.resolution = [128, 96];
+    let mut engine = engine::build(&ctx, &s, seed, EngineKind::Gpu).unwrap();
     for _ in 0..40 {
-        engine.advance_frame();
+        engine.advance_frame().unwrap();
     }
     let img = engine.render().unwrap();
     let mut bytes = Vec::new();

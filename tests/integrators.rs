@@ -251,7 +251,7 @@ fn cpu_engine_steps_the_thesis_integrators() {
         let mut s = scene::load("e1").unwrap();
         s.particles.size = [16, 16];
         s.integrator = integrator;
-        let mut gpu = texflow::Engine::new(&ctx, &s, 7).unwrap();
+        let mut gpu = texflow::ParticleEngine::new(&ctx, &s, 7).unwrap();
         let mut cpu = CpuSim::new(&s, 7).unwrap();
         for _ in 0..90 {
             gpu.advance_frame().unwrap();

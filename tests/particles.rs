@@ -450,7 +450,7 @@ fn sorted_distances(
     s.particles.size = [16, 16];
     s.render.resolution = [64, 64];
     s.render.sort.passes_per_frame = spread;
-    let mut e = texflow::Engine::new(&ctx, &s, 4).unwrap();
+    let mut e = texflow::ParticleEngine::new(&ctx, &s, 4).unwrap();
     let eye = e.camera().eye();
     let mut out = Vec::new();
     for _ in 0..frames {
@@ -533,7 +533,7 @@ fn orbiting_camera_is_followed_by_the_sort() {
     s.render.resolution = [64, 64];
     s.render.camera.orbit = 90.0;
     let start = texflow::render::Camera::from(&s.render.camera);
-    let mut e = texflow::Engine::new(&ctx, &s, 4).unwrap();
+    let mut e = texflow::ParticleEngine::new(&ctx, &s, 4).unwrap();
     let frames = 90;
     for _ in 0..frames {
         e.advance_frame().unwrap();

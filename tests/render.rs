@@ -126,6 +126,7 @@ fn style(
         keyframes: test_keyframes(),
         depth_test: false,
         rotate: texflow::scene::Rotate::Age,
+        fire: None,
     }
 }
 
@@ -1177,7 +1178,7 @@ fn point_size_limit_and_quad_paths() {
 /// stretched quad is the quad, and flat quads are the points; with exposure the streaks cover more.
 #[test]
 fn engine_draws_sorted_scenes_as_quads_and_streaks() {
-    use texflow::engine::Engine;
+    use texflow::engine::ParticleEngine;
     use texflow::scene::{parse, Integrator};
     let ctx = context();
     let src = texflow::scene::builtin_source("smoke").unwrap();
@@ -1191,7 +1192,7 @@ fn engine_draws_sorted_scenes_as_quads_and_streaks() {
             scene.render.primitive = primitive;
             scene.render.stretch = stretch;
             scene.integrator = integrator;
-            let mut e = Engine::new(&ctx, &scene, 3).unwrap();
+            let mut e = ParticleEngine::new(&ctx, &scene, 3).unwrap();
             for _ in 0..20 {
                 e.advance_frame().unwrap();
             }

@@ -261,11 +261,11 @@ fn a_fire_scene_refuses_the_render_keys_it_would_ignore() {
 fn a_fire_scene_draws_on_its_background() {
     let ctx = context();
     let src = fire_with("background = [0.2, 0.4, 0.6]");
-    let mut s = scene::Scene::from_file(&scene::parse("fire.toml", &src).unwrap()).unwrap();
-    s.particles = [16, 16];
-    s.resolution = [32, 32];
-    let mut e = texflow::FireEngine::new(&ctx, s, 1).unwrap();
-    e.advance_frame();
+    let mut s = scene::parse("fire.toml", &src).unwrap();
+    s.particles.size = [16, 16];
+    s.render.resolution = [32, 32];
+    let mut e = texflow::engine::build(&ctx, &s, 1, texflow::EngineKind::Gpu).unwrap();
+    e.advance_frame().unwrap();
     let img = e.render().unwrap();
     probe(&img, 0, 0, &[51, 102, 153], 0, "the background");
     no_gl_error(&ctx);

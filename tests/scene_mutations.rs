@@ -19,7 +19,7 @@ use std::ops::{ControlFlow, Range};
 use std::time::Instant;
 
 use texflow::engine::{FrameLoop, LoopOptions, MemorySink, NonFinitePolicy};
-use texflow::{scene, Error, SceneEngine};
+use texflow::{engine, scene, EngineKind, Error};
 
 /// What each numeric literal is replaced by, in turn: zero, a negative, the tiny and the huge of
 /// both signs, the edge of f32, and an integer no TOML integer holds.
@@ -266,7 +266,7 @@ fn run_all(accepted: &[&Accepted]) -> Runs {
             runs.skipped += 1;
             continue;
         }
-        let mut engine = match SceneEngine::new(&ctx, &s, 7) {
+        let mut engine = match engine::build(&ctx, &s, 7, EngineKind::Gpu) {
             Ok(e) => e,
             Err(e) if e.is_bad_input() => {
                 runs.skipped += 1;
@@ -282,10 +282,10 @@ fn run_all(accepted: &[&Accepted]) -> Runs {
             non_finite: NonFinitePolicy::Report,
             timing: false,
         };
-        let frame_loop = FrameLoop::new(&ctx, &engine, options).unwrap();
+        let frame_loop = FrameLoop::new(&ctx, engine.as_ref(), options).unwrap();
         let mut sink = MemorySink::default();
         let summary = frame_loop
-            .run(&mut engine, &mut sink, |_| ControlFlow::Continue(()))
+            .run(engine.as_mut(), &mut sink, |_| ControlFlow::Continue(()))
             .unwrap_or_else(|e| panic!("{label}: the run failed: {e}"));
         assert_eq!(summary.frames, FRAMES, "{label}");
         assert_eq!(summary.written, FRAMES, "{label}");

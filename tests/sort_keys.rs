@@ -70,7 +70,7 @@ fn gpu_sorts_by_age_in_every_variant() {
         for key in [SortKey::YoungestOnTop, SortKey::OldestOnTop] {
             for order in [DrawOrder::BackToFront, DrawOrder::FrontToBack] {
                 let s = scene(variant, key, order, ALLOCATOR);
-                let mut engine = texflow::engine::Engine::new(&ctx, &s, 5).unwrap();
+                let mut engine = texflow::engine::ParticleEngine::new(&ctx, &s, 5).unwrap();
                 for _ in 0..30 {
                     engine.advance_frame().unwrap();
                 }
@@ -115,7 +115,7 @@ fn a_sort_spread_over_frames_refreshes_age_keys() {
     let mut s = scene(Variant::OddEven, key, DrawOrder::BackToFront, ALLOCATOR);
     let passes = texflow::engine::plan::sort_plan(&s).unwrap().passes;
     s.render.sort.passes_per_frame = Some(passes as u32);
-    let mut engine = texflow::engine::Engine::new(&ctx, &s, 5).unwrap();
+    let mut engine = texflow::engine::ParticleEngine::new(&ctx, &s, 5).unwrap();
     for frame in 0..30 {
         engine.advance_frame().unwrap();
         assert!(engine.order_for_drawing().unwrap());

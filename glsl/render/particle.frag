@@ -7,6 +7,9 @@
 //   default:      straight colour, alpha (additive SRC_ALPHA, ONE; over SRC_ALPHA, 1 - SRC_ALPHA)
 //   PREMULTIPLIED: colour · alpha, alpha (the under operator, 1 - DST_ALPHA, ONE)
 //   MULTIPLY:     mix(1, colour, alpha): the destination is multiplied by it (DST_COLOR, ZERO)
+// FIRE_RAMP: the thesis's fire, coloured by its age ramp and faded in and out over the life
+// (additive, so the order of particles is irrelevant); FIRE_SOFT makes each point a round sprite
+// whose opacity falls to 0 at its rim, (1 - r^2)^2.
 
 uniform sampler2D u_atlas;
 
@@ -16,7 +19,24 @@ flat in vec2 v_rotation;
 flat in vec2 v_tile;
 layout(location = 0) out vec4 o_color;
 
+#ifdef FIRE_RAMP
+#include "render/fire_ramp.glsl"
+uniform float u_intensity;
+in float v_age;
+#endif
+
 void main() {
+#ifdef FIRE_RAMP
+    // Fade in over the first tenth of the life (no hard edge at the emitter), then out.
+    float fade = smoothstep(0.0, 0.1, v_age) * pow(1.0 - v_age, 1.5);
+#ifdef FIRE_SOFT
+    vec2 rim = gl_PointCoord * 2.0 - 1.0;
+    float k = max(1.0 - dot(rim, rim), 0.0);
+    fade *= k * k;
+#endif
+    o_color = vec4(fire_ramp(v_age), u_intensity * fade);
+    return;
+#endif
     vec4 c = v_color;
 #ifdef SPRITES
 #if defined(QUADS) || defined(STRETCHED) || defined(TRIANGLES)

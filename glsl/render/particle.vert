@@ -16,6 +16,9 @@
 //     motion from where it was u_stretch seconds ago, x - v·u_stretch, to where it is (motion
 //     blur): length |v_screen|·u_stretch + size, width size. No point size limit applies.
 // Everything after the fetch is shared, so both paths draw bit-identical images.
+// FIRE_RAMP defined: the thesis's fire (Listing 3): the statics are the fire's velocities, whose
+// w is the wait; the total life is u_max_age - wait and the fragment stage colours the relative
+// age by the fire's ramp (render/fire_ramp.glsl); one size, no sprite.
 // SPRITES defined: the size is scaled by the particle's type and its size over life, and the
 // fragment stage textures the sprite from the atlas tile of its type, rotated by
 // angle0 + speed · age (render/sprite.glsl), or with ROTATE_SPIN by angle0 + the angle the
@@ -52,6 +55,10 @@ out vec4 v_color;         // straight (not premultiplied) colour and opacity
 out vec2 v_coord;         // quads: the corner's sprite coordinate, as gl_PointCoord (y down)
 flat out vec2 v_rotation; // cos and sin of the sprite's screen-space angle
 flat out vec2 v_tile;     // atlas tile origin in tile units
+#ifdef FIRE_RAMP
+uniform float u_max_age;  // the fire's cycle: life plus wait
+out float v_age;          // relative age, for the fire's ramp
+#endif
 
 #if defined(QUADS) || defined(STRETCHED)
 const int VERTICES = 6;
@@ -88,8 +95,21 @@ void main() {
         v_color = vec4(0.0);
         v_rotation = vec2(1.0, 0.0);
         v_tile = vec2(0.0);
+#ifdef FIRE_RAMP
+        v_age = 1.0;
+#endif
         return;
     }
+#ifdef FIRE_RAMP
+    float life = max(u_max_age - s.w, 1e-6);
+    v_age = clamp(1.0 - p.w / life, 0.0, 1.0);
+    v_color = vec4(0.0);
+    v_rotation = vec2(1.0, 0.0);
+    v_tile = vec2(0.0);
+    gl_Position = u_view_proj * vec4(p.xyz, 1.0);
+    gl_PointSize = u_point_size;
+    return;
+#endif
     float age = relative_age(p.w, s.z);
     int type = clamp(int(s.y + 0.5), 0, 3);
     vec4 c = keyframe_color_of(type, age);

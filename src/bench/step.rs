@@ -2,10 +2,11 @@
 //! its floor measured in the same run.
 
 use super::stats::{median, Clock, PassTimer, RenderFloor, WriteFloor};
-use crate::engine::FireEngine;
+use crate::engine::{timed, GpuEngine};
 use crate::error::Result;
 use crate::gl::Context;
-use crate::scene::Scene;
+use crate::scene::SceneFile;
+use crate::sim::{FireSim, Simulation};
 
 /// One row of `texflow bench step`.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -91,7 +92,7 @@ impl Default for StepOptions {
 /// Times the simulation and render passes of `scene` at each square state size.
 pub fn bench_step(
     ctx: &Context,
-    scene: &Scene,
+    scene: &SceneFile,
     sizes: &[u32],
     opts: &StepOptions,
     mut progress: impl FnMut(u32),
@@ -103,25 +104,20 @@ pub fn bench_step(
     let mut records = Vec::new();
     for &size in sizes {
         let mut s = scene.clone();
-        s.particles = [size, size];
-        let mut engine = FireEngine::new(ctx, s, 1)?;
-        let dt = scene.dt;
+        s.particles.size = [size, size];
+        let mut engine = GpuEngine::<FireSim>::new(ctx, &s, 1)?;
         for _ in 0..opts.warmup_steps {
-            engine.advance_frame();
+            engine.advance_frame()?;
         }
         let mut t = [vec![], vec![], vec![], vec![]];
         for _ in 0..opts.repeats {
-            let sim = engine.sim();
-            t[0].push(timer.time(|| sim_floor.draw(sim.state().back()))?);
-            sim.bind_step(dt);
-            t[1].push(timer.time(|| sim.draw_step_only())?);
-            // The timed pass wrote the back without swapping; advancing redoes it and swaps, so
-            // the state keeps evolving between repetitions.
-            engine.advance_frame();
+            t[0].push(timer.time(|| sim_floor.draw(engine.sim().state().back()))?);
+            // The step's one pass and its swap (which costs nothing).
+            t[1].push(timed(&timer, || engine.sim_mut().step())?);
             let points = engine.sim().particle_count();
             let fb = engine.target().framebuffer();
             t[2].push(timer.time(|| render_floor.draw(fb, [0.0, 0.0, 0.0, 1.0], blend, points))?);
-            t[3].push(timer.time(|| engine.draw())?);
+            t[3].push(timed(&timer, || engine.draw())?);
         }
         ctx.check_error("benchmark")?;
         let [floor, sim_ms, rfloor, render] = t.map(|v| median(&v));
@@ -137,7 +133,7 @@ pub fn bench_step(
             render_ms: render,
             render_floor_ms: rfloor,
             render_ratio: render / rfloor,
-            resolution: scene.resolution,
+            resolution: scene.render.resolution,
             repeats: opts.repeats,
             clock: timer.clock(),
         });

@@ -143,14 +143,20 @@ fn step(a: StepArgs) -> texflow::Result<()> {
     } = a;
     let name = scene_flag.unwrap_or(name);
     let (label, src) = scene::load_source(&name)?;
-    let mut s = scene::Scene::from_file(&scene::parse_with(&label, &src, &set.set)?)?;
+    let mut s = scene::parse_with(&label, &src, &set.set)?;
+    if s.fire.is_none() {
+        return Err(bad(format!(
+            "bench step times the thesis's fire, and scene `{}` has no [fire] section: use              `texflow bench scene {name}` for the particle pipeline",
+            s.name
+        )));
+    }
     if let Some(r) = resolution {
-        s.resolution = r;
+        s.render.resolution = r;
     }
     if sizes.is_empty() || sizes.contains(&0) {
         return Err(bad("--sizes needs sizes of at least 1, e.g. 256,512"));
     }
-    s.validate()?;
+    s.check()?;
     let ctx = Context::new(common.device)?;
     for &n in &sizes {
         texflow::gl::check_size(&ctx, "--sizes", n, n)?;

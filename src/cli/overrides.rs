@@ -149,9 +149,6 @@ impl Overrides {
                 ),
             }));
         }
-        if scene.fire.is_some() {
-            scene::Scene::from_file(scene)?.validate()?;
-        }
         Ok(())
     }
 

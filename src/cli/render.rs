@@ -13,10 +13,28 @@ use super::overrides::Overrides;
 use texflow::gl::Context;
 use texflow::output::{video, FrameWriter, VideoWriter};
 use texflow::scene;
-use texflow::SceneEngine;
+use texflow::EngineKind;
 
 use super::video_loop::LoopedVideo;
 use super::{at_least_one, bad, parse_size, progress_bar, signals, targets, time_step, Common};
+
+/// `--engine`.
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum EngineArg {
+    /// The GPU engine.
+    Gpu,
+    /// The CPU engine (E5).
+    Cpu,
+}
+
+impl From<EngineArg> for EngineKind {
+    fn from(e: EngineArg) -> EngineKind {
+        match e {
+            EngineArg::Gpu => EngineKind::Gpu,
+            EngineArg::Cpu => EngineKind::Cpu,
+        }
+    }
+}
 
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
@@ -58,6 +76,11 @@ pub struct RenderArgs {
     /// Random seed (same seed, same device: same frames).
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// The engine: `gpu` (the papers' fragment passes) or `cpu` (UberFlow's E5: the same
+    /// physics on every core, a quicksort, points uploaded every frame; explicit integrators,
+    /// time-stamp and initial emitters, points only).
+    #[arg(long, value_enum, default_value = "gpu")]
+    engine: EngineArg,
     /// Simulation time step in seconds [default: the scene's time.dt].
     #[arg(long, value_name = "SECONDS", value_parser = time_step, allow_hyphen_values = true)]
     dt: Option<f32>,
@@ -167,8 +190,8 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     plan.check()?;
     let ctx = Context::new(overrides.device)?;
     overrides.check_device(&ctx, &prepared)?;
-    let mut engine = SceneEngine::new(&ctx, s, overrides.seed)?;
-    let run = FrameLoop::new(&ctx, &engine, options.clone())?;
+    let mut engine = texflow::engine::build(&ctx, s, overrides.seed, a.engine.into())?;
+    let run = FrameLoop::new(&ctx, engine.as_ref(), options.clone())?;
     // The video first: should its encoder fail to start, no folder has been made yet.
     let video = match &a.video {
         Some(v) => {
@@ -202,7 +225,7 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     let bar = progress_bar(a.frames, a.common.quiet, "rendering");
     // SIGINT and SIGTERM stop the loop between frames (src/cli/signals.rs).
     signals::cooperate();
-    let summary = run.run(&mut engine, &mut sink, |event| on_event(&bar, s, event));
+    let summary = run.run(engine.as_mut(), &mut sink, |event| on_event(&bar, s, event));
     // A signal may have ended the encoder under a frame being written: the signal is the
     // reason, not the broken pipe it left.
     let summary = match (summary, signals::received()) {

@@ -1,6 +1,6 @@
 //! `texflow view`: the scene live in a window (winit + glutin, OpenGL 3.3 core, X11 or Wayland).
 //!
-//! The same [`SceneEngine`] and passes as `render` run in the window's own GL context, wrapped
+//! The same engine ([`texflow::Engine`]) and passes as `render` run in the window's own GL context, wrapped
 //! with [`Context::from_current`] (the embedding path of examples/embed.rs); each frame is drawn
 //! into the engine's frame target and blitted to the window. The mouse orbits (drag) and zooms
 //! (wheel); space pauses, `.` or → steps one frame, `r` restarts, Esc or `q` quits. A scene file
@@ -16,7 +16,7 @@ use clap::Args;
 use texflow::gl::{Context, GlWindow};
 use texflow::render::ViewOffset;
 use texflow::sim::nonfinite::NonFiniteCounter;
-use texflow::SceneEngine;
+use texflow::{Engine, EngineKind};
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
@@ -78,7 +78,7 @@ impl ViewArgs {
 /// What lives while the window is open. Fields drop in order: the engine's GL objects first,
 /// then the wrapped context, the window's context and surface, and the window last.
 struct Live {
-    engine: SceneEngine,
+    engine: Box<dyn Engine>,
     counter: NonFiniteCounter,
     ctx: Context,
     gl: GlWindow,
@@ -152,7 +152,8 @@ impl App {
             self.prepared.scene.render.resolution,
         )?;
         let ctx = gl.context().clone();
-        let engine = SceneEngine::new(&ctx, &self.prepared.scene, self.args.seed)?;
+        let engine =
+            texflow::engine::build(&ctx, &self.prepared.scene, self.args.seed, EngineKind::Gpu)?;
         let [sw, sh] = engine.state_size();
         let counter = NonFiniteCounter::new(&ctx, sw, sh)?;
         self.live = Some(Live {
@@ -169,7 +170,12 @@ impl App {
         let Some(live) = &mut self.live else {
             return Ok(());
         };
-        live.engine = SceneEngine::new(&live.ctx, &self.prepared.scene, self.args.seed)?;
+        live.engine = texflow::engine::build(
+            &live.ctx,
+            &self.prepared.scene,
+            self.args.seed,
+            EngineKind::Gpu,
+        )?;
         let [sw, sh] = live.engine.state_size();
         live.counter = NonFiniteCounter::new(&live.ctx, sw, sh)?;
         self.frame = 0;
@@ -231,7 +237,7 @@ impl App {
         }
         live.ctx.finish();
         let t1 = Instant::now();
-        let (target, sort_ms) = draw(&mut live.engine, &orbit, &live.ctx, t1)?;
+        let (target, sort_ms) = draw(live.engine.as_mut(), &orbit, &live.ctx, t1)?;
         let size = live.gl.window().inner_size();
         target.framebuffer().blit_to_default(fit(
             [target.width(), target.height()],
@@ -318,7 +324,7 @@ impl App {
 /// Draws the engine's frame for the viewer's `orbit`: the same sort stage and draw as `render`
 /// (the sort follows the viewer's camera); returns the frame target and the sort's ms.
 fn draw<'a>(
-    engine: &'a mut SceneEngine,
+    engine: &'a mut dyn Engine,
     orbit: &Orbit,
     ctx: &Context,
     start: Instant,

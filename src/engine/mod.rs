@@ -1,31 +1,31 @@
 //! The engines and the frame loop: what runs a scene's passes frame after frame.
 //!
-//! - [`FireEngine`]: the GLSL fire thesis (in-shader respawn, vertex-texture-fetch points).
-//! - [`Engine`]: the particle pipeline of UberFlow and Latta (births, forces, colliders,
-//!   collisions, the sort alpha blending needs, sprites).
-//! - [`CpuEngine`]: the same pipeline on the CPU (UberFlow's E5), drawing through the same GL
-//!   renderer so that the frames can be compared pixel for pixel.
-//! - [`SceneEngine`]: whichever of the first two a scene asks for.
-//! - [`plan`]: the passes a scene runs per frame, derived from the scene alone.
+//! - [`Engine`]: the one trait everything above this module uses (the frame loop, `render`,
+//!   `view`, the benchmarks, the report); [`build`] makes the engine a scene asks for.
+//! - [`GpuEngine`]: the one GPU engine, over a [`Simulation`](crate::sim::Simulation): the
+//!   particle pipeline of UberFlow and Latta ([`ParticleEngine`]: births, forces, colliders,
+//!   collisions, the sort alpha blending needs, sprites) or the GLSL fire thesis (its in-shader
+//!   respawn, drawn by the same particle renderer with the fire's colour ramp).
+//! - [`CpuEngine`]: the same pipeline on the CPU (UberFlow's E5), drawing through GL so that
+//!   the frames can be compared pixel for pixel.
+//! - [`plan`]: the passes a scene runs per frame.
 //! - [`FrameLoop`]: frames, `every`, dumps and the non-finite census, shared by the CLI, the
 //!   examples and the tests.
 
 pub mod compare;
+mod contract;
 pub mod cpu;
-mod fire;
-mod particles;
+mod gpu;
 pub mod plan;
 mod run;
-mod scene_engine;
 
+pub use contract::{build, timed, Engine, EngineKind, StateDump};
 pub use cpu::{CpuEngine, CpuSim, FramePhases};
-pub use fire::FireEngine;
-pub use particles::{compact_depth_range, key_mode, Engine};
+pub use gpu::{compact_depth_range, key_mode, GpuEngine, ParticleEngine};
 pub use run::{
     Event, FolderSink, FrameLoop, FrameSink, FrameTimes, LoopOptions, LoopSummary, MemorySink,
     NonFinitePolicy,
 };
-pub use scene_engine::{SceneEngine, StateDump};
 
 /// Folds a 64-bit seed into the 32 bits the shader hash takes.
 pub fn shader_seed(seed: u64) -> u32 {

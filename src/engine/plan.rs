@@ -160,7 +160,7 @@ fn fire_plan(scene: &SceneFile) -> Plan {
 }
 
 /// The sort's passes of a frame, where alpha blending needs one.
-fn sort_lines(scene: &SceneFile) -> Vec<String> {
+pub fn sort_lines(scene: &SceneFile) -> Vec<String> {
     let r = &scene.render;
     let mut per_frame = Vec::new();
     let Some(s) = sort_plan(scene) else {

@@ -1,11 +1,11 @@
-//! The frame loop: `frames` frames of a [`SceneEngine`], every `every`-th one drawn and handed to a
+//! The frame loop: `frames` frames of an [`Engine`], every `every`-th one drawn and handed to a
 //! [`FrameSink`], every `dump_every`-th state dump handed to it too, and the non-finite census of
 //! each written frame. The CLI's `render`, the examples and the tests all drive this one loop.
 
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 
-use super::{SceneEngine, StateDump};
+use super::{Engine, StateDump};
 use crate::error::{Error, Result};
 use crate::gl::{Clock, Context, PassTimer};
 use crate::output::FrameWriter;
@@ -212,21 +212,21 @@ impl FrameTimes {
     }
 }
 
-/// Runs a [`SceneEngine`] frame after frame.
+/// Runs an [`Engine`] frame after frame.
 ///
 /// ```
 /// use std::ops::ControlFlow;
 /// use texflow::engine::{FrameLoop, LoopOptions, MemorySink};
-/// use texflow::{gl::Context, scene, SceneEngine};
+/// use texflow::{engine, gl::Context, scene};
 /// let ctx = Context::new(0)?;
 /// let mut s = scene::load("snow")?;
 /// s.particles.size = [16, 16];
 /// s.render.resolution = [24, 16];
-/// let mut engine = SceneEngine::new(&ctx, &s, 1)?;
+/// let mut engine = engine::build(&ctx, &s, 1, engine::EngineKind::Gpu)?;
 /// let options = LoopOptions { frames: 9, every: 4, ..LoopOptions::default() };
-/// let run = FrameLoop::new(&ctx, &engine, options)?;
+/// let run = FrameLoop::new(&ctx, engine.as_ref(), options)?;
 /// let mut sink = MemorySink::default();
-/// let summary = run.run(&mut engine, &mut sink, |_| ControlFlow::Continue(()))?;
+/// let summary = run.run(engine.as_mut(), &mut sink, |_| ControlFlow::Continue(()))?;
 /// let written: Vec<u64> = sink.frames.iter().map(|(i, _)| *i).collect();
 /// assert_eq!(written, [0, 4, 8]);
 /// assert_eq!(summary.max_non_finite, 0);
@@ -241,7 +241,7 @@ pub struct FrameLoop {
 
 impl FrameLoop {
     /// Checks the options and builds the GPU census for `engine`'s state size.
-    pub fn new(ctx: &Context, engine: &SceneEngine, options: LoopOptions) -> Result<Self> {
+    pub fn new(ctx: &Context, engine: &dyn Engine, options: LoopOptions) -> Result<Self> {
         options.check()?;
         let [w, h] = engine.state_size();
         let timer = match options.timing {
@@ -264,7 +264,7 @@ impl FrameLoop {
     /// `ControlFlow::Break(())`; what was handed to the sink so far stays there.
     pub fn run(
         &self,
-        engine: &mut SceneEngine,
+        engine: &mut dyn Engine,
         sink: &mut dyn FrameSink,
         mut on_event: impl FnMut(Event<'_>) -> ControlFlow<()>,
     ) -> Result<LoopSummary> {
@@ -358,7 +358,7 @@ impl FrameLoop {
     /// under [`NonFinitePolicy::Fail`], else reported once (the caller may stop).
     fn census(
         &self,
-        engine: &mut SceneEngine,
+        engine: &mut dyn Engine,
         index: u64,
         s: &mut LoopSummary,
         on_event: &mut impl FnMut(Event<'_>) -> ControlFlow<()>,

@@ -5,7 +5,6 @@ mod camera;
 pub mod geometry;
 mod keyframes;
 mod particles;
-mod points;
 mod sprite;
 mod style;
 mod target;
@@ -14,9 +13,8 @@ pub use camera::{Camera, ViewOffset};
 pub use geometry::{GeometryRenderer, Mesh, Terrain};
 pub use keyframes::{relative_age, KeyframeRamp};
 pub use particles::{FrameState, Motion, ParticleRenderer, QUAD_VERTICES};
-pub use points::{PointRenderer, PointStyle};
 pub use sprite::{
     age_seconds, flipbook_tile, random_size, second_random, sprite_angle, third_random, SizeCurve,
 };
-pub use style::{default_keyframes, ParticleStyle, TypeLook};
+pub use style::{default_keyframes, FireRamp, ParticleStyle, TypeLook};
 pub use target::FrameTarget;

@@ -219,6 +219,18 @@ impl ParticleRenderer {
         } else {
             ""
         };
+        if let Some(f) = s.fire {
+            names.push(format!(
+                "render {} (thesis Listing 3: texture fetch, {}), coloured by the fire's age ramp",
+                if f.soft {
+                    "soft round sprites"
+                } else {
+                    "points"
+                },
+                s.blend_name()
+            ));
+            return names;
+        }
         names.push(format!("render {mode} ({path}, {}{depth})", s.blend_name()));
         if s.under() && self.geometry.is_some() {
             names.push("composite geometry under (its own depth, equal passes)".to_owned());
@@ -313,6 +325,9 @@ impl ParticleRenderer {
         p.set_f32("u_point_size", s.point_size);
         p.set_f32("u_intensity", s.intensity);
         p.set_f32("u_time", state.time);
+        if let Some(f) = s.fire {
+            p.set_f32("u_max_age", f.max_age);
+        }
         s.set_types(p);
         s.set_keyframes(p);
         let (primitive, per_particle) = match s.primitive {
@@ -492,6 +507,12 @@ fn style_defines(ctx: &Context, style: &ParticleStyle) -> Result<Defines> {
     }
     if style.mode == DrawMode::Sprites {
         defines.push(flag("SPRITES"));
+    }
+    if let Some(f) = style.fire {
+        defines.push(flag("FIRE_RAMP"));
+        if f.soft {
+            defines.push(flag("FIRE_SOFT"));
+        }
     }
     if style.rotate == Rotate::Spin {
         if style.path != RenderPath::TextureFetch {

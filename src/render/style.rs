@@ -46,6 +46,23 @@ pub struct ParticleStyle {
     /// ([`FrameState::spins`](super::FrameState::spins)).
     #[serde(skip_serializing_if = "by_age")]
     pub rotate: Rotate,
+    /// The thesis's fire look instead of keyframes: each particle coloured by its own age ramp
+    /// (Listing 3), its age from the fire's state (see [`FireRamp`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fire: Option<FireRamp>,
+}
+
+/// The fire's colouring, a variant of the one particle renderer: white-yellow at birth, orange,
+/// red, fading out, additive. The statics the renderer is given are the fire's velocities,
+/// whose w is the wait; a particle's total life is `max_age` − wait, its relative age
+/// 1 − remaining life / total life (`glsl/render/fire_ramp.glsl`).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct FireRamp {
+    /// The fire's cycle length (`fire.max_age`).
+    pub max_age: f32,
+    /// Soft round sprites (`render.mode = "sprites"`), opacity (1 − r²)² to the rim, instead of
+    /// the thesis's square points (it names their look a flaw, §4.1, §4.5.1).
+    pub soft: bool,
 }
 
 /// The keyframes used when a scene gives none: white, fading out over the life.
@@ -108,6 +125,7 @@ impl Default for ParticleStyle {
             background: [0.0; 3],
             depth_test: false,
             rotate: Rotate::Age,
+            fire: None,
         }
     }
 }
@@ -227,6 +245,7 @@ impl ParticleStyle {
             background: r.background,
             depth_test: r.geometry,
             rotate: r.rotate,
+            fire: None,
         }
     }
 
@@ -234,6 +253,15 @@ impl ParticleStyle {
     /// tile, rotation speed, size over life and keyframes.
     pub fn from_scene(scene: &SceneFile) -> Self {
         let mut style = ParticleStyle::from_render(&scene.render, [1.0; 4]);
+        if let Some(f) = &scene.fire {
+            // The fire's sprites are soft discs of its ramp, not atlas tiles.
+            style.fire = Some(FireRamp {
+                max_age: f.max_age,
+                soft: scene.render.mode == DrawMode::Sprites,
+            });
+            style.mode = DrawMode::Points;
+            return style;
+        }
         for (k, e) in scene.emitters.all().take(4).enumerate() {
             style.types[k] = TypeLook {
                 scale: e.sprite_scale,
@@ -311,7 +339,8 @@ impl ParticleStyle {
         }
     }
 
-    pub(super) fn blend_name(&self) -> &'static str {
+    /// The blending's name, as pass lists print it.
+    pub fn blend_name(&self) -> &'static str {
         match (self.blending, self.order) {
             (Blending::Additive, _) => "additive",
             (Blending::Multiplicative, _) => "multiplicative",

@@ -25,7 +25,7 @@ use serde::Serialize;
 use super::plot::{self, Legend, Marker, Series};
 use super::{num, Csv, Progress, ReportOptions, SectionOutput, Size};
 use crate::bench::{median, Clock, PassTimer};
-use crate::engine::Engine;
+use crate::engine::ParticleEngine;
 use crate::error::{Error, Result};
 use crate::gl::Context;
 use crate::scene::SceneFile;
@@ -219,7 +219,7 @@ pub fn run(ctx: &Context, sweep: &SpreadSweep, progress: Progress<'_>) -> Result
         ));
         let whole = p >= total;
         let s = scene(sweep.side, (!whole).then_some(p), orbit)?;
-        let mut engine = Engine::new(ctx, &s, sweep.seed)?;
+        let mut engine = ParticleEngine::new(ctx, &s, sweep.seed)?;
         // Fill the state first (the sort does not run while the simulation warms up).
         let life = s.emitters.allocator[0].life.map_or(0.0, |l| l[1] as f64);
         let warm_frames = (life / (s.time.dt as f64 * s.time.substeps as f64)).ceil() as usize;

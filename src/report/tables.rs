@@ -117,7 +117,7 @@ pub fn render_paths(ctx: &Context, size: Size, progress: Progress<'_>) -> Result
             let mut scene = crate::scene::load("e1")?;
             scene.particles.size = [n, n];
             scene.render.path = path;
-            let mut engine = crate::engine::Engine::new(ctx, &scene, 1)?;
+            let mut engine = crate::engine::ParticleEngine::new(ctx, &scene, 1)?;
             for _ in 0..warmup.unwrap_or_else(|| bs::default_warmup_frames(&scene)) {
                 engine.advance_frame()?;
             }

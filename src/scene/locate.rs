@@ -17,6 +17,22 @@ pub enum Key {
     Index(usize),
 }
 
+/// `at` as a dotted key path (`emitters.timestamp[0].life`), for errors without a file.
+pub(super) fn key_path(at: &[Key]) -> String {
+    let mut out = String::new();
+    for k in at {
+        match k {
+            Key::Name(n) if out.is_empty() => out.push_str(n),
+            Key::Name(n) => {
+                out.push('.');
+                out.push_str(n);
+            }
+            Key::Index(i) => out.push_str(&format!("[{i}]")),
+        }
+    }
+    out
+}
+
 /// A validation failure: where (a path into the document) and what.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Invalid {
@@ -24,6 +40,13 @@ pub struct Invalid {
     pub at: Vec<Key>,
     /// What is wrong and what to do.
     pub message: String,
+}
+
+impl Invalid {
+    /// The offending key as a dotted path (`fire.life`), for errors without a file.
+    pub fn key(&self) -> String {
+        key_path(&self.at)
+    }
 }
 
 pub(super) fn line_column(src: &str, offset: usize) -> (usize, usize) {

@@ -55,7 +55,34 @@ pub fn parse(path: &str, src: &str) -> Result<SceneFile> {
             scene.resolve_custom_paths(dir);
         }
     }
+    scene.origin =
+        super::schema::Origin(Some(std::sync::Arc::new((path.to_owned(), src.to_owned()))));
     Ok(scene)
+}
+
+impl SceneFile {
+    /// [`validate`](SceneFile::validate) as an error: at the file's line and column where the
+    /// scene was parsed from one (the key's value there, or its table when the key was added
+    /// later), else naming the key. What the engine and the simulations call, so that a scene
+    /// changed after parsing still names where its fault lies.
+    pub fn check(&self) -> Result<()> {
+        let Err(invalid) = self.validate() else {
+            return Ok(());
+        };
+        Err(match &self.origin.0 {
+            Some(origin) => {
+                let (path, src) = (&origin.0, &origin.1);
+                let at = document(path, src).map_or(0, |doc| locate(&doc, &invalid.at));
+                scene_error(path, src, at, invalid.message)
+            }
+            None => crate::error::Error::InvalidInput(format!(
+                "scene `{}`: {}: {}",
+                self.name,
+                super::locate::key_path(&invalid.at),
+                invalid.message
+            )),
+        })
+    }
 }
 
 /// Texture size limits of a device, for [`check_limits`].

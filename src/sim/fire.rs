@@ -71,36 +71,30 @@ impl From<&crate::scene::Fire> for FireParams {
     }
 }
 
+impl From<&FireParams> for crate::scene::Fire {
+    fn from(p: &FireParams) -> crate::scene::Fire {
+        crate::scene::Fire {
+            emitter_center: p.emitter_center.to_array(),
+            emitter_radius: p.emitter_radius,
+            speed: p.speed,
+            spread: p.spread,
+            converge: p.converge,
+            buoyancy: p.buoyancy.to_array(),
+            turbulence: p.turbulence,
+            damping: p.damping,
+            life: [p.life_min, p.life_max],
+            max_age: p.max_age,
+        }
+    }
+}
+
 impl FireParams {
-    /// Rejects values the pass cannot give a meaning to.
-    pub fn validate(&self) -> Result<()> {
-        let finite = [
-            self.emitter_radius,
-            self.speed,
-            self.spread,
-            self.converge,
-            self.turbulence,
-            self.damping,
-            self.life_min,
-            self.life_max,
-            self.max_age,
-        ]
-        .iter()
-        .all(|v| v.is_finite())
-            && self.emitter_center.is_finite()
-            && self.buoyancy.is_finite();
-        let bad = |m: &str| Err(Error::InvalidInput(format!("fire parameters: {m}")));
-        if !finite {
-            return bad("every value must be finite");
-        }
-        if !(self.life_min > 0.0 && self.life_min <= self.life_max && self.life_max <= self.max_age)
-        {
-            return bad("lives must satisfy 0 < life_min <= life_max <= max_age");
-        }
-        if self.emitter_radius < 0.0 || self.damping < 0.0 || self.turbulence < 0.0 {
-            return bad("emitter_radius, damping and turbulence must not be negative");
-        }
-        Ok(())
+    /// Rejects values the pass cannot give a meaning to at steps of `dt` seconds: the rules of
+    /// a scene's `[fire]` section ([`crate::scene::fire_section`]), named by their keys.
+    pub fn validate(&self, dt: f32) -> Result<()> {
+        crate::scene::fire_section(&self.into(), dt).map_err(|e| {
+            Error::InvalidInput(format!("fire parameters: {}: {}", e.key(), e.message))
+        })
     }
 
     /// The fraction of particles alive in the steady state: mean life over cycle length.
@@ -119,6 +113,8 @@ pub struct FireSim {
     params: FireParams,
     seed: u32,
     step: u64,
+    dt: f32,
+    substeps: u32,
 }
 
 /// Index of the position texture in the state.
@@ -128,6 +124,7 @@ pub const VELOCITY: usize = 1;
 
 impl FireSim {
     /// Makes a `width`×`height` state (one particle per texel) and draws the initial state.
+    /// It steps by 1/60 s, once a frame, until [`set_time_step`](Self::set_time_step).
     pub fn new(
         ctx: &Context,
         width: u32,
@@ -135,7 +132,8 @@ impl FireSim {
         params: FireParams,
         seed: u32,
     ) -> Result<Self> {
-        params.validate()?;
+        let dt = 1.0 / 60.0;
+        params.validate(dt)?;
         crate::gl::check_size(ctx, "particle texture", width, height)?;
         let state = PingPong::new(
             ctx,
@@ -154,10 +152,27 @@ impl FireSim {
             params,
             seed,
             step: 0,
+            dt,
+            substeps: 1,
         };
         sim.reset();
         ctx.check_error("initialising the fire state")?;
         Ok(sim)
+    }
+
+    /// Steps of `dt` seconds from now on, `substeps` of them a frame (the parameters are
+    /// checked again: the damping is a rate per step).
+    pub fn set_time_step(&mut self, dt: f32, substeps: u32) -> Result<()> {
+        if !(dt.is_finite() && dt > 0.0) || substeps == 0 {
+            return Err(Error::InvalidInput(format!(
+                "the fire steps by dt = {dt} s, {substeps} a frame: dt must be above 0 and \
+                 substeps at least 1"
+            )));
+        }
+        self.params.validate(dt)?;
+        self.dt = dt;
+        self.substeps = substeps;
+        Ok(())
     }
 
     /// Draws the initial state (all dead, waits spread over one cycle) and restarts the clock.
@@ -172,17 +187,8 @@ impl FireSim {
         self.step = 0;
     }
 
-    /// One physics pass of `dt` seconds: reads the front, writes the back, swaps.
-    pub fn step(&mut self, dt: f32) {
-        self.bind_step(dt);
-        self.pass.draw(&self.physics, self.state.back());
-        self.state.swap();
-        self.step += 1;
-    }
-
-    /// Binds the physics program and its inputs for the next step (used by `step` and by the
-    /// benchmark, which times the draw alone).
-    pub fn bind_step(&self, dt: f32) {
+    /// Binds the physics program and its inputs for the next step.
+    fn bind_step(&self) {
         let p = &self.physics;
         let q = &self.params;
         p.bind();
@@ -192,7 +198,7 @@ impl FireSim {
             ("u_velocity", front.texture(VELOCITY).into()),
         ]);
         p.set_i32("u_width", self.state.width() as i32);
-        p.set_f32("u_dt", dt);
+        p.set_f32("u_dt", self.dt);
         p.set_u32("u_step", self.step as u32);
         p.set_u32("u_seed", self.seed);
         p.set_vec3("u_emitter_center", q.emitter_center);
@@ -206,11 +212,6 @@ impl FireSim {
         p.set_f32("u_life_min", q.life_min);
         p.set_f32("u_life_max", q.life_max);
         p.set_f32("u_max_age", q.max_age);
-    }
-
-    /// Draws the physics pass into the back buffer without swapping (benchmark use).
-    pub fn draw_step_only(&self) {
-        self.pass.draw(&self.physics, self.state.back());
     }
 
     /// The ping-pong state.
@@ -233,13 +234,80 @@ impl FireSim {
         self.positions().texels()
     }
 
-    /// Steps taken since the last reset.
-    pub fn steps(&self) -> u64 {
-        self.step
-    }
-
     /// The parameters.
     pub fn params(&self) -> &FireParams {
         &self.params
+    }
+}
+
+impl super::Simulation for FireSim {
+    fn from_scene(ctx: &Context, scene: &crate::scene::SceneFile, seed: u32) -> Result<Self> {
+        let Some(fire) = &scene.fire else {
+            return Err(Error::InvalidInput(format!(
+                "scene `{}` has no [fire] section: it runs through the particle pipeline",
+                scene.name
+            )));
+        };
+        // The one validation of the section, at its line and column.
+        scene.check()?;
+        let [w, h] = scene.particles.size;
+        crate::gl::check_size(ctx, "particle texture (particles.size)", w, h)?;
+        let mut sim = FireSim::new(ctx, w, h, fire.into(), seed)?;
+        sim.set_time_step(scene.time.dt, scene.time.substeps)?;
+        Ok(sim)
+    }
+
+    /// One physics pass: reads the front, writes the back (MRT), swaps.
+    fn step(&mut self) -> Result<()> {
+        self.bind_step();
+        self.pass.draw(&self.physics, self.state.back());
+        self.state.swap();
+        self.step += 1;
+        Ok(())
+    }
+
+    fn steps(&self) -> u64 {
+        self.step
+    }
+
+    fn time(&self) -> f64 {
+        self.step as f64 * self.dt as f64
+    }
+
+    fn time_step(&self) -> f32 {
+        self.dt
+    }
+
+    fn substeps(&self) -> u32 {
+        self.substeps
+    }
+
+    fn size(&self) -> [u32; 2] {
+        [self.state.width(), self.state.height()]
+    }
+
+    /// The velocities stand in for the statics: their w is the wait, from which the renderer's
+    /// fire ramp derives each particle's total life and age.
+    fn drawn(&self) -> super::DrawnState<'_> {
+        super::DrawnState {
+            positions: self.positions(),
+            statics: self.velocities(),
+            velocities: Some(self.velocities()),
+            previous: None,
+            spins: None,
+            count: self.particle_count(),
+        }
+    }
+
+    fn read_state(&self) -> Result<(Vec<f32>, Vec<f32>)> {
+        Ok((self.positions().read_f32()?, self.velocities().read_f32()?))
+    }
+
+    fn passes(&self) -> Vec<String> {
+        vec![
+            "fire (thesis §3-4, Listings 1-2): physics, in-shader respawn after the wait, \
+              damping, turbulence [position + velocity through MRT]"
+                .into(),
+        ]
     }
 }

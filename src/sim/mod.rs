@@ -10,6 +10,7 @@ pub mod fire;
 pub mod nonfinite;
 pub mod particles;
 pub mod reference;
+mod simulation;
 mod user_glsl;
 
 pub use fields::{DistanceField, FlowField, HeightField};
@@ -21,3 +22,4 @@ pub fn particle_live(p: [f32; 4]) -> bool {
 }
 pub use fire::{FireParams, FireSim};
 pub use particles::{ClosedForm, Features, ParticleSim};
+pub use simulation::{DrawnState, Simulation};

@@ -7,11 +7,12 @@ use std::path::{Path, PathBuf};
 
 use super::picture::{finite_range, live_bounds, positions, scalar};
 use super::Written;
-use crate::engine::{Engine, SceneEngine};
+use crate::engine::{GpuEngine, ParticleEngine};
 use crate::error::{Error, Result};
 use crate::gl::{Context, Texture};
 use crate::output::{write_atomic, write_png_atomic};
 use crate::scene::SceneFile;
+use crate::sim::FireSim;
 
 /// The largest state texture side a scene trace draws (256×256 particles: pictures of 512×512
 /// pixels, two pixels a texel).
@@ -175,11 +176,6 @@ pub fn trace_scene(
     out: &Path,
 ) -> Result<Written> {
     check_scene_trace(scene, frame)?;
-    let mut engine = SceneEngine::new(ctx, scene, seed)?;
-    for _ in 0..frame {
-        engine.advance_frame()?;
-        engine.order_for_drawing()?;
-    }
     let mut r = Recorder {
         out,
         md: String::new(),
@@ -199,9 +195,12 @@ pub fn trace_scene(
         frame.saturating_sub(1),
         scene.name
     );
-    match &mut engine {
-        SceneEngine::Fire(e) => {
-            e.advance_frame();
+    if scene.fire.is_some() {
+        let mut e = GpuEngine::<FireSim>::new(ctx, scene, seed)?;
+        for _ in 0..=frame {
+            e.advance_frame()?;
+        }
+        {
             let sim = e.sim();
             let size = size_of(sim.positions());
             let p = sim.positions().read_f32()?;
@@ -228,14 +227,23 @@ pub fn trace_scene(
             )?;
             let img = e.render()?;
             r.pass(
-                "render points (`glsl/render/points.vert`, vertex texture fetch, additive)",
+                &format!(
+                    "{} (`glsl/render/particle.vert`, `.frag` with the fire's ramp)",
+                    e.renderer().pass_names().join(", ")
+                ),
                 "thesis Listing 3",
                 "position, velocity (vertex texture fetch)",
                 "the frame (RGBA8), read back",
                 vec![frame_shot(img)],
             )?;
         }
-        SceneEngine::Particles(e) => trace_particles(e, &mut r)?,
+    } else {
+        let mut e = ParticleEngine::new(ctx, scene, seed)?;
+        for _ in 0..frame {
+            e.advance_frame()?;
+            e.order_for_drawing()?;
+        }
+        trace_particles(&mut e, &mut r)?;
     }
     let index = out.join("index.md");
     write_atomic(&index, r.md.as_bytes())?;
@@ -248,7 +256,7 @@ pub fn trace_scene(
 }
 
 /// The state outputs of a simulation pass: positions, and velocities (or Verlet's implied ones).
-fn state_shots(e: &Engine, r: &mut Recorder<'_>) -> Result<Vec<Shot>> {
+fn state_shots(e: &ParticleEngine, r: &mut Recorder<'_>) -> Result<Vec<Shot>> {
     let sim = e.sim();
     let size = sim.size().to_array();
     let p = sim.read_positions()?;
@@ -263,7 +271,7 @@ fn state_shots(e: &Engine, r: &mut Recorder<'_>) -> Result<Vec<Shot>> {
     ])
 }
 
-fn trace_particles(e: &mut Engine, r: &mut Recorder<'_>) -> Result<()> {
+fn trace_particles(e: &mut ParticleEngine, r: &mut Recorder<'_>) -> Result<()> {
     let substeps = e.sim().scene().time.substeps;
     let allocator = e.sim().allocator().is_some();
     let verlet = e.sim().velocities().is_none();
@@ -331,7 +339,7 @@ fn trace_particles(e: &mut Engine, r: &mut Recorder<'_>) -> Result<()> {
 
 /// The frame's sorting, where alpha blending needs it: keys, the network's passes of this frame,
 /// and the gather.
-fn trace_sort(e: &mut Engine, r: &mut Recorder<'_>) -> Result<()> {
+fn trace_sort(e: &mut ParticleEngine, r: &mut Recorder<'_>) -> Result<()> {
     if e.sorter().is_none() {
         return Ok(());
     }
@@ -390,7 +398,7 @@ fn trace_sort(e: &mut Engine, r: &mut Recorder<'_>) -> Result<()> {
 
 /// The first lattice's view after the collision stage: each texel's cell index (UberFlow's sort
 /// key) in the lattice's sorted order, and the partner found.
-fn cell_shots(e: &Engine) -> Result<Vec<Shot>> {
+fn cell_shots(e: &ParticleEngine) -> Result<Vec<Shot>> {
     let Some(c) = e.sim().collisions() else {
         return Ok(Vec::new());
     };

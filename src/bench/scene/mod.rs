@@ -7,7 +7,7 @@
 //! the collision stage ([`ParticleSim::collide`](crate::sim::ParticleSim::collide)), for alpha
 //! blending the sort's key pass, its network and the gather (a [`Sorter`](crate::sort::Sorter) built from the same
 //! [`crate::engine::plan::sort_plan`] as the engine's, fed the simulation's positions), and the
-//! render pass (clear and points, or sprites). For the fire ([`FireEngine`]): its simulation
+//! render pass (clear and points, or sprites). For the fire ([`FireSim`]): its simulation
 //! pass and its render pass. The floors:
 //!
 //! - a state-writing pass: [`WriteFloor`] into a framebuffer of the same formats and size (over
@@ -24,10 +24,11 @@
 
 use super::scenes::default_warmup_frames;
 use super::stats::{median, Clock, PassTimer, PlacedRenderFloor, RenderFloor, WriteFloor};
-use crate::engine::{Engine, FireEngine};
+use crate::engine::{timed, Engine, GpuEngine, ParticleEngine};
 use crate::error::{Error, Result};
 use crate::gl::{Blend, BlendComponent, BlendFactor, Context, Framebuffer, Texture, TextureDesc};
-use crate::scene::{DrawOrder, Scene, SceneFile};
+use crate::scene::{DrawOrder, SceneFile};
+use crate::sim::{FireSim, Simulation};
 
 mod phases;
 mod text;
@@ -156,13 +157,6 @@ impl Phases {
     }
 }
 
-/// Times `f` with `timer`, passing its error on.
-fn timed(timer: &PassTimer, f: impl FnOnce() -> Result<()>) -> Result<f64> {
-    let mut res = Ok(());
-    let t = timer.time(|| res = f())?;
-    res.map(|_| t)
-}
-
 /// A framebuffer of the same size and formats as `fb`: where floors of passes writing `fb` go,
 /// so that they leave the state alone.
 fn scratch_like(ctx: &Context, fb: &Framebuffer) -> Result<Framebuffer> {
@@ -185,7 +179,7 @@ fn scratch_like(ctx: &Context, fb: &Framebuffer) -> Result<Framebuffer> {
     Framebuffer::new(ctx, "floor scratch", textures)
 }
 
-/// The fire's blend (render/points.rs: additive colour, destination alpha kept).
+/// The fire's blend (additive colour, destination alpha kept), as its style's.
 pub(crate) const FIRE_BLEND: Blend = Blend {
     color: BlendComponent::add(BlendFactor::SrcAlpha, BlendFactor::One),
     alpha: BlendComponent::add(BlendFactor::Zero, BlendFactor::One),
@@ -292,53 +286,38 @@ fn fire(
     render_floor: &RenderFloor,
     opts: &SceneBenchOptions,
 ) -> Result<(Phases, f64, u64)> {
-    let scene = Scene::from_file(s)?;
-    let dt = scene.dt;
-    let mut engine = FireEngine::new(ctx, scene, opts.seed)?;
+    let mut engine = GpuEngine::<FireSim>::new(ctx, s, opts.seed)?;
     let floor = WriteFloor::new(ctx, 2)?;
     for _ in 0..warmup + 2 {
-        engine.advance_frame();
+        engine.advance_frame()?;
     }
-    engine.draw();
+    engine.draw()?;
     let mut phases = Phases::default();
     let mut frames = Vec::new();
     let points = engine.sim().particle_count();
+    let step = &engine.sim().passes()[0];
     for _ in 0..=opts.repeats {
-        frames.push(timer.time(|| {
-            engine.advance_frame();
-            engine.draw();
+        frames.push(timed(timer, || {
+            engine.advance_frame()?;
+            engine.draw()
         })?);
-        let sim = engine.sim();
-        let f = timer.time(|| floor.draw(sim.state().back()))?;
-        sim.bind_step(dt);
-        let t = timer.time(|| sim.draw_step_only())?;
-        phases.push(
-            "fire: thesis physics, respawn, colour by age (MRT)",
-            "write-only pass into position + velocity",
-            t,
-            f,
-        );
-        // The timed pass wrote the back without swapping; a frame redoes it and swaps.
-        engine.advance_frame();
+        let f = timer.time(|| floor.draw(engine.sim().state().back()))?;
+        // The step's one pass and its swap (which costs nothing).
+        let t = timed(timer, || engine.sim_mut().step())?;
+        phases.push(step, "write-only pass into position + velocity", t, f);
         let fb = engine.target().framebuffer();
         let f =
             timer.time(|| render_floor.draw(fb, [0.0, 0.0, 0.0, 1.0], Some(FIRE_BLEND), points))?;
-        let t = timer.time(|| engine.draw())?;
+        let t = timed(timer, || engine.draw())?;
         phases.push(
-            "render points (clear, texture fetch, additive)",
+            &engine.renderer().pass_names().join(", "),
             "clear + the live particles as points where they are, same size and blend, no fetch",
             t,
             f,
         );
         phases.next_repetition();
     }
-    let live = engine
-        .sim()
-        .positions()
-        .read_f32()?
-        .chunks_exact(4)
-        .filter(|p| p[3] > 0.0)
-        .count() as u64;
+    let live = engine.live()?;
     Ok((phases, median(&frames[1..]), live))
 }
 
@@ -349,7 +328,7 @@ fn particles(
     timer: &PassTimer,
     opts: &SceneBenchOptions,
 ) -> Result<(Phases, f64, u64)> {
-    let mut engine = Engine::new(ctx, s, opts.seed)?;
+    let mut engine = ParticleEngine::new(ctx, s, opts.seed)?;
     for _ in 0..warmup {
         engine.advance_frame_without_collisions()?;
     }
@@ -430,11 +409,6 @@ fn particles(
         );
         phases.next_repetition();
     }
-    let live = engine
-        .sim()
-        .read_positions()?
-        .chunks_exact(4)
-        .filter(|p| p.iter().all(|x| x.is_finite()) && p[3] > 0.0)
-        .count() as u64;
+    let live = engine.live()?;
     Ok((phases, median(&frames[1..]), live))
 }

@@ -61,6 +61,10 @@ pub struct CpuEngine {
     sim: CpuSim,
     style: ParticleStyle,
     camera: Camera,
+    /// The camera at time 0, turned by `render.camera.orbit` as the GPU engine turns it.
+    camera_start: Camera,
+    /// A viewer's change to the camera (the live window).
+    view: crate::render::ViewOffset,
     target: FrameTarget,
     program: Program,
     background: Option<Program>,
@@ -160,8 +164,11 @@ impl CpuEngine {
                 offset: 0,
             }],
         )?;
+        let camera = crate::render::Camera::from(&scene.render.camera);
         Ok(CpuEngine {
-            camera: crate::render::Camera::from(&scene.render.camera),
+            camera,
+            camera_start: camera,
+            view: crate::render::ViewOffset::default(),
             target: FrameTarget::new(ctx, rw, rh)?,
             empty: VertexArray::empty(ctx, "cpu engine background")?,
             keys: Vec::with_capacity(n),
@@ -233,6 +240,7 @@ impl CpuEngine {
     /// Keys of the live particles, the quicksort (alpha blending only; other blendings need no
     /// order and draw in index order) and the vertices in drawing order.
     fn sort_and_gather(&mut self) {
+        self.turn_camera();
         let eye = self.camera.eye();
         let positions = &self.sim.positions;
         let sort = self.style.blending == Blending::Alpha;
@@ -274,6 +282,14 @@ impl CpuEngine {
                 [p.x, p.y, p.z, relative_age(p.w, statics[i].z)]
             })
             .collect_into_vec(&mut self.vertices);
+    }
+
+    /// Turns the camera to the current simulated time, then by the viewer's offset (as the GPU
+    /// engine does).
+    fn turn_camera(&mut self) {
+        let mut camera = self.camera_start;
+        camera.azimuth += self.sim.scene.render.camera.orbit * self.sim.time() as f32;
+        self.camera = self.view.apply(camera);
     }
 
     /// Uploads the vertices into the vertex buffer: the buffer's storage is orphaned (so a draw
@@ -361,6 +377,101 @@ impl CpuEngine {
     /// The context.
     pub fn context(&self) -> &Context {
         &self.ctx
+    }
+}
+
+impl super::Engine for CpuEngine {
+    fn advance_frame(&mut self) -> Result<()> {
+        CpuEngine::advance_frame(self);
+        Ok(())
+    }
+
+    fn draw(&mut self) -> Result<()> {
+        CpuEngine::draw(self)
+    }
+
+    fn target(&self) -> &FrameTarget {
+        &self.target
+    }
+
+    fn set_view(&mut self, view: crate::render::ViewOffset) {
+        self.view = view;
+    }
+
+    fn steps(&self) -> u64 {
+        self.sim.steps()
+    }
+
+    fn state_size(&self) -> [u32; 2] {
+        self.sim.size()
+    }
+
+    /// Counted where the state lives, in main memory.
+    fn non_finite(
+        &self,
+        _counter: &crate::sim::nonfinite::NonFiniteCounter,
+    ) -> Result<crate::sim::nonfinite::NonFiniteCount> {
+        let (p, v) = self.state_arrays();
+        Ok(crate::sim::nonfinite::NonFiniteCount::of_slices(&p, &v))
+    }
+
+    fn dump(&self) -> Result<super::StateDump> {
+        let (p, v) = self.state_arrays();
+        Ok(super::StateDump::of_live(&p, &v))
+    }
+
+    fn live(&self) -> Result<u64> {
+        Ok(self.sim.live_count() as u64)
+    }
+
+    fn timed_frame(&mut self, _timer: &crate::gl::PassTimer) -> Result<Vec<(&'static str, f64)>> {
+        // The CPU's parts are timed on the wall clock, each finished before the next.
+        let p = CpuEngine::timed_frame(self)?;
+        Ok(vec![
+            ("simulate", p.simulate_ms),
+            ("keys, quicksort and gather", p.sort_ms),
+            ("upload", p.upload_ms),
+            ("draw", p.draw_ms),
+        ])
+    }
+
+    fn plan(&self) -> super::plan::Plan {
+        let sort = if self.style.blending == Blending::Alpha {
+            "keys (viewer distance) and a parallel quicksort of the live particles on every core"
+        } else {
+            "the live particles in index order (no sort: the blending needs none)"
+        };
+        super::plan::Plan {
+            scene: self.sim.scene.name.clone(),
+            per_step: vec![
+                "CPU step of every particle on every core (rayon): the GPU pass's physics, \
+                 time-stamp birth, respawn and death (UberFlow E5)"
+                    .into(),
+            ],
+            substeps: self.sim.scene.time.substeps,
+            per_frame: vec![
+                sort.into(),
+                "gather (position, relative age) in drawing order, upload with glBufferSubData"
+                    .into(),
+                format!("render points (vertex buffer, {})", self.style.blend_name()),
+            ],
+        }
+    }
+}
+
+impl CpuEngine {
+    /// The state as RGBA arrays (position and life; velocity and 0).
+    fn state_arrays(&self) -> (Vec<f32>, Vec<f32>) {
+        let p = self
+            .sim
+            .positions()
+            .iter()
+            .flat_map(|p| p.to_array())
+            .collect();
+        let v = (self.sim.velocities().iter())
+            .flat_map(|v| [v.x, v.y, v.z, 0.0])
+            .collect();
+        (p, v)
     }
 }
 

@@ -60,9 +60,7 @@ impl CpuSim {
         if scene.fire.is_some() {
             return Err(unsupported(scene, "the thesis's fire"));
         }
-        scene
-            .validate()
-            .map_err(|e| Error::InvalidInput(e.message))?;
+        scene.check()?;
         let features = Features::of(scene);
         if scene.integrator == Integrator::Verlet {
             return Err(unsupported(scene, "Verlet integration"));

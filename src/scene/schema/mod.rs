@@ -80,6 +80,21 @@ pub struct SceneFile {
     /// How the scene is drawn.
     #[serde(default)]
     pub render: Render,
+    /// The file the scene was parsed from, so that a value changed later and rejected by the
+    /// engine is still reported at its line and column ([`SceneFile::check`]).
+    #[serde(skip)]
+    pub origin: Origin,
+}
+
+/// Where a scene came from: its path and text, kept to locate later errors. Two scenes compare
+/// equal whatever their origins: it says where the values were written, not what they are.
+#[derive(Debug, Clone, Default)]
+pub struct Origin(pub Option<std::sync::Arc<(String, String)>>);
+
+impl PartialEq for Origin {
+    fn eq(&self, _: &Origin) -> bool {
+        true
+    }
 }
 
 /// State texture size and storage (Latta §3.3).

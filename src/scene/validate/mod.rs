@@ -511,6 +511,12 @@ fn fire(s: &SceneFile) -> Check {
         }
         return Ok(());
     };
+    fire_section(f, s.time.dt)
+}
+
+/// The rules of a `[fire]` section run with steps of `dt` seconds: the one owner of them, for
+/// scene files and for a [`FireParams`](crate::sim::FireParams) built in code alike.
+pub fn fire_section(f: &crate::scene::Fire, dt: f32) -> std::result::Result<(), Invalid> {
     let at = |k| path(&[N("fire"), N(k)]);
     if !(f.life[0] > 0.0 && f.life[0] <= f.life[1] && f.life[1] <= f.max_age) {
         return fail(
@@ -541,5 +547,5 @@ fn fire(s: &SceneFile) -> Check {
         bounded(at(key), key, &[v])?;
     }
     // The fire's damping is a rate like `[[forces.damping]]` (v' = v (1 - damping dt)).
-    forces::per_step(s.time.dt, at("damping"), "damping", f.damping)
+    forces::per_step(dt, at("damping"), "damping", f.damping)
 }

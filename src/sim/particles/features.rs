@@ -88,6 +88,9 @@ pub struct Features {
     /// Child emitters (the thesis §2): their texels are born from their parents' state in the
     /// integration pass.
     pub children: usize,
+    /// The user forces' GLSL files (`[[forces.custom]]`), compiled into the integration pass.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub custom_forces: Vec<String>,
 }
 
 impl Features {
@@ -147,6 +150,9 @@ impl Features {
             constraints: scene.constraints.as_ref().map(|c| (c.kind, c.iterations)),
             spin: scene.collisions.as_ref().is_some_and(|c| c.spin),
             children: em.child.len(),
+            custom_forces: (scene.forces.custom.iter())
+                .map(|c| c.glsl.clone())
+                .collect(),
         }
     }
 
@@ -386,6 +392,9 @@ impl Features {
         }
         if self.emitter_forces {
             forces.push("forces per emitter (by the particle's type)".to_owned());
+        }
+        for file in &self.custom_forces {
+            forces.push(format!("user force {file}"));
         }
         if self.wind {
             forces.push(

@@ -136,9 +136,7 @@ impl ParticleSim {
                 scene.name
             )));
         }
-        scene
-            .validate()
-            .map_err(|e| Error::InvalidInput(e.message))?;
+        scene.check()?;
         let [width, height] = scene.particles.size;
         crate::gl::check_size(ctx, "particle texture (particles.size)", width, height)?;
         let features = Features::of(scene);

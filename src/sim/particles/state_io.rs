@@ -162,3 +162,80 @@ impl ParticleSim {
         self.ctx.check_error("setting the particle state")
     }
 }
+
+impl crate::sim::Simulation for ParticleSim {
+    fn from_scene(
+        ctx: &crate::gl::Context,
+        scene: &crate::scene::SceneFile,
+        seed: u32,
+    ) -> Result<Self> {
+        ParticleSim::new(ctx, scene, seed)
+    }
+
+    fn step(&mut self) -> Result<()> {
+        ParticleSim::step(self)
+    }
+
+    fn step_without_collisions(&mut self) -> Result<()> {
+        ParticleSim::step_without_collisions(self)
+    }
+
+    fn steps(&self) -> u64 {
+        ParticleSim::steps(self)
+    }
+
+    fn time(&self) -> f64 {
+        ParticleSim::time(self)
+    }
+
+    fn time_step(&self) -> f32 {
+        self.scene.time.dt
+    }
+
+    fn substeps(&self) -> u32 {
+        self.scene.time.substeps
+    }
+
+    fn size(&self) -> [u32; 2] {
+        [self.width, self.height]
+    }
+
+    fn drawn(&self) -> crate::sim::DrawnState<'_> {
+        crate::sim::DrawnState {
+            positions: self.positions(),
+            statics: self.statics(),
+            velocities: self.velocities(),
+            previous: self.previous(),
+            spins: self.spins(),
+            count: self.active_count(),
+        }
+    }
+
+    fn read_state(&self) -> Result<(Vec<f32>, Vec<f32>)> {
+        Ok((self.read_positions()?, self.read_velocities()?))
+    }
+
+    fn dropped_births(&self) -> u64 {
+        ParticleSim::dropped_births(self)
+    }
+
+    fn dropped_child_births(&self) -> Result<u64> {
+        ParticleSim::dropped_child_births(self)
+    }
+
+    fn truncated_searches(&self) -> Result<u64> {
+        self.collisions().map_or(Ok(0), |c| c.truncated_searches())
+    }
+
+    fn height_field(&self) -> Option<&HeightField> {
+        ParticleSim::height_field(self)
+    }
+
+    fn census(&self) -> Result<Option<crate::sim::collide::PairCensus>> {
+        self.collisions().map(|c| c.census()).transpose()
+    }
+
+    fn passes(&self) -> Vec<String> {
+        self.features.step_passes()
+    }
+}

@@ -173,9 +173,7 @@ impl Reference {
                 scene.name
             )));
         }
-        scene
-            .validate()
-            .map_err(|e| Error::InvalidInput(e.message))?;
+        scene.check()?;
         let features = Features::of(scene);
         covered(scene, &features)?;
         let s = scene;

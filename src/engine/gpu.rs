@@ -1,21 +1,25 @@
-//! The particle pipeline of UberFlow and Latta: simulation, the sort alpha blending needs, and
-//! rendering, on one context.
+//! The one GPU engine: a [`Simulation`] (the particle pipeline of UberFlow and Latta, or the
+//! thesis's fire), the sort alpha blending needs, and the one particle renderer, on one context.
 
 use super::shader_seed;
 use crate::error::Result;
 use crate::gl::Context;
 use crate::render::FrameTarget;
 use crate::scene::SortKey;
+use crate::sim::{ParticleSim, Simulation};
 
-/// Runs a scene of the particle pipeline: simulation, the sort alpha blending needs, rendering.
+/// The GPU engine of the particle pipeline (UberFlow, Latta).
+pub type ParticleEngine = GpuEngine<ParticleSim>;
+
+/// Runs a scene on the GPU: its simulation `S`, the sort alpha blending needs, rendering.
 ///
 /// ```
-/// use texflow::{gl::Context, scene, Engine};
+/// use texflow::{gl::Context, scene, ParticleEngine};
 /// let ctx = Context::new(0)?;
 /// let mut smoke = scene::load("smoke")?;            // alpha blending: sorted on the GPU
 /// smoke.particles.size = [16, 16];
 /// smoke.render.resolution = [32, 32];
-/// let mut engine = Engine::new(&ctx, &smoke, 1)?;
+/// let mut engine = ParticleEngine::new(&ctx, &smoke, 1)?;
 /// for _ in 0..10 {
 ///     engine.advance_frame()?;
 /// }
@@ -25,8 +29,8 @@ use crate::scene::SortKey;
 /// # Ok::<(), texflow::Error>(())
 /// ```
 #[derive(Debug)]
-pub struct Engine {
-    sim: crate::sim::ParticleSim,
+pub struct GpuEngine<S: Simulation> {
+    sim: S,
     renderer: crate::render::ParticleRenderer,
     sort: Option<SortStage>,
     target: FrameTarget,
@@ -36,6 +40,10 @@ pub struct Engine {
     orbit: f32,
     /// A viewer's change to the camera (the live window); the identity by default.
     view: crate::render::ViewOffset,
+    /// Scene name, for the pass list.
+    name: String,
+    /// The sort's passes of a frame, as the plan words them.
+    sort_passes: Vec<String>,
     ctx: Context,
 }
 
@@ -53,14 +61,14 @@ struct SortStage {
     ordered_at: Option<u64>,
 }
 
-impl Engine {
+impl<S: Simulation> GpuEngine<S> {
     /// Validates the scene against the device and builds everything.
     pub fn new(ctx: &Context, scene: &crate::scene::SceneFile, seed: u64) -> Result<Self> {
         use crate::gl::{Framebuffer, Texture, TextureDesc, TextureFormat};
         use crate::scene::DrawOrder;
         let [rw, rh] = scene.render.resolution;
         crate::gl::check_size(ctx, "frame (render.resolution)", rw, rh)?;
-        let sim = crate::sim::ParticleSim::new(ctx, scene, shader_seed(seed))?;
+        let sim = S::from_scene(ctx, scene, shader_seed(seed))?;
         let [w, h] = scene.particles.size;
         let style = crate::render::ParticleStyle::from_scene(scene);
         let mut renderer = crate::render::ParticleRenderer::new(ctx, style, w, h)?;
@@ -119,7 +127,7 @@ impl Engine {
             }
         };
         let camera = crate::render::Camera::from(&scene.render.camera);
-        Ok(Engine {
+        Ok(GpuEngine {
             target: if scene.render.geometry {
                 FrameTarget::with_depth(ctx, rw, rh)?
             } else {
@@ -132,22 +140,24 @@ impl Engine {
             sim,
             renderer,
             sort,
+            name: scene.name.clone(),
+            sort_passes: crate::engine::plan::sort_lines(scene),
             ctx: ctx.clone(),
         })
     }
 
     /// Advances the simulation by one frame: `substeps` steps of `dt`.
     pub fn advance_frame(&mut self) -> Result<()> {
-        for _ in 0..self.sim.scene().time.substeps {
+        for _ in 0..self.sim.substeps() {
             self.sim.step()?;
         }
         Ok(())
     }
 
-    /// One frame of collisionless motion ([`crate::sim::ParticleSim::step_without_collisions`]):
-    /// births, forces, colliders, no collisions between particles. Benchmarks warm up with it.
+    /// One frame of collisionless motion ([`Simulation::step_without_collisions`]): births,
+    /// forces, colliders, no collisions between particles. Benchmarks warm up with it.
     pub fn advance_frame_without_collisions(&mut self) -> Result<()> {
-        for _ in 0..self.sim.scene().time.substeps {
+        for _ in 0..self.sim.substeps() {
             self.sim.step_without_collisions()?;
         }
         Ok(())
@@ -156,7 +166,7 @@ impl Engine {
     /// Draws the current state into the frame target, after the sort of this frame (alpha
     /// blending only) if [`order_for_drawing`](Self::order_for_drawing) has not run at this step.
     pub fn draw(&mut self) -> Result<()> {
-        let count = self.sim.active_count();
+        let count = self.sim.drawn().count;
         self.renderer.clear(&self.target);
         let steps = self.sim.steps();
         let sorts = match &self.sort {
@@ -168,7 +178,8 @@ impl Engine {
         };
         if sorts {
             let s = self.sort.as_ref().expect("a sort stage");
-            let texels = self.sim.size().x as usize * self.sim.size().y as usize;
+            let [w, h] = self.sim.size();
+            let texels = w as usize * h as usize;
             // Dead particles sort last (+inf keys), so the live ones are a prefix.
             let motion = self.motion().map(|m| match m {
                 crate::render::Motion::Velocity(_) => {
@@ -196,12 +207,13 @@ impl Engine {
             self.renderer
                 .draw_frame(&self.target, &state, &self.camera)?;
         } else {
+            let d = self.sim.drawn();
             let state = crate::render::FrameState {
-                positions: self.sim.positions(),
-                statics: self.sim.statics(),
+                positions: d.positions,
+                statics: d.statics,
                 motion: self.motion(),
                 time: self.sim.time() as f32,
-                spins: self.sim.spins(),
+                spins: d.spins,
                 count,
             };
             self.renderer
@@ -235,7 +247,9 @@ impl Engine {
             return Ok(false);
         };
         let mode = key_mode(s.key, self.camera.eye(), s.back_to_front);
-        let texels = self.sim.size().x as usize * self.sim.size().y as usize;
+        let [w, h] = self.sim.size();
+        let texels = w as usize * h as usize;
+        let d = self.sim.drawn();
         if s.sorter.quantiser().is_some() {
             let (lo, hi) = compact_depth_range(self.camera.distance);
             let (lo, hi) = if s.back_to_front {
@@ -246,24 +260,18 @@ impl Engine {
             s.sorter.set_key_range(lo, hi)?;
         }
         let refresh = s.spread && s.keyed;
-        s.sorter.write_keys_with_statics(
-            self.sim.positions(),
-            self.sim.statics(),
-            texels,
-            &mode,
-            true,
-            refresh,
-        )?;
+        s.sorter
+            .write_keys_with_statics(d.positions, d.statics, texels, &mode, true, refresh)?;
         s.keyed = true;
         seen("keys", &s.sorter)?;
         s.sorter.sort_frame();
         seen("network", &s.sorter)?;
-        let mut sources = vec![self.sim.positions(), self.sim.statics()];
+        let mut sources = vec![d.positions, d.statics];
         if self.renderer.needs_motion() {
-            sources.extend(self.sim.velocities().or(self.sim.previous()));
+            sources.extend(d.velocities.or(d.previous));
         }
         if self.renderer.needs_spins() {
-            sources.extend(self.sim.spins());
+            sources.extend(d.spins);
         }
         s.sorter.gather(&sources, &s.sorted)?;
         s.ordered_at = Some(steps);
@@ -292,11 +300,12 @@ impl Engine {
         if !self.renderer.needs_motion() {
             return None;
         }
-        match (self.sim.velocities(), self.sim.previous()) {
+        let d = self.sim.drawn();
+        match (d.velocities, d.previous) {
             (Some(v), _) => Some(crate::render::Motion::Velocity(v)),
             (None, Some(prev)) => Some(crate::render::Motion::Previous {
                 positions: prev,
-                dt: self.sim.scene().time.dt,
+                dt: self.sim.time_step(),
             }),
             (None, None) => None,
         }
@@ -314,12 +323,12 @@ impl Engine {
     }
 
     /// The simulation.
-    pub fn sim(&self) -> &crate::sim::ParticleSim {
+    pub fn sim(&self) -> &S {
         &self.sim
     }
 
     /// The simulation, mutable (to set a state).
-    pub fn sim_mut(&mut self) -> &mut crate::sim::ParticleSim {
+    pub fn sim_mut(&mut self) -> &mut S {
         &mut self.sim
     }
 
@@ -342,6 +351,97 @@ impl Engine {
     /// The renderer.
     pub fn renderer(&self) -> &crate::render::ParticleRenderer {
         &self.renderer
+    }
+}
+
+impl<S: Simulation> super::Engine for GpuEngine<S> {
+    fn advance_frame(&mut self) -> Result<()> {
+        GpuEngine::advance_frame(self)
+    }
+
+    fn warm_up_frame(&mut self) -> Result<()> {
+        self.advance_frame_without_collisions()
+    }
+
+    fn order_for_drawing(&mut self) -> Result<()> {
+        GpuEngine::order_for_drawing(self).map(drop)
+    }
+
+    fn draw(&mut self) -> Result<()> {
+        GpuEngine::draw(self)
+    }
+
+    fn target(&self) -> &FrameTarget {
+        &self.target
+    }
+
+    fn set_view(&mut self, view: crate::render::ViewOffset) {
+        GpuEngine::set_view(self, view)
+    }
+
+    fn steps(&self) -> u64 {
+        self.sim.steps()
+    }
+
+    fn state_size(&self) -> [u32; 2] {
+        self.sim.size()
+    }
+
+    fn dropped_births(&self) -> u64 {
+        self.sim.dropped_births()
+    }
+
+    fn dropped_child_births(&self) -> Result<u64> {
+        self.sim.dropped_child_births()
+    }
+
+    fn truncated_searches(&self) -> Result<u64> {
+        self.sim.truncated_searches()
+    }
+
+    fn non_finite(
+        &self,
+        counter: &crate::sim::nonfinite::NonFiniteCounter,
+    ) -> Result<crate::sim::nonfinite::NonFiniteCount> {
+        self.sim.non_finite(counter)
+    }
+
+    fn dump(&self) -> Result<super::StateDump> {
+        let (p, v) = self.sim.read_state()?;
+        Ok(super::StateDump::of_live(&p, &v))
+    }
+
+    fn live(&self) -> Result<u64> {
+        let p = self.sim.drawn().positions.read_f32()?;
+        Ok(p.chunks_exact(4)
+            .filter(|p| crate::sim::particle_live([p[0], p[1], p[2], p[3]]))
+            .count() as u64)
+    }
+
+    fn timed_frame(&mut self, timer: &crate::gl::PassTimer) -> Result<Vec<(&'static str, f64)>> {
+        let simulate = super::timed(timer, || GpuEngine::advance_frame(self))?;
+        let draw = super::timed(timer, || GpuEngine::draw(self))?;
+        let name = if self.sort.is_some() {
+            "keys, sort, gather and draw"
+        } else {
+            "draw"
+        };
+        Ok(vec![("simulate", simulate), (name, draw)])
+    }
+
+    fn census(&self) -> Result<Option<crate::sim::collide::PairCensus>> {
+        self.sim.census()
+    }
+
+    fn plan(&self) -> super::plan::Plan {
+        let mut per_frame = self.sort_passes.clone();
+        per_frame.extend(self.renderer.pass_names());
+        super::plan::Plan {
+            scene: self.name.clone(),
+            per_step: self.sim.passes(),
+            substeps: self.sim.substeps(),
+            per_frame,
+        }
     }
 }
 

@@ -1,0 +1,182 @@
+//! The one engine trait: what the frame loop, `render`, `view`, every benchmark and the report
+//! ask of an engine, whichever runs the scene (the GPU engine over either simulation, or the
+//! CPU engine of UberFlow's E5).
+
+use super::{CpuEngine, GpuEngine, ParticleEngine};
+use crate::error::Result;
+use crate::gl::{Context, PassTimer};
+use crate::render::{FrameTarget, ViewOffset};
+use crate::scene::SceneFile;
+use crate::sim::collide::PairCensus;
+use crate::sim::nonfinite::{NonFiniteCount, NonFiniteCounter};
+
+/// Live particles' positions and velocities, N×4 each, for `--dump-state`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StateDump {
+    /// xyz and remaining life of every live particle.
+    pub positions: Vec<[f32; 4]>,
+    /// Velocity (xyz, 0) of the same particles.
+    pub velocities: Vec<[f32; 4]>,
+    /// Live particles with a NaN or infinite component: kept in the dump, and counted so that
+    /// the CLI reports them rather than hiding them.
+    pub non_finite: usize,
+}
+
+impl StateDump {
+    /// The live particles (remaining life above 0) of RGBA position and velocity arrays; the
+    /// velocities' w (the fire's wait) is dropped.
+    pub fn of_live(positions: &[f32], velocities: &[f32]) -> StateDump {
+        let mut d = StateDump {
+            positions: Vec::new(),
+            velocities: Vec::new(),
+            non_finite: 0,
+        };
+        for (p, v) in positions.chunks_exact(4).zip(velocities.chunks_exact(4)) {
+            if p[3] > 0.0 {
+                if !p.iter().chain(&v[..3]).all(|x| x.is_finite()) {
+                    d.non_finite += 1;
+                }
+                d.positions.push([p[0], p[1], p[2], p[3]]);
+                d.velocities.push([v[0], v[1], v[2], 0.0]);
+            }
+        }
+        d
+    }
+}
+
+/// Which engine runs a scene: the GPU pipeline (the papers'), or the CPU engine UberFlow
+/// compares it with (E5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EngineKind {
+    /// The GPU engine: fragment passes over state textures.
+    #[default]
+    Gpu,
+    /// UberFlow's E5: the same physics on every CPU core, a quicksort, points uploaded each
+    /// frame (see [`CpuEngine`]).
+    Cpu,
+}
+
+/// A scene being run: frames simulated, ordered and drawn. Everything above the engines holds
+/// a `Box<dyn Engine>` made by [`build`].
+///
+/// ```
+/// use texflow::{engine, gl::Context, scene};
+/// let ctx = Context::new(0)?;
+/// for name in ["fire", "fountain"] {
+///     let mut s = scene::load(name)?;
+///     s.particles.size = [16, 16];
+///     s.render.resolution = [16, 16];
+///     let mut e = engine::build(&ctx, &s, 1, engine::EngineKind::Gpu)?;
+///     e.advance_frame()?;
+///     assert_eq!(e.state_size(), [16, 16]);
+///     assert!(e.dump()?.non_finite == 0);
+/// }
+/// # Ok::<(), texflow::Error>(())
+/// ```
+pub trait Engine {
+    /// Advances the simulation by one frame: `substeps` steps of `dt`.
+    fn advance_frame(&mut self) -> Result<()>;
+
+    /// One frame of a benchmark's warm-up: the motion without the collision stage between
+    /// particles where there is one (its sorts and searches are data-oblivious, so what it
+    /// costs later does not depend on it).
+    fn warm_up_frame(&mut self) -> Result<()> {
+        self.advance_frame()
+    }
+
+    /// The frame's ordering (the sort alpha blending needs), run once every frame, drawn or
+    /// not, so that a sort spread over frames advances with the simulation.
+    fn order_for_drawing(&mut self) -> Result<()> {
+        Ok(())
+    }
+
+    /// Draws the current state into the frame target, without reading it back.
+    fn draw(&mut self) -> Result<()>;
+
+    /// Draws the current state and reads the frame back.
+    fn render(&mut self) -> Result<image::RgbImage> {
+        self.draw()?;
+        self.target().read_rgb()
+    }
+
+    /// The frame target the engine draws into.
+    fn target(&self) -> &FrameTarget;
+
+    /// Sets the viewer's change to the scene's camera (the live window).
+    fn set_view(&mut self, view: ViewOffset);
+
+    /// Simulation steps taken.
+    fn steps(&self) -> u64;
+
+    /// State size: one particle per texel (or array element).
+    fn state_size(&self) -> [u32; 2];
+
+    /// Births dropped because the state was full.
+    fn dropped_births(&self) -> u64 {
+        0
+    }
+
+    /// Child emitters' births their texels could not take (one read-back, for a run's end).
+    fn dropped_child_births(&self) -> Result<u64> {
+        Ok(0)
+    }
+
+    /// Exact collision searches that hit their bound (one read-back, for a run's end).
+    fn truncated_searches(&self) -> Result<u64> {
+        Ok(0)
+    }
+
+    /// Live particles with a NaN or infinite component; `counter` counts GPU state.
+    fn non_finite(&self, counter: &NonFiniteCounter) -> Result<NonFiniteCount>;
+
+    /// The live particles read back.
+    fn dump(&self) -> Result<StateDump>;
+
+    /// Particles alive now (drawn: finite and with life left).
+    fn live(&self) -> Result<u64> {
+        Ok(self
+            .dump()?
+            .positions
+            .iter()
+            .filter(|p| p.iter().all(|x| x.is_finite()))
+            .count() as u64)
+    }
+
+    /// One whole frame timed in parts, each finished before the next starts: names and
+    /// milliseconds.
+    fn timed_frame(&mut self, timer: &PassTimer) -> Result<Vec<(&'static str, f64)>>;
+
+    /// With collisions between particles: the pairs the last step's detection found.
+    fn census(&self) -> Result<Option<PairCensus>> {
+        Ok(None)
+    }
+
+    /// The passes of one frame, in order, from what the engine holds.
+    fn plan(&self) -> super::plan::Plan;
+}
+
+/// The engine that runs `scene`: the GPU engine over the fire's simulation or the particle
+/// pipeline's, or with [`EngineKind::Cpu`] the CPU engine (E5), which covers part of the
+/// pipeline and says which part a scene needs that it lacks.
+pub fn build(
+    ctx: &Context,
+    scene: &SceneFile,
+    seed: u64,
+    kind: EngineKind,
+) -> Result<Box<dyn Engine>> {
+    Ok(match kind {
+        EngineKind::Cpu => Box::new(CpuEngine::new(ctx, scene, seed)?),
+        EngineKind::Gpu if scene.fire.is_some() => {
+            Box::new(GpuEngine::<crate::sim::FireSim>::new(ctx, scene, seed)?)
+        }
+        EngineKind::Gpu => Box::new(ParticleEngine::new(ctx, scene, seed)?),
+    })
+}
+
+/// Times `f` with `timer`, passing its error on.
+pub fn timed(timer: &PassTimer, f: impl FnOnce() -> Result<()>) -> Result<f64> {
+    let mut res = Ok(());
+    let t = timer.time(|| res = f())?;
+    res.map(|_| t)
+}

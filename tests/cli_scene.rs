@@ -50,6 +50,90 @@ fn scene_passes_prints_the_plan() {
     let v = &all["records"];
     assert_eq!(v["scene"], "fire");
     assert!(v["per_frame"].as_array().unwrap().len() == 1);
+    // The list is the engine's: the fire's soft sprites are drawn (not "points"), a
+    // user force is compiled into the integration pass and a user pair force into the
+    // neighbour pass, because they run.
+    let line = v["per_frame"][0].as_str().unwrap();
+    assert!(
+        line.contains("soft round sprites") && line.contains("fire's age ramp"),
+        "{line}"
+    );
+    let o = texflow(&["scene", "passes", "fire-points"]);
+    assert!(text(&o).contains("render points"), "{}", text(&o));
+    let o = texflow(&["scene", "passes", "examples/boids/boids.toml"]);
+    let t = text(&o);
+    assert!(
+        t.contains("user force examples/boids/cruise.glsl") && t.contains("1 user pair force"),
+        "{t}"
+    );
+}
+
+/// `render --engine cpu` draws UberFlow's E5 engine through the same frame loop; a scene it
+/// does not cover is refused naming what it lacks, with nothing written.
+#[test]
+fn render_draws_the_cpu_engine_too() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("cpu");
+    let args = |engine: &str, out: &std::path::Path| {
+        texflow(&[
+            "render",
+            "e3",
+            "--engine",
+            engine,
+            "--particles",
+            "64",
+            "--resolution",
+            "96x64",
+            "--frames",
+            "40",
+            "--every",
+            "39",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    let o = args("cpu", &out);
+    assert!(o.status.success(), "{}", text(&o));
+    let cpu = image::open(out.join("frame_00039.png")).unwrap().to_rgb8();
+    let gpu_out = dir.path().join("gpu");
+    assert!(args("gpu", &gpu_out).status.success());
+    let gpu = image::open(gpu_out.join("frame_00039.png"))
+        .unwrap()
+        .to_rgb8();
+    // The same particles, sorted and drawn by each engine: the frames are close (the CPU's
+    // floats round differently), and both draw something.
+    let lit = |img: &image::RgbImage| img.pixels().filter(|p| p.0 != [0, 0, 0]).count();
+    assert!(
+        lit(&cpu) > 20 && lit(&gpu) > 20,
+        "{} {}",
+        lit(&cpu),
+        lit(&gpu)
+    );
+    let differ = cpu.pixels().zip(gpu.pixels()).filter(|(a, b)| {
+        a.0.iter()
+            .zip(b.0)
+            .any(|(x, y)| (*x as i32 - y as i32).abs() > 8)
+    });
+    assert!(
+        differ.count() * 50 <= (96 * 64),
+        "the CPU and GPU frames differ in over 2 %"
+    );
+    let refused = dir.path().join("smoke");
+    let o = texflow(&[
+        "render",
+        "smoke",
+        "--engine",
+        "cpu",
+        "--frames",
+        "1",
+        "--quiet",
+        "--out",
+        refused.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("CPU engine"), "{}", text(&o));
+    assert!(!refused.exists(), "nothing written for a refused run");
 }
 
 #[test]

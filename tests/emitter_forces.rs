@@ -90,7 +90,7 @@ fn scene_and_emitter_forces_add_per_type() {
         "[[emitters.initial.forces.spring]]\nanchor = [0.0, 2.0, 0.0]\nstiffness = 20.0\n",
         "[[forces.gravity]]\nacceleration = [0.0, -3.0, 0.0]\n",
     );
-    let plan = texflow::engine::plan::plan(&s).to_string();
+    let plan = common::plan_of(&ctx, &s).to_string();
     assert!(plan.contains("forces per emitter"), "{plan}");
     let mut sim = ParticleSim::new(&ctx, &s, 7).unwrap();
     let (mut x, mut v, types) = state(&sim);

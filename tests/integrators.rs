@@ -7,7 +7,6 @@ mod common;
 use common::scene::parse;
 use common::{context, no_gl_error};
 use texflow::bench::{Clock, PassTimer};
-use texflow::engine::plan::plan;
 use texflow::report::convergence::{self, CurveStatus, Problem, StatePrecision, Sweep};
 use texflow::scene::{self, Integrator};
 use texflow::sim::ParticleSim;
@@ -61,9 +60,10 @@ fn thesis_integrators_converge_at_their_order() {
 /// `(position, velocity)` bits after `steps` steps of `src` with `passes` set.
 fn run(src: &str, passes: &str, steps: usize) -> (Vec<u32>, Vec<u32>, Vec<String>) {
     let s = parse("test", &format!("passes = \"{passes}\"\n{src}"));
-    let listed = plan(&s).per_step;
     let ctx = context();
     let mut sim = ParticleSim::new(&ctx, &s, 11).unwrap();
+    // The passes the simulation holds, as `scene passes` lists them.
+    let listed = texflow::sim::Simulation::passes(&sim);
     for _ in 0..steps {
         sim.step().unwrap();
     }

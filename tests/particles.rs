@@ -395,8 +395,8 @@ acceleration = [0.0, -9.81, 0.0]
 /// Each built-in scene's pass list holds exactly what it needs.
 #[test]
 fn builtin_pass_lists_hold_what_each_scene_needs() {
-    let plan = |n: &str| texflow::engine::plan::plan(&scene::load(n).unwrap());
-    let text = |n: &str| plan(n).to_string();
+    let ctx = context();
+    let text = |n: &str| common::plan_of(&ctx, &scene::load(n).unwrap()).to_string();
     for n in scene::BUILTIN {
         let t = text(n);
         let alpha = scene::load(n).unwrap().render.blending == scene::Blending::Alpha;
@@ -430,7 +430,7 @@ fn builtin_pass_lists_hold_what_each_scene_needs() {
     assert!(f.contains("live rows only"));
     // Birth and death only for particles that have a life.
     let permanent = scene_with([4, 4], "verlet", 0.01, "");
-    let p = texflow::engine::plan::plan(&permanent).to_string();
+    let p = common::plan_of(&ctx, &permanent).to_string();
     assert!(
         !p.contains("emit") && !p.contains("death") && !p.contains("forces"),
         "{p}"

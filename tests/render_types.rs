@@ -297,8 +297,9 @@ fn the_new_keys_are_validated_and_listed_in_the_passes() {
         "mode = \"sprites\"\nprimitive = \"triangles\"",
         1,
     );
-    let plan = texflow::engine::plan::plan(&scene::parse("f.toml", &good).unwrap()).to_string();
-    for part in ["as triangles", "size_range", "flipbooks"] {
+    let ctx = context();
+    let plan = common::plan_of(&ctx, &scene::parse("f.toml", &good).unwrap()).to_string();
+    for part in ["sprite triangles", "size_range", "flipbooks"] {
         assert!(plan.contains(part), "{part}: {plan}");
     }
 }

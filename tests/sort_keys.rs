@@ -167,7 +167,7 @@ fn keys_and_variants_parse_as_words() {
     let s = scene::parse("p", &format!("{base}[render]\nblending = \"alpha\"\n")).unwrap();
     assert_eq!(s.render.sort.key, SortKey::Distance);
     assert_eq!(s.render.sort.variant, None);
-    let plan = texflow::engine::plan::plan(&s).to_string();
+    let plan = common::plan_of(&common::context(), &s).to_string();
     assert!(plan.contains("sort keys: distance to the viewer"), "{plan}");
     assert_eq!(
         texflow::engine::plan::sort_plan(&s).unwrap().variant,
@@ -208,6 +208,6 @@ fn keys_and_variants_parse_as_words() {
         &format!("{base}[render]\nblending = \"alpha\"\nsort = {{ key = \"oldest_on_top\" }}\n"),
     )
     .unwrap();
-    let plan = texflow::engine::plan::plan(&s).to_string();
+    let plan = common::plan_of(&common::context(), &s).to_string();
     assert!(plan.contains("sort keys: age, the oldest on top"), "{plan}");
 }

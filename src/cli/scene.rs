@@ -4,6 +4,7 @@ use super::overrides::Overrides;
 use clap::Subcommand;
 use texflow::gl::Context;
 use texflow::scene;
+use texflow::EngineKind;
 
 use super::bad;
 
@@ -20,11 +21,15 @@ pub enum SceneCommand {
         #[command(flatten)]
         set: super::set::SetArgs,
     },
-    /// Print the passes a scene runs per frame.
+    /// Print the passes a scene runs per frame: those of the engine built for it (on a GL
+    /// context, so that the list is what runs).
     #[command(allow_negative_numbers = true)]
     Passes {
         /// Scene file (.toml) or built-in name.
         scene: String,
+        /// EGL device to build the engine on.
+        #[arg(long, default_value_t = 0)]
+        device: usize,
         /// Print JSON.
         #[arg(long)]
         json: bool,
@@ -79,6 +84,7 @@ pub fn scene_command(c: SceneCommand) -> texflow::Result<()> {
         }
         SceneCommand::Passes {
             scene: name,
+            device,
             json,
             set,
         } => {
@@ -86,7 +92,11 @@ pub fn scene_command(c: SceneCommand) -> texflow::Result<()> {
                 set: set.set,
                 ..Overrides::default()
             };
-            let plan = texflow::engine::plan::plan(&overrides.prepare(&name)?.scene);
+            // The passes the engine holds once built for the scene, on the default device.
+            let prepared = overrides.prepare(&name)?;
+            let ctx = Context::new(device)?;
+            let engine = texflow::engine::build(&ctx, &prepared.scene, 1, EngineKind::Gpu)?;
+            let plan = engine.plan();
             if json {
                 super::print_json("texflow.scene.passes/1", None, &plan);
             } else {

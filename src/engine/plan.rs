@@ -1,11 +1,12 @@
-//! The list of passes a scene runs, assembled from the scene alone (`texflow scene passes`).
-//! The simulation ([`crate::sim::ParticleSim`]) and the engine compile and run from the same
-//! [`Features`], so the list is what runs, not a description of it.
+//! The list of passes a scene runs (`texflow scene passes`): [`Plan`], which an engine assembles
+//! from what it holds ([`Engine::plan`](super::Engine::plan)): its simulation's step passes
+//! ([`Simulation::passes`](crate::sim::Simulation::passes), from the features it compiled), its
+//! sort's and its renderer's. And [`sort_plan`]: the sort a scene needs, from the scene alone,
+//! which the engine builds its sorter from.
 
 use std::fmt;
 
-use crate::scene::{Blending, DrawMode, DrawOrder, DrawPrimitive, RenderPath, SceneFile, SortKey};
-use crate::sim::particles::Features;
+use crate::scene::{Blending, DrawOrder, SceneFile, SortKey};
 use crate::sort::network::{bitonic_schedule, group_steps, odd_even_schedule};
 use crate::sort::Variant;
 
@@ -70,93 +71,6 @@ pub fn sort_plan(scene: &SceneFile) -> Option<SortPlan> {
         passes_per_frame: scene.render.sort.passes_per_frame,
         shape,
     })
-}
-
-/// Assembles the pass list of `scene`.
-pub fn plan(scene: &SceneFile) -> Plan {
-    let r = &scene.render;
-    if scene.fire.is_some() {
-        return fire_plan(scene);
-    }
-    let features = Features::of(scene);
-    let mut per_frame = Vec::new();
-    per_frame.extend(sort_lines(scene));
-    let path = match r.path {
-        RenderPath::TextureFetch => "vertex texture fetch".to_owned(),
-        RenderPath::VertexBuffer => {
-            per_frame.push(
-                "copy position and static textures into vertex buffers (pixel pack buffer)".into(),
-            );
-            "vertex buffer".to_owned()
-        }
-    };
-    if r.geometry {
-        let what = crate::render::geometry::describe(scene);
-        per_frame.push(if r.blending == Blending::Alpha && r.order == DrawOrder::FrontToBack {
-            format!("render geometry ({what}): depth only, its colour composited under the particles after them")
-        } else {
-            format!("render geometry ({what}): opaque, depth written; particles depth-tested, no depth write")
-        });
-    }
-    let blend = match (r.blending, r.order) {
-        (Blending::Additive, _) => "additive",
-        (Blending::Multiplicative, _) => "multiplicative",
-        (Blending::Alpha, DrawOrder::BackToFront) => "alpha, over operator",
-        (Blending::Alpha, DrawOrder::FrontToBack) => "alpha, under operator",
-    };
-    per_frame.push(format!(
-        "render {}{}: {path}, {blend}{}",
-        match r.mode {
-            DrawMode::Points => "points",
-            DrawMode::Sprites => "sprites (rotated atlas tiles)",
-        },
-        match r.primitive {
-            DrawPrimitive::Points => "",
-            DrawPrimitive::Quads => " as quads",
-            DrawPrimitive::Stretched => " as velocity-stretched quads",
-            DrawPrimitive::Triangles => " as triangles",
-        },
-        if features.live_rows() && r.blending != Blending::Alpha {
-            ", live rows only"
-        } else {
-            ""
-        }
-    ));
-    let emitters = || scene.emitters.all();
-    if let Some(line) = per_frame.last_mut() {
-        if emitters().any(|e| e.size_range.is_some()) {
-            line.push_str(", sizes random within each type's size_range");
-        }
-        if r.rotate == crate::scene::Rotate::Spin {
-            line.push_str(", turned by the spin's angle");
-        }
-        if emitters().any(|e| e.flipbook.is_some_and(|f| f.frames > 1)) {
-            line.push_str(", flipbooks (atlas tiles advancing with the particle's age)");
-        }
-    }
-    Plan {
-        scene: scene.name.clone(),
-        per_step: features.step_passes(),
-        substeps: scene.time.substeps,
-        per_frame,
-    }
-}
-
-/// The thesis's fire: one pass a step, points a frame.
-fn fire_plan(scene: &SceneFile) -> Plan {
-    let r = &scene.render;
-    Plan {
-        scene: scene.name.clone(),
-        per_step: vec!["fire: thesis physics, in-shader respawn, colour by age \
-             [position + velocity through MRT]"
-            .into()],
-        substeps: scene.time.substeps,
-        per_frame: vec![format!(
-            "render points: vertex texture fetch, additive blending (order-independent), \
-             {} px, intensity {}, coloured by the fire's age ramp, background {:?}",
-            r.point_size, r.intensity, r.background
-        )],
-    }
 }
 
 /// The sort's passes of a frame, where alpha blending needs one.

@@ -231,7 +231,17 @@ impl ParticleRenderer {
             ));
             return names;
         }
-        names.push(format!("render {mode} ({path}, {}{depth})", s.blend_name()));
+        let mut line = format!("render {mode} ({path}, {}{depth})", s.blend_name());
+        if s.types.iter().any(|t| t.size_range != [1.0; 2]) {
+            line.push_str(", sizes random within each type's size_range");
+        }
+        if self.needs_spins() {
+            line.push_str(", turned by the spin's angle");
+        }
+        if s.mode == DrawMode::Sprites && s.types.iter().any(|t| t.flipbook.0 > 1) {
+            line.push_str(", flipbooks (atlas tiles advancing with the particle's age)");
+        }
+        names.push(line);
         if s.under() && self.geometry.is_some() {
             names.push("composite geometry under (its own depth, equal passes)".to_owned());
         }

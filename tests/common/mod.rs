@@ -88,3 +88,14 @@ pub fn test_shader(name: &str) -> String {
     texflow::gl::source::add_runtime_source(&path, text);
     path
 }
+
+/// The passes of the engine built for `scene` (what `texflow scene passes` prints), at 16×16
+/// particles so that building it is quick; the list does not depend on the size but for the
+/// sort's entry and pass counts.
+pub fn plan_of(ctx: &Context, scene: &texflow::scene::SceneFile) -> texflow::engine::plan::Plan {
+    let mut s = scene.clone();
+    s.particles.size = [16, 16];
+    texflow::engine::build(ctx, &s, 1, texflow::EngineKind::Gpu)
+        .unwrap_or_else(|e| panic!("{}: {e}", s.name))
+        .plan()
+}

@@ -31,7 +31,7 @@ fn exact_mode_finds_every_pair_of_random_gases() {
         );
         let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
         set(&mut sim, &random_gas(1000, seed, 0.0, 1.0));
-        sim.collide().unwrap();
+        sim.run(texflow::sim::Stage::Collide).unwrap();
         let snap = Snapshot::read(sim.collisions().unwrap()).unwrap();
         let brute = brute_counts(&snap.first.positions, 2.0 * radius);
         let found: Vec<usize> = snap
@@ -225,7 +225,7 @@ fn miss_causes_match_a_brute_force_classification() {
     );
     let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
     set(&mut sim, &random_gas(1024, 9, 0.0, 1.0));
-    sim.collide().unwrap();
+    sim.run(texflow::sim::Stage::Collide).unwrap();
     let snap = Snapshot::read(sim.collisions().unwrap()).unwrap();
     let stats = snap.stats();
     no_gl_error(&ctx);

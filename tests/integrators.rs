@@ -63,7 +63,9 @@ fn run(src: &str, passes: &str, steps: usize) -> (Vec<u32>, Vec<u32>, Vec<String
     let ctx = context();
     let mut sim = ParticleSim::new(&ctx, &s, 11).unwrap();
     // The passes the simulation holds, as `scene passes` lists them.
-    let listed = texflow::sim::Simulation::passes(&sim);
+    let listed: Vec<String> = (texflow::sim::Simulation::passes(&sim).into_iter())
+        .map(|p| p.name)
+        .collect();
     for _ in 0..steps {
         sim.step().unwrap();
     }

@@ -438,7 +438,7 @@ impl<S: Simulation> super::Engine for GpuEngine<S> {
         per_frame.extend(self.renderer.pass_names());
         super::plan::Plan {
             scene: self.name.clone(),
-            per_step: self.sim.passes(),
+            per_step: self.sim.passes().into_iter().map(|p| p.name).collect(),
             substeps: self.sim.substeps(),
             per_frame,
         }

@@ -93,7 +93,9 @@ pub fn run_row(
         .fold(0.0, f64::max);
     let mut times = Vec::with_capacity(repeats);
     for _ in 0..repeats {
-        times.push(timer.time(|| sim.integrate_only())?);
+        times.push(crate::engine::timed(timer, || {
+            sim.run(crate::sim::Stage::Integrate)
+        })?);
     }
     ctx.check_error("baseline run")?;
     Ok(Row {

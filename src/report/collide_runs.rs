@@ -53,9 +53,9 @@ pub fn measure(
         if let Some(c) = sim.collisions_mut() {
             c.record_iterations(last);
         }
-        sim.integrate_only();
+        sim.run(crate::sim::Stage::Integrate)?;
         let mut result = Ok(());
-        let t = timer.time(|| result = sim.collide())?;
+        let t = timer.time(|| result = sim.run(crate::sim::Stage::Collide))?;
         if !last || timed == 1 {
             times.push(t);
         }

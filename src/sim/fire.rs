@@ -257,8 +257,13 @@ impl super::Simulation for FireSim {
         Ok(sim)
     }
 
-    /// One physics pass: reads the front, writes the back (MRT), swaps.
-    fn step(&mut self) -> Result<()> {
+    /// The one physics pass: reads the front, writes the back (MRT), swaps.
+    fn run(&mut self, stage: super::Stage) -> Result<()> {
+        if stage != super::Stage::Integrate {
+            return Err(Error::InvalidInput(format!(
+                "the fire has one pass a step, no {stage:?} stage"
+            )));
+        }
         self.bind_step();
         self.pass.draw(&self.physics, self.state.back());
         self.state.swap();
@@ -303,11 +308,12 @@ impl super::Simulation for FireSim {
         Ok((self.positions().read_f32()?, self.velocities().read_f32()?))
     }
 
-    fn passes(&self) -> Vec<String> {
-        vec![
-            "fire (thesis §3-4, Listings 1-2): physics, in-shader respawn after the wait, \
-              damping, turbulence [position + velocity through MRT]"
+    fn passes(&self) -> Vec<super::Pass> {
+        vec![super::Pass {
+            stage: super::Stage::Integrate,
+            name: "fire (thesis §3-4, Listings 1-2): physics, in-shader respawn after the \
+                   wait, damping, turbulence [position + velocity through MRT]"
                 .into(),
-        ]
+        }]
     }
 }

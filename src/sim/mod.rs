@@ -22,4 +22,4 @@ pub fn particle_live(p: [f32; 4]) -> bool {
 }
 pub use fire::{FireParams, FireSim};
 pub use particles::{ClosedForm, Features, ParticleSim};
-pub use simulation::{DrawnState, Simulation};
+pub use simulation::{stages_of, DrawnState, Pass, Simulation, Stage};

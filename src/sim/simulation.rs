@@ -30,6 +30,45 @@ pub struct DrawnState<'a> {
     pub count: usize,
 }
 
+/// The parts of a step, in the order a step runs them. Each runs alone through
+/// [`Simulation::run`]: a step is its passes' stages run in order, and the benchmarks time the
+/// same stages one by one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Stage {
+    /// The allocator's births: new particles drawn as single pixels (Latta §3.2).
+    Births,
+    /// The integration pass (or its velocity and position halves): forces, colliders, time-stamp
+    /// birth and death, children (UberFlow §4.1-4.2, Latta §3.1, the thesis's fire).
+    Integrate,
+    /// The constraint relaxation after the Verlet step (Latta §3.4.3).
+    Relax,
+    /// The collision stage between particles: sorts, detection, response or neighbour forces
+    /// (UberFlow §4.3-4.5, §6).
+    Collide,
+}
+
+/// One pass, or one group of like passes, of a step: its stage and what it does in the
+/// papers' words (with their sections).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Pass {
+    /// The stage that runs it.
+    pub stage: Stage,
+    /// What it does, what it reads and writes.
+    pub name: String,
+}
+
+/// The stages of `passes`, each once, in order.
+pub fn stages_of(passes: &[Pass]) -> Vec<Stage> {
+    let mut out: Vec<Stage> = Vec::new();
+    for p in passes {
+        if !out.contains(&p.stage) {
+            out.push(p.stage);
+        }
+    }
+    out
+}
+
 /// A particle model whose state lives in textures and changes only by fragment passes.
 pub trait Simulation: std::fmt::Debug {
     /// Builds the model `scene` describes on `ctx`, its random streams from `seed`.
@@ -37,15 +76,34 @@ pub trait Simulation: std::fmt::Debug {
     where
         Self: Sized;
 
-    /// One time step of the scene's `dt`.
-    fn step(&mut self) -> Result<()>;
+    /// Runs `stage` of one step alone (the integration advances the clock). A stage the model
+    /// does not have is an error.
+    fn run(&mut self, stage: Stage) -> Result<()>;
+
+    /// The stages of [`passes`](Self::passes), each once, in order (a model may keep them, so
+    /// that a step does not word its passes again).
+    fn stages(&self) -> Vec<Stage> {
+        stages_of(&self.passes())
+    }
+
+    /// One time step of the scene's `dt`: the stages of [`passes`](Self::passes), in order.
+    fn step(&mut self) -> Result<()> {
+        for stage in self.stages() {
+            self.run(stage)?;
+        }
+        Ok(())
+    }
 
     /// One step without the collision stage between particles: the collisionless motion, what
     /// a benchmark's warm-up runs (the stage's sorts and searches are data-oblivious, so what
-    /// they cost later does not depend on it). The same as [`step`](Self::step) for models
-    /// without one.
+    /// they cost later does not depend on it).
     fn step_without_collisions(&mut self) -> Result<()> {
-        self.step()
+        for stage in self.stages() {
+            if stage != Stage::Collide {
+                self.run(stage)?;
+            }
+        }
+        Ok(())
     }
 
     /// Steps taken.
@@ -102,6 +160,7 @@ pub trait Simulation: std::fmt::Debug {
     }
 
     /// The passes of one step, in order, in the papers' words, made from what the model
-    /// compiled: what `texflow scene passes` prints.
-    fn passes(&self) -> Vec<String>;
+    /// compiled: what a step runs, what `texflow scene passes` prints and what the benchmarks
+    /// time.
+    fn passes(&self) -> Vec<Pass>;
 }

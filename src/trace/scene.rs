@@ -284,7 +284,7 @@ fn trace_particles(e: &mut ParticleEngine, r: &mut Recorder<'_>) -> Result<()> {
     for s in 0..substeps {
         let step = format!("step {} of {substeps}", s + 1);
         if allocator {
-            e.sim_mut().emit()?;
+            e.sim_mut().run(crate::sim::Stage::Births)?;
             let mut shots = state_shots(e, r)?;
             let statics = e.sim().statics().read_f32()?;
             let births: Vec<f32> = statics.chunks_exact(4).map(|c| c[0]).collect();
@@ -302,7 +302,7 @@ fn trace_particles(e: &mut ParticleEngine, r: &mut Recorder<'_>) -> Result<()> {
                 shots,
             )?;
         }
-        e.sim_mut().integrate_only();
+        e.sim_mut().run(crate::sim::Stage::Integrate)?;
         let shots = state_shots(e, r)?;
         r.pass(
             &format!("{step}: integrate (`glsl/sim/integrate.frag`)"),
@@ -312,7 +312,7 @@ fn trace_particles(e: &mut ParticleEngine, r: &mut Recorder<'_>) -> Result<()> {
             shots,
         )?;
         if e.sim().collisions().is_some() {
-            e.sim_mut().collide()?;
+            e.sim_mut().run(crate::sim::Stage::Collide)?;
             let mut shots = state_shots(e, r)?;
             shots.extend(cell_shots(e)?);
             r.pass(

@@ -295,7 +295,7 @@ fn fire(
     let mut phases = Phases::default();
     let mut frames = Vec::new();
     let points = engine.sim().particle_count();
-    let step = &engine.sim().passes()[0];
+    let step = engine.sim().passes()[0].name.clone();
     for _ in 0..=opts.repeats {
         frames.push(timed(timer, || {
             engine.advance_frame()?;
@@ -304,7 +304,7 @@ fn fire(
         let f = timer.time(|| floor.draw(engine.sim().state().back()))?;
         // The step's one pass and its swap (which costs nothing).
         let t = timed(timer, || engine.sim_mut().step())?;
-        phases.push(step, "write-only pass into position + velocity", t, f);
+        phases.push(&step, "write-only pass into position + velocity", t, f);
         let fb = engine.target().framebuffer();
         let f =
             timer.time(|| render_floor.draw(fb, [0.0, 0.0, 0.0, 1.0], Some(FIRE_BLEND), points))?;
@@ -343,12 +343,6 @@ fn particles(
     let texels = w as usize * h as usize;
     let mut sort = bench_sort(ctx, s)?;
     let back_to_front = s.render.order == DrawOrder::BackToFront;
-    let has_births = engine.sim().allocator().is_some();
-    let step_name = if has_births {
-        "births (allocator) + integrate"
-    } else {
-        "integrate"
-    };
     let style = engine.renderer().style().clone();
     let blend = Some(style.blend());
     let clear = style.clear_color();
@@ -360,7 +354,7 @@ fn particles(
             engine.draw()
         })?);
         // One step, in its phases.
-        state_floors.step_phases(ctx, timer, engine.sim_mut(), step_name, &mut phases)?;
+        state_floors.step_phases(ctx, timer, engine.sim_mut(), &mut phases)?;
         // The frame's sorting, then its drawing.
         let sim = engine.sim();
         let count = if let Some(sort) = &mut sort {

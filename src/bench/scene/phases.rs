@@ -6,7 +6,7 @@ use crate::bench::stats::{FixedCost, PassTimer, WriteFloor};
 use crate::error::Result;
 use crate::gl::{Context, Framebuffer, Texture, TextureDesc, TextureFormat};
 use crate::scene::SceneFile;
-use crate::sim::ParticleSim;
+use crate::sim::{ParticleSim, Simulation, Stage};
 use crate::sort::{KeyMode, SortOptions, Sorter};
 
 /// The sort the engine runs, built from the same plan, with its own gather target: the sorter,
@@ -135,41 +135,72 @@ impl StateFloors {
         })
     }
 
-    /// One step in its phases: births and integration over the live rows, then the collision
-    /// stage where there is one.
+    /// One step, stage by stage, from the simulation's own pass list (what its step runs):
+    /// the integration next to a write-only pass into the state's targets over the same rows;
+    /// every other stage (births, constraint relaxation, collisions) next to its passes' fixed
+    /// cost plus its bytes written at the rate of a write-only pass into the state's targets,
+    /// both measured now.
     pub(super) fn step_phases(
         &self,
         ctx: &Context,
         timer: &PassTimer,
         sim: &mut ParticleSim,
-        step_name: &str,
         phases: &mut Phases,
     ) -> Result<()> {
-        let rows = sim.active_rows();
-        let f = timer.time(|| self.state.draw_rows(&self.scratch, 0, rows))?;
-        let t = timed(timer, || sim.step_without_collisions())?;
-        phases.push(
-            step_name,
-            "write-only pass into the state's targets, live rows",
-            t,
-            f,
-        );
-        if sim.collisions().is_some() {
-            // The stage's floor: its passes' fixed cost plus its bytes written at the rate of a
-            // write-only pass into the state's targets, both measured now.
+        let passes = sim.passes();
+        for stage in sim.stages() {
+            // Each pass by the words before its details, once.
+            let mut names: Vec<&str> = Vec::new();
+            for p in passes.iter().filter(|p| p.stage == stage) {
+                let short = p
+                    .name
+                    .split([':', ',', '['])
+                    .next()
+                    .unwrap_or(&p.name)
+                    .trim();
+                if !names.contains(&short) {
+                    names.push(short);
+                }
+            }
+            let name = format!("{}: {}", stage_name(stage), names.join(", "));
+            if stage == Stage::Integrate {
+                let rows = sim.active_rows();
+                let f = timer.time(|| self.state.draw_rows(&self.scratch, 0, rows))?;
+                let t = timed(timer, || sim.run(stage))?;
+                phases.push(
+                    &name,
+                    "write-only pass into the state's targets, live rows",
+                    t,
+                    f,
+                );
+                continue;
+            }
             let fixed = self.fixed_cost.measure(timer)?;
             let f = timer.time(|| self.state.draw(&self.scratch))?;
             let rate = self.scratch_bytes as f64 / (f - fixed).max(1e-9);
             ctx.take_draw_stats();
-            let t = timed(timer, || sim.collide())?;
-            let stage = ctx.take_draw_stats();
+            let t = timed(timer, || sim.run(stage))?;
+            let drawn = ctx.take_draw_stats();
+            // A stage that drew nothing this time (no births in the step) still costs its
+            // call: one pass's fixed cost.
             phases.push(
-                "collide (sorts, detection, response)",
-                "its passes × the fixed cost of a pass + its bytes at the state's write rate",
+                &name,
+                "its passes (at least one) × the fixed cost of a pass + its bytes at the state's \
+                 write rate",
                 t,
-                stage.draws as f64 * fixed + stage.bytes_written as f64 / rate,
+                drawn.draws.max(1) as f64 * fixed + drawn.bytes_written as f64 / rate,
             );
         }
         Ok(())
+    }
+}
+
+/// A stage's name in the phase table.
+fn stage_name(stage: Stage) -> &'static str {
+    match stage {
+        Stage::Births => "births",
+        Stage::Integrate => "integrate",
+        Stage::Relax => "relax",
+        Stage::Collide => "collide",
     }
 }

@@ -48,7 +48,7 @@ fn sample_state(sim: &mut ParticleSim, dt: f64) -> Result<(Vec<DVec3>, Vec<DVec3
         return Ok((x, xyz(&v.read_f32()?)));
     }
     let prev = xyz(&sim.previous().expect("Verlet").read_f32()?);
-    sim.integrate_only();
+    sim.run(crate::sim::Stage::Integrate)?;
     let next = xyz(&sim.read_positions()?);
     let v = next
         .iter()
@@ -120,10 +120,11 @@ pub fn run_point(
     let non_finite = counter.count_sim(&sim)?.non_finite;
     let mut times = Vec::with_capacity(sweep.repeats);
     for _ in 0..sweep.repeats {
-        let ms = timer.time(|| {
+        let ms = crate::engine::timed(timer, || {
             for _ in 0..sweep.batch {
-                sim.integrate_only();
+                sim.run(crate::sim::Stage::Integrate)?;
             }
+            Ok(())
         })?;
         times.push(ms / sweep.batch as f64);
     }
@@ -179,7 +180,7 @@ impl Run<'_> {
         } = self;
         let (mut error, mut deviation) = (0.0f64, 0.0f64);
         for _ in 0..steps {
-            sim.integrate_only();
+            sim.run(crate::sim::Stage::Integrate)?;
         }
         for _ in 0..steps {
             for t in tw.iter_mut() {
@@ -215,7 +216,7 @@ impl Run<'_> {
         let mut sample = stride;
         while sample <= steps {
             while n_done < sample {
-                sim.integrate_only();
+                sim.run(crate::sim::Stage::Integrate)?;
                 twin.step(&mut tw[0]);
                 n_done += 1;
             }
@@ -264,7 +265,7 @@ impl Run<'_> {
         let mut apex = vec![vec![f64::NEG_INFINITY; bounces as usize]; n];
         let mut apex_twin = apex.clone();
         for step in 1..=steps {
-            sim.integrate_only();
+            sim.run(crate::sim::Stage::Integrate)?;
             for t in tw.iter_mut() {
                 twin.step(t);
             }

@@ -44,7 +44,7 @@ fn speed_1e6(ctx: &Context) -> Result<ExtremeCase> {
         let v = Vec3::new(1e6, -1e6, 5e5);
         let mut sim = start(ctx, &s, &[(Vec3::ZERO, v, 0); 4])?;
         for _ in 0..64 {
-            sim.integrate_only();
+            sim.run(crate::sim::Stage::Integrate)?;
         }
         let c = count(ctx, &sim)?;
         bad.extend(non_finite_ids(&sim)?);
@@ -100,7 +100,7 @@ fn half_overflow(ctx: &Context, rounding: HalfRounding) -> Result<ExtremeCase> {
     let mut first_inf = None;
     let mut largest = 0.0f32;
     for step in 1..=64u64 {
-        sim.integrate_only();
+        sim.run(crate::sim::Stage::Integrate)?;
         let v = sim.read_velocities()?[0];
         if v.is_finite() {
             largest = largest.max(v);
@@ -168,7 +168,7 @@ fn half_free_fall(ctx: &Context) -> Result<(ExtremeCase, HalfRounding)> {
     )?;
     let mut history = Vec::new();
     for _ in 0..1800 {
-        sim.integrate_only();
+        sim.run(crate::sim::Stage::Integrate)?;
         history.push(sim.read_velocities()?[1]);
     }
     let last = history[history.len() - 1];
@@ -210,7 +210,7 @@ fn large_coordinates(ctx: &Context) -> Result<ExtremeCase> {
         .collect();
     let mut sim = start(ctx, &s, &particles)?;
     for _ in 0..600 {
-        sim.integrate_only();
+        sim.run(crate::sim::Stage::Integrate)?;
     }
     let c = count(ctx, &sim)?;
     let p = sim.read_positions()?;
@@ -292,7 +292,7 @@ fn dt_tiny(ctx: &Context) -> Result<ExtremeCase> {
             ],
         )?;
         for _ in 0..1000 {
-            sim.integrate_only();
+            sim.run(crate::sim::Stage::Integrate)?;
         }
         let c = count(ctx, &sim)?;
         if !c.is_clean() {

@@ -164,7 +164,7 @@ fn track(
         // Every step at first (fast decays and growths), then every 10th.
         let every = if n < 50 { 1 } else { 10 };
         for _ in 0..every.min(steps - n) {
-            sim.integrate_only();
+            sim.run(crate::sim::Stage::Integrate)?;
             n += 1;
         }
         for (t, a) in tracks.iter_mut().zip(measure(sim)?) {

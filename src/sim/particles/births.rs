@@ -15,7 +15,7 @@ impl ParticleSim {
     /// Latta §3.4.1: frees the indices of particles that died (on the CPU's clock, a few steps
     /// late so that both sides of the ping-pong hold them dead), allocates indices for this
     /// step's births and draws them as points.
-    pub fn emit(&mut self) -> Result<()> {
+    pub(super) fn emit(&mut self) -> Result<()> {
         let dt = self.scene.time.dt as f64;
         let now = self.time;
         let Some(alloc) = self.allocator.as_mut() else {

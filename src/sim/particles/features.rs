@@ -5,6 +5,7 @@
 use super::super::allocator::AllocatorKind;
 use crate::gl::Defines;
 use crate::scene::{self, Integrator, Precision, SceneFile, VelocityFormat};
+use crate::sim::{Pass, Stage};
 
 /// How particles come into being.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -269,23 +270,31 @@ impl Features {
         d
     }
 
-    /// The simulation passes of one step, in order, for `texflow scene passes`.
-    pub fn step_passes(&self) -> Vec<String> {
+    /// The simulation passes of one step, in order, each with the stage that runs it: what a
+    /// step runs, `texflow scene passes` prints and the benchmarks time.
+    pub fn step_passes(&self) -> Vec<Pass> {
         let mut out = Vec::new();
+        let mut add = |stage: Stage, names: Vec<String>| {
+            out.extend(names.into_iter().map(|name| Pass { stage, name }));
+        };
         let verlet = self.integrator == Integrator::Verlet;
-        out.extend(self.emit_pass(verlet));
+        add(Stage::Births, self.emit_pass(verlet).into_iter().collect());
         let what = self.integration_terms(verlet);
-        self.integrate_passes(&what, verlet, &mut out);
-        out.extend(self.constrain_pass());
-        self.collision_passes(&mut out);
+        let mut integrate = Vec::new();
+        self.integrate_passes(&what, verlet, &mut integrate);
+        add(Stage::Integrate, integrate);
+        add(Stage::Relax, self.constrain_pass().into_iter().collect());
+        let mut collide = Vec::new();
+        self.collision_passes(&mut collide);
         if self.spin {
-            out.push(
+            collide.push(
                 "spin (UberFlow §4.5): angular velocity and angle, a third MRT target of \
                  integration and response, gathered in cell order by a pass of its own after \
                  each collision sort; contact friction turns v and ω together"
                     .into(),
             );
         }
+        add(Stage::Collide, collide);
         out
     }
 

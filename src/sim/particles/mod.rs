@@ -77,6 +77,8 @@ pub struct ParticleSim {
     ctx: Context,
     scene: SceneFile,
     features: Features,
+    /// The stages of a step, from the pass list of `features` (kept: a step runs them).
+    stages: Vec<crate::sim::Stage>,
     width: u32,
     height: u32,
     state: State,
@@ -189,6 +191,7 @@ impl ParticleSim {
             dropped: 0,
             ctx: ctx.clone(),
             scene: scene.clone(),
+            stages: crate::sim::stages_of(&features.step_passes()),
             features,
             width,
             height,
@@ -310,28 +313,21 @@ impl ParticleSim {
         self.active_rows() as usize * self.width as usize
     }
 
-    /// One time step: allocator births, then the integration pass, then the swap, then the
-    /// constraint relaxation (scenes with `[constraints]`) or the collision stage (scenes with
-    /// `[collisions]`).
+    /// One time step: the stages of its pass list in order (see
+    /// [`Simulation::step`](crate::sim::Simulation::step)): allocator births, then the
+    /// integration pass, then the swap, then the constraint relaxation (scenes with
+    /// `[constraints]`) or the collision stage (scenes with `[collisions]`).
     pub fn step(&mut self) -> Result<()> {
-        self.step_without_collisions()?;
-        self.collide()
+        crate::sim::Simulation::step(self)
     }
 
-    /// [`step`](Self::step) without the collision stage: the collisionless motion. For warming a
-    /// benchmark up quickly: the collision stage's sorts and detection are data-oblivious, so
-    /// what they cost later does not depend on whether earlier steps resolved collisions.
-    pub fn step_without_collisions(&mut self) -> Result<()> {
-        if self.allocator.is_some() {
-            self.emit()?;
-        }
-        self.integrate_only();
-        self.relax();
-        Ok(())
+    /// Runs `stage` of one step alone (see [`Simulation::run`](crate::sim::Simulation::run)).
+    pub fn run(&mut self, stage: crate::sim::Stage) -> Result<()> {
+        crate::sim::Simulation::run(self, stage)
     }
 
     /// The constraint relaxation passes after the Verlet step (scenes with `[constraints]`).
-    pub fn relax(&mut self) {
+    fn relax(&mut self) {
         if let (Some(r), State::Verlet(ring)) = (&self.relax, &mut self.state) {
             r.run(&self.scene, ring, &self.pass, &self.fields, self.time);
         }
@@ -352,9 +348,8 @@ impl ParticleSim {
         self.collisions.as_mut()
     }
 
-    /// Runs the collision stage on the current state (part of [`step`](Self::step); public for
-    /// benchmarks, which time it alone).
-    pub fn collide(&mut self) -> Result<()> {
+    /// Runs the collision stage on the current state (part of [`step`](Self::step)).
+    fn collide(&mut self) -> Result<()> {
         let Some(c) = self.collisions.as_mut() else {
             return Ok(());
         };
@@ -379,8 +374,8 @@ impl ParticleSim {
         Ok(())
     }
 
-    /// The integration pass alone (also what benchmarks time), then the swap.
-    pub fn integrate_only(&mut self) {
+    /// The integration pass alone, then the swap.
+    fn integrate_pass(&mut self) {
         let rows = self.active_rows();
         let p = &self.integrate;
         p.bind();

@@ -172,12 +172,30 @@ impl crate::sim::Simulation for ParticleSim {
         ParticleSim::new(ctx, scene, seed)
     }
 
-    fn step(&mut self) -> Result<()> {
-        ParticleSim::step(self)
+    fn run(&mut self, stage: crate::sim::Stage) -> Result<()> {
+        use crate::sim::Stage;
+        if !self.stages.contains(&stage) {
+            return Err(Error::InvalidInput(format!(
+                "scene `{}` has no {stage:?} stage: its step runs {:?}",
+                self.scene.name, self.stages
+            )));
+        }
+        match stage {
+            Stage::Births => self.emit(),
+            Stage::Integrate => {
+                self.integrate_pass();
+                Ok(())
+            }
+            Stage::Relax => {
+                self.relax();
+                Ok(())
+            }
+            Stage::Collide => self.collide(),
+        }
     }
 
-    fn step_without_collisions(&mut self) -> Result<()> {
-        ParticleSim::step_without_collisions(self)
+    fn stages(&self) -> Vec<crate::sim::Stage> {
+        self.stages.clone()
     }
 
     fn steps(&self) -> u64 {
@@ -235,7 +253,7 @@ impl crate::sim::Simulation for ParticleSim {
         self.collisions().map(|c| c.census()).transpose()
     }
 
-    fn passes(&self) -> Vec<String> {
+    fn passes(&self) -> Vec<crate::sim::Pass> {
         self.features.step_passes()
     }
 }

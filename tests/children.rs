@@ -454,7 +454,10 @@ fn match_instants(what: &str, seen: &[usize], want: &[f64], dt: f64, steps: usiz
         }
     }
     let extra: Vec<_> = rest.collect();
-    assert!(extra.is_empty(), "{what}: steps {extra:?} predict nothing ({seen:?})");
+    assert!(
+        extra.is_empty(),
+        "{what}: seen in steps {extra:?}, which no instant predicts ({seen:?})"
+    );
 }
 
 /// Time-stamped parents (UberFlow §4.1) are born once and burst once in every cycle, against

@@ -50,6 +50,9 @@ uniform vec4 u_cycle;   // cycle length per type
 #if defined(TIMESTAMP) || defined(CHILDREN)
 uniform float u_time_next;  // the simulation time at the end of this step (the next u_time)
 #endif
+#if defined(TIMESTAMP) && defined(VERLET)
+uniform float u_time_prev;  // the last step's u_time, bit for bit (-dt before the first step)
+#endif
 #ifdef RELEASE_SPREAD
 uniform vec4 u_release_spread[4];   // (box size, slots per side) per type
 uniform vec4 u_release_cloud;       // texels per cloud per type; 0: a cloud is a release
@@ -208,8 +211,13 @@ void main() {
     life = st.z - age;
     force_age = age;
 #ifdef VERLET
-    if (age < 2.0 * u_dt) {
-        // Born in the previous step, so x_prev belongs to the last life. Second-order start:
+    // Born in the previous step: a cycle began between its start and this step's, on the
+    // clock of timestamp_step (a test of the end age against 2 dt made the start twice, or
+    // not at all, for a phase on a step boundary).
+    float cycle = u_cycle[type];
+    float rel0 = u_time - st.x;
+    if (rel0 >= 0.0 && floor(rel0 / cycle) > floor((u_time_prev - st.x) / cycle)) {
+        // x_prev belongs to the last life. Second-order start:
         // x_prev = x0 - v0 dt + a0 dt^2 / 2, which makes this step x0 + v0 dt + a0 dt^2 / 2.
         spawn_position(type, rng);
         v = spawn_velocity(type, rng);

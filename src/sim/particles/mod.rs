@@ -391,6 +391,9 @@ impl ParticleSim {
         // that the end of one step's interval is the start of the next (glsl/sim/integrate.frag).
         let next = ((self.step + 1) as f64 * self.scene.time.dt as f64) as f32;
         p.optional(|| p.set_f32("u_time_next", next));
+        // Verlet's time stamps: the last step's u_time, exactly (-dt before the first step).
+        let prev = ((self.step as f64 - 1.0) * self.scene.time.dt as f64) as f32;
+        p.optional(|| p.set_f32("u_time_prev", prev));
         // Orbiting spheres: where they are at the end of this step.
         relax::move_spheres(p, &self.scene, self.time + self.scene.time.dt as f64);
         let statics = ("u_static", self.statics.texture(0).into());

@@ -94,6 +94,65 @@ fn timestamp_bursts_share_one_time_stamp() {
     no_gl_error(&ctx);
 }
 
+/// Verlet's second-order start at every time-stamp birth (Latta eq. 9, x_prev = x0 − v0 dt +
+/// a dt²/2): a particle born on its point emitter with v0 = (0, 2, 0) under gravity is, one and
+/// two steps later, where the discrete closed form x_n = x0 + n v0 dt + n² a dt²/2 puts it, in
+/// every cycle of 3⅓, for phases on step boundaries (bursts at 0.05, 0.1, 0.2 and 0.25 s of
+/// 1/60 s steps) and spread ones alike. The start is made once, in the step after the birth
+/// only: a second one would restart the motion from the spawn velocity.
+#[test]
+fn verlet_time_stamps_start_second_order_once_per_birth() {
+    let ctx = context();
+    let src = "name = \"verlet\"\nintegrator = \"verlet\"\n[particles]\nsize = [8, 8]\n\
+               [time]\ndt = 0.016666668\n\
+               [[emitters.timestamp]]\ncycle = 0.5\nshape = \"point\"\n\
+               center = [0.0, 0.0, 0.0]\ndirection = [0.0, 1.0, 0.0]\ncone_degrees = 0.0\n\
+               speed = [2.0, 2.0]\nlife = [0.3, 0.3]\n\
+               bursts = [{ time = 0.05, count = 4 }, { time = 0.1, count = 4 }, \
+               { time = 0.2, count = 4 }, { time = 0.25, count = 4 }]\n\
+               [[forces.gravity]]\nacceleration = [0.0, -9.81, 0.0]\n";
+    let s = common::scene::parse("verlet.toml", src);
+    let mut sim = ParticleSim::new(&ctx, &s, 3).unwrap();
+    let (dt, g) = (0.016666668f32 as f64, -9.81f64);
+    // Steps since each particle's birth (0: born in the last step), None before it.
+    let mut since: Vec<Option<usize>> = vec![None; 64];
+    let mut checked = [0usize; 2];
+    for step in 0..100 {
+        sim.step().unwrap();
+        let pos = sim.read_positions().unwrap();
+        for (i, p) in pos.chunks_exact(4).enumerate() {
+            if p[3] <= 0.0 {
+                since[i] = None;
+                continue;
+            }
+            if p[..3] == [0.0, 0.0, 0.0] {
+                since[i] = Some(0);
+                continue;
+            }
+            let Some(n) = since[i].map(|n| n + 1) else {
+                continue;
+            };
+            since[i] = Some(n);
+            if n <= 2 {
+                let nf = n as f64;
+                let want = [0.0, nf * 2.0 * dt + nf * nf * g * dt * dt / 2.0, 0.0];
+                let err = (0..3)
+                    .map(|a| (p[a] as f64 - want[a]).abs())
+                    .fold(0.0, f64::max);
+                assert!(
+                    err < 1e-5,
+                    "particle {i}, step {step}, {n} after its birth: {:?}, want {want:?}",
+                    &p[..3]
+                );
+                checked[n - 1] += 1;
+            }
+        }
+    }
+    // Every particle is born 3 or 4 times in 100 steps of a 30-step cycle.
+    assert!(checked.iter().all(|&c| c >= 3 * 64), "{checked:?}");
+    no_gl_error(&ctx);
+}
+
 #[test]
 fn bad_bursts_are_errors_at_their_place() {
     let src = |kind: &str, extra: &str, bursts: &str| {

@@ -305,7 +305,9 @@ fn render_warns_once_and_counts_dropped_child_births_in_json() {
 
 /// The built-in `fireworks` (time-stamped rockets, UberFlow §4.1): every rocket that dies, at
 /// the end of its life, gives exactly its 128 sparks in one step, each on the rocket's last
-/// position (a point emitter), and none is dropped; the trails never overflow their 32 texels.
+/// position (a point emitter), and none is dropped over 20 s, past its third cycle (the rocket
+/// stamped at 0.2 s, a step boundary, was once born twice in a row from the fourth cycle on);
+/// the trails never overflow their 32 texels.
 #[test]
 fn fireworks_rockets_burst_into_their_128_sparks_where_they_die() {
     let ctx = context();
@@ -318,7 +320,7 @@ fn fireworks_rockets_burst_into_their_128_sparks_where_they_die() {
     let statics = sim.statics().read_f32().unwrap();
     let mut before = sim.read_positions().unwrap();
     let (mut deaths, mut born) = (0usize, 0usize);
-    for _ in 0..240 {
+    for _ in 0..1200 {
         sim.step().unwrap();
         let after = sim.read_positions().unwrap();
         for rocket in 0..p {
@@ -343,7 +345,8 @@ fn fireworks_rockets_burst_into_their_128_sparks_where_they_die() {
         }
         before = after;
     }
-    assert!(deaths >= 10, "{deaths} rockets died in 4 s");
+    // 20 s: past three 6 s cycles, each rocket dies three or four times.
+    assert!(deaths >= 75, "{deaths} rockets died in 20 s");
     assert_eq!(born, b * deaths);
     assert_eq!(sim.dropped_child_births().unwrap(), 0);
     no_gl_error(&ctx);
@@ -423,6 +426,112 @@ fn trail_births_tile_the_parents_life_at_an_inexact_dt() {
         .collect();
     assert!(want.iter().all(|n| *n == 32), "{want:?}");
     assert_eq!(births, want);
+    assert_eq!(sim.dropped_child_births().unwrap(), 0);
+    no_gl_error(&ctx);
+}
+
+/// The steps in which an instant `t` (s) may fall, a step s covering (s·dt, (s+1)·dt]: one, or
+/// the two beside a boundary within `tol` of it (f32 time stamps of f64 instants).
+fn steps_holding(t: f64, dt: f64, tol: f64) -> std::ops::RangeInclusive<usize> {
+    let lo = ((t - tol) / dt).ceil() - 1.0;
+    let hi = ((t + tol) / dt).ceil() - 1.0;
+    lo.max(0.0) as usize..=hi.max(0.0) as usize
+}
+
+/// Matches the steps `seen` against the instants `want` (ascending, one per cycle): each
+/// instant in one of its steps, once, and nothing else seen. Instants whose steps may lie past
+/// the run need not be seen.
+fn match_instants(what: &str, seen: &[usize], want: &[f64], dt: f64, steps: usize) {
+    let mut rest = seen.iter().peekable();
+    for &t in want {
+        let range = steps_holding(t, dt, 1e-4);
+        match rest.peek() {
+            Some(&&s) if range.contains(&s) => {
+                rest.next();
+            }
+            _ if *range.end() >= steps => {}
+            _ => panic!("{what}: at {t} s, in steps {range:?}; seen in {seen:?}"),
+        }
+    }
+    let extra: Vec<_> = rest.collect();
+    assert!(
+        extra.is_empty(),
+        "{what}: seen in steps {extra:?}, which no instant predicts ({seen:?})"
+    );
+}
+
+/// Time-stamped parents (UberFlow §4.1) are born once and burst once in every cycle, against
+/// the closed form of their time stamps: parent i, of phase φ_i and life L, is born at
+/// φ_i + n·cycle and dies at φ_i + n·cycle + L, in the steps that hold those instants, over 3⅓
+/// cycles at an inexact dt. Four bursts stamp 32 parents on step boundaries (0.05 s = 3 steps of
+/// 1/60 s), where a birth test of the end age against dt was true in two consecutive steps: the
+/// parent was born again, its children read that as a death and burst, and the real death's
+/// burst found their texels taken (sparks living longer than the parent).
+#[test]
+fn timestamp_parents_are_born_and_burst_once_per_cycle() {
+    let ctx = context();
+    let (b, cycle) = (4usize, 0.5f64);
+    let src = format!(
+        "name = \"stamps\"\nintegrator = \"euler\"\n[particles]\nsize = [{SIDE}, {SIDE}]\n\
+         [time]\ndt = 0.016666668\n\
+         [[emitters.timestamp]]\ncycle = {cycle:?}\nshape = \"point\"\ncenter = [0.0, 0.0, 0.0]\n\
+         direction = [0.0, 1.0, 0.0]\ncone_degrees = 10.0\nspeed = [2.0, 3.0]\nlife = [0.2, 0.2]\n\
+         bursts = [{{ time = 0.05, count = 8 }}, {{ time = 0.1, count = 8 }}, \
+         {{ time = 0.2, count = 8 }}, {{ time = 0.25, count = 8 }}]\n\
+         [[emitters.child]]\nparent = 0\nper_parent = {b}\non_death = {b}\nshape = \"point\"\n\
+         direction = [0.0, 1.0, 0.0]\ncone_degrees = 180.0\nspeed = [0.5, 0.5]\n\
+         life = [0.25, 0.25]\n"
+    );
+    let s = parse(&src);
+    let p = s.child_layout().parent_slots as usize;
+    assert_eq!(p, SIDE * SIDE / (1 + b));
+    let mut sim = ParticleSim::new(&ctx, &s, 5).unwrap();
+    let statics = sim.statics().read_f32().unwrap();
+    let dt = 0.016666668f32 as f64;
+    let steps = 100;
+    let (mut births, mut bursts) = (vec![Vec::new(); p], vec![Vec::new(); p]);
+    for step in 0..steps {
+        sim.step().unwrap();
+        let pos = sim.read_positions().unwrap();
+        for parent in 0..p {
+            // Born in this step: alive on the emitter's point, which a flying parent leaves.
+            let x = &pos[parent * 4..parent * 4 + 4];
+            if x[3] > 0.0 && x[..3] == [0.0, 0.0, 0.0] {
+                births[parent].push(step);
+            }
+            // Children born in this step: their full life left.
+            let block = p + parent * b..p + (parent + 1) * b;
+            let new = block
+                .filter(|&c| pos[c * 4 + 3] > 0.0 && pos[c * 4 + 3] == statics[c * 4 + 2])
+                .count();
+            if new > 0 {
+                assert_eq!(new, b, "parent {parent}'s burst in step {step}");
+                bursts[parent].push(step);
+            }
+        }
+    }
+    let on_boundary = (0..p)
+        .filter(|&i| {
+            let k = statics[i * 4] as f64 / dt;
+            k > 0.5 && (k - k.round()).abs() < 1e-3
+        })
+        .count();
+    assert!(on_boundary >= 32, "{on_boundary} phases on step boundaries");
+    let end = steps as f64 * dt + dt;
+    for parent in 0..p {
+        let (phase, life) = (statics[parent * 4] as f64, statics[parent * 4 + 2] as f64);
+        let born: Vec<f64> = (0..)
+            .map(|n| phase + n as f64 * cycle)
+            .take_while(|t| *t < end)
+            .collect();
+        let dies: Vec<f64> = born.iter().map(|t| t + life).filter(|t| *t < end).collect();
+        // A birth at φ happens in the step whose end passes it, as a death does.
+        let what = format!("parent {parent} (phase {phase}), births");
+        match_instants(&what, &births[parent], &born, dt, steps);
+        let what = format!("parent {parent} (phase {phase}), bursts");
+        match_instants(&what, &bursts[parent], &dies, dt, steps);
+        assert!(bursts[parent].len() >= 3, "{:?}", bursts[parent]);
+    }
     assert_eq!(sim.dropped_child_births().unwrap(), 0);
     no_gl_error(&ctx);
 }

@@ -11,7 +11,7 @@
 // cone; its life was drawn once for the texel at the start (sim/init.frag), as time stamps'.
 // A birth asked of a texel whose child still lives after this step is dropped and counted in
 // the texel's velocity.w (cumulative; read back once, at the end of a run).
-// Included by sim/integrate.frag after its samplers and, with TIMESTAMP, timestamp_age.
+// Included by sim/integrate.frag after its samplers and, with TIMESTAMP, timestamp_step.
 
 struct ChildStep {
     bool born;
@@ -54,18 +54,17 @@ ChildStep child_step(int index, vec4 p, vec4 vel) {
     // start (from the remaining life the parent's pass writes, or the next step's time), so the
     // trail's births of consecutive steps tile: none is asked twice or skipped.
 #if defined(TIMESTAMP)
-    float generation;
-    float age_now = timestamp_age(pst, int(pst.y), generation);
-    bool dies = age_now >= pst.z || age_now < u_dt;  // its life ends, or a new cycle begins
-    // Both ends of the step's age interval from one clock: u_time_next is the next step's
-    // u_time bit for bit, so consecutive intervals tile whatever a compiler makes of the
+    // Both ends of the step's age interval, and whether a new cycle begins, from one clock
+    // (u_time and u_time_next, the next step's u_time bit for bit), as the parent's own pass
+    // decides its fate: consecutive intervals tile whatever a compiler makes of the
     // arithmetic (an end written life - (life - age), to round as the next start from the
-    // stored remaining life does, may be folded to age: NVIDIA's asked some births twice).
-    float cycle = u_cycle[int(pst.y)];
-    float rel0 = u_time - pst.x;
-    float rel1 = u_time_next - pst.x;
-    float age = rel0 - floor(rel0 / cycle) * cycle;
-    float end = dies ? pst.z : rel1 - floor(rel1 / cycle) * cycle;
+    // stored remaining life does, may be folded to age: NVIDIA's asked some births twice),
+    // and a parent is seen dying once per cycle (a test of the end age against dt was true in
+    // two consecutive steps for a phase on a step boundary: a second burst at the new birth).
+    Stamp stamp = timestamp_step(pst, int(pst.y));
+    bool dies = stamp.age >= pst.z || stamp.begins;  // its life ends, or a new cycle begins
+    float age = max(stamp.start_age, 0.0);  // below 0 by rounding only, in its first step
+    float end = dies ? pst.z : stamp.age;
 #elif defined(LIFE)
     bool dies = pp.w - u_dt <= 0.0;
     float age = pst.z - pp.w;

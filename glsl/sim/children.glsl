@@ -8,7 +8,6 @@
 //   u_child_more[c] = (trail children per second, velocity inherited, own type, unused)
 
 uniform int u_child_start;
-uniform float u_time_next;  // the simulation time at the end of this step (the next u_time)
 uniform int u_children;
 uniform ivec4 u_child[3];
 uniform vec4 u_child_more[3];

@@ -47,6 +47,12 @@ uniform uint u_seed;
 #ifdef TIMESTAMP
 uniform vec4 u_cycle;   // cycle length per type
 #endif
+#if defined(TIMESTAMP) || defined(CHILDREN)
+uniform float u_time_next;  // the simulation time at the end of this step (the next u_time)
+#endif
+#if defined(TIMESTAMP) && defined(VERLET)
+uniform float u_time_prev;  // the last step's u_time, bit for bit (-dt before the first step)
+#endif
 #ifdef RELEASE_SPREAD
 uniform vec4 u_release_spread[4];   // (box size, slots per side) per type
 uniform vec4 u_release_cloud;       // texels per cloud per type; 0: a cloud is a release
@@ -61,13 +67,25 @@ vec3 advance(vec3 x, vec3 v, vec3 vb) {
 }
 
 #ifdef TIMESTAMP
-// The age within the current cycle at the end of this step (for a particle born by then) and
-// the cycle's number; child texels ask it of their parents (sim/child_birth.glsl).
-float timestamp_age(vec4 st, int type, out float generation) {
-    float rel = u_time + u_dt - st.x;
+// A time stamp's step (UberFlow §4.1) on one clock: the cycle number at the start of the step
+// (u_time) and at its end (u_time_next, the next step's u_time bit for bit), so the end of a
+// step is the start of the next and every cycle begins in exactly one step. A test of the age
+// at the end against dt (age < dt) does not tile: u_time + dt differs from the next u_time by
+// rounding, and a phase on a step boundary was born in two consecutive steps, or in none.
+struct Stamp {
+    float age;          // the age in the cycle at the end of the step
+    float start_age;    // the age in the cycle at the start of the step
+    float generation;   // the cycle's number at the end of the step; < 0: not born yet
+    bool begins;        // a cycle begins in this step: the particle is born (again)
+};
+
+Stamp timestamp_step(vec4 st, int type) {
     float cycle = u_cycle[type];
-    generation = floor(rel / cycle);
-    return rel - generation * cycle;
+    float rel0 = u_time - st.x;
+    float rel1 = u_time_next - st.x;
+    float g0 = floor(rel0 / cycle);
+    float g1 = floor(rel1 / cycle);
+    return Stamp(rel1 - g1 * cycle, rel0 - g0 * cycle, g1, rel1 >= 0.0 && g1 > g0);
 }
 #endif
 #ifdef CHILDREN
@@ -156,19 +174,21 @@ void main() {
     } else {
 #endif
 #if defined(TIMESTAMP)
-    float rel = u_time + u_dt - st.x;
-    if (rel < 0.0) {
+    Stamp stamp = timestamp_step(st, type);
+    if (stamp.generation < 0.0) {
         write_state(vec3(INF), -1.0, vec3(0.0));  // not born yet: out of view
         return;
     }
-    float generation;
-    float age = timestamp_age(st, type, generation);
+    float generation = stamp.generation;
+    // Born within this step: its age at the end is below dt (rounding may leave it a hair
+    // outside [0, dt)).
+    float age = stamp.begins ? clamp(stamp.age, 0.0, u_dt) : stamp.age;
     if (age >= st.z) {
         write_state(vec3(INF), 0.0, vec3(0.0));   // dead until its next cycle begins
         return;
     }
     uint rng = rng_seed(index, uint(generation), u_seed);
-    if (age < u_dt) {
+    if (stamp.begins) {
         vec3 x0 = spawn_position(type, rng);
         vec3 v0 = spawn_velocity(type, rng);
 #ifdef RELEASE_SPREAD
@@ -191,8 +211,13 @@ void main() {
     life = st.z - age;
     force_age = age;
 #ifdef VERLET
-    if (age < 2.0 * u_dt) {
-        // Born in the previous step, so x_prev belongs to the last life. Second-order start:
+    // Born in the previous step: a cycle began between its start and this step's, on the
+    // clock of timestamp_step (a test of the end age against 2 dt made the start twice, or
+    // not at all, for a phase on a step boundary).
+    float cycle = u_cycle[type];
+    float rel0 = u_time - st.x;
+    if (rel0 >= 0.0 && floor(rel0 / cycle) > floor((u_time_prev - st.x) / cycle)) {
+        // x_prev belongs to the last life. Second-order start:
         // x_prev = x0 - v0 dt + a0 dt^2 / 2, which makes this step x0 + v0 dt + a0 dt^2 / 2.
         spawn_position(type, rng);
         v = spawn_velocity(type, rng);

@@ -25,6 +25,7 @@ uniform float u_time;           // simulation time at the start of this step
 uniform uint u_seed;
 #ifdef TIMESTAMP
 uniform vec4 u_cycle;
+uniform float u_time_next;      // the next step's u_time, bit for bit (as sim/integrate.frag)
 #endif
 uniform vec4 u_inv_mass;
 #ifdef MASS_RANGE
@@ -79,7 +80,9 @@ void main() {
     float now = u_time + u_dt;
     vec3 x, v;
 #if defined(TIMESTAMP)
-    float rel = now - st.x;
+    // The age at the end of the step on the clock the stateful pass uses (timestamp_step), so
+    // that both give a particle the same life cycle.
+    float rel = u_time_next - st.x;
     if (rel < 0.0) {
         o_position = vec4(INF, INF, INF, -1.0);
         o_velocity = vec4(0.0);

@@ -380,9 +380,13 @@ impl ParticleSim {
         let p = &self.integrate;
         p.bind();
         p.set_f32("u_time", self.time as f32);
-        // Child emitters' trails: the next step's u_time, exactly (glsl/sim/child_birth.glsl).
-        let next = (self.step + 1) as f64 * self.scene.time.dt as f64;
-        p.optional(|| p.set_f32("u_time_next", next as f32));
+        // Time stamps' cycles and child emitters' trails: the next step's u_time, exactly, so
+        // that the end of one step's interval is the start of the next (glsl/sim/integrate.frag).
+        let next = ((self.step + 1) as f64 * self.scene.time.dt as f64) as f32;
+        p.optional(|| p.set_f32("u_time_next", next));
+        // Verlet's time stamps: the last step's u_time, exactly (-dt before the first step).
+        let prev = ((self.step as f64 - 1.0) * self.scene.time.dt as f64) as f32;
+        p.optional(|| p.set_f32("u_time_prev", prev));
         // Orbiting spheres: where they are at the end of this step.
         relax::move_spheres(p, &self.scene, self.time + self.scene.time.dt as f64);
         let statics = ("u_static", self.statics.texture(0).into());
@@ -393,7 +397,7 @@ impl ParticleSim {
                         &self.pass,
                         pp.back(),
                         self.statics.texture(0),
-                        self.time as f32,
+                        [self.time as f32, next],
                         rows,
                     );
                 }
@@ -416,6 +420,7 @@ impl ParticleSim {
                         self.pass.draw_rows(p, pp.back_single(1), 0, rows);
                         q.bind();
                         q.set_f32("u_time", self.time as f32);
+                        q.optional(|| q.set_f32("u_time_next", next));
                         let own: Vec<_> = [
                             ("u_position", pp.front().texture(0).into()),
                             ("u_velocity", pp.front().texture(1).into()),

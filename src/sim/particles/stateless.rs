@@ -105,18 +105,21 @@ impl Stateless {
         Ok(Stateless { program, start })
     }
 
-    /// One step: the state at the end of the step that starts at `time`, into `target`.
+    /// One step: the state at the end of the step from `time` to `time_next` (the next step's
+    /// `time`, bit for bit: time stamps take their age from it, as the stateful pass does),
+    /// into `target`.
     pub(super) fn draw(
         &self,
         pass: &FullscreenPass,
         target: &Framebuffer,
         statics: &Texture,
-        time: f32,
+        [time, time_next]: [f32; 2],
         rows: u32,
     ) {
         let p = &self.program;
         p.bind();
         p.set_f32("u_time", time);
+        p.optional(|| p.set_f32("u_time_next", time_next));
         let own = [
             ("u_position", self.start.texture(0).into()),
             ("u_velocity", self.start.texture(1).into()),

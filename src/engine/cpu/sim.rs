@@ -180,7 +180,10 @@ impl CpuSim {
     /// One time step of every particle, in parallel on all cores: the twin of one
     /// `sim/integrate.frag` pass and its swap.
     pub fn step(&mut self) {
-        let u_time = self.time as f32;
+        // The two clocks the GPU pass gets: u_time and u_time_next, the next step's u_time
+        // bit for bit.
+        let dt = self.scene.time.dt as f64;
+        let clock = [self.time as f32, ((self.step + 1) as f64 * dt) as f32];
         let physics = &self.physics;
         let statics = &self.statics;
         self.positions
@@ -188,7 +191,7 @@ impl CpuSim {
             .zip(self.velocities.par_iter_mut())
             .enumerate()
             .with_min_len(CHUNK)
-            .for_each(|(i, (p, v))| physics.step(i as u32, p, v, statics[i], u_time));
+            .for_each(|(i, (p, v))| physics.step(i as u32, p, v, statics[i], clock));
         self.step += 1;
         self.time = self.step as f64 * self.scene.time.dt as f64;
     }
@@ -249,9 +252,10 @@ impl CpuSim {
 }
 
 impl Physics {
-    /// One particle's step; `u_time` is the simulation time at the start of the step, as the
-    /// shader's uniform gets it.
-    fn step(&self, index: u32, p: &mut Vec4, v: &mut Vec3, st: Vec4, u_time: f32) {
+    /// One particle's step; `[u_time, u_time_next]` are the simulation times at the start and
+    /// the end of the step, as the shader's uniforms get them.
+    fn step(&self, index: u32, p: &mut Vec4, v: &mut Vec3, st: Vec4, clock: [f32; 2]) {
+        let [u_time, u_time_next] = clock;
         let ty = (st.y as i32).clamp(0, 3) as usize;
         let dt = self.reference.dt();
         match self.birth {
@@ -261,23 +265,31 @@ impl Physics {
                 *v = vn;
             }
             Birth::Timestamp => {
-                // The TIMESTAMP block of sim/integrate.frag, operation for operation.
-                let rel = u_time + dt - st.x;
-                if rel < 0.0 {
+                // The TIMESTAMP block of sim/integrate.frag (timestamp_step), operation for
+                // operation: a cycle begins in the step whose start and end lie in different
+                // cycles.
+                let cycle = self.cycles[ty];
+                let (rel0, rel1) = (u_time - st.x, u_time_next - st.x);
+                let (g0, generation) = ((rel0 / cycle).floor(), (rel1 / cycle).floor());
+                if generation < 0.0 {
                     *p = Vec4::new(f32::INFINITY, f32::INFINITY, f32::INFINITY, -1.0);
                     *v = Vec3::ZERO;
                     return;
                 }
-                let cycle = self.cycles[ty];
-                let generation = (rel / cycle).floor();
-                let age = rel - generation * cycle;
+                let begins = rel1 >= 0.0 && generation > g0;
+                let end_age = rel1 - generation * cycle;
+                let age = if begins {
+                    end_age.clamp(0.0, dt)
+                } else {
+                    end_age
+                };
                 if age >= st.z {
                     *p = Vec4::new(f32::INFINITY, f32::INFINITY, f32::INFINITY, 0.0);
                     *v = Vec3::ZERO;
                     return;
                 }
                 let mut rng = Rng::new(index, generation as u32, self.seed);
-                if age < dt {
+                if begins {
                     let em = &self.emitters[ty];
                     let x0 = em.position(&mut rng);
                     *v = em.velocity(&mut rng);

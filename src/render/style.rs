@@ -4,7 +4,10 @@
 
 use super::keyframes::{KeyframeRamp, MAX_KEYFRAMES};
 use super::sprite::SizeCurve;
-use crate::gl::{Blend, BlendComponent, BlendFactor, Depth, DrawState, PointSize, Program};
+use crate::error::{Error, Result};
+use crate::gl::{
+    Blend, BlendComponent, BlendFactor, Context, Defines, Depth, DrawState, PointSize, Program,
+};
 use crate::scene::{
     Blending, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath, Rotate, SceneFile,
 };
@@ -348,6 +351,71 @@ impl ParticleStyle {
             (Blending::Alpha, DrawOrder::FrontToBack) => "alpha under, front to back",
         }
     }
+}
+
+/// Checks `style` against what the pipeline and this driver can draw, and gives the defines of
+/// its program variant.
+pub(super) fn style_defines(ctx: &Context, style: &ParticleStyle) -> Result<Defines> {
+    if !(style.point_size > 0.0 && style.point_size.is_finite()) {
+        return Err(Error::InvalidInput(format!(
+            "point size {} must be a finite number above 0",
+            style.point_size
+        )));
+    }
+    if style.primitive != DrawPrimitive::Points && style.path != RenderPath::TextureFetch {
+        return Err(Error::InvalidInput(
+            "triangles, quads and stretched quads replicate each particle's vertex by \
+             fetching its texel (Latta §3.4.5): use path = \"texture_fetch\""
+                .into(),
+        ));
+    }
+    if !(style.stretch >= 0.0 && style.stretch.is_finite()) {
+        return Err(Error::InvalidInput(format!(
+            "stretch {} must be a finite number of seconds, at least 0",
+            style.stretch
+        )));
+    }
+    let largest = style.largest_size();
+    let [_, max_point] = ctx.limits().point_size_range;
+    if style.primitive == DrawPrimitive::Points && largest > max_point {
+        return Err(Error::InvalidInput(format!(
+            "sprites up to {largest} pixels wide exceed this driver's largest point, {max_point} \
+             pixels (GL_ALIASED_POINT_SIZE_RANGE): use render.primitive = \"quads\", which has \
+             no such limit, or a smaller point_size"
+        )));
+    }
+    let mut defines = Defines::new();
+    let flag = |name: &str| (name.to_owned(), "1".to_owned());
+    if style.path == RenderPath::VertexBuffer {
+        defines.push(flag("VERTEX_BUFFER"));
+    }
+    if style.mode == DrawMode::Sprites {
+        defines.push(flag("SPRITES"));
+    }
+    if let Some(f) = style.fire {
+        defines.push(flag("FIRE_RAMP"));
+        if f.soft {
+            defines.push(flag("FIRE_SOFT"));
+        }
+    }
+    if style.rotate == Rotate::Spin {
+        if style.path != RenderPath::TextureFetch {
+            return Err(Error::InvalidInput(
+                "sprites turned by the spin fetch it from the spin texture: use path = \
+                 \"texture_fetch\""
+                    .into(),
+            ));
+        }
+        defines.push(flag("ROTATE_SPIN"));
+    }
+    match style.primitive {
+        DrawPrimitive::Points => {}
+        DrawPrimitive::Quads => defines.push(flag("QUADS")),
+        DrawPrimitive::Stretched => defines.push(flag("STRETCHED")),
+        DrawPrimitive::Triangles => defines.push(flag("TRIANGLES")),
+    }
+    defines.extend(style.blend_defines());
+    Ok(defines)
 }
 
 #[cfg(test)]

@@ -68,7 +68,7 @@ mod tests {
         // Changed after parsing, still reported at the file's line and column.
         let e = s.check().unwrap_err().to_string();
         assert!(
-            e.contains("fire (built-in):") && e.contains("max_age"),
+            e.contains("fire-points (built-in):22:") && e.contains("max_age"),
             "{e}"
         );
         let mut s = fire();

@@ -4,7 +4,8 @@
 
 use glow::HasContext;
 
-use super::{Context, Texture, Texture3D, TextureFormat};
+use super::attachment::check_unique;
+use super::{Attachment, AttachmentKey, Context, Texture, Texture3D, TextureFormat};
 use crate::error::{Error, Incomplete, Result};
 
 /// A framebuffer object with 1 to 8 owned colour attachments, all drawn to by every pass; or
@@ -13,6 +14,8 @@ pub struct Framebuffer {
     ctx: Context,
     raw: glow::Framebuffer,
     textures: Vec<Texture>,
+    /// The attachments' names, one per attachment (`None`: made by [`Framebuffer::new`]).
+    names: Vec<Option<Attachment>>,
     /// Width and height of the attachments.
     size: [u32; 2],
     /// Number of colour attachments.
@@ -93,6 +96,7 @@ impl Framebuffer {
             ctx: ctx.clone(),
             raw,
             textures,
+            names: vec![None; attachments],
             size: [w, h],
             attachments,
             bytes_per_texel,
@@ -101,6 +105,22 @@ impl Framebuffer {
             label: label.to_owned(),
         }
         .checked()
+    }
+
+    /// Like [`Framebuffer::new`], with every attachment named: `attachments[k]`'s texture is
+    /// colour attachment k (the fragment shader's output k) and is reached with
+    /// [`texture`](Self::texture)`(name)`. Two attachments of one name are refused.
+    pub fn named(
+        ctx: &Context,
+        label: &str,
+        attachments: Vec<(Attachment, Texture)>,
+    ) -> Result<Self> {
+        let (names, textures): (Vec<_>, Vec<_>) =
+            attachments.into_iter().map(|(a, t)| (Some(a), t)).unzip();
+        check_unique(label, &names)?;
+        let mut fb = Framebuffer::new(ctx, label, textures)?;
+        fb.names = names;
+        Ok(fb)
     }
 
     /// Like [`Framebuffer::new`], plus a 24-bit depth renderbuffer of the same size, for draws
@@ -205,6 +225,7 @@ impl Framebuffer {
             ctx: ctx.clone(),
             raw,
             textures: Vec::new(),
+            names: vec![None; n],
             size: [w, h],
             attachments: n,
             bytes_per_texel: n * texture.format().bytes_per_texel(),
@@ -215,13 +236,20 @@ impl Framebuffer {
         .checked()
     }
 
-    /// A framebuffer whose one colour attachment is attachment `i` of `source`, which it does
-    /// not own: a pass into it writes that texture alone (a pass without multiple render
-    /// targets, Latta §3.1). Drop it before `source`, as for [`Framebuffer::layer`].
-    pub fn attachment(ctx: &Context, label: &str, source: &Framebuffer, i: usize) -> Result<Self> {
+    /// A framebuffer whose one colour attachment is attachment `at` of `source` (its name
+    /// kept), which it does not own: a pass into it writes that texture alone (a pass without
+    /// multiple render targets, Latta §3.1). Drop it before `source`, as for
+    /// [`Framebuffer::layer`].
+    pub fn attachment(
+        ctx: &Context,
+        label: &str,
+        source: &Framebuffer,
+        at: impl AttachmentKey,
+    ) -> Result<Self> {
+        let i = at.index_in(source);
         let Some(texture) = source.textures.get(i) else {
             return Err(Error::InvalidInput(format!(
-                "framebuffer {label}: {} has no attachment {i}",
+                "framebuffer {label}: {} has no texture of its own at {at:?}",
                 source.label
             )));
         };
@@ -243,6 +271,7 @@ impl Framebuffer {
             ctx: ctx.clone(),
             raw,
             textures: Vec::new(),
+            names: vec![source.names[i]],
             size: source.size,
             attachments: 1,
             bytes_per_texel: texture.format().bytes_per_texel(),
@@ -291,13 +320,42 @@ impl Framebuffer {
     pub fn height(&self) -> u32 {
         self.size[1]
     }
-    /// Attachment `i` (owned attachments only: a [`Framebuffer::layer`] has none).
-    pub fn texture(&self, i: usize) -> &Texture {
-        &self.textures[i]
+    /// The texture of attachment `at`: an [`Attachment`] handle of a framebuffer made with
+    /// names ([`Framebuffer::named`], [`PingPong::new`](super::PingPong::new)). Owned
+    /// attachments only: a [`Framebuffer::layer`] has none.
+    ///
+    /// # Panics
+    /// If the framebuffer has no attachment `at` (a handle of another kind of state).
+    pub fn texture(&self, at: impl AttachmentKey) -> &Texture {
+        let i = at.index_in(self);
+        match self.textures.get(i) {
+            Some(t) => t,
+            None => panic!(
+                "framebuffer {} does not own its attachments (layers of a 3D texture)",
+                self.label
+            ),
+        }
+    }
+    /// The texture of a framebuffer with one attachment, which needs no name.
+    ///
+    /// # Panics
+    /// If it has more than one attachment, or does not own it.
+    pub fn only_texture(&self) -> &Texture {
+        assert!(
+            self.textures.len() == 1,
+            "framebuffer {} has {} attachments: name the one meant",
+            self.label,
+            self.attachments
+        );
+        &self.textures[0]
     }
     /// All owned attachments in order (none for a [`Framebuffer::layer`]).
     pub fn textures(&self) -> &[Texture] {
         &self.textures
+    }
+    /// The attachments' names in order (`None` for attachments made without one).
+    pub fn names(&self) -> &[Option<Attachment>] {
+        &self.names
     }
     /// The label given at creation.
     pub fn label(&self) -> &str {

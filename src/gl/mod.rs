@@ -5,6 +5,7 @@
 //! ([`Draw`], [`DrawState`], [`Blend`]) and [`Context::draw`] sets all of that state on every
 //! draw, so no pass depends on what the one before it left bound or enabled.
 
+mod attachment;
 mod bindings;
 mod buffer;
 mod context;
@@ -23,6 +24,7 @@ mod timer;
 #[cfg(feature = "window")]
 mod window;
 
+pub use attachment::{Attachment, AttachmentKey};
 pub use bindings::Sampled;
 pub use buffer::{Attribute, Buffer, BufferKind, BufferUsage, VertexArray};
 pub use context::{gl_error_name, list_devices, Context, DeviceInfo, Limits};

@@ -10,6 +10,7 @@ pub mod fire;
 pub mod nonfinite;
 pub mod particles;
 pub mod reference;
+pub mod state;
 mod user_glsl;
 
 pub use fields::{DistanceField, FlowField, HeightField};

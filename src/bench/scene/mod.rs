@@ -28,6 +28,7 @@ use crate::engine::{Engine, FireEngine};
 use crate::error::{Error, Result};
 use crate::gl::{Blend, BlendComponent, BlendFactor, Context, Framebuffer, Texture, TextureDesc};
 use crate::scene::{DrawOrder, Scene, SceneFile};
+use crate::sim::state::{POSITION, STATIC};
 
 mod phases;
 mod text;
@@ -416,9 +417,13 @@ fn particles(
         let t = timed(timer, || {
             r.clear(target);
             match &sort {
-                Some((_, sorted, ..)) => {
-                    r.draw(target, sorted.texture(0), sorted.texture(1), camera, count)
-                }
+                Some((_, sorted, ..)) => r.draw(
+                    target,
+                    sorted.texture(POSITION),
+                    sorted.texture(STATIC),
+                    camera,
+                    count,
+                ),
                 None => r.draw(target, sim.positions(), sim.statics(), camera, count),
             }
         })?;

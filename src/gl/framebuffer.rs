@@ -72,12 +72,12 @@ impl Framebuffer {
         }
         // SAFETY: a fresh framebuffer; the textures are alive and belong to this context.
         let raw = unsafe {
-            let raw = ctx.create_framebuffer().map_err(Error::Gl)?;
-            ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
+            let raw = ctx.gl().create_framebuffer().map_err(Error::Gl)?;
+            ctx.gl().bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
             let mut draw = Vec::with_capacity(textures.len());
             for (i, t) in textures.iter().enumerate() {
                 let point = glow::COLOR_ATTACHMENT0 + i as u32;
-                ctx.framebuffer_texture_2d(
+                ctx.gl().framebuffer_texture_2d(
                     glow::FRAMEBUFFER,
                     point,
                     glow::TEXTURE_2D,
@@ -86,7 +86,7 @@ impl Framebuffer {
                 );
                 draw.push(point);
             }
-            ctx.draw_buffers(&draw);
+            ctx.gl().draw_buffers(&draw);
             raw
         };
         let attachments = textures.len();
@@ -130,17 +130,17 @@ impl Framebuffer {
         let [w, h] = fb.size;
         // SAFETY: a fresh renderbuffer attached to a framebuffer this function owns.
         let raw = unsafe {
-            let raw = ctx.create_renderbuffer().map_err(Error::Gl)?;
-            ctx.bind_renderbuffer(glow::RENDERBUFFER, Some(raw));
-            ctx.renderbuffer_storage(
+            let raw = ctx.gl().create_renderbuffer().map_err(Error::Gl)?;
+            ctx.gl().bind_renderbuffer(glow::RENDERBUFFER, Some(raw));
+            ctx.gl().renderbuffer_storage(
                 glow::RENDERBUFFER,
                 glow::DEPTH_COMPONENT24,
                 w as i32,
                 h as i32,
             );
-            ctx.bind_renderbuffer(glow::RENDERBUFFER, None);
-            ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(fb.raw));
-            ctx.framebuffer_renderbuffer(
+            ctx.gl().bind_renderbuffer(glow::RENDERBUFFER, None);
+            ctx.gl().bind_framebuffer(glow::FRAMEBUFFER, Some(fb.raw));
+            ctx.gl().framebuffer_renderbuffer(
                 glow::FRAMEBUFFER,
                 glow::DEPTH_ATTACHMENT,
                 glow::RENDERBUFFER,
@@ -204,12 +204,12 @@ impl Framebuffer {
         // SAFETY: a fresh framebuffer; the texture is alive and belongs to this context, and
         // every layer lies inside it (the callers check).
         let raw = unsafe {
-            let raw = ctx.create_framebuffer().map_err(Error::Gl)?;
-            ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
+            let raw = ctx.gl().create_framebuffer().map_err(Error::Gl)?;
+            ctx.gl().bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
             let mut draw = Vec::with_capacity(n);
             for (k, layer) in layers.enumerate() {
                 let point = glow::COLOR_ATTACHMENT0 + k as u32;
-                ctx.framebuffer_texture_layer(
+                ctx.gl().framebuffer_texture_layer(
                     glow::FRAMEBUFFER,
                     point,
                     Some(texture.raw()),
@@ -218,7 +218,7 @@ impl Framebuffer {
                 );
                 draw.push(point);
             }
-            ctx.draw_buffers(&draw);
+            ctx.gl().draw_buffers(&draw);
             raw
         };
         Framebuffer {
@@ -255,16 +255,16 @@ impl Framebuffer {
         };
         // SAFETY: a fresh framebuffer; the texture is alive and belongs to this context.
         let raw = unsafe {
-            let raw = ctx.create_framebuffer().map_err(Error::Gl)?;
-            ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
-            ctx.framebuffer_texture_2d(
+            let raw = ctx.gl().create_framebuffer().map_err(Error::Gl)?;
+            ctx.gl().bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
+            ctx.gl().framebuffer_texture_2d(
                 glow::FRAMEBUFFER,
                 glow::COLOR_ATTACHMENT0,
                 glow::TEXTURE_2D,
                 Some(texture.raw()),
                 0,
             );
-            ctx.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
+            ctx.gl().draw_buffers(&[glow::COLOR_ATTACHMENT0]);
             raw
         };
         Framebuffer {
@@ -287,9 +287,9 @@ impl Framebuffer {
         let (ctx, label) = (&self.ctx, &self.label);
         ctx.label(glow::FRAMEBUFFER, self.raw.0.get(), label);
         // SAFETY: the framebuffer is bound.
-        let status = unsafe { ctx.check_framebuffer_status(glow::FRAMEBUFFER) };
+        let status = unsafe { ctx.gl().check_framebuffer_status(glow::FRAMEBUFFER) };
         // SAFETY: unbinding has no preconditions.
-        unsafe { ctx.bind_framebuffer(glow::FRAMEBUFFER, None) };
+        unsafe { ctx.gl().bind_framebuffer(glow::FRAMEBUFFER, None) };
         if status != glow::FRAMEBUFFER_COMPLETE {
             return Err(Error::FramebufferIncomplete {
                 label: label.to_owned(),
@@ -372,8 +372,12 @@ impl Framebuffer {
     pub fn bind_rect(&self, x: u32, y: u32, w: u32, h: u32) {
         // SAFETY: the framebuffer is alive and complete.
         unsafe {
-            self.ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(self.raw));
-            self.ctx.viewport(x as i32, y as i32, w as i32, h as i32);
+            self.ctx
+                .gl()
+                .bind_framebuffer(glow::FRAMEBUFFER, Some(self.raw));
+            self.ctx
+                .gl()
+                .viewport(x as i32, y as i32, w as i32, h as i32);
         }
     }
 
@@ -387,11 +391,12 @@ impl Framebuffer {
         // SAFETY: both framebuffers exist; attachment 0 is a colour texture of this size.
         unsafe {
             self.ctx
+                .gl()
                 .bind_framebuffer(glow::READ_FRAMEBUFFER, Some(self.raw));
-            self.ctx.read_buffer(glow::COLOR_ATTACHMENT0);
-            self.ctx.bind_framebuffer(glow::DRAW_FRAMEBUFFER, None);
-            self.ctx.disable(glow::SCISSOR_TEST);
-            self.ctx.blit_framebuffer(
+            self.ctx.gl().read_buffer(glow::COLOR_ATTACHMENT0);
+            self.ctx.gl().bind_framebuffer(glow::DRAW_FRAMEBUFFER, None);
+            self.ctx.gl().disable(glow::SCISSOR_TEST);
+            self.ctx.gl().blit_framebuffer(
                 0,
                 0,
                 self.width() as i32,
@@ -403,7 +408,7 @@ impl Framebuffer {
                 glow::COLOR_BUFFER_BIT,
                 if same { glow::NEAREST } else { glow::LINEAR },
             );
-            self.ctx.bind_framebuffer(glow::FRAMEBUFFER, None);
+            self.ctx.gl().bind_framebuffer(glow::FRAMEBUFFER, None);
         }
         self.ctx.check_error(&format!(
             "blitting {} to the default framebuffer",
@@ -419,12 +424,13 @@ impl Framebuffer {
         unsafe {
             for i in 0..self.attachments {
                 self.ctx
+                    .gl()
                     .clear_buffer_f32_slice(glow::COLOR, i as u32, &rgba);
             }
             if self.depth.is_some() {
                 // A clear obeys the depth mask, which the last draw may have turned off.
-                self.ctx.depth_mask(true);
-                self.ctx.clear_buffer_f32_slice(glow::DEPTH, 0, &[1.0]);
+                self.ctx.gl().depth_mask(true);
+                self.ctx.gl().clear_buffer_f32_slice(glow::DEPTH, 0, &[1.0]);
             }
         }
     }
@@ -451,10 +457,10 @@ impl Context {
         let mut rgba = vec![0u8; 4 * width as usize * height as usize];
         // SAFETY: framebuffer 0 exists on a window's context; the buffer holds w*h RGBA texels.
         unsafe {
-            self.bind_framebuffer(glow::FRAMEBUFFER, None);
-            self.read_buffer(glow::BACK);
-            self.pixel_store_i32(glow::PACK_ALIGNMENT, 1);
-            self.read_pixels(
+            self.gl().bind_framebuffer(glow::FRAMEBUFFER, None);
+            self.gl().read_buffer(glow::BACK);
+            self.gl().pixel_store_i32(glow::PACK_ALIGNMENT, 1);
+            self.gl().read_pixels(
                 0,
                 0,
                 width as i32,

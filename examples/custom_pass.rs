@@ -8,9 +8,13 @@
 //!
 //! `cargo run --release --example custom_pass -- custom-pass-out`
 
-use texflow::gl::{Context, PingPong, StatePass, TextureFormat, Uniform};
+use texflow::gl::{Attachment, Context, PingPong, StatePass, TextureFormat, Uniform};
 
 const SIDE: u32 = 64;
+
+/// The state's attachments, in the order of the pass's outputs.
+const POSITION: Attachment = Attachment::named("position");
+const VELOCITY: Attachment = Attachment::named("velocity");
 
 const STEP: &str = r#"
 // x += v dt, v += g dt; a bounce off y = 0 reflects v.y.
@@ -45,14 +49,7 @@ fn main() -> texflow::Result<()> {
     })?;
     let ctx = Context::new(0)?;
     let formats = [TextureFormat::Rgba32F; 2];
-    let mut state = PingPong::new(
-        &ctx,
-        "custom",
-        &["position", "velocity"],
-        &formats,
-        SIDE,
-        SIDE,
-    )?;
+    let mut state = PingPong::new(&ctx, "custom", &[POSITION, VELOCITY], &formats, SIDE, SIDE)?;
     // Every particle starts at height 1 + its column / SIDE with an upward speed of its row / SIDE.
     let n = (SIDE * SIDE) as usize;
     let (mut x, mut v) = (vec![0f32; 4 * n], vec![0f32; 4 * n]);
@@ -61,8 +58,8 @@ fn main() -> texflow::Result<()> {
         x[4 * i + 1] = 1.0 + col / SIDE as f32;
         v[4 * i + 1] = row / SIDE as f32;
     }
-    state.front().texture(0).upload_f32(&x)?;
-    state.front().texture(1).upload_f32(&v)?;
+    state.front().texture(POSITION).upload_f32(&x)?;
+    state.front().texture(VELOCITY).upload_f32(&v)?;
     let pass = StatePass::new(&ctx, "examples/custom_pass.rs STEP", STEP, 2)?;
     let (dt, g, steps) = (1.0f32 / 256.0, -9.81f32, 64);
     for _ in 0..steps {
@@ -74,7 +71,7 @@ fn main() -> texflow::Result<()> {
             ],
         );
     }
-    let y = state.front().texture(0).read_f32()?;
+    let y = state.front().texture(POSITION).read_f32()?;
     // Explicit Euler's closed form: y_n = y0 + n dt v0 + g dt² n(n-1)/2 (no particle has
     // reached y = 0 by t = 0.25 s: the lowest starts at 1 with v0 = 0 and falls 0.3 m).
     let t = steps as f32;

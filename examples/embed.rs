@@ -30,6 +30,8 @@ type Gl = Rc<(PossiblyCurrentContext, Surface<WindowSurface>)>;
 struct Running {
     engine: Box<dyn Engine>,
     ctx: Context,
+    /// The application's own GL functions (texflow keeps its raw GL to itself).
+    app_gl: glow::Context,
     gl: Gl,
     window: Window,
     frame: u64,
@@ -79,6 +81,9 @@ impl App {
                 })),
             )?
         };
+        // SAFETY: the application's context is current; glow only stores the pointers.
+        let app_gl =
+            unsafe { glow::Context::from_loader_function_cstr(|n| display.get_proc_address(n)) };
         println!(
             "texflow draws on {} in the application's context",
             ctx.limits().renderer
@@ -91,6 +96,7 @@ impl App {
         Ok(Running {
             engine,
             ctx,
+            app_gl,
             gl,
             window,
             frame: 0,
@@ -105,18 +111,21 @@ fn redraw(r: &mut Running) -> texflow::Result<()> {
     let target = r.engine.target();
     // ...the application draws its own frame: here a slate background with a lighter border...
     let size = r.window.inner_size();
+    // The application's context is current again if texflow switched away from it.
+    r.ctx.make_current()?;
+    let gl = &r.app_gl;
     // SAFETY: the application's context is current; framebuffer 0 is its window.
     unsafe {
-        r.ctx.bind_framebuffer(glow::FRAMEBUFFER, None);
-        r.ctx.viewport(0, 0, size.width as i32, size.height as i32);
-        r.ctx.disable(glow::SCISSOR_TEST);
-        r.ctx.clear_color(0.25, 0.3, 0.35, 1.0);
-        r.ctx.clear(glow::COLOR_BUFFER_BIT);
-        r.ctx.enable(glow::SCISSOR_TEST);
-        r.ctx.scissor(76, 36, 328, 248);
-        r.ctx.clear_color(0.8, 0.8, 0.7, 1.0);
-        r.ctx.clear(glow::COLOR_BUFFER_BIT);
-        r.ctx.disable(glow::SCISSOR_TEST);
+        gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+        gl.viewport(0, 0, size.width as i32, size.height as i32);
+        gl.disable(glow::SCISSOR_TEST);
+        gl.clear_color(0.25, 0.3, 0.35, 1.0);
+        gl.clear(glow::COLOR_BUFFER_BIT);
+        gl.enable(glow::SCISSOR_TEST);
+        gl.scissor(76, 36, 328, 248);
+        gl.clear_color(0.8, 0.8, 0.7, 1.0);
+        gl.clear(glow::COLOR_BUFFER_BIT);
+        gl.disable(glow::SCISSOR_TEST);
     }
     // ...and the particles go into the inset of its frame.
     target

@@ -6,9 +6,9 @@ mod common;
 
 use common::{context, no_gl_error, test_shader};
 use texflow::gl::{
-    Blend, BlendComponent, BlendFactor, Context, Defines, Depth, Draw, DrawState, Framebuffer,
-    FullscreenPass, PointSize, Primitive, Program, Ring3, Texture, TextureDesc, TextureFormat,
-    VertexArray, FULLSCREEN_VERTEX,
+    Attachment, Blend, BlendComponent, BlendFactor, Context, Defines, Depth, Draw, DrawState,
+    Framebuffer, FullscreenPass, PingPong, PointSize, Primitive, Program, Ring3, Texture,
+    TextureDesc, TextureFormat, VertexArray, FULLSCREEN_VERTEX,
 };
 use texflow::Error;
 
@@ -248,4 +248,96 @@ fn objects_of_two_contexts_on_one_thread_stay_apart() {
     assert_eq!(tb.read_f32().unwrap(), [5.0, 6.0, 7.0, 8.0]);
     no_gl_error(&b);
     no_gl_error(&a);
+}
+
+const POSITION: Attachment = Attachment::named("position");
+const VELOCITY: Attachment = Attachment::named("velocity");
+const SPIN: Attachment = Attachment::named("spin");
+
+/// A pass of `write8.frag` (output k writes k + 1) into `fb`.
+fn write8(ctx: &Context, fb: &Framebuffer) {
+    let program = Program::new(
+        ctx,
+        FULLSCREEN_VERTEX,
+        &test_shader("write8.frag"),
+        &Defines::new(),
+    )
+    .unwrap();
+    FullscreenPass::new(ctx).unwrap().draw(&program, fb);
+}
+
+fn all(t: &Texture, v: f32) -> bool {
+    t.read_f32().unwrap().iter().all(|&x| x == v)
+}
+
+/// Attachment k is the shader's output k whatever it is called, and a handle reaches the
+/// texture of its name in either order.
+#[test]
+fn attachments_are_reached_by_name_in_any_order() {
+    let ctx = context();
+    let f = [TextureFormat::Rgba32F; 2];
+    let ab = PingPong::new(&ctx, "ab", &[POSITION, VELOCITY], &f, 3, 2).unwrap();
+    let ba = PingPong::new(&ctx, "ba", &[VELOCITY, POSITION], &f, 3, 2).unwrap();
+    for pp in [&ab, &ba] {
+        write8(&ctx, pp.back());
+    }
+    assert!(all(ab.back().texture(POSITION), 1.0) && all(ab.back().texture(VELOCITY), 2.0));
+    assert!(all(ba.back().texture(VELOCITY), 1.0) && all(ba.back().texture(POSITION), 2.0));
+    assert_eq!(ba.front().names(), [Some(VELOCITY), Some(POSITION)]);
+    let one = Framebuffer::named(
+        &ctx,
+        "one",
+        vec![(SPIN, tex(&ctx, 3, 2, TextureFormat::Rgba32F))],
+    )
+    .unwrap();
+    write8(&ctx, &one);
+    assert!(std::ptr::eq(one.texture(SPIN), one.only_texture()));
+    assert!(all(one.only_texture(), 1.0));
+    no_gl_error(&ctx);
+}
+
+/// A single-target view of one attachment writes that texture and no other.
+#[test]
+fn single_targets_are_picked_by_name() {
+    let ctx = context();
+    let f = [TextureFormat::Rgba32F; 2];
+    let pp = PingPong::new(&ctx, "s", &[POSITION, VELOCITY], &f, 2, 2)
+        .unwrap()
+        .with_single_targets(&ctx)
+        .unwrap();
+    pp.back().clear([0.0; 4]);
+    write8(&ctx, pp.back_single(VELOCITY));
+    assert_eq!(pp.back_single(VELOCITY).names(), [Some(VELOCITY)]);
+    assert!(all(pp.back().texture(VELOCITY), 1.0) && all(pp.back().texture(POSITION), 0.0));
+    no_gl_error(&ctx);
+}
+
+#[test]
+fn two_attachments_of_one_name_are_refused() {
+    let ctx = context();
+    let t = || tex(&ctx, 2, 2, TextureFormat::Rgba32F);
+    let e = Framebuffer::named(&ctx, "twice", vec![(POSITION, t()), (POSITION, t())])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("twice") && e.contains("`position`"), "{e}");
+    no_gl_error(&ctx);
+}
+
+/// A handle of another kind of state fails loudly instead of reading what sits at its index.
+#[test]
+#[should_panic(expected = "has no attachment `spin` (its attachments: position, velocity)")]
+fn a_handle_the_framebuffer_lacks_panics() {
+    let ctx = context();
+    let f = [TextureFormat::Rgba32F; 2];
+    let pp = PingPong::new(&ctx, "particles", &[POSITION, VELOCITY], &f, 2, 2).unwrap();
+    pp.front().texture(SPIN);
+}
+
+#[test]
+#[should_panic(expected = "has 2 attachments: name the one meant")]
+fn only_texture_of_two_panics() {
+    let ctx = context();
+    let f = [TextureFormat::Rgba32F; 2];
+    let pp = PingPong::new(&ctx, "particles", &[POSITION, VELOCITY], &f, 2, 2).unwrap();
+    pp.front().only_texture();
 }

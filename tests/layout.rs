@@ -1,8 +1,8 @@
 //! The layout promised in docs/architecture.md, checked on the source itself (no GPU):
 //! layers one way (`gl ← scene ← sim, sort, render ← engine ← bench, report ← cli`), no import
-//! cycle between modules, no GL call outside `src/gl/`, no file over 600 lines, and a pipeline
-//! of fragment passes only (no compute shaders, storage buffers, image stores or transform
-//! feedback).
+//! cycle between modules, no GL call outside `src/gl/`, no attachment picked by index above it,
+//! no file over 600 lines nor function over 100, and a pipeline of fragment passes only (no
+//! compute shaders, storage buffers, image stores or transform feedback).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
@@ -209,6 +209,86 @@ fn no_gl_call_outside_the_gl_layer() {
     assert!(
         offenders.is_empty(),
         "GL or unsafe code outside src/gl/: {offenders:?}"
+    );
+}
+
+/// Where `code` reaches a framebuffer's attachment by position rather than by handle: a literal
+/// index to `texture(` or `back_single(`, or the attachment list indexed (`textures()[`,
+/// `textures().first()`, `.last()`, `.get(`). Whitespace inside the call is ignored.
+fn attachment_indices(code: &str) -> Vec<String> {
+    let squeezed: String = code.chars().filter(|c| !c.is_whitespace()).collect();
+    let mut found = Vec::new();
+    for call in [".texture(", ".back_single("] {
+        for (i, _) in squeezed.match_indices(call) {
+            let arg = &squeezed[i + call.len()..];
+            if arg.starts_with(|c: char| c.is_ascii_digit()) {
+                let end = arg.find(')').unwrap_or(arg.len());
+                found.push(format!("{call}{})", &arg[..end]));
+            }
+        }
+    }
+    for indexed in [
+        ".textures()[",
+        ".textures().first()",
+        ".textures().last()",
+        ".textures().get(",
+    ] {
+        found.extend(squeezed.matches(indexed).map(str::to_owned));
+    }
+    found
+}
+
+/// Files above `src/gl/` allowed to pick attachments by position: none. Every framebuffer above
+/// the gl layer is reached through handles (`gl::Attachment`, `Framebuffer::only_texture`). A
+/// listed file must still have such a use, and no other file may have one.
+const ATTACHMENT_INDEX_NOT_YET_NAMED: &[&str] = &[];
+
+#[test]
+fn no_attachment_index_above_the_gl_layer() {
+    let mut files = Vec::new();
+    rust_files(&src(), &mut files);
+    files.sort();
+    let gl = src().join("gl");
+    let mut offenders = Vec::new();
+    let mut named = Vec::new();
+    for p in files.iter().filter(|p| !p.starts_with(&gl)) {
+        let rel = p.strip_prefix(src()).unwrap().display().to_string();
+        let found = attachment_indices(&code(&fs::read_to_string(p).unwrap()));
+        let allowed = ATTACHMENT_INDEX_NOT_YET_NAMED.contains(&rel.as_str());
+        if !found.is_empty() && !allowed {
+            offenders.push(format!("src/{rel}: {}", found.join(", ")));
+        }
+        if found.is_empty() && allowed {
+            named.push(format!("src/{rel}"));
+        }
+    }
+    assert!(
+        offenders.is_empty(),
+        "attachments picked by index above src/gl (name them: gl::Attachment handles, or \
+         Framebuffer::only_texture for a framebuffer of one):\n{}",
+        offenders.join("\n")
+    );
+    assert!(
+        named.is_empty(),
+        "no attachment index left (take them off ATTACHMENT_INDEX_NOT_YET_NAMED):\n{}",
+        named.join("\n")
+    );
+}
+
+#[test]
+fn the_attachment_index_scanner_finds_indices_not_handles() {
+    let code = "a.texture(0).read(); b.front().texture( 2 ); pp.back_single(1);\n\
+                s.textures().last(); t.textures()[3]; a.texture(POSITION); a.texture(i);\n\
+                a.only_texture(); s.textures().len(); a.texture3d(0);";
+    assert_eq!(
+        attachment_indices(code),
+        [
+            ".texture(0)",
+            ".texture(2)",
+            ".back_single(1)",
+            ".textures()[",
+            ".textures().last()"
+        ]
     );
 }
 
@@ -756,10 +836,6 @@ fn function_lengths() -> Vec<(String, String, usize)> {
     out
 }
 
-/// Functions over 100 lines not split yet: (file under `src/`, function). Each must still be
-/// over 100 lines (a split one leaves the list), and no other function may join it.
-const NOT_YET_SPLIT: &[(&str, &str)] = &[("sim/collide/mod.rs", "new")];
-
 #[test]
 fn no_function_over_100_lines() {
     let all = function_lengths();
@@ -767,26 +843,15 @@ fn no_function_over_100_lines() {
         let n = all.iter().filter(|f| f.2 > limit).count();
         eprintln!("functions over {limit} lines: {n}");
     }
-    let long: Vec<&(String, String, usize)> = all.iter().filter(|f| f.2 > 100).collect();
-    let new: Vec<String> = long
+    let long: Vec<String> = all
         .iter()
-        .filter(|(f, n, _)| !NOT_YET_SPLIT.contains(&(f.as_str(), n.as_str())))
+        .filter(|f| f.2 > 100)
         .map(|(f, n, l)| format!("src/{f}: fn {n} ({l} lines)"))
         .collect();
-    let split: Vec<String> = NOT_YET_SPLIT
-        .iter()
-        .filter(|(f, n)| !long.iter().any(|(g, m, _)| g == f && m == n))
-        .map(|(f, n)| format!("src/{f}: fn {n}"))
-        .collect();
     assert!(
-        new.is_empty(),
+        long.is_empty(),
         "functions over 100 lines:\n{}",
-        new.join("\n")
-    );
-    assert!(
-        split.is_empty(),
-        "no longer over 100 lines (take them off NOT_YET_SPLIT):\n{}",
-        split.join("\n")
+        long.join("\n")
     );
 }
 

@@ -8,6 +8,7 @@ use glam::Vec3;
 use super::stats::{load_average, Clock, PassTimer, Spread, WriteFloor};
 use crate::error::Result;
 use crate::gl::{Context, PingPong, TextureFormat};
+use crate::sim::state::{POSITION, VELOCITY};
 use crate::sort::network::{key_order_bits, Entry};
 use crate::sort::{BlockedShape, KeyMode, SortOptions, Sorter, Variant};
 
@@ -176,7 +177,7 @@ pub fn bench_sort(
             let load_start = load_average();
             let mut sorter = bench_sorter(ctx, variant, n, options)?;
             let full = |s: &mut Sorter| -> Result<()> {
-                s.write_keys(state.front().texture(0), count, &mode, false)?;
+                s.write_keys(state.front().texture(POSITION), count, &mode, false)?;
                 s.sort();
                 s.rearrange(state.front(), state.back())
             };
@@ -186,7 +187,7 @@ pub fn bench_sort(
             let draws = ctx.take_draw_stats();
             let fetches = sorter.network_fetches() + count as u64 + 3 * count as u64;
             if keys_for_cpu.is_none() {
-                sorter.write_keys(state.front().texture(0), count, &mode, false)?;
+                sorter.write_keys(state.front().texture(POSITION), count, &mode, false)?;
                 keys_for_cpu = Some(sorter.read()?);
             }
             let spread = runs_of(&mut || {
@@ -254,13 +255,13 @@ fn bench_state(ctx: &Context, n: u32) -> Result<PingPong> {
     let state = PingPong::new(
         ctx,
         "bench state",
-        &["position", "velocity"],
+        &[POSITION, VELOCITY],
         &[TextureFormat::Rgba32F, TextureFormat::Rgba32F],
         n,
         n,
     )?;
-    state.front().texture(0).upload_f32(&pos)?;
-    state.front().texture(1).upload_f32(&pos)?;
+    state.front().texture(POSITION).upload_f32(&pos)?;
+    state.front().texture(VELOCITY).upload_f32(&pos)?;
     Ok(state)
 }
 

@@ -100,7 +100,7 @@ impl FixedCost {
             for i in 0..Self::PASSES {
                 let (from, to) = (&self.targets[i % 2], &self.targets[1 - i % 2]);
                 p.bind();
-                p.textures(&[("u_source", from.texture(0).into())]);
+                p.textures(&[("u_source", from.only_texture().into())]);
                 p.set_i32("u_log_w", 0);
                 self.pass.draw(p, to);
             }

@@ -6,7 +6,11 @@ use crate::error::Result;
 use crate::gl::Context;
 use crate::render::FrameTarget;
 use crate::scene::SortKey;
+use crate::sim::state::{POSITION, SPIN, STATIC};
 use crate::sim::{ParticleSim, Simulation};
+
+/// The sorted motion texture (velocities or Verlet's previous positions) stretched quads read.
+const MOTION: crate::gl::Attachment = crate::gl::Attachment::named("motion");
 
 /// The GPU engine of the particle pipeline (UberFlow, Latta).
 pub type ParticleEngine = GpuEngine<ParticleSim>;
@@ -107,14 +111,18 @@ impl<S: Simulation> GpuEngine<S> {
                         },
                     )
                 };
-                let mut textures = vec![tex("sorted position")?, tex("sorted static")?];
+                // In the order of the gather's sources (order_for_drawing_observed).
+                let mut textures = vec![
+                    (POSITION, tex("sorted position")?),
+                    (STATIC, tex("sorted static")?),
+                ];
                 if renderer.needs_motion() {
-                    textures.push(tex("sorted motion")?);
+                    textures.push((MOTION, tex("sorted motion")?));
                 }
                 if renderer.needs_spins() {
-                    textures.push(tex("sorted spin")?);
+                    textures.push((SPIN, tex("sorted spin")?));
                 }
-                let sorted = Framebuffer::new(ctx, "sorted", textures)?;
+                let sorted = Framebuffer::named(ctx, "sorted", textures)?;
                 Some(SortStage {
                     sorter,
                     sorted,
@@ -183,22 +191,18 @@ impl<S: Simulation> GpuEngine<S> {
             // Dead particles sort last (+inf keys), so the live ones are a prefix.
             let motion = self.motion().map(|m| match m {
                 crate::render::Motion::Velocity(_) => {
-                    crate::render::Motion::Velocity(s.sorted.texture(2))
+                    crate::render::Motion::Velocity(s.sorted.texture(MOTION))
                 }
                 crate::render::Motion::Previous { dt, .. } => crate::render::Motion::Previous {
-                    positions: s.sorted.texture(2),
+                    positions: s.sorted.texture(MOTION),
                     dt,
                 },
             });
             // The spins, when drawn, are the last texture gathered.
-            let spins = self
-                .renderer
-                .needs_spins()
-                .then(|| s.sorted.textures().last())
-                .flatten();
+            let spins = self.renderer.needs_spins().then(|| s.sorted.texture(SPIN));
             let state = crate::render::FrameState {
-                positions: s.sorted.texture(0),
-                statics: s.sorted.texture(1),
+                positions: s.sorted.texture(POSITION),
+                statics: s.sorted.texture(STATIC),
                 motion,
                 time: self.sim.time() as f32,
                 spins,

@@ -135,9 +135,9 @@ impl Program {
         }
         // SAFETY: unbinding both targets of one unit on the current context.
         unsafe {
-            self.context().active_texture(glow::TEXTURE0 + empty);
-            self.context().bind_texture(glow::TEXTURE_2D, None);
-            self.context().bind_texture(glow::TEXTURE_3D, None);
+            self.context().gl().active_texture(glow::TEXTURE0 + empty);
+            self.context().gl().bind_texture(glow::TEXTURE_2D, None);
+            self.context().gl().bind_texture(glow::TEXTURE_3D, None);
         }
         for s in unlisted {
             self.set_i32(s, empty as i32);

@@ -72,10 +72,10 @@ impl Buffer {
         let target = kind.target();
         // SAFETY: a fresh buffer object filled from a live slice.
         let raw = unsafe {
-            let raw = ctx.create_buffer().map_err(Error::Gl)?;
-            ctx.bind_buffer(target, Some(raw));
-            ctx.buffer_data_u8_slice(target, data, usage.gl());
-            ctx.bind_buffer(target, None);
+            let raw = ctx.gl().create_buffer().map_err(Error::Gl)?;
+            ctx.gl().bind_buffer(target, Some(raw));
+            ctx.gl().buffer_data_u8_slice(target, data, usage.gl());
+            ctx.gl().bind_buffer(target, None);
             raw
         };
         ctx.label(glow::BUFFER, raw.0.get(), label);
@@ -100,10 +100,10 @@ impl Buffer {
         let target = kind.target();
         // SAFETY: as above, no data.
         let raw = unsafe {
-            let raw = ctx.create_buffer().map_err(Error::Gl)?;
-            ctx.bind_buffer(target, Some(raw));
-            ctx.buffer_data_size(target, size as i32, usage.gl());
-            ctx.bind_buffer(target, None);
+            let raw = ctx.gl().create_buffer().map_err(Error::Gl)?;
+            ctx.gl().bind_buffer(target, Some(raw));
+            ctx.gl().buffer_data_size(target, size as i32, usage.gl());
+            ctx.gl().bind_buffer(target, None);
             raw
         };
         ctx.label(glow::BUFFER, raw.0.get(), label);
@@ -131,12 +131,13 @@ impl Buffer {
         let (gl, target) = (&self.ctx, self.kind.target());
         // SAFETY: the buffer is alive; `data` fits its size (checked above).
         unsafe {
-            gl.bind_buffer(target, Some(self.raw));
-            gl.buffer_data_size(target, self.size as i32, self.usage.gl());
+            gl.gl().bind_buffer(target, Some(self.raw));
+            gl.gl()
+                .buffer_data_size(target, self.size as i32, self.usage.gl());
             if !data.is_empty() {
-                gl.buffer_sub_data_u8_slice(target, 0, data);
+                gl.gl().buffer_sub_data_u8_slice(target, 0, data);
             }
-            gl.bind_buffer(target, None);
+            gl.gl().bind_buffer(target, None);
         }
         Ok(())
     }
@@ -203,12 +204,13 @@ impl VertexArray {
     ) -> Result<Self> {
         // SAFETY: the buffers are alive and belong to this context.
         let raw = unsafe {
-            let raw = ctx.create_vertex_array().map_err(Error::Gl)?;
-            ctx.bind_vertex_array(Some(raw));
+            let raw = ctx.gl().create_vertex_array().map_err(Error::Gl)?;
+            ctx.gl().bind_vertex_array(Some(raw));
             for a in attributes {
-                ctx.bind_buffer(glow::ARRAY_BUFFER, Some(a.buffer.raw()));
-                ctx.enable_vertex_attrib_array(a.location);
-                ctx.vertex_attrib_pointer_f32(
+                ctx.gl()
+                    .bind_buffer(glow::ARRAY_BUFFER, Some(a.buffer.raw()));
+                ctx.gl().enable_vertex_attrib_array(a.location);
+                ctx.gl().vertex_attrib_pointer_f32(
                     a.location,
                     a.components,
                     glow::FLOAT,
@@ -217,8 +219,8 @@ impl VertexArray {
                     a.offset,
                 );
             }
-            ctx.bind_vertex_array(None);
-            ctx.bind_buffer(glow::ARRAY_BUFFER, None);
+            ctx.gl().bind_vertex_array(None);
+            ctx.gl().bind_buffer(glow::ARRAY_BUFFER, None);
             raw
         };
         ctx.label(glow::VERTEX_ARRAY, raw.0.get(), label);
@@ -232,7 +234,7 @@ impl VertexArray {
     /// Binds it for the next draws.
     pub fn bind(&self) {
         // SAFETY: the vertex array is alive.
-        unsafe { self.ctx.bind_vertex_array(Some(self.raw)) }
+        unsafe { self.ctx.gl().bind_vertex_array(Some(self.raw)) }
     }
 }
 

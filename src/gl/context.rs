@@ -13,7 +13,6 @@
 
 use std::cell::Cell;
 use std::ffi::CStr;
-use std::ops::Deref;
 use std::rc::Rc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -175,14 +174,6 @@ impl std::fmt::Debug for Context {
             .field("device", &self.inner.device)
             .field("renderer", &self.inner.limits.renderer)
             .finish()
-    }
-}
-
-/// The glow function table, with this context made current first (see [`Context::gl`]).
-impl Deref for Context {
-    type Target = glow::Context;
-    fn deref(&self) -> &glow::Context {
-        self.gl()
     }
 }
 
@@ -373,12 +364,13 @@ impl Context {
         CURRENT.with(Cell::get) == self.inner.id
     }
 
-    /// The raw glow context, made current first, for the GL layer.
+    /// The raw glow context, made current first: for the GL layer only, so that every GL call
+    /// of the crate goes through a typed method of `src/gl/`.
     ///
     /// # Panics
     /// If EGL refuses to make the context current on its own thread again (a lost device):
     /// a GL call would otherwise land in whichever context is current.
-    pub fn gl(&self) -> &glow::Context {
+    pub(in crate::gl) fn gl(&self) -> &glow::Context {
         if let Err(e) = self.make_current() {
             panic!("{e}");
         }
@@ -387,7 +379,7 @@ impl Context {
 
     /// The raw glow context for a `Drop`: made current first; `None` if EGL refuses, in which case
     /// the object is leaked rather than a name of another context deleted.
-    pub(crate) fn gl_for_drop(&self) -> Option<&glow::Context> {
+    pub(in crate::gl) fn gl_for_drop(&self) -> Option<&glow::Context> {
         match self.make_current() {
             Ok(()) => Some(&self.inner.gl),
             Err(e) => {
@@ -426,7 +418,7 @@ impl Context {
     /// Returns the first pending GL error, if any, as an [`Error::Gl`] naming `what` was done.
     pub fn check_error(&self, what: &str) -> Result<()> {
         // SAFETY: glGetError has no preconditions.
-        let code = unsafe { self.get_error() };
+        let code = unsafe { self.gl().get_error() };
         if code == glow::NO_ERROR {
             return Ok(());
         }
@@ -434,7 +426,7 @@ impl Context {
         let mut more = Vec::new();
         for _ in 0..8 {
             // SAFETY: as above.
-            let c = unsafe { self.get_error() };
+            let c = unsafe { self.gl().get_error() };
             if c == glow::NO_ERROR {
                 break;
             }

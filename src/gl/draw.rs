@@ -233,9 +233,9 @@ impl Context {
         // `count` vertices (the caller's contract) are bound.
         unsafe {
             if d.count > 0 {
-                self.draw_arrays(mode, 0, d.count as i32);
+                self.gl().draw_arrays(mode, 0, d.count as i32);
             }
-            self.bind_vertex_array(None);
+            self.gl().bind_vertex_array(None);
         }
     }
 
@@ -243,28 +243,29 @@ impl Context {
         // SAFETY: plain state changes on the current context.
         unsafe {
             match s.depth {
-                Depth::Off => self.disable(glow::DEPTH_TEST),
+                Depth::Off => self.gl().disable(glow::DEPTH_TEST),
                 Depth::Write | Depth::Test | Depth::Equal => {
-                    self.enable(glow::DEPTH_TEST);
+                    self.gl().enable(glow::DEPTH_TEST);
                     let func = if s.depth == Depth::Equal {
                         glow::LEQUAL
                     } else {
                         glow::LESS
                     };
-                    self.depth_func(func);
-                    self.depth_mask(s.depth == Depth::Write);
+                    self.gl().depth_func(func);
+                    self.gl().depth_mask(s.depth == Depth::Write);
                 }
             }
             match s.point_size {
-                PointSize::Program => self.enable(glow::PROGRAM_POINT_SIZE),
-                PointSize::One => self.disable(glow::PROGRAM_POINT_SIZE),
+                PointSize::Program => self.gl().enable(glow::PROGRAM_POINT_SIZE),
+                PointSize::One => self.gl().disable(glow::PROGRAM_POINT_SIZE),
             }
             match s.blend {
-                None => self.disable(glow::BLEND),
+                None => self.gl().disable(glow::BLEND),
                 Some(b) => {
-                    self.enable(glow::BLEND);
-                    self.blend_equation_separate(b.color.operation.gl(), b.alpha.operation.gl());
-                    self.blend_func_separate(
+                    self.gl().enable(glow::BLEND);
+                    self.gl()
+                        .blend_equation_separate(b.color.operation.gl(), b.alpha.operation.gl());
+                    self.gl().blend_func_separate(
                         b.color.src_factor.gl(),
                         b.color.dst_factor.gl(),
                         b.alpha.src_factor.gl(),

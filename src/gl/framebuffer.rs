@@ -4,7 +4,8 @@
 
 use glow::HasContext;
 
-use super::{Context, Texture, Texture3D, TextureFormat};
+use super::attachment::check_unique;
+use super::{Attachment, AttachmentKey, Context, Texture, Texture3D, TextureFormat};
 use crate::error::{Error, Incomplete, Result};
 
 /// A framebuffer object with 1 to 8 owned colour attachments, all drawn to by every pass; or
@@ -13,6 +14,8 @@ pub struct Framebuffer {
     ctx: Context,
     raw: glow::Framebuffer,
     textures: Vec<Texture>,
+    /// The attachments' names, one per attachment (`None`: made by [`Framebuffer::new`]).
+    names: Vec<Option<Attachment>>,
     /// Width and height of the attachments.
     size: [u32; 2],
     /// Number of colour attachments.
@@ -69,12 +72,12 @@ impl Framebuffer {
         }
         // SAFETY: a fresh framebuffer; the textures are alive and belong to this context.
         let raw = unsafe {
-            let raw = ctx.create_framebuffer().map_err(Error::Gl)?;
-            ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
+            let raw = ctx.gl().create_framebuffer().map_err(Error::Gl)?;
+            ctx.gl().bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
             let mut draw = Vec::with_capacity(textures.len());
             for (i, t) in textures.iter().enumerate() {
                 let point = glow::COLOR_ATTACHMENT0 + i as u32;
-                ctx.framebuffer_texture_2d(
+                ctx.gl().framebuffer_texture_2d(
                     glow::FRAMEBUFFER,
                     point,
                     glow::TEXTURE_2D,
@@ -83,7 +86,7 @@ impl Framebuffer {
                 );
                 draw.push(point);
             }
-            ctx.draw_buffers(&draw);
+            ctx.gl().draw_buffers(&draw);
             raw
         };
         let attachments = textures.len();
@@ -93,6 +96,7 @@ impl Framebuffer {
             ctx: ctx.clone(),
             raw,
             textures,
+            names: vec![None; attachments],
             size: [w, h],
             attachments,
             bytes_per_texel,
@@ -103,6 +107,22 @@ impl Framebuffer {
         .checked()
     }
 
+    /// Like [`Framebuffer::new`], with every attachment named: `attachments[k]`'s texture is
+    /// colour attachment k (the fragment shader's output k) and is reached with
+    /// [`texture`](Self::texture)`(name)`. Two attachments of one name are refused.
+    pub fn named(
+        ctx: &Context,
+        label: &str,
+        attachments: Vec<(Attachment, Texture)>,
+    ) -> Result<Self> {
+        let (names, textures): (Vec<_>, Vec<_>) =
+            attachments.into_iter().map(|(a, t)| (Some(a), t)).unzip();
+        check_unique(label, &names)?;
+        let mut fb = Framebuffer::new(ctx, label, textures)?;
+        fb.names = names;
+        Ok(fb)
+    }
+
     /// Like [`Framebuffer::new`], plus a 24-bit depth renderbuffer of the same size, for draws
     /// with a [`Depth`](super::Depth) test; [`clear`](Self::clear) resets it to the far plane.
     pub fn with_depth(ctx: &Context, label: &str, textures: Vec<Texture>) -> Result<Self> {
@@ -110,17 +130,17 @@ impl Framebuffer {
         let [w, h] = fb.size;
         // SAFETY: a fresh renderbuffer attached to a framebuffer this function owns.
         let raw = unsafe {
-            let raw = ctx.create_renderbuffer().map_err(Error::Gl)?;
-            ctx.bind_renderbuffer(glow::RENDERBUFFER, Some(raw));
-            ctx.renderbuffer_storage(
+            let raw = ctx.gl().create_renderbuffer().map_err(Error::Gl)?;
+            ctx.gl().bind_renderbuffer(glow::RENDERBUFFER, Some(raw));
+            ctx.gl().renderbuffer_storage(
                 glow::RENDERBUFFER,
                 glow::DEPTH_COMPONENT24,
                 w as i32,
                 h as i32,
             );
-            ctx.bind_renderbuffer(glow::RENDERBUFFER, None);
-            ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(fb.raw));
-            ctx.framebuffer_renderbuffer(
+            ctx.gl().bind_renderbuffer(glow::RENDERBUFFER, None);
+            ctx.gl().bind_framebuffer(glow::FRAMEBUFFER, Some(fb.raw));
+            ctx.gl().framebuffer_renderbuffer(
                 glow::FRAMEBUFFER,
                 glow::DEPTH_ATTACHMENT,
                 glow::RENDERBUFFER,
@@ -184,12 +204,12 @@ impl Framebuffer {
         // SAFETY: a fresh framebuffer; the texture is alive and belongs to this context, and
         // every layer lies inside it (the callers check).
         let raw = unsafe {
-            let raw = ctx.create_framebuffer().map_err(Error::Gl)?;
-            ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
+            let raw = ctx.gl().create_framebuffer().map_err(Error::Gl)?;
+            ctx.gl().bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
             let mut draw = Vec::with_capacity(n);
             for (k, layer) in layers.enumerate() {
                 let point = glow::COLOR_ATTACHMENT0 + k as u32;
-                ctx.framebuffer_texture_layer(
+                ctx.gl().framebuffer_texture_layer(
                     glow::FRAMEBUFFER,
                     point,
                     Some(texture.raw()),
@@ -198,13 +218,14 @@ impl Framebuffer {
                 );
                 draw.push(point);
             }
-            ctx.draw_buffers(&draw);
+            ctx.gl().draw_buffers(&draw);
             raw
         };
         Framebuffer {
             ctx: ctx.clone(),
             raw,
             textures: Vec::new(),
+            names: vec![None; n],
             size: [w, h],
             attachments: n,
             bytes_per_texel: n * texture.format().bytes_per_texel(),
@@ -215,34 +236,42 @@ impl Framebuffer {
         .checked()
     }
 
-    /// A framebuffer whose one colour attachment is attachment `i` of `source`, which it does
-    /// not own: a pass into it writes that texture alone (a pass without multiple render
-    /// targets, Latta §3.1). Drop it before `source`, as for [`Framebuffer::layer`].
-    pub fn attachment(ctx: &Context, label: &str, source: &Framebuffer, i: usize) -> Result<Self> {
+    /// A framebuffer whose one colour attachment is attachment `at` of `source` (its name
+    /// kept), which it does not own: a pass into it writes that texture alone (a pass without
+    /// multiple render targets, Latta §3.1). Drop it before `source`, as for
+    /// [`Framebuffer::layer`].
+    pub fn attachment(
+        ctx: &Context,
+        label: &str,
+        source: &Framebuffer,
+        at: impl AttachmentKey,
+    ) -> Result<Self> {
+        let i = at.index_in(source);
         let Some(texture) = source.textures.get(i) else {
             return Err(Error::InvalidInput(format!(
-                "framebuffer {label}: {} has no attachment {i}",
+                "framebuffer {label}: {} has no texture of its own at {at:?}",
                 source.label
             )));
         };
         // SAFETY: a fresh framebuffer; the texture is alive and belongs to this context.
         let raw = unsafe {
-            let raw = ctx.create_framebuffer().map_err(Error::Gl)?;
-            ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
-            ctx.framebuffer_texture_2d(
+            let raw = ctx.gl().create_framebuffer().map_err(Error::Gl)?;
+            ctx.gl().bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
+            ctx.gl().framebuffer_texture_2d(
                 glow::FRAMEBUFFER,
                 glow::COLOR_ATTACHMENT0,
                 glow::TEXTURE_2D,
                 Some(texture.raw()),
                 0,
             );
-            ctx.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
+            ctx.gl().draw_buffers(&[glow::COLOR_ATTACHMENT0]);
             raw
         };
         Framebuffer {
             ctx: ctx.clone(),
             raw,
             textures: Vec::new(),
+            names: vec![source.names[i]],
             size: source.size,
             attachments: 1,
             bytes_per_texel: texture.format().bytes_per_texel(),
@@ -258,9 +287,9 @@ impl Framebuffer {
         let (ctx, label) = (&self.ctx, &self.label);
         ctx.label(glow::FRAMEBUFFER, self.raw.0.get(), label);
         // SAFETY: the framebuffer is bound.
-        let status = unsafe { ctx.check_framebuffer_status(glow::FRAMEBUFFER) };
+        let status = unsafe { ctx.gl().check_framebuffer_status(glow::FRAMEBUFFER) };
         // SAFETY: unbinding has no preconditions.
-        unsafe { ctx.bind_framebuffer(glow::FRAMEBUFFER, None) };
+        unsafe { ctx.gl().bind_framebuffer(glow::FRAMEBUFFER, None) };
         if status != glow::FRAMEBUFFER_COMPLETE {
             return Err(Error::FramebufferIncomplete {
                 label: label.to_owned(),
@@ -291,13 +320,42 @@ impl Framebuffer {
     pub fn height(&self) -> u32 {
         self.size[1]
     }
-    /// Attachment `i` (owned attachments only: a [`Framebuffer::layer`] has none).
-    pub fn texture(&self, i: usize) -> &Texture {
-        &self.textures[i]
+    /// The texture of attachment `at`: an [`Attachment`] handle of a framebuffer made with
+    /// names ([`Framebuffer::named`], [`PingPong::new`](super::PingPong::new)). Owned
+    /// attachments only: a [`Framebuffer::layer`] has none.
+    ///
+    /// # Panics
+    /// If the framebuffer has no attachment `at` (a handle of another kind of state).
+    pub fn texture(&self, at: impl AttachmentKey) -> &Texture {
+        let i = at.index_in(self);
+        match self.textures.get(i) {
+            Some(t) => t,
+            None => panic!(
+                "framebuffer {} does not own its attachments (layers of a 3D texture)",
+                self.label
+            ),
+        }
+    }
+    /// The texture of a framebuffer with one attachment, which needs no name.
+    ///
+    /// # Panics
+    /// If it has more than one attachment, or does not own it.
+    pub fn only_texture(&self) -> &Texture {
+        assert!(
+            self.textures.len() == 1,
+            "framebuffer {} has {} attachments: name the one meant",
+            self.label,
+            self.attachments
+        );
+        &self.textures[0]
     }
     /// All owned attachments in order (none for a [`Framebuffer::layer`]).
     pub fn textures(&self) -> &[Texture] {
         &self.textures
+    }
+    /// The attachments' names in order (`None` for attachments made without one).
+    pub fn names(&self) -> &[Option<Attachment>] {
+        &self.names
     }
     /// The label given at creation.
     pub fn label(&self) -> &str {
@@ -314,8 +372,12 @@ impl Framebuffer {
     pub fn bind_rect(&self, x: u32, y: u32, w: u32, h: u32) {
         // SAFETY: the framebuffer is alive and complete.
         unsafe {
-            self.ctx.bind_framebuffer(glow::FRAMEBUFFER, Some(self.raw));
-            self.ctx.viewport(x as i32, y as i32, w as i32, h as i32);
+            self.ctx
+                .gl()
+                .bind_framebuffer(glow::FRAMEBUFFER, Some(self.raw));
+            self.ctx
+                .gl()
+                .viewport(x as i32, y as i32, w as i32, h as i32);
         }
     }
 
@@ -329,11 +391,12 @@ impl Framebuffer {
         // SAFETY: both framebuffers exist; attachment 0 is a colour texture of this size.
         unsafe {
             self.ctx
+                .gl()
                 .bind_framebuffer(glow::READ_FRAMEBUFFER, Some(self.raw));
-            self.ctx.read_buffer(glow::COLOR_ATTACHMENT0);
-            self.ctx.bind_framebuffer(glow::DRAW_FRAMEBUFFER, None);
-            self.ctx.disable(glow::SCISSOR_TEST);
-            self.ctx.blit_framebuffer(
+            self.ctx.gl().read_buffer(glow::COLOR_ATTACHMENT0);
+            self.ctx.gl().bind_framebuffer(glow::DRAW_FRAMEBUFFER, None);
+            self.ctx.gl().disable(glow::SCISSOR_TEST);
+            self.ctx.gl().blit_framebuffer(
                 0,
                 0,
                 self.width() as i32,
@@ -345,7 +408,7 @@ impl Framebuffer {
                 glow::COLOR_BUFFER_BIT,
                 if same { glow::NEAREST } else { glow::LINEAR },
             );
-            self.ctx.bind_framebuffer(glow::FRAMEBUFFER, None);
+            self.ctx.gl().bind_framebuffer(glow::FRAMEBUFFER, None);
         }
         self.ctx.check_error(&format!(
             "blitting {} to the default framebuffer",
@@ -361,12 +424,13 @@ impl Framebuffer {
         unsafe {
             for i in 0..self.attachments {
                 self.ctx
+                    .gl()
                     .clear_buffer_f32_slice(glow::COLOR, i as u32, &rgba);
             }
             if self.depth.is_some() {
                 // A clear obeys the depth mask, which the last draw may have turned off.
-                self.ctx.depth_mask(true);
-                self.ctx.clear_buffer_f32_slice(glow::DEPTH, 0, &[1.0]);
+                self.ctx.gl().depth_mask(true);
+                self.ctx.gl().clear_buffer_f32_slice(glow::DEPTH, 0, &[1.0]);
             }
         }
     }
@@ -393,10 +457,10 @@ impl Context {
         let mut rgba = vec![0u8; 4 * width as usize * height as usize];
         // SAFETY: framebuffer 0 exists on a window's context; the buffer holds w*h RGBA texels.
         unsafe {
-            self.bind_framebuffer(glow::FRAMEBUFFER, None);
-            self.read_buffer(glow::BACK);
-            self.pixel_store_i32(glow::PACK_ALIGNMENT, 1);
-            self.read_pixels(
+            self.gl().bind_framebuffer(glow::FRAMEBUFFER, None);
+            self.gl().read_buffer(glow::BACK);
+            self.gl().pixel_store_i32(glow::PACK_ALIGNMENT, 1);
+            self.gl().read_pixels(
                 0,
                 0,
                 width as i32,

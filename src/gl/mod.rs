@@ -1,10 +1,61 @@
-//! A thin safe layer over glow: one owning type per GL object, freed on drop, none able to
-//! outlive the [`Context`] it was made in.
+//! A thin safe layer over glow: the only code of the crate that calls GL.
 //!
-//! The only code of the crate that calls GL. The layers above describe what to draw as data
-//! ([`Draw`], [`DrawState`], [`Blend`]) and [`Context::draw`] sets all of that state on every
-//! draw, so no pass depends on what the one before it left bound or enabled.
+//! ## Objects and ownership
+//!
+//! One owning type per GL object: [`Texture`], [`Texture3D`], [`Framebuffer`], [`Program`],
+//! [`Buffer`], [`VertexArray`], [`PixelPack`], [`TimerQuery`]. Each holds a clone of the [`Context`] (an `Rc`)
+//! and deletes its name on `Drop` after making its context current, or leaks it if EGL refuses
+//! (never a name of another context), so no object outlives its context. Inside the context the
+//! glow table drops before the EGL context. `Context` is neither `Send` nor `Sync`; it hands its
+//! glow table only to this module (`Context::gl`, made current first), so code above names no GL
+//! function or constant. A framebuffer made by [`Framebuffer::layer`] or
+//! [`Framebuffer::attachment`] draws into textures it does not own: drop it before them.
+//!
+//! ## A draw as data
+//!
+//! A pass binds its [`Program`], sets uniforms by name (`set_f32`, `set_vec3`, ...), lists its
+//! textures by sampler name ([`Program::textures`], [`Sampled`]), then draws: [`Context::draw`]
+//! with a [`Draw`] (program, target framebuffer, viewport, vertex array, primitive, count and a
+//! [`DrawState`]), or [`FullscreenPass`], which makes that `Draw` for a full-screen triangle.
+//!
+//! ## Texture units
+//!
+//! Units are assigned per draw, never by the caller: [`Program::textures`] binds the k-th listed
+//! texture to unit k and sets its sampler to k. An active sampler the list leaves out is pointed
+//! at the empty unit after them in release builds (it reads zeros, never what an earlier pass
+//! left bound) and panics in debug builds, as does a listed name the program does not declare.
+//!
+//! ## Attachments
+//!
+//! Colour attachment k of a framebuffer is output k of the fragment shader. Above this module it
+//! is reached by name: the module owning a kind of state defines [`Attachment`] handles
+//! (`Attachment::named("position")`), builds the state with them ([`Framebuffer::named`],
+//! [`PingPong::new`], [`Ring3::new`]) and reads `fb.texture(POSITION)`, which looks the name up
+//! among the framebuffer's own attachments and panics if it has none of that name: a handle of
+//! another kind of state fails instead of reading whatever sits at the same index. A framebuffer
+//! of one attachment gives it by [`Framebuffer::only_texture`]. Indices ([`AttachmentKey`] for
+//! `usize`) remain for this layer's tests; `tests/layout.rs` refuses literal ones above it.
+//!
+//! ## Uniform names
+//!
+//! GL gives location −1 both to a misspelt name and to a declared uniform the optimiser dropped.
+//! [`Program`] keeps the names its sources declare: both stages' resolved text (`#include`s
+//! spliced, `#define`s prepended, not preprocessed, so a declaration inside an inactive `#if`
+//! counts) is split into statements, `//` comments dropped, and the names after `uniform TYPE`
+//! kept (`u_plane[4]` as `u_plane`). On a setter's first use of a name (locations are cached, the
+//! check runs once per name) a name with no location is ignored if declared, as GL ignores −1,
+//! and in debug builds panics if not, unless the setter runs inside [`Program::optional`] (for
+//! constants shared by several programs). Release builds ignore both.
+//!
+//! ## State reset
+//!
+//! [`Context::draw`] sets, on every draw, the program, the target and its viewport, the vertex
+//! array (unbound after the draw), the depth test, function and mask, program point size, and
+//! blending with its equations and factors ([`Blend`]: `None` turns it off), so no pass depends
+//! on the state the one before it left. Clears and blits set what they use (a depth clear turns
+//! the depth mask on; a blit turns the scissor test off and leaves framebuffer 0 bound).
 
+mod attachment;
 mod bindings;
 mod buffer;
 mod context;
@@ -23,6 +74,7 @@ mod timer;
 #[cfg(feature = "window")]
 mod window;
 
+pub use attachment::{Attachment, AttachmentKey};
 pub use bindings::Sampled;
 pub use buffer::{Attribute, Buffer, BufferKind, BufferUsage, VertexArray};
 pub use context::{gl_error_name, list_devices, Context, DeviceInfo, Limits};

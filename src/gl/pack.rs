@@ -24,7 +24,7 @@ impl PixelPack {
     /// Makes the read framebuffer.
     pub fn new(ctx: &Context) -> Result<Self> {
         // SAFETY: a fresh framebuffer object.
-        let raw = unsafe { ctx.create_framebuffer().map_err(Error::Gl)? };
+        let raw = unsafe { ctx.gl().create_framebuffer().map_err(Error::Gl)? };
         Ok(PixelPack {
             ctx: ctx.clone(),
             raw,
@@ -44,20 +44,22 @@ impl PixelPack {
         // SAFETY: the texture and buffer are alive; the buffer holds the copied rows (checked
         // above); every binding changed here is reset before returning.
         let status = unsafe {
-            gl.bind_framebuffer(glow::READ_FRAMEBUFFER, Some(self.raw));
-            gl.framebuffer_texture_2d(
+            gl.gl()
+                .bind_framebuffer(glow::READ_FRAMEBUFFER, Some(self.raw));
+            gl.gl().framebuffer_texture_2d(
                 glow::READ_FRAMEBUFFER,
                 glow::COLOR_ATTACHMENT0,
                 glow::TEXTURE_2D,
                 Some(texture.raw()),
                 0,
             );
-            gl.read_buffer(glow::COLOR_ATTACHMENT0);
-            let status = gl.check_framebuffer_status(glow::READ_FRAMEBUFFER);
+            gl.gl().read_buffer(glow::COLOR_ATTACHMENT0);
+            let status = gl.gl().check_framebuffer_status(glow::READ_FRAMEBUFFER);
             if status == glow::FRAMEBUFFER_COMPLETE {
-                gl.bind_buffer(glow::PIXEL_PACK_BUFFER, Some(buffer.raw()));
-                gl.pixel_store_i32(glow::PACK_ALIGNMENT, 4);
-                gl.read_pixels(
+                gl.gl()
+                    .bind_buffer(glow::PIXEL_PACK_BUFFER, Some(buffer.raw()));
+                gl.gl().pixel_store_i32(glow::PACK_ALIGNMENT, 4);
+                gl.gl().read_pixels(
                     0,
                     0,
                     texture.width() as i32,
@@ -66,16 +68,16 @@ impl PixelPack {
                     glow::FLOAT,
                     glow::PixelPackData::BufferOffset(0),
                 );
-                gl.bind_buffer(glow::PIXEL_PACK_BUFFER, None);
+                gl.gl().bind_buffer(glow::PIXEL_PACK_BUFFER, None);
             }
-            gl.framebuffer_texture_2d(
+            gl.gl().framebuffer_texture_2d(
                 glow::READ_FRAMEBUFFER,
                 glow::COLOR_ATTACHMENT0,
                 glow::TEXTURE_2D,
                 None,
                 0,
             );
-            gl.bind_framebuffer(glow::READ_FRAMEBUFFER, None);
+            gl.gl().bind_framebuffer(glow::READ_FRAMEBUFFER, None);
             status
         };
         if status != glow::FRAMEBUFFER_COMPLETE {

@@ -6,7 +6,7 @@
 //! which a step reads the current and the previous ones and writes the next;
 //! [`Ring3::rotate`] once per step moves every role one place on.
 
-use super::{Context, Framebuffer, Texture, TextureDesc, TextureFormat};
+use super::{Attachment, AttachmentKey, Context, Framebuffer, Texture, TextureDesc, TextureFormat};
 use crate::error::Result;
 
 /// Double-buffered state of N textures.
@@ -22,11 +22,12 @@ pub struct PingPong {
 
 impl PingPong {
     /// Makes two framebuffers of `formats.len()` textures of `width`×`height`.
-    /// `names` label the textures (`"position"`, `"velocity"`).
+    /// `names` name the attachments, in the order of the fragment shader's outputs, and label
+    /// the textures (`POSITION`, `VELOCITY`: [`Attachment`] handles; `"position"` makes one).
     pub fn new(
         ctx: &Context,
         label: &str,
-        names: &[&str],
+        names: &[impl Into<Attachment> + Copy],
         formats: &[TextureFormat],
         width: u32,
         height: u32,
@@ -56,21 +57,24 @@ impl PingPong {
         let views = |s: usize| -> Result<Vec<Framebuffer>> {
             let side = &self.sides[s];
             (0..side.textures().len())
-                .map(|i| Framebuffer::attachment(ctx, &format!("{}/{i}", side.label()), side, i))
+                .map(|i| {
+                    let name = side.names()[i].map_or(i.to_string(), |a| a.to_string());
+                    Framebuffer::attachment(ctx, &format!("{}/{name}", side.label()), side, i)
+                })
                 .collect()
         };
         self.singles = Some([views(0)?, views(1)?]);
         Ok(self)
     }
 
-    /// A framebuffer of texture `i` of the back alone. Panics unless made
+    /// A framebuffer of attachment `at` of the back alone. Panics unless made
     /// [`with_single_targets`](PingPong::with_single_targets).
-    pub fn back_single(&self, i: usize) -> &Framebuffer {
+    pub fn back_single(&self, at: impl AttachmentKey) -> &Framebuffer {
         let singles = self
             .singles
             .as_ref()
             .expect("PingPong::with_single_targets before back_single");
-        &singles[1 - self.front][i]
+        &singles[1 - self.front][at.index_in(self.back())]
     }
 
     /// Makes the back the front. Call once per step, after the passes that write the back.
@@ -95,22 +99,30 @@ impl PingPong {
     }
 }
 
-/// Side `s` of a multi-buffered state: textures labelled `"{name}:{s}"` in a framebuffer
-/// labelled `"{label}:{s}"`.
+/// Side `s` of a multi-buffered state: attachments `names`, their textures labelled
+/// `"{name}:{s}"`, in a framebuffer labelled `"{label}:{s}"`.
 fn side(
     ctx: &Context,
     label: &str,
-    names: &[&str],
+    names: &[impl Into<Attachment> + Copy],
     formats: &[TextureFormat],
     width: u32,
     height: u32,
     s: usize,
 ) -> Result<Framebuffer> {
-    let textures = formats
+    if names.len() != formats.len() {
+        return Err(crate::error::Error::InvalidInput(format!(
+            "{label}: {} names for {} formats",
+            names.len(),
+            formats.len()
+        )));
+    }
+    let attachments = formats
         .iter()
         .zip(names)
-        .map(|(&format, name)| {
-            Texture::new(
+        .map(|(&format, &name)| {
+            let name: Attachment = name.into();
+            let texture = Texture::new(
                 ctx,
                 TextureDesc {
                     width,
@@ -118,10 +130,11 @@ fn side(
                     format,
                     label: &format!("{name}:{s}"),
                 },
-            )
+            )?;
+            Ok((name, texture))
         })
         .collect::<Result<Vec<_>>>()?;
-    Framebuffer::new(ctx, &format!("{label}:{s}"), textures)
+    Framebuffer::named(ctx, &format!("{label}:{s}"), attachments)
 }
 
 /// Triple-buffered state: the previous, the current and the next of three framebuffers with the
@@ -137,11 +150,12 @@ pub struct Ring3 {
 
 impl Ring3 {
     /// Makes three framebuffers of `formats.len()` textures of `width`×`height`, labelled as
-    /// [`PingPong::new`] labels its two. Side 1 starts as the current, side 0 as the previous.
+    /// [`PingPong::new`] names and labels its two. Side 1 starts as the current, side 0 as the
+    /// previous.
     pub fn new(
         ctx: &Context,
         label: &str,
-        names: &[&str],
+        names: &[impl Into<Attachment> + Copy],
         formats: &[TextureFormat],
         width: u32,
         height: u32,

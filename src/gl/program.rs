@@ -45,12 +45,12 @@ fn compile<'a>(
     declared.extend(declared_uniforms(&resolved.text));
     // SAFETY: plain shader compilation on a current context.
     unsafe {
-        let shader = ctx.create_shader(kind).map_err(Error::Gl)?;
-        ctx.shader_source(shader, &resolved.text);
-        ctx.compile_shader(shader);
-        if !ctx.get_shader_compile_status(shader) {
-            let raw_log = ctx.get_shader_info_log(shader);
-            ctx.delete_shader(shader);
+        let shader = ctx.gl().create_shader(kind).map_err(Error::Gl)?;
+        ctx.gl().shader_source(shader, &resolved.text);
+        ctx.gl().compile_shader(shader);
+        if !ctx.gl().get_shader_compile_status(shader) {
+            let raw_log = ctx.gl().get_shader_info_log(shader);
+            ctx.gl().delete_shader(shader);
             let (log, first) = map_log(&raw_log, &resolved.files);
             let (file, line) = first.unwrap_or((path.to_owned(), 0));
             return Err(Error::ShaderCompile { file, line, log });
@@ -107,23 +107,23 @@ impl Program {
             Ok(fs) => fs,
             Err(e) => {
                 // SAFETY: vs is a live shader of this context.
-                unsafe { ctx.delete_shader(vs) };
+                unsafe { ctx.gl().delete_shader(vs) };
                 return Err(e);
             }
         };
         // SAFETY: linking live shaders; they are detached and deleted right after.
         let raw = unsafe {
-            let raw = ctx.create_program().map_err(Error::Gl)?;
-            ctx.attach_shader(raw, vs);
-            ctx.attach_shader(raw, fs);
-            ctx.link_program(raw);
-            ctx.detach_shader(raw, vs);
-            ctx.detach_shader(raw, fs);
-            ctx.delete_shader(vs);
-            ctx.delete_shader(fs);
-            if !ctx.get_program_link_status(raw) {
-                let log = ctx.get_program_info_log(raw);
-                ctx.delete_program(raw);
+            let raw = ctx.gl().create_program().map_err(Error::Gl)?;
+            ctx.gl().attach_shader(raw, vs);
+            ctx.gl().attach_shader(raw, fs);
+            ctx.gl().link_program(raw);
+            ctx.gl().detach_shader(raw, vs);
+            ctx.gl().detach_shader(raw, fs);
+            ctx.gl().delete_shader(vs);
+            ctx.gl().delete_shader(fs);
+            if !ctx.gl().get_program_link_status(raw) {
+                let log = ctx.gl().get_program_info_log(raw);
+                ctx.gl().delete_program(raw);
                 return Err(Error::ProgramLink { name, log });
             }
             raw
@@ -131,8 +131,8 @@ impl Program {
         ctx.label(glow::PROGRAM, raw.0.get(), &name);
         // SAFETY: queries of a linked program.
         let samplers = unsafe {
-            (0..ctx.get_active_uniforms(raw))
-                .filter_map(|i| ctx.get_active_uniform(raw, i))
+            (0..ctx.gl().get_active_uniforms(raw))
+                .filter_map(|i| ctx.gl().get_active_uniform(raw, i))
                 .filter(|u| is_sampler(u.utype))
                 .map(|u| u.name)
                 .collect()
@@ -180,7 +180,7 @@ impl Program {
     /// Makes it the current program; the setters below act on the current program.
     pub fn bind(&self) {
         // SAFETY: the program is alive and linked.
-        unsafe { self.ctx.use_program(Some(self.raw)) }
+        unsafe { self.ctx.gl().use_program(Some(self.raw)) }
     }
 
     fn location(&self, name: &str) -> Option<glow::UniformLocation> {
@@ -189,7 +189,7 @@ impl Program {
         }
         // SAFETY: the program is alive. An unused uniform (optimised away) gives None, which the
         // setters ignore as GL does for location -1.
-        let l = unsafe { self.ctx.get_uniform_location(self.raw, name) };
+        let l = unsafe { self.ctx.gl().get_uniform_location(self.raw, name) };
         // A name no source declares is a mistake, not an optimisation: refused in debug builds.
         if cfg!(debug_assertions) && l.is_none() && !self.lenient.get() && !self.declares(name) {
             panic!(
@@ -205,7 +205,7 @@ impl Program {
     /// Sets an `int` or sampler uniform.
     pub fn set_i32(&self, name: &str, v: i32) {
         // SAFETY: the program is current (see `bind`).
-        unsafe { self.ctx.uniform_1_i32(self.location(name).as_ref(), v) }
+        unsafe { self.ctx.gl().uniform_1_i32(self.location(name).as_ref(), v) }
     }
     /// Sets an `int[]` uniform array from its first element on (`name` without `[0]`).
     pub fn set_i32_array(&self, name: &str, v: &[i32]) {
@@ -213,24 +213,26 @@ impl Program {
         // SAFETY: as above.
         unsafe {
             self.ctx
+                .gl()
                 .uniform_1_i32_slice(self.location(&first).as_ref(), v)
         }
     }
     /// Sets a `uint` uniform.
     pub fn set_u32(&self, name: &str, v: u32) {
         // SAFETY: as above.
-        unsafe { self.ctx.uniform_1_u32(self.location(name).as_ref(), v) }
+        unsafe { self.ctx.gl().uniform_1_u32(self.location(name).as_ref(), v) }
     }
     /// Sets a `float` uniform.
     pub fn set_f32(&self, name: &str, v: f32) {
         // SAFETY: as above.
-        unsafe { self.ctx.uniform_1_f32(self.location(name).as_ref(), v) }
+        unsafe { self.ctx.gl().uniform_1_f32(self.location(name).as_ref(), v) }
     }
     /// Sets a `vec2` uniform.
     pub fn set_vec2(&self, name: &str, v: glam::Vec2) {
         // SAFETY: as above.
         unsafe {
             self.ctx
+                .gl()
                 .uniform_2_f32(self.location(name).as_ref(), v.x, v.y)
         }
     }
@@ -239,6 +241,7 @@ impl Program {
         // SAFETY: as above.
         unsafe {
             self.ctx
+                .gl()
                 .uniform_3_f32(self.location(name).as_ref(), v.x, v.y, v.z)
         }
     }
@@ -247,19 +250,25 @@ impl Program {
         // SAFETY: as above.
         unsafe {
             self.ctx
+                .gl()
                 .uniform_4_f32(self.location(name).as_ref(), v.x, v.y, v.z, v.w)
         }
     }
     /// Sets an `ivec2` uniform.
     pub fn set_ivec2(&self, name: &str, x: i32, y: i32) {
         // SAFETY: as above.
-        unsafe { self.ctx.uniform_2_i32(self.location(name).as_ref(), x, y) }
+        unsafe {
+            self.ctx
+                .gl()
+                .uniform_2_i32(self.location(name).as_ref(), x, y)
+        }
     }
     /// Sets an `ivec3` uniform.
     pub fn set_ivec3(&self, name: &str, x: i32, y: i32, z: i32) {
         // SAFETY: as above.
         unsafe {
             self.ctx
+                .gl()
                 .uniform_3_i32(self.location(name).as_ref(), x, y, z)
         }
     }
@@ -268,6 +277,7 @@ impl Program {
         // SAFETY: as above.
         unsafe {
             self.ctx
+                .gl()
                 .uniform_4_i32(self.location(name).as_ref(), v[0], v[1], v[2], v[3])
         }
     }
@@ -275,7 +285,7 @@ impl Program {
     pub fn set_mat4(&self, name: &str, m: &glam::Mat4) {
         // SAFETY: as above.
         unsafe {
-            self.ctx.uniform_matrix_4_f32_slice(
+            self.ctx.gl().uniform_matrix_4_f32_slice(
                 self.location(name).as_ref(),
                 false,
                 &m.to_cols_array(),

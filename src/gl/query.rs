@@ -22,7 +22,7 @@ impl TimerQuery {
     /// Makes a query object.
     pub fn new(ctx: &Context) -> Result<Self> {
         // SAFETY: plain object creation.
-        let raw = unsafe { ctx.create_query().map_err(Error::Gl)? };
+        let raw = unsafe { ctx.gl().create_query().map_err(Error::Gl)? };
         Ok(TimerQuery {
             ctx: ctx.clone(),
             raw,
@@ -32,13 +32,13 @@ impl TimerQuery {
     /// Starts timing. Timer queries do not nest: end one before beginning the next.
     pub fn begin(&self) {
         // SAFETY: the query is alive; no other TIME_ELAPSED query is active by contract.
-        unsafe { self.ctx.begin_query(glow::TIME_ELAPSED, self.raw) }
+        unsafe { self.ctx.gl().begin_query(glow::TIME_ELAPSED, self.raw) }
     }
 
     /// Stops timing.
     pub fn end(&self) {
         // SAFETY: ends the active TIME_ELAPSED query.
-        unsafe { self.ctx.end_query(glow::TIME_ELAPSED) }
+        unsafe { self.ctx.gl().end_query(glow::TIME_ELAPSED) }
     }
 
     /// The elapsed GPU time in nanoseconds; waits for the GPU if the result is not ready.
@@ -46,7 +46,7 @@ impl TimerQuery {
         let mut value = 0u64;
         // SAFETY: glGetQueryObjectui64v writes one u64 to the pointer (no query buffer bound).
         unsafe {
-            self.ctx.get_query_parameter_u64_with_offset(
+            self.ctx.gl().get_query_parameter_u64_with_offset(
                 self.raw,
                 glow::QUERY_RESULT,
                 &mut value as *mut u64 as usize,

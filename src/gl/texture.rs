@@ -152,9 +152,9 @@ impl Texture {
         check_size(ctx, desc.label, desc.width, desc.height)?;
         // SAFETY: a fresh texture object is configured on a current context.
         let raw = unsafe {
-            let raw = ctx.create_texture().map_err(Error::Gl)?;
-            ctx.bind_texture(glow::TEXTURE_2D, Some(raw));
-            ctx.tex_image_2d(
+            let raw = ctx.gl().create_texture().map_err(Error::Gl)?;
+            ctx.gl().bind_texture(glow::TEXTURE_2D, Some(raw));
+            ctx.gl().tex_image_2d(
                 glow::TEXTURE_2D,
                 0,
                 desc.format.internal() as i32,
@@ -171,9 +171,9 @@ impl Texture {
                 (glow::TEXTURE_WRAP_S, glow::CLAMP_TO_EDGE),
                 (glow::TEXTURE_WRAP_T, glow::CLAMP_TO_EDGE),
             ] {
-                ctx.tex_parameter_i32(glow::TEXTURE_2D, p, v as i32);
+                ctx.gl().tex_parameter_i32(glow::TEXTURE_2D, p, v as i32);
             }
-            ctx.bind_texture(glow::TEXTURE_2D, None);
+            ctx.gl().bind_texture(glow::TEXTURE_2D, None);
             raw
         };
         let tex = Texture {
@@ -216,20 +216,21 @@ impl Texture {
         let gl = &self.ctx;
         // SAFETY: the texture is alive; these are plain parameter settings on it.
         unsafe {
-            gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
-            gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAX_LEVEL, max_level as i32);
-            gl.generate_mipmap(glow::TEXTURE_2D);
-            gl.tex_parameter_i32(
+            gl.gl().bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            gl.gl()
+                .tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAX_LEVEL, max_level as i32);
+            gl.gl().generate_mipmap(glow::TEXTURE_2D);
+            gl.gl().tex_parameter_i32(
                 glow::TEXTURE_2D,
                 glow::TEXTURE_MIN_FILTER,
                 glow::LINEAR_MIPMAP_LINEAR as i32,
             );
-            gl.tex_parameter_i32(
+            gl.gl().tex_parameter_i32(
                 glow::TEXTURE_2D,
                 glow::TEXTURE_MAG_FILTER,
                 glow::LINEAR as i32,
             );
-            gl.bind_texture(glow::TEXTURE_2D, None);
+            gl.gl().bind_texture(glow::TEXTURE_2D, None);
         }
         gl.check_error("generating mipmaps")
     }
@@ -273,9 +274,9 @@ impl Texture {
     fn upload_raw(&self, y0: u32, rows: u32, bytes: &[u8], ty: u32) -> Result<()> {
         // SAFETY: the data length was checked against the region.
         unsafe {
-            self.ctx.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
-            self.ctx.bind_texture(glow::TEXTURE_2D, Some(self.raw));
-            self.ctx.tex_sub_image_2d(
+            self.ctx.gl().pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
+            self.ctx.gl().bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.ctx.gl().tex_sub_image_2d(
                 glow::TEXTURE_2D,
                 0,
                 0,
@@ -286,7 +287,7 @@ impl Texture {
                 ty,
                 glow::PixelUnpackData::Slice(Some(bytes)),
             );
-            self.ctx.bind_texture(glow::TEXTURE_2D, None);
+            self.ctx.gl().bind_texture(glow::TEXTURE_2D, None);
         }
         self.ctx.check_error("texture upload")
     }
@@ -314,16 +315,16 @@ impl Texture {
     fn read_raw(&self, out: &mut [u8], ty: u32) -> Result<()> {
         // SAFETY: `out` holds exactly the texture's texels in the requested client format.
         unsafe {
-            self.ctx.pixel_store_i32(glow::PACK_ALIGNMENT, 1);
-            self.ctx.bind_texture(glow::TEXTURE_2D, Some(self.raw));
-            self.ctx.get_tex_image(
+            self.ctx.gl().pixel_store_i32(glow::PACK_ALIGNMENT, 1);
+            self.ctx.gl().bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.ctx.gl().get_tex_image(
                 glow::TEXTURE_2D,
                 0,
                 self.format.client_format(),
                 ty,
                 glow::PixelPackData::Slice(Some(out)),
             );
-            self.ctx.bind_texture(glow::TEXTURE_2D, None);
+            self.ctx.gl().bind_texture(glow::TEXTURE_2D, None);
         }
         self.ctx.check_error("texture read-back")
     }
@@ -332,8 +333,8 @@ impl Texture {
     pub fn bind(&self, unit: u32) {
         // SAFETY: the texture is alive and belongs to this context.
         unsafe {
-            self.ctx.active_texture(glow::TEXTURE0 + unit);
-            self.ctx.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.ctx.gl().active_texture(glow::TEXTURE0 + unit);
+            self.ctx.gl().bind_texture(glow::TEXTURE_2D, Some(self.raw));
         }
     }
 }

@@ -76,10 +76,10 @@ impl Texture3D {
         // SAFETY: a fresh texture object is configured on a current context; the data length was
         // checked against the size.
         let raw = unsafe {
-            let raw = ctx.create_texture().map_err(Error::Gl)?;
-            ctx.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
-            ctx.bind_texture(glow::TEXTURE_3D, Some(raw));
-            ctx.tex_image_3d(
+            let raw = ctx.gl().create_texture().map_err(Error::Gl)?;
+            ctx.gl().pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
+            ctx.gl().bind_texture(glow::TEXTURE_3D, Some(raw));
+            ctx.gl().tex_image_3d(
                 glow::TEXTURE_3D,
                 0,
                 format.internal() as i32,
@@ -98,10 +98,11 @@ impl Texture3D {
                 (glow::TEXTURE_WRAP_T, glow::CLAMP_TO_EDGE),
                 (glow::TEXTURE_WRAP_R, glow::CLAMP_TO_EDGE),
             ] {
-                ctx.tex_parameter_i32(glow::TEXTURE_3D, p, v as i32);
+                ctx.gl().tex_parameter_i32(glow::TEXTURE_3D, p, v as i32);
             }
-            ctx.tex_parameter_i32(glow::TEXTURE_3D, glow::TEXTURE_MAX_LEVEL, 0);
-            ctx.bind_texture(glow::TEXTURE_3D, None);
+            ctx.gl()
+                .tex_parameter_i32(glow::TEXTURE_3D, glow::TEXTURE_MAX_LEVEL, 0);
+            ctx.gl().bind_texture(glow::TEXTURE_3D, None);
             raw
         };
         let tex = Texture3D {
@@ -146,9 +147,9 @@ impl Texture3D {
         let [w, h, d] = self.size;
         // SAFETY: the data length was checked against the texture.
         unsafe {
-            self.ctx.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
-            self.ctx.bind_texture(glow::TEXTURE_3D, Some(self.raw));
-            self.ctx.tex_sub_image_3d(
+            self.ctx.gl().pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
+            self.ctx.gl().bind_texture(glow::TEXTURE_3D, Some(self.raw));
+            self.ctx.gl().tex_sub_image_3d(
                 glow::TEXTURE_3D,
                 0,
                 0,
@@ -161,7 +162,7 @@ impl Texture3D {
                 glow::FLOAT,
                 glow::PixelUnpackData::Slice(Some(bytemuck::cast_slice(data))),
             );
-            self.ctx.bind_texture(glow::TEXTURE_3D, None);
+            self.ctx.gl().bind_texture(glow::TEXTURE_3D, None);
         }
         self.ctx
             .check_error(&format!("uploading 3D texture {}", self.label))
@@ -179,16 +180,16 @@ impl Texture3D {
         let mut out = vec![0f32; self.texels() * self.format.channels()];
         // SAFETY: `out` holds exactly the texture's texels in its client format.
         unsafe {
-            self.ctx.pixel_store_i32(glow::PACK_ALIGNMENT, 1);
-            self.ctx.bind_texture(glow::TEXTURE_3D, Some(self.raw));
-            self.ctx.get_tex_image(
+            self.ctx.gl().pixel_store_i32(glow::PACK_ALIGNMENT, 1);
+            self.ctx.gl().bind_texture(glow::TEXTURE_3D, Some(self.raw));
+            self.ctx.gl().get_tex_image(
                 glow::TEXTURE_3D,
                 0,
                 self.format.client_format(),
                 glow::FLOAT,
                 glow::PixelPackData::Slice(Some(bytemuck::cast_slice_mut(&mut out))),
             );
-            self.ctx.bind_texture(glow::TEXTURE_3D, None);
+            self.ctx.gl().bind_texture(glow::TEXTURE_3D, None);
         }
         self.ctx
             .check_error(&format!("reading 3D texture {}", self.label))?;
@@ -204,8 +205,8 @@ impl Texture3D {
     pub fn bind(&self, unit: u32) {
         // SAFETY: the texture is alive and belongs to this context.
         unsafe {
-            self.ctx.active_texture(glow::TEXTURE0 + unit);
-            self.ctx.bind_texture(glow::TEXTURE_3D, Some(self.raw));
+            self.ctx.gl().active_texture(glow::TEXTURE0 + unit);
+            self.ctx.gl().bind_texture(glow::TEXTURE_3D, Some(self.raw));
         }
     }
 }

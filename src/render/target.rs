@@ -78,7 +78,7 @@ impl FrameTarget {
     /// Reads the frame back as an RGB image with the first row at the top (GL's is at the bottom).
     pub fn read_rgb(&self) -> Result<image::RgbImage> {
         let (w, h) = (self.width(), self.height());
-        let rgba = self.fb.texture(0).read_u8()?;
+        let rgba = self.fb.only_texture().read_u8()?;
         let mut out = image::RgbImage::new(w, h);
         for (y, row) in rgba.chunks_exact(4 * w as usize).enumerate() {
             let out_y = h - 1 - y as u32;

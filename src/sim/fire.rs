@@ -117,10 +117,9 @@ pub struct FireSim {
     substeps: u32,
 }
 
-/// Index of the position texture in the state.
-pub const POSITION: usize = 0;
-/// Index of the velocity texture in the state.
-pub const VELOCITY: usize = 1;
+/// The fire's state attachments: position (xyz, remaining life) and velocity (xyz, remaining
+/// wait), by the names the particle state uses.
+pub use super::state::{POSITION, VELOCITY};
 
 impl FireSim {
     /// Makes a `width`×`height` state (one particle per texel) and draws the initial state.
@@ -138,7 +137,7 @@ impl FireSim {
         let state = PingPong::new(
             ctx,
             "fire",
-            &["position", "velocity"],
+            &[POSITION, VELOCITY],
             &[TextureFormat::Rgba32F, TextureFormat::Rgba32F],
             width,
             height,

@@ -11,6 +11,7 @@ pub mod nonfinite;
 pub mod particles;
 pub mod reference;
 mod simulation;
+pub mod state;
 mod user_glsl;
 
 pub use fields::{DistanceField, FlowField, HeightField};

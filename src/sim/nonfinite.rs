@@ -207,12 +207,12 @@ impl NonFiniteCounter {
         for pair in self.levels.windows(2) {
             let (src, dst) = (&pair[0], &pair[1]);
             self.sum.bind();
-            self.sum.textures(&[("u_src", src.texture(0).into())]);
+            self.sum.textures(&[("u_src", src.only_texture().into())]);
             self.sum
                 .set_ivec2("u_src_size", src.width() as i32, src.height() as i32);
             self.pass.draw(&self.sum, dst);
         }
-        let last = self.levels[self.levels.len() - 1].texture(0);
+        let last = self.levels[self.levels.len() - 1].only_texture();
         let texels = last.read_f32()?;
         let mut c = NonFiniteCount::default();
         for t in texels.chunks_exact(4) {

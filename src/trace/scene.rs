@@ -12,6 +12,7 @@ use crate::error::{Error, Result};
 use crate::gl::{Context, Texture};
 use crate::output::{write_atomic, write_png_atomic};
 use crate::scene::SceneFile;
+use crate::sim::state::POSITION;
 use crate::sim::FireSim;
 
 /// The largest state texture side a scene trace draws (256×256 particles: pictures of 512×512
@@ -382,8 +383,8 @@ fn trace_sort(e: &mut ParticleEngine, r: &mut Recorder<'_>) -> Result<()> {
         }
     }
     if let Some(sorted) = e.sorted() {
-        let p = sorted.texture(0).read_f32()?;
-        let sz = size_of(sorted.texture(0));
+        let p = sorted.texture(POSITION).read_f32()?;
+        let sz = size_of(sorted.texture(POSITION));
         let shots = vec![r.positions("sorted position", &p, sz)];
         r.pass(
             "gather (`glsl/sort/rearrange.frag`)",

@@ -28,6 +28,7 @@ use crate::engine::{timed, Engine, GpuEngine, ParticleEngine};
 use crate::error::{Error, Result};
 use crate::gl::{Blend, BlendComponent, BlendFactor, Context, Framebuffer, Texture, TextureDesc};
 use crate::scene::{DrawOrder, SceneFile};
+use crate::sim::state::{POSITION, STATIC};
 use crate::sim::{FireSim, Simulation};
 
 mod phases;
@@ -389,9 +390,13 @@ fn particles(
         let t = timed(timer, || {
             r.clear(target);
             match &sort {
-                Some((_, sorted, ..)) => {
-                    r.draw(target, sorted.texture(0), sorted.texture(1), camera, count)
-                }
+                Some((_, sorted, ..)) => r.draw(
+                    target,
+                    sorted.texture(POSITION),
+                    sorted.texture(STATIC),
+                    camera,
+                    count,
+                ),
                 None => r.draw(target, sim.positions(), sim.statics(), camera, count),
             }
         })?;

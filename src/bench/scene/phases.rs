@@ -6,6 +6,7 @@ use crate::bench::stats::{FixedCost, PassTimer, WriteFloor};
 use crate::error::Result;
 use crate::gl::{Context, Framebuffer, Texture, TextureDesc, TextureFormat};
 use crate::scene::SceneFile;
+use crate::sim::state::{POSITION, STATIC};
 use crate::sim::{ParticleSim, Simulation, Stage};
 use crate::sort::{KeyMode, SortOptions, Sorter};
 
@@ -36,10 +37,13 @@ pub(super) fn bench_sort(ctx: &Context, s: &SceneFile) -> Result<Option<BenchSor
                     },
                 )
             };
-            let sorted = Framebuffer::new(
+            let sorted = Framebuffer::named(
                 ctx,
                 "bench sorted",
-                vec![tex("bench sorted position")?, tex("bench sorted static")?],
+                vec![
+                    (POSITION, tex("bench sorted position")?),
+                    (STATIC, tex("bench sorted static")?),
+                ],
             )?;
             Some((sorter, sorted, p.passes_per_frame.is_some(), false))
         }

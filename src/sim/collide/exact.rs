@@ -6,6 +6,7 @@
 use super::{Collisions, Passes, Readback};
 use crate::error::Result;
 use crate::gl::{Framebuffer, PingPong, Program, Sampled};
+use crate::sim::state::{POSITION, STATIC, VELOCITY};
 
 impl Collisions {
     /// `collisions.iterations` exact iterations; with [`record_iterations`]
@@ -42,17 +43,17 @@ impl Collisions {
             search(count);
             count.textures(&[
                 ("u_keys", g.sorter.keys().into()),
-                ("u_position", g.layout.texture(0).into()),
+                ("u_position", g.layout.texture(POSITION).into()),
             ]);
             self.pass.draw(count, counts);
             if let Some(t) = &self.tally {
-                t.add(counts.texture(0), entries as usize);
+                t.add(counts.only_texture(), entries as usize);
             }
             if self.record {
                 self.recorded.push(Readback {
-                    positions: g.layout.texture(0).read_f32()?,
-                    velocities: g.layout.texture(1).read_f32()?,
-                    partners: counts.texture(0).read_f32()?,
+                    positions: g.layout.texture(POSITION).read_f32()?,
+                    velocities: g.layout.texture(VELOCITY).read_f32()?,
+                    partners: counts.only_texture().read_f32()?,
                 });
             }
             let p = response;
@@ -61,13 +62,13 @@ impl Collisions {
             search(p);
             let mut textures: Vec<(&str, Sampled)> = vec![
                 ("u_keys", g.sorter.keys().into()),
-                ("u_position", g.layout.texture(0).into()),
-                ("u_velocity", g.layout.texture(1).into()),
-                ("u_static", g.layout.texture(2).into()),
-                ("u_counts", counts.texture(0).into()),
+                ("u_position", g.layout.texture(POSITION).into()),
+                ("u_velocity", g.layout.texture(VELOCITY).into()),
+                ("u_static", g.layout.texture(STATIC).into()),
+                ("u_counts", counts.only_texture().into()),
             ];
             if let Some(s) = &g.spin {
-                textures.push(("u_spin", s.texture(0).into()));
+                textures.push(("u_spin", s.only_texture().into()));
             }
             textures.extend(fields.iter().filter(|(n, _)| p.declares(n)).copied());
             p.textures(&textures);

@@ -29,10 +29,11 @@ use glam::{UVec3, Vec3};
 
 use crate::error::{Error, Result};
 use crate::gl::{
-    Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Sampled, Texture,
+    Attachment, Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Sampled, Texture,
     TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
 };
 use crate::scene::{self, SceneFile};
+use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
 use crate::sort::{KeyMode, SortOptions, Sorter, Variant};
 
 mod census;
@@ -42,6 +43,10 @@ mod tally;
 
 pub use census::PairCensus;
 pub use neighbours::{check_pair_forces, neighbour_passes, NeighbourReadback};
+
+/// The staggered lattice's layout: the first lattice's detection, gathered along with the state
+/// (read by the response as `u_partner2`).
+const FIRST_PARTNER: Attachment = Attachment::named("first partner");
 
 /// Most neighbours per side the detection loop is compiled for.
 pub const MAX_NEIGHBOURS: u32 = 32;
@@ -200,6 +205,99 @@ fn texture(ctx: &Context, label: &str, w: u32, h: u32, format: TextureFormat) ->
     )
 }
 
+/// The simulation's `defines` and the stage's own: the detection loop's bounds, and whether a
+/// staggered lattice's detection is gathered along.
+fn stage_defines(defines: &Defines, staggered: bool) -> Defines {
+    let mut d = defines.clone();
+    d.push(("MAX_NEIGHBOURS".into(), MAX_NEIGHBOURS.to_string()));
+    d.push(("EXACT_SCAN".into(), EXACT_SCAN.to_string()));
+    if staggered {
+        d.push(("STAGGERED".into(), "1".into()));
+    }
+    d
+}
+
+/// A framebuffer of one RGBA32F texture of `size`, both labelled `label`.
+fn single_target(ctx: &Context, label: &str, size: [u32; 2]) -> Result<Framebuffer> {
+    let [w, h] = size;
+    let t = texture(ctx, label, w, h, TextureFormat::Rgba32F)?;
+    Framebuffer::new(ctx, label, vec![t])
+}
+
+impl Grid {
+    /// The first lattice's sort, layout and detection target, or (`staggered`) the second's,
+    /// whose layout also takes the first lattice's detection along.
+    fn new(
+        ctx: &Context,
+        config: &scene::Collisions,
+        size: [u32; 2],
+        velocity_format: TextureFormat,
+        staggered: bool,
+    ) -> Result<Grid> {
+        let lattice = Lattice::of(config, staggered);
+        let cells = lattice.dims.x as u64 * lattice.dims.y as u64 * lattice.dims.z as u64;
+        if cells > 1 << 24 {
+            return Err(Error::InvalidInput(format!(
+                "the collision lattice has {cells} cells; cell keys are exact floats only up \
+                 to 2^24: use a larger cell or smaller bounds"
+            )));
+        }
+        let [w, h] = size;
+        let name = if staggered { "staggered" } else { "lattice" };
+        let rgba =
+            |what: &str| texture(ctx, &format!("{name} {what}"), w, h, TextureFormat::Rgba32F);
+        let mut layout = vec![
+            (POSITION, rgba("position")?),
+            (
+                VELOCITY,
+                texture(ctx, &format!("{name} velocity"), w, h, velocity_format)?,
+            ),
+            (STATIC, rgba("static")?),
+        ];
+        if staggered {
+            layout.push((FIRST_PARTNER, rgba("first partner")?));
+        }
+        // The spin in a framebuffer of its own: a gather takes at most four textures.
+        let spin = match config.spin {
+            true => Some(single_target(ctx, &format!("{name} spin"), size)?),
+            false => None,
+        };
+        let exact = config.detection == scene::Detection::Exact;
+        let options = SortOptions {
+            rows: if exact { None } else { config.rows_only },
+            ..Default::default()
+        };
+        Ok(Grid {
+            lattice,
+            spin,
+            sorter: Sorter::new(ctx, Variant::Packed, w, h, options)?,
+            layout: Framebuffer::named(ctx, &format!("{name} layout"), layout)?,
+            partner: single_target(ctx, &format!("{name} partner"), size)?,
+        })
+    }
+}
+
+impl Passes {
+    /// The programs and the intermediate target of the exact detection, or of UberFlow's.
+    fn new(ctx: &Context, exact: bool, size: [u32; 2], d: &Defines) -> Result<Self> {
+        let program = |fragment: &str| Program::new(ctx, FULLSCREEN_VERTEX, fragment, d);
+        Ok(if exact {
+            Passes::Exact {
+                counts: single_target(ctx, "partner counts", size)?,
+                count: program("collide/exact_count.frag")?,
+                response: program("collide/exact_response.frag")?,
+            }
+        } else {
+            Passes::Uberflow {
+                raw: single_target(ctx, "detection", size)?,
+                detect: program("collide/detect.frag")?,
+                mutual: program("collide/mutual.frag")?,
+                response: program("collide/response.frag")?,
+            }
+        })
+    }
+}
+
 impl Collisions {
     /// Builds the stage for `scene` (which has a `[collisions]` section); `defines` are the
     /// simulation's, so the response pass applies the same colliders and precision.
@@ -214,117 +312,17 @@ impl Collisions {
                 "the scene has no [collisions] section".into(),
             ));
         };
-        let [w, h] = scene.particles.size;
+        let size = scene.particles.size;
         let exact = config.detection == scene::Detection::Exact;
-        let options = SortOptions {
-            rows: if exact { None } else { config.rows_only },
-            ..Default::default()
-        };
-        let grid = |staggered: bool, extra: bool| -> Result<Grid> {
-            let lattice = Lattice::of(&config, staggered);
-            let cells = lattice.dims.x as u64 * lattice.dims.y as u64 * lattice.dims.z as u64;
-            if cells > 1 << 24 {
-                return Err(Error::InvalidInput(format!(
-                    "the collision lattice has {cells} cells; cell keys are exact floats only up \
-                     to 2^24: use a larger cell or smaller bounds"
-                )));
-            }
-            let name = if staggered { "staggered" } else { "lattice" };
-            let mut textures = vec![
-                texture(
-                    ctx,
-                    &format!("{name} position"),
-                    w,
-                    h,
-                    TextureFormat::Rgba32F,
-                )?,
-                texture(ctx, &format!("{name} velocity"), w, h, velocity_format)?,
-                texture(ctx, &format!("{name} static"), w, h, TextureFormat::Rgba32F)?,
-            ];
-            if extra {
-                textures.push(texture(
-                    ctx,
-                    &format!("{name} first partner"),
-                    w,
-                    h,
-                    TextureFormat::Rgba32F,
-                )?);
-            }
-
-            // The spin in a framebuffer of its own: a gather takes at most four textures.
-            let spin = match config.spin {
-                true => Some(Framebuffer::new(
-                    ctx,
-                    &format!("{name} spin"),
-                    vec![texture(
-                        ctx,
-                        &format!("{name} spin"),
-                        w,
-                        h,
-                        TextureFormat::Rgba32F,
-                    )?],
-                )?),
-                false => None,
-            };
-            Ok(Grid {
-                lattice,
-                spin,
-                sorter: Sorter::new(ctx, Variant::Packed, w, h, options)?,
-                layout: Framebuffer::new(ctx, &format!("{name} layout"), textures)?,
-                partner: Framebuffer::new(
-                    ctx,
-                    &format!("{name} partner"),
-                    vec![texture(
-                        ctx,
-                        &format!("{name} partner"),
-                        w,
-                        h,
-                        TextureFormat::Rgba32F,
-                    )?],
-                )?,
-            })
-        };
-        let first = grid(false, false)?;
+        let first = Grid::new(ctx, &config, size, velocity_format, false)?;
         let second = if config.staggered && !exact {
-            Some(grid(true, true)?)
+            Some(Grid::new(ctx, &config, size, velocity_format, true)?)
         } else {
             None
         };
-        let mut d = defines.clone();
-        d.push(("MAX_NEIGHBOURS".into(), MAX_NEIGHBOURS.to_string()));
-        d.push(("EXACT_SCAN".into(), EXACT_SCAN.to_string()));
-        if second.is_some() {
-            d.push(("STAGGERED".into(), "1".into()));
-        }
-        let passes = if exact {
-            Passes::Exact {
-                counts: Framebuffer::new(
-                    ctx,
-                    "partner counts",
-                    vec![texture(
-                        ctx,
-                        "partner counts",
-                        w,
-                        h,
-                        TextureFormat::Rgba32F,
-                    )?],
-                )?,
-                count: Program::new(ctx, FULLSCREEN_VERTEX, "collide/exact_count.frag", &d)?,
-                response: Program::new(ctx, FULLSCREEN_VERTEX, "collide/exact_response.frag", &d)?,
-            }
-        } else {
-            Passes::Uberflow {
-                raw: Framebuffer::new(
-                    ctx,
-                    "detection",
-                    vec![texture(ctx, "detection", w, h, TextureFormat::Rgba32F)?],
-                )?,
-                detect: Program::new(ctx, FULLSCREEN_VERTEX, "collide/detect.frag", &d)?,
-                mutual: Program::new(ctx, FULLSCREEN_VERTEX, "collide/mutual.frag", &d)?,
-                response: Program::new(ctx, FULLSCREEN_VERTEX, "collide/response.frag", &d)?,
-            }
-        };
-        let stage = Collisions {
+        let d = stage_defines(defines, second.is_some());
+        let passes = Passes::new(ctx, exact, size, &d)?;
+        Ok(Collisions {
             passes,
             neighbours: neighbours::Neighbours::new(ctx, scene, defines)?,
             copy: Program::new(ctx, FULLSCREEN_VERTEX, "collide/copy.frag", &d)?,
@@ -333,7 +331,7 @@ impl Collisions {
             config,
             first,
             second,
-            width: w,
+            width: size[0],
             dt: scene.time.dt,
             record: false,
             recorded: Vec::new(),
@@ -342,8 +340,7 @@ impl Collisions {
             } else {
                 None
             },
-        };
-        Ok(stage)
+        })
     }
 
     /// Exact searches that walked a run of three cells past [`EXACT_SCAN`] particles (and so
@@ -387,7 +384,7 @@ impl Collisions {
         self.pass.draw(p, raw);
         let m = mutual;
         m.bind();
-        m.textures(&[("u_partner", raw.texture(0).into())]);
+        m.textures(&[("u_partner", raw.only_texture().into())]);
         m.set_i32("u_width", self.width as i32);
         self.pass.draw(m, out);
     }
@@ -399,14 +396,18 @@ impl Collisions {
         let front = state.front();
         let g = &mut self.first;
         g.sorter
-            .write_keys(front.texture(0), count, &g.lattice.mode(), true)?;
+            .write_keys(front.texture(POSITION), count, &g.lattice.mode(), true)?;
         g.sorter.sort();
         g.sorter.gather(
-            &[front.texture(0), front.texture(1), statics.texture(0)],
+            &[
+                front.texture(POSITION),
+                front.texture(VELOCITY),
+                statics.texture(STATIC),
+            ],
             &g.layout,
         )?;
         match &g.spin {
-            Some(spin) => g.sorter.gather(&[front.texture(2)], spin),
+            Some(spin) => g.sorter.gather(&[front.texture(SPIN)], spin),
             None => Ok(()),
         }
     }
@@ -416,7 +417,7 @@ impl Collisions {
     fn copy_statics(&self, layout: &Framebuffer, statics: &Framebuffer) {
         let c = &self.copy;
         c.bind();
-        c.textures(&[("u_source", layout.texture(2).into())]);
+        c.textures(&[("u_source", layout.texture(STATIC).into())]);
         self.pass.draw(c, statics);
     }
 
@@ -443,28 +444,28 @@ impl Collisions {
         }
         let count = self.width as usize * state.height() as usize;
         self.sort_first(state, statics)?;
-        self.detect_into(self.first.layout.texture(0), &self.first.partner);
+        self.detect_into(self.first.layout.texture(POSITION), &self.first.partner);
         // Staggered lattice: sort the gathered state again, taking the first detection along.
         if let Some(g2) = &mut self.second {
             let a = &self.first.layout;
             g2.sorter
-                .write_keys(a.texture(0), count, &g2.lattice.mode(), true)?;
+                .write_keys(a.texture(POSITION), count, &g2.lattice.mode(), true)?;
             g2.sorter.sort();
             g2.sorter.gather(
                 &[
-                    a.texture(0),
-                    a.texture(1),
-                    a.texture(2),
-                    self.first.partner.texture(0),
+                    a.texture(POSITION),
+                    a.texture(VELOCITY),
+                    a.texture(STATIC),
+                    self.first.partner.only_texture(),
                 ],
                 &g2.layout,
             )?;
             if let (Some(from), Some(to)) = (&self.first.spin, &g2.spin) {
-                g2.sorter.gather(&[from.texture(0)], to)?;
+                g2.sorter.gather(&[from.only_texture()], to)?;
             }
         }
         if let Some(g2) = &self.second {
-            self.detect_into(g2.layout.texture(0), &g2.partner);
+            self.detect_into(g2.layout.texture(POSITION), &g2.partner);
         }
         // Response in the last layout.
         let (own, partner) = match &self.second {
@@ -479,18 +480,18 @@ impl Collisions {
         // Every sampler named on this draw: the gathers above bind their own textures, and
         // nothing they leave is read here.
         let mut textures: Vec<(&str, Sampled)> = vec![
-            ("u_position", own.texture(0).into()),
-            ("u_velocity", own.texture(1).into()),
-            ("u_static", own.texture(2).into()),
-            ("u_partner", partner.texture(0).into()),
+            ("u_position", own.texture(POSITION).into()),
+            ("u_velocity", own.texture(VELOCITY).into()),
+            ("u_static", own.texture(STATIC).into()),
+            ("u_partner", partner.only_texture().into()),
         ];
         if self.second.is_some() {
             let a = &self.first.layout;
             textures.extend([
-                ("u_partner2", own.texture(3).into()),
-                ("u_position2", a.texture(0).into()),
-                ("u_velocity2", a.texture(1).into()),
-                ("u_static2", a.texture(2).into()),
+                ("u_partner2", own.texture(FIRST_PARTNER).into()),
+                ("u_position2", a.texture(POSITION).into()),
+                ("u_velocity2", a.texture(VELOCITY).into()),
+                ("u_static2", a.texture(STATIC).into()),
             ]);
         }
         // Spinning spheres: this layout's spin, and with the staggered lattice the first's.
@@ -499,10 +500,10 @@ impl Collisions {
             None => (self.first.spin.as_ref(), None),
         };
         if let Some(s) = spin {
-            textures.push(("u_spin", s.texture(0).into()));
+            textures.push(("u_spin", s.only_texture().into()));
         }
         if let Some(s) = spin2 {
-            textures.push(("u_spin2", s.texture(0).into()));
+            textures.push(("u_spin2", s.only_texture().into()));
         }
         textures.extend(fields.iter().filter(|(n, _)| p.declares(n)).copied());
         p.textures(&textures);
@@ -528,12 +529,12 @@ impl Collisions {
         grid.map(|g| {
             let partners = match (&self.passes, self.neighbour_counts()?) {
                 (_, Some(counts)) => counts,
-                (Passes::Exact { counts, .. }, None) => counts.texture(0).read_f32()?,
-                (Passes::Uberflow { .. }, None) => g.partner.texture(0).read_f32()?,
+                (Passes::Exact { counts, .. }, None) => counts.only_texture().read_f32()?,
+                (Passes::Uberflow { .. }, None) => g.partner.only_texture().read_f32()?,
             };
             Ok(Readback {
-                positions: g.layout.texture(0).read_f32()?,
-                velocities: g.layout.texture(1).read_f32()?,
+                positions: g.layout.texture(POSITION).read_f32()?,
+                velocities: g.layout.texture(VELOCITY).read_f32()?,
                 partners,
             })
         })

@@ -23,6 +23,7 @@ use crate::gl::{
     Context, Defines, Framebuffer, PingPong, Program, Sampled, TextureFormat, FULLSCREEN_VERTEX,
 };
 use crate::scene::{self, SceneFile, PAIR_SIGNATURE};
+use crate::sim::state::{POSITION, STATIC, VELOCITY};
 use crate::sim::user_glsl::{source_key, user_compile_error};
 
 /// The force pass, the velocity pass and the force texture.
@@ -211,9 +212,9 @@ impl Collisions {
         let g = &self.first;
         let dims = g.lattice.dims;
         let own = [
-            ("u_position", g.layout.texture(0).into()),
-            ("u_velocity", g.layout.texture(1).into()),
-            ("u_static", g.layout.texture(2).into()),
+            ("u_position", g.layout.texture(POSITION).into()),
+            ("u_velocity", g.layout.texture(VELOCITY).into()),
+            ("u_static", g.layout.texture(STATIC).into()),
         ];
         let p = &n.sum;
         p.bind();
@@ -240,7 +241,7 @@ impl Collisions {
         set_constants(a);
         a.set_f32("u_dt", dt);
         let mut textures: Vec<(&str, Sampled)> = own.to_vec();
-        textures.push(("u_force", n.force.texture(0).into()));
+        textures.push(("u_force", n.force.only_texture().into()));
         a.textures(&textures);
         self.pass.draw(a, state.back());
         state.swap();
@@ -256,10 +257,10 @@ impl Collisions {
         };
         let l = &self.first.layout;
         Ok(Some(NeighbourReadback {
-            positions: l.texture(0).read_f32()?,
-            velocities: l.texture(1).read_f32()?,
-            statics: l.texture(2).read_f32()?,
-            forces: n.force.texture(0).read_f32()?,
+            positions: l.texture(POSITION).read_f32()?,
+            velocities: l.texture(VELOCITY).read_f32()?,
+            statics: l.texture(STATIC).read_f32()?,
+            forces: n.force.only_texture().read_f32()?,
         }))
     }
 
@@ -269,7 +270,7 @@ impl Collisions {
     pub(super) fn neighbour_counts(&self) -> Result<Option<Vec<f32>>> {
         match &self.neighbours {
             Some(n) if n.replaces_impulse() => {
-                let f = n.force.texture(0).read_f32()?;
+                let f = n.force.only_texture().read_f32()?;
                 Ok(Some(
                     f.chunks(4).flat_map(|t| [t[3], 0.0, -1.0, 0.0]).collect(),
                 ))

@@ -71,6 +71,6 @@ impl TruncationTally {
 
     /// The count so far (one read-back of one texel).
     pub(super) fn total(&self) -> Result<u64> {
-        Ok(self.target.texture(0).read_f32()?[0].round() as u64)
+        Ok(self.target.only_texture().read_f32()?[0].round() as u64)
     }
 }

@@ -28,6 +28,7 @@ use crate::gl::{
     Texture3D, TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
 };
 use crate::scene::{Integrator, SceneFile, Simulation};
+use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
 pub use custom::check_custom_forces;
 pub use features::{Emission, Features};
 pub use stateless::ClosedForm;
@@ -389,14 +390,14 @@ impl ParticleSim {
         p.optional(|| p.set_f32("u_time_prev", prev));
         // Orbiting spheres: where they are at the end of this step.
         relax::move_spheres(p, &self.scene, self.time + self.scene.time.dt as f64);
-        let statics = ("u_static", self.statics.texture(0).into());
+        let statics = ("u_static", self.statics.texture(STATIC).into());
         match &mut self.state {
             State::Explicit(pp) if self.stateless.is_some() => {
                 if let Some(sl) = &self.stateless {
                     sl.draw(
                         &self.pass,
                         pp.back(),
-                        self.statics.texture(0),
+                        self.statics.texture(STATIC),
                         [self.time as f32, next],
                         rows,
                     );
@@ -405,33 +406,33 @@ impl ParticleSim {
             }
             State::Explicit(pp) => {
                 let mut own = vec![
-                    ("u_position", pp.front().texture(0).into()),
-                    ("u_velocity", pp.front().texture(1).into()),
+                    ("u_position", pp.front().texture(POSITION).into()),
+                    ("u_velocity", pp.front().texture(VELOCITY).into()),
                     statics,
                 ];
                 if self.features.spin {
-                    own.push(("u_spin", pp.front().texture(2).into()));
+                    own.push(("u_spin", pp.front().texture(SPIN).into()));
                 }
                 bind_textures(p, &own, &self.fields);
                 match &self.integrate_position {
                     None if rows > 0 => self.pass.draw_rows(p, pp.back(), 0, rows),
                     Some(q) if rows > 0 => {
                         // Latta §3.1 without MRT: the velocity first, then the position.
-                        self.pass.draw_rows(p, pp.back_single(1), 0, rows);
+                        self.pass.draw_rows(p, pp.back_single(VELOCITY), 0, rows);
                         q.bind();
                         q.set_f32("u_time", self.time as f32);
                         q.optional(|| q.set_f32("u_time_next", next));
                         let own: Vec<_> = [
-                            ("u_position", pp.front().texture(0).into()),
-                            ("u_velocity", pp.front().texture(1).into()),
-                            ("u_new_velocity", pp.back().texture(1).into()),
+                            ("u_position", pp.front().texture(POSITION).into()),
+                            ("u_velocity", pp.front().texture(VELOCITY).into()),
+                            ("u_new_velocity", pp.back().texture(VELOCITY).into()),
                             statics,
                         ]
                         .into_iter()
                         .filter(|(n, _)| q.declares(n))
                         .collect();
                         bind_textures(q, &own, &self.fields);
-                        self.pass.draw_rows(q, pp.back_single(0), 0, rows);
+                        self.pass.draw_rows(q, pp.back_single(POSITION), 0, rows);
                     }
                     _ => {}
                 }
@@ -439,8 +440,8 @@ impl ParticleSim {
             }
             State::Verlet(ring) => {
                 let own = [
-                    ("u_position", ring.current().texture(0).into()),
-                    ("u_previous", ring.previous().texture(0).into()),
+                    ("u_position", ring.current().texture(POSITION).into()),
+                    ("u_previous", ring.previous().texture(POSITION).into()),
                     statics,
                 ];
                 bind_textures(p, &own, &self.fields);

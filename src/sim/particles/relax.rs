@@ -12,6 +12,7 @@ use crate::gl::{
 };
 use crate::scene::{ConstraintKind, SceneFile};
 use crate::sim::constraints::{pin_offset, sphere_centres, Layout};
+use crate::sim::state::POSITION;
 
 /// The relaxation passes of a scene with `[constraints]`.
 pub(super) struct Relaxation {
@@ -70,7 +71,7 @@ impl Relaxation {
     pub(super) fn place(&self, ring: &Ring3) -> Result<()> {
         let x = self.layout.initial_positions();
         for side in ring.roles() {
-            side.texture(0).upload_f32(&x)?;
+            side.texture(POSITION).upload_f32(&x)?;
         }
         Ok(())
     }
@@ -90,7 +91,7 @@ impl Relaxation {
         move_spheres(p, scene, t);
         for _ in 0..self.iterations {
             let own = [
-                ("u_position", ring.current().texture(0).into()),
+                ("u_position", ring.current().texture(POSITION).into()),
                 ("u_rest", (&self.rest).into()),
             ];
             bind_textures(p, &own, fields);

@@ -4,10 +4,12 @@
 use super::{custom, state_texture, Emission, Fields, ParticleSim, State};
 use crate::error::Result;
 use crate::gl::{
-    Context, Defines, Framebuffer, PingPong, Program, Ring3, TextureFormat, FULLSCREEN_VERTEX,
+    Attachment, Context, Defines, Framebuffer, PingPong, Program, Ring3, TextureFormat,
+    FULLSCREEN_VERTEX,
 };
 use crate::scene::{Integrator, SceneFile, VelocityFormat};
 use crate::sim::fields::{DistanceField, FlowField, HeightField};
+use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
 
 use super::Features;
 
@@ -24,23 +26,20 @@ pub(super) fn state(
         State::Verlet(Ring3::new(
             ctx,
             "verlet",
-            &["position"],
+            &[POSITION],
             &[TextureFormat::Rgba32F],
             width,
             height,
         )?)
     } else {
         // Spinning spheres: a third target, (angular velocity, angle), only when asked for.
-        let (names, formats): (&[&str], &[TextureFormat]) = if features.spin {
+        let (names, formats): (&[Attachment], &[TextureFormat]) = if features.spin {
             (
-                &["position", "velocity", "spin"],
+                &[POSITION, VELOCITY, SPIN],
                 &[TextureFormat::Rgba32F, vel_format, TextureFormat::Rgba32F],
             )
         } else {
-            (
-                &["position", "velocity"],
-                &[TextureFormat::Rgba32F, vel_format],
-            )
+            (&[POSITION, VELOCITY], &[TextureFormat::Rgba32F, vel_format])
         };
         let pp = PingPong::new(ctx, "particles", names, formats, width, height)?;
         State::Explicit(if features.separate() {
@@ -137,16 +136,13 @@ pub(super) fn verlet_start(
 
 /// The framebuffer of the static texture, one RGBA float texel per particle.
 pub(super) fn statics(ctx: &Context, width: u32, height: u32) -> Result<Framebuffer> {
-    Framebuffer::new(
+    Framebuffer::named(
         ctx,
         "static",
-        vec![state_texture(
-            ctx,
-            "static",
-            width,
-            height,
-            TextureFormat::Rgba32F,
-        )?],
+        vec![(
+            STATIC,
+            state_texture(ctx, "static", width, height, TextureFormat::Rgba32F)?,
+        )],
     )
 }
 

@@ -4,20 +4,21 @@ use super::{bind_textures, state_texture, ParticleSim, State};
 use crate::error::{Error, Result};
 use crate::gl::{Framebuffer, Texture, TextureFormat};
 use crate::sim::fields::HeightField;
+use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
 
 impl ParticleSim {
     /// The current positions (xyz, remaining life).
     pub fn positions(&self) -> &Texture {
         match &self.state {
-            State::Explicit(pp) => pp.front().texture(0),
-            State::Verlet(ring) => ring.current().texture(0),
+            State::Explicit(pp) => pp.front().texture(POSITION),
+            State::Verlet(ring) => ring.current().texture(POSITION),
         }
     }
 
     /// The current velocities (explicit integrators only).
     pub fn velocities(&self) -> Option<&Texture> {
         match &self.state {
-            State::Explicit(pp) => Some(pp.front().texture(1)),
+            State::Explicit(pp) => Some(pp.front().texture(VELOCITY)),
             State::Verlet { .. } => None,
         }
     }
@@ -26,7 +27,7 @@ impl ParticleSim {
     /// the angle about z (rad, in (-π, π]).
     pub fn spins(&self) -> Option<&Texture> {
         match &self.state {
-            State::Explicit(pp) if self.features.spin => Some(pp.front().texture(2)),
+            State::Explicit(pp) if self.features.spin => Some(pp.front().texture(SPIN)),
             _ => None,
         }
     }
@@ -58,7 +59,7 @@ impl ParticleSim {
     pub fn previous(&self) -> Option<&Texture> {
         match &self.state {
             State::Explicit(_) => None,
-            State::Verlet(ring) => Some(ring.previous().texture(0)),
+            State::Verlet(ring) => Some(ring.previous().texture(POSITION)),
         }
     }
 
@@ -69,7 +70,7 @@ impl ParticleSim {
 
     /// The static texture (birth time or phase, type, total life, random number).
     pub fn statics(&self) -> &Texture {
-        self.statics.texture(0)
+        self.statics.texture(STATIC)
     }
 
     /// The state framebuffer being read now (positions and, for explicit integrators,
@@ -127,19 +128,19 @@ impl ParticleSim {
                 self.width, self.height
             )));
         }
-        self.statics.texture(0).upload_f32(statics)?;
+        self.statics.texture(STATIC).upload_f32(statics)?;
         if let Some(sl) = &self.stateless {
             // The start values a stateless step computes from.
-            sl.start.texture(0).upload_f32(positions)?;
-            sl.start.texture(1).upload_f32(velocities)?;
+            sl.start.texture(POSITION).upload_f32(positions)?;
+            sl.start.texture(VELOCITY).upload_f32(velocities)?;
         }
         match &self.state {
             State::Explicit(pp) => {
-                pp.front().texture(0).upload_f32(positions)?;
-                pp.front().texture(1).upload_f32(velocities)?;
+                pp.front().texture(POSITION).upload_f32(positions)?;
+                pp.front().texture(VELOCITY).upload_f32(velocities)?;
             }
             State::Verlet(ring) => {
-                ring.current().texture(0).upload_f32(positions)?;
+                ring.current().texture(POSITION).upload_f32(positions)?;
                 let v = state_texture(
                     &self.ctx,
                     "start velocity",
@@ -151,9 +152,9 @@ impl ParticleSim {
                 let p = self.start.as_ref().expect("Verlet has a start program");
                 p.bind();
                 let own = [
-                    ("u_position", ring.current().texture(0).into()),
+                    ("u_position", ring.current().texture(POSITION).into()),
                     ("u_velocity", (&v).into()),
-                    ("u_static", self.statics.texture(0).into()),
+                    ("u_static", self.statics.texture(STATIC).into()),
                 ];
                 bind_textures(p, &own, &self.fields);
                 self.pass.draw(p, ring.previous());

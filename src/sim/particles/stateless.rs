@@ -10,6 +10,7 @@ use crate::error::Result;
 use crate::gl::{Context, Defines, Framebuffer, Program, Texture, TextureDesc, TextureFormat};
 use crate::gl::{FullscreenPass, FULLSCREEN_VERTEX};
 use crate::scene::{SceneFile, WindForm};
+use crate::sim::state::{POSITION, VELOCITY};
 
 /// The motion a stateless scene may have, `a = A - lambda v` with `A = g + k w` and
 /// `lambda = c + k` (gravity g, damping rate c, a constant wind w with drag k; for Latta's form
@@ -97,10 +98,13 @@ impl Stateless {
                 },
             )
         };
-        let start = Framebuffer::new(
+        let start = Framebuffer::named(
             ctx,
             "start",
-            vec![texture("start position")?, texture("start velocity")?],
+            vec![
+                (POSITION, texture("start position")?),
+                (VELOCITY, texture("start velocity")?),
+            ],
         )?;
         Ok(Stateless { program, start })
     }
@@ -121,8 +125,8 @@ impl Stateless {
         p.set_f32("u_time", time);
         p.optional(|| p.set_f32("u_time_next", time_next));
         let own = [
-            ("u_position", self.start.texture(0).into()),
-            ("u_velocity", self.start.texture(1).into()),
+            ("u_position", self.start.texture(POSITION).into()),
+            ("u_velocity", self.start.texture(VELOCITY).into()),
             ("u_static", statics.into()),
         ];
         let own: Vec<_> = own.into_iter().filter(|(n, _)| p.declares(n)).collect();

@@ -119,7 +119,7 @@ impl Sorter {
             p.set_i32("u_id_table_width", t.width() as i32);
         }
         if rekey {
-            textures.push(("u_sorted", self.state.front().texture(0).into()));
+            textures.push(("u_sorted", self.state.front().only_texture().into()));
         }
         if let (true, Some(t)) = (age, statics) {
             textures.push(("u_static", t.into()));

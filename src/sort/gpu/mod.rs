@@ -321,7 +321,7 @@ impl Sorter {
     }
     /// The texture holding the entries now (RG32F, or RGBA32F packed).
     pub fn keys(&self) -> &Texture {
-        self.state.front().texture(0)
+        self.state.front().only_texture()
     }
     /// The framebuffer the next pass writes (for floors in benchmarks): for the blocked
     /// variant, the layers its network passes write.
@@ -400,7 +400,7 @@ impl Sorter {
         } else {
             entries.iter().flat_map(|e| [e[0], e[1]]).collect()
         };
-        self.state.front().texture(0).upload_f32(&flat)?;
+        self.state.front().only_texture().upload_f32(&flat)?;
         self.next = 0;
         Ok(())
     }
@@ -456,11 +456,11 @@ impl Sorter {
 
     fn run_pass(&mut self, index: usize) {
         if let (Some(b), Pass::Blocked(i)) = (self.blocked.as_mut(), &self.passes[index]) {
-            b.run(*i, self.state.front().texture(0), &self.fullscreen);
+            b.run(*i, self.state.front().only_texture(), &self.fullscreen);
             return;
         }
         let w = self.width as i32;
-        let front = self.state.front().texture(0);
+        let front = self.state.front().only_texture();
         let keys = [("u_keys", Sampled::from(front))];
         match &self.passes[index] {
             Pass::Fragment(step) => {

@@ -843,6 +843,12 @@ fn no_function_over_100_lines() {
         let n = all.iter().filter(|f| f.2 > limit).count();
         eprintln!("functions over {limit} lines: {n}");
     }
+    // The longest, to split next (shown with --nocapture).
+    let mut longest: Vec<_> = all.iter().filter(|f| f.2 > 80).collect();
+    longest.sort_by_key(|f| std::cmp::Reverse(f.2));
+    for (f, n, l) in longest {
+        eprintln!("  src/{f}: fn {n} ({l} lines)");
+    }
     let long: Vec<String> = all
         .iter()
         .filter(|f| f.2 > 100)

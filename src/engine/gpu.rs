@@ -65,27 +65,18 @@ struct SortStage {
     ordered_at: Option<u64>,
 }
 
-impl<S: Simulation> GpuEngine<S> {
-    /// Validates the scene against the device and builds everything.
-    pub fn new(ctx: &Context, scene: &crate::scene::SceneFile, seed: u64) -> Result<Self> {
+impl SortStage {
+    /// The sort `scene`'s blending needs (none but for alpha blending) and the textures it
+    /// gathers into: those `renderer` draws from.
+    fn new(
+        ctx: &Context,
+        scene: &crate::scene::SceneFile,
+        renderer: &crate::render::ParticleRenderer,
+    ) -> Result<Option<Self>> {
         use crate::gl::{Framebuffer, Texture, TextureDesc, TextureFormat};
         use crate::scene::DrawOrder;
-        let [rw, rh] = scene.render.resolution;
-        crate::gl::check_size(ctx, "frame (render.resolution)", rw, rh)?;
-        let sim = S::from_scene(ctx, scene, shader_seed(seed))?;
         let [w, h] = scene.particles.size;
-        let style = crate::render::ParticleStyle::from_scene(scene);
-        let mut renderer = crate::render::ParticleRenderer::new(ctx, style, w, h)?;
-        if scene.render.geometry {
-            let terrain = sim.height_field().map(|f| crate::render::Terrain {
-                extent: f.extent(),
-                size: f.resolution(),
-                texels: f.texels(),
-            });
-            let mesh = crate::render::Mesh::of_scene(scene, terrain.as_ref())?;
-            renderer.set_geometry(crate::render::GeometryRenderer::new(ctx, &mesh)?);
-        }
-        let sort = match crate::engine::plan::sort_plan(scene) {
+        Ok(match crate::engine::plan::sort_plan(scene) {
             None => None,
             Some(p) => {
                 // fp24 scenes sort as on the 2004 hardware: 24-bit floats with the paper's
@@ -133,7 +124,29 @@ impl<S: Simulation> GpuEngine<S> {
                     ordered_at: None,
                 })
             }
-        };
+        })
+    }
+}
+
+impl<S: Simulation> GpuEngine<S> {
+    /// Validates the scene against the device and builds everything.
+    pub fn new(ctx: &Context, scene: &crate::scene::SceneFile, seed: u64) -> Result<Self> {
+        let [rw, rh] = scene.render.resolution;
+        crate::gl::check_size(ctx, "frame (render.resolution)", rw, rh)?;
+        let sim = S::from_scene(ctx, scene, shader_seed(seed))?;
+        let [w, h] = scene.particles.size;
+        let style = crate::render::ParticleStyle::from_scene(scene);
+        let mut renderer = crate::render::ParticleRenderer::new(ctx, style, w, h)?;
+        if scene.render.geometry {
+            let terrain = sim.height_field().map(|f| crate::render::Terrain {
+                extent: f.extent(),
+                size: f.resolution(),
+                texels: f.texels(),
+            });
+            let mesh = crate::render::Mesh::of_scene(scene, terrain.as_ref())?;
+            renderer.set_geometry(crate::render::GeometryRenderer::new(ctx, &mesh)?);
+        }
+        let sort = SortStage::new(ctx, scene, &renderer)?;
         let camera = crate::render::Camera::from(&scene.render.camera);
         Ok(GpuEngine {
             target: if scene.render.geometry {

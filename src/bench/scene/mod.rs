@@ -2,9 +2,9 @@
 //! ([`crate::engine::plan`]) timed alone, next to its floor measured in the same run, and the
 //! whole frame's fps and particles per second.
 //!
-//! The phases, for the particle pipeline ([`Engine`]): births and integration (one
-//! [`ParticleSim::step_without_collisions`](crate::sim::ParticleSim::step_without_collisions)),
-//! the collision stage ([`ParticleSim::collide`](crate::sim::ParticleSim::collide)), for alpha
+//! The phases, for the particle pipeline ([`ParticleEngine`]): each stage of a step, from the
+//! simulation's own pass list ([`Simulation::passes`], each run alone by
+//! [`Simulation::run`]: births, integration, relaxation, the collision stage), for alpha
 //! blending the sort's key pass, its network and the gather (a [`Sorter`](crate::sort::Sorter) built from the same
 //! [`crate::engine::plan::sort_plan`] as the engine's, fed the simulation's positions), and the
 //! render pass (clear and points, or sprites). For the fire ([`FireSim`]): its simulation

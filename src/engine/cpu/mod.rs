@@ -91,27 +91,7 @@ impl CpuEngine {
     /// The CPU simulation of `scene` and the GL objects to draw it on `ctx`.
     pub fn new(ctx: &Context, scene: &SceneFile, seed: u64) -> Result<Self> {
         let sim = CpuSim::new(scene, seed)?;
-        if scene.render.mode == DrawMode::Sprites {
-            return Err(unsupported(scene, "sprites (it draws points)"));
-        }
-        if scene.render.primitive != crate::scene::DrawPrimitive::Points {
-            return Err(unsupported(scene, "quads and triangles (it draws points)"));
-        }
-        if scene.render.geometry {
-            return Err(unsupported(scene, "render.geometry (it draws points only)"));
-        }
-        if scene.emitters.all().any(|e| e.size_range.is_some()) {
-            return Err(unsupported(
-                scene,
-                "size_range (it draws points of one size)",
-            ));
-        }
-        if scene.emitters.all().any(|e| !e.keyframes.is_empty()) {
-            return Err(unsupported(
-                scene,
-                "keyframes per emitter (it draws one set)",
-            ));
-        }
+        drawable(scene)?;
         let [rw, rh] = scene.render.resolution;
         crate::gl::check_size(ctx, "frame (render.resolution)", rw, rh)?;
         let style = ParticleStyle::from_render(&scene.render, [1.0; 4]);
@@ -473,6 +453,33 @@ impl CpuEngine {
             .collect();
         (p, v)
     }
+}
+
+/// Refuses what the CPU engine's point draw does not cover (it draws points of one size, with
+/// one set of keyframes), naming it.
+fn drawable(scene: &SceneFile) -> Result<()> {
+    if scene.render.mode == DrawMode::Sprites {
+        return Err(unsupported(scene, "sprites (it draws points)"));
+    }
+    if scene.render.primitive != crate::scene::DrawPrimitive::Points {
+        return Err(unsupported(scene, "quads and triangles (it draws points)"));
+    }
+    if scene.render.geometry {
+        return Err(unsupported(scene, "render.geometry (it draws points only)"));
+    }
+    if scene.emitters.all().any(|e| e.size_range.is_some()) {
+        return Err(unsupported(
+            scene,
+            "size_range (it draws points of one size)",
+        ));
+    }
+    if scene.emitters.all().any(|e| !e.keyframes.is_empty()) {
+        return Err(unsupported(
+            scene,
+            "keyframes per emitter (it draws one set)",
+        ));
+    }
+    Ok(())
 }
 
 /// The bits of a finite float, mapped so that they order as the numbers do (negative ones too).

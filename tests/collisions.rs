@@ -378,3 +378,37 @@ fn elastic_gas_keeps_its_energy_in_both_modes() {
         );
     }
 }
+
+/// The benchmarks' pair census (`Collisions::census`) counts what the full statistics count:
+/// the same overlapping pairs, and of them the ones found, in both detection modes.
+#[test]
+fn census_agrees_with_the_full_statistics() {
+    let ctx = context();
+    for (detection, seed) in [("staggered = true", 5u32), ("detection = \"exact\"", 6)] {
+        let s = collide_scene(
+            [32, 32],
+            &format!(
+                "[collisions]\nradius = 0.05\n{detection}\n\
+                 bounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]"
+            ),
+        );
+        let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+        set(&mut sim, &random_gas(1000, seed, 0.0, 1.0));
+        sim.run(texflow::sim::Stage::Collide).unwrap();
+        let stage = sim.collisions().unwrap();
+        let census = stage.census().unwrap();
+        let stats = Snapshot::read(stage).unwrap().stats();
+        eprintln!(
+            "{detection}: {census:?}; statistics: {} pairs, {} missed",
+            stats.pairs_true, stats.missed
+        );
+        assert!(stats.pairs_true > 50, "{detection}: {stats:?}");
+        assert_eq!(census.pairs, stats.pairs_true, "{detection}");
+        assert_eq!(
+            census.found,
+            stats.pairs_true - stats.missed.min(stats.pairs_true),
+            "{detection}: {stats:?}"
+        );
+        no_gl_error(&ctx);
+    }
+}

@@ -157,81 +157,29 @@ pub fn bench_sort(
     let floor2 = WriteFloor::new(ctx, 2)?;
     let mut records = Vec::new();
     for &n in sizes {
-        let count = (n * n) as usize;
         let state = bench_state(ctx, n)?;
-        let mode = KeyMode::ViewerDistance {
-            eye: Vec3::new(0.0, 0.0, 40.0),
-            back_to_front: true,
+        let rearrange_floor = runs_of(opts.repeats, &mut || {
+            timer.time(|| floor2.draw(state.back()))
+        })?
+        .median;
+        let size = SizeRun {
+            ctx,
+            timer: &timer,
+            floor1: &floor1,
+            clock,
+            repeats: opts.repeats,
+            n,
+            state,
+            mode: KeyMode::ViewerDistance {
+                eye: Vec3::new(0.0, 0.0, 40.0),
+                back_to_front: true,
+            },
+            rearrange_floor,
         };
-        let runs_of = |f: &mut dyn FnMut() -> Result<f64>| -> Result<Spread> {
-            let mut t = Vec::with_capacity(opts.repeats);
-            for _ in 0..opts.repeats {
-                t.push(f()?);
-            }
-            Ok(Spread::of(&t))
-        };
-        let rearrange_floor = runs_of(&mut || timer.time(|| floor2.draw(state.back())))?.median;
         let mut keys_for_cpu = None;
         let runs = named_runs(variants, opts);
         for (variant, options, name) in runs {
-            let load_start = load_average();
-            let mut sorter = bench_sorter(ctx, variant, n, options)?;
-            let full = |s: &mut Sorter| -> Result<()> {
-                s.write_keys(state.front().texture(POSITION), count, &mode, false)?;
-                s.sort();
-                s.rearrange(state.front(), state.back())
-            };
-            full(&mut sorter)?; // warm-up: compiles lazily built programs, touches every buffer
-            ctx.take_draw_stats();
-            full(&mut sorter)?;
-            let draws = ctx.take_draw_stats();
-            let fetches = sorter.network_fetches() + count as u64 + 3 * count as u64;
-            if keys_for_cpu.is_none() {
-                sorter.write_keys(state.front().texture(POSITION), count, &mode, false)?;
-                keys_for_cpu = Some(sorter.read()?);
-            }
-            let spread = runs_of(&mut || {
-                let mut r = Ok(());
-                let t = timer.time(|| r = full(&mut sorter))?;
-                r.map(|_| t)
-            })?;
-            // The network's passes write the sorter's target (for the blocked variant, its
-            // layers through MRT); the key pass and the blocked unpack pass write the row-major
-            // sort texture; the rearrangement writes the two state textures.
-            let natural = runs_of(&mut || timer.time(|| floor1.draw(sorter.keys_target())))?;
-            let target = sorter.target();
-            let network_floor = if target.attachments() > 1 || target.integer() {
-                let f = WriteFloor::for_target(ctx, target)?;
-                runs_of(&mut || timer.time(|| f.draw(sorter.target())))?
-            } else {
-                natural
-            };
-            ctx.check_error("sort benchmark")?;
-            let passes = sorter.pass_count() + 2;
-            let network = sorter.network_pass_count();
-            let floor = network_floor.median * network as f64
-                + natural.median * (passes - 1 - network) as f64
-                + rearrange_floor;
-            let ms = spread.median;
-            records.push(SortRecord {
-                variant: name.clone(),
-                size: n,
-                ms,
-                fps: 1e3 / ms,
-                mtexels_per_s: count as f64 / ms * 1e-3,
-                passes,
-                floor_ms: Some(floor),
-                ratio: Some(ms / floor),
-                paper_fps: paper_table1_fps(variant, n),
-                clock,
-                repeats: opts.repeats,
-                spread,
-                floor_spread: Some(network_floor),
-                load: [load_start, load_average()],
-                flagged: spread.unreliable() || ms < 0.95 * floor,
-                draws: Some(draws),
-                fetches: Some(fetches),
-            });
+            records.push(size.record(variant, options, &name, &mut keys_for_cpu)?);
             progress(&name, n);
         }
         if let (true, Some(keys)) = (opts.cpu, keys_for_cpu) {
@@ -240,6 +188,127 @@ pub fn bench_sort(
         }
     }
     Ok(records)
+}
+
+/// The spread of `repeats` timed runs of `f`.
+fn runs_of(repeats: usize, f: &mut dyn FnMut() -> Result<f64>) -> Result<Spread> {
+    let mut t = Vec::with_capacity(repeats);
+    for _ in 0..repeats {
+        t.push(f()?);
+    }
+    Ok(Spread::of(&t))
+}
+
+/// What every sort of one size shares: the clock and floors, the state it rearranges, the key
+/// mode, and the rearrangement's floor.
+struct SizeRun<'a> {
+    ctx: &'a Context,
+    timer: &'a PassTimer,
+    floor1: &'a WriteFloor,
+    clock: Clock,
+    repeats: usize,
+    n: u32,
+    state: PingPong,
+    mode: KeyMode,
+    rearrange_floor: f64,
+}
+
+impl SizeRun<'_> {
+    /// The spread of the timed runs of `f`.
+    fn runs(&self, f: &mut dyn FnMut() -> Result<f64>) -> Result<Spread> {
+        runs_of(self.repeats, f)
+    }
+
+    /// One full sort: the key pass, the network, the rearrangement.
+    fn full(&self, s: &mut Sorter) -> Result<()> {
+        let count = (self.n * self.n) as usize;
+        s.write_keys(
+            self.state.front().texture(POSITION),
+            count,
+            &self.mode,
+            false,
+        )?;
+        s.sort();
+        s.rearrange(self.state.front(), self.state.back())
+    }
+
+    /// Times one sort (a variant with its options) against its floor; the first sort to run
+    /// also leaves its keys in `keys_for_cpu` for the CPU baselines.
+    fn record(
+        &self,
+        variant: Variant,
+        options: SortOptions,
+        name: &str,
+        keys_for_cpu: &mut Option<Vec<Entry>>,
+    ) -> Result<SortRecord> {
+        let (ctx, n) = (self.ctx, self.n);
+        let count = (n * n) as usize;
+        let load_start = load_average();
+        let mut sorter = bench_sorter(ctx, variant, n, options)?;
+        self.full(&mut sorter)?; // warm-up: compiles lazily built programs, touches every buffer
+        ctx.take_draw_stats();
+        self.full(&mut sorter)?;
+        let draws = ctx.take_draw_stats();
+        let fetches = sorter.network_fetches() + count as u64 + 3 * count as u64;
+        if keys_for_cpu.is_none() {
+            sorter.write_keys(
+                self.state.front().texture(POSITION),
+                count,
+                &self.mode,
+                false,
+            )?;
+            *keys_for_cpu = Some(sorter.read()?);
+        }
+        let spread = self.runs(&mut || {
+            let mut r = Ok(());
+            let t = self.timer.time(|| r = self.full(&mut sorter))?;
+            r.map(|_| t)
+        })?;
+        let (natural, network_floor) = self.floors(&sorter)?;
+        ctx.check_error("sort benchmark")?;
+        let passes = sorter.pass_count() + 2;
+        let network = sorter.network_pass_count();
+        let floor = network_floor.median * network as f64
+            + natural.median * (passes - 1 - network) as f64
+            + self.rearrange_floor;
+        let ms = spread.median;
+        Ok(SortRecord {
+            variant: name.to_owned(),
+            size: n,
+            ms,
+            fps: 1e3 / ms,
+            mtexels_per_s: count as f64 / ms * 1e-3,
+            passes,
+            floor_ms: Some(floor),
+            ratio: Some(ms / floor),
+            paper_fps: paper_table1_fps(variant, n),
+            clock: self.clock,
+            repeats: self.repeats,
+            spread,
+            floor_spread: Some(network_floor),
+            load: [load_start, load_average()],
+            flagged: spread.unreliable() || ms < 0.95 * floor,
+            draws: Some(draws),
+            fetches: Some(fetches),
+        })
+    }
+
+    /// The floors of one sort's passes: (the row-major sort texture's, the network's).
+    fn floors(&self, sorter: &Sorter) -> Result<(Spread, Spread)> {
+        // The network's passes write the sorter's target (for the blocked variant, its
+        // layers through MRT); the key pass and the blocked unpack pass write the row-major
+        // sort texture; the rearrangement writes the two state textures.
+        let timer = self.timer;
+        let natural = self.runs(&mut || timer.time(|| self.floor1.draw(sorter.keys_target())))?;
+        let target = sorter.target();
+        let network_floor = if target.attachments() > 1 || target.integer() {
+            let f = WriteFloor::for_target(self.ctx, target)?;
+            self.runs(&mut || timer.time(|| f.draw(sorter.target())))?
+        } else {
+            natural
+        };
+        Ok((natural, network_floor))
+    }
 }
 
 /// An n×n state of random positions (also as velocities) for the sort to rearrange.

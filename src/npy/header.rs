@@ -103,91 +103,106 @@ impl<'a> Parser<'a> {
         self.skip_ws();
         let start = self.at;
         let lit = match self.peek() {
-            Some('{') => {
-                self.at += 1;
-                let mut items = Vec::new();
-                // Python allows a trailing comma, and numpy writes one.
-                while !self.eat('}') {
-                    let key = self.value(depth + 1)?;
-                    if !self.eat(':') {
-                        return Err(self.expected("`:` after a key"));
-                    }
-                    items.push((key, self.value(depth + 1)?));
-                    if self.eat('}') {
-                        break;
-                    }
-                    if !self.eat(',') {
-                        return Err(self.expected("`,` or `}`"));
-                    }
-                }
-                Lit::Dict(items)
-            }
-            Some(open @ ('(' | '[')) => {
-                self.at += 1;
-                let close = if open == '(' { ')' } else { ']' };
-                let mut items = Vec::new();
-                while !self.eat(close) {
-                    items.push(self.value(depth + 1)?);
-                    if self.eat(close) {
-                        break;
-                    }
-                    if !self.eat(',') {
-                        return Err(self.expected(&format!("`,` or `{close}`")));
-                    }
-                }
-                if open == '(' {
-                    Lit::Tuple(items)
-                } else {
-                    Lit::List(items)
-                }
-            }
-            Some(q @ ('\'' | '"')) => {
-                self.at += 1;
-                let body = &self.s[self.at..];
-                let end = body
-                    .find(q)
-                    .ok_or_else(|| format!("a string in the header has no closing {q}"))?;
-                self.at += end + 1;
-                Lit::Str(body[..end].to_owned())
-            }
-            Some(c) if c.is_ascii_digit() || c == '-' || c == '+' => {
-                let body = &self.s[self.at..];
-                let sign = usize::from(c == '-' || c == '+');
-                let digits = body[sign..]
-                    .find(|c: char| !c.is_ascii_digit())
-                    .unwrap_or(body.len() - sign);
-                if digits == 0 {
-                    return Err(self.expected("a number"));
-                }
-                let text = &body[..sign + digits];
-                self.at += sign + digits;
-                // Python 2's long integers (`2L`), which old numpy versions wrote in shapes.
-                if matches!(self.peek(), Some('L' | 'l')) {
-                    self.at += 1;
-                }
-                Lit::Int(text.trim_start_matches('+').to_owned())
-            }
-            Some(c) if c.is_ascii_alphabetic() => {
-                let body = &self.s[self.at..];
-                let len = body
-                    .find(|c: char| !c.is_ascii_alphanumeric() && c != '_')
-                    .unwrap_or(body.len());
-                let lit = match &body[..len] {
-                    "True" => Lit::Bool(true),
-                    "False" => Lit::Bool(false),
-                    "None" => Lit::None,
-                    word => {
-                        return Err(format!(
-                            "`{word}` in the header is not a Python literal (True, False, None, a number, a string, a tuple or a list)"
-                        ))
-                    }
-                };
-                self.at += len;
-                lit
-            }
+            Some('{') => self.dict(depth)?,
+            Some(open @ ('(' | '[')) => self.sequence(open, depth)?,
+            Some(q @ ('\'' | '"')) => self.string(q)?,
+            Some(c) if c.is_ascii_digit() || c == '-' || c == '+' => self.int(c)?,
+            Some(c) if c.is_ascii_alphabetic() => self.word()?,
             _ => return Err(self.expected("a Python literal")),
         };
         Ok((lit, self.s[start..self.at].trim().to_owned()))
+    }
+
+    /// A dict after its `{`: key-value pairs up to the `}`.
+    fn dict(&mut self, depth: usize) -> Result<Lit, String> {
+        self.at += 1;
+        let mut items = Vec::new();
+        // Python allows a trailing comma, and numpy writes one.
+        while !self.eat('}') {
+            let key = self.value(depth + 1)?;
+            if !self.eat(':') {
+                return Err(self.expected("`:` after a key"));
+            }
+            items.push((key, self.value(depth + 1)?));
+            if self.eat('}') {
+                break;
+            }
+            if !self.eat(',') {
+                return Err(self.expected("`,` or `}`"));
+            }
+        }
+        Ok(Lit::Dict(items))
+    }
+
+    /// A tuple or a list, after its opening `open`.
+    fn sequence(&mut self, open: char, depth: usize) -> Result<Lit, String> {
+        self.at += 1;
+        let close = if open == '(' { ')' } else { ']' };
+        let mut items = Vec::new();
+        while !self.eat(close) {
+            items.push(self.value(depth + 1)?);
+            if self.eat(close) {
+                break;
+            }
+            if !self.eat(',') {
+                return Err(self.expected(&format!("`,` or `{close}`")));
+            }
+        }
+        Ok(if open == '(' {
+            Lit::Tuple(items)
+        } else {
+            Lit::List(items)
+        })
+    }
+
+    /// A string quoted by `q`, up to the next `q` (escapes are not read).
+    fn string(&mut self, q: char) -> Result<Lit, String> {
+        self.at += 1;
+        let body = &self.s[self.at..];
+        let end = body
+            .find(q)
+            .ok_or_else(|| format!("a string in the header has no closing {q}"))?;
+        self.at += end + 1;
+        Ok(Lit::Str(body[..end].to_owned()))
+    }
+
+    /// An integer starting with `c` (a digit or a sign).
+    fn int(&mut self, c: char) -> Result<Lit, String> {
+        let body = &self.s[self.at..];
+        let sign = usize::from(c == '-' || c == '+');
+        let digits = body[sign..]
+            .find(|c: char| !c.is_ascii_digit())
+            .unwrap_or(body.len() - sign);
+        if digits == 0 {
+            return Err(self.expected("a number"));
+        }
+        let text = &body[..sign + digits];
+        self.at += sign + digits;
+        // Python 2's long integers (`2L`), which old numpy versions wrote in shapes.
+        if matches!(self.peek(), Some('L' | 'l')) {
+            self.at += 1;
+        }
+        Ok(Lit::Int(text.trim_start_matches('+').to_owned()))
+    }
+
+    /// `True`, `False` or `None`; any other word is refused.
+    fn word(&mut self) -> Result<Lit, String> {
+        let body = &self.s[self.at..];
+        let len = body
+            .find(|c: char| !c.is_ascii_alphanumeric() && c != '_')
+            .unwrap_or(body.len());
+        let lit = match &body[..len] {
+            "True" => Lit::Bool(true),
+            "False" => Lit::Bool(false),
+            "None" => Lit::None,
+            word => {
+                return Err(format!(
+                    "`{word}` in the header is not a Python literal (True, False, None, a number, a string, a tuple or a list)"
+                ))
+            }
+        };
+        self.at += len;
+        Ok(lit)
     }
 }
 
@@ -203,50 +218,8 @@ fn clip(text: &str) -> String {
 
 /// The preamble: the format version and the header's text, and the offset of the data.
 fn preamble(path: &Path, bytes: &[u8]) -> Result<(String, usize)> {
-    if bytes.len() < MAGIC.len() || &bytes[..MAGIC.len()] != MAGIC {
-        if MAGIC.starts_with(bytes) {
-            return Err(bad(
-                path,
-                format!(
-                    "the file is truncated: it has {} bytes, not even the 6 of the .npy magic \\x93NUMPY",
-                    bytes.len()
-                ),
-            ));
-        }
-        let head: String = bytes
-            .iter()
-            .take(MAGIC.len())
-            .flat_map(|b| std::ascii::escape_default(*b))
-            .map(char::from)
-            .collect();
-        return Err(bad(
-            path,
-            format!(
-                "not a .npy file: it starts with `{head}`, a .npy file with \\x93NUMPY: save the keys with numpy.save"
-            ),
-        ));
-    }
-    let (major, minor) = match bytes.get(6..8) {
-        Some(v) => (v[0], v[1]),
-        None => {
-            return Err(bad(
-                path,
-                "the .npy file is truncated: it ends before its format version",
-            ))
-        }
-    };
-    let width = match (major, minor) {
-        (1, 0) => 2,
-        (2 | 3, 0) => 4,
-        _ => {
-            return Err(bad(
-                path,
-                format!(
-                    "unsupported .npy format version {major}.{minor}: versions 1.0, 2.0 and 3.0 are accepted"
-                ),
-            ))
-        }
-    };
+    check_magic(path, bytes)?;
+    let (major, width) = version(path, bytes)?;
     let start = 8 + width;
     let len = match bytes.get(8..start) {
         Some(&[a, b]) => u16::from_le_bytes([a, b]) as usize,
@@ -286,6 +259,60 @@ fn preamble(path: &Path, bytes: &[u8]) -> Result<(String, usize)> {
         header.iter().map(|&b| char::from(b)).collect()
     };
     Ok((text, start + len))
+}
+
+/// Refuses bytes that do not start with the .npy magic, saying what they start with.
+fn check_magic(path: &Path, bytes: &[u8]) -> Result<()> {
+    if bytes.len() < MAGIC.len() || &bytes[..MAGIC.len()] != MAGIC {
+        if MAGIC.starts_with(bytes) {
+            return Err(bad(
+                path,
+                format!(
+                    "the file is truncated: it has {} bytes, not even the 6 of the .npy magic \\x93NUMPY",
+                    bytes.len()
+                ),
+            ));
+        }
+        let head: String = bytes
+            .iter()
+            .take(MAGIC.len())
+            .flat_map(|b| std::ascii::escape_default(*b))
+            .map(char::from)
+            .collect();
+        return Err(bad(
+            path,
+            format!(
+                "not a .npy file: it starts with `{head}`, a .npy file with \\x93NUMPY: save the keys with numpy.save"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The format version's major number and the width of its header-length field.
+fn version(path: &Path, bytes: &[u8]) -> Result<(u8, usize)> {
+    let (major, minor) = match bytes.get(6..8) {
+        Some(v) => (v[0], v[1]),
+        None => {
+            return Err(bad(
+                path,
+                "the .npy file is truncated: it ends before its format version",
+            ))
+        }
+    };
+    let width = match (major, minor) {
+        (1, 0) => 2,
+        (2 | 3, 0) => 4,
+        _ => {
+            return Err(bad(
+                path,
+                format!(
+                    "unsupported .npy format version {major}.{minor}: versions 1.0, 2.0 and 3.0 are accepted"
+                ),
+            ))
+        }
+    };
+    Ok((major, width))
 }
 
 /// Parses an `.npy` file's bytes into its header and the offset of the data.

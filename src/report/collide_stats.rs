@@ -216,44 +216,9 @@ impl Snapshot {
         }
         // Lattice B's order -> lattice A's, by the positions' bits (unique in practice).
         let index_a: HashMap<_, usize> = points.iter().map(|&(i, p)| (bits(p), i)).collect();
-        let mut found: HashSet<(usize, usize)> = HashSet::new();
-        let mut mutual: HashSet<(usize, usize)> = HashSet::new();
-        // Each particle's chosen partner and distance per lattice, in A's names.
-        let mut choice: Vec<[Option<(usize, f32)>; 2]> = vec![[None, None]; n];
-        for (g, snap) in std::iter::once(a).chain(self.second.as_ref()).enumerate() {
-            let name = |i: usize| -> Option<usize> {
-                if g == 0 {
-                    Some(i)
-                } else {
-                    index_a.get(&bits(pos(&snap.positions, i))).copied()
-                }
-            };
-            for i in 0..n {
-                let raw = snap.partners[i * 4 + 3];
-                if raw < 0.0 {
-                    continue;
-                }
-                let (Some(x), Some(y)) = (name(i), name(raw as usize)) else {
-                    continue;
-                };
-                let pair = (x.min(y), x.max(y));
-                found.insert(pair);
-                if snap.partners[i * 4 + 2] > 0.5 {
-                    mutual.insert(pair);
-                    choice[x][g] = Some((y, snap.partners[i * 4 + 1]));
-                }
-            }
-        }
-        // A particle takes the closer of its two mutual partners; a conflict is a partner
-        // that took someone else.
-        let chosen: Vec<Option<usize>> = choice
-            .iter()
-            .map(|c| match (c[0], c[1]) {
-                (Some(p), Some(q)) => Some(if p.1 <= q.1 { p.0 } else { q.0 }),
-                (Some(p), None) | (None, Some(p)) => Some(p.0),
-                (None, None) => None,
-            })
-            .collect();
+        let (found, mutual, choice) = self.detected(n, &index_a);
+        // A conflict is a partner that took someone else.
+        let chosen = chosen_partners(&choice);
         let partnered = (0..n)
             .filter(|&i| true_count[i] > 0 && chosen[i].is_some())
             .count();
@@ -285,6 +250,46 @@ impl Snapshot {
 }
 
 impl Snapshot {
+    /// The pairs either lattice found (before the mutual check), the mutual ones, and each
+    /// particle's chosen partner and distance per lattice, all in the first lattice's names.
+    fn detected(
+        &self,
+        n: usize,
+        index_a: &std::collections::HashMap<Bits, usize>,
+    ) -> (PairSet, PairSet, Choices) {
+        use std::collections::HashSet;
+        let a = &self.first;
+        let mut found: HashSet<(usize, usize)> = HashSet::new();
+        let mut mutual: HashSet<(usize, usize)> = HashSet::new();
+        // Each particle's chosen partner and distance per lattice, in A's names.
+        let mut choice: Choices = vec![[None, None]; n];
+        for (g, snap) in std::iter::once(a).chain(self.second.as_ref()).enumerate() {
+            let name = |i: usize| -> Option<usize> {
+                if g == 0 {
+                    Some(i)
+                } else {
+                    index_a.get(&bits(pos(&snap.positions, i))).copied()
+                }
+            };
+            for i in 0..n {
+                let raw = snap.partners[i * 4 + 3];
+                if raw < 0.0 {
+                    continue;
+                }
+                let (Some(x), Some(y)) = (name(i), name(raw as usize)) else {
+                    continue;
+                };
+                let pair = (x.min(y), x.max(y));
+                found.insert(pair);
+                if snap.partners[i * 4 + 2] > 0.5 {
+                    mutual.insert(pair);
+                    choice[x][g] = Some((y, snap.partners[i * 4 + 1]));
+                }
+            }
+        }
+        (found, mutual, choice)
+    }
+
     /// The exact mode's statistics: its search only counts particles closer than 2r, so what it
     /// found of particle i's true partners is its count, and a pair is missed from i's side if
     /// the count falls short. `missed` counts the missing ends of pairs halved, rounded up (a
@@ -338,6 +343,24 @@ impl Snapshot {
 type Bits = (u32, u32, u32);
 
 /// A position's bits: B's order is mapped to A's by them (unique in practice).
+/// A set of pairs (i < j) of particles.
+type PairSet = std::collections::HashSet<(usize, usize)>;
+
+/// Each particle's chosen partner and its distance, per lattice.
+type Choices = Vec<[Option<(usize, f32)>; 2]>;
+
+/// Each particle's partner: the closer of its two mutual partners.
+fn chosen_partners(choice: &Choices) -> Vec<Option<usize>> {
+    choice
+        .iter()
+        .map(|c| match (c[0], c[1]) {
+            (Some(p), Some(q)) => Some(if p.1 <= q.1 { p.0 } else { q.0 }),
+            (Some(p), None) | (None, Some(p)) => Some(p.0),
+            (None, None) => None,
+        })
+        .collect()
+}
+
 fn bits(p: Vec3) -> Bits {
     (p.x.to_bits(), p.y.to_bits(), p.z.to_bits())
 }

@@ -192,6 +192,27 @@ pub fn density_plan(size: Size) -> (Vec<f32>, u64, [u32; 2]) {
 /// overlaps per particle, one curve per configuration; zero miss rates cannot be drawn on log
 /// axes and are named in the legend instead).
 pub fn write_density(points: &[DensityPoint], device: &str, out: &Path) -> Result<Vec<PathBuf>> {
+    let csv = density_csv(points);
+    let csv_path = out.join("collisions_density.csv");
+    csv.write(&csv_path)?;
+    let series = density_series(points);
+    let png = out.join("collisions_density.png");
+    plot::loglog(
+        &png,
+        &format!("collision detection against density: gas scene ({device})"),
+        (
+            "overlapping neighbours per particle",
+            "missed overlapping pairs (%)",
+        ),
+        &series,
+        (900, 600),
+        Legend::UpperLeft,
+    )?;
+    Ok(vec![csv_path, png])
+}
+
+/// The density sweep's table: one row per point, `;` for `,` in the configuration's name.
+fn density_csv(points: &[DensityPoint]) -> Csv {
     let mut csv = Csv::new(&[
         "config",
         "radius_m",
@@ -217,8 +238,12 @@ pub fn write_density(points: &[DensityPoint], device: &str, out: &Path) -> Resul
             num(Some(s.gpu_ms)),
         ]);
     }
-    let csv_path = out.join("collisions_density.csv");
-    csv.write(&csv_path)?;
+    csv
+}
+
+/// One curve per configuration: the miss rate against the density (points with none missed
+/// are not drawn on log axes, and the legend says how many).
+fn density_series(points: &[DensityPoint]) -> Vec<Series> {
     let colors = [
         (40, 100, 200),
         (200, 60, 40),
@@ -227,7 +252,7 @@ pub fn write_density(points: &[DensityPoint], device: &str, out: &Path) -> Resul
         (220, 140, 20),
         (90, 90, 90),
     ];
-    let series: Vec<Series> = density_configs()
+    density_configs()
         .iter()
         .enumerate()
         .map(|(i, (name, _))| {
@@ -259,20 +284,7 @@ pub fn write_density(points: &[DensityPoint], device: &str, out: &Path) -> Resul
                 dashed: false,
             }
         })
-        .collect();
-    let png = out.join("collisions_density.png");
-    plot::loglog(
-        &png,
-        &format!("collision detection against density: gas scene ({device})"),
-        (
-            "overlapping neighbours per particle",
-            "missed overlapping pairs (%)",
-        ),
-        &series,
-        (900, 600),
-        Legend::UpperLeft,
-    )?;
-    Ok(vec![csv_path, png])
+        .collect()
 }
 
 /// `report all`'s section.

@@ -189,6 +189,32 @@ pub fn section(
     progress("cost model: constants");
     let side = *sizes.last().unwrap_or(&256);
     let c = measure_constants(ctx, &timer, side, repeats)?;
+    let mut cells = table1_cells(ctx, &c, &sizes, repeats, progress)?;
+    cells.extend(table2_cells(ctx, &c, &sizes, repeats, opts.size, progress)?);
+    let json = out.join("cost_model.json");
+    write_json(
+        &json,
+        &serde_json::json!({ "constants": c, "cells": cells }),
+    )?;
+    let markdown = markdown(ctx, &c, &cells);
+    let md = out.join("cost_model.md");
+    super::write_atomic(&md, markdown.as_bytes())?;
+    Ok(SectionOutput {
+        files: vec![json, md],
+        markdown,
+        warnings: Vec::new(),
+    })
+}
+
+/// Table 1's cells: every sort variant timed by `texflow bench sort` at `sizes`, with what its
+/// full sort drew, against the model of constants `c`.
+fn table1_cells(
+    ctx: &Context,
+    c: &Constants,
+    sizes: &[u32],
+    repeats: usize,
+    progress: Progress<'_>,
+) -> Result<Vec<Cell>> {
     let mut cells = Vec::new();
     let variants = [
         Variant::Fp,
@@ -204,7 +230,7 @@ pub fn section(
         steps_per_pass: 2,
         blocked_shapes: Vec::new(),
     };
-    let t1 = bench_sort(ctx, &sizes, &variants, &sort_opts, |v, n| {
+    let t1 = bench_sort(ctx, sizes, &variants, &sort_opts, |v, n| {
         progress(&format!("cost model: Table 1 {v} at {n}²"))
     })?;
     for r in &t1 {
@@ -223,13 +249,27 @@ pub fn section(
             points: d.points,
         });
     }
+    Ok(cells)
+}
+
+/// Table 2's cells: E1-E4 (and E3p) frames timed by `texflow bench scenes` at `sizes` (after
+/// 20 warm-up frames for a quick report), against the model of constants `c`.
+fn table2_cells(
+    ctx: &Context,
+    c: &Constants,
+    sizes: &[u32],
+    repeats: usize,
+    size: Size,
+    progress: Progress<'_>,
+) -> Result<Vec<Cell>> {
+    let mut cells = Vec::new();
     let scene_opts = ScenesOptions {
         repeats,
-        warmup_frames: matches!(opts.size, Size::Quick).then_some(20),
+        warmup_frames: matches!(size, Size::Quick).then_some(20),
         experiments: ["E1", "E2", "E3", "E3p", "E4"].map(String::from).to_vec(),
         ..ScenesOptions::default()
     };
-    let t2 = bs::bench_scenes(ctx, &sizes, &scene_opts, |e, n| {
+    let t2 = bs::bench_scenes(ctx, sizes, &scene_opts, |e, n| {
         progress(&format!("cost model: Table 2 {e} at {n}²"))
     })?;
     for r in &t2 {
@@ -248,19 +288,7 @@ pub fn section(
             points: d.points,
         });
     }
-    let json = out.join("cost_model.json");
-    write_json(
-        &json,
-        &serde_json::json!({ "constants": c, "cells": cells }),
-    )?;
-    let markdown = markdown(ctx, &c, &cells);
-    let md = out.join("cost_model.md");
-    super::write_atomic(&md, markdown.as_bytes())?;
-    Ok(SectionOutput {
-        files: vec![json, md],
-        markdown,
-        warnings: Vec::new(),
-    })
+    Ok(cells)
 }
 
 fn markdown(ctx: &Context, c: &Constants, cells: &[Cell]) -> String {

@@ -101,11 +101,7 @@ pub fn loglog(
 ) -> Result<()> {
     use plotters::prelude::*;
     register_font();
-    let fail = |e: &dyn std::fmt::Display| Error::Image {
-        path: path.to_owned(),
-        reason: e.to_string(),
-    };
-    let ok = on_log_axes;
+    let fail = |e: &dyn std::fmt::Display| plot_error(path, e);
     let ((x0, x1), (y0, y1)) = log_ranges(series);
     let (w, h) = size;
     let mut buf = vec![0u8; w as usize * h as usize * 3];
@@ -131,42 +127,7 @@ pub fn loglog(
             .draw()
             .map_err(|e| fail(&e))?;
         for s in series {
-            let color = RGBColor(s.color.0, s.color.1, s.color.2);
-            let line = ShapeStyle {
-                color: color.to_rgba(),
-                filled: false,
-                stroke_width: 2,
-            };
-            let p: Vec<(f64, f64)> = s.points.iter().copied().filter(ok).collect();
-            let anno = if s.dashed {
-                chart.draw_series(DashedLineSeries::new(p.clone(), 6, 4, line))
-            } else {
-                chart.draw_series(LineSeries::new(p.clone(), line))
-            }
-            .map_err(|e| fail(&e))?;
-            let marker = s.marker;
-            anno.label(s.label.clone()).legend(move |(x, y)| {
-                EmptyElement::at((x, y))
-                    + PathElement::new(vec![(-10, 0), (10, 0)], line)
-                    + marker_element(marker, (0, 0), true, color)
-            });
-            let drawn = s
-                .points
-                .iter()
-                .zip(s.hollow.iter().chain(std::iter::repeat(&false)))
-                .filter(|(p, _)| ok(p));
-            let drawn: Vec<((f64, f64), bool)> = drawn.map(|(&p, &h)| (p, h)).collect();
-            chart
-                .draw_series(drawn.iter().map(|&(p, hollow)| {
-                    EmptyElement::at(p) + marker_element(s.marker, (0, 0), !hollow, color)
-                }))
-                .map_err(|e| fail(&e))?;
-            // Hollow points (not fitted) also get a ring, whatever their marker.
-            chart
-                .draw_series(drawn.iter().filter(|d| d.1).map(|&(p, _)| {
-                    EmptyElement::at(p) + Circle::new((0, 0), 8, color.stroke_width(1))
-                }))
-                .map_err(|e| fail(&e))?;
+            draw_curve(&mut chart, s, path)?;
         }
         chart
             .configure_series_labels()
@@ -186,6 +147,75 @@ pub fn loglog(
         reason: "plot buffer of the wrong size".into(),
     })?;
     crate::output::write_png_atomic(path, &img)
+}
+
+/// The chart [`loglog`] draws into: log axes on a PNG buffer.
+#[cfg(feature = "plots")]
+type LogChart<'a, 'b> = plotters::chart::ChartContext<
+    'a,
+    plotters::backend::BitMapBackend<'b>,
+    plotters::coord::cartesian::Cartesian2d<
+        plotters::coord::combinators::LogCoord<f64>,
+        plotters::coord::combinators::LogCoord<f64>,
+    >,
+>;
+
+/// A plotting error, naming the plot's file.
+#[cfg(feature = "plots")]
+fn plot_error(path: &Path, e: &dyn std::fmt::Display) -> Error {
+    Error::Image {
+        path: path.to_owned(),
+        reason: e.to_string(),
+    }
+}
+
+/// Draws one curve of [`loglog`]: its line (with its legend entry), its markers, and a ring
+/// around each hollow point; points off the log axes are left out.
+#[cfg(feature = "plots")]
+fn draw_curve<'a, 'b: 'a>(chart: &mut LogChart<'a, 'b>, s: &Series, path: &Path) -> Result<()> {
+    use plotters::prelude::*;
+    let fail = |e: &dyn std::fmt::Display| plot_error(path, e);
+    let ok = on_log_axes;
+    let color = RGBColor(s.color.0, s.color.1, s.color.2);
+    let line = ShapeStyle {
+        color: color.to_rgba(),
+        filled: false,
+        stroke_width: 2,
+    };
+    let p: Vec<(f64, f64)> = s.points.iter().copied().filter(ok).collect();
+    let anno = if s.dashed {
+        chart.draw_series(DashedLineSeries::new(p.clone(), 6, 4, line))
+    } else {
+        chart.draw_series(LineSeries::new(p.clone(), line))
+    }
+    .map_err(|e| fail(&e))?;
+    let marker = s.marker;
+    anno.label(s.label.clone()).legend(move |(x, y)| {
+        EmptyElement::at((x, y))
+            + PathElement::new(vec![(-10, 0), (10, 0)], line)
+            + marker_element(marker, (0, 0), true, color)
+    });
+    let drawn = s
+        .points
+        .iter()
+        .zip(s.hollow.iter().chain(std::iter::repeat(&false)))
+        .filter(|(p, _)| ok(p));
+    let drawn: Vec<((f64, f64), bool)> = drawn.map(|(&p, &h)| (p, h)).collect();
+    chart
+        .draw_series(drawn.iter().map(|&(p, hollow)| {
+            EmptyElement::at(p) + marker_element(s.marker, (0, 0), !hollow, color)
+        }))
+        .map_err(|e| fail(&e))?;
+    // Hollow points (not fitted) also get a ring, whatever their marker.
+    chart
+        .draw_series(
+            drawn
+                .iter()
+                .filter(|d| d.1)
+                .map(|&(p, _)| EmptyElement::at(p) + Circle::new((0, 0), 8, color.stroke_width(1))),
+        )
+        .map_err(|e| fail(&e))?;
+    Ok(())
 }
 
 /// Whether a point can be drawn on log axes (finite and positive).

@@ -220,20 +220,8 @@ pub fn run(ctx: &Context, sweep: &SpreadSweep, progress: Progress<'_>) -> Result
         let whole = p >= total;
         let s = scene(sweep.side, (!whole).then_some(p), orbit)?;
         let mut engine = ParticleEngine::new(ctx, &s, sweep.seed)?;
-        // Fill the state first (the sort does not run while the simulation warms up).
-        let life = s.emitters.allocator[0].life.map_or(0.0, |l| l[1] as f64);
-        let warm_frames = (life / (s.time.dt as f64 * s.time.substeps as f64)).ceil() as usize;
-        warmup_s = warm_frames as f64 * s.time.dt as f64 * s.time.substeps as f64;
-        for _ in 0..warm_frames {
-            engine.advance_frame()?;
-        }
-        // Two whole spread sorts, so the order reached is the steady state, not the first sort
-        // from the emission order.
         let per_sort = total.div_ceil(p.min(total));
-        for _ in 0..2 * per_sort {
-            engine.advance_frame()?;
-            engine.order_for_drawing()?;
-        }
+        warmup_s = warm_up(&mut engine, &s, per_sort)?;
         let frames = sweep.frames.div_ceil(per_sort).max(1) * per_sort;
         let (mut times, mut inv, mut live) = (Vec::new(), Vec::new(), Vec::new());
         let (mut mean_disp, mut max_disp, mut p99_disp, mut fraction) = (0.0, 0u64, 0u64, 0.0);
@@ -280,6 +268,24 @@ pub fn run(ctx: &Context, sweep: &SpreadSweep, progress: Progress<'_>) -> Result
         warmup_s,
         rows,
     })
+}
+
+/// Fills the state of `s` (the sort does not run while the simulation warms up), then runs two
+/// whole spread sorts of `per_sort` frames each; returns the simulated warm-up time (s).
+fn warm_up(engine: &mut ParticleEngine, s: &SceneFile, per_sort: usize) -> Result<f64> {
+    let life = s.emitters.allocator[0].life.map_or(0.0, |l| l[1] as f64);
+    let warm_frames = (life / (s.time.dt as f64 * s.time.substeps as f64)).ceil() as usize;
+    let warmup_s = warm_frames as f64 * s.time.dt as f64 * s.time.substeps as f64;
+    for _ in 0..warm_frames {
+        engine.advance_frame()?;
+    }
+    // Two whole spread sorts, so the order reached is the steady state, not the first sort
+    // from the emission order.
+    for _ in 0..2 * per_sort {
+        engine.advance_frame()?;
+        engine.order_for_drawing()?;
+    }
+    Ok(warmup_s)
 }
 
 /// The rows as a markdown table.

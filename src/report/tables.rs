@@ -231,10 +231,24 @@ pub fn section(
         &serde_json::json!({ "step": st, "table1_sort": t1, "table2_scenes": t2, "render_paths": rp }),
     )?;
     files.push(all_runs);
-    let (_, repeats0) = step_sizes(opts.size);
-    let (_, repeats1) = sort_sizes(opts.size, clock);
-    let (_, repeats2, warmup) = scene_sizes(opts.size);
     let warnings = unmeasured(&t2_m);
+    let noisy = noisy_cells(&st_s, &t1_s, &t2_s, &rp_s);
+    let runs_note = runs_note(runs, &noisy);
+    let markdown = tables_markdown(opts.size, clock, &runs_note, &st_m, &t1_m, &t2_m, &rp_m);
+    Ok(SectionOutput {
+        files,
+        markdown,
+        warnings,
+    })
+}
+
+/// The cells whose slowest run took over 1.25× their fastest (from [`median_of_runs`]), named.
+fn noisy_cells(
+    st_s: &[(StepRecord, f64)],
+    t1_s: &[(SortRecord, f64)],
+    t2_s: &[(SceneRecord, f64)],
+    rp_s: &[(PathRecord, f64)],
+) -> Vec<String> {
     let mut noisy: Vec<String> = Vec::new();
     noisy.extend(
         st_s.iter()
@@ -252,8 +266,23 @@ pub fn section(
         rp_s.iter()
             .map(|(r, x)| format!("render paths {}²: ×{x:.2}", r.size)),
     );
-    let runs_note = runs_note(runs, &noisy);
-    let markdown = format!(
+    noisy
+}
+
+/// The section's markdown: the runs note, then each table of medians with how it was measured.
+fn tables_markdown(
+    size: Size,
+    clock: Clock,
+    runs_note: &str,
+    st_m: &[StepRecord],
+    t1_m: &[SortRecord],
+    t2_m: &[SceneRecord],
+    rp_m: &[PathRecord],
+) -> String {
+    let (_, repeats0) = step_sizes(size);
+    let (_, repeats1) = sort_sizes(size, clock);
+    let (_, repeats2, warmup) = scene_sizes(size);
+    format!(
         "{runs_note}## The fire's step against its floor (`texflow bench step`)\n\n\
          Median of {repeats0} passes of each kind, {}; floor = a write-only pass into the same \
          targets. Files: `step.json`, `step.md`.\n\n{}\n\
@@ -271,23 +300,18 @@ pub fn section(
          buffer path first copies the position texture into the vertex buffer through a pixel \
          pack buffer, on the GPU), {}. Files: `render_paths.json`, `render_paths.md`.\n\n{}",
         clock.name(),
-        step_markdown(&st_m),
+        step_markdown(st_m),
         clock.name(),
-        sort_markdown(&t1_m),
+        sort_markdown(t1_m),
         match warmup {
             Some(w) => format!("{w} warm-up frames"),
             None => "a full emission cycle".into(),
         },
         clock.name(),
-        bs::markdown(&t2_m),
+        bs::markdown(t2_m),
         clock.name(),
-        paths_markdown(&rp_m)
-    );
-    Ok(SectionOutput {
-        files,
-        markdown,
-        warnings,
-    })
+        paths_markdown(rp_m)
+    )
 }
 
 /// The GPU/CPU ratios of the median cells (which may come from different runs): each size's

@@ -104,8 +104,27 @@ pub fn check_limits(
     limits: SizeLimits,
     skip: &[&str],
 ) -> Result<()> {
-    let mut over: Vec<(Vec<Key>, &str, u32, u32)> = Vec::new();
-    let t = limits.max_texture;
+    let mut over = sizes_2d(scene, limits.max_texture, skip);
+    over.extend(sizes_3d(scene, limits.max_3d_texture));
+    let Some((at, what, value, max)) = over.into_iter().find(|o| o.2 > o.3) else {
+        return Ok(());
+    };
+    let doc = document(path, src)?;
+    Err(scene_error(
+        path,
+        src,
+        locate(&doc, &at),
+        format!("{what} {value} is over this device's limit of {max}: use a smaller size"),
+    ))
+}
+
+/// A size a scene asks of the device: the key that sets it, what it is, its value, the limit.
+type Over = (Vec<Key>, &'static str, u32, u32);
+
+/// The 2D texture sides a scene asks for (state, sort, frame, height fields), in the order
+/// [`check_limits`] reports them, each against `t`; keys in `skip` are left out.
+fn sizes_2d(scene: &SceneFile, t: u32, skip: &[&str]) -> Vec<Over> {
+    let mut over: Vec<Over> = Vec::new();
     let [w, h] = scene.particles.size;
     if !skip.contains(&"particles.size") {
         let sort = if scene.render.blending == Blending::Alpha {
@@ -150,6 +169,13 @@ pub fn check_limits(
             t,
         ));
     }
+    over
+}
+
+/// The 3D texture sides a scene asks for (fields from files, then the fields' resolutions),
+/// each against `max_3d`.
+fn sizes_3d(scene: &SceneFile, max_3d: u32) -> Vec<Over> {
+    let mut over: Vec<Over> = Vec::new();
     // Fields from files: their sides are the files' shapes.
     let side3 = |d: &Option<super::FieldData>| d.as_ref().map(|d| d.size.into_iter().max());
     let sdf_files = scene.colliders.sdf.iter().enumerate().map(|(i, s)| {
@@ -166,7 +192,7 @@ pub fn check_limits(
     });
     for (at, what, data) in sdf_files.chain(wind_files) {
         if let Some(Some(side)) = side3(data) {
-            over.push((at, what, side, limits.max_3d_texture));
+            over.push((at, what, side, max_3d));
         }
     }
     for (i, s) in scene.colliders.sdf.iter().enumerate() {
@@ -174,7 +200,7 @@ pub fn check_limits(
             vec![N("colliders"), N("sdf"), I(i), N("resolution")],
             "distance-field 3D texture side",
             s.resolution,
-            limits.max_3d_texture,
+            max_3d,
         ));
     }
     for (i, wnd) in scene.forces.wind.iter().enumerate() {
@@ -182,19 +208,10 @@ pub fn check_limits(
             vec![N("forces"), N("wind"), I(i), N("resolution")],
             "flow-field 3D texture side",
             wnd.resolution,
-            limits.max_3d_texture,
+            max_3d,
         ));
     }
-    let Some((at, what, value, max)) = over.into_iter().find(|o| o.2 > o.3) else {
-        return Ok(());
-    };
-    let doc = document(path, src)?;
-    Err(scene_error(
-        path,
-        src,
-        locate(&doc, &at),
-        format!("{what} {value} is over this device's limit of {max}: use a smaller size"),
-    ))
+    over
 }
 
 /// Checks the widest point a particle scene draws (`render.point_size`, for sprites times an

@@ -135,8 +135,43 @@ pub fn trace_sort(
             descriptions.len()
         )));
     }
-    let mut pictures: Vec<image::RgbImage> = Vec::new();
-    let mut files: Vec<PathBuf> = Vec::new();
+    let mut trace = Trace {
+        out,
+        side,
+        passes: descriptions.len(),
+        pictures: Vec::new(),
+        files: Vec::new(),
+        md: intro(variant, side, seed),
+    };
+    trace.record(0, &entries, "The keys as loaded, before any pass")?;
+    for (i, d) in descriptions.iter().enumerate() {
+        sorter.run_passes(1);
+        let now = sorter.read()?;
+        trace.record(i + 1, &now, d)?;
+    }
+    let last = sorter.read()?;
+    let sorted = last
+        .windows(2)
+        .all(|w| !crate::sort::entry_less(w[1], w[0]));
+    let gif = out.join("sort.gif");
+    let size = [trace.pictures[0].width(), trace.pictures[0].height()];
+    let mut video = VideoWriter::create(&gif, size, trace.pictures.len() as u64, 4.0)?;
+    for p in &trace.pictures {
+        video.push(p)?;
+    }
+    trace.files.push(video.finish()?);
+    let index = out.join("index.md");
+    write_atomic(&index, trace.md.as_bytes())?;
+    trace.files.push(index);
+    Ok(Written {
+        files: trace.files,
+        passes: descriptions.len(),
+        ok: sorted,
+    })
+}
+
+/// The index's opening: the command and how to read the pictures.
+fn intro(variant: Variant, side: u32, seed: u64) -> String {
     let mut md = String::new();
     let _ = writeln!(
         md,
@@ -149,49 +184,41 @@ pub fn trace_sort(
         variant.name(),
         variant.name()
     );
-    let mut record = |index: usize, entries: &[Entry], what: &str| -> Result<()> {
+    md
+}
+
+/// What the trace has written so far: one picture per pass, their files, the index's text.
+struct Trace<'a> {
+    out: &'a Path,
+    side: u32,
+    passes: usize,
+    pictures: Vec<image::RgbImage>,
+    files: Vec<PathBuf>,
+    md: String,
+}
+
+impl Trace<'_> {
+    /// Writes the picture of `entries` after pass `index` (0: the input, before any pass) and
+    /// its paragraph in the index, saying `what` the pass did.
+    fn record(&mut self, index: usize, entries: &[Entry], what: &str) -> Result<()> {
+        let side = self.side;
         let keys: Vec<f32> = entries.iter().map(|e| e[0]).collect();
         let img = scalar(&keys, side, side, (0.0, 1.0));
         let name = format!("pass_{index:03}.png");
-        let path = out.join(&name);
+        let path = self.out.join(&name);
         write_png_atomic(&path, &img)?;
         let inversions = crate::sort::network::inversions(entries);
         let _ = writeln!(
-            md,
+            self.md,
             "## {}\n\n{what}. Out of order afterwards: {inversions} pairs.\n\n![{name}]({name})\n",
             if index == 0 {
                 "Input".to_owned()
             } else {
-                format!("Pass {index} of {}", descriptions.len())
+                format!("Pass {index} of {}", self.passes)
             }
         );
-        pictures.push(img);
-        files.push(path);
+        self.pictures.push(img);
+        self.files.push(path);
         Ok(())
-    };
-    record(0, &entries, "The keys as loaded, before any pass")?;
-    for (i, d) in descriptions.iter().enumerate() {
-        sorter.run_passes(1);
-        let now = sorter.read()?;
-        record(i + 1, &now, d)?;
     }
-    let last = sorter.read()?;
-    let sorted = last
-        .windows(2)
-        .all(|w| !crate::sort::entry_less(w[1], w[0]));
-    let gif = out.join("sort.gif");
-    let size = [pictures[0].width(), pictures[0].height()];
-    let mut video = VideoWriter::create(&gif, size, pictures.len() as u64, 4.0)?;
-    for p in &pictures {
-        video.push(p)?;
-    }
-    files.push(video.finish()?);
-    let index = out.join("index.md");
-    write_atomic(&index, md.as_bytes())?;
-    files.push(index);
-    Ok(Written {
-        files,
-        passes: descriptions.len(),
-        ok: sorted,
-    })
 }

@@ -79,16 +79,7 @@ pub fn run_point(
     let s = scene(problem, integrator, precision, dt, sweep.side)?;
     let mut sim = ParticleSim::new(ctx, &s, 1)?;
     let n = (sweep.side * sweep.side) as usize;
-    let ics: Vec<(DVec3, DVec3)> = (0..n).map(|i| problem.initial(i, n)).collect();
-    let mut pos = vec![0f32; n * 4];
-    let mut vel = vec![0f32; n * 4];
-    let mut st = vec![0f32; n * 4];
-    for (i, (x, v)) in ics.iter().enumerate() {
-        pos[i * 4..i * 4 + 4].copy_from_slice(&x.as_vec3().extend(1.0).to_array());
-        vel[i * 4..i * 4 + 3].copy_from_slice(&v.as_vec3().to_array());
-        st[i * 4 + 3] = 0.5;
-    }
-    sim.set_state(&pos, &vel, &st)?;
+    let ics = start_state(&mut sim, problem, n)?;
     let twin = problem.twin(integrator, dt);
     // Particles start alike except in the bouncing ball: twin the distinct ones only.
     let distinct = if problem.metric() == Metric::Apex {
@@ -118,27 +109,10 @@ pub fn run_point(
     };
     let counter = NonFiniteCounter::for_sim(ctx, &sim)?;
     let non_finite = counter.count_sim(&sim)?.non_finite;
-    let mut times = Vec::with_capacity(sweep.repeats);
-    for _ in 0..sweep.repeats {
-        let ms = crate::engine::timed(timer, || {
-            for _ in 0..sweep.batch {
-                sim.run(crate::sim::Stage::Integrate)?;
-            }
-            Ok(())
-        })?;
-        times.push(ms / sweep.batch as f64);
-    }
+    let times = time_steps(timer, &mut sim, sweep)?;
     ctx.check_error("convergence run")?;
     let ms = median(&times);
-    let status = if non_finite > 0 || !error.is_finite() {
-        PointStatus::Diverged
-    } else if deviation > FLOOR_FRACTION * error {
-        PointStatus::Floor
-    } else if error > LARGE_FRACTION * problem.scale() {
-        PointStatus::Large
-    } else {
-        PointStatus::Ok
-    };
+    let status = point_status(non_finite, error, deviation, problem.scale());
     Ok(Point {
         dt,
         steps,
@@ -150,6 +124,51 @@ pub fn run_point(
         gpu_ms_per_sim_s: ms / dt,
         non_finite,
     })
+}
+
+/// The problem's initial conditions for `n` particles, loaded into `sim` (static: birth 0, the
+/// random 0.5); returns them for the twins.
+fn start_state(sim: &mut ParticleSim, problem: &Problem, n: usize) -> Result<Vec<(DVec3, DVec3)>> {
+    let ics: Vec<(DVec3, DVec3)> = (0..n).map(|i| problem.initial(i, n)).collect();
+    let mut pos = vec![0f32; n * 4];
+    let mut vel = vec![0f32; n * 4];
+    let mut st = vec![0f32; n * 4];
+    for (i, (x, v)) in ics.iter().enumerate() {
+        pos[i * 4..i * 4 + 4].copy_from_slice(&x.as_vec3().extend(1.0).to_array());
+        vel[i * 4..i * 4 + 3].copy_from_slice(&v.as_vec3().to_array());
+        st[i * 4 + 3] = 0.5;
+    }
+    sim.set_state(&pos, &vel, &st)?;
+    Ok(ics)
+}
+
+/// `sweep.repeats` timings of `sweep.batch` integration steps, each per step (ms).
+fn time_steps(timer: &PassTimer, sim: &mut ParticleSim, sweep: &Sweep) -> Result<Vec<f64>> {
+    let mut times = Vec::with_capacity(sweep.repeats);
+    for _ in 0..sweep.repeats {
+        let ms = crate::engine::timed(timer, || {
+            for _ in 0..sweep.batch {
+                sim.run(crate::sim::Stage::Integrate)?;
+            }
+            Ok(())
+        })?;
+        times.push(ms / sweep.batch as f64);
+    }
+    Ok(times)
+}
+
+/// A point's verdict: diverged, at the rounding floor, too large for the problem's `scale`,
+/// or fine.
+fn point_status(non_finite: u64, error: f64, deviation: f64, scale: f64) -> PointStatus {
+    if non_finite > 0 || !error.is_finite() {
+        PointStatus::Diverged
+    } else if deviation > FLOOR_FRACTION * error {
+        PointStatus::Floor
+    } else if error > LARGE_FRACTION * scale {
+        PointStatus::Large
+    } else {
+        PointStatus::Ok
+    }
 }
 
 /// One point's GPU simulation beside its CPU twins, run to the end of the sweep's time.

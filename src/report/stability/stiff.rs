@@ -249,61 +249,7 @@ pub fn stiff(
         for chunk in SPRING_SWEEP.chunks(4) {
             table.extend(spring_rows(ctx, integrator, chunk, steps)?);
         }
-        let verdict = |h: f64, t: &[StiffRow]| {
-            t.iter()
-                .find(|r| r.h == h)
-                .map(|r| r.stability == Stability::Diverged)
-        };
-        let boundary = if integrator == Integrator::Uberflow {
-            let first = table.iter().find(|r| r.stability == Stability::Diverged);
-            Boundary {
-                case: "spring",
-                integrator: name,
-                theory: None,
-                measured: None,
-                note: format!(
-                    "no stability limit: det = 1 + (ω·dt)²/2 > 1, the energy grows at every dt \
-                     (measured growth per step above 1 at every ω·dt of the sweep); beyond {DIVERGED:.0}x \
-                     within {steps} steps from ω·dt = {}",
-                    first.map_or("-".to_owned(), |r| r.h.to_string())
-                ),
-            }
-        } else if verdict(1.9, &table) == Some(false) && verdict(2.1, &table) == Some(true) {
-            let (mut lo, mut hi) = (1.9f64, 2.1f64);
-            for _ in 0..opts.search_rounds {
-                let hs: Vec<f64> = (1..=4).map(|j| lo + (hi - lo) * j as f64 / 5.0).collect();
-                let found = spring_rows(ctx, integrator, &hs, steps)?;
-                match found
-                    .iter()
-                    .position(|r| r.stability == Stability::Diverged)
-                {
-                    Some(0) => hi = hs[0],
-                    Some(k) => (lo, hi) = (hs[k - 1], hs[k]),
-                    None => lo = hs[3],
-                }
-            }
-            Boundary {
-                case: "spring",
-                integrator: name,
-                theory: Some(2.0),
-                measured: Some([lo, hi]),
-                note: format!(
-                    "{}-round 4-ary search in [1.9, 2.1], {steps} steps each; theory: the \
-                     amplification matrix has det 1 and trace 2 − (ω·dt)², within [−2, 2] up to \
-                     ω·dt = 2",
-                    opts.search_rounds
-                ),
-            }
-        } else {
-            Boundary {
-                case: "spring",
-                integrator: name,
-                theory: Some(2.0),
-                measured: None,
-                note: "not bracketed by ω·dt = 1.9 (bounded) and 2.1 (diverged)".into(),
-            }
-        };
-        boundaries.push(boundary);
+        boundaries.push(spring_boundary(ctx, integrator, &table, opts)?);
         rows.extend(table);
     }
     for &integrator in &INTEGRATORS {
@@ -313,24 +259,106 @@ pub fn stiff(
             .iter()
             .map(|&h| drag_row(ctx, integrator, h, steps))
             .collect::<Result<_>>()?;
-        let lo = table
-            .iter()
-            .filter(|r| r.stability == Stability::Bounded)
-            .map(|r| r.h)
-            .fold(f64::NAN, f64::max);
-        let hi = table
-            .iter()
-            .filter(|r| r.stability == Stability::Diverged)
-            .map(|r| r.h)
-            .fold(f64::NAN, f64::min);
-        boundaries.push(Boundary {
-            case: "drag",
-            integrator: name,
-            theory: Some(2.0),
-            measured: (lo < hi).then_some([lo, hi]),
-            note: "velocity × (1 − c·dt) per step for every scheme".into(),
-        });
+        boundaries.push(drag_boundary(name, &table));
         rows.extend(table);
     }
     Ok((rows, boundaries))
+}
+
+/// The spring's stability boundary for one scheme from its sweep `table`: none for UberFlow's
+/// scheme, else a search between ω·dt = 1.9 and 2.1 when the sweep brackets it there.
+fn spring_boundary(
+    ctx: &Context,
+    integrator: Integrator,
+    table: &[StiffRow],
+    opts: &StabilityOptions,
+) -> Result<Boundary> {
+    let steps = opts.stiff_steps;
+    let name = integrator_name(integrator);
+    let verdict = |h: f64, t: &[StiffRow]| {
+        t.iter()
+            .find(|r| r.h == h)
+            .map(|r| r.stability == Stability::Diverged)
+    };
+    Ok(if integrator == Integrator::Uberflow {
+        let first = table.iter().find(|r| r.stability == Stability::Diverged);
+        Boundary {
+            case: "spring",
+            integrator: name,
+            theory: None,
+            measured: None,
+            note: format!(
+                "no stability limit: det = 1 + (ω·dt)²/2 > 1, the energy grows at every dt \
+                 (measured growth per step above 1 at every ω·dt of the sweep); beyond {DIVERGED:.0}x \
+                 within {steps} steps from ω·dt = {}",
+                first.map_or("-".to_owned(), |r| r.h.to_string())
+            ),
+        }
+    } else if verdict(1.9, table) == Some(false) && verdict(2.1, table) == Some(true) {
+        let [lo, hi] = search_spring_limit(ctx, integrator, opts)?;
+        Boundary {
+            case: "spring",
+            integrator: name,
+            theory: Some(2.0),
+            measured: Some([lo, hi]),
+            note: format!(
+                "{}-round 4-ary search in [1.9, 2.1], {steps} steps each; theory: the \
+                 amplification matrix has det 1 and trace 2 − (ω·dt)², within [−2, 2] up to \
+                 ω·dt = 2",
+                opts.search_rounds
+            ),
+        }
+    } else {
+        Boundary {
+            case: "spring",
+            integrator: name,
+            theory: Some(2.0),
+            measured: None,
+            note: "not bracketed by ω·dt = 1.9 (bounded) and 2.1 (diverged)".into(),
+        }
+    })
+}
+
+/// Narrows [1.9, 2.1] around the spring's stability limit: each round runs four ω·dt inside the
+/// bracket at once and keeps the interval where the runs turn from bounded to diverged.
+fn search_spring_limit(
+    ctx: &Context,
+    integrator: Integrator,
+    opts: &StabilityOptions,
+) -> Result<[f64; 2]> {
+    let (mut lo, mut hi) = (1.9f64, 2.1f64);
+    for _ in 0..opts.search_rounds {
+        let hs: Vec<f64> = (1..=4).map(|j| lo + (hi - lo) * j as f64 / 5.0).collect();
+        let found = spring_rows(ctx, integrator, &hs, opts.stiff_steps)?;
+        match found
+            .iter()
+            .position(|r| r.stability == Stability::Diverged)
+        {
+            Some(0) => hi = hs[0],
+            Some(k) => (lo, hi) = (hs[k - 1], hs[k]),
+            None => lo = hs[3],
+        }
+    }
+    Ok([lo, hi])
+}
+
+/// The drag's measured boundary: between the largest bounded and the smallest diverged c·dt.
+fn drag_boundary(name: &'static str, table: &[StiffRow]) -> Boundary {
+    let lo = table
+        .iter()
+        .filter(|r| r.stability == Stability::Bounded)
+        .map(|r| r.h)
+        .fold(f64::NAN, f64::max);
+    let hi = table
+        .iter()
+        .filter(|r| r.stability == Stability::Diverged)
+        .map(|r| r.h)
+        .fold(f64::NAN, f64::min);
+    Boundary {
+        case: "drag",
+        integrator: name,
+        theory: Some(2.0),
+        measured: (lo < hi).then_some([lo, hi]),
+        note: "velocity × (1 − c·dt) per step for every scheme".into(),
+    }
 }

@@ -445,7 +445,35 @@ impl Collisions {
         let count = self.width as usize * state.height() as usize;
         self.sort_first(state, statics)?;
         self.detect_into(self.first.layout.texture(POSITION), &self.first.partner);
-        // Staggered lattice: sort the gathered state again, taking the first detection along.
+        self.sort_second(count)?;
+        if let Some(g2) = &self.second {
+            self.detect_into(g2.layout.texture(POSITION), &g2.partner);
+        }
+        // Response in the last layout.
+        let (own, partner) = match &self.second {
+            Some(g2) => (&g2.layout, &g2.partner),
+            None => (&self.first.layout, &self.first.partner),
+        };
+        let Passes::Uberflow { response: p, .. } = &self.passes else {
+            unreachable!("the exact mode returned above");
+        };
+        p.bind();
+        set_response_constants(p);
+        let textures = self.response_textures(p, own, partner, fields);
+        p.textures(&textures);
+        p.set_i32("u_width", self.width as i32);
+        p.set_f32("u_radius", self.config.radius);
+        p.set_f32("u_restitution", self.config.restitution);
+        p.set_f32("u_dt", dt);
+        self.pass.draw(p, state.back());
+        state.swap();
+        self.copy_statics(own, statics);
+        Ok(())
+    }
+
+    /// The staggered lattice, if any: keys on it from the first lattice's layout, the sort, and
+    /// the gather of that layout with the first detection along.
+    fn sort_second(&mut self, count: usize) -> Result<()> {
         if let Some(g2) = &mut self.second {
             let a = &self.first.layout;
             g2.sorter
@@ -464,20 +492,20 @@ impl Collisions {
                 g2.sorter.gather(&[from.only_texture()], to)?;
             }
         }
-        if let Some(g2) = &self.second {
-            self.detect_into(g2.layout.texture(POSITION), &g2.partner);
-        }
-        // Response in the last layout.
-        let (own, partner) = match &self.second {
-            Some(g2) => (&g2.layout, &g2.partner),
-            None => (&self.first.layout, &self.first.partner),
-        };
-        let Passes::Uberflow { response: p, .. } = &self.passes else {
-            unreachable!("the exact mode returned above");
-        };
-        p.bind();
-        set_response_constants(p);
-        // Every sampler named on this draw: the gathers above bind their own textures, and
+        Ok(())
+    }
+
+    /// Every texture the response program `p` samples: the last layout `own` and its
+    /// `partner`, with the staggered lattice the first's too, the spins, and the colliders'
+    /// `fields` it declares.
+    fn response_textures<'a>(
+        &'a self,
+        p: &Program,
+        own: &'a Framebuffer,
+        partner: &'a Framebuffer,
+        fields: &[(&'a str, Sampled<'a>)],
+    ) -> Vec<(&'a str, Sampled<'a>)> {
+        // Every sampler named on this draw: the sorts' gathers bind their own textures, and
         // nothing they leave is read here.
         let mut textures: Vec<(&str, Sampled)> = vec![
             ("u_position", own.texture(POSITION).into()),
@@ -506,15 +534,7 @@ impl Collisions {
             textures.push(("u_spin2", s.only_texture().into()));
         }
         textures.extend(fields.iter().filter(|(n, _)| p.declares(n)).copied());
-        p.textures(&textures);
-        p.set_i32("u_width", self.width as i32);
-        p.set_f32("u_radius", self.config.radius);
-        p.set_f32("u_restitution", self.config.restitution);
-        p.set_f32("u_dt", dt);
-        self.pass.draw(p, state.back());
-        state.swap();
-        self.copy_statics(own, statics);
-        Ok(())
+        textures
     }
 
     /// Reads back one lattice's state after the last step's detection, in that lattice's sorted

@@ -16,10 +16,20 @@ impl ParticleSim {
     /// late so that both sides of the ping-pong hold them dead), allocates indices for this
     /// step's births and draws them as points.
     pub(super) fn emit(&mut self) -> Result<()> {
+        let data = self.allocate_births()?;
+        if data.is_empty() {
+            return Ok(());
+        }
+        self.draw_births(&data)
+    }
+
+    /// Frees the dead particles' indices and allocates this step's births, each one's vertex
+    /// ([`EMIT_FLOATS`] floats) in the returned data; none without an allocator.
+    fn allocate_births(&mut self) -> Result<Vec<f32>> {
         let dt = self.scene.time.dt as f64;
         let now = self.time;
         let Some(alloc) = self.allocator.as_mut() else {
-            return Ok(());
+            return Ok(Vec::new());
         };
         alloc.reclaim(now - 3.0 * dt);
         let mut data: Vec<f32> = Vec::new();
@@ -54,14 +64,17 @@ impl ParticleSim {
                 data.extend_from_slice(&[now as f32, k as f32, life, rng.uniform()]);
             }
         }
-        if data.is_empty() {
-            return Ok(());
-        }
+        Ok(data)
+    }
+
+    /// Draws the births' vertices `data` as single pixels into the static, state and (Verlet)
+    /// previous-position textures.
+    fn draw_births(&self, data: &[f32]) -> Result<()> {
         let buffer = Buffer::with_data(
             &self.ctx,
             "births",
             BufferKind::Vertex,
-            bytemuck::cast_slice(&data),
+            bytemuck::cast_slice(data),
             BufferUsage::StreamDraw,
         )?;
         let stride = (EMIT_FLOATS * 4) as i32;

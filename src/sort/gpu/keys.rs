@@ -3,7 +3,7 @@
 
 use super::{KeyMode, ProgramKey, Sorter};
 use crate::error::{Error, Result};
-use crate::gl::{Sampled, Texture, FULLSCREEN_VERTEX};
+use crate::gl::{Program, Sampled, Texture, FULLSCREEN_VERTEX};
 
 impl Sorter {
     /// The key pass: computes keys and identifiers of the particles in `positions` (xyz, life)
@@ -41,6 +41,7 @@ impl Sorter {
         self.write_keys_with(positions, Some(statics), count, mode, cull_dead, false)
     }
 
+    /// The key pass, fresh or (`rekey`) refreshing the sorted entries in place.
     fn write_keys_with(
         &mut self,
         positions: &Texture,
@@ -66,22 +67,7 @@ impl Sorter {
             ));
         }
         let key = ProgramKey::Keys { grid, age, rekey };
-        let mut extra: Vec<(&str, &str)> = Vec::new();
-        if rekey {
-            extra.push(("REKEY", "1"));
-        }
-        if grid {
-            extra.push(("KEY_GRID", "1"));
-        }
-        if age {
-            extra.push(("KEY_AGE", "1"));
-        }
-        if self.variant.packed() {
-            extra.push(("PACKED", "1"));
-        }
-        if self.id_table.is_some() {
-            extra.push(("ID_TABLE", "1"));
-        }
+        let extra = self.key_defines(grid, age, rekey);
         self.program(key, FULLSCREEN_VERTEX, "sort/keys.frag", &extra)?;
         let p = &self.programs[&key];
         p.bind();
@@ -90,30 +76,7 @@ impl Sorter {
         p.set_i32("u_count", count as i32);
         p.set_i32("u_sort_width", self.width as i32);
         p.set_i32("u_cull_dead", cull_dead as i32);
-        match *mode {
-            KeyMode::ViewerDistance { eye, back_to_front } => {
-                p.set_vec3("u_eye", eye);
-                p.set_f32("u_direction", if back_to_front { -1.0 } else { 1.0 });
-            }
-            KeyMode::Age {
-                youngest_on_top,
-                back_to_front,
-            } => {
-                // Key = direction × m, where a smaller m is more on top (as a smaller distance
-                // is): m = age for the youngest on top, -age for the oldest.
-                p.set_f32("u_direction", if back_to_front { -1.0 } else { 1.0 });
-                p.set_f32("u_age_sign", if youngest_on_top { 1.0 } else { -1.0 });
-            }
-            KeyMode::GridCell {
-                origin,
-                spacing,
-                dims,
-            } => {
-                p.set_vec3("u_grid_origin", origin);
-                p.set_f32("u_grid_spacing", spacing);
-                p.set_ivec3("u_grid_dims", dims.x as i32, dims.y as i32, dims.z as i32);
-            }
-        }
+        set_mode_uniforms(p, mode);
         if let Some(t) = &self.id_table {
             textures.push(("u_id_table", t.into()));
             p.set_i32("u_id_table_width", t.width() as i32);
@@ -129,6 +92,28 @@ impl Sorter {
         self.state.swap();
         self.next = 0;
         Ok(())
+    }
+
+    /// The key program's defines: refreshing, lattice or age keys, packed entries, identifier
+    /// table.
+    fn key_defines(&self, grid: bool, age: bool, rekey: bool) -> Vec<(&'static str, &'static str)> {
+        let mut extra: Vec<(&'static str, &'static str)> = Vec::new();
+        if rekey {
+            extra.push(("REKEY", "1"));
+        }
+        if grid {
+            extra.push(("KEY_GRID", "1"));
+        }
+        if age {
+            extra.push(("KEY_AGE", "1"));
+        }
+        if self.variant.packed() {
+            extra.push(("PACKED", "1"));
+        }
+        if self.id_table.is_some() {
+            extra.push(("ID_TABLE", "1"));
+        }
+        extra
     }
 
     /// Latta's sort spread over frames (§3.4.4): recomputes the key of every entry from the new
@@ -155,5 +140,33 @@ impl Sorter {
             ));
         }
         Ok(())
+    }
+}
+
+/// The key program's uniforms for `mode` (`p` bound).
+fn set_mode_uniforms(p: &Program, mode: &KeyMode) {
+    match *mode {
+        KeyMode::ViewerDistance { eye, back_to_front } => {
+            p.set_vec3("u_eye", eye);
+            p.set_f32("u_direction", if back_to_front { -1.0 } else { 1.0 });
+        }
+        KeyMode::Age {
+            youngest_on_top,
+            back_to_front,
+        } => {
+            // Key = direction × m, where a smaller m is more on top (as a smaller distance
+            // is): m = age for the youngest on top, -age for the oldest.
+            p.set_f32("u_direction", if back_to_front { -1.0 } else { 1.0 });
+            p.set_f32("u_age_sign", if youngest_on_top { 1.0 } else { -1.0 });
+        }
+        KeyMode::GridCell {
+            origin,
+            spacing,
+            dims,
+        } => {
+            p.set_vec3("u_grid_origin", origin);
+            p.set_f32("u_grid_spacing", spacing);
+            p.set_ivec3("u_grid_dims", dims.x as i32, dims.y as i32, dims.z as i32);
+        }
     }
 }

@@ -5,6 +5,7 @@ mod geometry;
 mod keys;
 mod options;
 mod rearrange;
+mod run;
 
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -13,8 +14,8 @@ use super::network::{bitonic_schedule, group_steps, odd_even_schedule, Entry, St
 use super::precision::id_table;
 use crate::error::{Error, Result};
 use crate::gl::{
-    Context, Defines, Draw, DrawState, Framebuffer, FullscreenPass, PingPong, Primitive, Program,
-    Sampled, Texture, TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
+    Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Texture, TextureDesc,
+    TextureFormat, FULLSCREEN_VERTEX,
 };
 use blocked::Blocked;
 pub use blocked::Quantiser;
@@ -82,6 +83,76 @@ pub struct Sorter {
     blocked: Option<Blocked>,
 }
 
+/// Checks a sorter's size and options against each other; returns the entries per sorted
+/// block (the whole texture, or `rows` rows of it).
+fn check_options(variant: Variant, width: u32, height: u32, options: &SortOptions) -> Result<u32> {
+    let bad = |m: String| Err(Error::InvalidInput(m));
+    if !width.is_power_of_two() || !height.is_power_of_two() {
+        return bad(format!(
+            "sort texture {width}x{height}: both sides must be powers of two"
+        ));
+    }
+    if variant.packed() && width < 2 {
+        return bad("the packed variant needs rows of at least 2 entries".into());
+    }
+    let block = match options.rows {
+        None => width * height,
+        Some(k) if k.is_power_of_two() && k <= height => width * k,
+        Some(k) => {
+            return bad(format!(
+                "rows-only sort over {k} rows: use a power of two up to the height {height}"
+            ))
+        }
+    };
+    if options.id_table && options.precision.is_none() {
+        return bad("the identifier table is for emulated precision only".into());
+    }
+    if !(1..=3).contains(&options.steps_per_pass) {
+        return bad("steps per pass must be 1, 2 or 3".into());
+    }
+    if variant == Variant::Blocked
+        && (options.precision.is_some() || options.passes_per_frame.is_some())
+    {
+        return bad(
+            "the blocked sort runs whole sorts in fp32: no emulated precision and no sort \
+             spread over frames (its layout changes from pass to pass)"
+                .into(),
+        );
+    }
+    if variant == Variant::Blocked && options.blocked.compact {
+        blocked::check_compact(options.blocked, (width * height).trailing_zeros())?;
+    }
+    if options.passes_per_frame == Some(0) {
+        return bad("passes per frame must be at least 1".into());
+    }
+    Ok(block)
+}
+
+/// The identifier table of emulated precision, when the options ask for one.
+fn id_table_texture(
+    ctx: &Context,
+    width: u32,
+    height: u32,
+    options: &SortOptions,
+) -> Result<Option<Texture>> {
+    if !options.id_table {
+        return Ok(None);
+    }
+    let f = options.precision.unwrap_or(super::precision::R300);
+    let values = id_table((width * height) as usize, &f);
+    let tex = Texture::new(
+        ctx,
+        TextureDesc {
+            width,
+            height,
+            format: TextureFormat::R32F,
+            label: "id table",
+        },
+    )?;
+    tex.upload_f32(&values)?;
+    Ok(Some(tex))
+}
+
 impl Sorter {
     /// A sorter of `width`×`height` entries (powers of two; width ≥ 2 for the packed variant).
     pub fn new(
@@ -91,45 +162,7 @@ impl Sorter {
         height: u32,
         options: SortOptions,
     ) -> Result<Self> {
-        let bad = |m: String| Err(Error::InvalidInput(m));
-        if !width.is_power_of_two() || !height.is_power_of_two() {
-            return bad(format!(
-                "sort texture {width}x{height}: both sides must be powers of two"
-            ));
-        }
-        if variant.packed() && width < 2 {
-            return bad("the packed variant needs rows of at least 2 entries".into());
-        }
-        let block = match options.rows {
-            None => width * height,
-            Some(k) if k.is_power_of_two() && k <= height => width * k,
-            Some(k) => {
-                return bad(format!(
-                    "rows-only sort over {k} rows: use a power of two up to the height {height}"
-                ))
-            }
-        };
-        if options.id_table && options.precision.is_none() {
-            return bad("the identifier table is for emulated precision only".into());
-        }
-        if !(1..=3).contains(&options.steps_per_pass) {
-            return bad("steps per pass must be 1, 2 or 3".into());
-        }
-        if variant == Variant::Blocked
-            && (options.precision.is_some() || options.passes_per_frame.is_some())
-        {
-            return bad(
-                "the blocked sort runs whole sorts in fp32: no emulated precision and no sort \
-                 spread over frames (its layout changes from pass to pass)"
-                    .into(),
-            );
-        }
-        if variant == Variant::Blocked && options.blocked.compact {
-            blocked::check_compact(options.blocked, (width * height).trailing_zeros())?;
-        }
-        if options.passes_per_frame == Some(0) {
-            return bad("passes per frame must be at least 1".into());
-        }
+        let block = check_options(variant, width, height, &options)?;
         let (tw, format) = if variant.packed() {
             (width / 2, TextureFormat::Rgba32F)
         } else {
@@ -154,21 +187,7 @@ impl Sorter {
             blocked: None,
         };
         sorter.build(block)?;
-        if options.id_table {
-            let f = options.precision.unwrap_or(super::precision::R300);
-            let values = id_table((width * height) as usize, &f);
-            let tex = Texture::new(
-                ctx,
-                TextureDesc {
-                    width,
-                    height,
-                    format: TextureFormat::R32F,
-                    label: "id table",
-                },
-            )?;
-            tex.upload_f32(&values)?;
-            sorter.id_table = Some(tex);
-        }
+        sorter.id_table = id_table_texture(ctx, width, height, &options)?;
         ctx.check_error("building the sorter")?;
         Ok(sorter)
     }
@@ -254,43 +273,49 @@ impl Sorter {
                     self.blocked = Some(b);
                 }
             }
-            Variant::GpFp | Variant::Packed => {
-                let frag = if self.variant.packed() {
-                    "sort/bitonic_packed.frag"
-                } else {
-                    "sort/bitonic_gpfp.frag"
-                };
-                let gp = ProgramKey::Geometry;
-                self.program(gp(GpProgram::Plain), "sort/gpfp.vert", frag, &[])?;
-                let mirror = [("MIRROR", "1")];
-                self.program(gp(GpProgram::Mirror), "sort/gpfp.vert", frag, &mirror)?;
-                if self.variant.packed() {
-                    let same = [("SAME_TEXEL", "1")];
-                    self.program(gp(GpProgram::SameTexel), "sort/gpfp.vert", frag, &same)?;
-                }
-                let mut shapes: HashMap<(u8, u32, u32), usize> = HashMap::new();
-                let mut passes = Vec::new();
-                for step in bitonic_schedule(w, block) {
-                    let shape = self.quads(&step);
-                    let geometry = match shapes.get(&shape.key) {
-                        Some(&g) => g,
-                        None => {
-                            let g = self.upload_geometry(&shape.vertices)?;
-                            shapes.insert(shape.key, g);
-                            g
-                        }
-                    };
-                    passes.push(Pass::Geometry {
-                        geometry,
-                        offset: shape.offset,
-                        program: shape.program,
-                    });
-                }
-                self.passes = passes;
-            }
+            Variant::GpFp | Variant::Packed => self.build_geometry(block)?,
         }
         Ok(())
     }
+
+    /// The GP/FP and packed variants' programs and passes: one quad geometry per distinct
+    /// shape of a bitonic step, uploaded once and shared by the steps of that shape.
+    fn build_geometry(&mut self, block: u32) -> Result<()> {
+        let frag = if self.variant.packed() {
+            "sort/bitonic_packed.frag"
+        } else {
+            "sort/bitonic_gpfp.frag"
+        };
+        let gp = ProgramKey::Geometry;
+        self.program(gp(GpProgram::Plain), "sort/gpfp.vert", frag, &[])?;
+        let mirror = [("MIRROR", "1")];
+        self.program(gp(GpProgram::Mirror), "sort/gpfp.vert", frag, &mirror)?;
+        if self.variant.packed() {
+            let same = [("SAME_TEXEL", "1")];
+            self.program(gp(GpProgram::SameTexel), "sort/gpfp.vert", frag, &same)?;
+        }
+        let mut shapes: HashMap<(u8, u32, u32), usize> = HashMap::new();
+        let mut passes = Vec::new();
+        for step in bitonic_schedule(self.width, block) {
+            let shape = self.quads(&step);
+            let geometry = match shapes.get(&shape.key) {
+                Some(&g) => g,
+                None => {
+                    let g = self.upload_geometry(&shape.vertices)?;
+                    shapes.insert(shape.key, g);
+                    g
+                }
+            };
+            passes.push(Pass::Geometry {
+                geometry,
+                offset: shape.offset,
+                program: shape.program,
+            });
+        }
+        self.passes = passes;
+        Ok(())
+    }
+
     /// The variant.
     pub fn variant(&self) -> Variant {
         self.variant
@@ -452,104 +477,5 @@ impl Sorter {
     /// Starts the pass sequence again without touching the entries.
     pub fn restart(&mut self) {
         self.next = 0;
-    }
-
-    fn run_pass(&mut self, index: usize) {
-        if let (Some(b), Pass::Blocked(i)) = (self.blocked.as_mut(), &self.passes[index]) {
-            b.run(*i, self.state.front().only_texture(), &self.fullscreen);
-            return;
-        }
-        let w = self.width as i32;
-        let front = self.state.front().only_texture();
-        let keys = [("u_keys", Sampled::from(front))];
-        match &self.passes[index] {
-            Pass::Fragment(step) => {
-                let p = match step {
-                    Step::Bitonic {
-                        block,
-                        dist,
-                        mirror,
-                    } => {
-                        let p = &self.programs[&ProgramKey::Fp];
-                        p.bind();
-                        p.set_i32("u_block", *block as i32);
-                        p.set_i32("u_dist", *dist as i32);
-                        p.set_i32("u_mirror", *mirror as i32);
-                        p
-                    }
-                    Step::OddEvenRecursion { step, count } => {
-                        let p = &self.programs[&ProgramKey::OddEvenRecursion];
-                        p.bind();
-                        p.set_i32("u_step", *step as i32);
-                        p.set_i32("u_count", *count as i32);
-                        p
-                    }
-                    Step::OddEvenEnd { step } => {
-                        let p = &self.programs[&ProgramKey::OddEvenEnd];
-                        p.bind();
-                        p.set_i32("u_step", *step as i32);
-                        p
-                    }
-                };
-                p.textures(&keys);
-                p.set_i32("u_width", w);
-                self.fullscreen.draw(p, self.state.back());
-            }
-            Pass::Group(steps) => {
-                let (levels, steps_n) = group_shape(steps);
-                let p = &self.programs[&ProgramKey::Multistep {
-                    levels,
-                    steps: steps_n,
-                }];
-                p.bind();
-                p.textures(&keys);
-                p.set_i32("u_width", w);
-                if let Step::Bitonic { block, .. } = steps[0] {
-                    p.set_i32("u_block", block as i32);
-                }
-                // Wide masks in order are the basis of the sub-network (see multistep.frag).
-                let wide = steps.iter().filter_map(Step::mask).filter(|&m| m >= 2);
-                for (b, mask) in wide.enumerate() {
-                    p.set_i32(&format!("u_basis[{b}]"), mask as i32);
-                }
-                for (s, step) in steps.iter().enumerate() {
-                    let mirror = matches!(step, Step::Bitonic { mirror: true, .. });
-                    p.set_i32(&format!("u_mirror[{s}]"), mirror as i32);
-                }
-                self.fullscreen.draw(p, self.state.back());
-            }
-            Pass::Blocked(_) => unreachable!("blocked passes return above"),
-            Pass::Unpack => {
-                if let Some(b) = &self.blocked {
-                    b.unpack(self.state.back(), &self.fullscreen);
-                }
-            }
-            Pass::Geometry {
-                geometry,
-                offset,
-                program,
-            } => {
-                let p = &self.programs[&ProgramKey::Geometry(*program)];
-                p.bind();
-                p.textures(&keys);
-                let fb = self.state.back();
-                p.set_vec2(
-                    "u_size",
-                    glam::Vec2::new(fb.width() as f32, fb.height() as f32),
-                );
-                p.set_ivec2("u_offset", offset.0, offset.1);
-                let g = &self.geometry[*geometry];
-                self.ctx.draw(&Draw {
-                    program: p,
-                    target: fb,
-                    viewport: None,
-                    vertices: &g.vao,
-                    primitive: Primitive::Triangles,
-                    count: g.vertices,
-                    state: &DrawState::REPLACE,
-                });
-            }
-        }
-        self.state.swap();
     }
 }

@@ -1,0 +1,122 @@
+//! Running one pass of the sorter: bind its program, set the step's uniforms, draw.
+
+use super::{group_shape, GpProgram, Pass, ProgramKey, Sorter, Step};
+use crate::gl::{Draw, DrawState, Primitive, Program, Sampled};
+
+impl Sorter {
+    /// Runs pass `index` of the sequence into the back framebuffer and swaps.
+    pub(super) fn run_pass(&mut self, index: usize) {
+        if let (Some(b), Pass::Blocked(i)) = (self.blocked.as_mut(), &self.passes[index]) {
+            b.run(*i, self.state.front().only_texture(), &self.fullscreen);
+            return;
+        }
+        let front = self.state.front().only_texture();
+        let keys = [("u_keys", Sampled::from(front))];
+        match &self.passes[index] {
+            Pass::Fragment(step) => {
+                let p = self.step_program(step);
+                p.textures(&keys);
+                p.set_i32("u_width", self.width as i32);
+                self.fullscreen.draw(p, self.state.back());
+            }
+            Pass::Group(steps) => self.run_group(steps, &keys),
+            Pass::Blocked(_) => unreachable!("blocked passes return above"),
+            Pass::Unpack => {
+                if let Some(b) = &self.blocked {
+                    b.unpack(self.state.back(), &self.fullscreen);
+                }
+            }
+            Pass::Geometry {
+                geometry,
+                offset,
+                program,
+            } => self.run_geometry(*geometry, *offset, *program, &keys),
+        }
+        self.state.swap();
+    }
+
+    /// The fragment program of one network step, bound, with the step's uniforms set.
+    fn step_program(&self, step: &Step) -> &Program {
+        match step {
+            Step::Bitonic {
+                block,
+                dist,
+                mirror,
+            } => {
+                let p = &self.programs[&ProgramKey::Fp];
+                p.bind();
+                p.set_i32("u_block", *block as i32);
+                p.set_i32("u_dist", *dist as i32);
+                p.set_i32("u_mirror", *mirror as i32);
+                p
+            }
+            Step::OddEvenRecursion { step, count } => {
+                let p = &self.programs[&ProgramKey::OddEvenRecursion];
+                p.bind();
+                p.set_i32("u_step", *step as i32);
+                p.set_i32("u_count", *count as i32);
+                p
+            }
+            Step::OddEvenEnd { step } => {
+                let p = &self.programs[&ProgramKey::OddEvenEnd];
+                p.bind();
+                p.set_i32("u_step", *step as i32);
+                p
+            }
+        }
+    }
+
+    /// A multistep pass: several network steps in one draw.
+    fn run_group(&self, steps: &[Step], keys: &[(&str, Sampled)]) {
+        let (levels, steps_n) = group_shape(steps);
+        let p = &self.programs[&ProgramKey::Multistep {
+            levels,
+            steps: steps_n,
+        }];
+        p.bind();
+        p.textures(keys);
+        p.set_i32("u_width", self.width as i32);
+        if let Step::Bitonic { block, .. } = steps[0] {
+            p.set_i32("u_block", block as i32);
+        }
+        // Wide masks in order are the basis of the sub-network (see multistep.frag).
+        let wide = steps.iter().filter_map(Step::mask).filter(|&m| m >= 2);
+        for (b, mask) in wide.enumerate() {
+            p.set_i32(&format!("u_basis[{b}]"), mask as i32);
+        }
+        for (s, step) in steps.iter().enumerate() {
+            let mirror = matches!(step, Step::Bitonic { mirror: true, .. });
+            p.set_i32(&format!("u_mirror[{s}]"), mirror as i32);
+        }
+        self.fullscreen.draw(p, self.state.back());
+    }
+
+    /// A GP/FP pass: the step's quads, drawn with their texel offset.
+    fn run_geometry(
+        &self,
+        geometry: usize,
+        offset: (i32, i32),
+        program: GpProgram,
+        keys: &[(&str, Sampled)],
+    ) {
+        let p = &self.programs[&ProgramKey::Geometry(program)];
+        p.bind();
+        p.textures(keys);
+        let fb = self.state.back();
+        p.set_vec2(
+            "u_size",
+            glam::Vec2::new(fb.width() as f32, fb.height() as f32),
+        );
+        p.set_ivec2("u_offset", offset.0, offset.1);
+        let g = &self.geometry[geometry];
+        self.ctx.draw(&Draw {
+            program: p,
+            target: fb,
+            viewport: None,
+            vertices: &g.vao,
+            primitive: Primitive::Triangles,
+            count: g.vertices,
+            state: &DrawState::REPLACE,
+        });
+    }
+}

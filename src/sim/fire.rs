@@ -316,3 +316,40 @@ impl super::Simulation for FireSim {
         }]
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Parameters built in code meet the rules of a scene's `[fire]` section, named by key.
+    #[test]
+    fn fire_parameters_follow_the_scene_sections_rules() {
+        let dt = 1.0 / 60.0;
+        FireParams::default().validate(dt).unwrap();
+        let bad = |change: &dyn Fn(&mut FireParams), key: &str| {
+            let mut p = FireParams::default();
+            change(&mut p);
+            let e = p.validate(dt).unwrap_err().to_string();
+            assert!(e.contains(key), "{key}: {e}");
+        };
+        bad(&|p| p.life_max = p.max_age * 2.0, "fire.life");
+        bad(&|p| p.life_min = 0.0, "fire.life");
+        bad(&|p| p.damping = -1.0, "fire.damping");
+        bad(&|p| p.buoyancy.y = f32::NAN, "fire.buoyancy");
+        bad(
+            &|p| p.emitter_center.x = f32::INFINITY,
+            "fire.emitter_center",
+        );
+        // The damping is a rate per step: fine at 1/60 s, refused where it would reverse v.
+        let p = FireParams {
+            damping: 50.0,
+            ..FireParams::default()
+        };
+        assert!(p.validate(1.0 / 600.0).is_ok());
+        assert!(p
+            .validate(0.1)
+            .unwrap_err()
+            .to_string()
+            .contains("fire.damping"));
+    }
+}

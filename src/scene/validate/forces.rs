@@ -17,7 +17,7 @@ pub const MAX_RATE_DT: f32 = 4.0;
 /// 2.1), so the limit is [`MAX_RATE_DT`]: at most 3 times per step, finite over a short run,
 /// refusing ±1e30.
 pub(super) fn per_step(dt: f32, at: Vec<Key>, what: &str, rate: f32) -> Check {
-    if (rate * dt).abs() > MAX_RATE_DT {
+    if (rate * dt).is_nan() || (rate * dt).abs() > MAX_RATE_DT {
         return fail(
             at,
             format!(

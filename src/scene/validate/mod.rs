@@ -63,7 +63,7 @@ pub const MAX_TIME: f32 = 1e6;
 
 /// A time within (0, [`MAX_TIME`]] seconds (the lower bound is checked by the caller).
 fn duration(at: Vec<Key>, what: &str, t: f32) -> Check {
-    if t > MAX_TIME {
+    if t.is_nan() || t > MAX_TIME {
         return fail(
             at,
             format!(
@@ -94,9 +94,13 @@ fn mass(at: Vec<Key>, m: f32) -> Check {
     Ok(())
 }
 
-/// Every component within ±[`MAX_COORDINATE`], reported at the first one out of range.
+/// Every component within ±[`MAX_COORDINATE`], reported at the first one out of range. NaN is
+/// out of range too: a file cannot hold one, but a scene changed in code can.
 fn bounded(at: Vec<Key>, what: &str, v: &[f32]) -> Check {
-    match v.iter().position(|x| x.abs() > MAX_COORDINATE) {
+    match v
+        .iter()
+        .position(|x| x.is_nan() || x.abs() > MAX_COORDINATE)
+    {
         Some(i) => fail(
             [&at[..], &[I(i)]].concat(),
             format!(

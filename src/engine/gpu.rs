@@ -73,59 +73,74 @@ impl SortStage {
         scene: &crate::scene::SceneFile,
         renderer: &crate::render::ParticleRenderer,
     ) -> Result<Option<Self>> {
-        use crate::gl::{Framebuffer, Texture, TextureDesc, TextureFormat};
-        use crate::scene::DrawOrder;
-        let [w, h] = scene.particles.size;
-        Ok(match crate::engine::plan::sort_plan(scene) {
-            None => None,
-            Some(p) => {
-                // fp24 scenes sort as on the 2004 hardware: 24-bit floats with the paper's
-                // identifier table (UberFlow §4.3.1).
-                let fp24 = scene.particles.precision == crate::scene::Precision::Fp24;
-                let options = crate::sort::SortOptions {
-                    passes_per_frame: p.passes_per_frame.map(|n| n as usize),
-                    precision: fp24.then_some(crate::sort::precision::R300),
-                    id_table: fp24,
-                    blocked: p.shape,
-                    ..Default::default()
-                };
-                let sorter =
-                    crate::sort::Sorter::new(ctx, p.variant, p.size[0], p.size[1], options)?;
-                let tex = |label: &str| {
-                    Texture::new(
-                        ctx,
-                        TextureDesc {
-                            width: w,
-                            height: h,
-                            format: TextureFormat::Rgba32F,
-                            label,
-                        },
-                    )
-                };
-                // In the order of the gather's sources (order_for_drawing_observed).
-                let mut textures = vec![
-                    (POSITION, tex("sorted position")?),
-                    (STATIC, tex("sorted static")?),
-                ];
-                if renderer.needs_motion() {
-                    textures.push((MOTION, tex("sorted motion")?));
-                }
-                if renderer.needs_spins() {
-                    textures.push((SPIN, tex("sorted spin")?));
-                }
-                let sorted = Framebuffer::named(ctx, "sorted", textures)?;
-                Some(SortStage {
-                    sorter,
-                    sorted,
-                    back_to_front: scene.render.order == DrawOrder::BackToFront,
-                    key: scene.render.sort.key,
-                    spread: p.passes_per_frame.is_some(),
-                    keyed: false,
-                    ordered_at: None,
-                })
-            }
-        })
+        let Some((sorter, p)) = sorter_for(ctx, scene)? else {
+            return Ok(None);
+        };
+        // In the order of the gather's sources (order_for_drawing_observed).
+        let mut names = vec![POSITION, STATIC];
+        if renderer.needs_motion() {
+            names.push(MOTION);
+        }
+        if renderer.needs_spins() {
+            names.push(SPIN);
+        }
+        Ok(Some(SortStage {
+            sorter,
+            sorted: gather_target(ctx, scene, "sorted", &names)?,
+            back_to_front: scene.render.order == crate::scene::DrawOrder::BackToFront,
+            key: scene.render.sort.key,
+            spread: p.passes_per_frame.is_some(),
+            keyed: false,
+            ordered_at: None,
+        }))
     }
+}
+
+/// The sorter of `scene`'s alpha blending, as the engine runs it (`None` for other blendings):
+/// built from [`sort_plan`](crate::engine::plan::sort_plan), and for `fp24` scenes with the
+/// 2004 hardware's 24-bit floats and the paper's identifier table (UberFlow §4.3.1). The
+/// benchmarks build theirs here too.
+pub fn sorter_for(
+    ctx: &Context,
+    scene: &crate::scene::SceneFile,
+) -> Result<Option<(crate::sort::Sorter, crate::engine::plan::SortPlan)>> {
+    let Some(p) = crate::engine::plan::sort_plan(scene) else {
+        return Ok(None);
+    };
+    let fp24 = scene.particles.precision == crate::scene::Precision::Fp24;
+    let options = crate::sort::SortOptions {
+        passes_per_frame: p.passes_per_frame.map(|n| n as usize),
+        precision: fp24.then_some(crate::sort::precision::R300),
+        id_table: fp24,
+        blocked: p.shape,
+        ..Default::default()
+    };
+    let sorter = crate::sort::Sorter::new(ctx, p.variant, p.size[0], p.size[1], options)?;
+    Ok(Some((sorter, p)))
+}
+
+/// A framebuffer of `scene`'s state size with one RGBA32F attachment per name: where a sort
+/// gathers the state in drawing order.
+pub fn gather_target(
+    ctx: &Context,
+    scene: &crate::scene::SceneFile,
+    label: &str,
+    names: &[crate::gl::Attachment],
+) -> Result<crate::gl::Framebuffer> {
+    use crate::gl::{Texture, TextureDesc, TextureFormat};
+    let [width, height] = scene.particles.size;
+    let textures = (names.iter())
+        .map(|&name| {
+            let desc = TextureDesc {
+                width,
+                height,
+                format: TextureFormat::Rgba32F,
+                label: &format!("{label} {}", name.name()),
+            };
+            Ok((name, Texture::new(ctx, desc)?))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    crate::gl::Framebuffer::named(ctx, label, textures)
 }
 
 impl<S: Simulation> GpuEngine<S> {

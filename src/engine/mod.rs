@@ -21,7 +21,9 @@ mod run;
 
 pub use contract::{build, timed, Engine, EngineKind, StateDump};
 pub use cpu::{CpuEngine, CpuSim, FramePhases};
-pub use gpu::{compact_depth_range, key_mode, GpuEngine, ParticleEngine};
+pub use gpu::{
+    compact_depth_range, gather_target, key_mode, sorter_for, GpuEngine, ParticleEngine,
+};
 pub use run::{
     Event, FolderSink, FrameLoop, FrameSink, FrameTimes, LoopOptions, LoopSummary, MemorySink,
     NonFinitePolicy,

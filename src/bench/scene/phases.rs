@@ -4,11 +4,11 @@
 use super::{scratch_like, timed, Phases};
 use crate::bench::stats::{FixedCost, PassTimer, WriteFloor};
 use crate::error::Result;
-use crate::gl::{Context, Framebuffer, Texture, TextureDesc, TextureFormat};
+use crate::gl::{Context, Framebuffer};
 use crate::scene::SceneFile;
 use crate::sim::state::{POSITION, STATIC};
 use crate::sim::{ParticleSim, Simulation, Stage};
-use crate::sort::{KeyMode, SortOptions, Sorter};
+use crate::sort::{KeyMode, Sorter};
 
 /// The sort the engine runs, built from the same plan, with its own gather target: the sorter,
 /// the gathered position and static textures, whether it is spread over frames, and whether
@@ -16,38 +16,11 @@ use crate::sort::{KeyMode, SortOptions, Sorter};
 pub(super) type BenchSort = (Sorter, Framebuffer, bool, bool);
 
 pub(super) fn bench_sort(ctx: &Context, s: &SceneFile) -> Result<Option<BenchSort>> {
-    let [w, h] = s.particles.size;
-    Ok(match crate::engine::plan::sort_plan(s) {
-        None => None,
-        Some(p) => {
-            let options = SortOptions {
-                passes_per_frame: p.passes_per_frame.map(|n| n as usize),
-                blocked: p.shape,
-                ..Default::default()
-            };
-            let sorter = Sorter::new(ctx, p.variant, p.size[0], p.size[1], options)?;
-            let tex = |label: &str| {
-                Texture::new(
-                    ctx,
-                    TextureDesc {
-                        width: w,
-                        height: h,
-                        format: TextureFormat::Rgba32F,
-                        label,
-                    },
-                )
-            };
-            let sorted = Framebuffer::named(
-                ctx,
-                "bench sorted",
-                vec![
-                    (POSITION, tex("bench sorted position")?),
-                    (STATIC, tex("bench sorted static")?),
-                ],
-            )?;
-            Some((sorter, sorted, p.passes_per_frame.is_some(), false))
-        }
-    })
+    let Some((sorter, p)) = crate::engine::sorter_for(ctx, s)? else {
+        return Ok(None);
+    };
+    let sorted = crate::engine::gather_target(ctx, s, "bench sorted", &[POSITION, STATIC])?;
+    Ok(Some((sorter, sorted, p.passes_per_frame.is_some(), false)))
 }
 
 /// What the sort's phases are timed with and measured against.

@@ -321,3 +321,91 @@ fn every_command_of_the_readmes_runs() {
     }
     assert!(failed.is_empty(), "\n{}", failed.join("\n"));
 }
+
+/// The `src/…` and `glsl/…` paths a text names: a token of path characters that starts with
+/// `src/` or `glsl/` at a word boundary (not inside another path such as `fuzz/src/`), without
+/// trailing punctuation. Patterns (`*`, `{`, `…`) are left out.
+fn source_paths(text: &str) -> Vec<String> {
+    let is_path = |c: char| c.is_ascii_alphanumeric() || matches!(c, '_' | '.' | '/' | '-');
+    let mut out = Vec::new();
+    for prefix in ["src/", "glsl/"] {
+        for (i, _) in text.match_indices(prefix) {
+            if text[..i]
+                .chars()
+                .next_back()
+                .is_some_and(|c| is_path(c) || c == '\\')
+            {
+                continue;
+            }
+            let token: String = text[i..].chars().take_while(|&c| is_path(c)).collect();
+            let after = text[i + token.len()..].chars().next();
+            if matches!(after, Some('*' | '{' | '…' | '<')) {
+                continue;
+            }
+            let token = token.trim_end_matches(['.', '-']);
+            if token != prefix.trim_end_matches('/') && token.len() > prefix.len() {
+                out.push(token.to_owned());
+            }
+        }
+    }
+    out
+}
+
+/// Every Rust and GLSL file under `src/`, `glsl/`, `tests/` and `examples/`.
+fn code_files() -> Vec<PathBuf> {
+    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                walk(&p, out);
+            } else if p
+                .extension()
+                .is_some_and(|e| ["rs", "glsl", "frag", "vert"].contains(&&*e.to_string_lossy()))
+            {
+                out.push(p);
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for d in ["src", "glsl", "tests", "examples"] {
+        walk(&Path::new(ROOT).join(d), &mut out);
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn every_source_path_named_in_docs_and_comments_exists() {
+    let mut files = markdown_files();
+    // This file's own scanner test names paths that must not exist.
+    files.extend(
+        code_files()
+            .into_iter()
+            .filter(|f| !f.ends_with("tests/docs.rs")),
+    );
+    let mut dead = Vec::new();
+    for f in files {
+        let text = std::fs::read_to_string(&f).unwrap();
+        for (n, line) in text.lines().enumerate() {
+            for p in source_paths(line) {
+                if !Path::new(ROOT).join(&p).exists() {
+                    dead.push(format!("{}:{}: {p}", rel(&f), n + 1));
+                }
+            }
+        }
+    }
+    assert!(
+        dead.is_empty(),
+        "paths named that do not exist:\n{}",
+        dead.join("\n")
+    );
+}
+
+#[test]
+fn the_source_path_scanner_finds_paths_and_skips_patterns() {
+    assert_eq!(
+        source_paths("see `src/sim/collide.rs`, glsl/sim/fire.frag. and fuzz/src/lib.rs"),
+        ["src/sim/collide.rs", "glsl/sim/fire.frag"]
+    );
+    assert!(source_paths("glsl/sort/*.frag and src/{a,b}.rs and src/ alone").is_empty());
+}

@@ -1,7 +1,7 @@
-// Lookup fields (src/sim/fields.rs): a height field (2D, RGBA32F: height, normal xyz), a signed
+// Lookup fields (src/sim/fields/): a height field (2D, RGBA32F: height, normal xyz), a signed
 // distance field (3D, R32F) and a wind flow field (3D, RGBA32F: velocity xyz, 0). Read with
 // texelFetch only and interpolated by hand, so that these functions are the twins of the CPU
-// samplers in src/sim/fields.rs, operation for operation:
+// samplers in src/sim/fields/, operation for operation:
 //
 // - an axis from lo to hi with n >= 2 nodes has node i at lo + i (hi - lo) / (n - 1); texel i
 //   holds the value there (height field: texel (i, j) = (x, z); 3D fields: (i, j, k) = (x, y, z));

@@ -1,5 +1,5 @@
 // Accelerations (Latta §3.4.2, UberFlow §4.2). Only the forces a scene has are compiled in:
-// GRAVITY, N_ATTRACTORS, N_SPRINGS, N_VORTICES, DAMPING and WIND come from the scene (src/sim/particles.rs).
+// GRAVITY, N_ATTRACTORS, N_SPRINGS, N_VORTICES, DAMPING and WIND come from the scene (src/sim/particles/uniforms.rs).
 //   gravity     a += g                                   (an acceleration)
 //   damping     a -= c v; c < 0 un-damps (Latta: eq. 1 with zero flow)
 //   wind        WIND_FORM 0 (drag): a += k (w(x) - v), Stokes drag towards the flow field's

@@ -1,4 +1,4 @@
-// Verlet's second-order start for a state given with explicit velocities (src/sim/particles.rs,
+// Verlet's second-order start for a state given with explicit velocities (src/sim/particles/,
 // set_state): x_prev = x - v dt + a(x, v) dt^2 / 2, so that the first step gives
 // x + v dt + a dt^2 / 2, the Taylor expansion to second order. Dead texels are copied.
 

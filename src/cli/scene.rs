@@ -104,8 +104,10 @@ pub fn scene_command(c: SceneCommand) -> texflow::Result<()> {
             }
         }
         SceneCommand::List { name: None } => {
+            let width = scene::BUILTIN.iter().map(|n| n.len()).max().unwrap_or(0);
             for n in scene::BUILTIN {
-                println!("{n}");
+                let what = scene::summary(n).unwrap_or_default();
+                println!("{n:<width$}  {what}");
             }
         }
         SceneCommand::List { name: Some(n) } => match scene::builtin_source(&n) {

@@ -3,7 +3,7 @@
 //! Files carry no `#version` line: [`resolve`] prepends the version and the `#define`s, splices
 //! `#include "path"` (each file at most once, so includes act as guarded), and emits
 //! `#line N S` directives where `S` numbers the file; [`map_log`] turns the driver's `S:N` back
-//! into `glsl/path:N`.
+//! into the file under `glsl/` and its line.
 
 use std::collections::HashSet;
 

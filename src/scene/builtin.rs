@@ -11,6 +11,14 @@ use crate::error::{Error, Result};
 /// The scene rendered when none is named.
 pub const DEFAULT_SCENE: &str = "fire";
 
+/// What a built-in scene shows, in one line (`texflow scene list`): the first line of its file's
+/// opening comment, which the scene files keep as their title. The scene file is the one place
+/// that says what the scene is for.
+pub fn summary(name: &str) -> Option<String> {
+    let first = builtin_source(name)?.lines().next()?;
+    Some(first.strip_prefix('#')?.trim().to_owned())
+}
+
 /// The fire as the thesis draws it (square points): the faithful variant of [`DEFAULT_SCENE`],
 /// and what `bench step` measures.
 pub const THESIS_SCENE: &str = "fire-points";
@@ -80,5 +88,20 @@ mod tests {
         let msg = load("smok").unwrap_err().to_string();
         assert!(msg.contains("smok") && msg.contains("fire"), "{msg}");
         assert!(msg.contains("did you mean `smoke`?"), "{msg}");
+    }
+
+    #[test]
+    fn every_builtin_has_a_one_line_title() {
+        for name in BUILTIN {
+            let title = summary(name).unwrap();
+            let second = builtin_source(name).unwrap().lines().nth(1).unwrap();
+            assert!(
+                (20..=110).contains(&title.chars().count()) && title.ends_with('.'),
+                "{name}: {title}"
+            );
+            // The title stands alone: a blank comment line follows it.
+            assert_eq!(second.trim(), "#", "{name}");
+        }
+        assert_eq!(summary("no-such-scene"), None);
     }
 }

@@ -29,7 +29,7 @@ mod sources;
 mod suggest;
 mod validate;
 
-pub use builtin::{builtin, fire, load, load_source, DEFAULT_SCENE, THESIS_SCENE};
+pub use builtin::{builtin, fire, load, load_source, summary, DEFAULT_SCENE, THESIS_SCENE};
 pub use custom::{
     check_glsl, check_pair_glsl, load_custom, read_glsl, read_pair_glsl, PAIR_SIGNATURE,
 };
@@ -68,7 +68,7 @@ mod tests {
         // Changed after parsing, still reported at the file's line and column.
         let e = s.check().unwrap_err().to_string();
         assert!(
-            e.contains("fire-points (built-in):22:") && e.contains("max_age"),
+            e.contains("fire-points (built-in):24:") && e.contains("max_age"),
             "{e}"
         );
         let mut s = fire();

@@ -152,3 +152,41 @@ fn a_user_pass_that_does_not_compile_names_its_file_and_line() {
     assert!(StatePass::new(&ctx, "five.frag", src, 5).is_err());
     common::no_gl_error(&ctx);
 }
+
+#[test]
+fn bench_scene_runs_every_built_in_scene() {
+    // The bench times the engine's own stages: a scene `render` runs (spin's sprites turned by
+    // the spin texture among them) runs here too.
+    let ctx = common::context();
+    let opts = SceneBenchOptions {
+        repeats: 1,
+        warmup_frames: None,
+        resolution: Some([64, 64]),
+        ..Default::default()
+    };
+    for name in texflow::scene::BUILTIN {
+        let scene = texflow::scene::load(name).unwrap();
+        let records = bench_scene(&ctx, &scene, &[32], &opts, |_| {})
+            .unwrap_or_else(|e| panic!("bench scene {name}: {e}"));
+        let r = &records[0];
+        assert!(r.live > 0, "{name}: nothing alive to time");
+        assert!(
+            r.phases.iter().any(|p| p.phase.starts_with("render")),
+            "{name}: no render phase in {:?}",
+            r.phases.iter().map(|p| &p.phase).collect::<Vec<_>>()
+        );
+        for p in &r.phases {
+            assert!(
+                p.ms.is_finite() && p.ms > 0.0,
+                "{name}: {} {}",
+                p.phase,
+                p.ms
+            );
+            assert!(
+                p.floor_ms.is_finite() && p.floor_ms > 0.0,
+                "{name}: {}",
+                p.phase
+            );
+        }
+    }
+}

@@ -337,6 +337,15 @@ pub fn load_average() -> Option<f64> {
     s.split_whitespace().next()?.parse().ok()
 }
 
+/// A phase's time over its floor below which the floor failed to bound the phase (noise aside).
+pub const FLOOR_FAILED: f64 = 0.95;
+
+/// A ratio to a floor as a table cell, with ⚠ where the floor did not bound the phase.
+pub fn ratio_cell(ratio: f64) -> String {
+    let flag = if ratio < FLOOR_FAILED { " ⚠" } else { "" };
+    format!("{ratio:.2}{flag}")
+}
+
 /// The median of `v` (mean of the two middle values for an even count); NaN for none.
 pub fn median(v: &[f64]) -> f64 {
     if v.is_empty() {

@@ -53,16 +53,16 @@ pub fn step_markdown(records: &[StepRecord]) -> String {
     );
     for r in records {
         out.push_str(&format!(
-            "| {0} | {1} | {2:.3} | {3:.3} | {4:.2} | {5:.3e} | {6:.3} | {7:.3} | {8:.2} |\n",
+            "| {0} | {1} | {2:.3} | {3:.3} | {4} | {5:.3e} | {6:.3} | {7:.3} | {8} |\n",
             r.size,
             r.particles,
             r.sim_ms,
             r.sim_floor_ms,
-            r.sim_ratio,
+            crate::bench::stats::ratio_cell(r.sim_ratio),
             r.particles_per_s,
             r.render_ms,
             r.render_floor_ms,
-            r.render_ratio
+            crate::bench::stats::ratio_cell(r.render_ratio)
         ));
     }
     out

@@ -202,8 +202,6 @@ impl<S: Simulation> GpuEngine<S> {
     /// Draws the current state into the frame target, after the sort of this frame (alpha
     /// blending only) if [`order_for_drawing`](Self::order_for_drawing) has not run at this step.
     pub fn draw(&mut self) -> Result<()> {
-        let count = self.sim.drawn().count;
-        self.renderer.clear(&self.target);
         let steps = self.sim.steps();
         let sorts = match &self.sort {
             Some(s) if s.ordered_at == Some(steps) => {
@@ -212,44 +210,56 @@ impl<S: Simulation> GpuEngine<S> {
             }
             _ => self.order_for_drawing()?,
         };
-        if sorts {
-            let s = self.sort.as_ref().expect("a sort stage");
-            let [w, h] = self.sim.size();
-            let texels = w as usize * h as usize;
-            // Dead particles sort last (+inf keys), so the live ones are a prefix.
-            let motion = self.motion().map(|m| match m {
-                crate::render::Motion::Velocity(_) => {
-                    crate::render::Motion::Velocity(s.sorted.texture(MOTION))
-                }
-                crate::render::Motion::Previous { dt, .. } => crate::render::Motion::Previous {
-                    positions: s.sorted.texture(MOTION),
-                    dt,
-                },
-            });
-            // The spins, when drawn, are the last texture gathered.
-            let spins = self.renderer.needs_spins().then(|| s.sorted.texture(SPIN));
-            let state = crate::render::FrameState {
-                positions: s.sorted.texture(POSITION),
-                statics: s.sorted.texture(STATIC),
-                motion,
-                time: self.sim.time() as f32,
-                spins,
-                count: texels,
-            };
-            self.renderer
-                .draw_frame(&self.target, &state, &self.camera)?;
-        } else {
-            let d = self.sim.drawn();
-            let state = crate::render::FrameState {
-                positions: d.positions,
-                statics: d.statics,
-                motion: self.motion(),
-                time: self.sim.time() as f32,
-                spins: d.spins,
-                count,
-            };
-            self.renderer
-                .draw_frame(&self.target, &state, &self.camera)?;
+        self.render_pass(sorts)
+    }
+
+    /// The render pass alone: clears the frame target and draws, from the state the last
+    /// [`order_for_drawing`](Self::order_for_drawing) gathered when `sorted` (the scene has a
+    /// sort stage), else from the simulation's state. `bench scene` times this, so the phase it
+    /// reports is the pass [`draw`](Self::draw) runs.
+    pub fn render_pass(&self, sorted: bool) -> Result<()> {
+        let count = self.sim.drawn().count;
+        self.renderer.clear(&self.target);
+        match self.sort.as_ref().filter(|_| sorted) {
+            Some(s) => {
+                let [w, h] = self.sim.size();
+                let texels = w as usize * h as usize;
+                // Dead particles sort last (+inf keys), so the live ones are a prefix.
+                let motion = self.motion().map(|m| match m {
+                    crate::render::Motion::Velocity(_) => {
+                        crate::render::Motion::Velocity(s.sorted.texture(MOTION))
+                    }
+                    crate::render::Motion::Previous { dt, .. } => crate::render::Motion::Previous {
+                        positions: s.sorted.texture(MOTION),
+                        dt,
+                    },
+                });
+                // The spins, when drawn, are the last texture gathered.
+                let spins = self.renderer.needs_spins().then(|| s.sorted.texture(SPIN));
+                let state = crate::render::FrameState {
+                    positions: s.sorted.texture(POSITION),
+                    statics: s.sorted.texture(STATIC),
+                    motion,
+                    time: self.sim.time() as f32,
+                    spins,
+                    count: texels,
+                };
+                self.renderer
+                    .draw_frame(&self.target, &state, &self.camera)?;
+            }
+            None => {
+                let d = self.sim.drawn();
+                let state = crate::render::FrameState {
+                    positions: d.positions,
+                    statics: d.statics,
+                    motion: self.motion(),
+                    time: self.sim.time() as f32,
+                    spins: d.spins,
+                    count,
+                };
+                self.renderer
+                    .draw_frame(&self.target, &state, &self.camera)?;
+            }
         }
         self.ctx.check_error("drawing a frame")
     }

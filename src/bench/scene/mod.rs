@@ -28,12 +28,11 @@ use crate::engine::{timed, Engine, GpuEngine, ParticleEngine};
 use crate::error::{Error, Result};
 use crate::gl::{Blend, BlendComponent, BlendFactor, Context, Framebuffer, Texture, TextureDesc};
 use crate::scene::{DrawOrder, SceneFile};
-use crate::sim::state::{POSITION, STATIC};
 use crate::sim::{FireSim, Simulation};
 
 mod phases;
 mod text;
-use phases::{bench_sort, sort_phases, SortFloors, StateFloors};
+use phases::{bench_sort, sort_phases, BenchSort, SortFloors, StateFloors};
 pub use text::{run_summary, scene_markdown, summary};
 
 /// One phase of a frame and its floor.
@@ -340,10 +339,7 @@ fn particles(
     let state_floors = StateFloors::new(ctx, engine.sim())?;
     let floor1 = WriteFloor::new(ctx, 1)?;
     let floor2 = WriteFloor::new(ctx, 2)?;
-    let [w, h] = s.particles.size;
-    let texels = w as usize * h as usize;
     let mut sort = bench_sort(ctx, s)?;
-    let back_to_front = s.render.order == DrawOrder::BackToFront;
     let style = engine.renderer().style().clone();
     let blend = Some(style.blend());
     let clear = style.clear_color();
@@ -357,25 +353,14 @@ fn particles(
         // One step, in its phases.
         state_floors.step_phases(ctx, timer, engine.sim_mut(), &mut phases)?;
         // The frame's sorting, then its drawing.
-        let sim = engine.sim();
-        let count = if let Some(sort) = &mut sort {
-            let mode =
-                crate::engine::key_mode(s.render.sort.key, engine.camera().eye(), back_to_front);
-            if sort.0.quantiser().is_some() {
-                let (lo, hi) = crate::engine::compact_depth_range(engine.camera().distance);
-                let (lo, hi) = if back_to_front { (-hi, -lo) } else { (lo, hi) };
-                sort.0.set_key_range(lo, hi)?;
-            }
+        if let Some(sort) = &mut sort {
             let floors = SortFloors {
                 timer,
                 floor1: &floor1,
                 floor2: &floor2,
             };
-            sort_phases(ctx, &floors, &mut phases, sort, sim, &mode)?;
-            texels
-        } else {
-            sim.active_count()
-        };
+            frame_sort_phases(ctx, &floors, &mut phases, sort, &engine, s)?;
+        }
         let target = engine.target();
         let fb = target.framebuffer();
         // The floor draws the live particles where they are, at the pass's point size and
@@ -385,21 +370,9 @@ fn particles(
         let view_proj = engine.camera().view_projection(rw as f32 / rh as f32);
         let point_size = engine.renderer().style().point_size;
         let f = timer.time(|| placed.draw(fb, clear, blend, &view_proj, point_size))?;
+        let sorted = sort.is_some();
+        let t = timed(timer, || engine.render_pass(sorted))?;
         let r = engine.renderer();
-        let camera = engine.camera();
-        let t = timed(timer, || {
-            r.clear(target);
-            match &sort {
-                Some((_, sorted, ..)) => r.draw(
-                    target,
-                    sorted.texture(POSITION),
-                    sorted.texture(STATIC),
-                    camera,
-                    count,
-                ),
-                None => r.draw(target, sim.positions(), sim.statics(), camera, count),
-            }
-        })?;
         phases.push(
             &format!("render ({})", r.pass_names().join(", ")),
             "clear + the live particles as points where they are, same size and blend, no fetch",
@@ -410,4 +383,24 @@ fn particles(
     }
     let live = engine.live()?;
     Ok((phases, median(&frames[1..]), live))
+}
+
+/// The frame's sort, in its phases (keys, network, gather), with the key mode and depth range
+/// the engine's sort stage uses for the camera of this frame.
+fn frame_sort_phases(
+    ctx: &Context,
+    floors: &SortFloors<'_>,
+    phases: &mut Phases,
+    sort: &mut BenchSort,
+    engine: &ParticleEngine,
+    s: &SceneFile,
+) -> Result<()> {
+    let back_to_front = s.render.order == DrawOrder::BackToFront;
+    let mode = crate::engine::key_mode(s.render.sort.key, engine.camera().eye(), back_to_front);
+    if sort.0.quantiser().is_some() {
+        let (lo, hi) = crate::engine::compact_depth_range(engine.camera().distance);
+        let (lo, hi) = if back_to_front { (-hi, -lo) } else { (lo, hi) };
+        sort.0.set_key_range(lo, hi)?;
+    }
+    sort_phases(ctx, floors, phases, sort, engine.sim(), &mode)
 }

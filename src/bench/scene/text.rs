@@ -1,7 +1,7 @@
 //! `bench scene`'s records as text: the Markdown tables and the one-paragraph summaries.
 
 use super::SceneBenchRecord;
-use crate::bench::stats::median;
+use crate::bench::stats::{median, ratio_cell};
 use crate::scene::SceneFile;
 
 /// The records as a Markdown table per size, with the column names of the JSON keys.
@@ -26,8 +26,12 @@ pub fn scene_markdown(records: &[SceneBenchRecord]) -> String {
         out += "| phase | ms | floor_ms | ratio | floor |\n|---|---:|---:|---:|---|\n";
         for p in &r.phases {
             out += &format!(
-                "| {} | {:.3} | {:.3} | {:.2} | {} |\n",
-                p.phase, p.ms, p.floor_ms, p.ratio, p.floor
+                "| {} | {:.3} | {:.3} | {} | {} |\n",
+                p.phase,
+                p.ms,
+                p.floor_ms,
+                ratio_cell(p.ratio),
+                p.floor
             );
         }
     }

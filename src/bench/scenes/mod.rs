@@ -363,22 +363,7 @@ fn run_one(
         frame(src.as_mut())?;
         r.frame_draws = Some(ctx.take_draw_stats());
     }
-    let mut parts: Vec<(&'static str, Vec<f64>)> = Vec::new();
-    for _ in 0..opts.repeats {
-        for (k, (name, t)) in src.timed_frame(timer)?.into_iter().enumerate() {
-            match parts.get_mut(k) {
-                Some(p) => p.1.push(t),
-                None => parts.push((name, vec![t])),
-            }
-        }
-    }
-    r.phases = parts
-        .into_iter()
-        .map(|(name, t)| Phase {
-            name: name.into(),
-            ms: median(&t),
-        })
-        .collect();
+    r.phases = phase_medians(src.as_mut(), timer, opts.repeats)?;
     ctx.check_error(&format!("experiment {} at {size}²", e.name))?;
     let m = median(&ms);
     r.ms = Some(m);
@@ -393,6 +378,26 @@ fn run_one(
         r.overlaps_per_particle = Some(2.0 * c.pairs as f64 / live);
     }
     Ok(r)
+}
+
+/// Each phase of a frame timed alone, `repeats` times, as medians in the frame's order.
+fn phase_medians(src: &mut dyn Engine, timer: &PassTimer, repeats: usize) -> Result<Vec<Phase>> {
+    let mut parts: Vec<(&'static str, Vec<f64>)> = Vec::new();
+    for _ in 0..repeats {
+        for (k, (name, t)) in src.timed_frame(timer)?.into_iter().enumerate() {
+            match parts.get_mut(k) {
+                Some(p) => p.1.push(t),
+                None => parts.push((name, vec![t])),
+            }
+        }
+    }
+    Ok(parts
+        .into_iter()
+        .map(|(name, t)| Phase {
+            name: name.into(),
+            ms: median(&t),
+        })
+        .collect())
 }
 
 /// The record of `e` at `size` before anything is measured.

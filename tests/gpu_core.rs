@@ -171,27 +171,7 @@ fn fire_sprites_fall_off_as_one_minus_r_squared_squared() {
         1.0,
     );
     let w = camera.view_projection(fw as f32 / fh as f32).inverse() * ndc;
-    let p = w.truncate() / w.w;
-    let state = PingPong::new(
-        &ctx,
-        "one",
-        &["position", "velocity"],
-        &[TextureFormat::Rgba32F, TextureFormat::Rgba32F],
-        1,
-        1,
-    )
-    .unwrap();
-    // Total life 2 s, 1 s left: relative age 0.5.
-    state
-        .front()
-        .texture(0)
-        .upload_f32(&[p.x, p.y, p.z, 1.0])
-        .unwrap();
-    state
-        .front()
-        .texture(1)
-        .upload_f32(&[0.0, 0.0, 0.0, 1.0])
-        .unwrap();
+    let state = one_particle_at(&ctx, w.truncate() / w.w);
     let draw = |soft: bool| {
         let renderer =
             ParticleRenderer::new(&ctx, fire_style(size as f32, 3.0, soft), 1, 1).unwrap();
@@ -240,6 +220,30 @@ fn fire_sprites_fall_off_as_one_minus_r_squared_squared() {
         }
     }
     no_gl_error(&ctx);
+}
+
+/// A state of one fire particle at `p`, with total life 2 s and 1 s left (relative age 0.5).
+fn one_particle_at(ctx: &texflow::gl::Context, p: glam::Vec3) -> PingPong {
+    let state = PingPong::new(
+        ctx,
+        "one",
+        &["position", "velocity"],
+        &[TextureFormat::Rgba32F, TextureFormat::Rgba32F],
+        1,
+        1,
+    )
+    .unwrap();
+    state
+        .front()
+        .texture(0)
+        .upload_f32(&[p.x, p.y, p.z, 1.0])
+        .unwrap();
+    state
+        .front()
+        .texture(1)
+        .upload_f32(&[0.0, 0.0, 0.0, 1.0])
+        .unwrap();
+    state
 }
 
 /// The fire's look in the one particle renderer: its ramp, square points or soft sprites.

@@ -308,6 +308,12 @@ fn compact_blocked_sort_orders_by_level_then_id() {
             }
         }
     }
+    no_gl_error(&ctx);
+}
+
+#[test]
+fn compact_blocked_sort_refuses_what_it_cannot_order() {
+    let ctx = context();
     // Too many entries for 8 key bits, and pinned lanes, are refused with the fix.
     for (w, h, bits, pinned, needle) in [
         (4096, 8192, 4, false, "2^24"),
@@ -699,6 +705,17 @@ fn compact_entries_render_like_exact_ones() {
         .unwrap();
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success() && text.contains("PSNR"), "{text}");
+    let o = Command::new(env!("CARGO_BIN_EXE_texflow"))
+        .arg("diff")
+        .arg(&exact)
+        .arg(&compact)
+        .arg("--json")
+        .output()
+        .unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["schema"], "texflow.diff/1");
+    assert_eq!(v["texflow_version"], env!("CARGO_PKG_VERSION"));
+    assert_eq!(v["records"]["max"], d.max);
     let o = Command::new(env!("CARGO_BIN_EXE_texflow"))
         .args([
             "render",

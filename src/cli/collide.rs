@@ -280,13 +280,13 @@ fn print_stats(
     let [e0, e1] = stats.kinetic_energy;
     let [p0, p1] = stats.momentum;
     let dp = (0..3).map(|k| (p1[k] - p0[k]).powi(2)).sum::<f64>().sqrt();
-    println!(
-        "energy       {:>8.4} J -> {:.4} J ({:+.2}%); momentum change {:.3e} kg m/s",
-        e0,
-        e1,
-        100.0 * (e1 - e0) / e0.max(f64::MIN_POSITIVE),
-        dp
-    );
+    // A state that starts at rest (a pile poured from above) has no energy to compare with.
+    let change = if e0 > 0.0 {
+        format!("{:+.2}%", 100.0 * (e1 - e0) / e0)
+    } else {
+        "no relative change: the live particles started at rest".to_owned()
+    };
+    println!("energy       {e0:>8.4} J -> {e1:.4} J ({change}); momentum change {dp:.3e} kg m/s");
 }
 
 /// Said when no two particles overlap at the measured step: the rates are then 0 of 0.

@@ -18,7 +18,8 @@ pub struct DiffArgs {
 pub fn diff(args: DiffArgs) -> texflow::Result<()> {
     let d = texflow::output::diff::diff_files(&args.a, &args.b)?;
     if args.json {
-        println!("{}", serde_json::to_string(&d).unwrap_or_default());
+        // The envelope every `--json` has (schema, version), the comparison as its record.
+        super::print_json("texflow.diff/1", None, &d);
     } else {
         println!(
             "{}x{}: mean |difference| {:.4}/255 per channel, largest {}/255, {:.3} % of pixels \

@@ -65,7 +65,8 @@ pub enum Command {
     /// Benchmarks (GPU timer queries, medians, floors measured in the same run).
     #[command(subcommand)]
     Bench(bench::BenchCommand),
-    /// Error against run time, and stability on stiff and extreme cases (docs/numerics.md).
+    /// The papers' tables and every measurement of docs/reproduction.md: sorts, scenes, error
+    /// against run time, stability, collisions (PNG plots, CSV, JSON, summary.md).
     #[command(subcommand)]
     Report(report::ReportCommand),
 }

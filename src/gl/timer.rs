@@ -34,8 +34,8 @@ impl Clock {
     /// The clock's name in tables.
     pub fn name(self) -> &'static str {
         match self {
-            Clock::Gpu => "GPU timer query",
-            Clock::Wall => "glFinish wall time",
+            Clock::Gpu => "GPU timer queries",
+            Clock::Wall => "wall clock, waiting for the GL to finish",
         }
     }
 }

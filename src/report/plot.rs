@@ -35,18 +35,39 @@ pub struct Series {
     pub dashed: bool,
 }
 
-/// A log-axis tick label: 1, 2 and 5 times a power of ten only, so that labels near a decade do
-/// not run into each other.
+/// A log-axis tick label: 1, 2 and 5 times a power of ten where the axis spans more than a
+/// decade and a half (so that labels near a decade do not run into each other), every whole
+/// multiple of a power of ten on a shorter axis (so that it has more than one label); written as
+/// a plain number from 0.001 to 99,999, else as m×10ⁿ.
 #[cfg(feature = "plots")]
-fn tick(v: &f64) -> String {
-    let m = v / 10f64.powf(v.log10().floor());
-    if [1.0, 2.0, 5.0, 10.0]
-        .iter()
-        .any(|k| (m - k).abs() < 1e-3 * k)
-    {
-        format!("{v:.0e}")
+fn tick(v: f64, span_decades: f64) -> String {
+    let e = v.log10().floor();
+    let m = v / 10f64.powf(e);
+    let wanted: &[f64] = if span_decades > 1.5 {
+        &[1.0, 2.0, 5.0, 10.0]
     } else {
-        String::new()
+        &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0]
+    };
+    let Some(&k) = wanted.iter().find(|&&k| (m - k).abs() < 1e-3 * k) else {
+        return String::new();
+    };
+    let (k, e) = if k == 10.0 { (1.0, e + 1.0) } else { (k, e) };
+    if (-3.0..5.0).contains(&e) {
+        let decimals = (-e).max(0.0) as usize;
+        format!("{:.*}", decimals, k * 10f64.powf(e))
+    } else {
+        let sup: String = format!("{e:.0}")
+            .chars()
+            .map(|c| match c {
+                '-' => '⁻',
+                d => ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'][d as usize - '0' as usize],
+            })
+            .collect();
+        if k == 1.0 {
+            format!("10{sup}")
+        } else {
+            format!("{k:.0}×10{sup}")
+        }
     }
 }
 
@@ -121,8 +142,10 @@ pub fn loglog(
             .y_desc(axes.1)
             .axis_desc_style(("sans-serif", 16))
             .label_style(("sans-serif", 13))
-            .x_label_formatter(&tick)
-            .y_label_formatter(&tick)
+            .x_label_formatter(&|v| tick(*v, (x1 / x0).log10()))
+            .y_label_formatter(&|v| tick(*v, (y1 / y0).log10()))
+            .x_labels(20)
+            .y_labels(20)
             .light_line_style(RGBColor(235, 235, 235))
             .draw()
             .map_err(|e| fail(&e))?;
@@ -224,7 +247,8 @@ fn on_log_axes(p: &(f64, f64)) -> bool {
     p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0
 }
 
-/// The x and y ranges of the drawable points of `series`, in whole decades and margins.
+/// The x and y ranges of the drawable points of `series`: from a power of ten to a fifth of a
+/// decade past the largest point.
 #[cfg(feature = "plots")]
 fn log_ranges(series: &[Series]) -> ((f64, f64), (f64, f64)) {
     let pts: Vec<(f64, f64)> = series
@@ -242,7 +266,9 @@ fn log_ranges(series: &[Series]) -> ((f64, f64), (f64, f64)) {
             let (lo, hi) = (lo.log10() - 0.2, hi.log10() + 0.2);
             let mid = 0.5 * (lo + hi);
             let half = (0.5 * (hi - lo)).max(0.5);
-            (10f64.powf(mid - half), 10f64.powf(mid + half))
+            // The axis starts at a power of ten: plotters puts its first tick at the first power
+            // of ten inside the range, so a range that starts above one has no label below it.
+            (10f64.powf((mid - half).floor()), 10f64.powf(mid + half))
         }
     };
     (range(|p| p.0), range(|p| p.1))
@@ -275,5 +301,22 @@ fn marker_element<DB: plotters::prelude::DrawingBackend>(
             }
         }
         Marker::Cross => Cross::new(at, 4, style).into_dyn(),
+    }
+}
+
+#[cfg(all(test, feature = "plots"))]
+mod tests {
+    use super::tick;
+
+    #[test]
+    fn ticks_read_as_plain_numbers_and_a_short_axis_gets_more_of_them() {
+        assert_eq!(tick(50.0, 3.0), "50");
+        assert_eq!(tick(0.002, 3.0), "0.002");
+        assert_eq!(tick(1000.0, 3.0), "1000");
+        assert_eq!(tick(3.0, 3.0), "");
+        assert_eq!(tick(3.0, 1.0), "3");
+        assert_eq!(tick(1e-6, 5.0), "10⁻⁶");
+        assert_eq!(tick(5e-6, 5.0), "5×10⁻⁶");
+        assert_eq!(tick(2e5, 3.0), "2×10⁵");
     }
 }

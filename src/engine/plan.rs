@@ -7,7 +7,6 @@
 use std::fmt;
 
 use crate::scene::{Blending, DrawOrder, SceneFile, SortKey};
-use crate::sort::network::{bitonic_schedule, group_steps, odd_even_schedule};
 use crate::sort::Variant;
 
 /// The passes of one frame.
@@ -55,15 +54,11 @@ pub fn sort_plan(scene: &SceneFile) -> Option<SortPlan> {
     } else {
         crate::sort::BlockedShape::default()
     };
-    let passes = match variant {
-        Variant::OddEven => odd_even_schedule(block).len(),
-        Variant::Multistep => group_steps(&bitonic_schedule(w, block), 2).len(),
-        Variant::Blocked => {
-            let (n, b) = ((w * h).trailing_zeros(), block.trailing_zeros());
-            crate::sort::blocked::schedule(n, b, shape.bits, shape.pinned).len() + 1
-        }
-        _ => bitonic_schedule(w, block).len(),
+    let options = crate::sort::SortOptions {
+        blocked: shape,
+        ..Default::default()
     };
+    let passes = crate::sort::pass_count(variant, w, h, block, &options);
     Some(SortPlan {
         variant,
         size: [w, h],

@@ -136,7 +136,13 @@ impl Gpu2004 {
         // Fragments per network pass and texel fetches per fragment.
         let (fragments, fetches) = match variant {
             Variant::Packed => (n / 2.0, 2.0),
-            _ => (n, 2.0),
+            // Every other variant as a fragment per entry reading two: a new variant must say
+            // what it writes here.
+            Variant::Fp
+            | Variant::GpFp
+            | Variant::OddEven
+            | Variant::Multistep
+            | Variant::Blocked => (n, 2.0),
         };
         let bytes = fragments * 16.0 * (1.0 + fetches);
         let pass = (fragments / Self::FILL).max(bytes / Self::BANDWIDTH);

@@ -6,6 +6,8 @@ pub mod blocked;
 mod gpu;
 pub mod network;
 pub mod precision;
+pub mod schedule;
 
 pub use gpu::{BlockedShape, KeyMode, Quantiser, SortOptions, Sorter, Variant};
 pub use network::{entry_less, Entry, Step};
+pub use schedule::{network as schedule, pass_count, NetworkPass};

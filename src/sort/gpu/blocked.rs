@@ -8,7 +8,7 @@ use crate::gl::{
     Context, Defines, Framebuffer, FullscreenPass, Program, Texture, Texture3D, TextureFormat,
     FULLSCREEN_VERTEX,
 };
-use crate::sort::blocked::{schedule, BlockPass};
+use crate::sort::blocked::BlockPass;
 
 /// Group bits per pass, whether logical bit 0 is pinned to the lane, and the entry size.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -140,14 +140,14 @@ fn log2(v: u32) -> u32 {
 }
 
 impl Blocked {
-    /// A blocked network over a `width`×`height` natural texture, sorting blocks of `block`
-    /// entries (all powers of two).
+    /// A blocked network over a `width`×`height` natural texture (powers of two) that runs
+    /// `passes`, the network passes of [`crate::sort::schedule::network`].
     pub(super) fn new(
         ctx: &Context,
         width: u32,
         height: u32,
-        block: u32,
         shape: BlockedShape,
+        passes: Vec<BlockPass>,
     ) -> Result<Self> {
         let n = log2(width * height);
         let quantiser = if shape.compact {
@@ -164,7 +164,6 @@ impl Blocked {
             None
         };
         let bits = shape.bits.min(n).max(1);
-        let passes = schedule(n, log2(block), bits, shape.pinned);
         let pixels = (width * height) >> bits;
         let w = width.min(pixels).max(1);
         let h = (pixels / w).max(1);
@@ -235,11 +234,6 @@ impl Blocked {
     /// The quantiser of compact entries.
     pub(super) fn quantiser(&self) -> Option<Quantiser> {
         self.quantiser
-    }
-
-    /// Network passes (the unpack pass not counted).
-    pub(super) fn network_passes(&self) -> usize {
-        self.passes.len()
     }
 
     /// The framebuffer the next network pass writes (for floors).

@@ -10,8 +10,9 @@ mod run;
 use std::cell::RefCell;
 use std::collections::HashMap;
 
-use super::network::{bitonic_schedule, group_steps, odd_even_schedule, Entry, Step};
+use super::network::{Entry, Step};
 use super::precision::id_table;
+use super::schedule::NetworkPass;
 use crate::error::{Error, Result};
 use crate::gl::{
     Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Texture, TextureDesc,
@@ -218,7 +219,8 @@ impl Sorter {
     }
 
     fn build(&mut self, block: u32) -> Result<()> {
-        let w = self.width;
+        let network =
+            super::schedule::network(self.variant, self.width, self.height, block, &self.options);
         match self.variant {
             Variant::Fp => {
                 self.program(
@@ -227,10 +229,6 @@ impl Sorter {
                     "sort/bitonic_fp.frag",
                     &[],
                 )?;
-                self.passes = bitonic_schedule(w, block)
-                    .into_iter()
-                    .map(Pass::Fragment)
-                    .collect();
             }
             Variant::OddEven => {
                 self.program(
@@ -245,42 +243,54 @@ impl Sorter {
                     "sort/oddeven_end.frag",
                     &[],
                 )?;
-                self.passes = odd_even_schedule(block)
-                    .into_iter()
-                    .map(Pass::Fragment)
-                    .collect();
             }
             Variant::Multistep => {
-                let groups = group_steps(&bitonic_schedule(w, block), self.options.steps_per_pass);
-                for g in &groups {
-                    let (levels, steps) = group_shape(g);
-                    let (l, s) = (levels.to_string(), steps.to_string());
-                    self.program(
-                        ProgramKey::Multistep { levels, steps },
-                        FULLSCREEN_VERTEX,
-                        "sort/multistep.frag",
-                        &[("LEVELS", &l), ("STEPS", &s)],
-                    )?;
+                for p in &network {
+                    if let NetworkPass::Group(g) = p {
+                        let (levels, steps) = group_shape(g);
+                        let (l, s) = (levels.to_string(), steps.to_string());
+                        self.program(
+                            ProgramKey::Multistep { levels, steps },
+                            FULLSCREEN_VERTEX,
+                            "sort/multistep.frag",
+                            &[("LEVELS", &l), ("STEPS", &s)],
+                        )?;
+                    }
                 }
-                self.passes = groups.into_iter().map(Pass::Group).collect();
             }
             Variant::Blocked => {
-                self.passes.clear();
-                if self.width * self.height > 1 {
-                    let b = Blocked::new(&self.ctx, w, self.height, block, self.options.blocked)?;
-                    self.passes = (0..b.network_passes()).map(Pass::Blocked).collect();
-                    self.passes.push(Pass::Unpack);
-                    self.blocked = Some(b);
-                }
+                let passes: Vec<_> = network
+                    .iter()
+                    .filter_map(|p| match p {
+                        NetworkPass::Blocked(b) => Some(b.clone()),
+                        _ => None,
+                    })
+                    .collect();
+                self.blocked = if passes.is_empty() {
+                    None
+                } else {
+                    let (w, h, shape) = (self.width, self.height, self.options.blocked);
+                    Some(Blocked::new(&self.ctx, w, h, shape, passes)?)
+                };
             }
-            Variant::GpFp | Variant::Packed => self.build_geometry(block)?,
+            Variant::GpFp | Variant::Packed => return self.build_geometry(&network),
         }
+        let mut blocked_index = 0..;
+        self.passes = network
+            .into_iter()
+            .map(|p| match p {
+                NetworkPass::Step(step) => Pass::Fragment(step),
+                NetworkPass::Group(g) => Pass::Group(g),
+                NetworkPass::Blocked(_) => Pass::Blocked(blocked_index.next().unwrap_or(0)),
+                NetworkPass::Unpack => Pass::Unpack,
+            })
+            .collect();
         Ok(())
     }
 
     /// The GP/FP and packed variants' programs and passes: one quad geometry per distinct
     /// shape of a bitonic step, uploaded once and shared by the steps of that shape.
-    fn build_geometry(&mut self, block: u32) -> Result<()> {
+    fn build_geometry(&mut self, network: &[NetworkPass]) -> Result<()> {
         let frag = if self.variant.packed() {
             "sort/bitonic_packed.frag"
         } else {
@@ -296,7 +306,10 @@ impl Sorter {
         }
         let mut shapes: HashMap<(u8, u32, u32), usize> = HashMap::new();
         let mut passes = Vec::new();
-        for step in bitonic_schedule(self.width, block) {
+        for step in network.iter().filter_map(|p| match p {
+            NetworkPass::Step(step) => Some(step.clone()),
+            _ => None,
+        }) {
             let shape = self.quads(&step);
             let geometry = match shapes.get(&shape.key) {
                 Some(&g) => g,

@@ -307,7 +307,7 @@ impl Sorter {
         let mut shapes: HashMap<(u8, u32, u32), usize> = HashMap::new();
         let mut passes = Vec::new();
         for step in network.iter().filter_map(|p| match p {
-            NetworkPass::Step(step) => Some(step.clone()),
+            NetworkPass::Step(step) => Some(*step),
             _ => None,
         }) {
             let shape = self.quads(&step);

@@ -20,7 +20,7 @@ fn the_sorter_runs_the_passes_its_schedule_lists() {
                 rows,
                 ..SortOptions::default()
             };
-            let sorter = Sorter::new(&ctx, variant, w, h, options.clone()).unwrap();
+            let sorter = Sorter::new(&ctx, variant, w, h, options).unwrap();
             let block = rows.map_or(w * h, |k| w * k);
             let listed = pass_count(variant, w, h, block, &options);
             assert_eq!(

@@ -173,11 +173,8 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     }
     let (count, fps) = check_outputs(&a, s, options.written_count())?;
     // Every output against every input and every other output, and every frame target.
-    let inputs = targets::inputs(
-        &prepared.label,
-        s,
-        scene::builtin_source(&a.scene).is_some(),
-    );
+    let mut inputs = targets::inputs(&prepared.label, s);
+    inputs.extend(a.compare.inputs());
     let plan = targets::Plan {
         frames: a.frames,
         every: a.every,

@@ -34,11 +34,6 @@ pub struct Golden {
 }
 
 impl CompareArgs {
-    /// The reference file, if any (to keep dump folders from overwriting it).
-    pub fn file(&self) -> Option<&PathBuf> {
-        self.compare.as_ref()
-    }
-
     /// The files --compare reads: the reference and, where it exists, its other half.
     pub fn inputs(&self) -> super::targets::Inputs {
         let Some(path) = &self.compare else {

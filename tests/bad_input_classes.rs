@@ -119,7 +119,8 @@ fn a_fine_terrain_is_drawn_through_a_bounded_grid() {
 }
 
 /// Every variant `sort` accepts works in `trace sort` (the blocked sort failed at every size,
-/// leaving an empty folder), ending sorted; the help of `sort` and `trace` lists each of them.
+/// leaving an empty folder), ending sorted, and in `bench sort`; the help of `sort` and `trace`
+/// lists each of them.
 #[test]
 fn every_sort_variant_traces() {
     use texflow::sort::Variant;
@@ -148,6 +149,28 @@ fn every_sort_variant_traces() {
             keys.windows(2).all(|w| w[0] <= w[1]),
             "{}: {keys:?}",
             v.name()
+        );
+    }
+    // `bench sort` runs every variant by default.
+    let o = command()
+        .args([
+            "bench",
+            "sort",
+            "--sizes",
+            "8",
+            "--repeats",
+            "1",
+            "--no-cpu",
+            "-q",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let table = String::from_utf8(o.stdout).unwrap();
+    for v in Variant::ALL {
+        assert!(
+            table.contains(&format!("| {} |", v.name())),
+            "bench sort: {table}"
         );
     }
     for cmd in [["sort", "--help"], ["trace", "--help"]] {

@@ -2,7 +2,7 @@
 //! input kind (the scene, a custom force's and a pair force's GLSL, an OBJ mesh, a height map as
 //! PNG and as `.npy`, a wind and a distance field, the `--compare` reference and its other half)
 //! is put where each output kind lands (`--video`, a frame of `--out`, a dump of
-//! `--dump-state`, a picture and the index of `trace --out`), as the file itself, as a hard link
+//! `--dump-state`, a picture and the index of `trace --out`, `view --screenshot`), as the file itself, as a hard link
 //! and as a symbolic link. Every run must be refused (exit 2) naming what it reads, leave the
 //! input's bytes as they were and create nothing (docs/reliability.md).
 
@@ -102,7 +102,7 @@ struct Output {
     compares: bool,
 }
 
-const OUTPUTS: [Output; 5] = [
+const OUTPUTS: [Output; 6] = [
     Output {
         name: "v.png",
         args: &[
@@ -142,6 +142,18 @@ const OUTPUTS: [Output; 5] = [
     Output {
         name: "index.md",
         args: &["trace", "{scene}", "--out", "{dir}"],
+        compares: false,
+    },
+    Output {
+        name: "shot.png",
+        args: &[
+            "view",
+            "{scene}",
+            "--frames",
+            "1",
+            "--screenshot",
+            "{dir}/shot.png",
+        ],
         compares: false,
     },
 ];
@@ -226,6 +238,9 @@ fn refused(k: &Kind, o: &Output, how: Placed) {
     let out = command()
         .args(&args)
         .current_dir(tmp.path())
+        // `view` must not open a window: it is refused before it looks for a display.
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
         .output()
         .unwrap();
     let case = format!(
@@ -273,7 +288,7 @@ fn no_output_replaces_an_input() {
             }
         }
     }
-    assert_eq!(cases, 8 * 5 * 3 + 3 * 3 + 3 * 2);
+    assert_eq!(cases, 8 * 6 * 3 + 3 * 3 + 3 * 2);
 }
 
 /// The folder a command writes into may itself not be an input's path, and a file an input

@@ -283,9 +283,18 @@ fn a_wrong_signature_names_the_users_file_and_function() {
                 cell = 0.05\ndetection = \"exact\"\n\
                 bounds = [[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]]\n";
     let custom = "[[forces.custom]]\nglsl = \"c.glsl\"\n";
+    // An error inside the user's file: at its line and the driver's column.
+    fs::write(
+        dir.join("q.glsl"),
+        "vec3 pair_force(vec3 x, vec3 v, int type, float mass, vec3 xj, vec3 vj, int type_j,\n\
+         float mass_j, float distance) {\n  return x +;\n}\n",
+    )
+    .unwrap();
+    let syntax = pair.replace("p.glsl", "q.glsl");
     for (extra, at, name, renamed) in [
         (pair, "p.glsl:1:6", "pair_force(", "pair_force_0"),
         (custom, "c.glsl:3:8", "force(", "custom_force_0"),
+        (&syntax, "q.glsl:3:", "pair_force(", "pair_force_0"),
     ] {
         fs::write(dir.join("s.toml"), format!("{base}{extra}")).unwrap();
         let o = run_in(dir, &["scene", "check", "s.toml"]);
@@ -416,40 +425,26 @@ fn a_video_path_ending_in_a_slash_is_refused_first() {
     }
 }
 
-/// `scene check` and `render` agree on the fire's point size: both refuse a point wider than
-/// the device draws, at the key's line and column, with the same message.
+/// `scene check` and `render` agree on the point size for every built-in scene, the fire's
+/// included (its check said ok and `render` refused without a location): both refuse a point
+/// wider than the device draws, at the key's line and column, with the same message, and the
+/// refused render creates nothing.
 #[test]
-fn scene_check_and_render_agree_on_the_fires_point_size() {
+fn scene_check_and_render_agree_on_the_point_size_for_every_scene() {
     let tmp = tempfile::tempdir().unwrap();
     let set = ["--set", "render.point_size=1e30"];
-    let check = run_in(
-        tmp.path(),
-        &[&["scene", "check", "fire"][..], &set].concat(),
-    );
-    let render = run_in(
-        tmp.path(),
-        &[
-            &[
-                "render",
-                "fire",
-                "--frames",
-                "1",
-                "--particles",
-                "8",
-                "--out",
-                "f",
-            ][..],
-            &set,
-        ]
-        .concat(),
-    );
-    let (c, r) = (stderr(&check), stderr(&render));
-    assert_eq!(check.status.code(), Some(2), "{c}");
-    assert_eq!(render.status.code(), Some(2), "{r}");
-    assert!(
-        c.contains("fire (built-in):") && c.contains("point_size"),
-        "{c}"
-    );
-    assert_eq!(c, r);
-    assert!(!tmp.path().join("f").exists());
+    for name in texflow::scene::BUILTIN {
+        let check = run_in(tmp.path(), &[&["scene", "check", name][..], &set].concat());
+        let render = run_in(
+            tmp.path(),
+            &[&["render", name, "--frames", "1", "--out", "f"][..], &set].concat(),
+        );
+        let (c, r) = (stderr(&check), stderr(&render));
+        assert_eq!(check.status.code(), Some(2), "{name}: {c}");
+        assert_eq!(render.status.code(), Some(2), "{name}: {r}");
+        let at = format!("{name} (built-in):");
+        assert!(c.contains(&at) && c.contains("point_size"), "{name}: {c}");
+        assert_eq!(c, r, "{name}");
+        assert!(!tmp.path().join("f").exists(), "{name}");
+    }
 }

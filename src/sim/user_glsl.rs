@@ -58,7 +58,14 @@ pub(crate) fn user_compile_error(
                 files.iter().find_map(|(_, path)| {
                     let rest = l.strip_prefix(path.as_str())?.strip_prefix(':')?;
                     let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
-                    Some(format!("{path}:{digits}"))
+                    // Mesa writes `LINE(COLUMN)`; the column too where the driver gives one.
+                    let column: String = (rest[digits.len()..].strip_prefix('('))
+                        .map(|c| c.chars().take_while(char::is_ascii_digit).collect())
+                        .unwrap_or_default();
+                    Some(match column.is_empty() {
+                        true => format!("{path}:{digits}"),
+                        false => format!("{path}:{digits}:{column}"),
+                    })
                 })
             };
             let at = log.lines().find_map(in_user);

@@ -267,6 +267,28 @@ mod tests {
     use texflow::output::temporary_of;
 
     #[test]
+    fn trace_names_are_the_ones_a_trace_writes() {
+        for n in [
+            "index.md",
+            "sort.gif",
+            "01_position.png",
+            "112_key.png",
+            "pass_003.png",
+        ] {
+            assert!(trace_writes(n), "{n}");
+        }
+        for n in [
+            "notes.md",
+            "a_01.png",
+            "01position.png",
+            "01_position.npy",
+            "sort.png",
+        ] {
+            assert!(!trace_writes(n), "{n}");
+        }
+    }
+
+    #[test]
     fn names_are_matched_exactly() {
         assert_eq!(index_in("frame_00012.png", "frame_", ".png"), Some(12));
         assert_eq!(index_in("frame_123456.png", "frame_", ".png"), Some(123456));

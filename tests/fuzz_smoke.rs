@@ -1,5 +1,5 @@
-//! The fuzz targets' checks (`fuzz/src/lib.rs`, included here: `.npy`, scenes, OBJ meshes and
-//! custom-force GLSL) on stable Rust, for machines
+//! The fuzz targets' checks (`fuzz/src/lib.rs`, included here: `.npy`, scenes, OBJ meshes,
+//! custom-force and pair-force GLSL, field files, `--set` values) on stable Rust, for machines
 //! without nightly and cargo-fuzz: the seed corpus `fuzz/corpus/`, then random mutations of it
 //! (byte edits and splices of tokens that have broken readers before).
 //!
@@ -91,6 +91,42 @@ const GLSL_TOKENS: &[&[u8]] = &[
     b"while (true)",
     b"force",
     b"\xff",
+];
+
+/// Tokens spliced into field files (PNG height maps, `.npy` fields).
+const FIELD_TOKENS: &[&[u8]] = &[
+    b"IHDR",
+    b"\x00\x00\xff\xff\x00\x00\xff\xff",
+    b"\x10\x00",
+    b"\x01\x00",
+    b"IDAT",
+    b"(2, 2, 2, 3)",
+    b"(100000, 100000)",
+    b"(1, 2)",
+    b"\x00\x00\xc0\x7f",
+    b"\x00\x00\x80\x7f",
+    b"'<f8'",
+    b"\xff",
+];
+
+/// Tokens spliced into `--set` lines.
+const SET_TOKENS: &[&[u8]] = &[
+    b"=",
+    b".",
+    b"\n",
+    b"1e30",
+    b"nan",
+    b"-1",
+    b"[",
+    b"]",
+    b"\"",
+    b"{ a = 1 }",
+    b"colliders.heightfield.0.image",
+    b"forces.wind.0.field",
+    b"emitters.child.0",
+    b"4294967296",
+    b"true",
+    b"\xc3\xa9",
 ];
 
 fn corpus(name: &str) -> Vec<Vec<u8>> {
@@ -205,6 +241,28 @@ fn glsl_corpus_and_mutations_pass_the_checks() {
     run("glsl", checks::glsl, GLSL_TOKENS, 20_000, Duration::MAX, 1);
 }
 
+#[test]
+fn field_corpus_and_mutations_pass_the_checks() {
+    run(
+        "field",
+        checks::field,
+        FIELD_TOKENS,
+        5_000,
+        Duration::MAX,
+        1,
+    );
+}
+
+#[test]
+fn pair_corpus_and_mutations_pass_the_checks() {
+    run("pair", checks::pair, GLSL_TOKENS, 20_000, Duration::MAX, 1);
+}
+
+#[test]
+fn set_corpus_and_mutations_pass_the_checks() {
+    run("set", checks::set, SET_TOKENS, 2_000, Duration::MAX, 1);
+}
+
 fn budget() -> Duration {
     let secs = std::env::var("FUZZ_SMOKE_SECS").map_or(60, |s| s.parse().unwrap());
     Duration::from_secs(secs)
@@ -247,4 +305,28 @@ fn glsl_fuzz_smoke() {
     let (t, s) = (budget(), seed());
     let n = run("glsl", checks::glsl, GLSL_TOKENS, usize::MAX, t, s);
     eprintln!("glsl: {n} inputs in {t:?} (seed {s}), no failure");
+}
+
+#[test]
+#[ignore = "runs for FUZZ_SMOKE_SECS seconds"]
+fn field_fuzz_smoke() {
+    let (t, s) = (budget(), seed());
+    let n = run("field", checks::field, FIELD_TOKENS, usize::MAX, t, s);
+    eprintln!("field: {n} inputs in {t:?} (seed {s}), no failure");
+}
+
+#[test]
+#[ignore = "runs for FUZZ_SMOKE_SECS seconds"]
+fn pair_fuzz_smoke() {
+    let (t, s) = (budget(), seed());
+    let n = run("pair", checks::pair, GLSL_TOKENS, usize::MAX, t, s);
+    eprintln!("pair: {n} inputs in {t:?} (seed {s}), no failure");
+}
+
+#[test]
+#[ignore = "runs for FUZZ_SMOKE_SECS seconds"]
+fn set_fuzz_smoke() {
+    let (t, s) = (budget(), seed());
+    let n = run("set", checks::set, SET_TOKENS, usize::MAX, t, s);
+    eprintln!("set: {n} inputs in {t:?} (seed {s}), no failure");
 }

@@ -1,5 +1,5 @@
 //! The checks of the fuzz targets, shared with the stable smoke test (`tests/fuzz_smoke.rs`
-//! includes this file). Each panics when an input breaks the promise of issue 13: a fuzzer
+//! includes this file). Each panics when an input breaks the bad-input promise: a fuzzer
 //! reports the panic and keeps the input.
 
 use std::path::Path;
@@ -106,4 +106,103 @@ pub fn glsl(data: &[u8]) {
     let n = lines.len().max(1) as u32;
     let (_, first) = map_log(&format!("2:{n}(1): error: x\n"), &r.files);
     assert_eq!(first, Some(("user.glsl".to_owned(), n)));
+}
+
+/// Whether a field read from a file holds what its size says: at least 2 nodes on its first two
+/// axes, `channels` finite values per node.
+fn field_is_whole(f: &texflow::scene::FieldData, channels: usize) {
+    let [x, y, z] = f.size.map(|n| n as usize);
+    assert!(x >= 2 && y >= 2 && z >= 1, "size {:?}", f.size);
+    assert_eq!(f.channels, channels);
+    assert_eq!(f.data.len(), x * y * z * channels, "size {:?}", f.size);
+    assert!(
+        f.data.iter().all(|v| v.is_finite()),
+        "a value that is not finite"
+    );
+}
+
+/// Feeds `data` to the field-file readers: as a height map image (a grey PNG), and as a height
+/// map, wind and distance field `.npy`. Each must refuse it with a message, or give a field
+/// whose size matches its values, all finite (the image's in [0, 1]).
+pub fn field(data: &[u8]) {
+    use texflow::scene::{grey_image, npy_field};
+    match grey_image(data) {
+        Ok(f) => {
+            field_is_whole(&f, 1);
+            assert!(
+                f.data.iter().all(|v| (0.0..=1.0).contains(v)),
+                "a level outside [0, 1]"
+            );
+        }
+        Err(m) => assert!(!m.is_empty(), "refused without a message"),
+    }
+    for (dims, channels) in [(&[2][..], 1), (&[3, 2][..], 3), (&[3][..], 1)] {
+        match npy_field("fuzz.npy", data, dims, channels) {
+            Ok(f) => field_is_whole(&f, channels),
+            Err(m) => assert!(!m.is_empty(), "refused without a message"),
+        }
+    }
+}
+
+/// The pair-force front end on `data` as the user's file: the text checks refuse it with the
+/// file and a line, or accept it; what they accept is spliced by the include resolver as one
+/// source, its lines in order, and a driver's location in it maps back to the user's file.
+pub fn pair(data: &[u8]) {
+    use texflow::gl::source::{embedded, map_log, resolve};
+    let text = match texflow::scene::check_pair_glsl("pair.glsl", data) {
+        Ok(t) => t,
+        Err(m) => {
+            assert!(m.starts_with("pair.glsl:"), "no location: {m}");
+            return;
+        }
+    };
+    let root = "#include \"common/rng.glsl\"\n#define pair_force pair_force_0\n\
+                #include \"pair.glsl\"\n#undef pair_force\nvoid main() {}\n";
+    let user: &str = &text;
+    let lookup = |p: &str| match p {
+        "root" => Some(root),
+        "pair.glsl" => Some(user),
+        p => embedded(p),
+    };
+    let r = resolve("root", &[], &lookup).expect("an accepted file resolves");
+    assert_eq!(r.files, ["root", "common/rng.glsl", "pair.glsl"]);
+    let start = r.text.find("#line 1 2\n").expect("the user's source") + "#line 1 2\n".len();
+    let end = start
+        + r.text[start..]
+            .find("#line 4 0\n")
+            .expect("back to the root");
+    let spliced: Vec<&str> = r.text[start..end].lines().collect();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(spliced, lines, "the user's text is spliced as it is");
+    let n = lines.len().max(1) as u32;
+    let (_, first) = map_log(&format!("2:{n}(1): error: x\n"), &r.files);
+    assert_eq!(first, Some(("pair.glsl".to_owned(), n)));
+}
+
+/// `--set KEY=VALUE` values: each line of `data` (UTF-8) is one setting, applied to the built-in
+/// `e1` scene's source. They must be refused as bad input, naming the setting (`--set ...`) or
+/// the file's line and column, or give a scene that validates.
+pub fn set(data: &[u8]) {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    let settings: Vec<String> = text.lines().map(str::to_owned).collect();
+    let src = texflow::scene::builtin_source("e1").expect("the e1 scene");
+    match texflow::scene::parse_with("fuzz.toml", src, &settings) {
+        Ok(scene) => {
+            if let Err(e) = scene.validate() {
+                panic!("set, but validate refuses it: {e:?}");
+            }
+        }
+        Err(Error::Scene { line, column, .. }) => {
+            assert!(line >= 1 && column >= 1, "no location: {line}:{column}");
+        }
+        Err(e) => {
+            assert!(e.is_bad_input(), "not a bad-input error: {e:?}");
+            assert!(
+                e.to_string().contains("--set"),
+                "the setting is not named: {e}"
+            );
+        }
+    }
 }

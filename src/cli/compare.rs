@@ -34,9 +34,17 @@ pub struct Golden {
 }
 
 impl CompareArgs {
-    /// The reference file, if any (to keep dump folders from overwriting it).
-    pub fn file(&self) -> Option<&PathBuf> {
-        self.compare.as_ref()
+    /// The files --compare reads: the reference and, where it exists, its other half.
+    pub fn inputs(&self) -> super::targets::Inputs {
+        let Some(path) = &self.compare else {
+            return Vec::new();
+        };
+        let first = Reference::from_path(path);
+        let mut v = vec![(path.clone(), "the --compare reference".to_owned())];
+        if let Some(s) = first.sibling().filter(|s| s.path.is_file()) {
+            v.push((s.path, "the --compare reference's other half".to_owned()));
+        }
+        v
     }
 
     /// Reads the reference (and its other half) before any GPU work; `frames` is the run's

@@ -173,11 +173,8 @@ pub fn render(a: RenderArgs) -> texflow::Result<()> {
     }
     let (count, fps) = check_outputs(&a, s, options.written_count())?;
     // Every output against every input and every other output, and every frame target.
-    let inputs = targets::inputs(
-        &prepared.label,
-        s,
-        scene::builtin_source(&a.scene).is_some(),
-    );
+    let mut inputs = targets::inputs(&prepared.label, s);
+    inputs.extend(a.compare.inputs());
     let plan = targets::Plan {
         frames: a.frames,
         every: a.every,
@@ -286,8 +283,8 @@ fn loop_options(a: &RenderArgs, golden_frame: Option<u64>, user_dumps: Option<u6
     }
 }
 
-/// Before the run: a missing ffmpeg, an unwritable --video, a video the format cannot hold, or
-/// a --dump-state that would overwrite --compare's file stops here, not after the frames. The
+/// Before the run: a missing ffmpeg, an unwritable --video or a video the format cannot hold
+/// stops here, not after the frames (outputs against inputs: [`targets::Plan::check`]). The
 /// video's frame count and rate.
 fn check_outputs(
     a: &RenderArgs,
@@ -304,13 +301,6 @@ fn check_outputs(
     }
     if let Some(d) = &a.dump_state {
         FrameWriter::check_for(d, "--dump-state")?;
-        if let Some(r) = a.compare.file().filter(|r| names_a_frame_file(r, d)) {
-            return Err(bad(format!(
-                "--compare {} is a file that --dump-state {} will write: dump into another folder",
-                r.display(),
-                d.display()
-            )));
-        }
     }
     Ok((count, fps))
 }
@@ -421,29 +411,6 @@ fn report(
         let v = texflow::bench::json_envelope("texflow.render/1", ctx, clock, &body);
         println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
     }
-}
-
-/// Whether `video` lies in `dir` (by its canonical folder where both exist) under a name of the
-/// frames or dumps written there (`frame_00000.png`, `positions_00000.npy`, ...).
-fn names_a_frame_file(video: &std::path::Path, dir: &std::path::Path) -> bool {
-    let canon = |p: &std::path::Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
-    let parent = match video.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => std::path::Path::new("."),
-    };
-    if canon(parent) != canon(dir) {
-        return false;
-    }
-    let name = video
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    ["frame_", "positions_", "velocities_"].iter().any(|p| {
-        name.strip_prefix(p).is_some_and(|rest| {
-            let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
-            !digits.is_empty() && matches!(&rest[digits.len()..], ".png" | ".npy")
-        })
-    })
 }
 
 /// The one-paragraph summary of `render --stats`; `given` is the scene as typed (a name or a

@@ -14,7 +14,8 @@ use super::{bad, Common};
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
 pub struct SortArgs {
-    /// Sort implementation: fp, gpfp, packed (UberFlow), oddeven (Latta), multistep (ours).
+    /// Sort implementation: fp, gpfp, packed (UberFlow), oddeven (Latta), multistep, blocked
+    /// (ours).
     #[arg(long, default_value = "packed")]
     variant: String,
     /// 1-D float32 .npy file of keys (any length up to 2^24).

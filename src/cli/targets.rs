@@ -10,26 +10,142 @@ use texflow::scene::SceneFile;
 
 use super::bad;
 
-/// The files a render reads: the scene file (unless built in), its custom forces' GLSL and its
-/// meshes, each with what it is, for messages.
-pub fn inputs(label: &str, scene: &SceneFile, builtin: bool) -> Vec<(PathBuf, String)> {
-    if builtin {
+/// The files a command reads, each with what it is (for messages): collected in one list when
+/// the scene and the options are resolved, and checked against every output before anything is
+/// written ([`check_file`], [`check_folder`]).
+pub type Inputs = Vec<(PathBuf, String)>;
+
+/// The files a scene reads: the scene file (unless built in), its custom and pair forces' GLSL,
+/// its meshes and its field files (height maps, wind and distance fields), each with what it is.
+/// `label` is the scene's path, or a built-in's name and ` (built-in)`, which reads no file.
+pub fn inputs(label: &str, scene: &SceneFile) -> Inputs {
+    if label.ends_with(" (built-in)") {
         return Vec::new();
     }
     let mut v = vec![(PathBuf::from(label), "the scene file".to_owned())];
+    // Custom and pair forces' paths are made relative to the scene's folder when it is parsed.
     for c in &scene.forces.custom {
         v.push((PathBuf::from(&c.glsl), "a custom force's GLSL".into()));
     }
     for c in &scene.forces.pair {
         v.push((PathBuf::from(&c.glsl), "a pair force's GLSL".into()));
     }
+    // Meshes and field files are read relative to the scene's folder.
     let folder = Path::new(label).parent().unwrap_or(Path::new(""));
-    for s in &scene.colliders.sdf {
-        if let Some(m) = &s.mesh {
-            v.push((folder.join(m), "a distance field's mesh".into()));
+    let mut relative = |name: &Option<String>, what: &str| {
+        if let Some(n) = name {
+            v.push((folder.join(n), what.to_owned()));
         }
+    };
+    for s in &scene.colliders.sdf {
+        relative(&s.mesh, "a distance field's mesh");
+        relative(&s.field, "a distance field's array, colliders.sdf.field");
+    }
+    for h in &scene.colliders.heightfield {
+        relative(
+            &h.image,
+            "a height field's image, colliders.heightfield.image",
+        );
+        relative(&h.npy, "a height field's array, colliders.heightfield.npy");
+    }
+    for w in &scene.forces.wind {
+        relative(&w.field, "a wind field's array, forces.wind.field");
     }
     v
+}
+
+/// The folder `path` is in (`.` for a bare name).
+fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
+}
+
+/// Refuses an output file `path` (option `flag`) that is one of `inputs`, by path or by file
+/// identity (a hard or symbolic link to an input).
+pub fn check_file(path: &Path, flag: &str, inputs: &[(PathBuf, String)]) -> texflow::Result<()> {
+    match inputs.iter().find(|(i, _)| same_file(path, i)) {
+        Some((input, what)) => Err(bad(format!(
+            "{flag} {} is {} ({what}), which the run reads: give the output another name",
+            path.display(),
+            input.display()
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// Refuses an output folder `dir` (option `flag`) that holds, under a name the command writes
+/// there (`writes`), one of `inputs` (by path or file identity) or something that is not a
+/// regular file or a link.
+pub fn check_folder(
+    dir: &Path,
+    flag: &str,
+    writes: &dyn Fn(&str) -> bool,
+    inputs: &[(PathBuf, String)],
+) -> texflow::Result<()> {
+    for (input, what) in inputs {
+        if same_file(dir, input) {
+            return Err(bad(format!(
+                "{flag} {} is {what}, which the run reads: choose another folder",
+                dir.display()
+            )));
+        }
+        // An input that does not exist yet cannot be listed below, but its name can be written.
+        let name = input.file_name().map(|n| n.to_string_lossy().into_owned());
+        if same_file(folder_of(input), dir) && name.as_deref().is_some_and(writes) {
+            return Err(bad(format!(
+                "{flag} {}: the run would replace {} ({what}, which it reads): choose another \
+                 folder",
+                dir.display(),
+                input.display()
+            )));
+        }
+    }
+    let Ok(entries) = fs::read_dir(dir) else {
+        return Ok(());
+    };
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        if !writes(&name) {
+            continue;
+        }
+        let path = e.path();
+        // A link is replaced by the rename, never written through; what it points at does not
+        // matter, unless it is an input.
+        if let Some((_, what)) = inputs.iter().find(|(i, _)| same_file(&path, i)) {
+            return Err(bad(format!(
+                "{flag} {}: the run would replace {} ({what}, which it reads): choose another \
+                 folder",
+                dir.display(),
+                path.display()
+            )));
+        }
+        let meta = fs::symlink_metadata(&path);
+        if meta.is_ok_and(|m| !m.is_file() && !m.file_type().is_symlink()) {
+            return Err(bad(format!(
+                "{flag} {}: {} exists and is not a regular file (a folder, fifo, device or \
+                 socket), and the run would write a file there: remove it or choose another folder",
+                dir.display(),
+                path.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Whether `name` is a file `texflow trace` writes into its folder: `index.md`, `sort.gif`,
+/// `NN_pass.png` (scene traces) or `pass_NNN.png` (sort traces).
+pub fn trace_writes(name: &str) -> bool {
+    let numbered = |n: &str| {
+        let digits = n.chars().take_while(char::is_ascii_digit).count();
+        digits > 0 && n[digits..].starts_with('_')
+    };
+    name == "index.md"
+        || name == "sort.gif"
+        || name
+            .strip_suffix(".png")
+            .is_some_and(|n| numbered(n) || n.starts_with("pass_"))
 }
 
 /// What a render writes.
@@ -90,16 +206,7 @@ impl Plan<'_> {
     /// will write into an existing folder.
     pub fn check(&self) -> texflow::Result<()> {
         if let Some(v) = self.video {
-            for (input, what) in self.inputs {
-                if same_file(v, input) {
-                    return Err(bad(format!(
-                        "--video {} is {what} ({}), which the run reads: give the video another \
-                         name",
-                        v.display(),
-                        input.display()
-                    )));
-                }
-            }
+            check_file(v, "--video", self.inputs)?;
             for (dir, flag, writes) in self.folders() {
                 if same_file(v, dir) {
                     return Err(bad(format!(
@@ -109,12 +216,8 @@ impl Plan<'_> {
                         dir.display()
                     )));
                 }
-                let parent = match v.parent() {
-                    Some(p) if !p.as_os_str().is_empty() => p,
-                    _ => Path::new("."),
-                };
                 let name = v.file_name().map(|n| n.to_string_lossy().into_owned());
-                if same_file(parent, dir) && name.as_deref().is_some_and(&writes) {
+                if same_file(folder_of(v), dir) && name.as_deref().is_some_and(&writes) {
                     return Err(bad(format!(
                         "--video {} is a file that {flag} {} will write: give the video another \
                          name or folder",
@@ -125,36 +228,7 @@ impl Plan<'_> {
             }
         }
         for (dir, flag, writes) in self.folders() {
-            let Ok(entries) = fs::read_dir(dir) else {
-                continue;
-            };
-            for e in entries.flatten() {
-                let name = e.file_name().to_string_lossy().into_owned();
-                if !writes(&name) {
-                    continue;
-                }
-                let path = e.path();
-                // A link is replaced by the rename, never written through; what it points at
-                // does not matter, unless it is an input.
-                if let Some((_, what)) = self.inputs.iter().find(|(i, _)| same_file(&path, i)) {
-                    return Err(bad(format!(
-                        "{flag} {}: the run would replace {} ({what}, which it reads): choose \
-                         another folder",
-                        dir.display(),
-                        path.display()
-                    )));
-                }
-                let meta = fs::symlink_metadata(&path);
-                if meta.is_ok_and(|m| !m.is_file() && !m.file_type().is_symlink()) {
-                    return Err(bad(format!(
-                        "{flag} {}: {} exists and is not a regular file (a folder, fifo, device \
-                         or socket), and the run would write a file there: remove it or choose \
-                         another folder",
-                        dir.display(),
-                        path.display()
-                    )));
-                }
-            }
+            check_folder(dir, flag, &writes, self.inputs)?;
         }
         Ok(())
     }
@@ -191,6 +265,28 @@ impl Plan<'_> {
 mod tests {
     use super::*;
     use texflow::output::temporary_of;
+
+    #[test]
+    fn trace_names_are_the_ones_a_trace_writes() {
+        for n in [
+            "index.md",
+            "sort.gif",
+            "01_position.png",
+            "112_key.png",
+            "pass_003.png",
+        ] {
+            assert!(trace_writes(n), "{n}");
+        }
+        for n in [
+            "notes.md",
+            "a_01.png",
+            "01position.png",
+            "01_position.npy",
+            "sort.png",
+        ] {
+            assert!(!trace_writes(n), "{n}");
+        }
+    }
 
     #[test]
     fn names_are_matched_exactly() {

@@ -9,7 +9,7 @@ use texflow::output::FrameWriter;
 use texflow::sort::Variant;
 use texflow::trace::{self, MAX_SORT_SIDE, MAX_TRACE_FRAME, MAX_TRACE_SIDE};
 
-use super::{at_least_one, bad, parse_size, Common};
+use super::{at_least_one, bad, parse_size, targets, Common};
 
 #[derive(Args)]
 #[command(
@@ -29,7 +29,8 @@ pub struct TraceArgs {
     /// them).
     #[arg(long, value_name = "N", default_value_t = 0)]
     frame: u64,
-    /// Sort traces: fp, gpfp, packed (UberFlow), oddeven (Latta), multistep (ours).
+    /// Sort traces: fp, gpfp, packed (UberFlow), oddeven (Latta), multistep, blocked (ours;
+    /// the blocked sort is drawn as one step: between its passes its entries are not row-major).
     #[arg(long, default_value = "oddeven")]
     variant: String,
     /// Sort traces: N×N keys, N a power of two from 2 to 64.
@@ -49,20 +50,34 @@ pub struct TraceArgs {
     #[arg(long, value_name = "DIR", default_value = "trace")]
     out: PathBuf,
     #[command(flatten)]
+    set: super::set::SetArgs,
+    #[command(flatten)]
     common: Common,
 }
 
 pub fn trace_cmd(a: TraceArgs) -> texflow::Result<()> {
     FrameWriter::check(&a.out)?;
+    let existed = a.out.exists();
+    let result = run_trace(&a);
+    // A trace that fails leaves no folder it made (a folder with files in it stays).
+    if result.is_err() && !existed {
+        let _ = std::fs::remove_dir(&a.out);
+    }
+    result
+}
+
+fn run_trace(a: &TraceArgs) -> texflow::Result<()> {
     let written = if a.target == "sort" {
-        if a.particles.is_some() || a.resolution.is_some() || a.frame != 0 {
+        if a.particles.is_some() || a.resolution.is_some() || a.frame != 0 || !a.set.set.is_empty()
+        {
             return Err(bad(
-                "--frame, --particles and --resolution are for scene traces: a sort trace takes \
-                 --variant, --size and --seed",
+                "--frame, --particles, --resolution and --set are for scene traces: a sort trace \
+                 takes --variant, --size and --seed",
             ));
         }
         let variant = Variant::from_name(&a.variant)?;
         trace::check_sort_size(a.size)?;
+        targets::check_folder(&a.out, "--out", &targets::trace_writes, &[])?;
         let ctx = Context::new(a.common.device)?;
         let out = FrameWriter::create(&a.out)?;
         trace::trace_sort(&ctx, variant, a.size, a.seed, out.dir())?
@@ -72,10 +87,14 @@ pub fn trace_cmd(a: TraceArgs) -> texflow::Result<()> {
             resolution: a.resolution,
             seed: a.seed,
             device: a.common.device,
+            set: a.set.set.clone(),
             ..Overrides::default()
         };
         let prepared = overrides.prepare(&a.target)?;
         trace::check_scene_trace(&prepared.scene, a.frame)?;
+        // Nothing the scene reads may be a picture or the index the trace writes.
+        let inputs = targets::inputs(&prepared.label, &prepared.scene);
+        targets::check_folder(&a.out, "--out", &targets::trace_writes, &inputs)?;
         let ctx = Context::new(overrides.device)?;
         overrides.check_device(&ctx, &prepared)?;
         let out = FrameWriter::create(&a.out)?;

@@ -447,6 +447,8 @@ pub fn view(a: ViewArgs) -> texflow::Result<()> {
     }
     if let Some(s) = &a.screenshot {
         texflow::output::check_target(s, "--screenshot")?;
+        let inputs = super::targets::inputs(&prepared.label, &prepared.scene);
+        super::targets::check_file(s, "--screenshot", &inputs)?;
     }
     let file = PathBuf::from(&a.scene);
     let watched = file.is_file().then(|| {

@@ -61,10 +61,32 @@ pub fn diff_rgba8(size: [u32; 2], a: &[u8], b: &[u8]) -> Result<ImageDiff> {
     })
 }
 
-/// Compares two PNG (or other image) files, which must have the same size.
+/// Largest image file `diff` reads: a 8192×8192 RGBA frame stored without compression is
+/// 256 MiB.
+pub const MAX_IMAGE_BYTES: u64 = 256 << 20;
+
+/// Compares two PNG (or other image) files, which must have the same size. Each must be a
+/// regular file (a fifo would block the read, a device never end) of at most
+/// [`MAX_IMAGE_BYTES`]; both are looked at before either is read.
 pub fn diff_files(a: &Path, b: &Path) -> Result<ImageDiff> {
+    for p in [a, b] {
+        let m = std::fs::metadata(p).map_err(|e| {
+            Error::InvalidInput(format!("{}: {e}: name an image file", p.display()))
+        })?;
+        if !m.is_file() {
+            return Err(Error::InvalidInput(format!(
+                "{} is not a regular file (a folder, fifo, device or socket): diff reads image \
+                 files only",
+                p.display()
+            )));
+        }
+    }
     let open = |p: &Path| {
-        image::open(p)
+        let bytes = crate::input::read_input(p, "image", MAX_IMAGE_BYTES)?;
+        image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| Error::InvalidInput(format!("{}: {e}", p.display())))?
+            .decode()
             .map(|i| i.to_rgba8())
             .map_err(|e| Error::InvalidInput(format!("{}: {e}", p.display())))
     };

@@ -93,6 +93,12 @@ pub fn check_target(path: &Path, flag: &str) -> Result<()> {
     if path.as_os_str().is_empty() {
         return bad(format!("{flag} is empty: name a file"));
     }
+    // `v.gif/` names a folder: the rename at the end would fail, after the run.
+    if path.as_os_str().as_encoded_bytes().ends_with(b"/") {
+        return bad(format!(
+            "{flag} {shown} ends in `/`, which names a folder: name a file (drop the `/`)"
+        ));
+    }
     match fs::metadata(path) {
         Ok(m) if m.is_dir() => return bad(format!("{flag} {shown} is a folder: name a file")),
         Ok(m) if !m.is_file() => {

@@ -28,6 +28,11 @@ const SOLID_COLOR: [f32; 3] = [0.46, 0.50, 0.58];
 const MESH_COLOR: [f32; 3] = [0.62, 0.56, 0.50];
 const TERRAIN_COLOR: [f32; 3] = [0.30, 0.30, 0.29];
 
+/// Most cells a side of the drawn terrain: a finer height field (up to 4096 nodes a side) is
+/// drawn through every k-th node, so that its mesh stays near 60 MB (4096² nodes drawn whole
+/// would be 4 GB of vertices, and as much again in the GL buffer).
+pub const MAX_TERRAIN_CELLS: usize = 511;
+
 /// A height field's sampled nodes, as the simulation holds them: `texels[4·(j·nx + i)..]` is
 /// (height, normal) at node `(x_i, z_j)` of `extent` = `[min x, min z, max x, max z]`.
 #[derive(Debug, Clone, Copy)]
@@ -189,6 +194,16 @@ impl Mesh {
             )));
         }
         let [x0, z0, x1, z1] = t.extent;
+        // The drawn nodes: every k-th along each axis, and always the last.
+        let drawn = |n: usize| -> Vec<usize> {
+            let k = (n - 1).div_ceil(MAX_TERRAIN_CELLS);
+            let mut v: Vec<usize> = (0..n - 1).step_by(k).collect();
+            v.push(n - 1);
+            v
+        };
+        let (xs, zs) = (drawn(nx), drawn(nz));
+        self.vertices
+            .reserve(FLOATS * 6 * (xs.len() - 1) * (zs.len() - 1));
         let node = |i: usize, j: usize| {
             let k = 4 * (j * nx + i);
             let x = x0 + (x1 - x0) * i as f32 / (nx - 1) as f32;
@@ -196,13 +211,13 @@ impl Mesh {
             let s = &t.texels[k..k + 4];
             (Vec3::new(x, s[0], z), Vec3::new(s[1], s[2], s[3]))
         };
-        for j in 0..nz - 1 {
-            for i in 0..nx - 1 {
+        for z in zs.windows(2) {
+            for x in xs.windows(2) {
                 let q = [
-                    node(i, j),
-                    node(i + 1, j),
-                    node(i + 1, j + 1),
-                    node(i, j + 1),
+                    node(x[0], z[0]),
+                    node(x[1], z[0]),
+                    node(x[1], z[1]),
+                    node(x[0], z[1]),
                 ];
                 for tri in [[0, 2, 1], [0, 3, 2]] {
                     let p = tri.map(|k| q[k].0);

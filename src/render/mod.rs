@@ -10,7 +10,7 @@ mod style;
 mod target;
 
 pub use camera::{Camera, ViewOffset};
-pub use geometry::{GeometryRenderer, Mesh, Terrain};
+pub use geometry::{GeometryRenderer, Mesh, Terrain, MAX_TERRAIN_CELLS};
 pub use keyframes::{relative_age, KeyframeRamp};
 pub use particles::{FrameState, Motion, ParticleRenderer, QUAD_VERTICES};
 pub use sprite::{

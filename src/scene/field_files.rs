@@ -23,6 +23,10 @@ use Key::{Index as I, Name as N};
 /// The largest field file read (bytes): a 256³ wind of three float32 components is 192 MiB.
 pub const MAX_FIELD_FILE: u64 = 256 << 20;
 
+/// The most nodes a height map from an image may have: as many float32 values as a field file
+/// may hold.
+pub const MAX_FIELD_NODES: u64 = MAX_FIELD_FILE / 4;
+
 /// Reads and checks every field file `scene` names; `path` labels the scene (a file path, or a
 /// built-in's label) and `src` is its source, for the errors' line and column.
 pub(super) fn load_field_files(
@@ -97,9 +101,28 @@ fn read(scene: &str, name: &str) -> std::result::Result<Vec<u8>, String> {
     std::fs::read(&file).map_err(|e| format!("cannot read field file {}: {e}", file.display()))
 }
 
-/// An 8- or 16-bit greyscale PNG as values in [0, 1], row 0 first (x along a row).
+/// A greyscale PNG as values in [0, 1], row 0 first (x along a row): 8 or 16 bits, or 1, 2 or 4
+/// (the decoder spreads their levels over 0..=255, so black is 0 and white 1 at any depth).
 pub fn grey_image(bytes: &[u8]) -> std::result::Result<FieldData, String> {
-    let img = image::load_from_memory_with_format(bytes, image::ImageFormat::Png)
+    // The size the header declares is bounded before a pixel is decoded: a small file may
+    // declare an image whose floats would not fit in memory.
+    let reader = || {
+        let mut r =
+            image::ImageReader::with_format(std::io::Cursor::new(bytes), image::ImageFormat::Png);
+        r.no_limits();
+        r
+    };
+    let (w, h) = reader()
+        .into_dimensions()
+        .map_err(|e| format!("not a readable PNG: {e}"))?;
+    if w as u64 * h as u64 > MAX_FIELD_NODES {
+        return Err(format!(
+            "the image is {w}x{h}: a height map has at most {MAX_FIELD_NODES} pixels (the \
+             values a field file of {MAX_FIELD_FILE} bytes holds); resample it"
+        ));
+    }
+    let img = reader()
+        .decode()
         .map_err(|e| format!("not a readable PNG: {e}"))?;
     let (w, h) = (img.width(), img.height());
     let data: Vec<f32> = match img {

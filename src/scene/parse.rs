@@ -217,21 +217,28 @@ fn sizes_3d(scene: &SceneFile, max_3d: u32) -> Vec<Over> {
 /// Checks the widest point a particle scene draws (`render.point_size`, for sprites times an
 /// emitter's `sprite_scale` and its largest `size_over_life` scale) against the device's
 /// largest point, `max_point` pixels, as the renderer does; the error is at the key to change.
-/// Quads have no such limit, and the fire's points are not checked by its renderer either.
+/// Quads have no such limit; the fire draws points of `point_size` (its sprites are soft discs
+/// of that size, with no emitter's scale).
 pub fn check_point_size(path: &str, src: &str, scene: &SceneFile, max_point: f32) -> Result<()> {
     use super::schema::{DrawMode, DrawPrimitive};
     let r = &scene.render;
-    if scene.fire.is_some() || r.primitive != DrawPrimitive::Points {
+    if r.primitive != DrawPrimitive::Points {
         return Ok(());
     }
-    let fix = "use render.primitive = \"quads\", which has no such limit, or smaller sizes";
+    let fix = match scene.fire {
+        // The fire draws points only (render.primitive is refused there).
+        Some(_) => format!("give a point_size of at most {max_point}"),
+        None => {
+            "use render.primitive = \"quads\", which has no such limit, or smaller sizes".into()
+        }
+    };
     let mut over: Option<(Vec<Key>, String)> = None;
     if r.point_size > max_point {
         over = Some((
             vec![N("render"), N("point_size")],
             format!("point_size {} is wider", r.point_size),
         ));
-    } else if r.mode == DrawMode::Sprites {
+    } else if r.mode == DrawMode::Sprites && scene.fire.is_none() {
         let kinds = [
             ("allocator", &scene.emitters.allocator),
             ("timestamp", &scene.emitters.timestamp),

@@ -77,6 +77,16 @@ pub fn pass_descriptions(variant: Variant, side: u32, options: &SortOptions) -> 
                 format!("{} steps in one pass: {}", g.len(), parts.join("; then "))
             })
             .collect(),
+        // Between its passes the blocked sort's entries lie in the layers of 3D textures, in a
+        // layout that changes from pass to pass: the sort texture is row-major again only after
+        // the last, so the trace draws its whole sort as one step.
+        Variant::Blocked => vec![
+            "the blocked sort (ours): the key pass, every pass of its network over blocks of \
+             entries held in the layers of 3D textures, and the pass that writes them back in \
+             row-major order, drawn as one step (between these passes the sort texture is not \
+             in row-major order; docs/sorting.md)"
+                .to_owned(),
+        ],
         _ => bitonic_schedule(side, block)
             .iter()
             .map(|s| describe_step(s, side))
@@ -127,7 +137,12 @@ pub fn trace_sort(
     let entries = random_entries((side * side) as usize, seed);
     sorter.load(&entries)?;
     let descriptions = pass_descriptions(variant, side, &options);
-    if descriptions.len() != sorter.pass_count() {
+    // Sorter passes per traced step: all of them for the blocked sort, else one.
+    let per = match variant {
+        Variant::Blocked => sorter.pass_count(),
+        _ => 1,
+    };
+    if descriptions.len() * per != sorter.pass_count() {
         return Err(Error::Gl(format!(
             "the {} sorter runs {} passes, its schedule has {}",
             variant.name(),
@@ -145,7 +160,7 @@ pub fn trace_sort(
     };
     trace.record(0, &entries, "The keys as loaded, before any pass")?;
     for (i, d) in descriptions.iter().enumerate() {
-        sorter.run_passes(1);
+        sorter.run_passes(per);
         let now = sorter.read()?;
         trace.record(i + 1, &now, d)?;
     }
@@ -165,7 +180,7 @@ pub fn trace_sort(
     trace.files.push(index);
     Ok(Written {
         files: trace.files,
-        passes: descriptions.len(),
+        passes: sorter.pass_count(),
         ok: sorted,
     })
 }

@@ -211,6 +211,16 @@ pub fn bench_scene(
         } else {
             particles(ctx, &s, warmup, &timer, opts)?
         };
+        if live.live == 0 && live.non_finite > 0 {
+            return Err(Error::InvalidInput(format!(
+                "scene {} at {size}x{size}: after {warmup} warm-up frame(s) and the timed ones, \
+                 {} particle(s) hold NaN or infinite values and none is live: the state blew up, \
+                 and a benchmark of it measures nothing; lower time.dt or the forces \
+                 (`texflow render` stops at the first such frame and names it)",
+                s.name, live.non_finite
+            )));
+        }
+        let live = live.live;
         if live == 0 {
             return Err(Error::InvalidInput(format!(
                 "scene {} at {size}x{size} has no live particle after {warmup} warm-up frame(s) \
@@ -278,6 +288,28 @@ pub fn warmup_frames(s: &SceneFile, asked: Option<usize>) -> Result<usize> {
     })
 }
 
+/// Particles alive when the timing ended, and texels whose state is NaN or infinite.
+struct Alive {
+    live: u64,
+    non_finite: u64,
+}
+
+/// What `engine` holds at the end: with no live particle, whether the state blew up (NaN or
+/// infinite texels, which are neither alive nor drawn) rather than emptied.
+fn alive(ctx: &Context, engine: &impl Engine, s: &SceneFile) -> Result<Alive> {
+    let live = engine.live()?;
+    let non_finite = match live {
+        0 => {
+            let [w, h] = s.particles.size;
+            let counter = crate::sim::nonfinite::NonFiniteCounter::new(ctx, w, h)?;
+            let c = engine.non_finite(&counter)?;
+            c.non_finite + c.nan_life
+        }
+        _ => 0,
+    };
+    Ok(Alive { live, non_finite })
+}
+
 fn fire(
     ctx: &Context,
     s: &SceneFile,
@@ -285,7 +317,7 @@ fn fire(
     timer: &PassTimer,
     render_floor: &RenderFloor,
     opts: &SceneBenchOptions,
-) -> Result<(Phases, f64, u64)> {
+) -> Result<(Phases, f64, Alive)> {
     let mut engine = GpuEngine::<FireSim>::new(ctx, s, opts.seed)?;
     let floor = WriteFloor::new(ctx, 2)?;
     for _ in 0..warmup + 2 {
@@ -317,7 +349,7 @@ fn fire(
         );
         phases.next_repetition();
     }
-    let live = engine.live()?;
+    let live = alive(ctx, &engine, s)?;
     Ok((phases, median(&frames[1..]), live))
 }
 
@@ -327,7 +359,7 @@ fn particles(
     warmup: usize,
     timer: &PassTimer,
     opts: &SceneBenchOptions,
-) -> Result<(Phases, f64, u64)> {
+) -> Result<(Phases, f64, Alive)> {
     let mut engine = ParticleEngine::new(ctx, s, opts.seed)?;
     for _ in 0..warmup {
         engine.advance_frame_without_collisions()?;
@@ -381,7 +413,7 @@ fn particles(
         );
         phases.next_repetition();
     }
-    let live = engine.live()?;
+    let live = alive(ctx, &engine, s)?;
     Ok((phases, median(&frames[1..]), live))
 }
 

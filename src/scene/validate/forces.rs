@@ -38,6 +38,7 @@ pub(super) fn forces(s: &SceneFile) -> Check {
         ("allocator", &s.emitters.allocator),
         ("timestamp", &s.emitters.timestamp),
         ("initial", &s.emitters.initial),
+        ("child", &s.emitters.child),
     ];
     for (kind, list) in lists {
         for (i, e) in list.iter().enumerate() {
@@ -62,6 +63,14 @@ fn emitter_forces(s: &SceneFile, base: &[Key], f: &Forces) -> Check {
             "a custom force is compiled once for the whole scene and gets each particle's \
              `type` (its emitter's place): give it in [[forces.custom]] and act on the types \
              it is for",
+        );
+    }
+    if !f.pair.is_empty() {
+        return fail(
+            at(base, &[N("pair"), I(0)]),
+            "a pair force acts between neighbours that the collision stage finds, whatever \
+             their emitter: give it in [[forces.pair]] (with [collisions]) and act on the \
+             `type` and `type_j` it is for",
         );
     }
     let counts = [

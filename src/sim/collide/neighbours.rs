@@ -24,7 +24,7 @@ use crate::gl::{
 };
 use crate::scene::{self, SceneFile, PAIR_SIGNATURE};
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
-use crate::sim::user_glsl::{source_key, user_compile_error};
+use crate::sim::user_glsl::{source_key, user_compile_error, Renamed};
 
 /// The force pass, the velocity pass and the force texture.
 #[derive(Debug)]
@@ -90,8 +90,13 @@ fn force_program(ctx: &Context, scene: &SceneFile, defines: &Defines) -> Result<
         d.push(("DEM".into(), "1".into()));
     }
     d.push(("EXACT_SCAN".into(), scene::EXACT_SCAN.to_string()));
-    Program::new(ctx, FULLSCREEN_VERTEX, &root, &d)
-        .map_err(|e| user_compile_error(e, &files, "pair force", PAIR_SIGNATURE))
+    Program::new(ctx, FULLSCREEN_VERTEX, &root, &d).map_err(|e| {
+        let renamed = Renamed {
+            name: "pair_force",
+            prefix: "pair_force_",
+        };
+        user_compile_error(e, &files, "pair force", PAIR_SIGNATURE, renamed)
+    })
 }
 
 fn dem(scene: &SceneFile) -> Option<scene::Dem> {

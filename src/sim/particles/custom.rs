@@ -15,7 +15,7 @@
 use crate::error::{Error, Result};
 use crate::gl::source::add_runtime_source;
 use crate::scene::SceneFile;
-use crate::sim::user_glsl::{source_key, user_compile_error};
+use crate::sim::user_glsl::{source_key, user_compile_error, Renamed};
 
 /// The text of each custom force: read and checked when the scene was loaded, or read now.
 fn sources(scene: &SceneFile) -> Result<Vec<String>> {
@@ -97,5 +97,9 @@ pub(super) fn user_error(scene: &SceneFile, e: Error) -> Error {
         &files,
         "custom force",
         "vec3 force(vec3 x, vec3 v, float age, int type)",
+        Renamed {
+            name: "force",
+            prefix: "custom_force_",
+        },
     )
 }

@@ -9,8 +9,8 @@ use super::Written;
 use crate::error::{Error, Result};
 use crate::gl::Context;
 use crate::output::{write_atomic, write_png_atomic, VideoWriter};
-use crate::sort::network::{bitonic_schedule, group_steps, odd_even_schedule, Entry, Step};
-use crate::sort::{SortOptions, Sorter, Variant};
+use crate::sort::network::{Entry, Step};
+use crate::sort::{NetworkPass, SortOptions, Sorter, Variant};
 
 /// The largest side of a traced sort: 64×64 keys, 4096 entries, at most 78 passes (bitonic) and
 /// so at most 79 pictures.
@@ -62,36 +62,34 @@ pub fn describe_step(step: &Step, width: u32) -> String {
 }
 
 /// The descriptions of a variant's passes on a `side`×`side` texture, in the order the sorter
-/// runs them (the sorter builds its passes from the same schedules).
+/// runs them: read from the variant's schedule ([`crate::sort::schedule`]), the list the sorter
+/// builds its passes from.
 pub fn pass_descriptions(variant: Variant, side: u32, options: &SortOptions) -> Vec<String> {
-    let block = side * side;
-    match variant {
-        Variant::OddEven => odd_even_schedule(block)
-            .iter()
-            .map(|s| describe_step(s, side))
-            .collect(),
-        Variant::Multistep => group_steps(&bitonic_schedule(side, block), options.steps_per_pass)
-            .iter()
-            .map(|g| {
-                let parts: Vec<String> = g.iter().map(|s| describe_step(s, side)).collect();
-                format!("{} steps in one pass: {}", g.len(), parts.join("; then "))
-            })
-            .collect(),
+    let network = crate::sort::schedule(variant, side, side, side * side, options);
+    if variant == Variant::Blocked {
         // Between its passes the blocked sort's entries lie in the layers of 3D textures, in a
         // layout that changes from pass to pass: the sort texture is row-major again only after
         // the last, so the trace draws its whole sort as one step.
-        Variant::Blocked => vec![
-            "the blocked sort (ours): the key pass, every pass of its network over blocks of \
+        return vec![format!(
+            "the blocked sort (ours): the key pass, the {} passes of its network over blocks of \
              entries held in the layers of 3D textures, and the pass that writes them back in \
              row-major order, drawn as one step (between these passes the sort texture is not \
-             in row-major order; docs/sorting.md)"
-                .to_owned(),
-        ],
-        _ => bitonic_schedule(side, block)
-            .iter()
-            .map(|s| describe_step(s, side))
-            .collect(),
+             in row-major order; docs/sorting.md)",
+            network.len().saturating_sub(1)
+        )];
     }
+    network
+        .iter()
+        .map(|p| match p {
+            NetworkPass::Step(s) => describe_step(s, side),
+            NetworkPass::Group(g) => {
+                let parts: Vec<String> = g.iter().map(|s| describe_step(s, side)).collect();
+                format!("{} steps in one pass: {}", g.len(), parts.join("; then "))
+            }
+            NetworkPass::Blocked(b) => format!("a blocked pass of {} steps", b.steps.len()),
+            NetworkPass::Unpack => "the entries back in row-major order".to_owned(),
+        })
+        .collect()
 }
 
 /// Keys uniform in [0, 1) from `seed` (splitmix64), ids 0, 1, 2, ...

@@ -332,8 +332,8 @@ fn on_event(
         Event::Stretched { index, count } => bar.suspend(|| {
             eprintln!(
                 "warning: frame {index}: {} of {} constraints are stretched past {} % of their \
-                 rest length (raise [constraints] iterations, or set scheme = \"gauss-seidel\" \
-                 and attachments = true)",
+                 rest length (raise [constraints] iterations or shorten [time] dt; later frames \
+                 count in --json's max_stretched_edges)",
                 count.edges,
                 count.constraints,
                 100.0 * count.bound

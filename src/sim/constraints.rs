@@ -194,7 +194,8 @@ impl Layout {
             .into_iter()
             .filter(|&(a, b, rest)| {
                 let l = (at(a) - at(b)).length();
-                !(l <= (1.0 + bound) * rest)
+                // NaN counts: a torn sheet is stretched past any bound.
+                l.is_nan() || l > (1.0 + bound) * rest
             })
             .count() as u64
     }

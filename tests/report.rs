@@ -666,6 +666,42 @@ fn convergence_json_is_one_document() {
     assert!(v.is_object(), "{v}");
 }
 
+/// `report constraints --quick` prints the table of every scheme at both iteration counts, with
+/// the passes each takes per step (the command docs/numerics.md gives for other devices).
+#[test]
+fn report_constraints_prints_the_table() {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_texflow"))
+        .args(["report", "constraints", "--quick", "-q"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(text.contains("16² cloth after 600 steps"), "{text}");
+    let rows: Vec<Vec<&str>> = text
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.starts_with("| scheme") && !l.contains("---"))
+        .map(|l| l.split('|').map(str::trim).collect())
+        .collect();
+    assert_eq!(rows.len(), 8, "{text}");
+    // Passes per step: iterations × (1 or 8 edge passes, + 1 with attachments).
+    for (scheme, per) in [
+        ("jacobi", 1),
+        ("jacobi + attachments", 2),
+        ("gauss-seidel", 8),
+        ("gauss-seidel + attachments", 9),
+    ] {
+        for n in [2, 8] {
+            let n_s = n.to_string();
+            let row = rows
+                .iter()
+                .find(|r| r[1] == scheme && r[2] == n_s)
+                .unwrap_or_else(|| panic!("{scheme} × {n} missing: {text}"));
+            assert_eq!(row[3], (per * n).to_string(), "{text}");
+        }
+    }
+}
+
 /// The cost model's constants are measured (positive) and every cell has a prediction.
 #[test]
 fn the_cost_model_predicts_every_cell() {

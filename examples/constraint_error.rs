@@ -2,7 +2,10 @@
 //! its stability against the time step and the stiffness, on the GPU next to the CPU twin
 //! (`sim::reference::constraints`). Prints the tables of docs/pipeline.md.
 //!
-//!     cargo run --release --example constraint_error
+//!     cargo run --release --example constraint_error [jacobi | gauss-seidel]
+//!
+//! `jacobi` (the default here, Jacobi without attachments: the tables of docs/pipeline.md) or
+//! `gauss-seidel` (Gauss-Seidel sets with long-range attachments, the scenes' default).
 //!
 //! Relative error of a constraint: |(|x_a - x_b| - rest) / rest|; its mean and its worst over
 //! every constraint of the scene after each step, averaged over one simulated second (and the
@@ -73,11 +76,28 @@ fn pct(e: f64) -> String {
     format!("{:.3} %", 100.0 * e)
 }
 
+/// `name` with the scheme of the command line.
+fn load(name: &str) -> texflow::Result<SceneFile> {
+    let mut s = scene::load(name)?;
+    let scheme = std::env::args().nth(1).unwrap_or_else(|| "jacobi".into());
+    let c = s.constraints.as_mut().expect("constraints");
+    (c.scheme, c.attachments) = match scheme.as_str() {
+        "jacobi" => (scene::RelaxScheme::Jacobi, false),
+        "gauss-seidel" => (scene::RelaxScheme::GaussSeidel, true),
+        other => {
+            return Err(texflow::Error::InvalidInput(format!(
+                "unknown scheme `{other}`: give jacobi or gauss-seidel"
+            )))
+        }
+    };
+    Ok(s)
+}
+
 fn main() -> texflow::Result<()> {
     let ctx = Context::new(0)?;
     println!("device: {}", ctx.limits().renderer);
     for name in ["cloth", "hair"] {
-        let base = scene::load(name)?;
+        let base = load(name)?;
         println!(
             "\n{name}: error after 1 s against relaxation passes per step (dt {:.5} s)",
             base.time.dt
@@ -102,7 +122,7 @@ fn main() -> texflow::Result<()> {
             );
         }
     }
-    let base = scene::load("cloth")?;
+    let base = load("cloth")?;
     println!("\ncloth, 8 passes: error after 1 s against dt and stiffness (GPU; twin mean beside)");
     println!(
         "| dt (s) | stiffness | GPU mean | GPU worst | GPU peak worst | twin mean | twin peak \

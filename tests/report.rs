@@ -419,6 +419,10 @@ fn cli_report_all_quick_writes_every_file() {
         "baselines.csv",
         "cost_model.json",
         "cost_model.md",
+        "constraints.csv",
+        "constraints.json",
+        "constraints_passes.png",
+        "constraints_time.png",
         "summary.md",
     ];
     let problems = ["drag", "oscillator", "kepler", "bounce"];
@@ -443,6 +447,8 @@ fn cli_report_all_quick_writes_every_file() {
         "sort_frames_time.png",
         "collisions_miss_rate.png",
         "collisions_density.png",
+        "constraints_passes.png",
+        "constraints_time.png",
     ] {
         let img = image::open(out_dir.join(p)).unwrap();
         assert_eq!((img.width(), img.height()), (900, 600), "{p}");
@@ -544,9 +550,28 @@ fn cli_report_all_quick_writes_every_file() {
         "## Collisions between particles",
         "## Stability on stiff and extreme cases",
         "## Stateless against stateful",
+        "## Distance constraints",
         "## Files",
     ] {
         assert!(summary.contains(heading), "{heading} missing:\n{summary}");
+    }
+    // Constraints: 4 schemes at 2 iteration counts; at each, Gauss-Seidel with attachments ends
+    // with a smaller worst and mean edge error than Jacobi without, in more passes.
+    let rows = json("constraints.json")["rows"].as_array().unwrap().clone();
+    assert_eq!(rows.len(), 8, "{rows:?}");
+    let at = |scheme: &str, n: u64| {
+        rows.iter()
+            .find(|r| r["scheme"] == scheme && r["iterations"] == n)
+            .unwrap_or_else(|| panic!("{scheme} × {n} missing"))
+            .clone()
+    };
+    for n in [2, 8] {
+        let (j, g) = (at("jacobi", n), at("gauss-seidel + attachments", n));
+        for k in ["worst", "mean"] {
+            assert!(g[k].as_f64() < j[k].as_f64(), "{k} at {n}: {g} against {j}");
+        }
+        assert_eq!(g["passes"].as_u64(), Some(9 * n));
+        assert!(g["gpu_ms"].as_f64().unwrap() > 0.0);
     }
     let stability = std::fs::read_to_string(out_dir.join("stability.md")).unwrap();
     assert!(
@@ -639,6 +664,42 @@ fn convergence_json_is_one_document() {
     );
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON document");
     assert!(v.is_object(), "{v}");
+}
+
+/// `report constraints --quick` prints the table of every scheme at both iteration counts, with
+/// the passes each takes per step (the command docs/numerics.md gives for other devices).
+#[test]
+fn report_constraints_prints_the_table() {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_texflow"))
+        .args(["report", "constraints", "--quick", "-q"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(text.contains("16² cloth after 600 steps"), "{text}");
+    let rows: Vec<Vec<&str>> = text
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.starts_with("| scheme") && !l.contains("---"))
+        .map(|l| l.split('|').map(str::trim).collect())
+        .collect();
+    assert_eq!(rows.len(), 8, "{text}");
+    // Passes per step: iterations × (1 or 8 edge passes, + 1 with attachments).
+    for (scheme, per) in [
+        ("jacobi", 1),
+        ("jacobi + attachments", 2),
+        ("gauss-seidel", 8),
+        ("gauss-seidel + attachments", 9),
+    ] {
+        for n in [2, 8] {
+            let n_s = n.to_string();
+            let row = rows
+                .iter()
+                .find(|r| r[1] == scheme && r[2] == n_s)
+                .unwrap_or_else(|| panic!("{scheme} × {n} missing: {text}"));
+            assert_eq!(row[3], (per * n).to_string(), "{text}");
+        }
+    }
 }
 
 /// The cost model's constants are measured (positive) and every cell has a prediction.

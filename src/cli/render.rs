@@ -319,6 +319,16 @@ fn on_event(
                 count.non_finite, count.live
             )
         }),
+        Event::Stretched { index, count } => bar.suspend(|| {
+            eprintln!(
+                "warning: frame {index}: {} of {} constraints are stretched past {} % of their \
+                 rest length (raise [constraints] iterations or shorten [time] dt; later frames \
+                 count in --json's max_stretched_edges)",
+                count.edges,
+                count.constraints,
+                100.0 * count.bound
+            )
+        }),
         Event::BirthsDropped { index, total } => {
             bar.suspend(|| eprintln!("{}", super::warn::births_dropped(s, index, total)))
         }
@@ -402,6 +412,8 @@ fn report(
             "truncated_searches": summary.truncated_searches,
             "max_non_finite": summary.max_non_finite,
             "non_finite_frames": summary.non_finite_frames,
+            "max_stretched_edges": summary.max_stretched,
+            "stretched_frames": summary.stretched_frames,
             "median_ms": t.map(|t| {
                 let [sim, sort, draw] = t.medians();
                 serde_json::json!({ "simulate": sim, "sort": sort, "draw": draw })

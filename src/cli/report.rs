@@ -35,6 +35,18 @@ pub enum ReportCommand {
         #[command(flatten)]
         common: Common,
     },
+    /// The cloth's worst and mean edge error against relaxation passes and GPU time, for each
+    /// constraint scheme (the table; `report all --only constraints` also writes the plots).
+    Constraints {
+        /// A 16² sheet and two iteration counts (for CI and a software renderer).
+        #[arg(long)]
+        quick: bool,
+        /// Print JSON (every row) instead of the table.
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        common: Common,
+    },
     /// Everything: plots, CSVs, stability JSON and markdown, and summary.md, into --out.
     #[command(allow_negative_numbers = true)]
     All {
@@ -46,7 +58,7 @@ pub enum ReportCommand {
         #[arg(long)]
         quick: bool,
         /// Only these sections, comma-separated: tables, convergence, sort_frames, collisions,
-        /// stability, cost, baselines (default: all).
+        /// stability, cost, baselines, constraints (default: all).
         #[arg(long, value_delimiter = ',')]
         only: Vec<String>,
         /// Runs of each benchmark table (the tables section); every cell reports the run of
@@ -117,6 +129,11 @@ pub fn report_cmd(cmd: ReportCommand) -> texflow::Result<()> {
             }
             Ok(())
         }
+        ReportCommand::Constraints {
+            quick,
+            json,
+            common,
+        } => constraints_cmd(quick, json, common),
         ReportCommand::All {
             out,
             quick,
@@ -150,4 +167,31 @@ pub fn report_cmd(cmd: ReportCommand) -> texflow::Result<()> {
             Ok(())
         }
     }
+}
+
+/// `texflow report constraints`: the table (or JSON) of every scheme's edge error and GPU time.
+fn constraints_cmd(quick: bool, json: bool, common: Common) -> texflow::Result<()> {
+    use texflow::report::{constraints, ReportOptions};
+    let ctx = Context::new(common.device)?;
+    let size = ReportOptions::new(quick).size;
+    let quiet = common.quiet;
+    let r = constraints::run(&ctx, size, &mut |m: &str| {
+        if !quiet {
+            eprintln!("report: {m}");
+        }
+    })?;
+    if json {
+        super::print_json("texflow.report.constraints/1", Some(&ctx), &r);
+    } else {
+        println!(
+            "device {}: {}; {}; {}² cloth after {} steps",
+            ctx.device_index(),
+            r.device,
+            r.clock,
+            r.side,
+            r.steps
+        );
+        print!("{}", constraints::table(&r));
+    }
+    Ok(())
 }

@@ -127,6 +127,11 @@ pub trait Engine {
         Ok(0)
     }
 
+    /// With distance constraints: the constraints stretched past the scene's bound now.
+    fn stretched(&self) -> Result<Option<crate::sim::Stretched>> {
+        Ok(None)
+    }
+
     /// Live particles with a NaN or infinite component; `counter` counts GPU state.
     fn non_finite(&self, counter: &NonFiniteCounter) -> Result<NonFiniteCount>;
 

@@ -441,6 +441,10 @@ impl<S: Simulation> super::Engine for GpuEngine<S> {
         self.sim.truncated_searches()
     }
 
+    fn stretched(&self) -> Result<Option<crate::sim::Stretched>> {
+        self.sim.stretched()
+    }
+
     fn non_finite(
         &self,
         counter: &crate::sim::nonfinite::NonFiniteCounter,

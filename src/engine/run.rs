@@ -143,6 +143,14 @@ pub enum Event<'a> {
         /// Births dropped so far.
         total: u64,
     },
+    /// The first written frame with constraints stretched past the scene's `stretch_bound`
+    /// (later ones only count in the summary).
+    Stretched {
+        /// The frame's index.
+        index: u64,
+        /// The census of that frame.
+        count: &'a crate::sim::Stretched,
+    },
     /// The first written frame with NaN or infinite state (later ones only count in the summary).
     NonFinite {
         /// The frame's index.
@@ -167,6 +175,11 @@ pub struct LoopSummary {
     pub max_non_finite: u64,
     /// Written frames that had any.
     pub non_finite_frames: u64,
+    /// With distance constraints: the most constraints stretched past the scene's
+    /// `stretch_bound` in one written frame.
+    pub max_stretched: u64,
+    /// Written frames that had any.
+    pub stretched_frames: u64,
     /// Whether the caller stopped the loop early (through its event callback).
     pub stopped: bool,
     /// Births the allocator dropped because the state texture was full.
@@ -354,7 +367,8 @@ impl FrameLoop {
         Ok(s)
     }
 
-    /// The non-finite census of frame `index` before it is written: counted into `s`, an error
+    /// The censuses of frame `index` before it is written: constraints stretched past their
+    /// bound, counted into `s` and reported once; non-finite state, counted into `s`, an error
     /// under [`NonFinitePolicy::Fail`], else reported once (the caller may stop).
     fn census(
         &self,
@@ -364,6 +378,14 @@ impl FrameLoop {
         on_event: &mut impl FnMut(Event<'_>) -> ControlFlow<()>,
     ) -> Result<ControlFlow<()>> {
         let o = &self.options;
+        if let Some(c) = engine.stretched()?.filter(|c| c.edges > 0) {
+            if s.stretched_frames == 0 && on_event(Event::Stretched { index, count: &c }).is_break()
+            {
+                return Ok(ControlFlow::Break(()));
+            }
+            s.stretched_frames += 1;
+            s.max_stretched = s.max_stretched.max(c.edges);
+        }
         let count = engine.non_finite(&self.counter)?;
         s.live = count.live;
         if count.non_finite > 0 {

@@ -12,6 +12,7 @@
 //! - [`plot`]: the log-log plots (the only user of `plotters` and the DejaVu font).
 //! - [`baselines`]: the stateless particle system (a closed form of start values and time)
 //!   against the stateful engine, on error and GPU time per step.
+//! - [`constraints`]: the cloth's edge error against relaxation passes and GPU time, per scheme.
 //! - [`stability`]: the stiff spring and the stiff drag swept across their stability limits, and
 //!   the extreme cases (huge speeds and coordinates, tiny and zero time steps, half-float
 //!   overflow, identifiers beyond the float mantissa, 10^5 particles in one cell), each with its
@@ -26,6 +27,7 @@ pub mod collide_iterations;
 pub mod collide_runs;
 pub mod collide_stats;
 pub mod collisions;
+pub mod constraints;
 pub mod convergence;
 pub mod cost;
 pub mod plot;
@@ -132,6 +134,10 @@ pub fn sections() -> Vec<Section> {
         Section {
             name: "baselines",
             run: baselines::section,
+        },
+        Section {
+            name: "constraints",
+            run: constraints::section,
         },
     ]
 }

@@ -36,6 +36,42 @@ fn forward(kind: ConstraintKind) -> &'static [[i32; 2]] {
     }
 }
 
+/// The edge directions of the Gauss-Seidel sets: each direction gives two sets, the edges that
+/// start on an even and on an odd coordinate along [`set_axis`].
+fn set_directions(kind: ConstraintKind) -> &'static [[i32; 2]] {
+    forward(kind)
+}
+
+/// Sets of constraints that share no particle (cloth 8: horizontal, vertical and the two
+/// diagonals, each split by the parity of its start; hair 2): one pass each.
+pub fn set_count(kind: ConstraintKind) -> u32 {
+    2 * set_directions(kind).len() as u32
+}
+
+/// Which coordinate's parity splits the edges along `d` into two sets (y for vertical edges,
+/// x for the others): two edges of one set never share a texel.
+fn set_axis(d: [i32; 2]) -> usize {
+    (d[0] == 0) as usize
+}
+
+/// The texel that texel `t` is joined to by the constraint of `set` (at most one: the sets
+/// share no particle), if inside a `size` texture. `glsl/sim/constrain_set.frag` computes the
+/// same.
+pub fn set_partner(
+    kind: ConstraintKind,
+    set: u32,
+    t: [i32; 2],
+    size: [u32; 2],
+) -> Option<[i32; 2]> {
+    let d = set_directions(kind)[(set / 2) as usize];
+    let a = set_axis(d);
+    let starts = t[a].rem_euclid(2) as u32 == set % 2;
+    let s = if starts { 1 } else { -1 };
+    let q = [t[0] + s * d[0], t[1] + s * d[1]];
+    let inside = q[0] >= 0 && q[1] >= 0 && q[0] < size[0] as i32 && q[1] < size[1] as i32;
+    inside.then_some(q)
+}
+
 /// Golden angle (radians): successive hair roots turn by it, so that they spread evenly.
 const GOLDEN_ANGLE: f32 = 2.399_963_2;
 
@@ -134,6 +170,36 @@ impl Layout {
         out
     }
 
+    /// The pinned texels a free texel `k` is attached to by a long-range attachment: cloth every
+    /// pinned texel (a flat sheet: the rest distance is the geodesic one), hair its strand's
+    /// root.
+    pub fn attachments(&self, k: usize) -> Vec<usize> {
+        match self.kind {
+            ConstraintKind::Cloth => self.pins(),
+            ConstraintKind::Hair => vec![k - k % self.size[0] as usize],
+        }
+    }
+
+    /// The pinned texels, in texel order.
+    pub fn pins(&self) -> Vec<usize> {
+        (0..self.rest.len())
+            .filter(|&k| self.rest[k][3] > 0.5)
+            .collect()
+    }
+
+    /// Constraints longer than `1 + bound` times their rest length (or not finite).
+    pub fn stretched(&self, positions: &[f32], bound: f32) -> u64 {
+        let at = |k: usize| Vec3::from_slice(&positions[4 * k..4 * k + 3]);
+        self.edges()
+            .into_iter()
+            .filter(|&(a, b, rest)| {
+                let l = (at(a) - at(b)).length();
+                // NaN counts: a torn sheet is stretched past any bound.
+                l.is_nan() || l > (1.0 + bound) * rest
+            })
+            .count() as u64
+    }
+
     /// The relative constraint error |(|x_a - x_b| - rest) / rest| of every constraint, for
     /// positions read back (4 floats per texel): its mean and its worst.
     pub fn error(&self, positions: &[f32]) -> ConstraintError {
@@ -167,6 +233,17 @@ pub struct ConstraintError {
     pub worst: f64,
     /// Number of constraints.
     pub constraints: usize,
+}
+
+/// The stretch census of one frame: constraints longer than `1 + bound` times their rest length.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Stretched {
+    /// Constraints stretched past the bound (or of non-finite length).
+    pub edges: u64,
+    /// Constraints in all.
+    pub constraints: u64,
+    /// The scene's `stretch_bound` (relative).
+    pub bound: f32,
 }
 
 /// Where the pinned particles are at time `t`: their rest positions moved by this offset (hair:

@@ -21,6 +21,7 @@ pub use fields::{DistanceField, FlowField, HeightField};
 pub fn particle_live(p: [f32; 4]) -> bool {
     p[3] > 0.0 && p[..3].iter().all(|c| c.is_finite())
 }
+pub use constraints::Stretched;
 pub use fire::{FireParams, FireSim};
 pub use particles::{ClosedForm, Features, ParticleSim};
 pub use simulation::{stages_of, DrawnState, Pass, Simulation, Stage};

@@ -149,6 +149,12 @@ pub trait Simulation: std::fmt::Debug {
         Ok(0)
     }
 
+    /// With distance constraints: the constraints stretched past the scene's `stretch_bound`
+    /// and how many there are (one read-back of the positions).
+    fn stretched(&self) -> Result<Option<super::Stretched>> {
+        Ok(None)
+    }
+
     /// With collisions between particles: the pairs the last step's detection found.
     fn census(&self) -> Result<Option<super::collide::PairCensus>> {
         Ok(None)

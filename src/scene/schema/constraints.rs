@@ -15,6 +15,29 @@ pub enum ConstraintKind {
     Hair,
 }
 
+/// How the relaxation passes solve the distance constraints.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RelaxScheme {
+    /// Every texel moves by the mean of its constraints' corrections, all texels at once (one
+    /// pass per iteration).
+    Jacobi,
+    /// Constraints in sets that share no particle (graph colouring: 8 sets for cloth, 2 for
+    /// hair), one set per pass, each seeing the last set's result (Gauss-Seidel).
+    #[default]
+    GaussSeidel,
+}
+
+impl RelaxScheme {
+    /// The key's value in a scene file.
+    pub fn name(self) -> &'static str {
+        match self {
+            RelaxScheme::Jacobi => "jacobi",
+            RelaxScheme::GaussSeidel => "gauss-seidel",
+        }
+    }
+}
+
 /// `[constraints]`: the layout of the constrained particles (it places every particle, in place
 /// of emitters) and the relaxation that keeps their distances.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
@@ -25,7 +48,20 @@ pub struct Constraints {
     /// Relaxation passes per time step (1 to 64).
     #[serde(default = "four")]
     pub iterations: u32,
-    /// Share of the averaged correction applied per pass, in (0, 1].
+    /// `gauss-seidel` (sets of constraints that share no particle, one per pass) or `jacobi`
+    /// (every texel by the mean of its corrections).
+    #[serde(default)]
+    pub scheme: RelaxScheme,
+    /// Long-range attachments (Kim, Chentanez, Müller-Fischer 2012): after each iteration's
+    /// edge passes, one pass keeps every free particle within its rest distance of the pins
+    /// (cloth: every pinned texel; hair: its strand's root).
+    #[serde(default = "yes")]
+    pub attachments: bool,
+    /// Relative stretch past which an edge counts as overstretched in the run's census
+    /// (`(length - rest) / rest`; 0.1 is 10 %).
+    #[serde(default = "tenth")]
+    pub stretch_bound: f32,
+    /// Share of a pass's correction applied (Jacobi: of the averaged one), in (0, 1].
     #[serde(default = "super::one")]
     pub stiffness: f32,
     /// Distance between neighbouring texels in the initial layout (m): the structural rest
@@ -51,6 +87,12 @@ pub struct Constraints {
 
 fn four() -> u32 {
     4
+}
+fn yes() -> bool {
+    true
+}
+fn tenth() -> f32 {
+    0.1
 }
 fn x_axis() -> [f32; 3] {
     [1.0, 0.0, 0.0]

@@ -12,7 +12,7 @@ mod render;
 
 use serde::{Deserialize, Serialize};
 
-pub use constraints::{ConstraintKind, Constraints, MAX_CONSTRAINT_ITERATIONS};
+pub use constraints::{ConstraintKind, Constraints, RelaxScheme, MAX_CONSTRAINT_ITERATIONS};
 pub use emitters::{
     AllocatorKind, Burst, Emitter, Emitters, Flipbook, Shape, MAX_BURSTS, MAX_EMITTERS,
     MAX_EMITTER_FORCES,

@@ -128,6 +128,16 @@ fn sheet(c: &Constraints) -> Check {
             ),
         );
     }
+    if !(c.stretch_bound > 0.0 && c.stretch_bound <= 100.0) {
+        return fail(
+            at("stretch_bound"),
+            format!(
+                "stretch_bound {} is outside (0, 100]: it is the relative stretch past which an \
+                 edge is counted (0.1 is 10 %)",
+                c.stretch_bound
+            ),
+        );
+    }
     bounded(at("spacing"), "spacing", &[c.spacing])?;
     if c.spacing <= 0.0 {
         return fail(

@@ -80,8 +80,9 @@ pub struct Features {
     pub row_phases: bool,
     /// Some timestamp emitter moves each release to its own place (`release_spread`).
     pub release_spread: bool,
-    /// Distance constraints (Latta §3.4.3): kind and relaxation passes per step.
-    pub constraints: Option<(scene::ConstraintKind, u32)>,
+    /// Distance constraints (Latta §3.4.3): kind, iterations per step, scheme and whether the
+    /// long-range attachments run.
+    pub constraints: Option<(scene::ConstraintKind, u32, scene::RelaxScheme, bool)>,
     /// Spinning spheres (`collisions.spin`, UberFlow §4.5): a third state texture of angular
     /// velocity and angle, written by integration and the collision response.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
@@ -148,7 +149,10 @@ impl Features {
             pair_forces: scene.forces.pair.len(),
             row_phases: scene.collisions.as_ref().is_some_and(|c| c.row_phases),
             release_spread: em.timestamp.iter().any(|e| e.release_spread.is_some()),
-            constraints: scene.constraints.as_ref().map(|c| (c.kind, c.iterations)),
+            constraints: scene
+                .constraints
+                .as_ref()
+                .map(|c| (c.kind, c.iterations, c.scheme, c.attachments)),
             spin: scene.collisions.as_ref().is_some_and(|c| c.spin),
             children: em.child.len(),
             custom_forces: (scene.forces.custom.iter())
@@ -283,7 +287,7 @@ impl Features {
         let mut integrate = Vec::new();
         self.integrate_passes(&what, verlet, &mut integrate);
         add(Stage::Integrate, integrate);
-        add(Stage::Relax, self.constrain_pass().into_iter().collect());
+        add(Stage::Relax, self.constrain_passes());
         let mut collide = Vec::new();
         self.collision_passes(&mut collide);
         if self.spin {
@@ -472,24 +476,65 @@ impl Features {
         }
     }
 
-    /// The constraint relaxation passes of cloth and hair.
-    fn constrain_pass(&self) -> Option<String> {
-        let (kind, n) = self.constraints?;
-        Some(format!(
-            "{n} × constrain: Jacobi relaxation of the {} [current position and rest \
-             texture in, the ring's free side out, then swapped]{}",
-            match kind {
-                scene::ConstraintKind::Cloth => {
-                    "cloth's distance constraints (4 grid neighbours, 4 diagonals)"
+    /// The constraint relaxation passes of cloth and hair, `iterations` times per step.
+    fn constrain_passes(&self) -> Vec<String> {
+        let Some((kind, n, scheme, attachments)) = self.constraints else {
+            return Vec::new();
+        };
+        let io = "[current position and rest texture in, the ring's free side out, then swapped]";
+        let project = if self.colliders() {
+            "; colliders' projection"
+        } else {
+            ""
+        };
+        let mut out = Vec::new();
+        match (scheme, kind) {
+            (scene::RelaxScheme::Jacobi, scene::ConstraintKind::Cloth) => out.push(format!(
+                "{n} × constrain: Jacobi relaxation of the cloth's distance constraints (4 grid \
+                 neighbours, 4 diagonals; each texel by the mean of its corrections) {io}{project}"
+            )),
+            (scene::RelaxScheme::Jacobi, scene::ConstraintKind::Hair) => out.push(format!(
+                "{n} × constrain: Jacobi relaxation of the hair's distance constraints (chains \
+                 along rows; each texel by the mean of its corrections) {io}{project}"
+            )),
+            (scene::RelaxScheme::GaussSeidel, kind) => {
+                let sets: &[&str] = match kind {
+                    scene::ConstraintKind::Cloth => &[
+                        "(1, 0) from even x",
+                        "(1, 0) from odd x",
+                        "(0, 1) from even y",
+                        "(0, 1) from odd y",
+                        "(1, 1) from even x",
+                        "(1, 1) from odd x",
+                        "(1, -1) from even x",
+                        "(1, -1) from odd x",
+                    ],
+                    scene::ConstraintKind::Hair => &["(1, 0) from even x", "(1, 0) from odd x"],
+                };
+                let order = match attachments {
+                    true => "sets in order, then attach",
+                    false => "sets in order",
+                };
+                for (i, set) in sets.iter().enumerate() {
+                    out.push(format!(
+                        "{n} × constrain set {i} (each of {n} iterations runs the {order}): \
+                         Gauss-Seidel relaxation of the edges {set}, which share no particle, \
+                         both ends moving {io}{project}"
+                    ));
                 }
-                scene::ConstraintKind::Hair => "hair's distance constraints (chains along rows)",
-            },
-            if self.colliders() {
-                "; colliders' projection"
-            } else {
-                ""
             }
-        ))
+        }
+        if attachments {
+            out.push(format!(
+                "{n} × attach: long-range attachments, each free particle back within its rest \
+                 distance of {} {io}{project}",
+                match kind {
+                    scene::ConstraintKind::Cloth => "every pin [pins texture in]",
+                    scene::ConstraintKind::Hair => "its strand's root",
+                }
+            ));
+        }
+        out
     }
 
     /// The collision stage: neighbour forces, the exact search or UberFlow's sorted rows.

@@ -1,8 +1,10 @@
-//! The constraint relaxation on the GPU (Latta §3.4.3): `iterations` passes of
-//! `glsl/sim/constrain.frag` after each Verlet step, each reading the current positions and
-//! writing the ring's free side, which then becomes the current (the previous positions stay, so
-//! the next step's implied velocity includes what the constraints moved). Also moves orbiting
-//! spheres, which the Verlet step and the relaxation both read.
+//! The constraint relaxation on the GPU (Latta §3.4.3): `iterations` times per Verlet step, the
+//! scheme's edge passes (`glsl/sim/constrain.frag` once for Jacobi, `glsl/sim/constrain_set.frag`
+//! once per set of constraints that share no particle for Gauss-Seidel), then with long-range
+//! attachments `glsl/sim/attach.frag`. Each pass reads the current positions and writes the
+//! ring's free side, which then becomes the current (the previous positions stay, so the next
+//! step's implied velocity includes what the constraints moved). Also moves orbiting spheres,
+//! which the Verlet step and the relaxation both read.
 
 use super::{bind_textures, Fields};
 use crate::error::Result;
@@ -10,20 +12,41 @@ use crate::gl::{
     Context, Defines, FullscreenPass, Program, Ring3, Texture, TextureDesc, TextureFormat,
     FULLSCREEN_VERTEX,
 };
-use crate::scene::{ConstraintKind, SceneFile};
-use crate::sim::constraints::{pin_offset, sphere_centres, Layout};
+use crate::scene::{ConstraintKind, RelaxScheme, SceneFile};
+use crate::sim::constraints::{pin_offset, set_count, sphere_centres, Layout};
 use crate::sim::state::POSITION;
 
 /// The relaxation passes of a scene with `[constraints]`.
 pub(super) struct Relaxation {
-    program: Program,
+    /// The scheme's edge pass: Jacobi's, or one Gauss-Seidel set's (`u_set`).
+    edges: Program,
+    /// The long-range attachments' pass, when the scene asks for them.
+    attach: Option<Program>,
     rest: Texture,
+    /// Cloth: the pinned texels' rest positions (the attachments' pins).
+    pins: Texture,
     layout: Layout,
     iterations: u32,
+    scheme: RelaxScheme,
+}
+
+/// An RGBA32F texture of `w`×`h` holding `data`.
+fn texture(ctx: &Context, label: &str, [w, h]: [u32; 2], data: &[f32]) -> Result<Texture> {
+    let t = Texture::new(
+        ctx,
+        TextureDesc {
+            width: w,
+            height: h,
+            format: TextureFormat::Rgba32F,
+            label,
+        },
+    )?;
+    t.upload_f32(data)?;
+    Ok(t)
 }
 
 impl Relaxation {
-    /// The program (with the simulation's `defines`) and the rest texture of `scene`'s layout.
+    /// The programs (with the simulation's `defines`) and the rest texture of `scene`'s layout.
     pub(super) fn new(ctx: &Context, scene: &SceneFile, defines: &Defines) -> Result<Option<Self>> {
         let (Some(c), Some(layout)) = (&scene.constraints, Layout::of(scene)) else {
             return Ok(None);
@@ -34,31 +57,48 @@ impl Relaxation {
             ConstraintKind::Hair => "HAIR",
         };
         d.push((kind.to_owned(), "1".to_owned()));
-        let program = Program::new(ctx, FULLSCREEN_VERTEX, "sim/constrain.frag", &d)?;
-        let [w, h] = layout.size;
-        let rest = Texture::new(
+        let edges = Program::new(
             ctx,
-            TextureDesc {
-                width: w,
-                height: h,
-                format: TextureFormat::Rgba32F,
-                label: "rest",
+            FULLSCREEN_VERTEX,
+            match c.scheme {
+                RelaxScheme::Jacobi => "sim/constrain.frag",
+                RelaxScheme::GaussSeidel => "sim/constrain_set.frag",
             },
+            &d,
         )?;
-        rest.upload_f32(&layout.rest_floats())?;
-        program.bind();
-        program.set_f32("u_stiffness", c.stiffness);
+        let attach = c
+            .attachments
+            .then(|| Program::new(ctx, FULLSCREEN_VERTEX, "sim/attach.frag", &d))
+            .transpose()?;
+        let rest = texture(ctx, "rest", layout.size, &layout.rest_floats())?;
+        // Pin k at texel (k % width, k / width): any count fits a state-sized texture.
+        let pins = layout.pins();
+        let w = layout.size[0];
+        let rows = (pins.len() as u32).div_ceil(w).max(1);
+        let mut data = vec![0.0; 4 * (w * rows) as usize];
+        for (i, &k) in pins.iter().enumerate() {
+            data[4 * i..4 * i + 4].copy_from_slice(&layout.rest[k]);
+        }
+        let pin_texture = texture(ctx, "pins", [w, rows], &data)?;
+        for p in std::iter::once(&edges).chain(&attach) {
+            p.bind();
+            p.set_f32("u_stiffness", c.stiffness);
+            p.optional(|| p.set_i32("u_pin_count", pins.len() as i32));
+        }
         Ok(Some(Relaxation {
-            program,
+            edges,
+            attach,
             rest,
-            layout,
+            pins: pin_texture,
             iterations: c.iterations,
+            scheme: c.scheme,
+            layout,
         }))
     }
 
-    /// The program, for the scene's constant uniforms.
-    pub(super) fn program(&self) -> &Program {
-        &self.program
+    /// The programs, for the scene's constant uniforms.
+    pub(super) fn programs(&self) -> impl Iterator<Item = &Program> {
+        std::iter::once(&self.edges).chain(&self.attach)
     }
 
     /// The layout.
@@ -76,7 +116,7 @@ impl Relaxation {
         Ok(())
     }
 
-    /// `iterations` passes at simulation time `t` (the end of the step just taken).
+    /// `iterations` iterations at simulation time `t` (the end of the step just taken).
     pub(super) fn run(
         &self,
         scene: &SceneFile,
@@ -85,19 +125,43 @@ impl Relaxation {
         fields: &Fields,
         t: f64,
     ) {
-        let p = &self.program;
-        p.bind();
-        p.set_vec3("u_pin_offset", pin_offset(scene, t));
-        move_spheres(p, scene, t);
-        for _ in 0..self.iterations {
-            let own = [
-                ("u_position", ring.current().texture(POSITION).into()),
-                ("u_rest", (&self.rest).into()),
-            ];
-            bind_textures(p, &own, fields);
-            pass.draw(p, ring.next());
-            ring.swap_current_next();
+        let offset = pin_offset(scene, t);
+        for p in self.programs() {
+            p.bind();
+            p.set_vec3("u_pin_offset", offset);
+            move_spheres(p, scene, t);
         }
+        let sets = match self.scheme {
+            RelaxScheme::Jacobi => None,
+            RelaxScheme::GaussSeidel => Some(set_count(self.layout.kind)),
+        };
+        for _ in 0..self.iterations {
+            for set in 0..sets.unwrap_or(1) {
+                let p = &self.edges;
+                p.bind();
+                if sets.is_some() {
+                    p.set_i32("u_set", set as i32);
+                }
+                self.draw(p, ring, pass, fields);
+            }
+            if let Some(p) = &self.attach {
+                p.bind();
+                self.draw(p, ring, pass, fields);
+            }
+        }
+    }
+
+    /// One pass of `p` from the current positions into the ring's free side, then swapped.
+    fn draw(&self, p: &Program, ring: &mut Ring3, pass: &FullscreenPass, fields: &Fields) {
+        let own = [
+            ("u_position", ring.current().texture(POSITION).into()),
+            ("u_rest", (&self.rest).into()),
+            ("u_pins", (&self.pins).into()),
+        ];
+        let own: Vec<_> = own.into_iter().filter(|(n, _)| p.declares(n)).collect();
+        bind_textures(p, &own, fields);
+        pass.draw(p, ring.next());
+        ring.swap_current_next();
     }
 }
 

@@ -191,10 +191,10 @@ impl ParticleSim {
             self.emit_previous.as_ref(),
             self.emit_static.as_ref(),
             self.start.as_ref(),
-            self.relax.as_ref().map(|r| r.program()),
         ]
         .into_iter()
         .flatten()
+        .chain(self.relax.iter().flat_map(|r| r.programs()))
         {
             self.set_constants(p);
         }

@@ -246,6 +246,18 @@ impl crate::sim::Simulation for ParticleSim {
         self.collisions().map_or(Ok(0), |c| c.truncated_searches())
     }
 
+    fn stretched(&self) -> Result<Option<crate::sim::Stretched>> {
+        let (Some(layout), Some(c)) = (self.constraint_layout(), &self.scene.constraints) else {
+            return Ok(None);
+        };
+        let x = self.read_positions()?;
+        Ok(Some(crate::sim::Stretched {
+            edges: layout.stretched(&x, c.stretch_bound),
+            constraints: layout.edges().len() as u64,
+            bound: c.stretch_bound,
+        }))
+    }
+
     fn height_field(&self) -> Option<&HeightField> {
         ParticleSim::height_field(self)
     }

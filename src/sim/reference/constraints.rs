@@ -1,6 +1,7 @@
 //! The CPU twin of a constrained scene's step: the Verlet step of [`Reference`] for every
-//! particle, then the relaxation passes of `glsl/sim/constrain.frag`, in `f32`, with the same
-//! operations in the same order (the GPU may fuse multiply-adds and take square roots its own
+//! particle, then the relaxation passes (`glsl/sim/constrain.frag` for Jacobi,
+//! `glsl/sim/constrain_set.frag` per Gauss-Seidel set, `glsl/sim/attach.frag` for the long-range
+//! attachments), in `f32`, with the same operations in the same order (the GPU may fuse multiply-adds and take square roots its own
 //! way, so the two agree to rounding, not bit for bit).
 //!
 //! Covers what [`Reference`] covers (forces and colliders, with orbiting spheres moved as the
@@ -10,8 +11,10 @@ use glam::Vec3;
 
 use super::Reference;
 use crate::error::{Error, Result};
-use crate::scene::{Precision, SceneFile};
-use crate::sim::constraints::{neighbours, pin_offset, sphere_centres, ConstraintError, Layout};
+use crate::scene::{Precision, RelaxScheme, SceneFile};
+use crate::sim::constraints::{
+    neighbours, pin_offset, set_count, set_partner, sphere_centres, ConstraintError, Layout,
+};
 
 /// A constrained scene stepped on the CPU.
 #[derive(Debug, Clone)]
@@ -21,6 +24,8 @@ pub struct Twin {
     layout: Layout,
     stiffness: f32,
     iterations: u32,
+    scheme: RelaxScheme,
+    attachments: bool,
     x: Vec<Vec3>,
     previous: Vec<Vec3>,
     life: Vec<f32>,
@@ -54,6 +59,8 @@ impl Twin {
             reference,
             stiffness: c.stiffness,
             iterations: c.iterations,
+            scheme: c.scheme,
+            attachments: c.attachments,
             previous: x.clone(),
             life: vec![1.0; x.len()],
             x,
@@ -65,6 +72,12 @@ impl Twin {
     /// Changes the relaxation passes per step (for measuring the error against them).
     pub fn set_iterations(&mut self, n: u32) {
         self.iterations = n;
+    }
+
+    /// Changes the scheme and whether the long-range attachments run.
+    pub fn set_scheme(&mut self, scheme: RelaxScheme, attachments: bool) {
+        self.scheme = scheme;
+        self.attachments = attachments;
     }
 
     fn move_spheres(&mut self, t: f64) {
@@ -102,8 +115,82 @@ impl Twin {
         self.move_spheres(t);
         let offset = pin_offset(&self.scene, t);
         for _ in 0..self.iterations {
-            self.x = self.relax_once(offset);
+            match self.scheme {
+                RelaxScheme::Jacobi => self.x = self.relax_once(offset),
+                RelaxScheme::GaussSeidel => {
+                    for set in 0..set_count(self.layout.kind) {
+                        self.x = self.relax_set(set, offset);
+                    }
+                }
+            }
+            if self.attachments {
+                self.x = self.attach(offset);
+            }
         }
+    }
+
+    /// The rest position of texel `k` and whether it is pinned.
+    fn rest(&self, k: usize) -> (Vec3, bool) {
+        let r = self.layout.rest[k];
+        (Vec3::new(r[0], r[1], r[2]), r[3] > 0.5)
+    }
+
+    /// One Gauss-Seidel pass: `glsl/sim/constrain_set.frag` for every texel, the constraints of
+    /// `set` (which share no particle) each moving its two ends.
+    fn relax_set(&self, set: u32, offset: Vec3) -> Vec<Vec3> {
+        let size = self.layout.size;
+        let w = size[0] as i32;
+        let mut out = Vec::with_capacity(self.x.len());
+        for k in 0..self.x.len() {
+            let (r, pinned) = self.rest(k);
+            if pinned {
+                out.push(r + offset);
+                continue;
+            }
+            let x = self.x[k];
+            let t = [k as i32 % w, k as i32 / w];
+            let mut xn = x;
+            if let Some([qx, qy]) = set_partner(self.layout.kind, set, t, size) {
+                let q = (qy * w + qx) as usize;
+                let (rq, q_pinned) = self.rest(q);
+                let rest_length = (rq - r).length();
+                let d = self.x[q] - x;
+                let len = d.length();
+                let share = if q_pinned { 1.0 } else { 0.5 };
+                if len > 0.0 {
+                    xn = x + self.stiffness * ((share * (len - rest_length) / len) * d);
+                }
+            }
+            out.push(self.reference.keep_outside_position(xn));
+        }
+        out
+    }
+
+    /// The long-range attachments' pass (`glsl/sim/attach.frag`): every free texel pulled back
+    /// onto the sphere of its rest distance around each pin it is attached to, where it lies
+    /// outside.
+    fn attach(&self, offset: Vec3) -> Vec<Vec3> {
+        let mut out = Vec::with_capacity(self.x.len());
+        for k in 0..self.x.len() {
+            let (r, pinned) = self.rest(k);
+            if pinned {
+                out.push(r + offset);
+                continue;
+            }
+            let mut x = self.x[k];
+            for p in self.layout.attachments(k) {
+                let (rp, _) = self.rest(p);
+                let reach = (r - rp).length();
+                let pin = rp + offset;
+                let d = x - pin;
+                let len = d.length();
+                if len > reach {
+                    x = pin + (reach / len) * d;
+                }
+            }
+            out.push(self.reference.keep_outside_position(x));
+        }
+        out
     }
 
     /// One Jacobi pass: `glsl/sim/constrain.frag` for every texel.

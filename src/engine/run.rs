@@ -334,42 +334,15 @@ impl FrameLoop {
                 sink.frame(index, &image.expect("rendered"))?;
                 s.written += 1;
             }
-            if o.dump_every
-                .is_some_and(|n| index >= o.start && (index - o.start).is_multiple_of(n))
+            let dumps = (o.dump_every)
+                .is_some_and(|n| index >= o.start && (index - o.start).is_multiple_of(n));
+            if dumps
+                && self
+                    .dump(engine, index, &mut s, sink, &mut on_event)?
+                    .is_break()
             {
-                let d = engine.dump()?;
-                if d.non_finite > 0 {
-                    // A dump is an output like a frame: non-finite state in it stops the run
-                    // (or is reported once) as in a frame, before it is written.
-                    let count = NonFiniteCount {
-                        non_finite: d.non_finite as u64,
-                        live: d.positions.len() as u64,
-                        ..NonFiniteCount::default()
-                    };
-                    if o.non_finite == NonFinitePolicy::Fail {
-                        return Err(Error::NonFinite {
-                            origin: source_of(&d, &engine.emitter_keys()),
-                            frame: index,
-                            count: count.non_finite,
-                            live: count.live,
-                        });
-                    }
-                    if s.non_finite_frames == 0 {
-                        s.non_finite_frames = 1;
-                        if on_event(Event::NonFinite {
-                            index,
-                            count: &count,
-                        })
-                        .is_break()
-                        {
-                            s.stopped = true;
-                            break;
-                        }
-                    }
-                }
-                s.max_non_finite = s.max_non_finite.max(d.non_finite as u64);
-                sink.dump(index, &d)?;
-                s.dumps += 1;
+                s.stopped = true;
+                break;
             }
             if on_event(Event::Frame { index }).is_break() {
                 s.stopped = true;
@@ -381,6 +354,50 @@ impl FrameLoop {
         s.truncated_searches = engine.truncated_searches()?;
         s.times = times;
         Ok(s)
+    }
+
+    /// The dump of frame `index`: checked like a frame (non-finite state is an error under
+    /// [`NonFinitePolicy::Fail`], else reported once, and the caller may stop), then handed to
+    /// `sink`.
+    fn dump(
+        &self,
+        engine: &mut dyn Engine,
+        index: u64,
+        s: &mut LoopSummary,
+        sink: &mut dyn FrameSink,
+        on_event: &mut impl FnMut(Event<'_>) -> ControlFlow<()>,
+    ) -> Result<ControlFlow<()>> {
+        let d = engine.dump()?;
+        if d.non_finite > 0 {
+            let count = NonFiniteCount {
+                non_finite: d.non_finite as u64,
+                live: d.positions.len() as u64,
+                ..NonFiniteCount::default()
+            };
+            if self.options.non_finite == NonFinitePolicy::Fail {
+                return Err(Error::NonFinite {
+                    origin: source_of(&d, &engine.emitter_keys()),
+                    frame: index,
+                    count: count.non_finite,
+                    live: count.live,
+                });
+            }
+            if s.non_finite_frames == 0 {
+                s.non_finite_frames = 1;
+                if on_event(Event::NonFinite {
+                    index,
+                    count: &count,
+                })
+                .is_break()
+                {
+                    return Ok(ControlFlow::Break(()));
+                }
+            }
+        }
+        s.max_non_finite = s.max_non_finite.max(d.non_finite as u64);
+        sink.dump(index, &d)?;
+        s.dumps += 1;
+        Ok(ControlFlow::Continue(()))
     }
 
     /// The non-finite census of frame `index` before it is written: counted into `s`, an error

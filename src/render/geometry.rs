@@ -67,7 +67,7 @@ impl Mesh {
         ]);
     }
 
-    pub(super) fn triangle(&mut self, p: [Vec3; 3], n: [Vec3; 3], color: [f32; 3], cell: f32) {
+    fn triangle(&mut self, p: [Vec3; 3], n: [Vec3; 3], color: [f32; 3], cell: f32) {
         for k in 0..3 {
             self.vertex(p[k], n[k], color, cell);
         }
@@ -179,6 +179,14 @@ impl Mesh {
             self.flat([q[0], q[1], q[2]], color);
             self.flat([q[0], q[2], q[3]], color);
         }
+    }
+
+    /// The zero surface of a distance field's nodes `s`, in `color`, lit by its gradient.
+    pub fn isosurface(&mut self, s: &Surface<'_>, color: [f32; 3]) -> Result<()> {
+        for (p, n) in super::isosurface::triangles(s)? {
+            self.triangle(p, n, color, 0.0);
+        }
+        Ok(())
     }
 
     /// The height field's grid, two triangles per cell, each node at its sampled height with its

@@ -1,12 +1,15 @@
 //! The zero level set of a sampled distance field (a `[[colliders.sdf]] field` from a file),
-//! as triangles for [`super::GeometryRenderer`]: marching tetrahedra over the field's own nodes,
+//! as triangles for [`super::Mesh::isosurface`]: marching tetrahedra over the field's own nodes,
 //! so the surface drawn is where the trilinear field the collision pass samples crosses zero,
 //! to within the linear interpolation along each tetrahedron's edges.
 
 use glam::Vec3;
 
-use super::geometry::Mesh;
 use crate::error::{Error, Result};
+
+/// A triangle of the surface: its corners and their unit normals, counter-clockwise seen from
+/// outside.
+pub type Triangle = ([Vec3; 3], [Vec3; 3]);
 
 /// A distance field's nodes as the simulation holds them: `texels[(k·ny + j)·nx + i]` is the
 /// distance at node `(i, j, k)` of the box `bounds`, negative inside.
@@ -64,70 +67,67 @@ impl Surface<'_> {
     }
 }
 
-impl Mesh {
-    /// The surface where `s` is zero, in `color`, with normals from the field's gradient.
-    pub fn isosurface(&mut self, s: &Surface<'_>, color: [f32; 3]) -> Result<()> {
-        let [nx, ny, nz] = s.size.map(|n| n as usize);
-        if nx < 2 || ny < 2 || nz < 2 || s.texels.len() != nx * ny * nz {
-            return Err(Error::InvalidInput(format!(
-                "distance field of {nx}x{ny}x{nz} nodes with {} values: needs at least 2 nodes \
-                 per axis and one value per node",
-                s.texels.len()
-            )));
-        }
-        for k in 0..nz - 1 {
-            for j in 0..ny - 1 {
-                for i in 0..nx - 1 {
-                    let corner = |c: usize| (i + (c & 1), j + (c >> 1 & 1), k + (c >> 2 & 1));
-                    let nodes: [(Vec3, f32, Vec3); 8] = std::array::from_fn(|c| {
-                        let (a, b, d) = corner(c);
-                        let (p, v) = s.node(a, b, d);
-                        (p, v, s.gradient(a, b, d))
-                    });
-                    if nodes.iter().all(|n| n.1 < 0.0) || nodes.iter().all(|n| n.1 >= 0.0) {
-                        continue;
-                    }
-                    for t in TETRAHEDRA {
-                        self.tetrahedron(t.map(|c| nodes[c]), color);
-                    }
+/// The triangles where `s` is zero, with normals from the field's gradient.
+pub fn triangles(s: &Surface<'_>) -> Result<Vec<Triangle>> {
+    let [nx, ny, nz] = s.size.map(|n| n as usize);
+    if nx < 2 || ny < 2 || nz < 2 || s.texels.len() != nx * ny * nz {
+        return Err(Error::InvalidInput(format!(
+            "distance field of {nx}x{ny}x{nz} nodes with {} values: needs at least 2 nodes \
+             per axis and one value per node",
+            s.texels.len()
+        )));
+    }
+    let mut out = Vec::new();
+    for k in 0..nz - 1 {
+        for j in 0..ny - 1 {
+            for i in 0..nx - 1 {
+                let corner = |c: usize| (i + (c & 1), j + (c >> 1 & 1), k + (c >> 2 & 1));
+                let nodes: [(Vec3, f32, Vec3); 8] = std::array::from_fn(|c| {
+                    let (a, b, d) = corner(c);
+                    let (p, v) = s.node(a, b, d);
+                    (p, v, s.gradient(a, b, d))
+                });
+                if nodes.iter().all(|n| n.1 < 0.0) || nodes.iter().all(|n| n.1 >= 0.0) {
+                    continue;
+                }
+                for t in TETRAHEDRA {
+                    tetrahedron(t.map(|c| nodes[c]), &mut out);
                 }
             }
         }
-        Ok(())
     }
+    Ok(out)
+}
 
-    /// The zero crossing in one tetrahedron: nothing, a triangle or a quad (two triangles).
-    fn tetrahedron(&mut self, v: [(Vec3, f32, Vec3); 4], color: [f32; 3]) {
-        let cross = |a: usize, b: usize| {
-            let ((pa, da, ga), (pb, db, gb)) = (v[a], v[b]);
-            let t = da / (da - db);
-            (pa.lerp(pb, t), ga.lerp(gb, t).normalize_or_zero())
-        };
-        let inside: Vec<usize> = (0..4).filter(|&c| v[c].1 < 0.0).collect();
-        let outside: Vec<usize> = (0..4).filter(|&c| v[c].1 >= 0.0).collect();
-        let mut emit = |q: &[(Vec3, Vec3)]| {
-            // Wound counter-clockwise seen from outside (the gradient's side).
-            let (p, n) = (q.iter().map(|x| x.0), q.iter().map(|x| x.1));
-            let (p, n): (Vec<Vec3>, Vec<Vec3>) = (p.collect(), n.collect());
-            let face = (p[1] - p[0]).cross(p[2] - p[0]);
-            let out = n[0] + n[1] + n[2];
-            if face.dot(out) < 0.0 {
-                self.triangle([p[0], p[2], p[1]], [n[0], n[2], n[1]], color, 0.0);
-            } else {
-                self.triangle([p[0], p[1], p[2]], [n[0], n[1], n[2]], color, 0.0);
-            }
-        };
-        match (inside.as_slice(), outside.as_slice()) {
-            ([a], [b, c, d]) | ([b, c, d], [a]) => {
-                emit(&[cross(*a, *b), cross(*a, *c), cross(*a, *d)]);
-            }
-            ([a, b], [c, d]) => {
-                let q = [cross(*a, *c), cross(*a, *d), cross(*b, *d), cross(*b, *c)];
-                emit(&[q[0], q[1], q[2]]);
-                emit(&[q[0], q[2], q[3]]);
-            }
-            _ => {}
+/// The zero crossing in one tetrahedron: nothing, a triangle or a quad (two triangles).
+fn tetrahedron(v: [(Vec3, f32, Vec3); 4], out: &mut Vec<Triangle>) {
+    let cross = |a: usize, b: usize| {
+        let ((pa, da, ga), (pb, db, gb)) = (v[a], v[b]);
+        let t = da / (da - db);
+        (pa.lerp(pb, t), ga.lerp(gb, t).normalize_or_zero())
+    };
+    let inside: Vec<usize> = (0..4).filter(|&c| v[c].1 < 0.0).collect();
+    let outside: Vec<usize> = (0..4).filter(|&c| v[c].1 >= 0.0).collect();
+    let mut emit = |q: [(Vec3, Vec3); 3]| {
+        let (p, n) = (q.map(|x| x.0), q.map(|x| x.1));
+        // Wound counter-clockwise seen from outside (the gradient's side).
+        let face = (p[1] - p[0]).cross(p[2] - p[0]);
+        if face.dot(n[0] + n[1] + n[2]) < 0.0 {
+            out.push(([p[0], p[2], p[1]], [n[0], n[2], n[1]]));
+        } else {
+            out.push((p, n));
         }
+    };
+    match (inside.as_slice(), outside.as_slice()) {
+        ([a], [b, c, d]) | ([b, c, d], [a]) => {
+            emit([cross(*a, *b), cross(*a, *c), cross(*a, *d)]);
+        }
+        ([a, b], [c, d]) => {
+            let q = [cross(*a, *c), cross(*a, *d), cross(*b, *d), cross(*b, *c)];
+            emit([q[0], q[1], q[2]]);
+            emit([q[0], q[2], q[3]]);
+        }
+        _ => {}
     }
 }
 
@@ -155,16 +155,22 @@ mod tests {
             size: [n as u32; 3],
             texels: &texels,
         };
-        let mut m = Mesh::default();
-        m.isosurface(&s, [1.0; 3]).unwrap();
-        assert!(m.len() > 300, "{} vertices", m.len());
+        let tris = triangles(&s).unwrap();
+        assert!(tris.len() > 100, "{} triangles", tris.len());
         let mut area = 0.0;
-        for t in m.vertices.chunks(30) {
-            let p: Vec<Vec3> = (0..3).map(|v| Vec3::from_slice(&t[v * 10..])).collect();
-            let n = Vec3::from_slice(&t[3..]);
-            assert!((p[0].length() - 0.6).abs() < 0.2 * h, "{:?}", p[0]);
-            assert!(n.dot(p[0].normalize()) > 0.95, "{n:?} at {:?}", p[0]);
-            area += 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length();
+        for (p, n) in &tris {
+            for k in 0..3 {
+                assert!((p[k].length() - 0.6).abs() < 0.2 * h, "{:?}", p[k]);
+                assert!(
+                    n[k].dot(p[k].normalize()) > 0.95,
+                    "{:?} at {:?}",
+                    n[k],
+                    p[k]
+                );
+            }
+            let face = (p[1] - p[0]).cross(p[2] - p[0]);
+            assert!(face.dot(p[0]) > 0.0, "wound inwards at {:?}", p[0]);
+            area += 0.5 * face.length();
         }
         let sphere = 4.0 * std::f32::consts::PI * 0.36;
         assert!(

@@ -309,7 +309,7 @@ const SDF_FILE: &str = "[[colliders.sdf]]\nfield = \"data/sdf.npy\"\n\
 /// Every field from a file (wind, height image or `.npy`, distance field) is the same with an
 /// unrelated `--set` as without: the files are read after the settings, relative to the scene
 /// file (here in another folder than the working one). Parsed, the fields are equal; rendered,
-/// the dumps are the same bytes; `scene check` with the setting passes.
+/// the dumps are the same bytes; `scene check` and `trace` with the setting pass.
 #[test]
 fn fields_from_files_are_the_same_with_and_without_set() {
     let dir = tempfile::tempdir().unwrap();
@@ -387,17 +387,26 @@ fn fields_from_files_are_the_same_with_and_without_set() {
         let a = run(&[], &format!("{name}-plain"));
         let b = run(&["--set", &set], &format!("{name}-set"));
         assert!(a == b, "{name}: the state differs with --set {set}");
-        let o = common::cli::command()
-            .args(["scene", "check", label, "--set", &set])
-            .current_dir("/")
-            .output()
-            .unwrap();
-        assert_eq!(
-            o.status.code(),
-            Some(0),
-            "{name}: {}",
-            common::cli::stderr(&o)
-        );
+        let trace = dir.path().join(format!("{name}-trace"));
+        for args in [
+            vec!["scene", "check", label, "--set", &set],
+            vec![
+                "trace",
+                label,
+                "--set",
+                &set,
+                "--out",
+                common::cli::s(&trace),
+            ],
+        ] {
+            let o = common::cli::command()
+                .args(&args)
+                .current_dir("/")
+                .output()
+                .unwrap();
+            let err = common::cli::stderr(&o);
+            assert_eq!(o.status.code(), Some(0), "{name} {args:?}: {err}");
+        }
     }
 }
 

@@ -48,6 +48,9 @@ pub struct TraceArgs {
     /// Output folder (created if missing): the PNGs and index.md (and sort.gif).
     #[arg(long, value_name = "DIR", default_value = "trace")]
     out: PathBuf,
+    /// Scene traces: scene keys set as KEY=VALUE, as `render --set`.
+    #[command(flatten)]
+    set: super::set::SetArgs,
     #[command(flatten)]
     common: Common,
 }
@@ -55,10 +58,11 @@ pub struct TraceArgs {
 pub fn trace_cmd(a: TraceArgs) -> texflow::Result<()> {
     FrameWriter::check(&a.out)?;
     let written = if a.target == "sort" {
-        if a.particles.is_some() || a.resolution.is_some() || a.frame != 0 {
+        if a.particles.is_some() || a.resolution.is_some() || a.frame != 0 || !a.set.set.is_empty()
+        {
             return Err(bad(
-                "--frame, --particles and --resolution are for scene traces: a sort trace takes \
-                 --variant, --size and --seed",
+                "--frame, --particles, --resolution and --set are for scene traces: a sort trace \
+                 takes --variant, --size and --seed",
             ));
         }
         let variant = Variant::from_name(&a.variant)?;
@@ -72,6 +76,7 @@ pub fn trace_cmd(a: TraceArgs) -> texflow::Result<()> {
             resolution: a.resolution,
             seed: a.seed,
             device: a.common.device,
+            set: a.set.set.clone(),
             ..Overrides::default()
         };
         let prepared = overrides.prepare(&a.target)?;

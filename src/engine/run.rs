@@ -412,9 +412,16 @@ impl FrameLoop {
         let o = &self.options;
         let count = engine.non_finite(&self.counter)?;
         s.live = count.live;
-        if count.non_finite > 0 {
+        // A NaN life is lost state too (neither alive nor dead, so never drawn or dumped).
+        if !count.is_clean() {
             if o.non_finite == NonFinitePolicy::Fail {
-                let source = source_of(&engine.dump()?, &engine.emitter_keys());
+                let mut source = source_of(&engine.dump()?, &engine.emitter_keys());
+                if count.nan_life > 0 {
+                    source += &format!(
+                        "; {} texel(s) have a NaN life (neither alive nor dead)",
+                        count.nan_life
+                    );
+                }
                 return Err(Error::NonFinite {
                     origin: source,
                     frame: index,
@@ -432,7 +439,7 @@ impl FrameLoop {
                 return Ok(ControlFlow::Break(()));
             }
             s.non_finite_frames += 1;
-            s.max_non_finite = s.max_non_finite.max(count.non_finite);
+            s.max_non_finite = (s.max_non_finite).max(count.non_finite + count.nan_life);
         }
         Ok(ControlFlow::Continue(()))
     }

@@ -133,8 +133,11 @@ pub enum Error {
         source: std::io::Error,
     },
     /// A run produced NaN or infinite particle state (see `LoopOptions::non_finite`).
-    #[error("frame {frame}: {count} of {live} live particles have NaN or infinite values; the scene is unstable at these settings (try a smaller --dt or more --substeps), or pass --allow-non-finite to write the frames anyway")]
+    #[error("frame {frame}: {count} of {live} live particles have NaN or infinite values{origin}; the scene is unstable at these settings (try a smaller --dt or more --substeps), or pass --allow-non-finite to write the frames anyway")]
     NonFinite {
+        /// Where the values came from, when the state tells (`; all are particles of
+        /// emitters.timestamp.0 ...`), else empty.
+        origin: String,
         /// The first written frame that had any.
         frame: u64,
         /// Live particles with a NaN or infinite component.

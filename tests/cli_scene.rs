@@ -178,10 +178,18 @@ fn render_from_a_file_with_state_dumps() {
         [
             "positions_00000.npy",
             "positions_00005.npy",
+            "statics_00000.npy",
+            "statics_00005.npy",
             "velocities_00000.npy",
             "velocities_00005.npy"
         ]
     );
+    // The statics of the same particles: born at most 0.1 s ago, of type 0.
+    let (sshape, st) = texflow::npy::read_f32_shaped(&dump.join("statics_00005.npy")).unwrap();
+    assert_eq!(sshape, [1200, 4]);
+    assert!(st
+        .chunks(4)
+        .all(|s| (0.0..0.1).contains(&s[0]) && s[1] == 0.0));
     let (shape, pos) = texflow::npy::read_f32_shaped(&dump.join("positions_00005.npy")).unwrap();
     let (vshape, vel) = texflow::npy::read_f32_shaped(&dump.join("velocities_00005.npy")).unwrap();
     assert_eq!(shape, vshape);

@@ -6,7 +6,7 @@ mod common;
 
 use std::ops::ControlFlow;
 
-use texflow::engine::{FrameLoop, LoopOptions, MemorySink};
+use texflow::engine::{FrameLoop, LoopOptions, MemorySink, NonFinitePolicy};
 use texflow::{engine, scene, EngineKind};
 
 /// Runs `frames` frames of a built-in scene on a tiny state, writing every `every`-th frame and
@@ -135,5 +135,43 @@ fn the_sort_follows_the_viewers_camera() {
     // The identity view is the scene's camera again.
     e.set_view(texflow::render::ViewOffset::default());
     assert_eq!(e.camera().eye(), start.eye());
+    common::no_gl_error(&ctx);
+}
+
+/// A texel whose life turned NaN is neither alive nor dead: never drawn and never dumped, but
+/// lost state all the same. The census counts it, and the run stops with `Error::NonFinite`
+/// (exit 3) naming it; allowed, it is counted in the summary.
+#[test]
+fn a_nan_life_stops_the_run() {
+    let ctx = common::context();
+    let src = "name = \"n\"\nintegrator = \"euler\"\n[particles]\nsize = [4, 4]\n\
+               [[emitters.initial]]\nshape = \"point\"\ncenter = [0.0, 0.0, 0.0]\n\
+               direction = [0.0, 1.0, 0.0]\nspeed = [0.0, 0.0]\n\
+               [render]\nresolution = [16, 16]\n";
+    let s = common::scene::parse("n.toml", src);
+    for policy in [NonFinitePolicy::Fail, NonFinitePolicy::Report] {
+        let mut engine = texflow::ParticleEngine::new(&ctx, &s, 1).unwrap();
+        let mut pos = engine.sim().read_positions().unwrap();
+        let vel = engine.sim().read_velocities().unwrap();
+        let st = engine.sim().statics().read_f32().unwrap();
+        pos[4 * 5 + 3] = f32::NAN;
+        engine.sim_mut().set_state(&pos, &vel, &st).unwrap();
+        let options = LoopOptions {
+            frames: 2,
+            non_finite: policy,
+            ..LoopOptions::default()
+        };
+        let run = FrameLoop::new(&ctx, &engine, options).unwrap();
+        let mut sink = MemorySink::default();
+        let r = run.run(&mut engine, &mut sink, |_| ControlFlow::Continue(()));
+        match policy {
+            NonFinitePolicy::Fail => {
+                let e = r.unwrap_err();
+                assert_eq!(e.exit_code(), 3, "{e}");
+                assert!(e.to_string().contains("1 texel(s) have a NaN life"), "{e}");
+            }
+            NonFinitePolicy::Report => assert_eq!(r.unwrap().max_non_finite, 1),
+        }
+    }
     common::no_gl_error(&ctx);
 }

@@ -180,3 +180,72 @@ fn geometry_without_colliders_is_refused_with_its_place() {
     assert!(text.contains("no") && text.contains("collider"), "{text}");
     assert!(err.is_bad_input());
 }
+
+/// The pixel where `p` lands in a `w`×`h` frame of `camera` (row 0 at the top).
+fn pixel_of(camera: &texflow::render::Camera, p: Vec3, w: u32, h: u32) -> (u32, u32) {
+    let c = camera.view_projection(w as f32 / h as f32) * p.extend(1.0);
+    let ndc = c.truncate() / c.w;
+    let x = (ndc.x * 0.5 + 0.5) * w as f32;
+    let y = (0.5 - ndc.y * 0.5) * h as f32;
+    (x as u32, y as u32)
+}
+
+/// A sphere on an orbit is drawn where the collision passes have it at each frame
+/// (`SphereCollider::center_at`, what its uniforms are set from): at frame 0 at its start, half
+/// a period later on the far side of the circle, and its start is background again. The
+/// particles are far out of view.
+#[test]
+fn moving_spheres_are_drawn_where_the_passes_have_them() {
+    let src = "name = \"orbit\"\nintegrator = \"verlet\"\n[particles]\nsize = [2, 2]\n\
+               [time]\ndt = 0.01\nsubsteps = 5\n[[emitters.initial]]\nshape = \"point\"\n\
+               center = [0.0, -50.0, 0.0]\ndirection = [0.0, 1.0, 0.0]\nspeed = [0.0, 0.0]\n\
+               [[colliders.sphere]]\ncenter = [0.4, 0.0, 0.0]\nradius = 0.3\n\
+               orbit = { radius = 0.4, period = 1.0 }\n[render]\nresolution = [64, 64]\n\
+               geometry = true\n\
+               camera = { target = [0.0, 0.0, 0.0], distance = 3.0, elevation = 60.0 }\n";
+    let s = scene::parse("orbit.toml", src).unwrap();
+    let ctx = context();
+    let mut engine = ParticleEngine::new(&ctx, &s, 1).unwrap();
+    let camera = texflow::render::Camera::from(&s.render.camera);
+    let sphere = &s.colliders.sphere[0];
+    let start = Vec3::from(sphere.center_at(0.0));
+    let background = {
+        let mut bare = s.clone();
+        bare.render.geometry = false;
+        let frame = ParticleEngine::new(&ctx, &bare, 1)
+            .unwrap()
+            .render()
+            .unwrap();
+        *frame.get_pixel(0, 0)
+    };
+    let first = engine.render().unwrap();
+    let (x, y) = pixel_of(&camera, start, 64, 64);
+    assert_ne!(
+        *first.get_pixel(x, y),
+        background,
+        "frame 0: no sphere at its start"
+    );
+    // Ten frames of 5 steps of 0.01 s: half a period.
+    for _ in 0..10 {
+        engine.advance_frame().unwrap();
+    }
+    let t = engine.sim().time();
+    let now = Vec3::from(sphere.center_at(t));
+    assert!(
+        (now - Vec3::new(-0.4, 0.0, 0.0)).length() < 1e-3,
+        "{now} at {t} s"
+    );
+    let half = engine.render().unwrap();
+    let (u, v) = pixel_of(&camera, now, 64, 64);
+    assert_ne!(
+        *half.get_pixel(u, v),
+        background,
+        "no sphere where it is at {t} s"
+    );
+    assert_eq!(
+        *half.get_pixel(x, y),
+        background,
+        "the sphere is still drawn at its start"
+    );
+    no_gl_error(&ctx);
+}

@@ -339,8 +339,26 @@ stiffness = 1000000.0
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert!(stderr(&o).contains("NaN or infinite"), "{}", stderr(&o));
     assert!(stderr(&o).contains("--allow-non-finite"), "{}", stderr(&o));
+    // The census names the emitter whose particles they are.
+    assert!(
+        stderr(&o).contains("all are particles of `emitters.initial.0`"),
+        "{}",
+        stderr(&o)
+    );
     let written = file_names(&out).len();
     assert!(written < 60, "the run stopped at the first bad frame");
+    // Non-finite state that shows only in the dumps (frame 0 alone is written) is an exit 3
+    // too, and the dump that would hold it is not written.
+    let dumps = dir.path().join("dumps");
+    let o = run(&["--every", "1000", "--dump-state", s(&dumps)]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    for name in file_names(&dumps) {
+        let (shape, v) = texflow::npy::read_f32_shaped(&dumps.join(&name)).unwrap();
+        assert!(
+            v.iter().all(|x| x.is_finite()),
+            "{name} {shape:?} holds non-finite values"
+        );
+    }
     let o = run(&["--allow-non-finite"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(stderr(&o).contains("warning"), "{}", stderr(&o));

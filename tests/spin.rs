@@ -375,3 +375,65 @@ fn sprites_turn_by_the_spin_angle() {
     assert_eq!(by_spin, later, "the age and rotation speed do not turn it");
     no_gl_error(&ctx);
 }
+
+/// `--dump-state` writes every state texture of a spinning scene, row i the same particle in
+/// each: `spins_NNNNN.npy` (ω, angle) and `statics_NNNNN.npy` beside the positions and
+/// velocities, which an outside script can check (examples/spin/rolling.py). Here the same
+/// check: the built-in `spin`'s balls on its planes (centre on the plane, the colliders'
+/// convention, the contact r below) roll, |ω × r n| = |v|, for most of them.
+#[test]
+fn dumps_hold_the_spins_and_the_balls_on_the_planes_roll() {
+    let dir = tempfile::tempdir().unwrap();
+    let dumps = dir.path().join("d");
+    let o = common::cli::texflow(&[
+        "render",
+        "spin",
+        "--frames",
+        "240",
+        "--resolution",
+        "32",
+        "--quiet",
+        "--out",
+        common::cli::s(&dir.path().join("f")),
+        "--dump-state",
+        common::cli::s(&dumps),
+        "--dump-every",
+        "20",
+    ]);
+    assert!(o.status.success(), "{}", common::cli::stderr(&o));
+    let read = |what: &str, frame: u32| -> Vec<Vec3> {
+        let path = dumps.join(format!("{what}_{frame:05}.npy"));
+        let (shape, v) = texflow::npy::read_f32_shaped(&path).unwrap();
+        assert_eq!(shape, [16, 4], "{what}");
+        v.chunks(4).map(Vec3::from_slice).collect()
+    };
+    let s = scene::load("spin").unwrap();
+    let r = s.collisions.as_ref().unwrap().radius;
+    let (mut rolling, mut touching) = (0, 0);
+    for frame in (0..240).step_by(20) {
+        let (x, v, w) = (
+            read("positions", frame),
+            read("velocities", frame),
+            read("spins", frame),
+        );
+        assert!(read("statics", frame).iter().all(|st| st.y == 0.0));
+        for i in 0..16 {
+            for plane in &s.colliders.plane {
+                let n = Vec3::from(plane.normal).normalize();
+                let gap = (x[i] - Vec3::from(plane.point)).dot(n);
+                let along = v[i] - v[i].dot(n) * n;
+                if gap.abs() > 0.1 * r || along.length() < 0.05 {
+                    continue;
+                }
+                touching += 1;
+                let ratio = w[i].cross(r * n).length() / along.length();
+                rolling += usize::from((ratio - 1.0).abs() < 0.05);
+            }
+        }
+    }
+    assert!(touching >= 50, "{touching} ball-frames on a plane");
+    assert!(
+        rolling * 10 >= touching * 7,
+        "{rolling} of {touching} ball-frames on a plane roll"
+    );
+}

@@ -9,7 +9,7 @@
 //              where the run crosses a row's end), and rows-only sorting can find its collisions
 //              (UberFlow §5)
 //              A burst (count particles at one time) takes the type's next texels in texel
-//              order and stamps them all with its time.
+//              order and stamps them all with its time. A phase at time 0 is born here.
 //   ALLOCATOR  every texel dead and free; the CPU allocator emits into it
 //   CHILDREN   texels from u_child_start on belong to child emitters: dead until born
 // OUT_STATE writes position (and velocity), OUT_PREVIOUS the Verlet previous position
@@ -32,6 +32,9 @@ uniform vec4 u_burst_end[4];
 #endif
 #ifdef ROW_PHASES
 uniform ivec2 u_size;
+#endif
+#ifdef TIMESTAMP
+#include "sim/stamp_birth.glsl"
 #endif
 
 #include "sim/forces.glsl"
@@ -84,6 +87,14 @@ void main() {
     }
     st.z = spawn_life(type, rng);
     pos.w = -1.0;
+    if (st.x <= 0.0) {
+        // A cycle that begins at time 0 begins before the first step, which births the phases
+        // in (start, end] of its interval: it is born here, as the step that begins a cycle
+        // would (sim/stamp_birth.glsl, the stream of generation 0), at age 0.
+        uint born = rng_seed(index, 0u, u_seed);
+        stamp_birth(type, index, st.x, born, pos.xyz, vel);
+        pos.w = st.z;
+    }
 #endif
     st.w = rng_uniform(rng);
 #ifdef CHILDREN

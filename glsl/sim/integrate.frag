@@ -53,10 +53,6 @@ uniform float u_time_next;  // the simulation time at the end of this step (the 
 #if defined(TIMESTAMP) && defined(VERLET)
 uniform float u_time_prev;  // the last step's u_time, bit for bit (-dt before the first step)
 #endif
-#ifdef RELEASE_SPREAD
-uniform vec4 u_release_spread[4];   // (box size, slots per side) per type
-uniform vec4 u_release_cloud;       // texels per cloud per type; 0: a cloud is a release
-#endif
 
 vec3 advance(vec3 x, vec3 v, vec3 vb) {
 #if defined(UBERFLOW) || defined(MULTISTAGE)
@@ -87,6 +83,7 @@ Stamp timestamp_step(vec4 st, int type) {
     float g1 = floor(rel1 / cycle);
     return Stamp(rel1 - g1 * cycle, rel0 - g0 * cycle, g1, rel1 >= 0.0 && g1 > g0);
 }
+#include "sim/stamp_birth.glsl"
 #endif
 #ifdef CHILDREN
 #include "sim/children.glsl"
@@ -189,22 +186,8 @@ void main() {
     }
     uint rng = rng_seed(index, uint(generation), u_seed);
     if (stamp.begins) {
-        vec3 x0 = spawn_position(type, rng);
-        vec3 v0 = spawn_velocity(type, rng);
-#ifdef RELEASE_SPREAD
-        // A release is every particle of this phase (one step's births). Release k of the cycle
-        // lands as a whole in slot k of a grid of side^3 slots over the box, so that releases
-        // alive at once never share a place (UberFlow §5: sets that do not mix).
-        // With a cloud size, every run of that many consecutive texels is a cloud of its own.
-        vec4 spread = u_release_spread[type];
-        int side = int(spread.w);
-        int cloud = int(u_release_cloud[type]);
-        int k = cloud > 0 ? int(index) / cloud : int(floor(st.x / u_dt));
-        // Consecutive places step along z, the slowest axis of the lattice's cell index, so the
-        // clouds that share a row keep apart in a row sorted by cell.
-        vec3 slot = vec3((k / (side * side)) % side, (k / side) % side, k % side);
-        x0 += ((slot + 0.5) / float(side) - 0.5) * spread.xyz;
-#endif
+        vec3 x0, v0;
+        stamp_birth(type, index, st.x, rng, x0, v0);
         write_state(x0, st.z - age, v0);          // born during this step
         return;
     }

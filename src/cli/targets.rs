@@ -185,8 +185,9 @@ impl Plan<'_> {
 
     /// Whether the run writes a file called `name` into the dumps' folder.
     fn writes_dump(&self, name: &str) -> bool {
-        ["positions_", "velocities_"].iter().any(|p| {
-            index_in(name, p, ".npy").is_some_and(|i| i < self.frames && i % self.dump_every == 0)
+        texflow::engine::DUMP_NAMES.iter().any(|p| {
+            index_in(name, &format!("{p}_"), ".npy")
+                .is_some_and(|i| i < self.frames && i % self.dump_every == 0)
         })
     }
 
@@ -238,8 +239,8 @@ impl Plan<'_> {
     pub fn remove_stale(&self) -> usize {
         let frame = |n: &str| index_in(n, "frame_", ".png").is_some();
         let dump = |n: &str| {
-            index_in(n, "positions_", ".npy").is_some()
-                || index_in(n, "velocities_", ".npy").is_some()
+            (texflow::engine::DUMP_NAMES.iter())
+                .any(|p| index_in(n, &format!("{p}_"), ".npy").is_some())
         };
         let mut removed = 0;
         if let Some(o) = self.out {

@@ -49,6 +49,7 @@ pub struct TraceArgs {
     /// Output folder (created if missing): the PNGs and index.md (and sort.gif).
     #[arg(long, value_name = "DIR", default_value = "trace")]
     out: PathBuf,
+    /// Scene traces: scene keys set as KEY=VALUE, as `render --set`.
     #[command(flatten)]
     set: super::set::SetArgs,
     #[command(flatten)]

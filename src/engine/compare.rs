@@ -243,6 +243,7 @@ mod tests {
         let dump = StateDump {
             positions: vec![[1.0, 2.0, 3.0, 4.0], [5.0, 6.0, 7.0, 8.0]],
             velocities: vec![[0.0; 4]; 2],
+            more: Vec::new(),
             non_finite: 0,
         };
         let mut reference = dump.positions.clone();

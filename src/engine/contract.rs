@@ -10,15 +10,25 @@ use crate::scene::SceneFile;
 use crate::sim::collide::PairCensus;
 use crate::sim::nonfinite::{NonFiniteCount, NonFiniteCounter};
 
-/// Live particles' positions and velocities, N×4 each, for `--dump-state`.
+/// The names of the arrays a dump may hold, in the order they are written: each is written as
+/// `NAME_NNNNN.npy` (N×4 float32, row i the same particle in each). `positions` (xyz, remaining
+/// life) and `velocities` (xyz, 0) always; the other state textures the scene has: `statics`
+/// (birth time or phase, type, total life, random number), `previous` (Verlet's previous
+/// position and life) and `spins` (angular velocity xyz in rad/s, angle about z in rad).
+pub const DUMP_NAMES: [&str; 5] = ["positions", "velocities", "statics", "previous", "spins"];
+
+/// Live particles' state, N×4 each, for `--dump-state`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StateDump {
     /// xyz and remaining life of every live particle.
     pub positions: Vec<[f32; 4]>,
     /// Velocity (xyz, 0) of the same particles.
     pub velocities: Vec<[f32; 4]>,
-    /// Live particles with a NaN or infinite component: kept in the dump, and counted so that
-    /// the CLI reports them rather than hiding them.
+    /// The scene's other state textures for the same particles, by their names in
+    /// [`DUMP_NAMES`] (empty where the engine has none to give).
+    pub more: Vec<(&'static str, Vec<[f32; 4]>)>,
+    /// Live particles with a NaN or infinite component in any of the arrays: kept in the dump,
+    /// and counted so that the CLI reports them rather than hiding them.
     pub non_finite: usize,
 }
 
@@ -26,18 +36,44 @@ impl StateDump {
     /// The live particles (remaining life above 0) of RGBA position and velocity arrays; the
     /// velocities' w (the fire's wait) is dropped.
     pub fn of_live(positions: &[f32], velocities: &[f32]) -> StateDump {
+        Self::of_live_with(positions, velocities, &[])
+    }
+
+    /// [`of_live`](Self::of_live), with the same rows of the other state arrays `more`
+    /// (RGBA each, by name).
+    pub fn of_live_with(
+        positions: &[f32],
+        velocities: &[f32],
+        more: &[(&'static str, Vec<f32>)],
+    ) -> StateDump {
         let mut d = StateDump {
             positions: Vec::new(),
             velocities: Vec::new(),
+            more: more.iter().map(|(n, _)| (*n, Vec::new())).collect(),
             non_finite: 0,
         };
-        for (p, v) in positions.chunks_exact(4).zip(velocities.chunks_exact(4)) {
+        let texel = |a: &[f32], i: usize| [a[4 * i], a[4 * i + 1], a[4 * i + 2], a[4 * i + 3]];
+        for (i, (p, v)) in positions
+            .chunks_exact(4)
+            .zip(velocities.chunks_exact(4))
+            .enumerate()
+        {
             if p[3] > 0.0 {
-                if !p.iter().chain(&v[..3]).all(|x| x.is_finite()) {
-                    d.non_finite += 1;
-                }
+                let rows: Vec<[f32; 4]> = (more.iter())
+                    .filter(|(_, a)| a.len() >= 4 * (i + 1))
+                    .map(|(_, a)| texel(a, i))
+                    .collect();
+                let finite = (p.iter().chain(&v[..3]))
+                    .chain(rows.iter().flatten())
+                    .all(|x| x.is_finite());
+                d.non_finite += usize::from(!finite);
                 d.positions.push([p[0], p[1], p[2], p[3]]);
                 d.velocities.push([v[0], v[1], v[2], 0.0]);
+                for ((_, out), (_, a)) in d.more.iter_mut().zip(more) {
+                    if a.len() >= 4 * (i + 1) {
+                        out.push(texel(a, i));
+                    }
+                }
             }
         }
         d
@@ -137,6 +173,12 @@ pub trait Engine {
 
     /// The live particles read back.
     fn dump(&self) -> Result<StateDump>;
+
+    /// The scene key of each particle type's emitter (`emitters.timestamp.0`), in type order,
+    /// for naming where non-finite values came from; empty where the engine cannot tell.
+    fn emitter_keys(&self) -> Vec<String> {
+        Vec::new()
+    }
 
     /// Particles alive now (drawn: finite and with life left).
     fn live(&self) -> Result<u64> {

@@ -48,6 +48,11 @@ pub struct GpuEngine<S: Simulation> {
     name: String,
     /// The sort's passes of a frame, as the plan words them.
     sort_passes: Vec<String>,
+    /// With drawn geometry that moves: the triangles that do not, and the scene whose moving
+    /// colliders are drawn at each frame's time.
+    moving_geometry: Option<(crate::render::Mesh, Box<crate::scene::SceneFile>)>,
+    /// Each particle type's emitter, by scene key.
+    emitter_keys: Vec<String>,
     ctx: Context,
 }
 
@@ -152,14 +157,29 @@ impl<S: Simulation> GpuEngine<S> {
         let [w, h] = scene.particles.size;
         let style = crate::render::ParticleStyle::from_scene(scene);
         let mut renderer = crate::render::ParticleRenderer::new(ctx, style, w, h)?;
+        let mut moving_geometry = None;
         if scene.render.geometry {
             let terrain = sim.height_field().map(|f| crate::render::Terrain {
                 extent: f.extent(),
                 size: f.resolution(),
                 texels: f.texels(),
             });
-            let mesh = crate::render::Mesh::of_scene(scene, terrain.as_ref())?;
+            // A field from a file is drawn as its zero surface (analytic shapes and meshes are
+            // drawn as themselves).
+            let surface = (sim.distance_field())
+                .filter(|_| scene.colliders.sdf.iter().any(|d| d.distances.is_some()))
+                .map(|f| crate::render::Surface {
+                    bounds: f.bounds(),
+                    size: f.resolution(),
+                    texels: f.texels(),
+                });
+            let fixed = crate::render::Mesh::fixed(scene, terrain.as_ref(), surface.as_ref())?;
+            let mut mesh = fixed.clone();
+            mesh.vertices
+                .extend(crate::render::Mesh::moving(scene, sim.time()).vertices);
             renderer.set_geometry(crate::render::GeometryRenderer::new(ctx, &mesh)?);
+            let moves = scene.colliders.sphere.iter().any(|s| s.orbit.is_some());
+            moving_geometry = moves.then(|| (fixed, Box::new(scene.clone())));
         }
         let sort = SortStage::new(ctx, scene, &renderer)?;
         let camera = crate::render::Camera::from(&scene.render.camera);
@@ -178,6 +198,10 @@ impl<S: Simulation> GpuEngine<S> {
             sort,
             name: scene.name.clone(),
             sort_passes: crate::engine::plan::sort_lines(scene),
+            moving_geometry,
+            emitter_keys: (0..scene.emitters.len())
+                .filter_map(|k| scene.emitters.key(k))
+                .collect(),
             ctx: ctx.clone(),
         })
     }
@@ -202,6 +226,13 @@ impl<S: Simulation> GpuEngine<S> {
     /// Draws the current state into the frame target, after the sort of this frame (alpha
     /// blending only) if [`order_for_drawing`](Self::order_for_drawing) has not run at this step.
     pub fn draw(&mut self) -> Result<()> {
+        if let Some((fixed, scene)) = &self.moving_geometry {
+            // The colliders where the passes of the last step had them.
+            let mut mesh = fixed.clone();
+            let moving = crate::render::Mesh::moving(scene, self.sim.time());
+            mesh.vertices.extend(moving.vertices);
+            self.renderer.replace_geometry(&mesh)?;
+        }
         let steps = self.sim.steps();
         let sorts = match &self.sort {
             Some(s) if s.ordered_at == Some(steps) => {
@@ -454,7 +485,15 @@ impl<S: Simulation> super::Engine for GpuEngine<S> {
 
     fn dump(&self) -> Result<super::StateDump> {
         let (p, v) = self.sim.read_state()?;
-        Ok(super::StateDump::of_live(&p, &v))
+        Ok(super::StateDump::of_live_with(
+            &p,
+            &v,
+            &self.sim.read_more()?,
+        ))
+    }
+
+    fn emitter_keys(&self) -> Vec<String> {
+        self.emitter_keys.clone()
     }
 
     fn live(&self) -> Result<u64> {

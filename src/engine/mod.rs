@@ -19,7 +19,7 @@ mod gpu;
 pub mod plan;
 mod run;
 
-pub use contract::{build, timed, Engine, EngineKind, StateDump};
+pub use contract::{build, timed, Engine, EngineKind, StateDump, DUMP_NAMES};
 pub use cpu::{CpuEngine, CpuSim, FramePhases};
 pub use gpu::{
     compact_depth_range, gather_target, key_mode, sorter_for, GpuEngine, ParticleEngine,

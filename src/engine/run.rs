@@ -347,13 +347,15 @@ impl FrameLoop {
                 sink.frame(index, &image.expect("rendered"))?;
                 s.written += 1;
             }
-            if o.dump_every
-                .is_some_and(|n| index >= o.start && (index - o.start).is_multiple_of(n))
+            let dumps = (o.dump_every)
+                .is_some_and(|n| index >= o.start && (index - o.start).is_multiple_of(n));
+            if dumps
+                && self
+                    .dump(engine, index, &mut s, sink, &mut on_event)?
+                    .is_break()
             {
-                let d = engine.dump()?;
-                s.max_non_finite = s.max_non_finite.max(d.non_finite as u64);
-                sink.dump(index, &d)?;
-                s.dumps += 1;
+                s.stopped = true;
+                break;
             }
             if on_event(Event::Frame { index }).is_break() {
                 s.stopped = true;
@@ -365,6 +367,50 @@ impl FrameLoop {
         s.truncated_searches = engine.truncated_searches()?;
         s.times = times;
         Ok(s)
+    }
+
+    /// The dump of frame `index`: checked like a frame (non-finite state is an error under
+    /// [`NonFinitePolicy::Fail`], else reported once, and the caller may stop), then handed to
+    /// `sink`.
+    fn dump(
+        &self,
+        engine: &mut dyn Engine,
+        index: u64,
+        s: &mut LoopSummary,
+        sink: &mut dyn FrameSink,
+        on_event: &mut impl FnMut(Event<'_>) -> ControlFlow<()>,
+    ) -> Result<ControlFlow<()>> {
+        let d = engine.dump()?;
+        if d.non_finite > 0 {
+            let count = NonFiniteCount {
+                non_finite: d.non_finite as u64,
+                live: d.positions.len() as u64,
+                ..NonFiniteCount::default()
+            };
+            if self.options.non_finite == NonFinitePolicy::Fail {
+                return Err(Error::NonFinite {
+                    origin: source_of(&d, &engine.emitter_keys()),
+                    frame: index,
+                    count: count.non_finite,
+                    live: count.live,
+                });
+            }
+            if s.non_finite_frames == 0 {
+                s.non_finite_frames = 1;
+                if on_event(Event::NonFinite {
+                    index,
+                    count: &count,
+                })
+                .is_break()
+                {
+                    return Ok(ControlFlow::Break(()));
+                }
+            }
+        }
+        s.max_non_finite = s.max_non_finite.max(d.non_finite as u64);
+        sink.dump(index, &d)?;
+        s.dumps += 1;
+        Ok(ControlFlow::Continue(()))
     }
 
     /// The censuses of frame `index` before it is written: constraints stretched past their
@@ -388,9 +434,18 @@ impl FrameLoop {
         }
         let count = engine.non_finite(&self.counter)?;
         s.live = count.live;
-        if count.non_finite > 0 {
+        // A NaN life is lost state too (neither alive nor dead, so never drawn or dumped).
+        if !count.is_clean() {
             if o.non_finite == NonFinitePolicy::Fail {
+                let mut source = source_of(&engine.dump()?, &engine.emitter_keys());
+                if count.nan_life > 0 {
+                    source += &format!(
+                        "; {} texel(s) have a NaN life (neither alive nor dead)",
+                        count.nan_life
+                    );
+                }
                 return Err(Error::NonFinite {
+                    origin: source,
                     frame: index,
                     count: count.non_finite,
                     live: count.live,
@@ -406,14 +461,48 @@ impl FrameLoop {
                 return Ok(ControlFlow::Break(()));
             }
             s.non_finite_frames += 1;
-            s.max_non_finite = s.max_non_finite.max(count.non_finite);
+            s.max_non_finite = (s.max_non_finite).max(count.non_finite + count.nan_life);
         }
         Ok(ControlFlow::Continue(()))
     }
 }
 
-/// Frames as `frame_00000.png, ...` in one folder, and dumps as `positions_00000.npy` and
-/// `velocities_00000.npy` (N×4 float32, live particles only) in another (or the same).
+/// Where the non-finite particles of `d` came from, when its static array tells: the emitter
+/// they all belong to (of `keys`, in type order), and the time stamp (birth time or phase) they
+/// all share; empty when they are of several emitters or the dump has no statics.
+pub fn source_of(d: &StateDump, keys: &[String]) -> String {
+    let Some((_, statics)) = d.more.iter().find(|(n, _)| *n == "statics") else {
+        return String::new();
+    };
+    let finite = |r: &[f32; 4]| r.iter().all(|x| x.is_finite());
+    let bad: Vec<[f32; 4]> = (0..d.positions.len())
+        .filter(|&i| {
+            !(finite(&d.positions[i])
+                && finite(&d.velocities[i])
+                && d.more.iter().all(|(_, a)| a.get(i).is_none_or(finite)))
+        })
+        .filter_map(|i| statics.get(i).copied())
+        .collect();
+    let Some(first) = bad.first() else {
+        return String::new();
+    };
+    if bad.iter().any(|s| s[1] != first[1]) {
+        return "; they are particles of several emitters".to_owned();
+    }
+    let Some(key) = keys.get(first[1] as usize) else {
+        return String::new();
+    };
+    let mut out = format!("; all are particles of `{key}`");
+    if bad.iter().all(|s| s[0] == first[0]) {
+        out += &format!(", all with birth time (or phase) {} s", first[0]);
+    }
+    out
+}
+
+/// Frames as `frame_00000.png, ...` in one folder, and dumps as `positions_00000.npy`,
+/// `velocities_00000.npy` and the scene's other state arrays (`statics_00000.npy`, ...: see
+/// [`DUMP_NAMES`](super::DUMP_NAMES); N×4 float32, live particles only, row i the same particle
+/// in each) in another (or the same).
 #[derive(Debug)]
 pub struct FolderSink {
     frames: FrameWriter,
@@ -458,10 +547,12 @@ impl FrameSink for FolderSink {
         };
         let rows = |v: &[[f32; 4]]| v.iter().flatten().copied().collect::<Vec<f32>>();
         let n = dump.positions.len();
-        for (what, data) in [
+        let arrays = [
             ("positions", rows(&dump.positions)),
             ("velocities", rows(&dump.velocities)),
-        ] {
+        ];
+        let more = dump.more.iter().map(|(name, a)| (*name, rows(a)));
+        for (what, data) in arrays.into_iter().chain(more) {
             let path = w.dir().join(format!("{what}_{index:05}.npy"));
             crate::npy::write_f32_shaped(&path, &[n, 4], &data)?;
             self.written.push(path);

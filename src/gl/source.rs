@@ -42,6 +42,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "sim/fire.frag",
     "sim/fields.glsl",
     "sim/spawn.glsl",
+    "sim/stamp_birth.glsl",
     "sim/forces.glsl",
     "sim/colliders.glsl",
     "sim/stages.glsl",

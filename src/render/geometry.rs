@@ -3,13 +3,16 @@
 //! shapes and the scanned mesh of distance fields. UberFlow's Fig. 4 (left) shows the landscape
 //! the snow settles on; this draws it.
 //!
-//! The triangles are built once on the CPU (the colliders do not move) into one vertex buffer
-//! and drawn opaque with a depth write before the particles, which are then depth-tested against
+//! The triangles are built on the CPU into one vertex buffer, once for the colliders that do
+//! not move; those that move (orbiting spheres) are rebuilt at each frame's time by
+//! [`GeometryRenderer::replace`], from the same function that places them for the collision
+//! passes. They are drawn opaque with a depth write before the particles, which are then depth-tested against
 //! it without writing depth (see [`super::ParticleRenderer::draw_frame`] for the order with
 //! each blending).
 
 use glam::Vec3;
 
+use super::isosurface::Surface;
 use super::{Camera, FrameTarget};
 use crate::error::{Error, Result};
 use crate::gl::{
@@ -183,6 +186,14 @@ impl Mesh {
         }
     }
 
+    /// The zero surface of a distance field's nodes `s`, in `color`, lit by its gradient.
+    pub fn isosurface(&mut self, s: &Surface<'_>, color: [f32; 3]) -> Result<()> {
+        for (p, n) in super::isosurface::triangles(s)? {
+            self.triangle(p, n, color, 0.0);
+        }
+        Ok(())
+    }
+
     /// The height field's grid, two triangles per cell, each node at its sampled height with its
     /// sampled normal (what the collision pass interpolates between).
     pub fn terrain(&mut self, t: &Terrain<'_>) -> Result<()> {
@@ -229,11 +240,29 @@ impl Mesh {
         Ok(())
     }
 
-    /// Every collider of `scene`: planes as squares around the camera's target, `camera.distance`
-    /// to each side (an infinite plane cannot be drawn; this covers what the camera sees of it),
-    /// spheres, boxes, the first height field from `terrain` (the simulation's nodes), and each
-    /// distance field's spheres, boxes or mesh triangles.
-    pub fn of_scene(scene: &SceneFile, terrain: Option<&Terrain<'_>>) -> Result<Mesh> {
+    /// Every collider of `scene` where the simulation has it at time `t`: [`fixed`](Self::fixed)
+    /// and [`moving`](Self::moving) together.
+    pub fn of_scene(
+        scene: &SceneFile,
+        terrain: Option<&Terrain<'_>>,
+        surface: Option<&Surface<'_>>,
+        t: f64,
+    ) -> Result<Mesh> {
+        let mut m = Mesh::fixed(scene, terrain, surface)?;
+        m.vertices.extend(Mesh::moving(scene, t).vertices);
+        Ok(m)
+    }
+
+    /// The colliders that do not move: planes as squares around the camera's target,
+    /// `camera.distance` to each side (an infinite plane cannot be drawn; this covers what the
+    /// camera sees of it), still spheres, boxes, the first height field from `terrain` (the
+    /// simulation's nodes), and each distance field's spheres, boxes or mesh triangles, or for
+    /// a field from a file the zero surface of `surface` (the simulation's nodes).
+    pub fn fixed(
+        scene: &SceneFile,
+        terrain: Option<&Terrain<'_>>,
+        surface: Option<&Surface<'_>>,
+    ) -> Result<Mesh> {
         let c = &scene.colliders;
         let cam = &scene.render.camera;
         let mut m = Mesh::default();
@@ -248,8 +277,8 @@ impl Mesh {
                 checker_cell(half),
             );
         }
-        for s in &c.sphere {
-            m.sphere(Vec3::from(s.center), s.radius, SOLID_COLOR);
+        for s in c.sphere.iter().filter(|s| s.orbit.is_none()) {
+            m.sphere(Vec3::from(s.center_at(0.0)), s.radius, SOLID_COLOR);
         }
         for b in &c.boxes {
             m.cuboid(Vec3::from(b.min), Vec3::from(b.max), SOLID_COLOR);
@@ -269,7 +298,21 @@ impl Mesh {
                 m.cuboid(lo, hi, SOLID_COLOR);
             }
         }
+        if let Some(s) = surface {
+            m.isosurface(s, MESH_COLOR)?;
+        }
         Ok(m)
+    }
+
+    /// The colliders that move (spheres on an orbit), at time `t`, where
+    /// [`SphereCollider::center_at`](crate::scene::SphereCollider::center_at) puts them for the
+    /// collision passes. Their triangles are as many at every `t`.
+    pub fn moving(scene: &SceneFile, t: f64) -> Mesh {
+        let mut m = Mesh::default();
+        for s in scene.colliders.sphere.iter().filter(|s| s.orbit.is_some()) {
+            m.sphere(Vec3::from(s.center_at(t)), s.radius, SOLID_COLOR);
+        }
+        m
     }
 }
 
@@ -297,12 +340,18 @@ pub fn describe(scene: &SceneFile) -> String {
     let triangles: usize = c.sdf.iter().map(|s| s.triangles.len()).sum();
     let sdf_spheres: usize = c.sdf.iter().map(|s| s.spheres.len()).sum();
     let sdf_boxes: usize = c.sdf.iter().map(|s| s.boxes.len()).sum();
+    let files = c.sdf.iter().filter(|s| s.distances.is_some()).count();
     let parts: Vec<String> = [
         count(c.plane.len(), "plane (checker)", "planes (checker)"),
         count(c.sphere.len() + sdf_spheres, "sphere", "spheres"),
         count(c.boxes.len() + sdf_boxes, "box", "boxes"),
         count(c.heightfield.len().min(1), "height field", "height fields"),
         (meshes > 0).then(|| format!("{triangles} mesh triangles")),
+        count(
+            files,
+            "distance field's zero surface",
+            "distance fields' zero surfaces",
+        ),
     ]
     .into_iter()
     .flatten()
@@ -317,7 +366,7 @@ pub fn describe(scene: &SceneFile) -> String {
 /// Draws a scene's colliders.
 pub struct GeometryRenderer {
     program: Program,
-    _buffer: Buffer,
+    buffer: Buffer,
     vao: VertexArray,
     count: u32,
     ctx: Context,
@@ -345,7 +394,7 @@ impl GeometryRenderer {
             "geometry vertices",
             BufferKind::Vertex,
             &bytes,
-            BufferUsage::StaticDraw,
+            BufferUsage::StreamDraw,
         )?;
         let stride = (FLOATS * 4) as i32;
         let attribute = |location, components, offset| Attribute {
@@ -369,10 +418,23 @@ impl GeometryRenderer {
         Ok(GeometryRenderer {
             program,
             count: mesh.len() as u32,
-            _buffer: buffer,
+            buffer,
             vao,
             ctx: ctx.clone(),
         })
+    }
+
+    /// Replaces the triangles with `mesh`, which must have as many (the colliders moved).
+    pub fn replace(&mut self, mesh: &Mesh) -> Result<()> {
+        if mesh.len() as u32 != self.count {
+            return Err(Error::InvalidInput(format!(
+                "geometry of {} vertices replaced by {}: a moved collider keeps its triangles",
+                self.count,
+                mesh.len()
+            )));
+        }
+        let bytes: Vec<u8> = mesh.vertices.iter().flat_map(|v| v.to_ne_bytes()).collect();
+        self.buffer.replace(&bytes)
     }
 
     /// Draws the triangles into `target` with `state` (the caller picks the depth and blend:

@@ -3,6 +3,7 @@
 pub mod atlas;
 mod camera;
 pub mod geometry;
+mod isosurface;
 mod keyframes;
 mod particles;
 mod sprite;
@@ -11,6 +12,7 @@ mod target;
 
 pub use camera::{Camera, ViewOffset};
 pub use geometry::{GeometryRenderer, Mesh, Terrain, MAX_TERRAIN_CELLS};
+pub use isosurface::Surface;
 pub use keyframes::{relative_age, KeyframeRamp};
 pub use particles::{FrameState, Motion, ParticleRenderer, QUAD_VERTICES};
 pub use sprite::{

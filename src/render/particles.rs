@@ -158,6 +158,14 @@ impl ParticleRenderer {
         self.geometry = Some(geometry);
     }
 
+    /// Replaces the geometry's triangles (colliders that moved), if it draws geometry.
+    pub fn replace_geometry(&mut self, mesh: &super::Mesh) -> Result<()> {
+        match &mut self.geometry {
+            Some(g) => g.replace(mesh),
+            None => Ok(()),
+        }
+    }
+
     /// The style.
     pub fn style(&self) -> &ParticleStyle {
         &self.style

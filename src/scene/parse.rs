@@ -2,6 +2,7 @@
 //! locate the first error; and the device-size check that runs once a context exists.
 
 use toml::de::DeTable;
+use toml::Spanned;
 
 use super::locate::{document, find_non_finite, locate, scene_error, Key};
 use super::schema::{Blending, SceneFile};
@@ -9,8 +10,20 @@ use crate::error::Result;
 
 use Key::{Index as I, Name as N};
 
-/// Parses and validates a scene file; `path` names it in errors.
+/// Parses and validates a scene file; `path` names it in errors. Reads the files it names
+/// (meshes, fields) through [`load_files`].
 pub fn parse(path: &str, src: &str) -> Result<SceneFile> {
+    let (doc, mut scene) = parse_unloaded(path, src)?;
+    load_files(path, src, &doc, &mut scene)?;
+    Ok(scene)
+}
+
+/// Parses and validates a scene file without reading the files it names: what `--set` edits
+/// before [`load_files`] reads them (a setting may name another file).
+pub(super) fn parse_unloaded<'s>(
+    path: &str,
+    src: &'s str,
+) -> Result<(Spanned<DeTable<'s>>, SceneFile)> {
     let doc = DeTable::parse(src).map_err(|e| {
         let at = e.span().map_or(0, |s| s.start);
         let mut message = e.message().trim().to_owned();
@@ -31,7 +44,7 @@ pub fn parse(path: &str, src: &str) -> Result<SceneFile> {
     if let Some((at, message)) = find_non_finite(doc.get_ref()) {
         return Err(scene_error(path, src, at, message));
     }
-    let mut scene: SceneFile = toml::from_str(src).map_err(|e| {
+    let scene: SceneFile = toml::from_str(src).map_err(|e| {
         scene_error(
             path,
             src,
@@ -47,8 +60,22 @@ pub fn parse(path: &str, src: &str) -> Result<SceneFile> {
             invalid.message,
         ));
     }
-    super::mesh::load_meshes(path, src, &doc, &mut scene)?;
-    super::field_files::load_field_files(path, src, &doc, &mut scene)?;
+    Ok((doc, scene))
+}
+
+/// Reads every file a validated scene names, relative to the scene file's folder: the meshes
+/// and fields (height images and `.npy`, wind, distances) into the scene, and the custom
+/// forces' GLSL paths made relative to here; records where the scene came from. The one place
+/// a scene's files are loaded, after any `--set`, so that a field is the same with or without
+/// one. `doc` is `src` parsed, for the errors' line and column.
+pub(super) fn load_files(
+    path: &str,
+    src: &str,
+    doc: &Spanned<DeTable<'_>>,
+    scene: &mut SceneFile,
+) -> Result<()> {
+    super::mesh::load_meshes(path, src, doc, scene)?;
+    super::field_files::load_field_files(path, src, doc, scene)?;
     // A custom force's GLSL file is named relative to the scene file, like its meshes.
     if !path.ends_with(" (built-in)") {
         if let Some(dir) = std::path::Path::new(path).parent() {
@@ -57,7 +84,7 @@ pub fn parse(path: &str, src: &str) -> Result<SceneFile> {
     }
     scene.origin =
         super::schema::Origin(Some(std::sync::Arc::new((path.to_owned(), src.to_owned()))));
-    Ok(scene)
+    Ok(())
 }
 
 impl SceneFile {

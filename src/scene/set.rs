@@ -3,11 +3,10 @@
 //! and the result goes through the same typed parse and validation as a file, so a setting is
 //! checked exactly as the key would be in the file. An error about a setting names it as typed.
 
-use toml::de::DeTable;
 use toml::{Table, Value};
 
 use super::locate::{locate, scene_error, Key};
-use super::parse::parse;
+use super::parse::{load_files, parse, parse_unloaded};
 use super::schema::SceneFile;
 use super::suggest::suggest_in_message;
 use crate::error::{Error, Result};
@@ -142,10 +141,12 @@ fn finite(v: &Value) -> bool {
 /// `KEY=VALUE`, in order) and validates the result the same way. Errors in the file keep their
 /// line and column; an error about a setting names it as typed.
 pub fn parse_with(path: &str, src: &str, settings: &[String]) -> Result<SceneFile> {
-    let base = parse(path, src)?;
     if settings.is_empty() {
-        return Ok(base);
+        return parse(path, src);
     }
+    // The file's own mistakes first, at their line and column; its files are read once the
+    // settings are in (a setting may name another file).
+    let (doc, base) = parse_unloaded(path, src)?;
     let settings = settings
         .iter()
         .map(|s| Setting::parse(s))
@@ -177,7 +178,6 @@ pub fn parse_with(path: &str, src: &str, settings: &[String]) -> Result<SceneFil
                 s.typed, invalid.message
             )));
         }
-        let doc = DeTable::parse(src).map_err(|e| Error::InvalidInput(e.to_string()))?;
         let with: Vec<String> = settings
             .iter()
             .map(|s| format!("--set {}", s.typed))
@@ -189,13 +189,7 @@ pub fn parse_with(path: &str, src: &str, settings: &[String]) -> Result<SceneFil
             format!("{} (with {})", invalid.message, with.join(" ")),
         ));
     }
-    let doc = DeTable::parse(src).map_err(|e| Error::InvalidInput(e.to_string()))?;
-    super::mesh::load_meshes(path, src, &doc, &mut scene)?;
-    if !path.ends_with(" (built-in)") {
-        if let Some(dir) = std::path::Path::new(path).parent() {
-            scene.resolve_custom_paths(dir);
-        }
-    }
+    load_files(path, src, &doc, &mut scene)?;
     Ok(scene)
 }
 

@@ -266,7 +266,7 @@ pub fn sphere_centres(scene: &SceneFile, t: f64) -> Vec<Vec3> {
         .colliders
         .sphere
         .iter()
-        .map(|s| Vec3::from(s.center) + s.orbit.map_or(Vec3::ZERO, |o| Vec3::from(o.offset(t))))
+        .map(|s| Vec3::from(s.center_at(t)))
         .collect()
 }
 

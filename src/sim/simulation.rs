@@ -8,7 +8,7 @@ use crate::gl::{Context, Texture};
 use crate::scene::SceneFile;
 
 use super::nonfinite::{NonFiniteCount, NonFiniteCounter};
-use super::HeightField;
+use super::{DistanceField, HeightField};
 
 /// The state textures a frame is drawn from, in the renderer's layout (see
 /// `glsl/render/particle.vert`): particle `i` is texel `(i % width, i / width)` of each.
@@ -128,6 +128,13 @@ pub trait Simulation: std::fmt::Debug {
     /// wait; callers keep xyz).
     fn read_state(&self) -> Result<(Vec<f32>, Vec<f32>)>;
 
+    /// The other state textures read back, 4 floats per texel each, by the name a dump gives
+    /// them: the static texture (`statics`: birth time or phase, type, total life, random), the
+    /// previous positions of Verlet (`previous`), the spins (`spins`: ω xyz, angle about z).
+    fn read_more(&self) -> Result<Vec<(&'static str, Vec<f32>)>> {
+        Ok(Vec::new())
+    }
+
     /// Live particles with a NaN or infinite component, counted on the GPU by `counter`.
     fn non_finite(&self, counter: &NonFiniteCounter) -> Result<NonFiniteCount> {
         let d = self.drawn();
@@ -162,6 +169,11 @@ pub trait Simulation: std::fmt::Debug {
 
     /// The height field, for drawing the terrain under the particles.
     fn height_field(&self) -> Option<&HeightField> {
+        None
+    }
+
+    /// The distance field the colliders sample, for drawing its surface.
+    fn distance_field(&self) -> Option<&DistanceField> {
         None
     }
 

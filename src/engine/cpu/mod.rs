@@ -397,11 +397,26 @@ impl super::Engine for CpuEngine {
 
     fn dump(&self) -> Result<super::StateDump> {
         let (p, v) = self.state_arrays();
-        Ok(super::StateDump::of_live(&p, &v))
+        let statics = self
+            .sim
+            .statics()
+            .iter()
+            .flat_map(|s| s.to_array())
+            .collect();
+        Ok(super::StateDump::of_live_with(
+            &p,
+            &v,
+            &[("statics", statics)],
+        ))
     }
 
     fn live(&self) -> Result<u64> {
         Ok(self.sim.live_count() as u64)
+    }
+
+    fn emitter_keys(&self) -> Vec<String> {
+        let e = &self.sim.scene().emitters;
+        (0..e.len()).filter_map(|k| e.key(k)).collect()
     }
 
     fn timed_frame(&mut self, _timer: &crate::gl::PassTimer) -> Result<Vec<(&'static str, f64)>> {

@@ -84,6 +84,9 @@ impl CpuSim {
         if !scene.emitters.child.is_empty() {
             return Err(unsupported(scene, "child emitters"));
         }
+        if scene.emitters.all().any(|e| !e.bursts.is_empty()) {
+            return Err(unsupported(scene, "bursts"));
+        }
         let birth = match features.emission {
             Emission::Timestamp => Birth::Timestamp,
             Emission::Initial { .. } => Birth::Initial,
@@ -169,6 +172,12 @@ impl CpuSim {
                         st.x = rng.uniform() * cycles[ty];
                         st.z = em.life(&mut rng);
                         p.w = -1.0;
+                        if st.x <= 0.0 {
+                            // A cycle that begins at time 0 is born here (init.frag).
+                            let mut born = Rng::new(i as u32, 0, seed);
+                            *p = em.position(&mut born).extend(st.z);
+                            *v = em.velocity(&mut born);
+                        }
                     }
                 }
                 st.w = rng.uniform();

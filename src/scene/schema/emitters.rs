@@ -38,6 +38,24 @@ impl Emitters {
             .chain(&self.child)
     }
 
+    /// The scene key of the emitter of particle type `ty` (`emitters.timestamp.0`), if any.
+    pub fn key(&self, ty: usize) -> Option<String> {
+        let kinds = [
+            ("allocator", self.allocator.len()),
+            ("timestamp", self.timestamp.len()),
+            ("initial", self.initial.len()),
+            ("child", self.child.len()),
+        ];
+        let mut first = 0;
+        for (kind, n) in kinds {
+            if ty < first + n {
+                return Some(format!("emitters.{kind}.{}", ty - first));
+            }
+            first += n;
+        }
+        None
+    }
+
     /// Number of emitters.
     pub fn len(&self) -> usize {
         self.parents() + self.child.len()

@@ -278,6 +278,16 @@ pub struct SphereCollider {
     pub orbit: Option<Orbit>,
 }
 
+impl SphereCollider {
+    /// The centre at simulated time `t`: `center`, moved along its orbit if it has one. The one
+    /// place a sphere's position is computed: the collision passes' uniforms, the CPU twins and
+    /// the drawn geometry all read it here.
+    pub fn center_at(&self, t: f64) -> [f32; 3] {
+        let d = self.orbit.map_or([0.0; 3], |o| o.offset(t));
+        [0, 1, 2].map(|k| self.center[k] + d[k])
+    }
+}
+
 /// A sphere's motion: its centre at time t is
 /// `center + radius (cos(2 pi t / period) - 1, 0, sin(2 pi t / period))`, so it starts at
 /// `center`.

@@ -3,7 +3,7 @@
 use super::{bind_textures, state_texture, ParticleSim, State};
 use crate::error::{Error, Result};
 use crate::gl::{Framebuffer, Texture, TextureFormat};
-use crate::sim::fields::HeightField;
+use crate::sim::fields::{DistanceField, HeightField};
 use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
 
 impl ParticleSim {
@@ -66,6 +66,11 @@ impl ParticleSim {
     /// The height field the colliders pass samples (the scene's first), with its nodes.
     pub fn height_field(&self) -> Option<&HeightField> {
         self.fields.height.as_ref().map(|(_, h)| h)
+    }
+
+    /// The distance field, if the scene has one.
+    pub fn distance_field(&self) -> Option<&DistanceField> {
+        self.fields.sdf.as_ref().map(|(_, f)| f)
     }
 
     /// The static texture (birth time or phase, type, total life, random number).
@@ -234,6 +239,17 @@ impl crate::sim::Simulation for ParticleSim {
         Ok((self.read_positions()?, self.read_velocities()?))
     }
 
+    fn read_more(&self) -> Result<Vec<(&'static str, Vec<f32>)>> {
+        let mut v = vec![("statics", self.statics().read_f32()?)];
+        if let Some(t) = self.previous() {
+            v.push(("previous", t.read_f32()?));
+        }
+        if let Some(t) = self.spins() {
+            v.push(("spins", t.read_f32()?));
+        }
+        Ok(v)
+    }
+
     fn dropped_births(&self) -> u64 {
         ParticleSim::dropped_births(self)
     }
@@ -260,6 +276,10 @@ impl crate::sim::Simulation for ParticleSim {
 
     fn height_field(&self) -> Option<&HeightField> {
         ParticleSim::height_field(self)
+    }
+
+    fn distance_field(&self) -> Option<&DistanceField> {
+        ParticleSim::distance_field(self)
     }
 
     fn census(&self) -> Result<Option<crate::sim::collide::PairCensus>> {

@@ -172,7 +172,10 @@ fn set_constants(
         );
     }
     for (i, sp) in c.sphere.iter().enumerate() {
-        p.set_vec4(&format!("u_sphere[{i}]"), v3(sp.center).extend(sp.radius));
+        p.set_vec4(
+            &format!("u_sphere[{i}]"),
+            v3(sp.center_at(0.0)).extend(sp.radius),
+        );
         p.set_vec2(
             &format!("u_sphere_resp[{i}]"),
             resp(sp.friction, sp.resilience),
@@ -189,11 +192,14 @@ fn set_constants(
         p.set_ivec2("u_height_res", nx as i32, nz as i32);
         p.set_vec2("u_height_resp", resp(h.friction, h.resilience));
     }
-    if let Some(d) = c.sdf.first() {
-        p.set_vec3("u_sdf_min", v3(d.bounds[0]));
-        p.set_vec3("u_sdf_max", v3(d.bounds[1]));
-        let r = d.resolution as i32;
-        p.set_ivec3("u_sdf_res", r, r, r);
+    if let (Some(d), Some((_, field))) = (c.sdf.first(), &fields.sdf) {
+        // The built field's, not the key's: a field from a file takes its shape from the file
+        // (`resolution` is 0 there), and each axis may have its own.
+        let [lo, hi] = field.bounds();
+        p.set_vec3("u_sdf_min", lo);
+        p.set_vec3("u_sdf_max", hi);
+        let [rx, ry, rz] = field.resolution().map(|r| r as i32);
+        p.set_ivec3("u_sdf_res", rx, ry, rz);
         p.set_vec2("u_sdf_resp", resp(d.friction, d.resilience));
     }
 }

@@ -524,7 +524,7 @@ fn shapes(c: &scene::Colliders) -> Result<Vec<Collider>> {
     }
     for sp in &c.sphere {
         colliders.push(Collider {
-            shape: Shape::Sphere(v3(sp.center).extend(sp.radius)),
+            shape: Shape::Sphere(v3(sp.center_at(0.0)).extend(sp.radius)),
             resp: resp(sp.friction, sp.resilience),
         });
     }

@@ -246,6 +246,10 @@ impl crate::sim::Simulation for ParticleSim {
         self.collisions().map_or(Ok(0), |c| c.truncated_searches())
     }
 
+    fn truncated_bounces(&self) -> Result<u64> {
+        ParticleSim::truncated_bounces(self)
+    }
+
     fn height_field(&self) -> Option<&HeightField> {
         ParticleSim::height_field(self)
     }

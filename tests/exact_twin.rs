@@ -39,7 +39,7 @@ struct P {
 /// docs/collisions.md, numbered as there).
 fn twin(ps: &[P]) -> Vec<(DVec3, DVec3)> {
     let reach = 2.0 * R;
-    // (1) partners, their count and the closest partner.
+    // (1) partners and their count.
     let partners: Vec<Vec<usize>> = (0..ps.len())
         .map(|i| {
             (0..ps.len())
@@ -47,16 +47,16 @@ fn twin(ps: &[P]) -> Vec<(DVec3, DVec3)> {
                 .collect()
         })
         .collect();
+    // The closest partner that i approaches.
     let closest: Vec<Option<usize>> = (0..ps.len())
         .map(|i| {
             let d = |j: &&usize| (ps[i].x - ps[**j].x).length_squared();
-            partners[i]
-                .iter()
+            let approaching = |j: &&usize| (ps[i].x - ps[**j].x).dot(ps[i].v - ps[**j].v) < 0.0;
+            (partners[i].iter().filter(approaching))
                 .min_by(|a, b| d(a).total_cmp(&d(b)))
                 .copied()
         })
         .collect();
-    let n = |i: usize| partners[i].len() as f64;
     (0..ps.len())
         .map(|i| {
             let (a, mut dx_i, mut dv_i) = (ps[i], DVec3::ZERO, DVec3::ZERO);
@@ -88,9 +88,8 @@ fn twin(ps: &[P]) -> Vec<(DVec3, DVec3)> {
                 // (4) the separation of what still overlaps.
                 let sep = dx + (ai - aj) * tau;
                 let depth = reach - sep.length();
-                let w = 1.0 / n(i).max(n(j)).max(1.0);
                 if depth > 0.0 {
-                    dx_i += w * b.m / (a.m + b.m) * depth * sep.normalize();
+                    dx_i += b.m / (a.m + b.m) * depth * sep.normalize();
                 }
                 dv_i += ai;
                 dx_i += ai * tau;

@@ -28,6 +28,7 @@ pub mod collide_stats;
 pub mod collisions;
 pub mod convergence;
 pub mod cost;
+pub mod pile_depth;
 pub mod plot;
 pub mod sort_frames;
 pub mod stability;

@@ -243,3 +243,32 @@ fn bounces_past_the_bound_are_counted() {
     assert_eq!(gpu, twin as u64);
     no_gl_error(&ctx);
 }
+
+/// `render` reads the count back once at the end of the run, warns once and puts it in its JSON.
+#[test]
+fn render_warns_about_bounces_past_the_bound() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("fast.toml");
+    let src = format!(
+        "name = \"fast\"\n[particles]\nsize = [8, 8]\n[time]\ndt = 0.005\n\
+         [[emitters.initial]]\nshape = \"box\"\ncenter = [0.5, 0.5, 0.5]\nsize = [0.8, 0.8, 0.8]\n\
+         direction = [0.0, 1.0, 0.0]\ncone_degrees = 180.0\nspeed = [40000.0, 40000.0]\n\
+         [colliders]\n{BOX}[render]\nresolution = [32, 32]\n"
+    );
+    std::fs::write(&file, src).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_texflow"))
+        .args(["render"])
+        .arg(&file)
+        .args(["--frames", "2", "--json", "--quiet", "--out"])
+        .arg(dir.path().join("frames"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let n = v
+        .pointer("/records/truncated_bounces")
+        .and_then(|n| n.as_u64());
+    assert!(n.is_some_and(|n| n >= 64), "{v}");
+    assert_eq!(err.matches("bounces in one step").count(), 1, "{err}");
+}

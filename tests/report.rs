@@ -414,6 +414,7 @@ fn cli_report_all_quick_writes_every_file() {
         "collisions_miss_rate.png",
         "collisions_density.csv",
         "collisions_density.png",
+        "pile_depth.json",
         "stability.json",
         "stability.md",
         "baselines.csv",
@@ -529,6 +530,16 @@ fn cli_report_all_quick_writes_every_file() {
         assert!(r["stats"]["pairs_true"].as_u64().unwrap() > 0, "{r}");
     }
     assert!(missed("scene") <= missed("staggered off"), "{col:?}");
+    // The pile: UberFlow's detection and the exact one at 1, 2 and 4 iterations, each timed.
+    let pile = json("pile_depth.json");
+    let pile = pile.as_array().unwrap();
+    assert_eq!(pile.len(), 4, "{pile:?}");
+    for r in pile {
+        assert!(
+            f64_of(&r["gpu_ms"]) > 0.0 && r["particles"].as_u64() > Some(0),
+            "{r}"
+        );
+    }
     // Every curve: the papers' 3 integrators x 3 precisions, less Verlet's half-float
     // velocities, and (quick) the thesis's 3 in fp32.
     let orders = std::fs::read_to_string(out_dir.join("convergence_orders.csv")).unwrap();

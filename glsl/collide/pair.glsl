@@ -68,7 +68,7 @@ void pair_response(vec3 x, vec3 v, float mi, float hi, vec3 xq, vec3 w, float mj
         pair_dw += weight * spin_from_impulse(n, jt, mi);
 #endif
     }
-    vec3 sep = dx + (di - dj) * tau;
+    vec3 sep = dx + weight * (di - dj) * tau;
     float l = length(sep);
     float depth = reach - l;
     vec3 push = vec3(0.0);

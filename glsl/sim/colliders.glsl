@@ -135,6 +135,116 @@ vec3 caught_response(vec3 v, vec3 n) {
 }
 
 #ifndef VERLET
+// Set by `collide` when a path still entered a collider after MAX_BOUNCES bounces (the pass
+// flags the particle, and the run counts it: src/sim/particles/bounces.rs).
+bool bounces_truncated = false;
+
+#if N_PLANES + N_SPHERES + N_BOXES > 0
+// Bounces per step after Latta's response: a path of 5 m in a box of 1 m meets about a dozen
+// walls; past the bound the rest of the path is left to keep_outside (and counted).
+const int MAX_BOUNCES = 16;
+
+// The earliest point where the straight path a -> b enters a plane, sphere or box while vb
+// moves into it (vb . n < 0 with n the outward normal there; a path that starts inside one, or
+// leaves it, enters nothing): its fraction s of the path, the normal and the response. Spheres
+// and boxes by their exact intersection with the segment, so a path through one counts too.
+bool first_entry(vec3 a, vec3 b, vec3 vb, out float s, out vec3 n, out vec2 resp) {
+    s = 2.0;
+    vec3 dir = b - a;
+#if N_PLANES > 0
+    for (int i = 0; i < N_PLANES; i++) {
+        vec3 m = u_plane[i].xyz;
+        float d0 = dot(m, a) - u_plane[i].w;
+        float d1 = dot(m, b) - u_plane[i].w;
+        if (d0 >= 0.0 && d1 < 0.0 && dot(vb, m) < 0.0) {
+            float t = d0 / (d0 - d1);
+            if (t < s) {
+                s = t;
+                n = m;
+                resp = u_plane_resp[i];
+            }
+        }
+    }
+#endif
+#if N_SPHERES > 0
+    for (int i = 0; i < N_SPHERES; i++) {
+        vec3 o = a - u_sphere[i].xyz;
+        float r = u_sphere[i].w;
+        float qa = dot(dir, dir);
+        float qb = dot(o, dir);
+        float qc = dot(o, o) - r * r;
+        float disc = qb * qb - qa * qc;
+        if (qc >= 0.0 && qb < 0.0 && qa > 0.0 && disc >= 0.0) {
+            float t = (-qb - sqrt(disc)) / qa;
+            vec3 m = normalize(o + t * dir);
+            if (t <= 1.0 && t < s && dot(vb, m) < 0.0) {
+                s = t;
+                n = m;
+                resp = u_sphere_resp[i];
+            }
+        }
+    }
+#endif
+#if N_BOXES > 0
+    for (int i = 0; i < N_BOXES; i++) {
+        vec3 m;
+        if (!(box_distance(i, a, m) >= 0.0)) continue;
+        vec3 lo = u_box_min[i];
+        vec3 hi = u_box_max[i];
+        float t0 = 0.0;
+        float t1 = 1.0;
+        int axis = -1;
+        bool hit = true;
+        for (int k = 0; k < 3; k++) {
+            if (dir[k] == 0.0) {
+                hit = hit && a[k] >= lo[k] && a[k] <= hi[k];
+                continue;
+            }
+            float u0 = (lo[k] - a[k]) / dir[k];
+            float u1 = (hi[k] - a[k]) / dir[k];
+            if (min(u0, u1) >= t0) {
+                t0 = min(u0, u1);
+                axis = k;
+            }
+            t1 = min(t1, max(u0, u1));
+        }
+        if (hit && axis >= 0 && t0 <= t1 && t0 < s) {
+            m = vec3(0.0);
+            m[axis] = dir[axis] > 0.0 ? -1.0 : 1.0;
+            if (dot(vb, m) < 0.0) {
+                s = t0;
+                n = m;
+                resp = u_box_resp[i];
+            }
+        }
+    }
+#endif
+    return s <= 1.0;
+}
+
+// After Latta's response (which replays the step from x), what the path x -> xb still enters
+// bounces there, UberFlow's way (§4.6): back to the entry point, the response of eq. 4-5, and
+// the rest of the step's time along the new velocity; again for what that enters, up to
+// MAX_BOUNCES times. A slow particle's replayed path enters nothing, so this changes only fast
+// ones (a path longer than the gap between colliders), which keep their speed up to the
+// resilience. False if an entry was still ahead at the bound.
+bool bounce_on(vec3 x, inout vec3 vb, inout vec3 xb) {
+    vec3 a = x;
+    float t = u_dt;
+    float s;
+    vec3 n;
+    vec2 resp;
+    for (int k = 0; k < MAX_BOUNCES; k++) {
+        if (!first_entry(a, xb, vb, s, n, resp)) return true;
+        a = a + s * (xb - a);
+        vb = collision_response(vb, n, resp);
+        t *= 1.0 - s;
+        xb = a + vb * t;
+    }
+    return !first_entry(a, xb, vb, s, n, resp);
+}
+#endif
+
 // One collider for the explicit integrators: d_prev and n_prev at the previous position x,
 // d_exp and n_exp at the expected one xb. Updates x (push-out), vb and xb.
 void collide_explicit(float d_prev, vec3 n_prev, float d_exp, vec3 n_exp, vec2 resp,
@@ -196,6 +306,9 @@ void collide(inout vec3 x, vec3 v, inout vec3 vb, inout vec3 xb) {
             xb = xc + vb * ((1.0 - s) * u_dt);
         }
     }
+#endif
+#if N_PLANES + N_SPHERES + N_BOXES > 0
+    bounces_truncated = !bounce_on(x, vb, xb);
 #endif
 }
 #else

@@ -120,7 +120,9 @@ uniform sampler2D u_new_velocity;
 
 const float INF = uintBitsToFloat(0x7f800000u);
 
-// velocity.w: 0, or a child texel's count of dropped births (sim/child_birth.glsl).
+// velocity.w: 0, or a child texel's count of dropped births (sim/child_birth.glsl), or 1 on
+// another texel whose path in this step still entered a collider after the colliders' bound on
+// bounces (sim/colliders.glsl, MAX_BOUNCES; counted by src/sim/particles/bounces.rs).
 float state_w = 0.0;
 
 void write_state(vec3 x, float life, vec3 v) {
@@ -253,6 +255,11 @@ void main() {
 #if HAS_COLLIDERS
     collide(x, v, vb, xb);
     keep_outside(xb, vb);
+#ifdef CHILDREN
+    if (bounces_truncated && int(index) < u_child_start) state_w = 1.0;
+#else
+    if (bounces_truncated) state_w = 1.0;
+#endif
 #endif
 #ifdef SPIN
     // The angle kept in (-pi, pi], so that its float spacing stays fine however long it turns.

@@ -367,6 +367,12 @@ fn report(
             super::warn::searches_truncated(s, summary.truncated_searches, summary.steps)
         );
     }
+    if summary.truncated_bounces > 0 {
+        eprintln!(
+            "{}",
+            super::warn::bounces_truncated(summary.truncated_bounces, summary.steps)
+        );
+    }
     if !a.common.quiet {
         let mut to: Vec<String> = out.iter().map(|o| o.display().to_string()).collect();
         to.extend(video_path.iter().map(|v| v.display().to_string()));
@@ -410,6 +416,7 @@ fn report(
             "dropped_births": summary.dropped_births,
             "dropped_child_births": summary.dropped_child_births,
             "truncated_searches": summary.truncated_searches,
+            "truncated_bounces": summary.truncated_bounces,
             "max_non_finite": summary.max_non_finite,
             "non_finite_frames": summary.non_finite_frames,
             "max_stretched_edges": summary.max_stretched,

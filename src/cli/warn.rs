@@ -49,6 +49,17 @@ pub fn searches_truncated(s: &SceneFile, total: u64, steps: u64) -> String {
     )
 }
 
+/// The colliders' bound on bounces per step was reached (`MAX_BOUNCES` in
+/// glsl/sim/colliders.glsl).
+pub fn bounces_truncated(total: u64, steps: u64) -> String {
+    format!(
+        "warning: {total} particle step(s) over {steps} step(s) still met a collider after {} \
+         bounces in one step: the rest of each such path was projected onto the surface and lost \
+         its speed into it; a shorter time.dt (fewer walls crossed per step) keeps it",
+        texflow::sim::MAX_BOUNCES
+    )
+}
+
 /// A window-system error without the source location winit puts in front of it
 /// (`os error at /path/to/winit/src/...rs:123: reason`): the reason is what the user needs.
 pub fn window_reason(e: &dyn std::fmt::Display) -> String {

@@ -168,6 +168,12 @@ pub trait Engine {
         Ok(None)
     }
 
+    /// Paths that still entered a collider after the bound on bounces per step (one
+    /// read-back, for a run's end).
+    fn truncated_bounces(&self) -> Result<u64> {
+        Ok(0)
+    }
+
     /// Live particles with a NaN or infinite component; `counter` counts GPU state.
     fn non_finite(&self, counter: &NonFiniteCounter) -> Result<NonFiniteCount>;
 

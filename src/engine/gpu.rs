@@ -476,6 +476,10 @@ impl<S: Simulation> super::Engine for GpuEngine<S> {
         self.sim.stretched()
     }
 
+    fn truncated_bounces(&self) -> Result<u64> {
+        self.sim.truncated_bounces()
+    }
+
     fn non_finite(
         &self,
         counter: &crate::sim::nonfinite::NonFiniteCounter,

@@ -190,6 +190,9 @@ pub struct LoopSummary {
     /// Exact collision searches that walked past their bound of particles per run of cells
     /// (read back once, at the end of the run), summed over steps and iterations.
     pub truncated_searches: u64,
+    /// Particle steps whose path still entered a collider after the bound on bounces per step
+    /// (read back once, at the end of the run).
+    pub truncated_bounces: u64,
     /// Live particles at the last written frame's census.
     pub live: u64,
     /// Per-frame phase times, when [`LoopOptions::timing`] asked for them.
@@ -365,6 +368,7 @@ impl FrameLoop {
         s.steps = engine.steps();
         s.dropped_child_births = engine.dropped_child_births()?;
         s.truncated_searches = engine.truncated_searches()?;
+        s.truncated_bounces = engine.truncated_bounces()?;
         s.times = times;
         Ok(s)
     }

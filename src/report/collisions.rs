@@ -328,6 +328,11 @@ pub fn section(
         size[1],
         density_table(&points)
     );
+    let plan = super::pile_depth::plan(opts.size);
+    let seed = crate::engine::shader_seed(1);
+    let piles = super::pile_depth::pile_sweep(ctx, plan, seed, progress)?;
+    files.push(super::pile_depth::write_json(&piles, out)?);
+    md += &super::pile_depth::markdown(&piles, plan, clock);
     Ok(SectionOutput {
         files,
         markdown: md,

@@ -30,6 +30,7 @@ pub mod collisions;
 pub mod constraints;
 pub mod convergence;
 pub mod cost;
+pub mod pile_depth;
 pub mod plot;
 pub mod sort_frames;
 pub mod stability;

@@ -22,6 +22,10 @@ pub fn particle_live(p: [f32; 4]) -> bool {
     p[3] > 0.0 && p[..3].iter().all(|c| c.is_finite())
 }
 pub use constraints::Stretched;
+/// Bounces at planes, spheres and boxes per particle and step after Latta's response
+/// (`MAX_BOUNCES` in `glsl/sim/colliders.glsl`; the twin's `Reference::bounce_on`).
+pub const MAX_BOUNCES: usize = 16;
+
 pub use fire::{FireParams, FireSim};
 pub use particles::{ClosedForm, Features, ParticleSim};
 pub use simulation::{stages_of, DrawnState, Pass, Simulation, Stage};

@@ -162,6 +162,12 @@ pub trait Simulation: std::fmt::Debug {
         Ok(None)
     }
 
+    /// Paths that still entered a collider after the bound on bounces per step (one read-back,
+    /// for a run's end).
+    fn truncated_bounces(&self) -> Result<u64> {
+        Ok(0)
+    }
+
     /// With collisions between particles: the pairs the last step's detection found.
     fn census(&self) -> Result<Option<super::collide::PairCensus>> {
         Ok(None)

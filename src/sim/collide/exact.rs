@@ -44,6 +44,7 @@ impl Collisions {
             count.textures(&[
                 ("u_keys", g.sorter.keys().into()),
                 ("u_position", g.layout.texture(POSITION).into()),
+                ("u_velocity", g.layout.texture(VELOCITY).into()),
             ]);
             self.pass.draw(count, counts);
             if let Some(t) = &self.tally {

@@ -39,7 +39,7 @@ use crate::sort::{KeyMode, SortOptions, Sorter, Variant};
 mod census;
 mod exact;
 mod neighbours;
-mod tally;
+pub(crate) mod tally;
 
 pub use census::PairCensus;
 pub use neighbours::{check_pair_forces, neighbour_passes, NeighbourReadback};

@@ -1,10 +1,12 @@
-//! How often the exact search hit its bound: a count kept on the GPU over a whole run and read
-//! back once, so that `render` can warn about collisions the search could not see.
+//! How often the exact search hit its bound, or a path its bound on bounces at colliders: a count
+//! kept on the GPU over a whole run and read back once, so that `render` can warn about
+//! collisions the search could not see and bounces the colliders did not make.
 //!
 //! After each exact count pass, one point per particle is drawn into a 1×1 R32F target with
 //! additive blending, where the count pass flagged the particle's search as truncated (a run of
 //! three cells held more than [`EXACT_SCAN`](super::EXACT_SCAN) particles); the others are
-//! clipped away in the vertex shader. Exact up to 2^24 flagged searches.
+//! clipped away in the vertex shader. Exact up to 2^24 flagged searches. The colliders' count
+//! reads the velocity's w after each integration pass instead (`glsl/sim/integrate.frag`).
 
 use crate::error::Result;
 use crate::gl::{
@@ -14,7 +16,7 @@ use crate::gl::{
 
 /// The running count of truncated searches.
 #[derive(Debug)]
-pub(super) struct TruncationTally {
+pub(crate) struct TruncationTally {
     ctx: Context,
     program: Program,
     target: Framebuffer,
@@ -23,7 +25,7 @@ pub(super) struct TruncationTally {
 
 impl TruncationTally {
     /// A tally at 0.
-    pub(super) fn new(ctx: &Context) -> Result<Self> {
+    pub(crate) fn new(ctx: &Context) -> Result<Self> {
         let texture = Texture::new(
             ctx,
             TextureDesc {
@@ -46,10 +48,16 @@ impl TruncationTally {
     /// Adds the particles that `counts` (the exact count pass's output, `width` wide, `n`
     /// texels) flags as truncated.
     pub(super) fn add(&self, counts: &Texture, n: usize) {
+        self.add_flags(counts, 1, n);
+    }
+
+    /// Adds the first `n` texels of `flags` whose component `component` is above 1/2.
+    pub(crate) fn add_flags(&self, flags: &Texture, component: i32, n: usize) {
         let p = &self.program;
         p.bind();
-        p.textures(&[("u_counts", counts.into())]);
-        p.set_i32("u_width", counts.width() as i32);
+        p.textures(&[("u_counts", flags.into())]);
+        p.set_i32("u_width", flags.width() as i32);
+        p.set_i32("u_component", component);
         let add = BlendComponent::add(BlendFactor::One, BlendFactor::One);
         self.ctx.draw(&Draw {
             program: p,
@@ -70,7 +78,7 @@ impl TruncationTally {
     }
 
     /// The count so far (one read-back of one texel).
-    pub(super) fn total(&self) -> Result<u64> {
+    pub(crate) fn total(&self) -> Result<u64> {
         Ok(self.target.only_texture().read_f32()?[0].round() as u64)
     }
 }

@@ -8,6 +8,7 @@
 //! and which passes run, and is also what `texflow scene passes` prints.
 
 mod births;
+mod bounces;
 mod children;
 mod custom;
 mod features;
@@ -95,6 +96,8 @@ pub struct ParticleSim {
     emit_static: Option<Program>,
     start: Option<Program>,
     collisions: Option<super::collide::Collisions>,
+    /// The count of paths past the bound on bounces at colliders (`bounces.rs`).
+    bounces: Option<super::collide::tally::TruncationTally>,
     relax: Option<relax::Relaxation>,
     pass: FullscreenPass,
     fields: Fields,
@@ -177,6 +180,7 @@ impl ParticleSim {
                 )?),
                 None => None,
             },
+            bounces: bounces::tally(ctx, &features)?,
             relax: relax::Relaxation::new(ctx, scene, &defines)?,
             pass: FullscreenPass::new(ctx)?,
             allocator: match features.emission {
@@ -437,6 +441,9 @@ impl ParticleSim {
                     _ => {}
                 }
                 pp.swap();
+                if rows > 0 {
+                    self.count_bounce_flags();
+                }
             }
             State::Verlet(ring) => {
                 let own = [

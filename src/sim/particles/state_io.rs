@@ -274,6 +274,10 @@ impl crate::sim::Simulation for ParticleSim {
         }))
     }
 
+    fn truncated_bounces(&self) -> Result<u64> {
+        ParticleSim::truncated_bounces(self)
+    }
+
     fn height_field(&self) -> Option<&HeightField> {
         ParticleSim::height_field(self)
     }

@@ -2,7 +2,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::{Events, Reference, Shape, SKIN};
+use super::{Collider, Events, Reference, Shape, SKIN};
 use crate::sim::fields::HeightField;
 
 impl Reference {
@@ -99,6 +99,72 @@ impl Reference {
                 }
             }
         }
+        let bounded = |c: &Collider| !matches!(c.shape, Shape::Sdf(..));
+        if self.colliders.iter().any(bounded) && !self.bounce_on(*x, vb, xb, ev) {
+            ev.bounces_truncated += 1;
+        }
+    }
+
+    /// `first_entry`: the earliest point where the path `a -> b` enters a plane, sphere or box
+    /// while `vb` moves into it: its fraction of the path, the normal there and the response.
+    fn first_entry(&self, a: Vec3, b: Vec3, vb: Vec3) -> Option<(f32, Vec3, Vec2)> {
+        let mut best: Option<(f32, Vec3, Vec2)> = None;
+        let dir = b - a;
+        let earlier = |best: &Option<(f32, Vec3, Vec2)>, t: f32| best.is_none_or(|b| t < b.0);
+        for c in &self.colliders {
+            match &c.shape {
+                Shape::Plane(pl) => {
+                    let m = pl.truncate();
+                    let (d0, d1) = (m.dot(a) - pl.w, m.dot(b) - pl.w);
+                    if d0 >= 0.0 && d1 < 0.0 && vb.dot(m) < 0.0 {
+                        let t = d0 / (d0 - d1);
+                        if earlier(&best, t) {
+                            best = Some((t, m, c.resp));
+                        }
+                    }
+                }
+                Shape::Sphere(sp) => {
+                    let o = a - sp.truncate();
+                    let (qa, qb, qc) = (dir.dot(dir), o.dot(dir), o.dot(o) - sp.w * sp.w);
+                    let disc = qb * qb - qa * qc;
+                    if qc >= 0.0 && qb < 0.0 && qa > 0.0 && disc >= 0.0 {
+                        let t = (-qb - disc.sqrt()) / qa;
+                        let m = (o + t * dir).normalize();
+                        if t <= 1.0 && earlier(&best, t) && vb.dot(m) < 0.0 {
+                            best = Some((t, m, c.resp));
+                        }
+                    }
+                }
+                Shape::Box(lo, hi) => {
+                    if let Some((t, m)) = box_entry(*lo, *hi, a, dir) {
+                        if earlier(&best, t) && vb.dot(m) < 0.0 {
+                            best = Some((t, m, c.resp));
+                        }
+                    }
+                }
+                Shape::Sdf(..) => {}
+            }
+        }
+        best
+    }
+
+    /// `bounce_on`: what the replayed path `x -> xb` still enters bounces at the entry point
+    /// (the response, then the rest of the step's time along the new velocity), up to
+    /// `MAX_BOUNCES` times. False if an entry was still ahead at the bound.
+    fn bounce_on(&self, x: Vec3, vb: &mut Vec3, xb: &mut Vec3, ev: &mut Events) -> bool {
+        let mut a = x;
+        let mut t = self.dt;
+        for _ in 0..crate::sim::MAX_BOUNCES {
+            let Some((s, n, resp)) = self.first_entry(a, *xb, *vb) else {
+                return true;
+            };
+            a += s * (*xb - a);
+            *vb = self.response(*vb, n, resp, ev);
+            t *= 1.0 - s;
+            *xb = a + *vb * t;
+            ev.bounces += 1;
+        }
+        self.first_entry(a, *xb, *vb).is_none()
     }
 
     /// `constrain`: Latta eq. 4-5 on Verlet's implied velocity `(xn - x) / dt`; the new
@@ -217,6 +283,37 @@ fn caught_response(v: Vec3, n: Vec3) -> Vec3 {
 /// GLSL's `mix(x, y, a) = x (1 - a) + y a`.
 fn mix(x: Vec3, y: Vec3, a: f32) -> Vec3 {
     x * (1.0 - a) + y * a
+}
+
+/// The slab test of `first_entry`: where the path `a + t dir`, t in [0, 1], from outside the box
+/// enters it, and the outward normal of the face it enters through.
+fn box_entry(lo: Vec3, hi: Vec3, a: Vec3, dir: Vec3) -> Option<(f32, Vec3)> {
+    if box_distance(lo, hi, a).0 < 0.0 {
+        return None;
+    }
+    let (mut t0, mut t1, mut axis) = (0.0f32, 1.0f32, None);
+    for k in 0..3 {
+        if dir[k] == 0.0 {
+            if a[k] < lo[k] || a[k] > hi[k] {
+                return None;
+            }
+            continue;
+        }
+        let u0 = (lo[k] - a[k]) / dir[k];
+        let u1 = (hi[k] - a[k]) / dir[k];
+        if u0.min(u1) >= t0 {
+            t0 = u0.min(u1);
+            axis = Some(k);
+        }
+        t1 = t1.min(u0.max(u1));
+    }
+    let k = axis?;
+    if t0 > t1 {
+        return None;
+    }
+    let mut m = Vec3::ZERO;
+    m[k] = if dir[k] > 0.0 { -1.0 } else { 1.0 };
+    Some((t0, m))
 }
 
 /// `box_distance`: exact distance outside a solid axis-aligned box; inside, the distance to the

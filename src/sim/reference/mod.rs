@@ -72,6 +72,11 @@ pub struct Events {
     /// Of those, walks through a collider that shares a face with another (along the previous
     /// push's direction, onto the union's surface).
     pub walked_out: u32,
+    /// Bounces after Latta's response at the point where the replayed path entered a plane,
+    /// sphere or box (`bounce_on`).
+    pub bounces: u32,
+    /// Steps whose path still entered one after `MAX_BOUNCES` bounces (the pass flags them).
+    pub bounces_truncated: u32,
     /// The particle died in this step (or was dead already).
     pub dead: bool,
 }
@@ -85,6 +90,8 @@ impl std::ops::AddAssign for Events {
         self.crossings += o.crossings;
         self.kept_outside += o.kept_outside;
         self.walked_out += o.walked_out;
+        self.bounces += o.bounces;
+        self.bounces_truncated += o.bounces_truncated;
         self.dead |= o.dead;
     }
 }

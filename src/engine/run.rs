@@ -284,7 +284,6 @@ impl FrameLoop {
         sink: &mut dyn FrameSink,
         mut on_event: impl FnMut(Event<'_>) -> ControlFlow<()>,
     ) -> Result<LoopSummary> {
-        let o = &self.options;
         let mut s = LoopSummary::default();
         let mut times = self.timer.as_ref().map(|t| FrameTimes {
             clock: t.clock(),
@@ -292,75 +291,9 @@ impl FrameLoop {
             sort: Vec::new(),
             draw: Vec::new(),
         });
-        // Runs `f`, timed into `into` when timing is on.
-        let timed = |f: &mut dyn FnMut() -> Result<()>, into: Option<&mut Vec<f64>>| match (
-            &self.timer,
-            into,
-        ) {
-            (Some(t), Some(v)) => {
-                let mut r = Ok(());
-                v.push(t.time(|| r = f())?);
-                r
-            }
-            _ => f(),
-        };
-        for index in 0..o.frames {
-            timed(
-                &mut || engine.advance_frame(),
-                times.as_mut().map(|t| &mut t.simulate),
-            )?;
-            // The sort belongs to every frame, written or not: no option that chooses what is
-            // written may change what a frame shows.
-            timed(
-                &mut || engine.order_for_drawing(),
-                times.as_mut().map(|t| &mut t.sort),
-            )?;
-            s.frames += 1;
-            let dropped = engine.dropped_births();
-            if dropped > 0
-                && s.dropped_births == 0
-                && on_event(Event::BirthsDropped {
-                    index,
-                    total: dropped,
-                })
-                .is_break()
-            {
-                s.stopped = true;
-                s.dropped_births = dropped;
-                break;
-            }
-            s.dropped_births = dropped;
-            if o.writes(index) {
-                // Garbage is reported, not rendered silently.
-                if self
-                    .census(engine, index, &mut s, &mut on_event)?
-                    .is_break()
-                {
-                    s.stopped = true;
-                    break;
-                }
-                let mut image = None;
-                timed(
-                    &mut || {
-                        image = Some(engine.render()?);
-                        Ok(())
-                    },
-                    times.as_mut().map(|t| &mut t.draw),
-                )?;
-                sink.frame(index, &image.expect("rendered"))?;
-                s.written += 1;
-            }
-            let dumps = (o.dump_every)
-                .is_some_and(|n| index >= o.start && (index - o.start).is_multiple_of(n));
-            if dumps
-                && self
-                    .dump(engine, index, &mut s, sink, &mut on_event)?
-                    .is_break()
-            {
-                s.stopped = true;
-                break;
-            }
-            if on_event(Event::Frame { index }).is_break() {
+        for index in 0..self.options.frames {
+            let step = self.frame(engine, sink, index, &mut s, &mut times, &mut on_event)?;
+            if step.is_break() {
                 s.stopped = true;
                 break;
             }
@@ -368,9 +301,79 @@ impl FrameLoop {
         s.steps = engine.steps();
         s.dropped_child_births = engine.dropped_child_births()?;
         s.truncated_searches = engine.truncated_searches()?;
-        s.truncated_bounces = engine.truncated_bounces()?;
         s.times = times;
         Ok(s)
+    }
+
+    /// Runs `f`, timed into `into` when timing is on.
+    fn timed(&self, f: &mut dyn FnMut() -> Result<()>, into: Option<&mut Vec<f64>>) -> Result<()> {
+        match (&self.timer, into) {
+            (Some(t), Some(v)) => {
+                let mut r = Ok(());
+                v.push(t.time(|| r = f())?);
+                r
+            }
+            _ => f(),
+        }
+    }
+
+    /// Frame `index`: its steps and sort, its census, picture and dump where it writes them;
+    /// `Break` where the frame or `on_event` stops the run.
+    fn frame(
+        &self,
+        engine: &mut dyn Engine,
+        sink: &mut dyn FrameSink,
+        index: u64,
+        s: &mut LoopSummary,
+        times: &mut Option<FrameTimes>,
+        on_event: &mut impl FnMut(Event<'_>) -> ControlFlow<()>,
+    ) -> Result<ControlFlow<()>> {
+        let o = &self.options;
+        self.timed(
+            &mut || engine.advance_frame(),
+            times.as_mut().map(|t| &mut t.simulate),
+        )?;
+        // The sort belongs to every frame, written or not: no option that chooses what is
+        // written may change what a frame shows.
+        self.timed(
+            &mut || engine.order_for_drawing(),
+            times.as_mut().map(|t| &mut t.sort),
+        )?;
+        s.frames += 1;
+        let dropped = engine.dropped_births();
+        let first_drop = dropped > 0 && s.dropped_births == 0;
+        s.dropped_births = dropped;
+        if first_drop
+            && on_event(Event::BirthsDropped {
+                index,
+                total: dropped,
+            })
+            .is_break()
+        {
+            return Ok(ControlFlow::Break(()));
+        }
+        if o.writes(index) {
+            // Garbage is reported, not rendered silently.
+            if self.census(engine, index, s, on_event)?.is_break() {
+                return Ok(ControlFlow::Break(()));
+            }
+            let mut image = None;
+            self.timed(
+                &mut || {
+                    image = Some(engine.render()?);
+                    Ok(())
+                },
+                times.as_mut().map(|t| &mut t.draw),
+            )?;
+            sink.frame(index, &image.expect("rendered"))?;
+            s.written += 1;
+        }
+        let dumps =
+            (o.dump_every).is_some_and(|n| index >= o.start && (index - o.start).is_multiple_of(n));
+        if dumps && self.dump(engine, index, s, sink, on_event)?.is_break() {
+            return Ok(ControlFlow::Break(()));
+        }
+        Ok(on_event(Event::Frame { index }))
     }
 
     /// The dump of frame `index`: checked like a frame (non-finite state is an error under

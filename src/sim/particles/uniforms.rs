@@ -41,7 +41,14 @@ fn set_constants(
     // Texel k of the other emitters is of type k mod their count; child emitters' types follow.
     p.set_i32("u_emitters", (types - s.emitters.child.len()).max(1) as i32);
     set_children(p, s);
-    // The masses of glsl/common/mass.glsl, which integration and collisions share.
+    set_masses(p, s);
+    set_emitters(p, s);
+    set_forces(p, s, fields);
+    set_colliders(p, s, fields);
+}
+
+/// The masses of glsl/common/mass.glsl, which integration and collisions share.
+fn set_masses(p: &Program, s: &SceneFile) {
     let mut inv_mass = [1.0 / s.particles.mass; 4];
     let mut cycle = [1.0f32; 4];
     let (mut lo, mut hi) = ([s.particles.mass; 4], [s.particles.mass; 4]);
@@ -55,6 +62,10 @@ fn set_constants(
     p.set_vec4("u_mass_lo", Vec4::from(lo));
     p.set_vec4("u_mass_hi", Vec4::from(hi));
     p.set_vec4("u_cycle", Vec4::from(cycle));
+}
+
+/// The emitters' bursts, shapes and release clouds.
+fn set_emitters(p: &Program, s: &SceneFile) {
     for (k, e) in s.emitters.all().enumerate() {
         let (mut time, mut end) = ([0f32; 4], [0f32; 4]);
         let mut total = 0u64;
@@ -92,6 +103,11 @@ fn set_constants(
         cloud[k] = e.release_cloud.unwrap_or(0) as f32;
     }
     p.set_vec4("u_release_cloud", Vec4::from(cloud));
+}
+
+/// The forces: summed gravity and damping, attractors, springs and vortices with their owners,
+/// each type's own gravity and damping, the wind field and the spin's constants.
+fn set_forces(p: &Program, s: &SceneFile, fields: &Fields) {
     let f = &s.forces;
     let gravity: Vec3 = f.gravity.iter().map(|g| v3(g.acceleration)).sum();
     p.set_vec3("u_gravity", gravity);
@@ -160,6 +176,10 @@ fn set_constants(
         p.set_f32("u_spin_radius", k.radius);
         p.set_f32("u_friction", k.friction);
     }
+}
+
+/// The colliders: planes, spheres, boxes, height and distance fields with their responses.
+fn set_colliders(p: &Program, s: &SceneFile, fields: &Fields) {
     let c = &s.colliders;
     p.set_f32("u_slow_speed", c.slow_speed);
     let resp = |mu: f32, eps: f32| glam::Vec2::new(mu, eps);

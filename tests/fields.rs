@@ -24,7 +24,7 @@
 mod common;
 
 use common::scene::Rng;
-use common::{context, no_gl_error, test_shader};
+use common::{context, no_gl_error, test_shader, TestContext};
 use glam::{Vec3, Vec4};
 use texflow::gl::{
     Defines, Framebuffer, FullscreenPass, Program, Texture, TextureDesc, TextureFormat,
@@ -69,12 +69,9 @@ fn value_tolerance(m: f32, jump: f32, n: u32, axes: f32) -> f32 {
     K * EPS * ((n - 1) as f32 * jump * axes + 3.0 * m)
 }
 
-#[test]
-fn glsl_samplers_match_their_cpu_twins() {
-    let ctx = context();
-
-    // Three fields over overlapping, non-dyadic regions (node positions are not exact binary
-    // fractions, so the grid coordinates round on both sides).
+/// Three fields over overlapping, non-dyadic regions (node positions are not exact binary
+/// fractions, so the grid coordinates round on both sides).
+fn three_fields() -> (HeightField, DistanceField, FlowField) {
     let hf = HeightField::new(&HeightFieldCollider {
         extent: [-2.1, -1.7, 2.3, 1.9],
         resolution: 37,
@@ -114,12 +111,13 @@ fn glsl_samplers_match_their_cpu_twins() {
         data: None,
     })
     .unwrap();
+    (hf, sdf, flow)
+}
 
-    // Points: mostly random in a box larger than every field's bounds; also the distance
-    // field's nodes (the CPU returns the texel there; a driver whose division is not correctly
-    // rounded may land an ulp beside the node), points on its faces, and far away.
-    let (w, h) = (24u32, 16u32);
-    let n = (w * h) as usize;
+/// `n` points: mostly random in a box larger than every field's bounds; also the distance
+/// field's nodes (the CPU returns the texel there; a driver whose division is not correctly
+/// rounded may land an ulp beside the node), points on its faces, and far away.
+fn sample_points(sdf: &DistanceField, n: usize) -> Vec<Vec3> {
     let mut rng = Rng(2004);
     let mut points = Vec::with_capacity(n);
     for i in 0..12 {
@@ -159,44 +157,11 @@ fn glsl_samplers_match_their_cpu_twins() {
         .filter(|p| p.cmplt(lo).any() || p.cmpgt(hi).any())
         .count();
     assert!(outside > n / 4 && outside < 3 * n / 4, "{outside} outside");
+    points
+}
 
-    // Inputs and targets.
-    let desc = |label| TextureDesc {
-        width: w,
-        height: h,
-        format: TextureFormat::Rgba32F,
-        label,
-    };
-    let point_tex = Texture::new(&ctx, desc("points")).unwrap();
-    let flat: Vec<f32> = points
-        .iter()
-        .flat_map(|p| p.extend(1.0).to_array())
-        .collect();
-    point_tex.upload_f32(&flat).unwrap();
-    let height_tex = hf.upload(&ctx).unwrap();
-    let sdf_tex = sdf.upload(&ctx).unwrap();
-    let flow_tex = flow.upload(&ctx).unwrap();
-    assert_eq!(sdf_tex.size(), [29, 29, 29]);
-    assert_eq!(sdf_tex.read_f32().unwrap(), sdf.texels());
-    assert_eq!(flow_tex.read_f32().unwrap(), flow.texels());
-    let targets = ["height", "sdf", "flow"]
-        .into_iter()
-        .map(|l| Texture::new(&ctx, desc(l)).unwrap())
-        .collect();
-    let fb = Framebuffer::new(&ctx, "fields", targets).unwrap();
-
-    let program = Program::new(
-        &ctx,
-        FULLSCREEN_VERTEX,
-        &test_shader("fields.frag"),
-        &Defines::new(),
-    )
-    .unwrap();
-    program.bind();
-    point_tex.bind(0);
-    height_tex.bind(1);
-    sdf_tex.bind(2);
-    flow_tex.bind(3);
+/// The shader's uniforms: the three fields' units, bounds and resolutions.
+fn set_field_uniforms(program: &Program, hf: &HeightField, sdf: &DistanceField, flow: &FlowField) {
     program.set_i32("u_points", 0);
     program.set_i32("u_height", 1);
     program.set_i32("u_sdf", 2);
@@ -214,15 +179,67 @@ fn glsl_samplers_match_their_cpu_twins() {
     program.set_vec3("u_flow_max", fmax);
     let [fx, fy, fz] = flow.resolution().map(|n| n as i32);
     program.set_ivec3("u_flow_res", fx, fy, fz);
-    FullscreenPass::new(&ctx).unwrap().draw(&program, &fb);
+}
+
+/// The three fields sampled at `points` (a `w` × `h` texture) by tests/glsl/fields.frag: the
+/// height, sdf and flow targets read back.
+fn sample_on_gpu(
+    ctx: &TestContext,
+    points: &[Vec3],
+    (w, h): (u32, u32),
+    (hf, sdf, flow): (&HeightField, &DistanceField, &FlowField),
+) -> Vec<Vec<f32>> {
+    let desc = |label| TextureDesc {
+        width: w,
+        height: h,
+        format: TextureFormat::Rgba32F,
+        label,
+    };
+    let point_tex = Texture::new(ctx, desc("points")).unwrap();
+    let flat: Vec<f32> = points
+        .iter()
+        .flat_map(|p| p.extend(1.0).to_array())
+        .collect();
+    point_tex.upload_f32(&flat).unwrap();
+    let height_tex = hf.upload(ctx).unwrap();
+    let sdf_tex = sdf.upload(ctx).unwrap();
+    let flow_tex = flow.upload(ctx).unwrap();
+    assert_eq!(sdf_tex.size(), [29, 29, 29]);
+    assert_eq!(sdf_tex.read_f32().unwrap(), sdf.texels());
+    assert_eq!(flow_tex.read_f32().unwrap(), flow.texels());
+    let targets = ["height", "sdf", "flow"]
+        .into_iter()
+        .map(|l| Texture::new(ctx, desc(l)).unwrap())
+        .collect();
+    let fb = Framebuffer::new(ctx, "fields", targets).unwrap();
+
+    let program = Program::new(
+        ctx,
+        FULLSCREEN_VERTEX,
+        &test_shader("fields.frag"),
+        &Defines::new(),
+    )
+    .unwrap();
+    program.bind();
+    point_tex.bind(0);
+    height_tex.bind(1);
+    sdf_tex.bind(2);
+    flow_tex.bind(3);
+    set_field_uniforms(&program, hf, sdf, flow);
+    FullscreenPass::new(ctx).unwrap().draw(&program, &fb);
     let out: Vec<Vec<f32>> = fb
         .textures()
         .iter()
         .map(|t| t.read_f32().unwrap())
         .collect();
-    no_gl_error(&ctx);
+    no_gl_error(ctx);
+    out
+}
 
-    // Tolerances (module doc).
+/// The value tolerances (module doc) of the height, sdf and flow fields, each checked to be
+/// float rounding only.
+fn field_tolerances(hf: &HeightField, sdf: &DistanceField, flow: &FlowField) -> [f32; 3] {
+    let [hx, hz] = hf.resolution();
     let (hm, hj) = magnitude_and_jump(hf.texels(), [hx as usize, hz as usize, 1], 4, 4);
     let tol_h = value_tolerance(hm, hj, hx.max(hz), 2.0);
     let (sm, sj) = magnitude_and_jump(sdf.texels(), [29; 3], 1, 1);
@@ -239,10 +256,71 @@ fn glsl_samplers_match_their_cpu_twins() {
             "{what}: tolerance {tol} is not float rounding of {m}"
         );
     }
-    let cell = sdf.cell_size().min_element();
+    [tol_h, tol_s, tol_f]
+}
 
-    let (mut worst_h, mut worst_hn, mut worst_s, mut worst_sn, mut worst_f) =
-        (0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32);
+/// The worst error / tolerance seen so far: height, height normal, sdf, sdf normal, flow.
+#[derive(Default)]
+struct Worst {
+    h: f32,
+    hn: f32,
+    s: f32,
+    sn: f32,
+    f: f32,
+}
+
+/// The GPU's height sample `gh` (height, normal) at `p` against the CPU's.
+fn check_height(hf: &HeightField, p: Vec3, gh: Vec4, tol_h: f32, worst: &mut Worst) {
+    let (height, normal) = hf.sample(p.x, p.z);
+    let e = (gh.x - height).abs();
+    assert!(
+        e <= tol_h,
+        "height at {p}: GPU {} CPU {height} (tol {tol_h})",
+        gh.x
+    );
+    worst.h = worst.h.max(e / tol_h);
+    // The interpolated normal has length >= the cosine of the largest angle between
+    // neighbouring texel normals; 0.5 is far below it for these gentle hills.
+    let tol_n = 2.0 * 3f32.sqrt() * tol_h / 0.5 + K * EPS;
+    let e = (Vec3::new(gh.y, gh.z, gh.w) - normal).abs().max_element();
+    assert!(e <= tol_n, "height normal at {p}: GPU {gh} CPU {normal}");
+    worst.hn = worst.hn.max(e / tol_n);
+}
+
+/// The GPU's distance sample `gs` (distance, normal) at `p` against the CPU's.
+fn check_sdf(sdf: &DistanceField, p: Vec3, gs: Vec4, tol_s: f32, worst: &mut Worst) {
+    let cell = sdf.cell_size().min_element();
+    let d = sdf.sample(p);
+    let e = (gs.x - d).abs();
+    assert!(e <= tol_s, "sdf at {p}: GPU {} CPU {d} (tol {tol_s})", gs.x);
+    worst.s = worst.s.max(e / tol_s);
+    let n_cpu = sdf.normal(p);
+    let g = sdf.gradient(p).length();
+    let n_gpu = Vec3::new(gs.y, gs.z, gs.w);
+    if g == 0.0 {
+        assert_eq!(n_gpu, Vec3::Y, "sdf normal fallback at {p}");
+    } else {
+        let tol_sn = 2.0 * 3f32.sqrt() * tol_s / (cell * g) + K * EPS;
+        let e = (n_gpu - n_cpu).abs().max_element();
+        assert!(
+            e <= tol_sn,
+            "sdf normal at {p}: GPU {n_gpu} CPU {n_cpu} (tol {tol_sn})"
+        );
+        worst.sn = worst.sn.max(e / tol_sn);
+    }
+}
+
+#[test]
+fn glsl_samplers_match_their_cpu_twins() {
+    let ctx = context();
+    let (hf, sdf, flow) = three_fields();
+    let (w, h) = (24u32, 16u32);
+    let n = (w * h) as usize;
+    let points = sample_points(&sdf, n);
+    let out = sample_on_gpu(&ctx, &points, (w, h), (&hf, &sdf, &flow));
+    let [tol_h, tol_s, tol_f] = field_tolerances(&hf, &sdf, &flow);
+
+    let mut worst = Worst::default();
     let mut identical = 0;
     for (idx, p) in points.iter().enumerate() {
         let at = |t: usize| Vec4::from_slice(&out[t][idx * 4..idx * 4 + 4]);
@@ -250,50 +328,18 @@ fn glsl_samplers_match_their_cpu_twins() {
         identical += usize::from(gh.x == hf.sample(p.x, p.z).0)
             + usize::from(gs.x == sdf.sample(*p))
             + usize::from(gf.truncate() == flow.sample(*p));
-
-        let (height, normal) = hf.sample(p.x, p.z);
-        let e = (gh.x - height).abs();
-        assert!(
-            e <= tol_h,
-            "height at {p}: GPU {} CPU {height} (tol {tol_h})",
-            gh.x
-        );
-        worst_h = worst_h.max(e / tol_h);
-        // The interpolated normal has length >= the cosine of the largest angle between
-        // neighbouring texel normals; 0.5 is far below it for these gentle hills.
-        let tol_n = 2.0 * 3f32.sqrt() * tol_h / 0.5 + K * EPS;
-        let e = (Vec3::new(gh.y, gh.z, gh.w) - normal).abs().max_element();
-        assert!(e <= tol_n, "height normal at {p}: GPU {gh} CPU {normal}");
-        worst_hn = worst_hn.max(e / tol_n);
-
-        let d = sdf.sample(*p);
-        let e = (gs.x - d).abs();
-        assert!(e <= tol_s, "sdf at {p}: GPU {} CPU {d} (tol {tol_s})", gs.x);
-        worst_s = worst_s.max(e / tol_s);
-        let n_cpu = sdf.normal(*p);
-        let g = sdf.gradient(*p).length();
-        let n_gpu = Vec3::new(gs.y, gs.z, gs.w);
-        if g == 0.0 {
-            assert_eq!(n_gpu, Vec3::Y, "sdf normal fallback at {p}");
-        } else {
-            let tol_sn = 2.0 * 3f32.sqrt() * tol_s / (cell * g) + K * EPS;
-            let e = (n_gpu - n_cpu).abs().max_element();
-            assert!(
-                e <= tol_sn,
-                "sdf normal at {p}: GPU {n_gpu} CPU {n_cpu} (tol {tol_sn})"
-            );
-            worst_sn = worst_sn.max(e / tol_sn);
-        }
-
+        check_height(&hf, *p, gh, tol_h, &mut worst);
+        check_sdf(&sdf, *p, gs, tol_s, &mut worst);
         let v = flow.sample(*p);
         let e = (gf.truncate() - v).abs().max_element();
         assert!(e <= tol_f, "flow at {p}: GPU {gf} CPU {v} (tol {tol_f})");
         assert_eq!(gf.w, 0.0);
-        worst_f = worst_f.max(e / tol_f);
+        worst.f = worst.f.max(e / tol_f);
     }
+    let Worst { h, hn, s, sn, f } = worst;
     eprintln!(
-        "{}: {identical} of {} values bit-identical; worst error / tolerance: height {worst_h:.3}, height normal {worst_hn:.3}, sdf \
-         {worst_s:.3}, sdf normal {worst_sn:.3}, flow {worst_f:.3} (tolerances: height \
+        "{}: {identical} of {} values bit-identical; worst error / tolerance: height {h:.3}, height normal {hn:.3}, sdf \
+         {s:.3}, sdf normal {sn:.3}, flow {f:.3} (tolerances: height \
          {tol_h:.2e}, sdf {tol_s:.2e}, flow {tol_f:.2e})",
         ctx.limits().renderer,
         3 * n

@@ -11,7 +11,7 @@ mod common;
 use common::cli::{command, file_names, s, stderr};
 
 use std::fs;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// A tiny particle scene (16×16 state and frame), then `extra`.
 fn scene_text(extra: &str) -> String {
@@ -169,27 +169,25 @@ enum Placed {
     SymLink,
 }
 
-/// Sets up input kind `k` so that output `o` would land on it (`how`), runs the command, and
-/// checks it is refused with nothing written or created.
-fn refused(k: &Kind, o: &Output, how: Placed) {
-    let tmp = tempfile::tempdir().unwrap();
-    let dir = tmp.path().join("run");
-    let elsewhere = tmp.path().join("in");
-    fs::create_dir_all(&dir).unwrap();
-    fs::create_dir_all(&elsewhere).unwrap();
-    let target = dir.join(o.name);
-    // The input file: at the output's place, or in `in/` with a link at that place.
-    let input: PathBuf = match (how, k.name) {
-        (Placed::Itself, _) => target.clone(),
+/// Where input kind `k` is written: at the output's place `target`, or in `elsewhere` with a
+/// link at that place.
+fn input_path(k: &Kind, o: &Output, how: Placed, target: &Path, elsewhere: &Path) -> PathBuf {
+    match (how, k.name) {
+        (Placed::Itself, _) => target.to_path_buf(),
         // The velocities sit beside the positions, under the name --compare expects.
         (_, "--compare's velocities") => elsewhere.join("velocities_00001.npy"),
         (_, "--compare reference") => elsewhere.join("positions_00001.npy"),
         _ => elsewhere.join(format!("input_{}", o.name)),
-    };
+    }
+}
+
+/// Writes the scene file and the input of kind `k` at `input`; returns the scene's path and the
+/// input's bytes.
+fn write_scene_and_input(k: &Kind, input: &Path) -> (PathBuf, Vec<u8>) {
     // The scene file: the input itself for the kind "scene", else beside the input (relative
     // names are read from the scene's folder).
     let scene_path = match k.scene {
-        None if k.name == "scene" => input.clone(),
+        None if k.name == "scene" => input.to_path_buf(),
         _ => input.parent().unwrap().join("scene.toml"),
     };
     let file_name = input.file_name().unwrap().to_str().unwrap();
@@ -201,9 +199,15 @@ fn refused(k: &Kind, o: &Output, how: Placed) {
     let bytes = if k.name == "scene" {
         text.into_bytes()
     } else {
-        fs::write(&input, &k.bytes).unwrap();
+        fs::write(input, &k.bytes).unwrap();
         k.bytes.clone()
     };
+    (scene_path, bytes)
+}
+
+/// `--compare` and its positions file for the kinds read by `--compare` (written beside
+/// `input` when missing), else nothing.
+fn compare_args(k: &Kind, how: Placed, input: &Path) -> Vec<String> {
     let mut compare = Vec::new();
     if k.name.starts_with("--compare") {
         let positions = input.with_file_name("positions_00001.npy");
@@ -217,9 +221,24 @@ fn refused(k: &Kind, o: &Output, how: Placed) {
         compare = vec!["--compare".to_owned(), s(&positions).to_owned()];
         // The reference itself is named as the output only when placed there.
         if how == Placed::Itself && k.name == "--compare reference" {
-            compare[1] = s(&input).to_owned();
+            compare[1] = s(input).to_owned();
         }
     }
+    compare
+}
+
+/// Sets up input kind `k` so that output `o` would land on it (`how`), runs the command, and
+/// checks it is refused with nothing written or created.
+fn refused(k: &Kind, o: &Output, how: Placed) {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("run");
+    let elsewhere = tmp.path().join("in");
+    fs::create_dir_all(&dir).unwrap();
+    fs::create_dir_all(&elsewhere).unwrap();
+    let target = dir.join(o.name);
+    let input = input_path(k, o, how, &target, &elsewhere);
+    let (scene_path, bytes) = write_scene_and_input(k, &input);
+    let compare = compare_args(k, how, &input);
     match how {
         Placed::Itself => {}
         Placed::HardLink => fs::hard_link(&input, &target).unwrap(),

@@ -5,6 +5,8 @@ mod common;
 
 use common::cli::{s, texflow};
 
+use std::path::{Path, PathBuf};
+
 use texflow::sort::network::key_order_bits;
 
 #[test]
@@ -74,31 +76,37 @@ fn sort_writes_sorted_keys_and_the_permutation() {
     }
 }
 
+/// A .npy file of header dictionary `h` (padded to 64 bytes) and `data`.
+fn npy_dict(mut h: String, data: &[u8]) -> Vec<u8> {
+    while !(10 + h.len() + 1).is_multiple_of(64) {
+        h.push(' ');
+    }
+    h.push('\n');
+    let mut b = b"\x93NUMPY\x01\x00".to_vec();
+    b.extend_from_slice(&(h.len() as u16).to_le_bytes());
+    b.extend_from_slice(h.as_bytes());
+    b.extend_from_slice(data);
+    b
+}
+
+/// A .npy file of dtype `descr` and `shape` holding `data`.
+fn npy(descr: &str, shape: &str, data: &[u8]) -> Vec<u8> {
+    let h = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}");
+    npy_dict(h, data)
+}
+
+/// Writes `bytes` to `name` in `dir`.
+fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, bytes).unwrap();
+    p
+}
+
 #[test]
 fn bad_sort_input_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.npy");
-    let write = |name: &str, bytes: &[u8]| {
-        let p = dir.path().join(name);
-        std::fs::write(&p, bytes).unwrap();
-        p
-    };
-    let npy_dict = |mut h: String, data: &[u8]| {
-        while !(10 + h.len() + 1).is_multiple_of(64) {
-            h.push(' ');
-        }
-        h.push('\n');
-        let mut b = b"\x93NUMPY\x01\x00".to_vec();
-        b.extend_from_slice(&(h.len() as u16).to_le_bytes());
-        b.extend_from_slice(h.as_bytes());
-        b.extend_from_slice(data);
-        b
-    };
-    let npy = |descr: &str, shape: &str, data: &[u8]| {
-        let h = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}");
-        npy_dict(h, data)
-    };
-    let good = write("good.npy", &npy("<f4", "(2,)", &[0; 8]));
+    let write = |name: &str, bytes: &[u8]| write(dir.path(), name, bytes);
     let cases = [
         (dir.path().join("missing.npy"), "missing.npy"),
         (write("text.npy", b"1 2 3"), "not a .npy file"),
@@ -108,7 +116,7 @@ fn bad_sort_input_is_refused() {
         ),
         (write("empty.npy", &npy("<f4", "(0,)", &[])), "empty"),
         (write("2d.npy", &npy("<f4", "(1, 2)", &[0; 8])), "not 1-D"),
-        // Issue 13: a shape whose byte count overflows, and data of another length than the
+        // A shape whose byte count overflows, and data of another length than the
         // shape's, used to sort 0 or 3 keys and exit 0.
         (
             write("huge.npy", &npy("<f4", "(4611686018427387904,)", &[0; 12])),
@@ -145,6 +153,13 @@ fn bad_sort_input_is_refused() {
         assert!(err.contains(message), "expected `{message}` in: {err}");
         assert!(!out.exists());
     }
+}
+
+#[test]
+fn bad_sort_options_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.npy");
+    let good = write(dir.path(), "good.npy", &npy("<f4", "(2,)", &[0; 8]));
     let o = texflow(&[
         "sort",
         "--variant",

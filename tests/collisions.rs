@@ -6,7 +6,9 @@ mod common;
 
 use common::scene::{brute_counts, collide_scene, random_gas};
 use common::{context, no_gl_error};
-use texflow::report::collide_stats::Snapshot;
+use std::collections::{HashMap, HashSet};
+
+use texflow::report::collide_stats::{LatticeSnapshot, Snapshot};
 use texflow::scene;
 use texflow::sim::ParticleSim;
 
@@ -213,33 +215,32 @@ fn rows_only_sorting_finds_a_release_s_collisions() {
     );
 }
 
-/// collide-stats' attribution of misses against a brute-force classification of a small random
-/// gas: all pairs by brute force, each particle found in each lattice's layout by its position,
-/// and each missed pair classified in the layout of the lattice that could have found it.
-#[test]
-fn miss_causes_match_a_brute_force_classification() {
-    let ctx = context();
-    let s = collide_scene(
-        [32, 32],
-        "[collisions]\nradius = 0.03\nneighbours = 4\nbounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]",
-    );
-    let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
-    set(&mut sim, &random_gas(1024, 9, 0.0, 1.0));
-    sim.run(texflow::sim::Stage::Collide).unwrap();
-    let snap = Snapshot::read(sim.collisions().unwrap()).unwrap();
-    let stats = snap.stats();
-    no_gl_error(&ctx);
-    let lattices: Vec<_> = std::iter::once(&snap.first).chain(&snap.second).collect();
-    let at = |v: &[f32], i: usize| [v[i * 4], v[i * 4 + 1], v[i * 4 + 2]];
-    let bits = |p: [f32; 3]| p.map(f32::to_bits);
-    // Each particle's place in every layout, by position (the first layout names particles).
-    let place: Vec<std::collections::HashMap<[u32; 3], usize>> = lattices
-        .iter()
-        .map(|l| (0..1024).map(|i| (bits(at(&l.positions, i)), i)).collect())
-        .collect();
-    let a = &snap.first.positions;
-    let (w, k) = (32usize, 4usize);
-    let mut found = std::collections::HashSet::new();
+/// A particle's place in a layout: its position's bits.
+fn bits(p: [f32; 3]) -> [u32; 3] {
+    p.map(f32::to_bits)
+}
+
+/// Particle `i`'s position in RGBA texels `v`.
+fn at(v: &[f32], i: usize) -> [f32; 3] {
+    [v[i * 4], v[i * 4 + 1], v[i * 4 + 2]]
+}
+
+/// The cell of lattice `l` that holds `p` (clamped to the lattice).
+fn lattice_cell(l: &texflow::sim::collide::Lattice, p: [f32; 3]) -> Vec<u32> {
+    (0..3)
+        .map(|d| {
+            let v = ((p[d] - l.origin[d]) / l.spacing).floor();
+            v.clamp(0.0, (l.dims[d] - 1) as f32) as u32
+        })
+        .collect()
+}
+
+/// The pairs the lattices found, named by the first layout's indices (smaller first).
+fn found_pairs(
+    lattices: &[&LatticeSnapshot],
+    place: &[HashMap<[u32; 3], usize>],
+) -> HashSet<(usize, usize)> {
+    let mut found = HashSet::new();
     for (g, l) in lattices.iter().enumerate() {
         for i in 0..1024 {
             let raw = l.partners[i * 4 + 3];
@@ -251,15 +252,19 @@ fn miss_causes_match_a_brute_force_classification() {
             }
         }
     }
-    let cell = |l: &texflow::sim::collide::Lattice, p: [f32; 3]| {
-        let c: Vec<u32> = (0..3)
-            .map(|d| {
-                let v = ((p[d] - l.origin[d]) / l.spacing).floor();
-                v.clamp(0.0, (l.dims[d] - 1) as f32) as u32
-            })
-            .collect();
-        c
-    };
+    found
+}
+
+/// Every overlapping pair (by brute force) and the cause of each one missed, in the layout of
+/// the lattice that could have found it: adjacent cells, other row, far along the row, a closer
+/// partner.
+fn brute_force_causes(
+    lattices: &[&LatticeSnapshot],
+    place: &[HashMap<[u32; 3], usize>],
+    found: &HashSet<(usize, usize)>,
+) -> ([usize; 4], usize) {
+    let a = &lattices[0].positions;
+    let (w, k) = (32usize, 4usize);
     let mut causes = [0usize; 4]; // adjacent, other row, far, closer
     let mut pairs = 0;
     for i in 0..1024 {
@@ -280,9 +285,9 @@ fn miss_causes_match_a_brute_force_classification() {
                 .any(|&(x, y)| x / w == y / w && x.abs_diff(y) <= k)
             {
                 causes[3] += 1;
-            } else if let Some(g) = (0..lattices.len())
-                .find(|&g| cell(&lattices[g].lattice, p) == cell(&lattices[g].lattice, q))
-            {
+            } else if let Some(g) = (0..lattices.len()).find(|&g| {
+                lattice_cell(&lattices[g].lattice, p) == lattice_cell(&lattices[g].lattice, q)
+            }) {
                 let (x, y) = idx[g];
                 causes[if x / w != y / w { 1 } else { 2 }] += 1;
             } else {
@@ -290,6 +295,33 @@ fn miss_causes_match_a_brute_force_classification() {
             }
         }
     }
+    (causes, pairs)
+}
+
+/// collide-stats' attribution of misses against a brute-force classification of a small random
+/// gas: all pairs by brute force, each particle found in each lattice's layout by its position,
+/// and each missed pair classified in the layout of the lattice that could have found it.
+#[test]
+fn miss_causes_match_a_brute_force_classification() {
+    let ctx = context();
+    let s = collide_scene(
+        [32, 32],
+        "[collisions]\nradius = 0.03\nneighbours = 4\nbounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]",
+    );
+    let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+    set(&mut sim, &random_gas(1024, 9, 0.0, 1.0));
+    sim.run(texflow::sim::Stage::Collide).unwrap();
+    let snap = Snapshot::read(sim.collisions().unwrap()).unwrap();
+    let stats = snap.stats();
+    no_gl_error(&ctx);
+    let lattices: Vec<_> = std::iter::once(&snap.first).chain(&snap.second).collect();
+    // Each particle's place in every layout, by position (the first layout names particles).
+    let place: Vec<HashMap<[u32; 3], usize>> = lattices
+        .iter()
+        .map(|l| (0..1024).map(|i| (bits(at(&l.positions, i)), i)).collect())
+        .collect();
+    let found = found_pairs(&lattices, &place);
+    let (causes, pairs) = brute_force_causes(&lattices, &place, &found);
     eprintln!("{pairs} pairs; brute-force causes {causes:?}; {stats:?}");
     assert_eq!(stats.pairs_true, pairs);
     assert!(

@@ -1,12 +1,17 @@
 //! The layout promised in docs/architecture.md, checked on the source itself (no GPU):
 //! layers one way (`gl ← scene ← sim, sort, render ← engine ← bench, report ← cli`), no import
 //! cycle between modules, no GL call outside `src/gl/`, no attachment picked by index above it,
-//! no file over 600 lines nor function over 100, and a pipeline of fragment passes only (no
-//! compute shaders, storage buffers, image stores or transform feedback).
+//! no file over 600 lines (tests included) nor function over 80 (100 in the CLI), and a pipeline
+//! of fragment passes only (no compute shaders, storage buffers, image stores or transform
+//! feedback). The scanners are in `tests/scan/`.
+
+mod scan;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
 use std::path::{Path, PathBuf};
+
+use scan::*;
 
 /// Each top-level module's layer; a module may import its own layer's peers (acyclically) and
 /// anything below. `error`, `input`, `npy` and `output` are plain utilities every layer may use.
@@ -20,90 +25,6 @@ fn layer(module: &str) -> Option<u32> {
         "bench" | "report" | "trace" => 5,
         _ => return None,
     })
-}
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    for e in fs::read_dir(dir).unwrap() {
-        let p = e.unwrap().path();
-        if p.is_dir() {
-            rust_files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "rs") {
-            out.push(p);
-        }
-    }
-}
-
-fn src() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("src")
-}
-
-/// The library's files (the CLI, `src/cli/` and `src/main.rs`, sits on top and is left out).
-fn library_files() -> Vec<(PathBuf, Vec<String>)> {
-    let mut files = Vec::new();
-    rust_files(&src(), &mut files);
-    files.sort();
-    files
-        .into_iter()
-        .filter_map(|p| {
-            let rel: Vec<String> = p
-                .strip_prefix(src())
-                .unwrap()
-                .with_extension("")
-                .iter()
-                .map(|c| c.to_string_lossy().into_owned())
-                .collect();
-            (rel[0] != "cli" && rel[0] != "main" && rel[0] != "lib").then_some((p, rel))
-        })
-        .collect()
-}
-
-/// Code without comments: `//` to the end of the line (doc links may name any module).
-fn code(text: &str) -> String {
-    text.lines()
-        .map(|l| match l.find("//") {
-            Some(i) if !l[..i].contains('"') => &l[..i],
-            _ => l,
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
-}
-
-/// The modules a file names through `crate::a::b` (also inside `use crate::{a::b, c}`), as
-/// `a` and `a::b`.
-fn referenced(code: &str) -> BTreeSet<(String, Option<String>)> {
-    let mut out = BTreeSet::new();
-    let ident = |s: &str| -> String {
-        s.chars()
-            .take_while(|c| c.is_alphanumeric() || *c == '_')
-            .collect()
-    };
-    let mut rest = code;
-    while let Some(i) = rest.find("crate::") {
-        let after = &rest[i + 7..];
-        if let Some(group) = after.strip_prefix('{') {
-            let end = group.find('}').unwrap_or(group.len());
-            for part in group[..end].split(',') {
-                let part = part.trim();
-                let a = ident(part);
-                let b = part
-                    .strip_prefix(&format!("{a}::"))
-                    .map(ident)
-                    .filter(|b| !b.is_empty() && b.chars().next().unwrap().is_lowercase());
-                if !a.is_empty() && a != "self" {
-                    out.insert((a, b));
-                }
-            }
-        } else {
-            let a = ident(after);
-            let b = after
-                .strip_prefix(&format!("{a}::"))
-                .map(ident)
-                .filter(|b| !b.is_empty() && b.chars().next().unwrap().is_lowercase());
-            out.insert((a, b));
-        }
-        rest = &rest[i + 7..];
-    }
-    out
 }
 
 #[test]
@@ -212,32 +133,6 @@ fn no_gl_call_outside_the_gl_layer() {
     );
 }
 
-/// Where `code` reaches a framebuffer's attachment by position rather than by handle: a literal
-/// index to `texture(` or `back_single(`, or the attachment list indexed (`textures()[`,
-/// `textures().first()`, `.last()`, `.get(`). Whitespace inside the call is ignored.
-fn attachment_indices(code: &str) -> Vec<String> {
-    let squeezed: String = code.chars().filter(|c| !c.is_whitespace()).collect();
-    let mut found = Vec::new();
-    for call in [".texture(", ".back_single("] {
-        for (i, _) in squeezed.match_indices(call) {
-            let arg = &squeezed[i + call.len()..];
-            if arg.starts_with(|c: char| c.is_ascii_digit()) {
-                let end = arg.find(')').unwrap_or(arg.len());
-                found.push(format!("{call}{})", &arg[..end]));
-            }
-        }
-    }
-    for indexed in [
-        ".textures()[",
-        ".textures().first()",
-        ".textures().last()",
-        ".textures().get(",
-    ] {
-        found.extend(squeezed.matches(indexed).map(str::to_owned));
-    }
-    found
-}
-
 /// Files above `src/gl/` allowed to pick attachments by position: none. Every framebuffer above
 /// the gl layer is reached through handles (`gl::Attachment`, `Framebuffer::only_texture`). A
 /// listed file must still have such a use, and no other file may have one.
@@ -294,8 +189,12 @@ fn the_attachment_index_scanner_finds_indices_not_handles() {
 
 #[test]
 fn no_source_file_over_600_lines() {
+    // The tests too: each integration test file is split by topic, its helpers in tests/common/.
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut files = Vec::new();
     rust_files(&src(), &mut files);
+    rust_files(&manifest.join("tests"), &mut files);
+    files.sort();
     let long: Vec<String> = files
         .iter()
         .filter_map(|p| {
@@ -376,344 +275,6 @@ fn the_scanner_finds_what_it_looks_for() {
     assert!(layer("engine") > layer("sim"));
 }
 
-/// The text with comments, string and character literals blanked to spaces (newlines kept), so
-/// that braces and paths are counted only where they are code. Rough: raw strings with `#`s,
-/// escapes and lifetimes are handled; nothing else of Rust's lexer is.
-fn blank_literals(text: &str) -> String {
-    let c: Vec<char> = text.chars().collect();
-    let mut out = String::with_capacity(text.len());
-    let blank = |ch: char| if ch == '\n' { '\n' } else { ' ' };
-    let mut i = 0;
-    while i < c.len() {
-        let at = |k: usize| c.get(k).copied().unwrap_or('\0');
-        if c[i] == '/' && at(i + 1) == '/' {
-            while i < c.len() && c[i] != '\n' {
-                out.push(' ');
-                i += 1;
-            }
-        } else if c[i] == '/' && at(i + 1) == '*' {
-            let mut depth = 0;
-            loop {
-                if i >= c.len() {
-                    break;
-                }
-                if c[i] == '/' && at(i + 1) == '*' {
-                    depth += 1;
-                    out.push_str("  ");
-                    i += 2;
-                } else if c[i] == '*' && at(i + 1) == '/' {
-                    depth -= 1;
-                    out.push_str("  ");
-                    i += 2;
-                    if depth == 0 {
-                        break;
-                    }
-                } else {
-                    out.push(blank(c[i]));
-                    i += 1;
-                }
-            }
-        } else if c[i] == 'r'
-            && (at(i + 1) == '"' || (at(i + 1) == '#' && at(i + 2) != '['))
-            && !(i > 0 && (c[i - 1].is_alphanumeric() || c[i - 1] == '_'))
-        {
-            let mut j = i + 1;
-            let mut hashes = 0;
-            while at(j) == '#' {
-                hashes += 1;
-                j += 1;
-            }
-            if at(j) != '"' {
-                out.push(c[i]);
-                i += 1;
-                continue;
-            }
-            let close: String = std::iter::once('"')
-                .chain(std::iter::repeat_n('#', hashes))
-                .collect();
-            let rest: String = c[j + 1..].iter().collect();
-            let len = rest
-                .find(&close)
-                .map_or(rest.len(), |k| rest[..k].chars().count());
-            let end = (j + 1 + len + 1 + hashes).min(c.len());
-            for &ch in &c[i..end] {
-                out.push(blank(ch));
-            }
-            i = end;
-        } else if c[i] == '"' {
-            out.push(' ');
-            i += 1;
-            while i < c.len() && c[i] != '"' {
-                if c[i] == '\\' {
-                    out.push(' ');
-                    i += 1;
-                }
-                if i < c.len() {
-                    out.push(blank(c[i]));
-                    i += 1;
-                }
-            }
-            out.push(' ');
-            i += 1;
-        } else if c[i] == '\'' && (at(i + 1) == '\\' || at(i + 2) == '\'') {
-            // A character literal ('{', '\n', '\u{7f}'), not a lifetime.
-            let mut j = i + 1;
-            if at(j) == '\\' {
-                j += 2;
-            } else {
-                j += 1;
-            }
-            while j < c.len() && c[j] != '\'' {
-                j += 1;
-            }
-            for _ in i..=j.min(c.len() - 1) {
-                out.push(' ');
-            }
-            i = j + 1;
-        } else {
-            out.push(c[i]);
-            i += 1;
-        }
-    }
-    out
-}
-
-/// The code of a file without its test modules (`#[cfg(test)] mod x { ... }` or `mod x;`).
-fn without_tests(code: &str) -> String {
-    let mut out = code.to_owned();
-    while let Some(i) = out.find("#[cfg(test)]") {
-        let after = &out[i..];
-        let Some(m) = after.find("mod ") else { break };
-        let body = &after[m..];
-        let end = match (body.find('{'), body.find(';')) {
-            (Some(b), s) if s.is_none_or(|s| b < s) => {
-                let mut depth = 0;
-                let mut end = body.len();
-                for (k, ch) in body.char_indices().skip(b) {
-                    depth += match ch {
-                        '{' => 1,
-                        '}' => -1,
-                        _ => 0,
-                    };
-                    if depth == 0 {
-                        end = k + 1;
-                        break;
-                    }
-                }
-                end
-            }
-            (_, Some(s)) => s + 1,
-            _ => body.len(),
-        };
-        out.replace_range(i..i + m + end, "");
-    }
-    out
-}
-
-/// Every Rust file under `src/` (library and CLI) as its module path (`["report", "stability",
-/// "extremes"]`; a folder's `mod.rs` is the folder) and its code without comments, literals and
-/// test modules. The crate roots (`lib.rs`, `main.rs`) are left out.
-fn modules() -> Vec<(Vec<String>, String)> {
-    let mut files = Vec::new();
-    rust_files(&src(), &mut files);
-    files.sort();
-    files
-        .into_iter()
-        .filter_map(|p| {
-            let mut rel: Vec<String> = p
-                .strip_prefix(src())
-                .unwrap()
-                .with_extension("")
-                .iter()
-                .map(|c| c.to_string_lossy().into_owned())
-                .collect();
-            if rel.last().is_some_and(|l| l == "mod") {
-                rel.pop();
-            }
-            let root = rel.len() == 1 && (rel[0] == "lib" || rel[0] == "main");
-            let code = without_tests(&blank_literals(&fs::read_to_string(&p).unwrap()));
-            (!root).then_some((rel, code))
-        })
-        .collect()
-}
-
-/// The paths a module's code names from `crate::`, `super::` and `self::` (use trees expanded),
-/// as absolute module paths (`["scene", "sources", "builtin_mesh"]`; `[]` is the crate root).
-fn paths_named(me: &[String], code: &str) -> Vec<Vec<String>> {
-    fn ident(s: &str) -> &str {
-        let n = s
-            .find(|c: char| !(c.is_alphanumeric() || c == '_'))
-            .unwrap_or(s.len());
-        &s[..n]
-    }
-    // `rest` starts after `prefix::`; expands `a::b`, `a::{b, c::d}`, `a::*`.
-    fn tree(prefix: Vec<String>, rest: &str, out: &mut Vec<Vec<String>>) {
-        let rest = rest.trim_start();
-        if let Some(group) = rest.strip_prefix('{') {
-            let mut depth = 0;
-            let mut start = 0;
-            for (k, ch) in group.char_indices() {
-                match ch {
-                    '{' => depth += 1,
-                    '}' if depth == 0 => {
-                        tree(prefix.clone(), &group[start..k], out);
-                        return;
-                    }
-                    '}' => depth -= 1,
-                    ',' if depth == 0 => {
-                        tree(prefix.clone(), &group[start..k], out);
-                        start = k + 1;
-                    }
-                    _ => {}
-                }
-            }
-            return;
-        }
-        let id = ident(rest);
-        if id.is_empty() || id == "self" {
-            out.push(prefix);
-            return;
-        }
-        let mut p = prefix;
-        p.push(id.to_owned());
-        match rest[id.len()..].trim_start().strip_prefix("::") {
-            Some(more) => tree(p, more, out),
-            None => out.push(p),
-        }
-    }
-    let mut out = Vec::new();
-    let bytes = code.as_bytes();
-    for start in ["crate::", "super::", "self::"] {
-        for (i, _) in code.match_indices(start) {
-            if i > 0
-                && (bytes[i - 1].is_ascii_alphanumeric()
-                    || bytes[i - 1] == b'_'
-                    || bytes[i - 1] == b':')
-            {
-                continue;
-            }
-            // The module `self` is: the file's module; `super` climbs from there.
-            let mut base: Vec<String> = match start {
-                "crate::" => Vec::new(),
-                _ => me.to_vec(),
-            };
-            let mut rest = &code[i + start.len()..];
-            if start == "super::" {
-                base.pop();
-                while let Some(r) = rest.strip_prefix("super::") {
-                    base.pop();
-                    rest = r;
-                }
-            }
-            tree(base, rest, &mut out);
-        }
-    }
-    out
-}
-
-/// Edges between modules that are siblings (children of one folder, at any depth): a file's
-/// reference to another module counts between the two children of their deepest common folder,
-/// so `report/stability/extremes.rs` naming `report::stability::sort_cases` is an edge
-/// `extremes -> sort_cases`, and naming `report::convergence` is `stability -> convergence`.
-/// References to a module's own ancestors or descendants (a folder and its files) are not edges.
-fn sibling_edges() -> BTreeMap<String, BTreeSet<String>> {
-    let mut edges: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
-    for (me, refs) in references() {
-        for (_, target) in refs {
-            let common = me.iter().zip(&target).take_while(|(a, b)| a == b).count();
-            if common < me.len() && common < target.len() {
-                edges
-                    .entry(me[..=common].join("::"))
-                    .or_default()
-                    .insert(target[..=common].join("::"));
-            }
-        }
-    }
-    edges
-}
-
-/// Each module with the paths it names, each beside the module it resolves into: the longest
-/// prefix that is a module (`[]`, the crate root, when none is).
-#[allow(clippy::type_complexity)]
-fn references() -> Vec<(Vec<String>, Vec<(Vec<String>, Vec<String>)>)> {
-    let mods = modules();
-    let known: BTreeSet<Vec<String>> = mods.iter().map(|(m, _)| m.clone()).collect();
-    mods.iter()
-        .map(|(me, code)| {
-            let refs = paths_named(me, code)
-                .into_iter()
-                .map(|path| {
-                    let owner = (0..=path.len())
-                        .rev()
-                        .map(|n| path[..n].to_vec())
-                        .find(|p| known.contains(p))
-                        .unwrap_or_default();
-                    (path, owner)
-                })
-                .collect();
-            (me.clone(), refs)
-        })
-        .collect()
-}
-
-/// The strongly connected components with more than one node (Tarjan's algorithm).
-fn cycles(edges: &BTreeMap<String, BTreeSet<String>>) -> Vec<Vec<String>> {
-    struct T<'a> {
-        edges: &'a BTreeMap<String, BTreeSet<String>>,
-        index: BTreeMap<String, usize>,
-        low: BTreeMap<String, usize>,
-        stack: Vec<String>,
-        on: BTreeSet<String>,
-        out: Vec<Vec<String>>,
-    }
-    fn go(t: &mut T, v: &str) {
-        let n = t.index.len();
-        t.index.insert(v.to_owned(), n);
-        t.low.insert(v.to_owned(), n);
-        t.stack.push(v.to_owned());
-        t.on.insert(v.to_owned());
-        for w in t.edges.get(v).into_iter().flatten() {
-            if !t.index.contains_key(w) {
-                go(t, w);
-                let l = t.low[v].min(t.low[w]);
-                t.low.insert(v.to_owned(), l);
-            } else if t.on.contains(w) {
-                let l = t.low[v].min(t.index[w]);
-                t.low.insert(v.to_owned(), l);
-            }
-        }
-        if t.low[v] == t.index[v] {
-            let mut scc = Vec::new();
-            loop {
-                let w = t.stack.pop().unwrap();
-                t.on.remove(&w);
-                scc.push(w.clone());
-                if w == v {
-                    break;
-                }
-            }
-            if scc.len() > 1 {
-                scc.sort();
-                t.out.push(scc);
-            }
-        }
-    }
-    let mut t = T {
-        edges,
-        index: BTreeMap::new(),
-        low: BTreeMap::new(),
-        stack: Vec::new(),
-        on: BTreeSet::new(),
-        out: Vec::new(),
-    };
-    for v in edges.keys() {
-        if !t.index.contains_key(v) {
-            go(&mut t, v);
-        }
-    }
-    t.out
-}
-
 #[test]
 fn no_import_cycle_between_the_files_of_a_folder() {
     let found = cycles(&sibling_edges());
@@ -787,78 +348,36 @@ fn the_module_scanner_resolves_paths_and_finds_cycles() {
     );
 }
 
-/// Every function under `src/` with a body: (file, name, lines from the `fn` line to the line of
-/// its closing brace). Braces are matched on the code with comments and literals blanked.
-fn function_lengths() -> Vec<(String, String, usize)> {
-    let mut files = Vec::new();
-    rust_files(&src(), &mut files);
-    files.sort();
-    let mut out = Vec::new();
-    for p in files {
-        let code = blank_literals(&fs::read_to_string(&p).unwrap());
-        let rel = p.strip_prefix(src()).unwrap().display().to_string();
-        let b = code.as_bytes();
-        for (i, _) in code.match_indices("fn ") {
-            let word_start = i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_');
-            let name: String = code[i + 3..]
-                .chars()
-                .take_while(|c| c.is_alphanumeric() || *c == '_')
-                .collect();
-            if !word_start || name.is_empty() {
-                continue;
-            }
-            // The body opens at the first `{` before any `;` (a declaration has none).
-            let rest = &code[i..];
-            let Some(open) = rest
-                .find(['{', ';'])
-                .filter(|&k| rest.as_bytes()[k] == b'{')
-            else {
-                continue;
-            };
-            let mut depth = 0i32;
-            let mut close = None;
-            for (k, ch) in rest[open..].char_indices() {
-                depth += match ch {
-                    '{' => 1,
-                    '}' => -1,
-                    _ => 0,
-                };
-                if depth == 0 {
-                    close = Some(open + k);
-                    break;
-                }
-            }
-            let Some(close) = close else { continue };
-            let lines = rest[..close].matches('\n').count() + 1;
-            out.push((rel.clone(), name, lines));
+#[test]
+fn no_function_over_its_line_limit() {
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut long = Vec::new();
+    for root in ["src", "tests"] {
+        let all = function_lengths(&manifest.join(root));
+        for limit in [60, 80, 100] {
+            let n = all.iter().filter(|f| f.2 > limit).count();
+            eprintln!("{root}: functions over {limit} lines: {n}");
         }
+        let mut over: Vec<_> = all
+            .iter()
+            .filter(|(f, _, l)| *l > line_limit(root, f))
+            .map(|(f, n, l)| format!("{root}/{f}: fn {n} ({l} lines)"))
+            .collect();
+        over.sort();
+        long.extend(over);
     }
-    out
+    assert!(
+        long.is_empty(),
+        "functions over their limit (100 lines in src/cli, 80 elsewhere):\n{}",
+        long.join("\n")
+    );
 }
 
 #[test]
-fn no_function_over_100_lines() {
-    let all = function_lengths();
-    for limit in [60, 80, 100] {
-        let n = all.iter().filter(|f| f.2 > limit).count();
-        eprintln!("functions over {limit} lines: {n}");
-    }
-    // The longest, to split next (shown with --nocapture).
-    let mut longest: Vec<_> = all.iter().filter(|f| f.2 > 80).collect();
-    longest.sort_by_key(|f| std::cmp::Reverse(f.2));
-    for (f, n, l) in longest {
-        eprintln!("  src/{f}: fn {n} ({l} lines)");
-    }
-    let long: Vec<String> = all
-        .iter()
-        .filter(|f| f.2 > 100)
-        .map(|(f, n, l)| format!("src/{f}: fn {n} ({l} lines)"))
-        .collect();
-    assert!(
-        long.is_empty(),
-        "functions over 100 lines:\n{}",
-        long.join("\n")
-    );
+fn the_function_counter_reads_signatures_with_brackets() {
+    let sig = "fn f(a: [u32; 2]) -> [f32; 4] {\n    x\n}\nfn g(&self);\n";
+    assert_eq!(body_open(sig), Some(sig.find('{').unwrap()));
+    assert_eq!(body_open("fn g(&self);\nfn h() {}"), None);
 }
 
 #[test]

@@ -197,47 +197,7 @@ pub fn trace_scene(
         scene.name
     );
     if scene.fire.is_some() {
-        let mut e = GpuEngine::<FireSim>::new(ctx, scene, seed)?;
-        for _ in 0..=frame {
-            e.advance_frame()?;
-        }
-        {
-            let sim = e.sim();
-            let size = size_of(sim.positions());
-            let p = sim.positions().read_f32()?;
-            let v = sim.velocities().read_f32()?;
-            let shots = vec![
-                r.positions("position", &p, size),
-                ramp_shot(
-                    "velocity",
-                    &speeds(&v, &p),
-                    size,
-                    "speed |v| of live particles",
-                ),
-            ];
-            r.pass(
-                &format!(
-                    "fire: physics, respawn in alpha (`glsl/sim/fire.frag`, × {} substep(s); the \
-                     state after the last)",
-                    scene.time.substeps
-                ),
-                "thesis §3.4, Listing 1-2",
-                "front: position (xyz, life), velocity (xyz, wait)",
-                "back: position, velocity (MRT), then swap",
-                shots,
-            )?;
-            let img = e.render()?;
-            r.pass(
-                &format!(
-                    "{} (`glsl/render/particle.vert`, `.frag` with the fire's ramp)",
-                    e.renderer().pass_names().join(", ")
-                ),
-                "thesis Listing 3",
-                "position, velocity (vertex texture fetch)",
-                "the frame (RGBA8), read back",
-                vec![frame_shot(img)],
-            )?;
-        }
+        trace_fire(ctx, scene, seed, frame, &mut r)?;
     } else {
         let mut e = ParticleEngine::new(ctx, scene, seed)?;
         for _ in 0..frame {
@@ -254,6 +214,58 @@ pub fn trace_scene(
         passes: r.passes,
         ok: true,
     })
+}
+
+/// Frames 0 to `frame` of a fire scene, then its two passes (physics, drawing) with their outputs.
+fn trace_fire(
+    ctx: &Context,
+    scene: &SceneFile,
+    seed: u64,
+    frame: u64,
+    r: &mut Recorder<'_>,
+) -> Result<()> {
+    let mut e = GpuEngine::<FireSim>::new(ctx, scene, seed)?;
+    for _ in 0..=frame {
+        e.advance_frame()?;
+    }
+    {
+        let sim = e.sim();
+        let size = size_of(sim.positions());
+        let p = sim.positions().read_f32()?;
+        let v = sim.velocities().read_f32()?;
+        let shots = vec![
+            r.positions("position", &p, size),
+            ramp_shot(
+                "velocity",
+                &speeds(&v, &p),
+                size,
+                "speed |v| of live particles",
+            ),
+        ];
+        r.pass(
+            &format!(
+                "fire: physics, respawn in alpha (`glsl/sim/fire.frag`, × {} substep(s); the \
+                 state after the last)",
+                scene.time.substeps
+            ),
+            "thesis §3.4, Listing 1-2",
+            "front: position (xyz, life), velocity (xyz, wait)",
+            "back: position, velocity (MRT), then swap",
+            shots,
+        )?;
+        let img = e.render()?;
+        r.pass(
+            &format!(
+                "{} (`glsl/render/particle.vert`, `.frag` with the fire's ramp)",
+                e.renderer().pass_names().join(", ")
+            ),
+            "thesis Listing 3",
+            "position, velocity (vertex texture fetch)",
+            "the frame (RGBA8), read back",
+            vec![frame_shot(img)],
+        )?;
+    }
+    Ok(())
 }
 
 /// The state outputs of a simulation pass: positions, and velocities (or Verlet's implied ones).

@@ -1,4 +1,5 @@
-//! Helpers shared by the tests, each written once: `cli` runs the built binary, `scene` writes
+//! Helpers shared by the tests, each written once: `cli` runs the built binary (`bad_input` with
+//! a hang guard), `scene` writes
 //! scenes, random states and their CPU references, `image` probes and counts pixels; the GPU
 //! tests' context and state are here. Every GPU test makes its own context on its own thread (GL
 //! contexts are bound to a thread) and ends with `no_gl_error`.
@@ -10,6 +11,7 @@
 
 #![allow(dead_code)]
 
+pub mod bad_input;
 pub mod cli;
 pub mod image;
 pub mod scene;

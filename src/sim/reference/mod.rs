@@ -5,10 +5,10 @@
 //! # Why it exists
 //!
 //! The GPU pass is the thing the project is about, and it cannot be stepped through or printed.
-//! This twin lets tests (tests/forces_colliders.rs) put particles exactly where a branch of the
-//! shader fires (a particle hitting a sphere during the step, one caught inside a box, one slower
-//! than `slow_speed`, one crossing the height field) and check the GPU's result against an
-//! independent, readable evaluation of the same formulas. Both sides do the same `f32`
+//! This twin lets tests (tests/forces.rs, tests/colliders.rs) put particles exactly where a
+//! branch of the shader fires (a particle hitting a sphere during the step, one caught inside a
+//! box, one slower than `slow_speed`, one crossing the height field) and check the GPU's result
+//! against an independent, readable evaluation of the same formulas. Both sides do the same `f32`
 //! arithmetic, so they agree up to rounding (the GPU may fuse multiply-adds, divide through a
 //! reciprocal and normalise with a reciprocal square root): any difference beyond a few ulps per
 //! operation is a bug on one side.
@@ -36,7 +36,7 @@
 //! specified), and the fire scene.
 //!
 //! Keep this file in step with the GLSL: a change to one without the other fails
-//! tests/forces_colliders.rs.
+//! tests/forces.rs and tests/colliders.rs.
 
 mod colliders;
 pub mod constraints;

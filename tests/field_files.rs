@@ -337,55 +337,15 @@ fn fields_from_files_are_the_same_with_and_without_set() {
         let plain = scene::parse(label, &src).unwrap();
         let with = scene::parse_with(label, &src, std::slice::from_ref(&set)).unwrap();
         assert_eq!(with.render.point_size, 3.0, "{name}");
-        let fields = |s: &scene::SceneFile| {
-            let c = &s.colliders;
-            (
-                s.forces
-                    .wind
-                    .iter()
-                    .map(|w| w.data.clone())
-                    .collect::<Vec<_>>(),
-                c.heightfield
-                    .iter()
-                    .map(|h| h.heights.clone())
-                    .collect::<Vec<_>>(),
-                c.sdf
-                    .iter()
-                    .map(|d| d.distances.clone())
-                    .collect::<Vec<_>>(),
-            )
-        };
-        let f = fields(&with);
+        let f = loaded_fields(&with);
         assert!(
             f.0.iter().chain(&f.1).chain(&f.2).all(Option::is_some),
             "{name}: a field was not read with --set"
         );
-        assert_eq!(f, fields(&plain), "{name}");
+        assert_eq!(f, loaded_fields(&plain), "{name}");
         // The commands, run from another folder.
-        let run = |extra: &[&str], out: &str| {
-            let (frames, dumps) = (dir.path().join(out), dir.path().join(format!("{out}-d")));
-            let mut args = vec!["render", label, "--frames", "3", "--quiet", "--out"];
-            args.extend([
-                common::cli::s(&frames),
-                "--dump-state",
-                common::cli::s(&dumps),
-            ]);
-            args.extend(extra);
-            let o = common::cli::command()
-                .args(&args)
-                .current_dir("/")
-                .output()
-                .unwrap();
-            assert_eq!(
-                o.status.code(),
-                Some(0),
-                "{name}: {}",
-                common::cli::stderr(&o)
-            );
-            std::fs::read(dumps.join("positions_00002.npy")).unwrap()
-        };
-        let a = run(&[], &format!("{name}-plain"));
-        let b = run(&["--set", &set], &format!("{name}-set"));
+        let a = render_dump(dir.path(), label, &[], &format!("{name}-plain"));
+        let b = render_dump(dir.path(), label, &["--set", &set], &format!("{name}-set"));
         assert!(a == b, "{name}: the state differs with --set {set}");
         let trace = dir.path().join(format!("{name}-trace"));
         for args in [
@@ -408,6 +368,47 @@ fn fields_from_files_are_the_same_with_and_without_set() {
             assert_eq!(o.status.code(), Some(0), "{name} {args:?}: {err}");
         }
     }
+}
+
+/// The field data a parsed scene holds: wind, height and distance fields, in order.
+type LoadedFields = (
+    Vec<Option<scene::FieldData>>,
+    Vec<Option<scene::FieldData>>,
+    Vec<Option<scene::FieldData>>,
+);
+
+fn loaded_fields(s: &scene::SceneFile) -> LoadedFields {
+    let c = &s.colliders;
+    (
+        s.forces.wind.iter().map(|w| w.data.clone()).collect(),
+        c.heightfield.iter().map(|h| h.heights.clone()).collect(),
+        c.sdf.iter().map(|d| d.distances.clone()).collect(),
+    )
+}
+
+/// `render SCENE --frames 3` run from another folder with `extra` options, its frames and
+/// dumps under `dir/out`; the positions dumped at frame 2.
+fn render_dump(dir: &std::path::Path, label: &str, extra: &[&str], out: &str) -> Vec<u8> {
+    let (frames, dumps) = (dir.join(out), dir.join(format!("{out}-d")));
+    let mut args = vec!["render", label, "--frames", "3", "--quiet", "--out"];
+    args.extend([
+        common::cli::s(&frames),
+        "--dump-state",
+        common::cli::s(&dumps),
+    ]);
+    args.extend(extra);
+    let o = common::cli::command()
+        .args(&args)
+        .current_dir("/")
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{out}: {}",
+        common::cli::stderr(&o)
+    );
+    std::fs::read(dumps.join("positions_00002.npy")).unwrap()
 }
 
 /// A sphere's distance field read from a file collides as the same sphere given analytically

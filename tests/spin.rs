@@ -246,6 +246,23 @@ resilience = 0.0
             "ball {i}: angle {angle}"
         );
     }
+    check_rolling(&starts, &history, Incline { theta, g, mu, dt });
+    no_gl_error(&ctx);
+}
+
+/// The incline of [`balls_on_an_incline_roll_without_slipping`].
+struct Incline {
+    theta: f32,
+    g: f32,
+    mu: f32,
+    dt: f32,
+}
+
+/// Each ball against the closed form (the slip phase, then rolling): ω r = v, the speed, and
+/// the acceleration over the last 0.3 s. `history` holds (v, ω r) per step and ball.
+fn check_rolling(starts: &[(f32, f32)], history: &[Vec<(f32, f32)>], incline: Incline) {
+    let Incline { theta, g, mu, dt } = incline;
+    let steps = history.len();
     let t = steps as f32 * dt;
     let rolling_a = 5.0 / 7.0 * g * theta.sin();
     for (i, &(v0, wr0)) in starts.iter().enumerate() {
@@ -281,7 +298,6 @@ resilience = 0.0
             "ball {i}: a = {a} against {rolling_a}"
         );
     }
-    no_gl_error(&ctx);
 }
 
 /// Draws one snowflake sprite (tile 1, random number 0.1, permanent, born at 0) at the origin

@@ -57,36 +57,9 @@ impl CpuSim {
     /// The state of `scene` at step 0, as `ParticleSim::new` draws it for the same `seed` (the
     /// seed is folded with [`crate::engine::shader_seed`], as the GPU engine does).
     pub fn new(scene: &SceneFile, seed: u64) -> Result<Self> {
-        if scene.fire.is_some() {
-            return Err(unsupported(scene, "the thesis's fire"));
-        }
         scene.check()?;
         let features = Features::of(scene);
-        if scene.integrator == Integrator::Verlet {
-            return Err(unsupported(scene, "Verlet integration"));
-        }
-        if scene.simulation == crate::scene::Simulation::Stateless {
-            return Err(unsupported(scene, "the stateless simulation"));
-        }
-        if scene.particles.precision == Precision::Fp24 {
-            return Err(unsupported(scene, "fp24 precision"));
-        }
-        if scene.collisions.is_some() {
-            return Err(unsupported(scene, "collisions between particles"));
-        }
-        if features.emitter_forces {
-            return Err(unsupported(
-                scene,
-                "forces per emitter ([[emitters.*.forces.*]]): give them in [[forces.*]], \
-                 or run the scene on the GPU engine",
-            ));
-        }
-        if !scene.emitters.child.is_empty() {
-            return Err(unsupported(scene, "child emitters"));
-        }
-        if scene.emitters.all().any(|e| !e.bursts.is_empty()) {
-            return Err(unsupported(scene, "bursts"));
-        }
+        refuse_unsupported(scene, &features)?;
         let birth = match features.emission {
             Emission::Timestamp => Birth::Timestamp,
             Emission::Initial { .. } => Birth::Initial,
@@ -316,4 +289,37 @@ impl Physics {
 
 pub(super) fn live(p: Vec4) -> bool {
     crate::sim::particle_live(p.to_array())
+}
+
+/// What the CPU engine does not twin, refused with a message that names it (before any work).
+fn refuse_unsupported(scene: &SceneFile, features: &Features) -> Result<()> {
+    if scene.fire.is_some() {
+        return Err(unsupported(scene, "the thesis's fire"));
+    }
+    if scene.integrator == Integrator::Verlet {
+        return Err(unsupported(scene, "Verlet integration"));
+    }
+    if scene.simulation == crate::scene::Simulation::Stateless {
+        return Err(unsupported(scene, "the stateless simulation"));
+    }
+    if scene.particles.precision == Precision::Fp24 {
+        return Err(unsupported(scene, "fp24 precision"));
+    }
+    if scene.collisions.is_some() {
+        return Err(unsupported(scene, "collisions between particles"));
+    }
+    if features.emitter_forces {
+        return Err(unsupported(
+            scene,
+            "forces per emitter ([[emitters.*.forces.*]]): give them in [[forces.*]], \
+         or run the scene on the GPU engine",
+        ));
+    }
+    if !scene.emitters.child.is_empty() {
+        return Err(unsupported(scene, "child emitters"));
+    }
+    if scene.emitters.all().any(|e| !e.bursts.is_empty()) {
+        return Err(unsupported(scene, "bursts"));
+    }
+    Ok(())
 }

@@ -383,17 +383,7 @@ impl ParticleSim {
     fn integrate_pass(&mut self) {
         let rows = self.active_rows();
         let p = &self.integrate;
-        p.bind();
-        p.set_f32("u_time", self.time as f32);
-        // Time stamps' cycles and child emitters' trails: the next step's u_time, exactly, so
-        // that the end of one step's interval is the start of the next (glsl/sim/integrate.frag).
-        let next = ((self.step + 1) as f64 * self.scene.time.dt as f64) as f32;
-        p.optional(|| p.set_f32("u_time_next", next));
-        // Verlet's time stamps: the last step's u_time, exactly (-dt before the first step).
-        let prev = ((self.step as f64 - 1.0) * self.scene.time.dt as f64) as f32;
-        p.optional(|| p.set_f32("u_time_prev", prev));
-        // Orbiting spheres: where they are at the end of this step.
-        relax::move_spheres(p, &self.scene, self.time + self.scene.time.dt as f64);
+        let next = self.set_step_clock(p);
         let statics = ("u_static", self.statics.texture(STATIC).into());
         match &mut self.state {
             State::Explicit(pp) if self.stateless.is_some() => {
@@ -460,5 +450,21 @@ impl ParticleSim {
         }
         self.step += 1;
         self.time = self.step as f64 * self.scene.time.dt as f64;
+    }
+
+    /// Binds the integration program and sets this step's clock on it: `u_time`, the next
+    /// step's (time stamps' cycles and child trails end one step's interval where the next
+    /// begins, glsl/sim/integrate.frag) and the last step's (Verlet's time stamps; -dt before
+    /// the first step), each exactly; and the orbiting spheres where they are at the step's
+    /// end. Returns the next step's time.
+    fn set_step_clock(&self, p: &crate::gl::Program) -> f32 {
+        p.bind();
+        p.set_f32("u_time", self.time as f32);
+        let next = ((self.step + 1) as f64 * self.scene.time.dt as f64) as f32;
+        p.optional(|| p.set_f32("u_time_next", next));
+        let prev = ((self.step as f64 - 1.0) * self.scene.time.dt as f64) as f32;
+        p.optional(|| p.set_f32("u_time_prev", prev));
+        relax::move_spheres(p, &self.scene, self.time + self.scene.time.dt as f64);
+        next
     }
 }

@@ -301,6 +301,7 @@ impl FrameLoop {
         s.steps = engine.steps();
         s.dropped_child_births = engine.dropped_child_births()?;
         s.truncated_searches = engine.truncated_searches()?;
+        s.truncated_bounces = engine.truncated_bounces()?;
         s.times = times;
         Ok(s)
     }

@@ -76,24 +76,35 @@ pub fn obj(data: &[u8]) {
 /// source, every one of its lines in order, none taken for an include, and a driver's location
 /// in it maps back to the user's file and that line.
 pub fn glsl(data: &[u8]) {
+    let checked = texflow::scene::check_glsl("user.glsl", data);
+    user_source("user.glsl", "force custom_force_0", "force", checked);
+}
+
+/// What every user-GLSL front end promises of `checked`, the text checks' verdict on the file
+/// `name`: a refusal names the file; an accepted text is spliced whole, in order, between the
+/// root's lines, and a driver's location maps back to it. `define` renames the user's function
+/// as texflow's root does.
+fn user_source(name: &str, define: &str, undef: &str, checked: Result<String, String>) {
     use texflow::gl::source::{embedded, map_log, resolve};
-    let text = match texflow::scene::check_glsl("user.glsl", data) {
+    let text = match checked {
         Ok(t) => t,
         Err(m) => {
-            assert!(m.starts_with("user.glsl:"), "no location: {m}");
+            assert!(m.starts_with(&format!("{name}:")), "no location: {m}");
             return;
         }
     };
-    let root = "#include \"common/rng.glsl\"\n#define force custom_force_0\n\
-                #include \"user.glsl\"\n#undef force\nvoid main() {}\n";
+    let root = format!(
+        "#include \"common/rng.glsl\"\n#define {define}\n#include \"{name}\"\n#undef {undef}\n\
+         void main() {{}}\n"
+    );
     let user: &str = &text;
     let lookup = |p: &str| match p {
-        "root" => Some(root),
-        "user.glsl" => Some(user),
+        "root" => Some(root.as_str()),
+        p if p == name => Some(user),
         p => embedded(p),
     };
     let r = resolve("root", &[], &lookup).expect("an accepted file resolves");
-    assert_eq!(r.files, ["root", "common/rng.glsl", "user.glsl"]);
+    assert_eq!(r.files, ["root", "common/rng.glsl", name]);
     // The user's lines, in order, between `#line 1 2` and the root's next `#line`.
     let start = r.text.find("#line 1 2\n").expect("the user's source") + "#line 1 2\n".len();
     let end = start
@@ -105,7 +116,7 @@ pub fn glsl(data: &[u8]) {
     assert_eq!(spliced, lines, "the user's text is spliced as it is");
     let n = lines.len().max(1) as u32;
     let (_, first) = map_log(&format!("2:{n}(1): error: x\n"), &r.files);
-    assert_eq!(first, Some(("user.glsl".to_owned(), n)));
+    assert_eq!(first, Some((name.to_owned(), n)));
 }
 
 /// Whether a field read from a file holds what its size says: at least 2 nodes on its first two
@@ -148,35 +159,13 @@ pub fn field(data: &[u8]) {
 /// file and a line, or accept it; what they accept is spliced by the include resolver as one
 /// source, its lines in order, and a driver's location in it maps back to the user's file.
 pub fn pair(data: &[u8]) {
-    use texflow::gl::source::{embedded, map_log, resolve};
-    let text = match texflow::scene::check_pair_glsl("pair.glsl", data) {
-        Ok(t) => t,
-        Err(m) => {
-            assert!(m.starts_with("pair.glsl:"), "no location: {m}");
-            return;
-        }
-    };
-    let root = "#include \"common/rng.glsl\"\n#define pair_force pair_force_0\n\
-                #include \"pair.glsl\"\n#undef pair_force\nvoid main() {}\n";
-    let user: &str = &text;
-    let lookup = |p: &str| match p {
-        "root" => Some(root),
-        "pair.glsl" => Some(user),
-        p => embedded(p),
-    };
-    let r = resolve("root", &[], &lookup).expect("an accepted file resolves");
-    assert_eq!(r.files, ["root", "common/rng.glsl", "pair.glsl"]);
-    let start = r.text.find("#line 1 2\n").expect("the user's source") + "#line 1 2\n".len();
-    let end = start
-        + r.text[start..]
-            .find("#line 4 0\n")
-            .expect("back to the root");
-    let spliced: Vec<&str> = r.text[start..end].lines().collect();
-    let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(spliced, lines, "the user's text is spliced as it is");
-    let n = lines.len().max(1) as u32;
-    let (_, first) = map_log(&format!("2:{n}(1): error: x\n"), &r.files);
-    assert_eq!(first, Some(("pair.glsl".to_owned(), n)));
+    let checked = texflow::scene::check_pair_glsl("pair.glsl", data);
+    user_source(
+        "pair.glsl",
+        "pair_force pair_force_0",
+        "pair_force",
+        checked,
+    );
 }
 
 /// `--set KEY=VALUE` values: each line of `data` (UTF-8) is one setting, applied to the built-in

@@ -1,10 +1,10 @@
-//! A sort's schedule is answered without GL (`texflow::sort::schedule`), and the GPU sorter runs
+//! A sort's schedule is answered without GL (`texflow::sort::passes_of`), and the GPU sorter runs
 //! exactly that many passes, for every variant; the engine's plan reads the same count.
 
 mod common;
 
 use common::context;
-use texflow::sort::{pass_count, schedule, NetworkPass, SortOptions, Sorter, Variant};
+use texflow::sort::{pass_count, passes_of, NetworkPass, SortOptions, Sorter, Variant};
 
 #[test]
 fn the_sorter_runs_the_passes_its_schedule_lists() {
@@ -30,7 +30,7 @@ fn the_sorter_runs_the_passes_its_schedule_lists() {
                 variant.name()
             );
             // Only the blocked sort ends with its unpack pass; the others are steps or groups.
-            let net = schedule(variant, w, h, block, &options);
+            let net = passes_of(variant, w, h, block, &options);
             let unpacks = net.iter().filter(|p| **p == NetworkPass::Unpack).count();
             assert_eq!(unpacks, usize::from(variant == Variant::Blocked));
         }

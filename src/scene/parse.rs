@@ -11,7 +11,7 @@ use crate::error::Result;
 use Key::{Index as I, Name as N};
 
 /// Parses and validates a scene file; `path` names it in errors. Reads the files it names
-/// (meshes, fields) through [`load_files`].
+/// (meshes, fields) after any settings, in one place for every command.
 pub fn parse(path: &str, src: &str) -> Result<SceneFile> {
     let (doc, mut scene) = parse_unloaded(path, src)?;
     load_files(path, src, &doc, &mut scene)?;

@@ -10,4 +10,4 @@ pub mod schedule;
 
 pub use gpu::{BlockedShape, KeyMode, Quantiser, SortOptions, Sorter, Variant};
 pub use network::{entry_less, Entry, Step};
-pub use schedule::{network as schedule, pass_count, NetworkPass};
+pub use schedule::{network as passes_of, pass_count, NetworkPass};

@@ -62,10 +62,10 @@ pub fn describe_step(step: &Step, width: u32) -> String {
 }
 
 /// The descriptions of a variant's passes on a `side`×`side` texture, in the order the sorter
-/// runs them: read from the variant's schedule ([`crate::sort::schedule`]), the list the sorter
+/// runs them: read from the variant's schedule ([`crate::sort::schedule::network`]), the list the sorter
 /// builds its passes from.
 pub fn pass_descriptions(variant: Variant, side: u32, options: &SortOptions) -> Vec<String> {
-    let network = crate::sort::schedule(variant, side, side, side * side, options);
+    let network = crate::sort::passes_of(variant, side, side, side * side, options);
     if variant == Variant::Blocked {
         // Between its passes the blocked sort's entries lie in the layers of 3D textures, in a
         // layout that changes from pass to pass: the sort texture is row-major again only after

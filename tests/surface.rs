@@ -69,9 +69,16 @@ fn components(mask: &[bool]) -> (Vec<u32>, u32) {
 
 /// Two engines of `name`, surface and points, advanced together; at each of `frames` (frame
 /// numbers, ascending) `check` gets both frames and the surface engine.
-fn both(name: &str, frames: &[u32], mut check: impl FnMut(u32, &SceneFile, &[bool], &[bool], &dyn Engine)) {
+fn both(
+    name: &str,
+    frames: &[u32],
+    mut check: impl FnMut(u32, &SceneFile, &[bool], &[bool], &dyn Engine),
+) {
     let ctx = common::context();
-    let (ss, sp) = (builtin(name, DrawMode::Surface), builtin(name, DrawMode::Points));
+    let (ss, sp) = (
+        builtin(name, DrawMode::Surface),
+        builtin(name, DrawMode::Points),
+    );
     let mut es = engine::build(&ctx, &ss, 1, EngineKind::Gpu).unwrap();
     let mut ep = engine::build(&ctx, &sp, 1, EngineKind::Gpu).unwrap();
     let mut at = 0;
@@ -230,7 +237,10 @@ fn hair_strands_join_every_root_to_its_tip_and_points_do_not() {
         assert_eq!(positions.len(), w * strands);
         let camera = Camera::from(&s.render.camera);
         let (seen, joined) = joined_strands(lines, &positions, &camera, w);
-        assert!(seen >= strands / 2, "frame {f}: {seen} strands in the frame");
+        assert!(
+            seen >= strands / 2,
+            "frame {f}: {seen} strands in the frame"
+        );
         assert_eq!(joined, seen, "frame {f}: strands joined root to tip");
         let (_, by_points) = joined_strands(points, &positions, &camera, w);
         assert!(

@@ -267,6 +267,17 @@ fn surface_needs_constraints_and_the_gpu_engine() {
         message.contains("[constraints]") && message.contains("mode = \"points\""),
         "{message}"
     );
+    // A key the opaque surface would ignore is refused at its place.
+    let (label, src) = scene::load_source("cloth").unwrap();
+    let src = src.replacen("[render]\n", "[render]\nblending = \"alpha\"\n", 1);
+    let want = src
+        .lines()
+        .position(|l| l == "blending = \"alpha\"")
+        .unwrap()
+        + 1;
+    let (line, column, message) = common::scene::scene_error(scene::parse(&label, &src));
+    assert_eq!((line, column), (want, 12), "{message}");
+    assert!(message.contains("mode = \"points\""), "{message}");
     let ctx = common::context();
     let cloth = scene::load("cloth").unwrap();
     assert_eq!(cloth.render.mode, DrawMode::Surface);

@@ -148,6 +148,15 @@ pub fn gather_target(
     crate::gl::Framebuffer::named(ctx, label, textures)
 }
 
+/// The surface's colour: the first of `render.keyframes` (a constraint layout's particles are
+/// permanent, at relative age 0), light grey without any.
+fn surface_color(scene: &crate::scene::SceneFile) -> [f32; 3] {
+    match scene.render.keyframes.first() {
+        Some(k) => [k.rgba[0], k.rgba[1], k.rgba[2]],
+        None => [0.8; 3],
+    }
+}
+
 impl<S: Simulation> GpuEngine<S> {
     /// Validates the scene against the device and builds everything.
     pub fn new(ctx: &Context, scene: &crate::scene::SceneFile, seed: u64) -> Result<Self> {
@@ -181,10 +190,19 @@ impl<S: Simulation> GpuEngine<S> {
             let moves = scene.colliders.sphere.iter().any(|s| s.orbit.is_some());
             moving_geometry = moves.then(|| (fixed, Box::new(scene.clone())));
         }
+        let surface = scene.render.mode == crate::scene::DrawMode::Surface;
+        if let (true, Some(layout)) = (surface, crate::sim::constraints::Layout::of(scene)) {
+            renderer.set_connected(crate::render::ConnectedRenderer::new(
+                ctx,
+                layout.kind,
+                layout.size,
+                surface_color(scene),
+            )?);
+        }
         let sort = SortStage::new(ctx, scene, &renderer)?;
         let camera = crate::render::Camera::from(&scene.render.camera);
         Ok(GpuEngine {
-            target: if scene.render.geometry {
+            target: if scene.render.geometry || surface {
                 FrameTarget::with_depth(ctx, rw, rh)?
             } else {
                 FrameTarget::new(ctx, rw, rh)?

@@ -167,6 +167,7 @@ impl Drop for Buffer {
 pub struct VertexArray {
     ctx: Context,
     raw: glow::VertexArray,
+    indexed: bool,
 }
 
 impl std::fmt::Debug for VertexArray {
@@ -202,6 +203,32 @@ impl VertexArray {
         label: &str,
         attributes: &[Attribute<'_>],
     ) -> Result<Self> {
+        Self::make(ctx, label, attributes, None)
+    }
+
+    /// A vertex array with `attributes` whose draws read vertex numbers from `indices`
+    /// (`u32` each, bound as the element array): a draw's count is then a number of indices,
+    /// and `gl_VertexID` the index read.
+    pub fn with_indices(
+        ctx: &Context,
+        label: &str,
+        attributes: &[Attribute<'_>],
+        indices: &Buffer,
+    ) -> Result<Self> {
+        Self::make(ctx, label, attributes, Some(indices))
+    }
+
+    /// Whether draws read an index buffer ([`with_indices`](Self::with_indices)).
+    pub fn indexed(&self) -> bool {
+        self.indexed
+    }
+
+    fn make(
+        ctx: &Context,
+        label: &str,
+        attributes: &[Attribute<'_>],
+        indices: Option<&Buffer>,
+    ) -> Result<Self> {
         // SAFETY: the buffers are alive and belong to this context.
         let raw = unsafe {
             let raw = ctx.gl().create_vertex_array().map_err(Error::Gl)?;
@@ -219,6 +246,11 @@ impl VertexArray {
                     a.offset,
                 );
             }
+            if let Some(i) = indices {
+                // Vertex array state: the binding stays with it when it is unbound.
+                ctx.gl()
+                    .bind_buffer(glow::ELEMENT_ARRAY_BUFFER, Some(i.raw()));
+            }
             ctx.gl().bind_vertex_array(None);
             ctx.gl().bind_buffer(glow::ARRAY_BUFFER, None);
             raw
@@ -228,6 +260,7 @@ impl VertexArray {
         Ok(VertexArray {
             ctx: ctx.clone(),
             raw,
+            indexed: indices.is_some(),
         })
     }
 

@@ -170,6 +170,8 @@ pub enum Primitive {
     Points,
     /// One triangle per three vertices.
     Triangles,
+    /// One line segment per two vertices.
+    Lines,
 }
 
 /// A rectangle of a target in texels, origin at the bottom left.
@@ -198,7 +200,7 @@ pub struct Draw<'a> {
     pub vertices: &'a VertexArray,
     /// What the vertices make.
     pub primitive: Primitive,
-    /// Number of vertices, from the first.
+    /// Number of vertices, from the first (of indices, for an indexed vertex array).
     pub count: u32,
     /// Blending and point size.
     pub state: &'a DrawState,
@@ -224,15 +226,20 @@ impl Context {
                 self.count_draw(true, texels * d.target.bytes_per_texel() as u64, 0)
             }
             Primitive::Points => self.count_draw(false, 0, d.count as u64),
+            Primitive::Lines => self.count_draw(false, 0, 0),
         }
         let mode = match d.primitive {
             Primitive::Points => glow::POINTS,
             Primitive::Triangles => glow::TRIANGLES,
+            Primitive::Lines => glow::LINES,
         };
         // SAFETY: a linked program, a complete framebuffer and a vertex array whose buffers hold
         // `count` vertices (the caller's contract) are bound.
         unsafe {
-            if d.count > 0 {
+            if d.count > 0 && d.vertices.indexed() {
+                self.gl()
+                    .draw_elements(mode, d.count as i32, glow::UNSIGNED_INT, 0);
+            } else if d.count > 0 {
                 self.gl().draw_arrays(mode, 0, d.count as i32);
             }
             self.gl().bind_vertex_array(None);

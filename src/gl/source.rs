@@ -84,6 +84,10 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "render/cpu_points.frag",
     "render/geometry.vert",
     "render/geometry.frag",
+    "render/cloth.vert",
+    "render/cloth.frag",
+    "render/strand.vert",
+    "render/strand.frag",
 ];
 
 /// Looks an embedded file up, then a source added at run time ([`add_runtime_source`]).

@@ -2,6 +2,7 @@
 
 pub mod atlas;
 mod camera;
+pub mod connected;
 pub mod geometry;
 mod isosurface;
 mod keyframes;
@@ -11,6 +12,7 @@ mod style;
 mod target;
 
 pub use camera::{Camera, ViewOffset};
+pub use connected::{ConnectedRenderer, SURFACE_AMBIENT, SURFACE_LIGHT};
 pub use geometry::{GeometryRenderer, Mesh, Terrain, MAX_TERRAIN_CELLS};
 pub use isosurface::Surface;
 pub use keyframes::{relative_age, KeyframeRamp};

@@ -16,7 +16,7 @@
 //! Relative age = clamp(1 − position.w / statics.z, 0, 1).
 
 use super::atlas;
-use super::{Camera, FrameTarget, GeometryRenderer, ParticleStyle};
+use super::{Camera, ConnectedRenderer, FrameTarget, GeometryRenderer, ParticleStyle};
 use crate::error::{Error, Result};
 use crate::gl::{
     Attribute, Blend, BlendComponent, BlendFactor, Buffer, BufferKind, BufferUsage, Context,
@@ -89,6 +89,7 @@ pub struct ParticleRenderer {
     vertex: Option<VertexPath>,
     atlas: Option<Texture>,
     geometry: Option<GeometryRenderer>,
+    connected: Option<ConnectedRenderer>,
 }
 
 impl std::fmt::Debug for ParticleRenderer {
@@ -147,6 +148,7 @@ impl ParticleRenderer {
             vertex,
             atlas,
             geometry: None,
+            connected: None,
         })
     }
 
@@ -156,6 +158,12 @@ impl ParticleRenderer {
     pub fn set_geometry(&mut self, geometry: GeometryRenderer) {
         self.style.depth_test = true;
         self.geometry = Some(geometry);
+    }
+
+    /// Draws the particles as `connected` geometry (a cloth surface, hair strands) instead of
+    /// points; the target needs a depth attachment.
+    pub fn set_connected(&mut self, connected: ConnectedRenderer) {
+        self.connected = Some(connected);
     }
 
     /// Replaces the geometry's triangles (colliders that moved), if it draws geometry.
@@ -204,6 +212,10 @@ impl ParticleRenderer {
                 "render geometry: opaque, depth written".to_owned()
             });
         }
+        if let Some(c) = &self.connected {
+            names.push(c.pass_name());
+            return names;
+        }
         if s.path == RenderPath::VertexBuffer {
             names.push("copy positions to vertex buffer (pixel pack)".to_owned());
             names.push("copy statics to vertex buffer (pixel pack)".to_owned());
@@ -217,6 +229,7 @@ impl ParticleRenderer {
             (DrawMode::Sprites, DrawPrimitive::Stretched) => "stretched sprite quads",
             (DrawMode::Points, DrawPrimitive::Triangles) => "triangles",
             (DrawMode::Sprites, DrawPrimitive::Triangles) => "sprite triangles",
+            (DrawMode::Surface, _) => "points (no constraint layout to draw as a surface)",
         };
         let path = match s.path {
             RenderPath::TextureFetch => "texture fetch",
@@ -331,6 +344,9 @@ impl ParticleRenderer {
                 ));
             }
             g.draw(target, camera, &geometry_first(s.under()));
+        }
+        if let Some(c) = &self.connected {
+            return c.draw(target, state.positions, camera);
         }
         let vertices = self.bind_inputs(state, motion)?;
         let p = &self.program;

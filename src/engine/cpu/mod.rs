@@ -476,6 +476,12 @@ fn drawable(scene: &SceneFile) -> Result<()> {
     if scene.render.mode == DrawMode::Sprites {
         return Err(unsupported(scene, "sprites (it draws points)"));
     }
+    if scene.render.mode == DrawMode::Surface {
+        return Err(unsupported(
+            scene,
+            "render.mode = \"surface\" (it draws points; set render.mode = \"points\")",
+        ));
+    }
     if scene.render.primitive != crate::scene::DrawPrimitive::Points {
         return Err(unsupported(scene, "quads and triangles (it draws points)"));
     }

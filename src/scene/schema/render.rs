@@ -14,6 +14,10 @@ pub enum DrawMode {
     Points,
     /// Textured point sprites with rotation (Latta §3.4.6).
     Sprites,
+    /// Connected geometry over a constraint layout (`[constraints]`): a cloth as a lit surface
+    /// of two triangles a grid cell, hair as strands of line segments, both indexed over the
+    /// state texture and fetched from it in the vertex stage.
+    Surface,
 }
 
 /// The geometry each particle is drawn as (Latta §3.4.5-3.4.6: "point sprites, triangles or

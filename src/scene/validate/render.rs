@@ -3,7 +3,7 @@
 use super::{fail, path, Check};
 use crate::scene::locate::Key;
 use crate::scene::schema::{
-    Blending, DrawPrimitive, Emitter, Keyframe, Precision, Render, RenderPath, SceneFile,
+    Blending, DrawMode, DrawPrimitive, Emitter, Keyframe, Precision, Render, RenderPath, SceneFile,
     SortEntries, SortKey, Variant,
 };
 
@@ -17,6 +17,9 @@ pub(super) fn render(s: &SceneFile) -> Check {
     keyframes(&[N("render"), N("keyframes")], &r.keyframes)?;
     if s.fire.is_some() {
         fire_render(r)?;
+    }
+    if r.mode == DrawMode::Surface {
+        surface(s, r)?;
     }
     if r.primitive != DrawPrimitive::Points && r.path != RenderPath::TextureFetch {
         return fail(
@@ -65,6 +68,38 @@ pub(super) fn render(s: &SceneFile) -> Check {
         }
     }
     sort(s, r)
+}
+
+/// `mode = "surface"`: connected geometry over a constraint layout, drawn opaque; the keys it
+/// would ignore are refused.
+fn surface(s: &SceneFile, r: &Render) -> Check {
+    let at = path(&[N("render"), N("mode")]);
+    if s.constraints.is_none() {
+        return fail(
+            at,
+            "mode = \"surface\" draws the cloth sheet or hair strands of a [constraints] layout, \
+             and this scene has none: use mode = \"points\" or \"sprites\", or add \
+             [constraints]",
+        );
+    }
+    let d = Render::default();
+    let ignored = [
+        ("primitive", r.primitive != d.primitive),
+        ("path", r.path != d.path),
+        ("blending", r.blending != d.blending),
+        ("order", r.order != d.order),
+        ("sort", r.sort != d.sort),
+    ];
+    match ignored.iter().find(|(_, differs)| *differs) {
+        Some((key, _)) => fail(
+            path(&[N("render"), N(key)]),
+            format!(
+                "{key} is not honoured with mode = \"surface\", which draws the layout opaque by \
+                 texture fetch over an index buffer: remove {key}, or use mode = \"points\""
+            ),
+        ),
+        None => Ok(()),
+    }
 }
 
 /// `[render]` resolution, point size and intensity, and `[render.camera]`.

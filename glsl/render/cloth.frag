@@ -9,9 +9,13 @@ uniform float u_ambient;
 
 in vec3 v_world;
 in vec3 v_normal;
+in float v_ok;
 layout(location = 0) out vec4 o_color;
 
 void main() {
+    if (v_ok < 0.999) {  // below 1 by more than interpolation's rounding
+        discard;  // a primitive with a non-finite vertex
+    }
     vec3 n = v_normal;
     float len = length(n);
     n = len > 0.0 ? n / len : vec3(0.0);

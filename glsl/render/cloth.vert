@@ -14,6 +14,7 @@ uniform mat4 u_view_proj;
 
 out vec3 v_world;
 out vec3 v_normal;
+out float v_ok;  // 1 at a finite vertex, 0 at one that is not
 
 vec3 at(ivec2 t) {
     ivec2 size = textureSize(u_position, 0);
@@ -28,7 +29,9 @@ void main() {
     vec3 dv = at(t + ivec2(0, 1)) - at(t - ivec2(0, 1));
     v_normal = cross(du, dv);
     v_world = p.xyz;
-    // A vertex at a non-finite position (a torn sheet) is moved outside the clip volume: its
-    // triangles are clipped rather than drawn across the frame.
+    // A vertex at a non-finite position (a torn sheet) is moved outside the clip volume, and the
+    // fragment stage drops every fragment of a triangle that touches one (v_ok below 1): clipping
+    // alone would still draw the triangle's part inside the frame, a wedge towards the corner.
+    v_ok = all_finite(p) ? 1.0 : 0.0;
     gl_Position = all_finite(p) ? u_view_proj * vec4(p.xyz, 1.0) : vec4(2.0, 2.0, 2.0, 1.0);
 }

@@ -7,9 +7,13 @@ uniform vec3 u_color;
 uniform float u_ambient;
 
 in vec3 v_tangent;
+in float v_ok;
 layout(location = 0) out vec4 o_color;
 
 void main() {
+    if (v_ok < 0.999) {  // below 1 by more than interpolation's rounding
+        discard;  // a primitive with a non-finite vertex
+    }
     float len = length(v_tangent);
     float tl = len > 0.0 ? dot(v_tangent / len, u_light) : 0.0;
     float diffuse = sqrt(max(1.0 - tl * tl, 0.0));

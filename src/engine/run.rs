@@ -175,6 +175,8 @@ pub struct LoopSummary {
     pub max_non_finite: u64,
     /// Written frames that had any.
     pub non_finite_frames: u64,
+    /// Whether non-finite state was reported (once per run, from a written frame or a dump).
+    pub non_finite_reported: bool,
     /// With distance constraints: the most constraints stretched past the scene's
     /// `stretch_bound` in one written frame.
     pub max_stretched: u64,
@@ -403,8 +405,8 @@ impl FrameLoop {
                     live: count.live,
                 });
             }
-            if s.non_finite_frames == 0 {
-                s.non_finite_frames = 1;
+            if !s.non_finite_reported {
+                s.non_finite_reported = true;
                 if on_event(Event::NonFinite {
                     index,
                     count: &count,
@@ -459,7 +461,9 @@ impl FrameLoop {
                     live: count.live,
                 });
             }
-            if s.non_finite_frames == 0
+            let first = !s.non_finite_reported;
+            s.non_finite_reported = true;
+            if first
                 && on_event(Event::NonFinite {
                     index,
                     count: &count,

@@ -172,11 +172,11 @@ impl Layout {
 
     /// The pinned texels a free texel `k` is attached to by a long-range attachment: cloth every
     /// pinned texel (a flat sheet: the rest distance is the geodesic one), hair its strand's
-    /// root.
-    pub fn attachments(&self, k: usize) -> Vec<usize> {
+    /// root. `pins` is [`pins`](Self::pins), found once by the caller for every texel.
+    pub fn attachments<'a>(&self, k: usize, pins: &'a [usize]) -> std::borrow::Cow<'a, [usize]> {
         match self.kind {
-            ConstraintKind::Cloth => self.pins(),
-            ConstraintKind::Hair => vec![k - k % self.size[0] as usize],
+            ConstraintKind::Cloth => std::borrow::Cow::Borrowed(pins),
+            ConstraintKind::Hair => std::borrow::Cow::Owned(vec![k - k % self.size[0] as usize]),
         }
     }
 

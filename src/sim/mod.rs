@@ -29,3 +29,17 @@ pub const MAX_BOUNCES: usize = 16;
 pub use fire::{FireParams, FireSim};
 pub use particles::{ClosedForm, Features, ParticleSim};
 pub use simulation::{stages_of, DrawnState, Pass, Simulation, Stage};
+
+#[cfg(test)]
+mod tests {
+    /// The shader's bound on bounces is this one: the twin, the warning and the pass agree.
+    #[test]
+    fn the_shader_bounds_bounces_as_the_twin_does() {
+        let src = crate::gl::source::embedded("sim/colliders.glsl").expect("embedded");
+        let line = format!("const int MAX_BOUNCES = {};", super::MAX_BOUNCES);
+        assert!(
+            src.contains(&line),
+            "glsl/sim/colliders.glsl lacks `{line}`"
+        );
+    }
+}

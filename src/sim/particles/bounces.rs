@@ -23,13 +23,14 @@ pub(super) fn tally(ctx: &Context, f: &Features) -> Result<Option<TruncationTall
 }
 
 impl ParticleSim {
-    /// Adds the particles the last integration pass flagged (the texels below the child
-    /// emitters', whose velocity's w counts dropped births).
-    pub(super) fn count_bounce_flags(&self) {
+    /// Adds the particles the last integration pass flagged: the texels of its `rows` (rows
+    /// above them keep older velocities, whose flags were counted when they were written) below
+    /// the child emitters', whose velocity's w counts dropped births.
+    pub(super) fn count_bounce_flags(&self, rows: u32) {
         let (Some(t), State::Explicit(pp)) = (&self.bounces, &self.state) else {
             return;
         };
-        let n = (self.scene.parent_slots() as usize).min((self.width * self.height) as usize);
+        let n = (self.scene.parent_slots() as usize).min((self.width * rows) as usize);
         t.add_flags(pp.front().texture(VELOCITY), 3, n);
     }
 

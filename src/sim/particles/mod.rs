@@ -432,7 +432,7 @@ impl ParticleSim {
                 }
                 pp.swap();
                 if rows > 0 {
-                    self.count_bounce_flags();
+                    self.count_bounce_flags(rows);
                 }
             }
             State::Verlet(ring) => {

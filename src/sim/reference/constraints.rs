@@ -171,6 +171,7 @@ impl Twin {
     /// outside.
     fn attach(&self, offset: Vec3) -> Vec<Vec3> {
         let mut out = Vec::with_capacity(self.x.len());
+        let pins = self.layout.pins();
         for k in 0..self.x.len() {
             let (r, pinned) = self.rest(k);
             if pinned {
@@ -178,7 +179,7 @@ impl Twin {
                 continue;
             }
             let mut x = self.x[k];
-            for p in self.layout.attachments(k) {
+            for &p in self.layout.attachments(k, &pins).iter() {
                 let (rp, _) = self.rest(p);
                 let reach = (r - rp).length();
                 let pin = rp + offset;

@@ -4,7 +4,8 @@
 // with KEY_GRID the index of the particle's cell in a lattice of mesh size u_grid_spacing, cells
 // enumerated in z, y, x order, or with KEY_AGE the particle's age (total life from the static
 // texture minus the remaining life) times u_direction * u_age_sign: u_age_sign = +1 puts the
-// youngest where the nearest would be (on top), -1 the oldest. Dead particles (u_cull_dead and life <= 0) get +inf; entries past
+// youngest where the nearest would be (on top), -1 the oldest; or with KEY_AXIS the position
+// along u_axis, dot(x, u_axis) (half-angle slicing, Kniss et al. 2003). Dead particles (u_cull_dead and life <= 0) get +inf; entries past
 // the particle count are padding with a NaN key, which sorts after everything (ids break ties,
 // so padding lands after every real particle, NaN keys included).
 // Identifiers are the particle index, or with ID_TABLE the paper's 24-bit-safe enumeration
@@ -28,6 +29,9 @@ uniform ivec3 u_grid_dims;
 #ifdef KEY_AGE
 uniform sampler2D u_static;
 uniform float u_age_sign;
+#endif
+#ifdef KEY_AXIS
+uniform vec3 u_axis;
 #endif
 #ifdef ID_TABLE
 uniform sampler2D u_id_table;
@@ -69,6 +73,8 @@ vec2 entry(int i) {
 #elif defined(KEY_AGE)
     float total = texelFetch(u_static, ivec2(i % u_state_width, i / u_state_width), 0).z;
     return vec2(u_direction * u_age_sign * (total - p.w), id);
+#elif defined(KEY_AXIS)
+    return vec2(dot(p.xyz, u_axis), id);
 #else
     return vec2(u_direction * distance(p.xyz, u_eye), id);
 #endif

@@ -36,6 +36,8 @@ pub type ParticleEngine = GpuEngine<ParticleSim>;
 pub struct GpuEngine<S: Simulation> {
     sim: S,
     renderer: crate::render::ParticleRenderer,
+    /// Half-angle slicing, which draws the sorted particles instead of `renderer`.
+    lit: Option<crate::render::HalfAngleRenderer>,
     sort: Option<SortStage>,
     target: FrameTarget,
     camera: crate::render::Camera,
@@ -165,6 +167,7 @@ impl<S: Simulation> GpuEngine<S> {
         let sim = S::from_scene(ctx, scene, shader_seed(seed))?;
         let [w, h] = scene.particles.size;
         let style = crate::render::ParticleStyle::from_scene(scene);
+        let lit = super::lit_renderer(ctx, scene, &style)?;
         let mut renderer = crate::render::ParticleRenderer::new(ctx, style, w, h)?;
         let mut moving_geometry = None;
         if scene.render.geometry {
@@ -213,6 +216,7 @@ impl<S: Simulation> GpuEngine<S> {
             view: crate::render::ViewOffset::default(),
             sim,
             renderer,
+            lit,
             sort,
             name: scene.name.clone(),
             sort_passes: crate::engine::plan::sort_lines(scene),
@@ -293,8 +297,10 @@ impl<S: Simulation> GpuEngine<S> {
                     spins,
                     count: texels,
                 };
-                self.renderer
-                    .draw_frame(&self.target, &state, &self.camera)?;
+                match &self.lit {
+                    Some(l) => l.draw(&self.target, &state, &self.camera, self.renderer.atlas())?,
+                    None => self.renderer.draw_frame(&self.target, &state, &self.camera)?,
+                }
             }
             None => {
                 let d = self.sim.drawn();
@@ -337,7 +343,10 @@ impl<S: Simulation> GpuEngine<S> {
         let Some(s) = &mut self.sort else {
             return Ok(false);
         };
-        let mode = key_mode(s.key, self.camera.eye(), s.back_to_front);
+        let mode = match &self.lit {
+            Some(l) => super::half_angle_keys(&self.camera, l.light()),
+            None => key_mode(s.key, self.camera.eye(), s.back_to_front),
+        };
         let [w, h] = self.sim.size();
         let texels = w as usize * h as usize;
         let d = self.sim.drawn();
@@ -443,6 +452,11 @@ impl<S: Simulation> GpuEngine<S> {
     pub fn renderer(&self) -> &crate::render::ParticleRenderer {
         &self.renderer
     }
+
+    /// Half-angle slicing, when the scene is lit.
+    pub fn lit(&self) -> Option<&crate::render::HalfAngleRenderer> {
+        self.lit.as_ref()
+    }
 }
 
 impl<S: Simulation> super::Engine for GpuEngine<S> {
@@ -542,7 +556,10 @@ impl<S: Simulation> super::Engine for GpuEngine<S> {
 
     fn plan(&self) -> super::plan::Plan {
         let mut per_frame = self.sort_passes.clone();
-        per_frame.extend(self.renderer.pass_names());
+        per_frame.extend(match &self.lit {
+            Some(l) => l.pass_names(),
+            None => self.renderer.pass_names(),
+        });
         super::plan::Plan {
             scene: self.name.clone(),
             per_step: self.sim.passes().into_iter().map(|p| p.name).collect(),

@@ -16,6 +16,7 @@ pub mod compare;
 mod contract;
 pub mod cpu;
 mod gpu;
+mod lit;
 pub mod plan;
 mod run;
 
@@ -24,6 +25,7 @@ pub use cpu::{CpuEngine, CpuSim, FramePhases};
 pub use gpu::{
     compact_depth_range, gather_target, key_mode, sorter_for, GpuEngine, ParticleEngine,
 };
+pub use lit::{half_angle_keys, lit_renderer};
 pub use run::{
     Event, FolderSink, FrameLoop, FrameSink, FrameTimes, LoopOptions, LoopSummary, MemorySink,
     NonFinitePolicy,

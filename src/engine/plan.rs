@@ -80,9 +80,17 @@ pub fn sort_lines(scene: &SceneFile) -> Vec<String> {
         DrawOrder::FrontToBack => "front to back",
     };
     let key = match r.sort.key {
+        _ if r.lighting == crate::scene::Lighting::HalfAngle => {
+            "position along the half-angle vector"
+        }
         SortKey::Distance => "distance to the viewer",
         SortKey::YoungestOnTop => "age, the youngest on top",
         SortKey::OldestOnTop => "age, the oldest on top",
+    };
+    let order = if r.lighting == crate::scene::Lighting::HalfAngle {
+        "nearest the light first"
+    } else {
+        order
     };
     per_frame.push(format!(
         "sort keys: {key} ({order}), {}x{} entries{}",

@@ -43,7 +43,8 @@ pub use sources::{builtin_source, BUILTIN, BUILTIN_MESHES, BUILTIN_SOURCES};
 pub use suggest::{closest, did_you_mean, edit_distance};
 pub use validate::{
     fire_section, largest_exact_cell, run_capacity, CapacityWarning, ChildCapacityWarning,
-    ChildLayout, ChildRange, EXACT_SCAN, MAX_DEM_OMEGA_DT, MAX_LATTICE_CELLS,
+    ChildLayout, ChildRange, EXACT_SCAN, MAX_DEM_OMEGA_DT, MAX_LATTICE_CELLS, MAX_LIGHT_RESOLUTION,
+    MAX_SLICES,
 };
 
 #[cfg(test)]

@@ -50,6 +50,7 @@ pub(super) fn sort_phases(
     phases.push(
         match mode {
             KeyMode::Age { .. } => "sort keys: age",
+            KeyMode::Axis { .. } => "sort keys: along the half-angle vector",
             _ => "sort keys: distance to the viewer",
         },
         "write-only pass into the sort texture",

@@ -24,8 +24,8 @@ pub use forces::{
 };
 pub use neighbours::{Dem, PairForce, Response, MAX_PAIR_FORCES};
 pub use render::{
-    Blending, CameraSection, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath,
-    Rotate, SortEntries, SortKey, SortSection, Variant, MAX_KEYFRAMES,
+    Blending, CameraSection, DrawMode, DrawOrder, DrawPrimitive, Keyframe, LightSection, Lighting,
+    Render, RenderPath, Rotate, SortEntries, SortKey, SortSection, Variant, MAX_KEYFRAMES,
 };
 
 pub(super) fn one() -> f32 {

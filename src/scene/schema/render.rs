@@ -261,6 +261,73 @@ impl Variant {
     }
 }
 
+/// How alpha-blended particles are lit (`render.lighting`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Lighting {
+    /// Unlit: each particle's keyframe colour as it is.
+    #[default]
+    None,
+    /// Half-angle slicing (Kniss et al. 2003; Green 2008): the particles sorted along the
+    /// vector halfway between the light and the view direction, drawn in `render.slices`
+    /// batches, each into the frame lit by the opacity the batches before it left in a light
+    /// buffer, then into that buffer.
+    HalfAngle,
+}
+
+/// The light of `lighting = "half_angle"` (`render.light`): one directional light.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LightSection {
+    /// The direction the light travels in (from the light into the scene); need not be unit.
+    #[serde(default = "downwards")]
+    pub direction: [f32; 3],
+    /// The light's colour, multiplied by the transmittance the light buffer holds.
+    #[serde(default = "white")]
+    pub colour: [f32; 3],
+    /// Light that reaches every particle unshadowed (sky light).
+    #[serde(default = "ambient")]
+    pub ambient: [f32; 3],
+    /// Opacity scale of the shadow each particle casts (its opacity in the light buffer).
+    #[serde(default = "one")]
+    pub density: f32,
+    /// The light buffer's side in texels.
+    #[serde(default = "light_resolution")]
+    pub resolution: u32,
+    /// Half the side of the square the light buffer covers, in scene units, centred on the
+    /// camera's target; default: the camera's distance.
+    pub extent: Option<f32>,
+}
+
+fn downwards() -> [f32; 3] {
+    [0.0, -1.0, 0.0]
+}
+fn white() -> [f32; 3] {
+    [1.0; 3]
+}
+fn ambient() -> [f32; 3] {
+    [0.3; 3]
+}
+fn light_resolution() -> u32 {
+    256
+}
+fn thirty_two() -> u32 {
+    32
+}
+
+impl Default for LightSection {
+    fn default() -> Self {
+        LightSection {
+            direction: downwards(),
+            colour: white(),
+            ambient: ambient(),
+            density: 1.0,
+            resolution: light_resolution(),
+            extent: None,
+        }
+    }
+}
+
 /// Render settings.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -316,6 +383,19 @@ pub struct Render {
     /// angle integrated from the angular velocity of spinning spheres; needs `collisions.spin`).
     #[serde(default, skip_serializing_if = "is_age")]
     pub rotate: Rotate,
+    /// Lighting of alpha-blended particles: `none`, or `half_angle` (self-shadowing smoke).
+    #[serde(default, skip_serializing_if = "unlit")]
+    pub lighting: Lighting,
+    /// Batches the half-angle sorted particles are drawn in (`lighting = "half_angle"`).
+    #[serde(default = "thirty_two")]
+    pub slices: u32,
+    /// The light of `lighting = "half_angle"`.
+    #[serde(default)]
+    pub light: LightSection,
+}
+
+fn unlit(l: &Lighting) -> bool {
+    *l == Lighting::None
 }
 
 fn is_age(r: &Rotate) -> bool {
@@ -350,6 +430,9 @@ impl Default for Render {
             background: [0.0; 3],
             geometry: false,
             rotate: Rotate::Age,
+            lighting: Lighting::None,
+            slices: thirty_two(),
+            light: LightSection::default(),
         }
     }
 }

@@ -13,6 +13,8 @@ mod constraints;
 mod emitters;
 pub use emitters::CapacityWarning;
 mod forces;
+mod lighting;
+pub use lighting::{MAX_LIGHT_RESOLUTION, MAX_SLICES};
 mod neighbours;
 pub use neighbours::MAX_DEM_OMEGA_DT;
 mod render;
@@ -149,7 +151,8 @@ impl SceneFile {
         neighbours::neighbours(self)?;
         constraints::constraints(self)?;
         fire(self)?;
-        render::render(self)
+        render::render(self)?;
+        lighting::lighting(self)
     }
 
     /// Number of particles.

@@ -59,6 +59,7 @@ impl Sorter {
         }
         let grid = matches!(mode, KeyMode::GridCell { .. });
         let age = matches!(mode, KeyMode::Age { .. });
+        let axis = matches!(mode, KeyMode::Axis { .. });
         if age && statics.is_none_or(|t| t.texels() < count) {
             return Err(Error::InvalidInput(
                 "age keys read each particle's total life from its static texture: use \
@@ -66,8 +67,16 @@ impl Sorter {
                     .into(),
             ));
         }
-        let key = ProgramKey::Keys { grid, age, rekey };
-        let extra = self.key_defines(grid, age, rekey);
+        let key = ProgramKey::Keys {
+            grid,
+            age,
+            axis,
+            rekey,
+        };
+        let mut extra = self.key_defines(grid, age, rekey);
+        if axis {
+            extra.push(("KEY_AXIS", "1"));
+        }
         self.program(key, FULLSCREEN_VERTEX, "sort/keys.frag", &extra)?;
         let p = &self.programs[&key];
         p.bind();
@@ -159,6 +168,7 @@ fn set_mode_uniforms(p: &Program, mode: &KeyMode) {
             p.set_f32("u_direction", if back_to_front { -1.0 } else { 1.0 });
             p.set_f32("u_age_sign", if youngest_on_top { 1.0 } else { -1.0 });
         }
+        KeyMode::Axis { direction } => p.set_vec3("u_axis", direction),
         KeyMode::GridCell {
             origin,
             spacing,

@@ -52,8 +52,14 @@ enum ProgramKey {
     Multistep { levels: usize, steps: usize },
     /// A GP/FP pass.
     Geometry(GpProgram),
-    /// The key pass: lattice cells, viewer distance or age, written fresh or refreshed in place.
-    Keys { grid: bool, age: bool, rekey: bool },
+    /// The key pass: lattice cells, viewer distance, age or position along an axis, written
+    /// fresh or refreshed in place.
+    Keys {
+        grid: bool,
+        age: bool,
+        axis: bool,
+        rekey: bool,
+    },
 }
 
 /// (wide masks, steps) of a multistep pass: the texels it fetches are 2^wide.

@@ -36,6 +36,13 @@ pub enum KeyMode {
         /// first drawn is on top).
         back_to_front: bool,
     },
+    /// The position along an axis, `dot(x, direction)`, ascending: half-angle slicing sorts
+    /// along the vector halfway between the light and the view (Kniss et al. 2003), nearest
+    /// the light first.
+    Axis {
+        /// The axis (any length: the keys scale with it).
+        direction: Vec3,
+    },
     /// Index of the cell of a lattice, enumerated z, y, x (UberFlow §4.3).
     GridCell {
         /// Corner of cell (0, 0, 0).

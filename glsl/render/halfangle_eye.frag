@@ -1,0 +1,35 @@
+// Half-angle slicing's eye pass (Kniss et al. 2003; Green 2008): a slice's particles lit by
+// the light that reaches them, the transmittance the slices before left in the light buffer
+// (fetched at the fragment's texel of it; outside the buffer the light is unattenuated):
+//   colour = keyframe colour (times the sprite texel) · (ambient + light colour · T).
+// u_premultiplied: the output is colour · alpha, alpha for the under operator (the eye looks
+// the way the light goes, slices front to back); else straight colour for the over operator.
+
+#include "render/sprite_tile.glsl"
+
+uniform sampler2D u_atlas;
+uniform sampler2D u_light;        // transmittance in r
+uniform vec3 u_light_colour;
+uniform vec3 u_ambient;
+uniform bool u_premultiplied;
+
+in vec4 v_color;
+in vec2 v_coord;
+in vec2 v_light;
+flat in vec2 v_rotation;
+flat in vec2 v_tile;
+layout(location = 0) out vec4 o_color;
+
+void main() {
+    vec4 c = v_color;
+#ifdef SPRITES
+    vec4 tex = sprite_texel(u_atlas, v_coord, v_rotation, v_tile);
+    c = vec4(c.rgb * tex.rgb, c.a * tex.a);
+#endif
+    ivec2 size = textureSize(u_light, 0);
+    ivec2 texel = ivec2(floor(v_light * vec2(size)));
+    bool inside = all(greaterThanEqual(texel, ivec2(0))) && all(lessThan(texel, size));
+    float transmittance = inside ? texelFetch(u_light, texel, 0).r : 1.0;
+    vec3 lit = c.rgb * (u_ambient + u_light_colour * transmittance);
+    o_color = u_premultiplied ? vec4(lit * c.a, c.a) : vec4(lit, c.a);
+}

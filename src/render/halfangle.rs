@@ -1,0 +1,374 @@
+//! Lit smoke by half-angle slicing (Kniss et al. 2003, "A model for volumetric lighting";
+//! Green 2008, "Volumetric particle shadows"): the particles, sorted along the vector halfway
+//! between the light's and the view's direction, are drawn in slices; each slice is first drawn
+//! into the frame, every fragment lit by the transmittance the slices before it left in a light
+//! buffer, then into the light buffer, attenuating it. Both orders hold within a slice: along
+//! the half-angle vector, the particles nearest the light come first, and for the eye either
+//! the nearest (the light behind the viewer: the under operator) or the farthest (the light
+//! facing the viewer: the over operator).
+//!
+//! The light buffer is an RGBA16F texture holding the transmittance (1 cleared, times 1 − α
+//! for every particle drawn over a texel), in an orthographic view along the light centred on
+//! the camera's target. A sprite casts a square of the size it has in the scene at its own
+//! depth, facing the light.
+
+use glam::{Mat4, Vec3};
+
+use super::{Camera, FrameState, FrameTarget, ParticleStyle};
+use crate::error::{Error, Result};
+use crate::gl::{
+    Blend, BlendComponent, BlendFactor, Context, Defines, Depth, Draw, DrawState, Framebuffer,
+    PointSize, Primitive, Program, Sampled, Texture, TextureDesc, TextureFormat, VertexArray,
+};
+use crate::scene::{DrawMode, LightSection};
+
+/// The axis half-angle slicing sorts along, and the order the eye sees it in.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HalfAngle {
+    /// Unit vector: particles are drawn in ascending `dot(x, axis)`, nearest the light first.
+    pub axis: Vec3,
+    /// The eye looks the way the light goes: ascending order is front to back for the eye too
+    /// (the under operator); else back to front (the over operator).
+    pub front_to_back: bool,
+}
+
+impl HalfAngle {
+    /// Kniss et al.: with `view` the direction the camera looks in and `light` the one the light
+    /// travels in, the half-angle vector is normalize(view + light) when they point the same
+    /// way (dot ≥ 0), else normalize(light − view), the view flipped.
+    pub fn new(view: Vec3, light: Vec3) -> Self {
+        let (v, l) = (view.normalize(), light.normalize());
+        let front_to_back = v.dot(l) >= 0.0;
+        let axis = if front_to_back { v + l } else { l - v };
+        HalfAngle {
+            axis: axis.normalize(),
+            front_to_back,
+        }
+    }
+
+    /// The half-angle of `camera` and the scene's light.
+    pub fn of(camera: &Camera, light: &LightSection) -> Self {
+        HalfAngle::new(camera.target - camera.eye(), Vec3::from(light.direction))
+    }
+}
+
+/// The light buffer's view: scene to its [-1, 1]² along the light, centred on `centre`,
+/// `extent` scene units from the centre to each edge. Its x axis is horizontal (perpendicular
+/// to +y, or for a vertical light to +z).
+pub fn light_view(direction: Vec3, centre: Vec3, extent: f32) -> Mat4 {
+    let l = direction.normalize();
+    let up = if l.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
+    Mat4::from_scale(Vec3::splat(1.0 / extent)) * Mat4::look_to_rh(centre, l, up)
+}
+
+/// The particle renderer's lit variant: the same look (keyframes, sprites, sizes), drawn in
+/// slices along the half-angle vector.
+pub struct HalfAngleRenderer {
+    ctx: Context,
+    style: ParticleStyle,
+    light: LightSection,
+    slices: u32,
+    extent: f32,
+    buffer: Framebuffer,
+    eye: Program,
+    shadow: Program,
+    background: Program,
+    empty: VertexArray,
+}
+
+impl std::fmt::Debug for HalfAngleRenderer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "HalfAngleRenderer({} slices)", self.slices)
+    }
+}
+
+/// Which passes of the slices [`HalfAngleRenderer::draw_passes`] runs (the benchmark times
+/// them apart).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SlicePasses {
+    /// Both, interleaved: the frame.
+    Both,
+    /// Only the eye passes (on the light buffer as it is).
+    Eye,
+    /// Only the light-buffer passes.
+    Light,
+}
+
+impl HalfAngleRenderer {
+    /// Builds the programs of `style` (points or sprites, drawn as quads) and a light buffer of
+    /// the light's resolution covering `extent` scene units around the camera's target.
+    pub fn new(
+        ctx: &Context,
+        style: ParticleStyle,
+        light: &LightSection,
+        slices: u32,
+        extent: f32,
+    ) -> Result<Self> {
+        if slices == 0 || !(extent > 0.0 && extent.is_finite()) {
+            return Err(Error::InvalidInput(format!(
+                "half-angle slicing needs at least one slice and an extent above 0 (got {slices} \
+                 slices, extent {extent})"
+            )));
+        }
+        let side = light.resolution;
+        crate::gl::check_size(ctx, "light buffer (render.light.resolution)", side, side)?;
+        let mut defines = Defines::new();
+        if style.mode == DrawMode::Sprites {
+            defines.push(("SPRITES".into(), "1".into()));
+        }
+        let eye = Program::new(
+            ctx,
+            "render/halfangle.vert",
+            "render/halfangle_eye.frag",
+            &defines,
+        )?;
+        defines.push(("LIGHT_PASS".into(), "1".into()));
+        let shadow = Program::new(
+            ctx,
+            "render/halfangle.vert",
+            "render/halfangle_light.frag",
+            &defines,
+        )?;
+        let background = Program::new(
+            ctx,
+            crate::gl::FULLSCREEN_VERTEX,
+            "render/background.frag",
+            &Defines::new(),
+        )?;
+        let texture = Texture::new(
+            ctx,
+            TextureDesc {
+                width: side,
+                height: side,
+                format: TextureFormat::Rgba16F,
+                label: "light buffer",
+            },
+        )?;
+        Ok(HalfAngleRenderer {
+            ctx: ctx.clone(),
+            style,
+            light: light.clone(),
+            slices,
+            extent,
+            buffer: Framebuffer::new(ctx, "light buffer", vec![texture])?,
+            eye,
+            shadow,
+            background,
+            empty: VertexArray::empty(ctx, "half-angle slices")?,
+        })
+    }
+
+    /// The light buffer: transmittance in r after the last draw.
+    pub fn light_buffer(&self) -> &Framebuffer {
+        &self.buffer
+    }
+
+    /// The light.
+    pub fn light(&self) -> &LightSection {
+        &self.light
+    }
+
+    /// The number of slices.
+    pub fn slices(&self) -> u32 {
+        self.slices
+    }
+
+    /// The passes one draw runs, as the pass list words them.
+    pub fn pass_names(&self) -> Vec<String> {
+        let side = self.light.resolution;
+        vec![
+            format!("clear light buffer ({side}x{side} RGBA16F, transmittance 1)"),
+            format!(
+                "{} slices along the half-angle vector, each: eye pass (quads lit by the light \
+                 buffer's transmittance, alpha over or under) then light pass (quads facing the \
+                 light, transmittance times 1 - opacity)",
+                self.slices
+            ),
+            "composite background under (when the eye looks the way the light goes)".into(),
+        ]
+    }
+
+    /// The light buffer's view for `camera`.
+    pub fn light_view(&self, camera: &Camera) -> Mat4 {
+        light_view(
+            Vec3::from(self.light.direction),
+            camera.target,
+            self.extent,
+        )
+    }
+
+    /// Clears `target` and the light buffer and draws particles `0..state.count`, already
+    /// sorted along [`HalfAngle::of`] `camera`, in slices of equal counts.
+    pub fn draw(
+        &self,
+        target: &FrameTarget,
+        state: &FrameState<'_>,
+        camera: &Camera,
+        atlas: Option<&Texture>,
+    ) -> Result<()> {
+        self.draw_passes(target, state, camera, atlas, SlicePasses::Both)
+    }
+
+    /// [`draw`](Self::draw), running only `passes` of each slice (the eye passes without the
+    /// light passes read the light buffer as it was left).
+    pub fn draw_passes(
+        &self,
+        target: &FrameTarget,
+        state: &FrameState<'_>,
+        camera: &Camera,
+        atlas: Option<&Texture>,
+        passes: SlicePasses,
+    ) -> Result<()> {
+        let half = HalfAngle::of(camera, &self.light);
+        let s = &self.style;
+        if passes != SlicePasses::Eye {
+            self.buffer.clear([1.0; 4]);
+        }
+        let under = half.front_to_back;
+        if passes != SlicePasses::Light {
+            let [r, g, b] = s.background;
+            target.clear_to(if under { [0.0; 4] } else { [r, g, b, 1.0] });
+        }
+        self.set_uniforms(target, state, camera, atlas)?;
+        self.eye.bind();
+        self.eye.set_i32("u_premultiplied", under as i32);
+        let eye_state = DrawState {
+            blend: Some(eye_blend(under)),
+            point_size: PointSize::One,
+            depth: Depth::Off,
+        };
+        let keep = BlendComponent::add(BlendFactor::Zero, BlendFactor::OneMinusSrcColor);
+        let light_state = DrawState {
+            blend: Some(Blend {
+                color: keep,
+                alpha: keep,
+            }),
+            ..eye_state
+        };
+        let mut textures: Vec<(&str, Sampled)> = vec![
+            ("u_position", state.positions.into()),
+            ("u_static", state.statics.into()),
+        ];
+        if let Some(a) = atlas {
+            textures.push(("u_atlas", a.into()));
+        }
+        let shadow_textures = textures.clone();
+        textures.push(("u_light", self.buffer.only_texture().into()));
+        let batch = state.count.div_ceil(self.slices as usize).max(1);
+        let mut first = 0;
+        while first < state.count {
+            let n = batch.min(state.count - first);
+            if passes != SlicePasses::Light {
+                let fb = target.framebuffer();
+                self.slice(&self.eye, &textures, fb, (first, n), &eye_state);
+            }
+            if passes != SlicePasses::Eye {
+                let fb = &self.buffer;
+                self.slice(&self.shadow, &shadow_textures, fb, (first, n), &light_state);
+            }
+            first += n;
+        }
+        if under && passes != SlicePasses::Light {
+            let b = &self.background;
+            b.bind();
+            b.set_vec3("u_background", Vec3::from_array(s.background));
+            self.ctx.draw(&Draw {
+                program: b,
+                target: target.framebuffer(),
+                viewport: None,
+                vertices: &self.empty,
+                primitive: Primitive::Triangles,
+                count: 3,
+                state: &eye_state,
+            });
+        }
+        self.ctx.check_error("drawing half-angle slices")
+    }
+
+    /// Draws particles `first..first + n` of the sorted state with `program`, reading
+    /// `textures`.
+    fn slice(
+        &self,
+        program: &Program,
+        textures: &[(&str, Sampled)],
+        fb: &Framebuffer,
+        (first, n): (usize, usize),
+        st: &DrawState,
+    ) {
+        program.bind();
+        program.textures(textures);
+        program.set_i32("u_first", first as i32);
+        self.ctx.draw(&Draw {
+            program,
+            target: fb,
+            viewport: None,
+            vertices: &self.empty,
+            primitive: Primitive::Triangles,
+            count: (n * super::QUAD_VERTICES) as u32,
+            state: st,
+        });
+    }
+
+    /// Sets both programs' uniforms and textures for this frame.
+    fn set_uniforms(
+        &self,
+        target: &FrameTarget,
+        state: &FrameState<'_>,
+        camera: &Camera,
+        atlas: Option<&Texture>,
+    ) -> Result<()> {
+        let (positions, statics) = (state.positions, state.statics);
+        if positions.texels() < state.count || statics.texels() < state.count {
+            return Err(Error::InvalidInput(format!(
+                "{} particles to draw from a state of {}",
+                state.count,
+                positions.texels()
+            )));
+        }
+        if self.style.mode == DrawMode::Sprites && atlas.is_none() {
+            return Err(Error::InvalidInput("lit sprites need the atlas".into()));
+        }
+        let s = &self.style;
+        let (w, h) = (target.width() as f32, target.height() as f32);
+        let view = camera.view();
+        let light_view = self.light_view(camera);
+        for (p, light_pass) in [(&self.eye, false), (&self.shadow, true)] {
+            p.bind();
+            p.set_i32("u_width", positions.width() as i32);
+            p.set_mat4("u_view_proj", &camera.view_projection(w / h));
+            p.set_vec2("u_viewport", glam::Vec2::new(w, h));
+            p.set_f32("u_proj_y", camera.projection(w / h).y_axis.y);
+            p.set_vec3("u_camera_right", view.row(0).truncate());
+            p.set_vec3("u_camera_up", view.row(1).truncate());
+            p.set_mat4("u_light_view", &light_view);
+            p.set_f32("u_light_scale", 1.0 / self.extent);
+            p.set_f32("u_point_size", s.point_size);
+            p.set_f32("u_intensity", s.intensity);
+            p.set_f32("u_density", self.light.density);
+            p.set_f32("u_time", state.time);
+            s.set_types(p);
+            s.set_keyframes(p);
+            if !light_pass {
+                let l = &self.light;
+                p.set_vec3("u_light_colour", Vec3::from_array(l.colour));
+                p.set_vec3("u_ambient", Vec3::from_array(l.ambient));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The eye passes' blend: the under operator (front to back, premultiplied) or the over
+/// operator (back to front), as [`ParticleStyle::blend`] has them.
+fn eye_blend(under: bool) -> Blend {
+    use BlendFactor::{One, OneMinusDstAlpha, OneMinusSrcAlpha, SrcAlpha};
+    let (src, dst, src_a, dst_a) = if under {
+        (OneMinusDstAlpha, One, OneMinusDstAlpha, One)
+    } else {
+        (SrcAlpha, OneMinusSrcAlpha, One, OneMinusSrcAlpha)
+    };
+    Blend {
+        color: BlendComponent::add(src, dst),
+        alpha: BlendComponent::add(src_a, dst_a),
+    }
+}

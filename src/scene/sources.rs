@@ -18,6 +18,7 @@ builtin_scenes![
     "snow",
     "fountain",
     "smoke",
+    "smoke-lit",
     "e1",
     "e2",
     "e3",

@@ -1,0 +1,263 @@
+//! Half-angle slicing (`render.lighting = "half_angle"`): the key pass sorts along an axis as a
+//! CPU sort does, the engine sorts lit scenes along the half-angle vector, a particle behind a
+//! dense layer (seen from the light) is darker than one beside it, as a CPU twin of the light
+//! buffer's transmittance per slice says, and the lighting keys are refused at their place.
+
+mod common;
+
+use common::image::texture;
+use common::{context, no_gl_error};
+use glam::Vec3;
+use texflow::gl::TextureFormat;
+use texflow::render::{Camera, FrameState, FrameTarget, HalfAngleRenderer, ParticleStyle};
+use texflow::scene::{self, Blending, DrawOrder, Keyframe, LightSection, Render};
+use texflow::sort::{KeyMode, SortOptions, Sorter, Variant};
+
+fn lcg(s: &mut u64) -> f32 {
+    *s = s
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    ((*s >> 33) % 20000) as f32 / 1000.0 - 10.0
+}
+
+/// The key pass with `KeyMode::Axis` and a whole sort give the particles in ascending
+/// dot(x, axis), ties by index, dead ones last: the order of a CPU sort.
+#[test]
+fn axis_sort_matches_a_cpu_sort() {
+    let ctx = context();
+    let (w, h) = (16u32, 8u32);
+    let n = (w * h) as usize;
+    let mut seed = 5;
+    let mut pos: Vec<f32> = (0..n)
+        .flat_map(|_| [lcg(&mut seed), lcg(&mut seed), lcg(&mut seed), 1.0])
+        .collect();
+    // A few dead particles and a few with equal keys.
+    for i in [3, 40, 77] {
+        pos[4 * i..4 * i + 4].copy_from_slice(&[f32::INFINITY, f32::INFINITY, f32::INFINITY, 0.0]);
+    }
+    pos.copy_within(4 * 10..4 * 11, 4 * 11);
+    let positions = texture(&ctx, "positions", (w, h), TextureFormat::Rgba32F, &pos);
+    let axis = Vec3::new(0.3, -0.8, 0.5).normalize();
+    let key = |i: usize| {
+        let p = &pos[4 * i..4 * i + 4];
+        if p[3] > 0.0 {
+            Vec3::from_slice(&p[..3]).dot(axis)
+        } else {
+            f32::INFINITY
+        }
+    };
+    let mut want: Vec<usize> = (0..n).collect();
+    want.sort_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)));
+    for variant in [Variant::OddEven, Variant::Packed, Variant::Blocked] {
+        let mut sorter = Sorter::new(&ctx, variant, w, h, SortOptions::default()).unwrap();
+        let mode = KeyMode::Axis { direction: axis };
+        sorter.write_keys(&positions, n, &mode, true).unwrap();
+        sorter.sort();
+        let got: Vec<usize> = sorter.read().unwrap().iter().map(|e| e[1] as usize).collect();
+        assert_eq!(got, want, "{variant:?}");
+    }
+    no_gl_error(&ctx);
+}
+
+/// The engine sorts a lit scene along the half-angle vector of its camera and light: the
+/// vector halfway between the view and the light direction (the view flipped when the light
+/// faces the viewer), computed here from the scene's keys.
+#[test]
+fn the_engine_sorts_lit_scenes_along_the_half_angle() {
+    let ctx = context();
+    let mut s = scene::load("smoke-lit").unwrap();
+    s.particles.size = [16, 16];
+    s.render.resolution = [32, 32];
+    let mut engine = texflow::ParticleEngine::new(&ctx, &s, 1).unwrap();
+    for _ in 0..20 {
+        engine.advance_frame().unwrap();
+    }
+    assert!(engine.order_for_drawing().unwrap());
+    let camera = engine.camera();
+    let v = (camera.target - camera.eye()).normalize();
+    let l = Vec3::from(s.render.light.direction).normalize();
+    let axis = if v.dot(l) >= 0.0 { v + l } else { l - v }.normalize();
+    let pos = engine.sim().positions().read_f32().unwrap();
+    let entries = engine.sorter().unwrap().read().unwrap();
+    let live: Vec<_> = entries.iter().filter(|e| e[0].is_finite()).collect();
+    assert!(live.len() > 20, "{} live particles", live.len());
+    for (k, e) in live.iter().enumerate() {
+        let i = e[1] as usize;
+        let want = Vec3::from_slice(&pos[4 * i..4 * i + 3]).dot(axis);
+        assert!((e[0] - want).abs() < 1e-4, "entry {k}: key {} for {want}", e[0]);
+        assert!(k == 0 || live[k - 1][0] <= e[0], "entry {k} out of order");
+    }
+    let frame = engine.render().unwrap();
+    assert_eq!(frame.dimensions(), (32, 32));
+    no_gl_error(&ctx);
+}
+
+/// The twin's configuration: a 64×64 frame looking down -z from (0, 0, 4), a light straight
+/// down, white particles of opacity 0.5 drawn as 8-pixel squares, listed in ascending order
+/// along the half-angle vector (0, -1, -1)/√2: B above, a layer of three at one place, then A
+/// under the layer and C beside A.
+const SIZE: f32 = 8.0;
+const ALPHA: f32 = 0.5;
+const AMBIENT: f32 = 0.2;
+const LIGHT: f32 = 0.8;
+const EXTENT: f32 = 1.0;
+const LIGHT_TEXELS: u32 = 16;
+const PARTICLES: [[f32; 3]; 6] = [
+    [0.0, 1.0, 0.0],
+    [0.0, 0.5, 0.0],
+    [0.0, 0.5, 0.0],
+    [0.0, 0.5, 0.0],
+    [0.0, 0.0, 0.0],
+    [0.8, 0.0, 0.0],
+];
+
+fn camera() -> Camera {
+    Camera {
+        target: Vec3::ZERO,
+        distance: 4.0,
+        azimuth: 0.0,
+        elevation: 0.0,
+        ..Camera::default()
+    }
+}
+
+/// The CPU twin of the light buffer: the transmittance particle `i` finds, the product of
+/// 1 − α over the particles of earlier slices whose light-facing square covers the centre of
+/// the light-buffer texel under `i`. The light looks straight down, so the buffer's axes are x
+/// and z (up to sign and order, which this configuration is symmetric in); a square is as wide
+/// in the scene as the sprite is at its depth: SIZE · 2·d·tan(fov/2) / 64.
+fn twin_transmittance(i: usize, slices: usize) -> f32 {
+    let n = PARTICLES.len();
+    let batch = n.div_ceil(slices);
+    let world = SIZE * 2.0 * 4.0 * (22.5f32).to_radians().tan() / 64.0;
+    let texel_centre = |c: f32| {
+        let t = ((c / EXTENT * 0.5 + 0.5) * LIGHT_TEXELS as f32).floor();
+        ((t + 0.5) / LIGHT_TEXELS as f32 * 2.0 - 1.0) * EXTENT
+    };
+    let (x, z) = (texel_centre(PARTICLES[i][0]), texel_centre(PARTICLES[i][2]));
+    (0..n)
+        .filter(|&j| j / batch < i / batch)
+        .filter(|&j| {
+            let p = PARTICLES[j];
+            (p[0] - x).abs() < world / 2.0 && (p[2] - z).abs() < world / 2.0
+        })
+        .map(|_| 1.0 - ALPHA)
+        .product()
+}
+
+/// Draws the configuration in `slices` slices; the frame read back.
+fn draw(ctx: &texflow::gl::Context, slices: u32) -> image::RgbImage {
+    let mut pos = vec![f32::INFINITY; 8 * 4];
+    let statics = vec![0.0; 8 * 4];
+    for k in 0..8 {
+        pos[4 * k + 3] = 0.0;
+    }
+    for (k, p) in PARTICLES.iter().enumerate() {
+        pos[4 * k..4 * k + 4].copy_from_slice(&[p[0], p[1], p[2], 1.0]);
+    }
+    let positions = texture(ctx, "positions", (4, 2), TextureFormat::Rgba32F, &pos);
+    let statics = texture(ctx, "statics", (4, 2), TextureFormat::Rgba32F, &statics);
+    let render = Render {
+        point_size: SIZE,
+        blending: Blending::Alpha,
+        order: DrawOrder::BackToFront,
+        keyframes: vec![Keyframe {
+            age: 0.0,
+            rgba: [1.0, 1.0, 1.0, ALPHA],
+        }],
+        ..Render::default()
+    };
+    let style = ParticleStyle::from_render(&render, [1.0; 4]);
+    let light = LightSection {
+        direction: [0.0, -1.0, 0.0],
+        colour: [LIGHT; 3],
+        ambient: [AMBIENT; 3],
+        density: 1.0,
+        resolution: LIGHT_TEXELS,
+        extent: Some(EXTENT),
+    };
+    let lit = HalfAngleRenderer::new(ctx, style, &light, slices, EXTENT).unwrap();
+    let target = FrameTarget::new(ctx, 64, 64).unwrap();
+    let state = FrameState {
+        positions: &positions,
+        statics: &statics,
+        motion: None,
+        time: 0.0,
+        spins: None,
+        count: PARTICLES.len(),
+    };
+    lit.draw(&target, &state, &camera(), None).unwrap();
+    target.read_rgb().unwrap()
+}
+
+/// A particle under a dense layer, as the light sees it, is darker than one beside it once
+/// the layer is drawn into the light buffer in an earlier slice, by the transmittance the CPU
+/// twin gives per slice; in one slice nothing shadows anything. The eye looks across the light
+/// (dot = 0), so slices are drawn front to back with the under operator over a black
+/// background: a pixel covered by one particle is α · (ambient + light · T).
+#[test]
+fn a_particle_behind_a_dense_layer_is_darker_as_the_twin_says() {
+    let ctx = context();
+    for slices in [1, 2, 6] {
+        let frame = draw(&ctx, slices);
+        let value = |i: usize| {
+            let (x, y) = camera().project_to_pixel(Vec3::from(PARTICLES[i]), 64, 64).unwrap();
+            frame.get_pixel(x, y).0[0] as f32 / 255.0
+        };
+        for i in [0, 4, 5] {
+            let t = twin_transmittance(i, slices as usize);
+            let want = ALPHA * (AMBIENT + LIGHT * t);
+            assert!(
+                (value(i) - want).abs() <= 2.0 / 255.0,
+                "{slices} slices, particle {i}: {} against the twin's {want} (T = {t})",
+                value(i)
+            );
+        }
+        let (under, beside) = (value(4), value(5));
+        if slices == 1 {
+            assert!((under - beside).abs() <= 1.0 / 255.0, "one slice: no shadow");
+        } else {
+            assert!(under + 0.1 < beside, "{slices} slices: {under} not below {beside}");
+        }
+    }
+    no_gl_error(&ctx);
+}
+
+/// The lighting keys' bad values are refused at their line and column.
+#[test]
+fn lighting_keys_are_refused_at_their_place() {
+    let lit = scene::builtin_source("smoke-lit").unwrap();
+    let unlit = scene::builtin_source("smoke").unwrap();
+    let cases = [
+        (lit.replace("slices = 32", "slices = 0"), "slices = 0", "slices"),
+        (
+            lit.replace("direction = [0.5, -1.0, -0.3]", "direction = [0.0, 0.0, 0.0]"),
+            "light = {",
+            "direction",
+        ),
+        (
+            lit.replace("blending = \"alpha\"", "blending = \"additive\""),
+            "lighting = ",
+            "alpha",
+        ),
+        (
+            unlit.replacen("[render]\n", "[render]\nslices = 8\n", 1),
+            "slices = 8",
+            "half_angle",
+        ),
+        (
+            lit.replace("variant = \"oddeven\"", "variant = \"oddeven\"\npasses_per_frame = 4"),
+            "passes_per_frame",
+            "passes_per_frame",
+        ),
+    ];
+    for (src, line_start, words) in cases {
+        let line = src.lines().position(|l| l.starts_with(line_start)).unwrap() + 1;
+        let err = scene::parse("lit.toml", &src).unwrap_err();
+        let text = err.to_string();
+        assert!(text.starts_with(&format!("lit.toml:{line}:")), "{text} (line {line})");
+        assert!(text.contains(words), "{text}");
+        assert!(err.is_bad_input());
+    }
+    scene::parse("lit.toml", lit).expect("smoke-lit is valid");
+}

@@ -299,7 +299,9 @@ impl<S: Simulation> GpuEngine<S> {
                 };
                 match &self.lit {
                     Some(l) => l.draw(&self.target, &state, &self.camera, self.renderer.atlas())?,
-                    None => self.renderer.draw_frame(&self.target, &state, &self.camera)?,
+                    None => self
+                        .renderer
+                        .draw_frame(&self.target, &state, &self.camera)?,
                 }
             }
             None => {

@@ -190,11 +190,7 @@ impl HalfAngleRenderer {
 
     /// The light buffer's view for `camera`.
     pub fn light_view(&self, camera: &Camera) -> Mat4 {
-        light_view(
-            Vec3::from(self.light.direction),
-            camera.target,
-            self.extent,
-        )
+        light_view(Vec3::from(self.light.direction), camera.target, self.extent)
     }
 
     /// Clears `target` and the light buffer and draws particles `0..state.count`, already

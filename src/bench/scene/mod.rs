@@ -405,12 +405,14 @@ fn particles(
         let sorted = sort.is_some();
         let t = timed(timer, || engine.render_pass(sorted))?;
         let r = engine.renderer();
+        let lit = engine.lit().map(|l| l.pass_names());
         phases.push(
-            &format!("render ({})", r.pass_names().join(", ")),
+            &format!("render ({})", lit.unwrap_or_else(|| r.pass_names()).join(", ")),
             "clear + the live particles as points where they are, same size and blend, no fetch",
             t,
             f,
         );
+        phases::lit_phases(timer, &mut phases, &engine, &placed)?;
         phases.next_repetition();
     }
     let live = alive(ctx, &engine, s)?;
@@ -428,7 +430,10 @@ fn frame_sort_phases(
     s: &SceneFile,
 ) -> Result<()> {
     let back_to_front = s.render.order == DrawOrder::BackToFront;
-    let mode = crate::engine::key_mode(s.render.sort.key, engine.camera().eye(), back_to_front);
+    let mode = match engine.lit() {
+        Some(l) => crate::engine::half_angle_keys(engine.camera(), l.light()),
+        None => crate::engine::key_mode(s.render.sort.key, engine.camera().eye(), back_to_front),
+    };
     if sort.0.quantiser().is_some() {
         let (lo, hi) = crate::engine::compact_depth_range(engine.camera().distance);
         let (lo, hi) = if back_to_front { (-hi, -lo) } else { (lo, hi) };

@@ -182,3 +182,92 @@ fn stage_name(stage: Stage) -> &'static str {
         Stage::Collide => "collide",
     }
 }
+
+/// Half-angle slicing's passes apart (`render.lighting = "half_angle"`): every slice's light
+/// pass alone, then every slice's eye pass alone (on the light buffer the light passes left),
+/// each next to the live particles drawn as points where they are, same size and blend, into
+/// the same target (the light buffer seen from the light, the frame from the camera).
+pub(super) fn lit_phases(
+    timer: &PassTimer,
+    phases: &mut Phases,
+    engine: &crate::engine::ParticleEngine,
+    placed: &crate::bench::stats::PlacedRenderFloor,
+) -> Result<()> {
+    use crate::render::{FrameState, SlicePasses};
+    let (Some(lit), Some(sorted)) = (engine.lit(), engine.sorted()) else {
+        return Ok(());
+    };
+    let camera = engine.camera();
+    let target = engine.target();
+    let [w, h] = engine.sim().size().to_array();
+    let state = FrameState {
+        positions: sorted.texture(POSITION),
+        statics: sorted.texture(STATIC),
+        motion: None,
+        time: engine.sim().time() as f32,
+        spins: None,
+        count: w as usize * h as usize,
+    };
+    let atlas = engine.renderer().atlas();
+    let style = engine.renderer().style();
+    let side = lit.light_buffer().width() as f32;
+    // Sprites span point_size · 2·d·tan(fov/2) / height scene units at the target's distance;
+    // the light buffer has side / (2 · extent) texels a unit. Depth squashed: nothing clipped.
+    let fov = (camera.fov_y.to_radians() * 0.5).tan();
+    let world = style.point_size * 2.0 * camera.distance * fov / target.height() as f32;
+    let extent = 1.0 / lit.light_view(camera).x_axis.truncate().length();
+    let light_size = world * side / (2.0 * extent);
+    let light_view =
+        glam::Mat4::from_scale(glam::Vec3::new(1.0, 1.0, 1e-6)) * lit.light_view(camera);
+    let keep = crate::gl::BlendComponent::add(
+        crate::gl::BlendFactor::Zero,
+        crate::gl::BlendFactor::OneMinusSrcColor,
+    );
+    let light_blend = Some(crate::gl::Blend {
+        color: keep,
+        alpha: keep,
+    });
+    let f = timer.time(|| {
+        placed.draw(
+            lit.light_buffer(),
+            [1.0; 4],
+            light_blend,
+            &light_view,
+            light_size,
+        )
+    })?;
+    let t = timed(timer, || {
+        lit.draw_passes(target, &state, camera, atlas, SlicePasses::Light)
+    })?;
+    phases.push(
+        &format!("light-buffer passes ({} slices)", lit.slices()),
+        "clear + the live particles as points where the light sees them, same size and blend",
+        t,
+        f,
+    );
+    let [rw, rh] = [target.width(), target.height()];
+    let view_proj = camera.view_projection(rw as f32 / rh as f32);
+    let blend = Some(style.blend());
+    let f = timer.time(|| {
+        placed.draw(
+            target.framebuffer(),
+            style.clear_color(),
+            blend,
+            &view_proj,
+            style.point_size,
+        )
+    })?;
+    let t = timed(timer, || {
+        lit.draw_passes(target, &state, camera, atlas, SlicePasses::Eye)
+    })?;
+    phases.push(
+        &format!(
+            "eye passes ({} slices, lit by the light buffer)",
+            lit.slices()
+        ),
+        "clear + the live particles as points where they are, same size and blend, no fetch",
+        t,
+        f,
+    );
+    Ok(())
+}

@@ -5,8 +5,7 @@
 use super::{fail, path, Check};
 use crate::scene::locate::Key;
 use crate::scene::schema::{
-    Blending, DrawMode, DrawPrimitive, Lighting, Render, RenderPath, Rotate, SceneFile,
-    SortEntries,
+    Blending, DrawMode, DrawPrimitive, Lighting, Render, RenderPath, Rotate, SceneFile, SortEntries,
 };
 
 use Key::Name as N;
@@ -23,7 +22,10 @@ pub(super) fn lighting(s: &SceneFile) -> Check {
     let r = &s.render;
     let d = Render::default();
     if r.lighting == Lighting::None {
-        let given = [("slices", r.slices != d.slices), ("light", r.light != d.light)];
+        let given = [
+            ("slices", r.slices != d.slices),
+            ("light", r.light != d.light),
+        ];
         if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
             return fail(
                 path(&[N("render"), N(key)]),
@@ -38,7 +40,10 @@ pub(super) fn lighting(s: &SceneFile) -> Check {
     let why = "half-angle slicing draws alpha-blended particles in slices along the half-angle \
                vector (Kniss et al. 2003)";
     if s.fire.is_some() {
-        return fail(here, format!("the [fire] draws additive points: {why}; remove lighting"));
+        return fail(
+            here,
+            format!("the [fire] draws additive points: {why}; remove lighting"),
+        );
     }
     if r.blending != Blending::Alpha {
         return fail(
@@ -121,7 +126,10 @@ fn light(r: &Render) -> Check {
     if !(0.0..=100.0).contains(&l.density) {
         return fail(
             at("density"),
-            format!("density = {} must lie in [0, 100] (a scale of the opacity)", l.density),
+            format!(
+                "density = {} must lie in [0, 100] (a scale of the opacity)",
+                l.density
+            ),
         );
     }
     if !(1..=MAX_LIGHT_RESOLUTION).contains(&l.resolution) {

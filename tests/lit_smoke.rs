@@ -53,7 +53,12 @@ fn axis_sort_matches_a_cpu_sort() {
         let mode = KeyMode::Axis { direction: axis };
         sorter.write_keys(&positions, n, &mode, true).unwrap();
         sorter.sort();
-        let got: Vec<usize> = sorter.read().unwrap().iter().map(|e| e[1] as usize).collect();
+        let got: Vec<usize> = sorter
+            .read()
+            .unwrap()
+            .iter()
+            .map(|e| e[1] as usize)
+            .collect();
         assert_eq!(got, want, "{variant:?}");
     }
     no_gl_error(&ctx);
@@ -84,7 +89,11 @@ fn the_engine_sorts_lit_scenes_along_the_half_angle() {
     for (k, e) in live.iter().enumerate() {
         let i = e[1] as usize;
         let want = Vec3::from_slice(&pos[4 * i..4 * i + 3]).dot(axis);
-        assert!((e[0] - want).abs() < 1e-4, "entry {k}: key {} for {want}", e[0]);
+        assert!(
+            (e[0] - want).abs() < 1e-4,
+            "entry {k}: key {} for {want}",
+            e[0]
+        );
         assert!(k == 0 || live[k - 1][0] <= e[0], "entry {k} out of order");
     }
     let frame = engine.render().unwrap();
@@ -121,28 +130,37 @@ fn camera() -> Camera {
     }
 }
 
-/// The CPU twin of the light buffer: the transmittance particle `i` finds, the product of
-/// 1 − α over the particles of earlier slices whose light-facing square covers the centre of
-/// the light-buffer texel under `i`. The light looks straight down, so the buffer's axes are x
-/// and z (up to sign and order, which this configuration is symmetric in); a square is as wide
-/// in the scene as the sprite is at its depth: SIZE · 2·d·tan(fov/2) / 64.
+/// The CPU twin of the light buffer: the transmittance particle `i` finds, bilinear between
+/// the four light-buffer texels around it, each texel's the product of 1 − α over the
+/// particles of earlier slices whose light-facing square covers the texel's centre. The light
+/// looks straight down, so the buffer's axes are x and z (up to sign and order, which this
+/// configuration is symmetric in); a square is as wide in the scene as the sprite is at its
+/// depth: SIZE · 2·d·tan(fov/2) / 64.
 fn twin_transmittance(i: usize, slices: usize) -> f32 {
     let n = PARTICLES.len();
     let batch = n.div_ceil(slices);
     let world = SIZE * 2.0 * 4.0 * (22.5f32).to_radians().tan() / 64.0;
-    let texel_centre = |c: f32| {
-        let t = ((c / EXTENT * 0.5 + 0.5) * LIGHT_TEXELS as f32).floor();
-        ((t + 0.5) / LIGHT_TEXELS as f32 * 2.0 - 1.0) * EXTENT
+    let texels = LIGHT_TEXELS as f32;
+    let centre = |t: f32| ((t + 0.5) / texels * 2.0 - 1.0) * EXTENT;
+    let texel = |tx: f32, tz: f32| -> f32 {
+        if tx < 0.0 || tz < 0.0 || tx >= texels || tz >= texels {
+            return 1.0;
+        }
+        (0..n)
+            .filter(|&j| j / batch < i / batch)
+            .filter(|&j| {
+                let p = PARTICLES[j];
+                (p[0] - centre(tx)).abs() < world / 2.0 && (p[2] - centre(tz)).abs() < world / 2.0
+            })
+            .map(|_| 1.0 - ALPHA)
+            .product()
     };
-    let (x, z) = (texel_centre(PARTICLES[i][0]), texel_centre(PARTICLES[i][2]));
-    (0..n)
-        .filter(|&j| j / batch < i / batch)
-        .filter(|&j| {
-            let p = PARTICLES[j];
-            (p[0] - x).abs() < world / 2.0 && (p[2] - z).abs() < world / 2.0
-        })
-        .map(|_| 1.0 - ALPHA)
-        .product()
+    let coord = |c: f32| (c / EXTENT * 0.5 + 0.5) * texels - 0.5;
+    let (x, z) = (coord(PARTICLES[i][0]), coord(PARTICLES[i][2]));
+    let (x0, z0) = (x.floor(), z.floor());
+    let (fx, fz) = (x - x0, z - z0);
+    let row = |tz: f32| texel(x0, tz) * (1.0 - fx) + texel(x0 + 1.0, tz) * fx;
+    row(z0) * (1.0 - fz) + row(z0 + 1.0) * fz
 }
 
 /// Draws the configuration in `slices` slices; the frame read back.
@@ -201,7 +219,9 @@ fn a_particle_behind_a_dense_layer_is_darker_as_the_twin_says() {
     for slices in [1, 2, 6] {
         let frame = draw(&ctx, slices);
         let value = |i: usize| {
-            let (x, y) = camera().project_to_pixel(Vec3::from(PARTICLES[i]), 64, 64).unwrap();
+            let (x, y) = camera()
+                .project_to_pixel(Vec3::from(PARTICLES[i]), 64, 64)
+                .unwrap();
             frame.get_pixel(x, y).0[0] as f32 / 255.0
         };
         for i in [0, 4, 5] {
@@ -215,9 +235,15 @@ fn a_particle_behind_a_dense_layer_is_darker_as_the_twin_says() {
         }
         let (under, beside) = (value(4), value(5));
         if slices == 1 {
-            assert!((under - beside).abs() <= 1.0 / 255.0, "one slice: no shadow");
+            assert!(
+                (under - beside).abs() <= 1.0 / 255.0,
+                "one slice: no shadow"
+            );
         } else {
-            assert!(under + 0.1 < beside, "{slices} slices: {under} not below {beside}");
+            assert!(
+                under + 0.1 < beside,
+                "{slices} slices: {under} not below {beside}"
+            );
         }
     }
     no_gl_error(&ctx);
@@ -229,9 +255,16 @@ fn lighting_keys_are_refused_at_their_place() {
     let lit = scene::builtin_source("smoke-lit").unwrap();
     let unlit = scene::builtin_source("smoke").unwrap();
     let cases = [
-        (lit.replace("slices = 32", "slices = 0"), "slices = 0", "slices"),
         (
-            lit.replace("direction = [0.5, -1.0, -0.3]", "direction = [0.0, 0.0, 0.0]"),
+            lit.replace("slices = 32", "slices = 0"),
+            "slices = 0",
+            "slices",
+        ),
+        (
+            lit.replace(
+                "direction = [0.5, -1.0, -0.3]",
+                "direction = [0.0, 0.0, 0.0]",
+            ),
             "light = {",
             "direction",
         ),
@@ -246,7 +279,10 @@ fn lighting_keys_are_refused_at_their_place() {
             "half_angle",
         ),
         (
-            lit.replace("variant = \"oddeven\"", "variant = \"oddeven\"\npasses_per_frame = 4"),
+            lit.replace(
+                "variant = \"oddeven\"",
+                "variant = \"oddeven\"\npasses_per_frame = 4",
+            ),
             "passes_per_frame",
             "passes_per_frame",
         ),
@@ -255,7 +291,10 @@ fn lighting_keys_are_refused_at_their_place() {
         let line = src.lines().position(|l| l.starts_with(line_start)).unwrap() + 1;
         let err = scene::parse("lit.toml", &src).unwrap_err();
         let text = err.to_string();
-        assert!(text.starts_with(&format!("lit.toml:{line}:")), "{text} (line {line})");
+        assert!(
+            text.starts_with(&format!("lit.toml:{line}:")),
+            "{text} (line {line})"
+        );
         assert!(text.contains(words), "{text}");
         assert!(err.is_bad_input());
     }

@@ -407,7 +407,10 @@ fn particles(
         let r = engine.renderer();
         let lit = engine.lit().map(|l| l.pass_names());
         phases.push(
-            &format!("render ({})", lit.unwrap_or_else(|| r.pass_names()).join(", ")),
+            &format!(
+                "render ({})",
+                lit.unwrap_or_else(|| r.pass_names()).join(", ")
+            ),
             "clear + the live particles as points where they are, same size and blend, no fetch",
             t,
             f,

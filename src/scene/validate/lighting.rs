@@ -107,7 +107,7 @@ fn light(r: &Render) -> Check {
     let at = |key: &'static str| path(&[N("render"), N("light"), N(key)]);
     let largest = l.direction.iter().fold(0.0f32, |m, x| m.max(x.abs()));
     let finite = l.direction.iter().all(|x| x.is_finite());
-    if !(finite && largest >= super::MIN_DIRECTION && largest <= super::MAX_COORDINATE) {
+    if !(finite && (super::MIN_DIRECTION..=super::MAX_COORDINATE).contains(&largest)) {
         return fail(
             at("direction"),
             format!(

@@ -210,23 +210,7 @@ pub(super) fn lit_phases(
     };
     let atlas = engine.renderer().atlas();
     let style = engine.renderer().style();
-    let side = lit.light_buffer().width() as f32;
-    // Sprites span point_size · 2·d·tan(fov/2) / height scene units at the target's distance;
-    // the light buffer has side / (2 · extent) texels a unit. Depth squashed: nothing clipped.
-    let fov = (camera.fov_y.to_radians() * 0.5).tan();
-    let world = style.point_size * 2.0 * camera.distance * fov / target.height() as f32;
-    let extent = 1.0 / lit.light_view(camera).x_axis.truncate().length();
-    let light_size = world * side / (2.0 * extent);
-    let light_view =
-        glam::Mat4::from_scale(glam::Vec3::new(1.0, 1.0, 1e-6)) * lit.light_view(camera);
-    let keep = crate::gl::BlendComponent::add(
-        crate::gl::BlendFactor::Zero,
-        crate::gl::BlendFactor::OneMinusSrcColor,
-    );
-    let light_blend = Some(crate::gl::Blend {
-        color: keep,
-        alpha: keep,
-    });
+    let (light_view, light_size, light_blend) = light_floor(engine, lit);
     let f = timer.time(|| {
         placed.draw(
             lit.light_buffer(),
@@ -270,4 +254,30 @@ pub(super) fn lit_phases(
         f,
     );
     Ok(())
+}
+
+/// The light-buffer floor's view, point size and blend: sprites span
+/// point_size · 2·d·tan(fov/2) / height scene units at the target's distance, and the light
+/// buffer has side / (2 · extent) texels a unit; the depth is squashed so that nothing is
+/// clipped; the light pass's blend (ZERO, ONE_MINUS_SRC_COLOR).
+fn light_floor(
+    engine: &crate::engine::ParticleEngine,
+    lit: &crate::render::HalfAngleRenderer,
+) -> (glam::Mat4, f32, Option<crate::gl::Blend>) {
+    let camera = engine.camera();
+    let side = lit.light_buffer().width() as f32;
+    let fov = (camera.fov_y.to_radians() * 0.5).tan();
+    let point_size = engine.renderer().style().point_size;
+    let world = point_size * 2.0 * camera.distance * fov / engine.target().height() as f32;
+    let extent = 1.0 / lit.light_view(camera).x_axis.truncate().length();
+    let view = glam::Mat4::from_scale(glam::Vec3::new(1.0, 1.0, 1e-6)) * lit.light_view(camera);
+    let keep = crate::gl::BlendComponent::add(
+        crate::gl::BlendFactor::Zero,
+        crate::gl::BlendFactor::OneMinusSrcColor,
+    );
+    let blend = crate::gl::Blend {
+        color: keep,
+        alpha: keep,
+    };
+    (view, world * side / (2.0 * extent), Some(blend))
 }

@@ -300,3 +300,31 @@ fn lighting_keys_are_refused_at_their_place() {
     }
     scene::parse("lit.toml", lit).expect("smoke-lit is valid");
 }
+
+/// `bench scene` times a lit scene's own passes: the keys along the half-angle vector, the
+/// light-buffer passes and the eye passes, each next to a floor measured in the same run.
+#[test]
+fn bench_scene_times_the_slices_passes() {
+    let ctx = context();
+    let opts = texflow::bench::SceneBenchOptions {
+        repeats: 1,
+        warmup_frames: Some(30),
+        resolution: Some([64, 64]),
+        ..Default::default()
+    };
+    let s = scene::load("smoke-lit").unwrap();
+    let records = texflow::bench::bench_scene(&ctx, &s, &[16], &opts, |_| {}).unwrap();
+    let phases = &records[0].phases;
+    for name in [
+        "sort keys: along the half-angle vector",
+        "light-buffer passes",
+        "eye passes",
+    ] {
+        let p = phases
+            .iter()
+            .find(|p| p.phase.starts_with(name))
+            .unwrap_or_else(|| panic!("no phase {name} in {phases:?}"));
+        assert!(p.ms > 0.0 && p.floor_ms > 0.0, "{p:?}");
+    }
+    no_gl_error(&ctx);
+}

@@ -101,24 +101,57 @@ fn the_engine_sorts_lit_scenes_along_the_half_angle() {
     no_gl_error(&ctx);
 }
 
-/// The twin's configuration: a 64×64 frame looking down -z from (0, 0, 4), a light straight
-/// down, white particles of opacity 0.5 drawn as 8-pixel squares, listed in ascending order
-/// along the half-angle vector (0, -1, -1)/√2: B above, a layer of three at one place, then A
-/// under the layer and C beside A.
+/// The twin's configurations: a 64×64 frame looking down -z from (0, 0, 4), white particles
+/// of opacity 0.5 drawn as 8-pixel squares, listed in ascending order along the half-angle
+/// vector, and a layer of three at one place between the light and A; B and C are lit
+/// unshadowed (C beside A, B nowhere under the layer).
 const SIZE: f32 = 8.0;
 const ALPHA: f32 = 0.5;
 const AMBIENT: f32 = 0.2;
 const LIGHT: f32 = 0.8;
 const EXTENT: f32 = 1.0;
 const LIGHT_TEXELS: u32 = 16;
-const PARTICLES: [[f32; 3]; 6] = [
-    [0.0, 1.0, 0.0],
-    [0.0, 0.5, 0.0],
-    [0.0, 0.5, 0.0],
-    [0.0, 0.5, 0.0],
-    [0.0, 0.0, 0.0],
-    [0.8, 0.0, 0.0],
-];
+
+/// A light and the particles in drawing order; `probes` are B, A and C, `layer` the three
+/// stacked ones.
+struct Config {
+    light: [f32; 3],
+    particles: [[f32; 3]; 6],
+    probes: [usize; 3],
+    layer: [usize; 3],
+}
+
+/// Straight down: the eye looks across the light (dot = 0), so the slices go front to back
+/// with the under operator, along (0, -1, -1)/√2: B above, the layer, then A under it and C.
+const DOWN: Config = Config {
+    light: [0.0, -1.0, 0.0],
+    particles: [
+        [0.0, 1.0, 0.0],
+        [0.0, 0.5, 0.0],
+        [0.0, 0.5, 0.0],
+        [0.0, 0.5, 0.0],
+        [0.0, 0.0, 0.0],
+        [0.8, 0.0, 0.0],
+    ],
+    probes: [0, 4, 5],
+    layer: [1, 2, 3],
+};
+
+/// Down and towards the eye: the light faces the viewer (dot < 0), so the slices go back to
+/// front with the over operator; the layer sits on A's ray to the light, half a unit behind.
+const FACING: Config = Config {
+    light: [0.0, -1.0, 1.0],
+    particles: [
+        [0.0, 0.5, -0.5],
+        [0.0, 0.5, -0.5],
+        [0.0, 0.5, -0.5],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 0.0],
+        [0.8, 0.0, 0.0],
+    ],
+    probes: [3, 4, 5],
+    layer: [0, 1, 2],
+};
 
 fn camera() -> Camera {
     Camera {
@@ -132,45 +165,49 @@ fn camera() -> Camera {
 
 /// The CPU twin of the light buffer: the transmittance particle `i` finds, bilinear between
 /// the four light-buffer texels around it, each texel's the product of 1 − α over the
-/// particles of earlier slices whose light-facing square covers the texel's centre. The light
-/// looks straight down, so the buffer's axes are x and z (up to sign and order, which this
-/// configuration is symmetric in); a square is as wide in the scene as the sprite is at its
-/// depth: SIZE · 2·d·tan(fov/2) / 64.
-fn twin_transmittance(i: usize, slices: usize) -> f32 {
-    let n = PARTICLES.len();
+/// particles of earlier slices whose light-facing square covers the texel's centre. The
+/// buffer's axes are x and the unit vector normal to x and the light (both lights here are
+/// normal to x; up to signs, which the texel grid centred on the target is symmetric in); a
+/// square is as wide in the scene as the sprite is at its depth d: SIZE · 2·d·tan(fov/2) / 64.
+fn twin_transmittance(c: &Config, i: usize, slices: usize) -> f32 {
+    let n = c.particles.len();
     let batch = n.div_ceil(slices);
-    let world = SIZE * 2.0 * 4.0 * (22.5f32).to_radians().tan() / 64.0;
+    let w_axis = Vec3::from(c.light).normalize().cross(Vec3::X);
+    let plane = |p: [f32; 3]| (p[0], Vec3::from(p).dot(w_axis));
+    let half = |p: [f32; 3]| SIZE * (4.0 - p[2]) * (22.5f32).to_radians().tan() / 64.0;
     let texels = LIGHT_TEXELS as f32;
     let centre = |t: f32| ((t + 0.5) / texels * 2.0 - 1.0) * EXTENT;
-    let texel = |tx: f32, tz: f32| -> f32 {
-        if tx < 0.0 || tz < 0.0 || tx >= texels || tz >= texels {
+    let texel = |tu: f32, tw: f32| -> f32 {
+        if tu < 0.0 || tw < 0.0 || tu >= texels || tw >= texels {
             return 1.0;
         }
         (0..n)
             .filter(|&j| j / batch < i / batch)
             .filter(|&j| {
-                let p = PARTICLES[j];
-                (p[0] - centre(tx)).abs() < world / 2.0 && (p[2] - centre(tz)).abs() < world / 2.0
+                let (u, w) = plane(c.particles[j]);
+                let h = half(c.particles[j]);
+                (u - centre(tu)).abs() < h && (w - centre(tw)).abs() < h
             })
             .map(|_| 1.0 - ALPHA)
             .product()
     };
-    let coord = |c: f32| (c / EXTENT * 0.5 + 0.5) * texels - 0.5;
-    let (x, z) = (coord(PARTICLES[i][0]), coord(PARTICLES[i][2]));
-    let (x0, z0) = (x.floor(), z.floor());
-    let (fx, fz) = (x - x0, z - z0);
-    let row = |tz: f32| texel(x0, tz) * (1.0 - fx) + texel(x0 + 1.0, tz) * fx;
-    row(z0) * (1.0 - fz) + row(z0 + 1.0) * fz
+    let coord = |x: f32| (x / EXTENT * 0.5 + 0.5) * texels - 0.5;
+    let (u, w) = plane(c.particles[i]);
+    let (u, w) = (coord(u), coord(w));
+    let (u0, w0) = (u.floor(), w.floor());
+    let (fu, fw) = (u - u0, w - w0);
+    let row = |tw: f32| texel(u0, tw) * (1.0 - fu) + texel(u0 + 1.0, tw) * fu;
+    row(w0) * (1.0 - fw) + row(w0 + 1.0) * fw
 }
 
 /// Draws the configuration in `slices` slices; the frame read back.
-fn draw(ctx: &texflow::gl::Context, slices: u32) -> image::RgbImage {
+fn draw(ctx: &texflow::gl::Context, c: &Config, slices: u32) -> image::RgbImage {
     let mut pos = vec![f32::INFINITY; 8 * 4];
     let statics = vec![0.0; 8 * 4];
     for k in 0..8 {
         pos[4 * k + 3] = 0.0;
     }
-    for (k, p) in PARTICLES.iter().enumerate() {
+    for (k, p) in c.particles.iter().enumerate() {
         pos[4 * k..4 * k + 4].copy_from_slice(&[p[0], p[1], p[2], 1.0]);
     }
     let positions = texture(ctx, "positions", (4, 2), TextureFormat::Rgba32F, &pos);
@@ -187,7 +224,7 @@ fn draw(ctx: &texflow::gl::Context, slices: u32) -> image::RgbImage {
     };
     let style = ParticleStyle::from_render(&render, [1.0; 4]);
     let light = LightSection {
-        direction: [0.0, -1.0, 0.0],
+        direction: c.light,
         colour: [LIGHT; 3],
         ambient: [AMBIENT; 3],
         density: 1.0,
@@ -202,7 +239,7 @@ fn draw(ctx: &texflow::gl::Context, slices: u32) -> image::RgbImage {
         motion: None,
         time: 0.0,
         spins: None,
-        count: PARTICLES.len(),
+        count: c.particles.len(),
     };
     lit.draw(&target, &state, &camera(), None).unwrap();
     target.read_rgb().unwrap()
@@ -210,40 +247,61 @@ fn draw(ctx: &texflow::gl::Context, slices: u32) -> image::RgbImage {
 
 /// A particle under a dense layer, as the light sees it, is darker than one beside it once
 /// the layer is drawn into the light buffer in an earlier slice, by the transmittance the CPU
-/// twin gives per slice; in one slice nothing shadows anything. The eye looks across the light
-/// (dot = 0), so slices are drawn front to back with the under operator over a black
-/// background: a pixel covered by one particle is α · (ambient + light · T).
+/// twin gives per slice; in one slice nothing shadows anything. Both orders: the light across
+/// the view (under operator) and facing it (over operator). Over a black background a pixel
+/// covered by one particle is α · (ambient + light · T) with either operator.
 #[test]
 fn a_particle_behind_a_dense_layer_is_darker_as_the_twin_says() {
     let ctx = context();
-    for slices in [1, 2, 6] {
-        let frame = draw(&ctx, slices);
-        let value = |i: usize| {
-            let (x, y) = camera()
-                .project_to_pixel(Vec3::from(PARTICLES[i]), 64, 64)
-                .unwrap();
-            frame.get_pixel(x, y).0[0] as f32 / 255.0
-        };
-        for i in [0, 4, 5] {
-            let t = twin_transmittance(i, slices as usize);
-            let want = ALPHA * (AMBIENT + LIGHT * t);
+    let eye = camera().eye();
+    for c in [&DOWN, &FACING] {
+        // The configuration lists the particles as the sort along the half-angle vector would.
+        let v = (camera().target - eye).normalize();
+        let l = Vec3::from(c.light).normalize();
+        let s = if v.dot(l) >= 0.0 { v + l } else { l - v };
+        let keys: Vec<f32> = c.particles.iter().map(|p| Vec3::from(*p).dot(s)).collect();
+        assert!(keys.windows(2).all(|k| k[0] <= k[1]), "{keys:?}");
+        for slices in [1, 2, 6] {
+            let frame = draw(&ctx, c, slices);
+            let value = |i: usize| {
+                let p = Vec3::from(c.particles[i]);
+                let (x, y) = camera().project_to_pixel(p, 64, 64).unwrap();
+                frame.get_pixel(x, y).0[0] as f32 / 255.0
+            };
+            let at = format!("light {:?}, {slices} slices", c.light);
+            for i in c.probes {
+                let t = twin_transmittance(c, i, slices as usize);
+                let want = ALPHA * (AMBIENT + LIGHT * t);
+                assert!(
+                    (value(i) - want).abs() <= 2.0 / 255.0,
+                    "{at}, particle {i}: {} against the twin's {want} (T = {t})",
+                    value(i)
+                );
+            }
+            // The layer's pixel: its three composited in drawing order, the first on top
+            // with the under operator, the last with the over operator.
+            let lit =
+                |i: usize| ALPHA * (AMBIENT + LIGHT * twin_transmittance(c, i, slices as usize));
+            let (mut colour, mut cover) = (0.0, 0.0);
+            for i in c.layer {
+                if v.dot(l) >= 0.0 {
+                    colour += (1.0 - cover) * lit(i);
+                    cover += (1.0 - cover) * ALPHA;
+                } else {
+                    colour = lit(i) + (1.0 - ALPHA) * colour;
+                }
+            }
+            let got = value(c.layer[0]);
             assert!(
-                (value(i) - want).abs() <= 2.0 / 255.0,
-                "{slices} slices, particle {i}: {} against the twin's {want} (T = {t})",
-                value(i)
+                (got - colour).abs() <= 3.0 / 255.0,
+                "{at}, layer: {got} against {colour}"
             );
-        }
-        let (under, beside) = (value(4), value(5));
-        if slices == 1 {
-            assert!(
-                (under - beside).abs() <= 1.0 / 255.0,
-                "one slice: no shadow"
-            );
-        } else {
-            assert!(
-                under + 0.1 < beside,
-                "{slices} slices: {under} not below {beside}"
-            );
+            let (under, beside) = (value(c.probes[1]), value(c.probes[2]));
+            if slices == 1 {
+                assert!((under - beside).abs() <= 1.0 / 255.0, "{at}: no shadow");
+            } else {
+                assert!(under + 0.1 < beside, "{at}: {under} not below {beside}");
+            }
         }
     }
     no_gl_error(&ctx);

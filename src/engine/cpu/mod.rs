@@ -488,6 +488,12 @@ fn drawable(scene: &SceneFile) -> Result<()> {
     if scene.render.geometry {
         return Err(unsupported(scene, "render.geometry (it draws points only)"));
     }
+    if scene.render.lighting != crate::scene::Lighting::None {
+        return Err(unsupported(
+            scene,
+            "render.lighting (it draws unlit points)",
+        ));
+    }
     if scene.emitters.all().any(|e| e.size_range.is_some()) {
         return Err(unsupported(
             scene,

@@ -216,10 +216,25 @@ impl Curve {
         let values = self.keys.iter().map(|k| component(&k.1 .0, i));
         let lo = values.clone().fold(f32::INFINITY, f32::min);
         let hi = values.fold(f32::NEG_INFINITY, f32::max);
-        let amp = |a: &Components| component(&a.0, i).abs();
-        let reach = self.periodic.as_ref().map_or(0.0, |p| amp(&p.amplitude))
-            + self.noise.as_ref().map_or(0.0, |n| amp(&n.amplitude));
+        let reach = self.reach(i);
         [lo - reach, hi + reach]
+    }
+
+    /// The most the periodic and noise terms move component `i` from the keys' curve.
+    pub fn reach(&self, i: usize) -> f32 {
+        let amp = |a: &Components| component(&a.0, i).abs();
+        self.periodic.as_ref().map_or(0.0, |p| amp(&p.amplitude))
+            + self.noise.as_ref().map_or(0.0, |n| amp(&n.amplitude))
+    }
+
+    /// The key values as `T` (validation checked their length; a bad one reads as zeros).
+    pub fn key_values<T: CurveValue>(&self) -> Vec<T> {
+        let zero = vec![0.0; T::LEN];
+        let parse = |c: &Components| T::from_components(&c.0);
+        self.keys
+            .iter()
+            .map(|k| parse(&k.1).or_else(|| T::from_components(&zero)).expect("zeros fit"))
+            .collect()
     }
 
     /// ∫ component 0 dt over [a, b]: exact for the keys and the noise (cubic between their
@@ -302,6 +317,21 @@ impl Animated<f32> {
             Animated::Constant(v) => *v as f64 * (b - a).max(0.0),
             Animated::Curve(c) => c.integral(a, b),
         }
+    }
+}
+
+impl crate::scene::Emitter {
+    /// The emitter with every curve replaced by its value at `t` (for code that takes an
+    /// emitter's constants, such as the CPU reference's types).
+    pub fn frozen(&self, t: f32) -> Self {
+        let mut e = self.clone();
+        e.rate = e.rate.map(|r| r.at(t).into());
+        e.center = e.center.at(t).into();
+        e.radius = e.radius.at(t).into();
+        e.direction = e.direction.at(t).into();
+        e.cone_degrees = e.cone_degrees.at(t).into();
+        e.speed = e.speed.at(t).into();
+        e
     }
 }
 

@@ -76,6 +76,8 @@ impl CpuSim {
                 let mut s = scene.clone();
                 let mut initial = std::mem::take(&mut s.emitters.timestamp);
                 for e in &mut initial {
+                    // The reference steps them; their spawn is done here, curves and all.
+                    *e = e.frozen(0.0);
                     e.cycle = None;
                     e.life = None;
                 }

@@ -4,7 +4,9 @@ use super::curves::over;
 use super::{
     bounded, direction, duration, fail, mass, nonzero, path, Check, MAX_COORDINATE, MIN_DIRECTION,
 };
-use crate::scene::curve::{Animated, CurveValue};
+use glam::Vec3;
+
+use crate::scene::curve::{Animated, Curve, CurveValue};
 use crate::scene::locate::Key;
 use crate::scene::schema::{Emitter, Emitters, SceneFile, Shape, MAX_EMITTERS};
 
@@ -362,21 +364,12 @@ fn spawn_velocity(p: &impl Fn(&'static str) -> Vec<Key>, s: &Emitter) -> Check {
             direction(p("direction"), "direction", *d)?;
         }
         Animated::Curve(c) => {
-            for (i, k) in c.keys.iter().enumerate() {
-                let d = <[f32; 3]>::from_components(&k.1 .0).unwrap_or([0.0; 3]);
-                direction([&p("direction")[..], &[N("keys"), I(i)]].concat(), "direction", d)?;
+            let keys = c.key_values::<[f32; 3]>();
+            for (i, d) in keys.iter().enumerate() {
+                direction([&p("direction")[..], &[N("keys"), I(i)]].concat(), "direction", *d)?;
             }
             bounded_over(p("direction"), "direction", &s.direction)?;
-            // Never through zero: one component keeps its sign over the whole curve.
-            let b = s.direction.bounds();
-            if !b.iter().any(|[lo, hi]| *lo >= MIN_DIRECTION || *hi <= -MIN_DIRECTION) {
-                return fail(
-                    p("direction"),
-                    "the direction curve may pass through zero (no component keeps its sign \
-                     over its keys and amplitudes): keep one component away from 0, e.g. y \
-                     above the amplitudes",
-                );
-            }
+            never_zero(p("direction"), c, &keys)?;
         }
     }
     let [lo, hi] = s.cone_degrees.bounds()[0];
@@ -384,6 +377,37 @@ fn spawn_velocity(p: &impl Fn(&'static str) -> Vec<Key>, s: &Emitter) -> Check {
         return fail(
             p("cone_degrees"),
             format!("cone_degrees must lie in [0, 180]{}", over(&s.cone_degrees)),
+        );
+    }
+    Ok(())
+}
+
+/// A direction curve never passes through zero: every segment between keys (linear or smooth,
+/// both on the straight line between them) stays farther from 0 than the terms can move it.
+fn never_zero(at: Vec<Key>, c: &Curve, keys: &[[f32; 3]]) -> Check {
+    let reach = Vec3::from_array([0, 1, 2].map(|i| c.reach(i))).length();
+    let closest = |a: Vec3, b: Vec3| {
+        let d = b - a;
+        let s = if d.length_squared() > 0.0 {
+            (-a.dot(d) / d.length_squared()).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (a + s * d).length()
+    };
+    let v: Vec<Vec3> = keys.iter().map(|k| Vec3::from_array(*k)).collect();
+    let near = match v.len() {
+        1 => v[0].length(),
+        _ => v.windows(2).map(|w| closest(w[0], w[1])).fold(f32::INFINITY, f32::min),
+    };
+    if near <= reach + MIN_DIRECTION {
+        return fail(
+            at,
+            format!(
+                "the direction curve may pass through zero: between its keys it comes within \
+                 {near} of 0, and its periodic and noise terms reach {reach}; keep the keys \
+                 apart from opposite directions, or lower the amplitudes"
+            ),
         );
     }
     Ok(())

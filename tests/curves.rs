@@ -95,7 +95,10 @@ fn check_newborns(keys: &str, expect: impl Fn(f64) -> (f64, Vec3)) {
         );
         if speed > 0.0 {
             let d = got.normalize().dot(dir);
-            assert!(d > 1.0 - 1e-5, "particle {i} born at {born}: direction {got}");
+            assert!(
+                d > 1.0 - 1e-5,
+                "particle {i} born at {born}: direction {got}"
+            );
         }
         checked += 1;
     }
@@ -139,9 +142,8 @@ fn value(src: &str) -> Animated<f32> {
 /// Smooth interpolation between three keys at quarter points, against 3u² - 2u³.
 #[test]
 fn smooth_keys_follow_smoothstep() {
-    let c = value(
-        "v = { keys = [[1.0, 2.0], [3.0, -2.0], [4.0, 5.0]], interpolation = \"smooth\" }",
-    );
+    let c =
+        value("v = { keys = [[1.0, 2.0], [3.0, -2.0], [4.0, 5.0]], interpolation = \"smooth\" }");
     let keys = [(1.0, 2.0), (3.0, -2.0), (4.0, 5.0)];
     for w in keys.windows(2) {
         let ((t0, a), (t1, b)) = (w[0], w[1]);
@@ -290,7 +292,10 @@ fn cpu_engine_follows_the_curves_as_the_gpu() {
             continue;
         }
         let d = (cpu.positions()[i].truncate() - g.truncate()).length();
-        assert!(d <= 2e-4 + 1e-5 * g.truncate().length(), "particle {i}: {d}");
+        assert!(
+            d <= 2e-4 + 1e-5 * g.truncate().length(),
+            "particle {i}: {d}"
+        );
         compared += 1;
     }
     assert!(compared > 200, "{compared} compared");

@@ -233,7 +233,11 @@ impl Curve {
         let parse = |c: &Components| T::from_components(&c.0);
         self.keys
             .iter()
-            .map(|k| parse(&k.1).or_else(|| T::from_components(&zero)).expect("zeros fit"))
+            .map(|k| {
+                parse(&k.1)
+                    .or_else(|| T::from_components(&zero))
+                    .expect("zeros fit")
+            })
             .collect()
     }
 
@@ -244,7 +248,12 @@ impl Curve {
             return 0.0;
         }
         let mut cuts = vec![a, b];
-        cuts.extend(self.keys.iter().map(|k| k.0 as f64).filter(|t| *t > a && *t < b));
+        cuts.extend(
+            self.keys
+                .iter()
+                .map(|k| k.0 as f64)
+                .filter(|t| *t > a && *t < b),
+        );
         if let Some(n) = &self.noise {
             let f = n.frequency as f64;
             let mut k = (a * f).floor() + 1.0;
@@ -402,13 +411,15 @@ struct AnimatedVisitor<T>(PhantomData<T>);
 
 impl<T: CurveValue> AnimatedVisitor<T> {
     fn constant<E: de::Error>(c: &[f32]) -> Result<Animated<T>, E> {
-        T::from_components(c).map(Animated::Constant).ok_or_else(|| {
-            E::custom(format!(
-                "expected {}, or a curve {{ keys = [[time, value], ...] }}, found {} numbers",
-                T::WHAT,
-                c.len()
-            ))
-        })
+        T::from_components(c)
+            .map(Animated::Constant)
+            .ok_or_else(|| {
+                E::custom(format!(
+                    "expected {}, or a curve {{ keys = [[time, value], ...] }}, found {} numbers",
+                    T::WHAT,
+                    c.len()
+                ))
+            })
     }
 }
 
@@ -466,7 +477,10 @@ mod tests {
     #[test]
     fn keys_interpolate_and_hold_their_ends() {
         let c = curve("v = { keys = [[1.0, 2.0], [3.0, 6.0]] }");
-        assert_eq!((c.at(0.0), c.at(1.0), c.at(2.0), c.at(9.0)), (2.0, 2.0, 4.0, 6.0));
+        assert_eq!(
+            (c.at(0.0), c.at(1.0), c.at(2.0), c.at(9.0)),
+            (2.0, 2.0, 4.0, 6.0)
+        );
         let s = curve("v = { keys = [[0.0, 0.0], [4.0, 8.0]], interpolation = \"smooth\" }");
         // Smoothstep at a quarter: 3/16 - 2/64 = 0.15625 of the way.
         assert!((s.at(1.0) - 8.0 * 0.15625).abs() < 1e-6);

@@ -44,8 +44,8 @@ pub use set::{parse_with, Setting};
 pub use sources::{builtin_source, BUILTIN, BUILTIN_MESHES, BUILTIN_SOURCES};
 pub use suggest::{closest, did_you_mean, edit_distance};
 pub use validate::{
-    fire_section, has_curves, largest_exact_cell, run_capacity, CapacityWarning, ChildCapacityWarning,
-    ChildLayout, ChildRange, EXACT_SCAN, MAX_DEM_OMEGA_DT, MAX_LATTICE_CELLS,
+    fire_section, has_curves, largest_exact_cell, run_capacity, CapacityWarning,
+    ChildCapacityWarning, ChildLayout, ChildRange, EXACT_SCAN, MAX_DEM_OMEGA_DT, MAX_LATTICE_CELLS,
 };
 
 #[cfg(test)]

@@ -292,7 +292,10 @@ pub(super) fn check_spawn(at: &[Key], s: &Emitter) -> Check {
     if r_hi > MAX_COORDINATE {
         return fail(
             p("radius"),
-            format!("radius {r_hi} m{} is above {MAX_COORDINATE:e} m", over(&s.radius)),
+            format!(
+                "radius {r_hi} m{} is above {MAX_COORDINATE:e} m",
+                over(&s.radius)
+            ),
         );
     }
     if let Some(n) = s.normal.filter(|n| nonzero(*n)) {
@@ -343,7 +346,11 @@ fn bounded_over<T: CurveValue>(at: Vec<Key>, what: &str, v: &Animated<T>) -> Che
 fn spawn_velocity(p: &impl Fn(&'static str) -> Vec<Key>, s: &Emitter) -> Check {
     let speed_at_keys = match &s.speed {
         Animated::Constant(v) => vec![*v],
-        Animated::Curve(c) => c.keys.iter().map(|k| <[f32; 2]>::from_components(&k.1 .0).unwrap_or([0.0; 2])).collect(),
+        Animated::Curve(c) => c
+            .keys
+            .iter()
+            .map(|k| <[f32; 2]>::from_components(&k.1 .0).unwrap_or([0.0; 2]))
+            .collect(),
     };
     let min_lo = s.speed.bounds()[0][0];
     if !(min_lo >= 0.0 && speed_at_keys.iter().all(|v| v[0] <= v[1])) {
@@ -366,7 +373,11 @@ fn spawn_velocity(p: &impl Fn(&'static str) -> Vec<Key>, s: &Emitter) -> Check {
         Animated::Curve(c) => {
             let keys = c.key_values::<[f32; 3]>();
             for (i, d) in keys.iter().enumerate() {
-                direction([&p("direction")[..], &[N("keys"), I(i)]].concat(), "direction", *d)?;
+                direction(
+                    [&p("direction")[..], &[N("keys"), I(i)]].concat(),
+                    "direction",
+                    *d,
+                )?;
             }
             bounded_over(p("direction"), "direction", &s.direction)?;
             never_zero(p("direction"), c, &keys)?;
@@ -398,7 +409,10 @@ fn never_zero(at: Vec<Key>, c: &Curve, keys: &[[f32; 3]]) -> Check {
     let v: Vec<Vec3> = keys.iter().map(|k| Vec3::from_array(*k)).collect();
     let near = match v.len() {
         1 => v[0].length(),
-        _ => v.windows(2).map(|w| closest(w[0], w[1])).fold(f32::INFINITY, f32::min),
+        _ => v
+            .windows(2)
+            .map(|w| closest(w[0], w[1]))
+            .fold(f32::INFINITY, f32::min),
     };
     if near <= reach + MIN_DIRECTION {
         return fail(

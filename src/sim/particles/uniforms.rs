@@ -101,7 +101,12 @@ fn set_emitters(p: &Program, s: &SceneFile) {
 
 /// The emitters' spawn uniforms (glsl/sim/spawn.glsl) with their curves at time `t`.
 fn spawn_uniforms(p: &Program, s: &SceneFile, t: f32) {
-    for (k, e) in s.emitters.all().map(|e| EmitterUniforms::at(e, t)).enumerate() {
+    for (k, e) in s
+        .emitters
+        .all()
+        .map(|e| EmitterUniforms::at(e, t))
+        .enumerate()
+    {
         p.set_vec4(&format!("u_em_center[{k}]"), e.center);
         p.set_vec4(&format!("u_em_size[{k}]"), e.size);
         p.set_vec4(&format!("u_em_normal[{k}]"), e.normal);

@@ -254,6 +254,12 @@ fn bad_curves_are_refused_at_their_line_and_column() {
         "amplitude has 2 numbers",
     );
     refused(
+        "rate = 10.0\ndirection = [0.0, 1.0, 0.0]\nspeed = [1.0]",
+        "allocator",
+        "8:9",
+        "found an array of 1 numbers",
+    );
+    refused(
         &format!("rate = \"fast\"\n{ok}"),
         "allocator",
         "6:8",

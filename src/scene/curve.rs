@@ -443,6 +443,15 @@ impl<'de, T: CurveValue> Visitor<'de> for AnimatedVisitor<T> {
     }
     fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Self::Value, A::Error> {
         let c = NumbersVisitor.visit_seq(seq)?;
+        // An array is the constant's own form only: `[5.0]` is no number, `[1.0]` no range.
+        if T::LEN == 1 || c.len() != T::LEN {
+            return Err(de::Error::custom(format!(
+                "expected {}, or a curve {{ keys = [[time, value], ...] }}, found an array of \
+                 {} numbers",
+                T::WHAT,
+                c.len()
+            )));
+        }
         Self::constant(&c)
     }
     fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {

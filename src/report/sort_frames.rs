@@ -191,7 +191,7 @@ pub fn scene(side: u32, passes: Option<usize>, orbit: f32) -> Result<SceneFile> 
         Error::InvalidInput("the smoke scene's emitter has no life span to scale by".into())
     })?;
     let mean_life = 0.5 * (life[0] + life[1]) as f64;
-    e.rate = Some((0.75 * (side * side) as f64 / mean_life) as f32);
+    e.rate = Some(((0.75 * (side * side) as f64 / mean_life) as f32).into());
     s.render.camera.orbit = orbit;
     s.render.sort.variant = Some(crate::sort::Variant::OddEven);
     s.render.sort.passes_per_frame = passes.map(|p| p as u32);

@@ -11,6 +11,7 @@
 //! - `locate`: an error's path into the document ([`Key`], [`Invalid`]) to line and column;
 //! - `parse`: [`parse`] and the device-size check [`check_limits`];
 //! - `sources`: the built-in scenes' TOML and meshes, compiled in ([`BUILTIN`]);
+//! - `curve`: emitter values that change over time ([`curve::Animated`]);
 //! - `builtin`: loading a scene by built-in name or path ([`load`]);
 //! - `mesh`: the OBJ meshes of distance fields, read while parsing ([`read_obj`]);
 //! - `custom`: the custom forces' GLSL files, read and checked before compiling ([`load_custom`]).
@@ -18,6 +19,7 @@
 //! - `suggest`: "did you mean" for mistyped scene names and keys ([`closest`]).
 
 mod builtin;
+pub mod curve;
 mod custom;
 mod field_files;
 mod locate;
@@ -42,9 +44,9 @@ pub use set::{parse_with, Setting};
 pub use sources::{builtin_source, BUILTIN, BUILTIN_MESHES, BUILTIN_SOURCES};
 pub use suggest::{closest, did_you_mean, edit_distance};
 pub use validate::{
-    fire_section, largest_exact_cell, run_capacity, CapacityWarning, ChildCapacityWarning,
-    ChildLayout, ChildRange, EXACT_SCAN, MAX_DEM_OMEGA_DT, MAX_LATTICE_CELLS, MAX_LIGHT_RESOLUTION,
-    MAX_SLICES,
+    fire_section, has_curves, largest_exact_cell, run_capacity, CapacityWarning,
+    ChildCapacityWarning, ChildLayout, ChildRange, EXACT_SCAN, MAX_DEM_OMEGA_DT, MAX_LATTICE_CELLS,
+    MAX_LIGHT_RESOLUTION, MAX_SLICES,
 };
 
 #[cfg(test)]

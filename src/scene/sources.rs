@@ -30,6 +30,7 @@ builtin_scenes![
     "spin",
     "fireworks",
     "dem",
+    "flicker",
 ];
 
 /// The meshes the built-in scenes name (`[[colliders.sdf]] mesh`), by the path they give

@@ -46,9 +46,14 @@ pub struct EmitterUniforms {
 }
 
 impl EmitterUniforms {
-    /// Converts a scene emitter (normal and direction normalised; permanent particles get life
-    /// [0, 0]).
+    /// Converts a scene emitter at time 0 (see [`at`](Self::at)).
     pub fn new(e: &Emitter) -> Self {
+        Self::at(e, 0.0)
+    }
+
+    /// Converts a scene emitter with its curves at time `t` in seconds (normal and direction
+    /// normalised; permanent particles get life [0, 0]).
+    pub fn at(e: &Emitter, t: f32) -> Self {
         let shape = match e.shape {
             Shape::Point => 0.0,
             Shape::Box => 1.0,
@@ -57,12 +62,13 @@ impl EmitterUniforms {
         };
         let normal = Vec3::from(e.normal.unwrap_or([0.0, 1.0, 0.0])).normalize();
         let life = e.life.unwrap_or([0.0, 0.0]);
+        let speed = e.speed.at(t);
         EmitterUniforms {
-            center: Vec3::from(e.center).extend(shape),
-            size: Vec3::from(e.size).extend(e.radius),
-            normal: normal.extend(e.cone_degrees.to_radians()),
-            dir: Vec3::from(e.direction).normalize().extend(0.0),
-            range: Vec4::new(e.speed[0], e.speed[1], life[0], life[1]),
+            center: Vec3::from(e.center.at(t)).extend(shape),
+            size: Vec3::from(e.size).extend(e.radius.at(t)),
+            normal: normal.extend(e.cone_degrees.at(t).to_radians()),
+            dir: Vec3::from(e.direction.at(t)).normalize().extend(0.0),
+            range: Vec4::new(speed[0], speed[1], life[0], life[1]),
         }
     }
 }
@@ -128,19 +134,19 @@ mod tests {
 
     fn emitter(shape: Shape) -> Emitter {
         Emitter {
-            rate: Some(10.0),
+            rate: Some(10.0.into()),
             allocator: None,
             cycle: None,
             release_spread: None,
             release_cloud: None,
             shape,
-            center: [1.0, 2.0, 3.0],
+            center: [1.0, 2.0, 3.0].into(),
             size: [2.0, 1.0, 0.5],
-            radius: 0.5,
+            radius: 0.5.into(),
             normal: Some([0.0, 0.0, 2.0]),
-            direction: [0.0, 3.0, 0.0],
-            cone_degrees: 20.0,
-            speed: [1.0, 2.0],
+            direction: [0.0, 3.0, 0.0].into(),
+            cone_degrees: 20.0.into(),
+            speed: [1.0, 2.0].into(),
             life: Some([0.5, 1.5]),
             mass: None,
             mass_range: None,

@@ -44,6 +44,9 @@ pub struct CpuSim {
     pub(super) statics: Vec<Vec4>,
     step: u64,
     pub(super) time: f64,
+    /// Some emitter value is a curve: the emitters are taken at every step's start, as the
+    /// GPU's spawn uniforms are.
+    animated: bool,
 }
 
 pub(super) fn unsupported(scene: &SceneFile, what: &str) -> Error {
@@ -73,6 +76,8 @@ impl CpuSim {
                 let mut s = scene.clone();
                 let mut initial = std::mem::take(&mut s.emitters.timestamp);
                 for e in &mut initial {
+                    // The reference steps them; their spawn is done here, curves and all.
+                    *e = e.frozen(0.0);
                     e.cycle = None;
                     e.life = None;
                 }
@@ -106,6 +111,7 @@ impl CpuSim {
             statics: vec![Vec4::ZERO; n],
             step: 0,
             time: 0.0,
+            animated: crate::scene::has_curves(scene),
         };
         sim.initialise(features.types, features.life());
         Ok(sim)
@@ -166,6 +172,10 @@ impl CpuSim {
         // bit for bit.
         let dt = self.scene.time.dt as f64;
         let clock = [self.time as f32, ((self.step + 1) as f64 * dt) as f32];
+        if self.animated {
+            let at = |e| EmitterUniforms::at(e, clock[0]);
+            self.physics.emitters = self.scene.emitters.all().map(at).collect();
+        }
         let physics = &self.physics;
         let statics = &self.statics;
         self.positions

@@ -4,6 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use super::one;
 use super::{Forces, Keyframe};
+use crate::scene::curve::Animated;
 
 /// Emitters by kind.
 #[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
@@ -105,8 +106,8 @@ pub enum AllocatorKind {
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Emitter {
-    /// Particles per second (allocator emitters).
-    pub rate: Option<f32>,
+    /// Particles per second (allocator emitters); may be a curve (docs/scenes.md).
+    pub rate: Option<Animated<f32>>,
     /// Index allocation strategy (allocator emitters).
     pub allocator: Option<AllocatorKind>,
     /// Length of one life cycle in seconds (timestamp emitters).
@@ -123,24 +124,24 @@ pub struct Emitter {
     /// Emitter shape.
     #[serde(default)]
     pub shape: Shape,
-    /// Centre.
+    /// Centre; may be a curve.
     #[serde(default)]
-    pub center: [f32; 3],
+    pub center: Animated<[f32; 3]>,
     /// Box size.
     #[serde(default)]
     pub size: [f32; 3],
-    /// Sphere or disc radius.
+    /// Sphere or disc radius; may be a curve.
     #[serde(default)]
-    pub radius: f32,
+    pub radius: Animated<f32>,
     /// Disc normal (default +y).
     pub normal: Option<[f32; 3]>,
-    /// Mean direction of the velocity cone.
-    pub direction: [f32; 3],
-    /// Half-angle of the velocity cone, degrees.
+    /// Mean direction of the velocity cone; may be a curve.
+    pub direction: Animated<[f32; 3]>,
+    /// Half-angle of the velocity cone, degrees; may be a curve.
     #[serde(default)]
-    pub cone_degrees: f32,
-    /// Speed range [min, max].
-    pub speed: [f32; 2],
+    pub cone_degrees: Animated<f32>,
+    /// Speed range [min, max] (one number: min = max); may be a curve.
+    pub speed: Animated<[f32; 2]>,
     /// Life range [min, max], seconds; initial emitters may leave it out (permanent particles).
     pub life: Option<[f32; 2]>,
     /// Mass of this emitter's particles (its type); default `particles.mass`.

@@ -1,6 +1,12 @@
 //! `[[emitters.*]]`: one kind per scene, at most four, each with what its kind needs.
 
-use super::{bounded, direction, duration, fail, mass, nonzero, path, Check, MAX_COORDINATE};
+use super::curves::over;
+use super::{
+    bounded, direction, duration, fail, mass, nonzero, path, Check, MAX_COORDINATE, MIN_DIRECTION,
+};
+use glam::Vec3;
+
+use crate::scene::curve::{Animated, Curve, CurveValue};
 use crate::scene::locate::Key;
 use crate::scene::schema::{Emitter, Emitters, SceneFile, Shape, MAX_EMITTERS};
 
@@ -10,6 +16,16 @@ use Key::{Index as I, Name as N};
 pub(super) fn emitters(s: &SceneFile) -> Check {
     let em = &s.emitters;
     one_kind_and_count(em)?;
+    for (kind, list) in [
+        ("allocator", &em.allocator),
+        ("timestamp", &em.timestamp),
+        ("initial", &em.initial),
+        ("child", &em.child),
+    ] {
+        for (i, e) in list.iter().enumerate() {
+            super::curves::emitter_curves(s, &[N("emitters"), N(kind), I(i)], kind, e)?;
+        }
+    }
     for (kind, list) in [("allocator", &em.allocator), ("timestamp", &em.timestamp)] {
         for (i, e) in list.iter().enumerate() {
             if e.life.is_none() {
@@ -114,7 +130,12 @@ fn initial(i: usize, e: &Emitter) -> Check {
 fn allocator(s: &SceneFile, i: usize, e: &Emitter) -> Check {
     let at = [N("emitters"), N("allocator"), I(i)];
     let key = |k| [&at[..], &[N(k)]].concat();
-    match e.rate {
+    if let Some(r @ Animated::Curve(_)) = &e.rate {
+        rate_curve(s, key("rate"), r)?;
+    }
+    match e.rate.as_ref().map(|r| r.at(0.0)) {
+        // A curve's range is checked above.
+        _ if e.rate.as_ref().is_some_and(|r| r.curve().is_some()) => {}
         // Bursts alone are a way to emit too.
         r if !e.bursts.is_empty() && r.unwrap_or(0.0) == 0.0 => {}
         None => {
@@ -157,6 +178,33 @@ fn allocator(s: &SceneFile, i: usize, e: &Emitter) -> Check {
         );
     }
     check_spawn(&at, e)
+}
+
+/// A rate curve: never below 0, and never more births per step than the state holds.
+fn rate_curve(s: &SceneFile, at: Vec<Key>, r: &Animated<f32>) -> Check {
+    let [lo, hi] = r.bounds()[0];
+    if lo < 0.0 {
+        return fail(
+            at,
+            format!(
+                "rate may reach {lo} particles per second{}: keep it at 0 or above",
+                over(r)
+            ),
+        );
+    }
+    if hi as f64 * s.time.dt as f64 > s.particle_count() as f64 {
+        return fail(
+            at,
+            format!(
+                "rate may reach {hi} per second{}: times dt {} s that is more births per step \
+                 than the {} particles of the state; lower the curve or dt",
+                over(r),
+                s.time.dt,
+                s.particle_count()
+            ),
+        );
+    }
+    Ok(())
 }
 
 /// `[[emitters.timestamp]]` number `i`: a cycle no shorter than the life, release keys in range.
@@ -237,32 +285,29 @@ pub(super) fn check_spawn(at: &[Key], s: &Emitter) -> Check {
             format!("sprite_scale {} must be above 0", s.sprite_scale),
         );
     }
-    if !(s.speed[0] >= 0.0 && s.speed[0] <= s.speed[1]) {
-        return fail(p("speed"), "speed must be [min, max] with 0 <= min <= max");
-    }
-    if !nonzero(s.direction) {
-        return fail(p("direction"), "direction must not be zero");
-    }
-    direction(p("direction"), "direction", s.direction)?;
-    bounded(p("center"), "center", &s.center)?;
+    spawn_velocity(&p, s)?;
+    bounded_over(p("center"), "center", &s.center)?;
     bounded(p("size"), "size", &s.size)?;
-    bounded(p("speed"), "speed", &s.speed)?;
-    if s.radius > MAX_COORDINATE {
+    let [r_lo, r_hi] = s.radius.bounds()[0];
+    if r_hi > MAX_COORDINATE {
         return fail(
             p("radius"),
-            format!("radius {} m is above {MAX_COORDINATE:e} m", s.radius),
+            format!(
+                "radius {r_hi} m{} is above {MAX_COORDINATE:e} m",
+                over(&s.radius)
+            ),
         );
     }
     if let Some(n) = s.normal.filter(|n| nonzero(*n)) {
         direction(p("normal"), "normal", n)?;
     }
-    if !(0.0..=180.0).contains(&s.cone_degrees) {
-        return fail(p("cone_degrees"), "cone_degrees must lie in [0, 180]");
-    }
     match s.shape {
-        Shape::Sphere | Shape::Disc if s.radius <= 0.0 => fail(
+        Shape::Sphere | Shape::Disc if r_lo <= 0.0 => fail(
             p("radius"),
-            "a sphere or disc emitter needs a radius above 0",
+            format!(
+                "a sphere or disc emitter needs a radius above 0{}",
+                over(&s.radius)
+            ),
         ),
         Shape::Box if s.size.iter().any(|x| *x < 0.0) => {
             fail(p("size"), "box size must not be negative")
@@ -272,6 +317,114 @@ pub(super) fn check_spawn(at: &[Key], s: &Emitter) -> Check {
         }
         _ => Ok(()),
     }
+}
+
+/// Every component of a constant or a curve within ±[`MAX_COORDINATE`] (a curve: over its
+/// bounds, reported at the curve).
+fn bounded_over<T: CurveValue>(at: Vec<Key>, what: &str, v: &Animated<T>) -> Check {
+    match v {
+        Animated::Constant(c) => bounded(at, what, &c.components()),
+        Animated::Curve(_) => {
+            for [lo, hi] in v.bounds() {
+                let x = if lo.abs() > hi.abs() { lo } else { hi };
+                if x.is_nan() || x.abs() > MAX_COORDINATE {
+                    return fail(
+                        at,
+                        format!(
+                            "{what} may reach {x}{}: keep it within ±{MAX_COORDINATE:e}",
+                            over(v)
+                        ),
+                    );
+                }
+            }
+            Ok(())
+        }
+    }
+}
+
+/// The velocity cone: speed range, direction and half-angle, over their curves' bounds.
+fn spawn_velocity(p: &impl Fn(&'static str) -> Vec<Key>, s: &Emitter) -> Check {
+    let speed_at_keys = match &s.speed {
+        Animated::Constant(v) => vec![*v],
+        Animated::Curve(c) => c
+            .keys
+            .iter()
+            .map(|k| <[f32; 2]>::from_components(&k.1 .0).unwrap_or([0.0; 2]))
+            .collect(),
+    };
+    let min_lo = s.speed.bounds()[0][0];
+    if !(min_lo >= 0.0 && speed_at_keys.iter().all(|v| v[0] <= v[1])) {
+        return fail(
+            p("speed"),
+            format!(
+                "speed must be [min, max] with 0 <= min <= max{}",
+                over(&s.speed)
+            ),
+        );
+    }
+    bounded_over(p("speed"), "speed", &s.speed)?;
+    match &s.direction {
+        Animated::Constant(d) => {
+            if !nonzero(*d) {
+                return fail(p("direction"), "direction must not be zero");
+            }
+            direction(p("direction"), "direction", *d)?;
+        }
+        Animated::Curve(c) => {
+            let keys = c.key_values::<[f32; 3]>();
+            for (i, d) in keys.iter().enumerate() {
+                direction(
+                    [&p("direction")[..], &[N("keys"), I(i)]].concat(),
+                    "direction",
+                    *d,
+                )?;
+            }
+            bounded_over(p("direction"), "direction", &s.direction)?;
+            never_zero(p("direction"), c, &keys)?;
+        }
+    }
+    let [lo, hi] = s.cone_degrees.bounds()[0];
+    if !(lo >= 0.0 && hi <= 180.0) {
+        return fail(
+            p("cone_degrees"),
+            format!("cone_degrees must lie in [0, 180]{}", over(&s.cone_degrees)),
+        );
+    }
+    Ok(())
+}
+
+/// A direction curve never passes through zero: every segment between keys (linear or smooth,
+/// both on the straight line between them) stays farther from 0 than the terms can move it.
+fn never_zero(at: Vec<Key>, c: &Curve, keys: &[[f32; 3]]) -> Check {
+    let reach = Vec3::from_array([0, 1, 2].map(|i| c.reach(i))).length();
+    let closest = |a: Vec3, b: Vec3| {
+        let d = b - a;
+        let s = if d.length_squared() > 0.0 {
+            (-a.dot(d) / d.length_squared()).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (a + s * d).length()
+    };
+    let v: Vec<Vec3> = keys.iter().map(|k| Vec3::from_array(*k)).collect();
+    let near = match v.len() {
+        1 => v[0].length(),
+        _ => v
+            .windows(2)
+            .map(|w| closest(w[0], w[1]))
+            .fold(f32::INFINITY, f32::min),
+    };
+    if near <= reach + MIN_DIRECTION {
+        return fail(
+            at,
+            format!(
+                "the direction curve may pass through zero: between its keys it comes within \
+                 {near} of 0, and its periodic and noise terms reach {reach}; keep the keys \
+                 apart from opposite directions, or lower the amplitudes"
+            ),
+        );
+    }
+    Ok(())
 }
 
 /// An emitter's `mass` (one for the type) or `mass_range` (one per particle), never both.
@@ -344,7 +497,8 @@ impl SceneFile {
         let mut live = 0.0f64;
         let mut rate = 0.0f64;
         for e in &self.emitters.allocator {
-            let r = e.rate.unwrap_or(0.0) as f64;
+            // A curve's mean over its first life is unknown here: its peak, to be safe.
+            let r = e.rate.as_ref().map_or(0.0, |r| r.bounds()[0][1].max(0.0)) as f64;
             let [lo, hi] = e.life.unwrap_or([0.0, 0.0]);
             live += r * 0.5 * (lo as f64 + hi as f64);
             rate += r;

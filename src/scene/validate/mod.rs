@@ -10,6 +10,8 @@ mod children;
 pub use children::{ChildCapacityWarning, ChildLayout, ChildRange};
 mod colliders;
 mod constraints;
+mod curves;
+pub use curves::has_curves;
 mod emitters;
 pub use emitters::CapacityWarning;
 mod forces;

@@ -1,6 +1,6 @@
 //! Latta §3.4.1: births by the CPU allocator, drawn as single pixels into the state textures.
 
-use super::super::emit::Rng;
+use super::super::emit::{EmitterUniforms, Rng};
 use super::{ParticleSim, State};
 use crate::error::{Error, Result};
 use crate::gl::{
@@ -34,7 +34,9 @@ impl ParticleSim {
         alloc.reclaim(now - 3.0 * dt);
         let mut data: Vec<f32> = Vec::new();
         for (k, e) in self.scene.emitters.allocator.iter().enumerate() {
-            self.owed[k] += e.rate.unwrap_or(0.0) as f64 * dt;
+            // The births of the interval (now - dt, now], as bursts below; a curve's rate is
+            // integrated over it, and its other values taken at `now`, the births' time.
+            self.owed[k] += e.rate.as_ref().map_or(0.0, |r| r.integral(now - dt, now));
             let steady = self.owed[k].floor();
             self.owed[k] -= steady;
             // A burst belongs to the step whose interval (now - dt, now] holds its time; the
@@ -44,7 +46,10 @@ impl ParticleSim {
                 .map(|b| b.count as u64)
                 .sum();
             let n = steady + burst as f64;
-            let u = &self.emitters[k];
+            let u = &match self.animated {
+                true => EmitterUniforms::at(e, now as f32),
+                false => self.emitters[k],
+            };
             for _ in 0..n as u64 {
                 let mut rng = Rng::new(self.emitted as u32, self.step as u32, self.seed);
                 self.emitted += 1;

@@ -102,6 +102,9 @@ pub struct ParticleSim {
     pass: FullscreenPass,
     fields: Fields,
     emitters: Vec<EmitterUniforms>,
+    /// Some emitter value is a curve (`src/scene/curve.rs`): the spawn uniforms are set
+    /// every step, and allocator births take the emitter at their time.
+    animated: bool,
     allocator: Option<Allocator>,
     owed: Vec<f64>,
     emitted: u64,
@@ -192,6 +195,7 @@ impl ParticleSim {
             },
             owed: vec![0.0; emitters.len()],
             emitters,
+            animated: crate::scene::has_curves(scene),
             emitted: 0,
             dropped: 0,
             ctx: ctx.clone(),
@@ -414,6 +418,9 @@ impl ParticleSim {
                         // Latta §3.1 without MRT: the velocity first, then the position.
                         self.pass.draw_rows(p, pp.back_single(VELOCITY), 0, rows);
                         q.bind();
+                        if self.animated {
+                            uniforms::set_spawn(q, &self.scene, self.time as f32);
+                        }
                         q.set_f32("u_time", self.time as f32);
                         q.optional(|| q.set_f32("u_time_next", next));
                         let own: Vec<_> = [
@@ -465,6 +472,9 @@ impl ParticleSim {
         let prev = ((self.step as f64 - 1.0) * self.scene.time.dt as f64) as f32;
         p.optional(|| p.set_f32("u_time_prev", prev));
         relax::move_spheres(p, &self.scene, self.time + self.scene.time.dt as f64);
+        if self.animated {
+            uniforms::set_spawn(p, &self.scene, self.time as f32);
+        }
         next
     }
 }

@@ -79,13 +79,7 @@ fn set_emitters(p: &Program, s: &SceneFile) {
         p.set_vec4(&format!("u_burst_time[{k}]"), Vec4::from(time));
         p.set_vec4(&format!("u_burst_end[{k}]"), Vec4::from(end));
     }
-    for (k, e) in s.emitters.all().map(EmitterUniforms::new).enumerate() {
-        p.set_vec4(&format!("u_em_center[{k}]"), e.center);
-        p.set_vec4(&format!("u_em_size[{k}]"), e.size);
-        p.set_vec4(&format!("u_em_normal[{k}]"), e.normal);
-        p.set_vec4(&format!("u_em_dir[{k}]"), e.dir);
-        p.set_vec4(&format!("u_em_range[{k}]"), e.range);
-    }
+    spawn_uniforms(p, s, 0.0);
     let mut cloud = [0.0f32; 4];
     for (k, e) in s.emitters.all().enumerate() {
         let r = e.release_spread.unwrap_or([0.0; 3]);
@@ -103,6 +97,28 @@ fn set_emitters(p: &Program, s: &SceneFile) {
         cloud[k] = e.release_cloud.unwrap_or(0) as f32;
     }
     p.set_vec4("u_release_cloud", Vec4::from(cloud));
+}
+
+/// The emitters' spawn uniforms (glsl/sim/spawn.glsl) with their curves at time `t`.
+fn spawn_uniforms(p: &Program, s: &SceneFile, t: f32) {
+    for (k, e) in s
+        .emitters
+        .all()
+        .map(|e| EmitterUniforms::at(e, t))
+        .enumerate()
+    {
+        p.set_vec4(&format!("u_em_center[{k}]"), e.center);
+        p.set_vec4(&format!("u_em_size[{k}]"), e.size);
+        p.set_vec4(&format!("u_em_normal[{k}]"), e.normal);
+        p.set_vec4(&format!("u_em_dir[{k}]"), e.dir);
+        p.set_vec4(&format!("u_em_range[{k}]"), e.range);
+    }
+}
+
+/// Sets the spawn uniforms of the bound program `p` at time `t` (scenes with curves, every
+/// step); a program without them is left alone.
+pub(super) fn set_spawn(p: &Program, s: &SceneFile, t: f32) {
+    p.optional(|| spawn_uniforms(p, s, t));
 }
 
 /// The forces: summed gravity and damping, attractors, springs and vortices with their owners,

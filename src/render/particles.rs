@@ -152,6 +152,12 @@ impl ParticleRenderer {
         })
     }
 
+    /// Whether it draws the particles as connected geometry (a surface, strands), not one
+    /// point or sprite each.
+    pub fn draws_connected(&self) -> bool {
+        self.connected.is_some()
+    }
+
     /// This renderer with its fragment stage replaced by `fragment` and no atlas: the same
     /// vertex stage (points, sprites, quads, their sizes), blend and passes, for a benchmark's
     /// fill floor whose fragments write a constant and fetch nothing. `None` for a renderer

@@ -5,6 +5,7 @@
 use super::{timed, Phases};
 use crate::bench::stats::{PassTimer, PlacedRenderFloor};
 use crate::engine::ParticleEngine;
+use crate::scene::{DrawMode, DrawPrimitive};
 use crate::error::Result;
 use crate::gl::{Context, DrawStats, SamplesQuery};
 use crate::scene::SceneFile;
@@ -51,6 +52,7 @@ impl Drawn {
                 passes: s.passes * k,
                 bytes_written: s.bytes_written * k,
                 points: s.points * k,
+                vertices: s.vertices * k,
             },
             fragments: self.fragments.map(|f| f * k),
         }
@@ -65,6 +67,7 @@ impl Drawn {
                 passes: a.passes + b.passes,
                 bytes_written: a.bytes_written + b.bytes_written,
                 points: a.points + b.points,
+                vertices: a.vertices + b.vertices,
             },
             fragments: self.fragments.zip(other.fragments).map(|(x, y)| x + y),
         }
@@ -117,11 +120,21 @@ pub(super) fn render_phase(
     let placed = PlacedRenderFloor::new(ctx, &engine.sim().positions().read_f32()?)?;
     let [rw, rh] = s.render.resolution;
     let view_proj = engine.camera().view_projection(rw as f32 / rh as f32);
-    let camera = (&view_proj, style.point_size);
+    // At the pass's point size where every particle is drawn at it (points of one size);
+    // else one pixel, which any sprite or quad of at least a pixel covers at its centre
+    // (sprites' sizes vary with the type, the age and size_range, down below point_size).
+    let uniform = style.mode == DrawMode::Points
+        && style.primitive == DrawPrimitive::Points
+        && style.types.iter().all(|t| t.size_range == [1.0; 2]);
+    let camera = (&view_proj, if uniform { style.point_size } else { 1.0 });
     // As many vertices as the pass draws: every texel when sorted (dead ones sort last, and
     // are culled), else the simulation's drawn count (its live rows).
+    // A connected render (a surface, strands) draws no point per particle: the points would
+    // not bound its lines or triangles (hidden behind one another, overlapping), so its floor
+    // is the clear alone.
     let [w, h] = s.particles.size;
     let count = match sorted {
+        _ if engine.renderer().draws_connected() => 0,
         true => w as usize * h as usize,
         false => engine.sim().drawn().count,
     };
@@ -129,8 +142,9 @@ pub(super) fn render_phase(
         timer.time(|| placed.draw(fb, clear, blend, camera, count))
     })?;
     let mut bounds = vec![(
-        "clear + the live particles as points where they are, as many as the pass draws, same \
-         size and blend, no fetch",
+        "clear + the live particles as points where they are, as many as the pass draws, at its \
+         point size (points) or one pixel (sprites, quads), same blend, no fetch (a surface or \
+         strands: the clear alone)",
         points.0,
         Some(points.1),
     )];

@@ -68,7 +68,11 @@ fn every_drawn_floor_draws_no_more_than_its_phase() {
             }
             // Points and sprites drawn without geometry have the fill floor beside the placed
             // points.
-            fills += p.bounds.iter().filter(|b| b.floor.starts_with("fill floor")).count();
+            fills += p
+                .bounds
+                .iter()
+                .filter(|b| b.floor.starts_with("fill floor"))
+                .count();
         }
     }
     // Not vacuous: floors were compared, render floors with fragments among them.

@@ -17,8 +17,16 @@ fn bits(v: &[f32]) -> Vec<u32> {
 
 fn same_lattice(a: &LatticeSnapshot, b: &LatticeSnapshot, what: &str) {
     assert_eq!(a.lattice, b.lattice, "{what}");
-    assert_eq!(bits(&a.positions), bits(&b.positions), "{what}: sorted positions");
-    assert_eq!(bits(&a.velocities), bits(&b.velocities), "{what}: sorted velocities");
+    assert_eq!(
+        bits(&a.positions),
+        bits(&b.positions),
+        "{what}: sorted positions"
+    );
+    assert_eq!(
+        bits(&a.velocities),
+        bits(&b.velocities),
+        "{what}: sorted velocities"
+    );
     assert_eq!(bits(&a.partners), bits(&b.partners), "{what}: partners");
 }
 

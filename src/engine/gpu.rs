@@ -303,8 +303,7 @@ impl<S: Simulation> GpuEngine<S> {
                     spins,
                     count: texels,
                 };
-                renderer
-                    .draw_frame(&self.target, &state, &self.camera)?;
+                renderer.draw_frame(&self.target, &state, &self.camera)?;
             }
             None => {
                 let d = self.sim.drawn();
@@ -316,8 +315,7 @@ impl<S: Simulation> GpuEngine<S> {
                     spins: d.spins,
                     count,
                 };
-                renderer
-                    .draw_frame(&self.target, &state, &self.camera)?;
+                renderer.draw_frame(&self.target, &state, &self.camera)?;
             }
         }
         self.ctx.check_error("drawing a frame")

@@ -5,10 +5,10 @@
 use super::{timed, Phases};
 use crate::bench::stats::{PassTimer, PlacedRenderFloor};
 use crate::engine::ParticleEngine;
-use crate::scene::{DrawMode, DrawPrimitive};
 use crate::error::Result;
 use crate::gl::{Context, DrawStats, SamplesQuery};
 use crate::scene::SceneFile;
+use crate::scene::{DrawMode, DrawPrimitive};
 use crate::sim::Simulation;
 
 /// One lower bound of a phase.

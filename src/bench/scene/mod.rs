@@ -45,8 +45,8 @@ use crate::sim::{FireSim, Simulation};
 mod floors;
 mod phases;
 mod text;
-pub use floors::{Bound, Drawn};
 use floors::{render_phase, RenderFloors};
+pub use floors::{Bound, Drawn};
 use phases::{bench_sort, sort_phases, BenchSort, SortFloors, StateFloors};
 pub use text::{run_summary, scene_markdown, summary};
 
@@ -489,4 +489,3 @@ fn frame_sort_phases(
     }
     sort_phases(ctx, floors, phases, sort, engine.sim(), &mode)
 }
-

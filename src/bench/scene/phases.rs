@@ -42,11 +42,20 @@ pub(super) fn sort_phases(
 ) -> Result<()> {
     let [w, h] = sim.size().to_array();
     let texels = w as usize * h as usize;
-    let (f, fd) = drawn(ctx, || on.timer.time(|| on.floor1.draw(sorter.keys_target())))?;
+    let (f, fd) = drawn(ctx, || {
+        on.timer.time(|| on.floor1.draw(sorter.keys_target()))
+    })?;
     let (t, td) = drawn(ctx, || {
         timed(on.timer, || {
             let refresh = *spread && *keyed;
-            sorter.write_keys_with_statics(sim.positions(), sim.statics(), texels, mode, true, refresh)
+            sorter.write_keys_with_statics(
+                sim.positions(),
+                sim.statics(),
+                texels,
+                mode,
+                true,
+                refresh,
+            )
         })
     })?;
     *keyed = true;
@@ -65,7 +74,9 @@ pub(super) fn sort_phases(
     } else {
         drawn(ctx, || on.timer.time(|| on.floor1.draw(target)))?
     };
-    let (fk, fkd) = drawn(ctx, || on.timer.time(|| on.floor1.draw(sorter.keys_target())))?;
+    let (fk, fkd) = drawn(ctx, || {
+        on.timer.time(|| on.floor1.draw(sorter.keys_target()))
+    })?;
     let mut passes = 0;
     let (t, td) = drawn(ctx, || on.timer.time(|| passes = sorter.sort_frame()))?;
     let unpack = passes.saturating_sub(sorter.network_pass_count().min(passes));
@@ -82,7 +93,12 @@ pub(super) fn sort_phases(
         })
     })?;
     let floor = "write-only pass into the two gathered textures";
-    phases.push_bounds("gather position and static textures", t, Some(td), &[(floor, f, Some(fd))]);
+    phases.push_bounds(
+        "gather position and static textures",
+        t,
+        Some(td),
+        &[(floor, f, Some(fd))],
+    );
     Ok(())
 }
 
@@ -156,8 +172,9 @@ impl StateFloors {
             let name = format!("{}: {}", stage_name(stage), names.join(", "));
             if stage == Stage::Integrate {
                 let rows = sim.active_rows();
-                let (f, fd) =
-                    drawn(ctx, || timer.time(|| self.state.draw_rows(&self.scratch, 0, rows)))?;
+                let (f, fd) = drawn(ctx, || {
+                    timer.time(|| self.state.draw_rows(&self.scratch, 0, rows))
+                })?;
                 let (t, td) = drawn(ctx, || timed(timer, || sim.run(stage)))?;
                 let floor = "write-only pass into the state's targets, live rows";
                 phases.push_bounds(&name, t, Some(td), &[(floor, f, Some(fd))]);

@@ -146,7 +146,10 @@ pub struct Collisions {
 pub fn exact_passes(colliders: bool, sort: scene::CollisionSort) -> Vec<String> {
     vec![
         "collision keys: cell index in the lattice (z, y, x), every iteration".into(),
-        format!("collision sort: full bitonic sort ({}), every iteration", sort.label()),
+        format!(
+            "collision sort: full bitonic sort ({}), every iteration",
+            sort.label()
+        ),
         "gather position, velocity, static in cell order".into(),
         format!(
             "exact detection: partners closer than 2r counted in the 27 cells around each \

@@ -552,7 +552,10 @@ impl Features {
         if self.dem {
             // The dem response replaces the impulse: the neighbour passes are the whole stage.
         } else if self.collisions.is_some() && self.detection == crate::scene::Detection::Exact {
-            out.extend(crate::sim::collide::exact_passes(self.colliders(), self.collision_sort));
+            out.extend(crate::sim::collide::exact_passes(
+                self.colliders(),
+                self.collision_sort,
+            ));
         } else if let Some((k, staggered, rows)) = self.collisions {
             let net = self.collision_sort.label();
             let sort = match rows {

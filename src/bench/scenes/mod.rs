@@ -294,9 +294,11 @@ pub fn bench_scenes(
                 .find(|e| e.name.eq_ignore_ascii_case(name.trim()))
             {
                 Some(e) => v.push(*e),
-                None => return Err(Error::InvalidInput(format!(
+                None => {
+                    return Err(Error::InvalidInput(format!(
                     "unknown experiment `{name}`: the experiments are E1, E2, E3, E3p, E4, E4p, E5"
-                ))),
+                )))
+                }
             }
         }
         v

@@ -27,9 +27,9 @@ fn every_experiment_has_a_record_with_a_finite_rate() {
     let mut calls = 0;
     let records = bench_scenes(&ctx, &[16], &opts, |_, _| calls += 1).expect("bench");
     let names: Vec<&str> = scenes::experiments().iter().map(|e| e.name).collect();
-    assert_eq!(names, ["E1", "E2", "E3", "E3p", "E4", "E5"]);
-    assert_eq!(calls, 6);
-    assert_eq!(records.len(), 6);
+    assert_eq!(names, ["E1", "E2", "E3", "E3p", "E4", "E4p", "E5"]);
+    assert_eq!(calls, 7);
+    assert_eq!(records.len(), 7);
     for (r, e) in records.iter().zip(scenes::experiments()) {
         assert_eq!(r.experiment, e.name);
         assert_eq!(r.size, 16);
@@ -74,7 +74,12 @@ fn paper_columns_and_ratios() {
         Some(1.4),
         "E3p is E3 with the paper's sort"
     );
-    assert_eq!(e[5].paper(512), Some(2.0));
+    assert_eq!(
+        e[5].paper(1024),
+        Some(7.0),
+        "E4p is E4 with the paper's sort"
+    );
+    assert_eq!(e[6].paper(512), Some(2.0));
     assert_eq!(e[4].paper(300), None);
     let opts = ScenesOptions {
         experiments: vec!["e9".into()],

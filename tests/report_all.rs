@@ -123,10 +123,10 @@ fn check_tables(out_dir: &Path) {
             assert!(f64_of(&r["ratio"]) > 0.0, "{r}");
         }
     }
-    // Table 2: E1-E5 and E3p at both sizes, every one measured with particles alive.
+    // Table 2: E1-E5, E3p and E4p at both sizes, every one measured with particles alive.
     let t2 = json("table2_scenes.json");
     let t2 = t2.as_array().unwrap();
-    assert_eq!(t2.len(), 2 * 6, "{t2:?}");
+    assert_eq!(t2.len(), 2 * 7, "{t2:?}");
     for r in t2 {
         assert!(f64_of(&r["fps"]) > 0.0, "{r}");
         assert!(r["live"].as_u64().unwrap() > 0, "{r}");

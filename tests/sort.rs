@@ -182,7 +182,8 @@ fn multistep_with_one_and_three_wide_steps_per_pass() {
 }
 
 /// Our blocked sort with 4, 8 and 16 entries per fragment, with and without the pinned lane, on
-/// square, wide and tall textures and in rows-only mode: bit for bit its twin, and sorted.
+/// square, wide and tall textures, in blocks of two rows and rows only: bit for bit its twin,
+/// and sorted.
 #[test]
 fn blocked_sort_every_shape() {
     let ctx = context();
@@ -193,6 +194,11 @@ fn blocked_sort_every_shape() {
                 (64, 4, None),
                 (2, 128, None),
                 (16, 16, Some(2)),
+                // Rows only (the collision sorts of UberFlow's E4): the network over the low
+                // log2(width) bits, down to rows of two entries.
+                (16, 16, Some(1)),
+                (64, 4, Some(1)),
+                (2, 128, Some(1)),
             ] {
                 let options = SortOptions {
                     blocked: texflow::sort::BlockedShape {

@@ -14,6 +14,7 @@ fn the_sorter_runs_the_passes_its_schedule_lists() {
             (16, 16, None),
             (32, 8, None),
             (16, 16, Some(2)),
+            (32, 8, Some(1)),
             (64, 64, None),
         ] {
             let options = SortOptions {

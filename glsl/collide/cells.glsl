@@ -8,7 +8,8 @@
 // holds more than EXACT_SCAN particles (then `exact_truncated` is set).
 // The including shader defines `void visit(int j)`, called with each neighbour's sorted index.
 
-uniform sampler2D u_keys;       // the sorter's packed entries (key, id, key, id)
+uniform sampler2D u_keys;       // the sorted entries: (key, id) per texel, or with PACKED_KEYS
+                                // (the packed network) (key, id, key, id)
 uniform int u_key_width;        // entries per sorted row (the state width)
 uniform int u_count;            // entries (the state size)
 uniform ivec3 u_dims;           // cells per axis
@@ -20,8 +21,12 @@ uniform ivec3 u_dims;           // cells per axis
 bool exact_truncated = false;
 
 float sorted_key(int i) {
+#ifdef PACKED_KEYS
     vec4 e = texelFetch(u_keys, ivec2((i % u_key_width) / 2, i / u_key_width), 0);
     return (i & 1) == 0 ? e.x : e.z;
+#else
+    return texelFetch(u_keys, ivec2(i % u_key_width, i / u_key_width), 0).x;
+#endif
 }
 
 // First sorted index whose key is not below k (dead particles' +inf keys sort last).

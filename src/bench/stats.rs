@@ -140,6 +140,16 @@ impl RenderFloor {
     /// Clears `target` to `clear`, then draws `points` one-pixel points with `blend`.
     pub fn draw(&self, target: &Framebuffer, clear: [f32; 4], blend: Option<Blend>, points: usize) {
         target.clear(clear);
+        self.points(target, blend, points);
+    }
+
+    /// Draws `points` one-pixel points with `blend` into `target`, not cleared: the floor of a
+    /// point draw of as many single pixels (the allocator's births, `glsl/sim/emit.vert`). No
+    /// draw for none.
+    pub fn points(&self, target: &Framebuffer, blend: Option<Blend>, points: usize) {
+        if points == 0 {
+            return;
+        }
         let p = &self.program;
         p.bind();
         p.set_u32("u_seed", 0x9e37_79b9);
@@ -208,14 +218,15 @@ impl PlacedRenderFloor {
         })
     }
 
-    /// Clears `target`, then draws every particle as a point of `point_size` with `blend`.
+    /// Clears `target`, then draws the first `count` particles (at most all) as points of
+    /// `point_size` with `blend`: as many vertices as the render pass draws, no more.
     pub fn draw(
         &self,
         target: &Framebuffer,
         clear: [f32; 4],
         blend: Option<Blend>,
-        view_proj: &glam::Mat4,
-        point_size: f32,
+        (view_proj, point_size): (&glam::Mat4, f32),
+        count: usize,
     ) {
         target.clear(clear);
         let p = &self.program;
@@ -229,7 +240,7 @@ impl PlacedRenderFloor {
             viewport: None,
             vertices: &self.vao,
             primitive: Primitive::Points,
-            count: self.count as u32,
+            count: self.count.min(count) as u32,
             state: &DrawState {
                 blend,
                 point_size: PointSize::Program,

@@ -261,7 +261,7 @@ pub struct ScenesArgs {
     /// Square state sizes (size x size particles), comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "256,512,1024")]
     sizes: Vec<u32>,
-    /// Experiments, comma-separated (E1, E2, E3, E3p, E4, E5), or `all`.
+    /// Experiments, comma-separated (E1, E2, E3, E3p, E4, E4p, E5), or `all`.
     #[arg(long, value_delimiter = ',', default_value = "all")]
     experiments: Vec<String>,
     /// Timed frames per experiment and size (the median is reported).
@@ -300,7 +300,7 @@ pub fn bench_scenes(a: ScenesArgs) -> texflow::Result<()> {
                 .any(|x| x.name.eq_ignore_ascii_case(e.trim()))
             {
                 return Err(bad(format!(
-                    "unknown experiment `{e}`: use E1, E2, E3, E3p, E4, E5 or all"
+                    "unknown experiment `{e}`: use E1, E2, E3, E3p, E4, E4p, E5 or all"
                 )));
             }
         }

@@ -271,8 +271,18 @@ impl<S: Simulation> GpuEngine<S> {
     /// sort stage), else from the simulation's state. `bench scene` times this, so the phase it
     /// reports is the pass [`draw`](Self::draw) runs.
     pub fn render_pass(&self, sorted: bool) -> Result<()> {
+        self.render_pass_with(&self.renderer, sorted)
+    }
+
+    /// [`render_pass`](Self::render_pass) drawn by `renderer` instead of the engine's own (a
+    /// benchmark's fill floor: the same renderer with a constant fragment stage).
+    pub fn render_pass_with(
+        &self,
+        renderer: &crate::render::ParticleRenderer,
+        sorted: bool,
+    ) -> Result<()> {
         let count = self.sim.drawn().count;
-        self.renderer.clear(&self.target);
+        renderer.clear(&self.target);
         match self.sort.as_ref().filter(|_| sorted) {
             Some(s) => {
                 let [w, h] = self.sim.size();
@@ -288,7 +298,7 @@ impl<S: Simulation> GpuEngine<S> {
                     },
                 });
                 // The spins, when drawn, are the last texture gathered.
-                let spins = self.renderer.needs_spins().then(|| s.sorted.texture(SPIN));
+                let spins = renderer.needs_spins().then(|| s.sorted.texture(SPIN));
                 let state = crate::render::FrameState {
                     positions: s.sorted.texture(POSITION),
                     statics: s.sorted.texture(STATIC),
@@ -297,11 +307,13 @@ impl<S: Simulation> GpuEngine<S> {
                     spins,
                     count: texels,
                 };
+                // The engine's own renderer draws a lit scene through its slices; another
+                // renderer (a benchmark's fill floor) draws the same state plainly.
                 match &self.lit {
-                    Some(l) => l.draw(&self.target, &state, &self.camera, self.renderer.atlas())?,
-                    None => self
-                        .renderer
-                        .draw_frame(&self.target, &state, &self.camera)?,
+                    Some(l) if std::ptr::eq(renderer, &self.renderer) => {
+                        l.draw(&self.target, &state, &self.camera, renderer.atlas())?
+                    }
+                    _ => renderer.draw_frame(&self.target, &state, &self.camera)?,
                 }
             }
             None => {
@@ -314,8 +326,7 @@ impl<S: Simulation> GpuEngine<S> {
                     spins: d.spins,
                     count,
                 };
-                self.renderer
-                    .draw_frame(&self.target, &state, &self.camera)?;
+                renderer.draw_frame(&self.target, &state, &self.camera)?;
             }
         }
         self.ctx.check_error("drawing a frame")

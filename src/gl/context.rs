@@ -299,8 +299,9 @@ impl Context {
     }
 
     /// Counts one draw (see [`DrawStats`]).
-    pub(crate) fn count_draw(&self, pass: bool, bytes: u64, points: u64) {
+    pub(crate) fn count_draw(&self, pass: bool, bytes: u64, points: u64, vertices: u64) {
         let mut s = self.inner.stats.get();
+        s.vertices += vertices;
         s.draws += 1;
         s.passes += pass as u64;
         s.bytes_written += bytes;

@@ -223,10 +223,11 @@ impl Context {
         };
         match d.primitive {
             Primitive::Triangles => {
-                self.count_draw(true, texels * d.target.bytes_per_texel() as u64, 0)
+                let bytes = texels * d.target.bytes_per_texel() as u64;
+                self.count_draw(true, bytes, 0, d.count as u64)
             }
-            Primitive::Points => self.count_draw(false, 0, d.count as u64),
-            Primitive::Lines => self.count_draw(false, 0, 0),
+            Primitive::Points => self.count_draw(false, 0, d.count as u64, d.count as u64),
+            Primitive::Lines => self.count_draw(false, 0, 0, d.count as u64),
         }
         let mode = match d.primitive {
             Primitive::Points => glow::POINTS,

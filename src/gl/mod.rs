@@ -87,7 +87,7 @@ pub use pack::PixelPack;
 pub use pass::{FullscreenPass, StatePass, Uniform, FULLSCREEN_VERTEX};
 pub use pingpong::{PingPong, Ring3};
 pub use program::{Defines, Program};
-pub use query::TimerQuery;
+pub use query::{SamplesQuery, TimerQuery};
 pub use stats::DrawStats;
 pub use texture::{check_size, Texture, TextureDesc, TextureFormat};
 pub use texture3d::{check_size_3d, Texture3D};

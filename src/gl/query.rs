@@ -73,3 +73,60 @@ impl Drop for TimerQuery {
         }
     }
 }
+
+/// An owned `GL_SAMPLES_PASSED` query: the fragments a range of draws wrote (that passed the
+/// depth test and were not discarded), for the benchmarks' check that a floor draws no more than
+/// the pass it bounds.
+pub struct SamplesQuery {
+    ctx: Context,
+    raw: glow::Query,
+}
+
+impl std::fmt::Debug for SamplesQuery {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("SamplesQuery")
+    }
+}
+
+impl SamplesQuery {
+    /// Makes a query object.
+    pub fn new(ctx: &Context) -> Result<Self> {
+        // SAFETY: plain object creation.
+        let raw = unsafe { ctx.gl().create_query().map_err(Error::Gl)? };
+        Ok(SamplesQuery {
+            ctx: ctx.clone(),
+            raw,
+        })
+    }
+
+    /// Counts the samples written by the GL commands `f` issues (waits for them); returns `f`'s
+    /// result and the count. Queries of one target do not nest.
+    pub fn count<T>(&self, f: impl FnOnce() -> T) -> Result<(T, u64)> {
+        let gl = self.ctx.gl();
+        // SAFETY: the query is alive; no other SAMPLES_PASSED query is active by contract.
+        unsafe { gl.begin_query(glow::SAMPLES_PASSED, self.raw) };
+        let out = f();
+        let mut value = 0u64;
+        // SAFETY: ends the active query; glGetQueryObjectui64v writes one u64 to the pointer
+        // (no query buffer bound).
+        unsafe {
+            gl.end_query(glow::SAMPLES_PASSED);
+            gl.get_query_parameter_u64_with_offset(
+                self.raw,
+                glow::QUERY_RESULT,
+                &mut value as *mut u64 as usize,
+            );
+        }
+        self.ctx.check_error("reading a samples query")?;
+        Ok((out, value))
+    }
+}
+
+impl Drop for SamplesQuery {
+    fn drop(&mut self) {
+        if let Some(gl) = self.ctx.gl_for_drop() {
+            // SAFETY: the object belongs to this context, made current just now.
+            unsafe { gl.delete_query(self.raw) }
+        }
+    }
+}

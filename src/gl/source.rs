@@ -24,6 +24,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "bench/render_floor.vert",
     "bench/render_floor_at.vert",
     "bench/fetch_probe.frag",
+    "bench/fill_floor.frag",
     "common/compare.glsl",
     "common/precision.glsl",
     "common/mass.glsl",

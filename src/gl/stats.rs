@@ -15,4 +15,6 @@ pub struct DrawStats {
     pub bytes_written: u64,
     /// Vertices of the point draws (particles drawn as points or sprites).
     pub points: u64,
+    /// Vertices of every draw, whatever they make (points, triangles, lines).
+    pub vertices: u64,
 }

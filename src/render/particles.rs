@@ -152,6 +152,27 @@ impl ParticleRenderer {
         })
     }
 
+    /// Whether it draws the particles as connected geometry (a surface, strands), not one
+    /// point or sprite each.
+    pub fn draws_connected(&self) -> bool {
+        self.connected.is_some()
+    }
+
+    /// This renderer with its fragment stage replaced by `fragment` and no atlas: the same
+    /// vertex stage (points, sprites, quads, their sizes), blend and passes, for a benchmark's
+    /// fill floor whose fragments write a constant and fetch nothing. `None` for a renderer
+    /// that draws geometry (its depth hides fragments the copy would write) or a surface.
+    pub fn with_fragment(&self, fragment: &str) -> Result<Option<Self>> {
+        if self.geometry.is_some() || self.connected.is_some() {
+            return Ok(None);
+        }
+        let defines = super::style::style_defines(&self.ctx, &self.style)?;
+        let mut r = Self::new(&self.ctx, self.style.clone(), self.width, self.height)?;
+        r.program = Program::new(&self.ctx, "render/particle.vert", fragment, &defines)?;
+        r.atlas = None;
+        Ok(Some(r))
+    }
+
     /// Draws `geometry` (the scene's colliders) with every frame, opaque, and the particles
     /// depth-tested against it (the style's `depth_test`); the target needs a depth attachment
     /// ([`FrameTarget::with_depth`]).

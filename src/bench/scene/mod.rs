@@ -12,26 +12,41 @@
 //!
 //! - a state-writing pass: [`WriteFloor`] into a framebuffer of the same formats and size (over
 //!   the live rows where the pass is restricted to them);
+//! - the births (the allocator's emit pass, one-pixel points): as many one-pixel points as it
+//!   drew, in as many draws, into one RGBA32F texture of the state's size, drawn after it;
 //! - the collision stage: its passes (counted by the GL layer) times the fixed cost of a
-//!   dependent pass ([`FixedCost`](crate::bench::FixedCost)), plus its bytes written at the state's write rate;
+//!   dependent pass ([`FixedCost`](crate::bench::FixedCost)), plus its bytes written at the
+//!   state's write rate;
 //! - the sort network: a write into what each pass writes (the sort texture, or the blocked
 //!   sort's layers) times the passes run;
-//! - the render pass: [`PlacedRenderFloor`], the live particles drawn where they are, at the
-//!   pass's point size and blend, fetching nothing.
+//! - the render pass, two bounds, reported against the larger ([`floors`]):
+//!   [`PlacedRenderFloor`](crate::bench::PlacedRenderFloor), as many particles as the pass draws
+//!   where they are, at the pass's point size and blend, fetching nothing; and the fill floor,
+//!   the renderer's own vertex stage (the same points or sprites) with a constant fragment
+//!   (`glsl/bench/fill_floor.frag`), the same blend, no atlas fetch.
+//!
+//! Where a floor is drawn, what it drew and what its phase drew (draws, points, bytes, and for
+//! the render pass the fragments of a samples query) are kept in the record ([`Drawn`]): a
+//! floor is a lower bound by construction only if it draws no more than its phase.
 //!
 //! Each repetition first times a whole frame (`substeps` steps, then the frame's drawing), then
 //! each phase once, each finished before the next (a phase's time is one step's, not a frame's).
 
 use super::scenes::default_warmup_frames;
-use super::stats::{median, Clock, PassTimer, PlacedRenderFloor, RenderFloor, WriteFloor};
+use super::stats::{median, Clock, PassTimer, RenderFloor, WriteFloor};
 use crate::engine::{timed, Engine, GpuEngine, ParticleEngine};
 use crate::error::{Error, Result};
-use crate::gl::{Blend, BlendComponent, BlendFactor, Context, Framebuffer, Texture, TextureDesc};
+use crate::gl::{
+    Blend, BlendComponent, BlendFactor, Context, Framebuffer, SamplesQuery, Texture, TextureDesc,
+};
 use crate::scene::{DrawOrder, SceneFile};
 use crate::sim::{FireSim, Simulation};
 
+mod floors;
 mod phases;
 mod text;
+use floors::{render_phase, RenderFloors};
+pub use floors::{Bound, Drawn};
 use phases::{bench_sort, sort_phases, BenchSort, SortFloors, StateFloors};
 pub use text::{run_summary, scene_markdown, summary};
 
@@ -42,12 +57,18 @@ pub struct PhaseRecord {
     pub phase: String,
     /// Median milliseconds of one run of the phase.
     pub ms: f64,
-    /// Median milliseconds of its floor, measured in the same run.
+    /// Median milliseconds of its floor, measured in the same run: the larger of its
+    /// [`bounds`](Self::bounds).
     pub floor_ms: f64,
     /// ms / floor_ms.
     pub ratio: f64,
-    /// What the floor is.
+    /// What the floor is (the larger bound).
     pub floor: String,
+    /// Every bound measured for the phase in the same run, the first floor first (render
+    /// phases: the placed points, then the fill floor).
+    pub bounds: Vec<Bound>,
+    /// What the phase drew in the last repetition, where its floors are drawn passes.
+    pub drawn: Option<Drawn>,
 }
 
 /// One state size of `texflow bench scene`.
@@ -110,12 +131,23 @@ impl Default for SceneBenchOptions {
     }
 }
 
+/// One phase's times over the repetitions: its own, each bound's, and the last draw counts.
+struct PhaseTimes {
+    name: String,
+    ms: Vec<f64>,
+    bounds: Vec<(String, Vec<f64>, Option<Drawn>)>,
+    drawn: Option<Drawn>,
+}
+
+/// One bound of one repetition: what it is, its milliseconds, what it drew.
+type BoundRun<'a> = (&'a str, f64, Option<Drawn>);
+
 /// Collects the times of named phases over repetitions, in first-seen order. The first
 /// repetition is a warm-up and is not kept: drivers build programs' variants for a draw state at
 /// its first draw (llvmpipe compiles them then), and that would be charged to the phase.
 #[derive(Default)]
 struct Phases {
-    list: Vec<(String, String, Vec<f64>, Vec<f64>)>,
+    list: Vec<PhaseTimes>,
     warm: bool,
 }
 
@@ -126,31 +158,67 @@ impl Phases {
     }
 
     fn push(&mut self, name: &str, floor: &str, ms: f64, floor_ms: f64) {
+        self.push_bounds(name, ms, None, &[(floor, floor_ms, None)]);
+    }
+
+    /// A phase's time, what it drew, and its bounds (one or more) measured in the same run.
+    fn push_bounds(&mut self, name: &str, ms: f64, drawn: Option<Drawn>, bounds: &[BoundRun]) {
         if !self.warm {
             return;
         }
-        match self.list.iter_mut().find(|p| p.0 == name) {
-            Some(p) => {
-                p.2.push(ms);
-                p.3.push(floor_ms);
+        let i = match self.list.iter().position(|p| p.name == name) {
+            Some(i) => i,
+            None => {
+                self.list.push(PhaseTimes {
+                    name: name.into(),
+                    ms: Vec::new(),
+                    bounds: bounds
+                        .iter()
+                        .map(|b| (b.0.to_owned(), Vec::new(), None))
+                        .collect(),
+                    drawn: None,
+                });
+                self.list.len() - 1
             }
-            None => self
-                .list
-                .push((name.into(), floor.into(), vec![ms], vec![floor_ms])),
+        };
+        let p = &mut self.list[i];
+        p.ms.push(ms);
+        p.drawn = drawn;
+        for (kept, b) in p.bounds.iter_mut().zip(bounds) {
+            kept.1.push(b.1);
+            kept.2 = b.2;
         }
     }
 
     fn records(self) -> Vec<PhaseRecord> {
         self.list
             .into_iter()
-            .map(|(phase, floor, ms, fl)| {
-                let (ms, floor_ms) = (median(&ms), median(&fl));
+            .map(|p| {
+                let ms = median(&p.ms);
+                let bounds: Vec<Bound> = (p.bounds.into_iter())
+                    .map(|(floor, t, drawn)| Bound {
+                        floor,
+                        ms: median(&t),
+                        drawn,
+                    })
+                    .collect();
+                let top = bounds
+                    .iter()
+                    .max_by(|a, b| a.ms.total_cmp(&b.ms))
+                    .cloned()
+                    .unwrap_or(Bound {
+                        floor: String::new(),
+                        ms: f64::NAN,
+                        drawn: None,
+                    });
                 PhaseRecord {
-                    phase,
+                    phase: p.name,
                     ms,
-                    floor_ms,
-                    ratio: ms / floor_ms,
-                    floor,
+                    floor_ms: top.ms,
+                    ratio: ms / top.ms,
+                    floor: top.floor,
+                    bounds,
+                    drawn: p.drawn,
                 }
             })
             .collect()
@@ -372,9 +440,11 @@ fn particles(
     let floor1 = WriteFloor::new(ctx, 1)?;
     let floor2 = WriteFloor::new(ctx, 2)?;
     let mut sort = bench_sort(ctx, s)?;
-    let style = engine.renderer().style().clone();
-    let blend = Some(style.blend());
-    let clear = style.clear_color();
+    let render = RenderFloors {
+        timer,
+        samples: SamplesQuery::new(ctx)?,
+        fill: engine.renderer().with_fragment("bench/fill_floor.frag")?,
+    };
     let mut phases = Phases::default();
     let mut frames = Vec::new();
     for _ in 0..=opts.repeats {
@@ -393,29 +463,8 @@ fn particles(
             };
             frame_sort_phases(ctx, &floors, &mut phases, sort, &engine, s)?;
         }
-        let target = engine.target();
-        let fb = target.framebuffer();
-        // The floor draws the live particles where they are, at the pass's point size and
-        // blend, without fetching or shading (a snapshot of this repetition's positions).
-        let placed = PlacedRenderFloor::new(ctx, &engine.sim().positions().read_f32()?)?;
-        let [rw, rh] = s.render.resolution;
-        let view_proj = engine.camera().view_projection(rw as f32 / rh as f32);
-        let point_size = engine.renderer().style().point_size;
-        let f = timer.time(|| placed.draw(fb, clear, blend, &view_proj, point_size))?;
-        let sorted = sort.is_some();
-        let t = timed(timer, || engine.render_pass(sorted))?;
-        let r = engine.renderer();
-        let lit = engine.lit().map(|l| l.pass_names());
-        phases.push(
-            &format!(
-                "render ({})",
-                lit.unwrap_or_else(|| r.pass_names()).join(", ")
-            ),
-            "clear + the live particles as points where they are, same size and blend, no fetch",
-            t,
-            f,
-        );
-        phases::lit_phases(timer, &mut phases, &engine, &placed)?;
+        render_phase(ctx, &render, &mut phases, &engine, s, sort.is_some())?;
+        phases::lit_phases(ctx, timer, &mut phases, &engine)?;
         phases.next_repetition();
     }
     let live = alive(ctx, &engine, s)?;

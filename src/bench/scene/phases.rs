@@ -1,10 +1,11 @@
 //! The particle pipeline's phases that need more than a timer: the sort built as the engine
 //! builds it and timed in its passes, and the floors of the passes that write the state.
 
+use super::floors::drawn;
 use super::{scratch_like, timed, Phases};
-use crate::bench::stats::{FixedCost, PassTimer, WriteFloor};
+use crate::bench::stats::{FixedCost, PassTimer, RenderFloor, WriteFloor};
 use crate::error::Result;
-use crate::gl::{Context, Framebuffer};
+use crate::gl::{Context, Framebuffer, Texture, TextureDesc, TextureFormat};
 use crate::scene::SceneFile;
 use crate::sim::state::{POSITION, STATIC};
 use crate::sim::{ParticleSim, Simulation, Stage};
@@ -41,50 +42,63 @@ pub(super) fn sort_phases(
 ) -> Result<()> {
     let [w, h] = sim.size().to_array();
     let texels = w as usize * h as usize;
-    let f = on.timer.time(|| on.floor1.draw(sorter.keys_target()))?;
-    let t = timed(on.timer, || {
-        let refresh = *spread && *keyed;
-        sorter.write_keys_with_statics(sim.positions(), sim.statics(), texels, mode, true, refresh)
+    let (f, fd) = drawn(ctx, || {
+        on.timer.time(|| on.floor1.draw(sorter.keys_target()))
+    })?;
+    let (t, td) = drawn(ctx, || {
+        timed(on.timer, || {
+            let refresh = *spread && *keyed;
+            sorter.write_keys_with_statics(
+                sim.positions(),
+                sim.statics(),
+                texels,
+                mode,
+                true,
+                refresh,
+            )
+        })
     })?;
     *keyed = true;
-    phases.push(
-        match mode {
-            KeyMode::Age { .. } => "sort keys: age",
-            KeyMode::Axis { .. } => "sort keys: along the half-angle vector",
-            _ => "sort keys: distance to the viewer",
-        },
-        "write-only pass into the sort texture",
-        t,
-        f,
-    );
+    let keys = match mode {
+        KeyMode::Age { .. } => "sort keys: age",
+        KeyMode::Axis { .. } => "sort keys: along the half-angle vector",
+        _ => "sort keys: distance to the viewer",
+    };
+    let floor = "write-only pass into the sort texture";
+    phases.push_bounds(keys, t, Some(td), &[(floor, f, Some(fd))]);
     // Each pass's floor writes what it writes: the sort texture, or for the blocked
     // variant its layers (and the row-major texture once, in its unpack pass).
     let target = sorter.target();
-    let fl = if target.attachments() > 1 || target.integer() {
+    let (fl, fld) = if target.attachments() > 1 || target.integer() {
         let f = WriteFloor::for_target(ctx, target)?;
-        on.timer.time(|| f.draw(target))?
+        drawn(ctx, || on.timer.time(|| f.draw(target)))?
     } else {
-        on.timer.time(|| on.floor1.draw(target))?
+        drawn(ctx, || on.timer.time(|| on.floor1.draw(target)))?
     };
-    let fk = on.timer.time(|| on.floor1.draw(sorter.keys_target()))?;
-    let mut passes = 0;
-    let t = on.timer.time(|| passes = sorter.sort_frame())?;
-    let unpack = passes.saturating_sub(sorter.network_pass_count().min(passes));
-    phases.push(
-        &format!("sort network ({})", sorter.variant().name()),
-        "write-only pass into each pass's targets × passes run",
-        t,
-        fl * (passes - unpack) as f64 + fk * unpack as f64,
-    );
-    let f = on.timer.time(|| on.floor2.draw(sorted))?;
-    let t = timed(on.timer, || {
-        sorter.gather(&[sim.positions(), sim.statics()], sorted)
+    let (fk, fkd) = drawn(ctx, || {
+        on.timer.time(|| on.floor1.draw(sorter.keys_target()))
     })?;
-    phases.push(
+    let mut passes = 0;
+    let (t, td) = drawn(ctx, || on.timer.time(|| passes = sorter.sort_frame()))?;
+    let unpack = passes.saturating_sub(sorter.network_pass_count().min(passes));
+    let network = (passes - unpack) as u64;
+    let floor = "write-only pass into each pass's targets × passes run";
+    let f = fl * network as f64 + fk * unpack as f64;
+    let fd = fld.times(network).plus(fkd.times(unpack as u64));
+    let name = format!("sort network ({})", sorter.variant().name());
+    phases.push_bounds(&name, t, Some(td), &[(floor, f, Some(fd))]);
+    let (f, fd) = drawn(ctx, || on.timer.time(|| on.floor2.draw(sorted)))?;
+    let (t, td) = drawn(ctx, || {
+        timed(on.timer, || {
+            sorter.gather(&[sim.positions(), sim.statics()], sorted)
+        })
+    })?;
+    let floor = "write-only pass into the two gathered textures";
+    phases.push_bounds(
         "gather position and static textures",
-        "write-only pass into the two gathered textures",
         t,
-        f,
+        Some(td),
+        &[(floor, f, Some(fd))],
     );
     Ok(())
 }
@@ -96,6 +110,10 @@ pub(super) struct StateFloors {
     fixed_cost: FixedCost,
     scratch: Framebuffer,
     scratch_bytes: u64,
+    /// The births' floor: one-pixel points into `single`, one RGBA32F texture of the state's
+    /// size (no more bytes per point than any target the emit pass writes).
+    points: RenderFloor,
+    single: Framebuffer,
 }
 
 impl StateFloors {
@@ -105,19 +123,31 @@ impl StateFloors {
         let fixed_cost = FixedCost::new(ctx)?;
         let scratch_bytes =
             scratch.width() as u64 * scratch.height() as u64 * scratch.bytes_per_texel() as u64;
+        let [w, h] = sim.size().to_array();
+        let t = Texture::new(
+            ctx,
+            TextureDesc {
+                width: w,
+                height: h,
+                format: TextureFormat::Rgba32F,
+                label: "births floor",
+            },
+        )?;
         Ok(Self {
             state,
             fixed_cost,
             scratch,
             scratch_bytes,
+            points: RenderFloor::new(ctx)?,
+            single: Framebuffer::new(ctx, "births floor", vec![t])?,
         })
     }
 
     /// One step, stage by stage, from the simulation's own pass list (what its step runs):
     /// the integration next to a write-only pass into the state's targets over the same rows;
-    /// every other stage (births, constraint relaxation, collisions) next to its passes' fixed
-    /// cost plus its bytes written at the rate of a write-only pass into the state's targets,
-    /// both measured now.
+    /// the births next to as many one-pixel points as they drew; every other stage
+    /// (constraint relaxation, collisions) next to its passes' fixed cost plus its bytes
+    /// written at the rate of a write-only pass into the state's targets, both measured now.
     pub(super) fn step_phases(
         &self,
         ctx: &Context,
@@ -143,32 +173,57 @@ impl StateFloors {
             let name = format!("{}: {}", stage_name(stage), names.join(", "));
             if stage == Stage::Integrate {
                 let rows = sim.active_rows();
-                let f = timer.time(|| self.state.draw_rows(&self.scratch, 0, rows))?;
-                let t = timed(timer, || sim.run(stage))?;
-                phases.push(
-                    &name,
-                    "write-only pass into the state's targets, live rows",
-                    t,
-                    f,
-                );
+                let (f, fd) = drawn(ctx, || {
+                    timer.time(|| self.state.draw_rows(&self.scratch, 0, rows))
+                })?;
+                let (t, td) = drawn(ctx, || timed(timer, || sim.run(stage)))?;
+                let floor = "write-only pass into the state's targets, live rows";
+                phases.push_bounds(&name, t, Some(td), &[(floor, f, Some(fd))]);
+                continue;
+            }
+            if stage == Stage::Births {
+                self.births(ctx, timer, sim, phases, &name)?;
                 continue;
             }
             let fixed = self.fixed_cost.measure(timer)?;
             let f = timer.time(|| self.state.draw(&self.scratch))?;
             let rate = self.scratch_bytes as f64 / (f - fixed).max(1e-9);
-            ctx.take_draw_stats();
-            let t = timed(timer, || sim.run(stage))?;
-            let drawn = ctx.take_draw_stats();
-            // A stage that drew nothing this time (no births in the step) still costs its
-            // call: one pass's fixed cost.
-            phases.push(
-                &name,
-                "its passes (at least one) × the fixed cost of a pass + its bytes at the state's \
-                 write rate",
-                t,
-                drawn.draws.max(1) as f64 * fixed + drawn.bytes_written as f64 / rate,
-            );
+            let (t, td) = drawn(ctx, || timed(timer, || sim.run(stage)))?;
+            let d = td.stats;
+            // A stage that drew nothing this time still costs its call: one pass's fixed cost.
+            // A bound computed from the stage's own draws: nothing drawn to compare.
+            let floor = "its passes (at least one) × the fixed cost of a pass + its bytes at the \
+                         state's write rate";
+            let f = d.draws.max(1) as f64 * fixed + d.bytes_written as f64 / rate;
+            phases.push_bounds(&name, t, Some(td), &[(floor, f, None)]);
         }
+        Ok(())
+    }
+
+    /// The births (the allocator's emit pass: one-pixel points into each target it writes),
+    /// then their floor: as many one-pixel points in as many draws into one RGBA32F texture,
+    /// nothing where nothing was born.
+    fn births(
+        &self,
+        ctx: &Context,
+        timer: &PassTimer,
+        sim: &mut ParticleSim,
+        phases: &mut Phases,
+        name: &str,
+    ) -> Result<()> {
+        let (t, td) = drawn(ctx, || timed(timer, || sim.run(Stage::Births)))?;
+        let d = td.stats;
+        let per_draw = d.points.checked_div(d.draws).unwrap_or(0) as usize;
+        let (f, fd) = drawn(ctx, || {
+            timer.time(|| {
+                for _ in 0..d.draws {
+                    self.points.points(&self.single, None, per_draw);
+                }
+            })
+        })?;
+        let floor = "as many one-pixel points in as many draws as the emit pass, into one \
+                     RGBA32F texture of the state's size";
+        phases.push_bounds(name, t, Some(td), &[(floor, f, Some(fd))]);
         Ok(())
     }
 }
@@ -188,10 +243,10 @@ fn stage_name(stage: Stage) -> &'static str {
 /// each next to the live particles drawn as points where they are, same size and blend, into
 /// the same target (the light buffer seen from the light, the frame from the camera).
 pub(super) fn lit_phases(
+    ctx: &crate::gl::Context,
     timer: &PassTimer,
     phases: &mut Phases,
     engine: &crate::engine::ParticleEngine,
-    placed: &crate::bench::stats::PlacedRenderFloor,
 ) -> Result<()> {
     use crate::render::{FrameState, SlicePasses};
     let (Some(lit), Some(sorted)) = (engine.lit(), engine.sorted()) else {
@@ -210,14 +265,19 @@ pub(super) fn lit_phases(
     };
     let atlas = engine.renderer().atlas();
     let style = engine.renderer().style();
-    let (light_view, light_size, light_blend) = light_floor(engine, lit);
+    // The live particles where they are (a snapshot), one pixel each: sprites shrink with age
+    // below the point size, so points at the point size would not bound the sprites' fill.
+    let placed =
+        crate::bench::stats::PlacedRenderFloor::new(ctx, &engine.sim().positions().read_f32()?)?;
+    let count = state.count;
+    let (light_view, _, light_blend) = light_floor(engine, lit);
     let f = timer.time(|| {
         placed.draw(
             lit.light_buffer(),
             [1.0; 4],
             light_blend,
-            &light_view,
-            light_size,
+            (&light_view, 1.0),
+            count,
         )
     })?;
     let t = timed(timer, || {
@@ -225,7 +285,7 @@ pub(super) fn lit_phases(
     })?;
     phases.push(
         &format!("light-buffer passes ({} slices)", lit.slices()),
-        "clear + the live particles as points where the light sees them, same size and blend",
+        "clear + the live particles as one-pixel points where the light sees them, same blend",
         t,
         f,
     );
@@ -237,8 +297,8 @@ pub(super) fn lit_phases(
             target.framebuffer(),
             style.clear_color(),
             blend,
-            &view_proj,
-            style.point_size,
+            (&view_proj, 1.0),
+            count,
         )
     })?;
     let t = timed(timer, || {
@@ -249,7 +309,7 @@ pub(super) fn lit_phases(
             "eye passes ({} slices, lit by the light buffer)",
             lit.slices()
         ),
-        "clear + the live particles as points where they are, same size and blend, no fetch",
+        "clear + the live particles as one-pixel points where they are, same blend, no fetch",
         t,
         f,
     );

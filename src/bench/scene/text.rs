@@ -23,15 +23,20 @@ pub fn scene_markdown(records: &[SceneBenchRecord]) -> String {
             r.fps,
             r.particles_per_s
         );
-        out += "| phase | ms | floor_ms | ratio | floor |\n|---|---:|---:|---:|---|\n";
+        out += "| phase | ms | floor_ms | ratio | floor | bounds_ms |\n\
+                |---|---:|---:|---:|---|---|\n";
         for p in &r.phases {
+            // Every bound measured, in order (render: placed points, then the fill floor); the
+            // ratio is against the larger.
+            let bounds: Vec<String> = p.bounds.iter().map(|b| format!("{:.3}", b.ms)).collect();
             out += &format!(
-                "| {} | {:.3} | {:.3} | {} | {} |\n",
+                "| {} | {:.3} | {:.3} | {} | {} | {} |\n",
                 p.phase,
                 p.ms,
                 p.floor_ms,
                 ratio_cell(p.ratio),
-                p.floor
+                p.floor,
+                bounds.join(" / ")
             );
         }
     }

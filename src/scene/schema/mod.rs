@@ -261,6 +261,10 @@ pub struct Collisions {
     /// and a cell of at least 2 radius; `neighbours` and `staggered` do not apply).
     #[serde(default)]
     pub detection: Detection,
+    /// The network of the collision sorts: `blocked` (ours, the default) or `packed`
+    /// (UberFlow's GP/FP packed bitonic sort). Both sort exact (key, id) entries.
+    #[serde(default, skip_serializing_if = "CollisionSort::is_default")]
+    pub sort: CollisionSort,
     /// Time-stamp emission with phases in texel order, so that the particles released in one
     /// step share a row (UberFlow §5; default); `false`: random phases.
     #[serde(default = "yes")]
@@ -302,6 +306,39 @@ pub enum Detection {
     /// Every particle within 2 radius, found in the 27 cells around each particle through a
     /// binary search of the sorted keys (fragment passes only).
     Exact,
+}
+
+/// `collisions.sort`: the sorting network of the collision stage's cell sorts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CollisionSort {
+    /// Our blocked bitonic network (`crate::sort::blocked`), exact (key, id) entries.
+    #[default]
+    Blocked,
+    /// UberFlow §4.3.3's GP/FP packed bitonic network, one step per pass.
+    Packed,
+}
+
+impl CollisionSort {
+    fn is_default(&self) -> bool {
+        *self == CollisionSort::Blocked
+    }
+
+    /// The sort variant that runs it.
+    pub fn variant(self) -> Variant {
+        match self {
+            CollisionSort::Blocked => Variant::Blocked,
+            CollisionSort::Packed => Variant::Packed,
+        }
+    }
+
+    /// Its words in pass lists.
+    pub fn label(self) -> &'static str {
+        match self {
+            CollisionSort::Blocked => "blocked",
+            CollisionSort::Packed => "GP/FP packed",
+        }
+    }
 }
 
 fn eight() -> u32 {

@@ -5,7 +5,8 @@
 
 use super::{Collisions, Passes, Readback};
 use crate::error::Result;
-use crate::gl::{Framebuffer, PingPong, Program, Sampled};
+use crate::gl::{Defines, Framebuffer, PingPong, Program, Sampled};
+use crate::scene;
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
 
 impl Collisions {
@@ -94,4 +95,15 @@ impl Collisions {
     pub fn recorded(&self) -> &[Readback] {
         &self.recorded
     }
+}
+
+/// The simulation's `defines` and how the collision sort lays out its sorted keys, for the
+/// passes that search them (`glsl/collide/cells.glsl`): `PACKED_KEYS` for the packed network's
+/// two entries per texel; none for the blocked network's one (key, id) per texel.
+pub(super) fn key_layout(defines: &Defines, sort: scene::CollisionSort) -> Defines {
+    let mut d = defines.clone();
+    if sort.variant().packed() {
+        d.push(("PACKED_KEYS".into(), "1".into()));
+    }
+    d
 }

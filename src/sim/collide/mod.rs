@@ -34,7 +34,7 @@ use crate::gl::{
 };
 use crate::scene::{self, SceneFile};
 use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
-use crate::sort::{KeyMode, SortOptions, Sorter, Variant};
+use crate::sort::{KeyMode, SortOptions, Sorter};
 
 mod census;
 mod exact;
@@ -143,10 +143,13 @@ pub struct Collisions {
 
 /// The exact mode's passes of one iteration (`collisions.iterations` per step), as `texflow
 /// scene passes` lists them.
-pub fn exact_passes(colliders: bool) -> Vec<String> {
+pub fn exact_passes(colliders: bool, sort: scene::CollisionSort) -> Vec<String> {
     vec![
         "collision keys: cell index in the lattice (z, y, x), every iteration".into(),
-        "collision sort: full bitonic sort (GP/FP packed), every iteration".into(),
+        format!(
+            "collision sort: full bitonic sort ({}), every iteration",
+            sort.label()
+        ),
         "gather position, velocity, static in cell order".into(),
         format!(
             "exact detection: partners closer than 2r counted in the 27 cells around each \
@@ -270,7 +273,7 @@ impl Grid {
         Ok(Grid {
             lattice,
             spin,
-            sorter: Sorter::new(ctx, Variant::Packed, w, h, options)?,
+            sorter: Sorter::new(ctx, config.sort.variant(), w, h, options)?,
             layout: Framebuffer::named(ctx, &format!("{name} layout"), layout)?,
             partner: single_target(ctx, &format!("{name} partner"), size)?,
         })
@@ -320,6 +323,7 @@ impl Collisions {
         } else {
             None
         };
+        let defines = &exact::key_layout(defines, config.sort);
         let d = stage_defines(defines, second.is_some());
         let passes = Passes::new(ctx, exact, size, &d)?;
         Ok(Collisions {

@@ -158,7 +158,7 @@ impl Neighbours {
 }
 
 /// The passes of the neighbour forces, as `texflow scene passes` lists them.
-pub fn neighbour_passes(dem: bool, pair: usize) -> Vec<String> {
+pub fn neighbour_passes(dem: bool, pair: usize, sort: scene::CollisionSort) -> Vec<String> {
     let mut what = Vec::new();
     if dem {
         what.push("the DEM contact force (spring, dashpot, shear, attraction) of every partner closer than 2r".to_owned());
@@ -170,7 +170,7 @@ pub fn neighbour_passes(dem: bool, pair: usize) -> Vec<String> {
     }
     vec![
         "collision keys: cell index in the lattice (z, y, x)".into(),
-        "collision sort: full bitonic sort (GP/FP packed)".into(),
+        format!("collision sort: full bitonic sort ({})", sort.label()),
         "gather position, velocity, static in cell order".into(),
         format!(
             "neighbour force: sum over the 27 cells around each particle of {} (binary search of \

@@ -72,6 +72,8 @@ pub struct Features {
     pub collisions: Option<(u32, bool, Option<u32>)>,
     /// The collision detection mode (with `collisions`).
     pub detection: crate::scene::Detection,
+    /// The collision sorts' network (`collisions.sort`).
+    pub collision_sort: crate::scene::CollisionSort,
     /// The exact detection's pairs respond with the DEM contact force (`collisions.response`).
     pub dem: bool,
     /// User pair forces (`[[forces.pair]]`).
@@ -144,6 +146,7 @@ impl Features {
                 .collisions
                 .as_ref()
                 .map_or(Default::default(), |c| c.detection),
+            collision_sort: (scene.collisions.as_ref()).map_or(Default::default(), |c| c.sort),
             dem: (scene.collisions.as_ref())
                 .is_some_and(|c| c.response == crate::scene::Response::Dem),
             pair_forces: scene.forces.pair.len(),
@@ -543,17 +546,22 @@ impl Features {
             out.extend(crate::sim::collide::neighbour_passes(
                 self.dem,
                 self.pair_forces,
+                self.collision_sort,
             ));
         }
         if self.dem {
             // The dem response replaces the impulse: the neighbour passes are the whole stage.
         } else if self.collisions.is_some() && self.detection == crate::scene::Detection::Exact {
-            out.extend(crate::sim::collide::exact_passes(self.colliders()));
+            out.extend(crate::sim::collide::exact_passes(
+                self.colliders(),
+                self.collision_sort,
+            ));
         } else if let Some((k, staggered, rows)) = self.collisions {
+            let net = self.collision_sort.label();
             let sort = match rows {
-                Some(1) => "rows-only bitonic sort (GP/FP packed)".to_owned(),
-                Some(r) => format!("bitonic sort within sets of {r} rows (GP/FP packed)"),
-                None => "full bitonic sort (GP/FP packed)".to_owned(),
+                Some(1) => format!("rows-only bitonic sort ({net})"),
+                Some(r) => format!("bitonic sort within sets of {r} rows ({net})"),
+                None => format!("full bitonic sort ({net})"),
             };
             let lattices: &[&str] = if staggered {
                 &["lattice", "staggered lattice"]

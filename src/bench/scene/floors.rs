@@ -1,0 +1,173 @@
+//! The bounds of `bench scene`'s phases that are drawn passes, and what they drew: the render
+//! phase against the placed points and the fill floor, each counted (draws, points, bytes,
+//! fragments) so that a test can check that a floor draws no more than its phase.
+
+use super::{timed, Phases};
+use crate::bench::stats::{PassTimer, PlacedRenderFloor};
+use crate::engine::ParticleEngine;
+use crate::error::Result;
+use crate::gl::{Context, DrawStats, SamplesQuery};
+use crate::scene::SceneFile;
+use crate::scene::{DrawMode, DrawPrimitive};
+use crate::sim::Simulation;
+
+/// One lower bound of a phase.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Bound {
+    /// What it is.
+    pub floor: String,
+    /// Median milliseconds.
+    pub ms: f64,
+    /// What it drew in the last repetition; `None` for a bound computed from the phase's own
+    /// draws (the collision and relaxation stages).
+    pub drawn: Option<Drawn>,
+}
+
+/// What a phase or a floor drew, as the GL layer counted it, and the fragments written where a
+/// samples query counted them (render phases). A floor bounds its phase by construction only if
+/// it draws no more: no more draws, points, bytes and fragments (`tests/bench_floors.rs`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Drawn {
+    /// Draws, full-screen bytes and points.
+    pub stats: DrawStats,
+    /// Fragments written (`GL_SAMPLES_PASSED`), where counted.
+    pub fragments: Option<u64>,
+}
+
+impl Drawn {
+    /// `stats` without a fragment count.
+    pub(super) fn of(stats: DrawStats) -> Self {
+        Drawn {
+            stats,
+            fragments: None,
+        }
+    }
+
+    /// `k` runs of what this drew (a floor of one pass, charged once per pass run).
+    pub(super) fn times(self, k: u64) -> Self {
+        let s = self.stats;
+        Drawn {
+            stats: DrawStats {
+                draws: s.draws * k,
+                passes: s.passes * k,
+                bytes_written: s.bytes_written * k,
+                points: s.points * k,
+                vertices: s.vertices * k,
+            },
+            fragments: self.fragments.map(|f| f * k),
+        }
+    }
+
+    /// What this and `other` drew together.
+    pub(super) fn plus(self, other: Drawn) -> Self {
+        let (a, b) = (self.stats, other.stats);
+        Drawn {
+            stats: DrawStats {
+                draws: a.draws + b.draws,
+                passes: a.passes + b.passes,
+                bytes_written: a.bytes_written + b.bytes_written,
+                points: a.points + b.points,
+                vertices: a.vertices + b.vertices,
+            },
+            fragments: self.fragments.zip(other.fragments).map(|(x, y)| x + y),
+        }
+    }
+}
+
+/// What the render phase is timed with and bounded by: the timer, a samples query (fragments
+/// written), and the fill floor (the renderer's own vertex stage, a constant fragment), where
+/// the renderer has one.
+pub(super) struct RenderFloors<'a> {
+    pub(super) timer: &'a PassTimer,
+    pub(super) samples: SamplesQuery,
+    pub(super) fill: Option<crate::render::ParticleRenderer>,
+}
+
+/// Runs `f` (a timed range) counting what it drew: the GL layer's draw counts and the fragments.
+pub(super) fn counted(
+    ctx: &Context,
+    samples: &SamplesQuery,
+    f: impl FnOnce() -> Result<f64>,
+) -> Result<(f64, Drawn)> {
+    ctx.take_draw_stats();
+    let (t, fragments) = samples.count(f)?;
+    let stats = ctx.take_draw_stats();
+    Ok((
+        t?,
+        Drawn {
+            stats,
+            fragments: Some(fragments),
+        },
+    ))
+}
+
+/// The render pass against two bounds: the particles as points where they are (as many
+/// vertices as the pass draws, its point size and blend, no fetch), and the fill floor (the
+/// same points or sprites through the pass's own vertex stage, its blend, a constant fragment).
+pub(super) fn render_phase(
+    ctx: &Context,
+    on: &RenderFloors,
+    phases: &mut Phases,
+    engine: &ParticleEngine,
+    s: &SceneFile,
+    sorted: bool,
+) -> Result<()> {
+    let (timer, samples) = (on.timer, &on.samples);
+    let style = engine.renderer().style();
+    let (blend, clear) = (Some(style.blend()), style.clear_color());
+    let fb = engine.target().framebuffer();
+    // A snapshot of this repetition's positions, drawn without fetching or shading.
+    let placed = PlacedRenderFloor::new(ctx, &engine.sim().positions().read_f32()?)?;
+    let [rw, rh] = s.render.resolution;
+    let view_proj = engine.camera().view_projection(rw as f32 / rh as f32);
+    // At the pass's point size where every particle is drawn at it (points of one size);
+    // else one pixel, which any sprite or quad of at least a pixel covers at its centre
+    // (sprites' sizes vary with the type, the age and size_range, down below point_size).
+    let uniform = style.mode == DrawMode::Points
+        && style.primitive == DrawPrimitive::Points
+        && style.types.iter().all(|t| t.size_range == [1.0; 2]);
+    let camera = (&view_proj, if uniform { style.point_size } else { 1.0 });
+    // As many vertices as the pass draws: every texel when sorted (dead ones sort last, and
+    // are culled), else the simulation's drawn count (its live rows).
+    // A connected render (a surface, strands) draws no point per particle: the points would
+    // not bound its lines or triangles (hidden behind one another, overlapping), so its floor
+    // is the clear alone.
+    let [w, h] = s.particles.size;
+    let count = match sorted {
+        _ if engine.renderer().draws_connected() => 0,
+        true => w as usize * h as usize,
+        false => engine.sim().drawn().count,
+    };
+    let points = counted(ctx, samples, || {
+        timer.time(|| placed.draw(fb, clear, blend, camera, count))
+    })?;
+    let mut bounds = vec![(
+        "clear + the live particles as points where they are, as many as the pass draws, at its \
+         point size (points) or one pixel (sprites, quads), same blend, no fetch (a surface or \
+         strands: the clear alone)",
+        points.0,
+        Some(points.1),
+    )];
+    if let Some(fill) = &on.fill {
+        let f = counted(ctx, samples, || {
+            timed(timer, || engine.render_pass_with(fill, sorted))
+        })?;
+        bounds.push((
+            "fill floor: the pass's own vertex stage (the same points or sprites), same blend, \
+             a constant fragment, no atlas fetch",
+            f.0,
+            Some(f.1),
+        ));
+    }
+    let (t, drawn) = counted(ctx, samples, || timed(timer, || engine.render_pass(sorted)))?;
+    let name = format!("render ({})", engine.renderer().pass_names().join(", "));
+    phases.push_bounds(&name, t, Some(drawn), &bounds);
+    Ok(())
+}
+
+/// Runs `f` (a timed range) counting what it drew, as the GL layer counts draws.
+pub(super) fn drawn(ctx: &Context, f: impl FnOnce() -> Result<f64>) -> Result<(f64, Drawn)> {
+    ctx.take_draw_stats();
+    let t = f()?;
+    Ok((t, Drawn::of(ctx.take_draw_stats())))
+}

@@ -1,0 +1,84 @@
+//! `bench scene`'s floors bound their phases by construction: for every built-in scene at a
+//! small size, each floor that is a drawn pass draws no more than its phase drew in the same
+//! repetition (draws, vertices, bytes into colour attachments, and for the render pass the
+//! fragments a samples query counted). Times are not compared: that part of a floor's claim is
+//! the benchmark's to report (⚠ under 0.95), not a test's.
+
+mod common;
+
+use texflow::bench::scene::Drawn;
+use texflow::bench::{bench_scene, SceneBenchOptions};
+
+/// Whether `floor` draws no more than `phase`, and what is over.
+fn over(floor: &Drawn, phase: &Drawn) -> Vec<String> {
+    let (f, p) = (floor.stats, phase.stats);
+    let mut bad = Vec::new();
+    for (what, a, b) in [
+        ("draws", f.draws, p.draws),
+        ("vertices", f.vertices, p.vertices),
+        ("bytes", f.bytes_written, p.bytes_written),
+    ] {
+        if a > b {
+            bad.push(format!("{what} {a} > {b}"));
+        }
+    }
+    if let (Some(a), Some(b)) = (floor.fragments, phase.fragments) {
+        if a > b {
+            bad.push(format!("fragments {a} > {b}"));
+        }
+    }
+    bad
+}
+
+#[test]
+fn every_drawn_floor_draws_no_more_than_its_phase() {
+    let ctx = common::context();
+    let opts = SceneBenchOptions {
+        repeats: 1,
+        warmup_frames: Some(4),
+        resolution: Some([48, 32]),
+        ..Default::default()
+    };
+    let mut checked = 0;
+    let mut render_fragments = 0;
+    let mut fills = 0;
+    for name in texflow::scene::BUILTIN {
+        let scene = texflow::scene::load(name).unwrap();
+        let records = bench_scene(&ctx, &scene, &[16], &opts, |_| {}).unwrap();
+        for p in &records[0].phases {
+            assert!(!p.bounds.is_empty(), "{name}: {p:?}");
+            // The phase is reported against the larger bound.
+            let top = p.bounds.iter().map(|b| b.ms).fold(f64::MIN, f64::max);
+            assert_eq!(p.floor_ms, top, "{name}: {}", p.phase);
+            let Some(phase) = &p.drawn else { continue };
+            for b in &p.bounds {
+                let Some(floor) = &b.drawn else { continue };
+                let bad = over(floor, phase);
+                assert!(
+                    bad.is_empty(),
+                    "{name}: `{}` floor `{}` draws more than the phase: {}",
+                    p.phase,
+                    b.floor,
+                    bad.join(", ")
+                );
+                checked += 1;
+                if floor.fragments.is_some_and(|f| f > 0) {
+                    render_fragments += 1;
+                }
+            }
+            // Points and sprites drawn without geometry have the fill floor beside the placed
+            // points.
+            fills += p
+                .bounds
+                .iter()
+                .filter(|b| b.floor.starts_with("fill floor"))
+                .count();
+        }
+    }
+    // Not vacuous: floors were compared, render floors with fragments among them.
+    eprintln!("{checked} floors compared, {render_fragments} with fragments, {fills} fill floors");
+    assert!(checked >= 2 * texflow::scene::BUILTIN.len(), "{checked}");
+    assert!(render_fragments > 0);
+    assert!(fills >= 4, "{fills} fill floors");
+    common::no_gl_error(&ctx);
+}

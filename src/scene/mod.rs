@@ -31,7 +31,8 @@ mod validate;
 
 pub use builtin::{builtin, fire, load, load_source, summary, DEFAULT_SCENE, THESIS_SCENE};
 pub use custom::{
-    check_glsl, check_pair_glsl, load_custom, read_glsl, read_pair_glsl, PAIR_SIGNATURE,
+    check_glsl, check_pair_glsl, load_custom, read_glsl, read_pair_glsl, read_state_glsl,
+    state_places, PAIR_SIGNATURE,
 };
 pub use field_files::{grey_image, npy_field, MAX_FIELD_FILE};
 pub use locate::{Invalid, Key};
@@ -43,7 +44,7 @@ pub use sources::{builtin_source, BUILTIN, BUILTIN_MESHES, BUILTIN_SOURCES};
 pub use suggest::{closest, did_you_mean, edit_distance};
 pub use validate::{
     fire_section, largest_exact_cell, run_capacity, CapacityWarning, ChildCapacityWarning,
-    ChildLayout, ChildRange, EXACT_SCAN, MAX_DEM_OMEGA_DT, MAX_LATTICE_CELLS,
+    ChildLayout, ChildRange, EXACT_SCAN, MAX_DEM_OMEGA_DT, MAX_LATTICE_CELLS, STATE_INPUTS,
 };
 
 #[cfg(test)]

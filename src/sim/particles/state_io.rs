@@ -190,6 +190,7 @@ impl crate::sim::Simulation for ParticleSim {
             Stage::Births => self.emit(),
             Stage::Integrate => {
                 self.integrate_pass();
+                self.user_state_passes(false);
                 Ok(())
             }
             Stage::Relax => {
@@ -247,6 +248,7 @@ impl crate::sim::Simulation for ParticleSim {
         if let Some(t) = self.spins() {
             v.push(("spins", t.read_f32()?));
         }
+        v.extend(self.read_user_states()?);
         Ok(v)
     }
 

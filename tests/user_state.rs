@@ -68,3 +68,95 @@ fn updates_follow_their_cpu_twin() {
     assert!((decay - exact).abs() < 0.01, "{decay} vs e^(-kt) = {exact}");
     common::no_gl_error(&ctx);
 }
+
+/// A fresh directory for this test's files.
+fn dir(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("texflow-ustate-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A state that remembers its birth: `x` = the time of birth (`time - age` at birth), `z` the
+/// updates since. Checked against each live particle's age at the end under the allocator and
+/// under time stamps, after particles died and were born again in the same texels.
+#[test]
+fn init_runs_at_every_birth() {
+    let ctx = context();
+    let body = "[[state]]\nname = \"born\"\ninit = \"vec4(time - age, float(index), 0.0, 0.0)\"\n\
+                update = \"born + vec4(0.0, 0.0, 1.0, 0.0)\"\n";
+    let spread = "shape = \"point\"\ncenter = [0.0, 0.0, 0.0]\ndirection = [0.0, 1.0, 0.0]\n\
+                  speed = [0.5, 1.0]\n";
+    let allocator =
+        format!("[[emitters.allocator]]\nrate = 400.0\nlife = [0.3, 0.6]\n{spread}");
+    let timestamp = format!("[[emitters.timestamp]]\ncycle = 0.5\nlife = [0.2, 0.4]\n{spread}");
+    for (emitter, first_update) in [(allocator, 1.0f32), (timestamp, 0.0)] {
+        let s = scene_with(&emitter, body);
+        let mut sim = ParticleSim::new(&ctx, &s, 5).unwrap();
+        for _ in 0..50 {
+            sim.step().unwrap();
+        }
+        let (p, st) = (sim.read_positions().unwrap(), sim.statics().read_f32().unwrap());
+        let born = sim.read_user_state("born").unwrap();
+        let (dt, now) = (0.05f32, sim.time() as f32);
+        let mut live = 0;
+        for i in 0..(SIZE[0] * SIZE[1]) as usize {
+            let (p, st, b) = (texel(&p, i), texel(&st, i), texel(&born, i));
+            if !(p[3] > 0.0) || !p[0].is_finite() {
+                continue;
+            }
+            live += 1;
+            let age = st[2] - p[3];
+            assert!((b[0] - (now - age)).abs() < 1e-4, "texel {i}: born {b:?}, age {age}");
+            assert_eq!(b[1], i as f32);
+            // Updates since birth: the steps lived after the birth step.
+            let steps = age / dt - first_update;
+            assert!(
+                (b[2] - steps.floor()).abs() < 1.0 && b[2] <= steps + 1e-3,
+                "texel {i}: {} updates, age {age} s",
+                b[2]
+            );
+        }
+        // 2.5 s of lives under 0.6 s: every texel alive now was born again at least once.
+        assert!(live > 10, "{live} live particles");
+    }
+    common::no_gl_error(&ctx);
+}
+
+/// A custom force reads a state by name: a charge set at birth from the particle's random number
+/// pushes it up or down, `v_y = n dt q / m` after n Euler steps from rest.
+#[test]
+fn custom_forces_read_states_by_name() {
+    let ctx = context();
+    let d = dir("force");
+    std::fs::write(
+        d.join("lift.glsl"),
+        "vec3 force(vec3 x, vec3 v, float age, int type) {\n    \
+         return vec3(0.0, charge.x, 0.0);\n}\n",
+    )
+    .unwrap();
+    let src = format!(
+        "name = \"charged\"\n[particles]\nsize = {SIZE:?}\n[time]\ndt = 0.05\n{INITIAL}\n\
+         [[forces.custom]]\nglsl = \"lift.glsl\"\n[[state]]\nname = \"charge\"\n\
+         init = \"vec4(random < 0.5 ? 2.0 : -1.0)\"\n"
+    );
+    std::fs::write(d.join("charged.toml"), src).unwrap();
+    let s = scene::load(d.join("charged.toml").to_str().unwrap()).unwrap();
+    let mut sim = ParticleSim::new(&ctx, &s, 2).unwrap();
+    let n = 20;
+    for _ in 0..n {
+        sim.step().unwrap();
+    }
+    let v = sim.read_velocities().unwrap();
+    let q = sim.read_user_state("charge").unwrap();
+    let st = sim.statics().read_f32().unwrap();
+    let mut signs = [0, 0];
+    for i in 0..(SIZE[0] * SIZE[1]) as usize {
+        let want_q = if texel(&st, i)[3] < 0.5 { 2.0 } else { -1.0 };
+        assert_eq!(texel(&q, i), [want_q; 4], "texel {i}: the charge at birth, kept");
+        let want = n as f32 * 0.05 * want_q;
+        assert!((texel(&v, i)[1] - want).abs() < 1e-4, "texel {i}: v_y {:?}", texel(&v, i));
+        signs[(want_q > 0.0) as usize] += 1;
+    }
+    assert!(signs[0] > 0 && signs[1] > 0, "both charges occur: {signs:?}");
+    common::no_gl_error(&ctx);
+}

@@ -5,7 +5,8 @@
 // The root (src/sim/particles/user_state.rs) defines, before including this file:
 //   user_init(), user_update()   the scene's `init` and `update` expressions as vec4 functions;
 //   USER_SELF                    this state's previous value (a texel fetch);
-//   a sampler and a macro per state, reading the state's previous value by its name.
+//   a sampler per state, and around the user's texts alone a macro per state reading its
+//   previous value by its name (undefined before this file: no name here is replaced).
 // Inputs of the expressions (globals set here): x, v (after this step's integration), life,
 // age, type, random, index, time (the end of the step), dt.
 // Birth: a texel alive now that was dead or unborn before the step, or whose life grew (a time

@@ -46,12 +46,15 @@ pub(super) fn integrate_root(scene: &SceneFile) -> Result<String> {
          #include \"common/rng.glsl\"\n#include \"sim/fields.glsl\"\n",
     );
     // The forces read the user states by name (`[[state]]`, user_state.rs).
-    root += &super::user_state::declarations(scene);
+    let (uniforms, define, undef) = super::user_state::declarations(scene);
+    root += &uniforms;
     let mut keys = Vec::new();
     for (i, (c, text)) in scene.forces.custom.iter().zip(sources(scene)?).enumerate() {
         let key = source_key("custom-force", i, &c.glsl, &text);
         add_runtime_source(&key, &text);
-        root += &format!("#define force custom_force_{i}\n#include \"{key}\"\n#undef force\n");
+        root += &format!(
+            "{define}#define force custom_force_{i}\n#include \"{key}\"\n#undef force\n{undef}"
+        );
         keys.push(key);
     }
     root += &format!(

@@ -93,6 +93,10 @@ pub struct Features {
     /// The user forces' GLSL files (`[[forces.custom]]`), compiled into the integration pass.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub custom_forces: Vec<String>,
+    /// The user's own states (`[[state]]`): name and texel format, a pass each after the
+    /// integration (`user_state.rs`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub user_states: Vec<(String, scene::StateFormat)>,
 }
 
 impl Features {
@@ -157,6 +161,9 @@ impl Features {
             children: em.child.len(),
             custom_forces: (scene.forces.custom.iter())
                 .map(|c| c.glsl.clone())
+                .collect(),
+            user_states: (scene.state.iter())
+                .map(|s| (s.name.clone(), s.format))
                 .collect(),
         }
     }
@@ -286,6 +293,7 @@ impl Features {
         let what = self.integration_terms(verlet);
         let mut integrate = Vec::new();
         self.integrate_passes(&what, verlet, &mut integrate);
+        integrate.extend(super::user_state::passes(&self.user_states));
         add(Stage::Integrate, integrate);
         add(Stage::Relax, self.constrain_passes());
         let mut collide = Vec::new();

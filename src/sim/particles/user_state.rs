@@ -25,7 +25,7 @@ use crate::sim::user_glsl::{source_key, user_compile_error, Renamed};
 pub(super) struct UserStates {
     states: Vec<PingPong>,
     programs: Vec<Program>,
-    /// The dump's names, `state:NAME` (made once: a dump names its textures by `&'static str`).
+    /// The dump's names, `state_NAME` (made once: a dump names its textures by `&'static str`).
     dump_names: Vec<&'static str>,
 }
 
@@ -34,18 +34,23 @@ fn sampler(i: usize) -> String {
     format!("u_user_state_{i}")
 }
 
-/// GLSL declaring each state's sampler and the macro that reads its previous value by name at
+/// GLSL declaring each state's sampler, and the macros that read its previous value by name at
 /// the fragment's own texel (any pass over the particle texture: the state pass, integration).
-pub(super) fn declarations(scene: &SceneFile) -> String {
-    let mut out = String::new();
+/// The macros are defined around the user's texts alone (`#undef` after them), so that a state's
+/// name never replaces a word of texflow's own shaders.
+pub(super) fn declarations(scene: &SceneFile) -> (String, String, String) {
+    let (mut uniforms, mut define, mut undef) = (String::new(), String::new(), String::new());
     for (i, s) in scene.state.iter().enumerate() {
-        out += &format!(
-            "uniform sampler2D {0};\n#define {1} texelFetch({0}, ivec2(gl_FragCoord.xy), 0)\n",
-            sampler(i),
-            s.name
-        );
+        uniforms += &format!("uniform sampler2D {};\n", sampler(i));
+        define += &format!("#define {} {}\n", s.name, fetch(i));
+        undef += &format!("#undef {}\n", s.name);
     }
-    out
+    (uniforms, define, undef)
+}
+
+/// State `i`'s previous value at the fragment's texel.
+fn fetch(i: usize) -> String {
+    format!("texelFetch({}, ivec2(gl_FragCoord.xy), 0)", sampler(i))
 }
 
 /// The helper files' text: read and checked when the scene was loaded, or read now.
@@ -91,7 +96,9 @@ fn root(scene: &SceneFile, i: usize, sources: &[(String, String, String)]) -> St
         "// A user state's pass (src/sim/particles/user_state.rs).\n\
          #include \"common/rng.glsl\"\n#include \"sim/user_state_inputs.glsl\"\n",
     );
-    root += &declarations(scene);
+    let (uniforms, define, undef) = declarations(scene);
+    root += &uniforms;
+    root += &define;
     for (key, _, text) in sources {
         add_runtime_source(key, text);
     }
@@ -104,8 +111,8 @@ fn root(scene: &SceneFile, i: usize, sources: &[(String, String, String)]) -> St
     root += &format!(
         "vec4 user_init() {{\n    return vec4(\n#include \"{init}\"\n    );\n}}\n\
          vec4 user_update() {{\n    return vec4(\n#include \"{update}\"\n    );\n}}\n\
-         #define USER_SELF {}\n#include \"sim/user_state.frag\"\n",
-        scene.state[i].name
+         {undef}#define USER_SELF {}\n#include \"sim/user_state.frag\"\n",
+        fetch(i)
     );
     let name = format!("user-state:{init}+{update}");
     add_runtime_source(&name, &root);
@@ -166,7 +173,7 @@ impl UserStates {
             );
         }
         let dump_names = (scene.state.iter())
-            .map(|s| &*Box::leak(format!("state:{}", s.name).into_boxed_str()))
+            .map(|s| &*Box::leak(format!("state_{}", s.name).into_boxed_str()))
             .collect();
         Ok(Some(UserStates {
             states,
@@ -181,6 +188,23 @@ impl UserStates {
             .map(|(i, pp)| (sampler(i), pp.front().only_texture()))
             .collect()
     }
+}
+
+/// The states' passes as `texflow scene passes` lists them (after the integration).
+pub(super) fn passes(states: &[(String, StateFormat)]) -> Vec<String> {
+    (states.iter())
+        .map(|(name, format)| {
+            let format = match format {
+                StateFormat::Rgba32f => "rgba32f",
+                StateFormat::Rgba16f => "rgba16f",
+            };
+            format!(
+                "state {name} (Latta §3.4.2, a separate pass): `init` at birth, else `update` \
+                 from the previous step's states and this step's position and velocity [{name} \
+                 ({format}) ping-pong; every state swapped after all are drawn]"
+            )
+        })
+        .collect()
 }
 
 /// Compiles the states' passes of `scene`, so that `scene check` refuses what `render` would.
@@ -257,7 +281,7 @@ impl ParticleSim {
             .read_f32()
     }
 
-    /// The user states read back for a dump, named `state:NAME`.
+    /// The user states read back for a dump, named `state_NAME`.
     pub(super) fn read_user_states(&self) -> Result<Vec<(&'static str, Vec<f32>)>> {
         let Some(user) = &self.user else {
             return Ok(Vec::new());

@@ -160,3 +160,72 @@ fn custom_forces_read_states_by_name() {
     assert!(signs[0] > 0 && signs[1] > 0, "both charges occur: {signs:?}");
     common::no_gl_error(&ctx);
 }
+
+/// Scene errors name the file, line and column of the offending key.
+#[test]
+fn bad_states_are_refused_at_their_line_and_column() {
+    let head = format!("name = \"bad\"\n[particles]\nsize = {SIZE:?}\n{INITIAL}");
+    let lines = head.lines().count();
+    for (table, line, column, want) in [
+        ("name = \"Temp\"\ninit = \"vec4(0.0)\"", 1, 8, "not a name GLSL can read"),
+        ("name = \"age\"\ninit = \"vec4(0.0)\"", 1, 8, "is taken"),
+        ("name = \"exp\"\ninit = \"vec4(0.0)\"", 1, 8, "is taken"),
+        ("name = \"t\"\ninit = \"vec4(0.0); discard\"", 2, 8, "one GLSL vec4 expression"),
+        ("name = \"t\"\ninit = \"0.0\"\nupdate = \"  \"", 3, 10, "update is empty"),
+        ("name = \"t\"\ninit = \"0.0\"\nformat = \"rgba8\"", 3, 10, "rgba8"),
+        ("name = \"t\"\ninit = \"0.0\"\npass = \"own\"", 3, 1, "pass"),
+    ] {
+        let src = format!("{head}[[state]]\n{table}\n");
+        let e = scene::parse("bad.toml", &src).unwrap_err().to_string();
+        let at = format!("bad.toml:{}:{column}", lines + 1 + line);
+        assert!(e.contains(&at) && e.contains(want), "{table:?}: {e} (want {at})");
+    }
+    // Twice the same name: the second one is refused.
+    let twice = "[[state]]\nname = \"t\"\ninit = \"0.0\"\n[[state]]\nname = \"t\"\ninit = \"1.0\"\n";
+    let e = scene::parse("bad.toml", &format!("{head}{twice}")).unwrap_err().to_string();
+    assert!(e.contains(&format!("bad.toml:{}:8", lines + 5)) && e.contains("named twice"), "{e}");
+    // The collision stage's gather does not carry user state: refused, not dropped.
+    let collide = format!(
+        "{head}[collisions]\nradius = 0.05\ncell = 0.1\nbounds = [[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]]\n[[state]]\nname = \"t\"\ninit = \"0.0\"\n"
+    );
+    let e = scene::parse("bad.toml", &collide).unwrap_err().to_string();
+    assert!(e.contains("cannot be used with [collisions]"), "{e}");
+}
+
+/// GLSL that does not compile: the error names the helper file and line, or the state's key
+/// and where it is in the scene file.
+#[test]
+fn glsl_errors_name_the_users_file_and_line() {
+    let ctx = context();
+    let d = dir("glsl");
+    std::fs::write(
+        d.join("heat.glsl"),
+        "// Cooling.\nfloat cool(float t) {\n    return t * no_such_rate;\n}\n",
+    )
+    .unwrap();
+    let scene_file = |body: &str| {
+        let src = format!("name = \"glsl\"\n[particles]\nsize = {SIZE:?}\n{INITIAL}{body}");
+        let path = d.join("glsl.toml");
+        std::fs::write(&path, src).unwrap();
+        scene::load(path.to_str().unwrap()).unwrap()
+    };
+    let s = scene_file(
+        "[[state]]\nname = \"heat\"\nglsl = \"heat.glsl\"\ninit = \"1.0\"\n\
+         update = \"cool(heat.x)\"\n",
+    );
+    let e = ParticleSim::new(&ctx, &s, 1).unwrap_err().to_string();
+    let file = d.join("heat.glsl");
+    assert!(e.contains(&format!("{}:3", file.display())), "{e}");
+    assert!(!e.contains("glsl/sim"), "{e}");
+    // An undeclared name in an expression: the state's key, and its place in the scene file.
+    let s = scene_file("[[state]]\nname = \"heat\"\ninit = \"1.0\"\nupdate = \"heat * coolth\"\n");
+    let e = ParticleSim::new(&ctx, &s, 1).unwrap_err().to_string();
+    let lines = INITIAL.lines().count() + 3;
+    let at = format!("state.heat.update is at {}:{}:10", d.join("glsl.toml").display(), lines + 4);
+    assert!(e.contains("user state `heat`") && e.contains("`coolth' undeclared"), "{e}");
+    assert!(e.contains(&at) && !e.contains("user-state:"), "{e}");
+    // `scene check` compiles the passes too.
+    let e = texflow::sim::particles::check_custom_forces(&ctx, &s).unwrap_err();
+    assert!(e.to_string().contains(&at), "{e}");
+    common::no_gl_error(&ctx);
+}

@@ -15,7 +15,7 @@
 
 use super::{bind_textures, set_constants_for, ParticleSim, State};
 use crate::error::{Error, Result};
-use crate::gl::source::add_runtime_source;
+use crate::gl::source::{add_runtime_source, is_runtime_source};
 use crate::gl::{Context, Defines, PingPong, Program, Sampled, Texture, FULLSCREEN_VERTEX};
 use crate::scene::{SceneFile, StateFormat};
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
@@ -119,26 +119,49 @@ fn root(scene: &SceneFile, i: usize, sources: &[(String, String, String)]) -> St
     name
 }
 
-/// A compile error in a user's text becomes an input error naming the helper file or the
-/// state's key (`state.NAME.update`) and the line, and where the key is in the scene file.
-fn user_error(scene: &SceneFile, sources: &[(String, String, String)], e: Error) -> Error {
-    let files: Vec<(String, String)> = (sources.iter())
+/// A compile error in a helper file becomes an input error naming the file and line (as a
+/// custom force's does); one in state `i`'s expressions (which drivers place at the pass's
+/// root) names the state, its expressions' places in the scene file and the driver's words.
+fn user_error(scene: &SceneFile, i: usize, sources: &[(String, String, String)], e: Error) -> Error {
+    let helpers = sources.len() - 2 * scene.state.len();
+    let files: Vec<(String, String)> = (sources[..helpers].iter())
         .map(|(k, label, _)| (k.clone(), label.clone()))
         .collect();
     let inputs = crate::scene::STATE_INPUTS.join(", ");
-    let e = user_compile_error(
-        e,
-        &files,
-        "user state",
-        &format!("init and update: GLSL vec4 expressions of {inputs} and the states' names"),
-        Renamed {
-            name: "user_update",
-            prefix: "user_update_",
-        },
-    );
-    match (e, crate::scene::state_places(scene)) {
-        (Error::InvalidInput(m), Some(at)) => Error::InvalidInput(format!("{m}\n({at})")),
-        (e, _) => e,
+    match e {
+        // Mesa may place an error in a helper at the root: the log names the helper.
+        Error::ShaderCompile { ref log, .. } if files.iter().any(|(k, _)| log.contains(k)) => {
+            user_compile_error(
+                e,
+                &files,
+                "user state helper",
+                "functions the state's expressions call",
+                Renamed {
+                    name: "user_update",
+                    prefix: "user_update_",
+                },
+            )
+        }
+        Error::ShaderCompile { file, log, .. } if is_runtime_source(&file) => {
+            let mut log = log;
+            for (k, label, _) in sources {
+                log = log.replace(k.as_str(), label);
+            }
+            // The driver's places are texflow's root: its words are what the user fixes.
+            let log: Vec<&str> = (log.lines())
+                .filter(|l| !l.contains(": warning: "))
+                .map(|l| l.find("): ").map_or(l, |k| &l[k + 3..]))
+                .collect();
+            let at = crate::scene::state_places(scene).unwrap_or_default();
+            Error::InvalidInput(format!(
+                "user state `{}`: the GLSL does not compile; `init` and `update` are GLSL vec4 \
+                 expressions of {inputs}, the states' names and the `glsl` file's functions:\n\
+                 {}\n({at})",
+                scene.state[i].name,
+                log.join("\n")
+            ))
+        }
+        e => e,
     }
 }
 
@@ -169,7 +192,7 @@ impl UserStates {
             let root = root(scene, i, &sources);
             programs.push(
                 Program::new(ctx, FULLSCREEN_VERTEX, &root, defines)
-                    .map_err(|e| user_error(scene, &sources, e))?,
+                    .map_err(|e| user_error(scene, i, &sources, e))?,
             );
         }
         let dump_names = (scene.state.iter())

@@ -229,3 +229,79 @@ fn glsl_errors_name_the_users_file_and_line() {
     assert!(e.to_string().contains(&at), "{e}");
     common::no_gl_error(&ctx);
 }
+
+/// `render.color` colours each particle by a state: the left half of a box of particles hot
+/// (red), the right half cold (blue), seen from the front. The picture's left half holds red
+/// pixels and no blue ones (away from the middle), its right half the reverse, and nothing is drawn white (the
+/// keyframes' colour the expression replaces).
+#[test]
+fn renderer_colours_particles_by_a_state() {
+    let ctx = context();
+    let src = format!(
+        "name = \"colour\"\n[particles]\nsize = [32, 32]\n{INITIAL}\
+         [[state]]\nname = \"heat\"\ninit = \"x.x < 0.0 ? 1.0 : 0.0\"\n\
+         [render]\nresolution = [64, 64]\npoint_size = 2.0\n\
+         color = \"heat.x > 0.5 ? vec4(1.0, 0.0, 0.0, 1.0) : vec4(0.0, 0.0, 1.0, 1.0)\"\n\
+         [render.camera]\ndistance = 5.0\nelevation = 0.0\n"
+    );
+    let s = scene::parse("colour.toml", &src).unwrap();
+    let mut e = texflow::ParticleEngine::new(&ctx, &s, 4).unwrap();
+    e.advance_frame().unwrap();
+    let img = e.render().unwrap();
+    let (w, h) = img.dimensions();
+    let mut counts = [[0usize; 3]; 2]; // [left, right] × [red, blue, white]
+    for (x, _, p) in img.enumerate_pixels() {
+        // Points at x = 0 straddle the middle column: a band of 4 pixels is neither side.
+        if x.abs_diff(w / 2) < 3 {
+            continue;
+        }
+        let side = (x >= w / 2) as usize;
+        let [r, g, b] = p.0;
+        if r > 100 && b < 50 {
+            counts[side][0] += 1;
+        }
+        if b > 100 && r < 50 {
+            counts[side][1] += 1;
+        }
+        if r > 100 && g > 100 && b > 100 {
+            counts[side][2] += 1;
+        }
+    }
+    assert!(counts[0][0] > 20 && counts[1][1] > 20, "{counts:?} in {w}x{h}");
+    assert_eq!((counts[0][1], counts[1][0]), (0, 0), "{counts:?}");
+    assert_eq!(counts[0][2] + counts[1][2], 0, "{counts:?}");
+    // Under alpha blending the depth sort would leave the states behind: refused.
+    let sorted = src.replace("[render]\n", "[render]\nblending = \"alpha\"\n");
+    let e = scene::parse("colour.toml", &sorted).unwrap_err().to_string();
+    assert!(e.contains("render.color cannot be used here") && e.contains("colour.toml:"), "{e}");
+    common::no_gl_error(&ctx);
+}
+
+/// `--dump-state` writes each state beside the positions, one row per live particle.
+#[test]
+fn dumps_hold_the_states() {
+    let d = dir("dump");
+    let src = format!(
+        "name = \"dump\"\n[particles]\nsize = {SIZE:?}\n{INITIAL}\
+         [[state]]\nname = \"tag\"\nformat = \"rgba16f\"\ninit = \"vec4(float(index), 0.5, 0.0, 1.0)\"\n"
+    );
+    std::fs::write(d.join("dump.toml"), src).unwrap();
+    let out = d.join("dumps");
+    let o = common::cli::texflow(&[
+        "render",
+        d.join("dump.toml").to_str().unwrap(),
+        "--frames",
+        "1",
+        "--out",
+        d.join("frames").to_str().unwrap(),
+        "--dump-state",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", common::cli::stderr(&o));
+    let (shape, tags) = texflow::npy::read_f32_shaped(&out.join("state_tag_00000.npy")).unwrap();
+    let n = (SIZE[0] * SIZE[1]) as usize;
+    assert_eq!(shape, vec![n, 4]);
+    for i in 0..n {
+        assert_eq!(texel(&tags, i), [i as f32, 0.5, 0.0, 1.0], "row {i}");
+    }
+}

@@ -292,12 +292,14 @@ impl<S: Simulation> GpuEngine<S> {
                     time: self.sim.time() as f32,
                     spins,
                     count: texels,
+                    user: &[],
                 };
                 self.renderer
                     .draw_frame(&self.target, &state, &self.camera)?;
             }
             None => {
                 let d = self.sim.drawn();
+                let user = self.sim.user_states();
                 let state = crate::render::FrameState {
                     positions: d.positions,
                     statics: d.statics,
@@ -305,6 +307,7 @@ impl<S: Simulation> GpuEngine<S> {
                     time: self.sim.time() as f32,
                     spins: d.spins,
                     count,
+                    user: &user,
                 };
                 self.renderer
                     .draw_frame(&self.target, &state, &self.camera)?;

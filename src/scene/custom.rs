@@ -318,6 +318,17 @@ pub fn load_custom(path: &str, src: &str, scene: &mut SceneFile) -> Result<()> {
     Ok(())
 }
 
+/// `PATH:LINE:COLUMN` of the key at `keys` (table names, then the key) in the scene file the
+/// scene was parsed from; `None` for a scene made in code.
+pub fn key_place(scene: &SceneFile, keys: &[&'static str]) -> Option<String> {
+    let origin = scene.origin.0.as_ref()?;
+    let (path, src) = (&origin.0, &origin.1);
+    let doc = document(path, src).ok()?;
+    let keys: Vec<Key> = keys.iter().map(|k| N(k)).collect();
+    let (l, c) = line_column(src, locate(&doc, &keys));
+    Some(format!("{path}:{l}:{c}"))
+}
+
 /// Where each `[[state]]`'s `init` and `update` are in the scene file it was parsed from
 /// (`state.NAME.update is at PATH:LINE:COLUMN; ...`), for compile errors in them; `None` for a
 /// scene made in code.

@@ -135,6 +135,11 @@ pub trait Simulation: std::fmt::Debug {
         Ok(Vec::new())
     }
 
+    /// The user's own states (`[[state]]`), in the order of the scene's tables.
+    fn user_states(&self) -> Vec<&Texture> {
+        Vec::new()
+    }
+
     /// Live particles with a NaN or infinite component, counted on the GPU by `counter`.
     fn non_finite(&self, counter: &NonFiniteCounter) -> Result<NonFiniteCount> {
         let d = self.drawn();

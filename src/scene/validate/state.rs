@@ -8,7 +8,9 @@
 
 use super::{fail, path, Check};
 use crate::scene::locate::Key;
-use crate::scene::schema::{SceneFile, Simulation, MAX_STATE_EXPRESSION, MAX_USER_STATES};
+use crate::scene::schema::{
+    Blending, DrawMode, RenderPath, SceneFile, Simulation, MAX_STATE_EXPRESSION, MAX_USER_STATES,
+};
 
 use Key::{Index as I, Name as N};
 
@@ -35,8 +37,11 @@ const GLSL_WORDS: &[&str] = &[
     "noinline", "asm", "active", "superp", "patch", "sample", "subroutine", "isnan", "isinf",
 ];
 
-/// `[[state]]`.
+/// `[[state]]`, and `render.color`, which reads the states.
 pub(super) fn state(s: &SceneFile) -> Check {
+    if let Some(c) = &s.render.color {
+        render_color(s, c)?;
+    }
     if s.state.is_empty() {
         return Ok(());
     }
@@ -92,6 +97,34 @@ pub(super) fn state(s: &SceneFile) -> Check {
         }
     }
     Ok(())
+}
+
+/// `render.color`: an expression the particle renderer can evaluate at the particle's texel.
+fn render_color(s: &SceneFile, c: &str) -> Check {
+    let at = path(&[N("render"), N("color")]);
+    expression(at.clone(), "render.color", c)?;
+    let why = if s.fire.is_some() {
+        Some("the thesis's fire is coloured by its own ramp")
+    } else if s.render.mode == DrawMode::Surface {
+        Some("mode = \"surface\" draws the connected surface, not the particles")
+    } else if s.render.path == RenderPath::VertexBuffer {
+        Some(
+            "path = \"vertex_buffer\" hands the vertex stage a buffer without the user states; \
+             use path = \"texture_fetch\"",
+        )
+    } else if s.render.blending == Blending::Alpha {
+        Some(
+            "blending = \"alpha\" sorts the particles by depth and gathers position and static \
+             only, so the user states would no longer match; use \"additive\" or \
+             \"multiplicative\"",
+        )
+    } else {
+        None
+    };
+    match why {
+        Some(why) => fail(at, format!("render.color cannot be used here: {why}")),
+        None => Ok(()),
+    }
 }
 
 /// A state's name: a lower-case GLSL identifier of its own.

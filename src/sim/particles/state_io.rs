@@ -256,6 +256,12 @@ impl crate::sim::Simulation for ParticleSim {
         ParticleSim::dropped_births(self)
     }
 
+    fn user_states(&self) -> Vec<&Texture> {
+        (self.scene.state.iter())
+            .filter_map(|s| self.user_state(&s.name))
+            .collect()
+    }
+
     fn dropped_child_births(&self) -> Result<u64> {
         ParticleSim::dropped_child_births(self)
     }

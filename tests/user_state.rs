@@ -305,3 +305,36 @@ fn dumps_hold_the_states() {
         assert_eq!(texel(&tags, i), [i as f32, 0.5, 0.0, 1.0], "row {i}");
     }
 }
+
+/// A half-float state that grows past 65504 overflows (to infinity, or clamped to 65504 as
+/// llvmpipe writes it): every live particle is counted by the GPU counter; the same growth in
+/// rgba32f stays finite.
+#[test]
+fn half_float_overflow_is_counted() {
+    use texflow::sim::nonfinite::NonFiniteCounter;
+    let ctx = context();
+    for (format, overflows) in [("rgba16f", true), ("rgba32f", false)] {
+        let body = format!(
+            "[[state]]\nname = \"grow\"\nformat = \"{format}\"\ninit = \"1.0\"\n\
+             update = \"grow * 10.0\"\n"
+        );
+        let mut sim = ParticleSim::new(&ctx, &scene_with(INITIAL, &body), 1).unwrap();
+        let counter = NonFiniteCounter::for_sim(&ctx, &sim).unwrap();
+        for _ in 0..4 {
+            sim.step().unwrap();
+        }
+        // 10^4: finite in both.
+        assert_eq!(counter.count_sim(&sim).unwrap().non_finite, 0, "{format}");
+        sim.step().unwrap();
+        let c = counter.count_sim(&sim).unwrap();
+        let n = (SIZE[0] * SIZE[1]) as u64;
+        assert_eq!(c.live, n);
+        assert_eq!(c.non_finite, if overflows { n } else { 0 }, "{format}: {c:?}");
+        assert_eq!(c.non_finite_position, 0);
+        // Infinity, or the largest half where the driver clamps (llvmpipe).
+        let g = sim.read_user_state("grow").unwrap();
+        let want = if overflows { 65504.0 } else { 1e5 };
+        assert!(g[0] >= want && (overflows || g[0] == want), "{format}: {}", g[0]);
+    }
+    common::no_gl_error(&ctx);
+}

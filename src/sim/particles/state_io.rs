@@ -256,6 +256,14 @@ impl crate::sim::Simulation for ParticleSim {
         ParticleSim::dropped_births(self)
     }
 
+    fn non_finite(
+        &self,
+        counter: &crate::sim::nonfinite::NonFiniteCounter,
+    ) -> Result<crate::sim::nonfinite::NonFiniteCount> {
+        let motion = self.velocities().or(self.previous());
+        counter.count_with(self.positions(), motion, &self.user_states())
+    }
+
     fn user_states(&self) -> Vec<&Texture> {
         (self.scene.state.iter())
             .filter_map(|s| self.user_state(&s.name))

@@ -86,8 +86,7 @@ fn init_runs_at_every_birth() {
                 update = \"born + vec4(0.0, 0.0, 1.0, 0.0)\"\n";
     let spread = "shape = \"point\"\ncenter = [0.0, 0.0, 0.0]\ndirection = [0.0, 1.0, 0.0]\n\
                   speed = [0.5, 1.0]\n";
-    let allocator =
-        format!("[[emitters.allocator]]\nrate = 400.0\nlife = [0.3, 0.6]\n{spread}");
+    let allocator = format!("[[emitters.allocator]]\nrate = 400.0\nlife = [0.3, 0.6]\n{spread}");
     let timestamp = format!("[[emitters.timestamp]]\ncycle = 0.5\nlife = [0.2, 0.4]\n{spread}");
     for (emitter, first_update) in [(allocator, 1.0f32), (timestamp, 0.0)] {
         let s = scene_with(&emitter, body);
@@ -95,18 +94,24 @@ fn init_runs_at_every_birth() {
         for _ in 0..50 {
             sim.step().unwrap();
         }
-        let (p, st) = (sim.read_positions().unwrap(), sim.statics().read_f32().unwrap());
+        let (p, st) = (
+            sim.read_positions().unwrap(),
+            sim.statics().read_f32().unwrap(),
+        );
         let born = sim.read_user_state("born").unwrap();
         let (dt, now) = (0.05f32, sim.time() as f32);
         let mut live = 0;
         for i in 0..(SIZE[0] * SIZE[1]) as usize {
             let (p, st, b) = (texel(&p, i), texel(&st, i), texel(&born, i));
-            if !(p[3] > 0.0) || !p[0].is_finite() {
+            if !texflow::sim::particle_live(p) {
                 continue;
             }
             live += 1;
             let age = st[2] - p[3];
-            assert!((b[0] - (now - age)).abs() < 1e-4, "texel {i}: born {b:?}, age {age}");
+            assert!(
+                (b[0] - (now - age)).abs() < 1e-4,
+                "texel {i}: born {b:?}, age {age}"
+            );
             assert_eq!(b[1], i as f32);
             // Updates since birth: the steps lived after the birth step.
             let steps = age / dt - first_update;
@@ -152,12 +157,23 @@ fn custom_forces_read_states_by_name() {
     let mut signs = [0, 0];
     for i in 0..(SIZE[0] * SIZE[1]) as usize {
         let want_q = if texel(&st, i)[3] < 0.5 { 2.0 } else { -1.0 };
-        assert_eq!(texel(&q, i), [want_q; 4], "texel {i}: the charge at birth, kept");
+        assert_eq!(
+            texel(&q, i),
+            [want_q; 4],
+            "texel {i}: the charge at birth, kept"
+        );
         let want = n as f32 * 0.05 * want_q;
-        assert!((texel(&v, i)[1] - want).abs() < 1e-4, "texel {i}: v_y {:?}", texel(&v, i));
+        assert!(
+            (texel(&v, i)[1] - want).abs() < 1e-4,
+            "texel {i}: v_y {:?}",
+            texel(&v, i)
+        );
         signs[(want_q > 0.0) as usize] += 1;
     }
-    assert!(signs[0] > 0 && signs[1] > 0, "both charges occur: {signs:?}");
+    assert!(
+        signs[0] > 0 && signs[1] > 0,
+        "both charges occur: {signs:?}"
+    );
     common::no_gl_error(&ctx);
 }
 
@@ -167,23 +183,52 @@ fn bad_states_are_refused_at_their_line_and_column() {
     let head = format!("name = \"bad\"\n[particles]\nsize = {SIZE:?}\n{INITIAL}");
     let lines = head.lines().count();
     for (table, line, column, want) in [
-        ("name = \"Temp\"\ninit = \"vec4(0.0)\"", 1, 8, "not a name GLSL can read"),
+        (
+            "name = \"Temp\"\ninit = \"vec4(0.0)\"",
+            1,
+            8,
+            "not a name GLSL can read",
+        ),
         ("name = \"age\"\ninit = \"vec4(0.0)\"", 1, 8, "is taken"),
         ("name = \"exp\"\ninit = \"vec4(0.0)\"", 1, 8, "is taken"),
-        ("name = \"t\"\ninit = \"vec4(0.0); discard\"", 2, 8, "one GLSL vec4 expression"),
-        ("name = \"t\"\ninit = \"0.0\"\nupdate = \"  \"", 3, 10, "update is empty"),
-        ("name = \"t\"\ninit = \"0.0\"\nformat = \"rgba8\"", 3, 10, "rgba8"),
+        (
+            "name = \"t\"\ninit = \"vec4(0.0); discard\"",
+            2,
+            8,
+            "one GLSL vec4 expression",
+        ),
+        (
+            "name = \"t\"\ninit = \"0.0\"\nupdate = \"  \"",
+            3,
+            10,
+            "update is empty",
+        ),
+        (
+            "name = \"t\"\ninit = \"0.0\"\nformat = \"rgba8\"",
+            3,
+            10,
+            "rgba8",
+        ),
         ("name = \"t\"\ninit = \"0.0\"\npass = \"own\"", 3, 1, "pass"),
     ] {
         let src = format!("{head}[[state]]\n{table}\n");
         let e = scene::parse("bad.toml", &src).unwrap_err().to_string();
         let at = format!("bad.toml:{}:{column}", lines + 1 + line);
-        assert!(e.contains(&at) && e.contains(want), "{table:?}: {e} (want {at})");
+        assert!(
+            e.contains(&at) && e.contains(want),
+            "{table:?}: {e} (want {at})"
+        );
     }
     // Twice the same name: the second one is refused.
-    let twice = "[[state]]\nname = \"t\"\ninit = \"0.0\"\n[[state]]\nname = \"t\"\ninit = \"1.0\"\n";
-    let e = scene::parse("bad.toml", &format!("{head}{twice}")).unwrap_err().to_string();
-    assert!(e.contains(&format!("bad.toml:{}:8", lines + 5)) && e.contains("named twice"), "{e}");
+    let twice =
+        "[[state]]\nname = \"t\"\ninit = \"0.0\"\n[[state]]\nname = \"t\"\ninit = \"1.0\"\n";
+    let e = scene::parse("bad.toml", &format!("{head}{twice}"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains(&format!("bad.toml:{}:8", lines + 5)) && e.contains("named twice"),
+        "{e}"
+    );
     // The collision stage's gather does not carry user state: refused, not dropped.
     let collide = format!(
         "{head}[collisions]\nradius = 0.05\ncell = 0.1\nbounds = [[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]]\n[[state]]\nname = \"t\"\ninit = \"0.0\"\n"
@@ -221,8 +266,15 @@ fn glsl_errors_name_the_users_file_and_line() {
     let s = scene_file("[[state]]\nname = \"heat\"\ninit = \"1.0\"\nupdate = \"heat * coolth\"\n");
     let e = ParticleSim::new(&ctx, &s, 1).unwrap_err().to_string();
     let lines = INITIAL.lines().count() + 3;
-    let at = format!("state.heat.update is at {}:{}:10", d.join("glsl.toml").display(), lines + 4);
-    assert!(e.contains("user state `heat`") && e.contains("`coolth' undeclared"), "{e}");
+    let at = format!(
+        "state.heat.update is at {}:{}:10",
+        d.join("glsl.toml").display(),
+        lines + 4
+    );
+    assert!(
+        e.contains("user state `heat`") && e.contains("`coolth' undeclared"),
+        "{e}"
+    );
     assert!(e.contains(&at) && !e.contains("user-state:"), "{e}");
     // `scene check` compiles the passes too.
     let e = texflow::sim::particles::check_custom_forces(&ctx, &s).unwrap_err();
@@ -267,13 +319,21 @@ fn renderer_colours_particles_by_a_state() {
             counts[side][2] += 1;
         }
     }
-    assert!(counts[0][0] > 20 && counts[1][1] > 20, "{counts:?} in {w}x{h}");
+    assert!(
+        counts[0][0] > 20 && counts[1][1] > 20,
+        "{counts:?} in {w}x{h}"
+    );
     assert_eq!((counts[0][1], counts[1][0]), (0, 0), "{counts:?}");
     assert_eq!(counts[0][2] + counts[1][2], 0, "{counts:?}");
     // Under alpha blending the depth sort would leave the states behind: refused.
     let sorted = src.replace("[render]\n", "[render]\nblending = \"alpha\"\n");
-    let e = scene::parse("colour.toml", &sorted).unwrap_err().to_string();
-    assert!(e.contains("render.color cannot be used here") && e.contains("colour.toml:"), "{e}");
+    let e = scene::parse("colour.toml", &sorted)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("render.color cannot be used here") && e.contains("colour.toml:"),
+        "{e}"
+    );
     common::no_gl_error(&ctx);
 }
 
@@ -329,12 +389,20 @@ fn half_float_overflow_is_counted() {
         let c = counter.count_sim(&sim).unwrap();
         let n = (SIZE[0] * SIZE[1]) as u64;
         assert_eq!(c.live, n);
-        assert_eq!(c.non_finite, if overflows { n } else { 0 }, "{format}: {c:?}");
+        assert_eq!(
+            c.non_finite,
+            if overflows { n } else { 0 },
+            "{format}: {c:?}"
+        );
         assert_eq!(c.non_finite_position, 0);
         // Infinity, or the largest half where the driver clamps (llvmpipe).
         let g = sim.read_user_state("grow").unwrap();
         let want = if overflows { 65504.0 } else { 1e5 };
-        assert!(g[0] >= want && (overflows || g[0] == want), "{format}: {}", g[0]);
+        assert!(
+            g[0] >= want && (overflows || g[0] == want),
+            "{format}: {}",
+            g[0]
+        );
     }
     common::no_gl_error(&ctx);
 }

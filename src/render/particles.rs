@@ -118,7 +118,12 @@ impl ParticleRenderer {
         crate::gl::check_size(ctx, "particle state", state_width, state_height)?;
         let defines = super::style::style_defines(ctx, &style)?;
         let program = match &style.user_color {
-            None => Program::new(ctx, "render/particle.vert", "render/particle.frag", &defines)?,
+            None => Program::new(
+                ctx,
+                "render/particle.vert",
+                "render/particle.frag",
+                &defines,
+            )?,
             Some(u) => Program::new(ctx, &u.root(), "render/particle.frag", &defines)
                 .map_err(|e| u.error(e))?,
         };

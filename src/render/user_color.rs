@@ -68,7 +68,9 @@ impl UserColor {
                 Error::InvalidInput(format!(
                     "render.color{}: the GLSL does not compile; it is a GLSL vec4 expression of \
                      color, x, life, age, type and the user states' names:\n{}",
-                    self.place.as_deref().map_or(String::new(), |p| format!(" ({p})")),
+                    self.place
+                        .as_deref()
+                        .map_or(String::new(), |p| format!(" ({p})")),
                     log.join("\n")
                 ))
             }

@@ -310,7 +310,10 @@ pub fn load_custom(path: &str, src: &str, scene: &mut SceneFile) -> Result<()> {
                 path,
                 src,
                 at,
-                format!("state `{}`: {m} (the path is relative to the scene file)", c.name),
+                format!(
+                    "state `{}`: {m} (the path is relative to the scene file)",
+                    c.name
+                ),
             )
         })?;
         c.source = Some(text);

@@ -31,8 +31,8 @@ mod validate;
 
 pub use builtin::{builtin, fire, load, load_source, summary, DEFAULT_SCENE, THESIS_SCENE};
 pub use custom::{
-    check_glsl, check_pair_glsl, load_custom, read_glsl, read_pair_glsl, read_state_glsl,
-    key_place, state_places, PAIR_SIGNATURE,
+    check_glsl, check_pair_glsl, key_place, load_custom, read_glsl, read_pair_glsl,
+    read_state_glsl, state_places, PAIR_SIGNATURE,
 };
 pub use field_files::{grey_image, npy_field, MAX_FIELD_FILE};
 pub use locate::{Invalid, Key};

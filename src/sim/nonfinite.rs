@@ -230,7 +230,9 @@ impl NonFiniteCounter {
                 let half: Vec<bool> = (extra.iter())
                     .map(|t| t.format() == TextureFormat::Rgba16F)
                     .collect();
-                let mask: usize = (half.iter().enumerate()).map(|(k, h)| (*h as usize) << k).sum();
+                let mask: usize = (half.iter().enumerate())
+                    .map(|(k, h)| (*h as usize) << k)
+                    .sum();
                 let key = n + 8 * v.is_some() as usize + 16 * mask;
                 if !built.iter().any(|(k, _)| *k == key) {
                     let mut d: Defines = vec![
@@ -247,7 +249,11 @@ impl NonFiniteCounter {
                     let p = Program::new(&self.ctx, FULLSCREEN_VERTEX, "sim/nonfinite.frag", &d)?;
                     built.push((key, p));
                 }
-                &built.iter().find(|(k, _)| *k == key).expect("built above").1
+                &built
+                    .iter()
+                    .find(|(k, _)| *k == key)
+                    .expect("built above")
+                    .1
             }
         };
         mark.bind();

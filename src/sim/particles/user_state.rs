@@ -84,7 +84,11 @@ fn user_sources(scene: &SceneFile) -> Result<Vec<(String, String, String)>> {
         let update = s.update.clone().unwrap_or_else(|| s.name.clone());
         for (key, text) in [("init", s.init.clone()), ("update", update)] {
             let label = format!("state.{}.{key}", s.name);
-            out.push((source_key(&format!("state-{key}"), i, &label, &text), label, text));
+            out.push((
+                source_key(&format!("state-{key}"), i, &label, &text),
+                label,
+                text,
+            ));
         }
     }
     Ok(out)
@@ -122,7 +126,12 @@ fn root(scene: &SceneFile, i: usize, sources: &[(String, String, String)]) -> St
 /// A compile error in a helper file becomes an input error naming the file and line (as a
 /// custom force's does); one in state `i`'s expressions (which drivers place at the pass's
 /// root) names the state, its expressions' places in the scene file and the driver's words.
-fn user_error(scene: &SceneFile, i: usize, sources: &[(String, String, String)], e: Error) -> Error {
+fn user_error(
+    scene: &SceneFile,
+    i: usize,
+    sources: &[(String, String, String)],
+    e: Error,
+) -> Error {
     let helpers = sources.len() - 2 * scene.state.len();
     let files: Vec<(String, String)> = (sources[..helpers].iter())
         .map(|(k, label, _)| (k.clone(), label.clone()))
@@ -187,7 +196,12 @@ impl UserStates {
             let label = format!("state:{}", s.name);
             let attachment = [crate::gl::Attachment::named("user state")];
             states.push(PingPong::new(
-                ctx, &label, &attachment, &[format], size[0], size[1],
+                ctx,
+                &label,
+                &attachment,
+                &[format],
+                size[0],
+                size[1],
             )?);
             let root = root(scene, i, &sources);
             programs.push(
@@ -285,7 +299,14 @@ impl ParticleSim {
         };
         for p in &user.programs {
             let size = [self.width, self.height];
-            set_constants_for(p, &self.scene, &self.fields, size, self.seed, self.features.types);
+            set_constants_for(
+                p,
+                &self.scene,
+                &self.fields,
+                size,
+                self.seed,
+                self.features.types,
+            );
         }
     }
 

@@ -222,39 +222,12 @@ impl NonFiniteCounter {
                 )));
             }
         }
-        let mut built = self.mark_extra.borrow_mut();
-        let mark = match (velocities, extra.len()) {
-            (Some(_), 0) => &self.mark_velocity,
-            (None, 0) => &self.mark,
-            (v, n) => {
-                let half: Vec<bool> = (extra.iter())
-                    .map(|t| t.format() == TextureFormat::Rgba16F)
-                    .collect();
-                let mask: usize = (half.iter().enumerate())
-                    .map(|(k, h)| (*h as usize) << k)
-                    .sum();
-                let key = n + 8 * v.is_some() as usize + 16 * mask;
-                if !built.iter().any(|(k, _)| *k == key) {
-                    let mut d: Defines = vec![
-                        ("BLOCK".into(), BLOCK.to_string()),
-                        ("MARK".into(), "1".into()),
-                        ("N_EXTRA".into(), n.to_string()),
-                    ];
-                    for k in (0..n).filter(|k| half[*k]) {
-                        d.push((format!("HALF_{k}"), "1".into()));
-                    }
-                    if v.is_some() {
-                        d.push(("VELOCITY".into(), "1".into()));
-                    }
-                    let p = Program::new(&self.ctx, FULLSCREEN_VERTEX, "sim/nonfinite.frag", &d)?;
-                    built.push((key, p));
-                }
-                &built
-                    .iter()
-                    .find(|(k, _)| *k == key)
-                    .expect("built above")
-                    .1
-            }
+        let key = self.build_mark(velocities.is_some(), extra)?;
+        let built = self.mark_extra.borrow();
+        let mark = match key {
+            None if velocities.is_some() => &self.mark_velocity,
+            None => &self.mark,
+            Some(key) => &built.iter().find(|(k, _)| *k == key).expect("built").1,
         };
         mark.bind();
         let mut textures: Vec<(&str, Sampled)> = vec![("u_src", positions.into())];
@@ -282,6 +255,39 @@ impl NonFiniteCounter {
             c.nan_life += t[3] as u64;
         }
         Ok(c)
+    }
+
+    /// Builds the marking program for `extra` user states (none for no extras: the fixed
+    /// ones serve) and returns its key in `mark_extra`.
+    fn build_mark(&self, velocity: bool, extra: &[&Texture]) -> Result<Option<usize>> {
+        let n = extra.len();
+        if n == 0 {
+            return Ok(None);
+        }
+        let half: Vec<bool> = (extra.iter())
+            .map(|t| t.format() == TextureFormat::Rgba16F)
+            .collect();
+        let mask: usize = (half.iter().enumerate())
+            .map(|(k, h)| (*h as usize) << k)
+            .sum();
+        let key = n + 8 * velocity as usize + 16 * mask;
+        let mut built = self.mark_extra.borrow_mut();
+        if !built.iter().any(|(k, _)| *k == key) {
+            let mut d: Defines = vec![
+                ("BLOCK".into(), BLOCK.to_string()),
+                ("MARK".into(), "1".into()),
+                ("N_EXTRA".into(), n.to_string()),
+            ];
+            if velocity {
+                d.push(("VELOCITY".into(), "1".into()));
+            }
+            for k in (0..n).filter(|k| half[*k]) {
+                d.push((format!("HALF_{k}"), "1".into()));
+            }
+            let p = Program::new(&self.ctx, FULLSCREEN_VERTEX, "sim/nonfinite.frag", &d)?;
+            built.push((key, p));
+        }
+        Ok(Some(key))
     }
 
     /// Counts the current state of `sim`: positions with velocities, or with the previous

@@ -392,11 +392,7 @@ impl ParticleSim {
         let statics = ("u_static", self.statics.texture(STATIC).into());
         // Custom forces read the user states by name (user_state.rs).
         let user = self.user.as_ref().map(|u| u.samplers()).unwrap_or_default();
-        let user = |p: &Program| -> Vec<(&str, Sampled<'_>)> {
-            (user.iter().filter(|(n, _)| p.declares(n)))
-                .map(|(n, t)| (n.as_str(), (*t).into()))
-                .collect()
-        };
+        let user = |p: &Program| user_state::declared(p, &user);
         match &mut self.state {
             State::Explicit(pp) if self.stateless.is_some() => {
                 if let Some(sl) = &self.stateless {

@@ -244,6 +244,16 @@ pub(super) fn passes(states: &[(String, StateFormat)]) -> Vec<String> {
         .collect()
 }
 
+/// The entries of `samplers` that `p` declares, to bind.
+pub(super) fn declared<'a>(
+    p: &Program,
+    samplers: &'a [(String, &'a Texture)],
+) -> Vec<(&'a str, Sampled<'a>)> {
+    (samplers.iter().filter(|(n, _)| p.declares(n)))
+        .map(|(n, t)| (n.as_str(), (*t).into()))
+        .collect()
+}
+
 /// Compiles the states' passes of `scene`, so that `scene check` refuses what `render` would.
 pub fn check_user_states(ctx: &Context, scene: &SceneFile) -> Result<()> {
     let defines = super::Features::of(scene).defines();

@@ -406,3 +406,43 @@ fn half_float_overflow_is_counted() {
     }
     common::no_gl_error(&ctx);
 }
+
+/// The expressions' `x` and `v` are this step's integrated state under every kind of update:
+/// one MRT pass, separate passes, Verlet (whose velocity is implied by two positions).
+#[test]
+fn states_read_the_integrated_position_and_velocity() {
+    let ctx = context();
+    let body = "[[forces.gravity]]\nacceleration = [0.3, -9.81, 0.0]\n[[state]]\nname = \"seen\"\n\
+                init = \"vec4(v, x.y)\"\nupdate = \"vec4(v, x.y)\"\n";
+    let moving = INITIAL.replace("speed = [0.0, 0.0]", "speed = [0.5, 1.5]");
+    for head in [
+        "integrator = \"euler\"",
+        "passes = \"separate\"",
+        "integrator = \"verlet\"",
+    ] {
+        let src = format!(
+            "name = \"kinds\"\n{head}\n[particles]\nsize = {SIZE:?}\n[time]\ndt = 0.05\n{moving}{body}"
+        );
+        let s = scene::parse("kinds.toml", &src).unwrap();
+        let mut sim = ParticleSim::new(&ctx, &s, 9).unwrap();
+        for _ in 0..12 {
+            sim.step().unwrap();
+        }
+        let (x, v) = (
+            sim.read_positions().unwrap(),
+            sim.read_velocities().unwrap(),
+        );
+        let seen = sim.read_user_state("seen").unwrap();
+        for i in 0..(SIZE[0] * SIZE[1]) as usize {
+            let (x, v, got) = (texel(&x, i), texel(&v, i), texel(&seen, i));
+            let want = [v[0], v[1], v[2], x[1]];
+            for k in 0..4 {
+                assert!(
+                    (got[k] - want[k]).abs() <= 1e-4 * want[k].abs().max(1.0),
+                    "{head}, texel {i}: {got:?} != {want:?}"
+                );
+            }
+        }
+    }
+    common::no_gl_error(&ctx);
+}

@@ -143,8 +143,8 @@ fn user_error(
             user_compile_error(
                 e,
                 &files,
-                "user state helper",
-                "functions the state's expressions call",
+                "user state file",
+                "the functions (of any names) that `init` and `update` call",
                 Renamed {
                     name: "user_update",
                     prefix: "user_update_",

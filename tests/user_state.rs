@@ -86,7 +86,10 @@ fn init_runs_at_every_birth() {
                 update = \"born + vec4(0.0, 0.0, 1.0, 0.0)\"\n";
     let spread = "shape = \"point\"\ncenter = [0.0, 0.0, 0.0]\ndirection = [0.0, 1.0, 0.0]\n\
                   speed = [0.5, 1.0]\n";
-    let allocator = format!("[[emitters.allocator]]\nrate = 400.0\nlife = [0.3, 0.6]\n{spread}");
+    // The min-heap allocator: passes cover the live rows only.
+    let allocator = format!(
+        "[[emitters.allocator]]\nallocator = \"min_heap\"\nrate = 150.0\nlife = [0.3, 0.6]\n{spread}"
+    );
     let timestamp = format!("[[emitters.timestamp]]\ncycle = 0.5\nlife = [0.2, 0.4]\n{spread}");
     for (emitter, first_update) in [(allocator, 1.0f32), (timestamp, 0.0)] {
         let s = scene_with(&emitter, body);

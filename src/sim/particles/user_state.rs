@@ -264,6 +264,13 @@ impl ParticleSim {
     /// The user states' passes (after the integration, or at the start with `start`: every
     /// texel takes its value at birth), then one swap of them all.
     pub(super) fn user_state_passes(&mut self, start: bool) {
+        // The live rows under the min-heap allocator, as the integration: the rows after them
+        // hold dead texels, whose values are not read before their next birth sets them.
+        let rows = if start {
+            self.height
+        } else {
+            self.active_rows()
+        };
         let Some(user) = &mut self.user else {
             return;
         };
@@ -295,7 +302,7 @@ impl ParticleSim {
             });
             let list: Vec<_> = own.iter().copied().filter(|(n, _)| p.declares(n)).collect();
             bind_textures(p, &list, &self.fields);
-            self.pass.draw(p, pp.back());
+            self.pass.draw_rows(p, pp.back(), 0, rows);
         }
         for pp in &mut user.states {
             pp.swap();

@@ -93,8 +93,7 @@ pub struct Features {
     /// The user forces' GLSL files (`[[forces.custom]]`), compiled into the integration pass.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub custom_forces: Vec<String>,
-    /// The user's own states (`[[state]]`): name and texel format, a pass each after the
-    /// integration (`user_state.rs`).
+    /// The user's own states (`[[state]]`, `user_state.rs`): name and texel format.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub user_states: Vec<(String, scene::StateFormat)>,
 }

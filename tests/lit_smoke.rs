@@ -240,6 +240,7 @@ fn draw(ctx: &texflow::gl::Context, c: &Config, slices: u32) -> image::RgbImage 
         time: 0.0,
         spins: None,
         count: c.particles.len(),
+        user: &[],
     };
     lit.draw(&target, &state, &camera(), None).unwrap();
     target.read_rgb().unwrap()

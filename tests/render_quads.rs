@@ -55,6 +55,7 @@ fn render_frame(
         time,
         spins: None,
         count: N,
+        user: &[],
     };
     renderer.draw_frame(&target, &frame, cam).unwrap();
     target.read_rgb().unwrap()
@@ -371,6 +372,7 @@ fn verlet_frame(
         time: 0.0,
         spins: None,
         count: N,
+        user: &[],
     };
     renderer.draw_frame(&target, &frame, cam).unwrap();
     target.read_rgb().unwrap()

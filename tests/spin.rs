@@ -345,6 +345,7 @@ fn sprite(ctx: &texflow::gl::Context, style: &ParticleStyle, angle: f32, time: f
         time,
         spins: Some(&spin),
         count: 1,
+        user: &[],
     };
     r.draw_frame(&target, &frame, &camera).unwrap();
     target.read_rgb().unwrap().into_raw()

@@ -39,6 +39,9 @@ for spec in snow:360 fountain:150 mesh:150 smoke:300 smoke-lit:300 e1:90 e2:150 
     echo "docs/img/$name.png"
 done
 # texflow trace: Latta's odd-even merge sort of 16x16 random keys, four of its 37 pictures
+# A user state: the heat example's temperature, colouring its flame (examples/heat/).
+"$bin" render examples/heat/heat.toml --frames 81 --every 80 --out "$tmp/heat" --quiet
+cp "$tmp/heat/frame_00080.png" docs/img/heat.png
 "$bin" trace sort --variant oddeven --size 16 --seed 1 --out "$tmp/trace" --quiet
 for i in 000 010 021 036; do
     cp "$tmp/trace/pass_$i.png" "docs/img/trace_oddeven_16_pass_$i.png"

@@ -115,6 +115,11 @@ void main() {
     vec4 c = keyframe_color_of(type, age);
     v_color = vec4(c.rgb, clamp(c.a * u_intensity, 0.0, 1.0));
     float age_s = age_seconds(p.w, s.z, s.x);
+#ifdef USER_COLOR
+    // render.color: the user's expression of the keyframes' colour and the user states, at the
+    // particle's texel (texture fetch only; src/render/user_color.rs writes user_color).
+    v_color = clamp(user_color(t, v_color, p.xyz, p.w, type, age_s), 0.0, 1.0);
+#endif
     float angle = sprite_angle(type, s.w, age_s);
 #ifdef ROTATE_SPIN
     // Counter-clockwise on screen for a camera on +z looking at -z (azimuth 0).

@@ -18,6 +18,22 @@ uniform sampler2D u_src;       // MARK: positions (xyz, life); SUM: the previous
 #ifdef VELOCITY
 uniform sampler2D u_velocity;  // MARK: velocities, or Verlet's previous positions (xyz read)
 #endif
+// MARK with N_EXTRA (1 to 4): the user's states (`[[state]]`, all four components read) count
+// too: r counts a live particle once whichever of its textures is not finite. HALF_k: extra k
+// is a half-float texture, whose overflow some drivers write as infinity and others (llvmpipe)
+// clamp to the largest half, 65504: that value counts as overflowed too.
+#if N_EXTRA > 0
+uniform sampler2D u_extra0;
+#endif
+#if N_EXTRA > 1
+uniform sampler2D u_extra1;
+#endif
+#if N_EXTRA > 2
+uniform sampler2D u_extra2;
+#endif
+#if N_EXTRA > 3
+uniform sampler2D u_extra3;
+#endif
 uniform ivec2 u_src_size;
 
 layout(location = 0) out vec4 o_count;
@@ -28,6 +44,10 @@ bool non_finite(float x) {
 
 bool any_non_finite(vec3 v) {
     return non_finite(v.x) || non_finite(v.y) || non_finite(v.z);
+}
+
+bool half_overflow(vec4 v) {
+    return any(greaterThanEqual(abs(v), vec4(65504.0)));
 }
 
 bool is_nan(float x) {
@@ -56,6 +76,34 @@ void main() {
                 bool bad = bad_position;
 #ifdef VELOCITY
                 bad = bad || any_non_finite(texelFetch(u_velocity, t, 0).xyz);
+#endif
+#if N_EXTRA > 0
+                vec4 e0 = texelFetch(u_extra0, t, 0);
+                bad = bad || any_non_finite(e0.xyz) || non_finite(e0.w);
+#ifdef HALF_0
+                bad = bad || half_overflow(e0);
+#endif
+#endif
+#if N_EXTRA > 1
+                vec4 e1 = texelFetch(u_extra1, t, 0);
+                bad = bad || any_non_finite(e1.xyz) || non_finite(e1.w);
+#ifdef HALF_1
+                bad = bad || half_overflow(e1);
+#endif
+#endif
+#if N_EXTRA > 2
+                vec4 e2 = texelFetch(u_extra2, t, 0);
+                bad = bad || any_non_finite(e2.xyz) || non_finite(e2.w);
+#ifdef HALF_2
+                bad = bad || half_overflow(e2);
+#endif
+#endif
+#if N_EXTRA > 3
+                vec4 e3 = texelFetch(u_extra3, t, 0);
+                bad = bad || any_non_finite(e3.xyz) || non_finite(e3.w);
+#ifdef HALF_3
+                bad = bad || half_overflow(e3);
+#endif
 #endif
                 sum += vec4(bad ? 1.0 : 0.0, 1.0, bad_position ? 1.0 : 0.0, 0.0);
             } else if (is_nan(p.w)) {

@@ -306,6 +306,7 @@ impl<S: Simulation> GpuEngine<S> {
                     time: self.sim.time() as f32,
                     spins,
                     count: texels,
+                    user: &[],
                 };
                 // The engine's own renderer draws a lit scene through its slices; another
                 // renderer (a benchmark's fill floor) draws the same state plainly.
@@ -318,6 +319,7 @@ impl<S: Simulation> GpuEngine<S> {
             }
             None => {
                 let d = self.sim.drawn();
+                let user = self.sim.user_states();
                 let state = crate::render::FrameState {
                     positions: d.positions,
                     statics: d.statics,
@@ -325,6 +327,7 @@ impl<S: Simulation> GpuEngine<S> {
                     time: self.sim.time() as f32,
                     spins: d.spins,
                     count,
+                    user: &user,
                 };
                 renderer.draw_frame(&self.target, &state, &self.camera)?;
             }

@@ -60,6 +60,8 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "sim/constrain_set.frag",
     "sim/attach.frag",
     "sim/nonfinite.frag",
+    "sim/user_state.frag",
+    "sim/user_state_inputs.glsl",
     "sim/sdf_slice.frag",
     "collide/detect.frag",
     "collide/mutual.frag",

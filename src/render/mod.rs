@@ -11,6 +11,7 @@ mod particles;
 mod sprite;
 mod style;
 mod target;
+mod user_color;
 
 pub use camera::{Camera, ViewOffset};
 pub use connected::{ConnectedRenderer, SURFACE_AMBIENT, SURFACE_LIGHT};
@@ -24,3 +25,4 @@ pub use sprite::{
 };
 pub use style::{default_keyframes, FireRamp, ParticleStyle, TypeLook};
 pub use target::FrameTarget;
+pub use user_color::UserColor;

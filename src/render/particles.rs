@@ -67,6 +67,8 @@ pub struct FrameState<'a> {
     pub spins: Option<&'a Texture>,
     /// Particles `0..count` are drawn.
     pub count: usize,
+    /// The user states (`[[state]]`) in the order of `positions`, for `render.color`.
+    pub user: &'a [&'a Texture],
 }
 
 /// The vertex-buffer path's objects: the two buffers, the read framebuffer, the vertex array.
@@ -115,12 +117,16 @@ impl ParticleRenderer {
     ) -> Result<Self> {
         crate::gl::check_size(ctx, "particle state", state_width, state_height)?;
         let defines = super::style::style_defines(ctx, &style)?;
-        let program = Program::new(
-            ctx,
-            "render/particle.vert",
-            "render/particle.frag",
-            &defines,
-        )?;
+        let program = match &style.user_color {
+            None => Program::new(
+                ctx,
+                "render/particle.vert",
+                "render/particle.frag",
+                &defines,
+            )?,
+            Some(u) => Program::new(ctx, &u.root(), "render/particle.frag", &defines)
+                .map_err(|e| u.error(e))?,
+        };
         let background = Program::new(
             ctx,
             crate::gl::FULLSCREEN_VERTEX,
@@ -329,6 +335,7 @@ impl ParticleRenderer {
             time: 0.0,
             spins: None,
             count,
+            user: &[],
         };
         self.draw_frame(target, &state, camera)
     }
@@ -481,6 +488,17 @@ impl ParticleRenderer {
             p.set_i32("u_motion_previous", previous);
             p.set_f32("u_motion_dt", dt);
             p.set_f32("u_stretch", s.stretch);
+        }
+        let names: Vec<String> = (0..state.user.len())
+            .map(|i| format!("u_user_state_{i}"))
+            .collect();
+        if self.style.user_color.is_some() {
+            for (n, t) in names.iter().zip(state.user) {
+                if p.declares(n) {
+                    self.check_state("user state", t)?;
+                    textures.push((n.as_str(), (*t).into()));
+                }
+            }
         }
         p.textures(&textures);
         Ok(vertices)

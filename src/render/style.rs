@@ -53,6 +53,9 @@ pub struct ParticleStyle {
     /// (Listing 3), its age from the fire's state (see [`FireRamp`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fire: Option<FireRamp>,
+    /// `render.color`: the colour by the user's expression of the user states.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub user_color: Option<super::user_color::UserColor>,
 }
 
 /// The fire's colouring, a variant of the one particle renderer: white-yellow at birth, orange,
@@ -129,6 +132,7 @@ impl Default for ParticleStyle {
             depth_test: false,
             rotate: Rotate::Age,
             fire: None,
+            user_color: None,
         }
     }
 }
@@ -249,6 +253,7 @@ impl ParticleStyle {
             depth_test: r.geometry,
             rotate: r.rotate,
             fire: None,
+            user_color: None,
         }
     }
 
@@ -265,6 +270,7 @@ impl ParticleStyle {
             style.mode = DrawMode::Points;
             return style;
         }
+        style.user_color = super::user_color::UserColor::of(scene);
         for (k, e) in scene.emitters.all().take(4).enumerate() {
             style.types[k] = TypeLook {
                 scale: e.sprite_scale,

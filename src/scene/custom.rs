@@ -44,6 +44,18 @@ const PAIR: Defines = Defines {
     signature: PAIR_SIGNATURE,
 };
 
+/// A `[[state]]` file defines helper functions of any name.
+const HELPERS: Defines = Defines {
+    name: "",
+    signature: "functions the state's expressions call",
+};
+
+/// Reads a user state's helper file `path` (`[[state]] glsl`) and checks its text as
+/// [`read_glsl`] does; it may define any functions.
+pub fn read_state_glsl(path: &str) -> std::result::Result<String, String> {
+    read_checked(path, HELPERS)
+}
+
 /// Reads the custom force file `path` and checks its text; an error names `path`, the line and
 /// the column.
 pub fn read_glsl(path: &str) -> std::result::Result<String, String> {
@@ -78,9 +90,10 @@ fn check(path: &str, bytes: &[u8], what: Defines) -> std::result::Result<String,
     let code = strip_comments(text);
     directives(path, &code)?;
     endless_loops(path, &code)?;
-    let defines_force = code
-        .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-        .any(|w| w == what.name);
+    let defines_force = what.name.is_empty()
+        || code
+            .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .any(|w| w == what.name);
     if !defines_force {
         return Err(format!(
             "{path}: it defines no `{}`: a {} file defines `{}`",
@@ -255,10 +268,13 @@ fn strip_comments(text: &str) -> String {
     out
 }
 
-/// Reads and checks every custom and pair force file of `scene` (paths already resolved against the
+/// Reads and checks every custom force, pair force and user state file of `scene` (paths already resolved against the
 /// scene's folder) into its `source`; a failure is a scene error at the `glsl` key.
 pub fn load_custom(path: &str, src: &str, scene: &mut SceneFile) -> Result<()> {
-    if scene.forces.custom.is_empty() && scene.forces.pair.is_empty() {
+    if scene.forces.custom.is_empty()
+        && scene.forces.pair.is_empty()
+        && scene.state.iter().all(|s| s.glsl.is_none())
+    {
         return Ok(());
     }
     let doc = document(path, src)?;
@@ -286,7 +302,55 @@ pub fn load_custom(path: &str, src: &str, scene: &mut SceneFile) -> Result<()> {
         })?;
         c.source = Some(text);
     }
+    for (i, c) in scene.state.iter_mut().enumerate() {
+        let Some(glsl) = &c.glsl else { continue };
+        let text = read_state_glsl(glsl).map_err(|m| {
+            let at = locate(&doc, &[N("state"), I(i), N("glsl")]);
+            scene_error(
+                path,
+                src,
+                at,
+                format!(
+                    "state `{}`: {m} (the path is relative to the scene file)",
+                    c.name
+                ),
+            )
+        })?;
+        c.source = Some(text);
+    }
     Ok(())
+}
+
+/// `PATH:LINE:COLUMN` of the key at `keys` (table names, then the key) in the scene file the
+/// scene was parsed from; `None` for a scene made in code.
+pub fn key_place(scene: &SceneFile, keys: &[&'static str]) -> Option<String> {
+    let origin = scene.origin.0.as_ref()?;
+    let (path, src) = (&origin.0, &origin.1);
+    let doc = document(path, src).ok()?;
+    let keys: Vec<Key> = keys.iter().map(|k| N(k)).collect();
+    let (l, c) = line_column(src, locate(&doc, &keys));
+    Some(format!("{path}:{l}:{c}"))
+}
+
+/// Where each `[[state]]`'s `init` and `update` are in the scene file it was parsed from
+/// (`state.NAME.update is at PATH:LINE:COLUMN; ...`), for compile errors in them; `None` for a
+/// scene made in code.
+pub fn state_places(scene: &SceneFile) -> Option<String> {
+    let origin = scene.origin.0.as_ref()?;
+    let (path, src) = (&origin.0, &origin.1);
+    let doc = document(path, src).ok()?;
+    let mut out = Vec::new();
+    for (i, s) in scene.state.iter().enumerate() {
+        for key in ["init", "update"] {
+            if key == "update" && s.update.is_none() {
+                continue;
+            }
+            let at = locate(&doc, &[N("state"), I(i), N(key)]);
+            let (l, c) = line_column(src, at);
+            out.push(format!("state.{}.{key} is at {path}:{l}:{c}", s.name));
+        }
+    }
+    Some(out.join("; "))
 }
 
 #[cfg(test)]

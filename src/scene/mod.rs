@@ -33,7 +33,8 @@ mod validate;
 
 pub use builtin::{builtin, fire, load, load_source, summary, DEFAULT_SCENE, THESIS_SCENE};
 pub use custom::{
-    check_glsl, check_pair_glsl, load_custom, read_glsl, read_pair_glsl, PAIR_SIGNATURE,
+    check_glsl, check_pair_glsl, key_place, load_custom, read_glsl, read_pair_glsl,
+    read_state_glsl, state_places, PAIR_SIGNATURE,
 };
 pub use field_files::{grey_image, npy_field, MAX_FIELD_FILE};
 pub use locate::{Invalid, Key};
@@ -46,7 +47,7 @@ pub use suggest::{closest, did_you_mean, edit_distance};
 pub use validate::{
     fire_section, has_curves, largest_exact_cell, run_capacity, CapacityWarning,
     ChildCapacityWarning, ChildLayout, ChildRange, EXACT_SCAN, MAX_DEM_OMEGA_DT, MAX_LATTICE_CELLS,
-    MAX_LIGHT_RESOLUTION, MAX_SLICES,
+    MAX_LIGHT_RESOLUTION, MAX_SLICES, STATE_INPUTS,
 };
 
 #[cfg(test)]

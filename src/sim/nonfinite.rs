@@ -95,8 +95,11 @@ pub struct NonFiniteCounter {
     levels: Vec<Framebuffer>,
     mark: Program,
     mark_velocity: Program,
+    /// Marking programs with user states (`[[state]]`), by their count, built when first used.
+    mark_extra: std::cell::RefCell<Vec<(usize, Program)>>,
     sum: Program,
     pass: FullscreenPass,
+    ctx: Context,
 }
 
 fn reduced(n: u32) -> u32 {
@@ -140,7 +143,10 @@ impl NonFiniteCounter {
             })
             .collect::<Result<Vec<_>>>()?;
         let program = |extra: &[&str]| -> Result<Program> {
-            let mut d: Defines = vec![("BLOCK".into(), BLOCK.to_string())];
+            let mut d: Defines = vec![
+                ("BLOCK".into(), BLOCK.to_string()),
+                ("N_EXTRA".into(), "0".into()),
+            ];
             d.extend(extra.iter().map(|k| ((*k).to_owned(), "1".to_owned())));
             Program::new(ctx, FULLSCREEN_VERTEX, "sim/nonfinite.frag", &d)
         };
@@ -150,8 +156,10 @@ impl NonFiniteCounter {
             levels,
             mark: program(&["MARK"])?,
             mark_velocity: program(&["MARK", "VELOCITY"])?,
+            mark_extra: Default::default(),
             sum: program(&[])?,
             pass: FullscreenPass::new(ctx)?,
+            ctx: ctx.clone(),
         };
         ctx.check_error("building the non-finite counter")?;
         Ok(counter)
@@ -181,8 +189,28 @@ impl NonFiniteCounter {
         positions: &Texture,
         velocities: Option<&Texture>,
     ) -> Result<NonFiniteCount> {
-        for (what, t) in
-            std::iter::once(("positions", positions)).chain(velocities.map(|v| ("velocities", v)))
+        self.count_with(positions, velocities, &[])
+    }
+
+    /// [`count`](Self::count) with up to 4 more textures of the state, the user's states
+    /// (`[[state]]`), all four components of which must be finite too (and, in a half-float
+    /// texture, below 65504, where llvmpipe clamps an overflow): a live particle counts once in
+    /// `non_finite` whichever of its textures is not finite.
+    pub fn count_with(
+        &self,
+        positions: &Texture,
+        velocities: Option<&Texture>,
+        extra: &[&Texture],
+    ) -> Result<NonFiniteCount> {
+        if extra.len() > 4 {
+            return Err(Error::InvalidInput(
+                "the non-finite counter reads at most 4 more state textures".into(),
+            ));
+        }
+        let extras = extra.iter().map(|t| ("a user state", *t));
+        for (what, t) in std::iter::once(("positions", positions))
+            .chain(velocities.map(|v| ("velocities", v)))
+            .chain(extras)
         {
             if (t.width(), t.height()) != (self.width, self.height) {
                 return Err(Error::InvalidInput(format!(
@@ -194,13 +222,18 @@ impl NonFiniteCounter {
                 )));
             }
         }
-        let mark = match velocities {
-            Some(_) => &self.mark_velocity,
+        let key = self.build_mark(velocities.is_some(), extra)?;
+        let built = self.mark_extra.borrow();
+        let mark = match key {
+            None if velocities.is_some() => &self.mark_velocity,
             None => &self.mark,
+            Some(key) => &built.iter().find(|(k, _)| *k == key).expect("built").1,
         };
         mark.bind();
         let mut textures: Vec<(&str, Sampled)> = vec![("u_src", positions.into())];
         textures.extend(velocities.map(|v| ("u_velocity", v.into())));
+        let names = ["u_extra0", "u_extra1", "u_extra2", "u_extra3"];
+        textures.extend(names.iter().zip(extra).map(|(n, t)| (*n, (*t).into())));
         mark.textures(&textures);
         mark.set_ivec2("u_src_size", self.width as i32, self.height as i32);
         self.pass.draw(mark, &self.levels[0]);
@@ -224,10 +257,43 @@ impl NonFiniteCounter {
         Ok(c)
     }
 
+    /// Builds the marking program for `extra` user states (none for no extras: the fixed
+    /// ones serve) and returns its key in `mark_extra`.
+    fn build_mark(&self, velocity: bool, extra: &[&Texture]) -> Result<Option<usize>> {
+        let n = extra.len();
+        if n == 0 {
+            return Ok(None);
+        }
+        let half: Vec<bool> = (extra.iter())
+            .map(|t| t.format() == TextureFormat::Rgba16F)
+            .collect();
+        let mask: usize = (half.iter().enumerate())
+            .map(|(k, h)| (*h as usize) << k)
+            .sum();
+        let key = n + 8 * velocity as usize + 16 * mask;
+        let mut built = self.mark_extra.borrow_mut();
+        if !built.iter().any(|(k, _)| *k == key) {
+            let mut d: Defines = vec![
+                ("BLOCK".into(), BLOCK.to_string()),
+                ("MARK".into(), "1".into()),
+                ("N_EXTRA".into(), n.to_string()),
+            ];
+            if velocity {
+                d.push(("VELOCITY".into(), "1".into()));
+            }
+            for k in (0..n).filter(|k| half[*k]) {
+                d.push((format!("HALF_{k}"), "1".into()));
+            }
+            let p = Program::new(&self.ctx, FULLSCREEN_VERTEX, "sim/nonfinite.frag", &d)?;
+            built.push((key, p));
+        }
+        Ok(Some(key))
+    }
+
     /// Counts the current state of `sim`: positions with velocities, or with the previous
-    /// positions under Verlet.
+    /// positions under Verlet, and the user's states.
     pub fn count_sim(&self, sim: &ParticleSim) -> Result<NonFiniteCount> {
-        self.count(sim.positions(), sim.velocities().or(sim.previous()))
+        crate::sim::Simulation::non_finite(sim, self)
     }
 }
 

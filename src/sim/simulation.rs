@@ -130,9 +130,15 @@ pub trait Simulation: std::fmt::Debug {
 
     /// The other state textures read back, 4 floats per texel each, by the name a dump gives
     /// them: the static texture (`statics`: birth time or phase, type, total life, random), the
-    /// previous positions of Verlet (`previous`), the spins (`spins`: ω xyz, angle about z).
+    /// previous positions of Verlet (`previous`), the spins (`spins`: ω xyz, angle about z), the
+    /// user's states (`state_NAME`, `[[state]]`).
     fn read_more(&self) -> Result<Vec<(&'static str, Vec<f32>)>> {
         Ok(Vec::new())
+    }
+
+    /// The user's own states (`[[state]]`), in the order of the scene's tables.
+    fn user_states(&self) -> Vec<&Texture> {
+        Vec::new()
     }
 
     /// Live particles with a NaN or infinite component, counted on the GPU by `counter`.

@@ -278,10 +278,24 @@ fn state_shots(e: &ParticleEngine, r: &mut Recorder<'_>) -> Result<Vec<Shot>> {
         Some(_) => "speed |v| of live particles",
         None => "speed |x − x_prev| / dt of live particles (Verlet keeps no velocity)",
     };
-    Ok(vec![
+    let mut shots = vec![
         r.positions("position", &p, size),
         ramp_shot("velocity", &speeds(&v, &p), size, note),
-    ])
+    ];
+    // The user's states (`[[state]]`), written by their passes at the end of the integration.
+    for st in &sim.scene().state {
+        let values = sim.read_user_state(&st.name)?;
+        let x: Vec<f32> = (values.chunks_exact(4).zip(p.chunks_exact(4)))
+            .map(|(u, p)| if p[3] > 0.0 { u[0] } else { f32::NAN })
+            .collect();
+        let note = format!(
+            "user state `{}` (x channel) of live particles, written by its own pass \
+             (`glsl/sim/user_state.frag`) after the integration",
+            st.name
+        );
+        shots.push(ramp_shot(&format!("state {}", st.name), &x, size, &note));
+    }
+    Ok(shots)
 }
 
 fn trace_particles(e: &mut ParticleEngine, r: &mut Recorder<'_>) -> Result<()> {

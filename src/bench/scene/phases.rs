@@ -262,6 +262,7 @@ pub(super) fn lit_phases(
         time: engine.sim().time() as f32,
         spins: None,
         count: w as usize * h as usize,
+        user: &[],
     };
     let atlas = engine.renderer().atlas();
     let style = engine.renderer().style();

@@ -331,5 +331,12 @@ fn refuse_unsupported(scene: &SceneFile, features: &Features) -> Result<()> {
     if scene.emitters.all().any(|e| !e.bursts.is_empty()) {
         return Err(unsupported(scene, "bursts"));
     }
+    if !scene.state.is_empty() || scene.render.color.is_some() {
+        return Err(unsupported(
+            scene,
+            "user state and render.color ([[state]]: GLSL expressions run by the GPU's \
+             passes); run the scene on the GPU engine",
+        ));
+    }
     Ok(())
 }

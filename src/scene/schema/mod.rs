@@ -9,6 +9,7 @@ mod emitters;
 mod forces;
 mod neighbours;
 mod render;
+mod state;
 
 use serde::{Deserialize, Serialize};
 
@@ -27,6 +28,7 @@ pub use render::{
     Blending, CameraSection, DrawMode, DrawOrder, DrawPrimitive, Keyframe, LightSection, Lighting,
     Render, RenderPath, Rotate, SortEntries, SortKey, SortSection, Variant, MAX_KEYFRAMES,
 };
+pub use state::{StateFormat, UserState, MAX_STATE_EXPRESSION, MAX_USER_STATES};
 
 pub(super) fn one() -> f32 {
     1.0
@@ -80,6 +82,9 @@ pub struct SceneFile {
     /// How the scene is drawn.
     #[serde(default)]
     pub render: Render,
+    /// Per-particle state of the user's own (`[[state]]`), each updated by a pass of its own.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub state: Vec<UserState>,
     /// The file the scene was parsed from, so that a value changed later and rejected by the
     /// engine is still reported at its line and column ([`SceneFile::check`]).
     #[serde(skip)]

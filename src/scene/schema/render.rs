@@ -360,6 +360,11 @@ pub struct Render {
     /// Blending.
     #[serde(default)]
     pub blending: Blending,
+    /// The particles' colour and opacity by a GLSL `vec4` expression of `color` (the
+    /// keyframes'), `x`, `life`, `age`, `type` and the user states by name (`[[state]]`),
+    /// replacing the keyframes' colour.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub color: Option<String>,
     /// 1 to [`MAX_KEYFRAMES`] keyframes of relative age, linear between them (Latta §3.4.6 uses
     /// four); empty: white, fading out.
     #[serde(default)]
@@ -424,6 +429,7 @@ impl Default for Render {
             point_size: two(),
             intensity: 1.0,
             blending: Blending::default(),
+            color: None,
             order: DrawOrder::default(),
             keyframes: Vec::new(),
             sort: SortSection::default(),

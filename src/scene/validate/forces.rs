@@ -295,12 +295,13 @@ pub(super) fn lightest(s: &SceneFile) -> f32 {
 }
 
 impl SceneFile {
-    /// Makes the relative `[[forces.custom]]` and `[[forces.pair]]` paths relative to `dir`, the directory of the
+    /// Makes the relative `[[forces.custom]]`, `[[forces.pair]]` and `[[state]]` paths relative to `dir`, the directory of the
     /// scene file (a scene's paths are relative to the file, not to the working directory).
     /// Call it after parsing a scene read from a file; absolute paths are kept.
     pub fn resolve_custom_paths(&mut self, dir: &std::path::Path) {
         let files = (self.forces.custom.iter_mut().map(|c| &mut c.glsl))
-            .chain(self.forces.pair.iter_mut().map(|c| &mut c.glsl));
+            .chain(self.forces.pair.iter_mut().map(|c| &mut c.glsl))
+            .chain(self.state.iter_mut().filter_map(|c| c.glsl.as_mut()));
         for glsl in files {
             let p = std::path::Path::new(glsl.as_str());
             if p.is_relative() {

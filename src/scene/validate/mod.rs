@@ -21,6 +21,8 @@ mod neighbours;
 pub use neighbours::MAX_DEM_OMEGA_DT;
 mod render;
 mod spin;
+mod state;
+pub use state::STATE_INPUTS;
 
 use super::locate::{Invalid, Key};
 use super::schema::{Collisions, Integrator, SceneFile, Simulation, UpdatePasses, WindForm};
@@ -153,6 +155,7 @@ impl SceneFile {
         neighbours::neighbours(self)?;
         constraints::constraints(self)?;
         fire(self)?;
+        state::state(self)?;
         render::render(self)?;
         lighting::lighting(self)
     }

@@ -45,11 +45,16 @@ pub(super) fn integrate_root(scene: &SceneFile) -> Result<String> {
         "// The integration pass with the scene's custom forces (src/sim/particles/custom.rs).\n\
          #include \"common/rng.glsl\"\n#include \"sim/fields.glsl\"\n",
     );
+    // The forces read the user states by name (`[[state]]`, user_state.rs).
+    let (uniforms, define, undef) = super::user_state::declarations(scene);
+    root += &uniforms;
     let mut keys = Vec::new();
     for (i, (c, text)) in scene.forces.custom.iter().zip(sources(scene)?).enumerate() {
         let key = source_key("custom-force", i, &c.glsl, &text);
         add_runtime_source(&key, &text);
-        root += &format!("#define force custom_force_{i}\n#include \"{key}\"\n#undef force\n");
+        root += &format!(
+            "{define}#define force custom_force_{i}\n#include \"{key}\"\n#undef force\n{undef}"
+        );
         keys.push(key);
     }
     root += &format!(
@@ -67,6 +72,7 @@ pub(super) fn integrate_root(scene: &SceneFile) -> Result<String> {
 pub fn check_custom_forces(ctx: &crate::gl::Context, scene: &SceneFile) -> Result<()> {
     let defines = super::Features::of(scene).defines();
     crate::sim::collide::check_pair_forces(ctx, scene, &defines)?;
+    super::check_user_states(ctx, scene)?;
     if scene.forces.custom.is_empty() {
         return Ok(());
     }

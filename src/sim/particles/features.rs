@@ -95,6 +95,9 @@ pub struct Features {
     /// The user forces' GLSL files (`[[forces.custom]]`), compiled into the integration pass.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub custom_forces: Vec<String>,
+    /// The user's own states (`[[state]]`, `user_state.rs`): name and texel format.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub user_states: Vec<(String, scene::StateFormat)>,
 }
 
 impl Features {
@@ -160,6 +163,9 @@ impl Features {
             children: em.child.len(),
             custom_forces: (scene.forces.custom.iter())
                 .map(|c| c.glsl.clone())
+                .collect(),
+            user_states: (scene.state.iter())
+                .map(|s| (s.name.clone(), s.format))
                 .collect(),
         }
     }
@@ -289,6 +295,7 @@ impl Features {
         let what = self.integration_terms(verlet);
         let mut integrate = Vec::new();
         self.integrate_passes(&what, verlet, &mut integrate);
+        integrate.extend(super::user_state::passes(&self.user_states));
         add(Stage::Integrate, integrate);
         add(Stage::Relax, self.constrain_passes());
         let mut collide = Vec::new();

@@ -17,6 +17,7 @@ mod setup;
 mod state_io;
 mod stateless;
 mod uniforms;
+mod user_state;
 
 use glam::UVec2;
 
@@ -35,6 +36,7 @@ pub use features::{Emission, Features};
 pub use stateless::ClosedForm;
 use uniforms::set_constants_for;
 pub use uniforms::{mass_range, vortex_shape};
+pub use user_state::check_user_states;
 
 /// The state framebuffers: position and velocity ping-pong for the explicit integrators, a ring
 /// of previous, current and next positions for Verlet.
@@ -99,6 +101,8 @@ pub struct ParticleSim {
     /// The count of paths past the bound on bounces at colliders (`bounces.rs`).
     bounces: Option<super::collide::tally::TruncationTally>,
     relax: Option<relax::Relaxation>,
+    /// The user's own per-particle states (`[[state]]`, `user_state.rs`).
+    user: Option<user_state::UserStates>,
     pass: FullscreenPass,
     fields: Fields,
     emitters: Vec<EmitterUniforms>,
@@ -185,6 +189,7 @@ impl ParticleSim {
             },
             bounces: bounces::tally(ctx, &features)?,
             relax: relax::Relaxation::new(ctx, scene, &defines)?,
+            user: user_state::UserStates::new(ctx, scene, &defines, [width, height])?,
             pass: FullscreenPass::new(ctx)?,
             allocator: match features.emission {
                 // Child emitters keep texels of their own: the allocator hands out the rest.
@@ -389,6 +394,9 @@ impl ParticleSim {
         let p = &self.integrate;
         let next = self.set_step_clock(p);
         let statics = ("u_static", self.statics.texture(STATIC).into());
+        // Custom forces read the user states by name (user_state.rs).
+        let user = self.user.as_ref().map(|u| u.samplers()).unwrap_or_default();
+        let user = |p: &Program| user_state::declared(p, &user);
         match &mut self.state {
             State::Explicit(pp) if self.stateless.is_some() => {
                 if let Some(sl) = &self.stateless {
@@ -411,6 +419,7 @@ impl ParticleSim {
                 if self.features.spin {
                     own.push(("u_spin", pp.front().texture(SPIN).into()));
                 }
+                own.extend(user(p));
                 bind_textures(p, &own, &self.fields);
                 match &self.integrate_position {
                     None if rows > 0 => self.pass.draw_rows(p, pp.back(), 0, rows),
@@ -431,6 +440,7 @@ impl ParticleSim {
                         ]
                         .into_iter()
                         .filter(|(n, _)| q.declares(n))
+                        .chain(user(q))
                         .collect();
                         bind_textures(q, &own, &self.fields);
                         self.pass.draw_rows(q, pp.back_single(POSITION), 0, rows);
@@ -443,11 +453,12 @@ impl ParticleSim {
                 }
             }
             State::Verlet(ring) => {
-                let own = [
+                let mut own = vec![
                     ("u_position", ring.current().texture(POSITION).into()),
                     ("u_previous", ring.previous().texture(POSITION).into()),
                     statics,
                 ];
+                own.extend(user(p));
                 bind_textures(p, &own, &self.fields);
                 if rows > 0 {
                     self.pass.draw_rows(p, ring.next(), 0, rows);

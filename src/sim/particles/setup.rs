@@ -202,6 +202,8 @@ impl ParticleSim {
         if let (Some(r), State::Verlet(ring)) = (&self.relax, &self.state) {
             r.place(ring)?;
         }
+        self.user_state_constants();
+        self.user_state_passes(true);
         self.ctx.check_error("initialising the particle state")?;
         Ok(())
     }

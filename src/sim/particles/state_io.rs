@@ -190,6 +190,7 @@ impl crate::sim::Simulation for ParticleSim {
             Stage::Births => self.emit(),
             Stage::Integrate => {
                 self.integrate_pass();
+                self.user_state_passes(false);
                 Ok(())
             }
             Stage::Relax => {
@@ -247,11 +248,26 @@ impl crate::sim::Simulation for ParticleSim {
         if let Some(t) = self.spins() {
             v.push(("spins", t.read_f32()?));
         }
+        v.extend(self.read_user_states()?);
         Ok(v)
     }
 
     fn dropped_births(&self) -> u64 {
         ParticleSim::dropped_births(self)
+    }
+
+    fn non_finite(
+        &self,
+        counter: &crate::sim::nonfinite::NonFiniteCounter,
+    ) -> Result<crate::sim::nonfinite::NonFiniteCount> {
+        let motion = self.velocities().or(self.previous());
+        counter.count_with(self.positions(), motion, &self.user_states())
+    }
+
+    fn user_states(&self) -> Vec<&Texture> {
+        (self.scene.state.iter())
+            .filter_map(|s| self.user_state(&s.name))
+            .collect()
     }
 
     fn dropped_child_births(&self) -> Result<u64> {

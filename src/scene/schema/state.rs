@@ -1,0 +1,54 @@
+//! `[[state]]`: per-particle state of the user's own, beyond position, velocity and the static
+//! texel (three.js's `GPUComputationRenderer.addVariable`; Latta §3.4.2's "other operations in
+//! separate passes"; the thesis asks for more than 32 bytes per particle). Each is an RGBA
+//! texture, one texel per particle, updated by a full-screen pass of its own after the
+//! integration (src/sim/particles/user_state.rs).
+
+use serde::{Deserialize, Serialize};
+
+/// Most `[[state]]` of one scene.
+pub const MAX_USER_STATES: usize = 4;
+
+/// Longest GLSL expression of `init` or `update`, in bytes.
+pub const MAX_STATE_EXPRESSION: usize = 4000;
+
+/// One user state: a `vec4` per particle with a value at birth and an update per step.
+///
+/// The expressions are GLSL of type `vec4`. They may read `x` and `v` (the particle's position
+/// and velocity after this step's integration, `vec3`), `life` (remaining seconds), `age`
+/// (seconds since birth), `type` (`int`), `random` (the particle's number in [0, 1)), `index`
+/// (`int`), `time` (the time at the end of the step), `dt`, every user state by its name (the
+/// previous step's value, `vec4`), and the functions of `glsl`.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct UserState {
+    /// The name GLSL reads it by: lower case letters, digits and `_`, starting with a letter.
+    pub name: String,
+    /// Texel format: `rgba32f` (the default) or `rgba16f` (half floats, Latta §3.3).
+    #[serde(default)]
+    pub format: StateFormat,
+    /// The value at birth (and at the start for particles alive then): a GLSL `vec4`
+    /// expression.
+    pub init: String,
+    /// The value after each step: a GLSL `vec4` expression of the previous values; without it
+    /// the state keeps its value at birth.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub update: Option<String>,
+    /// A GLSL file of helper functions for the expressions, relative to the scene file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub glsl: Option<String>,
+    /// The helper file's text once read and checked ([`crate::scene::load_custom`]).
+    #[serde(skip)]
+    pub source: Option<String>,
+}
+
+/// The texel format of a user state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StateFormat {
+    /// Four 32-bit floats.
+    #[default]
+    Rgba32f,
+    /// Four 16-bit floats: up to 65504, about three decimal digits.
+    Rgba16f,
+}

@@ -1,0 +1,306 @@
+//! `[[state]]`: the user's per-particle state. Names must be GLSL identifiers of their own, the
+//! expressions single GLSL expressions; the scene must not reorder its particles (the collision
+//! stage's gather carries position, velocity and static only).
+//!
+//! Every update reads the previous step's values of every state, so the order of the states'
+//! passes does not matter and no update can depend on another's result of the same step: there
+//! are no cycles to refuse.
+
+use super::{fail, path, Check};
+use crate::scene::locate::Key;
+use crate::scene::schema::{
+    Blending, DrawMode, RenderPath, SceneFile, Simulation, MAX_STATE_EXPRESSION, MAX_USER_STATES,
+};
+
+use Key::{Index as I, Name as N};
+
+/// The names the expressions read besides the states (src/sim/particles/user_state.rs).
+pub const STATE_INPUTS: [&str; 9] = [
+    "x", "v", "life", "age", "type", "random", "index", "time", "dt",
+];
+
+/// GLSL's words a state may not be named after: keywords, types and the built-in functions
+/// an expression is likely to call.
+const GLSL_WORDS: &[&str] = &[
+    "attribute",
+    "const",
+    "uniform",
+    "varying",
+    "layout",
+    "centroid",
+    "flat",
+    "smooth",
+    "break",
+    "continue",
+    "do",
+    "for",
+    "while",
+    "switch",
+    "case",
+    "default",
+    "if",
+    "else",
+    "in",
+    "out",
+    "inout",
+    "float",
+    "int",
+    "uint",
+    "void",
+    "bool",
+    "true",
+    "false",
+    "invariant",
+    "discard",
+    "return",
+    "struct",
+    "precision",
+    "highp",
+    "mediump",
+    "lowp",
+    "sampler2d",
+    "vec2",
+    "vec3",
+    "vec4",
+    "ivec2",
+    "ivec3",
+    "ivec4",
+    "uvec2",
+    "uvec3",
+    "uvec4",
+    "bvec2",
+    "bvec3",
+    "bvec4",
+    "mat2",
+    "mat3",
+    "mat4",
+    "abs",
+    "sign",
+    "floor",
+    "ceil",
+    "fract",
+    "mod",
+    "min",
+    "max",
+    "clamp",
+    "mix",
+    "step",
+    "smoothstep",
+    "length",
+    "distance",
+    "dot",
+    "cross",
+    "normalize",
+    "reflect",
+    "sqrt",
+    "exp",
+    "exp2",
+    "log",
+    "log2",
+    "pow",
+    "sin",
+    "cos",
+    "tan",
+    "asin",
+    "acos",
+    "atan",
+    "radians",
+    "degrees",
+    "main",
+    "texture",
+    "texelfetch",
+    "common",
+    "input",
+    "output",
+    "filter",
+    "sizeof",
+    "cast",
+    "namespace",
+    "using",
+    "static",
+    "inline",
+    "external",
+    "interface",
+    "long",
+    "short",
+    "double",
+    "half",
+    "fixed",
+    "unsigned",
+    "goto",
+    "class",
+    "union",
+    "enum",
+    "typedef",
+    "template",
+    "this",
+    "packed",
+    "volatile",
+    "public",
+    "noinline",
+    "asm",
+    "active",
+    "superp",
+    "patch",
+    "sample",
+    "subroutine",
+    "isnan",
+    "isinf",
+];
+
+/// `[[state]]`, and `render.color`, which reads the states.
+pub(super) fn state(s: &SceneFile) -> Check {
+    if let Some(c) = &s.render.color {
+        render_color(s, c)?;
+    }
+    if s.state.is_empty() {
+        return Ok(());
+    }
+    if s.state.len() > MAX_USER_STATES {
+        return fail(
+            path(&[N("state"), I(MAX_USER_STATES)]),
+            format!(
+                "{} [[state]] tables: at most {MAX_USER_STATES} (each is a texture the passes \
+                 sample); pack values into the four channels of one",
+                s.state.len()
+            ),
+        );
+    }
+    let at0 = path(&[N("state"), I(0)]);
+    if s.fire.is_some() {
+        return fail(
+            at0,
+            "[[state]] is for the particle system; the thesis's fire has no user state: remove \
+             [[state]] or [fire]",
+        );
+    }
+    if s.simulation == Simulation::Stateless {
+        return fail(
+            at0,
+            "[[state]] is updated step by step, a stateless scene has no steps to carry it: \
+             remove [[state]] or simulation = \"stateless\"",
+        );
+    }
+    if s.collisions.is_some() {
+        return fail(
+            at0,
+            "[[state]] cannot be used with [collisions] yet: the collision stage sorts the \
+             particles into cell order and gathers position, velocity and static only, so a \
+             user state would stay behind with other particles; remove [collisions] or \
+             [[state]]",
+        );
+    }
+    for (i, st) in s.state.iter().enumerate() {
+        let at = |k| path(&[N("state"), I(i), N(k)]);
+        name(at("name"), &st.name)?;
+        if let Some(j) = s.state[..i].iter().position(|o| o.name == st.name) {
+            return fail(
+                at("name"),
+                format!(
+                    "state `{}` is named twice (also [[state]] {j}): give each its own name",
+                    st.name
+                ),
+            );
+        }
+        expression(at("init"), "init", &st.init)?;
+        if let Some(u) = &st.update {
+            expression(at("update"), "update", u)?;
+        }
+    }
+    Ok(())
+}
+
+/// `render.color`: an expression the particle renderer can evaluate at the particle's texel.
+fn render_color(s: &SceneFile, c: &str) -> Check {
+    let at = path(&[N("render"), N("color")]);
+    expression(at.clone(), "render.color", c)?;
+    let why = if s.fire.is_some() {
+        Some("the thesis's fire is coloured by its own ramp")
+    } else if s.render.mode == DrawMode::Surface {
+        Some("mode = \"surface\" draws the connected surface, not the particles")
+    } else if s.render.path == RenderPath::VertexBuffer {
+        Some(
+            "path = \"vertex_buffer\" hands the vertex stage a buffer without the user states; \
+             use path = \"texture_fetch\"",
+        )
+    } else if s.render.blending == Blending::Alpha {
+        Some(
+            "blending = \"alpha\" sorts the particles by depth and gathers position and static \
+             only, so the user states would no longer match; use \"additive\" or \
+             \"multiplicative\"",
+        )
+    } else {
+        None
+    };
+    match why {
+        Some(why) => fail(at, format!("render.color cannot be used here: {why}")),
+        None => Ok(()),
+    }
+}
+
+/// A state's name: a lower-case GLSL identifier of its own.
+fn name(at: Vec<Key>, n: &str) -> Check {
+    let ok = n.len() <= 32
+        && n.starts_with(|c: char| c.is_ascii_lowercase())
+        && n.chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
+        && !n.contains("__");
+    if !ok {
+        return fail(
+            at,
+            format!(
+                "state name `{n}` is not a name GLSL can read: use 1 to 32 lower-case letters, \
+                 digits and single `_`, starting with a letter (e.g. \"temperature\")"
+            ),
+        );
+    }
+    let taken = STATE_INPUTS.contains(&n)
+        || GLSL_WORDS.contains(&n)
+        || ["gl_", "u_", "o_", "a_", "v_"]
+            .iter()
+            .any(|p| n.starts_with(p));
+    if taken {
+        return fail(
+            at,
+            format!(
+                "state name `{n}` is taken: the expressions read {} by those names, and GLSL \
+                 reserves its keywords, types and built-in functions; choose another name",
+                STATE_INPUTS.join(", ")
+            ),
+        );
+    }
+    Ok(())
+}
+
+/// One GLSL expression: not empty, no statements, blocks or directives.
+fn expression(at: Vec<Key>, key: &str, e: &str) -> Check {
+    if e.trim().is_empty() {
+        return fail(
+            at,
+            format!("{key} is empty: give a GLSL vec4 expression, e.g. \"vec4(0.0)\""),
+        );
+    }
+    if e.len() > MAX_STATE_EXPRESSION {
+        return fail(
+            at,
+            format!(
+                "{key} is {} bytes, above {MAX_STATE_EXPRESSION}: move the code into a function \
+                 of the state's `glsl` file",
+                e.len()
+            ),
+        );
+    }
+    if let Some(c) = e
+        .chars()
+        .find(|c| matches!(c, ';' | '{' | '}' | '#' | '\\') || (c.is_control() && *c != '\n'))
+    {
+        return fail(
+            at,
+            format!(
+                "{key} holds {c:?}: it is one GLSL vec4 expression, not statements, blocks or \
+                 directives; put those in a function of the state's `glsl` file"
+            ),
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,354 @@
+//! Per-particle state of the user's own (`[[state]]`; three.js's
+//! `GPUComputationRenderer.addVariable`, Latta §3.4.2: "other operations can be applied in
+//! separate passes"): one RGBA ping-pong texture per state, one full-screen pass per state and
+//! step after the integration (`glsl/sim/user_state.frag`).
+//!
+//! Each pass is compiled from a root added at run time: `common/rng.glsl`, the expressions'
+//! inputs (`sim/user_state_inputs.glsl`), a sampler and a macro per state (the state's name reads
+//! its previous value at the pass's own texel), the states' helper files, the state's `init` and
+//! `update` expressions as functions, then `sim/user_state.frag`. Each user text is its own source,
+//! so a compile error names the user's file (or the state's key) and line.
+//!
+//! Semantics: every pass reads the previous step's values of every state and swaps only once all
+//! have been drawn, so the states' order does not matter and they cannot form cycles. The
+//! integration pass reads the same values through the same macros (custom forces, `custom.rs`).
+
+use super::{bind_textures, set_constants_for, ParticleSim, State};
+use crate::error::{Error, Result};
+use crate::gl::source::{add_runtime_source, is_runtime_source};
+use crate::gl::{Context, Defines, PingPong, Program, Sampled, Texture, FULLSCREEN_VERTEX};
+use crate::scene::{SceneFile, StateFormat};
+use crate::sim::state::{POSITION, STATIC, VELOCITY};
+use crate::sim::user_glsl::{source_key, user_compile_error, Renamed};
+
+/// The scene's user states: a ping-pong texture and a pass each.
+pub(super) struct UserStates {
+    states: Vec<PingPong>,
+    programs: Vec<Program>,
+    /// The dump's names, `state_NAME` (made once: a dump names its textures by `&'static str`).
+    dump_names: Vec<&'static str>,
+}
+
+/// The sampler state `i` is read from in every pass that reads it.
+fn sampler(i: usize) -> String {
+    format!("u_user_state_{i}")
+}
+
+/// GLSL declaring each state's sampler, and the macros that read its previous value by name at
+/// the fragment's own texel (any pass over the particle texture: the state pass, integration).
+/// The macros are defined around the user's texts alone (`#undef` after them), so that a state's
+/// name never replaces a word of texflow's own shaders.
+pub(super) fn declarations(scene: &SceneFile) -> (String, String, String) {
+    let (mut uniforms, mut define, mut undef) = (String::new(), String::new(), String::new());
+    for (i, s) in scene.state.iter().enumerate() {
+        uniforms += &format!("uniform sampler2D {};\n", sampler(i));
+        define += &format!("#define {} {}\n", s.name, fetch(i));
+        undef += &format!("#undef {}\n", s.name);
+    }
+    (uniforms, define, undef)
+}
+
+/// State `i`'s previous value at the fragment's texel.
+fn fetch(i: usize) -> String {
+    format!("texelFetch({}, ivec2(gl_FragCoord.xy), 0)", sampler(i))
+}
+
+/// The helper files' text: read and checked when the scene was loaded, or read now.
+fn helper_texts(scene: &SceneFile) -> Result<Vec<Option<(String, String)>>> {
+    (scene.state.iter().enumerate())
+        .map(|(i, s)| {
+            let Some(path) = &s.glsl else { return Ok(None) };
+            let text = match &s.source {
+                Some(t) => t.clone(),
+                None => crate::scene::read_state_glsl(path).map_err(|m| {
+                    Error::InvalidInput(format!(
+                        "state[{i}].glsl: {m}; the path is relative to the scene file"
+                    ))
+                })?,
+            };
+            Ok(Some((path.clone(), text)))
+        })
+        .collect()
+}
+
+/// The user sources of the states' passes, as `(source key, name in messages, text)`: the
+/// helper files, then each state's `init` and `update`.
+fn user_sources(scene: &SceneFile) -> Result<Vec<(String, String, String)>> {
+    let mut out = Vec::new();
+    for (i, h) in helper_texts(scene)?.into_iter().enumerate() {
+        if let Some((path, text)) = h {
+            out.push((source_key("state-glsl", i, &path, &text), path, text));
+        }
+    }
+    for (i, s) in scene.state.iter().enumerate() {
+        let update = s.update.clone().unwrap_or_else(|| s.name.clone());
+        for (key, text) in [("init", s.init.clone()), ("update", update)] {
+            let label = format!("state.{}.{key}", s.name);
+            out.push((
+                source_key(&format!("state-{key}"), i, &label, &text),
+                label,
+                text,
+            ));
+        }
+    }
+    Ok(out)
+}
+
+/// The root of state `i`'s pass, added as a runtime source; returns its name.
+fn root(scene: &SceneFile, i: usize, sources: &[(String, String, String)]) -> String {
+    let mut root = String::from(
+        "// A user state's pass (src/sim/particles/user_state.rs).\n\
+         #include \"common/rng.glsl\"\n#include \"sim/user_state_inputs.glsl\"\n",
+    );
+    let (uniforms, define, undef) = declarations(scene);
+    root += &uniforms;
+    root += &define;
+    for (key, _, text) in sources {
+        add_runtime_source(key, text);
+    }
+    let helpers = sources.len() - 2 * scene.state.len();
+    for (key, _, _) in &sources[..helpers] {
+        root += &format!("#include \"{key}\"\n");
+    }
+    let init = &sources[helpers + 2 * i].0;
+    let update = &sources[helpers + 2 * i + 1].0;
+    root += &format!(
+        "vec4 user_init() {{\n    return vec4(\n#include \"{init}\"\n    );\n}}\n\
+         vec4 user_update() {{\n    return vec4(\n#include \"{update}\"\n    );\n}}\n\
+         {undef}#define USER_SELF {}\n#include \"sim/user_state.frag\"\n",
+        fetch(i)
+    );
+    let name = format!("user-state:{init}+{update}");
+    add_runtime_source(&name, &root);
+    name
+}
+
+/// A compile error in a helper file becomes an input error naming the file and line (as a
+/// custom force's does); one in state `i`'s expressions (which drivers place at the pass's
+/// root) names the state, its expressions' places in the scene file and the driver's words.
+fn user_error(
+    scene: &SceneFile,
+    i: usize,
+    sources: &[(String, String, String)],
+    e: Error,
+) -> Error {
+    let helpers = sources.len() - 2 * scene.state.len();
+    let files: Vec<(String, String)> = (sources[..helpers].iter())
+        .map(|(k, label, _)| (k.clone(), label.clone()))
+        .collect();
+    let inputs = crate::scene::STATE_INPUTS.join(", ");
+    match e {
+        // Mesa may place an error in a helper at the root: the log names the helper.
+        Error::ShaderCompile { ref log, .. } if files.iter().any(|(k, _)| log.contains(k)) => {
+            user_compile_error(
+                e,
+                &files,
+                "user state file",
+                "the functions (of any names) that `init` and `update` call",
+                Renamed {
+                    name: "user_update",
+                    prefix: "user_update_",
+                },
+            )
+        }
+        Error::ShaderCompile { file, log, .. } if is_runtime_source(&file) => {
+            let mut log = log;
+            for (k, label, _) in sources {
+                log = log.replace(k.as_str(), label);
+            }
+            // The driver's places are texflow's root: its words are what the user fixes.
+            let log: Vec<&str> = (log.lines())
+                .filter(|l| !l.contains(": warning: "))
+                .map(|l| l.find("): ").map_or(l, |k| &l[k + 3..]))
+                .collect();
+            let at = crate::scene::state_places(scene).unwrap_or_default();
+            Error::InvalidInput(format!(
+                "user state `{}`: the GLSL does not compile; `init` and `update` are GLSL vec4 \
+                 expressions of {inputs}, the states' names and the `glsl` file's functions:\n\
+                 {}\n({at})",
+                scene.state[i].name,
+                log.join("\n")
+            ))
+        }
+        e => e,
+    }
+}
+
+impl UserStates {
+    /// The scene's states and their passes, none without `[[state]]`.
+    pub(super) fn new(
+        ctx: &Context,
+        scene: &SceneFile,
+        defines: &Defines,
+        size: [u32; 2],
+    ) -> Result<Option<Self>> {
+        if scene.state.is_empty() {
+            return Ok(None);
+        }
+        let sources = user_sources(scene)?;
+        let mut states = Vec::new();
+        let mut programs = Vec::new();
+        for (i, s) in scene.state.iter().enumerate() {
+            let format = match s.format {
+                StateFormat::Rgba32f => crate::gl::TextureFormat::Rgba32F,
+                StateFormat::Rgba16f => crate::gl::TextureFormat::Rgba16F,
+            };
+            let label = format!("state:{}", s.name);
+            let attachment = [crate::gl::Attachment::named("user state")];
+            states.push(PingPong::new(
+                ctx,
+                &label,
+                &attachment,
+                &[format],
+                size[0],
+                size[1],
+            )?);
+            let root = root(scene, i, &sources);
+            programs.push(
+                Program::new(ctx, FULLSCREEN_VERTEX, &root, defines)
+                    .map_err(|e| user_error(scene, i, &sources, e))?,
+            );
+        }
+        let dump_names = (scene.state.iter())
+            .map(|s| &*Box::leak(format!("state_{}", s.name).into_boxed_str()))
+            .collect();
+        Ok(Some(UserStates {
+            states,
+            programs,
+            dump_names,
+        }))
+    }
+
+    /// The states' current values, with the samplers passes read them by.
+    pub(super) fn samplers(&self) -> Vec<(String, &Texture)> {
+        (self.states.iter().enumerate())
+            .map(|(i, pp)| (sampler(i), pp.front().only_texture()))
+            .collect()
+    }
+}
+
+/// The states' passes as `texflow scene passes` lists them (after the integration).
+pub(super) fn passes(states: &[(String, StateFormat)]) -> Vec<String> {
+    (states.iter())
+        .map(|(name, format)| {
+            let format = match format {
+                StateFormat::Rgba32f => "rgba32f",
+                StateFormat::Rgba16f => "rgba16f",
+            };
+            format!(
+                "state {name} (Latta §3.4.2, a separate pass): `init` at birth, else `update` \
+                 from the previous step's states and this step's position and velocity [{name} \
+                 ({format}) ping-pong; every state swapped after all are drawn]"
+            )
+        })
+        .collect()
+}
+
+/// The entries of `samplers` that `p` declares, to bind.
+pub(super) fn declared<'a>(
+    p: &Program,
+    samplers: &'a [(String, &'a Texture)],
+) -> Vec<(&'a str, Sampled<'a>)> {
+    (samplers.iter().filter(|(n, _)| p.declares(n)))
+        .map(|(n, t)| (n.as_str(), (*t).into()))
+        .collect()
+}
+
+/// Compiles the states' passes of `scene`, so that `scene check` refuses what `render` would.
+pub fn check_user_states(ctx: &Context, scene: &SceneFile) -> Result<()> {
+    let defines = super::Features::of(scene).defines();
+    UserStates::new(ctx, scene, &defines, [1, 1]).map(drop)
+}
+
+impl ParticleSim {
+    /// The user states' passes (after the integration, or at the start with `start`: every
+    /// texel takes its value at birth), then one swap of them all.
+    pub(super) fn user_state_passes(&mut self, start: bool) {
+        // The live rows under the min-heap allocator, as the integration: the rows after them
+        // hold dead texels, whose values are not read before their next birth sets them.
+        let rows = if start {
+            self.height
+        } else {
+            self.active_rows()
+        };
+        let Some(user) = &mut self.user else {
+            return;
+        };
+        let (position, old, velocity) = match &self.state {
+            State::Explicit(pp) => (
+                pp.front().texture(POSITION),
+                if start { pp.front() } else { pp.back() }.texture(POSITION),
+                Some(pp.front().texture(VELOCITY)),
+            ),
+            State::Verlet(ring) => (
+                ring.current().texture(POSITION),
+                ring.previous().texture(POSITION),
+                None,
+            ),
+        };
+        let samplers = user.samplers();
+        let mut own: Vec<(&str, Sampled<'_>)> = vec![
+            ("u_position", position.into()),
+            ("u_old_position", old.into()),
+            ("u_static", self.statics.texture(STATIC).into()),
+        ];
+        own.extend(velocity.map(|v| ("u_velocity", v.into())));
+        own.extend(samplers.iter().map(|(n, t)| (n.as_str(), (*t).into())));
+        for (p, pp) in user.programs.iter().zip(&user.states) {
+            p.bind();
+            p.optional(|| {
+                p.set_f32("u_time", self.time as f32);
+                p.set_i32("u_start", start as i32);
+            });
+            let list: Vec<_> = own.iter().copied().filter(|(n, _)| p.declares(n)).collect();
+            bind_textures(p, &list, &self.fields);
+            self.pass.draw_rows(p, pp.back(), 0, rows);
+        }
+        for pp in &mut user.states {
+            pp.swap();
+        }
+    }
+
+    /// Sets the constant uniforms of the user states' passes.
+    pub(super) fn user_state_constants(&self) {
+        let Some(user) = &self.user else {
+            return;
+        };
+        for p in &user.programs {
+            let size = [self.width, self.height];
+            set_constants_for(
+                p,
+                &self.scene,
+                &self.fields,
+                size,
+                self.seed,
+                self.features.types,
+            );
+        }
+    }
+
+    /// The user states' current values (`[[state]]`), by name.
+    pub fn user_state(&self, name: &str) -> Option<&Texture> {
+        let i = self.scene.state.iter().position(|s| s.name == name)?;
+        Some(self.user.as_ref()?.states[i].front().only_texture())
+    }
+
+    /// Reads user state `name` back, 4 floats per texel.
+    pub fn read_user_state(&self, name: &str) -> Result<Vec<f32>> {
+        self.user_state(name)
+            .ok_or_else(|| {
+                Error::InvalidInput(format!("the scene has no [[state]] named `{name}`"))
+            })?
+            .read_f32()
+    }
+
+    /// The user states read back for a dump, named `state_NAME`.
+    pub(super) fn read_user_states(&self) -> Result<Vec<(&'static str, Vec<f32>)>> {
+        let Some(user) = &self.user else {
+            return Ok(Vec::new());
+        };
+        (user.dump_names.iter().zip(&user.states))
+            .map(|(n, pp)| Ok((*n, pp.front().only_texture().read_f32()?)))
+            .collect()
+    }
+}

@@ -16,6 +16,10 @@
 //     motion from where it was u_stretch seconds ago, x - v·u_stretch, to where it is (motion
 //     blur): length |v_screen|·u_stretch + size, width size. No point size limit applies.
 // Everything after the fetch is shared, so both paths draw bit-identical images.
+// LOOKUP defined (texture fetch only; Latta §3.4.4's index lookup): vertex k draws the particle
+// at sorted position k / VERTICES, reading its identifier from the sort texture u_sorted
+// (sort/sorted_id.glsl, with the sort's PACKED and ID_TABLE) and fetching the state there: the
+// same texels a gather would have copied, so the same image, without the gather pass.
 // FIRE_RAMP defined: the thesis's fire (Listing 3): the statics are the fire's velocities, whose
 // w is the wait; the total life is u_max_age - wait and the fragment stage colours the relative
 // age by the fire's ramp (render/fire_ramp.glsl); one size, no sprite.
@@ -35,6 +39,11 @@ layout(location = 1) in vec4 a_static;
 uniform sampler2D u_position;
 uniform sampler2D u_static;
 uniform int u_width;
+#endif
+#ifdef LOOKUP
+uniform sampler2D u_sorted;      // the sort's (key, id) entries
+uniform int u_sort_width;        // entries per row of the sort
+#include "sort/sorted_id.glsl"
 #endif
 #ifdef ROTATE_SPIN
 uniform sampler2D u_spin;        // spinning spheres: (angular velocity, angle about z)
@@ -79,7 +88,11 @@ void main() {
     vec4 p = a_position;
     vec4 s = a_static;
 #else
+#ifdef LOOKUP
+    int index = sorted_id(u_sorted, u_sort_width, gl_VertexID / VERTICES);
+#else
     int index = gl_VertexID / VERTICES;
+#endif
     ivec2 t = particle_texel(index, u_width);
     vec4 p = texelFetch(u_position, t, 0);
     vec4 s = texelFetch(u_static, t, 0);

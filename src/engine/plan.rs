@@ -103,7 +103,9 @@ pub fn sort_lines(scene: &SceneFile) -> Vec<String> {
         ),
         None => format!("sort: {} network, {} passes", s.variant.name(), s.passes),
     });
-    per_frame.push("gather position and static textures in sorted order".into());
+    if scene.render.lookup == crate::scene::Lookup::Gather {
+        per_frame.push("gather position and static textures in sorted order".into());
+    }
     per_frame
 }
 

@@ -6,16 +6,19 @@ pub mod connected;
 pub mod geometry;
 mod isosurface;
 mod keyframes;
+mod lookup;
 mod particles;
 mod sprite;
 mod style;
 mod target;
+mod vertex_path;
 
 pub use camera::{Camera, ViewOffset};
 pub use connected::{ConnectedRenderer, SURFACE_AMBIENT, SURFACE_LIGHT};
 pub use geometry::{GeometryRenderer, Mesh, Terrain, MAX_TERRAIN_CELLS};
 pub use isosurface::Surface;
 pub use keyframes::{relative_age, KeyframeRamp};
+pub use lookup::SortLayout;
 pub use particles::{FrameState, Motion, ParticleRenderer, QUAD_VERTICES};
 pub use sprite::{
     age_seconds, flipbook_tile, random_size, second_random, sprite_angle, third_random, SizeCurve,

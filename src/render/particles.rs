@@ -16,11 +16,12 @@
 //! Relative age = clamp(1 − position.w / statics.z, 0, 1).
 
 use super::atlas;
+use super::vertex_path::{vertex_path, VertexPath};
 use super::{Camera, ConnectedRenderer, FrameTarget, GeometryRenderer, ParticleStyle};
 use crate::error::{Error, Result};
 use crate::gl::{
-    Attribute, Blend, BlendComponent, BlendFactor, Buffer, BufferKind, BufferUsage, Context,
-    Defines, Depth, Draw, DrawState, PixelPack, Primitive, Program, Sampled, Texture, VertexArray,
+    Blend, BlendComponent, BlendFactor, Context, Defines, Depth, Draw, DrawState, Primitive,
+    Program, Sampled, Texture, VertexArray,
 };
 use crate::scene::{DrawMode, DrawPrimitive, RenderPath, Rotate};
 
@@ -69,14 +70,6 @@ pub struct FrameState<'a> {
     pub count: usize,
 }
 
-/// The vertex-buffer path's objects: the two buffers, the read framebuffer, the vertex array.
-struct VertexPath {
-    pack: PixelPack,
-    positions: Buffer,
-    statics: Buffer,
-    vao: VertexArray,
-}
-
 /// Draws particles from their state textures.
 pub struct ParticleRenderer {
     ctx: Context,
@@ -90,6 +83,8 @@ pub struct ParticleRenderer {
     atlas: Option<Texture>,
     geometry: Option<GeometryRenderer>,
     connected: Option<ConnectedRenderer>,
+    /// The index lookup's program variant and the sort texture's layout (Latta §3.4.4).
+    lookup: Option<(Program, super::SortLayout)>,
 }
 
 impl std::fmt::Debug for ParticleRenderer {
@@ -149,6 +144,7 @@ impl ParticleRenderer {
             atlas,
             geometry: None,
             connected: None,
+            lookup: None,
         })
     }
 
@@ -256,6 +252,9 @@ impl ParticleRenderer {
         if s.types.iter().any(|t| t.size_range != [1.0; 2]) {
             line.push_str(", sizes random within each type's size_range");
         }
+        if self.lookup.is_some() {
+            line.push_str(", through the sort's index (Latta §3.4.4: no gather)");
+        }
         if self.needs_spins() {
             line.push_str(", turned by the spin's angle");
         }
@@ -333,6 +332,50 @@ impl ParticleRenderer {
         state: &FrameState<'_>,
         camera: &Camera,
     ) -> Result<()> {
+        self.draw_through(target, state, camera, None)
+    }
+
+    /// Builds the index lookup's program for sort textures of `layout` (texture fetch only):
+    /// see [`draw_frame_sorted`](Self::draw_frame_sorted).
+    pub fn set_lookup(&mut self, layout: super::SortLayout) -> Result<()> {
+        if self.style.path != RenderPath::TextureFetch || self.connected.is_some() {
+            return Err(Error::InvalidInput(
+                "the index lookup fetches each particle's texel at its id: use path =                  \"texture_fetch\" and points or sprites"
+                    .into(),
+            ));
+        }
+        let mut d = super::style::style_defines(&self.ctx, &self.style)?;
+        d.extend(layout.defines());
+        let p = Program::new(
+            &self.ctx,
+            "render/particle.vert",
+            "render/particle.frag",
+            &d,
+        )?;
+        self.lookup = Some((p, layout));
+        Ok(())
+    }
+
+    /// [`draw_frame`](Self::draw_frame) in the order of the sort texture `sorted` (Latta §3.4.4):
+    /// vertex k draws the particle whose id is at sorted position k, fetched from the unsorted
+    /// `state`; needs [`set_lookup`](Self::set_lookup).
+    pub fn draw_frame_sorted(
+        &self,
+        target: &FrameTarget,
+        state: &FrameState<'_>,
+        camera: &Camera,
+        sorted: &Texture,
+    ) -> Result<()> {
+        self.draw_through(target, state, camera, Some(sorted))
+    }
+
+    fn draw_through(
+        &self,
+        target: &FrameTarget,
+        state: &FrameState<'_>,
+        camera: &Camera,
+        sorted: Option<&Texture>,
+    ) -> Result<()> {
         let count = state.count;
         let motion = self.frame_motion(state)?;
         let s = &self.style;
@@ -348,8 +391,20 @@ impl ParticleRenderer {
         if let Some(c) = &self.connected {
             return c.draw(target, state.positions, camera);
         }
-        let vertices = self.bind_inputs(state, motion)?;
-        let p = &self.program;
+        let p = match (sorted, &self.lookup) {
+            (None, _) => &self.program,
+            (Some(_), Some((p, layout))) => {
+                p.bind();
+                p.set_i32("u_sort_width", layout.width as i32);
+                p
+            }
+            (Some(_), None) => {
+                return Err(Error::InvalidInput(
+                    "drawing through the sorted index needs set_lookup first".into(),
+                ))
+            }
+        };
+        let vertices = self.bind_inputs(p, state, motion, sorted)?;
         let aspect = target.width() as f32 / target.height() as f32;
         p.set_mat4("u_view_proj", &camera.view_projection(aspect));
         p.set_vec2(
@@ -417,8 +472,10 @@ impl ParticleRenderer {
     /// textures), the atlas, spins and motion; gives the vertices to draw.
     fn bind_inputs(
         &self,
+        p: &Program,
         state: &FrameState<'_>,
         motion: Option<Motion<'_>>,
+        sorted: Option<&Texture>,
     ) -> Result<&VertexArray> {
         let (positions, statics, count) = (state.positions, state.statics, state.count);
         let s = &self.style;
@@ -427,7 +484,6 @@ impl ParticleRenderer {
             v.pack.copy_rows(positions, &v.positions, rows)?;
             v.pack.copy_rows(statics, &v.statics, rows)?;
         }
-        let p = &self.program;
         p.bind();
         let mut textures: Vec<(&str, Sampled)> = Vec::new();
         let vertices = match &self.vertex {
@@ -442,6 +498,7 @@ impl ParticleRenderer {
         if let Some(atlas) = &self.atlas {
             textures.push(("u_atlas", atlas.into()));
         }
+        textures.extend(sorted.map(|t| ("u_sorted", t.into())));
         if self.needs_spins() {
             let Some(spins) = state.spins else {
                 return Err(Error::InvalidInput(
@@ -501,49 +558,6 @@ impl ParticleRenderer {
             });
         }
     }
-}
-
-/// The vertex-buffer path: two buffers of `state_width`×`state_height` RGBA float vertices
-/// (positions and statics, packed from the state textures each frame) and their vertex array.
-fn vertex_path(ctx: &Context, state_width: u32, state_height: u32) -> Result<VertexPath> {
-    let bytes = state_width as u64 * state_height as u64 * 16;
-    if bytes > i32::MAX as u64 {
-        return Err(Error::InvalidInput(format!(
-            "particle state {state_width}x{state_height} needs vertex buffers of {bytes} \
-             bytes, over GL's limit of {} for one buffer: use the texture_fetch path or \
-             a smaller state",
-            i32::MAX
-        )));
-    }
-    let buffer = |label| {
-        Buffer::with_size(
-            ctx,
-            label,
-            BufferKind::PixelPack,
-            bytes as usize,
-            BufferUsage::StreamCopy,
-        )
-    };
-    let positions = buffer("position vertices")?;
-    let statics = buffer("static vertices")?;
-    let attribute = |buffer, location| Attribute {
-        buffer,
-        location,
-        components: 4,
-        stride: 16,
-        offset: 0,
-    };
-    let vao = VertexArray::with_attributes(
-        ctx,
-        "particle vertices",
-        &[attribute(&positions, 0), attribute(&statics, 1)],
-    )?;
-    Ok(VertexPath {
-        pack: PixelPack::new(ctx)?,
-        positions,
-        statics,
-        vao,
-    })
 }
 
 /// The state of the geometry's first pass: opaque with a depth write, before the particles. For

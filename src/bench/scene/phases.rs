@@ -30,7 +30,8 @@ pub(super) struct SortFloors<'a> {
     pub(super) floor2: &'a WriteFloor,
 }
 
-/// One frame's sorting in its phases: keys, network, gather.
+/// One frame's sorting in its phases: keys, network, and the gather unless the renderer draws
+/// through the sort's index (`gather` false).
 pub(super) fn sort_phases(
     ctx: &Context,
     on: &SortFloors,
@@ -38,6 +39,7 @@ pub(super) fn sort_phases(
     (sorter, sorted, spread, keyed): &mut BenchSort,
     sim: &ParticleSim,
     mode: &KeyMode,
+    gather: bool,
 ) -> Result<()> {
     let [w, h] = sim.size().to_array();
     let texels = w as usize * h as usize;
@@ -75,6 +77,10 @@ pub(super) fn sort_phases(
         t,
         fl * (passes - unpack) as f64 + fk * unpack as f64,
     );
+    if !gather {
+        // Latta §3.4.4's index lookup: the render pass reads the sort texture itself.
+        return Ok(());
+    }
     let f = on.timer.time(|| on.floor2.draw(sorted))?;
     let t = timed(on.timer, || {
         sorter.gather(&[sim.positions(), sim.statics()], sorted)

@@ -316,6 +316,29 @@ pub struct Render {
     /// angle integrated from the angular velocity of spinning spheres; needs `collisions.spin`).
     #[serde(default, skip_serializing_if = "is_age")]
     pub rotate: Rotate,
+    /// How the vertex stage finds the particles of alpha blending in sorted order: `gather`
+    /// (default: the state gathered into sorted textures first, UberFlow §4.3.1) or `index`
+    /// (Latta §3.4.4: each vertex reads the sorted (key, id) texture and fetches the state at
+    /// `id`).
+    #[serde(default, skip_serializing_if = "is_gather")]
+    pub lookup: Lookup,
+}
+
+/// How sorted particles are found for drawing (`render.lookup`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Lookup {
+    /// A gather pass copies the state into sorted textures, which the vertex stage reads at
+    /// its own index.
+    #[default]
+    Gather,
+    /// No gather: the vertex stage reads the sorted (key, id) texture at its index and fetches
+    /// the state at `id` (Latta §3.4.4's index lookup).
+    Index,
+}
+
+fn is_gather(l: &Lookup) -> bool {
+    *l == Lookup::Gather
 }
 
 fn is_age(r: &Rotate) -> bool {
@@ -350,6 +373,7 @@ impl Default for Render {
             background: [0.0; 3],
             geometry: false,
             rotate: Rotate::Age,
+            lookup: Lookup::Gather,
         }
     }
 }

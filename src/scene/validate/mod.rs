@@ -16,6 +16,7 @@ mod forces;
 mod neighbours;
 pub use neighbours::MAX_DEM_OMEGA_DT;
 mod render;
+mod render_options;
 mod spin;
 
 use super::locate::{Invalid, Key};

@@ -119,6 +119,7 @@ pub fn sorter_for(
     let fp24 = scene.particles.precision == crate::scene::Precision::Fp24;
     let options = crate::sort::SortOptions {
         passes_per_frame: p.passes_per_frame.map(|n| n as usize),
+        spread: scene.render.sort.spread,
         precision: fp24.then_some(crate::sort::precision::R300),
         id_table: fp24,
         blocked: p.shape,

@@ -33,6 +33,7 @@ pub mod cost;
 pub mod pile_depth;
 pub mod plot;
 pub mod sort_frames;
+pub mod sort_spread;
 pub mod stability;
 pub mod tables;
 

@@ -23,11 +23,11 @@ pub use forces::{
     VortexForm, Wind, WindForm, MAX_CUSTOM_FORCES,
 };
 pub use neighbours::{Dem, PairForce, Response, MAX_PAIR_FORCES};
-pub use render::Lookup;
 pub use render::{
     Blending, CameraSection, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath,
     Rotate, SortEntries, SortKey, SortSection, Variant, MAX_KEYFRAMES,
 };
+pub use render::{Lookup, Spread};
 
 pub(super) fn one() -> f32 {
     1.0

@@ -185,9 +185,30 @@ pub struct SortSection {
     pub key: SortKey,
     /// Spread one sort over frames with this many passes per frame (Latta).
     pub passes_per_frame: Option<u32>,
+    /// The order of the spread's passes: `even` (default) or `local` (the first merge stages
+    /// re-run between later ones; `crate::sort::spread`).
+    #[serde(default, skip_serializing_if = "is_even")]
+    pub spread: Spread,
     /// The blocked sort's entries: `exact` (default) or `compact` (4 bytes, the depth quantised
     /// beside the identifier: faster, lossy among particles at nearly the same depth).
     pub entries: Option<SortEntries>,
+}
+
+/// The order of passes of a sort spread over frames (`render.sort.spread`; the cycles are
+/// built in `crate::sort::spread`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Spread {
+    /// The network's passes in order (Latta §3.4.4).
+    #[default]
+    Even,
+    /// Weighted towards neighbours in the order (Latta §4's future work): the odd-even merge
+    /// sort's first stages, which sort runs of neighbours, re-run before every later stage.
+    Local,
+}
+
+fn is_even(s: &Spread) -> bool {
+    *s == Spread::Even
 }
 
 /// How the blocked sort stores an entry (`render.sort.entries`).

@@ -1,8 +1,9 @@
-//! `[render]` options of the drawing itself: the index lookup (Latta §3.4.4).
+//! `[render]` options of the drawing itself and its sort: the index lookup (Latta §3.4.4) and
+//! the order of a spread sort's passes.
 
 use super::{fail, path, Check};
 use crate::scene::locate::Key;
-use crate::scene::schema::{Blending, DrawMode, Lookup, RenderPath, SceneFile};
+use crate::scene::schema::{Blending, DrawMode, Lookup, RenderPath, SceneFile, Spread, Variant};
 
 use Key::Name as N;
 
@@ -23,6 +24,24 @@ pub(super) fn options(s: &SceneFile) -> Check {
             return Ok(());
         };
         return fail(at, format!("lookup = \"index\" {why}"));
+    }
+    let sort = &r.sort;
+    if sort.spread == Spread::Local {
+        let at = path(&[N("render"), N("sort"), N("spread")]);
+        if sort.passes_per_frame.is_none() {
+            return fail(
+                at,
+                "spread = \"local\" orders the passes of a sort spread over frames: set \
+                 passes_per_frame, or remove the key",
+            );
+        }
+        if sort.variant.is_some_and(|v| v != Variant::OddEven) {
+            return fail(
+                at,
+                "spread = \"local\" re-runs the odd-even merge sort's first stages, whose runs \
+                 all ascend: use variant = \"oddeven\"",
+            );
+        }
     }
     Ok(())
 }

@@ -23,6 +23,7 @@
 // FIRE_RAMP defined: the thesis's fire (Listing 3): the statics are the fire's velocities, whose
 // w is the wait; the total life is u_max_age - wait and the fragment stage colours the relative
 // age by the fire's ramp (render/fire_ramp.glsl); one size, no sprite.
+// SOFT defined: the particle's view depth goes to the fragment stage (soft particles).
 // SPRITES defined: the size is scaled by the particle's type and its size over life, and the
 // fragment stage textures the sprite from the atlas tile of its type, rotated by
 // angle0 + speed · age (render/sprite.glsl), or with ROTATE_SPIN by angle0 + the angle the
@@ -64,6 +65,9 @@ out vec4 v_color;         // straight (not premultiplied) colour and opacity
 out vec2 v_coord;         // quads: the corner's sprite coordinate, as gl_PointCoord (y down)
 flat out vec2 v_rotation; // cos and sin of the sprite's screen-space angle
 flat out vec2 v_tile;     // atlas tile origin in tile units
+#ifdef SOFT
+out float v_depth;        // the particle's view depth (clip w of its centre), for soft particles
+#endif
 #ifdef FIRE_RAMP
 uniform float u_max_age;  // the fire's cycle: life plus wait
 out float v_age;          // relative age, for the fire's ramp
@@ -111,6 +115,9 @@ void main() {
 #ifdef FIRE_RAMP
         v_age = 1.0;
 #endif
+#ifdef SOFT
+        v_depth = 0.0;
+#endif
         return;
     }
 #ifdef FIRE_RAMP
@@ -137,6 +144,9 @@ void main() {
     int tile = flipbook_tile(type, age, age_s);
     v_tile = vec2(float(tile & 1), float(tile >> 1));
     vec4 clip = u_view_proj * vec4(p.xyz, 1.0);
+#ifdef SOFT
+    v_depth = clip.w;
+#endif
 #ifdef SPRITES
     float size = u_point_size * random_size(type, s.w) * u_type_scale[type] * size_scale(type, age);
 #else

@@ -85,6 +85,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "render/cpu_points.frag",
     "render/geometry.vert",
     "render/geometry.frag",
+    "render/geometry_depth.frag",
     "render/cloth.vert",
     "render/cloth.frag",
     "render/strand.vert",

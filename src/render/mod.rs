@@ -8,6 +8,7 @@ mod isosurface;
 mod keyframes;
 mod lookup;
 mod particles;
+mod soft;
 mod sprite;
 mod style;
 mod target;

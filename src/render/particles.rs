@@ -85,6 +85,8 @@ pub struct ParticleRenderer {
     connected: Option<ConnectedRenderer>,
     /// The index lookup's program variant and the sort texture's layout (Latta §3.4.4).
     lookup: Option<(Program, super::SortLayout)>,
+    /// The geometry's view depth, for soft particles (`render.soft`).
+    soft: super::soft::SoftDepth,
 }
 
 impl std::fmt::Debug for ParticleRenderer {
@@ -145,6 +147,7 @@ impl ParticleRenderer {
             geometry: None,
             connected: None,
             lookup: None,
+            soft: Default::default(),
         })
     }
 
@@ -211,6 +214,9 @@ impl ParticleRenderer {
         if let Some(c) = &self.connected {
             names.push(c.pass_name());
             return names;
+        }
+        if s.soft > 0.0 && self.geometry.is_some() {
+            names.push("render geometry: view depth into a float texture (soft particles)".into());
         }
         if s.path == RenderPath::VertexBuffer {
             names.push("copy positions to vertex buffer (pixel pack)".to_owned());
@@ -388,6 +394,15 @@ impl ParticleRenderer {
             }
             g.draw(target, camera, &geometry_first(s.under()));
         }
+        let scene_depth = match (s.soft > 0.0, &self.geometry) {
+            (false, _) => None,
+            (true, Some(g)) => Some(self.soft.draw(&self.ctx, g, target, camera)?),
+            (true, None) => {
+                return Err(Error::InvalidInput(
+                    "soft particles fade against the drawn geometry: render.geometry = true".into(),
+                ))
+            }
+        };
         if let Some(c) = &self.connected {
             return c.draw(target, state.positions, camera);
         }
@@ -404,7 +419,7 @@ impl ParticleRenderer {
                 ))
             }
         };
-        let vertices = self.bind_inputs(p, state, motion, sorted)?;
+        let vertices = self.bind_inputs(p, state, motion, [sorted, scene_depth])?;
         let aspect = target.width() as f32 / target.height() as f32;
         p.set_mat4("u_view_proj", &camera.view_projection(aspect));
         p.set_vec2(
@@ -475,7 +490,7 @@ impl ParticleRenderer {
         p: &Program,
         state: &FrameState<'_>,
         motion: Option<Motion<'_>>,
-        sorted: Option<&Texture>,
+        [sorted, scene_depth]: [Option<&Texture>; 2],
     ) -> Result<&VertexArray> {
         let (positions, statics, count) = (state.positions, state.statics, state.count);
         let s = &self.style;
@@ -499,6 +514,10 @@ impl ParticleRenderer {
             textures.push(("u_atlas", atlas.into()));
         }
         textures.extend(sorted.map(|t| ("u_sorted", t.into())));
+        if let Some(t) = scene_depth {
+            textures.push(("u_scene_depth", t.into()));
+            p.set_f32("u_soft", s.soft);
+        }
         if self.needs_spins() {
             let Some(spins) = state.spins else {
                 return Err(Error::InvalidInput(

@@ -53,6 +53,14 @@ pub struct ParticleStyle {
     /// (Listing 3), its age from the fire's state (see [`FireRamp`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fire: Option<FireRamp>,
+    /// Soft particles (`render.soft`): metres in front of the drawn geometry over which the
+    /// opacity fades to 0; 0 is off.
+    #[serde(skip_serializing_if = "is_off")]
+    pub soft: f32,
+}
+
+fn is_off(v: &f32) -> bool {
+    *v == 0.0
 }
 
 /// The fire's colouring, a variant of the one particle renderer: white-yellow at birth, orange,
@@ -129,6 +137,7 @@ impl Default for ParticleStyle {
             depth_test: false,
             rotate: Rotate::Age,
             fire: None,
+            soft: 0.0,
         }
     }
 }
@@ -249,6 +258,7 @@ impl ParticleStyle {
             depth_test: r.geometry,
             rotate: r.rotate,
             fire: None,
+            soft: r.soft,
         }
     }
 
@@ -391,6 +401,9 @@ pub(super) fn style_defines(ctx: &Context, style: &ParticleStyle) -> Result<Defi
     }
     if style.mode == DrawMode::Sprites {
         defines.push(flag("SPRITES"));
+    }
+    if style.soft > 0.0 {
+        defines.push(flag("SOFT"));
     }
     if let Some(f) = style.fire {
         defines.push(flag("FIRE_RAMP"));

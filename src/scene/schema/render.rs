@@ -343,6 +343,15 @@ pub struct Render {
     /// `id`).
     #[serde(default, skip_serializing_if = "is_gather")]
     pub lookup: Lookup,
+    /// Soft particles: within this many metres in front of the drawn geometry a particle's
+    /// opacity fades to 0 (its view depth against the geometry's); 0, the default, is off.
+    /// Needs `geometry = true`.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub soft: f32,
+}
+
+fn is_zero(v: &f32) -> bool {
+    *v == 0.0
 }
 
 /// How sorted particles are found for drawing (`render.lookup`).
@@ -395,6 +404,7 @@ impl Default for Render {
             geometry: false,
             rotate: Rotate::Age,
             lookup: Lookup::Gather,
+            soft: 0.0,
         }
     }
 }

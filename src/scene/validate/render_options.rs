@@ -1,5 +1,5 @@
 //! `[render]` options of the drawing itself and its sort: the index lookup (Latta §3.4.4) and
-//! the order of a spread sort's passes.
+//! the order of a spread sort's passes, soft particles.
 
 use super::{fail, path, Check};
 use crate::scene::locate::Key;
@@ -24,6 +24,25 @@ pub(super) fn options(s: &SceneFile) -> Check {
             return Ok(());
         };
         return fail(at, format!("lookup = \"index\" {why}"));
+    }
+    if r.soft != 0.0 {
+        let at = path(&[N("render"), N("soft")]);
+        if !(r.soft > 0.0 && r.soft.is_finite()) {
+            return fail(
+                at,
+                format!(
+                    "soft {} must be a finite number of metres above 0 (0: off)",
+                    r.soft
+                ),
+            );
+        }
+        if !r.geometry || s.fire.is_some() || r.mode == DrawMode::Surface {
+            return fail(
+                at,
+                "soft fades particles near the drawn geometry: set geometry = true (points or \
+                 sprites), or remove the key",
+            );
+        }
     }
     let sort = &r.sort;
     if sort.spread == Spread::Local {

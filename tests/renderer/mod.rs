@@ -118,6 +118,7 @@ pub fn style(
         depth_test: false,
         rotate: texflow::scene::Rotate::Age,
         fire: None,
+        ..ParticleStyle::default()
     }
 }
 

@@ -87,3 +87,32 @@ fn index_lookup_needs_alpha_blending() {
         "{err}"
     );
 }
+
+/// `bench scene` with the index lookup: the sort's key pass and network are timed, no gather
+/// phase (there is none), and the render phase says it draws through the index.
+#[test]
+fn bench_scene_times_the_lookup_without_a_gather() {
+    let ctx = context();
+    let mut s = scene::load("smoke").unwrap();
+    s.render.lookup = Lookup::Index;
+    let opts = texflow::bench::SceneBenchOptions {
+        repeats: 2,
+        warmup_frames: Some(3),
+        resolution: Some([32, 32]),
+        ..Default::default()
+    };
+    let r = texflow::bench::bench_scene(&ctx, &s, &[16], &opts, |_| ()).unwrap();
+    let names: Vec<&str> = r[0].phases.iter().map(|p| p.phase.as_str()).collect();
+    assert!(
+        names.iter().any(|p| p.starts_with("sort network")),
+        "{names:?}"
+    );
+    assert!(!names.iter().any(|p| p.starts_with("gather")), "{names:?}");
+    assert!(
+        names
+            .iter()
+            .any(|p| p.starts_with("render") && p.contains("sort's index")),
+        "{names:?}"
+    );
+    no_gl_error(&ctx);
+}

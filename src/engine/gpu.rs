@@ -65,8 +65,7 @@ struct SortStage {
     key: SortKey,
     spread: bool,
     keyed: bool,
-    /// Latta §3.4.4's index lookup (`render.lookup = "index"`): no gather, the renderer draws
-    /// through the sort texture.
+    /// Latta §3.4.4's index lookup (`render.lookup = "index"`): no gather.
     lookup: bool,
     /// The simulation step the sorted textures were made at: a draw at the same step reuses
     /// them, so drawing a frame never advances the sort spread over frames a second time.

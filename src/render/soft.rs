@@ -46,6 +46,6 @@ impl SoftDepth {
             })?;
         fb.clear([FAR; 4]);
         geometry.draw_depth(fb, &camera.view_projection(w as f32 / h as f32))?;
-        Ok(&fb.textures()[0])
+        Ok(fb.only_texture())
     }
 }

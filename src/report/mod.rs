@@ -119,7 +119,7 @@ pub fn sections() -> Vec<Section> {
         },
         Section {
             name: "sort_frames",
-            run: sort_frames::section,
+            run: sort_spread::section,
         },
         Section {
             name: "collisions",

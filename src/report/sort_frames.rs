@@ -471,14 +471,9 @@ pub fn section(
             row.inversions_max, row.orbit_deg_per_s
         ));
     }
-    let weighted = super::sort_spread::run(ctx, opts.size, progress)?;
-    let json = out.join("sort_spread.json");
-    super::write_json(&json, &weighted)?;
-    let mut files = write_files(&r, out)?;
-    files.push(json);
     Ok(SectionOutput {
-        files,
-        markdown: markdown(&r) + "\n" + &super::sort_spread::markdown(&weighted),
+        files: write_files(&r, out)?,
+        markdown: markdown(&r),
         warnings,
     })
 }

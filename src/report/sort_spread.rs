@@ -8,7 +8,7 @@
 use serde::Serialize;
 
 use super::sort_frames::{scene, sortedness, SpreadSweep};
-use super::{Progress, Size};
+use super::{Progress, ReportOptions, SectionOutput, Size};
 use crate::engine::ParticleEngine;
 use crate::error::{Error, Result};
 use crate::gl::Context;
@@ -134,6 +134,23 @@ fn measure(
         visible as f64 / frames as f64,
         inversions as f64 / frames as f64,
     ))
+}
+
+/// The `sort_frames` section of `report all`: [`super::sort_frames::section`], then this
+/// comparison (`sort_spread.json` and its table).
+pub fn section(
+    ctx: &Context,
+    opts: &ReportOptions,
+    out: &std::path::Path,
+    progress: Progress<'_>,
+) -> Result<SectionOutput> {
+    let mut s = super::sort_frames::section(ctx, opts, out, progress)?;
+    let weighted = run(ctx, opts.size, progress)?;
+    let json = out.join("sort_spread.json");
+    super::write_json(&json, &weighted)?;
+    s.files.push(json);
+    s.markdown = s.markdown + "\n" + &markdown(&weighted);
+    Ok(s)
 }
 
 /// The comparison as a markdown section.

@@ -7,6 +7,8 @@
 //   default:      straight colour, alpha (additive SRC_ALPHA, ONE; over SRC_ALPHA, 1 - SRC_ALPHA)
 //   PREMULTIPLIED: colour · alpha, alpha (the under operator, 1 - DST_ALPHA, ONE)
 //   MULTIPLY:     mix(1, colour, alpha): the destination is multiplied by it (DST_COLOR, ZERO)
+// SOFT: soft particles, the opacity scaled by (geometry depth - particle depth) / u_soft, clamped
+// to [0, 1], the geometry's view depth fetched at the fragment's pixel (render/geometry_depth.frag).
 // FIRE_RAMP: the thesis's fire, coloured by its age ramp and faded in and out over the life
 // (additive, so the order of particles is irrelevant); FIRE_SOFT makes each point a round sprite
 // whose opacity falls to 0 at its rim, (1 - r^2)^2.
@@ -18,6 +20,12 @@ in vec2 v_coord;
 flat in vec2 v_rotation;
 flat in vec2 v_tile;
 layout(location = 0) out vec4 o_color;
+
+#ifdef SOFT
+uniform sampler2D u_scene_depth; // the drawn geometry's view depth per pixel (1e30: none)
+uniform float u_soft;            // metres over which the opacity fades in front of it
+in float v_depth;
+#endif
 
 #ifdef FIRE_RAMP
 #include "render/fire_ramp.glsl"
@@ -49,6 +57,11 @@ void main() {
     // Outside the tile's inscribed circle a rotated corner would leave the tile: nothing there.
     float inside = dot(r, r) <= 0.25 ? 1.0 : 0.0;
     c = vec4(c.rgb * tex.rgb, c.a * tex.a * inside);
+#endif
+#ifdef SOFT
+    // Soft particles: the opacity falls to 0 as the particle nears the geometry behind it.
+    float scene_depth = texelFetch(u_scene_depth, ivec2(gl_FragCoord.xy), 0).r;
+    c.a *= clamp((scene_depth - v_depth) / u_soft, 0.0, 1.0);
 #endif
 #if defined(PREMULTIPLIED)
     o_color = vec4(c.rgb * c.a, c.a);

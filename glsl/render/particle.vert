@@ -16,9 +16,14 @@
 //     motion from where it was u_stretch seconds ago, x - v·u_stretch, to where it is (motion
 //     blur): length |v_screen|·u_stretch + size, width size. No point size limit applies.
 // Everything after the fetch is shared, so both paths draw bit-identical images.
+// LOOKUP defined (texture fetch only; Latta §3.4.4's index lookup): vertex k draws the particle
+// at sorted position k / VERTICES, reading its identifier from the sort texture u_sorted
+// (sort/sorted_id.glsl, with the sort's PACKED and ID_TABLE) and fetching the state there: the
+// same texels a gather would have copied, so the same image, without the gather pass.
 // FIRE_RAMP defined: the thesis's fire (Listing 3): the statics are the fire's velocities, whose
 // w is the wait; the total life is u_max_age - wait and the fragment stage colours the relative
 // age by the fire's ramp (render/fire_ramp.glsl); one size, no sprite.
+// SOFT defined: the particle's view depth goes to the fragment stage (soft particles).
 // SPRITES defined: the size is scaled by the particle's type and its size over life, and the
 // fragment stage textures the sprite from the atlas tile of its type, rotated by
 // angle0 + speed · age (render/sprite.glsl), or with ROTATE_SPIN by angle0 + the angle the
@@ -35,6 +40,11 @@ layout(location = 1) in vec4 a_static;
 uniform sampler2D u_position;
 uniform sampler2D u_static;
 uniform int u_width;
+#endif
+#ifdef LOOKUP
+uniform sampler2D u_sorted;      // the sort's (key, id) entries
+uniform int u_sort_width;        // entries per row of the sort
+#include "sort/sorted_id.glsl"
 #endif
 #ifdef ROTATE_SPIN
 uniform sampler2D u_spin;        // spinning spheres: (angular velocity, angle about z)
@@ -55,6 +65,9 @@ out vec4 v_color;         // straight (not premultiplied) colour and opacity
 out vec2 v_coord;         // quads: the corner's sprite coordinate, as gl_PointCoord (y down)
 flat out vec2 v_rotation; // cos and sin of the sprite's screen-space angle
 flat out vec2 v_tile;     // atlas tile origin in tile units
+#ifdef SOFT
+out float v_depth;        // the particle's view depth (clip w of its centre), for soft particles
+#endif
 #ifdef FIRE_RAMP
 uniform float u_max_age;  // the fire's cycle: life plus wait
 out float v_age;          // relative age, for the fire's ramp
@@ -79,7 +92,11 @@ void main() {
     vec4 p = a_position;
     vec4 s = a_static;
 #else
+#ifdef LOOKUP
+    int index = sorted_id(u_sorted, u_sort_width, gl_VertexID / VERTICES);
+#else
     int index = gl_VertexID / VERTICES;
+#endif
     ivec2 t = particle_texel(index, u_width);
     vec4 p = texelFetch(u_position, t, 0);
     vec4 s = texelFetch(u_static, t, 0);
@@ -97,6 +114,9 @@ void main() {
         v_tile = vec2(0.0);
 #ifdef FIRE_RAMP
         v_age = 1.0;
+#endif
+#ifdef SOFT
+        v_depth = 0.0;
 #endif
         return;
     }
@@ -129,6 +149,9 @@ void main() {
     int tile = flipbook_tile(type, age, age_s);
     v_tile = vec2(float(tile & 1), float(tile >> 1));
     vec4 clip = u_view_proj * vec4(p.xyz, 1.0);
+#ifdef SOFT
+    v_depth = clip.w;
+#endif
 #ifdef SPRITES
     float size = u_point_size * random_size(type, s.w) * u_type_scale[type] * size_scale(type, age);
 #else

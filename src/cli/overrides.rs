@@ -108,7 +108,8 @@ impl Overrides {
     /// (`--iterations`), so that an error about the key names the option.
     pub fn apply_naming(&self, scene: &mut SceneFile, options: &[(&str, &str)]) -> Result<()> {
         if let Some(p) = self.particles {
-            scene.particles.size = p;
+            // Below the scene's count the point size grows to keep the look (scene::resize).
+            scene.resize_particles(p);
         }
         if let Some(r) = self.resolution {
             scene.render.resolution = r;

@@ -67,6 +67,8 @@ struct SortStage {
     key: SortKey,
     spread: bool,
     keyed: bool,
+    /// Latta §3.4.4's index lookup (`render.lookup = "index"`): no gather.
+    lookup: bool,
     /// The simulation step the sorted textures were made at: a draw at the same step reuses
     /// them, so drawing a frame never advances the sort spread over frames a second time.
     ordered_at: Option<u64>,
@@ -98,6 +100,7 @@ impl SortStage {
             key: scene.render.sort.key,
             spread: p.passes_per_frame.is_some(),
             keyed: false,
+            lookup: scene.render.lookup == crate::scene::Lookup::Index,
             ordered_at: None,
         }))
     }
@@ -117,6 +120,7 @@ pub fn sorter_for(
     let fp24 = scene.particles.precision == crate::scene::Precision::Fp24;
     let options = crate::sort::SortOptions {
         passes_per_frame: p.passes_per_frame.map(|n| n as usize),
+        spread: scene.render.sort.spread,
         precision: fp24.then_some(crate::sort::precision::R300),
         id_table: fp24,
         blocked: p.shape,
@@ -124,6 +128,16 @@ pub fn sorter_for(
     };
     let sorter = crate::sort::Sorter::new(ctx, p.variant, p.size[0], p.size[1], options)?;
     Ok(Some((sorter, p)))
+}
+
+/// The layout of `sorter`'s texture, for the renderer's index lookup (Latta §3.4.4).
+pub fn sort_layout(sorter: &crate::sort::Sorter) -> crate::render::SortLayout {
+    let o = sorter.options();
+    crate::render::SortLayout {
+        width: sorter.width(),
+        packed: sorter.variant().packed(),
+        id_mantissa: o.precision.filter(|_| o.id_table).map(|f| f.mantissa_bits),
+    }
 }
 
 /// A framebuffer of `scene`'s state size with one RGBA32F attachment per name: where a sort
@@ -203,6 +217,9 @@ impl<S: Simulation> GpuEngine<S> {
             )?);
         }
         let sort = SortStage::new(ctx, scene, &renderer)?;
+        if let Some(s) = sort.as_ref().filter(|s| s.lookup) {
+            renderer.set_lookup(sort_layout(&s.sorter))?;
+        }
         let camera = crate::render::Camera::from(&scene.render.camera);
         Ok(GpuEngine {
             target: if scene.render.geometry || surface {
@@ -283,10 +300,30 @@ impl<S: Simulation> GpuEngine<S> {
     ) -> Result<()> {
         let count = self.sim.drawn().count;
         renderer.clear(&self.target);
+        let [w, h] = self.sim.size();
+        let texels = w as usize * h as usize;
+        let user = self.sim.user_states();
+        let unsorted = |count| {
+            let d = self.sim.drawn();
+            crate::render::FrameState {
+                positions: d.positions,
+                statics: d.statics,
+                motion: self.motion(),
+                time: self.sim.time() as f32,
+                spins: d.spins,
+                count,
+                user: &user,
+            }
+        };
         match self.sort.as_ref().filter(|_| sorted) {
+            // Latta §3.4.4: every texel drawn through the sorted index (dead ones sort last).
+            Some(s) if s.lookup => renderer.draw_frame_sorted(
+                &self.target,
+                &unsorted(texels),
+                &self.camera,
+                s.sorter.keys(),
+            )?,
             Some(s) => {
-                let [w, h] = self.sim.size();
-                let texels = w as usize * h as usize;
                 // Dead particles sort last (+inf keys), so the live ones are a prefix.
                 let motion = self.motion().map(|m| match m {
                     crate::render::Motion::Velocity(_) => {
@@ -317,20 +354,7 @@ impl<S: Simulation> GpuEngine<S> {
                     _ => renderer.draw_frame(&self.target, &state, &self.camera)?,
                 }
             }
-            None => {
-                let d = self.sim.drawn();
-                let user = self.sim.user_states();
-                let state = crate::render::FrameState {
-                    positions: d.positions,
-                    statics: d.statics,
-                    motion: self.motion(),
-                    time: self.sim.time() as f32,
-                    spins: d.spins,
-                    count,
-                    user: &user,
-                };
-                renderer.draw_frame(&self.target, &state, &self.camera)?;
-            }
+            None => renderer.draw_frame(&self.target, &unsorted(count), &self.camera)?,
         }
         self.ctx.check_error("drawing a frame")
     }
@@ -382,6 +406,10 @@ impl<S: Simulation> GpuEngine<S> {
         seen("keys", &s.sorter)?;
         s.sorter.sort_frame();
         seen("network", &s.sorter)?;
+        if s.lookup {
+            s.ordered_at = Some(steps);
+            return Ok(true);
+        }
         let mut sources = vec![d.positions, d.statics];
         if self.renderer.needs_motion() {
             sources.extend(d.velocities.or(d.previous));
@@ -449,9 +477,9 @@ impl<S: Simulation> GpuEngine<S> {
     }
 
     /// The positions and statics in drawing order after the last [`draw`](Self::draw) (alpha
-    /// blending only).
+    /// blending with the gather only: the index lookup gathers nothing).
     pub fn sorted(&self) -> Option<&crate::gl::Framebuffer> {
-        self.sort.as_ref().map(|s| &s.sorted)
+        self.sort.as_ref().filter(|s| !s.lookup).map(|s| &s.sorted)
     }
 
     /// The camera.

@@ -23,7 +23,8 @@ mod run;
 pub use contract::{build, timed, Engine, EngineKind, StateDump, DUMP_NAMES};
 pub use cpu::{CpuEngine, CpuSim, FramePhases};
 pub use gpu::{
-    compact_depth_range, gather_target, key_mode, sorter_for, GpuEngine, ParticleEngine,
+    compact_depth_range, gather_target, key_mode, sort_layout, sorter_for, GpuEngine,
+    ParticleEngine,
 };
 pub use lit::{half_angle_keys, lit_renderer};
 pub use run::{

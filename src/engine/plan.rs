@@ -103,6 +103,12 @@ pub fn sort_lines(scene: &SceneFile) -> Vec<String> {
         }
     ));
     per_frame.push(match s.passes_per_frame {
+        Some(n) if r.sort.spread == crate::scene::Spread::Local => format!(
+            "sort: {} network, {n} passes per frame, its first {} stages re-run before each \
+             later one (local spread)",
+            s.variant.name(),
+            crate::sort::spread::LOCAL_STAGES
+        ),
         Some(n) => format!(
             "sort: {} network, {n} of its {} passes per frame (spread over {} frames)",
             s.variant.name(),
@@ -111,7 +117,9 @@ pub fn sort_lines(scene: &SceneFile) -> Vec<String> {
         ),
         None => format!("sort: {} network, {} passes", s.variant.name(), s.passes),
     });
-    per_frame.push("gather position and static textures in sorted order".into());
+    if scene.render.lookup == crate::scene::Lookup::Gather {
+        per_frame.push("gather position and static textures in sorted order".into());
+    }
     per_frame
 }
 

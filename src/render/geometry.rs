@@ -366,6 +366,8 @@ pub fn describe(scene: &SceneFile) -> String {
 /// Draws a scene's colliders.
 pub struct GeometryRenderer {
     program: Program,
+    /// The view-depth program of soft particles, built at its first use.
+    depth_program: std::cell::OnceCell<Program>,
     buffer: Buffer,
     vao: VertexArray,
     count: u32,
@@ -417,6 +419,7 @@ impl GeometryRenderer {
         )?;
         Ok(GeometryRenderer {
             program,
+            depth_program: std::cell::OnceCell::new(),
             count: mesh.len() as u32,
             buffer,
             vao,
@@ -455,6 +458,34 @@ impl GeometryRenderer {
             count: self.count,
             state,
         });
+    }
+
+    /// Draws the triangles' view depth into `fb` (R32F with depth, cleared by the caller) for
+    /// soft particles: render/geometry_depth.frag.
+    pub fn draw_depth(&self, fb: &crate::gl::Framebuffer, view_proj: &glam::Mat4) -> Result<()> {
+        if self.depth_program.get().is_none() {
+            let v = "render/geometry.vert";
+            let p = Program::new(&self.ctx, v, "render/geometry_depth.frag", &Defines::new())?;
+            let _ = self.depth_program.set(p);
+        }
+        let Some(p) = self.depth_program.get() else {
+            return Err(Error::InvalidInput("the geometry's depth program".into()));
+        };
+        p.bind();
+        p.set_mat4("u_view_proj", view_proj);
+        self.ctx.draw(&Draw {
+            program: p,
+            target: fb,
+            viewport: None,
+            vertices: &self.vao,
+            primitive: Primitive::Triangles,
+            count: self.count,
+            state: &DrawState {
+                depth: crate::gl::Depth::Write,
+                ..DrawState::REPLACE
+            },
+        });
+        Ok(())
     }
 }
 

@@ -7,11 +7,14 @@ pub mod geometry;
 mod halfangle;
 mod isosurface;
 mod keyframes;
+mod lookup;
 mod particles;
+mod soft;
 mod sprite;
 mod style;
 mod target;
 mod user_color;
+mod vertex_path;
 
 pub use camera::{Camera, ViewOffset};
 pub use connected::{ConnectedRenderer, SURFACE_AMBIENT, SURFACE_LIGHT};
@@ -19,6 +22,7 @@ pub use geometry::{GeometryRenderer, Mesh, Terrain, MAX_TERRAIN_CELLS};
 pub use halfangle::{light_view, HalfAngle, HalfAngleRenderer, SlicePasses};
 pub use isosurface::Surface;
 pub use keyframes::{relative_age, KeyframeRamp};
+pub use lookup::SortLayout;
 pub use particles::{FrameState, Motion, ParticleRenderer, QUAD_VERTICES};
 pub use sprite::{
     age_seconds, flipbook_tile, random_size, second_random, sprite_angle, third_random, SizeCurve,

@@ -16,11 +16,12 @@
 //! Relative age = clamp(1 − position.w / statics.z, 0, 1).
 
 use super::atlas;
+use super::vertex_path::{vertex_path, VertexPath};
 use super::{Camera, ConnectedRenderer, FrameTarget, GeometryRenderer, ParticleStyle};
 use crate::error::{Error, Result};
 use crate::gl::{
-    Attribute, Blend, BlendComponent, BlendFactor, Buffer, BufferKind, BufferUsage, Context,
-    Defines, Depth, Draw, DrawState, PixelPack, Primitive, Program, Sampled, Texture, VertexArray,
+    Blend, BlendComponent, BlendFactor, Context, Defines, Depth, Draw, DrawState, Primitive,
+    Program, Sampled, Texture, VertexArray,
 };
 use crate::scene::{DrawMode, DrawPrimitive, RenderPath, Rotate};
 
@@ -71,14 +72,6 @@ pub struct FrameState<'a> {
     pub user: &'a [&'a Texture],
 }
 
-/// The vertex-buffer path's objects: the two buffers, the read framebuffer, the vertex array.
-struct VertexPath {
-    pack: PixelPack,
-    positions: Buffer,
-    statics: Buffer,
-    vao: VertexArray,
-}
-
 /// Draws particles from their state textures.
 pub struct ParticleRenderer {
     ctx: Context,
@@ -92,6 +85,10 @@ pub struct ParticleRenderer {
     atlas: Option<Texture>,
     geometry: Option<GeometryRenderer>,
     connected: Option<ConnectedRenderer>,
+    /// The index lookup's program variant and the sort texture's layout (Latta §3.4.4).
+    lookup: Option<(Program, super::SortLayout)>,
+    /// The geometry's view depth, for soft particles (`render.soft`).
+    soft: super::soft::SoftDepth,
 }
 
 impl std::fmt::Debug for ParticleRenderer {
@@ -155,6 +152,8 @@ impl ParticleRenderer {
             atlas,
             geometry: None,
             connected: None,
+            lookup: None,
+            soft: Default::default(),
         })
     }
 
@@ -243,6 +242,9 @@ impl ParticleRenderer {
             names.push(c.pass_name());
             return names;
         }
+        if s.soft > 0.0 && self.geometry.is_some() {
+            names.push("render geometry: view depth into a float texture (soft particles)".into());
+        }
         if s.path == RenderPath::VertexBuffer {
             names.push("copy positions to vertex buffer (pixel pack)".to_owned());
             names.push("copy statics to vertex buffer (pixel pack)".to_owned());
@@ -282,6 +284,9 @@ impl ParticleRenderer {
         let mut line = format!("render {mode} ({path}, {}{depth})", s.blend_name());
         if s.types.iter().any(|t| t.size_range != [1.0; 2]) {
             line.push_str(", sizes random within each type's size_range");
+        }
+        if self.lookup.is_some() {
+            line.push_str(", through the sort's index (Latta §3.4.4: no gather)");
         }
         if self.needs_spins() {
             line.push_str(", turned by the spin's angle");
@@ -361,6 +366,50 @@ impl ParticleRenderer {
         state: &FrameState<'_>,
         camera: &Camera,
     ) -> Result<()> {
+        self.draw_through(target, state, camera, None)
+    }
+
+    /// Builds the index lookup's program for sort textures of `layout` (texture fetch only):
+    /// see [`draw_frame_sorted`](Self::draw_frame_sorted).
+    pub fn set_lookup(&mut self, layout: super::SortLayout) -> Result<()> {
+        if self.style.path != RenderPath::TextureFetch || self.connected.is_some() {
+            return Err(Error::InvalidInput(
+                "the index lookup fetches each particle's texel at its id: use path =                  \"texture_fetch\" and points or sprites"
+                    .into(),
+            ));
+        }
+        let mut d = super::style::style_defines(&self.ctx, &self.style)?;
+        d.extend(layout.defines());
+        let p = Program::new(
+            &self.ctx,
+            "render/particle.vert",
+            "render/particle.frag",
+            &d,
+        )?;
+        self.lookup = Some((p, layout));
+        Ok(())
+    }
+
+    /// [`draw_frame`](Self::draw_frame) in the order of the sort texture `sorted` (Latta §3.4.4):
+    /// vertex k draws the particle whose id is at sorted position k, fetched from the unsorted
+    /// `state`; needs [`set_lookup`](Self::set_lookup).
+    pub fn draw_frame_sorted(
+        &self,
+        target: &FrameTarget,
+        state: &FrameState<'_>,
+        camera: &Camera,
+        sorted: &Texture,
+    ) -> Result<()> {
+        self.draw_through(target, state, camera, Some(sorted))
+    }
+
+    fn draw_through(
+        &self,
+        target: &FrameTarget,
+        state: &FrameState<'_>,
+        camera: &Camera,
+        sorted: Option<&Texture>,
+    ) -> Result<()> {
         let count = state.count;
         let motion = self.frame_motion(state)?;
         let s = &self.style;
@@ -373,11 +422,32 @@ impl ParticleRenderer {
             }
             g.draw(target, camera, &geometry_first(s.under()));
         }
+        let scene_depth = match (s.soft > 0.0, &self.geometry) {
+            (false, _) => None,
+            (true, Some(g)) => Some(self.soft.draw(&self.ctx, g, target, camera)?),
+            (true, None) => {
+                return Err(Error::InvalidInput(
+                    "soft particles fade against the drawn geometry: render.geometry = true".into(),
+                ))
+            }
+        };
         if let Some(c) = &self.connected {
             return c.draw(target, state.positions, camera);
         }
-        let vertices = self.bind_inputs(state, motion)?;
-        let p = &self.program;
+        let p = match (sorted, &self.lookup) {
+            (None, _) => &self.program,
+            (Some(_), Some((p, layout))) => {
+                p.bind();
+                p.set_i32("u_sort_width", layout.width as i32);
+                p
+            }
+            (Some(_), None) => {
+                return Err(Error::InvalidInput(
+                    "drawing through the sorted index needs set_lookup first".into(),
+                ))
+            }
+        };
+        let vertices = self.bind_inputs(p, state, motion, [sorted, scene_depth])?;
         let aspect = target.width() as f32 / target.height() as f32;
         p.set_mat4("u_view_proj", &camera.view_projection(aspect));
         p.set_vec2(
@@ -445,8 +515,10 @@ impl ParticleRenderer {
     /// textures), the atlas, spins and motion; gives the vertices to draw.
     fn bind_inputs(
         &self,
+        p: &Program,
         state: &FrameState<'_>,
         motion: Option<Motion<'_>>,
+        [sorted, scene_depth]: [Option<&Texture>; 2],
     ) -> Result<&VertexArray> {
         let (positions, statics, count) = (state.positions, state.statics, state.count);
         let s = &self.style;
@@ -455,7 +527,6 @@ impl ParticleRenderer {
             v.pack.copy_rows(positions, &v.positions, rows)?;
             v.pack.copy_rows(statics, &v.statics, rows)?;
         }
-        let p = &self.program;
         p.bind();
         let mut textures: Vec<(&str, Sampled)> = Vec::new();
         let vertices = match &self.vertex {
@@ -469,6 +540,11 @@ impl ParticleRenderer {
         };
         if let Some(atlas) = &self.atlas {
             textures.push(("u_atlas", atlas.into()));
+        }
+        textures.extend(sorted.map(|t| ("u_sorted", t.into())));
+        if let Some(t) = scene_depth {
+            textures.push(("u_scene_depth", t.into()));
+            p.set_f32("u_soft", s.soft);
         }
         if self.needs_spins() {
             let Some(spins) = state.spins else {
@@ -540,49 +616,6 @@ impl ParticleRenderer {
             });
         }
     }
-}
-
-/// The vertex-buffer path: two buffers of `state_width`×`state_height` RGBA float vertices
-/// (positions and statics, packed from the state textures each frame) and their vertex array.
-fn vertex_path(ctx: &Context, state_width: u32, state_height: u32) -> Result<VertexPath> {
-    let bytes = state_width as u64 * state_height as u64 * 16;
-    if bytes > i32::MAX as u64 {
-        return Err(Error::InvalidInput(format!(
-            "particle state {state_width}x{state_height} needs vertex buffers of {bytes} \
-             bytes, over GL's limit of {} for one buffer: use the texture_fetch path or \
-             a smaller state",
-            i32::MAX
-        )));
-    }
-    let buffer = |label| {
-        Buffer::with_size(
-            ctx,
-            label,
-            BufferKind::PixelPack,
-            bytes as usize,
-            BufferUsage::StreamCopy,
-        )
-    };
-    let positions = buffer("position vertices")?;
-    let statics = buffer("static vertices")?;
-    let attribute = |buffer, location| Attribute {
-        buffer,
-        location,
-        components: 4,
-        stride: 16,
-        offset: 0,
-    };
-    let vao = VertexArray::with_attributes(
-        ctx,
-        "particle vertices",
-        &[attribute(&positions, 0), attribute(&statics, 1)],
-    )?;
-    Ok(VertexPath {
-        pack: PixelPack::new(ctx)?,
-        positions,
-        statics,
-        vao,
-    })
 }
 
 /// The state of the geometry's first pass: opaque with a depth write, before the particles. For

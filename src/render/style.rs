@@ -56,6 +56,14 @@ pub struct ParticleStyle {
     /// `render.color`: the colour by the user's expression of the user states.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub user_color: Option<super::user_color::UserColor>,
+    /// Soft particles (`render.soft`): metres in front of the drawn geometry over which the
+    /// opacity fades to 0; 0 is off.
+    #[serde(skip_serializing_if = "is_off")]
+    pub soft: f32,
+}
+
+fn is_off(v: &f32) -> bool {
+    *v == 0.0
 }
 
 /// The fire's colouring, a variant of the one particle renderer: white-yellow at birth, orange,
@@ -133,6 +141,7 @@ impl Default for ParticleStyle {
             rotate: Rotate::Age,
             fire: None,
             user_color: None,
+            soft: 0.0,
         }
     }
 }
@@ -254,6 +263,7 @@ impl ParticleStyle {
             rotate: r.rotate,
             fire: None,
             user_color: None,
+            soft: r.soft,
         }
     }
 
@@ -397,6 +407,9 @@ pub(super) fn style_defines(ctx: &Context, style: &ParticleStyle) -> Result<Defi
     }
     if style.mode == DrawMode::Sprites {
         defines.push(flag("SPRITES"));
+    }
+    if style.soft > 0.0 {
+        defines.push(flag("SOFT"));
     }
     if let Some(f) = style.fire {
         defines.push(flag("FIRE_RAMP"));

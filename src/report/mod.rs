@@ -33,6 +33,7 @@ pub mod cost;
 pub mod pile_depth;
 pub mod plot;
 pub mod sort_frames;
+pub mod sort_spread;
 pub mod stability;
 pub mod tables;
 
@@ -118,7 +119,7 @@ pub fn sections() -> Vec<Section> {
         },
         Section {
             name: "sort_frames",
-            run: sort_frames::section,
+            run: sort_spread::section,
         },
         Section {
             name: "collisions",

@@ -7,6 +7,7 @@ mod gpu;
 pub mod network;
 pub mod precision;
 pub mod schedule;
+pub mod spread;
 
 pub use gpu::{BlockedShape, KeyMode, Quantiser, SortOptions, Sorter, Variant};
 pub use network::{entry_less, Entry, Step};

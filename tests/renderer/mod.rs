@@ -118,7 +118,7 @@ pub fn style(
         depth_test: false,
         rotate: texflow::scene::Rotate::Age,
         fire: None,
-        user_color: None,
+        ..ParticleStyle::default()
     }
 }
 

@@ -471,7 +471,7 @@ fn particles(
     Ok((phases, median(&frames[1..]), live))
 }
 
-/// The frame's sort, in its phases (keys, network, gather), with the key mode and depth range
+/// The frame's sort, in its phases (keys, network, gather unless `render.lookup = "index"`), with the key mode and depth range
 /// the engine's sort stage uses for the camera of this frame.
 fn frame_sort_phases(
     ctx: &Context,
@@ -491,5 +491,6 @@ fn frame_sort_phases(
         let (lo, hi) = if back_to_front { (-hi, -lo) } else { (lo, hi) };
         sort.0.set_key_range(lo, hi)?;
     }
-    sort_phases(ctx, floors, phases, sort, engine.sim(), &mode)
+    let gather = s.render.lookup == crate::scene::Lookup::Gather;
+    sort_phases(ctx, floors, phases, sort, engine.sim(), &mode, gather)
 }

@@ -31,7 +31,8 @@ pub(super) struct SortFloors<'a> {
     pub(super) floor2: &'a WriteFloor,
 }
 
-/// One frame's sorting in its phases: keys, network, gather.
+/// One frame's sorting in its phases: keys, network, and the gather unless the renderer draws
+/// through the sort's index (`gather` false).
 pub(super) fn sort_phases(
     ctx: &Context,
     on: &SortFloors,
@@ -39,6 +40,7 @@ pub(super) fn sort_phases(
     (sorter, sorted, spread, keyed): &mut BenchSort,
     sim: &ParticleSim,
     mode: &KeyMode,
+    gather: bool,
 ) -> Result<()> {
     let [w, h] = sim.size().to_array();
     let texels = w as usize * h as usize;
@@ -87,6 +89,10 @@ pub(super) fn sort_phases(
     let fd = fld.times(network).plus(fkd.times(unpack as u64));
     let name = format!("sort network ({})", sorter.variant().name());
     phases.push_bounds(&name, t, Some(td), &[(floor, f, Some(fd))]);
+    if !gather {
+        // Latta §3.4.4's index lookup: the render pass reads the sort texture itself.
+        return Ok(());
+    }
     let (f, fd) = drawn(ctx, || on.timer.time(|| on.floor2.draw(sorted)))?;
     let (t, td) = drawn(ctx, || {
         timed(on.timer, || {

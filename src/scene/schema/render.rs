@@ -185,9 +185,30 @@ pub struct SortSection {
     pub key: SortKey,
     /// Spread one sort over frames with this many passes per frame (Latta).
     pub passes_per_frame: Option<u32>,
+    /// The order of the spread's passes: `even` (default) or `local` (the first merge stages
+    /// re-run between later ones; `crate::sort::spread`).
+    #[serde(default, skip_serializing_if = "is_even")]
+    pub spread: Spread,
     /// The blocked sort's entries: `exact` (default) or `compact` (4 bytes, the depth quantised
     /// beside the identifier: faster, lossy among particles at nearly the same depth).
     pub entries: Option<SortEntries>,
+}
+
+/// The order of passes of a sort spread over frames (`render.sort.spread`; the cycles are
+/// built in `crate::sort::spread`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Spread {
+    /// The network's passes in order (Latta §3.4.4).
+    #[default]
+    Even,
+    /// Weighted towards neighbours in the order (Latta §4's future work): the odd-even merge
+    /// sort's first stages, which sort runs of neighbours, re-run before every later stage.
+    Local,
+}
+
+fn is_even(s: &Spread) -> bool {
+    *s == Spread::Even
 }
 
 /// How the blocked sort stores an entry (`render.sort.entries`).
@@ -397,10 +418,42 @@ pub struct Render {
     /// The light of `lighting = "half_angle"`.
     #[serde(default)]
     pub light: LightSection,
+    /// How the vertex stage finds the particles of alpha blending in sorted order: `gather`
+    /// (default: the state gathered into sorted textures first, UberFlow §4.3.1) or `index`
+    /// (Latta §3.4.4: each vertex reads the sorted (key, id) texture and fetches the state at
+    /// `id`).
+    #[serde(default, skip_serializing_if = "is_gather")]
+    pub lookup: Lookup,
+    /// Soft particles: within this many metres in front of the drawn geometry a particle's
+    /// opacity fades to 0 (its view depth against the geometry's); 0, the default, is off.
+    /// Needs `geometry = true`.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub soft: f32,
 }
 
 fn unlit(l: &Lighting) -> bool {
     *l == Lighting::None
+}
+
+fn is_zero(v: &f32) -> bool {
+    *v == 0.0
+}
+
+/// How sorted particles are found for drawing (`render.lookup`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Lookup {
+    /// A gather pass copies the state into sorted textures, which the vertex stage reads at
+    /// its own index.
+    #[default]
+    Gather,
+    /// No gather: the vertex stage reads the sorted (key, id) texture at its index and fetches
+    /// the state at `id` (Latta §3.4.4's index lookup).
+    Index,
+}
+
+fn is_gather(l: &Lookup) -> bool {
+    *l == Lookup::Gather
 }
 
 fn is_age(r: &Rotate) -> bool {
@@ -439,6 +492,8 @@ impl Default for Render {
             lighting: Lighting::None,
             slices: thirty_two(),
             light: LightSection::default(),
+            lookup: Lookup::Gather,
+            soft: 0.0,
         }
     }
 }

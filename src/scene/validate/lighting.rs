@@ -61,6 +61,11 @@ pub(super) fn lighting(s: &SceneFile) -> Check {
         ("path", r.path != RenderPath::TextureFetch, "texture_fetch"),
         ("rotate", r.rotate != Rotate::Age, "age"),
         ("geometry", r.geometry, "false (no colliders drawn)"),
+        (
+            "lookup",
+            r.lookup == crate::scene::Lookup::Index,
+            "gather (the slices read the gathered state)",
+        ),
     ];
     if let Some((key, _, want)) = refused.iter().find(|(_, bad, _)| *bad) {
         return fail(

@@ -20,6 +20,7 @@ pub use lighting::{MAX_LIGHT_RESOLUTION, MAX_SLICES};
 mod neighbours;
 pub use neighbours::MAX_DEM_OMEGA_DT;
 mod render;
+mod render_options;
 mod spin;
 mod state;
 pub use state::STATE_INPUTS;

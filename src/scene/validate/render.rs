@@ -14,6 +14,7 @@ use Key::{Index as I, Name as N};
 pub(super) fn render(s: &SceneFile) -> Check {
     let r = &s.render;
     frame_and_camera(r)?;
+    super::render_options::options(s)?;
     keyframes(&[N("render"), N("keyframes")], &r.keyframes)?;
     if s.fire.is_some() {
         fire_render(r)?;

@@ -82,6 +82,8 @@ pub struct Sorter {
     state: PingPong,
     passes: Vec<Pass>,
     next: usize,
+    /// The pass indices of one spread cycle, in order ([`crate::sort::spread::cycle`]).
+    cycle: Vec<usize>,
     programs: HashMap<ProgramKey, Program>,
     geometry: Vec<Geometry>,
     fullscreen: FullscreenPass,
@@ -186,6 +188,7 @@ impl Sorter {
             state,
             passes: Vec::new(),
             next: 0,
+            cycle: Vec::new(),
             programs: HashMap::new(),
             geometry: Vec::new(),
             fullscreen: FullscreenPass::new(ctx)?,
@@ -194,6 +197,24 @@ impl Sorter {
             blocked: None,
         };
         sorter.build(block)?;
+        let steps: Vec<_> = (sorter.passes.iter())
+            .filter_map(|p| match p {
+                Pass::Fragment(s) => Some(*s),
+                _ => None,
+            })
+            .collect();
+        sorter.cycle = match options.spread {
+            crate::sort::spread::Spread::Even => (0..sorter.passes.len()).collect(),
+            spread => crate::sort::spread::cycle(&steps, spread)
+                .filter(|_| steps.len() == sorter.passes.len())
+                .ok_or_else(|| {
+                    Error::InvalidInput(
+                        "the local spread re-runs the odd-even merge sort's first stages: use \
+                         variant = \"oddeven\""
+                            .into(),
+                    )
+                })?,
+        };
         sorter.id_table = id_table_texture(ctx, width, height, &options)?;
         ctx.check_error("building the sorter")?;
         Ok(sorter)
@@ -461,33 +482,39 @@ impl Sorter {
     pub fn sort_frame(&mut self) -> usize {
         match self.options.passes_per_frame {
             Some(n) => {
-                if self.next == self.passes.len() {
+                if self.next == self.cycle.len() {
                     self.next = 0;
                 }
                 self.run_passes(n)
             }
             None => {
                 self.next = 0;
-                self.run_passes(self.passes.len())
+                self.run_passes(self.cycle.len())
             }
         }
     }
 
     /// Runs every remaining pass of the sequence.
     pub fn sort(&mut self) {
-        self.run_passes(self.passes.len());
+        self.run_passes(self.cycle.len());
+    }
+
+    /// Passes of one spread cycle: [`pass_count`](Self::pass_count), plus the stages the
+    /// `local` spread re-runs.
+    pub fn cycle_len(&self) -> usize {
+        self.cycle.len()
     }
 
     /// Runs up to `n` further passes (Latta: a full sort spread over frames); returns how many
     /// ran. After the last pass the sequence starts again from the first.
     pub fn run_passes(&mut self, n: usize) -> usize {
         let mut done = 0;
-        while done < n && self.next < self.passes.len() {
-            self.run_pass(self.next);
+        while done < n && self.next < self.cycle.len() {
+            self.run_pass(self.cycle[self.next]);
             self.next += 1;
             done += 1;
         }
-        if self.next == self.passes.len() && done < n {
+        if self.next == self.cycle.len() && done < n {
             self.next = 0;
         }
         done

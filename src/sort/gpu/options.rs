@@ -70,6 +70,9 @@ pub struct SortOptions {
     /// Passes [`Sorter::sort_frame`](super::Sorter::sort_frame) runs per frame; `None`: the whole sort every frame. Latta
     /// spreads one odd-even sort over 20-50 frames (§3.4.4); the sequence restarts when done.
     pub passes_per_frame: Option<usize>,
+    /// The order of passes the spread runs ([`Spread`](crate::sort::spread::Spread)): `Even`
+    /// (the network in order) or `Local` (the first merge stages re-run between later ones).
+    pub spread: crate::sort::spread::Spread,
     /// Entries per fragment and lane pinning of the blocked variant.
     pub blocked: BlockedShape,
 }
@@ -82,6 +85,7 @@ impl Default for SortOptions {
             id_table: false,
             steps_per_pass: 2,
             passes_per_frame: None,
+            spread: crate::sort::spread::Spread::Even,
             blocked: BlockedShape::default(),
         }
     }

@@ -175,6 +175,12 @@ impl ParticleRenderer {
         let mut r = Self::new(&self.ctx, self.style.clone(), self.width, self.height)?;
         r.program = Program::new(&self.ctx, "render/particle.vert", fragment, &defines)?;
         r.atlas = None;
+        if let Some((_, layout)) = &self.lookup {
+            let mut d = defines.clone();
+            d.extend(layout.defines());
+            let p = Program::new(&self.ctx, "render/particle.vert", fragment, &d)?;
+            r.lookup = Some((p, *layout));
+        }
         Ok(Some(r))
     }
 
@@ -374,7 +380,8 @@ impl ParticleRenderer {
     pub fn set_lookup(&mut self, layout: super::SortLayout) -> Result<()> {
         if self.style.path != RenderPath::TextureFetch || self.connected.is_some() {
             return Err(Error::InvalidInput(
-                "the index lookup fetches each particle's texel at its id: use path =                  \"texture_fetch\" and points or sprites"
+                "the index lookup fetches each particle's texel at its id: use path = \"texture_fetch\" \
+                 and points or sprites"
                     .into(),
             ));
         }

@@ -89,7 +89,7 @@ fn a_scene_trace_ends_with_the_frame_render_writes() {
     let common = ["--particles", "16", "--resolution", "48x32", "-q"];
     let mut args = vec![
         "trace",
-        "smoke",
+        "smoke-unlit",
         "--frame",
         "3",
         "--out",
@@ -100,7 +100,7 @@ fn a_scene_trace_ends_with_the_frame_render_writes() {
     assert!(o.status.success(), "{}", stderr(&o));
     let mut args = vec![
         "render",
-        "smoke",
+        "smoke-unlit",
         "--frames",
         "4",
         "--out",

@@ -253,7 +253,7 @@ fn bench_step_keeps_the_old_scene_flag() {
 fn bench_scene_times_every_phase_of_a_scene_file_against_its_floor() {
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("smoke.toml");
-    let text = texflow(&["scene", "list", "smoke"]);
+    let text = texflow(&["scene", "list", "smoke-unlit"]);
     assert!(text.status.success(), "{}", stderr(&text));
     std::fs::write(&file, &text.stdout).unwrap();
     let o = texflow(&[

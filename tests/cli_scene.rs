@@ -39,7 +39,7 @@ fn scene_check_accepts_good_files_and_locates_errors() {
 
 #[test]
 fn scene_passes_prints_the_plan() {
-    let o = texflow(&["scene", "passes", "smoke"]);
+    let o = texflow(&["scene", "passes", "smoke-unlit"]);
     assert!(o.status.success(), "{}", text(&o));
     let t = text(&o);
     assert!(t.contains("sort: oddeven") && t.contains("emit"), "{t}");
@@ -119,10 +119,10 @@ fn render_draws_the_cpu_engine_too() {
         differ.count() * 50 <= (96 * 64),
         "the CPU and GPU frames differ in over 2 %"
     );
-    let refused = dir.path().join("smoke");
+    let refused = dir.path().join("smoke-unlit");
     let o = texflow(&[
         "render",
-        "smoke",
+        "smoke-unlit",
         "--engine",
         "cpu",
         "--frames",

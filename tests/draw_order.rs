@@ -48,7 +48,7 @@ fn sorted_distances(
 /// first (none lost or duplicated), farthest first; e3 sorts front to back.
 #[test]
 fn alpha_blending_draws_in_sorted_order() {
-    for (name, descending) in [("smoke", true), ("e3", false)] {
+    for (name, descending) in [("smoke-unlit", true), ("e3", false)] {
         for (frame, (d, live, prefix)) in sorted_distances(name, None, 40).iter().enumerate() {
             assert_eq!(
                 d.len(),
@@ -75,7 +75,7 @@ fn alpha_blending_draws_in_sorted_order() {
 /// number of inversions stays far below that of an unsorted sequence, and no particle is lost.
 #[test]
 fn sort_spread_over_frames_keeps_most_of_the_order() {
-    let frames = sorted_distances("smoke", Some(8), 60);
+    let frames = sorted_distances("smoke-unlit", Some(8), 60);
     let (d, live, _) = frames.last().unwrap();
     assert_eq!(d.len(), *live);
     let n = d.len();
@@ -96,7 +96,7 @@ fn sort_spread_over_frames_keeps_most_of_the_order() {
 #[test]
 fn orbiting_camera_is_followed_by_the_sort() {
     let ctx = context();
-    let mut s = scene::load("smoke").unwrap();
+    let mut s = scene::load("smoke-unlit").unwrap();
     s.particles.size = [16, 16];
     s.render.resolution = [64, 64];
     s.render.camera.orbit = 90.0;

@@ -50,9 +50,9 @@ fn run(name: &str, frames: u64, every: u64, dump_every: Option<u64>) -> MemorySi
 
 #[test]
 fn what_is_written_does_not_change_any_frame() {
-    // Every built-in scene, the spread sort of `smoke` among them: frame 20 is the same whether
-    // every frame, every 20th or every 10th with dumps was written.
-    for name in scene::BUILTIN.iter().copied().chain(["smoke+spread"]) {
+    // Every built-in scene, the spread sort of `smoke-unlit` among them: frame 20 is the same
+    // whether every frame, every 20th or every 10th with dumps was written.
+    for name in scene::BUILTIN.iter().copied().chain(["smoke-unlit+spread"]) {
         let all = run(name, 21, 1, None);
         let sparse = run(name, 21, 20, None);
         let dumped = run(name, 21, 10, Some(3));
@@ -101,7 +101,7 @@ fn the_sort_follows_the_viewers_camera() {
     // The live window turns the camera (`Engine::set_view`): alpha blending must stay back to
     // front for the new eye, not the scene's.
     let ctx = common::context();
-    let mut s = scene::load("smoke").unwrap();
+    let mut s = scene::load("smoke-unlit").unwrap();
     s.particles.size = [16, 16];
     s.render.resolution = [32, 32];
     let mut e = texflow::ParticleEngine::new(&ctx, &s, 2).unwrap();

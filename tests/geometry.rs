@@ -164,7 +164,7 @@ fn frames_change_only_where_the_geometry_is() {
 
 #[test]
 fn geometry_without_colliders_is_refused_with_its_place() {
-    let src = scene::builtin_source("smoke").unwrap();
+    let src = scene::builtin_source("smoke-unlit").unwrap();
     let src = src.replacen("[render]\n", "[render]\ngeometry = true\n", 1);
     let line = src
         .lines()

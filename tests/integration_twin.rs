@@ -154,14 +154,14 @@ fn dropped_births_are_counted_and_predicted() {
 // fp24 scenes sort with the paper's identifiers
 // ---------------------------------------------------------------------------------------------
 
-/// `smoke` at 16x16 in `precision = "fp24"`: its sort runs with UberFlow §4.3.1's identifier
+/// `smoke-unlit` at 16x16 in `precision = "fp24"`: its sort runs with UberFlow §4.3.1's identifier
 /// table (24-bit floats cannot hold every index of a large texture exactly), and what it gathers
 /// is still every live particle of the state, back to front from the eye, none lost or
 /// duplicated: the identifiers were decoded to the right particles.
 #[test]
 fn fp24_scenes_sort_with_the_identifier_table() {
     let ctx = context();
-    let src = scene::builtin_source("smoke")
+    let src = scene::builtin_source("smoke-unlit")
         .unwrap()
         .replace("size = [64, 64]", "size = [16, 16]\nprecision = \"fp24\"")
         .replace("resolution = [512, 512]", "resolution = [64, 64]");

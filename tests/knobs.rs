@@ -132,7 +132,7 @@ fn every_command_that_takes_a_scene_takes_set() {
         &[
             "scene",
             "passes",
-            "smoke",
+            "smoke-unlit",
             "--set",
             "render.blending=additive",
         ],
@@ -158,7 +158,7 @@ fn every_command_that_takes_a_scene_takes_set() {
     let o = texflow(&[
         "scene",
         "passes",
-        "smoke",
+        "smoke-unlit",
         "--set",
         "render.blending=additive",
     ]);

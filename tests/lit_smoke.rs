@@ -70,7 +70,7 @@ fn axis_sort_matches_a_cpu_sort() {
 #[test]
 fn the_engine_sorts_lit_scenes_along_the_half_angle() {
     let ctx = context();
-    let mut s = scene::load("smoke-lit").unwrap();
+    let mut s = scene::load("smoke").unwrap();
     s.particles.size = [16, 16];
     s.render.resolution = [32, 32];
     let mut engine = texflow::ParticleEngine::new(&ctx, &s, 1).unwrap();
@@ -311,8 +311,8 @@ fn a_particle_behind_a_dense_layer_is_darker_as_the_twin_says() {
 /// The lighting keys' bad values are refused at their line and column.
 #[test]
 fn lighting_keys_are_refused_at_their_place() {
-    let lit = scene::builtin_source("smoke-lit").unwrap();
-    let unlit = scene::builtin_source("smoke").unwrap();
+    let lit = scene::builtin_source("smoke").unwrap();
+    let unlit = scene::builtin_source("smoke-unlit").unwrap();
     let cases = [
         (
             lit.replace("slices = 32", "slices = 0"),
@@ -357,7 +357,7 @@ fn lighting_keys_are_refused_at_their_place() {
         assert!(text.contains(words), "{text}");
         assert!(err.is_bad_input());
     }
-    scene::parse("lit.toml", lit).expect("smoke-lit is valid");
+    scene::parse("lit.toml", lit).expect("smoke is valid");
 }
 
 /// `bench scene` times a lit scene's own passes: the keys along the half-angle vector, the
@@ -371,7 +371,7 @@ fn bench_scene_times_the_slices_passes() {
         resolution: Some([64, 64]),
         ..Default::default()
     };
-    let s = scene::load("smoke-lit").unwrap();
+    let s = scene::load("smoke").unwrap();
     let records = texflow::bench::bench_scene(&ctx, &s, &[16], &opts, |_| {}).unwrap();
     let phases = &records[0].phases;
     for name in [

@@ -420,14 +420,14 @@ fn builtin_pass_lists_hold_what_each_scene_needs() {
     }
     assert!(!text("fire").contains("sort"));
     assert!(text("collide").contains("staggered lattice"));
-    let smoke = text("smoke");
+    let smoke = text("smoke-unlit");
     assert!(
         smoke.contains("sort: oddeven") && smoke.contains("back to front"),
         "{smoke}"
     );
     assert!(text("e3").contains("front to back"));
     // Colliders only where the scene has them.
-    for n in ["e1", "e3", "smoke"] {
+    for n in ["e1", "e3", "smoke-unlit"] {
         assert!(!text(n).contains("colliders"), "{n}");
     }
     assert!(text("e2").contains("height field") && text("snow").contains("height field"));

@@ -469,18 +469,18 @@ fn point_size_limit_and_quad_paths() {
     no_gl_error(&ctx);
 }
 
-/// The engine draws an alpha-blended, sorted scene (smoke) as quads and stretched quads: the sort
-/// gathers the velocities (or Verlet's previous positions) with the state; without exposure a
+/// The engine draws an alpha-blended, sorted scene (smoke-unlit) as quads and stretched quads: the
+/// sort gathers the velocities (or Verlet's previous positions) with the state; without exposure a
 /// stretched quad is the quad, and flat quads are the points; with exposure the streaks cover more.
 #[test]
 fn engine_draws_sorted_scenes_as_quads_and_streaks() {
     use texflow::engine::ParticleEngine;
     use texflow::scene::{parse, Integrator};
     let ctx = context();
-    let src = texflow::scene::builtin_source("smoke").unwrap();
+    let src = texflow::scene::builtin_source("smoke-unlit").unwrap();
     for integrator in [Integrator::Euler, Integrator::Verlet] {
         let frame = |primitive, stretch: f32| {
-            let mut scene = parse("smoke", src).unwrap();
+            let mut scene = parse("smoke-unlit", src).unwrap();
             scene.particles.size = [16, 16];
             scene.render.resolution = [64, 64];
             scene.render.mode = DrawMode::Points;

@@ -41,7 +41,7 @@ fn the_sorter_runs_the_passes_its_schedule_lists() {
 #[test]
 fn the_plan_counts_the_passes_the_engines_sorter_runs() {
     let ctx = context();
-    for (name, variant) in [("e3", None), ("smoke", None), ("e3", Some("blocked"))] {
+    for (name, variant) in [("e3", None), ("smoke-unlit", None), ("e3", Some("blocked"))] {
         let mut scene = texflow::scene::load(name).unwrap();
         scene.particles.size = [32, 32];
         if let Some(v) = variant {

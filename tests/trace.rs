@@ -89,7 +89,7 @@ fn a_scene_trace_ends_with_the_frame_render_writes() {
     let common = ["--particles", "16", "--resolution", "48x32", "-q"];
     let mut args = vec![
         "trace",
-        "smoke",
+        "smoke-unlit",
         "--frame",
         "3",
         "--out",
@@ -100,7 +100,7 @@ fn a_scene_trace_ends_with_the_frame_render_writes() {
     assert!(o.status.success(), "{}", stderr(&o));
     let mut args = vec![
         "render",
-        "smoke",
+        "smoke-unlit",
         "--frames",
         "4",
         "--out",
@@ -142,4 +142,41 @@ fn a_scene_trace_ends_with_the_frame_render_writes() {
     let keyed = key_picture("sort keys");
     let before: Vec<f32> = keyed.iter().flatten().copied().collect();
     assert!(before.windows(2).any(|w| w[1] + 1e-3 < w[0]));
+}
+
+/// A sparse state (the fountain's first live rows of a 128×128 state at frame 10) is pictured
+/// cropped to the rows that hold its live particles, so most of each position picture is live
+/// particles rather than black, and the legend says which rows it shows.
+#[test]
+fn sparse_state_pictures_show_the_live_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("t");
+    let o = texflow(&[
+        "trace",
+        "fountain",
+        "--frame",
+        "10",
+        "--particles",
+        "128",
+        "--resolution",
+        "32x32",
+        "--out",
+        out.to_str().unwrap(),
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let index = std::fs::read_to_string(out.join("index.md")).unwrap();
+    assert!(index.contains("of 128 hold the live particles"), "{index}");
+    let names = pngs(&out);
+    let shots: Vec<_> = names
+        .iter()
+        .filter(|n| n.ends_with("_position.png"))
+        .collect();
+    assert!(!shots.is_empty(), "{names:?}");
+    for name in shots {
+        let img = rgb(&out.join(name));
+        let live = img.pixels().filter(|p| p.0 != [0, 0, 0]).count();
+        let fraction = live as f64 / (img.width() * img.height()) as f64;
+        assert!(fraction > 0.5, "{name}: {fraction} of the picture is live");
+    }
 }

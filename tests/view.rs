@@ -136,5 +136,5 @@ fn window_screenshot_equals_the_headless_frame() {
     let dir = tempfile::tempdir().unwrap();
     // Additive points (the fountain) and an alpha-blended, GPU-sorted scene (smoke).
     compare(&display, dir.path(), "fountain", 8);
-    compare(&display, dir.path(), "smoke", 8);
+    compare(&display, dir.path(), "smoke-unlit", 8);
 }

@@ -40,7 +40,7 @@ impl From<EngineArg> for EngineKind {
 #[command(allow_negative_numbers = true)]
 pub struct RenderArgs {
     /// Scene to render: a built-in name (`texflow scene list`: fire, fire-points, snow,
-    /// fountain, smoke, smoke-lit, e1, e2, e3, collide, gas, mesh, cloth, hair, spin, fireworks, dem, flicker) or a .toml scene file.
+    /// fountain, smoke, smoke-unlit, e1, e2, e3, collide, gas, mesh, cloth, hair, spin, fireworks, dem, flicker) or a .toml scene file.
     #[arg(default_value = scene::DEFAULT_SCENE)]
     scene: String,
     /// Number of frames to simulate.

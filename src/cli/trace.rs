@@ -17,7 +17,7 @@ use super::{at_least_one, bad, parse_size, targets, Common};
     after_help = format!(
         "Limits: a scene trace draws state textures up to {MAX_TRACE_SIDE}x{MAX_TRACE_SIDE} and \
          runs to frame {MAX_TRACE_FRAME} at most; a sort trace is N×N keys with N a power of two \
-         from 2 to {MAX_SORT_SIDE}.\n\nExamples:\n  texflow trace smoke --frame 10 --particles 32 \
+         from 2 to {MAX_SORT_SIDE}.\n\nExamples:\n  texflow trace smoke-unlit --frame 10 --particles 32 \
          --out trace-smoke\n  texflow trace sort --variant oddeven --size 16 --out trace-sort"
     )
 )]

@@ -20,7 +20,7 @@ pub type ParticleEngine = GpuEngine<ParticleSim>;
 /// ```
 /// use texflow::{gl::Context, scene, ParticleEngine};
 /// let ctx = Context::new(0)?;
-/// let mut smoke = scene::load("smoke")?;            // alpha blending: sorted on the GPU
+/// let mut smoke = scene::load("smoke-unlit")?;      // alpha blending: sorted on the GPU
 /// smoke.particles.size = [16, 16];
 /// smoke.render.resolution = [32, 32];
 /// let mut engine = ParticleEngine::new(&ctx, &smoke, 1)?;

@@ -6,7 +6,7 @@
 //! | 0 | 0 | soft round blob |
 //! | 1 | 1 | six-armed snowflake (star) |
 //! | 2 | 2 | soft smoke puff (noisy blob) |
-//! | 3 | 3 | ring (spark) with an empty centre |
+//! | 3 | 3 | ring (spark) with an empty centre and one bead inside it (a marking that turns) |
 //!
 //! Tile `k` covers texels `[(k % 2)·T, (k % 2 + 1)·T) × [(k / 2)·T, (k / 2 + 1)·T)` in GL texel
 //! coordinates (y up; row 0 is the first row of the upload). The shape is in alpha, colour is
@@ -170,10 +170,13 @@ pub fn shape(k: u32, x: f32, y: f32) -> [f32; 4] {
             let shade = 0.7 + 0.3 * n;
             [shade, shade, shade, (density * edge).clamp(0.0, 1.0)]
         }
-        // Ring: a Gaussian band at radius 0.3, empty inside.
+        // Ring: a Gaussian band at radius 0.3, empty at the centre, with one bead inside it
+        // towards +y: a marking that shows which way the sprite has turned (`spin`'s rolling).
         _ => {
             let band = (-((r - 0.3) / 0.045).powi(2)).exp();
-            [1.0, 1.0, 1.0, band * edge]
+            let bead_r = (x * x + (y - 0.17).powi(2)).sqrt();
+            let bead = 1.0 - smoothstep(0.04, 0.06, bead_r);
+            [1.0, 1.0, 1.0, band.max(bead) * edge]
         }
     }
 }
@@ -319,6 +322,11 @@ mod tests {
         assert!(polar(3, &img, 0.1, 0.0) < 0.01);
         for deg in [0.0, 90.0, 135.0, 300.0] {
             assert!(polar(3, &img, 0.3, deg) > 0.9, "ring at {deg}°");
+        }
+        // The bead marks one side only, so a turn of the sprite shows (half a turn too).
+        assert!(polar(3, &img, 0.17, 90.0) > 0.9);
+        for deg in [0.0, 180.0, 270.0] {
+            assert!(polar(3, &img, 0.17, deg) < 0.01, "bead at {deg}°");
         }
     }
 

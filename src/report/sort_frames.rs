@@ -2,8 +2,8 @@
 //! only `passes_per_frame` passes of the odd-even merge sort run per frame while the camera
 //! moves and particles are born and die, against the GPU time that buys.
 //!
-//! The scene is the built-in `smoke` (alpha-blended sprites, sorted back to front) at a larger
-//! state, with the camera orbiting (`render.camera.orbit`) slowly (a pan of 10°/s: frame-to-frame
+//! The scene is the built-in `smoke-unlit` (alpha-blended sprites, sorted back to front) at a
+//! larger state, with the camera orbiting (`render.camera.orbit`) slowly (a pan of 10°/s: frame-to-frame
 //! coherence, what Latta's spread sort relies on) and fast (60°/s: one sort of 105 frames spans
 //! 105° of turn, and depth orders that far apart are anti-correlated). For each speed and number
 //! of passes per frame
@@ -178,11 +178,11 @@ pub struct SpreadReport {
     pub rows: Vec<SpreadRow>,
 }
 
-/// The measured scene: `smoke` at side × side particles, its emitter scaled to fill about three
-/// quarters of the state, the camera orbiting at `orbit` degrees per second, an odd-even merge
+/// The measured scene: `smoke-unlit` at side × side particles, its emitter scaled to fill about
+/// three quarters of the state, the camera orbiting at `orbit` degrees per second, an odd-even merge
 /// sort of `passes` per frame (`None`: the whole sort).
 pub fn scene(side: u32, passes: Option<usize>, orbit: f32) -> Result<SceneFile> {
-    let mut s = crate::scene::load("smoke")?;
+    let mut s = crate::scene::load("smoke-unlit")?;
     s.particles.size = [side, side];
     let e = s.emitters.allocator.first_mut().ok_or_else(|| {
         Error::InvalidInput("the smoke scene has no allocator emitter to scale".into())
@@ -438,7 +438,7 @@ fn curves(r: &SpreadReport, x: &dyn Fn(&SpreadRow) -> f64) -> Vec<Series> {
 pub fn markdown(r: &SpreadReport) -> String {
     format!(
         "## Sort spread over frames (Latta §3.4.4)\n\n\
-         `smoke` at {0}×{0} particles with the camera orbiting, {1:.1} s of emission before \
+         `smoke-unlit` at {0}×{0} particles with the camera orbiting, {1:.1} s of emission before \
          measuring; odd-even merge sort of {2} passes, keys refreshed every frame in the order \
          reached so far; whole spread sorts measured. Inversions and displacements among live \
          particles after each frame's sort stage; GPU time ({3}) of that stage. Plots: \

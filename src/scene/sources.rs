@@ -18,7 +18,7 @@ builtin_scenes![
     "snow",
     "fountain",
     "smoke",
-    "smoke-lit",
+    "smoke-unlit",
     "e1",
     "e2",
     "e3",

@@ -114,6 +114,21 @@ pub fn positions(texels: &[f32], width: u32, height: u32, bounds: [[f32; 3]; 2])
     })
 }
 
+/// The rows `(first, last)` of a `width`×`height` state of positions (RGBA texels: xyz, life)
+/// between which all its live particles (life > 0) lie, when they span at most half its rows (a
+/// sparse state: its pictures are cropped to them, else it is mostly black); `None` otherwise.
+pub fn sparse_rows(texels: &[f32], width: u32, height: u32) -> Option<(u32, u32)> {
+    let w = 4 * width as usize;
+    let live = |r: &usize| {
+        texels
+            .get(r * w..(r + 1) * w)
+            .is_some_and(|row| row.chunks_exact(4).any(|p| p[3] > 0.0))
+    };
+    let first = (0..height as usize).find(live)?;
+    let last = (0..height as usize).rev().find(live)?;
+    (2 * (last - first + 1) <= height as usize).then_some((first as u32, last as u32))
+}
+
 /// The bounding box of the live positions (life > 0), or a unit box when none is alive.
 pub fn live_bounds(texels: &[f32]) -> [[f32; 3]; 2] {
     let mut b = [[f32::INFINITY; 3], [f32::NEG_INFINITY; 3]];

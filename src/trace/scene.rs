@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::picture::{finite_range, live_bounds, positions, scalar};
+use super::picture::{finite_range, live_bounds, positions, scalar, sparse_rows};
 use super::Written;
 use crate::engine::{GpuEngine, ParticleEngine};
 use crate::error::{Error, Result};
@@ -103,12 +103,14 @@ impl Recorder<'_> {
         }
         let b = self.bounds.unwrap_or([[0.0; 3], [1.0; 3]]);
         let live = texels.chunks_exact(4).filter(|p| p[3] > 0.0).count();
+        let rows = sparse_rows(texels, size[0], size[1]);
+        let (shown, shown_size) = crop(texels, 4, size, rows);
         Shot {
             what: what.to_owned(),
-            image: positions(texels, size[0], size[1], b),
+            image: positions(shown, shown_size[0], shown_size[1], b),
             legend: format!(
                 "red, green, blue = x, y, z within [{:.3}, {:.3}] × [{:.3}, {:.3}] × [{:.3}, \
-                 {:.3}] ({}); black: dead (life ≤ 0). {live} of {} texels live.",
+                 {:.3}] ({}); black: dead (life ≤ 0). {live} of {} texels live.{}",
                 b[0][0],
                 b[1][0],
                 b[0][1],
@@ -120,10 +122,51 @@ impl Recorder<'_> {
                 } else {
                     "the live particles' box at the first picture of the frame"
                 },
-                texels.len() / 4
+                texels.len() / 4,
+                rows_note(rows, size[1])
             ),
         }
     }
+}
+
+/// `values` (`channels` floats a texel, `size` texels) cropped to the rows `rows` (first,
+/// last), and the cropped size; all of them without rows.
+fn crop(
+    values: &[f32],
+    channels: usize,
+    size: [u32; 2],
+    rows: Option<(u32, u32)>,
+) -> (&[f32], [u32; 2]) {
+    match rows {
+        None => (values, size),
+        Some((a, b)) => {
+            let w = size[0] as usize * channels;
+            let end = ((b as usize + 1) * w).min(values.len());
+            (
+                &values[(a as usize * w).min(end)..end],
+                [size[0], b - a + 1],
+            )
+        }
+    }
+}
+
+/// What a legend says of a picture cropped to the rows of the live particles (sparse states
+/// are black but for a strip otherwise).
+fn rows_note(rows: Option<(u32, u32)>, height: u32) -> String {
+    rows.map(|(a, b)| {
+        format!(" Rows {a}..{b} of {height} hold the live particles; only they are drawn.")
+    })
+    .unwrap_or_default()
+}
+
+/// Speeds of the live particles on the ramp, cropped to the rows the position picture shows.
+fn speed_shot(velocities: &[f32], positions: &[f32], size: [u32; 2], note: &str) -> Shot {
+    let rows = sparse_rows(positions, size[0], size[1]);
+    let all = speeds(velocities, positions);
+    let (shown, shown_size) = crop(&all, 1, size, rows);
+    let mut shot = ramp_shot("velocity", shown, shown_size, note);
+    shot.legend.push_str(&rows_note(rows, size[1]));
+    shot
 }
 
 /// A scalar per texel on the ramp over its finite range, the range in the legend.
@@ -235,12 +278,7 @@ fn trace_fire(
         let v = sim.velocities().read_f32()?;
         let shots = vec![
             r.positions("position", &p, size),
-            ramp_shot(
-                "velocity",
-                &speeds(&v, &p),
-                size,
-                "speed |v| of live particles",
-            ),
+            speed_shot(&v, &p, size, "speed |v| of live particles"),
         ];
         r.pass(
             &format!(
@@ -280,7 +318,7 @@ fn state_shots(e: &ParticleEngine, r: &mut Recorder<'_>) -> Result<Vec<Shot>> {
     };
     let mut shots = vec![
         r.positions("position", &p, size),
-        ramp_shot("velocity", &speeds(&v, &p), size, note),
+        speed_shot(&v, &p, size, note),
     ];
     // The user's states (`[[state]]`), written by their passes at the end of the integration.
     for st in &sim.scene().state {
@@ -293,7 +331,12 @@ fn state_shots(e: &ParticleEngine, r: &mut Recorder<'_>) -> Result<Vec<Shot>> {
              (`glsl/sim/user_state.frag`) after the integration",
             st.name
         );
-        shots.push(ramp_shot(&format!("state {}", st.name), &x, size, &note));
+        // Cropped to the live rows as the position picture is.
+        let rows = sparse_rows(&p, size[0], size[1]);
+        let (shown, shown_size) = crop(&x, 1, size, rows);
+        let mut shot = ramp_shot(&format!("state {}", st.name), shown, shown_size, &note);
+        shot.legend.push_str(&rows_note(rows, size[1]));
+        shots.push(shot);
     }
     Ok(shots)
 }

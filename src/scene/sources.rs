@@ -29,6 +29,8 @@ builtin_scenes![
     "spin",
     "fireworks",
     "dem",
+    "dam",
+    "drop",
 ];
 
 /// The meshes the built-in scenes name (`[[colliders.sdf]] mesh`), by the path they give

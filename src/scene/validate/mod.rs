@@ -12,6 +12,8 @@ mod colliders;
 mod constraints;
 mod emitters;
 pub use emitters::CapacityWarning;
+mod fluid;
+pub use fluid::{fluid_cells, FLUID_CFL, FLUID_FORCE, FLUID_VISCOUS, MAX_SMOOTHING_RATIO};
 mod forces;
 mod neighbours;
 pub use neighbours::MAX_DEM_OMEGA_DT;
@@ -147,6 +149,7 @@ impl SceneFile {
         collisions(self)?;
         spin::spin(self)?;
         neighbours::neighbours(self)?;
+        fluid::fluid(self)?;
         constraints::constraints(self)?;
         fire(self)?;
         render::render(self)

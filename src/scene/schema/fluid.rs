@@ -42,8 +42,9 @@ pub struct Fluid {
     pub smoothing: Option<f32>,
     /// Region the neighbour lattice covers: [min corner, max corner]; outside, cells clamp.
     pub bounds: [[f32; 3]; 2],
-    /// The wall treatment at plane colliders: the kernel's missing volume behind each plane
-    /// added to the density, and the matching pressure push (docs/scenes.md); default on.
+    /// The wall treatment at plane colliders: ghost particles, the reflections of a particle's
+    /// neighbours in each plane closer than 2h, in its density and forces (docs/scenes.md);
+    /// default on.
     #[serde(default = "yes")]
     pub wall_correction: bool,
 }

@@ -14,10 +14,12 @@
 //!
 //! Boundaries are the scene's colliders, whose response in the integration pass keeps particles
 //! out; at plane colliders the fluid adds a wall treatment (`fluid.wall_correction`, on by
-//! default): the kernel's volume behind the plane counts as fluid at rest density (a density
-//! correction), with the particle's own pressure (a mirror), which pushes the particle off the
-//! wall before it reaches it (`glsl/fluid/kernel.glsl`). Boxes, spheres and the fields have the
-//! collider response alone.
+//! default): ghost particles (Colagrossi & Landrini 2003), the reflections of a particle's
+//! neighbours and of itself in each plane closer than 2h, with their density and pressure and
+//! their velocity mirrored (free slip), count in its density and forces. The wall then has the
+//! density the kernel misses behind it and the pressure gradient of the fluid in front, and
+//! pushes particles off before they reach it (`glsl/fluid/kernel.glsl`). Boxes, spheres and
+//! the fields have the collider response alone.
 
 mod stats;
 
@@ -75,7 +77,7 @@ pub fn lattice_of(f: &scene::Fluid) -> Lattice {
 /// The passes of one fluid step, as `texflow scene passes` lists them.
 pub fn fluid_passes(walls: bool) -> Vec<String> {
     let wall = if walls {
-        " + the wall's missing kernel volume at rest density per plane collider"
+        ", and over their ghosts in the plane colliders closer than 2h"
     } else {
         ""
     };
@@ -90,12 +92,7 @@ pub fn fluid_passes(walls: bool) -> Vec<String> {
         ),
         format!(
             "fluid force: symmetric pressure force and Monaghan's artificial viscosity over the \
-             same search{}, v += a dt, positions copied",
-            if walls {
-                "; the mirrored pressure push of each plane collider"
-            } else {
-                ""
-            }
+             same search{wall}, v += a dt, positions copied"
         ),
         "truncation tally: one point per particle whose search hit the bound".into(),
         "copy static texture in the new order".into(),
@@ -204,6 +201,7 @@ impl Fluid {
             p.set_f32("u_gamma", f.gamma);
             p.set_f32("u_alpha", f.viscosity);
             p.set_f32("u_sound", f.speed_of_sound);
+            p.set_vec3("u_gravity", self.gravity);
         });
     }
 

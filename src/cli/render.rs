@@ -40,7 +40,7 @@ impl From<EngineArg> for EngineKind {
 #[command(allow_negative_numbers = true)]
 pub struct RenderArgs {
     /// Scene to render: a built-in name (`texflow scene list`: fire, fire-points, snow,
-    /// fountain, smoke, e1, e2, e3, collide, gas, mesh, cloth, hair, spin, fireworks, dem) or a .toml scene file.
+    /// fountain, smoke, e1, e2, e3, collide, gas, mesh, cloth, hair, spin, fireworks, dem, dam, drop) or a .toml scene file.
     #[arg(default_value = scene::DEFAULT_SCENE)]
     scene: String,
     /// Number of frames to simulate.
@@ -426,6 +426,16 @@ fn report(
                 serde_json::json!({ "simulate": sim, "sort": sort, "draw": draw })
             }),
         });
+        let mut body = body;
+        if !summary.fluid.is_empty() {
+            body["fluid"] = (summary.fluid.iter())
+                .map(|(frame, f)| {
+                    let mut v = serde_json::json!(f);
+                    v["frame"] = serde_json::json!(frame);
+                    v
+                })
+                .collect();
+        }
         let clock = t.map(|t| t.clock);
         let v = texflow::bench::json_envelope("texflow.render/1", ctx, clock, &body);
         println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());

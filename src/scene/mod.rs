@@ -41,11 +41,11 @@ pub use schema::*;
 pub use set::{parse_with, Setting};
 pub use sources::{builtin_source, BUILTIN, BUILTIN_MESHES, BUILTIN_SOURCES};
 pub use suggest::{closest, did_you_mean, edit_distance};
-pub use validate::{fluid_cells, FLUID_CFL, FLUID_FORCE, FLUID_VISCOUS, MAX_SMOOTHING_RATIO};
 pub use validate::{
     fire_section, largest_exact_cell, run_capacity, CapacityWarning, ChildCapacityWarning,
     ChildLayout, ChildRange, EXACT_SCAN, MAX_DEM_OMEGA_DT, MAX_LATTICE_CELLS,
 };
+pub use validate::{fluid_cells, FLUID_CFL, FLUID_FORCE, FLUID_VISCOUS, MAX_SMOOTHING_RATIO};
 
 #[cfg(test)]
 mod tests {

@@ -2,7 +2,7 @@
 //! the scene: its own neighbour lattice (so no `[collisions]`), a cubic lattice of particles in
 //! initial box emitters, and a time step within the CFL, viscous and force conditions.
 
-use super::{bounded, fail, path, Check, MAX_LATTICE_CELLS};
+use super::{bounded, fail, path, Check, MASS_RANGE, MAX_LATTICE_CELLS};
 use crate::scene::locate::Key;
 use crate::scene::schema::{Fluid, Integrator, SceneFile, Simulation};
 
@@ -34,7 +34,11 @@ pub(super) fn fluid(s: &SceneFile) -> Check {
         );
     }
     if s.constraints.is_some() || s.fire.is_some() {
-        let k = if s.fire.is_some() { "fire" } else { "constraints" };
+        let k = if s.fire.is_some() {
+            "fire"
+        } else {
+            "constraints"
+        };
         return fail(path(&[N(k)]), format!("[fluid] has no [{k}]: remove one"));
     }
     if s.integrator == Integrator::Verlet || s.simulation == Simulation::Stateless {
@@ -72,6 +76,26 @@ fn keys(f: &Fluid) -> Check {
         if !(v > 0.0) {
             return fail(at(k), format!("{k} {v} must be above 0"));
         }
+    }
+    if !(1.0..=1e5).contains(&f.rest_density) {
+        return fail(
+            at("rest_density"),
+            format!(
+                "rest_density {} kg/m³ is outside [1, 1e5]: water is 1000",
+                f.rest_density
+            ),
+        );
+    }
+    let [lo, hi] = MASS_RANGE;
+    if !(lo..=hi).contains(&f.mass()) {
+        return fail(
+            at("spacing"),
+            format!(
+                "a particle weighs rest_density × spacing³ = {:e} kg, outside [{lo:e}, {hi:e}]: \
+                 give a spacing of a size the forces can divide by",
+                f.mass()
+            ),
+        );
     }
     if !(1.0..=7.0).contains(&f.gamma) {
         return fail(
@@ -166,7 +190,11 @@ fn emitters(s: &SceneFile) -> Check {
             return fail(at("life"), "fluid particles live for ever: remove life");
         }
         if e.mass.is_some() || e.mass_range.is_some() {
-            let k = if e.mass.is_some() { "mass" } else { "mass_range" };
+            let k = if e.mass.is_some() {
+                "mass"
+            } else {
+                "mass_range"
+            };
             return fail(
                 at(k),
                 "every fluid particle weighs rest_density × spacing³: remove it",

@@ -121,7 +121,9 @@ impl Fluid {
         velocity_format: TextureFormat,
     ) -> Result<Self> {
         let Some(config) = scene.fluid.clone() else {
-            return Err(Error::InvalidInput("the scene has no [fluid] section".into()));
+            return Err(Error::InvalidInput(
+                "the scene has no [fluid] section".into(),
+            ));
         };
         let size = scene.particles.size;
         let lattice = lattice_of(&config);
@@ -132,15 +134,31 @@ impl Fluid {
         }
         let program = |f: &str| Program::new(ctx, FULLSCREEN_VERTEX, f, &d);
         let layout = vec![
-            (POSITION, texture(ctx, "fluid position", size, TextureFormat::Rgba32F)?),
-            (VELOCITY, texture(ctx, "fluid velocity", size, velocity_format)?),
-            (STATIC, texture(ctx, "fluid static", size, TextureFormat::Rgba32F)?),
+            (
+                POSITION,
+                texture(ctx, "fluid position", size, TextureFormat::Rgba32F)?,
+            ),
+            (
+                VELOCITY,
+                texture(ctx, "fluid velocity", size, velocity_format)?,
+            ),
+            (
+                STATIC,
+                texture(ctx, "fluid static", size, TextureFormat::Rgba32F)?,
+            ),
         ];
         let density = texture(ctx, "fluid density", size, TextureFormat::Rgba32F)?;
-        let gravity = (scene.forces.gravity.iter()).fold(Vec3::ZERO, |a, g| a + Vec3::from(g.acceleration));
+        let gravity =
+            (scene.forces.gravity.iter()).fold(Vec3::ZERO, |a, g| a + Vec3::from(g.acceleration));
         Ok(Fluid {
             lattice,
-            sorter: Sorter::new(ctx, Variant::Packed, size[0], size[1], SortOptions::default())?,
+            sorter: Sorter::new(
+                ctx,
+                Variant::Packed,
+                size[0],
+                size[1],
+                SortOptions::default(),
+            )?,
             layout: Framebuffer::named(ctx, "fluid layout", layout)?,
             density: Framebuffer::new(ctx, "fluid density", vec![density])?,
             density_pass: program("fluid/density.frag")?,
@@ -177,10 +195,16 @@ impl Fluid {
         for (k, e) in initial.iter().enumerate() {
             let size = Vec3::from(e.size);
             let lo = Vec3::from(e.center) - 0.5 * size;
-            let n = (size / dx + Vec3::splat(1e-3)).floor().max(Vec3::ZERO).as_uvec3();
+            let n = (size / dx + Vec3::splat(1e-3))
+                .floor()
+                .max(Vec3::ZERO)
+                .as_uvec3();
             let v = Vec3::from(e.direction).normalize_or_zero() * e.speed[0];
             p.set_vec4(&format!("u_lattice_min[{k}]"), lo.extend(dx));
-            p.set_ivec4(&format!("u_lattice_n[{k}]"), [n.x as i32, n.y as i32, n.z as i32, 0]);
+            p.set_ivec4(
+                &format!("u_lattice_n[{k}]"),
+                [n.x as i32, n.y as i32, n.z as i32, 0],
+            );
             p.set_vec4(&format!("u_lattice_v[{k}]"), v.extend(0.0));
         }
         self.pass.draw(p, state.back());
@@ -222,7 +246,8 @@ impl Fluid {
             spacing: self.lattice.spacing,
             dims: self.lattice.dims,
         };
-        self.sorter.write_keys(front.texture(POSITION), count, &mode, true)?;
+        self.sorter
+            .write_keys(front.texture(POSITION), count, &mode, true)?;
         self.sorter.sort();
         self.sorter.gather(
             &[
@@ -239,7 +264,10 @@ impl Fluid {
         p.bind();
         self.set_material(p);
         p.set_i32("u_count", count as i32);
-        p.textures(&[("u_keys", keys.into()), ("u_position", l.texture(POSITION).into())]);
+        p.textures(&[
+            ("u_keys", keys.into()),
+            ("u_position", l.texture(POSITION).into()),
+        ]);
         self.pass.draw(p, &self.density);
         self.tally.add_flags(self.density.only_texture(), 3, count);
         let p = &self.force_pass;

@@ -32,7 +32,9 @@ impl ParticleSim {
 
     /// Fluid searches that hit their bound, over the run (one read-back).
     pub(super) fn fluid_truncated(&self) -> Result<u64> {
-        self.fluid.as_ref().map_or(Ok(0), |f| f.truncated_searches())
+        self.fluid
+            .as_ref()
+            .map_or(Ok(0), |f| f.truncated_searches())
     }
 
     /// The fluid's density error and energy now (scenes with `[fluid]`; read-backs of the state

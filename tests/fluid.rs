@@ -2,71 +2,17 @@
 //! an all-pairs CPU twin of one step in f64 (density, Tait pressure, pressure and viscous forces,
 //! the walls' ghost particles made for every pair instead of within the search);
 //! the integration pass against `sim::reference`; hydrostatic pressure in a resting column
-//! against the weight of the fluid above (ρ g h); the dam-break surge front against Martin &
-//! Moyce (1952) (ignored: minutes on llvmpipe); and `[fluid]`'s refusals at their line.
+//! against the weight of the fluid above (ρ g h). The dam break, `render --json` and the
+//! refusals: tests/fluid_scenes.rs.
 
 mod common;
 
-use common::scene::{parse, scene_error};
+use common::fluid::{tank, twin_scene_source};
+use common::scene::parse;
 use common::{context, no_gl_error};
 use glam::Vec3;
 use texflow::scene::{self, SceneFile};
 use texflow::sim::{ParticleSim, Simulation, Stage};
-
-/// A tank [0, w] × [0, ∞) × [0, d] of plane colliders, a box of fluid `block` = (centre, size)
-/// filled on the lattice, and `fluid` extra keys.
-fn tank(
-    size: [u32; 2],
-    tank: [f32; 2],
-    block: ([f32; 3], [f32; 3]),
-    dt: f32,
-    fluid: &str,
-) -> String {
-    let ([cx, cy, cz], [sx, sy, sz]) = block;
-    let [w, d] = tank;
-    format!(
-        r#"
-name = "fluid"
-integrator = "euler"
-[particles]
-size = [{}, {}]
-[time]
-dt = {dt}
-[[emitters.initial]]
-shape = "box"
-center = [{cx}, {cy}, {cz}]
-size = [{sx}, {sy}, {sz}]
-direction = [0.0, -1.0, 0.0]
-speed = [0.0, 0.0]
-[[forces.gravity]]
-acceleration = [0.0, -9.81, 0.0]
-[[colliders.plane]]
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 1.0, 0.0]
-resilience = 0.0
-[[colliders.plane]]
-point = [0.0, 0.0, 0.0]
-normal = [1.0, 0.0, 0.0]
-resilience = 0.0
-[[colliders.plane]]
-point = [{w}, 0.0, 0.0]
-normal = [-1.0, 0.0, 0.0]
-resilience = 0.0
-[[colliders.plane]]
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-resilience = 0.0
-[[colliders.plane]]
-point = [0.0, 0.0, {d}]
-normal = [0.0, 0.0, -1.0]
-resilience = 0.0
-[fluid]
-{fluid}
-bounds = [[0.0, 0.0, 0.0], [{w}, 1.0, {d}]]
-"#,
-        size[0], size[1]
-    )
-}
 
 /// The cubic spline W(r) and dW/dr of smoothing length h (Monaghan 1992), in f64.
 fn w(r: f64, h: f64) -> f64 {
@@ -128,6 +74,28 @@ struct Twin {
     per_pascal: Vec<f64>,
 }
 
+/// The ghosts of a particle at x with velocity u in the planes closer than 2h to `at`: position,
+/// velocity (mirrored) and the depth the reflection adds under gravity, 2 d (−g · n) (a ghost's
+/// pressure exceeds its original's by ρ g times that).
+fn ghosts_of(
+    walls: &[(Vec3, f64)],
+    h: f64,
+    at: [f64; 3],
+    x: [f64; 3],
+    u: [f64; 3],
+) -> Vec<([f64; 3], [f64; 3], f64)> {
+    (walls.iter())
+        .filter(|wl| dot(v3(&wl.0.to_array()), at) - wl.1 < 2.0 * h)
+        .map(|wl| {
+            let n = v3(&wl.0.to_array());
+            let (d, vn) = (dot(n, x) - wl.1, dot(n, u));
+            let depth = -2.0 * d * dot(GRAVITY, n);
+            let y = [0, 1, 2].map(|k| x[k] - 2.0 * d * n[k]);
+            (y, [0, 1, 2].map(|k| u[k] - 2.0 * vn * n[k]), depth)
+        })
+        .collect()
+}
+
 /// The CPU twin of the density and force passes over all pairs of live particles of `x`, `v`
 /// (RGBA texels), for `f` with the planes `walls`.
 fn twin(f: &scene::Fluid, walls: &[(Vec3, f64)], x: &[f32], v: &[f32]) -> Twin {
@@ -136,21 +104,7 @@ fn twin(f: &scene::Fluid, walls: &[(Vec3, f64)], x: &[f32], v: &[f32]) -> Twin {
     let (h, m, rho0) = (f.h() as f64, f.mass() as f64, f.rest_density as f64);
     let (b, gamma) = (f.stiffness() as f64, f.gamma as f64);
     let pos = |i: usize| v3(&x[i * 4..]);
-    // The ghosts of x (and of velocity u) in the planes closer than 2h to particle i.
-    // With each, the depth it adds under gravity, 2 d (−g · n): its pressure exceeds its
-    // original's by ρ g times that.
-    let ghosts = |i: usize, x: [f64; 3], u: [f64; 3]| -> Vec<([f64; 3], [f64; 3], f64)> {
-        (walls.iter())
-            .filter(|wl| dot(v3(&wl.0.to_array()), pos(i)) - wl.1 < 2.0 * h)
-            .map(|wl| {
-                let n = v3(&wl.0.to_array());
-                let (d, vn) = (dot(n, x) - wl.1, dot(n, u));
-                let depth = -2.0 * d * dot(GRAVITY, n);
-                let y = [0, 1, 2].map(|k| x[k] - 2.0 * d * n[k]);
-                (y, [0, 1, 2].map(|k| u[k] - 2.0 * vn * n[k]), depth)
-            })
-            .collect()
-    };
+    let ghosts = |i: usize, x: [f64; 3], u: [f64; 3]| ghosts_of(walls, h, pos(i), x, u);
     let vel = |i: usize| v3(&v[i * 4..]);
     let mut rho = vec![0.0; n];
     let mut p = vec![0.0; n];
@@ -219,17 +173,6 @@ fn twin_scene() -> SceneFile {
     parse("fluid", &twin_scene_source())
 }
 
-fn twin_scene_source() -> String {
-    let fluid = "speed_of_sound = 10.0\nviscosity = 0.2\nspacing = 0.02\nsmoothing = 0.024";
-    tank(
-        [16, 16],
-        [0.24, 0.12],
-        ([0.06, 0.06, 0.06], [0.12; 3]),
-        5e-4,
-        fluid,
-    )
-}
-
 fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol
 }
@@ -275,7 +218,7 @@ fn one_step_matches_the_cpu_twin() {
     let dt = s.time.dt as f64;
     let (mut worst_rho, mut worst_v, mut moving) = (0.0f64, 0.0f64, 0);
     for i in 0..x2.len() / 4 {
-        if !(rb.positions[i * 4 + 3] > 0.0) {
+        if rb.positions[i * 4 + 3] <= 0.0 {
             continue;
         }
         assert_eq!(
@@ -346,7 +289,7 @@ fn check_gather(
     let n = rb.positions.len() / 4;
     for i in 0..n {
         let p = &rb.positions[i * 4..i * 4 + 4];
-        if !(p[3] > 0.0) {
+        if p[3] <= 0.0 {
             continue;
         }
         let k = lattice.key(lattice.cell(Vec3::from_slice(&p[..3])));
@@ -451,174 +394,4 @@ fn check_hydrostatic(layers: &[(f64, f64, f64)], expected: usize, top: usize) {
             k + top + 1
         );
     }
-}
-
-/// Martin & Moyce (1952), Table 2: the surge front Z = z/a of a column of width a = 2¼ in and
-/// height 2a (n² = 2) against T = t √(2g/a), up to T = 3 (docs/numerics.md).
-const MARTIN_MOYCE: [(f64, f64); 13] = [
-    (0.41, 1.11),
-    (0.84, 1.22),
-    (1.19, 1.44),
-    (1.43, 1.67),
-    (1.63, 1.89),
-    (1.83, 2.11),
-    (1.98, 2.33),
-    (2.20, 2.56),
-    (2.32, 2.78),
-    (2.51, 3.00),
-    (2.65, 3.22),
-    (2.83, 3.44),
-    (2.98, 3.67),
-];
-
-/// The dam break of Martin & Moyce: a slab of 16 × 32 × 2 particles (a = 2¼ in, Δx = a / 16)
-/// against the left wall of a tank 5a long and 2 Δx deep; the front (the foremost particle plus
-/// half a spacing) against their Table 2 up to T = 3. The front leads the experiment (by up to
-/// 17 % at T ≈ 1.2, at Δx = a / 32 too; docs/numerics.md): asserted within 20 %, and within
-/// 10 % from T = 2.3 on. Half a minute to minutes on llvmpipe:
-/// `cargo test --release --test fluid dam_break -- --ignored --nocapture` prints the table.
-#[test]
-#[ignore]
-fn dam_break_front_follows_martin_and_moyce() {
-    let a = 0.05715f32;
-    let dx = a / 16.0;
-    let fluid = format!("speed_of_sound = 15.0\nviscosity = 0.05\nspacing = {dx}");
-    let block = ([a / 2.0, a, dx], [a, 2.0 * a, 2.0 * dx]);
-    let s = parse(
-        "dam",
-        &tank([32, 32], [5.0 * a, 2.0 * dx], block, 9e-5, &fluid),
-    );
-    let ctx = context();
-    let mut sim = ParticleSim::new(&ctx, &s, 1).expect("dam scene");
-    let scale = (2.0 * 9.81 / a as f64).sqrt();
-    let mut worst = 0.0f64;
-    for (t_ref, z_ref) in MARTIN_MOYCE {
-        while sim.time() * scale < t_ref {
-            sim.step().unwrap();
-        }
-        let (x, _) = sim.read_state().unwrap();
-        let front = (0..x.len() / 4)
-            .filter(|&i| x[i * 4 + 3] > 0.0)
-            .map(|i| x[i * 4] as f64)
-            .fold(0.0, f64::max)
-            + dx as f64 / 2.0;
-        let z = front / a as f64;
-        let err = z / z_ref - 1.0;
-        eprintln!(
-            "T {:.3} (Martin & Moyce {t_ref}): Z {z:.3} against {z_ref}, {:+.1} %",
-            sim.time() * scale,
-            100.0 * err
-        );
-        worst = worst.max(err.abs());
-        assert!(
-            err.abs() <= if t_ref >= 2.3 { 0.10 } else { 0.20 },
-            "T {t_ref}: Z {z} against {z_ref}"
-        );
-    }
-    eprintln!("largest deviation {:.1} %", 100.0 * worst);
-    assert_eq!(sim.truncated_searches().unwrap(), 0);
-    no_gl_error(&ctx);
-}
-
-/// `[fluid]`'s refusals name the key, its line and column, and the fix.
-#[test]
-fn bad_fluid_scenes_are_refused_at_their_key() {
-    let ok = "speed_of_sound = 10.0\nspacing = 0.02";
-    let base = |dt: f32, fluid: &str| {
-        tank(
-            [16, 16],
-            [0.24, 0.12],
-            ([0.06, 0.06, 0.06], [0.12; 3]),
-            dt,
-            fluid,
-        )
-    };
-    let line_of =
-        |src: &str, key: &str| 1 + src.lines().position(|l| l.starts_with(key)).expect(key);
-    let cases: [(String, &str, &str); 5] = [
-        (base(0.01, ok), "dt = ", "CFL"),
-        (
-            base(5e-4, &format!("{ok}\nsmoothing = 0.05")),
-            "smoothing",
-            "spacing",
-        ),
-        (
-            base(5e-4, "speed_of_sound = 10.0\nspacing = 0.02\ngamma = 9.0"),
-            "gamma",
-            "[1, 7]",
-        ),
-        (
-            base(5e-4, ok)
-                + "[collisions]\nradius = 0.01\nbounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]\n",
-            "[collisions]",
-            "remove [collisions]",
-        ),
-        (
-            base(5e-4, ok).replace("shape = \"box\"", "shape = \"point\""),
-            "shape",
-            "box",
-        ),
-    ];
-    for (src, key, says) in cases {
-        let (line, _, message) = scene_error(scene::parse("bad.toml", &src));
-        assert_eq!(line, line_of(&src, key), "{message}\n{src}");
-        assert!(message.contains(says), "{message}");
-    }
-    let (_, _, m) = scene_error(scene::parse(
-        "bad.toml",
-        &base(5e-4, &format!("{ok}\nviscosity = 10.0")),
-    ));
-    assert!(m.contains("viscous"), "{m}");
-}
-
-/// `render --json` lists per written frame the fluid's density error and energy: every live
-/// particle counted, the errors ordered, and the energy (kinetic + gravitational) lower at the
-/// end than at the start (viscosity and the inelastic walls take it; the compression's own
-/// energy is small at this speed of sound).
-#[test]
-fn render_json_reports_density_error_and_energy_per_frame() {
-    let tmp = tempfile::tempdir().unwrap();
-    let scene = tmp.path().join("fluid.toml");
-    let src = twin_scene_source().replace("dt = 0.0005", "dt = 0.0005\nsubsteps = 40");
-    std::fs::write(&scene, src).unwrap();
-    let out = tmp.path().join("f");
-    let o = common::cli::texflow(&[
-        "render",
-        scene.to_str().unwrap(),
-        "--frames",
-        "8",
-        "--every",
-        "7",
-        "--resolution",
-        "32",
-        "--json",
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", common::cli::stderr(&o));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    let frames = v["records"]["fluid"]
-        .as_array()
-        .expect("a fluid array")
-        .clone();
-    assert_eq!(frames.len(), 2, "frames 0 and 7: {v}");
-    let energy =
-        |f: &serde_json::Value| f["kinetic"].as_f64().unwrap() + f["potential"].as_f64().unwrap();
-    for f in &frames {
-        assert_eq!(f["live"], 216, "{f}");
-        let (max, mean) = (
-            f["max_density_error"].as_f64().unwrap(),
-            f["mean_density_error"].as_f64().unwrap(),
-        );
-        assert!(max >= mean && mean > 0.0 && max < 1.0, "{f}");
-        assert!(f["max_compression"].as_f64().unwrap() < 0.1, "{f}");
-    }
-    assert_eq!(frames[1]["frame"], 7);
-    assert!(
-        frames[0]["kinetic"].as_f64().unwrap() > 0.0,
-        "the column falls: {:?}",
-        frames[0]
-    );
-    assert!(energy(&frames[1]) < energy(&frames[0]), "{frames:?}");
 }

@@ -427,18 +427,23 @@ fn report(
             }),
         });
         let mut body = body;
-        if !summary.fluid.is_empty() {
-            body["fluid"] = (summary.fluid.iter())
-                .map(|(frame, f)| {
-                    let mut v = serde_json::json!(f);
-                    v["frame"] = serde_json::json!(frame);
-                    v
-                })
-                .collect();
-        }
+        add_fluid(&mut body, summary);
         let clock = t.map(|t| t.clock);
         let v = texflow::bench::json_envelope("texflow.render/1", ctx, clock, &body);
         println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
+    }
+}
+
+/// With `[fluid]`: each written frame's density error and energy, as `fluid` in `--json`.
+fn add_fluid(body: &mut serde_json::Value, summary: &LoopSummary) {
+    if !summary.fluid.is_empty() {
+        body["fluid"] = (summary.fluid.iter())
+            .map(|(frame, f)| {
+                let mut v = serde_json::json!(f);
+                v["frame"] = serde_json::json!(frame);
+                v
+            })
+            .collect();
     }
 }
 

@@ -73,7 +73,7 @@ fn keys(f: &Fluid) -> Check {
         ("spacing", f.spacing),
     ] {
         bounded(at(k), k, &[v])?;
-        if !(v > 0.0) {
+        if v <= 0.0 {
             return fail(at(k), format!("{k} {v} must be above 0"));
         }
     }
@@ -97,6 +97,32 @@ fn keys(f: &Fluid) -> Check {
             ),
         );
     }
+    material(f)?;
+    for (i, corner) in f.bounds.iter().enumerate() {
+        bounded(path(&[N("fluid"), N("bounds"), I(i)]), "bounds", corner)?;
+    }
+    if (0..3).any(|k| f.bounds[0][k] >= f.bounds[1][k]) {
+        return fail(
+            at("bounds"),
+            "bounds must be [min corner, max corner] with min < max",
+        );
+    }
+    let cells = fluid_cells(f);
+    if cells > MAX_LATTICE_CELLS {
+        return fail(
+            at("bounds"),
+            format!(
+                "the fluid's neighbour lattice has {cells} cells of 2 smoothing; cell keys are \
+                 exact floats only up to 2^24 = {MAX_LATTICE_CELLS}: use smaller bounds"
+            ),
+        );
+    }
+    Ok(())
+}
+
+/// Tait's exponent, the viscosity and the smoothing length.
+fn material(f: &Fluid) -> Check {
+    let at = |k| path(&[N("fluid"), N(k)]);
     if !(1.0..=7.0).contains(&f.gamma) {
         return fail(
             at("gamma"),
@@ -130,25 +156,6 @@ fn keys(f: &Fluid) -> Check {
                 ),
             );
         }
-    }
-    for (i, corner) in f.bounds.iter().enumerate() {
-        bounded(path(&[N("fluid"), N("bounds"), I(i)]), "bounds", corner)?;
-    }
-    if (0..3).any(|k| f.bounds[0][k] >= f.bounds[1][k]) {
-        return fail(
-            at("bounds"),
-            "bounds must be [min corner, max corner] with min < max",
-        );
-    }
-    let cells = fluid_cells(f);
-    if cells > MAX_LATTICE_CELLS {
-        return fail(
-            at("bounds"),
-            format!(
-                "the fluid's neighbour lattice has {cells} cells of 2 smoothing; cell keys are \
-                 exact floats only up to 2^24 = {MAX_LATTICE_CELLS}: use smaller bounds"
-            ),
-        );
     }
     Ok(())
 }

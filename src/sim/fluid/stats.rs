@@ -49,7 +49,7 @@ pub fn fluid_stats(
     let mut s = FluidStats::default();
     let mut sum = 0.0;
     for ((p, u), d) in x.chunks(4).zip(v.chunks(4)).zip(rho.chunks(4)) {
-        if !(p[3] > 0.0) {
+        if p[3].is_nan() || p[3] <= 0.0 {
             continue;
         }
         s.live += 1;

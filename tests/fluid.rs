@@ -354,23 +354,24 @@ fn settled_column(base: u32, layers: u32, steps: u32, size: [u32; 2]) -> Vec<(f6
     out
 }
 
-/// The pressure below the top layers of a resting column is the weight of the fluid above
-/// (ρ g h) within 2 %: the fast variant, a column of 4 × 4 × 12 settled for 0.35 s.
-/// Single layers alternate about ±5 % around it (the odd-even pressure noise of SPH on a
-/// lattice), so each two neighbouring layers are compared together; the layer on the floor
-/// reads about 12 % high (its ghosts are closer to it than the spacing) and is left out.
+/// The pressure below the top three layers (whose kernels reach past the surface) of a resting
+/// column is the weight of the fluid above (ρ g h) within 2 %: the fast variant, a column of
+/// 4 × 4 × 12 settled for 0.35 s. Single layers alternate about ±5 % around it (the odd-even
+/// pressure noise of SPH on a lattice), so each two neighbouring layers are compared together;
+/// the layer on the floor reads about 12 % high (its ghosts are closer to it than the spacing)
+/// and is left out.
 #[test]
 fn a_resting_column_holds_hydrostatic_pressure() {
     let layers = settled_column(4, 12, 1000, [16, 16]);
-    check_hydrostatic(&layers, 12, 2);
+    check_hydrostatic(&layers, 12, 3);
 }
 
-/// As above, 8 × 8 × 24 particles settled for 1.05 s (minutes on llvmpipe).
+/// As above, 8 × 8 × 24 particles settled for 1.05 s (2.3 minutes on llvmpipe).
 #[test]
 #[ignore]
 fn a_tall_resting_column_holds_hydrostatic_pressure() {
     let layers = settled_column(8, 24, 3000, [64, 32]);
-    check_hydrostatic(&layers, 24, 2);
+    check_hydrostatic(&layers, 24, 3);
 }
 
 /// Each two neighbouring layers below the `top` ones and above the floor's: their mean

@@ -30,7 +30,7 @@ sed 's/^staggered = true/staggered = true\ndetection = "exact"\niterations = 4/'
 "$bin" render "$tmp/collide_exact.toml" --particles 64 --frames 301 --every 300 --resolution 384 --out "$tmp/c2" --quiet
 cp "$tmp/c2/frame_00300.png" docs/img/collide_exact_3s.png
 echo docs/img/collide_none_3s.png docs/img/collide_uberflow_3s.png docs/img/collide_exact_3s.png
-for spec in snow:360 fountain:150 mesh:150 smoke:300 smoke-unlit:300 e1:90 e2:150 e3:90 gas:90 cloth:150 hair:150 spin:90 fireworks:61 dem:21 flicker:121; do
+for spec in snow:360 fountain:150 mesh:150 smoke:300 smoke-unlit:300 e1:90 e2:150 e3:90 gas:90 cloth:150 hair:150 spin:90 fireworks:61 dem:21 flicker:121 dam:16 drop:16; do
     name=${spec%%:*}
     frames=${spec##*:}
     last=$((frames - 1))

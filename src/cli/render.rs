@@ -40,7 +40,7 @@ impl From<EngineArg> for EngineKind {
 #[command(allow_negative_numbers = true)]
 pub struct RenderArgs {
     /// Scene to render: a built-in name (`texflow scene list`: fire, fire-points, snow,
-    /// fountain, smoke, smoke-unlit, e1, e2, e3, collide, gas, mesh, cloth, hair, spin, fireworks, dem, flicker) or a .toml scene file.
+    /// fountain, smoke, smoke-unlit, e1, e2, e3, collide, gas, mesh, cloth, hair, spin, fireworks, dem, flicker, dam, drop) or a .toml scene file.
     #[arg(default_value = scene::DEFAULT_SCENE)]
     scene: String,
     /// Number of frames to simulate.
@@ -427,9 +427,24 @@ fn report(
                 serde_json::json!({ "simulate": sim, "sort": sort, "draw": draw })
             }),
         });
+        let mut body = body;
+        add_fluid(&mut body, summary);
         let clock = t.map(|t| t.clock);
         let v = texflow::bench::json_envelope("texflow.render/1", ctx, clock, &body);
         println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
+    }
+}
+
+/// With `[fluid]`: each written frame's density error and energy, as `fluid` in `--json`.
+fn add_fluid(body: &mut serde_json::Value, summary: &LoopSummary) {
+    if !summary.fluid.is_empty() {
+        body["fluid"] = (summary.fluid.iter())
+            .map(|(frame, f)| {
+                let mut v = serde_json::json!(f);
+                v["frame"] = serde_json::json!(frame);
+                v
+            })
+            .collect();
     }
 }
 

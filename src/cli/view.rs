@@ -29,7 +29,7 @@ use super::{at_least_one, bad, parse_size, time_step};
 #[command(allow_negative_numbers = true)]
 pub struct ViewArgs {
     /// Scene to show: a built-in name (`texflow scene list`: fire, fire-points, snow,
-    /// fountain, smoke, smoke-unlit, e1, e2, e3, collide, gas, mesh, cloth, hair, spin, fireworks, dem, flicker) or a .toml scene file (reloaded when it changes on disk).
+    /// fountain, smoke, smoke-unlit, e1, e2, e3, collide, gas, mesh, cloth, hair, spin, fireworks, dem, flicker, dam, drop) or a .toml scene file (reloaded when it changes on disk).
     #[arg(default_value = texflow::scene::DEFAULT_SCENE)]
     scene: String,
     /// Stop after N frames (default: run until the window is closed).

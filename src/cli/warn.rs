@@ -39,6 +39,16 @@ pub fn child_births_dropped(s: &SceneFile, total: u64) -> String {
 
 /// The warning for exact collision searches that hit their bound over a run.
 pub fn searches_truncated(s: &SceneFile, total: u64, steps: u64) -> String {
+    if let Some(f) = &s.fluid {
+        return format!(
+            "warning: {total} fluid neighbour search(es) over {steps} step(s) met a run of three \
+             cells holding more than {} particles and walked only that many: neighbours past \
+             them were missed (the fluid compressed far past its rest density); a higher \
+             fluid.speed_of_sound (now {} m/s) keeps it closer to rest density",
+            texflow::sim::fluid::FLUID_SCAN,
+            f.speed_of_sound
+        );
+    }
     let cell = (s.collisions.as_ref()).map_or(0.0, |c| c.cell.unwrap_or(2.0 * c.radius));
     format!(
         "warning: {total} exact collision search(es) over {steps} step(s) met a run of three \

@@ -168,6 +168,11 @@ pub trait Engine {
         Ok(None)
     }
 
+    /// With `[fluid]`: the density error and energy now.
+    fn fluid_stats(&self) -> Result<Option<crate::sim::fluid::FluidStats>> {
+        Ok(None)
+    }
+
     /// Paths that still entered a collider after the bound on bounces per step (one
     /// read-back, for a run's end).
     fn truncated_bounces(&self) -> Result<u64> {

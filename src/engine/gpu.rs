@@ -552,6 +552,10 @@ impl<S: Simulation> super::Engine for GpuEngine<S> {
         self.sim.stretched()
     }
 
+    fn fluid_stats(&self) -> Result<Option<crate::sim::fluid::FluidStats>> {
+        self.sim.fluid_stats()
+    }
+
     fn truncated_bounces(&self) -> Result<u64> {
         self.sim.truncated_bounces()
     }

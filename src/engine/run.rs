@@ -182,6 +182,8 @@ pub struct LoopSummary {
     pub max_stretched: u64,
     /// Written frames that had any.
     pub stretched_frames: u64,
+    /// With `[fluid]`: each written frame's index with its density error and energy.
+    pub fluid: Vec<(u64, crate::sim::fluid::FluidStats)>,
     /// Whether the caller stopped the loop early (through its event callback).
     pub stopped: bool,
     /// Births the allocator dropped because the state texture was full.
@@ -441,6 +443,9 @@ impl FrameLoop {
             }
             s.stretched_frames += 1;
             s.max_stretched = s.max_stretched.max(c.edges);
+        }
+        if let Some(f) = engine.fluid_stats()? {
+            s.fluid.push((index, f));
         }
         let count = engine.non_finite(&self.counter)?;
         s.live = count.live;

@@ -51,6 +51,7 @@ pub use validate::{
     ChildCapacityWarning, ChildLayout, ChildRange, EXACT_SCAN, MAX_DEM_OMEGA_DT, MAX_LATTICE_CELLS,
     MAX_LIGHT_RESOLUTION, MAX_SLICES, STATE_INPUTS,
 };
+pub use validate::{fluid_cells, FLUID_CFL, FLUID_FORCE, FLUID_VISCOUS, MAX_SMOOTHING_RATIO};
 
 #[cfg(test)]
 mod tests {

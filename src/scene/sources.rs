@@ -31,6 +31,8 @@ builtin_scenes![
     "fireworks",
     "dem",
     "flicker",
+    "dam",
+    "drop",
 ];
 
 /// The meshes the built-in scenes name (`[[colliders.sdf]] mesh`), by the path they give

@@ -7,6 +7,7 @@ pub mod constraints;
 pub mod emit;
 pub mod fields;
 pub mod fire;
+pub mod fluid;
 pub mod nonfinite;
 pub mod particles;
 pub mod reference;

@@ -174,6 +174,11 @@ pub trait Simulation: std::fmt::Debug {
         Ok(0)
     }
 
+    /// With `[fluid]`: the density error and energy now (read-backs, once per written frame).
+    fn fluid_stats(&self) -> Result<Option<super::fluid::FluidStats>> {
+        Ok(None)
+    }
+
     /// With collisions between particles: the pairs the last step's detection found.
     fn census(&self) -> Result<Option<super::collide::PairCensus>> {
         Ok(None)

@@ -13,6 +13,7 @@
 
 pub mod bad_input;
 pub mod cli;
+pub mod fluid;
 pub mod image;
 pub mod scene;
 

@@ -23,7 +23,7 @@
 //! Covered: explicit integrators (Euler, UberFlow), time-stamp and initial emitters, every force
 //! and collider of the reference, points. Not covered (rejected by [`CpuSim::new`] /
 //! [`CpuEngine::new`]): Verlet, allocator emission, `fp24` precision, `rgba16f` velocities,
-//! sprites, collisions between particles, the fire scene.
+//! sprites, collisions between particles, the fluid, the fire scene.
 
 mod sim;
 

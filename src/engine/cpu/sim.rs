@@ -318,6 +318,9 @@ fn refuse_unsupported(scene: &SceneFile, features: &Features) -> Result<()> {
     if scene.collisions.is_some() {
         return Err(unsupported(scene, "collisions between particles"));
     }
+    if scene.fluid.is_some() {
+        return Err(unsupported(scene, "the fluid ([fluid])"));
+    }
     if features.emitter_forces {
         return Err(unsupported(
             scene,

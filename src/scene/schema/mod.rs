@@ -6,6 +6,7 @@
 
 mod constraints;
 mod emitters;
+mod fluid;
 mod forces;
 mod neighbours;
 mod render;
@@ -18,6 +19,7 @@ pub use emitters::{
     AllocatorKind, Burst, Emitter, Emitters, Flipbook, Shape, MAX_BURSTS, MAX_EMITTERS,
     MAX_EMITTER_FORCES,
 };
+pub use fluid::Fluid;
 pub use forces::{
     Attractor, BoxCollider, Colliders, CustomForce, Damping, Falloff, FieldData, Forces, Gravity,
     HeightFieldCollider, Orbit, PlaneCollider, SdfCollider, SphereCollider, Spring, Vortex,
@@ -78,6 +80,9 @@ pub struct SceneFile {
     pub collisions: Option<Collisions>,
     /// Distance constraints between particles (Latta §3.4.3): cloth or hair.
     pub constraints: Option<Constraints>,
+    /// Weakly compressible SPH over the cell-sorted state (UberFlow §6).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fluid: Option<Fluid>,
     /// The thesis's fire model (in-shader respawn), instead of emitters, forces and integrator.
     pub fire: Option<Fire>,
     /// How the scene is drawn.

@@ -14,6 +14,8 @@ mod curves;
 pub use curves::has_curves;
 mod emitters;
 pub use emitters::CapacityWarning;
+mod fluid;
+pub use fluid::{fluid_cells, FLUID_CFL, FLUID_FORCE, FLUID_VISCOUS, MAX_SMOOTHING_RATIO};
 mod forces;
 mod lighting;
 pub use lighting::{MAX_LIGHT_RESOLUTION, MAX_SLICES};
@@ -154,6 +156,7 @@ impl SceneFile {
         collisions(self)?;
         spin::spin(self)?;
         neighbours::neighbours(self)?;
+        fluid::fluid(self)?;
         constraints::constraints(self)?;
         fire(self)?;
         state::state(self)?;

@@ -190,6 +190,14 @@ pub(super) fn state(s: &SceneFile) -> Check {
              [[state]]",
         );
     }
+    if s.fluid.is_some() {
+        return fail(
+            at0,
+            "[[state]] cannot be used with [fluid] yet: the fluid's passes sort the particles \
+             into cell order every step and gather position, velocity and static only, so a \
+             user state would stay behind with other particles; remove [fluid] or [[state]]",
+        );
+    }
     for (i, st) in s.state.iter().enumerate() {
         let at = |k| path(&[N("state"), I(i), N(k)]);
         name(at("name"), &st.name)?;

@@ -78,6 +78,10 @@ pub struct Features {
     pub dem: bool,
     /// User pair forces (`[[forces.pair]]`).
     pub pair_forces: usize,
+    /// Weakly compressible SPH (`[fluid]`, src/sim/fluid/): its passes in the collision stage;
+    /// the value says whether plane colliders get the wall treatment.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fluid: Option<bool>,
     /// Time stamps in texel order (`collisions.row_phases`), so a release shares a row.
     pub row_phases: bool,
     /// Some timestamp emitter moves each release to its own place (`release_spread`).
@@ -153,6 +157,7 @@ impl Features {
             dem: (scene.collisions.as_ref())
                 .is_some_and(|c| c.response == crate::scene::Response::Dem),
             pair_forces: scene.forces.pair.len(),
+            fluid: scene.fluid.as_ref().map(|f| f.wall_correction),
             row_phases: scene.collisions.as_ref().is_some_and(|c| c.row_phases),
             release_spread: em.timestamp.iter().any(|e| e.release_spread.is_some()),
             constraints: scene
@@ -549,6 +554,9 @@ impl Features {
 
     /// The collision stage: neighbour forces, the exact search or UberFlow's sorted rows.
     fn collision_passes(&self, out: &mut Vec<String>) {
+        if let Some(walls) = self.fluid {
+            out.extend(crate::sim::fluid::fluid_passes(walls && self.planes > 0));
+        }
         if self.dem || self.pair_forces > 0 {
             out.extend(crate::sim::collide::neighbour_passes(
                 self.dem,

@@ -12,6 +12,7 @@ mod bounces;
 mod children;
 mod custom;
 mod features;
+mod fluid;
 mod relax;
 mod setup;
 mod state_io;
@@ -98,6 +99,8 @@ pub struct ParticleSim {
     emit_static: Option<Program>,
     start: Option<Program>,
     collisions: Option<super::collide::Collisions>,
+    /// The SPH stage of a scene with `[fluid]` (src/sim/fluid/).
+    fluid: Option<super::fluid::Fluid>,
     /// The count of paths past the bound on bounces at colliders (`bounces.rs`).
     bounces: Option<super::collide::tally::TruncationTally>,
     relax: Option<relax::Relaxation>,
@@ -185,6 +188,10 @@ impl ParticleSim {
                 Some(_) => Some(super::collide::Collisions::new(
                     ctx, scene, &defines, vel_format,
                 )?),
+                None => None,
+            },
+            fluid: match &scene.fluid {
+                Some(_) => Some(super::fluid::Fluid::new(ctx, scene, &defines, vel_format)?),
                 None => None,
             },
             bounces: bounces::tally(ctx, &features)?,
@@ -362,8 +369,17 @@ impl ParticleSim {
         self.collisions.as_mut()
     }
 
-    /// Runs the collision stage on the current state (part of [`step`](Self::step)).
+    /// The SPH stage (scenes with `[fluid]`).
+    pub fn fluid(&self) -> Option<&super::fluid::Fluid> {
+        self.fluid.as_ref()
+    }
+
+    /// Runs the collision stage on the current state (part of [`step`](Self::step)): the
+    /// particles' collisions, or the fluid's passes.
     fn collide(&mut self) -> Result<()> {
+        if self.fluid.is_some() {
+            return self.run_fluid();
+        }
         let Some(c) = self.collisions.as_mut() else {
             return Ok(());
         };

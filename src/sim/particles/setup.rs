@@ -199,6 +199,7 @@ impl ParticleSim {
             self.set_constants(p);
         }
         self.initialise()?;
+        self.place_fluid();
         if let (Some(r), State::Verlet(ring)) = (&self.relax, &self.state) {
             r.place(ring)?;
         }

@@ -275,7 +275,11 @@ impl crate::sim::Simulation for ParticleSim {
     }
 
     fn truncated_searches(&self) -> Result<u64> {
-        self.collisions().map_or(Ok(0), |c| c.truncated_searches())
+        let fluid = self.fluid_truncated()?;
+        Ok(fluid
+            + self
+                .collisions()
+                .map_or(Ok(0), |c| c.truncated_searches())?)
     }
 
     fn stretched(&self) -> Result<Option<crate::sim::Stretched>> {
@@ -292,6 +296,10 @@ impl crate::sim::Simulation for ParticleSim {
 
     fn truncated_bounces(&self) -> Result<u64> {
         ParticleSim::truncated_bounces(self)
+    }
+
+    fn fluid_stats(&self) -> Result<Option<crate::sim::fluid::FluidStats>> {
+        ParticleSim::fluid_stats(self)
     }
 
     fn height_field(&self) -> Option<&HeightField> {

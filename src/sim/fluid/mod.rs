@@ -1,0 +1,327 @@
+//! Weakly compressible SPH (Monaghan 1992; Becker & Teschner 2007) over the cell-sorted state,
+//! in fragment passes only (UberFlow §6: "any physical model that requires access to adjacent
+//! particles"). A scene's `[fluid]` sets up its own exact neighbour search: a lattice of cell
+//! 2h (the cubic spline's support) over `fluid.bounds`, searched as the exact collision
+//! detection searches (`glsl/collide/cells.glsl`: every particle of the 27 cells around a
+//! particle, found by binary search of the sorted keys, at most [`FLUID_SCAN`] per run of three
+//! cells; a search past it is flagged and counted, and `render` warns).
+//!
+//! One step, after the integration pass (gravity, the colliders' response, positions moved):
+//! keys, a full bitonic sort and the gather of position, velocity and static in cell order, a
+//! density pass (`glsl/fluid/density.frag`: density and Tait pressure), a force pass
+//! (`glsl/fluid/force.frag`: symmetric pressure force and Monaghan's artificial viscosity,
+//! v += a dt, into the state, now in cell order) and the static texture copied in that order.
+//!
+//! Boundaries are the scene's colliders, whose response in the integration pass keeps particles
+//! out; at plane colliders the fluid adds a wall treatment (`fluid.wall_correction`, on by
+//! default): ghost particles (Colagrossi & Landrini 2003), the reflections of a particle's
+//! neighbours and of itself in each plane closer than 2h, with their density and pressure and
+//! their velocity mirrored (free slip), count in its density and forces. The wall then has the
+//! density the kernel misses behind it and the pressure gradient of the fluid in front, and
+//! pushes particles off before they reach it (`glsl/fluid/kernel.glsl`). Boxes, spheres and
+//! the fields have the collider response alone.
+
+mod stats;
+
+use glam::Vec3;
+
+use crate::error::{Error, Result};
+use crate::gl::{
+    Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Texture, TextureDesc,
+    TextureFormat, FULLSCREEN_VERTEX,
+};
+use crate::scene::{self, SceneFile};
+use crate::sim::collide::tally::TruncationTally;
+use crate::sim::collide::Lattice;
+use crate::sim::state::{POSITION, STATIC, VELOCITY};
+use crate::sort::{KeyMode, SortOptions, Sorter, Variant};
+
+pub use stats::FluidStats;
+
+/// Most particles the fluid's search walks in a run of three cells along x: at rest a run holds
+/// about 3 (2h / Δx)³, at most 81 with the largest smoothing length validation allows.
+pub const FLUID_SCAN: u32 = 128;
+
+/// The fluid stage of a scene with `[fluid]`.
+#[derive(Debug)]
+pub struct Fluid {
+    config: scene::Fluid,
+    lattice: Lattice,
+    sorter: Sorter,
+    /// The state in cell order: position, velocity, static.
+    layout: Framebuffer,
+    /// (density, pressure, neighbours within 2h, truncated search) in cell order.
+    density: Framebuffer,
+    density_pass: Program,
+    force_pass: Program,
+    place: Program,
+    copy: Program,
+    pass: FullscreenPass,
+    tally: TruncationTally,
+    width: u32,
+    gravity: Vec3,
+}
+
+/// The lattice of `[fluid]`: cell 2h from the lower corner of its bounds.
+pub fn lattice_of(f: &scene::Fluid) -> Lattice {
+    let g = 2.0 * f.h();
+    let lo = Vec3::from(f.bounds[0]);
+    let hi = Vec3::from(f.bounds[1]);
+    Lattice {
+        origin: lo,
+        spacing: g,
+        dims: ((hi - lo) / g).ceil().max(Vec3::ONE).as_uvec3(),
+    }
+}
+
+/// The passes of one fluid step, as `texflow scene passes` lists them.
+pub fn fluid_passes(walls: bool) -> Vec<String> {
+    let wall = if walls {
+        ", and over their ghosts in the plane colliders closer than 2h"
+    } else {
+        ""
+    };
+    vec![
+        "fluid keys: cell index in the lattice of cell 2h (z, y, x)".into(),
+        "fluid sort: full bitonic sort (GP/FP packed)".into(),
+        "gather position, velocity, static in cell order".into(),
+        format!(
+            "fluid density: ρ = m Σ W over the 27 cells around each particle (cubic spline, \
+             binary search of the sorted keys per row of 3 cells, at most {FLUID_SCAN} particles \
+             per run){wall}; Tait pressure p = B((ρ/ρ0)^γ − 1), at least 0"
+        ),
+        format!(
+            "fluid force: symmetric pressure force and Monaghan's artificial viscosity over the \
+             same search{wall}, v += a dt, positions copied"
+        ),
+        "truncation tally: one point per particle whose search hit the bound".into(),
+        "copy static texture in the new order".into(),
+    ]
+}
+
+fn texture(ctx: &Context, label: &str, size: [u32; 2], format: TextureFormat) -> Result<Texture> {
+    Texture::new(
+        ctx,
+        TextureDesc {
+            width: size[0],
+            height: size[1],
+            format,
+            label,
+        },
+    )
+}
+
+impl Fluid {
+    /// The stage of `scene` (which has `[fluid]`), its programs built with the simulation's
+    /// `defines` (colliders, precision).
+    pub fn new(
+        ctx: &Context,
+        scene: &SceneFile,
+        defines: &Defines,
+        velocity_format: TextureFormat,
+    ) -> Result<Self> {
+        let Some(config) = scene.fluid.clone() else {
+            return Err(Error::InvalidInput(
+                "the scene has no [fluid] section".into(),
+            ));
+        };
+        let size = scene.particles.size;
+        let lattice = lattice_of(&config);
+        let mut d = defines.clone();
+        d.push(("EXACT_SCAN".into(), FLUID_SCAN.to_string()));
+        if config.wall_correction {
+            d.push(("WALLS".into(), "1".into()));
+        }
+        let program = |f: &str| Program::new(ctx, FULLSCREEN_VERTEX, f, &d);
+        let layout = vec![
+            (
+                POSITION,
+                texture(ctx, "fluid position", size, TextureFormat::Rgba32F)?,
+            ),
+            (
+                VELOCITY,
+                texture(ctx, "fluid velocity", size, velocity_format)?,
+            ),
+            (
+                STATIC,
+                texture(ctx, "fluid static", size, TextureFormat::Rgba32F)?,
+            ),
+        ];
+        let density = texture(ctx, "fluid density", size, TextureFormat::Rgba32F)?;
+        let gravity =
+            (scene.forces.gravity.iter()).fold(Vec3::ZERO, |a, g| a + Vec3::from(g.acceleration));
+        Ok(Fluid {
+            lattice,
+            sorter: Sorter::new(
+                ctx,
+                Variant::Packed,
+                size[0],
+                size[1],
+                SortOptions::default(),
+            )?,
+            layout: Framebuffer::named(ctx, "fluid layout", layout)?,
+            density: Framebuffer::new(ctx, "fluid density", vec![density])?,
+            density_pass: program("fluid/density.frag")?,
+            force_pass: program("fluid/force.frag")?,
+            place: program("fluid/lattice.frag")?,
+            copy: program("collide/copy.frag")?,
+            pass: FullscreenPass::new(ctx)?,
+            tally: TruncationTally::new(ctx)?,
+            width: size[0],
+            gravity,
+            config,
+        })
+    }
+
+    /// The scene's `[fluid]`.
+    pub fn config(&self) -> &scene::Fluid {
+        &self.config
+    }
+
+    /// The neighbour lattice (cell 2h).
+    pub fn lattice(&self) -> Lattice {
+        self.lattice
+    }
+
+    /// Places every particle on the lattice of its initial box emitter (`glsl/fluid/lattice.frag`)
+    /// into `state` (then swapped).
+    pub fn place(&self, scene: &SceneFile, state: &mut PingPong) {
+        let p = &self.place;
+        p.bind();
+        let initial = &scene.emitters.initial;
+        p.set_i32("u_width", self.width as i32);
+        p.set_i32("u_emitters", initial.len().max(1) as i32);
+        let dx = self.config.spacing;
+            // Initial emitters take no curves (refused at their key): their values at t = 0.
+        for (k, e) in initial.iter().enumerate() {
+            let size = Vec3::from(e.size);
+            let lo = Vec3::from(e.center.at(0.0)) - 0.5 * size;
+            let n = (size / dx + Vec3::splat(1e-3))
+                .floor()
+                .max(Vec3::ZERO)
+                .as_uvec3();
+            let v = Vec3::from(e.direction.at(0.0)).normalize_or_zero() * e.speed.at(0.0)[0];
+            p.set_vec4(&format!("u_lattice_min[{k}]"), lo.extend(dx));
+            p.set_ivec4(
+                &format!("u_lattice_n[{k}]"),
+                [n.x as i32, n.y as i32, n.z as i32, 0],
+            );
+            p.set_vec4(&format!("u_lattice_v[{k}]"), v.extend(0.0));
+        }
+        self.pass.draw(p, state.back());
+        state.swap();
+    }
+
+    /// Sets the fluid's uniforms on the bound program `p`.
+    fn set_material(&self, p: &Program) {
+        let f = &self.config;
+        let dims = self.lattice.dims;
+        p.optional(|| {
+            p.set_i32("u_key_width", self.width as i32);
+            p.set_ivec3("u_dims", dims.x as i32, dims.y as i32, dims.z as i32);
+            p.set_f32("u_h", f.h());
+            p.set_f32("u_mass", f.mass());
+            p.set_f32("u_rest_density", f.rest_density);
+            p.set_f32("u_stiffness", f.stiffness());
+            p.set_f32("u_gamma", f.gamma);
+            p.set_f32("u_alpha", f.viscosity);
+            p.set_f32("u_sound", f.speed_of_sound);
+            p.set_vec3("u_gravity", self.gravity);
+        });
+    }
+
+    /// One fluid step on the state after the integration pass: sort, gather, density, force
+    /// into `state.back()` (then swapped), statics copied in the new order. `set_constants` sets
+    /// the scene's colliders (the planes of the wall treatment) on a program.
+    pub fn run(
+        &mut self,
+        state: &mut PingPong,
+        statics: &Framebuffer,
+        dt: f32,
+        set_constants: impl Fn(&Program),
+    ) -> Result<()> {
+        let count = self.width as usize * state.height() as usize;
+        let front = state.front();
+        let mode = KeyMode::GridCell {
+            origin: self.lattice.origin,
+            spacing: self.lattice.spacing,
+            dims: self.lattice.dims,
+        };
+        self.sorter
+            .write_keys(front.texture(POSITION), count, &mode, true)?;
+        self.sorter.sort();
+        self.sorter.gather(
+            &[
+                front.texture(POSITION),
+                front.texture(VELOCITY),
+                statics.texture(STATIC),
+            ],
+            &self.layout,
+        )?;
+        let keys = self.sorter.keys();
+        let l = &self.layout;
+        let p = &self.density_pass;
+        set_constants(p);
+        p.bind();
+        self.set_material(p);
+        p.set_i32("u_count", count as i32);
+        p.textures(&[
+            ("u_keys", keys.into()),
+            ("u_position", l.texture(POSITION).into()),
+        ]);
+        self.pass.draw(p, &self.density);
+        self.tally.add_flags(self.density.only_texture(), 3, count);
+        let p = &self.force_pass;
+        set_constants(p);
+        p.bind();
+        self.set_material(p);
+        p.set_i32("u_count", count as i32);
+        p.set_f32("u_dt", dt);
+        p.textures(&[
+            ("u_keys", keys.into()),
+            ("u_position", l.texture(POSITION).into()),
+            ("u_velocity", l.texture(VELOCITY).into()),
+            ("u_density", self.density.only_texture().into()),
+        ]);
+        self.pass.draw(p, state.back());
+        state.swap();
+        let c = &self.copy;
+        c.bind();
+        c.textures(&[("u_source", l.texture(STATIC).into())]);
+        self.pass.draw(c, statics);
+        Ok(())
+    }
+
+    /// Searches that walked a run of three cells past [`FLUID_SCAN`] particles (and so may have
+    /// missed neighbours), summed over the run: one read-back of one texel.
+    pub fn truncated_searches(&self) -> Result<u64> {
+        self.tally.total()
+    }
+
+    /// The last step's gathered layout and density pass, read back (all in cell order).
+    pub fn read_back(&self) -> Result<FluidReadback> {
+        let l = &self.layout;
+        Ok(FluidReadback {
+            positions: l.texture(POSITION).read_f32()?,
+            velocities: l.texture(VELOCITY).read_f32()?,
+            density: self.density.only_texture().read_f32()?,
+        })
+    }
+
+    /// The sum of the scene's gravities (m/s²), for the potential energy.
+    pub fn gravity(&self) -> Vec3 {
+        self.gravity
+    }
+}
+
+/// The fluid stage's inputs and density pass of the last step, read back by
+/// [`Fluid::read_back`]: RGBA texels, four floats per particle, in cell order.
+#[derive(Debug, Clone)]
+pub struct FluidReadback {
+    /// Positions (xyz, life) after the integration pass, in cell order.
+    pub positions: Vec<f32>,
+    /// Velocities before the fluid's kick, in cell order.
+    pub velocities: Vec<f32>,
+    /// (density, pressure, neighbours within 2h, 1 if the search was truncated).
+    pub density: Vec<f32>,
+}

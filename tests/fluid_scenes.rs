@@ -1,0 +1,181 @@
+//! Weakly compressible SPH (`[fluid]`) as scenes run it: the dam-break surge front against
+//! Martin & Moyce (1952) (ignored: half a minute to minutes on llvmpipe), `render --json`'s
+//! per-frame density error and energy, and `[fluid]`'s refusals at their line.
+
+mod common;
+
+use common::fluid::{tank, twin_scene_source};
+use common::scene::{parse, scene_error};
+use common::{context, no_gl_error};
+use texflow::scene;
+use texflow::sim::{ParticleSim, Simulation};
+
+/// Martin & Moyce (1952), Table 2: the surge front Z = z/a of a column of width a = 2¼ in and
+/// height 2a (n² = 2) against T = t √(2g/a), up to T = 3 (docs/numerics.md).
+const MARTIN_MOYCE: [(f64, f64); 13] = [
+    (0.41, 1.11),
+    (0.84, 1.22),
+    (1.19, 1.44),
+    (1.43, 1.67),
+    (1.63, 1.89),
+    (1.83, 2.11),
+    (1.98, 2.33),
+    (2.20, 2.56),
+    (2.32, 2.78),
+    (2.51, 3.00),
+    (2.65, 3.22),
+    (2.83, 3.44),
+    (2.98, 3.67),
+];
+
+/// The dam break of Martin & Moyce: a slab of 16 × 32 × 2 particles (a = 2¼ in, Δx = a / 16)
+/// against the left wall of a tank 5a long and 2 Δx deep; the front (the foremost particle plus
+/// half a spacing) against their Table 2 up to T = 3. The front leads the experiment (by up to
+/// 17 % at T ≈ 1.2, at Δx = a / 32 too; docs/numerics.md): asserted within 20 %, and within
+/// 10 % from T = 2.3 on. Half a minute to minutes on llvmpipe:
+/// `cargo test --release --test fluid_scenes dam_break -- --ignored --nocapture` prints the table.
+#[test]
+#[ignore]
+fn dam_break_front_follows_martin_and_moyce() {
+    let a = 0.05715f32;
+    let dx = a / 16.0;
+    let fluid = format!("speed_of_sound = 15.0\nviscosity = 0.05\nspacing = {dx}");
+    let block = ([a / 2.0, a, dx], [a, 2.0 * a, 2.0 * dx]);
+    let s = parse(
+        "dam",
+        &tank([32, 32], [5.0 * a, 2.0 * dx], block, 9e-5, &fluid),
+    );
+    let ctx = context();
+    let mut sim = ParticleSim::new(&ctx, &s, 1).expect("dam scene");
+    let scale = (2.0 * 9.81 / a as f64).sqrt();
+    let mut worst = 0.0f64;
+    for (t_ref, z_ref) in MARTIN_MOYCE {
+        while sim.time() * scale < t_ref {
+            sim.step().unwrap();
+        }
+        let (x, _) = sim.read_state().unwrap();
+        let front = (0..x.len() / 4)
+            .filter(|&i| x[i * 4 + 3] > 0.0)
+            .map(|i| x[i * 4] as f64)
+            .fold(0.0, f64::max)
+            + dx as f64 / 2.0;
+        let z = front / a as f64;
+        let err = z / z_ref - 1.0;
+        eprintln!(
+            "T {:.3} (Martin & Moyce {t_ref}): Z {z:.3} against {z_ref}, {:+.1} %",
+            sim.time() * scale,
+            100.0 * err
+        );
+        worst = worst.max(err.abs());
+        assert!(
+            err.abs() <= if t_ref >= 2.3 { 0.10 } else { 0.20 },
+            "T {t_ref}: Z {z} against {z_ref}"
+        );
+    }
+    eprintln!("largest deviation {:.1} %", 100.0 * worst);
+    assert_eq!(sim.truncated_searches().unwrap(), 0);
+    no_gl_error(&ctx);
+}
+
+/// `[fluid]`'s refusals name the key, its line and column, and the fix.
+#[test]
+fn bad_fluid_scenes_are_refused_at_their_key() {
+    let ok = "speed_of_sound = 10.0\nspacing = 0.02";
+    let base = |dt: f32, fluid: &str| {
+        tank(
+            [16, 16],
+            [0.24, 0.12],
+            ([0.06, 0.06, 0.06], [0.12; 3]),
+            dt,
+            fluid,
+        )
+    };
+    let line_of =
+        |src: &str, key: &str| 1 + src.lines().position(|l| l.starts_with(key)).expect(key);
+    let cases: [(String, &str, &str); 5] = [
+        (base(0.01, ok), "dt = ", "CFL"),
+        (
+            base(5e-4, &format!("{ok}\nsmoothing = 0.05")),
+            "smoothing",
+            "spacing",
+        ),
+        (
+            base(5e-4, "speed_of_sound = 10.0\nspacing = 0.02\ngamma = 9.0"),
+            "gamma",
+            "[1, 7]",
+        ),
+        (
+            base(5e-4, ok)
+                + "[collisions]\nradius = 0.01\nbounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]\n",
+            "[collisions]",
+            "remove [collisions]",
+        ),
+        (
+            base(5e-4, ok).replace("shape = \"box\"", "shape = \"point\""),
+            "shape",
+            "box",
+        ),
+    ];
+    for (src, key, says) in cases {
+        let (line, _, message) = scene_error(scene::parse("bad.toml", &src));
+        assert_eq!(line, line_of(&src, key), "{message}\n{src}");
+        assert!(message.contains(says), "{message}");
+    }
+    let (_, _, m) = scene_error(scene::parse(
+        "bad.toml",
+        &base(5e-4, &format!("{ok}\nviscosity = 10.0")),
+    ));
+    assert!(m.contains("viscous"), "{m}");
+}
+
+/// `render --json` lists per written frame the fluid's density error and energy: every live
+/// particle counted, the errors ordered, and the energy (kinetic + gravitational) lower at the
+/// end than at the start (viscosity and the inelastic walls take it; the compression's own
+/// energy is small at this speed of sound).
+#[test]
+fn render_json_reports_density_error_and_energy_per_frame() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = tmp.path().join("fluid.toml");
+    let src = twin_scene_source().replace("dt = 0.0005", "dt = 0.0005\nsubsteps = 40");
+    std::fs::write(&scene, src).unwrap();
+    let out = tmp.path().join("f");
+    let o = common::cli::texflow(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--frames",
+        "8",
+        "--every",
+        "7",
+        "--resolution",
+        "32",
+        "--json",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", common::cli::stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let frames = v["records"]["fluid"]
+        .as_array()
+        .expect("a fluid array")
+        .clone();
+    assert_eq!(frames.len(), 2, "frames 0 and 7: {v}");
+    let energy =
+        |f: &serde_json::Value| f["kinetic"].as_f64().unwrap() + f["potential"].as_f64().unwrap();
+    for f in &frames {
+        assert_eq!(f["live"], 216, "{f}");
+        let (max, mean) = (
+            f["max_density_error"].as_f64().unwrap(),
+            f["mean_density_error"].as_f64().unwrap(),
+        );
+        assert!(max >= mean && mean > 0.0 && max < 1.0, "{f}");
+        assert!(f["max_compression"].as_f64().unwrap() < 0.1, "{f}");
+    }
+    assert_eq!(frames[1]["frame"], 7);
+    assert!(
+        frames[0]["kinetic"].as_f64().unwrap() > 0.0,
+        "the column falls: {:?}",
+        frames[0]
+    );
+    assert!(energy(&frames[1]) < energy(&frames[0]), "{frames:?}");
+}

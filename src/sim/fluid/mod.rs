@@ -83,7 +83,7 @@ pub fn fluid_passes(walls: bool) -> Vec<String> {
     };
     vec![
         "fluid keys: cell index in the lattice of cell 2h (z, y, x)".into(),
-        "fluid sort: full bitonic sort (GP/FP packed)".into(),
+        "fluid sort: full sort on our blocked network (exact (key, id) entries)".into(),
         "gather position, velocity, static in cell order".into(),
         format!(
             "fluid density: ρ = m Σ W over the 27 cells around each particle (cubic spline, \
@@ -152,9 +152,11 @@ impl Fluid {
             (scene.forces.gravity.iter()).fold(Vec3::ZERO, |a, g| a + Vec3::from(g.acceleration));
         Ok(Fluid {
             lattice,
+            // Our blocked network with exact (key, id) entries, one per texel: the layout
+            // `glsl/collide/cells.glsl` searches without `PACKED_KEYS`.
             sorter: Sorter::new(
                 ctx,
-                Variant::Packed,
+                Variant::Blocked,
                 size[0],
                 size[1],
                 SortOptions::default(),
@@ -192,7 +194,7 @@ impl Fluid {
         p.set_i32("u_width", self.width as i32);
         p.set_i32("u_emitters", initial.len().max(1) as i32);
         let dx = self.config.spacing;
-            // Initial emitters take no curves (refused at their key): their values at t = 0.
+        // Initial emitters take no curves (refused at their key): their values at t = 0.
         for (k, e) in initial.iter().enumerate() {
             let size = Vec3::from(e.size);
             let lo = Vec3::from(e.center.at(0.0)) - 0.5 * size;

@@ -9,6 +9,9 @@ use crate::scene::SortKey;
 use crate::sim::state::{POSITION, SPIN, STATIC};
 use crate::sim::{ParticleSim, Simulation};
 
+// The `Engine` trait over any simulation, in a file of its own.
+mod engine_impl;
+
 /// The sorted motion texture (velocities or Verlet's previous positions) stretched quads read.
 const MOTION: crate::gl::Attachment = crate::gl::Attachment::named("motion");
 
@@ -500,120 +503,6 @@ impl<S: Simulation> GpuEngine<S> {
     /// Half-angle slicing, when the scene is lit.
     pub fn lit(&self) -> Option<&crate::render::HalfAngleRenderer> {
         self.lit.as_ref()
-    }
-}
-
-impl<S: Simulation> super::Engine for GpuEngine<S> {
-    fn advance_frame(&mut self) -> Result<()> {
-        GpuEngine::advance_frame(self)
-    }
-
-    fn warm_up_frame(&mut self) -> Result<()> {
-        self.advance_frame_without_collisions()
-    }
-
-    fn order_for_drawing(&mut self) -> Result<()> {
-        GpuEngine::order_for_drawing(self).map(drop)
-    }
-
-    fn draw(&mut self) -> Result<()> {
-        GpuEngine::draw(self)
-    }
-
-    fn target(&self) -> &FrameTarget {
-        &self.target
-    }
-
-    fn set_view(&mut self, view: crate::render::ViewOffset) {
-        GpuEngine::set_view(self, view)
-    }
-
-    fn steps(&self) -> u64 {
-        self.sim.steps()
-    }
-
-    fn state_size(&self) -> [u32; 2] {
-        self.sim.size()
-    }
-
-    fn dropped_births(&self) -> u64 {
-        self.sim.dropped_births()
-    }
-
-    fn dropped_child_births(&self) -> Result<u64> {
-        self.sim.dropped_child_births()
-    }
-
-    fn truncated_searches(&self) -> Result<u64> {
-        self.sim.truncated_searches()
-    }
-
-    fn stretched(&self) -> Result<Option<crate::sim::Stretched>> {
-        self.sim.stretched()
-    }
-
-    fn fluid_stats(&self) -> Result<Option<crate::sim::fluid::FluidStats>> {
-        self.sim.fluid_stats()
-    }
-
-    fn truncated_bounces(&self) -> Result<u64> {
-        self.sim.truncated_bounces()
-    }
-
-    fn non_finite(
-        &self,
-        counter: &crate::sim::nonfinite::NonFiniteCounter,
-    ) -> Result<crate::sim::nonfinite::NonFiniteCount> {
-        self.sim.non_finite(counter)
-    }
-
-    fn dump(&self) -> Result<super::StateDump> {
-        let (p, v) = self.sim.read_state()?;
-        Ok(super::StateDump::of_live_with(
-            &p,
-            &v,
-            &self.sim.read_more()?,
-        ))
-    }
-
-    fn emitter_keys(&self) -> Vec<String> {
-        self.emitter_keys.clone()
-    }
-
-    fn live(&self) -> Result<u64> {
-        let p = self.sim.drawn().positions.read_f32()?;
-        Ok(p.chunks_exact(4)
-            .filter(|p| crate::sim::particle_live([p[0], p[1], p[2], p[3]]))
-            .count() as u64)
-    }
-
-    fn timed_frame(&mut self, timer: &crate::gl::PassTimer) -> Result<Vec<(&'static str, f64)>> {
-        let simulate = super::timed(timer, || GpuEngine::advance_frame(self))?;
-        let draw = super::timed(timer, || GpuEngine::draw(self))?;
-        let name = if self.sort.is_some() {
-            "keys, sort, gather and draw"
-        } else {
-            "draw"
-        };
-        Ok(vec![("simulate", simulate), (name, draw)])
-    }
-
-    fn census(&self) -> Result<Option<crate::sim::collide::PairCensus>> {
-        self.sim.census()
-    }
-
-    fn plan(&self) -> super::plan::Plan {
-        let mut per_frame = self.sort_passes.clone();
-        per_frame.extend(match &self.lit {
-            Some(l) => l.pass_names(),
-            None => self.renderer.pass_names(),
-        });
-        super::plan::Plan {
-            scene: self.name.clone(),
-            per_step: self.sim.passes().into_iter().map(|p| p.name).collect(),
-            substeps: self.sim.substeps(),
-            per_frame,
-        }
     }
 }
 

@@ -30,7 +30,7 @@ use crate::gl::{
     Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Ring3, Sampled, Texture,
     Texture3D, TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
 };
-use crate::scene::{Integrator, SceneFile, Simulation};
+use crate::scene::{Integrator, SceneFile};
 use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
 pub use custom::check_custom_forces;
 pub use features::{Emission, Features};
@@ -171,15 +171,7 @@ impl ParticleSim {
         let mut sim = ParticleSim {
             integrate,
             integrate_position,
-            stateless: match scene.simulation {
-                Simulation::Stateless => Some(stateless::Stateless::new(
-                    ctx,
-                    scene,
-                    &defines,
-                    [width, height],
-                )?),
-                Simulation::Stateful => None,
-            },
+            stateless: stateless::Stateless::of(ctx, scene, &defines, [width, height])?,
             emit_state,
             emit_previous,
             emit_static,

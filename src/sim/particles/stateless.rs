@@ -72,6 +72,19 @@ pub(super) struct Stateless {
 }
 
 impl Stateless {
+    /// The closed-form pass of a stateless scene (`simulation = "stateless"`), else `None`.
+    pub fn of(
+        ctx: &Context,
+        scene: &SceneFile,
+        defines: &Defines,
+        size: [u32; 2],
+    ) -> Result<Option<Self>> {
+        match scene.simulation {
+            crate::scene::Simulation::Stateless => Ok(Some(Self::new(ctx, scene, defines, size)?)),
+            crate::scene::Simulation::Stateful => Ok(None),
+        }
+    }
+
     pub(super) fn new(
         ctx: &Context,
         scene: &SceneFile,

@@ -39,18 +39,18 @@ fn small(name: &str) -> SceneFile {
 #[test]
 fn index_lookup_draws_the_gathered_frame() {
     let mut cases = Vec::new();
-    cases.push(("smoke oddeven", small("smoke")));
-    let mut s = small("smoke");
+    cases.push(("smoke-unlit oddeven", small("smoke-unlit")));
+    let mut s = small("smoke-unlit");
     s.render.sort.variant = Some(Variant::Packed);
     cases.push(("smoke packed", s));
-    let mut s = small("smoke");
+    let mut s = small("smoke-unlit");
     s.particles.precision = Precision::Fp24;
     s.render.sort.variant = Some(Variant::Fp);
     cases.push(("smoke fp24 id table", s));
-    let mut s = small("smoke");
+    let mut s = small("smoke-unlit");
     s.render.sort.passes_per_frame = Some(3);
     cases.push(("smoke spread", s));
-    let mut s = small("smoke");
+    let mut s = small("smoke-unlit");
     s.render.sort.variant = Some(Variant::Blocked);
     s.render.primitive = DrawPrimitive::Quads;
     cases.push(("smoke blocked quads", s));
@@ -93,7 +93,7 @@ fn index_lookup_needs_alpha_blending() {
 #[test]
 fn bench_scene_times_the_lookup_without_a_gather() {
     let ctx = context();
-    let mut s = scene::load("smoke").unwrap();
+    let mut s = scene::load("smoke-unlit").unwrap();
     s.render.lookup = Lookup::Index;
     let opts = texflow::bench::SceneBenchOptions {
         repeats: 2,

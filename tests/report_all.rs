@@ -63,6 +63,7 @@ fn check_files(out_dir: &Path, listed: &[PathBuf]) {
         "sort_frames.json",
         "sort_frames_passes.png",
         "sort_frames_time.png",
+        "sort_spread.json",
         "collisions.csv",
         "collisions.json",
         "collisions_miss_rate.png",

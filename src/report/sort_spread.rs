@@ -3,7 +3,7 @@
 //! inversions**, pairs of live particles drawn in the wrong order whose sprites overlap on
 //! screen (centres closer than the nominal sprite size, `render.point_size` pixels), where the
 //! wrong order changes pixels. All inversions are counted beside them. The scene is the one of
-//! [`super::sort_frames`] (`smoke`, the camera orbiting), the same frames for both spreads.
+//! [`super::sort_frames`] (`smoke-unlit`, the camera orbiting), the same frames for both spreads.
 
 use serde::Serialize;
 

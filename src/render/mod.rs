@@ -4,6 +4,7 @@ pub mod atlas;
 mod camera;
 pub mod connected;
 pub mod geometry;
+pub mod ribbons;
 mod halfangle;
 mod isosurface;
 mod keyframes;
@@ -23,6 +24,7 @@ pub use halfangle::{light_view, HalfAngle, HalfAngleRenderer, SlicePasses};
 pub use isosurface::Surface;
 pub use keyframes::{relative_age, KeyframeRamp};
 pub use lookup::SortLayout;
+pub use ribbons::RibbonRenderer;
 pub use particles::{FrameState, Motion, ParticleRenderer, QUAD_VERTICES};
 pub use sprite::{
     age_seconds, flipbook_tile, random_size, second_random, sprite_angle, third_random, SizeCurve,

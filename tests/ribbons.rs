@@ -145,7 +145,11 @@ fn scenes_refuse_ribbons_they_cannot_draw() {
     let cases = [
         (no_children.to_owned(), "", "trail_rate above 0"),
         (bursts, "", "trail_rate above 0"),
-        (BASE.to_owned(), "path = \"vertex_buffer\"\n", "texture_fetch"),
+        (
+            BASE.to_owned(),
+            "path = \"vertex_buffer\"\n",
+            "texture_fetch",
+        ),
     ];
     for (head, extra, want) in cases {
         let src = format!("{head}[render]\n{extra}trails = \"ribbon\"\n");
@@ -172,7 +176,10 @@ fn scenes_refuse_ribbons_they_cannot_draw() {
 #[test]
 fn without_trails_frames_are_the_same_bytes() {
     let dir = tempfile::tempdir().unwrap();
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/scenes/fireworks.toml");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/scenes/fireworks.toml"
+    );
     let fireworks = std::fs::read_to_string(path).unwrap();
     let mut frames = Vec::new();
     for (name, trails) in [("absent", ""), ("none", "none"), ("ribbon", "ribbon")] {
@@ -185,8 +192,16 @@ fn without_trails_frames_are_the_same_bytes() {
         std::fs::write(&file, src).unwrap();
         let out = dir.path().join(name);
         let o = texflow(&[
-            "render", s(&file), "--frames", "18", "--every", "17", "--resolution", "64x64",
-            "--out", s(&out),
+            "render",
+            s(&file),
+            "--frames",
+            "18",
+            "--every",
+            "17",
+            "--resolution",
+            "64x64",
+            "--out",
+            s(&out),
         ]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let last = pngs(&out).pop().expect("a frame");

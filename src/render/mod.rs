@@ -4,12 +4,12 @@ pub mod atlas;
 mod camera;
 pub mod connected;
 pub mod geometry;
-pub mod ribbons;
 mod halfangle;
 mod isosurface;
 mod keyframes;
 mod lookup;
 mod particles;
+pub mod ribbons;
 mod soft;
 mod sprite;
 mod style;
@@ -24,8 +24,8 @@ pub use halfangle::{light_view, HalfAngle, HalfAngleRenderer, SlicePasses};
 pub use isosurface::Surface;
 pub use keyframes::{relative_age, KeyframeRamp};
 pub use lookup::SortLayout;
-pub use ribbons::RibbonRenderer;
 pub use particles::{FrameState, Motion, ParticleRenderer, QUAD_VERTICES};
+pub use ribbons::RibbonRenderer;
 pub use sprite::{
     age_seconds, flipbook_tile, random_size, second_random, sprite_angle, third_random, SizeCurve,
 };

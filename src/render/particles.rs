@@ -420,10 +420,7 @@ impl ParticleRenderer {
             count: (count * per_particle) as u32,
             state: &draw_state,
         });
-        if let Some(r) = &self.ribbons {
-            r.draw(target, state, camera, s, &draw_state)?;
-        }
-        self.draw_under(target, camera, &draw_state);
+        self.draw_under(target, state, camera, &draw_state)?;
         gl.check_error("drawing particles")
     }
 
@@ -523,11 +520,20 @@ impl ParticleRenderer {
         Ok(vertices)
     }
 
-    /// The under operator's last passes: the geometry's colour behind the particles, then the
-    /// background behind everything.
-    fn draw_under(&self, target: &FrameTarget, camera: &Camera, draw_state: &DrawState) {
+    /// The ribbons after the particles, then the under operator's last passes: the geometry's
+    /// colour behind the particles, then the background behind everything.
+    fn draw_under(
+        &self,
+        target: &FrameTarget,
+        state: &FrameState<'_>,
+        camera: &Camera,
+        draw_state: &DrawState,
+    ) -> Result<()> {
         let s = &self.style;
         let gl = &self.ctx;
+        if let Some(r) = &self.ribbons {
+            r.draw(target, state, camera, s, draw_state)?;
+        }
         if let (Some(g), true) = (&self.geometry, s.under()) {
             // Behind the particles accumulated so far, on the depth the first pass wrote.
             g.draw(
@@ -558,6 +564,7 @@ impl ParticleRenderer {
                 },
             });
         }
+        Ok(())
     }
 }
 

@@ -42,6 +42,9 @@ done
 # A user state: the heat example's temperature, colouring its flame (examples/heat/).
 "$bin" render examples/heat/heat.toml --frames 81 --every 80 --out "$tmp/heat" --quiet
 cp "$tmp/heat/frame_00080.png" docs/img/heat.png
+# Trail ribbons: fireworks with render.trails = "ribbon" (examples/ribbons/).
+"$bin" render examples/ribbons/ribbons.toml --frames 24 --every 23 --out "$tmp/ribbons" --quiet
+cp "$tmp/ribbons/frame_00023.png" docs/img/ribbons.png
 "$bin" trace sort --variant oddeven --size 16 --seed 1 --out "$tmp/trace" --quiet
 for i in 000 010 021 036; do
     cp "$tmp/trace/pass_$i.png" "docs/img/trace_oddeven_16_pass_$i.png"

@@ -219,6 +219,16 @@ impl<S: Simulation> GpuEngine<S> {
                 surface_color(scene),
             )?);
         }
+        if scene.render.trails == crate::scene::Trails::Ribbon {
+            let ribbons = crate::render::RibbonRenderer::new(
+                ctx,
+                &scene.child_layout(),
+                renderer.style(),
+                scene.time.dt,
+                scene.render.ribbon_width,
+            )?;
+            renderer.set_ribbons(ribbons);
+        }
         let sort = SortStage::new(ctx, scene, &renderer)?;
         if let Some(s) = sort.as_ref().filter(|s| s.lookup) {
             renderer.set_lookup(sort_layout(&s.sorter))?;

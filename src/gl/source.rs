@@ -101,6 +101,8 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "render/cloth.frag",
     "render/strand.vert",
     "render/strand.frag",
+    "render/ribbon.vert",
+    "render/ribbon.frag",
 ];
 
 /// Looks an embedded file up, then a source added at run time ([`add_runtime_source`]).

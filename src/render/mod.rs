@@ -9,6 +9,7 @@ mod isosurface;
 mod keyframes;
 mod lookup;
 mod particles;
+pub mod ribbons;
 mod soft;
 mod sprite;
 mod style;
@@ -24,6 +25,7 @@ pub use isosurface::Surface;
 pub use keyframes::{relative_age, KeyframeRamp};
 pub use lookup::SortLayout;
 pub use particles::{FrameState, Motion, ParticleRenderer, QUAD_VERTICES};
+pub use ribbons::RibbonRenderer;
 pub use sprite::{
     age_seconds, flipbook_tile, random_size, second_random, sprite_angle, third_random, SizeCurve,
 };

@@ -88,6 +88,7 @@ pub struct ParticleRenderer {
     atlas: Option<Texture>,
     geometry: Option<GeometryRenderer>,
     connected: Option<ConnectedRenderer>,
+    ribbons: Option<super::RibbonRenderer>,
     /// The index lookup's program variant and the sort texture's layout (Latta §3.4.4).
     lookup: Option<(Program, super::SortLayout)>,
     /// The geometry's view depth, for soft particles (`render.soft`).
@@ -155,6 +156,7 @@ impl ParticleRenderer {
             atlas,
             geometry: None,
             connected: None,
+            ribbons: None,
             lookup: None,
             soft: Default::default(),
         })
@@ -193,6 +195,11 @@ impl ParticleRenderer {
     pub fn set_geometry(&mut self, geometry: GeometryRenderer) {
         self.style.depth_test = true;
         self.geometry = Some(geometry);
+    }
+
+    /// Draws `ribbons` between trail children after the particles, in their blend.
+    pub fn set_ribbons(&mut self, ribbons: super::RibbonRenderer) {
+        self.ribbons = Some(ribbons);
     }
 
     /// Draws the particles as `connected` geometry (a cloth surface, hair strands) instead of
@@ -413,7 +420,7 @@ impl ParticleRenderer {
             count: (count * per_particle) as u32,
             state: &draw_state,
         });
-        self.draw_under(target, camera, &draw_state);
+        self.draw_under(target, state, camera, &draw_state)?;
         gl.check_error("drawing particles")
     }
 
@@ -513,11 +520,20 @@ impl ParticleRenderer {
         Ok(vertices)
     }
 
-    /// The under operator's last passes: the geometry's colour behind the particles, then the
-    /// background behind everything.
-    fn draw_under(&self, target: &FrameTarget, camera: &Camera, draw_state: &DrawState) {
+    /// The ribbons after the particles, then the under operator's last passes: the geometry's
+    /// colour behind the particles, then the background behind everything.
+    fn draw_under(
+        &self,
+        target: &FrameTarget,
+        state: &FrameState<'_>,
+        camera: &Camera,
+        draw_state: &DrawState,
+    ) -> Result<()> {
         let s = &self.style;
         let gl = &self.ctx;
+        if let Some(r) = &self.ribbons {
+            r.draw(target, state, camera, s, draw_state)?;
+        }
         if let (Some(g), true) = (&self.geometry, s.under()) {
             // Behind the particles accumulated so far, on the depth the first pass wrote.
             g.draw(
@@ -548,6 +564,7 @@ impl ParticleRenderer {
                 },
             });
         }
+        Ok(())
     }
 }
 

@@ -72,6 +72,7 @@ impl ParticleRenderer {
             line.push_str(", flipbooks (atlas tiles advancing with the particle's age)");
         }
         names.push(line);
+        names.extend(self.ribbons.as_ref().map(|r| r.pass_name()));
         if s.under() && self.geometry.is_some() {
             names.push("composite geometry under (its own depth, equal passes)".to_owned());
         }

@@ -30,7 +30,7 @@ pub use render::{
     Blending, CameraSection, DrawMode, DrawOrder, DrawPrimitive, Keyframe, LightSection, Lighting,
     Render, RenderPath, Rotate, SortEntries, SortKey, SortSection, Variant, MAX_KEYFRAMES,
 };
-pub use render::{Lookup, Spread};
+pub use render::{Lookup, Spread, Trails};
 pub use state::{StateFormat, UserState, MAX_STATE_EXPRESSION, MAX_USER_STATES};
 
 pub(super) fn one() -> f32 {

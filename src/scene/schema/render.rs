@@ -429,6 +429,28 @@ pub struct Render {
     /// Needs `geometry = true`.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub soft: f32,
+    /// Child emitters' trails: `none` (default) or `ribbon` (camera-facing quads between
+    /// consecutive trail children of one parent, `src/render/ribbons.rs`).
+    #[serde(default, skip_serializing_if = "no_trails")]
+    pub trails: Trails,
+    /// The ribbons' width in metres; absent: each end's point size in pixels.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ribbon_width: Option<f32>,
+}
+
+/// How child emitters' trails are drawn (`render.trails`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Trails {
+    /// Only the particles.
+    #[default]
+    None,
+    /// The particles, and ribbons between consecutive children of each parent's trail.
+    Ribbon,
+}
+
+fn no_trails(t: &Trails) -> bool {
+    *t == Trails::None
 }
 
 fn unlit(l: &Lighting) -> bool {
@@ -494,6 +516,8 @@ impl Default for Render {
             light: LightSection::default(),
             lookup: Lookup::Gather,
             soft: 0.0,
+            trails: Trails::None,
+            ribbon_width: None,
         }
     }
 }

@@ -23,6 +23,7 @@ mod neighbours;
 pub use neighbours::MAX_DEM_OMEGA_DT;
 mod render;
 mod render_options;
+mod ribbons;
 mod spin;
 mod state;
 pub use state::STATE_INPUTS;
@@ -161,6 +162,7 @@ impl SceneFile {
         fire(self)?;
         state::state(self)?;
         render::render(self)?;
+        ribbons::ribbons(self)?;
         lighting::lighting(self)
     }
 

@@ -68,7 +68,7 @@ pub struct RenderArgs {
     loop_fade: u64,
     /// State texture size WxH (one particle per texel), or N for NxN [default: the scene's
     /// particles.size]. Below the scene's count the point size grows by sqrt(own / new), up to
-    /// 64 px, so the frame stays covered (not with [collisions] or surfaces).
+    /// 64 px, so the frame stays covered (not with [collisions], [fluid] or surfaces).
     #[arg(long, value_parser = parse_size, value_name = "WxH")]
     particles: Option<[u32; 2]>,
     /// Frame size WxH in pixels, or N for NxN [default: the scene's render.resolution].

@@ -14,13 +14,15 @@ impl SceneFile {
     /// own size, `render.point_size` is multiplied by √(own count / new count), up to
     /// [`MAX_SCALED_POINT_SIZE`] (never below the scene's own): the frame stays about as
     /// covered. Not where the drawn size is the physical one (`[collisions]`: the particle's
-    /// radius) or no point is drawn (`mode = "surface"`). At the scene's own size or above,
-    /// nothing but the size changes.
+    /// radius; `[fluid]`: the lattice spacing) or no point is drawn (`mode = "surface"`). At
+    /// the scene's own size or above, nothing but the size changes.
     pub fn resize_particles(&mut self, size: [u32; 2]) {
         let count = |s: [u32; 2]| s[0] as f64 * s[1] as f64;
         let (own, new) = (count(self.particles.size), count(size));
         self.particles.size = size;
-        let physical = self.collisions.is_some() || self.render.mode == DrawMode::Surface;
+        let physical = self.collisions.is_some()
+            || self.fluid.is_some()
+            || self.render.mode == DrawMode::Surface;
         if new < own && new > 0.0 && !physical {
             let p = self.render.point_size;
             let scaled = p * (own / new).sqrt() as f32;

@@ -116,3 +116,26 @@ fn bench_scene_times_the_lookup_without_a_gather() {
     );
     no_gl_error(&ctx);
 }
+
+/// An accepted index lookup still goes through the checks of the keys after it: soft
+/// particles without geometry and a local spread without a spread sort are refused at their
+/// place, not at the first frame.
+#[test]
+fn index_lookup_does_not_skip_the_later_render_checks() {
+    let base = scene::builtin_source("smoke-unlit").unwrap();
+    let lookup = base.replace("[render]\n", "[render]\nlookup = \"index\"\n");
+    assert_ne!(lookup, base, "the scene has a [render] line");
+    for (src, key) in [
+        (
+            lookup.replace("[render]\n", "[render]\nsoft = 0.1\n"),
+            "soft",
+        ),
+        (
+            lookup.replace("[render.sort]\n", "[render.sort]\nspread = \"local\"\n"),
+            "spread",
+        ),
+    ] {
+        let e = scene::parse("lookup.toml", &src).unwrap_err().to_string();
+        assert!(e.contains("lookup.toml:") && e.contains(key), "{e}");
+    }
+}

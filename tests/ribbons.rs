@@ -150,6 +150,14 @@ fn scenes_refuse_ribbons_they_cannot_draw() {
             "path = \"vertex_buffer\"\n",
             "texture_fetch",
         ),
+        // Alpha blending re-orders (gathers) the state the ribbons would read by ring index,
+        // and draws in depth order: one unsorted batch fits neither, lit or not.
+        (BASE.to_owned(), "blending = \"alpha\"\n", "unsorted batch"),
+        (
+            BASE.to_owned(),
+            "blending = \"alpha\"\nlookup = \"index\"\n",
+            "unsorted batch",
+        ),
     ];
     for (head, extra, want) in cases {
         let src = format!("{head}[render]\n{extra}trails = \"ribbon\"\n");

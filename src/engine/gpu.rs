@@ -362,7 +362,11 @@ impl<S: Simulation> GpuEngine<S> {
                 // renderer (a benchmark's fill floor) draws the same state plainly.
                 match &self.lit {
                     Some(l) if std::ptr::eq(renderer, &self.renderer) => {
-                        l.draw(&self.target, &state, &self.camera, renderer.atlas())?
+                        // Slices of equal count over the sorted entries that can be live (the
+                        // simulation's drawn rows: dead ones sort last), not over every texel,
+                        // or the last slices would hold only the dead.
+                        let live = crate::render::FrameState { count, ..state };
+                        l.draw(&self.target, &live, &self.camera, renderer.atlas())?
                     }
                     _ => renderer.draw_frame(&self.target, &state, &self.camera)?,
                 }

@@ -19,7 +19,7 @@
 //!   state's write rate;
 //! - the sort network: a write into what each pass writes (the sort texture, or the blocked
 //!   sort's layers) times the passes run;
-//! - the render pass, two bounds, reported against the larger ([`floors`]):
+//! - the render pass, two bounds, reported against the larger (`src/bench/scene/floors.rs`):
 //!   [`PlacedRenderFloor`](crate::bench::PlacedRenderFloor), as many particles as the pass draws
 //!   where they are, at the pass's point size and blend, fetching nothing; and the fill floor,
 //!   the renderer's own vertex stage (the same points or sprites) with a constant fragment

@@ -260,14 +260,13 @@ pub(super) fn lit_phases(
     };
     let camera = engine.camera();
     let target = engine.target();
-    let [w, h] = engine.sim().size().to_array();
     let state = FrameState {
         positions: sorted.texture(POSITION),
         statics: sorted.texture(STATIC),
         motion: None,
         time: engine.sim().time() as f32,
         spins: None,
-        count: w as usize * h as usize,
+        count: engine.sim().drawn().count,
         user: &[],
     };
     let atlas = engine.renderer().atlas();

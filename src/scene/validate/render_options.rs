@@ -13,17 +13,24 @@ pub(super) fn options(s: &SceneFile) -> Check {
     if r.lookup == Lookup::Index {
         let at = path(&[N("render"), N("lookup")]);
         let why = if r.blending != Blending::Alpha || s.fire.is_some() {
-            "draws through the sort of alpha blending, and this scene does not sort: use \
-             blending = \"alpha\", or remove the key"
+            Some(
+                "draws through the sort of alpha blending, and this scene does not sort: use \
+                 blending = \"alpha\", or remove the key",
+            )
         } else if r.path != RenderPath::TextureFetch {
-            "fetches each particle's state at the id the sort texture names: use path = \
-             \"texture_fetch\", or lookup = \"gather\" with the vertex buffer"
+            Some(
+                "fetches each particle's state at the id the sort texture names: use path = \
+                 \"texture_fetch\", or lookup = \"gather\" with the vertex buffer",
+            )
         } else if r.mode == DrawMode::Surface {
-            "is for points and sprites: the surface draws the layout unsorted"
+            Some("is for points and sprites: the surface draws the layout unsorted")
         } else {
-            return Ok(());
+            None
         };
-        return fail(at, format!("lookup = \"index\" {why}"));
+        // An accepted lookup goes on to the checks of soft particles and the spread below.
+        if let Some(why) = why {
+            return fail(at, format!("lookup = \"index\" {why}"));
+        }
     }
     if r.soft != 0.0 {
         let at = path(&[N("render"), N("soft")]);

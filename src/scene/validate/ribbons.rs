@@ -3,7 +3,7 @@
 
 use super::{fail, path, Check};
 use crate::scene::locate::Key;
-use crate::scene::schema::{DrawMode, RenderPath, SceneFile, Trails};
+use crate::scene::schema::{Blending, DrawMode, RenderPath, SceneFile, Trails};
 
 use Key::Name as N;
 
@@ -38,6 +38,13 @@ pub(super) fn ribbons(s: &SceneFile) -> Check {
          remove the key"
     } else if r.mode == DrawMode::Surface {
         "is for points and sprites: use mode = \"points\" or \"sprites\", or remove the key"
+    } else if r.blending == Blending::Alpha {
+        // Ribbons are one unsorted batch over the simulation's own layout: alpha blending's
+        // gathered (re-ordered) state and its depth order, lit or not, do not fit them.
+        "is drawn in one unsorted batch after the particles: use blending = \"additive\" or \
+         \"multiplicative\", or remove the key"
+    } else if r.color.is_some() {
+        "colours ribbons by the keyframes, not by render.color: remove one of the two keys"
     } else {
         return Ok(());
     };

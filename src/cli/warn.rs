@@ -49,7 +49,7 @@ pub fn searches_truncated(s: &SceneFile, total: u64, steps: u64) -> String {
             f.speed_of_sound
         );
     }
-    let cell = (s.collisions.as_ref()).map_or(0.0, |c| c.cell.unwrap_or(2.0 * c.radius));
+    let cell = (s.collisions.as_ref()).map_or(0.0, |c| c.cell());
     format!(
         "warning: {total} exact collision search(es) over {steps} step(s) met a run of three \
          cells holding more than {} particles and walked only that many: partners past them were \

@@ -6,7 +6,6 @@ use glam::Vec3;
 use crate::error::Result;
 use crate::scene::SceneFile;
 use crate::sim::collide::Collisions;
-use crate::sim::particles::mass_range;
 use crate::sim::ParticleSim;
 
 pub use super::collide_stats::IterationStats;
@@ -58,7 +57,7 @@ pub fn energy_momentum(sim: &ParticleSim) -> Result<(f64, [f64; 3])> {
 
 /// [`energy_momentum`] of read-back state (4 floats per texel each).
 pub fn energy_momentum_of(s: &SceneFile, x: &[f32], v: &[f32], st: &[f32]) -> (f64, [f64; 3]) {
-    let ranges: Vec<[f32; 2]> = s.emitters.all().map(|e| mass_range(s, e)).collect();
+    let ranges: Vec<[f32; 2]> = s.emitters.all().map(|e| s.mass_range(e)).collect();
     let mut e = 0.0;
     let mut p = [0.0; 3];
     for i in 0..x.len() / 4 {

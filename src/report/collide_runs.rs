@@ -105,7 +105,7 @@ pub fn sweep(
             scene.name
         )));
     };
-    let g = base.cell.unwrap_or(2.0 * base.radius);
+    let g = base.cell();
     let mut variants: Vec<(String, scene::Collisions)> = vec![("scene".into(), base.clone())];
     for k in [1u32, 2, 4, 16] {
         if k != base.neighbours {
@@ -157,7 +157,7 @@ pub fn sweep(
             k: c.neighbours,
             staggered: c.staggered,
             rows_only: c.rows_only,
-            cell: c.cell.unwrap_or(2.0 * c.radius),
+            cell: c.cell(),
             stats,
         });
     }

@@ -9,6 +9,7 @@ pub mod fields;
 pub mod fire;
 pub mod fluid;
 pub mod nonfinite;
+pub mod params;
 pub mod particles;
 pub mod reference;
 mod simulation;

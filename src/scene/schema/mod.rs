@@ -4,16 +4,22 @@
 //! (`[[forces.attractor]]`, `[[colliders.sphere]]`), not a `kind = ...` tag: serde's tagged enums
 //! buffer their content and would lose the spans that errors point at.
 
+mod colliders;
 mod constraints;
 mod emitters;
 mod fluid;
 mod forces;
 mod neighbours;
 mod render;
+mod rules;
 mod state;
 
 use serde::{Deserialize, Serialize};
 
+pub use colliders::{
+    BoxCollider, Collider, ColliderCounts, ColliderKind, Colliders, HeightFieldCollider, Orbit,
+    PlaneCollider, SdfCollider, SphereCollider,
+};
 pub use constraints::{ConstraintKind, Constraints, RelaxScheme, MAX_CONSTRAINT_ITERATIONS};
 pub use emitters::{
     AllocatorKind, Burst, Emitter, Emitters, Flipbook, Shape, MAX_BURSTS, MAX_EMITTERS,
@@ -21,8 +27,7 @@ pub use emitters::{
 };
 pub use fluid::Fluid;
 pub use forces::{
-    Attractor, BoxCollider, Colliders, CustomForce, Damping, Falloff, FieldData, Forces, Gravity,
-    HeightFieldCollider, Orbit, PlaneCollider, SdfCollider, SphereCollider, Spring, Vortex,
+    Attractor, CustomForce, Damping, Falloff, FieldData, Forces, Gravity, Spring, Vortex,
     VortexForm, Wind, WindForm, MAX_CUSTOM_FORCES,
 };
 pub use neighbours::{Dem, PairForce, Response, MAX_PAIR_FORCES};

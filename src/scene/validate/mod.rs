@@ -441,7 +441,7 @@ fn collision_keys(c: &Collisions) -> Check {
 fn collision_lattice(c: &Collisions) -> Check {
     let at = |k| path(&[N("collisions"), N(k)]);
     if c.detection == crate::scene::Detection::Exact {
-        let g = c.cell.unwrap_or(2.0 * c.radius);
+        let g = c.cell();
         if run_capacity(g, c.radius) > EXACT_SCAN as f64 {
             let largest = largest_exact_cell(c.radius);
             return fail(
@@ -506,7 +506,7 @@ pub fn largest_exact_cell(r: f32) -> f32 {
 /// (`sim::collide::Lattice`: ceil of extent over cell per axis, at least 1, one more per axis
 /// on the staggered lattice), saturating instead of wrapping.
 fn lattice_cells(c: &crate::scene::schema::Collisions) -> u64 {
-    let g = c.cell.unwrap_or(2.0 * c.radius);
+    let g = c.cell();
     let extra = u64::from(c.staggered);
     (0..3)
         .map(|k| {

@@ -138,7 +138,7 @@ fn pair_force(s: &SceneFile, i: usize, p: &PairForce, exact: bool) -> Check {
         );
     };
     bounded(at("radius"), "radius", &[p.radius])?;
-    let cell = c.cell.unwrap_or(2.0 * c.radius);
+    let cell = c.cell();
     if !(p.radius > 0.0 && p.radius <= cell) {
         return fail(
             at("radius"),

@@ -66,7 +66,7 @@ impl Lattice {
     /// The lattice of a scene's `[collisions]`, or its staggered twin (shifted by g0/2, one cell
     /// more per axis).
     pub fn of(c: &scene::Collisions, staggered: bool) -> Self {
-        let g = c.cell.unwrap_or(2.0 * c.radius);
+        let g = c.cell();
         let lo = Vec3::from(c.bounds[0]);
         let hi = Vec3::from(c.bounds[1]);
         let dims = ((hi - lo) / g).ceil().max(Vec3::ONE).as_uvec3();

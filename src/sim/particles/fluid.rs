@@ -24,9 +24,9 @@ impl ParticleSim {
                 "[fluid] needs an explicit integrator".into(),
             ));
         };
-        let (scene, fields) = (&self.scene, &self.fields);
+        let (scene, params, fields) = (&self.scene, &self.params, &self.fields);
         let (size, seed, types) = ([self.width, self.height], self.seed, self.features.types);
-        let set = |p: &Program| set_constants_for(p, scene, fields, size, seed, types);
+        let set = |p: &Program| set_constants_for(p, scene, params, fields, size, seed, types);
         f.run(pp, &self.statics, self.scene.time.dt, set)
     }
 

@@ -31,12 +31,12 @@ use crate::gl::{
     Texture3D, TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
 };
 use crate::scene::{Integrator, SceneFile};
+use crate::sim::params::Params;
 use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
 pub use custom::check_custom_forces;
 pub use features::{Emission, Features};
 pub use stateless::ClosedForm;
 use uniforms::set_constants_for;
-pub use uniforms::{mass_range, vortex_shape};
 pub use user_state::check_user_states;
 
 /// The state framebuffers: position and velocity ping-pong for the explicit integrators, a ring
@@ -81,6 +81,8 @@ fn bind_textures(p: &Program, own: &[(&str, Sampled<'_>)], fields: &Fields) {
 pub struct ParticleSim {
     ctx: Context,
     scene: SceneFile,
+    /// The numbers the passes read, packed once from the scene.
+    params: Params,
     features: Features,
     /// The stages of a step, from the pass list of `features` (kept: a step runs them).
     stages: Vec<crate::sim::Stage>,
@@ -204,6 +206,7 @@ impl ParticleSim {
             dropped: 0,
             ctx: ctx.clone(),
             scene: scene.clone(),
+            params: Params::of(scene),
             stages: crate::sim::stages_of(&features.step_passes()),
             features,
             width,
@@ -224,6 +227,7 @@ impl ParticleSim {
         set_constants_for(
             p,
             &self.scene,
+            &self.params,
             &self.fields,
             [self.width, self.height],
             self.seed,
@@ -381,11 +385,11 @@ impl ParticleSim {
             ));
         };
         let fields = &self.fields;
-        let scene = &self.scene;
+        let (scene, params) = (&self.scene, &self.params);
         let (size, seed, types) = ([self.width, self.height], self.seed, self.features.types);
         // The masses come with the scene's constants (glsl/common/mass.glsl): the response
         // weighs each particle by its own mass, as integration does.
-        let set = |p: &Program| set_constants_for(p, scene, fields, size, seed, types);
+        let set = |p: &Program| set_constants_for(p, scene, params, fields, size, seed, types);
         c.run(
             pp,
             &self.statics,

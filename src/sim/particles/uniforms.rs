@@ -6,29 +6,33 @@ use glam::{Vec3, Vec4};
 use super::super::emit::EmitterUniforms;
 use super::Fields;
 use crate::gl::Program;
-use crate::scene::{self, SceneFile};
+use crate::scene::{ColliderKind, SceneFile};
+use crate::sim::params::{self, Integration, Params, Shape};
 
 fn v3(a: [f32; 3]) -> Vec3 {
     Vec3::from(a)
 }
 
 /// Sets the uniforms that do not change during a run (emitters, masses, forces, colliders) on
-/// `p`; uniforms the program lacks are skipped (the same set serves every simulation program).
+/// `p`, the masses, forces and colliders from the scene's parameter blocks `params`; uniforms
+/// the program lacks are skipped (the same set serves every simulation program).
 pub(super) fn set_constants_for(
     p: &Program,
     s: &SceneFile,
+    params: &Params,
     fields: &Fields,
     size: [u32; 2],
     seed: u32,
     types: usize,
 ) {
     p.bind();
-    p.optional(|| set_constants(p, s, fields, size, seed, types));
+    p.optional(|| set_constants(p, s, params, fields, size, seed, types));
 }
 
 fn set_constants(
     p: &Program,
     s: &SceneFile,
+    params: &Params,
     fields: &Fields,
     size: [u32; 2],
     seed: u32,
@@ -37,31 +41,22 @@ fn set_constants(
     p.set_i32("u_width", size[0] as i32);
     p.set_ivec2("u_size", size[0] as i32, size[1] as i32);
     p.set_u32("u_seed", seed);
-    p.set_f32("u_dt", s.time.dt);
+    p.set_f32("u_dt", params.integration.dt);
     // Texel k of the other emitters is of type k mod their count; child emitters' types follow.
     p.set_i32("u_emitters", (types - s.emitters.child.len()).max(1) as i32);
     set_children(p, s);
-    set_masses(p, s);
+    set_masses(p, &params.integration);
     set_emitters(p, s);
-    set_forces(p, s, fields);
-    set_colliders(p, s, fields);
+    set_forces(p, s, &params.integration, fields);
+    set_colliders(p, &params.colliders, fields);
 }
 
 /// The masses of glsl/common/mass.glsl, which integration and collisions share.
-fn set_masses(p: &Program, s: &SceneFile) {
-    let mut inv_mass = [1.0 / s.particles.mass; 4];
-    let mut cycle = [1.0f32; 4];
-    let (mut lo, mut hi) = ([s.particles.mass; 4], [s.particles.mass; 4]);
-    for (k, e) in s.emitters.all().enumerate() {
-        let [l, h] = mass_range(s, e);
-        (lo[k], hi[k]) = (l, h);
-        inv_mass[k] = 1.0 / (0.5 * (l + h));
-        cycle[k] = e.cycle.unwrap_or(1.0);
-    }
-    p.set_vec4("u_inv_mass", Vec4::from(inv_mass));
-    p.set_vec4("u_mass_lo", Vec4::from(lo));
-    p.set_vec4("u_mass_hi", Vec4::from(hi));
-    p.set_vec4("u_cycle", Vec4::from(cycle));
+fn set_masses(p: &Program, m: &Integration) {
+    p.set_vec4("u_inv_mass", Vec4::from(m.inv_mass));
+    p.set_vec4("u_mass_lo", Vec4::from(m.mass_lo));
+    p.set_vec4("u_mass_hi", Vec4::from(m.mass_hi));
+    p.set_vec4("u_cycle", Vec4::from(m.cycle));
 }
 
 /// The emitters' bursts, shapes and release clouds.
@@ -123,63 +118,29 @@ pub(super) fn set_spawn(p: &Program, s: &SceneFile, t: f32) {
 
 /// The forces: summed gravity and damping, attractors, springs and vortices with their owners,
 /// each type's own gravity and damping, the wind field and the spin's constants.
-fn set_forces(p: &Program, s: &SceneFile, fields: &Fields) {
+fn set_forces(p: &Program, s: &SceneFile, m: &Integration, fields: &Fields) {
+    p.set_vec3("u_gravity", m.gravity.unwrap_or(Vec3::ZERO));
+    p.set_f32("u_damping", m.damping.unwrap_or(0.0));
+    for (i, a) in m.attractors.iter().enumerate() {
+        p.set_vec4(&format!("u_attractor[{i}]"), a.at);
+        p.set_vec4(&format!("u_attractor_shape[{i}]"), a.shape);
+        p.set_i32(&format!("u_attractor_owner[{i}]"), a.owner);
+    }
+    for (i, sp) in m.springs.iter().enumerate() {
+        p.set_vec4(&format!("u_spring[{i}]"), sp.at);
+        p.set_i32(&format!("u_spring_owner[{i}]"), sp.owner);
+    }
+    for (i, v) in m.vortices.iter().enumerate() {
+        p.set_vec4(&format!("u_vortex[{i}]"), v.at);
+        p.set_vec3(&format!("u_vortex_axis[{i}]"), v.axis);
+        p.set_vec4(&format!("u_vortex_shape[{i}]"), v.shape);
+        p.set_i32(&format!("u_vortex_owner[{i}]"), v.owner);
+    }
+    for (k, g) in m.type_gravity.iter().enumerate() {
+        p.set_vec3(&format!("u_type_gravity[{k}]"), *g);
+    }
+    p.set_vec4("u_type_damping", Vec4::from(m.type_damping));
     let f = &s.forces;
-    let gravity: Vec3 = f.gravity.iter().map(|g| v3(g.acceleration)).sum();
-    p.set_vec3("u_gravity", gravity);
-    p.set_f32("u_damping", f.damping.iter().map(|d| d.rate).sum());
-    // The scene's forces (owner -1: every type), then each emitter's (owner: its type), in the
-    // order Features counts them.
-    let lists = || {
-        std::iter::once((-1, f)).chain(
-            s.emitters
-                .all()
-                .enumerate()
-                .map(|(k, e)| (k as i32, &e.forces)),
-        )
-    };
-    let owned = |list: fn(&scene::Forces) -> usize| {
-        lists().flat_map(move |(owner, fs)| (0..list(fs)).map(move |j| (owner, fs, j)))
-    };
-    for (i, (owner, fs, j)) in owned(|f| f.attractor.len()).enumerate() {
-        let a = &fs.attractor[j];
-        p.set_vec4(
-            &format!("u_attractor[{i}]"),
-            v3(a.position).extend(a.strength),
-        );
-        p.set_vec4(
-            &format!("u_attractor_shape[{i}]"),
-            Vec4::new(
-                (a.falloff == scene::Falloff::Constant) as u8 as f32,
-                a.max_distance.unwrap_or(-1.0),
-                a.softening,
-                0.0,
-            ),
-        );
-        p.set_i32(&format!("u_attractor_owner[{i}]"), owner);
-    }
-    for (i, (owner, fs, j)) in owned(|f| f.spring.len()).enumerate() {
-        let sp = &fs.spring[j];
-        p.set_vec4(
-            &format!("u_spring[{i}]"),
-            v3(sp.anchor).extend(sp.stiffness),
-        );
-        p.set_i32(&format!("u_spring_owner[{i}]"), owner);
-    }
-    for (i, (owner, fs, j)) in owned(|f| f.vortex.len()).enumerate() {
-        let v = &fs.vortex[j];
-        p.set_vec4(&format!("u_vortex[{i}]"), v3(v.point).extend(v.strength));
-        p.set_vec3(&format!("u_vortex_axis[{i}]"), v3(v.axis).normalize());
-        p.set_vec4(&format!("u_vortex_shape[{i}]"), vortex_shape(v));
-        p.set_i32(&format!("u_vortex_owner[{i}]"), owner);
-    }
-    let mut damping = [0.0f32; 4];
-    for (k, e) in s.emitters.all().enumerate().take(4) {
-        let g: Vec3 = e.forces.gravity.iter().map(|g| v3(g.acceleration)).sum();
-        p.set_vec3(&format!("u_type_gravity[{k}]"), g);
-        damping[k] = e.forces.damping.iter().map(|d| d.rate).sum();
-    }
-    p.set_vec4("u_type_damping", Vec4::from(damping));
     if let (Some(w), Some((_, field))) = (f.wind.first(), &fields.flow) {
         p.set_vec3("u_flow_min", v3(w.bounds[0]));
         p.set_vec3("u_flow_max", v3(w.bounds[1]));
@@ -194,49 +155,50 @@ fn set_forces(p: &Program, s: &SceneFile, fields: &Fields) {
     }
 }
 
-/// The colliders: planes, spheres, boxes, height and distance fields with their responses.
-fn set_colliders(p: &Program, s: &SceneFile, fields: &Fields) {
-    let c = &s.colliders;
+/// The colliders: planes, spheres, boxes, height and distance fields with their responses, the
+/// `i`th of its kind in `u_KIND[i]`. The fields' textures give their sizes (and the distance
+/// field's bounds: a field from a file takes its shape from the file, `resolution` 0 there).
+fn set_colliders(p: &Program, c: &params::Colliders, fields: &Fields) {
     p.set_f32("u_slow_speed", c.slow_speed);
-    let resp = |mu: f32, eps: f32| glam::Vec2::new(mu, eps);
-    for (i, pl) in c.plane.iter().enumerate() {
-        let n = v3(pl.normal).normalize();
-        p.set_vec4(&format!("u_plane[{i}]"), n.extend(n.dot(v3(pl.point))));
-        p.set_vec2(
-            &format!("u_plane_resp[{i}]"),
-            resp(pl.friction, pl.resilience),
-        );
-    }
-    for (i, sp) in c.sphere.iter().enumerate() {
-        p.set_vec4(
-            &format!("u_sphere[{i}]"),
-            v3(sp.center_at(0.0)).extend(sp.radius),
-        );
-        p.set_vec2(
-            &format!("u_sphere_resp[{i}]"),
-            resp(sp.friction, sp.resilience),
-        );
-    }
-    for (i, b) in c.boxes.iter().enumerate() {
-        p.set_vec3(&format!("u_box_min[{i}]"), v3(b.min));
-        p.set_vec3(&format!("u_box_max[{i}]"), v3(b.max));
-        p.set_vec2(&format!("u_box_resp[{i}]"), resp(b.friction, b.resilience));
-    }
-    if let (Some(h), Some((_, field))) = (c.heightfield.first(), &fields.height) {
-        p.set_vec4("u_height_extent", Vec4::from(h.extent));
-        let [nx, nz] = field.resolution();
-        p.set_ivec2("u_height_res", nx as i32, nz as i32);
-        p.set_vec2("u_height_resp", resp(h.friction, h.resilience));
-    }
-    if let (Some(d), Some((_, field))) = (c.sdf.first(), &fields.sdf) {
-        // The built field's, not the key's: a field from a file takes its shape from the file
-        // (`resolution` is 0 there), and each axis may have its own.
-        let [lo, hi] = field.bounds();
-        p.set_vec3("u_sdf_min", lo);
-        p.set_vec3("u_sdf_max", hi);
-        let [rx, ry, rz] = field.resolution().map(|r| r as i32);
-        p.set_ivec3("u_sdf_res", rx, ry, rz);
-        p.set_vec2("u_sdf_resp", resp(d.friction, d.resilience));
+    let mut seen = [0usize; ColliderKind::ALL.len()];
+    for col in &c.list {
+        let n = &mut seen[col.shape.kind().position()];
+        let i = *n;
+        *n += 1;
+        let resp = col.resp;
+        match &col.shape {
+            Shape::Plane(pl) => {
+                p.set_vec4(&format!("u_plane[{i}]"), *pl);
+                p.set_vec2(&format!("u_plane_resp[{i}]"), resp);
+            }
+            Shape::Sphere(sp) => {
+                p.set_vec4(&format!("u_sphere[{i}]"), *sp);
+                p.set_vec2(&format!("u_sphere_resp[{i}]"), resp);
+            }
+            Shape::Box(lo, hi) => {
+                p.set_vec3(&format!("u_box_min[{i}]"), *lo);
+                p.set_vec3(&format!("u_box_max[{i}]"), *hi);
+                p.set_vec2(&format!("u_box_resp[{i}]"), resp);
+            }
+            Shape::HeightField(extent) => {
+                if let (0, Some((_, field))) = (i, &fields.height) {
+                    p.set_vec4("u_height_extent", *extent);
+                    let [nx, nz] = field.resolution();
+                    p.set_ivec2("u_height_res", nx as i32, nz as i32);
+                    p.set_vec2("u_height_resp", resp);
+                }
+            }
+            Shape::Sdf(..) => {
+                if let (0, Some((_, field))) = (i, &fields.sdf) {
+                    let [lo, hi] = field.bounds();
+                    p.set_vec3("u_sdf_min", lo);
+                    p.set_vec3("u_sdf_max", hi);
+                    let [rx, ry, rz] = field.resolution().map(|r| r as i32);
+                    p.set_ivec3("u_sdf_res", rx, ry, rz);
+                    p.set_vec2("u_sdf_resp", resp);
+                }
+            }
+        }
     }
 }
 
@@ -254,25 +216,4 @@ fn set_children(p: &Program, s: &SceneFile) {
             Vec4::new(r.trail_rate, inherit, r.kind as f32, 0.0),
         );
     }
-}
-
-/// An emitter's mass range `[lo, hi]` (Latta §3.3): `mass_range`, else `[m, m]` with its type's
-/// mass `mass` or `particles.mass`. The inverse mass of a particle is
-/// `1 / mix(lo, hi, fract(4096 r))`, `r` the random number of its static texel.
-pub fn mass_range(s: &SceneFile, e: &crate::scene::Emitter) -> [f32; 2] {
-    e.mass_range.unwrap_or_else(|| {
-        let m = e.mass.unwrap_or(s.particles.mass);
-        [m, m]
-    })
-}
-
-/// `u_vortex_shape[i]`: the Latta form (0/1), constant falloff (0/1), max distance (< 0: none),
-/// softening.
-pub fn vortex_shape(v: &crate::scene::Vortex) -> Vec4 {
-    Vec4::new(
-        (v.form == scene::VortexForm::Latta) as u8 as f32,
-        (v.falloff == scene::Falloff::Constant) as u8 as f32,
-        v.max_distance.unwrap_or(-1.0),
-        v.softening,
-    )
 }

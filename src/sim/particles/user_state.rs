@@ -319,6 +319,7 @@ impl ParticleSim {
             set_constants_for(
                 p,
                 &self.scene,
+                &self.params,
                 &self.fields,
                 size,
                 self.seed,

@@ -47,6 +47,7 @@ mod tests;
 use glam::{Vec2, Vec3, Vec4};
 
 use super::fields::{DistanceField, FlowField, HeightField};
+use super::params::{self, Params};
 use super::particles::{Emission, Features};
 use crate::error::{Error, Result};
 use crate::scene::{self, Integrator, Precision, SceneFile, VelocityFormat};
@@ -97,31 +98,13 @@ impl std::ops::AddAssign for Events {
 }
 
 #[derive(Debug, Clone)]
-struct Attractor {
-    /// centre, strength: `u_attractor[i]`.
-    at: Vec4,
-    /// constant falloff (0/1), max distance (< 0: none), softening: `u_attractor_shape[i]`.
-    shape: Vec4,
-}
-
-#[derive(Debug, Clone)]
-struct Vortex {
-    /// point on the axis, strength: `u_vortex[i]`.
-    at: Vec4,
-    /// unit axis: `u_vortex_axis[i]`.
-    axis: Vec3,
-    /// Latta form (0/1), constant falloff (0/1), max distance, softening: `u_vortex_shape[i]`.
-    shape: Vec4,
-}
-
-#[derive(Debug, Clone)]
 struct Wind {
     field: FlowField,
     drag: f32,
     form: scene::WindForm,
 }
 
-/// A collider's shape, with the uniforms the shader gets.
+/// A collider's shape, with the uniforms the shader gets (from [`params::Shape`]).
 #[derive(Debug, Clone)]
 enum Shape {
     /// unit normal, offset: `u_plane[i]`.
@@ -158,17 +141,16 @@ pub struct Reference {
     gravity: Option<Vec3>,
     damping: Option<f32>,
     wind: Option<Wind>,
-    attractors: Vec<Attractor>,
-    vortices: Vec<Vortex>,
+    attractors: Vec<params::Attractor>,
+    vortices: Vec<params::Vortex>,
     slow_speed: f32,
     /// Planes, spheres, boxes, then the distance field: the order of `collide`.
     colliders: Vec<Collider>,
-    height: Option<(HeightField, Vec2)>,
+    height: Option<Height>,
 }
 
-fn v3(a: [f32; 3]) -> Vec3 {
-    Vec3::from(a)
-}
+/// The height field and its response (friction, resilience).
+type Height = (HeightField, Vec2);
 
 impl Reference {
     /// The twin of the integration pass that `ParticleSim::new` compiles for `scene`, with the
@@ -184,12 +166,12 @@ impl Reference {
         let features = Features::of(scene);
         covered(scene, &features)?;
         let s = scene;
-        let (inv_mass, mass_range) = masses(s, &features);
-        let f = &s.forces;
-        let gravity = (!f.gravity.is_empty())
-            .then(|| f.gravity.iter().map(|g| v3(g.acceleration)).sum::<Vec3>());
-        let damping = (!f.damping.is_empty()).then(|| f.damping.iter().map(|d| d.rate).sum());
-        let wind = match f.wind.first() {
+        // The values the GPU passes upload, packed once (`crate::sim::params`).
+        let Params {
+            integration: m,
+            colliders: c,
+        } = Params::of(s);
+        let wind = match s.forces.wind.first() {
             Some(w) => Some(Wind {
                 field: FlowField::new(w)?,
                 drag: w.drag,
@@ -197,27 +179,21 @@ impl Reference {
             }),
             None => None,
         };
-        let (attractors, vortices) = point_forces(f);
-        let c = &s.colliders;
-        let resp = |mu: f32, eps: f32| Vec2::new(mu, eps);
-        let colliders = shapes(c)?;
-        let height = match c.heightfield.first() {
-            Some(h) => Some((HeightField::new(h)?, resp(h.friction, h.resilience))),
-            None => None,
-        };
+        let (colliders, height) = shapes(s, &c)?;
         Ok(Reference {
             integrator: s.integrator,
             life: features.life(),
             fp24: s.particles.precision == Precision::Fp24,
-            dt: s.time.dt,
-            inv_mass,
-            mass_range,
+            dt: m.dt,
+            inv_mass: m.inv_mass,
+            mass_range: features.mass_range.then_some((m.mass_lo, m.mass_hi)),
             random: 0.5,
-            gravity,
-            damping,
+            gravity: m.gravity,
+            damping: m.damping,
             wind,
-            attractors,
-            vortices,
+            // The reference refuses forces per emitter: every one is the scene's (owner -1).
+            attractors: m.attractors,
+            vortices: m.vortices,
             slow_speed: c.slow_speed,
             colliders,
             height,
@@ -475,81 +451,41 @@ fn covered(scene: &SceneFile, features: &Features) -> Result<()> {
     Ok(())
 }
 
-/// Each type's lightest and heaviest mass.
-type MassRange = ([f32; 4], [f32; 4]);
-
-/// Each type's inverse mass (of its mean mass) and, with `mass_range`, each type's range.
-fn masses(s: &SceneFile, features: &Features) -> ([f32; 4], Option<MassRange>) {
-    let mut inv_mass = [1.0 / s.particles.mass; 4];
-    let (mut lo, mut hi) = ([s.particles.mass; 4], [s.particles.mass; 4]);
-    for (k, e) in s.emitters.all().enumerate() {
-        let [l, h] = crate::sim::particles::mass_range(s, e);
-        (lo[k], hi[k]) = (l, h);
-        inv_mass[k] = 1.0 / (0.5 * (l + h));
-    }
-    let mass_range = features.mass_range.then_some((lo, hi));
-    (inv_mass, mass_range)
-}
-
-/// The scene's attractors and vortices, as the integration pass's uniforms hold them.
-fn point_forces(f: &scene::Forces) -> (Vec<Attractor>, Vec<Vortex>) {
-    let attractors = f
-        .attractor
-        .iter()
-        .map(|a| Attractor {
-            at: v3(a.position).extend(a.strength),
-            shape: Vec4::new(
-                (a.falloff == scene::Falloff::Constant) as u8 as f32,
-                a.max_distance.unwrap_or(-1.0),
-                a.softening,
-                0.0,
-            ),
-        })
-        .collect();
-    let vortices = f
-        .vortex
-        .iter()
-        .map(|v| Vortex {
-            at: v3(v.point).extend(v.strength),
-            axis: v3(v.axis).normalize(),
-            shape: crate::sim::particles::vortex_shape(v),
-        })
-        .collect();
-    (attractors, vortices)
-}
-
-/// The planes, spheres, boxes and distance field, in the order the shader tests them.
-fn shapes(c: &scene::Colliders) -> Result<Vec<Collider>> {
-    let resp = |mu: f32, eps: f32| Vec2::new(mu, eps);
+/// The twin's colliders from the collider block: planes, spheres, boxes and the distance field
+/// in the order the shader tests them, and the height field, each with its CPU field built from
+/// the scene's key.
+fn shapes(s: &SceneFile, c: &params::Colliders) -> Result<(Vec<Collider>, Option<Height>)> {
     let mut colliders = Vec::new();
-    for pl in &c.plane {
-        let n = v3(pl.normal).normalize();
+    let mut height = None;
+    for p in &c.list {
+        let shape = match &p.shape {
+            params::Shape::Plane(pl) => Shape::Plane(*pl),
+            params::Shape::Sphere(sp) => Shape::Sphere(*sp),
+            params::Shape::Box(lo, hi) => Shape::Box(*lo, *hi),
+            params::Shape::HeightField(_) => {
+                // The pass reads one height field (validation refuses more).
+                if let (None, Some(h)) = (&height, s.colliders.heightfield.first()) {
+                    height = Some((HeightField::new(h)?, p.resp));
+                }
+                continue;
+            }
+            params::Shape::Sdf(lo, hi) => {
+                if colliders
+                    .iter()
+                    .any(|c: &Collider| matches!(c.shape, Shape::Sdf(..)))
+                {
+                    continue;
+                }
+                let Some(d) = s.colliders.sdf.first() else {
+                    continue;
+                };
+                Shape::Sdf(*lo, *hi, Box::new(DistanceField::new(d)?))
+            }
+        };
         colliders.push(Collider {
-            shape: Shape::Plane(n.extend(n.dot(v3(pl.point)))),
-            resp: resp(pl.friction, pl.resilience),
+            shape,
+            resp: p.resp,
         });
     }
-    for sp in &c.sphere {
-        colliders.push(Collider {
-            shape: Shape::Sphere(v3(sp.center_at(0.0)).extend(sp.radius)),
-            resp: resp(sp.friction, sp.resilience),
-        });
-    }
-    for b in &c.boxes {
-        colliders.push(Collider {
-            shape: Shape::Box(v3(b.min), v3(b.max)),
-            resp: resp(b.friction, b.resilience),
-        });
-    }
-    if let Some(d) = c.sdf.first() {
-        colliders.push(Collider {
-            shape: Shape::Sdf(
-                v3(d.bounds[0]),
-                v3(d.bounds[1]),
-                Box::new(DistanceField::new(d)?),
-            ),
-            resp: resp(d.friction, d.resilience),
-        });
-    }
-    Ok(colliders)
+    Ok((colliders, height))
 }

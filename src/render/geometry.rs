@@ -19,7 +19,7 @@ use crate::gl::{
     Attribute, Buffer, BufferKind, BufferUsage, Context, Defines, Draw, DrawState, Primitive,
     Program, VertexArray,
 };
-use crate::scene::SceneFile;
+use crate::scene::{Collider, SceneFile};
 
 /// Floats per vertex: position, normal, colour, checker cell size (0: plain).
 const FLOATS: usize = 10;
@@ -267,35 +267,43 @@ impl Mesh {
         let cam = &scene.render.camera;
         let mut m = Mesh::default();
         let half = cam.distance.max(1e-3);
-        for p in &c.plane {
-            let (point, normal) = (Vec3::from(p.point), Vec3::from(p.normal));
-            m.plane(
-                point,
-                normal,
-                Vec3::from(cam.target),
-                half,
-                checker_cell(half),
-            );
-        }
-        for s in c.sphere.iter().filter(|s| s.orbit.is_none()) {
-            m.sphere(Vec3::from(s.center_at(0.0)), s.radius, SOLID_COLOR);
-        }
-        for b in &c.boxes {
-            m.cuboid(Vec3::from(b.min), Vec3::from(b.max), SOLID_COLOR);
-        }
-        if let Some(t) = terrain {
-            m.terrain(t)?;
-        }
-        for sdf in &c.sdf {
-            for t in &sdf.triangles {
-                m.flat(t.map(Vec3::from), MESH_COLOR);
-            }
-            for s in &sdf.spheres {
-                m.sphere(Vec3::new(s[0], s[1], s[2]), s[3], SOLID_COLOR);
-            }
-            for b in &sdf.boxes {
-                let (lo, hi) = (Vec3::new(b[0], b[1], b[2]), Vec3::new(b[3], b[4], b[5]));
-                m.cuboid(lo, hi, SOLID_COLOR);
+        let mut terrain = terrain;
+        for collider in c.iter() {
+            match collider {
+                Collider::Plane(p) => {
+                    let (point, normal) = (Vec3::from(p.point), Vec3::from(p.normal));
+                    m.plane(
+                        point,
+                        normal,
+                        Vec3::from(cam.target),
+                        half,
+                        checker_cell(half),
+                    );
+                }
+                // Orbiting spheres are drawn by `moving`.
+                Collider::Sphere(s) if s.orbit.is_some() => {}
+                Collider::Sphere(s) => {
+                    m.sphere(Vec3::from(s.center_at(0.0)), s.radius, SOLID_COLOR)
+                }
+                Collider::Box(b) => m.cuboid(Vec3::from(b.min), Vec3::from(b.max), SOLID_COLOR),
+                // The simulation's nodes of the first height field (the one the pass reads).
+                Collider::HeightField(_) => {
+                    if let Some(t) = terrain.take() {
+                        m.terrain(t)?;
+                    }
+                }
+                Collider::Sdf(sdf) => {
+                    for t in &sdf.triangles {
+                        m.flat(t.map(Vec3::from), MESH_COLOR);
+                    }
+                    for s in &sdf.spheres {
+                        m.sphere(Vec3::new(s[0], s[1], s[2]), s[3], SOLID_COLOR);
+                    }
+                    for b in &sdf.boxes {
+                        let (lo, hi) = (Vec3::new(b[0], b[1], b[2]), Vec3::new(b[3], b[4], b[5]));
+                        m.cuboid(lo, hi, SOLID_COLOR);
+                    }
+                }
             }
         }
         if let Some(s) = surface {

@@ -327,6 +327,14 @@ impl Colliders {
         ColliderKind::ALL.into_iter().flat_map(move |k| self.of(k))
     }
 
+    /// Every collider with its index among those of its kind (`[[colliders.KEY]]` number `i`),
+    /// in [`Colliders::iter`]'s order.
+    pub fn indexed(&self) -> impl Iterator<Item = (usize, Collider<'_>)> {
+        ColliderKind::ALL
+            .into_iter()
+            .flat_map(move |k| self.of(k).enumerate())
+    }
+
     /// The colliders of `kind`, in scene order.
     pub fn of(&self, kind: ColliderKind) -> Box<dyn Iterator<Item = Collider<'_>> + '_> {
         match kind {

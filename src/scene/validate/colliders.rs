@@ -3,7 +3,8 @@
 use super::{bounded, direction, fail, nonzero, path, Check};
 use crate::scene::locate::Key;
 use crate::scene::schema::{
-    BoxCollider, HeightFieldCollider, PlaneCollider, SceneFile, SdfCollider, SphereCollider,
+    BoxCollider, Collider, ColliderKind, HeightFieldCollider, PlaneCollider, SceneFile,
+    SdfCollider, SphereCollider,
 };
 
 use Key::{Index as I, Name as N};
@@ -11,8 +12,9 @@ use Key::{Index as I, Name as N};
 /// `[colliders]` and its `[[colliders.*]]` kinds.
 pub(super) fn colliders(s: &SceneFile) -> Check {
     let c = &s.colliders;
-    for (kind, n) in [("heightfield", c.heightfield.len()), ("sdf", c.sdf.len())] {
-        if n > 1 {
+    for kind in ColliderKind::ALL.into_iter().filter(|k| k.single()) {
+        if c.count(kind) > 1 {
+            let kind = kind.key();
             return fail(
                 path(&[N("colliders"), N(kind), I(1)]),
                 format!("one {kind} per scene (it is one texture)"),
@@ -25,28 +27,19 @@ pub(super) fn colliders(s: &SceneFile) -> Check {
             "slow_speed must not be negative",
         );
     }
-    for (i, p) in c.plane.iter().enumerate() {
-        plane(i, p)?;
-    }
-    for (i, s) in c.sphere.iter().enumerate() {
-        sphere(i, s)?;
-    }
-    for (i, b) in c.boxes.iter().enumerate() {
-        aabb(i, b)?;
-    }
     bounded(
         path(&[N("colliders"), N("slow_speed")]),
         "slow_speed",
         &[c.slow_speed],
     )?;
-    for (i, hf) in c.heightfield.iter().enumerate() {
-        heightfield(i, hf)?;
-    }
-    for (i, sdf) in c.sdf.iter().enumerate() {
-        if sdf.field.is_some() {
-            sdf_file(i, sdf)?;
-        } else {
-            sdf_shapes(i, sdf)?;
+    for (i, collider) in c.indexed() {
+        match collider {
+            Collider::Plane(p) => plane(i, p)?,
+            Collider::Sphere(s) => sphere(i, s)?,
+            Collider::Box(b) => aabb(i, b)?,
+            Collider::HeightField(hf) => heightfield(i, hf)?,
+            Collider::Sdf(sdf) if sdf.field.is_some() => sdf_file(i, sdf)?,
+            Collider::Sdf(sdf) => sdf_shapes(i, sdf)?,
         }
     }
     Ok(())

@@ -29,7 +29,9 @@ mod state;
 pub use state::STATE_INPUTS;
 
 use super::locate::{Invalid, Key};
-use super::schema::{Collisions, Integrator, SceneFile, Simulation, UpdatePasses, WindForm};
+use super::schema::{
+    ColliderKind, Collisions, Integrator, SceneFile, Simulation, UpdatePasses, WindForm,
+};
 
 use Key::{Index as I, Name as N};
 
@@ -265,17 +267,14 @@ fn stateless(s: &SceneFile) -> Check {
     }
     let f = &s.forces;
     let c = &s.colliders;
-    let refused: [(&str, &str, usize); 9] = [
+    let refused = [
         ("forces", "attractor", f.attractor.len()),
         ("forces", "spring", f.spring.len()),
         ("forces", "vortex", f.vortex.len()),
         ("forces", "custom", f.custom.len()),
-        ("colliders", "plane", c.plane.len()),
-        ("colliders", "sphere", c.sphere.len()),
-        ("colliders", "box", c.boxes.len()),
-        ("colliders", "heightfield", c.heightfield.len()),
-        ("colliders", "sdf", c.sdf.len()),
-    ];
+    ]
+    .into_iter()
+    .chain(ColliderKind::ALL.map(|k| ("colliders", k.key(), c.count(k))));
     for (section, kind, n) in refused {
         if n > 0 {
             return fail(

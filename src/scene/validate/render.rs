@@ -42,20 +42,12 @@ pub(super) fn render(s: &SceneFile) -> Check {
             ),
         );
     }
-    if r.geometry {
-        let c = &s.colliders;
-        let none = c.plane.is_empty()
-            && c.sphere.is_empty()
-            && c.boxes.is_empty()
-            && c.heightfield.is_empty()
-            && c.sdf.is_empty();
-        if none {
-            return fail(
-                path(&[N("render"), N("geometry")]),
-                "geometry = true draws the scene's colliders, and this scene has none: add a \
-                 [[colliders.*]] table, or remove the key",
-            );
-        }
+    if r.geometry && s.colliders.is_empty() {
+        return fail(
+            path(&[N("render"), N("geometry")]),
+            "geometry = true draws the scene's colliders, and this scene has none: add a \
+             [[colliders.*]] table, or remove the key",
+        );
     }
     let kinds = [
         ("allocator", &s.emitters.allocator),

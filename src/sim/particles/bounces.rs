@@ -14,7 +14,7 @@ use crate::sim::state::VELOCITY;
 /// A tally where the integration pass can flag a particle: explicit integrators with a plane, a
 /// sphere or a box (the colliders `bounce_on` follows).
 pub(super) fn tally(ctx: &Context, f: &Features) -> Result<Option<TruncationTally>> {
-    let bounces = f.planes + f.spheres + f.boxes > 0;
+    let bounces = f.collider_counts.any_bouncing();
     if bounces && f.integrator != Integrator::Verlet {
         Ok(Some(TruncationTally::new(ctx)?))
     } else {

@@ -57,16 +57,8 @@ pub struct Features {
     pub wind_form: scene::WindForm,
     /// Some emitter gives a mass range: a mass per particle (Latta §3.3).
     pub mass_range: bool,
-    /// Plane colliders.
-    pub planes: usize,
-    /// Sphere colliders.
-    pub spheres: usize,
-    /// Box colliders.
-    pub boxes: usize,
-    /// A height field.
-    pub heightfield: bool,
-    /// A distance field.
-    pub sdf: bool,
+    /// How many colliders of each kind.
+    pub collider_counts: scene::ColliderCounts,
     /// Velocity storage.
     pub velocity_format: VelocityFormat,
     /// Precision of what the passes write.
@@ -141,11 +133,7 @@ impl Features {
             wind: !f.wind.is_empty(),
             wind_form: f.wind.first().map(|w| w.form).unwrap_or_default(),
             mass_range: em.all().any(|e| e.mass_range.is_some()),
-            planes: c.plane.len(),
-            spheres: c.sphere.len(),
-            boxes: c.boxes.len(),
-            heightfield: !c.heightfield.is_empty(),
-            sdf: !c.sdf.is_empty(),
+            collider_counts: scene::ColliderCounts::of(c),
             velocity_format: scene.particles.velocity_format,
             precision: scene.particles.precision,
             collisions: scene
@@ -180,7 +168,7 @@ impl Features {
 
     /// Whether the scene has any collider.
     pub fn colliders(&self) -> bool {
-        self.planes + self.spheres + self.boxes > 0 || self.heightfield || self.sdf
+        self.collider_counts.any()
     }
 
     /// Whether particles have a life (and the pass counts it down).
@@ -269,14 +257,16 @@ impl Features {
         def("N_ATTRACTORS", self.attractors.to_string());
         def("N_SPRINGS", self.springs.to_string());
         def("N_VORTICES", self.vortices.to_string());
-        def("N_PLANES", self.planes.to_string());
-        def("N_SPHERES", self.spheres.to_string());
-        def("N_BOXES", self.boxes.to_string());
-        if self.heightfield {
-            def("HEIGHTFIELD", "1".into());
-        }
-        if self.sdf {
-            def("SDF", "1".into());
+        for kind in scene::ColliderKind::ALL {
+            let n = self.collider_counts.get(kind);
+            match kind {
+                scene::ColliderKind::Plane => def("N_PLANES", n.to_string()),
+                scene::ColliderKind::Sphere => def("N_SPHERES", n.to_string()),
+                scene::ColliderKind::Box => def("N_BOXES", n.to_string()),
+                scene::ColliderKind::HeightField if n > 0 => def("HEIGHTFIELD", "1".into()),
+                scene::ColliderKind::Sdf if n > 0 => def("SDF", "1".into()),
+                scene::ColliderKind::HeightField | scene::ColliderKind::Sdf => {}
+            }
         }
         def("HAS_COLLIDERS", (self.colliders() as u8).to_string());
         if self.spin {
@@ -361,13 +351,8 @@ impl Features {
             what.push(format!("forces: {}", forces.join(", ")));
         }
         let mut colliders = Vec::new();
-        for (n, name) in [
-            (self.planes, "plane"),
-            (self.spheres, "sphere"),
-            (self.boxes, "box"),
-            (self.heightfield as usize, "height field"),
-            (self.sdf as usize, "distance field"),
-        ] {
+        for kind in scene::ColliderKind::ALL {
+            let (n, name) = (self.collider_counts.get(kind), kind.noun());
             if n > 0 {
                 colliders.push(format!("{n} {name}"));
             }
@@ -455,7 +440,9 @@ impl Features {
     /// The collision stage: neighbour forces, the exact search or UberFlow's sorted rows.
     fn collision_passes(&self, out: &mut Vec<String>) {
         if let Some(walls) = self.fluid {
-            out.extend(crate::sim::fluid::fluid_passes(walls && self.planes > 0));
+            out.extend(crate::sim::fluid::fluid_passes(
+                walls && self.collider_counts.get(scene::ColliderKind::Plane) > 0,
+            ));
         }
         if self.dem || self.pair_forces > 0 {
             out.extend(crate::sim::collide::neighbour_passes(

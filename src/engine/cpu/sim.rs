@@ -88,10 +88,8 @@ impl CpuSim {
         };
         let emitters: Vec<EmitterUniforms> =
             scene.emitters.all().map(EmitterUniforms::new).collect();
-        let mut cycles = [1.0f32; 4];
-        for (k, e) in scene.emitters.all().enumerate() {
-            cycles[k] = e.cycle.unwrap_or(1.0);
-        }
+        // `u_cycle`, from the integration block the GPU uploads.
+        let cycles = crate::sim::params::Integration::of(scene).cycle;
         let [width, height] = scene.particles.size;
         let n = width as usize * height as usize;
         let seed = crate::engine::shader_seed(seed);

@@ -153,8 +153,8 @@ pub struct Reference {
 type Height = (HeightField, Vec2);
 
 impl Reference {
-    /// The twin of the integration pass that `ParticleSim::new` compiles for `scene`, with the
-    /// uniform values that `ParticleSim::set_constants` computes, computed the same way.
+    /// The twin of the integration pass that `ParticleSim::new` compiles for `scene`, reading
+    /// the parameter blocks ([`Params`]) whose values `ParticleSim` uploads as uniforms.
     pub fn new(scene: &SceneFile) -> Result<Self> {
         if scene.fire.is_some() {
             return Err(Error::InvalidInput(format!(

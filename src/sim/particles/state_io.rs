@@ -317,4 +317,8 @@ impl crate::sim::Simulation for ParticleSim {
     fn passes(&self) -> Vec<crate::sim::Pass> {
         self.features.step_passes()
     }
+
+    fn state_target(&self) -> &Framebuffer {
+        self.front()
+    }
 }

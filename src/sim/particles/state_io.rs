@@ -321,4 +321,8 @@ impl crate::sim::Simulation for ParticleSim {
     fn state_target(&self) -> &Framebuffer {
         self.front()
     }
+
+    fn collision_stage(&self) -> Option<&crate::sim::collide::Collisions> {
+        self.collisions()
+    }
 }

@@ -421,7 +421,9 @@ impl<S: Simulation> GpuEngine<S> {
     /// Turns the camera to the current simulated time (`render.camera.orbit`), then by the
     /// viewer's offset.
     fn turn_camera(&mut self) {
-        let camera = self.camera_start.orbited(self.orbit, self.sim.time() as f32);
+        let camera = self
+            .camera_start
+            .orbited(self.orbit, self.sim.time() as f32);
         self.camera = self.view.apply(camera);
     }
 

@@ -31,11 +31,11 @@ pub use gpu::{
     ParticleEngine,
 };
 pub use lit::{half_angle_keys, lit_renderer};
-pub use stages::Stages;
 pub use run::{
     Event, FolderSink, FrameLoop, FrameSink, FrameTimes, LoopOptions, LoopSummary, MemorySink,
     NonFinitePolicy,
 };
+pub use stages::Stages;
 
 /// Folds a 64-bit seed into the 32 bits the shader hash takes.
 pub fn shader_seed(seed: u64) -> u32 {

@@ -4,9 +4,9 @@
 use super::floors::drawn;
 use super::{scratch_like, timed, Phases};
 use crate::bench::stats::{FixedCost, PassTimer, RenderFloor, WriteFloor};
+use crate::engine::Stages;
 use crate::error::Result;
 use crate::gl::{Context, Framebuffer, Texture, TextureDesc, TextureFormat};
-use crate::engine::Stages;
 use crate::sim::state::{POSITION, STATIC};
 use crate::sim::{Simulation, Stage};
 use crate::sort::KeyMode;
@@ -92,7 +92,10 @@ pub(super) fn sort_phases(
             "write-only pass into the two gathered textures".to_owned(),
         ),
         _ => (
-            format!("gather position, static and {} more texture(s) drawn", n - 2),
+            format!(
+                "gather position, static and {} more texture(s) drawn",
+                n - 2
+            ),
             format!("write-only pass into the {n} gathered textures"),
         ),
     };
@@ -266,8 +269,10 @@ pub(super) fn lit_phases(
     let style = engine.renderer().style();
     // The live particles where they are (a snapshot), one pixel each: sprites shrink with age
     // below the point size, so points at the point size would not bound the sprites' fill.
-    let placed =
-        crate::bench::stats::PlacedRenderFloor::new(ctx, &engine.sim().drawn().positions.read_f32()?)?;
+    let placed = crate::bench::stats::PlacedRenderFloor::new(
+        ctx,
+        &engine.sim().drawn().positions.read_f32()?,
+    )?;
     let count = state.count;
     let (light_view, _, light_blend) = light_floor(engine, lit);
     let f = timer.time(|| {

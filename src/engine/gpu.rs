@@ -171,6 +171,14 @@ pub fn gather_target(
     crate::gl::Framebuffer::named(ctx, label, textures)
 }
 
+/// The model a scene runs, as benchmark records name it.
+fn model_of(scene: &crate::scene::SceneFile) -> &'static str {
+    match scene.fire {
+        Some(_) => "fire",
+        None => "particles",
+    }
+}
+
 /// The surface's colour: the first of `render.keyframes` (a constraint layout's particles are
 /// permanent, at relative age 0), light grey without any.
 fn surface_color(scene: &crate::scene::SceneFile) -> [f32; 3] {
@@ -253,11 +261,7 @@ impl<S: Simulation> GpuEngine<S> {
             lit,
             sort,
             name: scene.name.clone(),
-            model: if scene.fire.is_some() {
-                "fire"
-            } else {
-                "particles"
-            },
+            model: model_of(scene),
             sort_passes: crate::engine::plan::sort_lines(scene),
             moving_geometry,
             emitter_keys: (0..scene.emitters.len())

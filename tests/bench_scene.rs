@@ -190,3 +190,63 @@ fn bench_scene_runs_every_built_in_scene() {
         }
     }
 }
+
+#[test]
+fn bench_step_measures_any_scene() {
+    // The fire, a scene of the particle pipeline without sort, and one sorted for alpha
+    // blending: each step and render pass timed next to its floor, on the engine `render` runs.
+    let ctx = common::context();
+    let opts = texflow::bench::StepOptions {
+        repeats: 2,
+        warmup_steps: 3,
+        clock: None,
+    };
+    for name in ["fire-points", "fountain", "smoke-unlit"] {
+        let mut scene = texflow::scene::load(name).unwrap();
+        scene.render.resolution = [32, 32];
+        let records = texflow::bench::bench_step(&ctx, &scene, &[16], &opts, |_| {})
+            .unwrap_or_else(|e| panic!("bench step {name}: {e}"));
+        let r = &records[0];
+        assert_eq!((r.size, r.particles), (16, 256), "{name}");
+        for (ms, floor, ratio) in [
+            (r.sim_ms, r.sim_floor_ms, r.sim_ratio),
+            (r.render_ms, r.render_floor_ms, r.render_ratio),
+        ] {
+            assert!(ms > 0.0 && floor > 0.0, "{name}: {r:?}");
+            assert!((ratio - ms / floor).abs() < 1e-9, "{name}: {r:?}");
+        }
+    }
+    common::no_gl_error(&ctx);
+}
+
+#[test]
+fn the_stages_run_in_order_are_the_engines_frame() {
+    // The parts the benchmarks time (the sort's key pass, network and gather, then the render
+    // pass) draw the same pixels as the engine's own frame, for scenes with and without a sort.
+    let ctx = common::context();
+    for name in ["smoke-unlit", "e3", "fire", "spin"] {
+        let mut scene = texflow::scene::load(name).unwrap();
+        scene.particles.size = [16, 16];
+        scene.render.resolution = [32, 32];
+        let build = || texflow::engine::build_gpu(&ctx, &scene, 3).unwrap();
+        let (mut whole, mut parts) = (build(), build());
+        for _ in 0..4 {
+            whole.advance_frame().unwrap();
+            parts.advance_frame().unwrap();
+        }
+        let expected = whole.render().unwrap();
+        let sorts = parts.sort_keys().unwrap().is_some();
+        assert_eq!(sorts, parts.sorter().is_some(), "{name}");
+        parts.sort_network();
+        parts.sort_gather().unwrap();
+        parts.render_pass(sorts).unwrap();
+        let got = parts.target().read_rgb().unwrap();
+        let corner = *expected.get_pixel(0, 0);
+        assert!(
+            expected.pixels().any(|p| *p != corner),
+            "{name}: nothing drawn"
+        );
+        assert_eq!(got, expected, "{name}");
+    }
+    common::no_gl_error(&ctx);
+}

@@ -180,3 +180,34 @@ fn sparse_state_pictures_show_the_live_rows() {
         assert!(fraction > 0.5, "{name}: {fraction} of the picture is live");
     }
 }
+
+/// Every model and stage is traced through the engine's own stages: the fire's one pass, and
+/// the cloth's integration and constraint relaxation; each trace ends with the frame `render`
+/// writes.
+#[test]
+fn traces_of_the_fire_and_the_cloth_end_with_the_frame_render_writes() {
+    for (name, stage) in [("fire", "integrate"), ("cloth", "constraint relaxation")] {
+        let dir = tempfile::tempdir().unwrap();
+        let (out, frames) = (dir.path().join("t"), dir.path().join("f"));
+        let common = ["--particles", "16", "--resolution", "32x32", "-q"];
+        let (o, f) = (out.to_str().unwrap(), frames.to_str().unwrap());
+        let mut args = vec!["trace", name, "--frame", "2", "--out", o];
+        args.extend_from_slice(&common);
+        let run = texflow(&args);
+        assert!(run.status.success(), "{name}: {}", stderr(&run));
+        let mut args = vec!["render", name, "--frames", "3", "--out", f];
+        args.extend_from_slice(&common);
+        let run = texflow(&args);
+        assert!(run.status.success(), "{name}: {}", stderr(&run));
+        let names = pngs(&out);
+        let last = names.last().unwrap();
+        assert!(last.ends_with("_frame.png"), "{name}: {names:?}");
+        assert_eq!(
+            rgb(&out.join(last)),
+            rgb(&frames.join("frame_00002.png")),
+            "{name}"
+        );
+        let index = std::fs::read_to_string(out.join("index.md")).unwrap();
+        assert!(index.contains(stage), "{name}: no {stage} in\n{index}");
+    }
+}

@@ -1,12 +1,12 @@
-//! `texflow bench step`: the fire's simulation pass and render pass per state size, each next to
-//! its floor measured in the same run.
+//! `texflow bench step`: any scene's simulation step and render pass per state size, each next
+//! to its floor measured in the same run, on the engine `render` runs
+//! ([`crate::engine::build_gpu`]).
 
 use super::stats::{median, Clock, PassTimer, RenderFloor, WriteFloor};
-use crate::engine::{timed, GpuEngine};
+use crate::engine::timed;
 use crate::error::Result;
 use crate::gl::Context;
 use crate::scene::SceneFile;
-use crate::sim::{FireSim, Simulation};
 
 /// One row of `texflow bench step`.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -17,18 +17,20 @@ pub struct StepRecord {
     pub size: u32,
     /// Number of particles.
     pub particles: u64,
-    /// Median GPU time of one simulation pass, ms.
+    /// Median GPU time of one simulation step (the fire's one pass; every stage of the particle
+    /// pipeline's step), ms.
     pub sim_ms: f64,
-    /// Median GPU time of a write-only pass into the same targets, ms.
+    /// Median GPU time of a write-only pass into the same targets as the state's, ms.
     pub sim_floor_ms: f64,
     /// sim_ms / sim_floor_ms.
     pub sim_ratio: f64,
     /// Simulated particles per second (particles / sim_ms).
     pub particles_per_s: f64,
-    /// Median GPU time of one render pass (clear + points), ms.
+    /// Median GPU time of one render pass (clear + points or sprites; after the frame's sort,
+    /// untimed, for alpha blending), ms.
     pub render_ms: f64,
     /// Median GPU time of the render floor ([`RenderFloor`]: the clear and as many one-pixel
-    /// points through the same target and blend, fetching no texture), ms.
+    /// points as the pass draws through the same target and blend, fetching no texture), ms.
     pub render_floor_ms: f64,
     /// render_ms / render_floor_ms.
     pub render_ratio: f64,
@@ -89,7 +91,7 @@ impl Default for StepOptions {
     }
 }
 
-/// Times the simulation and render passes of `scene` at each square state size.
+/// Times the simulation step and the render pass of `scene` at each square state size.
 pub fn bench_step(
     ctx: &Context,
     scene: &SceneFile,
@@ -97,27 +99,38 @@ pub fn bench_step(
     opts: &StepOptions,
     mut progress: impl FnMut(u32),
 ) -> Result<Vec<StepRecord>> {
-    let sim_floor = WriteFloor::new(ctx, 2)?;
     let render_floor = RenderFloor::new(ctx)?;
-    let blend = Some(super::scene::FIRE_BLEND);
     let timer = PassTimer::new(ctx, opts.clock.unwrap_or_else(|| Clock::for_context(ctx)))?;
     let mut records = Vec::new();
     for &size in sizes {
         let mut s = scene.clone();
         s.particles.size = [size, size];
-        let mut engine = GpuEngine::<FireSim>::new(ctx, &s, 1)?;
+        let mut engine = crate::engine::build_gpu(ctx, &s, 1)?;
+        let e = engine.as_mut();
         for _ in 0..opts.warmup_steps {
-            engine.advance_frame()?;
+            e.advance_frame()?;
         }
+        // The step's floor writes a scratch framebuffer of the state's formats and size.
+        let scratch = super::scene::scratch_like(ctx, e.sim().state_target())?;
+        let sim_floor = WriteFloor::for_target(ctx, &scratch)?;
+        let style = e.renderer().style();
+        let (clear, blend) = (style.clear_color(), Some(style.blend()));
         let mut t = [vec![], vec![], vec![], vec![]];
         for _ in 0..opts.repeats {
-            t[0].push(timer.time(|| sim_floor.draw(engine.sim().state().back()))?);
-            // The step's one pass and its swap (which costs nothing).
-            t[1].push(timed(&timer, || engine.sim_mut().step())?);
-            let points = engine.sim().particle_count();
-            let fb = engine.target().framebuffer();
-            t[2].push(timer.time(|| render_floor.draw(fb, [0.0, 0.0, 0.0, 1.0], blend, points))?);
-            t[3].push(timed(&timer, || engine.draw())?);
+            t[0].push(timer.time(|| sim_floor.draw(&scratch))?);
+            // One step: every stage of it (the fire's one pass and its swap).
+            t[1].push(timed(&timer, || e.sim_mut().step())?);
+            // The frame's sort (alpha blending), untimed; then the render pass alone, drawing
+            // every texel when sorted (dead ones sort last), else the live rows.
+            let sorted = e.order_for_drawing_observed(&mut |_, _| Ok(()))?;
+            let [w, h] = e.sim().size();
+            let points = match sorted {
+                true => w as usize * h as usize,
+                false => e.sim().drawn().count,
+            };
+            let fb = e.target().framebuffer();
+            t[2].push(timer.time(|| render_floor.draw(fb, clear, blend, points))?);
+            t[3].push(timed(&timer, || e.render_pass(sorted))?);
         }
         ctx.check_error("benchmark")?;
         let [floor, sim_ms, rfloor, render] = t.map(|v| median(&v));

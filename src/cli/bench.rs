@@ -17,7 +17,7 @@ pub enum BenchCommand {
     /// Every phase of any scene's pass plan, each next to its same-run floor, and the frame's
     /// fps and particles per second.
     Scene(SceneArgs),
-    /// GPU time of the fire's simulation pass and render pass per state size, with floors.
+    /// GPU time of any scene's simulation step and render pass per state size, with floors.
     Step(StepArgs),
     /// UberFlow's Table 1: full sorts per variant and size, with floors and CPU baselines.
     Sort(SortArgs),
@@ -128,7 +128,7 @@ fn sort(a: SortArgs) -> texflow::Result<()> {
     Ok(())
 }
 
-/// `texflow bench step`: the fire's passes against their floors.
+/// `texflow bench step`: a scene's step and render pass against their floors.
 fn step(a: StepArgs) -> texflow::Result<()> {
     let StepArgs {
         scene: name,
@@ -144,12 +144,6 @@ fn step(a: StepArgs) -> texflow::Result<()> {
     let name = scene_flag.unwrap_or(name);
     let (label, src) = scene::load_source(&name)?;
     let mut s = scene::parse_with(&label, &src, &set.set)?;
-    if s.fire.is_none() {
-        return Err(bad(format!(
-            "bench step times the thesis's fire, and scene `{}` has no [fire] section: use              `texflow bench scene {name}` for the particle pipeline",
-            s.name
-        )));
-    }
     if let Some(r) = resolution {
         s.render.resolution = r;
     }
@@ -184,8 +178,8 @@ fn step(a: StepArgs) -> texflow::Result<()> {
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
 pub struct StepArgs {
-    /// Fire scene to measure, built in or a file (only fire scenes; other scenes: `bench
-    /// scene`). The default is the thesis's look, `fire-points`.
+    /// Scene to measure, built in or a file (its step and render pass; each phase apart:
+    /// `bench scene`). The default is the thesis's fire, `fire-points`.
     #[arg(value_name = "SCENE", default_value = scene::THESIS_SCENE)]
     scene: String,
     /// The old spelling of SCENE (hidden; still accepted).

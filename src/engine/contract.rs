@@ -212,6 +212,26 @@ pub trait Engine {
 
     /// The passes of one frame, in order, from what the engine holds.
     fn plan(&self) -> super::plan::Plan;
+
+    /// The frame in its stages, for the measuring floor (the benchmarks, `trace`, the
+    /// report): the GPU engine's; `None` for the CPU engine, whose frame is one piece.
+    fn stages(&mut self) -> Option<&mut dyn super::Stages> {
+        None
+    }
+
+    /// [`stages`](Self::stages), to read.
+    fn stages_ref(&self) -> Option<&dyn super::Stages> {
+        None
+    }
+}
+
+/// The GPU engine of `scene`, in its stages ([`build`] with [`EngineKind::Gpu`]): what the
+/// measuring floor times and pictures.
+pub fn build_gpu(ctx: &Context, scene: &SceneFile, seed: u64) -> Result<Box<dyn super::Stages>> {
+    Ok(match scene.fire.is_some() {
+        true => Box::new(GpuEngine::<crate::sim::FireSim>::new(ctx, scene, seed)?),
+        false => Box::new(ParticleEngine::new(ctx, scene, seed)?),
+    })
 }
 
 /// The engine that runs `scene`: the GPU engine over the fire's simulation or the particle
@@ -225,10 +245,7 @@ pub fn build(
 ) -> Result<Box<dyn Engine>> {
     Ok(match kind {
         EngineKind::Cpu => Box::new(CpuEngine::new(ctx, scene, seed)?),
-        EngineKind::Gpu if scene.fire.is_some() => {
-            Box::new(GpuEngine::<crate::sim::FireSim>::new(ctx, scene, seed)?)
-        }
-        EngineKind::Gpu => Box::new(ParticleEngine::new(ctx, scene, seed)?),
+        EngineKind::Gpu => build_gpu(ctx, scene, seed)?,
     })
 }
 

@@ -11,6 +11,8 @@ use crate::sim::{ParticleSim, Simulation};
 
 // The `Engine` trait over any simulation, in a file of its own.
 mod engine_impl;
+// The sort stage in its parts, and the stages the measuring floor times.
+mod stages;
 
 /// The sorted motion texture (velocities or Verlet's previous positions) stretched quads read.
 const MOTION: crate::gl::Attachment = crate::gl::Attachment::named("motion");
@@ -51,6 +53,8 @@ pub struct GpuEngine<S: Simulation> {
     view: crate::render::ViewOffset,
     /// Scene name, for the pass list.
     name: String,
+    /// The simulation's model, as benchmark records name it: `fire` or `particles`.
+    model: &'static str,
     /// The sort's passes of a frame, as the plan words them.
     sort_passes: Vec<String>,
     /// With drawn geometry that moves: the triangles that do not, and the scene whose moving
@@ -167,6 +171,14 @@ pub fn gather_target(
     crate::gl::Framebuffer::named(ctx, label, textures)
 }
 
+/// The model a scene runs, as benchmark records name it.
+fn model_of(scene: &crate::scene::SceneFile) -> &'static str {
+    match scene.fire {
+        Some(_) => "fire",
+        None => "particles",
+    }
+}
+
 /// The surface's colour: the first of `render.keyframes` (a constraint layout's particles are
 /// permanent, at relative age 0), light grey without any.
 fn surface_color(scene: &crate::scene::SceneFile) -> [f32; 3] {
@@ -249,6 +261,7 @@ impl<S: Simulation> GpuEngine<S> {
             lit,
             sort,
             name: scene.name.clone(),
+            model: model_of(scene),
             sort_passes: crate::engine::plan::sort_lines(scene),
             moving_geometry,
             emitter_keys: (0..scene.emitters.len())
@@ -395,56 +408,26 @@ impl<S: Simulation> GpuEngine<S> {
         &mut self,
         seen: &mut dyn FnMut(&str, &crate::sort::Sorter) -> Result<()>,
     ) -> Result<bool> {
-        self.turn_camera();
-        let steps = self.sim.steps();
-        let Some(s) = &mut self.sort else {
+        if self.sort_keys()?.is_none() {
             return Ok(false);
-        };
-        let mode = match &self.lit {
-            Some(l) => super::half_angle_keys(&self.camera, l.light()),
-            None => key_mode(s.key, self.camera.eye(), s.back_to_front),
-        };
-        let [w, h] = self.sim.size();
-        let texels = w as usize * h as usize;
-        let d = self.sim.drawn();
-        if s.sorter.quantiser().is_some() {
-            let (lo, hi) = compact_depth_range(self.camera.distance);
-            let (lo, hi) = if s.back_to_front {
-                (-hi, -lo)
-            } else {
-                (lo, hi)
-            };
-            s.sorter.set_key_range(lo, hi)?;
         }
-        let refresh = s.spread && s.keyed;
-        s.sorter
-            .write_keys_with_statics(d.positions, d.statics, texels, &mode, true, refresh)?;
-        s.keyed = true;
-        seen("keys", &s.sorter)?;
-        s.sorter.sort_frame();
-        seen("network", &s.sorter)?;
-        if s.lookup {
-            s.ordered_at = Some(steps);
-            return Ok(true);
+        if let Some(s) = &self.sort {
+            seen("keys", &s.sorter)?;
         }
-        let mut sources = vec![d.positions, d.statics];
-        if self.renderer.needs_motion() {
-            sources.extend(d.velocities.or(d.previous));
+        self.sort_network();
+        if let Some(s) = &self.sort {
+            seen("network", &s.sorter)?;
         }
-        if self.renderer.needs_spins() {
-            sources.extend(d.spins);
-        }
-        s.sorter.gather(&sources, &s.sorted)?;
-        s.ordered_at = Some(steps);
+        self.sort_gather()?;
         Ok(true)
     }
 
     /// Turns the camera to the current simulated time (`render.camera.orbit`), then by the
     /// viewer's offset.
     fn turn_camera(&mut self) {
-        let t = self.sim.time() as f32;
-        let mut camera = self.camera_start;
-        camera.azimuth = self.camera_start.azimuth + self.orbit * t;
+        let camera = self
+            .camera_start
+            .orbited(self.orbit, self.sim.time() as f32);
         self.camera = self.view.apply(camera);
     }
 

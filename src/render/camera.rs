@@ -51,6 +51,16 @@ impl From<&crate::scene::CameraSection> for Camera {
 }
 
 impl Camera {
+    /// This camera (a scene's, at time 0) turned by its orbit: `degrees_per_s`
+    /// (`render.camera.orbit`) around +y for `t` simulated seconds. The one place the orbit is
+    /// computed: the engines, and through them the viewer, the benchmarks and the report.
+    pub fn orbited(self, degrees_per_s: f32, t: f32) -> Camera {
+        Camera {
+            azimuth: self.azimuth + degrees_per_s * t,
+            ..self
+        }
+    }
+
     /// The eye position.
     pub fn eye(&self) -> Vec3 {
         let (az, el) = (self.azimuth.to_radians(), self.elevation.to_radians());

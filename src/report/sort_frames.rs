@@ -25,7 +25,7 @@ use serde::Serialize;
 use super::plot::{self, Legend, Marker, Series};
 use super::{num, Csv, Progress, ReportOptions, SectionOutput, Size};
 use crate::bench::{median, Clock, PassTimer};
-use crate::engine::ParticleEngine;
+use crate::engine::Stages;
 use crate::error::{Error, Result};
 use crate::gl::Context;
 use crate::scene::SceneFile;
@@ -219,15 +219,16 @@ pub fn run(ctx: &Context, sweep: &SpreadSweep, progress: Progress<'_>) -> Result
         ));
         let whole = p >= total;
         let s = scene(sweep.side, (!whole).then_some(p), orbit)?;
-        let mut engine = ParticleEngine::new(ctx, &s, sweep.seed)?;
+        let mut built = crate::engine::build_gpu(ctx, &s, sweep.seed)?;
+        let engine = built.as_mut();
         let per_sort = total.div_ceil(p.min(total));
-        warmup_s = warm_up(&mut engine, &s, per_sort)?;
+        warmup_s = warm_up(engine, &s, per_sort)?;
         let frames = sweep.frames.div_ceil(per_sort).max(1) * per_sort;
         let (mut times, mut inv, mut live) = (Vec::new(), Vec::new(), Vec::new());
         let (mut mean_disp, mut max_disp, mut p99_disp, mut fraction) = (0.0, 0u64, 0u64, 0.0);
         for _ in 0..frames {
             engine.advance_frame()?;
-            let mut r = Ok(false);
+            let mut r = Ok(());
             times.push(timer.time(|| r = engine.order_for_drawing())?);
             r?;
             let sorter = engine
@@ -272,7 +273,7 @@ pub fn run(ctx: &Context, sweep: &SpreadSweep, progress: Progress<'_>) -> Result
 
 /// Fills the state of `s` (the sort does not run while the simulation warms up), then runs two
 /// whole spread sorts of `per_sort` frames each; returns the simulated warm-up time (s).
-fn warm_up(engine: &mut ParticleEngine, s: &SceneFile, per_sort: usize) -> Result<f64> {
+fn warm_up(engine: &mut dyn Stages, s: &SceneFile, per_sort: usize) -> Result<f64> {
     let life = s.emitters.allocator[0].life.map_or(0.0, |l| l[1] as f64);
     let warm_frames = (life / (s.time.dt as f64 * s.time.substeps as f64)).ceil() as usize;
     let warmup_s = warm_frames as f64 * s.time.dt as f64 * s.time.substeps as f64;

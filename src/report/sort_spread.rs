@@ -9,7 +9,6 @@ use serde::Serialize;
 
 use super::sort_frames::{scene, sortedness, SpreadSweep};
 use super::{Progress, ReportOptions, SectionOutput, Size};
-use crate::engine::ParticleEngine;
 use crate::error::{Error, Result};
 use crate::gl::Context;
 use crate::scene::Spread;
@@ -95,7 +94,8 @@ fn measure(
     frames: usize,
     seed: u64,
 ) -> Result<(f64, f64)> {
-    let mut engine = ParticleEngine::new(ctx, s, seed)?;
+    let mut built = crate::engine::build_gpu(ctx, s, seed)?;
+    let engine = built.as_mut();
     let life = s.emitters.allocator[0].life.map_or(0.0, |l| l[1] as f64);
     let warm = (life / (s.time.dt as f64 * s.time.substeps as f64)).ceil() as usize;
     for _ in 0..warm {
@@ -116,7 +116,7 @@ fn measure(
             .ok_or_else(|| Error::InvalidInput("the measured scene does not sort".into()))?;
         let order = sorter.read()?;
         let vp = engine.camera().view_projection(rw as f32 / rh as f32);
-        let screen: Vec<[f32; 2]> = (engine.sim().read_positions()?.chunks_exact(4))
+        let screen: Vec<[f32; 2]> = (engine.sim().drawn().positions.read_f32()?.chunks_exact(4))
             .map(|p| {
                 let c = vp * glam::Vec4::new(p[0], p[1], p[2], 1.0);
                 let ndc = [c.x / c.w, c.y / c.w];

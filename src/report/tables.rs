@@ -117,7 +117,7 @@ pub fn render_paths(ctx: &Context, size: Size, progress: Progress<'_>) -> Result
             let mut scene = crate::scene::load("e1")?;
             scene.particles.size = [n, n];
             scene.render.path = path;
-            let mut engine = crate::engine::ParticleEngine::new(ctx, &scene, 1)?;
+            let mut engine = crate::engine::build_gpu(ctx, &scene, 1)?;
             for _ in 0..warmup.unwrap_or_else(|| bs::default_warmup_frames(&scene)) {
                 engine.advance_frame()?;
             }
@@ -129,9 +129,8 @@ pub fn render_paths(ctx: &Context, size: Size, progress: Progress<'_>) -> Result
                 r?;
             }
             ms[k] = crate::bench::median(&t);
-            live = engine
-                .sim()
-                .read_positions()?
+            live = (engine.sim().drawn().positions)
+                .read_f32()?
                 .chunks_exact(4)
                 .filter(|p| p[3] > 0.0 && p.iter().all(|x| x.is_finite()))
                 .count() as u64;

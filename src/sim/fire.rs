@@ -315,6 +315,10 @@ impl super::Simulation for FireSim {
                 .into(),
         }]
     }
+
+    fn state_target(&self) -> &crate::gl::Framebuffer {
+        self.state.front()
+    }
 }
 
 #[cfg(test)]

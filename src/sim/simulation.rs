@@ -198,4 +198,14 @@ pub trait Simulation: std::fmt::Debug {
     /// compiled: what a step runs, what `texflow scene passes` prints and what the benchmarks
     /// time.
     fn passes(&self) -> Vec<Pass>;
+
+    /// The state framebuffer a step reads now: its formats and size are what the step's
+    /// passes write (the benchmarks' floors write the same).
+    fn state_target(&self) -> &crate::gl::Framebuffer;
+
+    /// The collision stage between particles, where the model has one (`texflow trace`
+    /// pictures its lattice and partners).
+    fn collision_stage(&self) -> Option<&super::collide::Collisions> {
+        None
+    }
 }

@@ -7,13 +7,13 @@ use std::path::{Path, PathBuf};
 
 use super::picture::{finite_range, live_bounds, positions, scalar, sparse_rows};
 use super::Written;
-use crate::engine::{GpuEngine, ParticleEngine};
+use crate::engine::Stages;
 use crate::error::{Error, Result};
 use crate::gl::{Context, Texture};
 use crate::output::{write_atomic, write_png_atomic};
 use crate::scene::SceneFile;
 use crate::sim::state::POSITION;
-use crate::sim::FireSim;
+use crate::sim::{Simulation, Stage};
 
 /// The largest state texture side a scene trace draws (256×256 particles: pictures of 512×512
 /// pixels, two pixels a texel).
@@ -239,16 +239,13 @@ pub fn trace_scene(
         frame.saturating_sub(1),
         scene.name
     );
-    if scene.fire.is_some() {
-        trace_fire(ctx, scene, seed, frame, &mut r)?;
-    } else {
-        let mut e = ParticleEngine::new(ctx, scene, seed)?;
-        for _ in 0..frame {
-            e.advance_frame()?;
-            e.order_for_drawing()?;
-        }
-        trace_particles(&mut e, &mut r)?;
+    let mut engine = crate::engine::build_gpu(ctx, scene, seed)?;
+    let e = engine.as_mut();
+    for _ in 0..frame {
+        e.advance_frame()?;
+        e.order_for_drawing()?;
     }
+    trace_frame(e, &mut r)?;
     let index = out.join("index.md");
     write_atomic(&index, r.md.as_bytes())?;
     r.files.push(index);
@@ -259,60 +256,12 @@ pub fn trace_scene(
     })
 }
 
-/// Frames 0 to `frame` of a fire scene, then its two passes (physics, drawing) with their outputs.
-fn trace_fire(
-    ctx: &Context,
-    scene: &SceneFile,
-    seed: u64,
-    frame: u64,
-    r: &mut Recorder<'_>,
-) -> Result<()> {
-    let mut e = GpuEngine::<FireSim>::new(ctx, scene, seed)?;
-    for _ in 0..=frame {
-        e.advance_frame()?;
-    }
-    {
-        let sim = e.sim();
-        let size = size_of(sim.positions());
-        let p = sim.positions().read_f32()?;
-        let v = sim.velocities().read_f32()?;
-        let shots = vec![
-            r.positions("position", &p, size),
-            speed_shot(&v, &p, size, "speed |v| of live particles"),
-        ];
-        r.pass(
-            &format!(
-                "fire: physics, respawn in alpha (`glsl/sim/fire.frag`, × {} substep(s); the \
-                 state after the last)",
-                scene.time.substeps
-            ),
-            "thesis §3.4, Listing 1-2",
-            "front: position (xyz, life), velocity (xyz, wait)",
-            "back: position, velocity (MRT), then swap",
-            shots,
-        )?;
-        let img = e.render()?;
-        r.pass(
-            &format!(
-                "{} (`glsl/render/particle.vert`, `.frag` with the fire's ramp)",
-                e.renderer().pass_names().join(", ")
-            ),
-            "thesis Listing 3",
-            "position, velocity (vertex texture fetch)",
-            "the frame (RGBA8), read back",
-            vec![frame_shot(img)],
-        )?;
-    }
-    Ok(())
-}
-
-/// The state outputs of a simulation pass: positions, and velocities (or Verlet's implied ones).
-fn state_shots(e: &ParticleEngine, r: &mut Recorder<'_>) -> Result<Vec<Shot>> {
-    let sim = e.sim();
-    let size = sim.size().to_array();
-    let p = sim.read_positions()?;
-    let v = sim.read_velocities()?;
-    let note = match sim.velocities() {
+/// The state outputs of a simulation pass: positions, velocities (or Verlet's implied ones),
+/// and the user's states.
+fn state_shots(sim: &dyn Simulation, r: &mut Recorder<'_>) -> Result<Vec<Shot>> {
+    let size = sim.size();
+    let (p, v) = sim.read_state()?;
+    let note = match sim.drawn().velocities {
         Some(_) => "speed |v| of live particles",
         None => "speed |x − x_prev| / dt of live particles (Verlet keeps no velocity)",
     };
@@ -321,84 +270,102 @@ fn state_shots(e: &ParticleEngine, r: &mut Recorder<'_>) -> Result<Vec<Shot>> {
         speed_shot(&v, &p, size, note),
     ];
     // The user's states (`[[state]]`), written by their passes at the end of the integration.
-    for st in &sim.scene().state {
-        let values = sim.read_user_state(&st.name)?;
+    for (name, values) in sim.read_more()? {
+        let Some(name) = name.strip_prefix("state_") else {
+            continue;
+        };
         let x: Vec<f32> = (values.chunks_exact(4).zip(p.chunks_exact(4)))
             .map(|(u, p)| if p[3] > 0.0 { u[0] } else { f32::NAN })
             .collect();
         let note = format!(
-            "user state `{}` (x channel) of live particles, written by its own pass \
-             (`glsl/sim/user_state.frag`) after the integration",
-            st.name
+            "user state `{name}` (x channel) of live particles, written by its own pass \
+             (`glsl/sim/user_state.frag`) after the integration"
         );
         // Cropped to the live rows as the position picture is.
         let rows = sparse_rows(&p, size[0], size[1]);
         let (shown, shown_size) = crop(&x, 1, size, rows);
-        let mut shot = ramp_shot(&format!("state {}", st.name), shown, shown_size, &note);
+        let mut shot = ramp_shot(&format!("state {name}"), shown, shown_size, &note);
         shot.legend.push_str(&rows_note(rows, size[1]));
         shots.push(shot);
     }
     Ok(shots)
 }
 
-fn trace_particles(e: &mut ParticleEngine, r: &mut Recorder<'_>) -> Result<()> {
-    let substeps = e.sim().scene().time.substeps;
-    let allocator = e.sim().allocator().is_some();
-    let verlet = e.sim().velocities().is_none();
-    let state = if verlet {
-        "previous and current position"
-    } else {
-        "position, velocity"
+/// How the index words a stage of a step: its title, what it reads and what it writes (its
+/// passes, in the papers' words, are its source).
+fn stage_words(stage: Stage, state: &str) -> [String; 3] {
+    match stage {
+        Stage::Births => [
+            "births (points)".into(),
+            "a vertex buffer of this step's births, from the CPU allocator".into(),
+            format!("front: {state} and static, in place at the allocated texels"),
+        ],
+        Stage::Integrate => [
+            "integrate".into(),
+            format!("front: {state}; static; the scene's fields"),
+            format!("back: {state} (MRT), then swap"),
+        ],
+        Stage::Relax => [
+            "constraint relaxation".into(),
+            "current position, rest texture".into(),
+            "current position (the ring's free side, then swapped)".into(),
+        ],
+        Stage::Collide => [
+            "collision stage (cell keys, sort, gather, detection, response)".into(),
+            "position, velocity, static".into(),
+            "position, velocity (swap); static copied in the new order".into(),
+        ],
+    }
+}
+
+/// Frame N pass by pass: each stage of each step (as the simulation's pass list has them), the
+/// frame's sort, and the render pass with the frame `render` writes.
+fn trace_frame(e: &mut dyn Stages, r: &mut Recorder<'_>) -> Result<()> {
+    let substeps = e.sim().substeps();
+    let state = match e.sim().drawn().velocities {
+        Some(_) => "position, velocity",
+        None => "previous and current position",
     };
-    let size = e.sim().size().to_array();
-    for s in 0..substeps {
-        let step = format!("step {} of {substeps}", s + 1);
-        if allocator {
-            e.sim_mut().run(crate::sim::Stage::Births)?;
-            let mut shots = state_shots(e, r)?;
-            let statics = e.sim().statics().read_f32()?;
-            let births: Vec<f32> = statics.chunks_exact(4).map(|c| c[0]).collect();
-            shots.push(ramp_shot(
-                "static birth time",
-                &births,
-                size,
-                "birth time (s)",
-            ));
-            r.pass(
-                &format!("{step}: births (`glsl/sim/emit.vert` + `emit.frag`, points)"),
-                "Latta §3.4.1 (CPU allocator, one pixel per new particle)",
-                "a vertex buffer of this step's births, from the CPU allocator",
-                &format!("front: {state} and static, in place at the allocated texels"),
-                shots,
-            )?;
-        }
-        e.sim_mut().run(crate::sim::Stage::Integrate)?;
-        let shots = state_shots(e, r)?;
-        r.pass(
-            &format!("{step}: integrate (`glsl/sim/integrate.frag`)"),
-            "Latta §3.4.2-3.4.3 (forces, colliders, Euler or Verlet); UberFlow §4.2, §4.6",
-            &format!("front: {state}; static; the scene's fields"),
-            &format!("back: {state} (MRT), then swap"),
-            shots,
-        )?;
-        if e.sim().collisions().is_some() {
-            e.sim_mut().run(crate::sim::Stage::Collide)?;
-            let mut shots = state_shots(e, r)?;
-            shots.extend(cell_shots(e)?);
-            r.pass(
-                &format!("{step}: collision stage (cell keys, sort, gather, detection, response)"),
-                "UberFlow §4.3-4.5, Fig. 3",
-                "position, velocity, static",
-                "position, velocity (swap); static copied in the new order",
-                shots,
-            )?;
+    let size = e.sim().size();
+    let passes = e.sim().passes();
+    for k in 0..substeps {
+        let step = format!("step {} of {substeps}", k + 1);
+        for stage in e.sim().stages() {
+            e.sim_mut().run(stage)?;
+            let mut shots = state_shots(e.sim(), r)?;
+            if stage == Stage::Births {
+                let more = e.sim().read_more()?;
+                if let Some((_, statics)) = more.iter().find(|(n, _)| *n == "statics") {
+                    let births: Vec<f32> = statics.chunks_exact(4).map(|c| c[0]).collect();
+                    shots.push(ramp_shot(
+                        "static birth time",
+                        &births,
+                        size,
+                        "birth time (s)",
+                    ));
+                }
+            }
+            if stage == Stage::Collide {
+                shots.extend(cell_shots(e.sim())?);
+            }
+            let source = (passes.iter())
+                .filter(|p| p.stage == stage)
+                .map(|p| p.name.as_str())
+                .collect::<Vec<_>>()
+                .join("; ");
+            let [title, reads, writes] = stage_words(stage, state);
+            r.pass(&format!("{step}: {title}"), &source, &reads, &writes, shots)?;
         }
     }
     trace_sort(e, r)?;
+    let names = match e.lit() {
+        Some(l) => l.pass_names(),
+        None => e.renderer().pass_names(),
+    };
     let img = e.render()?;
     r.pass(
         "render (`glsl/render/particle.vert` + `particle.frag`)",
-        "Latta §3.4.5-3.4.6; UberFlow §4.7",
+        &names.join("; "),
         "position and static (sorted ones with alpha blending), by vertex texture fetch or vertex \
          buffers",
         "the frame (RGBA8), read back",
@@ -409,7 +376,7 @@ fn trace_particles(e: &mut ParticleEngine, r: &mut Recorder<'_>) -> Result<()> {
 
 /// The frame's sorting, where alpha blending needs it: keys, the network's passes of this frame,
 /// and the gather.
-fn trace_sort(e: &mut ParticleEngine, r: &mut Recorder<'_>) -> Result<()> {
+fn trace_sort(e: &mut dyn Stages, r: &mut Recorder<'_>) -> Result<()> {
     if e.sorter().is_none() {
         return Ok(());
     }
@@ -468,14 +435,14 @@ fn trace_sort(e: &mut ParticleEngine, r: &mut Recorder<'_>) -> Result<()> {
 
 /// The first lattice's view after the collision stage: each texel's cell index (UberFlow's sort
 /// key) in the lattice's sorted order, and the partner found.
-fn cell_shots(e: &ParticleEngine) -> Result<Vec<Shot>> {
-    let Some(c) = e.sim().collisions() else {
+fn cell_shots(sim: &dyn Simulation) -> Result<Vec<Shot>> {
+    let Some(c) = sim.collision_stage() else {
         return Ok(Vec::new());
     };
     let Some(back) = c.read_back(false)? else {
         return Ok(Vec::new());
     };
-    let size = e.sim().size().to_array();
+    let size = sim.size();
     let (lattice, _) = c.lattices();
     let cells: Vec<f32> = back
         .positions

@@ -4,12 +4,11 @@
 
 use super::{timed, Phases};
 use crate::bench::stats::{PassTimer, PlacedRenderFloor};
-use crate::engine::ParticleEngine;
+use crate::engine::Stages;
 use crate::error::Result;
 use crate::gl::{Context, DrawStats, SamplesQuery};
 use crate::scene::SceneFile;
 use crate::scene::{DrawMode, DrawPrimitive};
-use crate::sim::Simulation;
 
 /// One lower bound of a phase.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -108,7 +107,7 @@ pub(super) fn render_phase(
     ctx: &Context,
     on: &RenderFloors,
     phases: &mut Phases,
-    engine: &ParticleEngine,
+    engine: &dyn Stages,
     s: &SceneFile,
     sorted: bool,
 ) -> Result<()> {
@@ -117,7 +116,7 @@ pub(super) fn render_phase(
     let (blend, clear) = (Some(style.blend()), style.clear_color());
     let fb = engine.target().framebuffer();
     // A snapshot of this repetition's positions, drawn without fetching or shading.
-    let placed = PlacedRenderFloor::new(ctx, &engine.sim().positions().read_f32()?)?;
+    let placed = PlacedRenderFloor::new(ctx, &engine.sim().drawn().positions.read_f32()?)?;
     let [rw, rh] = s.render.resolution;
     let view_proj = engine.camera().view_projection(rw as f32 / rh as f32);
     // At the pass's point size where every particle is drawn at it (points of one size);

@@ -2,13 +2,13 @@
 //! ([`crate::engine::plan`]) timed alone, next to its floor measured in the same run, and the
 //! whole frame's fps and particles per second.
 //!
-//! The phases, for the particle pipeline ([`ParticleEngine`]): each stage of a step, from the
+//! The phases, for any scene, from the engine [`crate::engine::build_gpu`] makes (the one
+//! `render` runs), taken apart through its [`Stages`]: each stage of a step, from the
 //! simulation's own pass list ([`Simulation::passes`], each run alone by
-//! [`Simulation::run`]: births, integration, relaxation, the collision stage), for alpha
-//! blending the sort's key pass, its network and the gather (a [`Sorter`](crate::sort::Sorter) built from the same
-//! [`crate::engine::plan::sort_plan`] as the engine's, fed the simulation's positions), and the
-//! render pass (clear and points, or sprites). For the fire ([`FireSim`]): its simulation
-//! pass and its render pass. The floors:
+//! [`Simulation::run`]: births, integration, relaxation, the collision stage, or the fire's one
+//! pass), for alpha blending the engine's own sort stage in its parts (key pass, network, and
+//! the gather of what the renderer draws), and the render pass (clear and points, or sprites).
+//! The floors:
 //!
 //! - a state-writing pass: [`WriteFloor`] into a framebuffer of the same formats and size (over
 //!   the live rows where the pass is restricted to them);
@@ -33,21 +33,20 @@
 //! each phase once, each finished before the next (a phase's time is one step's, not a frame's).
 
 use super::scenes::default_warmup_frames;
-use super::stats::{median, Clock, PassTimer, RenderFloor, WriteFloor};
-use crate::engine::{timed, Engine, GpuEngine, ParticleEngine};
+use super::stats::{median, Clock, PassTimer, WriteFloor};
+use crate::engine::{timed, Stages};
 use crate::error::{Error, Result};
-use crate::gl::{
-    Blend, BlendComponent, BlendFactor, Context, Framebuffer, SamplesQuery, Texture, TextureDesc,
-};
-use crate::scene::{DrawOrder, SceneFile};
-use crate::sim::{FireSim, Simulation};
+use crate::gl::{Context, Framebuffer, SamplesQuery, Texture, TextureDesc};
+use crate::scene::SceneFile;
+#[cfg(doc)]
+use crate::sim::Simulation;
 
 mod floors;
 mod phases;
 mod text;
 use floors::{render_phase, RenderFloors};
 pub use floors::{Bound, Drawn};
-use phases::{bench_sort, sort_phases, BenchSort, SortFloors, StateFloors};
+use phases::{sort_phases, SortFloors, StateFloors};
 pub use text::{run_summary, scene_markdown, summary};
 
 /// One phase of a frame and its floor.
@@ -227,7 +226,7 @@ impl Phases {
 
 /// A framebuffer of the same size and formats as `fb`: where floors of passes writing `fb` go,
 /// so that they leave the state alone.
-fn scratch_like(ctx: &Context, fb: &Framebuffer) -> Result<Framebuffer> {
+pub(crate) fn scratch_like(ctx: &Context, fb: &Framebuffer) -> Result<Framebuffer> {
     let textures = fb
         .textures()
         .iter()
@@ -247,12 +246,6 @@ fn scratch_like(ctx: &Context, fb: &Framebuffer) -> Result<Framebuffer> {
     Framebuffer::new(ctx, "floor scratch", textures)
 }
 
-/// The fire's blend (additive colour, destination alpha kept), as its style's.
-pub(crate) const FIRE_BLEND: Blend = Blend {
-    color: BlendComponent::add(BlendFactor::SrcAlpha, BlendFactor::One),
-    alpha: BlendComponent::add(BlendFactor::Zero, BlendFactor::One),
-};
-
 /// Times every phase of `scene` at each square state size; `progress(size)` after each.
 pub fn bench_scene(
     ctx: &Context,
@@ -265,7 +258,6 @@ pub fn bench_scene(
         return Err(Error::InvalidInput("repeats must be at least 1".into()));
     }
     let timer = PassTimer::new(ctx, opts.clock.unwrap_or_else(|| Clock::for_context(ctx)))?;
-    let render_floor = RenderFloor::new(ctx)?;
     let mut records = Vec::new();
     for &size in sizes {
         let mut s = scene.clone();
@@ -274,11 +266,7 @@ pub fn bench_scene(
             s.render.resolution = r;
         }
         let warmup = warmup_frames(&s, opts.warmup_frames)?;
-        let (phases, frame, live) = if s.fire.is_some() {
-            fire(ctx, &s, warmup, &timer, &render_floor, opts)?
-        } else {
-            particles(ctx, &s, warmup, &timer, opts)?
-        };
+        let (phases, frame, live, model) = measure(ctx, &s, warmup, &timer, opts)?;
         if live.live == 0 && live.non_finite > 0 {
             return Err(Error::InvalidInput(format!(
                 "scene {} at {size}x{size}: after {warmup} warm-up frame(s) and the timed ones, \
@@ -301,12 +289,7 @@ pub fn bench_scene(
         let particles = size as u64 * size as u64;
         records.push(SceneBenchRecord {
             scene: s.name.clone(),
-            engine: if s.fire.is_some() {
-                "fire"
-            } else {
-                "particles"
-            }
-            .into(),
+            engine: model.into(),
             size,
             particles,
             live,
@@ -364,7 +347,7 @@ struct Alive {
 
 /// What `engine` holds at the end: with no live particle, whether the state blew up (NaN or
 /// infinite texels, which are neither alive nor drawn) rather than emptied.
-fn alive(ctx: &Context, engine: &impl Engine, s: &SceneFile) -> Result<Alive> {
+fn alive(ctx: &Context, engine: &dyn Stages, s: &SceneFile) -> Result<Alive> {
     let live = engine.live()?;
     let non_finite = match live {
         0 => {
@@ -378,119 +361,55 @@ fn alive(ctx: &Context, engine: &impl Engine, s: &SceneFile) -> Result<Alive> {
     Ok(Alive { live, non_finite })
 }
 
-fn fire(
-    ctx: &Context,
-    s: &SceneFile,
-    warmup: usize,
-    timer: &PassTimer,
-    render_floor: &RenderFloor,
-    opts: &SceneBenchOptions,
-) -> Result<(Phases, f64, Alive)> {
-    let mut engine = GpuEngine::<FireSim>::new(ctx, s, opts.seed)?;
-    let floor = WriteFloor::new(ctx, 2)?;
-    for _ in 0..warmup + 2 {
-        engine.advance_frame()?;
-    }
-    engine.draw()?;
-    let mut phases = Phases::default();
-    let mut frames = Vec::new();
-    let points = engine.sim().particle_count();
-    let step = engine.sim().passes()[0].name.clone();
-    for _ in 0..=opts.repeats {
-        frames.push(timed(timer, || {
-            engine.advance_frame()?;
-            engine.draw()
-        })?);
-        let f = timer.time(|| floor.draw(engine.sim().state().back()))?;
-        // The step's one pass and its swap (which costs nothing).
-        let t = timed(timer, || engine.sim_mut().step())?;
-        phases.push(&step, "write-only pass into position + velocity", t, f);
-        let fb = engine.target().framebuffer();
-        let f =
-            timer.time(|| render_floor.draw(fb, [0.0, 0.0, 0.0, 1.0], Some(FIRE_BLEND), points))?;
-        let t = timed(timer, || engine.draw())?;
-        phases.push(
-            &engine.renderer().pass_names().join(", "),
-            "clear + the live particles as points where they are, same size and blend, no fetch",
-            t,
-            f,
-        );
-        phases.next_repetition();
-    }
-    let live = alive(ctx, &engine, s)?;
-    Ok((phases, median(&frames[1..]), live))
-}
-
-fn particles(
+/// Every phase of `s`'s frame over the repetitions, the whole frame's median ms, what is
+/// alive at the end, and the engine's model.
+fn measure(
     ctx: &Context,
     s: &SceneFile,
     warmup: usize,
     timer: &PassTimer,
     opts: &SceneBenchOptions,
-) -> Result<(Phases, f64, Alive)> {
-    let mut engine = ParticleEngine::new(ctx, s, opts.seed)?;
+) -> Result<(Phases, f64, Alive, &'static str)> {
+    let mut engine = crate::engine::build_gpu(ctx, s, opts.seed)?;
+    let e = engine.as_mut();
     for _ in 0..warmup {
-        engine.advance_frame_without_collisions()?;
+        e.warm_up_frame()?;
     }
     for _ in 0..2 {
-        engine.advance_frame()?;
-        engine.draw()?;
+        e.advance_frame()?;
+        e.draw()?;
     }
-    let state_floors = StateFloors::new(ctx, engine.sim())?;
+    let state_floors = StateFloors::new(ctx, e.sim())?;
     let floor1 = WriteFloor::new(ctx, 1)?;
-    let floor2 = WriteFloor::new(ctx, 2)?;
-    let mut sort = bench_sort(ctx, s)?;
+    let gather = match e.sorted() {
+        Some(sorted) => Some(WriteFloor::for_target(ctx, sorted)?),
+        None => None,
+    };
     let render = RenderFloors {
         timer,
         samples: SamplesQuery::new(ctx)?,
-        fill: engine.renderer().with_fragment("bench/fill_floor.frag")?,
+        fill: e.renderer().with_fragment("bench/fill_floor.frag")?,
+    };
+    let sort_floors = SortFloors {
+        timer,
+        floor1: &floor1,
+        gather: gather.as_ref(),
     };
     let mut phases = Phases::default();
     let mut frames = Vec::new();
     for _ in 0..=opts.repeats {
         frames.push(timed(timer, || {
-            engine.advance_frame()?;
-            engine.draw()
+            e.advance_frame()?;
+            e.draw()
         })?);
         // One step, in its phases.
-        state_floors.step_phases(ctx, timer, engine.sim_mut(), &mut phases)?;
+        state_floors.step_phases(ctx, timer, e.sim_mut(), &mut phases)?;
         // The frame's sorting, then its drawing.
-        if let Some(sort) = &mut sort {
-            let floors = SortFloors {
-                timer,
-                floor1: &floor1,
-                floor2: &floor2,
-            };
-            frame_sort_phases(ctx, &floors, &mut phases, sort, &engine, s)?;
-        }
-        render_phase(ctx, &render, &mut phases, &engine, s, sort.is_some())?;
-        phases::lit_phases(ctx, timer, &mut phases, &engine)?;
+        let sorted = sort_phases(ctx, &sort_floors, &mut phases, e)?;
+        render_phase(ctx, &render, &mut phases, e, s, sorted)?;
+        phases::lit_phases(ctx, timer, &mut phases, e)?;
         phases.next_repetition();
     }
-    let live = alive(ctx, &engine, s)?;
-    Ok((phases, median(&frames[1..]), live))
-}
-
-/// The frame's sort, in its phases (keys, network, gather unless `render.lookup = "index"`), with the key mode and depth range
-/// the engine's sort stage uses for the camera of this frame.
-fn frame_sort_phases(
-    ctx: &Context,
-    floors: &SortFloors<'_>,
-    phases: &mut Phases,
-    sort: &mut BenchSort,
-    engine: &ParticleEngine,
-    s: &SceneFile,
-) -> Result<()> {
-    let back_to_front = s.render.order == DrawOrder::BackToFront;
-    let mode = match engine.lit() {
-        Some(l) => crate::engine::half_angle_keys(engine.camera(), l.light()),
-        None => crate::engine::key_mode(s.render.sort.key, engine.camera().eye(), back_to_front),
-    };
-    if sort.0.quantiser().is_some() {
-        let (lo, hi) = crate::engine::compact_depth_range(engine.camera().distance);
-        let (lo, hi) = if back_to_front { (-hi, -lo) } else { (lo, hi) };
-        sort.0.set_key_range(lo, hi)?;
-    }
-    let gather = s.render.lookup == crate::scene::Lookup::Gather;
-    sort_phases(ctx, floors, phases, sort, engine.sim(), &mode, gather)
+    let live = alive(ctx, e, s)?;
+    Ok((phases, median(&frames[1..]), live, e.model()))
 }

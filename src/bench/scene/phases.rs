@@ -1,75 +1,56 @@
-//! The particle pipeline's phases that need more than a timer: the sort built as the engine
-//! builds it and timed in its passes, and the floors of the passes that write the state.
+//! The phases that need more than a timer: the engine's sort stage timed in its parts, the
+//! floors of the passes that write the state, and half-angle slicing's passes.
 
 use super::floors::drawn;
 use super::{scratch_like, timed, Phases};
 use crate::bench::stats::{FixedCost, PassTimer, RenderFloor, WriteFloor};
+use crate::engine::Stages;
 use crate::error::Result;
 use crate::gl::{Context, Framebuffer, Texture, TextureDesc, TextureFormat};
-use crate::scene::SceneFile;
 use crate::sim::state::{POSITION, STATIC};
-use crate::sim::{ParticleSim, Simulation, Stage};
-use crate::sort::{KeyMode, Sorter};
+use crate::sim::{Simulation, Stage};
+use crate::sort::KeyMode;
 
-/// The sort the engine runs, built from the same plan, with its own gather target: the sorter,
-/// the gathered position and static textures, whether it is spread over frames, and whether
-/// keys were written yet.
-pub(super) type BenchSort = (Sorter, Framebuffer, bool, bool);
-
-pub(super) fn bench_sort(ctx: &Context, s: &SceneFile) -> Result<Option<BenchSort>> {
-    let Some((sorter, p)) = crate::engine::sorter_for(ctx, s)? else {
-        return Ok(None);
-    };
-    let sorted = crate::engine::gather_target(ctx, s, "bench sorted", &[POSITION, STATIC])?;
-    Ok(Some((sorter, sorted, p.passes_per_frame.is_some(), false)))
-}
-
-/// What the sort's phases are timed with and measured against.
+/// What the sort's phases are timed with and measured against: the timer, a write-only pass
+/// into one target, and one into the gathered textures (the engine's, as many as the renderer
+/// draws from; `None` with the index lookup, which gathers nothing).
 pub(super) struct SortFloors<'a> {
     pub(super) timer: &'a PassTimer,
     pub(super) floor1: &'a WriteFloor,
-    pub(super) floor2: &'a WriteFloor,
+    pub(super) gather: Option<&'a WriteFloor>,
 }
 
-/// One frame's sorting in its phases: keys, network, and the gather unless the renderer draws
-/// through the sort's index (`gather` false).
+/// One frame's sorting, the engine's own sort stage run in its parts: keys, network, and the
+/// gather unless the renderer draws through the sort's index. Whether the scene sorts.
 pub(super) fn sort_phases(
     ctx: &Context,
     on: &SortFloors,
     phases: &mut Phases,
-    (sorter, sorted, spread, keyed): &mut BenchSort,
-    sim: &ParticleSim,
-    mode: &KeyMode,
-    gather: bool,
-) -> Result<()> {
-    let [w, h] = sim.size().to_array();
-    let texels = w as usize * h as usize;
+    e: &mut dyn Stages,
+) -> Result<bool> {
+    let Some(sorter) = e.sorter() else {
+        return Ok(false);
+    };
     let (f, fd) = drawn(ctx, || {
         on.timer.time(|| on.floor1.draw(sorter.keys_target()))
     })?;
+    let mut mode = None;
     let (t, td) = drawn(ctx, || {
         timed(on.timer, || {
-            let refresh = *spread && *keyed;
-            sorter.write_keys_with_statics(
-                sim.positions(),
-                sim.statics(),
-                texels,
-                mode,
-                true,
-                refresh,
-            )
+            mode = e.sort_keys()?;
+            Ok(())
         })
     })?;
-    *keyed = true;
     let keys = match mode {
-        KeyMode::Age { .. } => "sort keys: age",
-        KeyMode::Axis { .. } => "sort keys: along the half-angle vector",
+        Some(KeyMode::Age { .. }) => "sort keys: age",
+        Some(KeyMode::Axis { .. }) => "sort keys: along the half-angle vector",
         _ => "sort keys: distance to the viewer",
     };
     let floor = "write-only pass into the sort texture";
     phases.push_bounds(keys, t, Some(td), &[(floor, f, Some(fd))]);
     // Each pass's floor writes what it writes: the sort texture, or for the blocked
     // variant its layers (and the row-major texture once, in its unpack pass).
+    let sorter = e.sorter().expect("a scene that sorted keys has a sorter");
     let target = sorter.target();
     let (fl, fld) = if target.attachments() > 1 || target.integer() {
         let f = WriteFloor::for_target(ctx, target)?;
@@ -80,33 +61,46 @@ pub(super) fn sort_phases(
     let (fk, fkd) = drawn(ctx, || {
         on.timer.time(|| on.floor1.draw(sorter.keys_target()))
     })?;
+    let (network_passes, name) = (
+        sorter.network_pass_count(),
+        format!("sort network ({})", sorter.variant().name()),
+    );
     let mut passes = 0;
-    let (t, td) = drawn(ctx, || on.timer.time(|| passes = sorter.sort_frame()))?;
-    let unpack = passes.saturating_sub(sorter.network_pass_count().min(passes));
+    let (t, td) = drawn(ctx, || on.timer.time(|| passes = e.sort_network()))?;
+    let unpack = passes.saturating_sub(network_passes.min(passes));
     let network = (passes - unpack) as u64;
     let floor = "write-only pass into each pass's targets × passes run";
     let f = fl * network as f64 + fk * unpack as f64;
     let fd = fld.times(network).plus(fkd.times(unpack as u64));
-    let name = format!("sort network ({})", sorter.variant().name());
     phases.push_bounds(&name, t, Some(td), &[(floor, f, Some(fd))]);
-    if !gather {
+    let floor = match (e.sorted(), on.gather) {
+        (Some(sorted), Some(gather)) => Some((
+            sorted.attachments(),
+            drawn(ctx, || on.timer.time(|| gather.draw(sorted)))?,
+        )),
+        _ => None,
+    };
+    let Some((n, (f, fd))) = floor else {
         // Latta §3.4.4's index lookup: the render pass reads the sort texture itself.
-        return Ok(());
-    }
-    let (f, fd) = drawn(ctx, || on.timer.time(|| on.floor2.draw(sorted)))?;
-    let (t, td) = drawn(ctx, || {
-        timed(on.timer, || {
-            sorter.gather(&[sim.positions(), sim.statics()], sorted)
-        })
-    })?;
-    let floor = "write-only pass into the two gathered textures";
-    phases.push_bounds(
-        "gather position and static textures",
-        t,
-        Some(td),
-        &[(floor, f, Some(fd))],
-    );
-    Ok(())
+        e.sort_gather()?;
+        return Ok(true);
+    };
+    let (t, td) = drawn(ctx, || timed(on.timer, || e.sort_gather()))?;
+    let (name, floor) = match n {
+        2 => (
+            "gather position and static textures".to_owned(),
+            "write-only pass into the two gathered textures".to_owned(),
+        ),
+        _ => (
+            format!(
+                "gather position, static and {} more texture(s) drawn",
+                n - 2
+            ),
+            format!("write-only pass into the {n} gathered textures"),
+        ),
+    };
+    phases.push_bounds(&name, t, Some(td), &[(&floor, f, Some(fd))]);
+    Ok(true)
 }
 
 /// The floors of the passes that write the state: a write-only pass into a framebuffer of the
@@ -123,13 +117,13 @@ pub(super) struct StateFloors {
 }
 
 impl StateFloors {
-    pub(super) fn new(ctx: &Context, sim: &ParticleSim) -> Result<Self> {
-        let scratch = scratch_like(ctx, sim.front())?;
-        let state = WriteFloor::new(ctx, sim.front().textures().len())?;
+    pub(super) fn new(ctx: &Context, sim: &dyn Simulation) -> Result<Self> {
+        let scratch = scratch_like(ctx, sim.state_target())?;
+        let state = WriteFloor::new(ctx, sim.state_target().textures().len())?;
         let fixed_cost = FixedCost::new(ctx)?;
         let scratch_bytes =
             scratch.width() as u64 * scratch.height() as u64 * scratch.bytes_per_texel() as u64;
-        let [w, h] = sim.size().to_array();
+        let [w, h] = sim.size();
         let t = Texture::new(
             ctx,
             TextureDesc {
@@ -158,7 +152,7 @@ impl StateFloors {
         &self,
         ctx: &Context,
         timer: &PassTimer,
-        sim: &mut ParticleSim,
+        sim: &mut dyn Simulation,
         phases: &mut Phases,
     ) -> Result<()> {
         let passes = sim.passes();
@@ -178,7 +172,9 @@ impl StateFloors {
             }
             let name = format!("{}: {}", stage_name(stage), names.join(", "));
             if stage == Stage::Integrate {
-                let rows = sim.active_rows();
+                // The live rows the simulation draws (whole rows; all of them but under a
+                // min-heap allocator).
+                let rows = (sim.drawn().count / sim.size()[0].max(1) as usize) as u32;
                 let (f, fd) = drawn(ctx, || {
                     timer.time(|| self.state.draw_rows(&self.scratch, 0, rows))
                 })?;
@@ -213,7 +209,7 @@ impl StateFloors {
         &self,
         ctx: &Context,
         timer: &PassTimer,
-        sim: &mut ParticleSim,
+        sim: &mut dyn Simulation,
         phases: &mut Phases,
         name: &str,
     ) -> Result<()> {
@@ -252,7 +248,7 @@ pub(super) fn lit_phases(
     ctx: &crate::gl::Context,
     timer: &PassTimer,
     phases: &mut Phases,
-    engine: &crate::engine::ParticleEngine,
+    engine: &dyn Stages,
 ) -> Result<()> {
     use crate::render::{FrameState, SlicePasses};
     let (Some(lit), Some(sorted)) = (engine.lit(), engine.sorted()) else {
@@ -273,8 +269,10 @@ pub(super) fn lit_phases(
     let style = engine.renderer().style();
     // The live particles where they are (a snapshot), one pixel each: sprites shrink with age
     // below the point size, so points at the point size would not bound the sprites' fill.
-    let placed =
-        crate::bench::stats::PlacedRenderFloor::new(ctx, &engine.sim().positions().read_f32()?)?;
+    let placed = crate::bench::stats::PlacedRenderFloor::new(
+        ctx,
+        &engine.sim().drawn().positions.read_f32()?,
+    )?;
     let count = state.count;
     let (light_view, _, light_blend) = light_floor(engine, lit);
     let f = timer.time(|| {
@@ -327,7 +325,7 @@ pub(super) fn lit_phases(
 /// buffer has side / (2 · extent) texels a unit; the depth is squashed so that nothing is
 /// clipped; the light pass's blend (ZERO, ONE_MINUS_SRC_COLOR).
 fn light_floor(
-    engine: &crate::engine::ParticleEngine,
+    engine: &dyn Stages,
     lit: &crate::render::HalfAngleRenderer,
 ) -> (glam::Mat4, f32, Option<crate::gl::Blend>) {
     let camera = engine.camera();

@@ -267,8 +267,8 @@ impl CpuEngine {
     /// Turns the camera to the current simulated time, then by the viewer's offset (as the GPU
     /// engine does).
     fn turn_camera(&mut self) {
-        let mut camera = self.camera_start;
-        camera.azimuth += self.sim.scene.render.camera.orbit * self.sim.time() as f32;
+        let orbit = self.sim.scene.render.camera.orbit;
+        let camera = self.camera_start.orbited(orbit, self.sim.time() as f32);
         self.camera = self.view.apply(camera);
     }
 

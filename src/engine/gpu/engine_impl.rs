@@ -101,6 +101,14 @@ impl<S: Simulation> crate::engine::Engine for GpuEngine<S> {
         Ok(vec![("simulate", simulate), (name, draw)])
     }
 
+    fn stages(&mut self) -> Option<&mut dyn crate::engine::Stages> {
+        Some(self)
+    }
+
+    fn stages_ref(&self) -> Option<&dyn crate::engine::Stages> {
+        Some(self)
+    }
+
     fn census(&self) -> Result<Option<crate::sim::collide::PairCensus>> {
         self.sim.census()
     }

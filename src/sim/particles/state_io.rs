@@ -317,4 +317,12 @@ impl crate::sim::Simulation for ParticleSim {
     fn passes(&self) -> Vec<crate::sim::Pass> {
         self.features.step_passes()
     }
+
+    fn state_target(&self) -> &Framebuffer {
+        self.front()
+    }
+
+    fn collision_stage(&self) -> Option<&crate::sim::collide::Collisions> {
+        self.collisions()
+    }
 }

@@ -116,7 +116,7 @@ impl SortStage {
 /// The sorter of `scene`'s alpha blending, as the engine runs it (`None` for other blendings):
 /// built from [`sort_plan`](crate::engine::plan::sort_plan), and for `fp24` scenes with the
 /// 2004 hardware's 24-bit floats and the paper's identifier table (UberFlow §4.3.1). The
-/// benchmarks build theirs here too.
+/// benchmarks time the engine's own (through [`Stages`](crate::engine::Stages)).
 pub fn sorter_for(
     ctx: &Context,
     scene: &crate::scene::SceneFile,

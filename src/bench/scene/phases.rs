@@ -160,12 +160,7 @@ impl StateFloors {
             // Each pass by the words before its details, once.
             let mut names: Vec<&str> = Vec::new();
             for p in passes.iter().filter(|p| p.stage == stage) {
-                let short = p
-                    .name
-                    .split([':', ',', '['])
-                    .next()
-                    .unwrap_or(&p.name)
-                    .trim();
+                let short = short_name(&p.name);
                 if !names.contains(&short) {
                     names.push(short);
                 }
@@ -228,6 +223,21 @@ impl StateFloors {
         phases.push_bounds(name, t, Some(td), &[(floor, f, Some(fd))]);
         Ok(())
     }
+}
+
+/// A pass's name up to its details: before the first `:`, `,` or `[` outside parentheses
+/// (`fire (thesis §3-4, Listings 1-2): physics ...` is `fire (thesis §3-4, Listings 1-2)`).
+fn short_name(name: &str) -> &str {
+    let mut depth = 0i32;
+    for (i, c) in name.char_indices() {
+        match c {
+            '(' => depth += 1,
+            ')' => depth -= 1,
+            ':' | ',' | '[' if depth <= 0 => return name[..i].trim(),
+            _ => {}
+        }
+    }
+    name.trim()
 }
 
 /// A stage's name in the phase table.
@@ -344,4 +354,36 @@ fn light_floor(
         alpha: keep,
     };
     (view, world * side / (2.0 * extent), Some(blend))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::short_name;
+
+    /// The phase table names a pass by the words before its details, and never cuts inside
+    /// its parentheses.
+    #[test]
+    fn a_pass_is_named_by_the_words_before_its_details() {
+        for (name, short) in [
+            (
+                "fire (thesis §3-4, Listings 1-2): physics, in-shader respawn [position]",
+                "fire (thesis §3-4, Listings 1-2)",
+            ),
+            (
+                "integrate (live rows only): Latta's Euler (eq. 3, 8)",
+                "integrate (live rows only)",
+            ),
+            (
+                "gather position, velocity, static in cell order",
+                "gather position",
+            ),
+            ("spin (UberFlow §4.5)", "spin (UberFlow §4.5)"),
+            (
+                "copy static texture in the new order",
+                "copy static texture in the new order",
+            ),
+        ] {
+            assert_eq!(short_name(name), short);
+        }
+    }
 }

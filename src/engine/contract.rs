@@ -212,6 +212,12 @@ pub trait Engine {
 
     /// The passes of one frame, in order, from what the engine holds.
     fn plan(&self) -> super::plan::Plan;
+
+    /// The passes of one frame with the programs each draws (the plan's list): what `texflow
+    /// scene passes`, `trace` and `bench scene` print.
+    fn passes(&self) -> Vec<crate::gl::PassInfo> {
+        self.plan().passes
+    }
 }
 
 /// The engine that runs `scene`: the GPU engine over the fire's simulation or the particle

@@ -11,6 +11,7 @@ use crate::sim::{ParticleSim, Simulation};
 
 // The `Engine` trait over any simulation, in a file of its own.
 mod engine_impl;
+mod passes;
 
 /// The sorted motion texture (velocities or Verlet's previous positions) stretched quads read.
 const MOTION: crate::gl::Attachment = crate::gl::Attachment::named("motion");

@@ -198,4 +198,8 @@ pub trait Simulation: std::fmt::Debug {
     /// compiled: what a step runs, what `texflow scene passes` prints and what the benchmarks
     /// time.
     fn passes(&self) -> Vec<Pass>;
+
+    /// The passes of one step with the programs each draws per step (`texflow scene passes`,
+    /// checked against the draws of a frame by tests/pass_list.rs).
+    fn pass_list(&self) -> Vec<crate::gl::PassInfo>;
 }

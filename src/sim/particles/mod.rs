@@ -13,6 +13,7 @@ mod children;
 mod custom;
 mod features;
 mod fluid;
+mod pass_list;
 mod relax;
 mod setup;
 mod state_io;

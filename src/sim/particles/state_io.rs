@@ -317,4 +317,8 @@ impl crate::sim::Simulation for ParticleSim {
     fn passes(&self) -> Vec<crate::sim::Pass> {
         self.features.step_passes()
     }
+
+    fn pass_list(&self) -> Vec<crate::gl::PassInfo> {
+        ParticleSim::pass_list(self)
+    }
 }

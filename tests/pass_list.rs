@@ -46,27 +46,96 @@ fn mismatches(plan: &Plan, drawn: &[String]) -> Vec<String> {
     out
 }
 
+/// The mismatches of one frame of `scene` (at 16×16 particles) on a `kind` engine.
+fn frame_mismatches(
+    ctx: &texflow::gl::Context,
+    mut s: texflow::scene::SceneFile,
+    kind: EngineKind,
+) -> Vec<String> {
+    let name = s.name.clone();
+    s.particles.size = [16, 16];
+    s.render.resolution = [32, 32];
+    let mut e = build(ctx, &s, 1, kind).unwrap_or_else(|e| panic!("{name}: {e}"));
+    // A first frame, so that the recorded one is an ordinary frame (births under way).
+    e.advance_frame().unwrap();
+    e.render().unwrap();
+    let recorder = texflow::gl::DrawRecorder::start();
+    e.advance_frame().unwrap();
+    e.draw().unwrap();
+    let drawn = recorder.finish();
+    let plan = e.plan();
+    assert_eq!(plan.passes, e.passes(), "{name}");
+    (mismatches(&plan, &drawn).into_iter())
+        .map(|m| format!("{name}: {m}"))
+        .collect()
+}
+
 #[test]
 fn every_built_in_scene_draws_the_passes_it_lists() {
     let ctx = common::context();
     let mut failures = Vec::new();
     for name in texflow::scene::BUILTIN {
-        let mut s = texflow::scene::load(name).unwrap();
-        s.particles.size = [16, 16];
-        s.render.resolution = [32, 32];
-        let mut e = build(&ctx, &s, 1, EngineKind::Gpu).unwrap_or_else(|e| panic!("{name}: {e}"));
-        // A first frame, so that the recorded one is an ordinary frame (births under way).
-        e.advance_frame().unwrap();
-        e.render().unwrap();
-        let recorder = texflow::gl::DrawRecorder::start();
-        e.advance_frame().unwrap();
-        e.draw().unwrap();
-        let drawn = recorder.finish();
-        let plan = e.plan();
-        assert_eq!(plan.passes, e.passes(), "{name}");
-        for m in mismatches(&plan, &drawn) {
-            failures.push(format!("{name}: {m}"));
-        }
+        let s = texflow::scene::load(name).unwrap();
+        failures.extend(frame_mismatches(&ctx, s, EngineKind::Gpu));
+    }
+    common::no_gl_error(&ctx);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The passes the built-in scenes do not run: every sort variant, a sort spread over frames,
+/// the index lookup, separate and stateless updates, Jacobi relaxation, the vertex-buffer path,
+/// user states, forces and ribbons of the example scenes, and the CPU engine.
+#[test]
+fn variants_draw_the_passes_they_list() {
+    use texflow::scene::{self, Lookup, RelaxScheme, RenderPath, Simulation, UpdatePasses};
+    use texflow::sort::Variant;
+    let ctx = common::context();
+    let load = |n: &str| scene::load(n).unwrap();
+    let mut cases: Vec<(scene::SceneFile, EngineKind)> = Vec::new();
+    for v in [
+        Variant::Fp,
+        Variant::GpFp,
+        Variant::Packed,
+        Variant::Multistep,
+        Variant::Blocked,
+    ] {
+        let mut s = load("smoke-unlit");
+        s.render.sort.variant = Some(v);
+        cases.push((s, EngineKind::Gpu));
+    }
+    let mut s = load("smoke-unlit");
+    s.render.sort.passes_per_frame = Some(5);
+    cases.push((s, EngineKind::Gpu));
+    let mut s = load("smoke-unlit");
+    s.render.lookup = Lookup::Index;
+    cases.push((s, EngineKind::Gpu));
+    let mut s = load("e1");
+    s.passes = UpdatePasses::Separate;
+    cases.push((s, EngineKind::Gpu));
+    let (_, src) = scene::load_source("e1").unwrap();
+    let src = src.replace("integrator = \"uberflow\"", "simulation = \"stateless\"");
+    let s = scene::parse("stateless e1", &src).unwrap();
+    assert_eq!(s.simulation, Simulation::Stateless);
+    cases.push((s, EngineKind::Gpu));
+    let mut s = load("cloth");
+    s.constraints.as_mut().unwrap().scheme = RelaxScheme::Jacobi;
+    cases.push((s, EngineKind::Gpu));
+    let mut s = load("fountain");
+    s.render.path = RenderPath::VertexBuffer;
+    cases.push((s, EngineKind::Gpu));
+    for file in [
+        "examples/boids/boids.toml",
+        "examples/heat/heat.toml",
+        "examples/ribbons/ribbons.toml",
+        "examples/terrain/terrain.toml",
+    ] {
+        cases.push((load(file), EngineKind::Gpu));
+    }
+    cases.push((load("e1"), EngineKind::Cpu));
+    cases.push((load("e3"), EngineKind::Cpu));
+    let mut failures = Vec::new();
+    for (s, kind) in cases {
+        failures.extend(frame_mismatches(&ctx, s, kind));
     }
     common::no_gl_error(&ctx);
     assert!(failures.is_empty(), "{}", failures.join("\n"));

@@ -99,7 +99,7 @@ impl CpuEngine {
         match style.blending {
             Blending::Multiplicative => defines.push(("MULTIPLY".into(), "1".into())),
             Blending::Alpha if style.under() => defines.push(("PREMULTIPLIED".into(), "1".into())),
-            _ => {}
+            Blending::Alpha | Blending::Additive => {}
         }
         let program = Program::new(
             ctx,

@@ -196,7 +196,7 @@ impl ParticleSim {
                 Emission::Allocator(kind) => {
                     Some(Allocator::new(kind, scene.parent_slots() as u32))
                 }
-                _ => None,
+                Emission::Timestamp | Emission::Initial { .. } => None,
             },
             owed: vec![0.0; emitters.len()],
             emitters,

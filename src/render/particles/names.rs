@@ -52,6 +52,34 @@ impl ParticleRenderer {
                 "copy statics to vertex buffer (pixel pack)",
             ));
         }
+        let program = match &self.lookup {
+            Some((p, _)) => p,
+            None => &self.program,
+        };
+        names.push(pass(self.particle_line(), program));
+        if s.fire.is_some() {
+            return names;
+        }
+        names.extend(
+            self.ribbons
+                .as_ref()
+                .map(|r| pass(r.pass_name(), r.program())),
+        );
+        if let (true, Some(g)) = (s.under(), &self.geometry) {
+            names.push(pass(
+                "composite geometry under (its own depth, equal passes)",
+                g.program(),
+            ));
+        }
+        if s.under() {
+            names.push(pass("composite background under", &self.background));
+        }
+        names
+    }
+
+    /// The particles' draw, in the pass list's words.
+    fn particle_line(&self) -> String {
+        let s = &self.style;
         let mode = match (s.mode, s.primitive) {
             (DrawMode::Points, DrawPrimitive::Points) => "points",
             (DrawMode::Sprites, DrawPrimitive::Points) => "sprites",
@@ -72,13 +100,8 @@ impl ParticleRenderer {
         } else {
             ""
         };
-        let program = match &self.lookup {
-            Some((p, _)) => p,
-            None => &self.program,
-        };
         if let Some(f) = s.fire {
-            names.push(pass(
-                format!(
+            return format!(
                 "render {} (thesis Listing 3: texture fetch, {}), coloured by the fire's age ramp",
                 if f.soft {
                     "soft round sprites"
@@ -86,10 +109,7 @@ impl ParticleRenderer {
                     "points"
                 },
                 s.blend_name()
-            ),
-                program,
-            ));
-            return names;
+            );
         }
         let mut line = format!("render {mode} ({path}, {}{depth})", s.blend_name());
         if s.types.iter().any(|t| t.size_range != [1.0; 2]) {
@@ -104,21 +124,6 @@ impl ParticleRenderer {
         if s.mode == DrawMode::Sprites && s.types.iter().any(|t| t.flipbook.0 > 1) {
             line.push_str(", flipbooks (atlas tiles advancing with the particle's age)");
         }
-        names.push(pass(line, program));
-        names.extend(
-            self.ribbons
-                .as_ref()
-                .map(|r| pass(r.pass_name(), r.program())),
-        );
-        if let (true, Some(g)) = (s.under(), &self.geometry) {
-            names.push(pass(
-                "composite geometry under (its own depth, equal passes)",
-                g.program(),
-            ));
-        }
-        if s.under() {
-            names.push(pass("composite background under", &self.background));
-        }
-        names
+        line
     }
 }

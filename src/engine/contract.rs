@@ -213,6 +213,12 @@ pub trait Engine {
     /// The passes of one frame, in order, from what the engine holds.
     fn plan(&self) -> super::plan::Plan;
 
+    /// The passes of one frame with the programs each draws (the plan's list): what `texflow
+    /// scene passes`, `trace` and `bench scene` print.
+    fn passes(&self) -> Vec<crate::gl::PassInfo> {
+        self.plan().passes
+    }
+
     /// The frame in its stages, for the measuring floor (the benchmarks, `trace`, the
     /// report): the GPU engine's; `None` for the CPU engine, whose frame is one piece.
     fn stages(&mut self) -> Option<&mut dyn super::Stages> {

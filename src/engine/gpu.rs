@@ -13,6 +13,7 @@ use crate::sim::{ParticleSim, Simulation};
 mod engine_impl;
 // The sort stage in its parts, and the stages the measuring floor times.
 mod stages;
+mod passes;
 
 /// The sorted motion texture (velocities or Verlet's previous positions) stretched quads read.
 const MOTION: crate::gl::Attachment = crate::gl::Attachment::named("motion");

@@ -6,6 +6,7 @@
 
 use std::fmt;
 
+use crate::gl::PassInfo;
 use crate::scene::{Blending, DrawOrder, SceneFile, SortKey};
 use crate::sort::Variant;
 
@@ -20,6 +21,49 @@ pub struct Plan {
     pub substeps: u32,
     /// Passes run once per frame after the steps.
     pub per_frame: Vec<String>,
+    /// The same passes with the programs each draws (per step for the step's stages, per frame
+    /// for the others), as the stages that built them return them.
+    pub passes: Vec<PassInfo>,
+}
+
+/// The stages a simulation step runs; the others (sort, gather, render) run once a frame.
+pub const STEP_STAGES: [&str; 4] = ["births", "integrate", "relax", "collide"];
+
+impl Plan {
+    /// The plan of `passes`, in order: those of [`STEP_STAGES`] run `substeps` times a frame.
+    pub fn new(scene: &str, substeps: u32, passes: Vec<PassInfo>) -> Self {
+        let (step, frame): (Vec<&PassInfo>, Vec<&PassInfo>) =
+            passes.iter().partition(|p| STEP_STAGES.contains(&p.stage));
+        Plan {
+            scene: scene.to_owned(),
+            per_step: step.into_iter().map(|p| p.name.clone()).collect(),
+            substeps,
+            per_frame: frame.into_iter().map(|p| p.name.clone()).collect(),
+            passes,
+        }
+    }
+
+    /// The draws of one frame by program, in the order of their first pass: (program, draws,
+    /// whether the count depends on the data, in which case it is the most a frame draws).
+    pub fn frame_draws(&self) -> Vec<(String, u64, bool)> {
+        let mut out: Vec<(String, u64, bool)> = Vec::new();
+        for p in &self.passes {
+            let times = match STEP_STAGES.contains(&p.stage) {
+                true => self.substeps as u64,
+                false => 1,
+            };
+            for (program, n) in &p.draws {
+                match out.iter_mut().find(|(name, ..)| name == program) {
+                    Some((_, t, v)) => {
+                        *t += n * times;
+                        *v |= p.varies;
+                    }
+                    None => out.push((program.clone(), n * times, p.varies)),
+                }
+            }
+        }
+        out
+    }
 }
 
 /// How an alpha-blended scene is sorted: variant, sort texture size, passes per full sort.
@@ -68,7 +112,8 @@ pub fn sort_plan(scene: &SceneFile) -> Option<SortPlan> {
     })
 }
 
-/// The sort's passes of a frame, where alpha blending needs one.
+/// The sort's key and network passes of a frame, where alpha blending needs one (the engine
+/// words the gather, from the textures it gathers).
 pub fn sort_lines(scene: &SceneFile) -> Vec<String> {
     let r = &scene.render;
     let mut per_frame = Vec::new();
@@ -117,9 +162,6 @@ pub fn sort_lines(scene: &SceneFile) -> Vec<String> {
         ),
         None => format!("sort: {} network, {} passes", s.variant.name(), s.passes),
     });
-    if scene.render.lookup == crate::scene::Lookup::Gather {
-        per_frame.push("gather position and static textures in sorted order".into());
-    }
     per_frame
 }
 

@@ -210,6 +210,7 @@ impl Context {
     /// Runs one draw: binds its program, target (with its viewport) and vertices, sets all of its
     /// state, draws, and unbinds the vertex array. A count of 0 draws nothing.
     pub fn draw(&self, d: &Draw<'_>) {
+        super::record::note(d.program.name());
         d.program.bind();
         match d.viewport {
             Some(r) => d.target.bind_rect(r.x, r.y, r.width, r.height),

@@ -52,7 +52,10 @@ impl TextureFormat {
         match self {
             TextureFormat::Rgba8 => glow::UNSIGNED_BYTE,
             TextureFormat::Rgba32Ui => glow::UNSIGNED_INT,
-            _ => glow::FLOAT,
+            TextureFormat::Rgba32F
+            | TextureFormat::Rgba16F
+            | TextureFormat::Rg32F
+            | TextureFormat::R32F => glow::FLOAT,
         }
     }
 

@@ -75,6 +75,11 @@ impl std::fmt::Debug for ConnectedRenderer {
 }
 
 impl ConnectedRenderer {
+    /// The program each draw runs, for the pass list.
+    pub fn program(&self) -> &Program {
+        &self.program
+    }
+
     /// Builds the program and the index buffer for a `kind` layout of `size` texels, drawn in
     /// `color`.
     pub fn new(

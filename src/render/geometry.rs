@@ -371,6 +371,10 @@ pub fn describe(scene: &SceneFile) -> String {
     }
 }
 
+/// The soft particles' depth pass: the geometry's vertices, their view depth.
+const GEOMETRY_VERTEX: &str = "render/geometry.vert";
+const GEOMETRY_DEPTH: &str = "render/geometry_depth.frag";
+
 /// Draws a scene's colliders.
 pub struct GeometryRenderer {
     program: Program,
@@ -389,6 +393,16 @@ impl std::fmt::Debug for GeometryRenderer {
 }
 
 impl GeometryRenderer {
+    /// The program each draw runs, for the pass list.
+    pub fn program(&self) -> &Program {
+        &self.program
+    }
+
+    /// The soft particles' depth program (built at its first use), for the pass list.
+    pub fn depth_program_name() -> String {
+        format!("{GEOMETRY_VERTEX}+{GEOMETRY_DEPTH}")
+    }
+
     /// Uploads `mesh` (not empty) and builds the program.
     pub fn new(ctx: &Context, mesh: &Mesh) -> Result<Self> {
         if mesh.is_empty() {
@@ -472,8 +486,8 @@ impl GeometryRenderer {
     /// soft particles: render/geometry_depth.frag.
     pub fn draw_depth(&self, fb: &crate::gl::Framebuffer, view_proj: &glam::Mat4) -> Result<()> {
         if self.depth_program.get().is_none() {
-            let v = "render/geometry.vert";
-            let p = Program::new(&self.ctx, v, "render/geometry_depth.frag", &Defines::new())?;
+            let (v, f) = (GEOMETRY_VERTEX, GEOMETRY_DEPTH);
+            let p = Program::new(&self.ctx, v, f, &Defines::new())?;
             let _ = self.depth_program.set(p);
         }
         let Some(p) = self.depth_program.get() else {

@@ -175,16 +175,40 @@ impl HalfAngleRenderer {
 
     /// The passes one draw runs, as the pass list words them.
     pub fn pass_names(&self) -> Vec<String> {
+        self.passes().into_iter().map(|p| p.name).collect()
+    }
+
+    /// The passes one draw runs, each with its programs: at most `slices` eye and light passes
+    /// (fewer where fewer particles can be live), the background only under.
+    pub fn passes(&self) -> Vec<crate::gl::PassInfo> {
+        use crate::gl::PassInfo;
         let side = self.light.resolution;
-        vec![
-            format!("clear light buffer ({side}x{side} RGBA16F, transmittance 1)"),
+        let n = self.slices as u64;
+        let mut slices = PassInfo::new(
+            "render",
             format!(
                 "{} slices along the half-angle vector, each: eye pass (quads lit by the light \
                  buffer's transmittance, alpha over or under) then light pass (quads facing the \
                  light, transmittance times 1 - opacity)",
                 self.slices
             ),
-            "composite background under (when the eye looks the way the light goes)".into(),
+        )
+        .draws(&self.eye, n)
+        .draws(&self.shadow, n);
+        slices.varies = true;
+        let mut background = PassInfo::new(
+            "render",
+            "composite background under (when the eye looks the way the light goes)",
+        )
+        .draws(&self.background, 1);
+        background.varies = true;
+        vec![
+            PassInfo::new(
+                "render",
+                format!("clear light buffer ({side}x{side} RGBA16F, transmittance 1)"),
+            ),
+            slices,
+            background,
         ]
     }
 

@@ -68,6 +68,11 @@ impl std::fmt::Debug for RibbonRenderer {
 }
 
 impl RibbonRenderer {
+    /// The program each draw runs, for the pass list.
+    pub fn program(&self) -> &Program {
+        &self.program
+    }
+
     /// Builds the index buffer for `layout` and the program for `style`'s blend; `dt` is the
     /// scene's step, at least the integration step (births fall on steps, so consecutive
     /// children may be up to one trail interval plus a step apart); `width_m`: `render.ribbon_width`, or 0 for the point size.

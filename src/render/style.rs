@@ -319,7 +319,7 @@ impl ParticleStyle {
         match self.blending {
             Blending::Multiplicative => vec![flag("MULTIPLY")],
             Blending::Alpha if self.under() => vec![flag("PREMULTIPLIED")],
-            _ => Vec::new(),
+            Blending::Alpha | Blending::Additive => Vec::new(),
         }
     }
 

@@ -340,7 +340,8 @@ fn markdown(ctx: &Context, c: &Constants, cells: &[Cell]) -> String {
             let Some(paper) = crate::bench::paper_table1_fps(v, side) else {
                 continue;
             };
-            let passes = crate::sort::network::bitonic_schedule(side, side * side).len();
+            let o = crate::sort::SortOptions::default();
+            let passes = crate::sort::pass_count(v, side, side, side * side, &o);
             let fps = 1e3 / Gpu2004::sort_ms(v, side, passes);
             m += &format!(
                 "| {} | {side}² | {passes} | {fps:.1} | {paper:.1} | {:.2} |\n",

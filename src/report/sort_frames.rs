@@ -79,7 +79,8 @@ impl SpreadSweep {
 
 /// Passes of one odd-even merge sort of side × side entries.
 pub fn total_passes(side: u32) -> usize {
-    crate::sort::network::odd_even_schedule(side * side).len()
+    let o = crate::sort::SortOptions::default();
+    crate::sort::pass_count(crate::sort::Variant::OddEven, side, side, side * side, &o)
 }
 
 /// How sorted an order is, against the order its own keys call for.

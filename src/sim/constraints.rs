@@ -256,7 +256,7 @@ pub fn pin_offset(scene: &SceneFile, t: f64) -> Vec3 {
         (ConstraintKind::Hair, Some(k)) => scene.colliders.sphere[k]
             .orbit
             .map_or(Vec3::ZERO, |o| Vec3::from(o.offset(t))),
-        _ => Vec3::ZERO,
+        (ConstraintKind::Hair, None) | (ConstraintKind::Cloth, _) => Vec3::ZERO,
     }
 }
 

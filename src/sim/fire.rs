@@ -307,6 +307,12 @@ impl super::Simulation for FireSim {
         Ok((self.positions().read_f32()?, self.velocities().read_f32()?))
     }
 
+    fn pass_list(&self) -> Vec<crate::gl::PassInfo> {
+        (self.passes().into_iter())
+            .map(|p| crate::gl::PassInfo::new("integrate", p.name).draws(&self.physics, 1))
+            .collect()
+    }
+
     fn passes(&self) -> Vec<super::Pass> {
         vec![super::Pass {
             stage: super::Stage::Integrate,

@@ -208,4 +208,7 @@ pub trait Simulation: std::fmt::Debug {
     fn collision_stage(&self) -> Option<&super::collide::Collisions> {
         None
     }
+    /// The passes of one step with the programs each draws per step (`texflow scene passes`,
+    /// checked against the draws of a frame by tests/pass_list.rs).
+    fn pass_list(&self) -> Vec<crate::gl::PassInfo>;
 }

@@ -76,7 +76,7 @@ impl Step {
                 dist,
                 mirror,
             } => Some(if mirror { block - 1 } else { dist }),
-            _ => None,
+            Step::OddEvenRecursion { .. } | Step::OddEvenEnd { .. } => None,
         }
     }
 }
@@ -118,7 +118,7 @@ pub fn partner(step: &Step, i: u32, width: u32) -> Option<(u32, bool)> {
 pub fn ascending(step: &Step, i: u32, width: u32) -> bool {
     match *step {
         Step::Bitonic { block, mirror, .. } => mirror || block > width || (i % width) & block == 0,
-        _ => true,
+        Step::OddEvenRecursion { .. } | Step::OddEvenEnd { .. } => true,
     }
 }
 
@@ -192,7 +192,7 @@ pub fn odd_even_schedule(block: u32) -> Vec<Step> {
 pub fn group_steps(steps: &[Step], per_pass: usize) -> Vec<Vec<Step>> {
     let stage = |x: &Step| match x {
         Step::Bitonic { block, .. } => *block,
-        _ => 0,
+        Step::OddEvenRecursion { .. } | Step::OddEvenEnd { .. } => 0,
     };
     let wide = |x: &Step| x.mask().is_none_or(|m| m >= 2);
     let mut groups: Vec<Vec<Step>> = Vec::new();

@@ -93,7 +93,7 @@ mod tests {
             .iter()
             .map(|p| match p {
                 NetworkPass::Blocked(b) => b.steps.len(),
-                _ => 0,
+                NetworkPass::Step(_) | NetworkPass::Group(_) | NetworkPass::Unpack => 0,
             })
             .sum();
         assert_eq!(steps, 210);

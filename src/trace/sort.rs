@@ -139,7 +139,7 @@ pub fn trace_sort(
     // passes are its schedule's, one for one: tests/sort_schedule.rs).
     let per = match variant {
         Variant::Blocked => sorter.pass_count(),
-        _ => 1,
+        Variant::Fp | Variant::GpFp | Variant::Packed | Variant::OddEven | Variant::Multistep => 1,
     };
     let mut trace = Trace {
         out,

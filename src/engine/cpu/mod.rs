@@ -99,7 +99,7 @@ impl CpuEngine {
         match style.blending {
             Blending::Multiplicative => defines.push(("MULTIPLY".into(), "1".into())),
             Blending::Alpha if style.under() => defines.push(("PREMULTIPLIED".into(), "1".into())),
-            _ => {}
+            Blending::Alpha | Blending::Additive => {}
         }
         let program = Program::new(
             ctx,
@@ -431,26 +431,34 @@ impl super::Engine for CpuEngine {
     }
 
     fn plan(&self) -> super::plan::Plan {
+        use crate::gl::PassInfo;
         let sort = if self.style.blending == Blending::Alpha {
             "keys (viewer distance) and a parallel quicksort of the live particles on every core"
         } else {
             "the live particles in index order (no sort: the blending needs none)"
         };
-        super::plan::Plan {
-            scene: self.sim.scene.name.clone(),
-            per_step: vec![
+        // The CPU's work draws nothing: only the points (and the background under) are draws.
+        let mut passes = vec![
+            PassInfo::new(
+                "integrate",
                 "CPU step of every particle on every core (rayon): the GPU pass's physics, \
-                 time-stamp birth, respawn and death (UberFlow E5)"
-                    .into(),
-            ],
-            substeps: self.sim.scene.time.substeps,
-            per_frame: vec![
-                sort.into(),
-                "gather (position, relative age) in drawing order, upload with glBufferSubData"
-                    .into(),
+                 time-stamp birth, respawn and death (UberFlow E5)",
+            ),
+            PassInfo::new("sort", sort),
+            PassInfo::new(
+                "gather",
+                "gather (position, relative age) in drawing order, upload with glBufferSubData",
+            ),
+            PassInfo::new(
+                "render",
                 format!("render points (vertex buffer, {})", self.style.blend_name()),
-            ],
+            )
+            .draws(&self.program, 1),
+        ];
+        if let Some(b) = &self.background {
+            passes.push(PassInfo::new("render", "composite background under").draws(b, 1));
         }
+        super::plan::Plan::new(&self.sim.scene.name, self.sim.scene.time.substeps, passes)
     }
 }
 

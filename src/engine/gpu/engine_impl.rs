@@ -114,16 +114,6 @@ impl<S: Simulation> crate::engine::Engine for GpuEngine<S> {
     }
 
     fn plan(&self) -> crate::engine::plan::Plan {
-        let mut per_frame = self.sort_passes.clone();
-        per_frame.extend(match &self.lit {
-            Some(l) => l.pass_names(),
-            None => self.renderer.pass_names(),
-        });
-        crate::engine::plan::Plan {
-            scene: self.name.clone(),
-            per_step: self.sim.passes().into_iter().map(|p| p.name).collect(),
-            substeps: self.sim.substeps(),
-            per_frame,
-        }
+        crate::engine::plan::Plan::new(&self.name, self.sim.substeps(), self.frame_passes())
     }
 }

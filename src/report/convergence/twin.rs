@@ -58,7 +58,9 @@ impl Twin {
     fn advance(&self, x: DVec3, v: DVec3, vb: DVec3) -> DVec3 {
         match self.integrator {
             Integrator::Euler | Integrator::Verlet => x + vb * self.dt,
-            _ => x + 0.5 * (v + vb) * self.dt,
+            Integrator::Uberflow | Integrator::Heun | Integrator::Rk4 | Integrator::Leapfrog => {
+                x + 0.5 * (v + vb) * self.dt
+            }
         }
     }
 
@@ -86,7 +88,11 @@ impl Twin {
                     v + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4),
                 )
             }
-            _ => {
+            // Leapfrog; the single-stage integrators do not reach `stages`.
+            Integrator::Leapfrog
+            | Integrator::Euler
+            | Integrator::Uberflow
+            | Integrator::Verlet => {
                 let vh = v + 0.5 * h * acc(x, v);
                 let xn = x + h * vh;
                 (xn, vh + 0.5 * h * acc(xn, vh))

@@ -39,6 +39,7 @@ use crate::sort::{KeyMode, SortOptions, Sorter};
 mod census;
 mod exact;
 mod neighbours;
+mod pass_list;
 pub(crate) mod tally;
 
 pub use census::PairCensus;

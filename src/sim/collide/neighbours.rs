@@ -151,6 +151,14 @@ impl Neighbours {
         }))
     }
 
+    /// The force and kick passes' draws of one step, for the pass list.
+    pub(super) fn pass_draws(&self) -> [crate::gl::PassDraw; 2] {
+        [
+            crate::gl::PassDraw::of("neighbour force", &self.sum, 1),
+            crate::gl::PassDraw::of("neighbour kick", &self.apply, 1),
+        ]
+    }
+
     /// Whether the neighbour forces replace the impulse (`response = "dem"`).
     pub(super) fn replaces_impulse(&self) -> bool {
         self.dem.is_some()

@@ -24,6 +24,11 @@ pub(crate) struct TruncationTally {
 }
 
 impl TruncationTally {
+    /// The program each tally draws, for the pass list.
+    pub(crate) fn program(&self) -> &Program {
+        &self.program
+    }
+
     /// A tally at 0.
     pub(crate) fn new(ctx: &Context) -> Result<Self> {
         let texture = Texture::new(

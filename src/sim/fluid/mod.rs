@@ -99,6 +99,26 @@ pub fn fluid_passes(walls: bool) -> Vec<String> {
     ]
 }
 
+impl Fluid {
+    /// The draws of one step, in the order of [`fluid_passes`], from the programs the stage
+    /// built.
+    pub(crate) fn pass_draws(&self) -> Vec<crate::gl::PassDraw> {
+        use crate::gl::PassDraw;
+        let mut out = vec![PassDraw::new("fluid keys", Sorter::keys_program(), 1)];
+        for (program, n) in self.sorter.network_draws() {
+            out.push(PassDraw::new("fluid sort", program, n));
+        }
+        out.extend([
+            PassDraw::new("gather", Sorter::gather_program(), 1),
+            PassDraw::of("fluid density", &self.density_pass, 1),
+            PassDraw::of("fluid force", &self.force_pass, 1),
+            PassDraw::of("truncation tally", self.tally.program(), 1),
+            PassDraw::of("copy static", &self.copy, 1),
+        ]);
+        out
+    }
+}
+
 fn texture(ctx: &Context, label: &str, size: [u32; 2], format: TextureFormat) -> Result<Texture> {
     Texture::new(
         ctx,

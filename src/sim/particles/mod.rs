@@ -13,6 +13,7 @@ mod children;
 mod custom;
 mod features;
 mod fluid;
+mod pass_list;
 mod relax;
 mod setup;
 mod state_io;
@@ -197,7 +198,7 @@ impl ParticleSim {
                 Emission::Allocator(kind) => {
                     Some(Allocator::new(kind, scene.parent_slots() as u32))
                 }
-                _ => None,
+                Emission::Timestamp | Emission::Initial { .. } => None,
             },
             owed: vec![0.0; emitters.len()],
             emitters,

@@ -101,6 +101,20 @@ impl Relaxation {
         std::iter::once(&self.edges).chain(&self.attach)
     }
 
+    /// The draws of one step, for the pass list's lines (`features/names.rs`).
+    pub(super) fn pass_draws(&self) -> Vec<crate::gl::PassDraw> {
+        use crate::gl::PassDraw;
+        let n = self.iterations as u64;
+        let mut out: Vec<PassDraw> = match self.scheme {
+            RelaxScheme::Jacobi => vec![PassDraw::of("constrain:", &self.edges, n)],
+            RelaxScheme::GaussSeidel => (0..set_count(self.layout.kind))
+                .map(|i| PassDraw::of(format!("constrain set {i} "), &self.edges, n))
+                .collect(),
+        };
+        out.extend(self.attach.iter().map(|p| PassDraw::of("attach:", p, n)));
+        out
+    }
+
     /// The layout.
     pub(super) fn layout(&self) -> &Layout {
         &self.layout

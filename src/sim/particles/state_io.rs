@@ -325,4 +325,8 @@ impl crate::sim::Simulation for ParticleSim {
     fn collision_stage(&self) -> Option<&crate::sim::collide::Collisions> {
         self.collisions()
     }
+
+    fn pass_list(&self) -> Vec<crate::gl::PassInfo> {
+        ParticleSim::pass_list(self)
+    }
 }

@@ -42,7 +42,7 @@ impl ClosedForm {
                     c.wind = k * mean;
                     c.rate[1] = k;
                 }
-                _ => {
+                WindForm::Drag | WindForm::Uberflow => {
                     c.accel += k * mean;
                     c.rate[0] += k;
                 }

@@ -219,6 +219,16 @@ impl UserStates {
         }))
     }
 
+    /// The states' draws of one step, one pass each, for the lines of [`passes`].
+    pub(super) fn pass_draws(&self) -> Vec<crate::gl::PassDraw> {
+        (self.dump_names.iter().zip(&self.programs))
+            .map(|(n, p)| {
+                let name = n.strip_prefix("state_").unwrap_or(n);
+                crate::gl::PassDraw::of(format!("state {name} ("), p, 1)
+            })
+            .collect()
+    }
+
     /// The states' current values, with the samplers passes read them by.
     pub(super) fn samplers(&self) -> Vec<(String, &Texture)> {
         (self.states.iter().enumerate())

@@ -234,7 +234,7 @@ impl Reference {
             .iter_mut()
             .filter_map(|c| match &mut c.shape {
                 Shape::Sphere(s) => Some(s),
-                _ => None,
+                Shape::Plane(_) | Shape::Box(..) | Shape::Sdf(..) => None,
             })
             .nth(i);
         if let Some(s) = sphere {
@@ -380,7 +380,11 @@ impl Reference {
                     v + (h / 6.0) * (a1 + 2.0 * a2 + 2.0 * a3 + a4),
                 )
             }
-            _ => {
+            // Leapfrog; the single-stage integrators do not reach `stages`.
+            Integrator::Leapfrog
+            | Integrator::Euler
+            | Integrator::Uberflow
+            | Integrator::Verlet => {
                 let vh = v + (0.5 * h) * acc(x, v);
                 let xn = x + h * vh;
                 (xn, vh + (0.5 * h) * acc(xn, vh))
@@ -394,7 +398,7 @@ impl Reference {
             Integrator::Uberflow | Integrator::Heun | Integrator::Rk4 | Integrator::Leapfrog => {
                 x + 0.5 * (v + vb) * self.dt
             }
-            _ => x + vb * self.dt,
+            Integrator::Euler | Integrator::Verlet => x + vb * self.dt,
         }
     }
 

@@ -241,6 +241,16 @@ impl Blocked {
         &self.fbs[1 - self.front]
     }
 
+    /// The program of pass `i`'s name, for the pass list.
+    pub(super) fn pass_program(&self, i: usize) -> &str {
+        self.programs[&self.program_key(i)].name()
+    }
+
+    /// The unpack's program name, for the pass list.
+    pub(super) fn unpack_program(&self) -> &str {
+        self.unpack.name()
+    }
+
     fn program_key(&self, i: usize) -> (bool, Vec<u32>) {
         (i == 0, self.passes[i].local_bits())
     }

@@ -77,7 +77,7 @@ impl Sorter {
         if axis {
             extra.push(("KEY_AXIS", "1"));
         }
-        self.program(key, FULLSCREEN_VERTEX, "sort/keys.frag", &extra)?;
+        self.program(key, FULLSCREEN_VERTEX, super::pass_list::KEYS, &extra)?;
         let p = &self.programs[&key];
         p.bind();
         let mut textures: Vec<(&str, Sampled)> = vec![("u_position", positions.into())];

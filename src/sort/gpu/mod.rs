@@ -4,6 +4,7 @@ mod blocked;
 mod geometry;
 mod keys;
 mod options;
+mod pass_list;
 mod rearrange;
 mod run;
 
@@ -200,7 +201,7 @@ impl Sorter {
         let steps: Vec<_> = (sorter.passes.iter())
             .filter_map(|p| match p {
                 Pass::Fragment(s) => Some(*s),
-                _ => None,
+                Pass::Geometry { .. } | Pass::Group(_) | Pass::Blocked(_) | Pass::Unpack => None,
             })
             .collect();
         sorter.cycle = match options.spread {
@@ -290,7 +291,7 @@ impl Sorter {
                     .iter()
                     .filter_map(|p| match p {
                         NetworkPass::Blocked(b) => Some(b.clone()),
-                        _ => None,
+                        NetworkPass::Step(_) | NetworkPass::Group(_) | NetworkPass::Unpack => None,
                     })
                     .collect();
                 self.blocked = if passes.is_empty() {
@@ -335,7 +336,7 @@ impl Sorter {
         let mut passes = Vec::new();
         for step in network.iter().filter_map(|p| match p {
             NetworkPass::Step(step) => Some(*step),
-            _ => None,
+            NetworkPass::Group(_) | NetworkPass::Blocked(_) | NetworkPass::Unpack => None,
         }) {
             let shape = self.quads(&step);
             let geometry = match shapes.get(&shape.key) {

@@ -34,7 +34,7 @@ impl Sorter {
             slot.insert(Program::new(
                 &self.ctx,
                 FULLSCREEN_VERTEX,
-                "sort/rearrange.frag",
+                super::pass_list::REARRANGE,
                 &d,
             )?);
         }

@@ -1,0 +1,154 @@
+//! The programs the draws ran, recorded on request: what a frame drew, named by program
+//! (`vertex+fragment`), for comparing with the passes the stages list ([`PassInfo`]).
+
+use std::cell::RefCell;
+
+thread_local! {
+    // One log per thread: a GL context is current on one thread only.
+    static LOG: RefCell<Option<Vec<String>>> = const { RefCell::new(None) };
+}
+
+/// Records the program of every draw on this thread from [`DrawRecorder::start`] until
+/// [`DrawRecorder::finish`] (or the recorder's drop).
+#[derive(Debug)]
+pub struct DrawRecorder(());
+
+impl DrawRecorder {
+    /// Starts recording (anew, where a recording was under way).
+    pub fn start() -> Self {
+        LOG.with(|l| *l.borrow_mut() = Some(Vec::new()));
+        DrawRecorder(())
+    }
+
+    /// Stops recording: the programs drawn since the start, in order.
+    pub fn finish(self) -> Vec<String> {
+        LOG.with(|l| l.borrow_mut().take()).unwrap_or_default()
+    }
+}
+
+impl Drop for DrawRecorder {
+    fn drop(&mut self) {
+        LOG.with(|l| l.borrow_mut().take());
+    }
+}
+
+/// Notes one draw of `program` where a recording is under way.
+pub(crate) fn note(program: &str) {
+    LOG.with(|l| {
+        if let Some(log) = l.borrow_mut().as_mut() {
+            log.push(program.to_owned());
+        }
+    });
+}
+
+/// One pass a stage compiled, as the pass list prints it: its stage, what it does in the
+/// papers' words (with their sections), the program it draws and how many times a frame (or a
+/// step) draws it.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+pub struct PassInfo {
+    /// The stage that runs it: births, integrate, relax, collide, sort, gather or render.
+    pub stage: &'static str,
+    /// What it does, what it reads and writes, in the papers' words.
+    pub name: String,
+    /// The programs it draws (`vertex+fragment`), each with its draws per step (simulation
+    /// stages) or per frame (the others); a pass that draws nothing of its own (CPU work, a
+    /// texture copy) lists none.
+    pub draws: Vec<(String, u64)>,
+    /// Its draws depend on the data (births, live slices): at most `draws`, each at least once
+    /// when it runs at all.
+    pub varies: bool,
+}
+
+/// Draws of one program that a stage runs, for the pass list line that starts with `line`
+/// (after any `N × ` count): what the stage's code returns next to its programs.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PassDraw {
+    /// How the line of the pass begins.
+    pub line: String,
+    /// The program (`vertex+fragment`).
+    pub program: String,
+    /// Draws per step (simulation stages) or per frame.
+    pub times: u64,
+    /// The draws depend on the data (see [`PassInfo::varies`]).
+    pub varies: bool,
+}
+
+impl PassDraw {
+    /// `times` draws of the program named `program` for the line beginning with `line`.
+    pub fn new(line: impl Into<String>, program: impl Into<String>, times: u64) -> Self {
+        PassDraw {
+            line: line.into(),
+            program: program.into(),
+            times,
+            varies: false,
+        }
+    }
+
+    /// Like [`PassDraw::new`], for a program the stage holds.
+    pub fn of(line: impl Into<String>, program: &super::Program, times: u64) -> Self {
+        Self::new(line, program.name(), times)
+    }
+
+    /// The draws depend on the data.
+    pub fn varying(mut self) -> Self {
+        self.varies = true;
+        self
+    }
+}
+
+/// The passes of one stage: its `lines` (in order), each with the `draws` that name it. Draws
+/// are taken in the lines' order: each goes to the first line from the previous draw's on that
+/// begins with its `line`, so that a pass listed twice (two lattices) takes the draws listed
+/// twice. A draw that names no line is left out, where the pass-list test finds it drawn but
+/// not listed.
+pub fn attach_draws(
+    stage: &'static str,
+    lines: Vec<String>,
+    draws: Vec<PassDraw>,
+) -> Vec<PassInfo> {
+    let mut out: Vec<PassInfo> = lines.into_iter().map(|l| PassInfo::new(stage, l)).collect();
+    let mut at = 0;
+    for d in draws {
+        let found = (at..out.len()).find(|&i| strip_count(&out[i].name).starts_with(&d.line));
+        if let Some(i) = found {
+            out[i].add(&d.program, d.times);
+            out[i].varies |= d.varies;
+            at = i;
+        }
+    }
+    out
+}
+
+/// A line without its leading `N × ` (a pass repeated N times).
+fn strip_count(line: &str) -> &str {
+    match line.split_once(" × ") {
+        Some((n, rest)) if n.chars().all(|c| c.is_ascii_digit()) => rest,
+        _ => line,
+    }
+}
+
+impl PassInfo {
+    /// A pass of `stage` named `name` that draws nothing yet (see [`PassInfo::draws`]).
+    pub fn new(stage: &'static str, name: impl Into<String>) -> Self {
+        PassInfo {
+            stage,
+            name: name.into(),
+            draws: Vec::new(),
+            varies: false,
+        }
+    }
+
+    /// The pass draws `program` `times` times.
+    pub fn draws(mut self, program: &super::Program, times: u64) -> Self {
+        self.add(program.name(), times);
+        self
+    }
+
+    /// Adds `times` draws of the program named `name`.
+    pub fn add(&mut self, name: &str, times: u64) {
+        match self.draws.iter_mut().find(|(n, _)| n == name) {
+            Some((_, t)) => *t += times,
+            None => self.draws.push((name.to_owned(), times)),
+        }
+    }
+}

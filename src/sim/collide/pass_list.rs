@@ -1,0 +1,72 @@
+//! The programs one collision step draws, each for the line of the pass list that describes it
+//! ([`exact_passes`](super::exact_passes), [`neighbour_passes`](super::neighbour_passes), the
+//! features' UberFlow lines), taken from the programs and sorters the stage built.
+
+use super::{Collisions, Grid, Passes};
+use crate::gl::PassDraw;
+use crate::sort::Sorter;
+
+/// A lattice's keys, sort and gather, `times` times.
+fn sort_draws(out: &mut Vec<PassDraw>, g: &Grid, times: u64) {
+    out.push(PassDraw::new(
+        "collision keys",
+        Sorter::keys_program(),
+        times,
+    ));
+    for (program, n) in g.sorter.network_draws() {
+        out.push(PassDraw::new("collision sort", program, n * times));
+    }
+    out.push(PassDraw::new("gather", Sorter::gather_program(), times));
+}
+
+impl Collisions {
+    /// The draws of one step, in the order of the stage's pass lines.
+    pub(crate) fn pass_draws(&self) -> Vec<PassDraw> {
+        let mut out = Vec::new();
+        if let Some(n) = &self.neighbours {
+            sort_draws(&mut out, &self.first, 1);
+            out.extend(n.pass_draws());
+            out.push(PassDraw::of("copy static", &self.copy, 1));
+        }
+        if !self.impulse_runs() {
+            return out;
+        }
+        match &self.passes {
+            Passes::Exact {
+                count, response, ..
+            } => {
+                let k = self.config.iterations.max(1) as u64;
+                sort_draws(&mut out, &self.first, k);
+                out.push(PassDraw::of("exact detection", count, k));
+                out.push(PassDraw::of("exact response", response, k));
+                if let Some(t) = &self.tally {
+                    out.push(PassDraw::of("truncation tally", t.program(), k));
+                }
+                out.push(PassDraw::of("copy static", &self.copy, k));
+                if self.first.spin.is_some() {
+                    out.push(PassDraw::new("spin", Sorter::gather_program(), k));
+                }
+            }
+            Passes::Uberflow {
+                detect,
+                mutual,
+                response,
+                ..
+            } => {
+                for g in std::iter::once(&self.first).chain(&self.second) {
+                    sort_draws(&mut out, g, 1);
+                    out.push(PassDraw::of("collision detection", detect, 1));
+                    out.push(PassDraw::of("collision detection", mutual, 1));
+                }
+                out.push(PassDraw::of("collision response", response, 1));
+                out.push(PassDraw::of("copy static", &self.copy, 1));
+                let spins = std::iter::once(&self.first).chain(&self.second);
+                let spins = spins.filter(|g| g.spin.is_some()).count() as u64;
+                if spins > 0 {
+                    out.push(PassDraw::new("spin", Sorter::gather_program(), spins));
+                }
+            }
+        }
+        out
+    }
+}

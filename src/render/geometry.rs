@@ -344,16 +344,30 @@ pub fn describe(scene: &SceneFile) -> String {
         1 => Some(format!("1 {one}")),
         n => Some(format!("{n} {many}")),
     };
-    let meshes: usize = c.sdf.iter().filter(|s| !s.triangles.is_empty()).count();
-    let triangles: usize = c.sdf.iter().map(|s| s.triangles.len()).sum();
-    let sdf_spheres: usize = c.sdf.iter().map(|s| s.spheres.len()).sum();
-    let sdf_boxes: usize = c.sdf.iter().map(|s| s.boxes.len()).sum();
-    let files = c.sdf.iter().filter(|s| s.distances.is_some()).count();
+    // What `fixed` and `moving` draw, kind by kind: a distance field's spheres and boxes are
+    // drawn as spheres and boxes.
+    let (mut planes, mut spheres, mut boxes, mut heights) = (0, 0, 0, 0);
+    let (mut meshes, mut triangles, mut files) = (0, 0, 0);
+    for collider in c.iter() {
+        match collider {
+            Collider::Plane(_) => planes += 1,
+            Collider::Sphere(_) => spheres += 1,
+            Collider::Box(_) => boxes += 1,
+            Collider::HeightField(_) => heights = 1,
+            Collider::Sdf(s) => {
+                spheres += s.spheres.len();
+                boxes += s.boxes.len();
+                meshes += !s.triangles.is_empty() as usize;
+                triangles += s.triangles.len();
+                files += s.distances.is_some() as usize;
+            }
+        }
+    }
     let parts: Vec<String> = [
-        count(c.plane.len(), "plane (checker)", "planes (checker)"),
-        count(c.sphere.len() + sdf_spheres, "sphere", "spheres"),
-        count(c.boxes.len() + sdf_boxes, "box", "boxes"),
-        count(c.heightfield.len().min(1), "height field", "height fields"),
+        count(planes, "plane (checker)", "planes (checker)"),
+        count(spheres, "sphere", "spheres"),
+        count(boxes, "box", "boxes"),
+        count(heights, "height field", "height fields"),
         (meshes > 0).then(|| format!("{triangles} mesh triangles")),
         count(
             files,

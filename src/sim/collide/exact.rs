@@ -23,6 +23,7 @@ impl Collisions {
         self.recorded.clear();
         for _ in 0..self.config.iterations.max(1) {
             self.sort_first(state, statics)?;
+            self.exchange(set_response_constants);
             let Passes::Exact {
                 counts,
                 count,
@@ -79,6 +80,7 @@ impl Collisions {
             self.pass.draw(p, state.back());
             state.swap();
             self.copy_statics(&self.first.layout, statics);
+            self.carry_back(false);
         }
         Ok(())
     }

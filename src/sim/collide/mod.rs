@@ -36,6 +36,7 @@ use crate::scene::{self, SceneFile};
 use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
 use crate::sort::{KeyMode, SortOptions, Sorter};
 
+mod carry;
 mod census;
 mod exact;
 mod neighbours;
@@ -139,6 +140,8 @@ pub struct Collisions {
     recorded: Vec<Readback>,
     /// Exact mode: searches that hit their bound, counted over the run on the GPU.
     tally: Option<tally::TruncationTally>,
+    /// The user states carried along the sorts, and their exchange (`carry.rs`).
+    carry: Option<carry::Carry>,
 }
 
 /// The exact mode's passes of one iteration (`collisions.iterations` per step), as `texflow
@@ -326,7 +329,9 @@ impl Collisions {
         let defines = &exact::key_layout(defines, config.sort);
         let d = stage_defines(defines, second.is_some());
         let passes = Passes::new(ctx, exact, size, &d)?;
+        let carry = carry::Carry::new(ctx, scene, &d, second.is_some())?;
         Ok(Collisions {
+            carry,
             passes,
             neighbours: neighbours::Neighbours::new(ctx, scene, defines)?,
             copy: Program::new(ctx, FULLSCREEN_VERTEX, "collide/copy.frag", &d)?,
@@ -410,10 +415,10 @@ impl Collisions {
             ],
             &g.layout,
         )?;
-        match &g.spin {
-            Some(spin) => g.sorter.gather(&[front.texture(SPIN)], spin),
-            None => Ok(()),
+        if let Some(spin) = &g.spin {
+            g.sorter.gather(&[front.texture(SPIN)], spin)?;
         }
+        self.gather_states(false)
     }
 
     /// Copies the static texture of `layout` (the order the response wrote the state in) into
@@ -448,6 +453,7 @@ impl Collisions {
         }
         let count = self.width as usize * state.height() as usize;
         self.sort_first(state, statics)?;
+        self.exchange(&set_response_constants);
         self.detect_into(self.first.layout.texture(POSITION), &self.first.partner);
         self.sort_second(count)?;
         if let Some(g2) = &self.second {
@@ -472,6 +478,7 @@ impl Collisions {
         self.pass.draw(p, state.back());
         state.swap();
         self.copy_statics(own, statics);
+        self.carry_back(self.second.is_some());
         Ok(())
     }
 
@@ -496,7 +503,7 @@ impl Collisions {
                 g2.sorter.gather(&[from.only_texture()], to)?;
             }
         }
-        Ok(())
+        self.gather_states(true)
     }
 
     /// Every texture the response program `p` samples: the last layout `own` and its

@@ -37,6 +37,7 @@ pub use features::{Emission, Features};
 pub use stateless::ClosedForm;
 use uniforms::set_constants_for;
 pub use uniforms::{mass_range, vortex_shape};
+pub(crate) use user_state::exchange_program;
 pub use user_state::check_user_states;
 
 /// The state framebuffers: position and velocity ping-pong for the explicit integrators, a ring
@@ -386,14 +387,19 @@ impl ParticleSim {
         // The masses come with the scene's constants (glsl/common/mass.glsl): the response
         // weighs each particle by its own mass, as integration does.
         let set = |p: &Program| set_constants_for(p, scene, fields, size, seed, types);
-        c.run(
+        // The stage carries the user states along its sorts (collide/carry.rs).
+        let mut none = Vec::new();
+        let users = self.user.as_mut().map_or(&mut none, |u| u.states_mut());
+        c.hold_states(users, self.time as f32);
+        let ran = c.run(
             pp,
             &self.statics,
             self.scene.time.dt,
             &fields.textures(),
             set,
-        )?;
-        Ok(())
+        );
+        c.release_states(users);
+        ran
     }
 
     /// The integration pass alone, then the swap.

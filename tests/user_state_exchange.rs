@@ -19,7 +19,12 @@ const K: f32 = 0.2;
 /// The exchange scene: 16×16 texels, `[collisions]` with the exact detection, and a state with
 /// `pair` (a diffusion of temperature.x weighted by 1 − r / REACH; .y the particle's id).
 fn exchange_scene(extra: &str) -> SceneFile {
-    let src = format!(
+    scene::parse("exchange.toml", &exchange_source(extra)).expect("a valid scene")
+}
+
+/// The text of [`exchange_scene`].
+fn exchange_source(extra: &str) -> String {
+    format!(
         "name = \"exchange\"\nintegrator = \"euler\"\n[particles]\nsize = [16, 16]\n\
          [time]\ndt = 0.05\n[[emitters.initial]]\nshape = \"box\"\ncenter = [0.0, 0.0, 0.0]\n\
          size = [1.0, 1.0, 1.0]\ndirection = [0.0, 1.0, 0.0]\nspeed = [0.0, 0.0]\n\
@@ -29,8 +34,7 @@ fn exchange_scene(extra: &str) -> SceneFile {
          init = \"vec4(300.0 + 400.0 * random, float(index), 0.0, 0.0)\"\n\
          pair = \"vec4({K:?} * (other.temperature.x - temperature.x) * (1.0 - r / {REACH:?}), \
          0.0, 0.0, 0.0)\"\nradius = {REACH}\n{extra}"
-    );
-    scene::parse("exchange.toml", &src).expect("a valid scene")
+    )
 }
 
 /// 240 particles (8 × 6 × 5) on the jittered lattice; the last 16 texels dead.
@@ -146,4 +150,91 @@ fn a_symmetric_exchange_conserves_the_total() {
     // And the exchange did diffuse the temperature.
     assert!(spread < 0.5 * spread0, "spread {spread0} -> {spread}");
     common::no_gl_error(&ctx);
+}
+
+/// A pile falling onto the ground with `collisions` (keys of the table), and a state holding
+/// the particle's static random number, its index at birth and its height at birth.
+fn pile(collisions: &str) -> SceneFile {
+    let src = format!(
+        "name = \"carry\"\nintegrator = \"euler\"\n[particles]\nsize = [16, 16]\n\
+         [time]\ndt = 0.02\n[[emitters.initial]]\nshape = \"box\"\ncenter = [0.0, 0.4, 0.0]\n\
+         size = [0.5, 0.5, 0.5]\ndirection = [0.0, 1.0, 0.0]\nspeed = [0.0, 0.0]\n\
+         [[forces.gravity]]\nacceleration = [0.0, -9.8, 0.0]\n\
+         [[colliders.plane]]\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 1.0, 0.0]\n\
+         [collisions]\nradius = 0.03\nbounds = [[-1.0, -0.1, -1.0], [1.0, 1.5, 1.0]]\n\
+         {collisions}\n[[state]]\nname = \"tag\"\n\
+         init = \"vec4(random, float(index), x.y, 0.0)\"\n"
+    );
+    scene::parse("carry.toml", &src).expect("a valid scene")
+}
+
+#[test]
+fn states_follow_their_particles_through_the_sorts() {
+    let ctx = context();
+    for collisions in [
+        "detection = \"exact\"\niterations = 2",
+        "staggered = true",
+        "detection = \"uberflow\"",
+    ] {
+        let s = pile(collisions);
+        let mut sim = ParticleSim::new(&ctx, &s, 5).unwrap();
+        for _ in 0..40 {
+            sim.step().unwrap();
+        }
+        let tag = sim.read_user_state("tag").unwrap();
+        let statics = sim.statics().read_f32().unwrap();
+        let pos = sim.read_positions().unwrap();
+        let (mut moved, mut fell) = (0, 0);
+        for i in 0..256 {
+            let t = texel(&tag, i);
+            // The static texel is carried by the stage itself: the state must sit beside it.
+            assert_eq!(t[0], statics[4 * i + 3], "{collisions}: texel {i}");
+            moved += (t[1] != i as f32) as usize;
+            fell += (pos[4 * i + 1] < t[2] - 0.1) as usize;
+        }
+        // The sorts did reorder the particles: the check above could fail.
+        assert!(moved > 128, "{collisions}: only {moved} texels changed particle");
+        assert!(fell > 128, "{collisions}: only {fell} particles fell below their start");
+    }
+    common::no_gl_error(&ctx);
+}
+
+#[test]
+fn bad_exchanges_are_refused_at_their_line_and_column() {
+    let src = exchange_source("");
+    let line_of = |needle: &str, s: &str| s.lines().position(|l| l.starts_with(needle)).unwrap() + 1;
+    for (from, to, key, want) in [
+        ("radius = 0.3\n", "radius = 0.0\n", "radius = 0.0", "must be above 0"),
+        ("radius = 0.3\n", "radius = 0.5\n", "radius = 0.5", "at most the collision cell"),
+        ("radius = 0.3\n", "", "pair =", "pair needs radius"),
+        ("detection = \"exact\"\n", "", "pair =", "exact collision detection"),
+        ("pair = \"vec4(", "pair = \"{ vec4(", "pair =", "one GLSL vec4 expression"),
+        ("name = \"temperature\"", "name = \"r\"", "name = \"r\"", "is taken"),
+    ] {
+        let bad = src.replacen(from, to, 1);
+        let e = scene::parse("bad.toml", &bad).unwrap_err().to_string();
+        let at = format!("bad.toml:{}:", line_of(key, &bad));
+        assert!(e.contains(&at) && e.contains(want), "{to:?}: {e} (want {at})");
+    }
+    // Radius without pair.
+    let bad = src.replacen("pair = ", "# pair = ", 1);
+    let e = scene::parse("bad.toml", &bad).unwrap_err().to_string();
+    assert!(e.contains("radius is the reach of `pair`"), "{e}");
+}
+
+#[test]
+fn unknown_names_in_pair_name_the_key() {
+    let ctx = context();
+    let src = exchange_source("").replace("other.temperature.x", "other.heat.x");
+    let line = src.lines().position(|l| l.starts_with("pair =")).unwrap() + 1;
+    let s = scene::parse("exchange.toml", &src).unwrap();
+    let e = ParticleSim::new(&ctx, &s, 1).err().expect("a compile error").to_string();
+    assert!(
+        e.contains("user state `temperature`") && e.contains("heat"),
+        "{e}"
+    );
+    assert!(e.contains(&format!("state.temperature.pair is at exchange.toml:{line}:")), "{e}");
+    // `scene check` compiles the exchange too.
+    let e = texflow::sim::particles::check_user_states(&ctx, &s).unwrap_err().to_string();
+    assert!(e.contains("heat"), "{e}");
 }

@@ -102,6 +102,21 @@ impl Carry {
     }
 }
 
+/// Compiles the exchange passes of `scene` with the simulation's `defines`, as the collision
+/// stage does, so that `scene check` refuses what `render` would.
+pub fn check_exchanges(ctx: &Context, scene: &SceneFile, defines: &Defines) -> Result<()> {
+    let Some(c) = &scene.collisions else {
+        return Ok(());
+    };
+    let d = super::stage_defines(&super::exact::key_layout(defines, c.sort), false);
+    for (i, s) in scene.state.iter().enumerate() {
+        if s.pair.is_some() {
+            crate::sim::particles::exchange_program(ctx, scene, i, &d)?;
+        }
+    }
+    Ok(())
+}
+
 impl Collisions {
     /// Takes the user states for a run of the stage at `time` (the end of the step).
     pub(crate) fn hold_states(&mut self, states: &mut Vec<PingPong>, time: f32) {

@@ -336,7 +336,8 @@ pub(super) fn declared<'a>(
 /// Compiles the states' passes of `scene`, so that `scene check` refuses what `render` would.
 pub fn check_user_states(ctx: &Context, scene: &SceneFile) -> Result<()> {
     let defines = super::Features::of(scene).defines();
-    UserStates::new(ctx, scene, &defines, [1, 1]).map(drop)
+    UserStates::new(ctx, scene, &defines, [1, 1])?;
+    crate::sim::collide::check_exchanges(ctx, scene, &defines)
 }
 
 impl ParticleSim {

@@ -49,7 +49,10 @@ fn lattice() -> Vec<([f32; 3], [f32; 3])> {
         for y in 0..6 {
             for x in 0..8 {
                 let p = [x, y, z].map(|c| c as f32 * SPACING);
-                out.push(([p[0] + jitter(), p[1] + jitter(), p[2] + jitter()], [0.0; 3]));
+                out.push((
+                    [p[0] + jitter(), p[1] + jitter(), p[2] + jitter()],
+                    [0.0; 3],
+                ));
             }
         }
     }
@@ -102,7 +105,10 @@ fn one_exchange_step_follows_its_cpu_twin() {
         want.insert(ti[1] as u32, (ti[0] + sum, scale, pi));
     }
     // Every particle has its axis neighbours: the search found pairs to sum.
-    assert!(paired >= 2 * (7 * 6 * 5 + 8 * 5 * 5 + 8 * 6 * 4), "{paired} pairs");
+    assert!(
+        paired >= 2 * (7 * 6 * 5 + 8 * 5 * 5 + 8 * 6 * 4),
+        "{paired} pairs"
+    );
     let mut seen = 0;
     for i in 0..n {
         let (p, t) = (texel(&pos_after, i), texel(&after, i));
@@ -131,8 +137,14 @@ fn a_symmetric_exchange_conserves_the_total() {
     let s = exchange_scene("");
     let mut sim = settled(&ctx, &s);
     let total_spread = |sim: &ParticleSim| {
-        let (p, t) = (sim.read_positions().unwrap(), sim.read_user_state("temperature").unwrap());
-        let v: Vec<f64> = (0..256).filter(|&i| p[4 * i + 3] > 0.0).map(|i| t[4 * i] as f64).collect();
+        let (p, t) = (
+            sim.read_positions().unwrap(),
+            sim.read_user_state("temperature").unwrap(),
+        );
+        let v: Vec<f64> = (0..256)
+            .filter(|&i| p[4 * i + 3] > 0.0)
+            .map(|i| t[4 * i] as f64)
+            .collect();
         let lo = v.iter().cloned().fold(f64::INFINITY, f64::min);
         let hi = v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
         (v.iter().sum::<f64>(), hi - lo)
@@ -193,8 +205,14 @@ fn states_follow_their_particles_through_the_sorts() {
             fell += (pos[4 * i + 1] < t[2] - 0.1) as usize;
         }
         // The sorts did reorder the particles: the check above could fail.
-        assert!(moved > 128, "{collisions}: only {moved} texels changed particle");
-        assert!(fell > 128, "{collisions}: only {fell} particles fell below their start");
+        assert!(
+            moved > 128,
+            "{collisions}: only {moved} texels changed particle"
+        );
+        assert!(
+            fell > 128,
+            "{collisions}: only {fell} particles fell below their start"
+        );
     }
     common::no_gl_error(&ctx);
 }
@@ -202,19 +220,48 @@ fn states_follow_their_particles_through_the_sorts() {
 #[test]
 fn bad_exchanges_are_refused_at_their_line_and_column() {
     let src = exchange_source("");
-    let line_of = |needle: &str, s: &str| s.lines().position(|l| l.starts_with(needle)).unwrap() + 1;
+    let line_of =
+        |needle: &str, s: &str| s.lines().position(|l| l.starts_with(needle)).unwrap() + 1;
     for (from, to, key, want) in [
-        ("radius = 0.3\n", "radius = 0.0\n", "radius = 0.0", "must be above 0"),
-        ("radius = 0.3\n", "radius = 0.5\n", "radius = 0.5", "at most the collision cell"),
+        (
+            "radius = 0.3\n",
+            "radius = 0.0\n",
+            "radius = 0.0",
+            "must be above 0",
+        ),
+        (
+            "radius = 0.3\n",
+            "radius = 0.5\n",
+            "radius = 0.5",
+            "at most the collision cell",
+        ),
         ("radius = 0.3\n", "", "pair =", "pair needs radius"),
-        ("detection = \"exact\"\n", "", "pair =", "exact collision detection"),
-        ("pair = \"vec4(", "pair = \"{ vec4(", "pair =", "one GLSL vec4 expression"),
-        ("name = \"temperature\"", "name = \"r\"", "name = \"r\"", "is taken"),
+        (
+            "detection = \"exact\"\n",
+            "",
+            "pair =",
+            "exact collision detection",
+        ),
+        (
+            "pair = \"vec4(",
+            "pair = \"{ vec4(",
+            "pair =",
+            "one GLSL vec4 expression",
+        ),
+        (
+            "name = \"temperature\"",
+            "name = \"r\"",
+            "name = \"r\"",
+            "is taken",
+        ),
     ] {
         let bad = src.replacen(from, to, 1);
         let e = scene::parse("bad.toml", &bad).unwrap_err().to_string();
         let at = format!("bad.toml:{}:", line_of(key, &bad));
-        assert!(e.contains(&at) && e.contains(want), "{to:?}: {e} (want {at})");
+        assert!(
+            e.contains(&at) && e.contains(want),
+            "{to:?}: {e} (want {at})"
+        );
     }
     // Radius without pair.
     let bad = src.replacen("pair = ", "# pair = ", 1);
@@ -228,13 +275,23 @@ fn unknown_names_in_pair_name_the_key() {
     let src = exchange_source("").replace("other.temperature.x", "other.heat.x");
     let line = src.lines().position(|l| l.starts_with("pair =")).unwrap() + 1;
     let s = scene::parse("exchange.toml", &src).unwrap();
-    let e = ParticleSim::new(&ctx, &s, 1).err().expect("a compile error").to_string();
+    let e = ParticleSim::new(&ctx, &s, 1)
+        .err()
+        .expect("a compile error")
+        .to_string();
     assert!(
         e.contains("user state `temperature`") && e.contains("heat"),
         "{e}"
     );
-    assert!(e.contains(&format!("state.temperature.pair is at exchange.toml:{line}:")), "{e}");
+    assert!(
+        e.contains(&format!(
+            "state.temperature.pair is at exchange.toml:{line}:"
+        )),
+        "{e}"
+    );
     // `scene check` compiles the exchange too.
-    let e = texflow::sim::particles::check_user_states(&ctx, &s).unwrap_err().to_string();
+    let e = texflow::sim::particles::check_user_states(&ctx, &s)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("heat"), "{e}");
 }

@@ -230,7 +230,11 @@ fn exchange(s: &SceneFile, i: usize, st: &UserState) -> Check {
         };
     };
     expression(at("pair"), "pair", pair)?;
-    if let Some(j) = s.state.iter().position(|o| PAIR_INPUTS.contains(&o.name.as_str())) {
+    if let Some(j) = s
+        .state
+        .iter()
+        .position(|o| PAIR_INPUTS.contains(&o.name.as_str()))
+    {
         return fail(
             path(&[N("state"), I(j), N("name")]),
             format!(

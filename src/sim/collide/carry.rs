@@ -102,6 +102,27 @@ impl Carry {
     }
 }
 
+/// The passes that carry `states` user states along the collision sorts and exchange those
+/// named in `exchanges`, as `texflow scene passes` lists them.
+pub fn carry_passes(states: usize, exchanges: &[String]) -> Vec<String> {
+    let mut out: Vec<String> = (exchanges.iter())
+        .map(|name| {
+            format!(
+                "exchange {name} (after the step's first collision sort): {name} += the sum of \
+                 `pair` over the live neighbours within its radius (search of the 27 cells \
+                 around each particle) [a sorted copy, swapped in after every exchange is drawn]"
+            )
+        })
+        .collect();
+    if states > 0 {
+        out.push(format!(
+            "carry {states} user state(s): gathered in cell order with every collision sort \
+             (a pass each), copied back with the static texture"
+        ));
+    }
+    out
+}
+
 /// Compiles the exchange passes of `scene` with the simulation's `defines`, as the collision
 /// stage does, so that `scene check` refuses what `render` would.
 pub fn check_exchanges(ctx: &Context, scene: &SceneFile, defines: &Defines) -> Result<()> {
@@ -142,8 +163,12 @@ impl Collisions {
         };
         for (k, pp) in c.states.iter().enumerate() {
             match (staggered, &self.second) {
-                (false, _) => (self.first.sorter).gather(&[pp.front().only_texture()], &c.first[k])?,
-                (true, Some(g2)) => g2.sorter.gather(&[c.first[k].only_texture()], &c.second[k])?,
+                (false, _) => {
+                    (self.first.sorter).gather(&[pp.front().only_texture()], &c.first[k])?
+                }
+                (true, Some(g2)) => g2
+                    .sorter
+                    .gather(&[c.first[k].only_texture()], &c.second[k])?,
                 (true, None) => {}
             }
         }
@@ -180,7 +205,10 @@ impl Collisions {
                 ("u_velocity", g.layout.texture(VELOCITY).into()),
                 ("u_static", g.layout.texture(STATIC).into()),
             ];
-            textures.extend((names.iter().map(String::as_str)).zip(c.first.iter().map(|f| f.only_texture().into())));
+            textures.extend(
+                (names.iter().map(String::as_str))
+                    .zip(c.first.iter().map(|f| f.only_texture().into())),
+            );
             p.textures(&textures);
             self.pass.draw(p, &e.target);
         }

@@ -42,7 +42,7 @@ mod exact;
 mod neighbours;
 pub(crate) mod tally;
 
-pub use carry::check_exchanges;
+pub use carry::{carry_passes, check_exchanges};
 pub use census::PairCensus;
 pub use neighbours::{check_pair_forces, neighbour_passes, NeighbourReadback};
 

@@ -37,8 +37,8 @@ pub use features::{Emission, Features};
 pub use stateless::ClosedForm;
 use uniforms::set_constants_for;
 pub use uniforms::{mass_range, vortex_shape};
-pub(crate) use user_state::exchange_program;
 pub use user_state::check_user_states;
+pub(crate) use user_state::exchange_program;
 
 /// The state framebuffers: position and velocity ping-pong for the explicit integrators, a ring
 /// of previous, current and next positions for Verlet.

@@ -203,7 +203,11 @@ fn exchange_root(
         define += &format!("#define {} {}\n", st.name, value(k));
         undef += &format!("#undef {}\n", st.name);
         own += &format!("    {} = texelFetch({}, t, 0);\n", value(k), sampler(k));
-        other += &format!("    other.{} = texelFetch({}, t, 0);\n", value(k), sampler(k));
+        other += &format!(
+            "    other.{} = texelFetch({}, t, 0);\n",
+            value(k),
+            sampler(k)
+        );
     }
     root += &format!(
         "struct UserOther {{ vec3 x; vec3 v; float life; float age; int type; float random; \

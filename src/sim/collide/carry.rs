@@ -64,44 +64,6 @@ fn targets(ctx: &Context, scene: &SceneFile, what: &str) -> Result<Vec<Framebuff
         .collect()
 }
 
-impl Carry {
-    /// The carried states of `scene` (none without `[[state]]`); `defines` are the stage's (the
-    /// sorted keys' layout and the search's bound); `staggered`: a second lattice.
-    pub(super) fn new(
-        ctx: &Context,
-        scene: &SceneFile,
-        defines: &Defines,
-        staggered: bool,
-    ) -> Result<Option<Self>> {
-        if scene.state.is_empty() {
-            return Ok(None);
-        }
-        let mut exchange = Vec::new();
-        for (i, s) in scene.state.iter().enumerate() {
-            if s.pair.is_none() {
-                continue;
-            }
-            exchange.push(Exchange {
-                state: i,
-                program: crate::sim::particles::exchange_program(ctx, scene, i, defines)?,
-                radius: s.radius.unwrap_or(0.0),
-                target: target(ctx, scene, i, "exchange")?,
-            });
-        }
-        Ok(Some(Carry {
-            states: Vec::new(),
-            first: targets(ctx, scene, "lattice state")?,
-            second: match staggered {
-                true => targets(ctx, scene, "staggered state")?,
-                false => Vec::new(),
-            },
-            exchange,
-            due: false,
-            time: 0.0,
-        }))
-    }
-}
-
 /// The passes that carry `states` user states along the collision sorts and exchange those
 /// named in `exchanges`, as `texflow scene passes` lists them.
 pub fn carry_passes(states: usize, exchanges: &[String]) -> Vec<String> {
@@ -123,22 +85,51 @@ pub fn carry_passes(states: usize, exchanges: &[String]) -> Vec<String> {
     out
 }
 
-/// Compiles the exchange passes of `scene` with the simulation's `defines`, as the collision
-/// stage does, so that `scene check` refuses what `render` would.
-pub fn check_exchanges(ctx: &Context, scene: &SceneFile, defines: &Defines) -> Result<()> {
-    let Some(c) = &scene.collisions else {
-        return Ok(());
-    };
-    let d = super::stage_defines(&super::exact::key_layout(defines, c.sort), false);
-    for (i, s) in scene.state.iter().enumerate() {
-        if s.pair.is_some() {
-            crate::sim::particles::exchange_program(ctx, scene, i, &d)?;
-        }
+/// The defines the exchange passes of `scene` are compiled with: the simulation's `defines`,
+/// the sorted keys' layout and the search's bound, as the collision stage's passes.
+pub(crate) fn exchange_defines(scene: &SceneFile, defines: &Defines) -> Defines {
+    match &scene.collisions {
+        Some(c) => super::exact::stage_defines(&super::exact::key_layout(defines, c.sort), false),
+        None => defines.clone(),
     }
-    Ok(())
 }
 
 impl Collisions {
+    /// The stage carrying the user states of `scene` along its sorts, with the exchange passes
+    /// `exchanges` (each state's index and program, compiled by the simulation with
+    /// [`exchange_defines`]).
+    pub(crate) fn carry_states(
+        mut self,
+        scene: &SceneFile,
+        exchanges: Vec<(usize, Program)>,
+    ) -> Result<Self> {
+        if scene.state.is_empty() {
+            return Ok(self);
+        }
+        let ctx = &self.ctx;
+        let mut exchange = Vec::new();
+        for (i, program) in exchanges {
+            exchange.push(Exchange {
+                state: i,
+                program,
+                radius: scene.state[i].radius.unwrap_or(0.0),
+                target: target(ctx, scene, i, "exchange")?,
+            });
+        }
+        self.carry = Some(Carry {
+            states: Vec::new(),
+            first: targets(ctx, scene, "lattice state")?,
+            second: match self.second.is_some() {
+                true => targets(ctx, scene, "staggered state")?,
+                false => Vec::new(),
+            },
+            exchange,
+            due: false,
+            time: 0.0,
+        });
+        Ok(self)
+    }
+
     /// Takes the user states for a run of the stage at `time` (the end of the step).
     pub(crate) fn hold_states(&mut self, states: &mut Vec<PingPong>, time: f32) {
         if let Some(c) = &mut self.carry {

@@ -109,3 +109,15 @@ pub(super) fn key_layout(defines: &Defines, sort: scene::CollisionSort) -> Defin
     }
     d
 }
+
+/// The simulation's `defines` and the stage's own: the detection loop's bounds, and whether a
+/// staggered lattice's detection is gathered along.
+pub(super) fn stage_defines(defines: &Defines, staggered: bool) -> Defines {
+    let mut d = defines.clone();
+    d.push(("MAX_NEIGHBOURS".into(), super::MAX_NEIGHBOURS.to_string()));
+    d.push(("EXACT_SCAN".into(), super::EXACT_SCAN.to_string()));
+    if staggered {
+        d.push(("STAGGERED".into(), "1".into()));
+    }
+    d
+}

@@ -42,7 +42,8 @@ mod exact;
 mod neighbours;
 pub(crate) mod tally;
 
-pub use carry::{carry_passes, check_exchanges};
+pub use carry::carry_passes;
+pub(crate) use carry::exchange_defines;
 pub use census::PairCensus;
 pub use neighbours::{check_pair_forces, neighbour_passes, NeighbourReadback};
 
@@ -212,18 +213,6 @@ fn texture(ctx: &Context, label: &str, w: u32, h: u32, format: TextureFormat) ->
     )
 }
 
-/// The simulation's `defines` and the stage's own: the detection loop's bounds, and whether a
-/// staggered lattice's detection is gathered along.
-fn stage_defines(defines: &Defines, staggered: bool) -> Defines {
-    let mut d = defines.clone();
-    d.push(("MAX_NEIGHBOURS".into(), MAX_NEIGHBOURS.to_string()));
-    d.push(("EXACT_SCAN".into(), EXACT_SCAN.to_string()));
-    if staggered {
-        d.push(("STAGGERED".into(), "1".into()));
-    }
-    d
-}
-
 /// A framebuffer of one RGBA32F texture of `size`, both labelled `label`.
 fn single_target(ctx: &Context, label: &str, size: [u32; 2]) -> Result<Framebuffer> {
     let [w, h] = size;
@@ -328,11 +317,10 @@ impl Collisions {
             None
         };
         let defines = &exact::key_layout(defines, config.sort);
-        let d = stage_defines(defines, second.is_some());
+        let d = exact::stage_defines(defines, second.is_some());
         let passes = Passes::new(ctx, exact, size, &d)?;
-        let carry = carry::Carry::new(ctx, scene, &d, second.is_some())?;
         Ok(Collisions {
-            carry,
+            carry: None,
             passes,
             neighbours: neighbours::Neighbours::new(ctx, scene, defines)?,
             copy: Program::new(ctx, FULLSCREEN_VERTEX, "collide/copy.frag", &d)?,

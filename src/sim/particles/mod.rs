@@ -38,7 +38,6 @@ pub use stateless::ClosedForm;
 use uniforms::set_constants_for;
 pub use uniforms::{mass_range, vortex_shape};
 pub use user_state::check_user_states;
-pub(crate) use user_state::exchange_program;
 
 /// The state framebuffers: position and velocity ping-pong for the explicit integrators, a ring
 /// of previous, current and next positions for Verlet.
@@ -178,9 +177,13 @@ impl ParticleSim {
             emit_static,
             start: setup::verlet_start(ctx, verlet, &defines)?,
             collisions: match &scene.collisions {
-                Some(_) => Some(super::collide::Collisions::new(
-                    ctx, scene, &defines, vel_format,
-                )?),
+                Some(_) => Some(
+                    super::collide::Collisions::new(ctx, scene, &defines, vel_format)?
+                        .carry_states(
+                            scene,
+                            user_state::exchange_programs(ctx, scene, &defines)?,
+                        )?,
+                ),
                 None => None,
             },
             fluid: match &scene.fluid {

@@ -234,7 +234,7 @@ fn exchange_root(
 
 /// State `i`'s exchange pass (`pair`), compiled with the collision stage's `defines` (the
 /// sorted keys' layout); a compile error names the state and its keys' places.
-pub(crate) fn exchange_program(
+fn exchange_program(
     ctx: &Context,
     scene: &SceneFile,
     i: usize,
@@ -341,7 +341,21 @@ pub(super) fn declared<'a>(
 pub fn check_user_states(ctx: &Context, scene: &SceneFile) -> Result<()> {
     let defines = super::Features::of(scene).defines();
     UserStates::new(ctx, scene, &defines, [1, 1])?;
-    crate::sim::collide::check_exchanges(ctx, scene, &defines)
+    exchange_programs(ctx, scene, &defines).map(drop)
+}
+
+/// The exchange passes of `scene` (`pair`) with each state's index, compiled with the
+/// simulation's `defines` as the collision stage's passes are.
+pub(super) fn exchange_programs(
+    ctx: &Context,
+    scene: &SceneFile,
+    defines: &Defines,
+) -> Result<Vec<(usize, Program)>> {
+    let d = crate::sim::collide::exchange_defines(scene, defines);
+    (scene.state.iter().enumerate())
+        .filter(|(_, s)| s.pair.is_some())
+        .map(|(i, _)| Ok((i, exchange_program(ctx, scene, i, &d)?)))
+        .collect()
 }
 
 impl ParticleSim {

@@ -153,7 +153,10 @@ const GLSL_WORDS: &[&str] = &[
 /// `[[state]]`, and `render.color`, which reads the states.
 pub(super) fn state(s: &SceneFile) -> Check {
     if let Some(c) = &s.render.color {
-        render_color(s, c)?;
+        render_color(s, "color", c)?;
+    }
+    if let Some(c) = &s.render.size {
+        render_color(s, "size", c)?;
     }
     if s.state.is_empty() {
         return Ok(());
@@ -273,10 +276,11 @@ fn exchange(s: &SceneFile, i: usize, st: &UserState) -> Check {
     Ok(())
 }
 
-/// `render.color`: an expression the particle renderer can evaluate at the particle's texel.
-fn render_color(s: &SceneFile, c: &str) -> Check {
-    let at = path(&[N("render"), N("color")]);
-    expression(at.clone(), "render.color", c)?;
+/// `render.color` or `render.size` (`key`): an expression the particle renderer can evaluate
+/// at the particle's texel.
+fn render_color(s: &SceneFile, key: &'static str, c: &str) -> Check {
+    let at = path(&[N("render"), N(key)]);
+    expression(at.clone(), &format!("render.{key}"), c)?;
     let why = if s.fire.is_some() {
         Some("the thesis's fire is coloured by its own ramp")
     } else if s.render.mode == DrawMode::Surface {
@@ -296,7 +300,7 @@ fn render_color(s: &SceneFile, c: &str) -> Check {
         None
     };
     match why {
-        Some(why) => fail(at, format!("render.color cannot be used here: {why}")),
+        Some(why) => fail(at, format!("render.{key} cannot be used here: {why}")),
         None => Ok(()),
     }
 }

@@ -112,7 +112,7 @@ fn one_exchange_step_follows_its_cpu_twin() {
     let mut seen = 0;
     for i in 0..n {
         let (p, t) = (texel(&pos_after, i), texel(&after, i));
-        if !(p[3] > 0.0) {
+        if p[3] <= 0.0 {
             continue;
         }
         let (w, scale, at) = want[&(t[1] as u32)];
@@ -275,10 +275,10 @@ fn unknown_names_in_pair_name_the_key() {
     let src = exchange_source("").replace("other.temperature.x", "other.heat.x");
     let line = src.lines().position(|l| l.starts_with("pair =")).unwrap() + 1;
     let s = scene::parse("exchange.toml", &src).unwrap();
-    let e = ParticleSim::new(&ctx, &s, 1)
-        .err()
-        .expect("a compile error")
-        .to_string();
+    let e = match ParticleSim::new(&ctx, &s, 1) {
+        Ok(_) => panic!("an unknown name compiled"),
+        Err(e) => e.to_string(),
+    };
     assert!(
         e.contains("user state `temperature`") && e.contains("heat"),
         "{e}"

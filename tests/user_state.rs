@@ -232,12 +232,11 @@ fn bad_states_are_refused_at_their_line_and_column() {
         e.contains(&format!("bad.toml:{}:8", lines + 5)) && e.contains("named twice"),
         "{e}"
     );
-    // The collision stage's gather does not carry user state: refused, not dropped.
+    // The collision stage carries the states along its sorts (tests/user_state_exchange.rs).
     let collide = format!(
         "{head}[collisions]\nradius = 0.05\ncell = 0.1\nbounds = [[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]]\n[[state]]\nname = \"t\"\ninit = \"0.0\"\n"
     );
-    let e = scene::parse("bad.toml", &collide).unwrap_err().to_string();
-    assert!(e.contains("cannot be used with [collisions]"), "{e}");
+    scene::parse("ok.toml", &collide).expect("states with [collisions]");
 }
 
 /// GLSL that does not compile: the error names the helper file and line, or the state's key
@@ -447,5 +446,48 @@ fn states_read_the_integrated_position_and_velocity() {
             }
         }
     }
+    common::no_gl_error(&ctx);
+}
+
+/// `render.size`: a state scales one particle's point by 3, so it covers about 9 times the
+/// pixels of the other; without the key both cover the same.
+#[test]
+fn renderer_sizes_particles_by_a_state() {
+    let ctx = context();
+    let src = "name = \"size\"\n[particles]\nsize = [4, 4]\n\
+               [[emitters.initial]]\nshape = \"point\"\ncenter = [0.0, 0.0, 0.0]\n\
+               direction = [0.0, 1.0, 0.0]\nspeed = [0.0, 0.0]\n\
+               [[state]]\nname = \"scale\"\ninit = \"index == 0 ? 1.0 : 3.0\"\n\
+               [render]\nresolution = [64, 64]\npoint_size = 4.0\ncolor = \"vec4(1.0)\"\n\
+               size = \"size * scale.x\"\n\
+               [render.camera]\ndistance = 5.0\nelevation = 0.0\n";
+    let lit = |src: &str| {
+        let s = scene::parse("size.toml", src).unwrap();
+        let mut e = texflow::ParticleEngine::new(&ctx, &s, 4).unwrap();
+        // Two particles, left and right of the centre; the rest dead.
+        let two = [([-1.0, 0.0, 0.0], [0.0; 3]), ([1.0, 0.0, 0.0], [0.0; 3])];
+        common::set_particles(e.sim_mut(), &two, |_, _| 0.5);
+        let img = e.render().unwrap();
+        let w = img.width();
+        let mut counts = [0usize; 2];
+        for (x, _, p) in img.enumerate_pixels() {
+            if p.0.iter().any(|&c| c > 20) {
+                counts[(x >= w / 2) as usize] += 1;
+            }
+        }
+        counts
+    };
+    let [small, big] = lit(src);
+    assert!(
+        small >= 4 && big >= 6 * small && big <= 10 * small,
+        "{small} {big}"
+    );
+    let [a, b] = lit(&src.replace("size = \"size * scale.x\"\n", ""));
+    assert_eq!(a, b, "without render.size");
+    // Not where the renderer cannot read the states (the depth sort's gather).
+    let sorted = src.replace("[render]\n", "[render]\nblending = \"alpha\"\n");
+    let sorted = sorted.replace("color = \"vec4(1.0)\"\n", "");
+    let e = scene::parse("size.toml", &sorted).unwrap_err().to_string();
+    assert!(e.contains("render.size cannot be used here"), "{e}");
     common::no_gl_error(&ctx);
 }

@@ -42,6 +42,9 @@ done
 # A user state: the heat example's temperature, colouring its flame (examples/heat/).
 "$bin" render examples/heat/heat.toml --frames 81 --every 80 --out "$tmp/heat" --quiet
 cp "$tmp/heat/frame_00080.png" docs/img/heat.png
+# A user state exchanged with the neighbours: heat spreading through a pile (examples/heat-exchange/).
+"$bin" render examples/heat-exchange/heat_exchange.toml --frames 151 --every 150 --out "$tmp/hx" --quiet
+cp "$tmp/hx/frame_00150.png" docs/img/heat-exchange.png
 # Trail ribbons: fireworks with render.trails = "ribbon" (examples/ribbons/).
 "$bin" render examples/ribbons/ribbons.toml --frames 24 --every 23 --out "$tmp/ribbons" --quiet
 cp "$tmp/ribbons/frame_00023.png" docs/img/ribbons.png

@@ -157,6 +157,10 @@ void main() {
 #else
     float size = u_point_size * random_size(type, s.w);
 #endif
+#ifdef USER_SIZE
+    // render.size: the user's expression of this size and the user states, in pixels.
+    size = max(user_size(t, size, p.xyz, p.w, type, age_s), 0.0);
+#endif
     gl_PointSize = size;
 #if defined(QUADS) || defined(STRETCHED) || defined(TRIANGLES)
     vec2 corner = CORNERS[gl_VertexID % VERTICES];

@@ -43,11 +43,7 @@ void main() {
     random = st.w;
     time = u_time;
     dt = u_dt;
-#if defined(LIFE) || defined(TIMESTAMP) || defined(CHILDREN)
-    age = st.z - p.w;
-#else
-    age = u_time - st.x;
-#endif
+    age = user_age(p, st, u_time);
 #ifdef VERLET
     v = (p.xyz - q.xyz) / u_dt;
 #else

@@ -13,3 +13,12 @@ float random;
 int index;
 float time;
 float dt;
+
+// The age of the particle of position texel p and static texel st at time t, in seconds.
+float user_age(vec4 p, vec4 st, float t) {
+#if defined(LIFE) || defined(TIMESTAMP) || defined(CHILDREN)
+    return st.z - p.w;
+#else
+    return t - st.x;
+#endif
+}

@@ -68,6 +68,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "collide/mutual.frag",
     "collide/response.frag",
     "collide/copy.frag",
+    "collide/exchange.frag",
     "collide/cells.glsl",
     "collide/pair.glsl",
     "collide/spin.glsl",

@@ -1,58 +1,97 @@
-//! `render.color`: the particles' colour by the user's GLSL expression of the user states
-//! (`[[state]]`), evaluated in the vertex stage (`glsl/render/particle.vert`, `USER_COLOR`) at
-//! the particle's texel, so texture fetch only. The vertex shader is compiled from a root added
-//! at run time: a sampler and a macro per state, the expression as `user_color`, then
+//! `render.color` and `render.size`: the particles' colour and size by the user's GLSL
+//! expressions of the user states (`[[state]]`), evaluated in the vertex stage
+//! (`glsl/render/particle.vert`, `USER_COLOR`, `USER_SIZE`) at the particle's texel, so texture
+//! fetch only. The vertex shader is compiled from a root added at run time: a sampler and a
+//! macro per state, the expressions as `user_color` and `user_size`, then
 //! `render/particle.vert`.
 
 use crate::error::Error;
 use crate::gl::source::{add_runtime_source, is_runtime_source};
 use crate::scene::SceneFile;
 
-/// The user's colour expression and the states it may read, in the scene's order.
+/// The user's colour and size expressions and the states they may read, in the scene's order.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct UserColor {
-    /// The GLSL `vec4` expression.
-    pub expression: String,
+    /// The GLSL `vec4` expression of the colour, if any.
+    pub expression: Option<String>,
+    /// The GLSL `float` expression of the size in pixels, if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub size: Option<String>,
     /// The user states' names (sampler `u_user_state_i` is state `i`).
     pub states: Vec<String>,
-    /// Where the expression is in the scene file, for compile errors.
+    /// Where the expressions are in the scene file, for compile errors.
     #[serde(skip)]
     pub place: Option<String>,
 }
 
 impl UserColor {
-    /// The scene's `render.color`, if any.
+    /// The scene's `render.color` and `render.size`, if it has either.
     pub fn of(scene: &SceneFile) -> Option<Self> {
+        let (color, size) = (&scene.render.color, &scene.render.size);
+        if color.is_none() && size.is_none() {
+            return None;
+        }
+        let places: Vec<String> = [("color", color.is_some()), ("size", size.is_some())]
+            .into_iter()
+            .filter(|(_, on)| *on)
+            .filter_map(|(k, _)| {
+                let at = crate::scene::key_place(scene, &["render", k])?;
+                Some(format!("render.{k} at {at}"))
+            })
+            .collect();
         Some(UserColor {
-            expression: scene.render.color.clone()?,
+            expression: color.clone(),
+            size: size.clone(),
             states: scene.state.iter().map(|s| s.name.clone()).collect(),
-            place: crate::scene::key_place(scene, &["render", "color"]),
+            place: (!places.is_empty()).then(|| places.join(", ")),
         })
     }
 
     /// The vertex shader's root, added as a runtime source; returns its name.
     pub(super) fn root(&self) -> String {
         // A name unique to the text, never one of texflow's files.
-        let key = {
+        let key = |what: &str, text: &str| {
             use std::hash::{Hash, Hasher};
             let mut h = std::collections::hash_map::DefaultHasher::new();
-            self.expression.hash(&mut h);
-            format!("render-color-{:016x}", h.finish())
+            text.hash(&mut h);
+            let key = format!("render-{what}-{:016x}", h.finish());
+            add_runtime_source(&key, text);
+            key
         };
-        add_runtime_source(&key, &self.expression);
-        let mut root = String::from("// render.color (src/render/user_color.rs).\n");
+        let mut root = String::from("// render.color, render.size (src/render/user_color.rs).\n");
         let (mut define, mut undef) = (String::new(), String::new());
         for (i, name) in self.states.iter().enumerate() {
             root += &format!("uniform sampler2D u_user_state_{i};\n");
             define += &format!("#define {name} texelFetch(u_user_state_{i}, user_texel, 0)\n");
             undef += &format!("#undef {name}\n");
         }
-        root += &format!(
-            "{define}vec4 user_color(ivec2 user_texel, vec4 color, vec3 x, float life, int type, \
-             float age) {{\n    return vec4(\n#include \"{key}\"\n    );\n}}\n{undef}\
-             #define USER_COLOR 1\n#include \"render/particle.vert\"\n"
-        );
-        let name = format!("user-color:{key}");
+        root += &define;
+        let mut keys = Vec::new();
+        if let Some(e) = &self.expression {
+            let k = key("color", e);
+            root += &format!(
+                "vec4 user_color(ivec2 user_texel, vec4 color, vec3 x, float life, int type, \
+                 float age) {{\n    return vec4(\n#include \"{k}\"\n    );\n}}\n"
+            );
+            keys.push(k);
+        }
+        if let Some(e) = &self.size {
+            let k = key("size", e);
+            root += &format!(
+                "float user_size(ivec2 user_texel, float size, vec3 x, float life, int type, \
+                 float age) {{\n    return float(\n#include \"{k}\"\n    );\n}}\n"
+            );
+            keys.push(k);
+        }
+        root += &undef;
+        if self.expression.is_some() {
+            root += "#define USER_COLOR 1\n";
+        }
+        if self.size.is_some() {
+            root += "#define USER_SIZE 1\n";
+        }
+        root += "#include \"render/particle.vert\"\n";
+        let name = format!("user-render:{}", keys.join("+"));
         add_runtime_source(&name, &root);
         name
     }
@@ -66,8 +105,9 @@ impl UserColor {
                     .map(|l| l.find("): ").map_or(l, |k| &l[k + 3..]))
                     .collect();
                 Error::InvalidInput(format!(
-                    "render.color{}: the GLSL does not compile; it is a GLSL vec4 expression of \
-                     color, x, life, age, type and the user states' names:\n{}",
+                    "render.color or render.size{}: the GLSL does not compile; they are GLSL \
+                     expressions (a vec4 colour, a float size in pixels) of color or size, x, \
+                     life, age, type and the user states' names:\n{}",
                     self.place
                         .as_deref()
                         .map_or(String::new(), |p| format!(" ({p})")),

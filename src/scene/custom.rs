@@ -332,7 +332,7 @@ pub fn key_place(scene: &SceneFile, keys: &[&'static str]) -> Option<String> {
     Some(format!("{path}:{l}:{c}"))
 }
 
-/// Where each `[[state]]`'s `init` and `update` are in the scene file it was parsed from
+/// Where each `[[state]]`'s `init`, `update` and `pair` are in the scene file it was parsed from
 /// (`state.NAME.update is at PATH:LINE:COLUMN; ...`), for compile errors in them; `None` for a
 /// scene made in code.
 pub fn state_places(scene: &SceneFile) -> Option<String> {
@@ -341,8 +341,8 @@ pub fn state_places(scene: &SceneFile) -> Option<String> {
     let doc = document(path, src).ok()?;
     let mut out = Vec::new();
     for (i, s) in scene.state.iter().enumerate() {
-        for key in ["init", "update"] {
-            if key == "update" && s.update.is_none() {
+        for key in ["init", "update", "pair"] {
+            if (key == "update" && s.update.is_none()) || (key == "pair" && s.pair.is_none()) {
                 continue;
             }
             let at = locate(&doc, &[N("state"), I(i), N(key)]);

@@ -332,10 +332,10 @@ fn refuse_unsupported(scene: &SceneFile, features: &Features) -> Result<()> {
     if scene.emitters.all().any(|e| !e.bursts.is_empty()) {
         return Err(unsupported(scene, "bursts"));
     }
-    if !scene.state.is_empty() || scene.render.color.is_some() {
+    if !scene.state.is_empty() || scene.render.color.is_some() || scene.render.size.is_some() {
         return Err(unsupported(
             scene,
-            "user state and render.color ([[state]]: GLSL expressions run by the GPU's \
+            "user state, render.color and render.size ([[state]]: GLSL expressions run by the GPU's \
              passes); run the scene on the GPU engine",
         ));
     }

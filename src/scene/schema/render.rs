@@ -386,6 +386,10 @@ pub struct Render {
     /// replacing the keyframes' colour.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub color: Option<String>,
+    /// The particles' size in pixels by a GLSL `float` expression of `size` (the size the other
+    /// keys give), `x`, `life`, `age`, `type` and the user states by name (`[[state]]`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size: Option<String>,
     /// 1 to [`MAX_KEYFRAMES`] keyframes of relative age, linear between them (Latta §3.4.6 uses
     /// four); empty: white, fading out.
     #[serde(default)]
@@ -505,6 +509,7 @@ impl Default for Render {
             intensity: 1.0,
             blending: Blending::default(),
             color: None,
+            size: None,
             order: DrawOrder::default(),
             keyframes: Vec::new(),
             sort: SortSection::default(),

@@ -34,6 +34,16 @@ pub struct UserState {
     /// the state keeps its value at birth.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub update: Option<String>,
+    /// The exchange with the neighbours: a GLSL `vec4` expression evaluated for every live
+    /// neighbour closer than `radius`, summed and added to the state after the collision sort
+    /// of each step (`[collisions]` with the exact detection; src/sim/collide/carry.rs). It
+    /// reads the particle's own inputs and states, the neighbour's as `other.x`,
+    /// `other.temperature`, ..., and their distance `r`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pair: Option<String>,
+    /// The reach of `pair` (m): above 0, at most the collision cell.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f32>,
     /// A GLSL file of helper functions for the expressions, relative to the scene file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub glsl: Option<String>,

@@ -1,15 +1,17 @@
 //! `[[state]]`: the user's per-particle state. Names must be GLSL identifiers of their own, the
-//! expressions single GLSL expressions; the scene must not reorder its particles (the collision
-//! stage's gather carries position, velocity and static only).
+//! expressions single GLSL expressions; the collision stage carries the states along its sorts,
+//! the fluid's passes do not (refused with `[fluid]`). A `pair` exchange needs the exact
+//! detection's neighbour search, within its cell.
 //!
 //! Every update reads the previous step's values of every state, so the order of the states'
 //! passes does not matter and no update can depend on another's result of the same step: there
 //! are no cycles to refuse.
 
-use super::{fail, path, Check};
+use super::{bounded, fail, path, Check};
 use crate::scene::locate::Key;
 use crate::scene::schema::{
-    Blending, DrawMode, RenderPath, SceneFile, Simulation, MAX_STATE_EXPRESSION, MAX_USER_STATES,
+    Blending, Detection, DrawMode, RenderPath, SceneFile, Simulation, UserState,
+    MAX_STATE_EXPRESSION, MAX_USER_STATES,
 };
 
 use Key::{Index as I, Name as N};
@@ -151,7 +153,10 @@ const GLSL_WORDS: &[&str] = &[
 /// `[[state]]`, and `render.color`, which reads the states.
 pub(super) fn state(s: &SceneFile) -> Check {
     if let Some(c) = &s.render.color {
-        render_color(s, c)?;
+        render_color(s, "color", c)?;
+    }
+    if let Some(c) = &s.render.size {
+        render_color(s, "size", c)?;
     }
     if s.state.is_empty() {
         return Ok(());
@@ -181,15 +186,6 @@ pub(super) fn state(s: &SceneFile) -> Check {
              remove [[state]] or simulation = \"stateless\"",
         );
     }
-    if s.collisions.is_some() {
-        return fail(
-            at0,
-            "[[state]] cannot be used with [collisions] yet: the collision stage sorts the \
-             particles into cell order and gathers position, velocity and static only, so a \
-             user state would stay behind with other particles; remove [collisions] or \
-             [[state]]",
-        );
-    }
     if s.fluid.is_some() {
         return fail(
             at0,
@@ -214,14 +210,77 @@ pub(super) fn state(s: &SceneFile) -> Check {
         if let Some(u) = &st.update {
             expression(at("update"), "update", u)?;
         }
+        exchange(s, i, st)?;
     }
     Ok(())
 }
 
-/// `render.color`: an expression the particle renderer can evaluate at the particle's texel.
-fn render_color(s: &SceneFile, c: &str) -> Check {
-    let at = path(&[N("render"), N("color")]);
-    expression(at.clone(), "render.color", c)?;
+/// The names a `pair` expression reads besides the inputs and the states, taken for states
+/// of a scene with one.
+pub const PAIR_INPUTS: [&str; 2] = ["other", "r"];
+
+/// State `i`'s `pair` and `radius`: an expression, a reach within the exact search's cell.
+fn exchange(s: &SceneFile, i: usize, st: &UserState) -> Check {
+    let at = |k| path(&[N("state"), I(i), N(k)]);
+    let Some(pair) = &st.pair else {
+        return match st.radius {
+            Some(_) => fail(
+                at("radius"),
+                "radius is the reach of `pair`: add pair (a GLSL vec4 expression summed over \
+                 the neighbours closer than radius), or remove radius",
+            ),
+            None => Ok(()),
+        };
+    };
+    expression(at("pair"), "pair", pair)?;
+    if let Some(j) = s
+        .state
+        .iter()
+        .position(|o| PAIR_INPUTS.contains(&o.name.as_str()))
+    {
+        return fail(
+            path(&[N("state"), I(j), N("name")]),
+            format!(
+                "state name `{}` is taken in a scene with `pair`: the pair expressions read \
+                 the neighbour as `other` and the distance as `r`; choose another name",
+                s.state[j].name
+            ),
+        );
+    }
+    let exact = (s.collisions.as_ref()).filter(|c| c.detection == Detection::Exact);
+    let Some(c) = exact else {
+        return fail(
+            at("pair"),
+            "pair sums over the neighbours the exact collision detection finds: add \
+             [collisions] with detection = \"exact\" (its cell bounds radius)",
+        );
+    };
+    let Some(r) = st.radius else {
+        return fail(
+            at("pair"),
+            "pair needs radius: the distance (m) below which a neighbour is summed, at most \
+             the collision cell",
+        );
+    };
+    bounded(at("radius"), "radius", &[r])?;
+    let cell = c.cell.unwrap_or(2.0 * c.radius);
+    if !(r > 0.0 && r <= cell) {
+        return fail(
+            at("radius"),
+            format!(
+                "radius {r} m must be above 0 and at most the collision cell {cell} m, the \
+                 reach of the search of the 27 cells around a particle (raise collisions.cell)"
+            ),
+        );
+    }
+    Ok(())
+}
+
+/// `render.color` or `render.size` (`key`): an expression the particle renderer can evaluate
+/// at the particle's texel.
+fn render_color(s: &SceneFile, key: &'static str, c: &str) -> Check {
+    let at = path(&[N("render"), N(key)]);
+    expression(at.clone(), &format!("render.{key}"), c)?;
     let why = if s.fire.is_some() {
         Some("the thesis's fire is coloured by its own ramp")
     } else if s.render.mode == DrawMode::Surface {
@@ -241,7 +300,7 @@ fn render_color(s: &SceneFile, c: &str) -> Check {
         None
     };
     match why {
-        Some(why) => fail(at, format!("render.color cannot be used here: {why}")),
+        Some(why) => fail(at, format!("render.{key} cannot be used here: {why}")),
         None => Ok(()),
     }
 }

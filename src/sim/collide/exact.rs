@@ -23,6 +23,7 @@ impl Collisions {
         self.recorded.clear();
         for _ in 0..self.config.iterations.max(1) {
             self.sort_first(state, statics)?;
+            self.exchange(set_response_constants);
             let Passes::Exact {
                 counts,
                 count,
@@ -79,6 +80,7 @@ impl Collisions {
             self.pass.draw(p, state.back());
             state.swap();
             self.copy_statics(&self.first.layout, statics);
+            self.carry_back(false);
         }
         Ok(())
     }
@@ -104,6 +106,18 @@ pub(super) fn key_layout(defines: &Defines, sort: scene::CollisionSort) -> Defin
     let mut d = defines.clone();
     if sort.variant().packed() {
         d.push(("PACKED_KEYS".into(), "1".into()));
+    }
+    d
+}
+
+/// The simulation's `defines` and the stage's own: the detection loop's bounds, and whether a
+/// staggered lattice's detection is gathered along.
+pub(super) fn stage_defines(defines: &Defines, staggered: bool) -> Defines {
+    let mut d = defines.clone();
+    d.push(("MAX_NEIGHBOURS".into(), super::MAX_NEIGHBOURS.to_string()));
+    d.push(("EXACT_SCAN".into(), super::EXACT_SCAN.to_string()));
+    if staggered {
+        d.push(("STAGGERED".into(), "1".into()));
     }
     d
 }

@@ -36,12 +36,15 @@ use crate::scene::{self, SceneFile};
 use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
 use crate::sort::{KeyMode, SortOptions, Sorter};
 
+mod carry;
 mod census;
 mod exact;
 mod neighbours;
 mod pass_list;
 pub(crate) mod tally;
 
+pub use carry::carry_passes;
+pub(crate) use carry::exchange_defines;
 pub use census::PairCensus;
 pub use neighbours::{check_pair_forces, neighbour_passes, NeighbourReadback};
 
@@ -140,6 +143,8 @@ pub struct Collisions {
     recorded: Vec<Readback>,
     /// Exact mode: searches that hit their bound, counted over the run on the GPU.
     tally: Option<tally::TruncationTally>,
+    /// The user states carried along the sorts, and their exchange (`carry.rs`).
+    carry: Option<carry::Carry>,
 }
 
 /// The exact mode's passes of one iteration (`collisions.iterations` per step), as `texflow
@@ -207,18 +212,6 @@ fn texture(ctx: &Context, label: &str, w: u32, h: u32, format: TextureFormat) ->
             label,
         },
     )
-}
-
-/// The simulation's `defines` and the stage's own: the detection loop's bounds, and whether a
-/// staggered lattice's detection is gathered along.
-fn stage_defines(defines: &Defines, staggered: bool) -> Defines {
-    let mut d = defines.clone();
-    d.push(("MAX_NEIGHBOURS".into(), MAX_NEIGHBOURS.to_string()));
-    d.push(("EXACT_SCAN".into(), EXACT_SCAN.to_string()));
-    if staggered {
-        d.push(("STAGGERED".into(), "1".into()));
-    }
-    d
 }
 
 /// A framebuffer of one RGBA32F texture of `size`, both labelled `label`.
@@ -325,9 +318,10 @@ impl Collisions {
             None
         };
         let defines = &exact::key_layout(defines, config.sort);
-        let d = stage_defines(defines, second.is_some());
+        let d = exact::stage_defines(defines, second.is_some());
         let passes = Passes::new(ctx, exact, size, &d)?;
         Ok(Collisions {
+            carry: None,
             passes,
             neighbours: neighbours::Neighbours::new(ctx, scene, defines)?,
             copy: Program::new(ctx, FULLSCREEN_VERTEX, "collide/copy.frag", &d)?,
@@ -411,10 +405,10 @@ impl Collisions {
             ],
             &g.layout,
         )?;
-        match &g.spin {
-            Some(spin) => g.sorter.gather(&[front.texture(SPIN)], spin),
-            None => Ok(()),
+        if let Some(spin) = &g.spin {
+            g.sorter.gather(&[front.texture(SPIN)], spin)?;
         }
+        self.gather_states(false)
     }
 
     /// Copies the static texture of `layout` (the order the response wrote the state in) into
@@ -449,6 +443,7 @@ impl Collisions {
         }
         let count = self.width as usize * state.height() as usize;
         self.sort_first(state, statics)?;
+        self.exchange(&set_response_constants);
         self.detect_into(self.first.layout.texture(POSITION), &self.first.partner);
         self.sort_second(count)?;
         if let Some(g2) = &self.second {
@@ -473,6 +468,7 @@ impl Collisions {
         self.pass.draw(p, state.back());
         state.swap();
         self.copy_statics(own, statics);
+        self.carry_back(self.second.is_some());
         Ok(())
     }
 
@@ -497,7 +493,7 @@ impl Collisions {
                 g2.sorter.gather(&[from.only_texture()], to)?;
             }
         }
-        Ok(())
+        self.gather_states(true)
     }
 
     /// Every texture the response program `p` samples: the last layout `own` and its

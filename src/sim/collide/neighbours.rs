@@ -219,6 +219,7 @@ impl Collisions {
         set_constants: &impl Fn(&Program),
     ) -> Result<()> {
         self.sort_first(state, statics)?;
+        self.exchange(set_constants);
         let Some(n) = &self.neighbours else {
             return Ok(());
         };
@@ -259,6 +260,7 @@ impl Collisions {
         self.pass.draw(a, state.back());
         state.swap();
         self.copy_statics(&self.first.layout, statics);
+        self.carry_back(false);
         Ok(())
     }
 

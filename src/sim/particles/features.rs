@@ -97,6 +97,9 @@ pub struct Features {
     /// The user's own states (`[[state]]`, `user_state.rs`): name and texel format.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub user_states: Vec<(String, scene::StateFormat)>,
+    /// The user states exchanged with the neighbours (`pair`, `collide/carry.rs`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub exchanges: Vec<String>,
 }
 
 impl Features {
@@ -162,6 +165,9 @@ impl Features {
                 .collect(),
             user_states: (scene.state.iter())
                 .map(|s| (s.name.clone(), s.format))
+                .collect(),
+            exchanges: (scene.state.iter().filter(|s| s.pair.is_some()))
+                .map(|s| s.name.clone())
                 .collect(),
         }
     }
@@ -298,6 +304,12 @@ impl Features {
         add(Stage::Relax, self.constrain_passes());
         let mut collide = Vec::new();
         self.collision_passes(&mut collide);
+        if self.collisions.is_some() {
+            collide.extend(crate::sim::collide::carry_passes(
+                self.user_states.len(),
+                &self.exchanges,
+            ));
+        }
         if self.spin {
             collide.push(
                 "spin (UberFlow §4.5): angular velocity and angle, a third MRT target of \

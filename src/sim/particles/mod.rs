@@ -180,9 +180,13 @@ impl ParticleSim {
             emit_static,
             start: setup::verlet_start(ctx, verlet, &defines)?,
             collisions: match &scene.collisions {
-                Some(_) => Some(super::collide::Collisions::new(
-                    ctx, scene, &defines, vel_format,
-                )?),
+                Some(_) => Some(
+                    super::collide::Collisions::new(ctx, scene, &defines, vel_format)?
+                        .carry_states(
+                            scene,
+                            user_state::exchange_programs(ctx, scene, &defines)?,
+                        )?,
+                ),
                 None => None,
             },
             fluid: match &scene.fluid {
@@ -391,14 +395,19 @@ impl ParticleSim {
         // The masses come with the scene's constants (glsl/common/mass.glsl): the response
         // weighs each particle by its own mass, as integration does.
         let set = |p: &Program| set_constants_for(p, scene, params, fields, size, seed, types);
-        c.run(
+        // The stage carries the user states along its sorts (collide/carry.rs).
+        let mut none = Vec::new();
+        let users = self.user.as_mut().map_or(&mut none, |u| u.states_mut());
+        c.hold_states(users, self.time as f32);
+        let ran = c.run(
             pp,
             &self.statics,
             self.scene.time.dt,
             &fields.textures(),
             set,
-        )?;
-        Ok(())
+        );
+        c.release_states(users);
+        ran
     }
 
     /// The integration pass alone, then the swap.

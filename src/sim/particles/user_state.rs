@@ -94,6 +94,11 @@ fn user_sources(scene: &SceneFile) -> Result<Vec<(String, String, String)>> {
     Ok(out)
 }
 
+/// How many of `sources` are helper files: they come first, two expressions per state after.
+fn helper_count(scene: &SceneFile, sources: &[(String, String, String)]) -> usize {
+    sources.len() - 2 * scene.state.len()
+}
+
 /// The root of state `i`'s pass, added as a runtime source; returns its name.
 fn root(scene: &SceneFile, i: usize, sources: &[(String, String, String)]) -> String {
     let mut root = String::from(
@@ -106,7 +111,7 @@ fn root(scene: &SceneFile, i: usize, sources: &[(String, String, String)]) -> St
     for (key, _, text) in sources {
         add_runtime_source(key, text);
     }
-    let helpers = sources.len() - 2 * scene.state.len();
+    let helpers = helper_count(scene, sources);
     for (key, _, _) in &sources[..helpers] {
         root += &format!("#include \"{key}\"\n");
     }
@@ -130,9 +135,9 @@ fn user_error(
     scene: &SceneFile,
     i: usize,
     sources: &[(String, String, String)],
+    helpers: usize,
     e: Error,
 ) -> Error {
-    let helpers = sources.len() - 2 * scene.state.len();
     let files: Vec<(String, String)> = (sources[..helpers].iter())
         .map(|(k, label, _)| (k.clone(), label.clone()))
         .collect();
@@ -163,15 +168,87 @@ fn user_error(
                 .collect();
             let at = crate::scene::state_places(scene).unwrap_or_default();
             Error::InvalidInput(format!(
-                "user state `{}`: the GLSL does not compile; `init` and `update` are GLSL vec4 \
-                 expressions of {inputs}, the states' names and the `glsl` file's functions:\n\
-                 {}\n({at})",
+                "user state `{}`: the GLSL does not compile; `init`, `update` and `pair` are GLSL \
+                 vec4 expressions of {inputs}, the states' names (in `pair` also the \
+                 neighbour's, `other.x`, `other.NAME`, ..., and the distance `r`) and the \
+                 `glsl` file's functions:\n{}\n({at})",
                 scene.state[i].name,
                 log.join("\n")
             ))
         }
         e => e,
     }
+}
+
+/// The root of state `i`'s exchange pass (`pair`, `glsl/collide/exchange.frag`), added as a
+/// runtime source: the states' names read globals there, loaded at the particle's texel and
+/// the neighbour's into `other`, whose members are named by the same macros, so that
+/// `other.temperature` reads the neighbour's value. Returns its name and the `pair` source.
+fn exchange_root(
+    scene: &SceneFile,
+    i: usize,
+    sources: &[(String, String, String)],
+) -> (String, (String, String, String)) {
+    let value = |k: usize| format!("user_value_{k}");
+    let mut root = String::from(
+        "// A user state's exchange pass (src/sim/particles/user_state.rs).\n\
+         #include \"common/rng.glsl\"\n#include \"sim/user_state_inputs.glsl\"\n",
+    );
+    let mut members = String::new();
+    let (mut define, mut undef, mut own, mut other) =
+        (String::new(), String::new(), String::new(), String::new());
+    for (k, st) in scene.state.iter().enumerate() {
+        root += &format!("uniform sampler2D {};\nvec4 {};\n", sampler(k), value(k));
+        members += &format!(" vec4 {};", value(k));
+        define += &format!("#define {} {}\n", st.name, value(k));
+        undef += &format!("#undef {}\n", st.name);
+        own += &format!("    {} = texelFetch({}, t, 0);\n", value(k), sampler(k));
+        other += &format!(
+            "    other.{} = texelFetch({}, t, 0);\n",
+            value(k),
+            sampler(k)
+        );
+    }
+    root += &format!(
+        "struct UserOther {{ vec3 x; vec3 v; float life; float age; int type; float random; \
+         int index;{members} }};\nUserOther other;\nfloat r;\n{define}"
+    );
+    for (key, _, _) in &sources[..helper_count(scene, sources)] {
+        root += &format!("#include \"{key}\"\n");
+    }
+    let st = &scene.state[i];
+    let text = st.pair.clone().unwrap_or_else(|| "vec4(0.0)".into());
+    let label = format!("state.{}.pair", st.name);
+    let key = source_key("state-pair", i, &label, &text);
+    add_runtime_source(&key, &text);
+    root += &format!(
+        "vec4 user_pair() {{\n    return vec4(\n#include \"{key}\"\n    );\n}}\n{undef}\
+         void user_load_self(ivec2 t) {{\n{own}}}\nvoid user_load_other(ivec2 t) {{\n{other}}}\n\
+         #define USER_SELF {}\n#include \"collide/exchange.frag\"\n",
+        value(i)
+    );
+    let name = format!("user-exchange:{key}");
+    add_runtime_source(&name, &root);
+    (name, (key, label, text))
+}
+
+/// State `i`'s exchange pass (`pair`), compiled with the collision stage's `defines` (the
+/// sorted keys' layout); a compile error names the state and its keys' places.
+fn exchange_program(
+    ctx: &Context,
+    scene: &SceneFile,
+    i: usize,
+    defines: &Defines,
+) -> Result<Program> {
+    let mut sources = user_sources(scene)?;
+    for (key, _, text) in &sources {
+        add_runtime_source(key, text);
+    }
+    let helpers = helper_count(scene, &sources);
+    let (root, pair) = exchange_root(scene, i, &sources);
+    sources.push(pair);
+    Program::new(ctx, FULLSCREEN_VERTEX, &root, defines)
+        .map_err(|e| user_error(scene, i, &sources, helpers, e))
 }
 
 impl UserStates {
@@ -186,6 +263,7 @@ impl UserStates {
             return Ok(None);
         }
         let sources = user_sources(scene)?;
+        let helpers = helper_count(scene, &sources);
         let mut states = Vec::new();
         let mut programs = Vec::new();
         for (i, s) in scene.state.iter().enumerate() {
@@ -206,7 +284,7 @@ impl UserStates {
             let root = root(scene, i, &sources);
             programs.push(
                 Program::new(ctx, FULLSCREEN_VERTEX, &root, defines)
-                    .map_err(|e| user_error(scene, i, &sources, e))?,
+                    .map_err(|e| user_error(scene, i, &sources, helpers, e))?,
             );
         }
         let dump_names = (scene.state.iter())
@@ -227,6 +305,11 @@ impl UserStates {
                 crate::gl::PassDraw::of(format!("state {name} ("), p, 1)
             })
             .collect()
+    }
+
+    /// The states' textures, for the collision stage to carry along its sorts.
+    pub(super) fn states_mut(&mut self) -> &mut Vec<PingPong> {
+        &mut self.states
     }
 
     /// The states' current values, with the samplers passes read them by.
@@ -267,7 +350,22 @@ pub(super) fn declared<'a>(
 /// Compiles the states' passes of `scene`, so that `scene check` refuses what `render` would.
 pub fn check_user_states(ctx: &Context, scene: &SceneFile) -> Result<()> {
     let defines = super::Features::of(scene).defines();
-    UserStates::new(ctx, scene, &defines, [1, 1]).map(drop)
+    UserStates::new(ctx, scene, &defines, [1, 1])?;
+    exchange_programs(ctx, scene, &defines).map(drop)
+}
+
+/// The exchange passes of `scene` (`pair`) with each state's index, compiled with the
+/// simulation's `defines` as the collision stage's passes are.
+pub(super) fn exchange_programs(
+    ctx: &Context,
+    scene: &SceneFile,
+    defines: &Defines,
+) -> Result<Vec<(usize, Program)>> {
+    let d = crate::sim::collide::exchange_defines(scene, defines);
+    (scene.state.iter().enumerate())
+        .filter(|(_, s)| s.pair.is_some())
+        .map(|(i, _)| Ok((i, exchange_program(ctx, scene, i, &d)?)))
+        .collect()
 }
 
 impl ParticleSim {

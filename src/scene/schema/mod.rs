@@ -19,7 +19,7 @@ pub use emitters::{
     AllocatorKind, Burst, Emitter, Emitters, Flipbook, Shape, MAX_BURSTS, MAX_EMITTERS,
     MAX_EMITTER_FORCES,
 };
-pub use fluid::Fluid;
+pub use fluid::{Fluid, Resort};
 pub use forces::{
     Attractor, BoxCollider, Colliders, CustomForce, Damping, Falloff, FieldData, Forces, Gravity,
     HeightFieldCollider, Orbit, PlaneCollider, SdfCollider, SphereCollider, Spring, Vortex,

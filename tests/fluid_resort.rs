@@ -64,7 +64,12 @@ fn the_coherent_resort_keeps_the_full_sorts_state_and_falls_back_when_far_from_s
 
 #[test]
 fn resort_keys_are_refused_at_their_line() {
-    let line_of = |src: &str| 1 + src.lines().position(|l| l.starts_with("resort_block")).unwrap();
+    let line_of = |src: &str| {
+        1 + src
+            .lines()
+            .position(|l| l.starts_with("resort_block"))
+            .unwrap()
+    };
     let base = |extra: &str| {
         let fluid = format!("speed_of_sound = 10.0\nspacing = 0.01\n{extra}");
         tank(
@@ -79,7 +84,10 @@ fn resort_keys_are_refused_at_their_line() {
         ("resort_block = 64", "resort = \"coherent\""),
         ("resort = \"coherent\"\nresort_block = 96", "power of two"),
         ("resort = \"coherent\"\nresort_block = 16", "width (32)"),
-        ("resort = \"coherent\"\nresort_block = 1024", "half its entries (512)"),
+        (
+            "resort = \"coherent\"\nresort_block = 1024",
+            "half its entries (512)",
+        ),
     ] {
         let src = base(extra);
         let (line, _, message) = scene_error(scene::parse("bad.toml", &src));

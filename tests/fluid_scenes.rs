@@ -11,7 +11,6 @@ use texflow::report::fluid::MARTIN_MOYCE;
 use texflow::scene;
 use texflow::sim::{ParticleSim, Simulation};
 
-
 /// The dam break of Martin & Moyce: a slab of 16 × 32 × 2 particles (a = 2¼ in, Δx = a / 16)
 /// against the left wall of a tank 5a long and 2 Δx deep; the front (the foremost particle plus
 /// half a spacing) against their Table 2 up to T = 3. The front leads the experiment (by up to

@@ -12,9 +12,20 @@ fn the_fluid_section_writes_its_sweep_and_stiffer_fluid_compresses_less() {
     let ctx = context();
     let dir = tempfile::tempdir().unwrap();
     let sections = report::select(&["fluid".to_string()]).unwrap();
-    let out = report::run_sections(&ctx, &ReportOptions::new(true), dir.path(), &sections, &mut |_| {})
-        .unwrap();
-    for f in ["fluid_error.csv", "fluid_error.json", "fluid_error.png", "summary.md"] {
+    let out = report::run_sections(
+        &ctx,
+        &ReportOptions::new(true),
+        dir.path(),
+        &sections,
+        &mut |_| {},
+    )
+    .unwrap();
+    for f in [
+        "fluid_error.csv",
+        "fluid_error.json",
+        "fluid_error.png",
+        "summary.md",
+    ] {
         let path = dir.path().join(f);
         assert!(out.files.contains(&path), "{f} not listed: {:?}", out.files);
         assert!(std::fs::metadata(&path).unwrap().len() > 0, "{f}");
@@ -33,8 +44,14 @@ fn the_fluid_section_writes_its_sweep_and_stiffer_fluid_compresses_less() {
         assert_eq!(f(&r["run"], "dt") as f32, run.dt);
         assert_eq!(r["particles"], 256, "{r}");
         assert!(f(r, "ms_per_sim_second") > 0.0, "{r}");
-        assert!(f(r, "max_density_error") >= f(r, "mean_density_error"), "{r}");
-        assert!(f(r, "mean_density_error") > 0.0 && f(r, "max_compression") < 0.1, "{r}");
+        assert!(
+            f(r, "max_density_error") >= f(r, "mean_density_error"),
+            "{r}"
+        );
+        assert!(
+            f(r, "mean_density_error") > 0.0 && f(r, "max_compression") < 0.1,
+            "{r}"
+        );
         // The front is compared at Martin & Moyce's T = 0.41 and 0.84 (quick: to T = 1).
         assert_eq!(r["front_points"], 2, "{r}");
         assert!(f(r, "front_error") < 0.5, "{r}");

@@ -75,7 +75,12 @@ pub fn coherent_network(entries: &mut [Entry], m: usize) {
         let mut next = entries.to_vec();
         for i in off..n.saturating_sub(off) {
             let r = i - off;
-            let j = off + if s.mirror { r ^ (m - 1) } else { r ^ s.dist as usize };
+            let j = off
+                + if s.mirror {
+                    r ^ (m - 1)
+                } else {
+                    r ^ s.dist as usize
+                };
             let (a, b) = (entries[i], entries[j]);
             let keep_min = i < j;
             next[i] = if entry_less(a, b) == keep_min { a } else { b };
@@ -201,7 +206,8 @@ impl CoherentSort {
         c.set_i32("u_count", n);
         c.textures(&[("u_keys", self.keys().into())]);
         self.pass.draw(c, &self.order);
-        self.tally.add_flags(self.order.only_texture(), 0, n as usize);
+        self.tally
+            .add_flags(self.order.only_texture(), 0, n as usize);
         let total = self.tally.total()?;
         let found = total - self.seen;
         self.seen = total;
@@ -298,7 +304,10 @@ mod tests {
         // 64×64 (4096 entries): the full blocked sort, and blocks of two rows (128 entries:
         // 7 merge passes and the check).
         let (full, coherent) = resort_passes(64, 64, 128);
-        assert_eq!(full, pass_count(Variant::Blocked, 64, 64, 4096, &SortOptions::default()));
+        assert_eq!(
+            full,
+            pass_count(Variant::Blocked, 64, 64, 4096, &SortOptions::default())
+        );
         let blocks = pass_count(Variant::Blocked, 64, 64, 128, &SortOptions::default());
         assert_eq!(coherent, blocks + 7 + 1);
         assert!(coherent < full, "{coherent} against {full}");

@@ -8,11 +8,11 @@
 //!
 //! One step, after the integration pass (gravity, the colliders' response, positions moved):
 //! keys, a full bitonic sort (or with `resort = "coherent"` a cheaper network for the nearly
-//! sorted state, checked, with the full sort as fallback: src/sim/fluid/resort.rs) and the gather of
-//! position, velocity and static in cell order, a density pass (`glsl/fluid/density.frag`:
-//! density and Tait pressure), a force pass (`glsl/fluid/force.frag`: symmetric pressure force
-//! and Monaghan's artificial viscosity, v += a dt, into the state, now in cell order) and the
-//! static texture copied in that order.
+//! sorted state, checked, with the full sort as fallback: src/sim/fluid/resort.rs) and the
+//! gather of position, velocity and static in cell order, a density pass
+//! (`glsl/fluid/density.frag`: density and Tait pressure), a force pass
+//! (`glsl/fluid/force.frag`: symmetric pressure force and Monaghan's artificial viscosity,
+//! v += a dt, into the state, now in cell order) and the static texture copied in that order.
 //!
 //! Boundaries are the scene's colliders, whose response in the integration pass keeps particles
 //! out; at plane colliders the fluid adds a wall treatment (`fluid.wall_correction`, on by

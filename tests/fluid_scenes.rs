@@ -7,26 +7,9 @@ mod common;
 use common::fluid::{tank, twin_scene_source};
 use common::scene::{parse, scene_error};
 use common::{context, no_gl_error};
+use texflow::report::fluid::MARTIN_MOYCE;
 use texflow::scene;
 use texflow::sim::{ParticleSim, Simulation};
-
-/// Martin & Moyce (1952), Table 2: the surge front Z = z/a of a column of width a = 2¼ in and
-/// height 2a (n² = 2) against T = t √(2g/a), up to T = 3 (docs/numerics.md).
-const MARTIN_MOYCE: [(f64, f64); 13] = [
-    (0.41, 1.11),
-    (0.84, 1.22),
-    (1.19, 1.44),
-    (1.43, 1.67),
-    (1.63, 1.89),
-    (1.83, 2.11),
-    (1.98, 2.33),
-    (2.20, 2.56),
-    (2.32, 2.78),
-    (2.51, 3.00),
-    (2.65, 3.22),
-    (2.83, 3.44),
-    (2.98, 3.67),
-];
 
 /// The dam break of Martin & Moyce: a slab of 16 × 32 × 2 particles (a = 2¼ in, Δx = a / 16)
 /// against the left wall of a tank 5a long and 2 Δx deep; the front (the foremost particle plus

@@ -79,6 +79,9 @@ fn check_files(out_dir: &Path, listed: &[PathBuf]) {
         "constraints.json",
         "constraints_passes.png",
         "constraints_time.png",
+        "fluid_error.csv",
+        "fluid_error.json",
+        "fluid_error.png",
         "summary.md",
     ];
     let problems = PROBLEMS;

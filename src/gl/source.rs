@@ -83,6 +83,8 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "fluid/density.frag",
     "fluid/force.frag",
     "fluid/lattice.frag",
+    "fluid/merge.frag",
+    "fluid/order.frag",
     "render/fire_ramp.glsl",
     "render/keyframes.glsl",
     "render/sprite.glsl",

@@ -13,6 +13,7 @@
 //! - [`baselines`]: the stateless particle system (a closed form of start values and time)
 //!   against the stateful engine, on error and GPU time per step.
 //! - [`constraints`]: the cloth's edge error against relaxation passes and GPU time, per scheme.
+//! - [`fluid`]: the dam break's density and front errors against run time, over dt and h.
 //! - [`stability`]: the stiff spring and the stiff drag swept across their stability limits, and
 //!   the extreme cases (huge speeds and coordinates, tiny and zero time steps, half-float
 //!   overflow, identifiers beyond the float mantissa, 10^5 particles in one cell), each with its
@@ -30,6 +31,7 @@ pub mod collisions;
 pub mod constraints;
 pub mod convergence;
 pub mod cost;
+pub mod fluid;
 pub mod pile_depth;
 pub mod plot;
 pub mod sort_frames;
@@ -140,6 +142,10 @@ pub fn sections() -> Vec<Section> {
         Section {
             name: "constraints",
             run: constraints::section,
+        },
+        Section {
+            name: "fluid",
+            run: fluid::section,
         },
     ]
 }

@@ -25,7 +25,7 @@ pub use emitters::{
     AllocatorKind, Burst, Emitter, Emitters, Flipbook, Shape, MAX_BURSTS, MAX_EMITTERS,
     MAX_EMITTER_FORCES,
 };
-pub use fluid::Fluid;
+pub use fluid::{Fluid, Resort};
 pub use forces::{
     Attractor, CustomForce, Damping, Falloff, FieldData, Forces, Gravity, Spring, Vortex,
     VortexForm, Wind, WindForm, MAX_CUSTOM_FORCES,

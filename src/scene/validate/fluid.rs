@@ -4,7 +4,7 @@
 
 use super::{bounded, fail, path, Check, MASS_RANGE, MAX_LATTICE_CELLS};
 use crate::scene::locate::Key;
-use crate::scene::schema::{Fluid, Integrator, SceneFile, Simulation};
+use crate::scene::schema::{Fluid, Integrator, Resort, SceneFile, Simulation};
 
 use Key::{Index as I, Name as N};
 
@@ -60,8 +60,36 @@ pub(super) fn fluid(s: &SceneFile) -> Check {
             "[fluid] sorts the state texture: both sides must be powers of two",
         );
     }
+    resort(f, w, w * h)?;
     emitters(s)?;
     time_step(s, f)
+}
+
+/// `resort_block`: a power of two of whole rows, at most half the entries, for the coherent
+/// re-sort only.
+fn resort(f: &Fluid, width: u32, entries: u32) -> Check {
+    let Some(b) = f.resort_block else {
+        return Ok(());
+    };
+    let at = path(&[N("fluid"), N("resort_block")]);
+    if f.resort != Resort::Coherent {
+        return fail(
+            at,
+            "resort_block sets the coherent re-sort's blocks: add resort = \"coherent\" or \
+             remove it",
+        );
+    }
+    if !b.is_power_of_two() || b < width || 2 * b > entries {
+        return fail(
+            at,
+            format!(
+                "resort_block {b}: use a power of two from the particle texture's width \
+                 ({width}) to half its entries ({})",
+                entries / 2
+            ),
+        );
+    }
+    Ok(())
 }
 
 /// The fluid's own keys, each on its own, and a lattice whose keys stay exact.

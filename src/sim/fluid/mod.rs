@@ -7,8 +7,10 @@
 //! cells; a search past it is flagged and counted, and `render` warns).
 //!
 //! One step, after the integration pass (gravity, the colliders' response, positions moved):
-//! keys, a full bitonic sort and the gather of position, velocity and static in cell order, a
-//! density pass (`glsl/fluid/density.frag`: density and Tait pressure), a force pass
+//! keys, a full bitonic sort (or with `resort = "coherent"` a cheaper network for the nearly
+//! sorted state, checked, with the full sort as fallback: src/sim/fluid/resort.rs) and the
+//! gather of position, velocity and static in cell order, a density pass
+//! (`glsl/fluid/density.frag`: density and Tait pressure), a force pass
 //! (`glsl/fluid/force.frag`: symmetric pressure force and Monaghan's artificial viscosity,
 //! v += a dt, into the state, now in cell order) and the static texture copied in that order.
 //!
@@ -21,6 +23,7 @@
 //! pushes particles off before they reach it (`glsl/fluid/kernel.glsl`). Boxes, spheres and
 //! the fields have the collider response alone.
 
+mod resort;
 mod stats;
 
 use glam::Vec3;
@@ -36,6 +39,10 @@ use crate::sim::collide::Lattice;
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
 use crate::sort::{KeyMode, SortOptions, Sorter, Variant};
 
+pub use resort::{
+    coherent_block, coherent_network, merge_steps, out_of_order, resort_passes, MergeStep,
+    ResortCounts,
+};
 pub use stats::FluidStats;
 
 /// Most particles the fluid's search walks in a run of three cells along x: at rest a run holds
@@ -48,6 +55,8 @@ pub struct Fluid {
     config: scene::Fluid,
     lattice: Lattice,
     sorter: Sorter,
+    /// `resort = "coherent"`: the cheap network, its check and counts.
+    coherent: Option<resort::CoherentSort>,
     /// The state in cell order: position, velocity, static.
     layout: Framebuffer,
     /// (density, pressure, neighbours within 2h, truncated search) in cell order.
@@ -75,7 +84,7 @@ pub fn lattice_of(f: &scene::Fluid) -> Lattice {
 }
 
 /// The passes of one fluid step, as `texflow scene passes` lists them.
-pub fn fluid_passes(walls: bool) -> Vec<String> {
+pub fn fluid_passes(walls: bool, coherent: Option<u32>) -> Vec<String> {
     let wall = if walls {
         ", and over their ghosts in the plane colliders closer than 2h"
     } else {
@@ -83,7 +92,16 @@ pub fn fluid_passes(walls: bool) -> Vec<String> {
     };
     vec![
         "fluid keys: cell index in the lattice of cell 2h (z, y, x)".into(),
-        "fluid sort: full sort on our blocked network (exact (key, id) entries)".into(),
+        match coherent {
+            None => "fluid sort: full sort on our blocked network (exact (key, id) entries)".into(),
+            Some(m) => format!(
+                "fluid re-sort: blocks of {m} entries on our blocked network, the blocks at \
+                 offset {} merged ({} passes), a check pass and its tally (one read-back); the \
+                 full sort (keys again) where the check finds an entry out of order",
+                m / 2,
+                merge_steps(m).len()
+            ),
+        },
         "gather position, velocity, static in cell order".into(),
         format!(
             "fluid density: ρ = m Σ W over the 27 cells around each particle (cubic spline, \
@@ -181,6 +199,9 @@ impl Fluid {
                 size[1],
                 SortOptions::default(),
             )?,
+            coherent: coherent_block(&config, size)
+                .map(|m| resort::CoherentSort::new(ctx, size, m))
+                .transpose()?,
             layout: Framebuffer::named(ctx, "fluid layout", layout)?,
             density: Framebuffer::new(ctx, "fluid density", vec![density])?,
             density_pass: program("fluid/density.frag")?,
@@ -269,10 +290,21 @@ impl Fluid {
             spacing: self.lattice.spacing,
             dims: self.lattice.dims,
         };
-        self.sorter
-            .write_keys(front.texture(POSITION), count, &mode, true)?;
-        self.sorter.sort();
-        self.sorter.gather(
+        let coherent = match &mut self.coherent {
+            Some(c) => c.try_sort(front.texture(POSITION), count, &mode)?,
+            None => false,
+        };
+        if !coherent {
+            self.sorter
+                .write_keys(front.texture(POSITION), count, &mode, true)?;
+            self.sorter.sort();
+        }
+        let keys = match &self.coherent {
+            Some(c) if coherent => c.keys(),
+            _ => self.sorter.keys(),
+        };
+        self.sorter.gather_by(
+            keys,
             &[
                 front.texture(POSITION),
                 front.texture(VELOCITY),
@@ -280,7 +312,6 @@ impl Fluid {
             ],
             &self.layout,
         )?;
-        let keys = self.sorter.keys();
         let l = &self.layout;
         let p = &self.density_pass;
         set_constants(p);
@@ -318,6 +349,13 @@ impl Fluid {
     /// missed neighbours), summed over the run: one read-back of one texel.
     pub fn truncated_searches(&self) -> Result<u64> {
         self.tally.total()
+    }
+
+    /// How the coherent re-sort went over the run (zeros with the full sort).
+    pub fn resort_counts(&self) -> ResortCounts {
+        self.coherent
+            .as_ref()
+            .map_or(ResortCounts::default(), |c| c.counts())
     }
 
     /// The last step's gathered layout and density pass, read back (all in cell order).

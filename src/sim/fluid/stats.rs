@@ -23,6 +23,12 @@ pub struct FluidStats {
     pub kinetic: f64,
     /// Potential energy Σ −m g · x (J), zero at the origin.
     pub potential: f64,
+    /// `resort = "coherent"`: steps the cheap network sorted, so far.
+    pub coherent_resorts: u64,
+    /// `resort = "coherent"`: steps that fell back to the full sort, so far.
+    pub resort_fallbacks: u64,
+    /// `resort = "coherent"`: entries the check found out of order, summed over the steps.
+    pub out_of_order: u64,
 }
 
 impl Fluid {
@@ -32,7 +38,13 @@ impl Fluid {
         let x = positions.read_f32()?;
         let v = velocities.read_f32()?;
         let rho = self.density.only_texture().read_f32()?;
-        Ok(fluid_stats(&self.config, self.gravity, &x, &v, &rho))
+        let r = self.resort_counts();
+        Ok(FluidStats {
+            coherent_resorts: r.coherent,
+            resort_fallbacks: r.fallbacks,
+            out_of_order: r.out_of_order,
+            ..fluid_stats(&self.config, self.gravity, &x, &v, &rho)
+        })
     }
 }
 

@@ -77,6 +77,9 @@ pub struct Features {
     /// the value says whether plane colliders get the wall treatment.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fluid: Option<bool>,
+    /// `fluid.resort = "coherent"`: the re-sort's block (src/sim/fluid/resort.rs).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fluid_resort: Option<u32>,
     /// Time stamps in texel order (`collisions.row_phases`), so a release shares a row.
     pub row_phases: bool,
     /// Some timestamp emitter moves each release to its own place (`release_spread`).
@@ -152,6 +155,8 @@ impl Features {
                 .is_some_and(|c| c.response == crate::scene::Response::Dem),
             pair_forces: scene.forces.pair.len(),
             fluid: scene.fluid.as_ref().map(|f| f.wall_correction),
+            fluid_resort: (scene.fluid.as_ref())
+                .and_then(|f| crate::sim::fluid::coherent_block(f, scene.particles.size)),
             row_phases: scene.collisions.as_ref().is_some_and(|c| c.row_phases),
             release_spread: em.timestamp.iter().any(|e| e.release_spread.is_some()),
             constraints: scene
@@ -454,6 +459,7 @@ impl Features {
         if let Some(walls) = self.fluid {
             out.extend(crate::sim::fluid::fluid_passes(
                 walls && self.collider_counts.get(scene::ColliderKind::Plane) > 0,
+                self.fluid_resort,
             ));
         }
         if self.dem || self.pair_forces > 0 {

@@ -15,6 +15,17 @@ impl Sorter {
     /// Like [`rearrange`](Self::rearrange), from any textures of the state's size (the static
     /// texture lives in its own framebuffer, for instance).
     pub fn gather(&self, sources: &[&Texture], dest: &Framebuffer) -> Result<()> {
+        self.gather_by(self.keys(), sources, dest)
+    }
+
+    /// Like [`gather`](Self::gather), in the order of `sorted`: entries of this sorter's layout
+    /// sorted elsewhere (the fluid's coherent re-sort).
+    pub fn gather_by(
+        &self,
+        sorted: &Texture,
+        sources: &[&Texture],
+        dest: &Framebuffer,
+    ) -> Result<()> {
         let targets = sources.len();
         if targets == 0 || targets > 4 || dest.textures().len() != targets {
             return Err(Error::InvalidInput(
@@ -43,7 +54,7 @@ impl Sorter {
         p.set_i32("u_sort_width", self.width as i32);
         p.set_i32("u_state_width", dest.width() as i32);
         let names: Vec<String> = (0..sources.len()).map(|i| format!("u_state{i}")).collect();
-        let mut textures: Vec<(&str, Sampled)> = vec![("u_sorted", self.keys().into())];
+        let mut textures: Vec<(&str, Sampled)> = vec![("u_sorted", sorted.into())];
         textures.extend(
             names
                 .iter()

@@ -457,6 +457,8 @@ impl GeometryRenderer {
             primitive: Primitive::Triangles,
             count: self.count,
             state,
+            textures: &[],
+            uniforms: &[],
         });
     }
 
@@ -484,6 +486,8 @@ impl GeometryRenderer {
                 depth: crate::gl::Depth::Write,
                 ..DrawState::REPLACE
             },
+            textures: &[],
+            uniforms: &[],
         });
         Ok(())
     }

@@ -387,7 +387,11 @@ impl ParticleRenderer {
                 ))
             }
         };
-        let vertices = self.bind_inputs(p, state, motion, [sorted, scene_depth])?;
+        let names: Vec<String> = (0..state.user.len())
+            .map(|i| format!("u_user_state_{i}"))
+            .collect();
+        let (vertices, textures) =
+            self.bind_inputs(p, state, motion, [sorted, scene_depth], &names)?;
         let aspect = target.width() as f32 / target.height() as f32;
         p.set_mat4("u_view_proj", &camera.view_projection(aspect));
         p.set_vec2(
@@ -419,6 +423,8 @@ impl ParticleRenderer {
             primitive,
             count: (count * per_particle) as u32,
             state: &draw_state,
+            textures: &textures,
+            uniforms: &[],
         });
         self.draw_under(target, state, camera, &draw_state)?;
         gl.check_error("drawing particles")
@@ -451,15 +457,18 @@ impl ParticleRenderer {
         Ok(motion)
     }
 
-    /// Binds the program and the state it reads (packed into the vertex buffers, or as
-    /// textures), the atlas, spins and motion; gives the vertices to draw.
-    fn bind_inputs(
-        &self,
+    /// Binds the program, packs the state it reads into the vertex buffers (or lists it as
+    /// textures) and gives the vertices to draw with the textures the draw reads: the state, the
+    /// atlas, spins, motion and the user states (`names`, `u_user_state_i` for state `i`).
+    #[allow(clippy::type_complexity)]
+    fn bind_inputs<'a>(
+        &'a self,
         p: &Program,
-        state: &FrameState<'_>,
-        motion: Option<Motion<'_>>,
-        [sorted, scene_depth]: [Option<&Texture>; 2],
-    ) -> Result<&VertexArray> {
+        state: &FrameState<'a>,
+        motion: Option<Motion<'a>>,
+        [sorted, scene_depth]: [Option<&'a Texture>; 2],
+        names: &'a [String],
+    ) -> Result<(&'a VertexArray, Vec<(&'a str, Sampled<'a>)>)> {
         let (positions, statics, count) = (state.positions, state.statics, state.count);
         let s = &self.style;
         if let (Some(v), true) = (&self.vertex, count > 0) {
@@ -505,9 +514,6 @@ impl ParticleRenderer {
             p.set_f32("u_motion_dt", dt);
             p.set_f32("u_stretch", s.stretch);
         }
-        let names: Vec<String> = (0..state.user.len())
-            .map(|i| format!("u_user_state_{i}"))
-            .collect();
         if self.style.user_color.is_some() {
             for (n, t) in names.iter().zip(state.user) {
                 if p.declares(n) {
@@ -516,8 +522,7 @@ impl ParticleRenderer {
                 }
             }
         }
-        p.textures(&textures);
-        Ok(vertices)
+        Ok((vertices, textures))
     }
 
     /// The ribbons after the particles, then the under operator's last passes: the geometry's
@@ -562,6 +567,8 @@ impl ParticleRenderer {
                     depth: Depth::Off,
                     ..*draw_state
                 },
+                textures: &[],
+                uniforms: &[],
             });
         }
         Ok(())

@@ -234,16 +234,14 @@ impl NonFiniteCounter {
         textures.extend(velocities.map(|v| ("u_velocity", v.into())));
         let names = ["u_extra0", "u_extra1", "u_extra2", "u_extra3"];
         textures.extend(names.iter().zip(extra).map(|(n, t)| (*n, (*t).into())));
-        mark.textures(&textures);
         mark.set_ivec2("u_src_size", self.width as i32, self.height as i32);
-        self.pass.draw(mark, &self.levels[0]);
+        self.pass.draw(mark, &textures, &[], &self.levels[0]);
         for pair in self.levels.windows(2) {
             let (src, dst) = (&pair[0], &pair[1]);
             self.sum.bind();
-            self.sum.textures(&[("u_src", src.only_texture().into())]);
             self.sum
                 .set_ivec2("u_src_size", src.width() as i32, src.height() as i32);
-            self.pass.draw(&self.sum, dst);
+            self.pass.draw(&self.sum, &[("u_src", src.only_texture().into())], &[], dst);
         }
         let last = self.levels[self.levels.len() - 1].only_texture();
         let texels = last.read_f32()?;

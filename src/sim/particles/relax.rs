@@ -6,7 +6,7 @@
 //! step's implied velocity includes what the constraints moved). Also moves orbiting spheres,
 //! which the Verlet step and the relaxation both read.
 
-use super::{bind_textures, Fields};
+use super::{draw_textures, Fields};
 use crate::error::Result;
 use crate::gl::{
     Context, Defines, FullscreenPass, Program, Ring3, Texture, TextureDesc, TextureFormat,
@@ -159,8 +159,8 @@ impl Relaxation {
             ("u_pins", (&self.pins).into()),
         ];
         let own: Vec<_> = own.into_iter().filter(|(n, _)| p.declares(n)).collect();
-        bind_textures(p, &own, fields);
-        pass.draw(p, ring.next());
+        let t = draw_textures(p, &own, fields);
+        pass.draw(p, &t, &[], ring.next());
         ring.swap_current_next();
     }
 }

@@ -49,7 +49,8 @@ impl WriteFloor {
     /// Writes rows `y0..y0+rows` only: the floor of a pass restricted to the live rows.
     pub fn draw_rows(&self, fb: &Framebuffer, y0: u32, rows: u32) {
         let value = [("u_value", Uniform::Vec4(Vec4::new(0.25, 0.5, 0.75, 1.0)))];
-        self.pass.draw_rows(&self.program, &[], &value, fb, y0, rows);
+        self.pass
+            .draw_rows(&self.program, &[], &value, fb, y0, rows);
     }
 }
 
@@ -98,7 +99,8 @@ impl FixedCost {
                 let (from, to) = (&self.targets[i % 2], &self.targets[1 - i % 2]);
                 p.bind();
                 p.set_i32("u_log_w", 0);
-                self.pass.draw(p, &[("u_source", from.only_texture().into())], &[], to);
+                self.pass
+                    .draw(p, &[("u_source", from.only_texture().into())], &[], to);
             }
         })?;
         Ok(t / Self::PASSES as f64)

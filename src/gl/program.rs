@@ -219,8 +219,12 @@ impl Program {
         // SAFETY: the program is current (see `bind`).
         unsafe { self.ctx.gl().uniform_1_i32(self.location(name).as_ref(), v) }
     }
-    /// Sets an `int[]` uniform array from its first element on (`name` without `[0]`).
+    /// Sets an `int[]` uniform array from its first element on (`name` without `[0]`); an
+    /// empty `v` sets nothing.
     pub fn set_i32_array(&self, name: &str, v: &[i32]) {
+        if v.is_empty() {
+            return;
+        }
         let first = format!("{name}[0]");
         // SAFETY: as above.
         unsafe {
@@ -229,35 +233,55 @@ impl Program {
                 .uniform_1_i32_slice(self.location(&first).as_ref(), v)
         }
     }
-    /// Sets a `float[]` uniform array from its first element on (`name` without `[0]`).
+    /// Sets a `float[]` uniform array from its first element on (`name` without `[0]`); an
+    /// empty `v` sets nothing.
     pub fn set_f32_array(&self, name: &str, v: &[f32]) {
+        if v.is_empty() {
+            return;
+        }
         let l = self.location(&format!("{name}[0]"));
         // SAFETY: as above.
         unsafe { self.ctx.gl().uniform_1_f32_slice(l.as_ref(), v) }
     }
-    /// Sets a `vec2[]` uniform array from its first element on (`name` without `[0]`).
+    /// Sets a `vec2[]` uniform array from its first element on (`name` without `[0]`); an
+    /// empty `v` sets nothing.
     pub fn set_vec2_array(&self, name: &str, v: &[glam::Vec2]) {
+        if v.is_empty() {
+            return;
+        }
         let l = self.location(&format!("{name}[0]"));
         let flat: Vec<f32> = v.iter().flat_map(|v| v.to_array()).collect();
         // SAFETY: as above.
         unsafe { self.ctx.gl().uniform_2_f32_slice(l.as_ref(), &flat) }
     }
-    /// Sets a `vec3[]` uniform array from its first element on (`name` without `[0]`).
+    /// Sets a `vec3[]` uniform array from its first element on (`name` without `[0]`); an
+    /// empty `v` sets nothing.
     pub fn set_vec3_array(&self, name: &str, v: &[glam::Vec3]) {
+        if v.is_empty() {
+            return;
+        }
         let l = self.location(&format!("{name}[0]"));
         let flat: Vec<f32> = v.iter().flat_map(|v| v.to_array()).collect();
         // SAFETY: as above.
         unsafe { self.ctx.gl().uniform_3_f32_slice(l.as_ref(), &flat) }
     }
-    /// Sets a `vec4[]` uniform array from its first element on (`name` without `[0]`).
+    /// Sets a `vec4[]` uniform array from its first element on (`name` without `[0]`); an
+    /// empty `v` sets nothing.
     pub fn set_vec4_array(&self, name: &str, v: &[glam::Vec4]) {
+        if v.is_empty() {
+            return;
+        }
         let l = self.location(&format!("{name}[0]"));
         let flat: Vec<f32> = v.iter().flat_map(|v| v.to_array()).collect();
         // SAFETY: as above.
         unsafe { self.ctx.gl().uniform_4_f32_slice(l.as_ref(), &flat) }
     }
-    /// Sets an `ivec4[]` uniform array from its first element on (`name` without `[0]`).
+    /// Sets an `ivec4[]` uniform array from its first element on (`name` without `[0]`); an
+    /// empty `v` sets nothing.
     pub fn set_ivec4_array(&self, name: &str, v: &[[i32; 4]]) {
+        if v.is_empty() {
+            return;
+        }
         let l = self.location(&format!("{name}[0]"));
         let flat: Vec<i32> = v.iter().flatten().copied().collect();
         // SAFETY: as above.

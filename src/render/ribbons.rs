@@ -163,9 +163,9 @@ impl RibbonRenderer {
             count: self.count,
             state: draw_state,
             textures: &[
-            ("u_position", state.positions.into()),
-            ("u_static", state.statics.into()),
-        ],
+                ("u_position", state.positions.into()),
+                ("u_static", state.statics.into()),
+            ],
             uniforms: &[],
         });
         self.ctx.check_error("drawing ribbons")

@@ -264,7 +264,8 @@ impl super::Simulation for FireSim {
             ("u_position", front.texture(POSITION).into()),
             ("u_velocity", front.texture(VELOCITY).into()),
         ];
-        self.pass.draw(&self.physics, &textures, &[], self.state.back());
+        self.pass
+            .draw(&self.physics, &textures, &[], self.state.back());
         self.state.swap();
         self.step += 1;
         Ok(())

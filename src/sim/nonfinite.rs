@@ -241,7 +241,8 @@ impl NonFiniteCounter {
             self.sum.bind();
             self.sum
                 .set_ivec2("u_src_size", src.width() as i32, src.height() as i32);
-            self.pass.draw(&self.sum, &[("u_src", src.only_texture().into())], &[], dst);
+            self.pass
+                .draw(&self.sum, &[("u_src", src.only_texture().into())], &[], dst);
         }
         let last = self.levels[self.levels.len() - 1].only_texture();
         let texels = last.read_f32()?;

@@ -42,11 +42,16 @@ impl Collisions {
             };
             count.bind();
             search(count);
-            self.pass.draw(count, &[
-                ("u_keys", g.sorter.keys().into()),
-                ("u_position", g.layout.texture(POSITION).into()),
-                ("u_velocity", g.layout.texture(VELOCITY).into()),
-            ], &[], counts);
+            self.pass.draw(
+                count,
+                &[
+                    ("u_keys", g.sorter.keys().into()),
+                    ("u_position", g.layout.texture(POSITION).into()),
+                    ("u_velocity", g.layout.texture(VELOCITY).into()),
+                ],
+                &[],
+                counts,
+            );
             if let Some(t) = &self.tally {
                 t.add(counts.only_texture(), entries as usize);
             }

@@ -384,11 +384,13 @@ impl Collisions {
         p.set_i32("u_width", self.width as i32);
         p.set_i32("u_neighbours", self.config.neighbours as i32);
         p.set_f32("u_radius", self.config.radius);
-        self.pass.draw(p, &[("u_position", positions.into())], &[], raw);
+        self.pass
+            .draw(p, &[("u_position", positions.into())], &[], raw);
         let m = mutual;
         m.bind();
         m.set_i32("u_width", self.width as i32);
-        self.pass.draw(m, &[("u_partner", raw.only_texture().into())], &[], out);
+        self.pass
+            .draw(m, &[("u_partner", raw.only_texture().into())], &[], out);
     }
 
     /// Keys on the first lattice from the current state, the sort, and the gather of position,
@@ -419,7 +421,12 @@ impl Collisions {
     fn copy_statics(&self, layout: &Framebuffer, statics: &Framebuffer) {
         let c = &self.copy;
         c.bind();
-        self.pass.draw(c, &[("u_source", layout.texture(STATIC).into())], &[], statics);
+        self.pass.draw(
+            c,
+            &[("u_source", layout.texture(STATIC).into())],
+            &[],
+            statics,
+        );
     }
 
     /// One collision step on the state after the collisionless motion: sorts, detects, responds

@@ -268,10 +268,15 @@ impl Fluid {
         p.bind();
         self.set_material(p);
         p.set_i32("u_count", count as i32);
-        self.pass.draw(p, &[
-            ("u_keys", keys.into()),
-            ("u_position", l.texture(POSITION).into()),
-        ], &[], &self.density);
+        self.pass.draw(
+            p,
+            &[
+                ("u_keys", keys.into()),
+                ("u_position", l.texture(POSITION).into()),
+            ],
+            &[],
+            &self.density,
+        );
         self.tally.add_flags(self.density.only_texture(), 3, count);
         let p = &self.force_pass;
         set_constants(p);
@@ -279,16 +284,22 @@ impl Fluid {
         self.set_material(p);
         p.set_i32("u_count", count as i32);
         p.set_f32("u_dt", dt);
-        self.pass.draw(p, &[
-            ("u_keys", keys.into()),
-            ("u_position", l.texture(POSITION).into()),
-            ("u_velocity", l.texture(VELOCITY).into()),
-            ("u_density", self.density.only_texture().into()),
-        ], &[], state.back());
+        self.pass.draw(
+            p,
+            &[
+                ("u_keys", keys.into()),
+                ("u_position", l.texture(POSITION).into()),
+                ("u_velocity", l.texture(VELOCITY).into()),
+                ("u_density", self.density.only_texture().into()),
+            ],
+            &[],
+            state.back(),
+        );
         state.swap();
         let c = &self.copy;
         c.bind();
-        self.pass.draw(c, &[("u_source", l.texture(STATIC).into())], &[], statics);
+        self.pass
+            .draw(c, &[("u_source", l.texture(STATIC).into())], &[], statics);
         Ok(())
     }
 

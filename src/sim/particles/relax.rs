@@ -165,13 +165,18 @@ impl Relaxation {
     }
 }
 
-/// Sets `u_sphere[i]` to each orbiting sphere's place at time `t` (static ones keep the value
-/// the scene's constants gave).
+/// Sets `u_sphere` to the spheres' places at time `t` if any orbits (a static one's place is
+/// the value the scene's constants gave).
 pub(super) fn move_spheres(p: &Program, scene: &SceneFile, t: f64) {
-    let centres = sphere_centres(scene, t);
-    for (i, (s, c)) in scene.colliders.sphere.iter().zip(centres).enumerate() {
-        if s.orbit.is_some() {
-            p.set_vec4(&format!("u_sphere[{i}]"), c.extend(s.radius));
-        }
+    let spheres = &scene.colliders.sphere;
+    if spheres.iter().all(|s| s.orbit.is_none()) {
+        return;
     }
+    let centres = sphere_centres(scene, t);
+    let placed: Vec<_> = spheres
+        .iter()
+        .zip(centres)
+        .map(|(s, c)| c.extend(s.radius))
+        .collect();
+    p.set_vec4_array("u_sphere", &placed);
 }

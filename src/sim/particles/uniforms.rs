@@ -66,7 +66,8 @@ fn set_masses(p: &Program, s: &SceneFile) {
 
 /// The emitters' bursts, shapes and release clouds.
 fn set_emitters(p: &Program, s: &SceneFile) {
-    for (k, e) in s.emitters.all().enumerate() {
+    let (mut burst_time, mut burst_end) = (Vec::new(), Vec::new());
+    for e in s.emitters.all() {
         let (mut time, mut end) = ([0f32; 4], [0f32; 4]);
         let mut total = 0u64;
         for b in 0..4 {
@@ -76,11 +77,14 @@ fn set_emitters(p: &Program, s: &SceneFile) {
             }
             end[b] = total as f32;
         }
-        p.set_vec4(&format!("u_burst_time[{k}]"), Vec4::from(time));
-        p.set_vec4(&format!("u_burst_end[{k}]"), Vec4::from(end));
+        burst_time.push(Vec4::from(time));
+        burst_end.push(Vec4::from(end));
     }
+    p.set_vec4_array("u_burst_time", &burst_time);
+    p.set_vec4_array("u_burst_end", &burst_end);
     spawn_uniforms(p, s, 0.0);
     let mut cloud = [0.0f32; 4];
+    let mut release_spread = Vec::new();
     for (k, e) in s.emitters.all().enumerate() {
         let r = e.release_spread.unwrap_or([0.0; 3]);
         // Places per cycle: one per release (a step), or one per cloud of texels; a cube of
@@ -90,29 +94,26 @@ fn set_emitters(p: &Program, s: &SceneFile) {
             None => (e.cycle.unwrap_or(1.0) / s.time.dt).round(),
         };
         let side = places.max(1.0).cbrt().ceil();
-        p.set_vec4(
-            &format!("u_release_spread[{k}]"),
-            Vec4::new(r[0], r[1], r[2], side),
-        );
+        release_spread.push(Vec4::new(r[0], r[1], r[2], side));
         cloud[k] = e.release_cloud.unwrap_or(0) as f32;
     }
+    p.set_vec4_array("u_release_spread", &release_spread);
     p.set_vec4("u_release_cloud", Vec4::from(cloud));
 }
 
 /// The emitters' spawn uniforms (glsl/sim/spawn.glsl) with their curves at time `t`.
 fn spawn_uniforms(p: &Program, s: &SceneFile, t: f32) {
-    for (k, e) in s
+    let em: Vec<EmitterUniforms> = s
         .emitters
         .all()
         .map(|e| EmitterUniforms::at(e, t))
-        .enumerate()
-    {
-        p.set_vec4(&format!("u_em_center[{k}]"), e.center);
-        p.set_vec4(&format!("u_em_size[{k}]"), e.size);
-        p.set_vec4(&format!("u_em_normal[{k}]"), e.normal);
-        p.set_vec4(&format!("u_em_dir[{k}]"), e.dir);
-        p.set_vec4(&format!("u_em_range[{k}]"), e.range);
-    }
+        .collect();
+    let field = |f: fn(&EmitterUniforms) -> Vec4| em.iter().map(f).collect::<Vec<_>>();
+    p.set_vec4_array("u_em_center", &field(|e| e.center));
+    p.set_vec4_array("u_em_size", &field(|e| e.size));
+    p.set_vec4_array("u_em_normal", &field(|e| e.normal));
+    p.set_vec4_array("u_em_dir", &field(|e| e.dir));
+    p.set_vec4_array("u_em_range", &field(|e| e.range));
 }
 
 /// Sets the spawn uniforms of the bound program `p` at time `t` (scenes with curves, every
@@ -141,44 +142,49 @@ fn set_forces(p: &Program, s: &SceneFile, fields: &Fields) {
     let owned = |list: fn(&scene::Forces) -> usize| {
         lists().flat_map(move |(owner, fs)| (0..list(fs)).map(move |j| (owner, fs, j)))
     };
-    for (i, (owner, fs, j)) in owned(|f| f.attractor.len()).enumerate() {
+    let (mut attractor, mut attractor_shape, mut attractor_owner) = (vec![], vec![], vec![]);
+    for (owner, fs, j) in owned(|f| f.attractor.len()) {
         let a = &fs.attractor[j];
-        p.set_vec4(
-            &format!("u_attractor[{i}]"),
-            v3(a.position).extend(a.strength),
-        );
-        p.set_vec4(
-            &format!("u_attractor_shape[{i}]"),
-            Vec4::new(
-                (a.falloff == scene::Falloff::Constant) as u8 as f32,
-                a.max_distance.unwrap_or(-1.0),
-                a.softening,
-                0.0,
-            ),
-        );
-        p.set_i32(&format!("u_attractor_owner[{i}]"), owner);
+        attractor.push(v3(a.position).extend(a.strength));
+        attractor_shape.push(Vec4::new(
+            (a.falloff == scene::Falloff::Constant) as u8 as f32,
+            a.max_distance.unwrap_or(-1.0),
+            a.softening,
+            0.0,
+        ));
+        attractor_owner.push(owner);
     }
-    for (i, (owner, fs, j)) in owned(|f| f.spring.len()).enumerate() {
+    p.set_vec4_array("u_attractor", &attractor);
+    p.set_vec4_array("u_attractor_shape", &attractor_shape);
+    p.set_i32_array("u_attractor_owner", &attractor_owner);
+    let (mut spring, mut spring_owner) = (vec![], vec![]);
+    for (owner, fs, j) in owned(|f| f.spring.len()) {
         let sp = &fs.spring[j];
-        p.set_vec4(
-            &format!("u_spring[{i}]"),
-            v3(sp.anchor).extend(sp.stiffness),
-        );
-        p.set_i32(&format!("u_spring_owner[{i}]"), owner);
+        spring.push(v3(sp.anchor).extend(sp.stiffness));
+        spring_owner.push(owner);
     }
-    for (i, (owner, fs, j)) in owned(|f| f.vortex.len()).enumerate() {
+    p.set_vec4_array("u_spring", &spring);
+    p.set_i32_array("u_spring_owner", &spring_owner);
+    let (mut vortex, mut axis, mut shape, mut vortex_owner) = (vec![], vec![], vec![], vec![]);
+    for (owner, fs, j) in owned(|f| f.vortex.len()) {
         let v = &fs.vortex[j];
-        p.set_vec4(&format!("u_vortex[{i}]"), v3(v.point).extend(v.strength));
-        p.set_vec3(&format!("u_vortex_axis[{i}]"), v3(v.axis).normalize());
-        p.set_vec4(&format!("u_vortex_shape[{i}]"), vortex_shape(v));
-        p.set_i32(&format!("u_vortex_owner[{i}]"), owner);
+        vortex.push(v3(v.point).extend(v.strength));
+        axis.push(v3(v.axis).normalize());
+        shape.push(vortex_shape(v));
+        vortex_owner.push(owner);
     }
+    p.set_vec4_array("u_vortex", &vortex);
+    p.set_vec3_array("u_vortex_axis", &axis);
+    p.set_vec4_array("u_vortex_shape", &shape);
+    p.set_i32_array("u_vortex_owner", &vortex_owner);
     let mut damping = [0.0f32; 4];
+    let mut type_gravity = Vec::new();
     for (k, e) in s.emitters.all().enumerate().take(4) {
         let g: Vec3 = e.forces.gravity.iter().map(|g| v3(g.acceleration)).sum();
-        p.set_vec3(&format!("u_type_gravity[{k}]"), g);
+        type_gravity.push(g);
         damping[k] = e.forces.damping.iter().map(|d| d.rate).sum();
     }
+    p.set_vec3_array("u_type_gravity", &type_gravity);
     p.set_vec4("u_type_damping", Vec4::from(damping));
     if let (Some(w), Some((_, field))) = (f.wind.first(), &fields.flow) {
         p.set_vec3("u_flow_min", v3(w.bounds[0]));
@@ -199,29 +205,43 @@ fn set_colliders(p: &Program, s: &SceneFile, fields: &Fields) {
     let c = &s.colliders;
     p.set_f32("u_slow_speed", c.slow_speed);
     let resp = |mu: f32, eps: f32| glam::Vec2::new(mu, eps);
-    for (i, pl) in c.plane.iter().enumerate() {
+    let plane = |pl: &scene::PlaneCollider| {
         let n = v3(pl.normal).normalize();
-        p.set_vec4(&format!("u_plane[{i}]"), n.extend(n.dot(v3(pl.point))));
-        p.set_vec2(
-            &format!("u_plane_resp[{i}]"),
-            resp(pl.friction, pl.resilience),
-        );
-    }
-    for (i, sp) in c.sphere.iter().enumerate() {
-        p.set_vec4(
-            &format!("u_sphere[{i}]"),
-            v3(sp.center_at(0.0)).extend(sp.radius),
-        );
-        p.set_vec2(
-            &format!("u_sphere_resp[{i}]"),
-            resp(sp.friction, sp.resilience),
-        );
-    }
-    for (i, b) in c.boxes.iter().enumerate() {
-        p.set_vec3(&format!("u_box_min[{i}]"), v3(b.min));
-        p.set_vec3(&format!("u_box_max[{i}]"), v3(b.max));
-        p.set_vec2(&format!("u_box_resp[{i}]"), resp(b.friction, b.resilience));
-    }
+        n.extend(n.dot(v3(pl.point)))
+    };
+    p.set_vec4_array("u_plane", &c.plane.iter().map(plane).collect::<Vec<_>>());
+    let plane_resp: Vec<_> = c
+        .plane
+        .iter()
+        .map(|pl| resp(pl.friction, pl.resilience))
+        .collect();
+    p.set_vec2_array("u_plane_resp", &plane_resp);
+    let sphere: Vec<_> = c
+        .sphere
+        .iter()
+        .map(|sp| v3(sp.center_at(0.0)).extend(sp.radius))
+        .collect();
+    p.set_vec4_array("u_sphere", &sphere);
+    let sphere_resp: Vec<_> = c
+        .sphere
+        .iter()
+        .map(|sp| resp(sp.friction, sp.resilience))
+        .collect();
+    p.set_vec2_array("u_sphere_resp", &sphere_resp);
+    p.set_vec3_array(
+        "u_box_min",
+        &c.boxes.iter().map(|b| v3(b.min)).collect::<Vec<_>>(),
+    );
+    p.set_vec3_array(
+        "u_box_max",
+        &c.boxes.iter().map(|b| v3(b.max)).collect::<Vec<_>>(),
+    );
+    let box_resp: Vec<_> = c
+        .boxes
+        .iter()
+        .map(|b| resp(b.friction, b.resilience))
+        .collect();
+    p.set_vec2_array("u_box_resp", &box_resp);
     if let (Some(h), Some((_, field))) = (c.heightfield.first(), &fields.height) {
         p.set_vec4("u_height_extent", Vec4::from(h.extent));
         let [nx, nz] = field.resolution();
@@ -245,15 +265,14 @@ fn set_children(p: &Program, s: &SceneFile) {
     let layout = s.child_layout();
     p.set_i32("u_child_start", layout.parent_slots as i32);
     p.set_i32("u_children", layout.ranges.len() as i32);
-    for (c, (r, e)) in layout.ranges.iter().zip(&s.emitters.child).enumerate() {
-        let first = [r.start, r.per_parent, r.parent, r.on_death].map(|v| v as i32);
-        p.set_ivec4(&format!("u_child[{c}]"), first);
+    let (mut child, mut more) = (Vec::new(), Vec::new());
+    for (r, e) in layout.ranges.iter().zip(&s.emitters.child) {
+        child.push([r.start, r.per_parent, r.parent, r.on_death].map(|v| v as i32));
         let inherit = e.inherit_velocity.unwrap_or(1.0);
-        p.set_vec4(
-            &format!("u_child_more[{c}]"),
-            Vec4::new(r.trail_rate, inherit, r.kind as f32, 0.0),
-        );
+        more.push(Vec4::new(r.trail_rate, inherit, r.kind as f32, 0.0));
     }
+    p.set_ivec4_array("u_child", &child);
+    p.set_vec4_array("u_child_more", &more);
 }
 
 /// An emitter's mass range `[lo, hi]` (Latta §3.3): `mass_range`, else `[m, m]` with its type's

@@ -111,7 +111,10 @@ impl Sorter {
             count: g.vertices,
             state: &DrawState::REPLACE,
             textures: keys,
-            uniforms: &[("u_size", Uniform::Vec2(size)), ("u_offset", Uniform::IVec2(offset))],
+            uniforms: &[
+                ("u_size", Uniform::Vec2(size)),
+                ("u_offset", Uniform::IVec2(offset)),
+            ],
         });
     }
 }

@@ -425,17 +425,16 @@ impl ParticleSim {
                     ("u_velocity", pp.front().texture(VELOCITY).into()),
                     statics,
                 ];
-                if self.features.spin {
-                    own.push(("u_spin", pp.front().texture(SPIN).into()));
-                }
+                let spin = self.features.spin.then(|| pp.front().texture(SPIN));
+                own.extend(spin.map(|t| ("u_spin", t.into())));
                 own.extend(user(p));
                 let t = draw_textures(p, &own, &self.fields);
                 match &self.integrate_position {
                     None if rows > 0 => self.pass.draw_rows(p, &t, &[], pp.back(), 0, rows),
                     Some(q) if rows > 0 => {
                         // Latta §3.1 without MRT: the velocity first, then the position.
-                        let velocity = pp.back_single(VELOCITY);
-                        self.pass.draw_rows(p, &t, &[], velocity, 0, rows);
+                        let (v, x) = (pp.back_single(VELOCITY), pp.back_single(POSITION));
+                        self.pass.draw_rows(p, &t, &[], v, 0, rows);
                         q.bind();
                         if self.animated {
                             uniforms::set_spawn(q, &self.scene, self.time as f32);
@@ -453,8 +452,7 @@ impl ParticleSim {
                         .chain(user(q))
                         .collect();
                         let t = draw_textures(q, &own, &self.fields);
-                        let position = pp.back_single(POSITION);
-                        self.pass.draw_rows(q, &t, &[], position, 0, rows);
+                        self.pass.draw_rows(q, &t, &[], x, 0, rows);
                     }
                     _ => {}
                 }

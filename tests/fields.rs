@@ -27,7 +27,7 @@ use common::scene::Rng;
 use common::{context, no_gl_error, test_shader, TestContext};
 use glam::{Vec3, Vec4};
 use texflow::gl::{
-    Defines, Framebuffer, FullscreenPass, Program, Texture, TextureDesc, TextureFormat,
+    Defines, Framebuffer, FullscreenPass, Program, Sampled, Texture, TextureDesc, TextureFormat,
     FULLSCREEN_VERTEX,
 };
 use texflow::scene::{HeightFieldCollider, SdfCollider, Wind};
@@ -162,10 +162,6 @@ fn sample_points(sdf: &DistanceField, n: usize) -> Vec<Vec3> {
 
 /// The shader's uniforms: the three fields' units, bounds and resolutions.
 fn set_field_uniforms(program: &Program, hf: &HeightField, sdf: &DistanceField, flow: &FlowField) {
-    program.set_i32("u_points", 0);
-    program.set_i32("u_height", 1);
-    program.set_i32("u_sdf", 2);
-    program.set_i32("u_flow", 3);
     program.set_vec4("u_height_extent", Vec4::from_array(hf.extent()));
     let [hx, hz] = hf.resolution();
     program.set_ivec2("u_height_res", hx as i32, hz as i32);
@@ -221,12 +217,16 @@ fn sample_on_gpu(
     )
     .unwrap();
     program.bind();
-    point_tex.bind(0);
-    height_tex.bind(1);
-    sdf_tex.bind(2);
-    flow_tex.bind(3);
     set_field_uniforms(&program, hf, sdf, flow);
-    FullscreenPass::new(ctx).unwrap().draw(&program, &fb);
+    let textures = [
+        ("u_points", Sampled::from(&point_tex)),
+        ("u_height", (&height_tex).into()),
+        ("u_sdf", (&sdf_tex).into()),
+        ("u_flow", (&flow_tex).into()),
+    ];
+    FullscreenPass::new(ctx)
+        .unwrap()
+        .draw(&program, &textures, &[], &fb);
     let out: Vec<Vec<f32>> = fb
         .textures()
         .iter()

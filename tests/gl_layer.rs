@@ -53,7 +53,9 @@ fn eight_render_targets_are_written_by_one_pass() {
         &Defines::new(),
     )
     .unwrap();
-    FullscreenPass::new(&ctx).unwrap().draw(&program, &fb);
+    FullscreenPass::new(&ctx)
+        .unwrap()
+        .draw(&program, &[], &[], &fb);
     for (i, t) in fb.textures().iter().enumerate() {
         let v = t.read_f32().unwrap();
         assert!(
@@ -183,9 +185,13 @@ fn every_draw_sets_its_own_blend_state() {
             point_size: PointSize::One,
             depth: Depth::Off,
         },
+        textures: &[],
+        uniforms: &[],
     });
     assert!(fb.texture(0).read_f32().unwrap().iter().all(|&v| v == 1.5));
-    FullscreenPass::new(&ctx).unwrap().draw(&program, &fb);
+    FullscreenPass::new(&ctx)
+        .unwrap()
+        .draw(&program, &[], &[], &fb);
     assert!(fb.texture(0).read_f32().unwrap().iter().all(|&v| v == 1.0));
     no_gl_error(&ctx);
 }
@@ -263,7 +269,9 @@ fn write8(ctx: &Context, fb: &Framebuffer) {
         &Defines::new(),
     )
     .unwrap();
-    FullscreenPass::new(ctx).unwrap().draw(&program, fb);
+    FullscreenPass::new(ctx)
+        .unwrap()
+        .draw(&program, &[], &[], fb);
 }
 
 fn all(t: &Texture, v: f32) -> bool {

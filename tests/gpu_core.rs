@@ -50,12 +50,11 @@ fn increment_pass_through_mrt_ping_pong() {
         pp.front().texture(1).upload_f32(&b0).unwrap();
         let k = 5;
         for _ in 0..k {
-            program.bind();
-            pp.front().texture(0).bind(0);
-            pp.front().texture(1).bind(1);
-            program.set_i32("u_a", 0);
-            program.set_i32("u_b", 1);
-            pass.draw(&program, pp.back());
+            let textures = [
+                ("u_a", pp.front().texture(0).into()),
+                ("u_b", pp.front().texture(1).into()),
+            ];
+            pass.draw(&program, &textures, &[], pp.back());
             pp.swap();
         }
         let a = pp.front().texture(0).read_f32().unwrap();

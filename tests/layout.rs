@@ -1,8 +1,8 @@
 //! The layout promised in docs/architecture.md, checked on the source itself (no GPU):
 //! layers one way (`gl ← scene ← sim, sort, render ← engine ← bench, report ← cli`), no import
-//! cycle between modules, no GL call outside `src/gl/`, no attachment picked by index above it,
-//! no file over 600 lines (tests included) nor function over 80 (100 in the CLI), and a pipeline
-//! of fragment passes only (no compute shaders, storage buffers, image stores or transform
+//! cycle between modules, no GL call outside `src/gl/`, no attachment picked by index nor texture
+//! unit bound above it, no file over 600 lines (tests included) nor function over 80 (100 in the
+//! CLI), and a pipeline of fragment passes only (no compute shaders, storage buffers, image stores or transform
 //! feedback). The scanners are in `tests/scan/`.
 
 mod scan;
@@ -130,6 +130,38 @@ fn no_gl_call_outside_the_gl_layer() {
     assert!(
         offenders.is_empty(),
         "GL or unsafe code outside src/gl/: {offenders:?}"
+    );
+}
+
+/// Texture units are the gl layer's: a draw lists its textures (`Draw::textures`) and
+/// `Context::draw` assigns the units. Above `src/gl/` no `bind(...)` takes an argument (a unit;
+/// programs, framebuffers and vertex arrays bind with none), and `src/gl/` exports no method
+/// that binds a texture to a unit.
+#[test]
+fn no_texture_unit_is_bound_above_the_gl_layer() {
+    let mut files = Vec::new();
+    rust_files(&src(), &mut files);
+    let gl = src().join("gl");
+    let mut offenders = Vec::new();
+    for p in &files {
+        let c = code(&fs::read_to_string(p).unwrap());
+        if p.starts_with(&gl) {
+            for sig in ["pub fn bind(&self, unit", "pub fn textures(&self, list"] {
+                if c.contains(sig) {
+                    offenders.push(format!("{}: `{sig}` is public", p.display()));
+                }
+            }
+        } else if c
+            .split(".bind(")
+            .skip(1)
+            .any(|rest| !rest.trim_start().starts_with(')'))
+        {
+            offenders.push(format!("{}: binds a texture unit", p.display()));
+        }
+    }
+    assert!(
+        offenders.is_empty(),
+        "units bound outside Context::draw: {offenders:?}"
     );
 }
 

@@ -6,7 +6,8 @@ use glam::Vec4;
 use crate::error::Result;
 use crate::gl::{
     Attribute, Blend, Buffer, BufferKind, BufferUsage, Context, Defines, Draw, DrawState,
-    Framebuffer, FullscreenPass, PointSize, Primitive, Program, VertexArray, FULLSCREEN_VERTEX,
+    Framebuffer, FullscreenPass, PointSize, Primitive, Program, Uniform, VertexArray,
+    FULLSCREEN_VERTEX,
 };
 pub use crate::gl::{Clock, PassTimer};
 
@@ -41,18 +42,15 @@ impl WriteFloor {
 
     /// Writes a constant into every texel of every attachment of `fb`.
     pub fn draw(&self, fb: &Framebuffer) {
-        self.program.bind();
-        self.program
-            .set_vec4("u_value", Vec4::new(0.25, 0.5, 0.75, 1.0));
-        self.pass.draw(&self.program, fb);
+        let value = [("u_value", Uniform::Vec4(Vec4::new(0.25, 0.5, 0.75, 1.0)))];
+        self.pass.draw(&self.program, &[], &value, fb);
     }
 
     /// Writes rows `y0..y0+rows` only: the floor of a pass restricted to the live rows.
     pub fn draw_rows(&self, fb: &Framebuffer, y0: u32, rows: u32) {
-        self.program.bind();
-        self.program
-            .set_vec4("u_value", Vec4::new(0.25, 0.5, 0.75, 1.0));
-        self.pass.draw_rows(&self.program, fb, y0, rows);
+        let value = [("u_value", Uniform::Vec4(Vec4::new(0.25, 0.5, 0.75, 1.0)))];
+        self.pass
+            .draw_rows(&self.program, &[], &value, fb, y0, rows);
     }
 }
 
@@ -100,9 +98,9 @@ impl FixedCost {
             for i in 0..Self::PASSES {
                 let (from, to) = (&self.targets[i % 2], &self.targets[1 - i % 2]);
                 p.bind();
-                p.textures(&[("u_source", from.only_texture().into())]);
                 p.set_i32("u_log_w", 0);
-                self.pass.draw(p, to);
+                self.pass
+                    .draw(p, &[("u_source", from.only_texture().into())], &[], to);
             }
         })?;
         Ok(t / Self::PASSES as f64)
@@ -165,6 +163,8 @@ impl RenderFloor {
                 blend,
                 ..DrawState::REPLACE
             },
+            textures: &[],
+            uniforms: &[],
         });
     }
 }
@@ -246,6 +246,8 @@ impl PlacedRenderFloor {
                 point_size: PointSize::Program,
                 depth: crate::gl::Depth::Off,
             },
+            textures: &[],
+            uniforms: &[],
         });
     }
 }

@@ -12,8 +12,8 @@ use crate::sim::{ParticleSim, Simulation};
 // The `Engine` trait over any simulation, in a file of its own.
 mod engine_impl;
 // The sort stage in its parts, and the stages the measuring floor times.
-mod stages;
 mod passes;
+mod stages;
 
 /// The sorted motion texture (velocities or Verlet's previous positions) stretched quads read.
 const MOTION: crate::gl::Attachment = crate::gl::Attachment::named("motion");

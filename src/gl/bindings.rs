@@ -3,11 +3,11 @@
 //!
 //! Numbering units by hand in several modules let one pass leave a texture on a unit that a
 //! later pass's sampler still pointed at (a staggered collision gather overwrote the unit the
-//! response read its height field from). [`Program::textures`] gives units 0..n to the list it
-//! is handed, in order, and points every other active sampler of the program at an empty unit,
-//! so nothing can read what an earlier pass left. In debug builds a sampler the program reads
-//! but the list leaves out, or a name the program does not declare, is a panic (a programming
-//! error, like an index out of bounds).
+//! response read its height field from). A [`Draw`](super::Draw) lists its textures and
+//! [`Context::draw`](super::Context::draw) gives units 0..n to the list, in order, on every
+//! draw; nothing above this module binds a unit. A sampler the program reads but the list
+//! leaves out is refused (a panic: a programming error, like an index out of bounds), and so,
+//! in debug builds, is a listed name the program does not declare.
 //!
 //! Telling a misspelt name from one the optimiser dropped: GL reports both as location −1, so the
 //! program keeps the names its resolved sources declare (`uniform TYPE NAME...;`). A name that is
@@ -15,8 +15,6 @@
 //! declared at all is an error.
 
 use std::collections::HashSet;
-
-use glow::HasContext;
 
 use super::{Program, Texture, Texture3D};
 
@@ -98,14 +96,22 @@ pub(super) fn is_sampler(kind: u32) -> bool {
 
 impl Program {
     /// Binds the textures of one draw: `list[k]`'s texture goes to unit k and its sampler is set
-    /// to k. Every other sampler the program reads is pointed at an empty unit (it reads zeros,
-    /// never a texture an earlier pass left bound). Call it after [`bind`](Self::bind), before
-    /// the draw, on every draw.
+    /// to k. The program must be bound. Called by [`Context::draw`](super::Context::draw) only.
     ///
-    /// Panics in debug builds if a name is not a sampler the program declares, or if a sampler
-    /// the program reads is missing from `list`.
-    pub fn textures(&self, list: &[(&str, Sampled<'_>)]) {
-        let empty = list.len() as u32;
+    /// Panics if a sampler the program reads is missing from `list`, and in debug builds if a
+    /// name is not a uniform the program declares.
+    pub(super) fn bind_textures(&self, list: &[(&str, Sampled<'_>)]) {
+        let unlisted: Vec<&String> = self
+            .samplers()
+            .iter()
+            .filter(|s| !list.iter().any(|(n, _)| n == s))
+            .collect();
+        assert!(
+            unlisted.is_empty(),
+            "program {} reads sampler(s) {unlisted:?} that this draw binds no texture to: \
+             list every sampler in Draw::textures",
+            self.name()
+        );
         for (k, (name, texture)) in list.iter().enumerate() {
             match texture {
                 Sampled::D2(t) => t.bind(k as u32),
@@ -118,29 +124,6 @@ impl Program {
                 );
             }
             self.set_i32(name, k as i32);
-        }
-        let unlisted: Vec<&String> = self
-            .samplers()
-            .iter()
-            .filter(|s| !list.iter().any(|(n, _)| n == s))
-            .collect();
-        if unlisted.is_empty() {
-            return;
-        }
-        if cfg!(debug_assertions) {
-            panic!(
-                "program {} reads sampler(s) {unlisted:?} that this draw binds no texture to",
-                self.name()
-            );
-        }
-        // SAFETY: unbinding both targets of one unit on the current context.
-        unsafe {
-            self.context().gl().active_texture(glow::TEXTURE0 + empty);
-            self.context().gl().bind_texture(glow::TEXTURE_2D, None);
-            self.context().gl().bind_texture(glow::TEXTURE_3D, None);
-        }
-        for s in unlisted {
-            self.set_i32(s, empty as i32);
         }
     }
 }

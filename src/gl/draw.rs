@@ -7,7 +7,7 @@
 
 use glow::HasContext;
 
-use super::{Context, Framebuffer, Program, VertexArray};
+use super::{Context, Framebuffer, Program, Sampled, Uniform, VertexArray};
 
 /// A blend factor: what the source or the destination colour is multiplied by.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -187,10 +187,12 @@ pub struct Rect {
     pub height: u32,
 }
 
-/// One draw call, described in full.
+/// One draw call, described in full: what it draws, where, with which state, and what it reads
+/// (its textures and per-draw uniforms).
 #[derive(Debug, Clone, Copy)]
 pub struct Draw<'a> {
-    /// The program; its uniforms are set by the caller (they are program state, kept by GL).
+    /// The program. Uniforms that stay the same between draws may be set on it beforehand (they
+    /// are program state, kept by GL); those of this draw go in [`uniforms`](Self::uniforms).
     pub program: &'a Program,
     /// The framebuffer drawn into.
     pub target: &'a Framebuffer,
@@ -204,14 +206,28 @@ pub struct Draw<'a> {
     pub count: u32,
     /// Blending and point size.
     pub state: &'a DrawState,
+    /// The textures the program reads, by sampler name: the k-th goes to texture unit k. Every
+    /// active sampler of the program must be listed (see [`Context::draw`]).
+    pub textures: &'a [(&'a str, Sampled<'a>)],
+    /// Uniforms set on this draw, after the textures (see [`Program::set`]).
+    pub uniforms: &'a [(&'a str, Uniform)],
 }
 
 impl Context {
-    /// Runs one draw: binds its program, target (with its viewport) and vertices, sets all of its
-    /// state, draws, and unbinds the vertex array. A count of 0 draws nothing.
+    /// Runs one draw: binds its program, gives its textures units 0.. in order and sets their
+    /// samplers, sets its uniforms, binds its target (with its viewport) and vertices, sets all
+    /// of its state, draws, and unbinds the vertex array. A count of 0 draws nothing.
+    ///
+    /// Panics if the program reads a sampler that [`Draw::textures`] does not list (it would
+    /// read whatever an earlier draw left on that unit), and, in debug builds, if a listed
+    /// texture or uniform names nothing the program declares.
     pub fn draw(&self, d: &Draw<'_>) {
         super::record::note(d.program.name());
         d.program.bind();
+        d.program.bind_textures(d.textures);
+        for &(name, value) in d.uniforms {
+            d.program.set(name, value);
+        }
         match d.viewport {
             Some(r) => d.target.bind_rect(r.x, r.y, r.width, r.height),
             None => d.target.bind(),

@@ -13,17 +13,20 @@
 //!
 //! ## A draw as data
 //!
-//! A pass binds its [`Program`], sets uniforms by name (`set_f32`, `set_vec3`, ...), lists its
-//! textures by sampler name ([`Program::textures`], [`Sampled`]), then draws: [`Context::draw`]
-//! with a [`Draw`] (program, target framebuffer, viewport, vertex array, primitive, count and a
-//! [`DrawState`]), or [`FullscreenPass`], which makes that `Draw` for a full-screen triangle.
+//! A pass draws with [`Context::draw`] and a [`Draw`]: program, target framebuffer, viewport,
+//! vertex array, primitive, count, a [`DrawState`], the textures it reads by sampler name
+//! ([`Sampled`]) and the uniforms of this draw ([`Uniform`]); or with [`FullscreenPass`], which
+//! makes that `Draw` for a full-screen triangle from the same lists. Uniforms that stay the same
+//! from draw to draw (a scene's constants) may be set on the program once ([`Program::bind`],
+//! then `set_f32`, `set_vec4_array`, ...): they are program state, kept by GL.
 //!
 //! ## Texture units
 //!
-//! Units are assigned per draw, never by the caller: [`Program::textures`] binds the k-th listed
-//! texture to unit k and sets its sampler to k. An active sampler the list leaves out is pointed
-//! at the empty unit after them in release builds (it reads zeros, never what an earlier pass
-//! left bound) and panics in debug builds, as does a listed name the program does not declare.
+//! Units are assigned per draw, never by the caller (nothing outside this module binds one):
+//! [`Context::draw`] binds the k-th listed texture to unit k and sets its sampler to k. A draw
+//! whose list leaves out an active sampler of the program is refused with a panic (the sampler
+//! would read what an earlier pass left bound), and in debug builds so is a listed name the
+//! program does not declare.
 //!
 //! ## Attachments
 //!

@@ -2,7 +2,8 @@
 //! of the target runs the fragment program once (the papers' full-screen quad, thesis §3.5).
 
 use super::{
-    Context, Defines, Draw, DrawState, Framebuffer, PingPong, Primitive, Program, Rect, VertexArray,
+    Context, Defines, Draw, DrawState, Framebuffer, PingPong, Primitive, Program, Rect, Sampled,
+    VertexArray,
 };
 use crate::error::Result;
 
@@ -25,14 +26,29 @@ impl FullscreenPass {
         })
     }
 
-    /// Runs `program` (already bound, uniforms set) over every texel of `target`.
-    pub fn draw(&self, program: &Program, target: &Framebuffer) {
-        self.draw_rows(program, target, 0, target.height());
+    /// Runs `program` over every texel of `target`, reading `textures` (by sampler name, every
+    /// one the program reads) with `uniforms` set on this draw (see [`Draw`]).
+    pub fn draw(
+        &self,
+        program: &Program,
+        textures: &[(&str, Sampled<'_>)],
+        uniforms: &[(&str, Uniform)],
+        target: &Framebuffer,
+    ) {
+        self.draw_rows(program, textures, uniforms, target, 0, target.height());
     }
 
-    /// Runs `program` over rows `y0..y0+rows` of `target` only (live-row restriction).
+    /// As [`draw`](Self::draw), over rows `y0..y0+rows` of `target` only (live-row restriction).
     /// Blending is off: every texel written is the program's output.
-    pub fn draw_rows(&self, program: &Program, target: &Framebuffer, y0: u32, rows: u32) {
+    pub fn draw_rows(
+        &self,
+        program: &Program,
+        textures: &[(&str, Sampled<'_>)],
+        uniforms: &[(&str, Uniform)],
+        target: &Framebuffer,
+        y0: u32,
+        rows: u32,
+    ) {
         self.ctx.draw(&Draw {
             program,
             target,
@@ -46,24 +62,39 @@ impl FullscreenPass {
             primitive: Primitive::Triangles,
             count: 3,
             state: &DrawState::REPLACE,
+            textures,
+            uniforms,
         });
     }
 }
 
-/// A uniform value for [`StatePass::run`].
+/// A uniform value: of a [`Draw`]'s uniforms, of [`StatePass::run`], or for [`Program::set`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Uniform {
     /// `float`.
     F32(f32),
-    /// `int`.
+    /// `int` (or a sampler's unit, which only this layer sets).
     I32(i32),
+    /// `uint`.
+    U32(u32),
     /// `vec2`.
     Vec2(glam::Vec2),
     /// `vec3`.
     Vec3(glam::Vec3),
     /// `vec4`.
     Vec4(glam::Vec4),
+    /// `ivec2`.
+    IVec2(glam::IVec2),
+    /// `ivec3`.
+    IVec3(glam::IVec3),
+    /// `ivec4`.
+    IVec4(glam::IVec4),
+    /// `mat4` (column-major, as glam stores it).
+    Mat4(glam::Mat4),
 }
+
+/// The samplers a [`StatePass`] reads its state through, one per texture.
+const STATE_SAMPLERS: [&str; 4] = ["u_state0", "u_state1", "u_state2", "u_state3"];
 
 /// A fragment pass of your own over a [`PingPong`] state: the public ping-pong pass API (what
 /// three.js's `GPUComputationRenderer.addVariable` does, here in Rust; thesis §3.4-3.5).
@@ -139,8 +170,8 @@ impl StatePass {
         &self.program
     }
 
-    /// Runs the pass once: binds the front's textures to `u_state0`.. (units 0..), sets
-    /// `uniforms`, draws every texel of the back and swaps. Uniforms the shader does not use are
+    /// Runs the pass once: draws every texel of the back with the front's textures as
+    /// `u_state0`.. and `uniforms` set, and swaps. Uniforms the shader does not use are
     /// ignored, as GL ignores them. Panics if `state` has another number of textures than the
     /// pass was made for (a programming error, like a wrong index).
     pub fn run(&self, state: &mut PingPong, uniforms: &[(&str, Uniform)]) {
@@ -151,23 +182,20 @@ impl StatePass {
             self.targets
         );
         let p = &self.program;
-        p.bind();
-        p.optional(|| {
-            for (k, t) in state.front().textures().iter().enumerate() {
-                t.bind(k as u32);
-                p.set_i32(&format!("u_state{k}"), k as i32);
-            }
-            for &(name, value) in uniforms {
-                match value {
-                    Uniform::F32(v) => p.set_f32(name, v),
-                    Uniform::I32(v) => p.set_i32(name, v),
-                    Uniform::Vec2(v) => p.set_vec2(name, v),
-                    Uniform::Vec3(v) => p.set_vec3(name, v),
-                    Uniform::Vec4(v) => p.set_vec4(name, v),
-                }
-            }
-        });
-        self.pass.draw(p, state.back());
+        // The state's textures and the caller's uniforms that the shader declares; the others
+        // are ignored, as GL ignores them.
+        let textures: Vec<(&str, Sampled<'_>)> = STATE_SAMPLERS
+            .iter()
+            .zip(state.front().textures())
+            .filter(|(name, _)| p.declares(name))
+            .map(|(&name, t)| (name, t.into()))
+            .collect();
+        let uniforms: Vec<(&str, Uniform)> = uniforms
+            .iter()
+            .filter(|(name, _)| p.declares(name))
+            .copied()
+            .collect();
+        self.pass.draw(p, &textures, &uniforms, state.back());
         state.swap();
     }
 }

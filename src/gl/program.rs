@@ -7,7 +7,7 @@ use glow::HasContext;
 
 use super::bindings::{base_name, declared_uniforms, is_sampler};
 use super::source::{embedded, map_log, resolve};
-use super::Context;
+use super::{Context, Uniform};
 use crate::error::{Error, Result};
 
 /// `#define NAME VALUE` pairs prepended to both stages of a program.
@@ -160,10 +160,6 @@ impl Program {
         &self.samplers
     }
 
-    pub(super) fn context(&self) -> &Context {
-        &self.ctx
-    }
-
     /// Runs `f` with names the program does not declare ignored instead of refused: for setters
     /// shared by several programs (a scene's constants), each of which declares only some.
     pub fn optional(&self, f: impl FnOnce()) {
@@ -202,13 +198,33 @@ impl Program {
         l
     }
 
-    /// Sets an `int` or sampler uniform.
+    /// Sets uniform `name` to `value`, of the type the variant names.
+    pub fn set(&self, name: &str, value: Uniform) {
+        match value {
+            Uniform::F32(v) => self.set_f32(name, v),
+            Uniform::I32(v) => self.set_i32(name, v),
+            Uniform::U32(v) => self.set_u32(name, v),
+            Uniform::Vec2(v) => self.set_vec2(name, v),
+            Uniform::Vec3(v) => self.set_vec3(name, v),
+            Uniform::Vec4(v) => self.set_vec4(name, v),
+            Uniform::IVec2(v) => self.set_ivec2(name, v.x, v.y),
+            Uniform::IVec3(v) => self.set_ivec3(name, v.x, v.y, v.z),
+            Uniform::IVec4(v) => self.set_ivec4(name, v.to_array()),
+            Uniform::Mat4(m) => self.set_mat4(name, &m),
+        }
+    }
+
+    /// Sets an `int` uniform (samplers are set by [`Context::draw`] only).
     pub fn set_i32(&self, name: &str, v: i32) {
         // SAFETY: the program is current (see `bind`).
         unsafe { self.ctx.gl().uniform_1_i32(self.location(name).as_ref(), v) }
     }
-    /// Sets an `int[]` uniform array from its first element on (`name` without `[0]`).
+    /// Sets an `int[]` uniform array from its first element on (`name` without `[0]`); an
+    /// empty `v` sets nothing.
     pub fn set_i32_array(&self, name: &str, v: &[i32]) {
+        if v.is_empty() {
+            return;
+        }
         let first = format!("{name}[0]");
         // SAFETY: as above.
         unsafe {
@@ -216,6 +232,60 @@ impl Program {
                 .gl()
                 .uniform_1_i32_slice(self.location(&first).as_ref(), v)
         }
+    }
+    /// Sets a `float[]` uniform array from its first element on (`name` without `[0]`); an
+    /// empty `v` sets nothing.
+    pub fn set_f32_array(&self, name: &str, v: &[f32]) {
+        if v.is_empty() {
+            return;
+        }
+        let l = self.location(&format!("{name}[0]"));
+        // SAFETY: as above.
+        unsafe { self.ctx.gl().uniform_1_f32_slice(l.as_ref(), v) }
+    }
+    /// Sets a `vec2[]` uniform array from its first element on (`name` without `[0]`); an
+    /// empty `v` sets nothing.
+    pub fn set_vec2_array(&self, name: &str, v: &[glam::Vec2]) {
+        if v.is_empty() {
+            return;
+        }
+        let l = self.location(&format!("{name}[0]"));
+        let flat: Vec<f32> = v.iter().flat_map(|v| v.to_array()).collect();
+        // SAFETY: as above.
+        unsafe { self.ctx.gl().uniform_2_f32_slice(l.as_ref(), &flat) }
+    }
+    /// Sets a `vec3[]` uniform array from its first element on (`name` without `[0]`); an
+    /// empty `v` sets nothing.
+    pub fn set_vec3_array(&self, name: &str, v: &[glam::Vec3]) {
+        if v.is_empty() {
+            return;
+        }
+        let l = self.location(&format!("{name}[0]"));
+        let flat: Vec<f32> = v.iter().flat_map(|v| v.to_array()).collect();
+        // SAFETY: as above.
+        unsafe { self.ctx.gl().uniform_3_f32_slice(l.as_ref(), &flat) }
+    }
+    /// Sets a `vec4[]` uniform array from its first element on (`name` without `[0]`); an
+    /// empty `v` sets nothing.
+    pub fn set_vec4_array(&self, name: &str, v: &[glam::Vec4]) {
+        if v.is_empty() {
+            return;
+        }
+        let l = self.location(&format!("{name}[0]"));
+        let flat: Vec<f32> = v.iter().flat_map(|v| v.to_array()).collect();
+        // SAFETY: as above.
+        unsafe { self.ctx.gl().uniform_4_f32_slice(l.as_ref(), &flat) }
+    }
+    /// Sets an `ivec4[]` uniform array from its first element on (`name` without `[0]`); an
+    /// empty `v` sets nothing.
+    pub fn set_ivec4_array(&self, name: &str, v: &[[i32; 4]]) {
+        if v.is_empty() {
+            return;
+        }
+        let l = self.location(&format!("{name}[0]"));
+        let flat: Vec<i32> = v.iter().flatten().copied().collect();
+        // SAFETY: as above.
+        unsafe { self.ctx.gl().uniform_4_i32_slice(l.as_ref(), &flat) }
     }
     /// Sets a `uint` uniform.
     pub fn set_u32(&self, name: &str, v: u32) {

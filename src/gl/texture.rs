@@ -333,7 +333,7 @@ impl Texture {
     }
 
     /// Binds the texture to texture unit `unit`.
-    pub fn bind(&self, unit: u32) {
+    pub(super) fn bind(&self, unit: u32) {
         // SAFETY: the texture is alive and belongs to this context.
         unsafe {
             self.ctx.gl().active_texture(glow::TEXTURE0 + unit);

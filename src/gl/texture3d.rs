@@ -202,7 +202,7 @@ impl Texture3D {
     }
 
     /// Binds the texture to texture unit `unit` (a `sampler3D` uniform set to `unit` reads it).
-    pub fn bind(&self, unit: u32) {
+    pub(super) fn bind(&self, unit: u32) {
         // SAFETY: the texture is alive and belongs to this context.
         unsafe {
             self.ctx.gl().active_texture(glow::TEXTURE0 + unit);

@@ -161,7 +161,6 @@ impl ConnectedRenderer {
         p.set_vec3("u_light", surface_light());
         p.set_vec3("u_color", Vec3::from(self.color));
         p.set_f32("u_ambient", SURFACE_AMBIENT);
-        p.textures(&[("u_position", positions.into())]);
         let primitive = match self.kind {
             ConstraintKind::Cloth => Primitive::Triangles,
             ConstraintKind::Hair => Primitive::Lines,
@@ -177,6 +176,8 @@ impl ConnectedRenderer {
                 depth: Depth::Write,
                 ..DrawState::REPLACE
             },
+            textures: &[("u_position", positions.into())],
+            uniforms: &[],
         });
         self.ctx.check_error("drawing the surface")
     }

@@ -493,6 +493,8 @@ impl GeometryRenderer {
             primitive: Primitive::Triangles,
             count: self.count,
             state,
+            textures: &[],
+            uniforms: &[],
         });
     }
 
@@ -520,6 +522,8 @@ impl GeometryRenderer {
                 depth: crate::gl::Depth::Write,
                 ..DrawState::REPLACE
             },
+            textures: &[],
+            uniforms: &[],
         });
         Ok(())
     }

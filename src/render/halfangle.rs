@@ -18,7 +18,8 @@ use super::{Camera, FrameState, FrameTarget, ParticleStyle};
 use crate::error::{Error, Result};
 use crate::gl::{
     Blend, BlendComponent, BlendFactor, Context, Defines, Depth, Draw, DrawState, Framebuffer,
-    PointSize, Primitive, Program, Sampled, Texture, TextureDesc, TextureFormat, VertexArray,
+    PointSize, Primitive, Program, Sampled, Texture, TextureDesc, TextureFormat, Uniform,
+    VertexArray,
 };
 use crate::scene::{DrawMode, LightSection};
 
@@ -300,6 +301,8 @@ impl HalfAngleRenderer {
                 primitive: Primitive::Triangles,
                 count: 3,
                 state: &eye_state,
+                textures: &[],
+                uniforms: &[],
             });
         }
         self.ctx.check_error("drawing half-angle slices")
@@ -315,9 +318,6 @@ impl HalfAngleRenderer {
         (first, n): (usize, usize),
         st: &DrawState,
     ) {
-        program.bind();
-        program.textures(textures);
-        program.set_i32("u_first", first as i32);
         self.ctx.draw(&Draw {
             program,
             target: fb,
@@ -326,6 +326,8 @@ impl HalfAngleRenderer {
             primitive: Primitive::Triangles,
             count: (n * super::QUAD_VERTICES) as u32,
             state: st,
+            textures,
+            uniforms: &[("u_first", Uniform::I32(first as i32))],
         });
     }
 

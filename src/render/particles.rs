@@ -26,10 +26,19 @@ use crate::gl::{
     Blend, BlendComponent, BlendFactor, Context, Defines, Depth, Draw, DrawState, Primitive,
     Program, Sampled, Texture, VertexArray,
 };
-use crate::scene::{DrawMode, DrawPrimitive, RenderPath, Rotate};
+use crate::scene::{DrawMode, DrawPrimitive, RenderPath, Rotate, MAX_USER_STATES};
 
 /// Vertices per particle of quads and stretched quads: two triangles.
 pub const QUAD_VERTICES: usize = 6;
+
+/// The samplers `render.color` reads the user states through (`u_user_state_i` is state `i`,
+/// as src/render/user_color.rs declares them), one per state the scene may have.
+const USER_STATE_SAMPLERS: [&str; MAX_USER_STATES] = [
+    "u_user_state_0",
+    "u_user_state_1",
+    "u_user_state_2",
+    "u_user_state_3",
+];
 
 /// What the stretched quads stretch along (Latta's state: a velocity texture for explicit
 /// integrators, the previous positions for Verlet).
@@ -387,13 +396,10 @@ impl ParticleRenderer {
                 ))
             }
         };
-        let vertices = self.bind_inputs(p, state, motion, [sorted, scene_depth])?;
-        let aspect = target.width() as f32 / target.height() as f32;
-        p.set_mat4("u_view_proj", &camera.view_projection(aspect));
-        p.set_vec2(
-            "u_viewport",
-            glam::Vec2::new(target.width() as f32, target.height() as f32),
-        );
+        let (vertices, textures) = self.bind_inputs(p, state, motion, [sorted, scene_depth])?;
+        let size = glam::Vec2::new(target.width() as f32, target.height() as f32);
+        p.set_mat4("u_view_proj", &camera.view_projection(size.x / size.y));
+        p.set_vec2("u_viewport", size);
         p.set_f32("u_point_size", s.point_size);
         p.set_f32("u_intensity", s.intensity);
         p.set_f32("u_time", state.time);
@@ -419,6 +425,8 @@ impl ParticleRenderer {
             primitive,
             count: (count * per_particle) as u32,
             state: &draw_state,
+            textures: &textures,
+            uniforms: &[],
         });
         self.draw_under(target, state, camera, &draw_state)?;
         gl.check_error("drawing particles")
@@ -451,15 +459,17 @@ impl ParticleRenderer {
         Ok(motion)
     }
 
-    /// Binds the program and the state it reads (packed into the vertex buffers, or as
-    /// textures), the atlas, spins and motion; gives the vertices to draw.
-    fn bind_inputs(
-        &self,
+    /// Binds the program, packs the state it reads into the vertex buffers (or lists it as
+    /// textures) and gives the vertices to draw with the textures the draw reads: the state, the
+    /// atlas, spins, motion and the user states.
+    #[allow(clippy::type_complexity)]
+    fn bind_inputs<'a>(
+        &'a self,
         p: &Program,
-        state: &FrameState<'_>,
-        motion: Option<Motion<'_>>,
-        [sorted, scene_depth]: [Option<&Texture>; 2],
-    ) -> Result<&VertexArray> {
+        state: &FrameState<'a>,
+        motion: Option<Motion<'a>>,
+        [sorted, scene_depth]: [Option<&'a Texture>; 2],
+    ) -> Result<(&'a VertexArray, Vec<(&'a str, Sampled<'a>)>)> {
         let (positions, statics, count) = (state.positions, state.statics, state.count);
         let s = &self.style;
         if let (Some(v), true) = (&self.vertex, count > 0) {
@@ -505,19 +515,15 @@ impl ParticleRenderer {
             p.set_f32("u_motion_dt", dt);
             p.set_f32("u_stretch", s.stretch);
         }
-        let names: Vec<String> = (0..state.user.len())
-            .map(|i| format!("u_user_state_{i}"))
-            .collect();
         if self.style.user_color.is_some() {
-            for (n, t) in names.iter().zip(state.user) {
+            for (&n, t) in USER_STATE_SAMPLERS.iter().zip(state.user) {
                 if p.declares(n) {
                     self.check_state("user state", t)?;
-                    textures.push((n.as_str(), (*t).into()));
+                    textures.push((n, (*t).into()));
                 }
             }
         }
-        p.textures(&textures);
-        Ok(vertices)
+        Ok((vertices, textures))
     }
 
     /// The ribbons after the particles, then the under operator's last passes: the geometry's
@@ -562,6 +568,8 @@ impl ParticleRenderer {
                     depth: Depth::Off,
                     ..*draw_state
                 },
+                textures: &[],
+                uniforms: &[],
             });
         }
         Ok(())

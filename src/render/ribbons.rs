@@ -155,16 +155,10 @@ impl RibbonRenderer {
         p.set_f32("u_ribbon_width", self.width_m);
         p.set_i32("u_sprites", i32::from(style.mode == DrawMode::Sprites));
         p.set_i32("u_width", state.positions.width() as i32);
-        for r in 0..MAX_RANGES {
-            p.set_i32(&format!("u_ring[{r}]"), self.ring[r]);
-            p.set_f32(&format!("u_gap[{r}]"), self.gap[r]);
-        }
+        p.set_i32_array("u_ring", &self.ring);
+        p.set_f32_array("u_gap", &self.gap);
         style.set_types(p);
         style.set_keyframes(p);
-        p.textures(&[
-            ("u_position", state.positions.into()),
-            ("u_static", state.statics.into()),
-        ]);
         self.ctx.draw(&Draw {
             program: p,
             target: target.framebuffer(),
@@ -173,6 +167,11 @@ impl RibbonRenderer {
             primitive: Primitive::Triangles,
             count: self.count,
             state: draw_state,
+            textures: &[
+                ("u_position", state.positions.into()),
+                ("u_static", state.statics.into()),
+            ],
+            uniforms: &[],
         });
         self.ctx.check_error("drawing ribbons")
     }

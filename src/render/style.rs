@@ -154,27 +154,21 @@ impl ParticleStyle {
     /// Sets the colour and opacity keyframes of every type that `glsl/render/keyframes.glsl`
     /// reads on `p` (bound): the renderer and the CPU engine (E5) draw with the same ramps.
     pub fn set_keyframes(&self, p: &Program) {
+        let (mut age, mut offset, mut slope) = (Vec::new(), Vec::new(), Vec::new());
         for t in 0..4 {
             let ramp = self.ramp_of(t);
             for half in 0..2 {
                 let ages: [f32; 4] = std::array::from_fn(|i| ramp.ages[4 * half + i]);
-                p.set_vec4(
-                    &format!("u_key_age[{}]", 2 * t + half),
-                    glam::Vec4::from_array(ages),
-                );
+                age.push(glam::Vec4::from_array(ages));
             }
             for k in 0..MAX_KEYFRAMES {
-                let i = MAX_KEYFRAMES * t + k;
-                p.set_vec4(
-                    &format!("u_key_offset[{i}]"),
-                    glam::Vec4::from_array(ramp.offset[k]),
-                );
-                p.set_vec4(
-                    &format!("u_key_slope[{i}]"),
-                    glam::Vec4::from_array(ramp.slope[k]),
-                );
+                offset.push(glam::Vec4::from_array(ramp.offset[k]));
+                slope.push(glam::Vec4::from_array(ramp.slope[k]));
             }
         }
+        p.set_vec4_array("u_key_age", &age);
+        p.set_vec4_array("u_key_offset", &offset);
+        p.set_vec4_array("u_key_slope", &slope);
     }
 
     /// Sets the per-type sprite uniforms of `glsl/render/sprite.glsl` on `p` (bound): scale,
@@ -193,16 +187,16 @@ impl ParticleStyle {
         p.set_vec4("u_size_max", each(&|t| t.size_range[1]));
         p.set_vec4("u_flip_frames", each(&|t| t.flipbook.0 as f32));
         p.set_vec4("u_flip_rate", each(&|t| t.flipbook.1));
-        for (k, t) in self.types.iter().enumerate() {
-            p.set_vec4(
-                &format!("u_size_age[{k}]"),
-                glam::Vec4::from_array(t.size.ages),
-            );
-            p.set_vec4(
-                &format!("u_size_scale[{k}]"),
-                glam::Vec4::from_array(t.size.scales),
-            );
-        }
+        let size_age = self
+            .types
+            .each_ref()
+            .map(|t| glam::Vec4::from_array(t.size.ages));
+        p.set_vec4_array("u_size_age", &size_age);
+        let size_scale = self
+            .types
+            .each_ref()
+            .map(|t| glam::Vec4::from_array(t.size.scales));
+        p.set_vec4_array("u_size_scale", &size_scale);
     }
 
     /// The blend state of this style's blending and order (the under operator for front to

@@ -99,9 +99,8 @@ pub fn measure_constants(
     let fetch = med(&mut || {
         timer.time(|| {
             probe.bind();
-            probe.textures(&[("u_source", (&source).into())]);
             probe.set_i32("u_log_w", side.trailing_zeros() as i32);
-            pass.draw(&probe, &target);
+            pass.draw(&probe, &[("u_source", (&source).into())], &[], &target);
         })
     })?;
     let points = side as usize * side as usize;

@@ -181,21 +181,16 @@ impl FireSim {
         p.set_u32("u_seed", self.seed);
         p.set_i32("u_width", self.state.width() as i32);
         p.set_f32("u_max_age", self.params.max_age);
-        self.pass.draw(p, self.state.back());
+        self.pass.draw(p, &[], &[], self.state.back());
         self.state.swap();
         self.step = 0;
     }
 
-    /// Binds the physics program and its inputs for the next step.
+    /// Binds the physics program and sets its uniforms for the next step.
     fn bind_step(&self) {
         let p = &self.physics;
         let q = &self.params;
         p.bind();
-        let front = self.state.front();
-        p.textures(&[
-            ("u_position", front.texture(POSITION).into()),
-            ("u_velocity", front.texture(VELOCITY).into()),
-        ]);
         p.set_i32("u_width", self.state.width() as i32);
         p.set_f32("u_dt", self.dt);
         p.set_u32("u_step", self.step as u32);
@@ -264,7 +259,13 @@ impl super::Simulation for FireSim {
             )));
         }
         self.bind_step();
-        self.pass.draw(&self.physics, self.state.back());
+        let front = self.state.front();
+        let textures = [
+            ("u_position", front.texture(POSITION).into()),
+            ("u_velocity", front.texture(VELOCITY).into()),
+        ];
+        self.pass
+            .draw(&self.physics, &textures, &[], self.state.back());
         self.state.swap();
         self.step += 1;
         Ok(())

@@ -25,10 +25,12 @@
 //! # Ok::<(), texflow::Error>(())
 //! ```
 
+use glam::IVec2;
+
 use crate::error::{Error, Result};
 use crate::gl::{
     Context, Defines, Framebuffer, FullscreenPass, Program, Sampled, Texture, TextureDesc,
-    TextureFormat, FULLSCREEN_VERTEX,
+    TextureFormat, Uniform, FULLSCREEN_VERTEX,
 };
 
 use super::ParticleSim;
@@ -229,21 +231,20 @@ impl NonFiniteCounter {
             None => &self.mark,
             Some(key) => &built.iter().find(|(k, _)| *k == key).expect("built").1,
         };
-        mark.bind();
         let mut textures: Vec<(&str, Sampled)> = vec![("u_src", positions.into())];
         textures.extend(velocities.map(|v| ("u_velocity", v.into())));
         let names = ["u_extra0", "u_extra1", "u_extra2", "u_extra3"];
         textures.extend(names.iter().zip(extra).map(|(n, t)| (*n, (*t).into())));
-        mark.textures(&textures);
-        mark.set_ivec2("u_src_size", self.width as i32, self.height as i32);
-        self.pass.draw(mark, &self.levels[0]);
+        let size =
+            |w: u32, h: u32| [("u_src_size", Uniform::IVec2(IVec2::new(w as i32, h as i32)))];
+        let first = &self.levels[0];
+        self.pass
+            .draw(mark, &textures, &size(self.width, self.height), first);
         for pair in self.levels.windows(2) {
             let (src, dst) = (&pair[0], &pair[1]);
-            self.sum.bind();
-            self.sum.textures(&[("u_src", src.only_texture().into())]);
-            self.sum
-                .set_ivec2("u_src_size", src.width() as i32, src.height() as i32);
-            self.pass.draw(&self.sum, dst);
+            let from = [("u_src", src.only_texture().into())];
+            self.pass
+                .draw(&self.sum, &from, &size(src.width(), src.height()), dst);
         }
         let last = self.levels[self.levels.len() - 1].only_texture();
         let texels = last.read_f32()?;

@@ -302,6 +302,8 @@ impl CpuEngine {
             primitive: Primitive::Points,
             count: self.vertices.len() as u32,
             state: &state,
+            textures: &[],
+            uniforms: &[],
         });
         if let Some(b) = &self.background {
             b.bind();
@@ -315,6 +317,8 @@ impl CpuEngine {
                 primitive: Primitive::Triangles,
                 count: 3,
                 state: &state,
+                textures: &[],
+                uniforms: &[],
             });
         }
         gl.check_error("drawing the CPU engine's points")

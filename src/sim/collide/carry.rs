@@ -200,8 +200,7 @@ impl Collisions {
                 (names.iter().map(String::as_str))
                     .zip(c.first.iter().map(|f| f.only_texture().into())),
             );
-            p.textures(&textures);
-            self.pass.draw(p, &e.target);
+            self.pass.draw(p, &textures, &[], &e.target);
         }
         for e in &mut c.exchange {
             std::mem::swap(&mut e.target, &mut c.first[e.state]);
@@ -218,8 +217,12 @@ impl Collisions {
         let p = &self.copy;
         p.bind();
         for (pp, from) in c.states.iter_mut().zip(layout) {
-            p.textures(&[("u_source", from.only_texture().into())]);
-            self.pass.draw(p, pp.back());
+            self.pass.draw(
+                p,
+                &[("u_source", from.only_texture().into())],
+                &[],
+                pp.back(),
+            );
             pp.swap();
         }
     }

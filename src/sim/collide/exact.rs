@@ -43,12 +43,16 @@ impl Collisions {
             };
             count.bind();
             search(count);
-            count.textures(&[
-                ("u_keys", g.sorter.keys().into()),
-                ("u_position", g.layout.texture(POSITION).into()),
-                ("u_velocity", g.layout.texture(VELOCITY).into()),
-            ]);
-            self.pass.draw(count, counts);
+            self.pass.draw(
+                count,
+                &[
+                    ("u_keys", g.sorter.keys().into()),
+                    ("u_position", g.layout.texture(POSITION).into()),
+                    ("u_velocity", g.layout.texture(VELOCITY).into()),
+                ],
+                &[],
+                counts,
+            );
             if let Some(t) = &self.tally {
                 t.add(counts.only_texture(), entries as usize);
             }
@@ -74,10 +78,9 @@ impl Collisions {
                 textures.push(("u_spin", s.only_texture().into()));
             }
             textures.extend(fields.iter().filter(|(n, _)| p.declares(n)).copied());
-            p.textures(&textures);
             p.set_f32("u_restitution", self.config.restitution);
             p.set_f32("u_dt", dt);
-            self.pass.draw(p, state.back());
+            self.pass.draw(p, &textures, &[], state.back());
             state.swap();
             self.copy_statics(&self.first.layout, statics);
             self.carry_back(false);

@@ -376,16 +376,16 @@ impl Collisions {
         };
         let p = detect;
         p.bind();
-        p.textures(&[("u_position", positions.into())]);
         p.set_i32("u_width", self.width as i32);
         p.set_i32("u_neighbours", self.config.neighbours as i32);
         p.set_f32("u_radius", self.config.radius);
-        self.pass.draw(p, raw);
+        self.pass
+            .draw(p, &[("u_position", positions.into())], &[], raw);
         let m = mutual;
         m.bind();
-        m.textures(&[("u_partner", raw.only_texture().into())]);
         m.set_i32("u_width", self.width as i32);
-        self.pass.draw(m, out);
+        self.pass
+            .draw(m, &[("u_partner", raw.only_texture().into())], &[], out);
     }
 
     /// Keys on the first lattice from the current state, the sort, and the gather of position,
@@ -416,8 +416,12 @@ impl Collisions {
     fn copy_statics(&self, layout: &Framebuffer, statics: &Framebuffer) {
         let c = &self.copy;
         c.bind();
-        c.textures(&[("u_source", layout.texture(STATIC).into())]);
-        self.pass.draw(c, statics);
+        self.pass.draw(
+            c,
+            &[("u_source", layout.texture(STATIC).into())],
+            &[],
+            statics,
+        );
     }
 
     /// One collision step on the state after the collisionless motion: sorts, detects, responds
@@ -460,12 +464,11 @@ impl Collisions {
         p.bind();
         set_response_constants(p);
         let textures = self.response_textures(p, own, partner, fields);
-        p.textures(&textures);
         p.set_i32("u_width", self.width as i32);
         p.set_f32("u_radius", self.config.radius);
         p.set_f32("u_restitution", self.config.restitution);
         p.set_f32("u_dt", dt);
-        self.pass.draw(p, state.back());
+        self.pass.draw(p, &textures, &[], state.back());
         state.swap();
         self.copy_statics(own, statics);
         self.carry_back(self.second.is_some());

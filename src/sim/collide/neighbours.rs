@@ -248,16 +248,14 @@ impl Collisions {
         textures.extend(own.iter().copied());
         // A pair force may sample the fields (sim/fields.glsl), as a custom force may.
         textures.extend(fields.iter().filter(|(name, _)| p.declares(name)).copied());
-        p.textures(&textures);
-        self.pass.draw(p, &n.force);
+        self.pass.draw(p, &textures, &[], &n.force);
         let a = &n.apply;
         a.bind();
         set_constants(a);
         a.set_f32("u_dt", dt);
         let mut textures: Vec<(&str, Sampled)> = own.to_vec();
         textures.push(("u_force", n.force.only_texture().into()));
-        a.textures(&textures);
-        self.pass.draw(a, state.back());
+        self.pass.draw(a, &textures, &[], state.back());
         state.swap();
         self.copy_statics(&self.first.layout, statics);
         self.carry_back(false);

@@ -60,7 +60,6 @@ impl TruncationTally {
     pub(crate) fn add_flags(&self, flags: &Texture, component: i32, n: usize) {
         let p = &self.program;
         p.bind();
-        p.textures(&[("u_counts", flags.into())]);
         p.set_i32("u_width", flags.width() as i32);
         p.set_i32("u_component", component);
         let add = BlendComponent::add(BlendFactor::One, BlendFactor::One);
@@ -79,6 +78,8 @@ impl TruncationTally {
                 point_size: PointSize::One,
                 depth: Depth::Off,
             },
+            textures: &[("u_counts", flags.into())],
+            uniforms: &[],
         });
     }
 

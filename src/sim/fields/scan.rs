@@ -13,13 +13,10 @@ use glam::Vec3;
 
 use crate::error::Result;
 use crate::gl::{
-    Context, Framebuffer, FullscreenPass, Program, Texture, Texture3D, TextureDesc, TextureFormat,
-    FULLSCREEN_VERTEX,
+    Context, Framebuffer, FullscreenPass, Program, Sampled, Texture, Texture3D, TextureDesc,
+    TextureFormat, Uniform, FULLSCREEN_VERTEX,
 };
 use crate::scene::Triangle;
-
-/// Texture unit of the triangle texture during the scan.
-const TRIANGLES: u32 = 0;
 
 /// The triangles as an RGBA32F texture of 3 × `triangles.len()` texels: texel `(v, t)` holds
 /// vertex `v` of triangle `t` in xyz (w = 0).
@@ -55,18 +52,16 @@ pub(super) fn scan_convert(
     let program = Program::new(ctx, FULLSCREEN_VERTEX, "sim/sdf_slice.frag", &Vec::new())?;
     let pass = FullscreenPass::new(ctx)?;
     program.bind();
-    program.set_i32("u_triangles", TRIANGLES as i32);
     program.set_i32("u_triangle_count", triangles.len() as i32);
     program.set_vec3("u_min", bounds[0]);
     program.set_vec3("u_max", bounds[1]);
     let [nx, ny, nz] = res.map(|n| n as i32);
     program.set_ivec3("u_res", nx, ny, nz);
-    tris.bind(TRIANGLES);
+    let textures = [("u_triangles", Sampled::from(&tris))];
     for k in 0..res[2] {
         let slice = Framebuffer::layer(ctx, &format!("sdf:slice {k}"), &field, k)?;
-        program.bind();
-        program.set_i32("u_slice", k as i32);
-        pass.draw(&program, &slice);
+        let uniforms = [("u_slice", Uniform::I32(k as i32))];
+        pass.draw(&program, &textures, &uniforms, &slice);
     }
     ctx.check_error("scan-converting the mesh into the distance field")?;
     Ok(field)

@@ -236,7 +236,8 @@ impl Fluid {
         p.set_i32("u_emitters", initial.len().max(1) as i32);
         let dx = self.config.spacing;
         // Initial emitters take no curves (refused at their key): their values at t = 0.
-        for (k, e) in initial.iter().enumerate() {
+        let (mut lattice_min, mut lattice_n, mut lattice_v) = (Vec::new(), Vec::new(), Vec::new());
+        for e in initial {
             let size = Vec3::from(e.size);
             let lo = Vec3::from(e.center.at(0.0)) - 0.5 * size;
             let n = (size / dx + Vec3::splat(1e-3))
@@ -244,14 +245,14 @@ impl Fluid {
                 .max(Vec3::ZERO)
                 .as_uvec3();
             let v = Vec3::from(e.direction.at(0.0)).normalize_or_zero() * e.speed.at(0.0)[0];
-            p.set_vec4(&format!("u_lattice_min[{k}]"), lo.extend(dx));
-            p.set_ivec4(
-                &format!("u_lattice_n[{k}]"),
-                [n.x as i32, n.y as i32, n.z as i32, 0],
-            );
-            p.set_vec4(&format!("u_lattice_v[{k}]"), v.extend(0.0));
+            lattice_min.push(lo.extend(dx));
+            lattice_n.push([n.x as i32, n.y as i32, n.z as i32, 0]);
+            lattice_v.push(v.extend(0.0));
         }
-        self.pass.draw(p, state.back());
+        p.set_vec4_array("u_lattice_min", &lattice_min);
+        p.set_ivec4_array("u_lattice_n", &lattice_n);
+        p.set_vec4_array("u_lattice_v", &lattice_v);
+        self.pass.draw(p, &[], &[], state.back());
         state.swap();
     }
 
@@ -318,11 +319,15 @@ impl Fluid {
         p.bind();
         self.set_material(p);
         p.set_i32("u_count", count as i32);
-        p.textures(&[
-            ("u_keys", keys.into()),
-            ("u_position", l.texture(POSITION).into()),
-        ]);
-        self.pass.draw(p, &self.density);
+        self.pass.draw(
+            p,
+            &[
+                ("u_keys", keys.into()),
+                ("u_position", l.texture(POSITION).into()),
+            ],
+            &[],
+            &self.density,
+        );
         self.tally.add_flags(self.density.only_texture(), 3, count);
         let p = &self.force_pass;
         set_constants(p);
@@ -330,18 +335,22 @@ impl Fluid {
         self.set_material(p);
         p.set_i32("u_count", count as i32);
         p.set_f32("u_dt", dt);
-        p.textures(&[
-            ("u_keys", keys.into()),
-            ("u_position", l.texture(POSITION).into()),
-            ("u_velocity", l.texture(VELOCITY).into()),
-            ("u_density", self.density.only_texture().into()),
-        ]);
-        self.pass.draw(p, state.back());
+        self.pass.draw(
+            p,
+            &[
+                ("u_keys", keys.into()),
+                ("u_position", l.texture(POSITION).into()),
+                ("u_velocity", l.texture(VELOCITY).into()),
+                ("u_density", self.density.only_texture().into()),
+            ],
+            &[],
+            state.back(),
+        );
         state.swap();
         let c = &self.copy;
         c.bind();
-        c.textures(&[("u_source", l.texture(STATIC).into())]);
-        self.pass.draw(c, statics);
+        self.pass
+            .draw(c, &[("u_source", l.texture(STATIC).into())], &[], statics);
         Ok(())
     }
 

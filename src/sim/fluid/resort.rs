@@ -196,16 +196,16 @@ impl CoherentSort {
             p.bind();
             p.set_i32("u_dist", s.dist as i32);
             p.set_i32("u_mirror", s.mirror as i32);
-            p.textures(&[("u_keys", source.into())]);
-            self.pass.draw(p, self.merge.back());
+            self.pass
+                .draw(p, &[("u_keys", source.into())], &[], self.merge.back());
             self.merge.swap();
         }
         let c = &self.order_pass;
         c.bind();
         c.set_i32("u_width", self.width as i32);
         c.set_i32("u_count", n);
-        c.textures(&[("u_keys", self.keys().into())]);
-        self.pass.draw(c, &self.order);
+        self.pass
+            .draw(c, &[("u_keys", self.keys().into())], &[], &self.order);
         self.tally
             .add_flags(self.order.only_texture(), 0, n as usize);
         let total = self.tally.total()?;

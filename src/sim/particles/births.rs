@@ -103,8 +103,6 @@ impl ParticleSim {
             ..DrawState::REPLACE
         };
         let draw = |program: &Program, target: &Framebuffer| {
-            program.bind();
-            super::bind_textures(program, &[], &self.fields);
             self.ctx.draw(&Draw {
                 program,
                 target,
@@ -113,6 +111,8 @@ impl ParticleSim {
                 primitive: Primitive::Points,
                 count,
                 state: &state,
+                textures: &super::draw_textures(program, &[], &self.fields),
+                uniforms: &[],
             })
         };
         if let Some(p) = &self.emit_static {

@@ -70,12 +70,16 @@ impl Fields {
     }
 }
 
-/// Binds the textures of one simulation draw: `own` (each of which the program must declare)
-/// and the fields the program declares.
-fn bind_textures(p: &Program, own: &[(&str, Sampled<'_>)], fields: &Fields) {
+/// The textures of one simulation draw: `own` (each of which the program must declare) and the
+/// fields the program declares.
+fn draw_textures<'a>(
+    p: &Program,
+    own: &[(&'a str, Sampled<'a>)],
+    fields: &'a Fields,
+) -> Vec<(&'a str, Sampled<'a>)> {
     let mut list = own.to_vec();
     list.extend(fields.textures().into_iter().filter(|(n, _)| p.declares(n)));
-    p.textures(&list);
+    list
 }
 
 /// The particle simulation of a scene.
@@ -252,28 +256,25 @@ impl ParticleSim {
         };
         let state = program("OUT_STATE", &mut defines)?;
         let statics = program("OUT_STATIC", &mut defines)?;
-        for p in [&state, &statics] {
-            p.bind();
-            bind_textures(p, &[], &self.fields);
-        }
-        self.pass.draw(&statics, &self.statics);
+        let t = draw_textures(&statics, &[], &self.fields);
+        self.pass.draw(&statics, &t, &[], &self.statics);
+        let t = draw_textures(&state, &[], &self.fields);
         match &self.state {
             State::Explicit(pp) => {
                 // Both sides, so rows a live-row restricted pass never touches are dead too.
-                self.pass.draw(&state, pp.front());
-                self.pass.draw(&state, pp.back());
+                self.pass.draw(&state, &t, &[], pp.front());
+                self.pass.draw(&state, &t, &[], pp.back());
                 if let Some(sl) = &self.stateless {
-                    self.pass.draw(&state, &sl.start);
+                    self.pass.draw(&state, &t, &[], &sl.start);
                 }
             }
             State::Verlet(ring) => {
                 let previous = program("OUT_PREVIOUS", &mut defines)?;
-                previous.bind();
-                bind_textures(&previous, &[], &self.fields);
+                let tp = draw_textures(&previous, &[], &self.fields);
                 let [p, c, n] = ring.roles();
-                self.pass.draw(&previous, p);
-                self.pass.draw(&state, c);
-                self.pass.draw(&state, n);
+                self.pass.draw(&previous, &tp, &[], p);
+                self.pass.draw(&state, &t, &[], c);
+                self.pass.draw(&state, &t, &[], n);
             }
         }
         self.step = 0;
@@ -438,16 +439,16 @@ impl ParticleSim {
                     ("u_velocity", pp.front().texture(VELOCITY).into()),
                     statics,
                 ];
-                if self.features.spin {
-                    own.push(("u_spin", pp.front().texture(SPIN).into()));
-                }
+                let spin = self.features.spin.then(|| pp.front().texture(SPIN));
+                own.extend(spin.map(|t| ("u_spin", t.into())));
                 own.extend(user(p));
-                bind_textures(p, &own, &self.fields);
+                let t = draw_textures(p, &own, &self.fields);
                 match &self.integrate_position {
-                    None if rows > 0 => self.pass.draw_rows(p, pp.back(), 0, rows),
+                    None if rows > 0 => self.pass.draw_rows(p, &t, &[], pp.back(), 0, rows),
                     Some(q) if rows > 0 => {
                         // Latta §3.1 without MRT: the velocity first, then the position.
-                        self.pass.draw_rows(p, pp.back_single(VELOCITY), 0, rows);
+                        let (v, x) = (pp.back_single(VELOCITY), pp.back_single(POSITION));
+                        self.pass.draw_rows(p, &t, &[], v, 0, rows);
                         q.bind();
                         if self.animated {
                             uniforms::set_spawn(q, &self.scene, self.time as f32);
@@ -464,8 +465,8 @@ impl ParticleSim {
                         .filter(|(n, _)| q.declares(n))
                         .chain(user(q))
                         .collect();
-                        bind_textures(q, &own, &self.fields);
-                        self.pass.draw_rows(q, pp.back_single(POSITION), 0, rows);
+                        let t = draw_textures(q, &own, &self.fields);
+                        self.pass.draw_rows(q, &t, &[], x, 0, rows);
                     }
                     _ => {}
                 }
@@ -481,9 +482,9 @@ impl ParticleSim {
                     statics,
                 ];
                 own.extend(user(p));
-                bind_textures(p, &own, &self.fields);
+                let t = draw_textures(p, &own, &self.fields);
                 if rows > 0 {
-                    self.pass.draw_rows(p, ring.next(), 0, rows);
+                    self.pass.draw_rows(p, &t, &[], ring.next(), 0, rows);
                 }
                 ring.rotate();
             }

@@ -6,7 +6,7 @@
 //! step's implied velocity includes what the constraints moved). Also moves orbiting spheres,
 //! which the Verlet step and the relaxation both read.
 
-use super::{bind_textures, Fields};
+use super::{draw_textures, Fields};
 use crate::error::Result;
 use crate::gl::{
     Context, Defines, FullscreenPass, Program, Ring3, Texture, TextureDesc, TextureFormat,
@@ -173,19 +173,24 @@ impl Relaxation {
             ("u_pins", (&self.pins).into()),
         ];
         let own: Vec<_> = own.into_iter().filter(|(n, _)| p.declares(n)).collect();
-        bind_textures(p, &own, fields);
-        pass.draw(p, ring.next());
+        let t = draw_textures(p, &own, fields);
+        pass.draw(p, &t, &[], ring.next());
         ring.swap_current_next();
     }
 }
 
-/// Sets `u_sphere[i]` to each orbiting sphere's place at time `t` (static ones keep the value
-/// the scene's constants gave).
+/// Sets `u_sphere` to the spheres' places at time `t` if any orbits (a static one's place is
+/// the value the scene's constants gave).
 pub(super) fn move_spheres(p: &Program, scene: &SceneFile, t: f64) {
-    let centres = sphere_centres(scene, t);
-    for (i, (s, c)) in scene.colliders.sphere.iter().zip(centres).enumerate() {
-        if s.orbit.is_some() {
-            p.set_vec4(&format!("u_sphere[{i}]"), c.extend(s.radius));
-        }
+    let spheres = &scene.colliders.sphere;
+    if spheres.iter().all(|s| s.orbit.is_none()) {
+        return;
     }
+    let centres = sphere_centres(scene, t);
+    let placed: Vec<_> = spheres
+        .iter()
+        .zip(centres)
+        .map(|(s, c)| c.extend(s.radius))
+        .collect();
+    p.set_vec4_array("u_sphere", &placed);
 }

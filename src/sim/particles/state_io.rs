@@ -1,6 +1,6 @@
 //! The state textures, and reading the state back and replacing it (tests, experiments, dumps).
 
-use super::{bind_textures, state_texture, ParticleSim, State};
+use super::{draw_textures, state_texture, ParticleSim, State};
 use crate::error::{Error, Result};
 use crate::gl::{Framebuffer, Texture, TextureFormat};
 use crate::sim::fields::{DistanceField, HeightField};
@@ -161,8 +161,8 @@ impl ParticleSim {
                     ("u_velocity", (&v).into()),
                     ("u_static", self.statics.texture(STATIC).into()),
                 ];
-                bind_textures(p, &own, &self.fields);
-                self.pass.draw(p, ring.previous());
+                let t = draw_textures(p, &own, &self.fields);
+                self.pass.draw(p, &t, &[], ring.previous());
             }
         }
         self.ctx.check_error("setting the particle state")

@@ -143,9 +143,8 @@ impl Stateless {
             ("u_static", statics.into()),
         ];
         let own: Vec<_> = own.into_iter().filter(|(n, _)| p.declares(n)).collect();
-        p.textures(&own);
         if rows > 0 {
-            pass.draw_rows(p, target, 0, rows);
+            pass.draw_rows(p, &own, &[], target, 0, rows);
         }
     }
 }

@@ -6,7 +6,7 @@ use glam::{Vec3, Vec4};
 use super::super::emit::EmitterUniforms;
 use super::Fields;
 use crate::gl::Program;
-use crate::scene::{ColliderKind, SceneFile};
+use crate::scene::SceneFile;
 use crate::sim::params::{self, Integration, Params, Shape};
 
 fn v3(a: [f32; 3]) -> Vec3 {
@@ -61,7 +61,8 @@ fn set_masses(p: &Program, m: &Integration) {
 
 /// The emitters' bursts, shapes and release clouds.
 fn set_emitters(p: &Program, s: &SceneFile) {
-    for (k, e) in s.emitters.all().enumerate() {
+    let (mut burst_time, mut burst_end) = (Vec::new(), Vec::new());
+    for e in s.emitters.all() {
         let (mut time, mut end) = ([0f32; 4], [0f32; 4]);
         let mut total = 0u64;
         for b in 0..4 {
@@ -71,11 +72,14 @@ fn set_emitters(p: &Program, s: &SceneFile) {
             }
             end[b] = total as f32;
         }
-        p.set_vec4(&format!("u_burst_time[{k}]"), Vec4::from(time));
-        p.set_vec4(&format!("u_burst_end[{k}]"), Vec4::from(end));
+        burst_time.push(Vec4::from(time));
+        burst_end.push(Vec4::from(end));
     }
+    p.set_vec4_array("u_burst_time", &burst_time);
+    p.set_vec4_array("u_burst_end", &burst_end);
     spawn_uniforms(p, s, 0.0);
     let mut cloud = [0.0f32; 4];
+    let mut release_spread = Vec::new();
     for (k, e) in s.emitters.all().enumerate() {
         let r = e.release_spread.unwrap_or([0.0; 3]);
         // Places per cycle: one per release (a step), or one per cloud of texels; a cube of
@@ -85,29 +89,26 @@ fn set_emitters(p: &Program, s: &SceneFile) {
             None => (e.cycle.unwrap_or(1.0) / s.time.dt).round(),
         };
         let side = places.max(1.0).cbrt().ceil();
-        p.set_vec4(
-            &format!("u_release_spread[{k}]"),
-            Vec4::new(r[0], r[1], r[2], side),
-        );
+        release_spread.push(Vec4::new(r[0], r[1], r[2], side));
         cloud[k] = e.release_cloud.unwrap_or(0) as f32;
     }
+    p.set_vec4_array("u_release_spread", &release_spread);
     p.set_vec4("u_release_cloud", Vec4::from(cloud));
 }
 
 /// The emitters' spawn uniforms (glsl/sim/spawn.glsl) with their curves at time `t`.
 fn spawn_uniforms(p: &Program, s: &SceneFile, t: f32) {
-    for (k, e) in s
+    let em: Vec<EmitterUniforms> = s
         .emitters
         .all()
         .map(|e| EmitterUniforms::at(e, t))
-        .enumerate()
-    {
-        p.set_vec4(&format!("u_em_center[{k}]"), e.center);
-        p.set_vec4(&format!("u_em_size[{k}]"), e.size);
-        p.set_vec4(&format!("u_em_normal[{k}]"), e.normal);
-        p.set_vec4(&format!("u_em_dir[{k}]"), e.dir);
-        p.set_vec4(&format!("u_em_range[{k}]"), e.range);
-    }
+        .collect();
+    let field = |f: fn(&EmitterUniforms) -> Vec4| em.iter().map(f).collect::<Vec<_>>();
+    p.set_vec4_array("u_em_center", &field(|e| e.center));
+    p.set_vec4_array("u_em_size", &field(|e| e.size));
+    p.set_vec4_array("u_em_normal", &field(|e| e.normal));
+    p.set_vec4_array("u_em_dir", &field(|e| e.dir));
+    p.set_vec4_array("u_em_range", &field(|e| e.range));
 }
 
 /// Sets the spawn uniforms of the bound program `p` at time `t` (scenes with curves, every
@@ -121,24 +122,25 @@ pub(super) fn set_spawn(p: &Program, s: &SceneFile, t: f32) {
 fn set_forces(p: &Program, s: &SceneFile, m: &Integration, fields: &Fields) {
     p.set_vec3("u_gravity", m.gravity.unwrap_or(Vec3::ZERO));
     p.set_f32("u_damping", m.damping.unwrap_or(0.0));
-    for (i, a) in m.attractors.iter().enumerate() {
-        p.set_vec4(&format!("u_attractor[{i}]"), a.at);
-        p.set_vec4(&format!("u_attractor_shape[{i}]"), a.shape);
-        p.set_i32(&format!("u_attractor_owner[{i}]"), a.owner);
-    }
-    for (i, sp) in m.springs.iter().enumerate() {
-        p.set_vec4(&format!("u_spring[{i}]"), sp.at);
-        p.set_i32(&format!("u_spring_owner[{i}]"), sp.owner);
-    }
-    for (i, v) in m.vortices.iter().enumerate() {
-        p.set_vec4(&format!("u_vortex[{i}]"), v.at);
-        p.set_vec3(&format!("u_vortex_axis[{i}]"), v.axis);
-        p.set_vec4(&format!("u_vortex_shape[{i}]"), v.shape);
-        p.set_i32(&format!("u_vortex_owner[{i}]"), v.owner);
-    }
-    for (k, g) in m.type_gravity.iter().enumerate() {
-        p.set_vec3(&format!("u_type_gravity[{k}]"), *g);
-    }
+    let attractor: Vec<Vec4> = m.attractors.iter().map(|a| a.at).collect();
+    p.set_vec4_array("u_attractor", &attractor);
+    let attractor_shape: Vec<Vec4> = m.attractors.iter().map(|a| a.shape).collect();
+    p.set_vec4_array("u_attractor_shape", &attractor_shape);
+    let attractor_owner: Vec<i32> = m.attractors.iter().map(|a| a.owner).collect();
+    p.set_i32_array("u_attractor_owner", &attractor_owner);
+    let spring: Vec<Vec4> = m.springs.iter().map(|sp| sp.at).collect();
+    p.set_vec4_array("u_spring", &spring);
+    let spring_owner: Vec<i32> = m.springs.iter().map(|sp| sp.owner).collect();
+    p.set_i32_array("u_spring_owner", &spring_owner);
+    let vortex: Vec<Vec4> = m.vortices.iter().map(|v| v.at).collect();
+    p.set_vec4_array("u_vortex", &vortex);
+    let axis: Vec<Vec3> = m.vortices.iter().map(|v| v.axis).collect();
+    p.set_vec3_array("u_vortex_axis", &axis);
+    let shape: Vec<Vec4> = m.vortices.iter().map(|v| v.shape).collect();
+    p.set_vec4_array("u_vortex_shape", &shape);
+    let owner: Vec<i32> = m.vortices.iter().map(|v| v.owner).collect();
+    p.set_i32_array("u_vortex_owner", &owner);
+    p.set_vec3_array("u_type_gravity", &m.type_gravity);
     p.set_vec4("u_type_damping", Vec4::from(m.type_damping));
     let f = &s.forces;
     if let (Some(w), Some((_, field))) = (f.wind.first(), &fields.flow) {
@@ -160,36 +162,38 @@ fn set_forces(p: &Program, s: &SceneFile, m: &Integration, fields: &Fields) {
 /// field's bounds: a field from a file takes its shape from the file, `resolution` 0 there).
 fn set_colliders(p: &Program, c: &params::Colliders, fields: &Fields) {
     p.set_f32("u_slow_speed", c.slow_speed);
-    let mut seen = [0usize; ColliderKind::ALL.len()];
+    // Each kind's colliders in `u_KIND[i]`, in the order of the block.
+    let (mut plane, mut plane_resp) = (Vec::new(), Vec::new());
+    let (mut sphere, mut sphere_resp) = (Vec::new(), Vec::new());
+    let (mut box_min, mut box_max, mut box_resp) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut heights, mut sdfs) = (0, 0);
     for col in &c.list {
-        let n = &mut seen[col.shape.kind().position()];
-        let i = *n;
-        *n += 1;
         let resp = col.resp;
         match &col.shape {
             Shape::Plane(pl) => {
-                p.set_vec4(&format!("u_plane[{i}]"), *pl);
-                p.set_vec2(&format!("u_plane_resp[{i}]"), resp);
+                plane.push(*pl);
+                plane_resp.push(resp);
             }
             Shape::Sphere(sp) => {
-                p.set_vec4(&format!("u_sphere[{i}]"), *sp);
-                p.set_vec2(&format!("u_sphere_resp[{i}]"), resp);
+                sphere.push(*sp);
+                sphere_resp.push(resp);
             }
             Shape::Box(lo, hi) => {
-                p.set_vec3(&format!("u_box_min[{i}]"), *lo);
-                p.set_vec3(&format!("u_box_max[{i}]"), *hi);
-                p.set_vec2(&format!("u_box_resp[{i}]"), resp);
+                box_min.push(*lo);
+                box_max.push(*hi);
+                box_resp.push(resp);
             }
             Shape::HeightField(extent) => {
-                if let (0, Some((_, field))) = (i, &fields.height) {
+                if let (0, Some((_, field))) = (heights, &fields.height) {
                     p.set_vec4("u_height_extent", *extent);
                     let [nx, nz] = field.resolution();
                     p.set_ivec2("u_height_res", nx as i32, nz as i32);
                     p.set_vec2("u_height_resp", resp);
                 }
+                heights += 1;
             }
             Shape::Sdf(..) => {
-                if let (0, Some((_, field))) = (i, &fields.sdf) {
+                if let (0, Some((_, field))) = (sdfs, &fields.sdf) {
                     let [lo, hi] = field.bounds();
                     p.set_vec3("u_sdf_min", lo);
                     p.set_vec3("u_sdf_max", hi);
@@ -197,9 +201,17 @@ fn set_colliders(p: &Program, c: &params::Colliders, fields: &Fields) {
                     p.set_ivec3("u_sdf_res", rx, ry, rz);
                     p.set_vec2("u_sdf_resp", resp);
                 }
+                sdfs += 1;
             }
         }
     }
+    p.set_vec4_array("u_plane", &plane);
+    p.set_vec2_array("u_plane_resp", &plane_resp);
+    p.set_vec4_array("u_sphere", &sphere);
+    p.set_vec2_array("u_sphere_resp", &sphere_resp);
+    p.set_vec3_array("u_box_min", &box_min);
+    p.set_vec3_array("u_box_max", &box_max);
+    p.set_vec2_array("u_box_resp", &box_resp);
 }
 
 /// The child emitters' layout (glsl/sim/children.glsl).
@@ -207,13 +219,12 @@ fn set_children(p: &Program, s: &SceneFile) {
     let layout = s.child_layout();
     p.set_i32("u_child_start", layout.parent_slots as i32);
     p.set_i32("u_children", layout.ranges.len() as i32);
-    for (c, (r, e)) in layout.ranges.iter().zip(&s.emitters.child).enumerate() {
-        let first = [r.start, r.per_parent, r.parent, r.on_death].map(|v| v as i32);
-        p.set_ivec4(&format!("u_child[{c}]"), first);
+    let (mut child, mut more) = (Vec::new(), Vec::new());
+    for (r, e) in layout.ranges.iter().zip(&s.emitters.child) {
+        child.push([r.start, r.per_parent, r.parent, r.on_death].map(|v| v as i32));
         let inherit = e.inherit_velocity.unwrap_or(1.0);
-        p.set_vec4(
-            &format!("u_child_more[{c}]"),
-            Vec4::new(r.trail_rate, inherit, r.kind as f32, 0.0),
-        );
+        more.push(Vec4::new(r.trail_rate, inherit, r.kind as f32, 0.0));
     }
+    p.set_ivec4_array("u_child", &child);
+    p.set_vec4_array("u_child_more", &more);
 }

@@ -13,7 +13,7 @@
 //! have been drawn, so the states' order does not matter and they cannot form cycles. The
 //! integration pass reads the same values through the same macros (custom forces, `custom.rs`).
 
-use super::{bind_textures, set_constants_for, ParticleSim, State};
+use super::{draw_textures, set_constants_for, ParticleSim, State};
 use crate::error::{Error, Result};
 use crate::gl::source::{add_runtime_source, is_runtime_source};
 use crate::gl::{Context, Defines, PingPong, Program, Sampled, Texture, FULLSCREEN_VERTEX};
@@ -409,8 +409,8 @@ impl ParticleSim {
                 p.set_i32("u_start", start as i32);
             });
             let list: Vec<_> = own.iter().copied().filter(|(n, _)| p.declares(n)).collect();
-            bind_textures(p, &list, &self.fields);
-            self.pass.draw_rows(p, pp.back(), 0, rows);
+            let t = draw_textures(p, &list, &self.fields);
+            self.pass.draw_rows(p, &t, &[], pp.back(), 0, rows);
         }
         for pp in &mut user.states {
             pp.swap();

@@ -5,8 +5,8 @@ use std::collections::HashMap;
 
 use crate::error::{Error, Result};
 use crate::gl::{
-    Context, Defines, Framebuffer, FullscreenPass, Program, Texture, Texture3D, TextureFormat,
-    FULLSCREEN_VERTEX,
+    Context, Defines, Framebuffer, FullscreenPass, Program, Sampled, Texture, Texture3D,
+    TextureFormat, FULLSCREEN_VERTEX,
 };
 use crate::sort::blocked::BlockPass;
 
@@ -296,13 +296,13 @@ impl Blocked {
         let prev = self.input_layout(i);
         let p = &self.programs[&self.program_key(i)];
         p.bind();
-        if i == 0 {
-            p.textures(&[("u_natural", natural.into())]);
+        let input: (&str, Sampled) = if i == 0 {
             p.set_i32("u_in_log_w", self.natural_log_w as i32);
+            ("u_natural", natural.into())
         } else {
-            p.textures(&[("u_blocks", (&self.tex[self.front]).into())]);
             p.set_i32("u_in_log_w", self.log_w as i32);
-        }
+            ("u_blocks", (&self.tex[self.front]).into())
+        };
         p.set_i32("u_log_w", self.log_w as i32);
         if let (true, Some(q)) = (i == 0, self.quantiser) {
             set_quantiser(p, &q);
@@ -337,7 +337,7 @@ impl Blocked {
             .map(|s| s.dir.map_or(-1, |d| d as i32))
             .collect();
         p.set_i32_array("u_dir", &dir);
-        fullscreen.draw(p, &self.fbs[1 - self.front]);
+        fullscreen.draw(p, &[input], &[], &self.fbs[1 - self.front]);
         self.front = 1 - self.front;
     }
 
@@ -345,7 +345,6 @@ impl Blocked {
     pub(super) fn unpack(&self, target: &Framebuffer, fullscreen: &FullscreenPass) {
         let p = &self.unpack;
         p.bind();
-        p.textures(&[("u_blocks", (&self.tex[self.front]).into())]);
         p.set_i32("u_in_log_w", self.log_w as i32);
         p.set_i32("u_width_log", self.natural_log_w as i32);
         p.set_i32("u_bits", self.n as i32);
@@ -361,7 +360,8 @@ impl Blocked {
             .map(|&b| b as i32)
             .collect();
         p.set_i32_array("u_perm", &perm);
-        fullscreen.draw(p, target);
+        let blocks = [("u_blocks", Sampled::from(&self.tex[self.front]))];
+        fullscreen.draw(p, &blocks, &[], target);
     }
 }
 

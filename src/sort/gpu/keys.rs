@@ -96,8 +96,7 @@ impl Sorter {
         if let (true, Some(t)) = (age, statics) {
             textures.push(("u_static", t.into()));
         }
-        p.textures(&textures);
-        self.fullscreen.draw(p, self.state.back());
+        self.fullscreen.draw(p, &textures, &[], self.state.back());
         self.state.swap();
         self.next = 0;
         Ok(())

@@ -53,16 +53,10 @@ impl Sorter {
         p.bind();
         p.set_i32("u_sort_width", self.width as i32);
         p.set_i32("u_state_width", dest.width() as i32);
-        let names: Vec<String> = (0..sources.len()).map(|i| format!("u_state{i}")).collect();
+        let names = ["u_state0", "u_state1", "u_state2", "u_state3"];
         let mut textures: Vec<(&str, Sampled)> = vec![("u_sorted", sorted.into())];
-        textures.extend(
-            names
-                .iter()
-                .map(String::as_str)
-                .zip(sources.iter().map(|&t| t.into())),
-        );
-        p.textures(&textures);
-        self.fullscreen.draw(p, dest);
+        textures.extend(names.into_iter().zip(sources.iter().map(|&t| t.into())));
+        self.fullscreen.draw(p, &textures, &[], dest);
         Ok(())
     }
 }

@@ -1,7 +1,7 @@
 //! Running one pass of the sorter: bind its program, set the step's uniforms, draw.
 
 use super::{group_shape, GpProgram, Pass, ProgramKey, Sorter, Step};
-use crate::gl::{Draw, DrawState, Primitive, Program, Sampled};
+use crate::gl::{Draw, DrawState, Primitive, Program, Sampled, Uniform};
 
 impl Sorter {
     /// Runs pass `index` of the sequence into the back framebuffer and swaps.
@@ -15,9 +15,8 @@ impl Sorter {
         match &self.passes[index] {
             Pass::Fragment(step) => {
                 let p = self.step_program(step);
-                p.textures(&keys);
-                p.set_i32("u_width", self.width as i32);
-                self.fullscreen.draw(p, self.state.back());
+                let width = [("u_width", Uniform::I32(self.width as i32))];
+                self.fullscreen.draw(p, &keys, &width, self.state.back());
             }
             Pass::Group(steps) => self.run_group(steps, &keys),
             Pass::Blocked(_) => unreachable!("blocked passes return above"),
@@ -74,21 +73,20 @@ impl Sorter {
             steps: steps_n,
         }];
         p.bind();
-        p.textures(keys);
         p.set_i32("u_width", self.width as i32);
         if let Step::Bitonic { block, .. } = steps[0] {
             p.set_i32("u_block", block as i32);
         }
         // Wide masks in order are the basis of the sub-network (see multistep.frag).
         let wide = steps.iter().filter_map(Step::mask).filter(|&m| m >= 2);
-        for (b, mask) in wide.enumerate() {
-            p.set_i32(&format!("u_basis[{b}]"), mask as i32);
-        }
-        for (s, step) in steps.iter().enumerate() {
-            let mirror = matches!(step, Step::Bitonic { mirror: true, .. });
-            p.set_i32(&format!("u_mirror[{s}]"), mirror as i32);
-        }
-        self.fullscreen.draw(p, self.state.back());
+        let basis: Vec<i32> = wide.map(|mask| mask as i32).collect();
+        p.set_i32_array("u_basis", &basis);
+        let mirror: Vec<i32> = steps
+            .iter()
+            .map(|step| matches!(step, Step::Bitonic { mirror: true, .. }) as i32)
+            .collect();
+        p.set_i32_array("u_mirror", &mirror);
+        self.fullscreen.draw(p, keys, &[], self.state.back());
     }
 
     /// A GP/FP pass: the step's quads, drawn with their texel offset.
@@ -100,14 +98,9 @@ impl Sorter {
         keys: &[(&str, Sampled)],
     ) {
         let p = &self.programs[&ProgramKey::Geometry(program)];
-        p.bind();
-        p.textures(keys);
         let fb = self.state.back();
-        p.set_vec2(
-            "u_size",
-            glam::Vec2::new(fb.width() as f32, fb.height() as f32),
-        );
-        p.set_ivec2("u_offset", offset.0, offset.1);
+        let size = glam::Vec2::new(fb.width() as f32, fb.height() as f32);
+        let offset = glam::IVec2::new(offset.0, offset.1);
         let g = &self.geometry[geometry];
         self.ctx.draw(&Draw {
             program: p,
@@ -117,6 +110,11 @@ impl Sorter {
             primitive: Primitive::Triangles,
             count: g.vertices,
             state: &DrawState::REPLACE,
+            textures: keys,
+            uniforms: &[
+                ("u_size", Uniform::Vec2(size)),
+                ("u_offset", Uniform::IVec2(offset)),
+            ],
         });
     }
 }

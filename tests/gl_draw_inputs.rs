@@ -1,0 +1,102 @@
+//! A draw's inputs are data: [`Draw`] lists its textures by sampler name and its uniforms, and
+//! `Context::draw` gives the textures units in order on every draw. Checked on a real driver:
+//! a program whose sampler the draw leaves out is refused, and draws with other lists read their
+//! own textures and uniforms, never what the draw before left bound.
+
+mod common;
+
+use common::{context, no_gl_error};
+use texflow::gl::{
+    Context, Defines, Framebuffer, FullscreenPass, Program, Sampled, Texture, TextureDesc,
+    TextureFormat, Uniform, FULLSCREEN_VERTEX,
+};
+
+/// Reads `u_a` and `u_b` at the fragment's texel and writes `a + 10 b + u_k`.
+const TWO: &str = "uniform sampler2D u_a; uniform sampler2D u_b; uniform float u_k;
+    layout(location = 0) out vec4 o;
+    void main() {
+        ivec2 t = ivec2(gl_FragCoord.xy);
+        o = texelFetch(u_a, t, 0) + 10.0 * texelFetch(u_b, t, 0) + vec4(u_k);
+    }";
+
+/// Reads `u_x` alone.
+const ONE: &str = "uniform sampler2D u_x;
+    layout(location = 0) out vec4 o;
+    void main() { o = texelFetch(u_x, ivec2(gl_FragCoord.xy), 0); }";
+
+const SIZE: u32 = 4;
+
+/// A 4×4 RGBA32F texture holding `v` in every channel.
+fn filled(ctx: &Context, v: f32) -> Texture {
+    let t = Texture::new(
+        ctx,
+        TextureDesc {
+            width: SIZE,
+            height: SIZE,
+            format: TextureFormat::Rgba32F,
+            label: "input",
+        },
+    )
+    .unwrap();
+    t.upload_f32(&[v; 4 * (SIZE * SIZE) as usize]).unwrap();
+    t
+}
+
+fn target(ctx: &Context) -> Framebuffer {
+    Framebuffer::new(ctx, "out", vec![filled(ctx, 0.0)]).unwrap()
+}
+
+fn program(ctx: &Context, name: &str, source: &str) -> Program {
+    Program::with_fragment_source(ctx, FULLSCREEN_VERTEX, name, source, &Defines::new()).unwrap()
+}
+
+/// Every texel of `fb`'s texture, which must all be `v`.
+fn assert_all(fb: &Framebuffer, v: f32, what: &str) {
+    let got = fb.only_texture().read_f32().unwrap();
+    assert!(got.iter().all(|&x| x == v), "{what}: want {v}, got {got:?}");
+}
+
+#[test]
+#[should_panic(expected = "reads sampler(s) [\"u_b\"] that this draw binds no texture to")]
+fn a_draw_without_an_active_sampler_is_refused() {
+    let ctx = context();
+    let p = program(&ctx, "two.frag", TWO);
+    let a = filled(&ctx, 1.0);
+    let fb = target(&ctx);
+    // u_b would read whatever an earlier draw left on its unit: refused.
+    FullscreenPass::new(&ctx)
+        .unwrap()
+        .draw(&p, &[("u_a", (&a).into())], &[], &fb);
+}
+
+#[test]
+fn draws_with_other_texture_lists_read_their_own_textures() {
+    let ctx = context();
+    let pass = FullscreenPass::new(&ctx).unwrap();
+    let (a, b, c) = (filled(&ctx, 1.0), filled(&ctx, 2.0), filled(&ctx, 3.0));
+    let one = program(&ctx, "one.frag", ONE);
+    let two = program(&ctx, "two.frag", TWO);
+    let k = |v: f32| [("u_k", Uniform::F32(v))];
+    let (fa, fb, fc, fd) = (target(&ctx), target(&ctx), target(&ctx), target(&ctx));
+    // The same program, another texture: each draw reads its own.
+    pass.draw(&one, &[("u_x", (&a).into())], &[], &fa);
+    pass.draw(&one, &[("u_x", (&b).into())], &[], &fb);
+    assert_all(&fa, 1.0, "u_x = a");
+    assert_all(&fb, 2.0, "u_x = b");
+    // Listed out of declaration order, then swapped, with another uniform each time: the
+    // units follow the list, not the names or the draw before.
+    let list: [(&str, Sampled); 2] = [("u_b", (&c).into()), ("u_a", (&a).into())];
+    pass.draw(&two, &list, &k(0.5), &fc);
+    pass.draw(
+        &two,
+        &[("u_a", (&b).into()), ("u_b", (&a).into())],
+        &k(0.25),
+        &fd,
+    );
+    assert_all(&fc, 1.0 + 10.0 * 3.0 + 0.5, "a + 10 c + 0.5");
+    assert_all(&fd, 2.0 + 10.0 * 1.0 + 0.25, "b + 10 a + 0.25");
+    // Back to the one-sampler program after the two-sampler one left c and a on units 0 and 1.
+    pass.draw(&one, &[("u_x", (&c).into())], &[], &fa);
+    assert_all(&fa, 3.0, "u_x = c");
+    no_gl_error(&ctx);
+}

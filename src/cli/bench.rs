@@ -382,9 +382,8 @@ pub fn print_step_table(records: &[StepRecord]) {
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
 pub struct SceneArgs {
-    /// Scene to measure: a built-in name (`texflow scene list`: fire, fire-points, snow,
-    /// fountain, smoke, smoke-unlit, e1, e2, e3, collide, gas, mesh, cloth, hair, spin, fireworks, dem, flicker, dam, drop) or a .toml scene file.
-    #[arg(value_name = "NAME|FILE")]
+    /// The scene: a built-in name or a .toml scene file.
+    #[arg(help = super::scene_help("measure", ""), value_name = "NAME|FILE")]
     scene: String,
     /// Square state sizes (size x size particles), comma-separated [default: the scene's
     /// particles.size, when square].

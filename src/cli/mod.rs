@@ -99,6 +99,15 @@ impl ClockArg {
     }
 }
 
+/// The help of a scene argument: `verb` and the built-in names, read from the scene registry
+/// so that a new built-in scene needs no edit here.
+pub fn scene_help(verb: &str, more: &str) -> String {
+    format!(
+        "Scene to {verb}: a built-in name (`texflow scene list`: {}) or a .toml scene file{more}.",
+        texflow::scene::BUILTIN.join(", ")
+    )
+}
+
 /// Parses `WxH` or `N`; both sides at least 1.
 pub fn parse_size(s: &str) -> Result<[u32; 2], String> {
     let parse = |t: &str| {

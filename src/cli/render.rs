@@ -39,9 +39,8 @@ impl From<EngineArg> for EngineKind {
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
 pub struct RenderArgs {
-    /// Scene to render: a built-in name (`texflow scene list`: fire, fire-points, snow,
-    /// fountain, smoke, smoke-unlit, e1, e2, e3, collide, gas, mesh, cloth, hair, spin, fireworks, dem, flicker, dam, drop) or a .toml scene file.
-    #[arg(default_value = scene::DEFAULT_SCENE)]
+    /// The scene: a built-in name or a .toml scene file.
+    #[arg(help = super::scene_help("render", ""), default_value = scene::DEFAULT_SCENE)]
     scene: String,
     /// Number of frames to simulate.
     #[arg(long, value_name = "N", default_value_t = 60, value_parser = at_least_one::<u64>)]

@@ -28,9 +28,8 @@ use super::{at_least_one, bad, parse_size, time_step};
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]
 pub struct ViewArgs {
-    /// Scene to show: a built-in name (`texflow scene list`: fire, fire-points, snow,
-    /// fountain, smoke, smoke-unlit, e1, e2, e3, collide, gas, mesh, cloth, hair, spin, fireworks, dem, flicker, dam, drop) or a .toml scene file (reloaded when it changes on disk).
-    #[arg(default_value = texflow::scene::DEFAULT_SCENE)]
+    /// The scene: a built-in name or a .toml scene file.
+    #[arg(help = super::scene_help("show", " (reloaded when it changes on disk)"), default_value = texflow::scene::DEFAULT_SCENE)]
     scene: String,
     /// Stop after N frames (default: run until the window is closed).
     #[arg(long, value_name = "N", value_parser = at_least_one::<u64>)]

@@ -274,7 +274,9 @@ pub fn run(ctx: &Context, sweep: &SpreadSweep, progress: Progress<'_>) -> Result
 /// Fills the state of `s` (the sort does not run while the simulation warms up), then runs two
 /// whole spread sorts of `per_sort` frames each; returns the simulated warm-up time (s).
 fn warm_up(engine: &mut dyn Stages, s: &SceneFile, per_sort: usize) -> Result<f64> {
-    let life = s.emitters.allocator[0].longest_life().map_or(0.0, |l| l as f64);
+    let life = s.emitters.allocator[0]
+        .longest_life()
+        .map_or(0.0, |l| l as f64);
     let warm_frames = (life / (s.time.dt as f64 * s.time.substeps as f64)).ceil() as usize;
     let warmup_s = warm_frames as f64 * s.time.dt as f64 * s.time.substeps as f64;
     for _ in 0..warm_frames {

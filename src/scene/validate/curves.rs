@@ -175,10 +175,7 @@ pub(super) fn life(at: Vec<Key>, life: &Animated<[f32; 2]>) -> Check {
     if !(lo > 0.0 && keys.iter().all(|v| v[0] <= v[1])) {
         return fail(
             at,
-            format!(
-                "life must be [min, max] with 0 < min <= max{}",
-                over(life)
-            ),
+            format!("life must be [min, max] with 0 < min <= max{}", over(life)),
         );
     }
     let longest = life.bounds()[1][1];

@@ -15,7 +15,7 @@ fn pile(iterations: u32) -> SceneFile {
     s.particles.size = [32, 32];
     let e = &mut s.emitters.timestamp[0];
     e.cycle = Some(4.0);
-    e.life = Some([4.0, 4.0]);
+    e.life = Some([4.0, 4.0].into());
     let c = s.collisions.as_mut().unwrap();
     c.detection = scene::Detection::Exact;
     c.iterations = iterations;

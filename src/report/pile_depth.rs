@@ -64,7 +64,7 @@ pub fn pile_scene(plan: Plan, detection: scene::Detection, iterations: u32) -> R
     s.particles.size = [plan.side, plan.side];
     for e in s.emitters.timestamp.iter_mut() {
         e.cycle = Some(plan.cycle);
-        e.life = Some([plan.cycle, plan.cycle]);
+        e.life = Some([plan.cycle, plan.cycle].into());
     }
     if let Some(c) = s.collisions.as_mut() {
         c.detection = detection;

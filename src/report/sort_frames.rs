@@ -188,7 +188,7 @@ pub fn scene(side: u32, passes: Option<usize>, orbit: f32) -> Result<SceneFile> 
     let e = s.emitters.allocator.first_mut().ok_or_else(|| {
         Error::InvalidInput("the smoke scene has no allocator emitter to scale".into())
     })?;
-    let life = e.life.ok_or_else(|| {
+    let life = e.life_at(0.0).ok_or_else(|| {
         Error::InvalidInput("the smoke scene's emitter has no life span to scale by".into())
     })?;
     let mean_life = 0.5 * (life[0] + life[1]) as f64;
@@ -275,7 +275,9 @@ pub fn run(ctx: &Context, sweep: &SpreadSweep, progress: Progress<'_>) -> Result
 /// Fills the state of `s` (the sort does not run while the simulation warms up), then runs two
 /// whole spread sorts of `per_sort` frames each; returns the simulated warm-up time (s).
 fn warm_up(engine: &mut dyn Stages, s: &SceneFile, per_sort: usize) -> Result<f64> {
-    let life = s.emitters.allocator[0].life.map_or(0.0, |l| l[1] as f64);
+    let life = s.emitters.allocator[0]
+        .longest_life()
+        .map_or(0.0, |l| l as f64);
     let warm_frames = (life / (s.time.dt as f64 * s.time.substeps as f64)).ceil() as usize;
     let warmup_s = warm_frames as f64 * s.time.dt as f64 * s.time.substeps as f64;
     for _ in 0..warm_frames {

@@ -96,7 +96,9 @@ fn measure(
 ) -> Result<(f64, f64)> {
     let mut built = crate::engine::build_gpu(ctx, s, seed)?;
     let engine = built.as_mut();
-    let life = s.emitters.allocator[0].life.map_or(0.0, |l| l[1] as f64);
+    let life = s.emitters.allocator[0]
+        .longest_life()
+        .map_or(0.0, |l| l as f64);
     let warm = (life / (s.time.dt as f64 * s.time.substeps as f64)).ceil() as usize;
     for _ in 0..warm {
         engine.advance_frame()?;

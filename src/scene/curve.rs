@@ -340,7 +340,19 @@ impl crate::scene::Emitter {
         e.direction = e.direction.at(t).into();
         e.cone_degrees = e.cone_degrees.at(t).into();
         e.speed = e.speed.at(t).into();
+        e.life = e.life_at(t).map(Into::into);
         e
+    }
+
+    /// The life range [min, max] of a birth at `t` seconds; `None` for permanent particles.
+    pub fn life_at(&self, t: f32) -> Option<[f32; 2]> {
+        self.life.as_ref().map(|l| l.at(t))
+    }
+
+    /// The longest life any birth can draw (a curve's upper bound); `None` for permanent
+    /// particles.
+    pub fn longest_life(&self) -> Option<f32> {
+        self.life.as_ref().map(|l| l.bounds()[1][1])
     }
 }
 

@@ -61,7 +61,7 @@ impl EmitterUniforms {
             Shape::Disc => 3.0,
         };
         let normal = Vec3::from(e.normal.unwrap_or([0.0, 1.0, 0.0])).normalize();
-        let life = e.life.unwrap_or([0.0, 0.0]);
+        let life = e.life_at(t).unwrap_or([0.0, 0.0]);
         let speed = e.speed.at(t);
         EmitterUniforms {
             center: Vec3::from(e.center.at(t)).extend(shape),
@@ -147,7 +147,7 @@ mod tests {
             direction: [0.0, 3.0, 0.0].into(),
             cone_degrees: 20.0.into(),
             speed: [1.0, 2.0].into(),
-            life: Some([0.5, 1.5]),
+            life: Some([0.5, 1.5].into()),
             mass: None,
             mass_range: None,
             sprite_scale: 1.0,

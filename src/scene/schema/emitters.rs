@@ -143,7 +143,8 @@ pub struct Emitter {
     /// Speed range [min, max] (one number: min = max); may be a curve.
     pub speed: Animated<[f32; 2]>,
     /// Life range [min, max], seconds; initial emitters may leave it out (permanent particles).
-    pub life: Option<[f32; 2]>,
+    /// May be a curve on allocator emitters (each birth draws from the range at its time).
+    pub life: Option<Animated<[f32; 2]>>,
     /// Mass of this emitter's particles (its type); default `particles.mass`.
     pub mass: Option<f32>,
     /// Latta §3.3: a mass range [lo, hi] in kg; each particle's mass lies in it, drawn from the

@@ -126,7 +126,7 @@ impl SceneFile {
         let mut out = Vec::new();
         for (i, e) in self.emitters.child.iter().enumerate() {
             let rate = e.trail_rate.unwrap_or(0.0) as f64;
-            let life = e.life.map_or(0.0, |l| l[1] as f64);
+            let life = e.longest_life().map_or(0.0, |l| l as f64);
             let on_death = e.on_death.unwrap_or(0);
             let texels = e.per_parent.unwrap_or(0).saturating_sub(on_death);
             let live = rate * life;

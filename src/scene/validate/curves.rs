@@ -3,7 +3,7 @@
 //! simulations that can follow a value changing in time. The value's range is checked by the
 //! emitter's checks over the curve's bounds.
 
-use super::{fail, Check};
+use super::{duration, fail, Check};
 use crate::scene::curve::{Animated, Components, Curve, CurveValue};
 use crate::scene::locate::Key;
 use crate::scene::schema::{Emitter, SceneFile, Simulation};
@@ -11,9 +11,10 @@ use crate::scene::schema::{Emitter, SceneFile, Simulation};
 use Key::{Index as I, Name as N};
 
 /// The emitter's keys that may be curves, by name.
-fn animated(e: &Emitter) -> [(&'static str, Option<&Curve>); 6] {
+fn animated(e: &Emitter) -> [(&'static str, Option<&Curve>); 7] {
     [
         ("rate", e.rate.as_ref().and_then(Animated::curve)),
+        ("life", e.life.as_ref().and_then(Animated::curve)),
         ("center", e.center.curve()),
         ("radius", e.radius.curve()),
         ("direction", e.direction.curve()),
@@ -39,6 +40,18 @@ pub(super) fn emitter_curves(s: &SceneFile, at: &[Key], kind: &str, e: &Emitter)
     check::<[f32; 3]>(key("direction"), Some(&e.direction))?;
     check::<f32>(key("cone_degrees"), Some(&e.cone_degrees))?;
     check::<[f32; 2]>(key("speed"), Some(&e.speed))?;
+    check::<[f32; 2]>(key("life"), e.life.as_ref())?;
+    if e.life.as_ref().and_then(Animated::curve).is_some() && kind != "allocator" {
+        // Time stamps and children draw a texel's life once, into the static texture the
+        // integration pass only reads: a later birth could not take the curve's value.
+        return fail(
+            key("life"),
+            format!(
+                "`life` is a curve, but a {kind} emitter draws each texel's life once, at the \
+                 start: give a constant [min, max], or emit with [[emitters.allocator]]"
+            ),
+        );
+    }
     let Some((name, _)) = animated(e).into_iter().find(|(_, c)| c.is_some()) else {
         return Ok(());
     };
@@ -148,6 +161,28 @@ fn amplitude<T: CurveValue>(at: Vec<Key>, a: &Components) -> Check {
         return fail(at, "amplitude must be finite");
     }
     Ok(())
+}
+
+/// `life`: [min, max] with 0 < min <= max at every key (min and max share the terms, so the
+/// order holds between keys) and min above 0 over the curve's bounds; the longest life a time
+/// the state can store.
+pub(super) fn life(at: Vec<Key>, life: &Animated<[f32; 2]>) -> Check {
+    let keys = match life {
+        Animated::Constant(v) => vec![*v],
+        Animated::Curve(c) => c.key_values::<[f32; 2]>(),
+    };
+    let [lo, _] = life.bounds()[0];
+    if !(lo > 0.0 && keys.iter().all(|v| v[0] <= v[1])) {
+        return fail(
+            at,
+            format!("life must be [min, max] with 0 < min <= max{}", over(life)),
+        );
+    }
+    let longest = life.bounds()[1][1];
+    match life {
+        Animated::Constant(_) => duration([&at[..], &[I(1)]].concat(), "life", longest),
+        Animated::Curve(_) => duration(at, "life", longest),
+    }
 }
 
 /// "over its curve" for a curve's range errors, nothing for a constant's.

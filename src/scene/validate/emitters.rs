@@ -224,7 +224,7 @@ fn timestamp(s: &SceneFile, i: usize, e: &Emitter) -> Check {
     check_spawn(&at, e)?;
     match e.cycle {
         None => return fail(at.to_vec(), "a timestamp emitter needs `cycle` (seconds)"),
-        Some(c) if e.life.is_some_and(|l| c < l[1]) => {
+        Some(c) if e.longest_life().is_some_and(|l| c < l) => {
             return fail(key("cycle"), "cycle must be at least the longest life")
         }
         Some(c) => duration(key("cycle"), "cycle", c)?,
@@ -272,11 +272,8 @@ pub(super) fn check_spawn(at: &[Key], s: &Emitter) -> Check {
             "tile must be 0, 1, 2 or 3 (the atlas has four tiles)",
         );
     }
-    if let Some(life) = s.life {
-        if !(life[0] > 0.0 && life[0] <= life[1]) {
-            return fail(p("life"), "life must be [min, max] with 0 < min <= max");
-        }
-        duration([&p("life")[..], &[I(1)]].concat(), "life", life[1])?;
+    if let Some(life) = &s.life {
+        super::curves::life(p("life"), life)?;
     }
     spawn_mass(p, s)?;
     if s.sprite_scale <= 0.0 {
@@ -499,7 +496,11 @@ impl SceneFile {
         for e in &self.emitters.allocator {
             // A curve's mean over its first life is unknown here: its peak, to be safe.
             let r = e.rate.as_ref().map_or(0.0, |r| r.bounds()[0][1].max(0.0)) as f64;
-            let [lo, hi] = e.life.unwrap_or([0.0, 0.0]);
+            // A life curve: its longest lives, to be safe as with the rate.
+            let [lo, hi] = e.life.as_ref().map_or([0.0; 2], |l| {
+                let b = l.bounds();
+                [b[0][1], b[1][1]]
+            });
             live += r * 0.5 * (lo as f64 + hi as f64);
             rate += r;
         }

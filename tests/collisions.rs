@@ -411,7 +411,7 @@ fn elastic_gas_keeps_its_energy_in_both_modes() {
     }
 }
 
-/// The benchmarks' pair census (`Collisions::census`) counts what the full statistics count:
+/// The benchmarks' pair census (`CollisionStage::census`) counts what the full statistics count:
 /// the same overlapping pairs, and of them the ones found, in both detection modes.
 #[test]
 fn census_agrees_with_the_full_statistics() {

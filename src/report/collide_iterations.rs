@@ -5,15 +5,15 @@ use glam::Vec3;
 
 use crate::error::Result;
 use crate::scene::SceneFile;
-use crate::sim::collide::Collisions;
+use crate::sim::collide::CollisionStage;
 use crate::sim::ParticleSim;
 
 pub use super::collide_stats::IterationStats;
 use super::collide_stats::{LatticeSnapshot, Snapshot};
 
 /// The recorded iterations of the last step of `stage` (see
-/// [`Collisions::record_iterations`]), each measured against the CPU's true pairs.
-pub fn iteration_stats(stage: &Collisions) -> Vec<IterationStats> {
+/// [`CollisionStage::record_iterations`]), each measured against the CPU's true pairs.
+pub fn iteration_stats(stage: &CollisionStage) -> Vec<IterationStats> {
     let lattice = stage.lattices().0;
     stage
         .recorded()

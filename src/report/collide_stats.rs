@@ -10,7 +10,7 @@ use glam::Vec3;
 
 use crate::error::{Error, Result};
 use crate::scene;
-use crate::sim::collide::{Collisions, Lattice};
+use crate::sim::collide::{CollisionStage, Lattice};
 
 /// One lattice's view of a step: the positions in its sorted order and each one's partner.
 #[derive(Debug, Clone)]
@@ -155,8 +155,8 @@ fn close_pairs(points: &[(usize, Vec3)], reach: f32) -> Vec<(usize, usize)> {
 
 impl Snapshot {
     /// Reads back what the last step's detection of `stage` saw.
-    /// In the exact mode with [`Collisions::record_iterations`] on, the first iteration's.
-    pub fn read(stage: &Collisions) -> Result<Snapshot> {
+    /// In the exact mode with [`CollisionStage::record_iterations`] on, the first iteration's.
+    pub fn read(stage: &CollisionStage) -> Result<Snapshot> {
         let (first, second) = stage.lattices();
         let lattice = |lattice: Lattice, staggered: bool| -> Result<LatticeSnapshot> {
             let r = match stage.recorded().first() {

@@ -205,7 +205,7 @@ pub trait Simulation: std::fmt::Debug {
 
     /// The collision stage between particles, where the model has one (`texflow trace`
     /// pictures its lattice and partners).
-    fn collision_stage(&self) -> Option<&super::collide::Collisions> {
+    fn collision_stage(&self) -> Option<&super::collide::CollisionStage> {
         None
     }
     /// The passes of one step with the programs each draws per step (`texflow scene passes`,

@@ -6,7 +6,7 @@
 //! too (one gather pass per state: a texture of its own format), and wherever the stage copies
 //! the static texture back in the new order it copies the states back as well, so that after
 //! the stage every state's texel still belongs to the particle of the same texel. The stage holds
-//! the states' textures while it runs ([`Collisions::run`]) and hands them back after.
+//! the states' textures while it runs ([`CollisionStage::run`]) and hands them back after.
 //!
 //! The exchange runs once per step, after the step's first sort: for every state with `pair`, a
 //! pass over the sorted layout (`glsl/collide/exchange.frag`) adds to each live particle's value
@@ -14,7 +14,7 @@
 //! exact detection's search of the 27 cells around it (`glsl/collide/cells.glsl`). Every exchange
 //! reads the values before any of them (they are swapped in after all are drawn).
 
-use super::{texture, Collisions};
+use super::{texture, CollisionStage};
 use crate::error::Result;
 use crate::gl::{Context, Defines, Framebuffer, PingPong, Program, Sampled, TextureFormat};
 use crate::scene::{SceneFile, StateFormat};
@@ -94,7 +94,7 @@ pub(crate) fn exchange_defines(scene: &SceneFile, defines: &Defines) -> Defines 
     }
 }
 
-impl Collisions {
+impl CollisionStage {
     /// The stage carrying the user states of `scene` along its sorts, with the exchange passes
     /// `exchanges` (each state's index and program, compiled by the simulation with
     /// [`exchange_defines`]).

@@ -1,15 +1,15 @@
 //! What a collision frame rate is worth: how many of the overlapping pairs a step's detection
-//! found, counted on the CPU from a read-back ([`Collisions::census`]).
+//! found, counted on the CPU from a read-back ([`CollisionStage::census`]).
 
 use std::collections::{HashMap, HashSet};
 
 use glam::Vec3;
 
-use super::{Collisions, Readback};
+use super::{CollisionStage, Readback};
 use crate::error::Result;
 use crate::scene;
 
-/// How many of the overlapping pairs a step's detection found (see [`Collisions::census`]).
+/// How many of the overlapping pairs a step's detection found (see [`CollisionStage::census`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct PairCensus {
     /// Pairs of live particles closer than 2 radius.
@@ -29,7 +29,7 @@ impl PairCensus {
     }
 }
 
-impl Collisions {
+impl CollisionStage {
     /// Counts, on the CPU, the pairs closer than 2 radius after the last step's detection and
     /// how many of them it found: what a collision frame rate is worth. (`report::collide_stats`
     /// takes the full statistics; this is the number the benchmarks print beside their fps.)

@@ -3,13 +3,13 @@
 //! sort found them. An iteration is the whole stage: keys, sort, gather, partner counts, the
 //! response with every partner, and the static texture copied in the new order.
 
-use super::{Collisions, Passes, Readback};
+use super::{CollisionStage, Passes, Readback};
 use crate::error::Result;
 use crate::gl::{Defines, Framebuffer, PingPong, Program, Sampled};
 use crate::scene;
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
 
-impl Collisions {
+impl CollisionStage {
     /// `collisions.iterations` exact iterations; with [`record_iterations`]
     /// (Self::record_iterations) on, each one's detection is read back after its count pass.
     pub(super) fn run_exact(

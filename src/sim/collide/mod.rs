@@ -23,7 +23,7 @@
 //! iteration sorts again, so each one searches the cells the particles are in now.
 //!
 //! The statistics themselves (what a step's detection found against the true pairs) are measured
-//! there, from [`Collisions::read_back`]: this module only runs the passes.
+//! there, from [`CollisionStage::read_back`]: this module only runs the passes.
 
 use glam::{UVec3, Vec3};
 
@@ -126,7 +126,7 @@ struct Grid {
 
 /// The collision stage of a scene.
 #[derive(Debug)]
-pub struct Collisions {
+pub struct CollisionStage {
     ctx: Context,
     config: scene::Collisions,
     first: Grid,
@@ -295,7 +295,7 @@ impl Passes {
     }
 }
 
-impl Collisions {
+impl CollisionStage {
     /// Builds the stage for `scene` (which has a `[collisions]` section); `defines` are the
     /// simulation's, so the response pass applies the same colliders and precision.
     pub fn new(
@@ -320,7 +320,7 @@ impl Collisions {
         let defines = &exact::key_layout(defines, config.sort);
         let d = exact::stage_defines(defines, second.is_some());
         let passes = Passes::new(ctx, exact, size, &d)?;
-        Ok(Collisions {
+        Ok(CollisionStage {
             carry: None,
             passes,
             neighbours: neighbours::Neighbours::new(ctx, scene, defines)?,
@@ -581,7 +581,7 @@ impl Collisions {
     }
 }
 
-/// One lattice's state after a step's detection, read back by [`Collisions::read_back`]; RGBA
+/// One lattice's state after a step's detection, read back by [`CollisionStage::read_back`]; RGBA
 /// texels, four floats per particle, in the lattice's sorted order.
 #[derive(Debug, Clone)]
 pub struct Readback {

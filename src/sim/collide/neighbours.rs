@@ -14,9 +14,9 @@
 //! gather as an exact iteration does, the force pass, the velocity pass into the state (now in
 //! cell order), the static texture copied in that order. With the dem response that is the
 //! whole collision stage. The force texture stays readable in the gathered layout's order until
-//! the next step ([`Collisions::read_neighbour_forces`]), for the CPU twin of the tests.
+//! the next step ([`CollisionStage::read_neighbour_forces`]), for the CPU twin of the tests.
 
-use super::{texture, Collisions};
+use super::{texture, CollisionStage};
 use crate::error::{Error, Result};
 use crate::gl::source::add_runtime_source;
 use crate::gl::{
@@ -193,7 +193,7 @@ pub fn neighbour_passes(dem: bool, pair: usize, sort: scene::CollisionSort) -> V
 }
 
 /// The neighbour force pass's inputs and output, read back by
-/// [`Collisions::read_neighbour_forces`]: RGBA texels, four floats per particle, all in the
+/// [`CollisionStage::read_neighbour_forces`]: RGBA texels, four floats per particle, all in the
 /// gathered layout's order.
 #[derive(Debug, Clone)]
 pub struct NeighbourReadback {
@@ -207,7 +207,7 @@ pub struct NeighbourReadback {
     pub forces: Vec<f32>,
 }
 
-impl Collisions {
+impl CollisionStage {
     /// The neighbour forces of one step: keys, sort, gather, force pass, velocity pass into
     /// `state` (then swapped), statics copied in the new order.
     pub(super) fn run_neighbours(

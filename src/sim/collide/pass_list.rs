@@ -2,7 +2,7 @@
 //! ([`exact_passes`](super::exact_passes), [`neighbour_passes`](super::neighbour_passes), the
 //! features' UberFlow lines), taken from the programs and sorters the stage built.
 
-use super::{Collisions, Grid, Passes};
+use super::{CollisionStage, Grid, Passes};
 use crate::gl::PassDraw;
 use crate::sort::Sorter;
 
@@ -19,7 +19,7 @@ fn sort_draws(out: &mut Vec<PassDraw>, g: &Grid, times: u64) {
     out.push(PassDraw::new("gather", Sorter::gather_program(), times));
 }
 
-impl Collisions {
+impl CollisionStage {
     /// The draws of one step, in the order of the stage's pass lines.
     pub(crate) fn pass_draws(&self) -> Vec<PassDraw> {
         let mut out = Vec::new();

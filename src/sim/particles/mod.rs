@@ -105,7 +105,7 @@ pub struct ParticleSim {
     emit_previous: Option<Program>,
     emit_static: Option<Program>,
     start: Option<Program>,
-    collisions: Option<super::collide::Collisions>,
+    collisions: Option<super::collide::CollisionStage>,
     /// The SPH stage of a scene with `[fluid]` (src/sim/fluid/).
     fluid: Option<super::fluid::Fluid>,
     /// The count of paths past the bound on bounces at colliders (`bounces.rs`).
@@ -185,7 +185,7 @@ impl ParticleSim {
             start: setup::verlet_start(ctx, verlet, &defines)?,
             collisions: match &scene.collisions {
                 Some(_) => Some(
-                    super::collide::Collisions::new(ctx, scene, &defines, vel_format)?
+                    super::collide::CollisionStage::new(ctx, scene, &defines, vel_format)?
                         .carry_states(
                             scene,
                             user_state::exchange_programs(ctx, scene, &defines)?,
@@ -362,12 +362,12 @@ impl ParticleSim {
     }
 
     /// The collision stage (scenes with `[collisions]`).
-    pub fn collisions(&self) -> Option<&super::collide::Collisions> {
+    pub fn collisions(&self) -> Option<&super::collide::CollisionStage> {
         self.collisions.as_ref()
     }
 
     /// The collision stage, to change what it records (statistics).
-    pub fn collisions_mut(&mut self) -> Option<&mut super::collide::Collisions> {
+    pub fn collisions_mut(&mut self) -> Option<&mut super::collide::CollisionStage> {
         self.collisions.as_mut()
     }
 

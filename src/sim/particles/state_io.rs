@@ -322,7 +322,7 @@ impl crate::sim::Simulation for ParticleSim {
         self.front()
     }
 
-    fn collision_stage(&self) -> Option<&crate::sim::collide::Collisions> {
+    fn collision_stage(&self) -> Option<&crate::sim::collide::CollisionStage> {
         self.collisions()
     }
 

@@ -358,10 +358,11 @@ fn trace_frame(e: &mut dyn Stages, r: &mut Recorder<'_>) -> Result<()> {
         }
     }
     trace_sort(e, r)?;
-    let names = match e.lit() {
-        Some(l) => l.pass_names(),
-        None => e.renderer().pass_names(),
-    };
+    // The render lines of the engine's pass list: what `scene passes` prints.
+    let names: Vec<String> = (e.passes().into_iter())
+        .filter(|p| p.stage == "render")
+        .map(|p| p.name)
+        .collect();
     let img = e.render()?;
     r.pass(
         "render (`glsl/render/particle.vert` + `particle.frag`)",

@@ -30,7 +30,7 @@ pub use state::STATE_INPUTS;
 
 use super::locate::{Invalid, Key};
 use super::schema::{
-    ColliderKind, Collisions, Integrator, SceneFile, Simulation, UpdatePasses, WindForm,
+    ColliderKind, Collisions, ForceKind, Integrator, SceneFile, Simulation, UpdatePasses, WindForm,
 };
 
 use Key::{Index as I, Name as N};
@@ -267,14 +267,18 @@ fn stateless(s: &SceneFile) -> Check {
     }
     let f = &s.forces;
     let c = &s.colliders;
-    let refused = [
-        ("forces", "attractor", f.attractor.len()),
-        ("forces", "spring", f.spring.len()),
-        ("forces", "vortex", f.vortex.len()),
-        ("forces", "custom", f.custom.len()),
-    ]
-    .into_iter()
-    .chain(ColliderKind::ALL.map(|k| ("colliders", k.key(), c.count(k))));
+    let refused = (ForceKind::ALL.into_iter())
+        .filter(|&k| match k {
+            // The closed form's (src/sim/particles/stateless.rs).
+            ForceKind::Gravity | ForceKind::Damping | ForceKind::Wind => false,
+            ForceKind::Attractor | ForceKind::Spring | ForceKind::Vortex | ForceKind::Custom => {
+                true
+            }
+            // Pair forces need [collisions], refused below.
+            ForceKind::Pair => false,
+        })
+        .map(|k| ("forces", k.key(), f.count(k)))
+        .chain(ColliderKind::ALL.map(|k| ("colliders", k.key(), c.count(k))));
     for (section, kind, n) in refused {
         if n > 0 {
             return fail(

@@ -136,7 +136,7 @@ impl Integration {
                     SceneForce::Vortex(v) => vortices.push(Vortex::of(v, owner)),
                     // Summed: the scene's above, each emitter's below.
                     SceneForce::Gravity(_) | SceneForce::Damping(_) => {}
-                    // The wind is a texture (`src/sim/particles/fields.rs`), a custom force
+                    // The wind is a texture (`src/sim/particles/setup.rs`), a custom force
                     // compiled in (`src/sim/particles/custom.rs`), a pair force a pass of the
                     // collision stage (`src/sim/collide/`).
                     SceneForce::Wind(_) | SceneForce::Custom(_) | SceneForce::Pair(_) => {}

@@ -252,6 +252,17 @@ fn update_passes(s: &SceneFile) -> Check {
     Ok(())
 }
 
+/// Whether a stateless scene may have forces of `kind` (not refused by [`stateless`]).
+fn stateless_allows(kind: ForceKind) -> bool {
+    match kind {
+        // The closed form's (src/sim/particles/stateless.rs).
+        ForceKind::Gravity | ForceKind::Damping | ForceKind::Wind => true,
+        ForceKind::Attractor | ForceKind::Spring | ForceKind::Vortex | ForceKind::Custom => false,
+        // Pair forces need [collisions], which `stateless` refuses.
+        ForceKind::Pair => true,
+    }
+}
+
 /// `simulation = "stateless"`: only motions with a closed form (Latta §2.1).
 fn stateless(s: &SceneFile) -> Check {
     if s.simulation != Simulation::Stateless {
@@ -268,15 +279,7 @@ fn stateless(s: &SceneFile) -> Check {
     let f = &s.forces;
     let c = &s.colliders;
     let refused = (ForceKind::ALL.into_iter())
-        .filter(|&k| match k {
-            // The closed form's (src/sim/particles/stateless.rs).
-            ForceKind::Gravity | ForceKind::Damping | ForceKind::Wind => false,
-            ForceKind::Attractor | ForceKind::Spring | ForceKind::Vortex | ForceKind::Custom => {
-                true
-            }
-            // Pair forces need [collisions], refused below.
-            ForceKind::Pair => false,
-        })
+        .filter(|&k| !stateless_allows(k))
         .map(|k| ("forces", k.key(), f.count(k)))
         .chain(ColliderKind::ALL.map(|k| ("colliders", k.key(), c.count(k))));
     for (section, kind, n) in refused {

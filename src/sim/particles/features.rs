@@ -178,6 +178,35 @@ impl Features {
         }
     }
 
+    /// The integration pass's defines of the forces, kind by kind.
+    fn force_defines(&self, def: &mut impl FnMut(&str, String)) {
+        for kind in ForceKind::ALL {
+            match kind {
+                ForceKind::Gravity if self.gravity => def("GRAVITY", "1".into()),
+                ForceKind::Damping => {
+                    if self.damping {
+                        def("DAMPING", "1".into());
+                    }
+                    // Each emitter's own gravity and damping come after the scene's.
+                    if self.emitter_forces {
+                        def("EMITTER_FORCES", "1".into());
+                    }
+                }
+                ForceKind::Wind if self.wind => {
+                    def("WIND", "1".into());
+                    def("WIND_FORM", (self.wind_form as u8).to_string());
+                }
+                ForceKind::Gravity | ForceKind::Wind => {}
+                ForceKind::Attractor => def("N_ATTRACTORS", self.attractors.to_string()),
+                ForceKind::Spring => def("N_SPRINGS", self.springs.to_string()),
+                ForceKind::Vortex => def("N_VORTICES", self.vortices.to_string()),
+                // N_CUSTOM: src/sim/particles/custom.rs; the pair forces' own passes:
+                // src/sim/collide/.
+                ForceKind::Custom | ForceKind::Pair => {}
+            }
+        }
+    }
+
     /// Whether the scene has any collider.
     pub fn colliders(&self) -> bool {
         self.collider_counts.any()
@@ -250,31 +279,7 @@ impl Features {
         if self.children > 0 {
             def("CHILDREN", "1".into());
         }
-        for kind in ForceKind::ALL {
-            match kind {
-                ForceKind::Gravity if self.gravity => def("GRAVITY", "1".into()),
-                ForceKind::Damping => {
-                    if self.damping {
-                        def("DAMPING", "1".into());
-                    }
-                    // Each emitter's own gravity and damping come after the scene's.
-                    if self.emitter_forces {
-                        def("EMITTER_FORCES", "1".into());
-                    }
-                }
-                ForceKind::Wind if self.wind => {
-                    def("WIND", "1".into());
-                    def("WIND_FORM", (self.wind_form as u8).to_string());
-                }
-                ForceKind::Gravity | ForceKind::Wind => {}
-                ForceKind::Attractor => def("N_ATTRACTORS", self.attractors.to_string()),
-                ForceKind::Spring => def("N_SPRINGS", self.springs.to_string()),
-                ForceKind::Vortex => def("N_VORTICES", self.vortices.to_string()),
-                // N_CUSTOM: src/sim/particles/custom.rs; the pair forces' own passes:
-                // src/sim/collide/.
-                ForceKind::Custom | ForceKind::Pair => {}
-            }
-        }
+        self.force_defines(&mut def);
         if self.mass_range {
             def("MASS_RANGE", "1".into());
         }

@@ -218,3 +218,178 @@ pub struct FieldData {
 fn wind_resolution() -> u32 {
     32
 }
+
+/// The kinds of force, in the order the integration pass adds them (`glsl/sim/forces.glsl`;
+/// the pair forces run in the collision stage).
+///
+/// A new kind: add it here, in [`ForceKind::ALL`] and the matches the compiler then lists (the
+/// GPU packing in `src/sim/params/`, the defines and the plan's wording in
+/// `src/sim/particles/features.rs`, the validation, the CPU twin in `src/sim/reference/`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+pub enum ForceKind {
+    /// `[[forces.gravity]]`.
+    Gravity,
+    /// `[[forces.damping]]`.
+    Damping,
+    /// `[[forces.wind]]`.
+    Wind,
+    /// `[[forces.attractor]]`.
+    Attractor,
+    /// `[[forces.spring]]`.
+    Spring,
+    /// `[[forces.vortex]]`.
+    Vortex,
+    /// `[[forces.custom]]`.
+    Custom,
+    /// `[[forces.pair]]`.
+    Pair,
+}
+
+impl ForceKind {
+    /// Every kind, in the order the integration pass adds them (a new kind: add it here and in
+    /// [`ForceKind::position`]).
+    pub const ALL: [ForceKind; 8] = [
+        ForceKind::Gravity,
+        ForceKind::Damping,
+        ForceKind::Wind,
+        ForceKind::Attractor,
+        ForceKind::Spring,
+        ForceKind::Vortex,
+        ForceKind::Custom,
+        ForceKind::Pair,
+    ];
+
+    /// Its place in [`ForceKind::ALL`].
+    pub fn position(self) -> usize {
+        match self {
+            ForceKind::Gravity => 0,
+            ForceKind::Damping => 1,
+            ForceKind::Wind => 2,
+            ForceKind::Attractor => 3,
+            ForceKind::Spring => 4,
+            ForceKind::Vortex => 5,
+            ForceKind::Custom => 6,
+            ForceKind::Pair => 7,
+        }
+    }
+
+    /// The kind's key in `[[forces.KEY]]`.
+    pub fn key(self) -> &'static str {
+        match self {
+            ForceKind::Gravity => "gravity",
+            ForceKind::Damping => "damping",
+            ForceKind::Wind => "wind",
+            ForceKind::Attractor => "attractor",
+            ForceKind::Spring => "spring",
+            ForceKind::Vortex => "vortex",
+            ForceKind::Custom => "custom",
+            ForceKind::Pair => "pair",
+        }
+    }
+
+    /// The kind in words, for plans and messages.
+    pub fn noun(self) -> &'static str {
+        match self {
+            ForceKind::Gravity => "gravity",
+            ForceKind::Damping => "damping",
+            ForceKind::Wind => "wind",
+            ForceKind::Attractor => "attractor",
+            ForceKind::Spring => "spring",
+            ForceKind::Vortex => "vortex",
+            ForceKind::Custom => "user force",
+            ForceKind::Pair => "pair force",
+        }
+    }
+}
+
+/// One force of any kind, borrowed from [`Forces`].
+#[derive(Debug, Clone, Copy)]
+pub enum Force<'a> {
+    /// Uniform acceleration.
+    Gravity(&'a Gravity),
+    /// Linear damping.
+    Damping(&'a Damping),
+    /// Wind from a flow field.
+    Wind(&'a Wind),
+    /// A point attractor or repulsor.
+    Attractor(&'a Attractor),
+    /// A linear spring.
+    Spring(&'a Spring),
+    /// A vortex.
+    Vortex(&'a Vortex),
+    /// A user GLSL force.
+    Custom(&'a CustomForce),
+    /// A user GLSL force between neighbours.
+    Pair(&'a super::PairForce),
+}
+
+impl Force<'_> {
+    /// Its kind.
+    pub fn kind(&self) -> ForceKind {
+        match self {
+            Force::Gravity(_) => ForceKind::Gravity,
+            Force::Damping(_) => ForceKind::Damping,
+            Force::Wind(_) => ForceKind::Wind,
+            Force::Attractor(_) => ForceKind::Attractor,
+            Force::Spring(_) => ForceKind::Spring,
+            Force::Vortex(_) => ForceKind::Vortex,
+            Force::Custom(_) => ForceKind::Custom,
+            Force::Pair(_) => ForceKind::Pair,
+        }
+    }
+}
+
+impl Forces {
+    /// How many forces of `kind` the list has.
+    pub fn count(&self, kind: ForceKind) -> usize {
+        match kind {
+            ForceKind::Gravity => self.gravity.len(),
+            ForceKind::Damping => self.damping.len(),
+            ForceKind::Wind => self.wind.len(),
+            ForceKind::Attractor => self.attractor.len(),
+            ForceKind::Spring => self.spring.len(),
+            ForceKind::Vortex => self.vortex.len(),
+            ForceKind::Custom => self.custom.len(),
+            ForceKind::Pair => self.pair.len(),
+        }
+    }
+
+    /// Every force, kind by kind in [`ForceKind::ALL`]'s order, each kind in scene order.
+    pub fn iter(&self) -> impl Iterator<Item = Force<'_>> {
+        ForceKind::ALL.into_iter().flat_map(move |k| self.of(k))
+    }
+
+    /// Every force with its index among those of its kind (`[[forces.KEY]]` number `i`), in
+    /// [`Forces::iter`]'s order.
+    pub fn indexed(&self) -> impl Iterator<Item = (usize, Force<'_>)> {
+        ForceKind::ALL
+            .into_iter()
+            .flat_map(move |k| self.of(k).enumerate())
+    }
+
+    /// The forces of `kind`, in scene order.
+    pub fn of(&self, kind: ForceKind) -> Box<dyn Iterator<Item = Force<'_>> + '_> {
+        match kind {
+            ForceKind::Gravity => Box::new(self.gravity.iter().map(Force::Gravity)),
+            ForceKind::Damping => Box::new(self.damping.iter().map(Force::Damping)),
+            ForceKind::Wind => Box::new(self.wind.iter().map(Force::Wind)),
+            ForceKind::Attractor => Box::new(self.attractor.iter().map(Force::Attractor)),
+            ForceKind::Spring => Box::new(self.spring.iter().map(Force::Spring)),
+            ForceKind::Vortex => Box::new(self.vortex.iter().map(Force::Vortex)),
+            ForceKind::Custom => Box::new(self.custom.iter().map(Force::Custom)),
+            ForceKind::Pair => Box::new(self.pair.iter().map(Force::Pair)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ForceKind;
+
+    #[test]
+    fn all_lists_every_kind_at_its_position() {
+        for (i, k) in ForceKind::ALL.into_iter().enumerate() {
+            assert_eq!(k.position(), i, "{k:?}");
+        }
+    }
+}

@@ -27,8 +27,8 @@ pub use emitters::{
 };
 pub use fluid::{Fluid, Resort};
 pub use forces::{
-    Attractor, CustomForce, Damping, Falloff, FieldData, Forces, Gravity, Spring, Vortex,
-    VortexForm, Wind, WindForm, MAX_CUSTOM_FORCES,
+    Attractor, CustomForce, Damping, Falloff, FieldData, Force, ForceKind, Forces, Gravity, Spring,
+    Vortex, VortexForm, Wind, WindForm, MAX_CUSTOM_FORCES,
 };
 pub use neighbours::{Dem, PairForce, Response, MAX_PAIR_FORCES};
 pub use render::{

@@ -3,8 +3,8 @@
 use super::{bounded, direction, fail, nonzero, Check, MAX_COORDINATE};
 use crate::scene::locate::Key;
 use crate::scene::schema::{
-    Attractor, Falloff, Forces, SceneFile, Simulation, Vortex, VortexForm, Wind, WindForm,
-    MAX_CUSTOM_FORCES, MAX_EMITTER_FORCES,
+    Attractor, Falloff, Force, ForceKind, Forces, SceneFile, Simulation, Spring, Vortex,
+    VortexForm, Wind, WindForm, MAX_CUSTOM_FORCES, MAX_EMITTER_FORCES,
 };
 
 use Key::{Index as I, Name as N};
@@ -50,45 +50,42 @@ pub(super) fn forces(s: &SceneFile) -> Check {
 
 /// An emitter's own forces: the kinds that are uniforms of the integration pass, a few of each.
 fn emitter_forces(s: &SceneFile, base: &[Key], f: &Forces) -> Check {
-    if !f.wind.is_empty() {
-        return fail(
-            at(base, &[N("wind"), I(0)]),
-            "a wind is one 3D flow-field texture for the whole scene: give it in \
-             [[forces.wind]] (it acts on every emitter's particles)",
-        );
-    }
-    if !f.custom.is_empty() {
-        return fail(
-            at(base, &[N("custom"), I(0)]),
-            "a custom force is compiled once for the whole scene and gets each particle's \
-             `type` (its emitter's place): give it in [[forces.custom]] and act on the types \
-             it is for",
-        );
-    }
-    if !f.pair.is_empty() {
-        return fail(
-            at(base, &[N("pair"), I(0)]),
-            "a pair force acts between neighbours that the collision stage finds, whatever \
-             their emitter: give it in [[forces.pair]] (with [collisions]) and act on the \
-             `type` and `type_j` it is for",
-        );
-    }
-    let counts = [
-        ("attractor", f.attractor.len()),
-        ("spring", f.spring.len()),
-        ("vortex", f.vortex.len()),
-    ];
-    for (kind, n) in counts {
-        if n > MAX_EMITTER_FORCES {
-            return fail(
-                at(base, &[N(kind), I(MAX_EMITTER_FORCES)]),
-                format!(
-                    "{n} {kind} forces on one emitter are too many: at most \
-                     {MAX_EMITTER_FORCES} of each kind per emitter (each is uniforms of the \
-                     integration pass, whose total the GL limits); move the ones shared by \
-                     every emitter to [[forces.{kind}]]"
-                ),
-            );
+    for kind in ForceKind::ALL {
+        let n = f.count(kind);
+        let scene_only = match kind {
+            ForceKind::Gravity | ForceKind::Damping => None,
+            ForceKind::Attractor | ForceKind::Spring | ForceKind::Vortex => {
+                if n > MAX_EMITTER_FORCES {
+                    let kind = kind.key();
+                    return fail(
+                        at(base, &[N(kind), I(MAX_EMITTER_FORCES)]),
+                        format!(
+                            "{n} {kind} forces on one emitter are too many: at most \
+                             {MAX_EMITTER_FORCES} of each kind per emitter (each is uniforms of \
+                             the integration pass, whose total the GL limits); move the ones \
+                             shared by every emitter to [[forces.{kind}]]"
+                        ),
+                    );
+                }
+                None
+            }
+            ForceKind::Wind => Some(
+                "a wind is one 3D flow-field texture for the whole scene: give it in \
+                 [[forces.wind]] (it acts on every emitter's particles)",
+            ),
+            ForceKind::Custom => Some(
+                "a custom force is compiled once for the whole scene and gets each particle's \
+                 `type` (its emitter's place): give it in [[forces.custom]] and act on the \
+                 types it is for",
+            ),
+            ForceKind::Pair => Some(
+                "a pair force acts between neighbours that the collision stage finds, whatever \
+                 their emitter: give it in [[forces.pair]] (with [collisions]) and act on the \
+                 `type` and `type_j` it is for",
+            ),
+        };
+        if let Some(why) = scene_only.filter(|_| n > 0) {
+            return fail(at(base, &[N(kind.key()), I(0)]), why);
         }
     }
     if s.simulation == Simulation::Stateless && *f != Forces::default() {
@@ -108,41 +105,27 @@ fn at(base: &[Key], more: &[Key]) -> Vec<Key> {
 /// The forces of one list (the scene's, or an emitter's), at `base`.
 fn kinds(s: &SceneFile, base: &[Key], f: &Forces) -> Check {
     let dt = s.time.dt;
-    let per_step = |at, what: &str, rate| per_step(dt, at, what, rate);
-    for (i, g) in f.gravity.iter().enumerate() {
-        bounded(
-            at(base, &[N("gravity"), I(i), N("acceleration")]),
-            "acceleration",
-            &g.acceleration,
-        )?;
-    }
-    for (i, d) in f.damping.iter().enumerate() {
-        per_step(at(base, &[N("damping"), I(i), N("rate")]), "rate", d.rate)?;
-    }
-    for (i, sp) in f.spring.iter().enumerate() {
-        if sp.stiffness < 0.0 {
-            return fail(
-                at(base, &[N("spring"), I(i), N("stiffness")]),
-                format!("stiffness {} N/m must not be negative", sp.stiffness),
-            );
+    for (i, force) in f.indexed() {
+        let at = |k| at(base, &[N(force.kind().key()), I(i), N(k)]);
+        match force {
+            Force::Gravity(g) => bounded(at("acceleration"), "acceleration", &g.acceleration)?,
+            Force::Damping(d) => per_step(dt, at("rate"), "rate", d.rate)?,
+            Force::Wind(wnd) => wind(s, base, i, wnd)?,
+            Force::Attractor(a) => attractor(base, i, a)?,
+            Force::Spring(sp) => spring(base, i, sp)?,
+            Force::Vortex(v) => vortex(base, i, v)?,
+            Force::Custom(c) => {
+                if c.glsl.trim().is_empty() || c.glsl.contains('"') || c.glsl.contains('\n') {
+                    return fail(
+                        at("glsl"),
+                        "glsl must name a GLSL file (relative to the scene file), e.g. \
+                         \"wind.glsl\"",
+                    );
+                }
+            }
+            // Checked with the collision stage they need (`neighbours.rs`).
+            Force::Pair(_) => {}
         }
-        let at = |k| at(base, &[N("spring"), I(i), N(k)]);
-        bounded(at("anchor"), "anchor", &sp.anchor)?;
-        if sp.stiffness > MAX_COORDINATE {
-            return fail(
-                at("stiffness"),
-                format!("stiffness {} N/m is above {MAX_COORDINATE:e}", sp.stiffness),
-            );
-        }
-    }
-    for (i, v) in f.vortex.iter().enumerate() {
-        vortex(base, i, v)?;
-    }
-    for (i, a) in f.attractor.iter().enumerate() {
-        attractor(base, i, a)?;
-    }
-    for (i, wnd) in f.wind.iter().enumerate() {
-        wind(s, base, i, wnd)?;
     }
     if f.custom.len() > MAX_CUSTOM_FORCES {
         return fail(
@@ -150,18 +133,29 @@ fn kinds(s: &SceneFile, base: &[Key], f: &Forces) -> Check {
             format!("at most {MAX_CUSTOM_FORCES} custom forces per scene"),
         );
     }
-    for (i, c) in f.custom.iter().enumerate() {
-        if c.glsl.trim().is_empty() || c.glsl.contains('"') || c.glsl.contains('\n') {
-            return fail(
-                at(base, &[N("custom"), I(i), N("glsl")]),
-                "glsl must name a GLSL file (relative to the scene file), e.g. \"wind.glsl\"",
-            );
-        }
-    }
     if f.wind.len() > 1 {
         return fail(
             at(base, &[N("wind"), I(1)]),
             "one wind field per scene (it is one 3D texture)",
+        );
+    }
+    Ok(())
+}
+
+/// `spring` number `i` under `base`.
+fn spring(base: &[Key], i: usize, sp: &Spring) -> Check {
+    let at = |k| at(base, &[N("spring"), I(i), N(k)]);
+    if sp.stiffness < 0.0 {
+        return fail(
+            at("stiffness"),
+            format!("stiffness {} N/m must not be negative", sp.stiffness),
+        );
+    }
+    bounded(at("anchor"), "anchor", &sp.anchor)?;
+    if sp.stiffness > MAX_COORDINATE {
+        return fail(
+            at("stiffness"),
+            format!("stiffness {} N/m is above {MAX_COORDINATE:e}", sp.stiffness),
         );
     }
     Ok(())

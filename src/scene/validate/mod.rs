@@ -30,7 +30,7 @@ pub use state::STATE_INPUTS;
 
 use super::locate::{Invalid, Key};
 use super::schema::{
-    ColliderKind, Collisions, Integrator, SceneFile, Simulation, UpdatePasses, WindForm,
+    ColliderKind, Collisions, ForceKind, Integrator, SceneFile, Simulation, UpdatePasses, WindForm,
 };
 
 use Key::{Index as I, Name as N};
@@ -252,6 +252,17 @@ fn update_passes(s: &SceneFile) -> Check {
     Ok(())
 }
 
+/// Whether a stateless scene may have forces of `kind` (not refused by [`stateless`]).
+fn stateless_allows(kind: ForceKind) -> bool {
+    match kind {
+        // The closed form's (src/sim/particles/stateless.rs).
+        ForceKind::Gravity | ForceKind::Damping | ForceKind::Wind => true,
+        ForceKind::Attractor | ForceKind::Spring | ForceKind::Vortex | ForceKind::Custom => false,
+        // Pair forces need [collisions], which `stateless` refuses.
+        ForceKind::Pair => true,
+    }
+}
+
 /// `simulation = "stateless"`: only motions with a closed form (Latta §2.1).
 fn stateless(s: &SceneFile) -> Check {
     if s.simulation != Simulation::Stateless {
@@ -267,14 +278,10 @@ fn stateless(s: &SceneFile) -> Check {
     }
     let f = &s.forces;
     let c = &s.colliders;
-    let refused = [
-        ("forces", "attractor", f.attractor.len()),
-        ("forces", "spring", f.spring.len()),
-        ("forces", "vortex", f.vortex.len()),
-        ("forces", "custom", f.custom.len()),
-    ]
-    .into_iter()
-    .chain(ColliderKind::ALL.map(|k| ("colliders", k.key(), c.count(k))));
+    let refused = (ForceKind::ALL.into_iter())
+        .filter(|&k| !stateless_allows(k))
+        .map(|k| ("forces", k.key(), f.count(k)))
+        .chain(ColliderKind::ALL.map(|k| ("colliders", k.key(), c.count(k))));
     for (section, kind, n) in refused {
         if n > 0 {
             return fail(

@@ -11,7 +11,7 @@
 
 use glam::{Vec2, Vec3, Vec4};
 
-use crate::scene::{self, Collider as SceneCollider, ColliderKind, SceneFile};
+use crate::scene::{self, Collider as SceneCollider, ColliderKind, Force as SceneForce, SceneFile};
 
 fn v3(a: [f32; 3]) -> Vec3 {
     Vec3::from(a)
@@ -126,16 +126,22 @@ impl Integration {
             .collect();
         let (mut attractors, mut springs, mut vortices) = (Vec::new(), Vec::new(), Vec::new());
         for &(owner, fs) in &lists {
-            attractors.extend(fs.attractor.iter().map(|a| Attractor::of(a, owner)));
-        }
-        for &(owner, fs) in &lists {
-            springs.extend(fs.spring.iter().map(|sp| Spring {
-                at: v3(sp.anchor).extend(sp.stiffness),
-                owner,
-            }));
-        }
-        for &(owner, fs) in &lists {
-            vortices.extend(fs.vortex.iter().map(|v| Vortex::of(v, owner)));
+            for force in fs.iter() {
+                match force {
+                    SceneForce::Attractor(a) => attractors.push(Attractor::of(a, owner)),
+                    SceneForce::Spring(sp) => springs.push(Spring {
+                        at: v3(sp.anchor).extend(sp.stiffness),
+                        owner,
+                    }),
+                    SceneForce::Vortex(v) => vortices.push(Vortex::of(v, owner)),
+                    // Summed: the scene's above, each emitter's below.
+                    SceneForce::Gravity(_) | SceneForce::Damping(_) => {}
+                    // The wind is a texture (`src/sim/particles/setup.rs`), a custom force
+                    // compiled in (`src/sim/particles/custom.rs`), a pair force a pass of the
+                    // collision stage (`src/sim/collide/`).
+                    SceneForce::Wind(_) | SceneForce::Custom(_) | SceneForce::Pair(_) => {}
+                }
+            }
         }
         let mut type_damping = [0.0f32; 4];
         let mut type_gravity = Vec::new();

@@ -4,7 +4,7 @@
 
 use super::super::allocator::AllocatorKind;
 use crate::gl::Defines;
-use crate::scene::{self, Integrator, Precision, SceneFile, VelocityFormat};
+use crate::scene::{self, ForceKind, Integrator, Precision, SceneFile, VelocityFormat};
 use crate::sim::{Pass, Stage};
 
 // The names of the forces and of the constraint passes, for the pass list.
@@ -122,6 +122,8 @@ impl Features {
             }
         };
         let f = &scene.forces;
+        // The scene's forces of a kind, then every emitter's (the uniform arrays' order).
+        let with_emitters = |k| f.count(k) + em.all().map(|e| e.forces.count(k)).sum::<usize>();
         let c = &scene.colliders;
         Features {
             integrator: scene.integrator,
@@ -129,14 +131,13 @@ impl Features {
             stateless: scene.simulation == scene::Simulation::Stateless,
             emission,
             types: em.len().max(1),
-            gravity: !f.gravity.is_empty(),
-            attractors: f.attractor.len()
-                + em.all().map(|e| e.forces.attractor.len()).sum::<usize>(),
-            springs: f.spring.len() + em.all().map(|e| e.forces.spring.len()).sum::<usize>(),
-            vortices: f.vortex.len() + em.all().map(|e| e.forces.vortex.len()).sum::<usize>(),
+            gravity: f.count(ForceKind::Gravity) > 0,
+            attractors: with_emitters(ForceKind::Attractor),
+            springs: with_emitters(ForceKind::Spring),
+            vortices: with_emitters(ForceKind::Vortex),
             emitter_forces: em.all().any(|e| e.forces != scene::Forces::default()),
-            damping: !f.damping.is_empty(),
-            wind: !f.wind.is_empty(),
+            damping: f.count(ForceKind::Damping) > 0,
+            wind: f.count(ForceKind::Wind) > 0,
             wind_form: f.wind.first().map(|w| w.form).unwrap_or_default(),
             mass_range: em.all().any(|e| e.mass_range.is_some()),
             collider_counts: scene::ColliderCounts::of(c),
@@ -174,6 +175,35 @@ impl Features {
             exchanges: (scene.state.iter().filter(|s| s.pair.is_some()))
                 .map(|s| s.name.clone())
                 .collect(),
+        }
+    }
+
+    /// The integration pass's defines of the forces, kind by kind.
+    fn force_defines(&self, def: &mut impl FnMut(&str, String)) {
+        for kind in ForceKind::ALL {
+            match kind {
+                ForceKind::Gravity if self.gravity => def("GRAVITY", "1".into()),
+                ForceKind::Damping => {
+                    if self.damping {
+                        def("DAMPING", "1".into());
+                    }
+                    // Each emitter's own gravity and damping come after the scene's.
+                    if self.emitter_forces {
+                        def("EMITTER_FORCES", "1".into());
+                    }
+                }
+                ForceKind::Wind if self.wind => {
+                    def("WIND", "1".into());
+                    def("WIND_FORM", (self.wind_form as u8).to_string());
+                }
+                ForceKind::Gravity | ForceKind::Wind => {}
+                ForceKind::Attractor => def("N_ATTRACTORS", self.attractors.to_string()),
+                ForceKind::Spring => def("N_SPRINGS", self.springs.to_string()),
+                ForceKind::Vortex => def("N_VORTICES", self.vortices.to_string()),
+                // N_CUSTOM: src/sim/particles/custom.rs; the pair forces' own passes:
+                // src/sim/collide/.
+                ForceKind::Custom | ForceKind::Pair => {}
+            }
         }
     }
 
@@ -249,25 +279,10 @@ impl Features {
         if self.children > 0 {
             def("CHILDREN", "1".into());
         }
-        if self.gravity {
-            def("GRAVITY", "1".into());
-        }
-        if self.damping {
-            def("DAMPING", "1".into());
-        }
-        if self.emitter_forces {
-            def("EMITTER_FORCES", "1".into());
-        }
-        if self.wind {
-            def("WIND", "1".into());
-            def("WIND_FORM", (self.wind_form as u8).to_string());
-        }
+        self.force_defines(&mut def);
         if self.mass_range {
             def("MASS_RANGE", "1".into());
         }
-        def("N_ATTRACTORS", self.attractors.to_string());
-        def("N_SPRINGS", self.springs.to_string());
-        def("N_VORTICES", self.vortices.to_string());
         for kind in scene::ColliderKind::ALL {
             let n = self.collider_counts.get(kind);
             match kind {

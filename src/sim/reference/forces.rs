@@ -3,11 +3,12 @@
 use glam::Vec3;
 
 use super::Reference;
-use crate::scene::WindForm;
+use crate::scene::{ForceKind, WindForm};
+use crate::sim::params;
 
 impl Reference {
     /// `acceleration(x, v, type)` of `glsl/sim/forces.glsl`: the accelerations (gravity,
-    /// damping, wind) plus the forces (attractors, vortices) times the inverse mass of type
+    /// damping, wind) plus the forces (attractors, springs, vortices) times the inverse mass of type
     /// `ty` (0 to 3).
     pub fn acceleration(&self, x: Vec3, v: Vec3, ty: usize) -> Vec3 {
         self.acceleration_of(x, v, self.inv_mass[ty])
@@ -36,35 +37,48 @@ impl Reference {
     }
 
     /// `acceleration(x, v, inv_mass)`: [`Reference::acceleration`] with a given inverse mass.
+    /// Kind by kind in the shader's order, so the sums round as the GPU's do.
     pub fn acceleration_of(&self, x: Vec3, v: Vec3, inv_mass: f32) -> Vec3 {
         let mut a = Vec3::ZERO;
         let mut f = Vec3::ZERO;
-        if let Some(g) = self.gravity {
-            a += g;
-        }
-        if let Some(c) = self.damping {
-            a -= c * v;
-        }
-        if let Some(w) = &self.wind {
-            match w.form {
-                WindForm::Drag => a += w.drag * (w.field.sample(x) - v),
-                WindForm::Latta => f += w.drag * (w.field.sample(x) - v),
-                WindForm::Uberflow => {}
-            }
-        }
-        for at in &self.attractors {
-            f += point_force(at.at.truncate() - x, at.at.w, at.shape.truncate());
-        }
-        for vx in &self.vortices {
-            let rel = x - vx.at.truncate();
-            let ax = vx.axis;
-            let perp = rel - rel.dot(ax) * ax;
-            let vs = vx.shape;
-            if vs.x > 0.5 {
-                f += point_force(-perp, vx.at.w, Vec3::new(vs.y, vs.z, vs.w));
-            } else {
-                let core = perp.length().max(0.1);
-                f += vx.at.w * ax.cross(perp) / (core * core);
+        for kind in ForceKind::ALL {
+            match kind {
+                ForceKind::Gravity => {
+                    if let Some(g) = self.gravity {
+                        a += g;
+                    }
+                }
+                ForceKind::Damping => {
+                    if let Some(c) = self.damping {
+                        a -= c * v;
+                    }
+                }
+                ForceKind::Wind => {
+                    if let Some(w) = &self.wind {
+                        match w.form {
+                            WindForm::Drag => a += w.drag * (w.field.sample(x) - v),
+                            WindForm::Latta => f += w.drag * (w.field.sample(x) - v),
+                            WindForm::Uberflow => {}
+                        }
+                    }
+                }
+                ForceKind::Attractor => {
+                    for at in &self.attractors {
+                        f += point_force(at.at.truncate() - x, at.at.w, at.shape.truncate());
+                    }
+                }
+                ForceKind::Spring => {
+                    for sp in &self.springs {
+                        f -= sp.at.w * (x - sp.at.truncate());
+                    }
+                }
+                ForceKind::Vortex => {
+                    for vx in &self.vortices {
+                        f += vortex_force(vx, x);
+                    }
+                }
+                // GLSL the twin does not run: `Reference::new` refuses them.
+                ForceKind::Custom | ForceKind::Pair => {}
             }
         }
         a + f * inv_mass
@@ -76,6 +90,20 @@ impl Reference {
         let a = self.acceleration_of(x, v, self.particle_inv_mass(ty, self.random));
         let dt = self.dt;
         self.store(x - v * dt + 0.5 * a * dt * dt)
+    }
+}
+
+/// A vortex's force on a particle at `x` (the `N_VORTICES` loop of `glsl/sim/forces.glsl`).
+fn vortex_force(vx: &params::Vortex, x: Vec3) -> Vec3 {
+    let rel = x - vx.at.truncate();
+    let ax = vx.axis;
+    let perp = rel - rel.dot(ax) * ax;
+    let vs = vx.shape;
+    if vs.x > 0.5 {
+        point_force(-perp, vx.at.w, Vec3::new(vs.y, vs.z, vs.w))
+    } else {
+        let core = perp.length().max(0.1);
+        vx.at.w * ax.cross(perp) / (core * core)
     }
 }
 

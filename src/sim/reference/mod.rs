@@ -19,8 +19,8 @@
 //!   the thesis's Heun, fourth-order Runge-Kutta and leapfrog (`glsl/sim/stages.glsl`) and
 //!   Verlet (Latta eq. 9), plus Verlet's second-order start (`glsl/sim/verlet_start.frag`).
 //! - Forces: gravity, damping, wind (Stokes drag towards [`FlowField::sample`]), attractors
-//!   (inverse square with softening, or constant; `max_distance`), vortices, per-type inverse
-//!   mass.
+//!   (inverse square with softening, or constant; `max_distance`), springs, vortices, per-type
+//!   inverse mass (each kind reached through [`scene::ForceKind`]).
 //! - Colliders: planes, spheres, boxes, the height field ([`HeightField::sample`]) and the
 //!   distance field ([`DistanceField::sample`], [`DistanceField::normal`]), with Latta's response
 //!   (eq. 4-5), the slow-speed threshold, the push-out of caught particles (eq. 7), UberFlow's
@@ -33,7 +33,7 @@
 //!
 //! Not covered (rejected by [`Reference::new`]): time-stamp emission (the respawn needs the
 //! shader's random streams), `rgba16f` velocities (the driver's rounding to half floats is not
-//! specified), and the fire scene.
+//! specified), user GLSL forces (`[[forces.custom]]`, `[[forces.pair]]`) and the fire scene.
 //!
 //! Keep this file in step with the GLSL: a change to one without the other fails
 //! tests/forces.rs and tests/colliders.rs.
@@ -50,7 +50,7 @@ use super::fields::{DistanceField, FlowField, HeightField};
 use super::params::{self, Params};
 use super::particles::{Emission, Features};
 use crate::error::{Error, Result};
-use crate::scene::{self, Integrator, Precision, SceneFile, VelocityFormat};
+use crate::scene::{self, ForceKind, Integrator, Precision, SceneFile, VelocityFormat};
 
 /// `SKIN` in `glsl/sim/colliders.glsl`: how far above a surface a particle is put back.
 pub const SKIN: f32 = 1e-4;
@@ -142,6 +142,7 @@ pub struct Reference {
     damping: Option<f32>,
     wind: Option<Wind>,
     attractors: Vec<params::Attractor>,
+    springs: Vec<params::Spring>,
     vortices: Vec<params::Vortex>,
     slow_speed: f32,
     /// Planes, spheres, boxes, then the distance field: the order of `collide`.
@@ -193,6 +194,7 @@ impl Reference {
             wind,
             // The reference refuses forces per emitter: every one is the scene's (owner -1).
             attractors: m.attractors,
+            springs: m.springs,
             vortices: m.vortices,
             slow_speed: c.slow_speed,
             colliders,
@@ -431,6 +433,25 @@ fn covered(scene: &SceneFile, features: &Features) -> Result<()> {
              emitter ([[emitters.*.forces.*]])",
             scene.name
         )));
+    }
+    for kind in ForceKind::ALL {
+        let modelled = match kind {
+            ForceKind::Gravity
+            | ForceKind::Damping
+            | ForceKind::Wind
+            | ForceKind::Attractor
+            | ForceKind::Spring
+            | ForceKind::Vortex => true,
+            // User GLSL: only the GPU runs it.
+            ForceKind::Custom | ForceKind::Pair => false,
+        };
+        if !modelled && scene.forces.count(kind) > 0 {
+            return Err(Error::InvalidInput(format!(
+                "scene `{}`: the reference does not run user GLSL ([[forces.{}]])",
+                scene.name,
+                kind.key()
+            )));
+        }
     }
     if features.children > 0 {
         return Err(Error::InvalidInput(format!(

@@ -1,46 +1,54 @@
 //! The forces and constraint passes of [`Features`], named for the scene's pass list.
 
 use super::Features;
-use crate::scene;
+use crate::scene::{self, ForceKind};
 
 impl Features {
     /// The forces the integration applies, in the order the shader adds them.
     pub(super) fn force_names(&self) -> Vec<String> {
         let mut forces = Vec::new();
-        if self.gravity {
-            forces.push("gravity".to_owned());
-        }
-        if self.attractors > 0 {
-            forces.push(format!("{} attractor(s)", self.attractors));
-        }
-        if self.springs > 0 {
-            forces.push(format!("{} spring(s)", self.springs));
-        }
-        if self.vortices > 0 {
-            forces.push(format!("{} vortex(es)", self.vortices));
-        }
-        if self.damping {
-            forces.push("damping".to_owned());
-        }
-        if self.emitter_forces {
-            forces.push("forces per emitter (by the particle's type)".to_owned());
-        }
-        for file in &self.custom_forces {
-            forces.push(format!("user force {file}"));
-        }
-        if self.wind {
-            forces.push(
-                match self.wind_form {
-                    scene::WindForm::Drag => "wind (flow-field texture, Stokes drag)",
-                    scene::WindForm::Latta => {
-                        "wind (flow-field texture, Latta eq. 1-2: drag / mass)"
+        for kind in ForceKind::ALL {
+            match kind {
+                ForceKind::Gravity if self.gravity => forces.push("gravity".to_owned()),
+                ForceKind::Damping => {
+                    if self.damping {
+                        forces.push("damping".to_owned());
                     }
-                    scene::WindForm::Uberflow => {
-                        "wind (flow-field texture, UberFlow eq. 1: v += v_ext)"
+                    if self.emitter_forces {
+                        forces.push("forces per emitter (by the particle's type)".to_owned());
                     }
                 }
-                .to_owned(),
-            );
+                ForceKind::Wind if self.wind => forces.push(
+                    match self.wind_form {
+                        scene::WindForm::Drag => "wind (flow-field texture, Stokes drag)",
+                        scene::WindForm::Latta => {
+                            "wind (flow-field texture, Latta eq. 1-2: drag / mass)"
+                        }
+                        scene::WindForm::Uberflow => {
+                            "wind (flow-field texture, UberFlow eq. 1: v += v_ext)"
+                        }
+                    }
+                    .to_owned(),
+                ),
+                ForceKind::Gravity | ForceKind::Wind => {}
+                ForceKind::Attractor if self.attractors > 0 => {
+                    forces.push(format!("{} attractor(s)", self.attractors))
+                }
+                ForceKind::Spring if self.springs > 0 => {
+                    forces.push(format!("{} spring(s)", self.springs))
+                }
+                ForceKind::Vortex if self.vortices > 0 => {
+                    forces.push(format!("{} vortex(es)", self.vortices))
+                }
+                ForceKind::Attractor | ForceKind::Spring | ForceKind::Vortex => {}
+                ForceKind::Custom => {
+                    for file in &self.custom_forces {
+                        forces.push(format!("user force {file}"));
+                    }
+                }
+                // Not in the integration pass: named with the collision stage's passes.
+                ForceKind::Pair => {}
+            }
         }
         forces
     }

@@ -483,7 +483,8 @@ fn report_constraints_prints_the_table() {
     }
 }
 
-/// The cost model's constants are measured (positive) and every cell has a prediction.
+/// The cost model's constants are measured (finite, none below 0, a pass's fixed cost above 0)
+/// and every cell has a prediction.
 #[test]
 fn the_cost_model_predicts_every_cell() {
     let dir = tempfile::tempdir().unwrap();
@@ -501,8 +502,13 @@ fn the_cost_model_predicts_every_cell() {
     let text = std::fs::read_to_string(dir.path().join("cost_model.json")).unwrap();
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     let c = &v["constants"];
-    for k in ["fixed_ms", "ms_per_mb_written", "ms_per_m_points"] {
-        assert!(c[k].as_f64().unwrap() > 0.0, "{k}: {c}");
+    // A pass costs something; the per-byte and per-point costs are differences of timings
+    // (the write floor less the fixed cost...), which a loaded machine can bring to 0 (they are
+    // clamped there, never negative): measured, finite, not below 0, without timing assumptions.
+    assert!(c["fixed_ms"].as_f64().unwrap() > 0.0, "fixed_ms: {c}");
+    for k in ["ms_per_mb_written", "ms_per_m_fetches", "ms_per_m_points"] {
+        let x = c[k].as_f64().unwrap();
+        assert!(x.is_finite() && x >= 0.0, "{k}: {c}");
     }
     let cells = v["cells"].as_array().unwrap();
     // Table 1: five sorts at 64² and 128²; Table 2: E1, E2, E3, E3p and E4 at both sizes.

@@ -286,20 +286,6 @@ impl ForceKind {
             ForceKind::Pair => "pair",
         }
     }
-
-    /// The kind in words, for plans and messages.
-    pub fn noun(self) -> &'static str {
-        match self {
-            ForceKind::Gravity => "gravity",
-            ForceKind::Damping => "damping",
-            ForceKind::Wind => "wind",
-            ForceKind::Attractor => "attractor",
-            ForceKind::Spring => "spring",
-            ForceKind::Vortex => "vortex",
-            ForceKind::Custom => "user force",
-            ForceKind::Pair => "pair force",
-        }
-    }
 }
 
 /// One force of any kind, borrowed from [`Forces`].

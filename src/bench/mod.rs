@@ -3,12 +3,14 @@
 //! fragment path is bound by the bytes it writes, no pass that writes those targets can be
 //! faster).
 
+pub mod passes;
 pub mod scene;
 pub mod scenes;
 pub mod sort;
 pub mod stats;
 pub mod step;
 
+pub use passes::{bench_passes, passes_markdown, PassesOptions, PassesRecord};
 pub use scene::{bench_scene, scene_markdown, SceneBenchOptions, SceneBenchRecord};
 pub use sort::{bench_sort, paper_table1_fps, sort_markdown, SortBenchOptions, SortRecord};
 pub use stats::{

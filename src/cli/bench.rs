@@ -2,13 +2,13 @@
 
 use clap::{Args, Subcommand};
 use texflow::bench::{
-    bench_sort, bench_step, Clock, SortBenchOptions, SortRecord, StepOptions, StepRecord,
+    bench_sort, bench_step, SortBenchOptions, SortRecord, StepOptions, StepRecord,
 };
 use texflow::gl::Context;
 use texflow::scene;
 use texflow::sort::Variant;
 
-use super::{at_least_one, bad, parse_size, progress_bar, ClockArg, Common};
+use super::{at_least_one, bad, parse_size, progress_bar, report, warmup_frames, ClockArg, Common};
 
 #[derive(Subcommand)]
 pub enum BenchCommand {
@@ -21,6 +21,8 @@ pub enum BenchCommand {
     Step(StepArgs),
     /// UberFlow's Table 1: full sorts per variant and size, with floors and CPU baselines.
     Sort(SortArgs),
+    /// Every pass of one frame of any scene, draw by draw, each next to its floor.
+    Passes(super::bench_passes::PassesArgs),
 }
 
 /// `--blocked 4`, `3p`, `5c`: entries-per-fragment bits, the pinned lane, compact entries.
@@ -49,16 +51,6 @@ fn parse_blocked_shape(s: &str) -> texflow::Result<texflow::sort::BlockedShape> 
     }
 }
 
-/// `--warmup N`: at most the library's bound, named as the option.
-fn warmup_frames(s: &str) -> Result<usize, String> {
-    let max = texflow::bench::scene::MAX_WARMUP_FRAMES;
-    match s.parse::<usize>() {
-        Ok(n) if n <= max => Ok(n),
-        Ok(n) => Err(format!("{n} frames of warm-up: give at most {max}")),
-        Err(e) => Err(format!("{e}: give a whole number of frames, at most {max}")),
-    }
-}
-
 pub fn print_sort_table(records: &[SortRecord]) {
     print!("{}", texflow::bench::sort_markdown(records));
 }
@@ -69,6 +61,7 @@ pub fn bench(cmd: BenchCommand) -> texflow::Result<()> {
         BenchCommand::Sort(a) => sort(a),
         BenchCommand::Scene(a) => bench_scene(a),
         BenchCommand::Step(a) => step(a),
+        BenchCommand::Passes(a) => super::bench_passes::bench_passes_cmd(a),
     }
 }
 
@@ -348,31 +341,6 @@ pub fn bench_scenes(a: ScenesArgs) -> texflow::Result<()> {
         |r| print!("{}", bs::markdown(r)),
     );
     Ok(())
-}
-
-/// Prints benchmark records as JSON (an object: `texflow_version`, `schema`, `device`, `clock`,
-/// `records`), or as a header naming the device and clock and a table.
-pub fn report<T: serde::Serialize>(
-    json: Option<&str>,
-    records: &[T],
-    ctx: &Context,
-    clock: Option<Clock>,
-    what: &str,
-    table: fn(&[T]),
-) {
-    if let Some(schema) = json {
-        let mut v = texflow::bench::json_envelope(schema, ctx, clock, &records);
-        v["what"] = what.into();
-        println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
-    } else {
-        println!(
-            "device {}: {}; {}; {what}",
-            ctx.device_index(),
-            ctx.limits().renderer,
-            clock.map(Clock::name).unwrap_or_default()
-        );
-        table(records);
-    }
 }
 
 pub fn print_step_table(records: &[StepRecord]) {

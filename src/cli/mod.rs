@@ -2,6 +2,7 @@
 //! dispatches; everything a test or an example would need lives in the library.
 
 pub mod bench;
+pub mod bench_passes;
 pub mod collide;
 pub mod compare;
 pub mod diff;
@@ -193,4 +194,39 @@ pub fn progress_bar(len: u64, quiet: bool, what: &str) -> ProgressBar {
     );
     bar.set_message(what.to_owned());
     bar
+}
+
+/// `--warmup N`: at most the library's bound, named as the option.
+pub fn warmup_frames(s: &str) -> Result<usize, String> {
+    let max = texflow::bench::scene::MAX_WARMUP_FRAMES;
+    match s.parse::<usize>() {
+        Ok(n) if n <= max => Ok(n),
+        Ok(n) => Err(format!("{n} frames of warm-up: give at most {max}")),
+        Err(e) => Err(format!("{e}: give a whole number of frames, at most {max}")),
+    }
+}
+
+/// Prints benchmark records as JSON (an object: `texflow_version`, `schema`, `device`, `clock`,
+/// `records`), or as a header naming the device and clock and a table.
+pub fn report<T: serde::Serialize>(
+    json: Option<&str>,
+    records: &[T],
+    ctx: &texflow::gl::Context,
+    clock: Option<texflow::bench::Clock>,
+    what: &str,
+    table: fn(&[T]),
+) {
+    if let Some(schema) = json {
+        let mut v = texflow::bench::json_envelope(schema, ctx, clock, &records);
+        v["what"] = what.into();
+        println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
+    } else {
+        println!(
+            "device {}: {}; {}; {what}",
+            ctx.device_index(),
+            ctx.limits().renderer,
+            clock.map(texflow::bench::Clock::name).unwrap_or_default()
+        );
+        table(records);
+    }
 }

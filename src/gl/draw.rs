@@ -238,14 +238,16 @@ impl Context {
             Some(r) => r.width as u64 * r.height as u64,
             None => d.target.width() as u64 * d.target.height() as u64,
         };
+        let bytes = match d.primitive {
+            Primitive::Triangles => texels * d.target.bytes_per_texel() as u64,
+            Primitive::Points | Primitive::Lines => 0,
+        };
         match d.primitive {
-            Primitive::Triangles => {
-                let bytes = texels * d.target.bytes_per_texel() as u64;
-                self.count_draw(true, bytes, 0, d.count as u64)
-            }
+            Primitive::Triangles => self.count_draw(true, bytes, 0, d.count as u64),
             Primitive::Points => self.count_draw(false, 0, d.count as u64, d.count as u64),
             Primitive::Lines => self.count_draw(false, 0, 0, d.count as u64),
         }
+        let profiled = super::profile::before(self);
         let mode = match d.primitive {
             Primitive::Points => glow::POINTS,
             Primitive::Triangles => glow::TRIANGLES,
@@ -261,6 +263,9 @@ impl Context {
                 self.gl().draw_arrays(mode, 0, d.count as i32);
             }
             self.gl().bind_vertex_array(None);
+        }
+        if profiled {
+            super::profile::after(self, d.program.name(), d.target.label(), bytes);
         }
     }
 

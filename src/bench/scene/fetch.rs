@@ -44,6 +44,9 @@ fn kind(r: &ReadShape) -> usize {
 /// A program of the floor: samplers of each kind, targets, unsigned targets.
 type ProgramKey = ([usize; 4], usize, bool);
 
+/// A target of the floor: size and formats.
+type TargetKey = ([u32; 2], Vec<TextureFormat>);
+
 /// A texture the floor reads in place of one a draw bound (same size and format).
 enum Input {
     D2(Texture),
@@ -62,7 +65,7 @@ pub(super) struct FetchFloor {
     ctx: Context,
     vao: VertexArray,
     programs: RefCell<HashMap<ProgramKey, Program>>,
-    targets: RefCell<HashMap<([u32; 2], Vec<TextureFormat>), Framebuffer>>,
+    targets: RefCell<HashMap<TargetKey, Framebuffer>>,
     /// By shape and by which read of that shape in one draw it is: two reads of one draw never
     /// share a texture (nor a cache line).
     inputs: RefCell<HashMap<(ReadShape, usize), Input>>,

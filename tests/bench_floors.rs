@@ -3,6 +3,11 @@
 //! repetition (draws, vertices, bytes into colour attachments, and for the render pass the
 //! fragments a samples query counted). Times are not compared: that part of a floor's claim is
 //! the benchmark's to report (⚠ under 0.95), not a test's.
+//!
+//! Every phase that is not a render pass has the fetch floor beside its first floor, built from
+//! its own draws: it draws no more (draws, vertices, bytes). That it fetches no more is not
+//! measured (the GL layer counts no fetches); it fetches once per bound texture and fragment by
+//! construction (`glsl/bench/fetch_floor.frag`).
 
 mod common;
 
@@ -42,9 +47,11 @@ fn every_drawn_floor_draws_no_more_than_its_phase() {
     let mut checked = 0;
     let mut render_fragments = 0;
     let mut fills = 0;
+    let mut fetch_drawn = 0;
     for name in texflow::scene::BUILTIN {
         let scene = texflow::scene::load(name).unwrap();
         let records = bench_scene(&ctx, &scene, &[16], &opts, |_| {}).unwrap();
+        let fetch_before = fetch_drawn;
         for p in &records[0].phases {
             assert!(!p.bounds.is_empty(), "{name}: {p:?}");
             // The phase is reported against the larger bound.
@@ -66,6 +73,23 @@ fn every_drawn_floor_draws_no_more_than_its_phase() {
                     render_fragments += 1;
                 }
             }
+            // Every phase but the render passes has the fetch floor: one full-screen pass for
+            // each of the phase's, into the same targets and viewports (the same bytes).
+            let fetch = p.bounds.iter().find(|b| b.floor.starts_with("fetch floor"));
+            if p.phase.starts_with("render") {
+                assert!(fetch.is_none(), "{name}: {}", p.phase);
+            } else {
+                let fetch = fetch.unwrap_or_else(|| panic!("{name}: `{}` no fetch floor", p.phase));
+                let f = fetch.drawn.expect("the fetch floor is drawn").stats;
+                let s = phase.stats;
+                assert_eq!(
+                    (f.draws, f.passes, f.bytes_written),
+                    (s.passes, s.passes, s.bytes_written),
+                    "{name}: `{}`: the fetch floor's draws, passes, bytes",
+                    p.phase
+                );
+                fetch_drawn += (f.draws > 0) as usize;
+            }
             // Points and sprites drawn without geometry have the fill floor beside the placed
             // points.
             fills += p
@@ -74,9 +98,14 @@ fn every_drawn_floor_draws_no_more_than_its_phase() {
                 .filter(|b| b.floor.starts_with("fill floor"))
                 .count();
         }
+        // Every scene steps its state in full-screen passes: one fetch floor at least drew.
+        assert!(fetch_drawn > fetch_before, "{name}: no fetch floor drawn");
     }
     // Not vacuous: floors were compared, render floors with fragments among them.
-    eprintln!("{checked} floors compared, {render_fragments} with fragments, {fills} fill floors");
+    eprintln!(
+        "{checked} floors compared, {render_fragments} with fragments, {fills} fill floors, \
+         {fetch_drawn} fetch floors drawn"
+    );
     assert!(checked >= 2 * texflow::scene::BUILTIN.len(), "{checked}");
     assert!(render_fragments > 0);
     assert!(fills >= 4, "{fills} fill floors");

@@ -223,6 +223,7 @@ impl Context {
     /// texture or uniform names nothing the program declares.
     pub fn draw(&self, d: &Draw<'_>) {
         super::record::note(d.program.name());
+        super::record::note_shape(d);
         d.program.bind();
         d.program.bind_textures(d.textures);
         for &(name, value) in d.uniforms {

@@ -22,6 +22,8 @@ pub struct Framebuffer {
     attachments: usize,
     /// Bytes per texel of all attachments together.
     bytes_per_texel: usize,
+    /// Each attachment's format.
+    formats: Vec<TextureFormat>,
     /// Whether the attachments hold unsigned integers (written as `uvec4`).
     integer: bool,
     /// A depth renderbuffer (frame targets that draw geometry only).
@@ -92,6 +94,7 @@ impl Framebuffer {
         let attachments = textures.len();
         let bytes_per_texel = textures.iter().map(|t| t.format().bytes_per_texel()).sum();
         let integer = textures_integer(&textures);
+        let formats = textures.iter().map(|t| t.format()).collect();
         Framebuffer {
             ctx: ctx.clone(),
             raw,
@@ -100,6 +103,7 @@ impl Framebuffer {
             size: [w, h],
             attachments,
             bytes_per_texel,
+            formats,
             integer,
             depth: None,
             label: label.to_owned(),
@@ -229,6 +233,7 @@ impl Framebuffer {
             size: [w, h],
             attachments: n,
             bytes_per_texel: n * texture.format().bytes_per_texel(),
+            formats: vec![texture.format(); n],
             integer: texture.format() == TextureFormat::Rgba32Ui,
             depth: None,
             label: label.to_owned(),
@@ -275,6 +280,7 @@ impl Framebuffer {
             size: source.size,
             attachments: 1,
             bytes_per_texel: texture.format().bytes_per_texel(),
+            formats: vec![texture.format()],
             integer: texture.format() == TextureFormat::Rgba32Ui,
             depth: None,
             label: label.to_owned(),
@@ -311,6 +317,10 @@ impl Framebuffer {
     /// Bytes a fragment writes into all attachments.
     pub fn bytes_per_texel(&self) -> usize {
         self.bytes_per_texel
+    }
+    /// Each attachment's format, in order.
+    pub fn formats(&self) -> &[TextureFormat] {
+        &self.formats
     }
     /// Width of the attachments.
     pub fn width(&self) -> u32 {

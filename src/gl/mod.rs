@@ -94,7 +94,9 @@ pub use pingpong::{PingPong, Ring3};
 pub use profile::{DrawProfiler, DrawTime};
 pub use program::{Defines, Program};
 pub use query::{SamplesQuery, TimerQuery};
-pub use record::{attach_draws, DrawRecorder, PassDraw, PassInfo};
+pub use record::{
+    attach_draws, DrawRecorder, DrawShape, PassDraw, PassInfo, ReadShape, ShapeRecorder,
+};
 pub use stats::DrawStats;
 pub use texture::{check_size, Texture, TextureDesc, TextureFormat};
 pub use texture3d::{check_size_3d, Texture3D};

@@ -3,9 +3,97 @@
 
 use std::cell::RefCell;
 
+use super::{Draw, Primitive, Rect, Sampled, TextureFormat};
+
 thread_local! {
     // One log per thread: a GL context is current on one thread only.
     static LOG: RefCell<Option<Vec<String>>> = const { RefCell::new(None) };
+    static SHAPES: RefCell<Option<Vec<DrawShape>>> = const { RefCell::new(None) };
+}
+
+/// One texture a draw read, as data: its size (`[w, h, 1]` for a 2D texture) and format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct ReadShape {
+    /// Width, height and depth in texels.
+    pub size: [u32; 3],
+    /// A 3D texture (else 2D).
+    pub three_d: bool,
+    /// Texel format.
+    pub format: TextureFormat,
+}
+
+/// One draw as data, without its program: what it wrote (the target's size and formats, the
+/// viewport), what it drew, and the textures it read (one per sampler, in the draw's order).
+/// What a floor built from a phase's own draws needs.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DrawShape {
+    /// The program (`vertex+fragment`).
+    pub program: String,
+    /// The target's width and height.
+    pub size: [u32; 2],
+    /// Its attachments' formats.
+    pub formats: Vec<TextureFormat>,
+    /// The viewport; `None`: all of the target.
+    pub viewport: Option<Rect>,
+    /// What the vertices made.
+    pub primitive: Primitive,
+    /// Vertices drawn.
+    pub count: u32,
+    /// The textures bound, one per sampler.
+    pub reads: Vec<ReadShape>,
+}
+
+/// Records every draw on this thread as a [`DrawShape`] from [`ShapeRecorder::start`] until
+/// [`ShapeRecorder::finish`] (or the recorder's drop).
+#[derive(Debug)]
+pub struct ShapeRecorder(());
+
+impl ShapeRecorder {
+    /// Starts recording (anew, where a recording was under way).
+    pub fn start() -> Self {
+        SHAPES.with(|l| *l.borrow_mut() = Some(Vec::new()));
+        ShapeRecorder(())
+    }
+
+    /// Stops recording: the draws since the start, in order.
+    pub fn finish(self) -> Vec<DrawShape> {
+        SHAPES.with(|l| l.borrow_mut().take()).unwrap_or_default()
+    }
+}
+
+impl Drop for ShapeRecorder {
+    fn drop(&mut self) {
+        SHAPES.with(|l| l.borrow_mut().take());
+    }
+}
+
+/// Notes the shape of `d` where a recording is under way.
+pub(crate) fn note_shape(d: &Draw<'_>) {
+    SHAPES.with(|l| {
+        if let Some(log) = l.borrow_mut().as_mut() {
+            let reads = d.textures.iter().map(|(_, t)| match t {
+                Sampled::D2(t) => ReadShape {
+                    size: [t.width(), t.height(), 1],
+                    three_d: false,
+                    format: t.format(),
+                },
+                Sampled::D3(t) => ReadShape {
+                    size: t.size(),
+                    three_d: true,
+                    format: t.format(),
+                },
+            });
+            log.push(DrawShape {
+                program: d.program.name().to_owned(),
+                size: [d.target.width(), d.target.height()],
+                formats: d.target.formats().to_vec(),
+                viewport: d.viewport,
+                primitive: d.primitive,
+                count: d.count,
+                reads: reads.collect(),
+            });
+        }
+    });
 }
 
 /// Records the program of every draw on this thread from [`DrawRecorder::start`] until

@@ -25,6 +25,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "bench/render_floor_at.vert",
     "bench/fetch_probe.frag",
     "bench/fill_floor.frag",
+    "bench/fetch_floor.frag",
     "common/compare.glsl",
     "common/precision.glsl",
     "common/mass.glsl",

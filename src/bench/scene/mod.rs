@@ -23,7 +23,10 @@
 //!   [`PlacedRenderFloor`](crate::bench::PlacedRenderFloor), as many particles as the pass draws
 //!   where they are, at the pass's point size and blend, fetching nothing; and the fill floor,
 //!   the renderer's own vertex stage (the same points or sprites) with a constant fragment
-//!   (`glsl/bench/fill_floor.frag`), the same blend, no atlas fetch.
+//!   (`glsl/bench/fill_floor.frag`), the same blend, no atlas fetch;
+//! - every other phase, a second bound: the fetch floor (`src/bench/scene/fetch.rs`), for each
+//!   full-screen draw the phase made a pass into the same targets and viewport that fetches each
+//!   texture the draw bound once at the fragment's texel and writes their sum.
 //!
 //! Where a floor is drawn, what it drew and what its phase drew (draws, points, bytes, and for
 //! the render pass the fragments of a samples query) are kept in the record ([`Drawn`]): a
@@ -41,6 +44,7 @@ use crate::scene::SceneFile;
 #[cfg(doc)]
 use crate::sim::Simulation;
 
+mod fetch;
 mod floors;
 mod phases;
 mod text;
@@ -64,7 +68,8 @@ pub struct PhaseRecord {
     /// What the floor is (the larger bound).
     pub floor: String,
     /// Every bound measured for the phase in the same run, the first floor first (render
-    /// phases: the placed points, then the fill floor).
+    /// phases: the placed points, then the fill floor; the others: their first floor, then the
+    /// fetch floor).
     pub bounds: Vec<Bound>,
     /// What the phase drew in the last repetition, where its floors are drawn passes.
     pub drawn: Option<Drawn>,
@@ -394,6 +399,7 @@ fn measure(
         timer,
         floor1: &floor1,
         gather: gather.as_ref(),
+        fetch: &state_floors.fetch,
     };
     let mut phases = Phases::default();
     let mut frames = Vec::new();

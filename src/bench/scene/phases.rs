@@ -1,6 +1,7 @@
 //! The phases that need more than a timer: the engine's sort stage timed in its parts, the
 //! floors of the passes that write the state, and half-angle slicing's passes.
 
+use super::fetch::{recorded, FetchFloor, FETCH_FLOOR};
 use super::floors::drawn;
 use super::{scratch_like, timed, Phases};
 use crate::bench::stats::{FixedCost, PassTimer, RenderFloor, WriteFloor};
@@ -18,6 +19,7 @@ pub(super) struct SortFloors<'a> {
     pub(super) timer: &'a PassTimer,
     pub(super) floor1: &'a WriteFloor,
     pub(super) gather: Option<&'a WriteFloor>,
+    pub(super) fetch: &'a FetchFloor,
 }
 
 /// One frame's sorting, the engine's own sort stage run in its parts: keys, network, and the
@@ -35,19 +37,23 @@ pub(super) fn sort_phases(
         on.timer.time(|| on.floor1.draw(sorter.keys_target()))
     })?;
     let mut mode = None;
-    let (t, td) = drawn(ctx, || {
-        timed(on.timer, || {
-            mode = e.sort_keys()?;
-            Ok(())
+    let ((t, td), shapes) = recorded(|| {
+        drawn(ctx, || {
+            timed(on.timer, || {
+                mode = e.sort_keys()?;
+                Ok(())
+            })
         })
     })?;
+    let fetch = on.fetch.measure(on.timer, &shapes)?;
     let keys = match mode {
         Some(KeyMode::Age { .. }) => "sort keys: age",
         Some(KeyMode::Axis { .. }) => "sort keys: along the half-angle vector",
         _ => "sort keys: distance to the viewer",
     };
     let floor = "write-only pass into the sort texture";
-    phases.push_bounds(keys, t, Some(td), &[(floor, f, Some(fd))]);
+    let bounds = [(floor, f, Some(fd)), (FETCH_FLOOR, fetch.0, Some(fetch.1))];
+    phases.push_bounds(keys, t, Some(td), &bounds);
     // Each pass's floor writes what it writes: the sort texture, or for the blocked
     // variant its layers (and the row-major texture once, in its unpack pass).
     let sorter = e.sorter().expect("a scene that sorted keys has a sorter");
@@ -66,13 +72,28 @@ pub(super) fn sort_phases(
         format!("sort network ({})", sorter.variant().name()),
     );
     let mut passes = 0;
-    let (t, td) = drawn(ctx, || on.timer.time(|| passes = e.sort_network()))?;
+    let ((t, td), shapes) =
+        recorded(|| drawn(ctx, || on.timer.time(|| passes = e.sort_network())))?;
+    let fetch = on.fetch.measure(on.timer, &shapes)?;
     let unpack = passes.saturating_sub(network_passes.min(passes));
     let network = (passes - unpack) as u64;
     let floor = "write-only pass into each pass's targets × passes run";
     let f = fl * network as f64 + fk * unpack as f64;
     let fd = fld.times(network).plus(fkd.times(unpack as u64));
-    phases.push_bounds(&name, t, Some(td), &[(floor, f, Some(fd))]);
+    let bounds = [(floor, f, Some(fd)), (FETCH_FLOOR, fetch.0, Some(fetch.1))];
+    phases.push_bounds(&name, t, Some(td), &bounds);
+    gather_phase(ctx, on, phases, e)?;
+    Ok(true)
+}
+
+/// The sort's gather of what the renderer draws, next to a write-only pass into the gathered
+/// textures and its fetch floor; without a phase under the index lookup (nothing gathered).
+fn gather_phase(
+    ctx: &Context,
+    on: &SortFloors,
+    phases: &mut Phases,
+    e: &mut dyn Stages,
+) -> Result<()> {
     let floor = match (e.sorted(), on.gather) {
         (Some(sorted), Some(gather)) => Some((
             sorted.attachments(),
@@ -82,10 +103,10 @@ pub(super) fn sort_phases(
     };
     let Some((n, (f, fd))) = floor else {
         // Latta §3.4.4's index lookup: the render pass reads the sort texture itself.
-        e.sort_gather()?;
-        return Ok(true);
+        return e.sort_gather();
     };
-    let (t, td) = drawn(ctx, || timed(on.timer, || e.sort_gather()))?;
+    let ((t, td), shapes) = recorded(|| drawn(ctx, || timed(on.timer, || e.sort_gather())))?;
+    let fetch = on.fetch.measure(on.timer, &shapes)?;
     let (name, floor) = match n {
         2 => (
             "gather position and static textures".to_owned(),
@@ -99,8 +120,12 @@ pub(super) fn sort_phases(
             format!("write-only pass into the {n} gathered textures"),
         ),
     };
-    phases.push_bounds(&name, t, Some(td), &[(&floor, f, Some(fd))]);
-    Ok(true)
+    let bounds = [
+        (&*floor, f, Some(fd)),
+        (FETCH_FLOOR, fetch.0, Some(fetch.1)),
+    ];
+    phases.push_bounds(&name, t, Some(td), &bounds);
+    Ok(())
 }
 
 /// The floors of the passes that write the state: a write-only pass into a framebuffer of the
@@ -114,6 +139,8 @@ pub(super) struct StateFloors {
     /// size (no more bytes per point than any target the emit pass writes).
     points: RenderFloor,
     single: Framebuffer,
+    /// The second bound of every stage: its own draws' fetches.
+    pub(super) fetch: FetchFloor,
 }
 
 impl StateFloors {
@@ -140,6 +167,7 @@ impl StateFloors {
             scratch_bytes,
             points: RenderFloor::new(ctx)?,
             single: Framebuffer::new(ctx, "births floor", vec![t])?,
+            fetch: FetchFloor::new(ctx)?,
         })
     }
 
@@ -173,9 +201,10 @@ impl StateFloors {
                 let (f, fd) = drawn(ctx, || {
                     timer.time(|| self.state.draw_rows(&self.scratch, 0, rows))
                 })?;
-                let (t, td) = drawn(ctx, || timed(timer, || sim.run(stage)))?;
+                let (t, td, fetch) = self.run(ctx, timer, sim, stage)?;
                 let floor = "write-only pass into the state's targets, live rows";
-                phases.push_bounds(&name, t, Some(td), &[(floor, f, Some(fd))]);
+                let bounds = [(floor, f, Some(fd)), (FETCH_FLOOR, fetch.0, Some(fetch.1))];
+                phases.push_bounds(&name, t, Some(td), &bounds);
                 continue;
             }
             if stage == Stage::Births {
@@ -185,16 +214,30 @@ impl StateFloors {
             let fixed = self.fixed_cost.measure(timer)?;
             let f = timer.time(|| self.state.draw(&self.scratch))?;
             let rate = self.scratch_bytes as f64 / (f - fixed).max(1e-9);
-            let (t, td) = drawn(ctx, || timed(timer, || sim.run(stage)))?;
+            let (t, td, fetch) = self.run(ctx, timer, sim, stage)?;
             let d = td.stats;
             // A stage that drew nothing this time still costs its call: one pass's fixed cost.
             // A bound computed from the stage's own draws: nothing drawn to compare.
             let floor = "its passes (at least one) × the fixed cost of a pass + its bytes at the \
                          state's write rate";
             let f = d.draws.max(1) as f64 * fixed + d.bytes_written as f64 / rate;
-            phases.push_bounds(&name, t, Some(td), &[(floor, f, None)]);
+            let bounds = [(floor, f, None), (FETCH_FLOOR, fetch.0, Some(fetch.1))];
+            phases.push_bounds(&name, t, Some(td), &bounds);
         }
         Ok(())
+    }
+
+    /// Runs `stage` timed, counting what it drew, then its fetch floor from its own draws.
+    fn run(
+        &self,
+        ctx: &Context,
+        timer: &PassTimer,
+        sim: &mut dyn Simulation,
+        stage: Stage,
+    ) -> Result<(f64, super::Drawn, (f64, super::Drawn))> {
+        let ((t, td), shapes) = recorded(|| drawn(ctx, || timed(timer, || sim.run(stage))))?;
+        let fetch = self.fetch.measure(timer, &shapes)?;
+        Ok((t, td, fetch))
     }
 
     /// The births (the allocator's emit pass: one-pixel points into each target it writes),
@@ -208,7 +251,7 @@ impl StateFloors {
         phases: &mut Phases,
         name: &str,
     ) -> Result<()> {
-        let (t, td) = drawn(ctx, || timed(timer, || sim.run(Stage::Births)))?;
+        let (t, td, fetch) = self.run(ctx, timer, sim, Stage::Births)?;
         let d = td.stats;
         let per_draw = d.points.checked_div(d.draws).unwrap_or(0) as usize;
         let (f, fd) = drawn(ctx, || {
@@ -220,7 +263,8 @@ impl StateFloors {
         })?;
         let floor = "as many one-pixel points in as many draws as the emit pass, into one \
                      RGBA32F texture of the state's size";
-        phases.push_bounds(name, t, Some(td), &[(floor, f, Some(fd))]);
+        let bounds = [(floor, f, Some(fd)), (FETCH_FLOOR, fetch.0, Some(fetch.1))];
+        phases.push_bounds(name, t, Some(td), &bounds);
         Ok(())
     }
 }

@@ -1,0 +1,205 @@
+// The fetch floor of a pass (`bench scene`): for one draw of a phase, a pass into targets of the
+// same formats and size over the same viewport that fetches each texture the draw bound once, at
+// the fragment's own texel (clamped to the texture's size; a 3D texture at layer u_layer), sums
+// the fetches and writes the sum into every target, so that no fetch can be left out. No other
+// arithmetic: a pass that reads each of its inputs at least once and writes the same bytes costs
+// at least this.
+//
+// F2, U2, F3, U3: how many 2D float, 2D unsigned, 3D float and 3D unsigned textures the draw
+// bound (at most 16, 4, 4, 2); TARGETS: its render targets (1 to 8); UINT: unsigned targets.
+
+#ifndef TARGETS
+#define TARGETS 1
+#endif
+#ifndef F2
+#define F2 0
+#endif
+#ifndef U2
+#define U2 0
+#endif
+#ifndef F3
+#define F3 0
+#endif
+#ifndef U3
+#define U3 0
+#endif
+
+uniform int u_layer;
+
+#ifdef UINT
+layout(location = 0) out uvec4 o_targets[TARGETS];
+#else
+layout(location = 0) out vec4 o_targets[TARGETS];
+#endif
+
+#define FETCH2(s) texelFetch(s, min(p, textureSize(s, 0) - 1), 0)
+#define FETCH3(s) texelFetch(s, min(ivec3(p, u_layer), textureSize(s, 0) - 1), 0)
+#if F2 > 0
+uniform sampler2D u_f2_0;
+#endif
+#if F2 > 1
+uniform sampler2D u_f2_1;
+#endif
+#if F2 > 2
+uniform sampler2D u_f2_2;
+#endif
+#if F2 > 3
+uniform sampler2D u_f2_3;
+#endif
+#if F2 > 4
+uniform sampler2D u_f2_4;
+#endif
+#if F2 > 5
+uniform sampler2D u_f2_5;
+#endif
+#if F2 > 6
+uniform sampler2D u_f2_6;
+#endif
+#if F2 > 7
+uniform sampler2D u_f2_7;
+#endif
+#if F2 > 8
+uniform sampler2D u_f2_8;
+#endif
+#if F2 > 9
+uniform sampler2D u_f2_9;
+#endif
+#if F2 > 10
+uniform sampler2D u_f2_10;
+#endif
+#if F2 > 11
+uniform sampler2D u_f2_11;
+#endif
+#if F2 > 12
+uniform sampler2D u_f2_12;
+#endif
+#if F2 > 13
+uniform sampler2D u_f2_13;
+#endif
+#if F2 > 14
+uniform sampler2D u_f2_14;
+#endif
+#if F2 > 15
+uniform sampler2D u_f2_15;
+#endif
+#if U2 > 0
+uniform usampler2D u_u2_0;
+#endif
+#if U2 > 1
+uniform usampler2D u_u2_1;
+#endif
+#if U2 > 2
+uniform usampler2D u_u2_2;
+#endif
+#if U2 > 3
+uniform usampler2D u_u2_3;
+#endif
+#if F3 > 0
+uniform sampler3D u_f3_0;
+#endif
+#if F3 > 1
+uniform sampler3D u_f3_1;
+#endif
+#if F3 > 2
+uniform sampler3D u_f3_2;
+#endif
+#if F3 > 3
+uniform sampler3D u_f3_3;
+#endif
+#if U3 > 0
+uniform usampler3D u_u3_0;
+#endif
+#if U3 > 1
+uniform usampler3D u_u3_1;
+#endif
+
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    vec4 f = vec4(0.0);
+    uvec4 u = uvec4(0u);
+#if F2 > 0
+    f += FETCH2(u_f2_0);
+#endif
+#if F2 > 1
+    f += FETCH2(u_f2_1);
+#endif
+#if F2 > 2
+    f += FETCH2(u_f2_2);
+#endif
+#if F2 > 3
+    f += FETCH2(u_f2_3);
+#endif
+#if F2 > 4
+    f += FETCH2(u_f2_4);
+#endif
+#if F2 > 5
+    f += FETCH2(u_f2_5);
+#endif
+#if F2 > 6
+    f += FETCH2(u_f2_6);
+#endif
+#if F2 > 7
+    f += FETCH2(u_f2_7);
+#endif
+#if F2 > 8
+    f += FETCH2(u_f2_8);
+#endif
+#if F2 > 9
+    f += FETCH2(u_f2_9);
+#endif
+#if F2 > 10
+    f += FETCH2(u_f2_10);
+#endif
+#if F2 > 11
+    f += FETCH2(u_f2_11);
+#endif
+#if F2 > 12
+    f += FETCH2(u_f2_12);
+#endif
+#if F2 > 13
+    f += FETCH2(u_f2_13);
+#endif
+#if F2 > 14
+    f += FETCH2(u_f2_14);
+#endif
+#if F2 > 15
+    f += FETCH2(u_f2_15);
+#endif
+#if U2 > 0
+    u += FETCH2(u_u2_0);
+#endif
+#if U2 > 1
+    u += FETCH2(u_u2_1);
+#endif
+#if U2 > 2
+    u += FETCH2(u_u2_2);
+#endif
+#if U2 > 3
+    u += FETCH2(u_u2_3);
+#endif
+#if F3 > 0
+    f += FETCH3(u_f3_0);
+#endif
+#if F3 > 1
+    f += FETCH3(u_f3_1);
+#endif
+#if F3 > 2
+    f += FETCH3(u_f3_2);
+#endif
+#if F3 > 3
+    f += FETCH3(u_f3_3);
+#endif
+#if U3 > 0
+    u += FETCH3(u_u3_0);
+#endif
+#if U3 > 1
+    u += FETCH3(u_u3_1);
+#endif
+    for (int i = 0; i < TARGETS; i++) {
+#ifdef UINT
+        o_targets[i] = u + floatBitsToUint(f);
+#else
+        o_targets[i] = f + uintBitsToFloat(u);
+#endif
+    }
+}

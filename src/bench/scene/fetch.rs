@@ -1,0 +1,344 @@
+//! The fetch floor, a second bound of every phase that is not a render pass, built from the
+//! phase's own draws (recorded by the GL layer, [`ShapeRecorder`]): for each full-screen draw
+//! the phase made, a pass into targets of the same formats and size, over the same viewport,
+//! that fetches each texture the draw bound once at the fragment's own texel, sums them and
+//! writes the sum (`glsl/bench/fetch_floor.frag`). A pass that reads each of its inputs at
+//! least once and writes the same bytes costs at least this.
+//!
+//! One fetch per bound texture and fragment: a pass that reads a texture many times a fragment
+//! (a neighbour search, relaxation's neighbours, a field sampled at a computed place) makes more
+//! fetches than its floor, which counts none of them, as no count of them is honest for every
+//! pass. Draws of points or lines (the births' emit pass) have no fetch floor of their own:
+//! where they fall is the data's, and a full-screen pass would write more than they do.
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+
+use super::floors::{drawn, Drawn};
+use crate::bench::stats::PassTimer;
+use crate::error::{Error, Result};
+use crate::gl::{
+    Context, Defines, Draw, DrawShape, DrawState, Framebuffer, Primitive, Program, ReadShape,
+    Sampled, ShapeRecorder, Texture, Texture3D, TextureDesc, TextureFormat, Uniform, VertexArray,
+    FULLSCREEN_VERTEX,
+};
+
+/// What the fetch floor is, in the phase table.
+pub(super) const FETCH_FLOOR: &str = "fetch floor: per full-screen draw, a pass into the same \
+    targets and viewport fetching each texture it bound once at the fragment's texel, summed";
+
+/// The kinds of sampler the floor's shader declares, their defines, names and most of each.
+const KINDS: [(&str, &str, usize); 4] = [
+    ("F2", "u_f2_", 16),
+    ("U2", "u_u2_", 4),
+    ("F3", "u_f3_", 4),
+    ("U3", "u_u3_", 2),
+];
+
+/// The kind of sampler `r` is read through (an index into [`KINDS`]).
+fn kind(r: &ReadShape) -> usize {
+    let unsigned = r.format == TextureFormat::Rgba32Ui;
+    2 * r.three_d as usize + unsigned as usize
+}
+
+/// A program of the floor: samplers of each kind, targets, unsigned targets.
+type ProgramKey = ([usize; 4], usize, bool);
+
+/// A target of the floor: size and formats.
+type TargetKey = ([u32; 2], Vec<TextureFormat>);
+
+/// A texture the floor reads in place of one a draw bound (same size and format).
+enum Input {
+    D2(Texture),
+    D3(Texture3D),
+}
+
+/// Runs `f`, recording the shapes of the draws it made.
+pub(super) fn recorded<T>(f: impl FnOnce() -> Result<T>) -> Result<(T, Vec<DrawShape>)> {
+    let recorder = ShapeRecorder::start();
+    let out = f()?;
+    Ok((out, recorder.finish()))
+}
+
+/// The fetch floor's programs, targets and inputs, made on first use and kept.
+pub(super) struct FetchFloor {
+    ctx: Context,
+    vao: VertexArray,
+    programs: RefCell<HashMap<ProgramKey, Program>>,
+    targets: RefCell<HashMap<TargetKey, Framebuffer>>,
+    /// By shape and by which read of that shape in one draw it is: two reads of one draw never
+    /// share a texture (nor a cache line).
+    inputs: RefCell<HashMap<(ReadShape, usize), Input>>,
+}
+
+impl FetchFloor {
+    pub(super) fn new(ctx: &Context) -> Result<Self> {
+        Ok(FetchFloor {
+            ctx: ctx.clone(),
+            vao: VertexArray::empty(ctx, "fetch floor")?,
+            programs: RefCell::default(),
+            targets: RefCell::default(),
+            inputs: RefCell::default(),
+        })
+    }
+
+    /// The floor of a phase that made `shapes`: its milliseconds and what it drew. Nothing
+    /// drawn (no full-screen draw) costs nothing: 0 ms, not timed.
+    pub(super) fn measure(&self, timer: &PassTimer, shapes: &[DrawShape]) -> Result<(f64, Drawn)> {
+        let draws: Vec<&DrawShape> = shapes
+            .iter()
+            .filter(|d| d.primitive == Primitive::Triangles && d.count >= 3)
+            .collect();
+        for d in &draws {
+            self.prepare(d)?;
+        }
+        if draws.is_empty() {
+            return Ok((0.0, Drawn::default()));
+        }
+        let (programs, targets) = (self.programs.borrow(), self.targets.borrow());
+        let inputs = self.inputs.borrow();
+        // Each draw's samplers and textures, by name, made before the timing.
+        let mut bound: Vec<Vec<(String, Sampled)>> = Vec::new();
+        for d in &draws {
+            let mut seen = HashMap::new();
+            let mut per_kind = [0usize; 4];
+            let mut list = Vec::new();
+            for r in &d.reads {
+                let n = seen.entry(*r).or_insert(0usize);
+                let k = kind(r);
+                let name = format!("{}{}", KINDS[k].1, per_kind[k]);
+                per_kind[k] += 1;
+                let texture = match &inputs[&(*r, *n)] {
+                    Input::D2(t) => Sampled::D2(t),
+                    Input::D3(t) => Sampled::D3(t),
+                };
+                *n += 1;
+                list.push((name, texture));
+            }
+            bound.push(list);
+        }
+        let named: Vec<Vec<(&str, Sampled)>> = bound
+            .iter()
+            .map(|l| l.iter().map(|(n, t)| (n.as_str(), *t)).collect())
+            .collect();
+        let layers: Vec<[(&str, Uniform); 1]> = (0..draws.len())
+            .map(|i| [("u_layer", Uniform::I32(i as i32))])
+            .collect();
+        drawn(&self.ctx, || {
+            timer.time(|| {
+                for (i, d) in draws.iter().enumerate() {
+                    self.ctx.draw(&Draw {
+                        program: &programs[&program_key(d)],
+                        target: &targets[&(d.size, d.formats.clone())],
+                        viewport: d.viewport,
+                        vertices: &self.vao,
+                        primitive: Primitive::Triangles,
+                        count: 3,
+                        state: &DrawState::REPLACE,
+                        textures: &named[i],
+                        uniforms: &layers[i],
+                    });
+                }
+            })
+        })
+    }
+
+    /// Makes what the floor of draw `d` needs, where not made yet.
+    fn prepare(&self, d: &DrawShape) -> Result<()> {
+        let key = program_key(d);
+        if let Some(k) = (0..4).find(|&k| key.0[k] > KINDS[k].2) {
+            return Err(Error::InvalidInput(format!(
+                "the fetch floor of a draw of {}: it binds {} textures of kind {}, and \
+                 glsl/bench/fetch_floor.frag declares {}; declare more there",
+                d.program, key.0[k], KINDS[k].0, KINDS[k].2
+            )));
+        }
+        if !self.programs.borrow().contains_key(&key) {
+            let mut defines: Defines = (0..4)
+                .map(|k| (KINDS[k].0.to_owned(), key.0[k].to_string()))
+                .collect();
+            defines.push(("TARGETS".into(), key.1.to_string()));
+            if key.2 {
+                defines.push(("UINT".into(), "1".into()));
+            }
+            let p = Program::new(
+                &self.ctx,
+                FULLSCREEN_VERTEX,
+                "bench/fetch_floor.frag",
+                &defines,
+            )?;
+            self.programs.borrow_mut().insert(key, p);
+        }
+        let target = (d.size, d.formats.clone());
+        if !self.targets.borrow().contains_key(&target) {
+            let fb = self.target(d)?;
+            self.targets.borrow_mut().insert(target, fb);
+        }
+        let mut seen = HashMap::new();
+        for r in &d.reads {
+            let n = seen.entry(*r).or_insert(0usize);
+            if !self.inputs.borrow().contains_key(&(*r, *n)) {
+                let t = self.input(r)?;
+                self.inputs.borrow_mut().insert((*r, *n), t);
+            }
+            *n += 1;
+        }
+        Ok(())
+    }
+
+    /// A framebuffer of `d`'s target's size and formats.
+    fn target(&self, d: &DrawShape) -> Result<Framebuffer> {
+        let [width, height] = d.size;
+        let textures = (d.formats.iter().enumerate())
+            .map(|(k, &format)| {
+                let label = format!("fetch floor target {k}");
+                let desc = TextureDesc {
+                    width,
+                    height,
+                    format,
+                    label: &label,
+                };
+                Texture::new(&self.ctx, desc)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Framebuffer::new(&self.ctx, "fetch floor", textures)
+    }
+
+    /// A texture of `r`'s size and format, holding values that differ from texel to texel
+    /// (floats; unsigned ones are left as allocated), so that no driver can store it as a
+    /// constant.
+    fn input(&self, r: &ReadShape) -> Result<Input> {
+        let [w, h, depth] = r.size;
+        let values =
+            |n: usize| -> Vec<f32> { (0..n).map(|i| (i as f32 * 0.618_034).fract()).collect() };
+        let n = w as usize * h as usize * depth as usize * r.format.channels();
+        if r.three_d {
+            let data = r.format.is_float().then(|| values(n));
+            let t = Texture3D::new(
+                &self.ctx,
+                "fetch floor input",
+                r.format,
+                r.size,
+                data.as_deref(),
+            )?;
+            return Ok(Input::D3(t));
+        }
+        let desc = TextureDesc {
+            width: w,
+            height: h,
+            format: r.format,
+            label: "fetch floor input",
+        };
+        let t = Texture::new(&self.ctx, desc)?;
+        if r.format.is_float() {
+            t.upload_f32(&values(n))?;
+        }
+        Ok(Input::D2(t))
+    }
+}
+
+/// The program key of the floor of draw `d`.
+fn program_key(d: &DrawShape) -> ProgramKey {
+    let mut counts = [0usize; 4];
+    for r in &d.reads {
+        counts[kind(r)] += 1;
+    }
+    let unsigned = d.formats.contains(&TextureFormat::Rgba32Ui);
+    (counts, d.formats.len(), unsigned)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gl::{Clock, Rect};
+
+    /// What the floor's inputs hold: value `i` of the flat data (see [`FetchFloor::input`]).
+    fn value(i: usize) -> f32 {
+        (i as f32 * 0.618_034).fract()
+    }
+
+    /// The texel `(x, y, z)` of a float input of `size`, as `texelFetch` returns it (missing
+    /// channels 0, alpha 1).
+    fn texel(r: &ReadShape, [x, y, z]: [u32; 3]) -> [f32; 4] {
+        let c = r.format.channels();
+        let at = ((z * r.size[1] + y) * r.size[0] + x) as usize * c;
+        let mut out = [0.0, 0.0, 0.0, 1.0];
+        for (k, o) in out.iter_mut().enumerate().take(c) {
+            *o = value(at + k);
+        }
+        out
+    }
+
+    /// The floor's pass writes, into every target, the sum of one fetch of each bound texture
+    /// at the fragment's texel clamped to the texture (a 3D one at the draw's layer, 0): the
+    /// fetches are made, each once, and none is left out. Against the same sum on the CPU.
+    #[test]
+    fn the_fetch_floor_writes_the_sum_of_one_fetch_of_each_texture() {
+        let ctx = Context::new(0).unwrap();
+        let d2 = |w, h, format| ReadShape {
+            size: [w, h, 1],
+            three_d: false,
+            format,
+        };
+        let small = d2(5, 3, TextureFormat::Rgba32F);
+        let volume = ReadShape {
+            size: [2, 2, 2],
+            three_d: true,
+            format: TextureFormat::Rgba32F,
+        };
+        let reads = vec![small, d2(8, 4, TextureFormat::R32F), volume, small];
+        let shape = DrawShape {
+            program: "test".into(),
+            size: [8, 4],
+            formats: vec![TextureFormat::Rgba32F; 2],
+            viewport: Some(Rect {
+                x: 0,
+                y: 1,
+                width: 8,
+                height: 3,
+            }),
+            primitive: Primitive::Triangles,
+            count: 3,
+            reads: reads.clone(),
+        };
+        let floor = FetchFloor::new(&ctx).unwrap();
+        let timer = PassTimer::new(&ctx, Clock::Wall).unwrap();
+        let (_, drawn) = floor.measure(&timer, std::slice::from_ref(&shape)).unwrap();
+        assert_eq!((drawn.stats.draws, drawn.stats.passes), (1, 1));
+        assert_eq!(drawn.stats.bytes_written, 8 * 3 * 32);
+        let targets = floor.targets.borrow();
+        let fb = &targets[&(shape.size, shape.formats.clone())];
+        for t in fb.textures() {
+            let got = t.read_f32().unwrap();
+            for y in 1..4u32 {
+                for x in 0..8u32 {
+                    let mut want = [0.0f32; 4];
+                    for r in &reads {
+                        let p = [x.min(r.size[0] - 1), y.min(r.size[1] - 1), 0];
+                        // Both reads of `small` hold the same values (the same pattern).
+                        for (w, v) in want.iter_mut().zip(texel(r, p)) {
+                            *w += v;
+                        }
+                    }
+                    let at = (y * 8 + x) as usize * 4;
+                    for k in 0..4 {
+                        assert!(
+                            (got[at + k] - want[k]).abs() < 1e-5,
+                            "texel ({x}, {y}) channel {k}: {} against {}",
+                            got[at + k],
+                            want[k]
+                        );
+                    }
+                }
+            }
+        }
+        // Draws of points have no fetch floor: nothing drawn, nothing timed.
+        let points = DrawShape {
+            primitive: Primitive::Points,
+            ..shape
+        };
+        let (ms, drawn) = floor.measure(&timer, &[points]).unwrap();
+        assert_eq!((ms, drawn.stats.draws), (0.0, 0));
+        ctx.check_error("the fetch floor").unwrap();
+    }
+}

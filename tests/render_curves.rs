@@ -29,7 +29,10 @@ fn row_scene(keys: &str, render: &str) -> SceneFile {
 
 /// Runs `s` to 4.3 s and gives the frame, and per live particle its pixel and birth time (the
 /// statics' x, where the allocator stamped it).
-fn run_row(s: &SceneFile) -> (image::RgbImage, Vec<((u32, u32), f32)>) {
+/// A live particle: its pixel and its birth time.
+type Born = ((u32, u32), f32);
+
+fn run_row(s: &SceneFile) -> (image::RgbImage, Vec<Born>) {
     let ctx = context();
     let mut e = texflow::ParticleEngine::new(&ctx, s, 4).unwrap();
     while e.sim().time() < 4.3 {
@@ -42,7 +45,7 @@ fn run_row(s: &SceneFile) -> (image::RgbImage, Vec<((u32, u32), f32)>) {
     let st = e.sim().statics().read_f32().unwrap();
     let mut out = Vec::new();
     for (p, s) in pos.chunks_exact(4).zip(st.chunks_exact(4)) {
-        if !(p[3] > 0.0) {
+        if p[3] <= 0.0 || p[3].is_nan() {
             continue;
         }
         let c = vp * Vec3::new(p[0], p[1], p[2]).extend(1.0);

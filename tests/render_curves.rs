@@ -15,11 +15,16 @@ use texflow::scene::{self, SceneFile};
 /// frame of 512×128 that sees x in about [-2.3, 2.3]. `keys`: the emitter's other keys,
 /// `render`: the render section's.
 fn row_scene(keys: &str, render: &str) -> SceneFile {
+    row_of("allocator]]\nrate = 2.5", keys, render)
+}
+
+/// [`row_scene`] with the emitter's kind and own key `kind` (`allocator]]\nrate = 2.5`).
+fn row_of(kind: &str, keys: &str, render: &str) -> SceneFile {
     let src = format!(
-        "name = \"row\"\nintegrator = \"euler\"\n[particles]\nsize = [8, 8]\n[time]\ndt = 0.05\n\
-         [[emitters.allocator]]\nrate = 2.5\nshape = \"point\"\n\
+        "name = \"row\"\nintegrator = \"euler\"\n[particles]\nsize = [16, 8]\n[time]\ndt = 0.05\n\
+         [[emitters.{kind}\nshape = \"point\"\n\
          center = {{ keys = [[0.0, [-2.0, 0.0, 0.0]], [4.0, [2.0, 0.0, 0.0]]] }}\n\
-         direction = [0.0, 1.0, 0.0]\nspeed = 0.0\nlife = [50.0, 50.0]\n{keys}\n\
+         direction = [0.0, 1.0, 0.0]\nspeed = 0.0\nlife = [15.0, 15.0]\n{keys}\n\
          [render]\nresolution = [512, 128]\nblending = \"additive\"\n\
          keyframes = [{{ age = 0.0, rgba = [1.0, 1.0, 1.0, 1.0] }}]\n{render}\n\
          [render.camera]\ndistance = 1.45\nelevation = 0.0\n"
@@ -60,21 +65,51 @@ fn run_row(s: &SceneFile) -> (image::RgbImage, Vec<Born>) {
     (img, out)
 }
 
-/// `tint` with keys (smooth), a sine on red and a noise on green and blue: each point's pixel
-/// is the curve at its birth time (white keyframes, additive on black, alpha 1), to 8 bits.
+/// `tint` with keys (smooth), a sine on red and a noise on green and blue.
+const TINT: &str = "tint = { keys = [[0.0, [0.2, 0.4, 0.4, 1.0]], [4.0, [0.7, 0.4, 0.4, 1.0]]], \
+                    interpolation = \"smooth\", periodic = { amplitude = [0.15, 0.0, 0.0, 0.0], \
+                    period = 1.3, phase = 0.1 }, noise = { amplitude = [0.0, 0.3, 0.3, 0.0], \
+                    frequency = 3.0, seed = 5 } }";
+
+/// [`TINT`] on an allocator emitter: each point's pixel is the curve at its birth time (white
+/// keyframes, additive on black, alpha 1), to 8 bits.
 #[test]
 fn points_keep_the_tint_of_their_birth_time() {
-    let tint = "tint = { keys = [[0.0, [0.2, 0.4, 0.4, 1.0]], [4.0, [0.7, 0.4, 0.4, 1.0]]], \
-                interpolation = \"smooth\", periodic = { amplitude = [0.15, 0.0, 0.0, 0.0], \
-                period = 1.3, phase = 0.1 }, noise = { amplitude = [0.0, 0.3, 0.3, 0.0], \
-                frequency = 3.0, seed = 5 } }";
-    let s = row_scene(tint, "point_size = 5.0");
-    let curve = &s.emitters.allocator[0].tint;
+    check_tint(&row_scene(TINT, "point_size = 5.0"));
+}
+
+/// [`TINT`] on a timestamp emitter (128 texels over a cycle of 20 s, each born once in the
+/// 4.3 s, at its phase, the statics' x): the same.
+#[test]
+fn timestamp_points_keep_the_tint_of_their_birth_time() {
+    check_tint(&row_of(
+        "timestamp]]\ncycle = 20.0",
+        TINT,
+        "point_size = 5.0",
+    ));
+}
+
+/// Every live point's pixel against the tint curve at its birth time (but points another
+/// covers: random time stamps may fall close together).
+fn check_tint(s: &SceneFile) {
+    let curve = &s.emitters.all().next().unwrap().tint;
     assert!(matches!(curve, Animated::Curve(_)));
-    let (img, particles) = run_row(&s);
-    assert!(particles.len() >= 10, "{} live", particles.len());
+    let (img, particles) = run_row(s);
+    let alone: Vec<Born> = (particles.iter())
+        .filter(|(at, _)| {
+            let near = |(b, _): &&Born| at.0.abs_diff(b.0) < 6 && at.1.abs_diff(b.1) < 6;
+            particles.iter().filter(near).count() == 1
+        })
+        .copied()
+        .collect();
+    assert!(
+        alone.len() >= 8,
+        "{} apart of {}",
+        alone.len(),
+        particles.len()
+    );
     let mut reds = Vec::new();
-    for ((x, y), birth) in particles {
+    for ((x, y), birth) in alone {
         let want = curve
             .at(birth)
             .map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
@@ -175,6 +210,21 @@ fn render_rotation_turns_sprites_by_its_degrees() {
         e.contains("render.rotation at turn.toml:14:12") && e.contains("spin_rate"),
         "{e}"
     );
+    common::no_gl_error(&ctx);
+}
+
+/// The CPU engine draws one set of keyframes: it refuses a tint, naming it.
+#[test]
+fn cpu_engine_refuses_a_tint() {
+    let ctx = context();
+    let s = row_of(
+        "timestamp]]\ncycle = 50.0",
+        "tint = [0.5, 1.0, 1.0, 1.0]",
+        "",
+    );
+    let e = texflow::engine::build(&ctx, &s, 1, texflow::EngineKind::Cpu).err();
+    let e = e.expect("refused").to_string();
+    assert!(e.contains("tint"), "{e}");
     common::no_gl_error(&ctx);
 }
 

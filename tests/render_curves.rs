@@ -278,6 +278,11 @@ fn bad_type_curves_are_refused_at_their_line_and_column() {
             "all born at time 0",
         ),
         (
+            emitter("allocator", "tint = [1.0, 0.5, 0.5, 1.0]").replace("sprites", "surface"),
+            ":9:",
+            "draws the connected surface",
+        ),
+        (
             emitter("allocator", "").replace("mode = \"sprites\"", "rotation = \"angle\""),
             ":11:",
             "turns the sprites' atlas tiles",

@@ -7,7 +7,7 @@ use super::curves::{check, over};
 use super::{fail, Check};
 use crate::scene::curve::{Animated, CurveValue};
 use crate::scene::locate::Key;
-use crate::scene::schema::{Emitter, SceneFile, Simulation, MAX_BIRTH_KEYS};
+use crate::scene::schema::{DrawMode, Emitter, SceneFile, Simulation, MAX_BIRTH_KEYS};
 
 use Key::{Index as I, Name as N};
 
@@ -38,6 +38,13 @@ pub(super) fn type_curves(s: &SceneFile, at: &[Key], kind: &str, e: &Emitter) ->
                 ),
             );
         }
+    }
+    if s.render.mode == DrawMode::Surface && e.tint != Animated::Constant([1.0; 4]) {
+        return fail(
+            key("tint"),
+            "tint colours the particles' points and sprites, but mode = \"surface\" draws the \
+             connected surface: leave it out, or draw points or sprites",
+        );
     }
     let curve = [
         ("sprite_scale", e.sprite_scale.curve()),

@@ -58,7 +58,8 @@ void main() {
     }
     float age = relative_age(p.w, s.z);
     int type = clamp(int(s.y + 0.5), 0, 3);
-    vec4 c = keyframe_color_of(type, age);
+    float birth = birth_time(p.w, s.z, s.x);
+    vec4 c = keyframe_color_of(type, age) * type_tint(type, birth);
     v_color = vec4(c.rgb, clamp(c.a * u_intensity, 0.0, 1.0));
     float age_s = age_seconds(p.w, s.z, s.x);
     float angle = sprite_angle(type, s.w, age_s);
@@ -66,7 +67,7 @@ void main() {
     int tile = flipbook_tile(type, age, age_s);
     v_tile = vec2(float(tile & 1), float(tile >> 1));
 #ifdef SPRITES
-    float size = u_point_size * random_size(type, s.w) * u_type_scale[type] * size_scale(type, age);
+    float size = u_point_size * random_size(type, s.w) * type_scale(type, birth) * size_scale(type, age);
 #else
     float size = u_point_size * random_size(type, s.w);
 #endif

@@ -132,7 +132,9 @@ void main() {
 #endif
     float age = relative_age(p.w, s.z);
     int type = clamp(int(s.y + 0.5), 0, 3);
-    vec4 c = keyframe_color_of(type, age);
+    // The type's tint and scale at the particle's birth (render/birth_curves.glsl).
+    float birth = birth_time(p.w, s.z, s.x);
+    vec4 c = keyframe_color_of(type, age) * type_tint(type, birth);
     v_color = vec4(c.rgb, clamp(c.a * u_intensity, 0.0, 1.0));
     float age_s = age_seconds(p.w, s.z, s.x);
 #ifdef USER_COLOR
@@ -145,6 +147,10 @@ void main() {
     // Counter-clockwise on screen for a camera on +z looking at -z (azimuth 0).
     angle = 6.28318530718 * s.w + texelFetch(u_spin, t, 0).w;
 #endif
+#ifdef USER_ROTATION
+    // render.rotation: the user's expression of this angle and the user states, in degrees.
+    angle = radians(user_rotation(t, degrees(angle), p.xyz, p.w, type, age_s));
+#endif
     v_rotation = vec2(cos(angle), sin(angle));
     int tile = flipbook_tile(type, age, age_s);
     v_tile = vec2(float(tile & 1), float(tile >> 1));
@@ -153,7 +159,7 @@ void main() {
     v_depth = clip.w;
 #endif
 #ifdef SPRITES
-    float size = u_point_size * random_size(type, s.w) * u_type_scale[type] * size_scale(type, age);
+    float size = u_point_size * random_size(type, s.w) * type_scale(type, birth) * size_scale(type, age);
 #else
     float size = u_point_size * random_size(type, s.w);
 #endif

@@ -63,7 +63,8 @@ void main() {
     vec4 clip = at_b ? cb : ca;
     float age = relative_age(p.w, s.z);
     int type = clamp(int(s.y + 0.5), 0, 3);
-    vec4 c = keyframe_color_of(type, age);
+    float birth = birth_time(p.w, s.z, s.x);
+    vec4 c = keyframe_color_of(type, age) * type_tint(type, birth);
     v_color = vec4(c.rgb, clamp(c.a * u_intensity, 0.0, 1.0));
     if (u_ribbon_width > 0.0) {
         vec3 across = cross(pb.xyz - pa.xyz, u_eye - p.xyz);
@@ -73,7 +74,7 @@ void main() {
     } else {
         float size = u_point_size * random_size(type, s.w);
         if (u_sprites != 0) {
-            size *= u_type_scale[type] * size_scale(type, age);
+            size *= type_scale(type, birth) * size_scale(type, age);
         }
         vec2 d = (cb.xy / cb.w - ca.xy / ca.w) * u_viewport;
         float len = length(d);

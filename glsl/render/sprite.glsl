@@ -2,9 +2,12 @@
 // particle type parameters ... Some of them take into account the relative age of the particle
 // or a pseudo-random function"): size over life and the rotation, angle = angle0 + speed · age,
 // with angle0 = 2π·r and the speed drawn in the type's range by a hash of r. The CPU twins are
-// in src/render/sprite.rs (SizeCurve::eval, second_random, age_seconds, sprite_angle).
+// in src/render/sprite.rs (SizeCurve::eval, second_random, age_seconds, sprite_angle). The type's
+// sprite scale and tint, curves of the emitter's time taken at each particle's birth, are in
+// render/birth_curves.glsl.
 
-uniform vec4 u_type_scale;    // sprite size of each type, relative to u_point_size
+#include "render/birth_curves.glsl"
+
 uniform ivec4 u_type_tile;    // atlas tile of each type
 uniform vec4 u_spin_min;      // rotation speed range per type, radians per second
 uniform vec4 u_spin_max;
@@ -43,6 +46,15 @@ float age_seconds(float remaining, float total, float birth) {
         return max(total - remaining, 0.0);
     }
     return max(u_time - birth, 0.0);
+}
+
+// Birth time on the emitter's clock: the render time less the age (total − remaining life), or
+// for permanent particles the stamped birth.
+float birth_time(float remaining, float total, float birth) {
+    if (is_finite(total) && total > 0.0) {
+        return u_time - max(total - remaining, 0.0);
+    }
+    return birth;
 }
 
 // Screen-space angle of the sprite of a particle of type `type`, random number r, age_s seconds.

@@ -89,6 +89,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "render/fire_ramp.glsl",
     "render/keyframes.glsl",
     "render/sprite.glsl",
+    "render/birth_curves.glsl",
     "render/particle.vert",
     "render/particle.frag",
     "render/background.frag",

@@ -1,6 +1,7 @@
 //! Rendering particles from their state textures into offscreen frames, and writing frames.
 
 pub mod atlas;
+mod birth_curves;
 mod camera;
 pub mod connected;
 pub mod geometry;

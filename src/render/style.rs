@@ -8,6 +8,7 @@ use crate::error::{Error, Result};
 use crate::gl::{
     Blend, BlendComponent, BlendFactor, Context, Defines, Depth, DrawState, PointSize, Program,
 };
+use crate::scene::curve::{Animated, Curve};
 use crate::scene::{
     Blending, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath, Rotate, SceneFile,
 };
@@ -92,8 +93,16 @@ pub fn default_keyframes() -> Vec<Keyframe> {
 /// parameters). Scale, rotation and size over life apply to sprites only.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct TypeLook {
-    /// Sprite size relative to `point_size`.
+    /// Sprite size relative to `point_size` (with `scale_curve`, unused).
     pub scale: f32,
+    /// `sprite_scale` as a curve of the emitter's time: each particle takes its value at its
+    /// birth (`glsl/render/birth_curves.glsl`), in place of `scale`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scale_curve: Option<Curve>,
+    /// `tint`: a factor of the keyframes' colour and opacity, a constant or a curve of the
+    /// emitter's time taken at each particle's birth.
+    #[serde(skip_serializing_if = "is_white")]
+    pub tint: Animated<[f32; 4]>,
     /// Atlas tile (0 to 3).
     pub tile: u32,
     /// Rotation speed range [min, max] in degrees per second.
@@ -108,11 +117,25 @@ pub struct TypeLook {
     pub flipbook: (u32, f32),
 }
 
+fn is_white(t: &Animated<[f32; 4]>) -> bool {
+    *t == Animated::Constant([1.0; 4])
+}
+
 impl TypeLook {
+    /// The sprite scale: `scale`, or the curve.
+    pub fn sprite_scale(&self) -> Animated<f32> {
+        match &self.scale_curve {
+            Some(c) => Animated::Curve(c.clone()),
+            None => Animated::Constant(self.scale),
+        }
+    }
+
     /// Type `k`'s default: scale 1, tile k, no rotation, constant size, the style's keyframes.
     pub fn new(k: u32) -> Self {
         TypeLook {
             scale: 1.0,
+            scale_curve: None,
+            tint: Animated::Constant([1.0; 4]),
             tile: k,
             spin: [0.0; 2],
             size: SizeCurve::default(),
@@ -171,12 +194,13 @@ impl ParticleStyle {
         p.set_vec4_array("u_key_slope", &slope);
     }
 
-    /// Sets the per-type sprite uniforms of `glsl/render/sprite.glsl` on `p` (bound): scale,
-    /// tile, rotation speed range (radians per second), size over life.
+    /// Sets the per-type sprite uniforms of `glsl/render/sprite.glsl` on `p` (bound): tile,
+    /// rotation speed range (radians per second), size over life, and the scale and tint
+    /// curves (`glsl/render/birth_curves.glsl`).
     pub fn set_types(&self, p: &Program) {
         let each =
             |f: &dyn Fn(&TypeLook) -> f32| glam::Vec4::from_array(self.types.each_ref().map(f));
-        p.set_vec4("u_type_scale", each(&|t| t.scale));
+        super::birth_curves::set_birth_curves(p, &self.types);
         p.set_ivec4(
             "u_type_tile",
             self.types.each_ref().map(|t| t.tile.min(3) as i32),
@@ -277,7 +301,9 @@ impl ParticleStyle {
         style.user_color = super::user_color::UserColor::of(scene);
         for (k, e) in scene.emitters.all().take(4).enumerate() {
             style.types[k] = TypeLook {
-                scale: e.sprite_scale,
+                scale: e.sprite_scale.at(0.0),
+                scale_curve: e.sprite_scale.curve().cloned(),
+                tint: e.tint.clone(),
                 tile: e.tile.unwrap_or(k as u32),
                 spin: e.rotation_speed.unwrap_or([0.0; 2]),
                 size: SizeCurve::from_points(&e.size_over_life),
@@ -325,7 +351,8 @@ impl ParticleStyle {
             .iter()
             .map(|t| {
                 let sprite = if self.mode == DrawMode::Sprites {
-                    t.scale * t.size.scales.iter().copied().fold(0.0, f32::max)
+                    let scale = t.sprite_scale().bounds()[0][1];
+                    scale * t.size.scales.iter().copied().fold(0.0, f32::max)
                 } else {
                     1.0
                 };

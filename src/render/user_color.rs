@@ -1,9 +1,9 @@
-//! `render.color` and `render.size`: the particles' colour and size by the user's GLSL
-//! expressions of the user states (`[[state]]`), evaluated in the vertex stage
-//! (`glsl/render/particle.vert`, `USER_COLOR`, `USER_SIZE`) at the particle's texel, so texture
-//! fetch only. The vertex shader is compiled from a root added at run time: a sampler and a
-//! macro per state, the expressions as `user_color` and `user_size`, then
-//! `render/particle.vert`.
+//! `render.color`, `render.size` and `render.rotation`: the particles' colour, size and sprite
+//! angle by the user's GLSL expressions of the user states (`[[state]]`), evaluated in the vertex
+//! stage (`glsl/render/particle.vert`, `USER_COLOR`, `USER_SIZE`, `USER_ROTATION`) at the
+//! particle's texel, so texture fetch only. The vertex shader is compiled from a root added at
+//! run time: a sampler and a macro per state, the expressions as `user_color`, `user_size` and
+//! `user_rotation`, then `render/particle.vert`.
 
 use crate::error::Error;
 use crate::gl::source::{add_runtime_source, is_runtime_source};
@@ -17,6 +17,9 @@ pub struct UserColor {
     /// The GLSL `float` expression of the size in pixels, if any.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub size: Option<String>,
+    /// The GLSL `float` expression of the sprite's angle in degrees, if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<String>,
     /// The user states' names (sampler `u_user_state_i` is state `i`).
     pub states: Vec<String>,
     /// Where the expressions are in the scene file, for compile errors.
@@ -25,13 +28,19 @@ pub struct UserColor {
 }
 
 impl UserColor {
-    /// The scene's `render.color` and `render.size`, if it has either.
+    /// The scene's `render.color`, `render.size` and `render.rotation`, if it has any.
     pub fn of(scene: &SceneFile) -> Option<Self> {
-        let (color, size) = (&scene.render.color, &scene.render.size);
-        if color.is_none() && size.is_none() {
+        let r = &scene.render;
+        let (color, size, rotation) = (&r.color, &r.size, &r.rotation);
+        if color.is_none() && size.is_none() && rotation.is_none() {
             return None;
         }
-        let places: Vec<String> = [("color", color.is_some()), ("size", size.is_some())]
+        let given = [
+            ("color", color.is_some()),
+            ("size", size.is_some()),
+            ("rotation", rotation.is_some()),
+        ];
+        let places: Vec<String> = given
             .into_iter()
             .filter(|(_, on)| *on)
             .filter_map(|(k, _)| {
@@ -42,6 +51,7 @@ impl UserColor {
         Some(UserColor {
             expression: color.clone(),
             size: size.clone(),
+            rotation: rotation.clone(),
             states: scene.state.iter().map(|s| s.name.clone()).collect(),
             place: (!places.is_empty()).then(|| places.join(", ")),
         })
@@ -58,7 +68,9 @@ impl UserColor {
             add_runtime_source(&key, text);
             key
         };
-        let mut root = String::from("// render.color, render.size (src/render/user_color.rs).\n");
+        let mut root = String::from(
+            "// render.color, render.size, render.rotation (src/render/user_color.rs).\n",
+        );
         let (mut define, mut undef) = (String::new(), String::new());
         for (i, name) in self.states.iter().enumerate() {
             root += &format!("uniform sampler2D u_user_state_{i};\n");
@@ -83,12 +95,23 @@ impl UserColor {
             );
             keys.push(k);
         }
+        if let Some(e) = &self.rotation {
+            let k = key("rotation", e);
+            root += &format!(
+                "float user_rotation(ivec2 user_texel, float angle, vec3 x, float life, int type, \
+                 float age) {{\n    return float(\n#include \"{k}\"\n    );\n}}\n"
+            );
+            keys.push(k);
+        }
         root += &undef;
         if self.expression.is_some() {
             root += "#define USER_COLOR 1\n";
         }
         if self.size.is_some() {
             root += "#define USER_SIZE 1\n";
+        }
+        if self.rotation.is_some() {
+            root += "#define USER_ROTATION 1\n";
         }
         root += "#include \"render/particle.vert\"\n";
         let name = format!("user-render:{}", keys.join("+"));
@@ -105,9 +128,10 @@ impl UserColor {
                     .map(|l| l.find("): ").map_or(l, |k| &l[k + 3..]))
                     .collect();
                 Error::InvalidInput(format!(
-                    "render.color or render.size{}: the GLSL does not compile; they are GLSL \
-                     expressions (a vec4 colour, a float size in pixels) of color or size, x, \
-                     life, age, type and the user states' names:\n{}",
+                    "render.color, render.size or render.rotation{}: the GLSL does not compile; \
+                     they are GLSL expressions (a vec4 colour, a float size in pixels, a float \
+                     angle in degrees) of color, size or angle, x, life, age, type and the user \
+                     states' names:\n{}",
                     self.place
                         .as_deref()
                         .map_or(String::new(), |p| format!(" ({p})")),

@@ -79,6 +79,18 @@ impl CurveValue for [f32; 3] {
     }
 }
 
+impl CurveValue for [f32; 4] {
+    const LEN: usize = 4;
+    const SHARED: bool = false;
+    const WHAT: &'static str = "[r, g, b, a]";
+    fn from_components(c: &[f32]) -> Option<Self> {
+        c.try_into().ok()
+    }
+    fn components(&self) -> Vec<f32> {
+        self.to_vec()
+    }
+}
+
 /// Keyframes `[time, value]` (times ascending) and optional periodic and noise terms added to
 /// every component. Before the first key the curve holds the first value, after the last the
 /// last.
@@ -99,6 +111,13 @@ pub struct Curve {
 /// A key's value or an amplitude: one number, or one per component.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Components(pub Vec<f32>);
+
+impl Components {
+    /// Component `i` (one number stands for every component).
+    pub fn get(&self, i: usize) -> f32 {
+        component(&self.0, i)
+    }
+}
 
 /// How a curve runs between two keys.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]

@@ -283,13 +283,12 @@ pub fn check_point_size(path: &str, src: &str, scene: &SceneFile, max_point: f32
             } else {
                 1.0
             };
-            let widest = r.point_size * e.sprite_scale * curve;
+            // A curve's scale: the largest it can take.
+            let scale = e.sprite_scale.bounds()[0][1];
+            let widest = r.point_size * scale * curve;
             if widest > max_point {
-                let (key, what) = if r.point_size * e.sprite_scale > max_point {
-                    (
-                        N("sprite_scale"),
-                        format!("sprite_scale {}", e.sprite_scale),
-                    )
+                let (key, what) = if r.point_size * scale > max_point {
+                    (N("sprite_scale"), format!("sprite_scale up to {scale}"))
                 } else {
                     (N("size_over_life"), format!("size_over_life up to {curve}"))
                 };

@@ -512,6 +512,12 @@ fn drawable(scene: &SceneFile) -> Result<()> {
             "size_range (it draws points of one size)",
         ));
     }
+    if scene.emitters.all().any(|e| e.tint != [1.0; 4].into()) {
+        return Err(unsupported(
+            scene,
+            "tint (it draws one set of keyframes, untinted)",
+        ));
+    }
     if scene.emitters.all().any(|e| !e.keyframes.is_empty()) {
         return Err(unsupported(
             scene,

@@ -332,11 +332,12 @@ fn refuse_unsupported(scene: &SceneFile, features: &Features) -> Result<()> {
     if scene.emitters.all().any(|e| !e.bursts.is_empty()) {
         return Err(unsupported(scene, "bursts"));
     }
-    if !scene.state.is_empty() || scene.render.color.is_some() || scene.render.size.is_some() {
+    let r = &scene.render;
+    if !scene.state.is_empty() || r.color.is_some() || r.size.is_some() || r.rotation.is_some() {
         return Err(unsupported(
             scene,
-            "user state, render.color and render.size ([[state]]: GLSL expressions run by the GPU's \
-             passes); run the scene on the GPU engine",
+            "user state, render.color, render.size and render.rotation ([[state]]: GLSL \
+             expressions run by the GPU's passes); run the scene on the GPU engine",
         ));
     }
     Ok(())

@@ -150,9 +150,15 @@ pub struct Emitter {
     /// Latta §3.3: a mass range [lo, hi] in kg; each particle's mass lies in it, drawn from the
     /// random number of its static texel (in place of `mass`).
     pub mass_range: Option<[f32; 2]>,
-    /// Sprite size of this type relative to `render.point_size`.
-    #[serde(default = "one")]
-    pub sprite_scale: f32,
+    /// Sprite size of this type relative to `render.point_size`; may be a curve, of which each
+    /// particle keeps the value at its birth time (docs/scenes.md).
+    #[serde(default = "one_animated")]
+    pub sprite_scale: Animated<f32>,
+    /// An RGBA factor of this type's keyframe colour and opacity (Latta §3.4.6: colour per
+    /// particle type); may be a curve, of which each particle keeps the value at its birth time
+    /// (docs/scenes.md). Default [1, 1, 1, 1].
+    #[serde(default = "white", skip_serializing_if = "is_white")]
+    pub tint: Animated<[f32; 4]>,
     /// Atlas tile of this type's sprites (0 soft blob, 1 snowflake, 2 smoke puff, 3 ring);
     /// default: the type's own number.
     pub tile: Option<u32>,
@@ -200,9 +206,25 @@ pub struct Emitter {
     pub inherit_velocity: Option<f32>,
 }
 
+fn one_animated() -> Animated<f32> {
+    Animated::Constant(one())
+}
+
+fn white() -> Animated<[f32; 4]> {
+    Animated::Constant([1.0; 4])
+}
+
+fn is_white(t: &Animated<[f32; 4]>) -> bool {
+    *t == white()
+}
+
 /// Most attractors, springs or vortices (each kind) one emitter carries: every one is a few
 /// uniform vectors of the integration pass, whose total the GL limits.
 pub const MAX_EMITTER_FORCES: usize = 4;
+
+/// Most keys of a curve the renderer evaluates per particle (`sprite_scale`, `tint`): each is a
+/// uniform vector per particle type of the vertex stage.
+pub const MAX_BIRTH_KEYS: usize = 4;
 
 /// Most bursts per emitter.
 pub const MAX_BURSTS: usize = 4;

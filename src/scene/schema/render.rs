@@ -390,6 +390,11 @@ pub struct Render {
     /// keys give), `x`, `life`, `age`, `type` and the user states by name (`[[state]]`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub size: Option<String>,
+    /// The sprites' screen-space angle in degrees by a GLSL `float` expression of `angle` (the
+    /// angle `rotation_speed` or the spin gives, in degrees), `x`, `life`, `age`, `type` and the
+    /// user states by name; it replaces that angle.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<String>,
     /// 1 to [`MAX_KEYFRAMES`] keyframes of relative age, linear between them (Latta §3.4.6 uses
     /// four); empty: white, fading out.
     #[serde(default)]
@@ -510,6 +515,7 @@ impl Default for Render {
             blending: Blending::default(),
             color: None,
             size: None,
+            rotation: None,
             order: DrawOrder::default(),
             keyframes: Vec::new(),
             sort: SortSection::default(),

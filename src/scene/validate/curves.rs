@@ -79,7 +79,7 @@ pub(super) fn emitter_curves(s: &SceneFile, at: &[Key], kind: &str, e: &Emitter)
 
 /// One value's curve, if it is one: keys present, finite, ascending and of `T`'s length; the
 /// terms' amplitudes of a matching length, periods and frequencies above 0.
-fn check<T: CurveValue>(at: Vec<Key>, v: Option<&Animated<T>>) -> Check {
+pub(super) fn check<T: CurveValue>(at: Vec<Key>, v: Option<&Animated<T>>) -> Check {
     let Some(c) = v.and_then(Animated::curve) else {
         return Ok(());
     };

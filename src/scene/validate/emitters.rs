@@ -24,6 +24,7 @@ pub(super) fn emitters(s: &SceneFile) -> Check {
     ] {
         for (i, e) in list.iter().enumerate() {
             super::curves::emitter_curves(s, &[N("emitters"), N(kind), I(i)], kind, e)?;
+            super::type_curves::type_curves(s, &[N("emitters"), N(kind), I(i)], kind, e)?;
         }
     }
     for (kind, list) in [("allocator", &em.allocator), ("timestamp", &em.timestamp)] {
@@ -276,12 +277,6 @@ pub(super) fn check_spawn(at: &[Key], s: &Emitter) -> Check {
         super::curves::life(p("life"), life)?;
     }
     spawn_mass(p, s)?;
-    if s.sprite_scale <= 0.0 {
-        return fail(
-            p("sprite_scale"),
-            format!("sprite_scale {} must be above 0", s.sprite_scale),
-        );
-    }
     spawn_velocity(&p, s)?;
     bounded_over(p("center"), "center", &s.center)?;
     bounded(p("size"), "size", &s.size)?;

@@ -26,6 +26,7 @@ mod render_options;
 mod ribbons;
 mod spin;
 mod state;
+mod type_curves;
 pub use state::STATE_INPUTS;
 
 use super::locate::{Invalid, Key};

@@ -10,7 +10,7 @@
 use super::{bounded, fail, path, Check};
 use crate::scene::locate::Key;
 use crate::scene::schema::{
-    Blending, Detection, DrawMode, RenderPath, SceneFile, Simulation, UserState,
+    Blending, Detection, DrawMode, DrawPrimitive, RenderPath, SceneFile, Simulation, UserState,
     MAX_STATE_EXPRESSION, MAX_USER_STATES,
 };
 
@@ -158,6 +158,9 @@ pub(super) fn state(s: &SceneFile) -> Check {
     if let Some(c) = &s.render.size {
         render_color(s, "size", c)?;
     }
+    if let Some(c) = &s.render.rotation {
+        render_color(s, "rotation", c)?;
+    }
     if s.state.is_empty() {
         return Ok(());
     }
@@ -276,7 +279,7 @@ fn exchange(s: &SceneFile, i: usize, st: &UserState) -> Check {
     Ok(())
 }
 
-/// `render.color` or `render.size` (`key`): an expression the particle renderer can evaluate
+/// `render.color`, `render.size` or `render.rotation` (`key`): an expression the particle renderer can evaluate
 /// at the particle's texel.
 fn render_color(s: &SceneFile, key: &'static str, c: &str) -> Check {
     let at = path(&[N("render"), N(key)]);
@@ -285,6 +288,10 @@ fn render_color(s: &SceneFile, key: &'static str, c: &str) -> Check {
         Some("the thesis's fire is coloured by its own ramp")
     } else if s.render.mode == DrawMode::Surface {
         Some("mode = \"surface\" draws the connected surface, not the particles")
+    } else if key == "rotation" && s.render.mode != DrawMode::Sprites {
+        Some("it turns the sprites' atlas tiles; use mode = \"sprites\"")
+    } else if key == "rotation" && s.render.primitive == DrawPrimitive::Stretched {
+        Some("stretched quads lay the sprite along the motion, unturned")
     } else if s.render.path == RenderPath::VertexBuffer {
         Some(
             "path = \"vertex_buffer\" hands the vertex stage a buffer without the user states; \

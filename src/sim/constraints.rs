@@ -248,16 +248,10 @@ pub struct Stretched {
 
 /// Where the pinned particles are at time `t`: their rest positions moved by this offset (hair:
 /// the root sphere's orbit; cloth: none).
+/// The GPU's relaxation reads the same offset of its constraints block
+/// ([`crate::sim::params::Constraints::pin_offset`]).
 pub fn pin_offset(scene: &SceneFile, t: f64) -> Vec3 {
-    let Some(c) = &scene.constraints else {
-        return Vec3::ZERO;
-    };
-    match (c.kind, c.root_sphere) {
-        (ConstraintKind::Hair, Some(k)) => scene.colliders.sphere[k]
-            .orbit
-            .map_or(Vec3::ZERO, |o| Vec3::from(o.offset(t))),
-        (ConstraintKind::Hair, None) | (ConstraintKind::Cloth, _) => Vec3::ZERO,
-    }
+    crate::sim::params::Constraints::of(scene).map_or(Vec3::ZERO, |c| c.pin_offset(t))
 }
 
 /// The centre of every sphere collider at time `t` (its orbit, if any, applied).

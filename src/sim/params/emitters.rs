@@ -4,7 +4,7 @@
 
 use glam::Vec4;
 
-use crate::scene::{self, ChildLayout, SceneFile};
+use crate::scene::{self, ChildLayout, EmitterKind, SceneFile};
 use crate::sim::emit::EmitterUniforms;
 
 /// The emitters, in type order (a particle's type is its emitter's place in [`list`](Self::list)).
@@ -13,7 +13,8 @@ pub struct Emitters {
     /// Every emitter as the scene gives it, curves and all: the births and the spawn uniforms
     /// take its values at their time ([`EmitterUniforms::at`]).
     pub list: Vec<scene::Emitter>,
-    /// The allocator emitters: the first this many of `list`.
+    /// The allocator emitters: the first this many of `list` (the first kind of
+    /// [`EmitterKind::ALL`]).
     pub allocator: usize,
     /// The child emitters: the last this many of `list`.
     pub children: usize,
@@ -70,15 +71,19 @@ impl Emitters {
         }
         let layout = s.child_layout();
         let (mut child, mut child_more) = (Vec::new(), Vec::new());
-        for (r, e) in layout.ranges.iter().zip(&s.emitters.child) {
+        for (r, e) in layout
+            .ranges
+            .iter()
+            .zip(s.emitters.of_kind(EmitterKind::Child))
+        {
             child.push([r.start, r.per_parent, r.parent, r.on_death].map(|v| v as i32));
             let inherit = e.inherit_velocity.unwrap_or(1.0);
             child_more.push(Vec4::new(r.trail_rate, inherit, r.kind as f32, 0.0));
         }
         Emitters {
             spawn: list.iter().map(EmitterUniforms::new).collect(),
-            allocator: s.emitters.allocator.len(),
-            children: s.emitters.child.len(),
+            allocator: s.emitters.of_kind(EmitterKind::Allocator).len(),
+            children: s.emitters.of_kind(EmitterKind::Child).len(),
             animated: crate::scene::has_curves(s),
             list,
             burst_time,

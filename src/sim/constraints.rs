@@ -246,24 +246,6 @@ pub struct Stretched {
     pub bound: f32,
 }
 
-/// Where the pinned particles are at time `t`: their rest positions moved by this offset (hair:
-/// the root sphere's orbit; cloth: none).
-/// The GPU's relaxation reads the same offset of its constraints block
-/// ([`crate::sim::params::Constraints::pin_offset`]).
-pub fn pin_offset(scene: &SceneFile, t: f64) -> Vec3 {
-    crate::sim::params::Constraints::of(scene).map_or(Vec3::ZERO, |c| c.pin_offset(t))
-}
-
-/// The centre of every sphere collider at time `t` (its orbit, if any, applied).
-pub fn sphere_centres(scene: &SceneFile, t: f64) -> Vec<Vec3> {
-    scene
-        .colliders
-        .sphere
-        .iter()
-        .map(|s| Vec3::from(s.center_at(t)))
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

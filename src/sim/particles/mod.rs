@@ -170,6 +170,7 @@ impl ParticleSim {
         let verlet = features.integrator == Integrator::Verlet;
         let (emit_state, emit_previous, emit_static) =
             setup::emit_programs(ctx, &features, &defines)?;
+        let params = Params::of(scene);
         let (integrate, integrate_position) =
             setup::integrate_programs(ctx, scene, &features, &defines)?;
         let mut sim = ParticleSim {
@@ -195,7 +196,7 @@ impl ParticleSim {
                 None => None,
             },
             bounces: bounces::tally(ctx, &features)?,
-            relax: relax::Relaxation::new(ctx, scene, &defines)?,
+            relax: relax::Relaxation::new(ctx, scene, params.constraints.as_ref(), &defines)?,
             user: user_state::UserStates::new(ctx, scene, &defines, [width, height])?,
             state_names: scene.state.iter().map(|s| s.name.clone()).collect(),
             pass: FullscreenPass::new(ctx)?,
@@ -211,7 +212,7 @@ impl ParticleSim {
             dropped: 0,
             ctx: ctx.clone(),
             name: scene.name.clone(),
-            params: Params::of(scene),
+            params,
             stages: crate::sim::stages_of(&features.step_passes()),
             features,
             width,

@@ -49,9 +49,15 @@ fn texture(ctx: &Context, label: &str, [w, h]: [u32; 2], data: &[f32]) -> Result
 }
 
 impl Relaxation {
-    /// The programs (with the simulation's `defines`) and the rest texture of `scene`'s layout.
-    pub(super) fn new(ctx: &Context, scene: &SceneFile, defines: &Defines) -> Result<Option<Self>> {
-        let (Some(c), Some(layout)) = (&scene.constraints, Layout::of(scene)) else {
+    /// The programs (with the simulation's `defines`) of the constraints block `c` and the rest
+    /// texture of `scene`'s layout.
+    pub(super) fn new(
+        ctx: &Context,
+        scene: &SceneFile,
+        c: Option<&params::Constraints>,
+        defines: &Defines,
+    ) -> Result<Option<Self>> {
+        let (Some(c), Some(layout)) = (c, Layout::of(scene)) else {
             return Ok(None);
         };
         let mut d = defines.clone();

@@ -4,8 +4,8 @@
 use glam::Vec3;
 
 use crate::error::Result;
-use crate::scene::SceneFile;
 use crate::sim::collide::CollisionStage;
+use crate::sim::params::Integration;
 use crate::sim::ParticleSim;
 
 pub use super::collide_stats::IterationStats;
@@ -52,12 +52,12 @@ pub fn energy_momentum(sim: &ParticleSim) -> Result<(f64, [f64; 3])> {
     let x = sim.read_positions()?;
     let v = sim.read_velocities()?;
     let st = sim.statics().read_f32()?;
-    Ok(energy_momentum_of(sim.scene(), &x, &v, &st))
+    Ok(energy_momentum_of(&sim.params().integration, &x, &v, &st))
 }
 
-/// [`energy_momentum`] of read-back state (4 floats per texel each).
-pub fn energy_momentum_of(s: &SceneFile, x: &[f32], v: &[f32], st: &[f32]) -> (f64, [f64; 3]) {
-    let ranges: Vec<[f32; 2]> = s.emitters.all().map(|e| s.mass_range(e)).collect();
+/// [`energy_momentum`] of read-back state (4 floats per texel each), each type's mass range
+/// from the integration block `m` (types past the four a scene may have take the last's).
+pub fn energy_momentum_of(m: &Integration, x: &[f32], v: &[f32], st: &[f32]) -> (f64, [f64; 3]) {
     let mut e = 0.0;
     let mut p = [0.0; 3];
     for i in 0..x.len() / 4 {
@@ -65,11 +65,8 @@ pub fn energy_momentum_of(s: &SceneFile, x: &[f32], v: &[f32], st: &[f32]) -> (f
         if x[i * 4 + 3].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             continue;
         }
-        let ty = st[i * 4 + 1] as usize;
-        let [lo, hi] = ranges
-            .get(ty)
-            .copied()
-            .unwrap_or([s.particles.mass, s.particles.mass]);
+        let ty = (st[i * 4 + 1] as usize).min(3);
+        let (lo, hi) = (m.mass_lo[ty], m.mass_hi[ty]);
         let f = (4096.0 * st[i * 4 + 3]).fract();
         let m = if lo == hi { lo } else { lo + (hi - lo) * f } as f64;
         let vi = Vec3::new(v[i * 4], v[i * 4 + 1], v[i * 4 + 2]).as_dvec3();

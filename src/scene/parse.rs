@@ -266,16 +266,9 @@ pub fn check_point_size(path: &str, src: &str, scene: &SceneFile, max_point: f32
             format!("point_size {} is wider", r.point_size),
         ));
     } else if r.mode == DrawMode::Sprites && scene.fire.is_none() {
-        let kinds = [
-            ("allocator", &scene.emitters.allocator),
-            ("timestamp", &scene.emitters.timestamp),
-            ("initial", &scene.emitters.initial),
-            ("child", &scene.emitters.child),
-        ];
-        // The renderer looks at the first four emitters, in this order (one type each).
-        let emitters = kinds
-            .iter()
-            .flat_map(|(k, list)| list.iter().enumerate().map(move |(j, e)| (*k, j, e)))
+        // The renderer looks at the first four emitters, in type order (one type each).
+        let emitters = (scene.emitters.by_kind())
+            .map(|(k, j, e)| (k.key(), j, e))
             .take(4);
         for (kind, j, e) in emitters {
             let curve = if (2..=4).contains(&e.size_over_life.len()) {

@@ -246,30 +246,6 @@ pub struct Stretched {
     pub bound: f32,
 }
 
-/// Where the pinned particles are at time `t`: their rest positions moved by this offset (hair:
-/// the root sphere's orbit; cloth: none).
-pub fn pin_offset(scene: &SceneFile, t: f64) -> Vec3 {
-    let Some(c) = &scene.constraints else {
-        return Vec3::ZERO;
-    };
-    match (c.kind, c.root_sphere) {
-        (ConstraintKind::Hair, Some(k)) => scene.colliders.sphere[k]
-            .orbit
-            .map_or(Vec3::ZERO, |o| Vec3::from(o.offset(t))),
-        (ConstraintKind::Hair, None) | (ConstraintKind::Cloth, _) => Vec3::ZERO,
-    }
-}
-
-/// The centre of every sphere collider at time `t` (its orbit, if any, applied).
-pub fn sphere_centres(scene: &SceneFile, t: f64) -> Vec<Vec3> {
-    scene
-        .colliders
-        .sphere
-        .iter()
-        .map(|s| Vec3::from(s.center_at(t)))
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

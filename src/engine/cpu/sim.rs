@@ -5,7 +5,7 @@ use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::scene::{Integrator, Precision, SceneFile};
+use crate::scene::{EmitterKind, Integrator, Precision, SceneFile};
 use crate::sim::emit::{EmitterUniforms, Rng};
 use crate::sim::particles::{Emission, Features};
 use crate::sim::reference::Reference;
@@ -326,8 +326,15 @@ fn refuse_unsupported(scene: &SceneFile, features: &Features) -> Result<()> {
          or run the scene on the GPU engine",
         ));
     }
-    if !scene.emitters.child.is_empty() {
-        return Err(unsupported(scene, "child emitters"));
+    for kind in EmitterKind::ALL {
+        let refused = match kind {
+            EmitterKind::Child => Some("child emitters"),
+            // Allocator births are refused with the other births (`CpuSim::new`).
+            EmitterKind::Allocator | EmitterKind::Timestamp | EmitterKind::Initial => None,
+        };
+        if let Some(what) = refused.filter(|_| !scene.emitters.of_kind(kind).is_empty()) {
+            return Err(unsupported(scene, what));
+        }
     }
     if scene.emitters.all().any(|e| !e.bursts.is_empty()) {
         return Err(unsupported(scene, "bursts"));

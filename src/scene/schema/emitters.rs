@@ -32,44 +32,131 @@ pub struct Emitters {
 impl Emitters {
     /// All emitters in type order (a particle's type is its emitter's place in this list).
     pub fn all(&self) -> impl Iterator<Item = &Emitter> {
-        self.allocator
-            .iter()
-            .chain(&self.timestamp)
-            .chain(&self.initial)
-            .chain(&self.child)
+        EmitterKind::ALL.into_iter().flat_map(|k| self.of_kind(k))
+    }
+
+    /// Every emitter in type order with its kind and its place among its kind's.
+    pub fn by_kind(&self) -> impl Iterator<Item = (EmitterKind, usize, &Emitter)> {
+        (EmitterKind::ALL.into_iter()).flat_map(|k| {
+            self.of_kind(k)
+                .iter()
+                .enumerate()
+                .map(move |(i, e)| (k, i, e))
+        })
+    }
+
+    /// The emitters of `kind` (`[[emitters.KIND]]`).
+    pub fn of_kind(&self, kind: EmitterKind) -> &[Emitter] {
+        match kind {
+            EmitterKind::Allocator => &self.allocator,
+            EmitterKind::Timestamp => &self.timestamp,
+            EmitterKind::Initial => &self.initial,
+            EmitterKind::Child => &self.child,
+        }
+    }
+
+    /// The emitters of `kind`, to change.
+    pub fn of_kind_mut(&mut self, kind: EmitterKind) -> &mut Vec<Emitter> {
+        match kind {
+            EmitterKind::Allocator => &mut self.allocator,
+            EmitterKind::Timestamp => &mut self.timestamp,
+            EmitterKind::Initial => &mut self.initial,
+            EmitterKind::Child => &mut self.child,
+        }
     }
 
     /// The scene key of the emitter of particle type `ty` (`emitters.timestamp.0`), if any.
     pub fn key(&self, ty: usize) -> Option<String> {
-        let kinds = [
-            ("allocator", self.allocator.len()),
-            ("timestamp", self.timestamp.len()),
-            ("initial", self.initial.len()),
-            ("child", self.child.len()),
-        ];
-        let mut first = 0;
-        for (kind, n) in kinds {
-            if ty < first + n {
-                return Some(format!("emitters.{kind}.{}", ty - first));
-            }
-            first += n;
-        }
-        None
+        let (kind, i, _) = self.by_kind().nth(ty)?;
+        Some(format!("emitters.{}.{i}", kind.key()))
     }
 
     /// Number of emitters.
     pub fn len(&self) -> usize {
-        self.parents() + self.child.len()
+        EmitterKind::ALL.map(|k| self.of_kind(k).len()).iter().sum()
     }
 
     /// Number of emitters that are not child emitters (their types come first).
     pub fn parents(&self) -> usize {
-        self.allocator.len() + self.timestamp.len() + self.initial.len()
+        (EmitterKind::ALL.into_iter())
+            .filter(|k| k.owns_texels())
+            .map(|k| self.of_kind(k).len())
+            .sum()
     }
 
     /// No emitter at all.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
+    }
+}
+
+/// A kind of emitter: one `[[emitters.KIND]]` array. Matches over it are exhaustive, so a new
+/// kind makes the compiler list every place to fill (docs/architecture.md walks through them).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum EmitterKind {
+    /// Latta §3.4.1: births by a CPU allocator.
+    Allocator,
+    /// UberFlow §4.1: birth times stamped in the state, respawn every cycle.
+    Timestamp,
+    /// Every texel filled once at the start.
+    Initial,
+    /// The thesis §2: born from a parent emitter's particles.
+    Child,
+}
+
+impl EmitterKind {
+    /// Every kind, in type order: a scene's particle types are its emitters kind by kind in
+    /// this order.
+    pub const ALL: [EmitterKind; 4] = [
+        EmitterKind::Allocator,
+        EmitterKind::Timestamp,
+        EmitterKind::Initial,
+        EmitterKind::Child,
+    ];
+
+    /// Its key in a scene file (`[[emitters.KEY]]`).
+    pub fn key(self) -> &'static str {
+        match self {
+            EmitterKind::Allocator => "allocator",
+            EmitterKind::Timestamp => "timestamp",
+            EmitterKind::Initial => "initial",
+            EmitterKind::Child => "child",
+        }
+    }
+
+    /// Whether it manages the state texture's texels itself (one such kind per scene; child
+    /// emitters come beside it, in texels it leaves them).
+    pub fn owns_texels(self) -> bool {
+        match self {
+            EmitterKind::Allocator | EmitterKind::Timestamp | EmitterKind::Initial => true,
+            EmitterKind::Child => false,
+        }
+    }
+
+    /// Whether each birth draws its life anew (so `life` may be a curve); the other kinds draw
+    /// a texel's life once, into the static texture.
+    pub fn life_per_birth(self) -> bool {
+        match self {
+            EmitterKind::Allocator => true,
+            EmitterKind::Timestamp | EmitterKind::Initial | EmitterKind::Child => false,
+        }
+    }
+
+    /// Whether its particles spawn after time 0 (so spawn values may be curves).
+    pub fn spawns_over_time(self) -> bool {
+        match self {
+            EmitterKind::Allocator | EmitterKind::Timestamp | EmitterKind::Child => true,
+            EmitterKind::Initial => false,
+        }
+    }
+
+    /// Whether its particles are born over the run, so that each needs a `life` (initial
+    /// particles may be permanent; a child's life is checked with its parent's keys).
+    pub fn births_need_life(self) -> bool {
+        match self {
+            EmitterKind::Allocator | EmitterKind::Timestamp => true,
+            EmitterKind::Initial | EmitterKind::Child => false,
+        }
     }
 }
 

@@ -6,7 +6,7 @@
 use super::{duration, fail, Check};
 use crate::scene::curve::{Animated, Components, Curve, CurveValue};
 use crate::scene::locate::Key;
-use crate::scene::schema::{Emitter, SceneFile, Simulation};
+use crate::scene::schema::{Emitter, EmitterKind, SceneFile, Simulation};
 
 use Key::{Index as I, Name as N};
 
@@ -32,8 +32,8 @@ pub fn has_curves(s: &SceneFile) -> bool {
 }
 
 /// The curves of the emitter at `at` of kind `kind`: well formed, and where a curve can act.
-pub(super) fn emitter_curves(s: &SceneFile, at: &[Key], kind: &str, e: &Emitter) -> Check {
-    let key = |k| [at, &[N(k)]].concat();
+pub(super) fn emitter_curves(s: &SceneFile, at: &[Key], ek: EmitterKind, e: &Emitter) -> Check {
+    let (key, kind) = (|k| [at, &[N(k)]].concat(), ek.key());
     check::<f32>(key("rate"), e.rate.as_ref())?;
     check::<[f32; 3]>(key("center"), Some(&e.center))?;
     check::<f32>(key("radius"), Some(&e.radius))?;
@@ -41,7 +41,7 @@ pub(super) fn emitter_curves(s: &SceneFile, at: &[Key], kind: &str, e: &Emitter)
     check::<f32>(key("cone_degrees"), Some(&e.cone_degrees))?;
     check::<[f32; 2]>(key("speed"), Some(&e.speed))?;
     check::<[f32; 2]>(key("life"), e.life.as_ref())?;
-    if e.life.as_ref().and_then(Animated::curve).is_some() && kind != "allocator" {
+    if e.life.as_ref().and_then(Animated::curve).is_some() && !ek.life_per_birth() {
         // Time stamps and children draw a texel's life once, into the static texture the
         // integration pass only reads: a later birth could not take the curve's value.
         return fail(
@@ -55,7 +55,7 @@ pub(super) fn emitter_curves(s: &SceneFile, at: &[Key], kind: &str, e: &Emitter)
     let Some((name, _)) = animated(e).into_iter().find(|(_, c)| c.is_some()) else {
         return Ok(());
     };
-    if kind == "initial" {
+    if !ek.spawns_over_time() {
         return fail(
             key(name),
             format!(

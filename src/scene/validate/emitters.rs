@@ -8,37 +8,35 @@ use glam::Vec3;
 
 use crate::scene::curve::{Animated, Curve, CurveValue};
 use crate::scene::locate::Key;
-use crate::scene::schema::{Emitter, Emitters, SceneFile, Shape, MAX_EMITTERS};
+use crate::scene::schema::{Emitter, EmitterKind, Emitters, SceneFile, Shape, MAX_EMITTERS};
 
 use Key::{Index as I, Name as N};
 
-/// `[[emitters.allocator]]`, `[[emitters.timestamp]]`, `[[emitters.initial]]`.
+/// `[[emitters.allocator]]`, `[[emitters.timestamp]]`, `[[emitters.initial]]` (the child
+/// emitters' own keys: `children.rs`).
 pub(super) fn emitters(s: &SceneFile) -> Check {
     let em = &s.emitters;
     one_kind_and_count(em)?;
-    for (kind, list) in [
-        ("allocator", &em.allocator),
-        ("timestamp", &em.timestamp),
-        ("initial", &em.initial),
-        ("child", &em.child),
-    ] {
-        for (i, e) in list.iter().enumerate() {
-            super::curves::emitter_curves(s, &[N("emitters"), N(kind), I(i)], kind, e)?;
-            super::type_curves::type_curves(s, &[N("emitters"), N(kind), I(i)], kind, e)?;
+    let at = |kind: EmitterKind, i| [N("emitters"), N(kind.key()), I(i)];
+    for (kind, i, e) in em.by_kind() {
+        super::curves::emitter_curves(s, &at(kind, i), kind, e)?;
+        super::type_curves::type_curves(s, &at(kind, i), kind.key(), e)?;
+    }
+    for (kind, i, e) in em.by_kind() {
+        if kind.births_need_life() && e.life.is_none() {
+            return fail(
+                at(kind, i).to_vec(),
+                format!("a {} emitter needs `life` = [min, max] seconds", kind.key()),
+            );
         }
     }
-    for (kind, list) in [("allocator", &em.allocator), ("timestamp", &em.timestamp)] {
-        for (i, e) in list.iter().enumerate() {
-            if e.life.is_none() {
-                return fail(
-                    vec![N("emitters"), N(kind), I(i)],
-                    format!("a {kind} emitter needs `life` = [min, max] seconds"),
-                );
-            }
+    // The keys of each kind: those that need no other section first, then the fire's rule,
+    // then those that weigh the rate against the state.
+    for (kind, i, e) in em.by_kind() {
+        match kind {
+            EmitterKind::Initial => initial(i, e)?,
+            EmitterKind::Allocator | EmitterKind::Timestamp | EmitterKind::Child => {}
         }
-    }
-    for (i, e) in em.initial.iter().enumerate() {
-        initial(i, e)?;
     }
     if s.fire.is_some() && !em.is_empty() {
         return fail(
@@ -46,31 +44,25 @@ pub(super) fn emitters(s: &SceneFile) -> Check {
             "[fire] respawns its particles in the shader: remove the emitters, or [fire]",
         );
     }
-    for (i, e) in s.emitters.allocator.iter().enumerate() {
-        allocator(s, i, e)?;
-    }
-    for (i, e) in s.emitters.timestamp.iter().enumerate() {
-        timestamp(s, i, e)?;
+    for (kind, i, e) in em.by_kind() {
+        match kind {
+            EmitterKind::Allocator => allocator(s, i, e)?,
+            EmitterKind::Timestamp => timestamp(s, i, e)?,
+            // Checked above; a child's keys in `children.rs`.
+            EmitterKind::Initial | EmitterKind::Child => {}
+        }
     }
     Ok(())
 }
 
 /// One kind of parent emitter per scene, and at most [`MAX_EMITTERS`] with the child emitters.
 fn one_kind_and_count(em: &Emitters) -> Check {
-    let kinds = [
-        !em.allocator.is_empty(),
-        !em.timestamp.is_empty(),
-        !em.initial.is_empty(),
-    ];
-    if kinds.iter().filter(|k| **k).count() > 1 {
-        let second = ["allocator", "timestamp", "initial"]
-            .into_iter()
-            .zip(kinds)
-            .filter(|k| k.1)
-            .nth(1)
-            .map_or("emitters", |k| k.0);
+    let present: Vec<EmitterKind> = (EmitterKind::ALL.into_iter())
+        .filter(|k| k.owns_texels() && !em.of_kind(*k).is_empty())
+        .collect();
+    if let Some(second) = present.get(1) {
         return fail(
-            path(&[N("emitters"), N(second)]),
+            path(&[N("emitters"), N(second.key())]),
             "use one kind of emitter per scene (allocator, timestamp or initial): they \
              manage the state texture in different ways",
         );
@@ -88,13 +80,7 @@ fn one_kind_and_count(em: &Emitters) -> Check {
                 ),
             );
         }
-        let kind = if !em.allocator.is_empty() {
-            "allocator"
-        } else if !em.timestamp.is_empty() {
-            "timestamp"
-        } else {
-            "initial"
-        };
+        let kind = present.first().map_or("initial", |k| k.key());
         return fail(
             path(&[N("emitters"), N(kind), I(MAX_EMITTERS)]),
             format!(

@@ -34,16 +34,12 @@ pub(super) fn per_step(dt: f32, at: Vec<Key>, what: &str, rate: f32) -> Check {
 /// the forces of every emitter (`[[emitters.<kind>.forces.*]]`).
 pub(super) fn forces(s: &SceneFile) -> Check {
     kinds(s, &[N("forces")], &s.forces)?;
-    let lists = [
-        ("allocator", &s.emitters.allocator),
-        ("timestamp", &s.emitters.timestamp),
-        ("initial", &s.emitters.initial),
-        ("child", &s.emitters.child),
-    ];
-    for (kind, list) in lists {
-        for (i, e) in list.iter().enumerate() {
-            emitter_forces(s, &[N("emitters"), N(kind), I(i), N("forces")], &e.forces)?;
-        }
+    for (kind, i, e) in s.emitters.by_kind() {
+        emitter_forces(
+            s,
+            &[N("emitters"), N(kind.key()), I(i), N("forces")],
+            &e.forces,
+        )?;
     }
     Ok(())
 }

@@ -49,16 +49,8 @@ pub(super) fn render(s: &SceneFile) -> Check {
              [[colliders.*]] table, or remove the key",
         );
     }
-    let kinds = [
-        ("allocator", &s.emitters.allocator),
-        ("timestamp", &s.emitters.timestamp),
-        ("initial", &s.emitters.initial),
-        ("child", &s.emitters.child),
-    ];
-    for (kind, list) in kinds {
-        for (i, e) in list.iter().enumerate() {
-            emitter_look(&[N("emitters"), N(kind), I(i)], e)?;
-        }
+    for (kind, i, e) in s.emitters.by_kind() {
+        emitter_look(&[N("emitters"), N(kind.key()), I(i)], e)?;
     }
     sort(s, r)
 }

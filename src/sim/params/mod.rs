@@ -1,17 +1,23 @@
 //! The numbers the simulation passes read, packed once from the scene.
 //!
-//! One typed block per pass family: [`Integration`] (masses, gravity, damping, point forces) and
-//! [`Colliders`] (the shapes and their responses). [`Params::of`] builds them from the scene
-//! file; the GPU passes upload them (`src/sim/particles/uniforms.rs`), and the CPU twin of the
+//! One typed block per pass family: [`Time`] (the step), [`Integration`] (masses, gravity,
+//! damping, point forces), [`Colliders`] (the shapes and their responses), [`Emitters`] (births
+//! and spawn) and [`Constraints`] (the relaxation). [`Params::of`] builds them from the scene
+//! file; the particle simulation holds them, not the scene; the GPU passes upload them (`src/sim/particles/uniforms.rs`), and the CPU twin of the
 //! integration pass (`src/sim/reference/`, which the CPU engine steps) reads the same values,
 //! so the scene is encoded once. Each field names the uniform it becomes.
 //!
 //! Rules derived from the scene (the collision cell, the mass range of a type) are methods of
 //! the scene's data (`src/scene/schema/rules.rs`), which the validation also asks.
 
+mod constraints;
+mod emitters;
+
 use glam::{Vec2, Vec3, Vec4};
 
 use crate::scene::{self, Collider as SceneCollider, ColliderKind, Force as SceneForce, SceneFile};
+pub use constraints::Constraints;
+pub use emitters::Emitters;
 
 fn v3(a: [f32; 3]) -> Vec3 {
     Vec3::from(a)
@@ -20,20 +26,41 @@ fn v3(a: [f32; 3]) -> Vec3 {
 /// Every parameter block of a scene.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Params {
+    /// The time step.
+    pub time: Time,
     /// What the integration pass (and the collision response's masses) read.
     pub integration: Integration,
     /// The colliders.
     pub colliders: Colliders,
+    /// The emitters: births and spawn.
+    pub emitters: Emitters,
+    /// The relaxation (scenes with `[constraints]`).
+    pub constraints: Option<Constraints>,
 }
 
 impl Params {
     /// The blocks of `s`.
     pub fn of(s: &SceneFile) -> Self {
         Params {
+            time: Time {
+                dt: s.time.dt,
+                substeps: s.time.substeps,
+            },
             integration: Integration::of(s),
             colliders: Colliders::of(&s.colliders),
+            emitters: Emitters::of(s),
+            constraints: Constraints::of(s),
         }
     }
+}
+
+/// The step: simulation time advances `dt` per step, `substeps` steps per frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Time {
+    /// Seconds per step.
+    pub dt: f32,
+    /// Steps per rendered frame.
+    pub substeps: u32,
 }
 
 /// The integration pass's masses and forces (`glsl/common/mass.glsl`, `glsl/sim/forces.glsl`).
@@ -63,6 +90,20 @@ pub struct Integration {
     pub type_gravity: Vec<Vec3>,
     /// Each emitter's own damping, summed: `u_type_damping`.
     pub type_damping: [f32; 4],
+    /// The scene's first wind (the flow field's texture is built apart, `src/sim/fields/`).
+    pub wind: Option<Wind>,
+    /// Spinning spheres (`glsl/collide/spin.glsl`): their radius `u_spin_radius` and the pairs'
+    /// friction `u_friction`.
+    pub spin: Option<Vec2>,
+}
+
+/// The wind's bounds and drag.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Wind {
+    /// The flow field's box: `u_flow_min`, `u_flow_max`.
+    pub bounds: [Vec3; 2],
+    /// `u_drag`.
+    pub drag: f32,
 }
 
 /// A point attractor or repulsor.
@@ -162,6 +203,13 @@ impl Integration {
             vortices,
             type_gravity,
             type_damping,
+            wind: f.wind.first().map(|w| Wind {
+                bounds: w.bounds.map(v3),
+                drag: w.drag,
+            }),
+            spin: (s.collisions.as_ref())
+                .filter(|k| k.spin)
+                .map(|k| Vec2::new(k.radius, k.friction)),
         }
     }
 }
@@ -213,6 +261,8 @@ pub struct Colliders {
     /// Every collider, kind by kind in [`ColliderKind::ALL`]'s order (the order the pass tests
     /// them), each kind in scene order.
     pub list: Vec<Collider>,
+    /// Every sphere, when one orbits (else none): `u_sphere` is set at every step's time.
+    pub moving_spheres: Vec<scene::SphereCollider>,
 }
 
 /// One collider.
@@ -254,11 +304,22 @@ impl Shape {
 }
 
 impl Colliders {
+    /// The spheres' places at time `t` (none unless one orbits).
+    pub fn spheres_at(&self, t: f64) -> Vec<Vec4> {
+        (self.moving_spheres.iter())
+            .map(|s| v3(s.center_at(t)).extend(s.radius))
+            .collect()
+    }
+
     /// The collider block of a scene's `[colliders]`.
     pub fn of(c: &scene::Colliders) -> Self {
         Colliders {
             slow_speed: c.slow_speed,
             list: c.iter().map(Collider::of).collect(),
+            moving_spheres: match c.sphere.iter().any(|s| s.orbit.is_some()) {
+                true => c.sphere.clone(),
+                false => Vec::new(),
+            },
         }
     }
 }

@@ -26,14 +26,15 @@ impl ParticleSim {
     /// Frees the dead particles' indices and allocates this step's births, each one's vertex
     /// ([`EMIT_FLOATS`] floats) in the returned data; none without an allocator.
     fn allocate_births(&mut self) -> Result<Vec<f32>> {
-        let dt = self.scene.time.dt as f64;
+        let dt = self.params.time.dt as f64;
         let now = self.time;
         let Some(alloc) = self.allocator.as_mut() else {
             return Ok(Vec::new());
         };
         alloc.reclaim(now - 3.0 * dt);
         let mut data: Vec<f32> = Vec::new();
-        for (k, e) in self.scene.emitters.allocator.iter().enumerate() {
+        let emitters = &self.params.emitters;
+        for (k, e) in emitters.allocator().iter().enumerate() {
             // The births of the interval (now - dt, now], as bursts below; a curve's rate is
             // integrated over it, and its other values taken at `now`, the births' time.
             self.owed[k] += e.rate.as_ref().map_or(0.0, |r| r.integral(now - dt, now));
@@ -46,9 +47,9 @@ impl ParticleSim {
                 .map(|b| b.count as u64)
                 .sum();
             let n = steady + burst as f64;
-            let u = &match self.animated {
+            let u = &match emitters.animated {
                 true => EmitterUniforms::at(e, now as f32),
-                false => self.emitters[k],
+                false => emitters.spawn[k],
             };
             for _ in 0..n as u64 {
                 let mut rng = Rng::new(self.emitted as u32, self.step as u32, self.seed);

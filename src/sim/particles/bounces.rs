@@ -30,7 +30,8 @@ impl ParticleSim {
         let (Some(t), State::Explicit(pp)) = (&self.bounces, &self.state) else {
             return;
         };
-        let n = (self.scene.parent_slots() as usize).min((self.width * rows) as usize);
+        let n =
+            (self.params.emitters.layout.parent_slots as usize).min((self.width * rows) as usize);
         t.add_flags(pp.front().texture(VELOCITY), 3, n);
     }
 

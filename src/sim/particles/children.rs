@@ -15,7 +15,7 @@ impl ParticleSim {
         let Some(v) = self.velocities() else {
             return Ok(0);
         };
-        let layout = self.scene.child_layout();
+        let layout = &self.params.emitters.layout;
         let (start, end) = (layout.parent_slots as usize, layout.used() as usize);
         let data = v.read_f32()?;
         let sum: f64 = (data.chunks(4).take(end).skip(start))

@@ -4,7 +4,9 @@
 
 use super::super::allocator::AllocatorKind;
 use crate::gl::Defines;
-use crate::scene::{self, ForceKind, Integrator, Precision, SceneFile, VelocityFormat};
+use crate::scene::{
+    self, EmitterKind, ForceKind, Integrator, Precision, SceneFile, VelocityFormat,
+};
 use crate::sim::{Pass, Stage};
 
 // The names of the forces and of the constraint passes, for the pass list.
@@ -23,6 +25,34 @@ pub enum Emission {
         /// Whether the particles have a life.
         life: bool,
     },
+}
+
+impl Emission {
+    /// The births of the scene's emitters: those of its one kind that owns the texels (the
+    /// first in [`EmitterKind::ALL`]'s order), permanent particles without one.
+    fn of(em: &scene::Emitters) -> Self {
+        let births = |kind: EmitterKind| {
+            let list = em.of_kind(kind);
+            let first = list.first()?;
+            match kind {
+                EmitterKind::Allocator => Some(Emission::Allocator(
+                    match first.allocator.unwrap_or_default() {
+                        scene::AllocatorKind::Stack => AllocatorKind::Stack,
+                        scene::AllocatorKind::MinHeap => AllocatorKind::MinHeap,
+                    },
+                )),
+                EmitterKind::Timestamp => Some(Emission::Timestamp),
+                EmitterKind::Initial => Some(Emission::Initial {
+                    life: list.iter().any(|e| e.life.is_some()),
+                }),
+                // Born in the integration pass of another kind's particles (`children`).
+                EmitterKind::Child => None,
+            }
+        };
+        (EmitterKind::ALL.into_iter())
+            .find_map(births)
+            .unwrap_or(Emission::Initial { life: false })
+    }
 }
 
 /// What a scene's simulation compiles and runs: derived from the scene file alone.
@@ -109,18 +139,7 @@ impl Features {
     /// Reads what a (non-fire) scene needs.
     pub fn of(scene: &SceneFile) -> Self {
         let em = &scene.emitters;
-        let emission = if let Some(e) = em.allocator.first() {
-            Emission::Allocator(match e.allocator.unwrap_or_default() {
-                scene::AllocatorKind::Stack => AllocatorKind::Stack,
-                scene::AllocatorKind::MinHeap => AllocatorKind::MinHeap,
-            })
-        } else if !em.timestamp.is_empty() {
-            Emission::Timestamp
-        } else {
-            Emission::Initial {
-                life: em.initial.iter().any(|e| e.life.is_some()),
-            }
-        };
+        let emission = Emission::of(em);
         let f = &scene.forces;
         // The scene's forces of a kind, then every emitter's (the uniform arrays' order).
         let with_emitters = |k| f.count(k) + em.all().map(|e| e.forces.count(k)).sum::<usize>();

@@ -5,15 +5,16 @@
 use super::{set_constants_for, ParticleSim, State};
 use crate::error::{Error, Result};
 use crate::gl::Program;
+use crate::scene::SceneFile;
 use crate::sim::fluid::FluidStats;
 use crate::sim::state::{POSITION, VELOCITY};
 
 impl ParticleSim {
     /// Places the fluid's particles on the lattice of their box emitters (after the initial
     /// state is drawn).
-    pub(super) fn place_fluid(&mut self) {
+    pub(super) fn place_fluid(&mut self, scene: &SceneFile) {
         if let (Some(f), State::Explicit(pp)) = (&self.fluid, &mut self.state) {
-            f.place(&self.scene, pp);
+            f.place(scene, pp);
         }
     }
 
@@ -24,10 +25,10 @@ impl ParticleSim {
                 "[fluid] needs an explicit integrator".into(),
             ));
         };
-        let (scene, params, fields) = (&self.scene, &self.params, &self.fields);
+        let (params, fields) = (&self.params, &self.fields);
         let (size, seed, types) = ([self.width, self.height], self.seed, self.features.types);
-        let set = |p: &Program| set_constants_for(p, scene, params, fields, size, seed, types);
-        f.run(pp, &self.statics, self.scene.time.dt, set)
+        let set = |p: &Program| set_constants_for(p, params, fields, size, seed, types);
+        f.run(pp, &self.statics, params.time.dt, set)
     }
 
     /// Fluid searches that hit their bound, over the run (one read-back).

@@ -24,7 +24,6 @@ mod user_state;
 use glam::UVec2;
 
 use super::allocator::Allocator;
-use super::emit::EmitterUniforms;
 use super::fields::{DistanceField, FlowField, HeightField};
 use crate::error::{Error, Result};
 use crate::gl::{
@@ -85,8 +84,10 @@ fn draw_textures<'a>(
 /// The particle simulation of a scene.
 pub struct ParticleSim {
     ctx: Context,
-    scene: SceneFile,
-    /// The numbers the passes read, packed once from the scene.
+    /// The scene's name, for messages.
+    name: String,
+    /// The numbers the passes read, packed once from the scene (which the simulation does not
+    /// keep: the engine holds it).
     params: Params,
     features: Features,
     /// The stages of a step, from the pass list of `features` (kept: a step runs them).
@@ -113,12 +114,10 @@ pub struct ParticleSim {
     relax: Option<relax::Relaxation>,
     /// The user's own per-particle states (`[[state]]`, `user_state.rs`).
     user: Option<user_state::UserStates>,
+    /// Their names, in the scene's order.
+    state_names: Vec<String>,
     pass: FullscreenPass,
     fields: Fields,
-    emitters: Vec<EmitterUniforms>,
-    /// Some emitter value is a curve (`src/scene/curve.rs`): the spawn uniforms are set
-    /// every step, and allocator births take the emitter at their time.
-    animated: bool,
     allocator: Option<Allocator>,
     owed: Vec<f64>,
     emitted: u64,
@@ -133,7 +132,7 @@ impl std::fmt::Debug for ParticleSim {
         write!(
             f,
             "ParticleSim({} {}x{})",
-            self.scene.name, self.width, self.height
+            self.name, self.width, self.height
         )
     }
 }
@@ -171,8 +170,7 @@ impl ParticleSim {
         let verlet = features.integrator == Integrator::Verlet;
         let (emit_state, emit_previous, emit_static) =
             setup::emit_programs(ctx, &features, &defines)?;
-        let emitters: Vec<EmitterUniforms> =
-            scene.emitters.all().map(EmitterUniforms::new).collect();
+        let params = Params::of(scene);
         let (integrate, integrate_position) =
             setup::integrate_programs(ctx, scene, &features, &defines)?;
         let mut sim = ParticleSim {
@@ -198,8 +196,9 @@ impl ParticleSim {
                 None => None,
             },
             bounces: bounces::tally(ctx, &features)?,
-            relax: relax::Relaxation::new(ctx, scene, &defines)?,
+            relax: relax::Relaxation::new(ctx, scene, params.constraints.as_ref(), &defines)?,
             user: user_state::UserStates::new(ctx, scene, &defines, [width, height])?,
+            state_names: scene.state.iter().map(|s| s.name.clone()).collect(),
             pass: FullscreenPass::new(ctx)?,
             allocator: match features.emission {
                 // Child emitters keep texels of their own: the allocator hands out the rest.
@@ -208,14 +207,12 @@ impl ParticleSim {
                 }
                 Emission::Timestamp | Emission::Initial { .. } => None,
             },
-            owed: vec![0.0; emitters.len()],
-            emitters,
-            animated: crate::scene::has_curves(scene),
+            owed: vec![0.0; scene.emitters.len()],
             emitted: 0,
             dropped: 0,
             ctx: ctx.clone(),
-            scene: scene.clone(),
-            params: Params::of(scene),
+            name: scene.name.clone(),
+            params,
             stages: crate::sim::stages_of(&features.step_passes()),
             features,
             width,
@@ -227,7 +224,7 @@ impl ParticleSim {
             step: 0,
             time: 0.0,
         };
-        sim.start_up()?;
+        sim.start_up(scene)?;
         Ok(sim)
     }
 
@@ -235,7 +232,6 @@ impl ParticleSim {
     fn set_constants(&self, p: &Program) {
         set_constants_for(
             p,
-            &self.scene,
             &self.params,
             &self.fields,
             [self.width, self.height],
@@ -287,9 +283,9 @@ impl ParticleSim {
         &self.features
     }
 
-    /// The scene.
-    pub fn scene(&self) -> &SceneFile {
-        &self.scene
+    /// The numbers the passes read, packed once from the scene.
+    pub fn params(&self) -> &Params {
+        &self.params
     }
 
     /// State texture size.
@@ -352,7 +348,7 @@ impl ParticleSim {
     /// The constraint relaxation passes after the Verlet step (scenes with `[constraints]`).
     fn relax(&mut self) {
         if let (Some(r), State::Verlet(ring)) = (&self.relax, &mut self.state) {
-            r.run(&self.scene, ring, &self.pass, &self.fields, self.time);
+            r.run(&self.params, ring, &self.pass, &self.fields, self.time);
         }
     }
 
@@ -391,22 +387,16 @@ impl ParticleSim {
             ));
         };
         let fields = &self.fields;
-        let (scene, params) = (&self.scene, &self.params);
+        let params = &self.params;
         let (size, seed, types) = ([self.width, self.height], self.seed, self.features.types);
         // The masses come with the scene's constants (glsl/common/mass.glsl): the response
         // weighs each particle by its own mass, as integration does.
-        let set = |p: &Program| set_constants_for(p, scene, params, fields, size, seed, types);
+        let set = |p: &Program| set_constants_for(p, params, fields, size, seed, types);
         // The stage carries the user states along its sorts (collide/carry.rs).
         let mut none = Vec::new();
         let users = self.user.as_mut().map_or(&mut none, |u| u.states_mut());
         c.hold_states(users, self.time as f32);
-        let ran = c.run(
-            pp,
-            &self.statics,
-            self.scene.time.dt,
-            &fields.textures(),
-            set,
-        );
+        let ran = c.run(pp, &self.statics, params.time.dt, &fields.textures(), set);
         c.release_states(users);
         ran
     }
@@ -450,8 +440,8 @@ impl ParticleSim {
                         let (v, x) = (pp.back_single(VELOCITY), pp.back_single(POSITION));
                         self.pass.draw_rows(p, &t, &[], v, 0, rows);
                         q.bind();
-                        if self.animated {
-                            uniforms::set_spawn(q, &self.scene, self.time as f32);
+                        if self.params.emitters.animated {
+                            uniforms::set_spawn(q, &self.params.emitters, self.time as f32);
                         }
                         q.set_f32("u_time", self.time as f32);
                         q.optional(|| q.set_f32("u_time_next", next));
@@ -490,7 +480,7 @@ impl ParticleSim {
             }
         }
         self.step += 1;
-        self.time = self.step as f64 * self.scene.time.dt as f64;
+        self.time = self.step as f64 * self.params.time.dt as f64;
     }
 
     /// Binds the integration program and sets this step's clock on it: `u_time`, the next
@@ -501,13 +491,14 @@ impl ParticleSim {
     fn set_step_clock(&self, p: &crate::gl::Program) -> f32 {
         p.bind();
         p.set_f32("u_time", self.time as f32);
-        let next = ((self.step + 1) as f64 * self.scene.time.dt as f64) as f32;
+        let dt = self.params.time.dt as f64;
+        let next = ((self.step + 1) as f64 * dt) as f32;
         p.optional(|| p.set_f32("u_time_next", next));
-        let prev = ((self.step as f64 - 1.0) * self.scene.time.dt as f64) as f32;
+        let prev = ((self.step as f64 - 1.0) * dt) as f32;
         p.optional(|| p.set_f32("u_time_prev", prev));
-        relax::move_spheres(p, &self.scene, self.time + self.scene.time.dt as f64);
-        if self.animated {
-            uniforms::set_spawn(p, &self.scene, self.time as f32);
+        relax::move_spheres(p, &self.params.colliders, self.time + dt);
+        if self.params.emitters.animated {
+            uniforms::set_spawn(p, &self.params.emitters, self.time as f32);
         }
         next
     }

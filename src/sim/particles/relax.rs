@@ -6,6 +6,8 @@
 //! step's implied velocity includes what the constraints moved). Also moves orbiting spheres,
 //! which the Verlet step and the relaxation both read.
 
+use glam::Vec3;
+
 use super::{draw_textures, Fields};
 use crate::error::Result;
 use crate::gl::{
@@ -13,7 +15,8 @@ use crate::gl::{
     FULLSCREEN_VERTEX,
 };
 use crate::scene::{ConstraintKind, RelaxScheme, SceneFile};
-use crate::sim::constraints::{pin_offset, set_count, sphere_centres, Layout};
+use crate::sim::constraints::{set_count, Layout};
+use crate::sim::params::{self, Params};
 use crate::sim::state::POSITION;
 
 /// The relaxation passes of a scene with `[constraints]`.
@@ -46,9 +49,15 @@ fn texture(ctx: &Context, label: &str, [w, h]: [u32; 2], data: &[f32]) -> Result
 }
 
 impl Relaxation {
-    /// The programs (with the simulation's `defines`) and the rest texture of `scene`'s layout.
-    pub(super) fn new(ctx: &Context, scene: &SceneFile, defines: &Defines) -> Result<Option<Self>> {
-        let (Some(c), Some(layout)) = (&scene.constraints, Layout::of(scene)) else {
+    /// The programs (with the simulation's `defines`) of the constraints block `c` and the rest
+    /// texture of `scene`'s layout.
+    pub(super) fn new(
+        ctx: &Context,
+        scene: &SceneFile,
+        c: Option<&params::Constraints>,
+        defines: &Defines,
+    ) -> Result<Option<Self>> {
+        let (Some(c), Some(layout)) = (c, Layout::of(scene)) else {
             return Ok(None);
         };
         let mut d = defines.clone();
@@ -133,17 +142,17 @@ impl Relaxation {
     /// `iterations` iterations at simulation time `t` (the end of the step just taken).
     pub(super) fn run(
         &self,
-        scene: &SceneFile,
+        params: &Params,
         ring: &mut Ring3,
         pass: &FullscreenPass,
         fields: &Fields,
         t: f64,
     ) {
-        let offset = pin_offset(scene, t);
+        let offset = (params.constraints.as_ref()).map_or(Vec3::ZERO, |c| c.pin_offset(t));
         for p in self.programs() {
             p.bind();
             p.set_vec3("u_pin_offset", offset);
-            move_spheres(p, scene, t);
+            move_spheres(p, &params.colliders, t);
         }
         let sets = match self.scheme {
             RelaxScheme::Jacobi => None,
@@ -181,16 +190,9 @@ impl Relaxation {
 
 /// Sets `u_sphere` to the spheres' places at time `t` if any orbits (a static one's place is
 /// the value the scene's constants gave).
-pub(super) fn move_spheres(p: &Program, scene: &SceneFile, t: f64) {
-    let spheres = &scene.colliders.sphere;
-    if spheres.iter().all(|s| s.orbit.is_none()) {
+pub(super) fn move_spheres(p: &Program, colliders: &params::Colliders, t: f64) {
+    if colliders.moving_spheres.is_empty() {
         return;
     }
-    let centres = sphere_centres(scene, t);
-    let placed: Vec<_> = spheres
-        .iter()
-        .zip(centres)
-        .map(|(s, c)| c.extend(s.radius))
-        .collect();
-    p.set_vec4_array("u_sphere", &placed);
+    p.set_vec4_array("u_sphere", &colliders.spheres_at(t));
 }

@@ -181,8 +181,8 @@ pub(super) fn emit_programs(
 
 impl ParticleSim {
     /// Sets every program's constant uniforms, writes the first state and places the
-    /// constraint layout.
-    pub(super) fn start_up(&mut self) -> Result<()> {
+    /// constraint layout and the fluid's lattice of `scene`.
+    pub(super) fn start_up(&mut self, scene: &SceneFile) -> Result<()> {
         for p in [
             Some(&self.integrate),
             self.integrate_position.as_ref(),
@@ -199,7 +199,7 @@ impl ParticleSim {
             self.set_constants(p);
         }
         self.initialise()?;
-        self.place_fluid();
+        self.place_fluid(scene);
         if let (Some(r), State::Verlet(ring)) = (&self.relax, &self.state) {
             r.place(ring)?;
         }

@@ -100,7 +100,7 @@ impl ParticleSim {
                 let x = self.read_positions()?;
                 let xp = self.previous().map(|t| t.read_f32()).transpose()?;
                 let xp = xp.unwrap_or_else(|| x.clone());
-                let dt = self.scene.time.dt;
+                let dt = self.params.time.dt;
                 Ok(x.chunks(4)
                     .zip(xp.chunks(4))
                     .flat_map(|(a, b)| {
@@ -183,7 +183,7 @@ impl crate::sim::Simulation for ParticleSim {
         if !self.stages.contains(&stage) {
             return Err(Error::InvalidInput(format!(
                 "scene `{}` has no {stage:?} stage: its step runs {:?}",
-                self.scene.name, self.stages
+                self.name, self.stages
             )));
         }
         match stage {
@@ -214,11 +214,11 @@ impl crate::sim::Simulation for ParticleSim {
     }
 
     fn time_step(&self) -> f32 {
-        self.scene.time.dt
+        self.params.time.dt
     }
 
     fn substeps(&self) -> u32 {
-        self.scene.time.substeps
+        self.params.time.substeps
     }
 
     fn size(&self) -> [u32; 2] {
@@ -265,8 +265,8 @@ impl crate::sim::Simulation for ParticleSim {
     }
 
     fn user_states(&self) -> Vec<&Texture> {
-        (self.scene.state.iter())
-            .filter_map(|s| self.user_state(&s.name))
+        (self.state_names.iter())
+            .filter_map(|s| self.user_state(s))
             .collect()
     }
 
@@ -283,7 +283,7 @@ impl crate::sim::Simulation for ParticleSim {
     }
 
     fn stretched(&self) -> Result<Option<crate::sim::Stretched>> {
-        let (Some(layout), Some(c)) = (self.constraint_layout(), &self.scene.constraints) else {
+        let (Some(layout), Some(c)) = (self.constraint_layout(), &self.params.constraints) else {
             return Ok(None);
         };
         let x = self.read_positions()?;

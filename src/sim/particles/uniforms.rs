@@ -6,19 +6,13 @@ use glam::{Vec3, Vec4};
 use super::super::emit::EmitterUniforms;
 use super::Fields;
 use crate::gl::Program;
-use crate::scene::SceneFile;
 use crate::sim::params::{self, Integration, Params, Shape};
-
-fn v3(a: [f32; 3]) -> Vec3 {
-    Vec3::from(a)
-}
 
 /// Sets the uniforms that do not change during a run (emitters, masses, forces, colliders) on
 /// `p`, the masses, forces and colliders from the scene's parameter blocks `params`; uniforms
 /// the program lacks are skipped (the same set serves every simulation program).
 pub(super) fn set_constants_for(
     p: &Program,
-    s: &SceneFile,
     params: &Params,
     fields: &Fields,
     size: [u32; 2],
@@ -26,12 +20,11 @@ pub(super) fn set_constants_for(
     types: usize,
 ) {
     p.bind();
-    p.optional(|| set_constants(p, s, params, fields, size, seed, types));
+    p.optional(|| set_constants(p, params, fields, size, seed, types));
 }
 
 fn set_constants(
     p: &Program,
-    s: &SceneFile,
     params: &Params,
     fields: &Fields,
     size: [u32; 2],
@@ -43,11 +36,12 @@ fn set_constants(
     p.set_u32("u_seed", seed);
     p.set_f32("u_dt", params.integration.dt);
     // Texel k of the other emitters is of type k mod their count; child emitters' types follow.
-    p.set_i32("u_emitters", (types - s.emitters.child.len()).max(1) as i32);
-    set_children(p, s);
+    let e = &params.emitters;
+    p.set_i32("u_emitters", (types - e.children).max(1) as i32);
+    set_children(p, e);
     set_masses(p, &params.integration);
-    set_emitters(p, s);
-    set_forces(p, s, &params.integration, fields);
+    set_emitters(p, e);
+    set_forces(p, &params.integration, fields);
     set_colliders(p, &params.colliders, fields);
 }
 
@@ -60,49 +54,16 @@ fn set_masses(p: &Program, m: &Integration) {
 }
 
 /// The emitters' bursts, shapes and release clouds.
-fn set_emitters(p: &Program, s: &SceneFile) {
-    let (mut burst_time, mut burst_end) = (Vec::new(), Vec::new());
-    for e in s.emitters.all() {
-        let (mut time, mut end) = ([0f32; 4], [0f32; 4]);
-        let mut total = 0u64;
-        for b in 0..4 {
-            if let Some(burst) = e.bursts.get(b) {
-                time[b] = burst.time;
-                total += burst.count as u64;
-            }
-            end[b] = total as f32;
-        }
-        burst_time.push(Vec4::from(time));
-        burst_end.push(Vec4::from(end));
-    }
-    p.set_vec4_array("u_burst_time", &burst_time);
-    p.set_vec4_array("u_burst_end", &burst_end);
-    spawn_uniforms(p, s, 0.0);
-    let mut cloud = [0.0f32; 4];
-    let mut release_spread = Vec::new();
-    for (k, e) in s.emitters.all().enumerate() {
-        let r = e.release_spread.unwrap_or([0.0; 3]);
-        // Places per cycle: one per release (a step), or one per cloud of texels; a cube of
-        // slots holds them all.
-        let places = match e.release_cloud {
-            Some(c) => (s.particle_count() as f32 / c as f32).ceil(),
-            None => (e.cycle.unwrap_or(1.0) / s.time.dt).round(),
-        };
-        let side = places.max(1.0).cbrt().ceil();
-        release_spread.push(Vec4::new(r[0], r[1], r[2], side));
-        cloud[k] = e.release_cloud.unwrap_or(0) as f32;
-    }
-    p.set_vec4_array("u_release_spread", &release_spread);
-    p.set_vec4("u_release_cloud", Vec4::from(cloud));
+fn set_emitters(p: &Program, e: &params::Emitters) {
+    p.set_vec4_array("u_burst_time", &e.burst_time);
+    p.set_vec4_array("u_burst_end", &e.burst_end);
+    spawn_uniforms(p, &e.spawn);
+    p.set_vec4_array("u_release_spread", &e.release_spread);
+    p.set_vec4("u_release_cloud", Vec4::from(e.release_cloud));
 }
 
-/// The emitters' spawn uniforms (glsl/sim/spawn.glsl) with their curves at time `t`.
-fn spawn_uniforms(p: &Program, s: &SceneFile, t: f32) {
-    let em: Vec<EmitterUniforms> = s
-        .emitters
-        .all()
-        .map(|e| EmitterUniforms::at(e, t))
-        .collect();
+/// The emitters' spawn uniforms (glsl/sim/spawn.glsl).
+fn spawn_uniforms(p: &Program, em: &[EmitterUniforms]) {
     let field = |f: fn(&EmitterUniforms) -> Vec4| em.iter().map(f).collect::<Vec<_>>();
     p.set_vec4_array("u_em_center", &field(|e| e.center));
     p.set_vec4_array("u_em_size", &field(|e| e.size));
@@ -111,15 +72,15 @@ fn spawn_uniforms(p: &Program, s: &SceneFile, t: f32) {
     p.set_vec4_array("u_em_range", &field(|e| e.range));
 }
 
-/// Sets the spawn uniforms of the bound program `p` at time `t` (scenes with curves, every
-/// step); a program without them is left alone.
-pub(super) fn set_spawn(p: &Program, s: &SceneFile, t: f32) {
-    p.optional(|| spawn_uniforms(p, s, t));
+/// Sets the spawn uniforms of the bound program `p` at time `t`, the emitters' curves taken
+/// there (scenes with curves, every step); a program without them is left alone.
+pub(super) fn set_spawn(p: &Program, e: &params::Emitters, t: f32) {
+    p.optional(|| spawn_uniforms(p, &e.spawn_at(t)));
 }
 
 /// The forces: summed gravity and damping, attractors, springs and vortices with their owners,
 /// each type's own gravity and damping, the wind field and the spin's constants.
-fn set_forces(p: &Program, s: &SceneFile, m: &Integration, fields: &Fields) {
+fn set_forces(p: &Program, m: &Integration, fields: &Fields) {
     p.set_vec3("u_gravity", m.gravity.unwrap_or(Vec3::ZERO));
     p.set_f32("u_damping", m.damping.unwrap_or(0.0));
     let attractor: Vec<Vec4> = m.attractors.iter().map(|a| a.at).collect();
@@ -142,18 +103,17 @@ fn set_forces(p: &Program, s: &SceneFile, m: &Integration, fields: &Fields) {
     p.set_i32_array("u_vortex_owner", &owner);
     p.set_vec3_array("u_type_gravity", &m.type_gravity);
     p.set_vec4("u_type_damping", Vec4::from(m.type_damping));
-    let f = &s.forces;
-    if let (Some(w), Some((_, field))) = (f.wind.first(), &fields.flow) {
-        p.set_vec3("u_flow_min", v3(w.bounds[0]));
-        p.set_vec3("u_flow_max", v3(w.bounds[1]));
+    if let (Some(w), Some((_, field))) = (&m.wind, &fields.flow) {
+        p.set_vec3("u_flow_min", w.bounds[0]);
+        p.set_vec3("u_flow_max", w.bounds[1]);
         let [rx, ry, rz] = field.resolution().map(|r| r as i32);
         p.set_ivec3("u_flow_res", rx, ry, rz);
         p.set_f32("u_drag", w.drag);
     }
-    if let Some(k) = s.collisions.as_ref().filter(|k| k.spin) {
+    if let Some(k) = m.spin {
         // Spinning spheres (glsl/collide/spin.glsl): their radius and the pairs' friction.
-        p.set_f32("u_spin_radius", k.radius);
-        p.set_f32("u_friction", k.friction);
+        p.set_f32("u_spin_radius", k.x);
+        p.set_f32("u_friction", k.y);
     }
 }
 
@@ -215,16 +175,9 @@ fn set_colliders(p: &Program, c: &params::Colliders, fields: &Fields) {
 }
 
 /// The child emitters' layout (glsl/sim/children.glsl).
-fn set_children(p: &Program, s: &SceneFile) {
-    let layout = s.child_layout();
-    p.set_i32("u_child_start", layout.parent_slots as i32);
-    p.set_i32("u_children", layout.ranges.len() as i32);
-    let (mut child, mut more) = (Vec::new(), Vec::new());
-    for (r, e) in layout.ranges.iter().zip(&s.emitters.child) {
-        child.push([r.start, r.per_parent, r.parent, r.on_death].map(|v| v as i32));
-        let inherit = e.inherit_velocity.unwrap_or(1.0);
-        more.push(Vec4::new(r.trail_rate, inherit, r.kind as f32, 0.0));
-    }
-    p.set_ivec4_array("u_child", &child);
-    p.set_vec4_array("u_child_more", &more);
+fn set_children(p: &Program, e: &params::Emitters) {
+    p.set_i32("u_child_start", e.layout.parent_slots as i32);
+    p.set_i32("u_children", e.layout.ranges.len() as i32);
+    p.set_ivec4_array("u_child", &e.child);
+    p.set_vec4_array("u_child_more", &e.child_more);
 }

@@ -426,7 +426,6 @@ impl ParticleSim {
             let size = [self.width, self.height];
             set_constants_for(
                 p,
-                &self.scene,
                 &self.params,
                 &self.fields,
                 size,
@@ -438,7 +437,7 @@ impl ParticleSim {
 
     /// The user states' current values (`[[state]]`), by name.
     pub fn user_state(&self, name: &str) -> Option<&Texture> {
-        let i = self.scene.state.iter().position(|s| s.name == name)?;
+        let i = self.state_names.iter().position(|s| s == name)?;
         Some(self.user.as_ref()?.states[i].front().only_texture())
     }
 

@@ -12,20 +12,19 @@ use glam::Vec3;
 use super::Reference;
 use crate::error::{Error, Result};
 use crate::scene::{Precision, RelaxScheme, SceneFile};
-use crate::sim::constraints::{
-    neighbours, pin_offset, set_count, set_partner, sphere_centres, ConstraintError, Layout,
-};
+use crate::sim::constraints::{neighbours, set_count, set_partner, ConstraintError, Layout};
+use crate::sim::params;
 
 /// A constrained scene stepped on the CPU.
 #[derive(Debug, Clone)]
 pub struct Twin {
-    scene: SceneFile,
     reference: Reference,
     layout: Layout,
-    stiffness: f32,
-    iterations: u32,
-    scheme: RelaxScheme,
-    attachments: bool,
+    /// The relaxation's numbers, the block the GPU's passes read (`crate::sim::params`).
+    relax: params::Constraints,
+    /// The spheres that orbit (all of them, when one does).
+    colliders: params::Colliders,
+    dt: f32,
     x: Vec<Vec3>,
     previous: Vec<Vec3>,
     life: Vec<f32>,
@@ -37,7 +36,8 @@ impl Twin {
     /// rest in its layout.
     pub fn new(scene: &SceneFile) -> Result<Self> {
         let reference = Reference::new(scene)?;
-        let (Some(c), Some(layout)) = (&scene.constraints, Layout::of(scene)) else {
+        let (Some(relax), Some(layout)) = (params::Constraints::of(scene), Layout::of(scene))
+        else {
             return Err(Error::InvalidInput(format!(
                 "scene `{}` has no [constraints]",
                 scene.name
@@ -55,12 +55,10 @@ impl Twin {
             .map(|r| Vec3::new(r[0], r[1], r[2]))
             .collect();
         Ok(Twin {
-            scene: scene.clone(),
             reference,
-            stiffness: c.stiffness,
-            iterations: c.iterations,
-            scheme: c.scheme,
-            attachments: c.attachments,
+            relax,
+            colliders: params::Colliders::of(&scene.colliders),
+            dt: scene.time.dt,
             previous: x.clone(),
             life: vec![1.0; x.len()],
             x,
@@ -71,33 +69,26 @@ impl Twin {
 
     /// Changes the relaxation passes per step (for measuring the error against them).
     pub fn set_iterations(&mut self, n: u32) {
-        self.iterations = n;
+        self.relax.iterations = n;
     }
 
     /// Changes the scheme and whether the long-range attachments run.
     pub fn set_scheme(&mut self, scheme: RelaxScheme, attachments: bool) {
-        self.scheme = scheme;
-        self.attachments = attachments;
+        self.relax.scheme = scheme;
+        self.relax.attachments = attachments;
     }
 
     fn move_spheres(&mut self, t: f64) {
-        for (i, (s, c)) in self
-            .scene
-            .colliders
-            .sphere
-            .iter()
-            .zip(sphere_centres(&self.scene, t))
-            .enumerate()
-        {
+        for (i, s) in self.colliders.moving_spheres.iter().enumerate() {
             if s.orbit.is_some() {
-                self.reference.move_sphere(i, c);
+                self.reference.move_sphere(i, Vec3::from(s.center_at(t)));
             }
         }
     }
 
     /// One step: Verlet for every particle, then `iterations` relaxation passes.
     pub fn step(&mut self) {
-        let dt = self.scene.time.dt as f64;
+        let dt = self.dt as f64;
         // The GPU's clocks: the step ends at time + dt; then time = steps × dt.
         let time = self.step as f64 * dt;
         self.move_spheres(time + dt);
@@ -113,9 +104,9 @@ impl Twin {
         self.step += 1;
         let t = self.step as f64 * dt;
         self.move_spheres(t);
-        let offset = pin_offset(&self.scene, t);
-        for _ in 0..self.iterations {
-            match self.scheme {
+        let offset = self.relax.pin_offset(t);
+        for _ in 0..self.relax.iterations {
+            match self.relax.scheme {
                 RelaxScheme::Jacobi => self.x = self.relax_once(offset),
                 RelaxScheme::GaussSeidel => {
                     for set in 0..set_count(self.layout.kind) {
@@ -123,7 +114,7 @@ impl Twin {
                     }
                 }
             }
-            if self.attachments {
+            if self.relax.attachments {
                 self.x = self.attach(offset);
             }
         }
@@ -158,7 +149,7 @@ impl Twin {
                 let len = d.length();
                 let share = if q_pinned { 1.0 } else { 0.5 };
                 if len > 0.0 {
-                    xn = x + self.stiffness * ((share * (len - rest_length) / len) * d);
+                    xn = x + self.relax.stiffness * ((share * (len - rest_length) / len) * d);
                 }
             }
             out.push(self.reference.keep_outside_position(xn));
@@ -229,7 +220,7 @@ impl Twin {
                     }
                     n += 1;
                 }
-                let xn = x + (self.stiffness / n.max(1) as f32) * sum;
+                let xn = x + (self.relax.stiffness / n.max(1) as f32) * sum;
                 out.push(self.reference.keep_outside_position(xn));
             }
         }

@@ -171,6 +171,7 @@ impl Reference {
         let Params {
             integration: m,
             colliders: c,
+            ..
         } = Params::of(s);
         let wind = match s.forces.wind.first() {
             Some(w) => Some(Wind {

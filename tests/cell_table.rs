@@ -9,7 +9,7 @@ mod common;
 use common::scene::random_gas;
 use common::{context, no_gl_error};
 use texflow::scene;
-use texflow::sim::collide::cells::{uses_table, with_binary_search, TABLE_MAX_CELLS};
+use texflow::sim::collide::cells::{uses_table, with_search, TABLE_MAX_CELLS};
 use texflow::sim::ParticleSim;
 
 /// A 16×16 exact-collision scene on a lattice of 10³ cells of 0.1 over [0, 1)³, one iteration
@@ -118,8 +118,10 @@ fn both_searches(
         let v = sim.read_velocities().unwrap();
         (x, v, table)
     };
-    let mut with = ParticleSim::new(ctx, s, 1).unwrap();
-    let mut without = with_binary_search(|| ParticleSim::new(ctx, s, 1).unwrap());
+    // The table forced: the built-in scenes' lattices at 16×16 have more cells than the rule
+    // takes a table for.
+    let mut with = with_search(true, || ParticleSim::new(ctx, s, 1).unwrap());
+    let mut without = with_search(false, || ParticleSim::new(ctx, s, 1).unwrap());
     [run(&mut with), run(&mut without)]
 }
 
@@ -161,16 +163,20 @@ fn the_table_and_the_binary_search_give_the_same_state() {
 
 #[test]
 fn a_lattice_far_larger_than_the_state_keeps_the_binary_search() {
-    // 256 entries: up to 2^20 cells take the table, more keep the binary search.
-    assert!(uses_table(1 << 20, 256));
-    assert!(!uses_table((1 << 20) + 1, 256));
-    // A million entries: up to four cells each.
-    assert!(uses_table(3 << 20, 1 << 20));
+    // 256 entries: up to 8 cells each take the table, more keep the binary search.
+    assert!(uses_table(2048, 256));
+    assert!(!uses_table(2049, 256));
+    // A million entries: up to the table's size.
+    assert!(uses_table(TABLE_MAX_CELLS, 1 << 20));
     assert!(!uses_table(TABLE_MAX_CELLS + 1, 1 << 20));
+    assert!(!with_search(true, || uses_table(
+        TABLE_MAX_CELLS + 1,
+        1 << 20
+    )));
     let ctx = context();
     let mut s = exact_scene();
-    // 110³ cells of 0.1 over [0, 11)³: more than 2^20.
-    s.collisions.as_mut().unwrap().bounds[1] = [11.0; 3];
+    // 20³ cells of 0.1 over [0, 2)³: more than 8 per entry.
+    s.collisions.as_mut().unwrap().bounds[1] = [2.0; 3];
     let sim = ParticleSim::new(&ctx, &s, 1).unwrap();
     assert!(!sim.collisions().unwrap().search().unwrap().has_table());
     let plan = common::plan_of(&ctx, &s);

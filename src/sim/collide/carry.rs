@@ -175,7 +175,8 @@ impl CollisionStage {
         let Some(c) = &mut self.carry else {
             return;
         };
-        if !std::mem::take(&mut c.due) {
+        // States without `pair` exchange nothing (and may ride UberFlow's sorts, unsearched).
+        if !std::mem::take(&mut c.due) || c.exchange.is_empty() {
             return;
         }
         let g = &self.first;

@@ -1,7 +1,8 @@
-//! The exact neighbour search over a cell-sorted state (`glsl/collide/cells.glsl`), shared by
-//! the collision stage's exact detection, its neighbour forces and exchanges, and the fluid: the
-//! lattice searched, the uniforms and textures every searching pass takes, and the cell-start
-//! table (as `cellStart` in NVIDIA's CUDA `particles` sample, here a fragment pass).
+//! The lattice of a cell sort ([`Lattice`]) and the exact neighbour search over the sorted state
+//! (`glsl/collide/cells.glsl`, [`CellSearch`]), one owner for the collision stage's exact
+//! detection, its neighbour forces and exchanges, and the fluid: the lattice searched, the
+//! uniforms and textures every searching pass takes, and the cell-start table (as `cellStart`
+//! in NVIDIA's CUDA `particles` sample, here a fragment pass).
 //!
 //! After each sort and gather that a search reads, one full-screen pass
 //! (`glsl/collide/cell_start.frag`) writes, for every cell c of the lattice, the first sorted

@@ -16,8 +16,9 @@
 //!
 //! Beyond the paper, `collisions.detection = "exact"` finds every pair closer than 2r (up to
 //! [`EXACT_SCAN`] particles in a run of three cells): per iteration a full sort, then a count
-//! pass and a response pass that each walk the 27 cells around a particle, found by a binary
-//! search of the sorted keys (`glsl/collide/cells.glsl`). The momentum exchange is applied to
+//! pass and a response pass that each walk the 27 cells around a particle, each run of three
+//! cells bounded by a cell-start table written after the sort (`cells.rs`,
+//! `glsl/collide/cells.glsl`). The momentum exchange is applied to
 //! mutual closest pairs (weight 1, two-body collisions: momentum conserved, energy kept at
 //! e = 1); the separation of overlaps to every partner, weighted 1 / max(n_i, n_j). Every
 //! iteration sorts again, so each one searches the cells the particles are in now.

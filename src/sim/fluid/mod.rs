@@ -3,13 +3,15 @@
 //! particles"). A scene's `[fluid]` sets up its own exact neighbour search: a lattice of cell
 //! 2h (the cubic spline's support) over `fluid.bounds`, searched as the exact collision
 //! detection searches (`glsl/collide/cells.glsl`: every particle of the 27 cells around a
-//! particle, found by binary search of the sorted keys, at most [`FLUID_SCAN`] per run of three
-//! cells; a search past it is flagged and counted, and `render` warns).
+//! particle, each run of three cells bounded by the cell-start table of
+//! `src/sim/collide/cells.rs` or, for a lattice too large for it, a binary search of the sorted
+//! keys; at most [`FLUID_SCAN`] per run; a search past it is flagged and counted, and `render`
+//! warns).
 //!
 //! One step, after the integration pass (gravity, the colliders' response, positions moved):
 //! keys, a full bitonic sort (or with `resort = "coherent"` a cheaper network for the nearly
 //! sorted state, checked, with the full sort as fallback: src/sim/fluid/resort.rs) and the
-//! gather of position, velocity and static in cell order, a density pass
+//! gather of position, velocity and static in cell order, the cell-start table, a density pass
 //! (`glsl/fluid/density.frag`: density and Tait pressure), a force pass
 //! (`glsl/fluid/force.frag`: symmetric pressure force and Monaghan's artificial viscosity,
 //! v += a dt, into the state, now in cell order) and the static texture copied in that order.

@@ -62,6 +62,19 @@ impl Lattice {
         }
     }
 
+    /// The lattice of `[fluid]`: cell 2h (the cubic spline's support) from the lower corner of
+    /// its bounds.
+    pub fn of_fluid(f: &scene::Fluid) -> Self {
+        let g = 2.0 * f.h();
+        let lo = Vec3::from(f.bounds[0]);
+        let hi = Vec3::from(f.bounds[1]);
+        Lattice {
+            origin: lo,
+            spacing: g,
+            dims: ((hi - lo) / g).ceil().max(Vec3::ONE).as_uvec3(),
+        }
+    }
+
     /// The cell of `p`, clamped to the lattice (as the key pass does).
     pub fn cell(&self, p: Vec3) -> UVec3 {
         let c = ((p - self.origin) / self.spacing).floor();
@@ -141,7 +154,7 @@ impl CellTables {
             collisions: (scene.collisions.as_ref())
                 .filter(|c| c.detection == scene::Detection::Exact)
                 .is_some_and(|c| table(Lattice::of(c, false))),
-            fluid: (scene.fluid.as_ref()).is_some_and(|f| table(crate::sim::fluid::lattice_of(f))),
+            fluid: (scene.fluid.as_ref()).is_some_and(|f| table(Lattice::of_fluid(f))),
         }
     }
 }

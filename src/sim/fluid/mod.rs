@@ -77,14 +77,7 @@ pub struct Fluid {
 
 /// The lattice of `[fluid]`: cell 2h from the lower corner of its bounds.
 pub fn lattice_of(f: &scene::Fluid) -> Lattice {
-    let g = 2.0 * f.h();
-    let lo = Vec3::from(f.bounds[0]);
-    let hi = Vec3::from(f.bounds[1]);
-    Lattice {
-        origin: lo,
-        spacing: g,
-        dims: ((hi - lo) / g).ceil().max(Vec3::ONE).as_uvec3(),
-    }
+    Lattice::of_fluid(f)
 }
 
 /// The passes of one fluid step, as `texflow scene passes` lists them.

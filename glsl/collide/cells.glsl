@@ -2,17 +2,29 @@
 // has been gathered in the order of a full sort by cell key (cells enumerated z, y, x), so the
 // particles of one cell are consecutive, and so are those of three cells side by side along x.
 // A particle reads its own key from the sorted keys, and for each of the 9 (y, z) rows of cells
-// around it finds, by a binary search of the sorted keys, where the run of cells x-1..x+1 starts;
-// it then walks that run (at most EXACT_SCAN particles) and visits every live particle in it.
+// around it finds where the run of cells x-1..x+1 starts and ends; it then walks that run (at
+// most EXACT_SCAN particles) and visits every live particle in it.
+// With CELL_TABLE the run's bounds are two fetches of the cell-start table that a pass wrote
+// after the sort (collide/cell_start.frag: start(c) = first sorted index whose key is not below
+// c), start(row + x0) and start(row + x1 + 1): 18 fetches per particle. Without it (a lattice
+// too large for the table: src/sim/collide/cells.rs) a binary search of the sorted keys finds
+// the start, and the walk stops at the first key past the run. Keys are whole cell indices (or
+// +inf), so both find the same run: the same neighbours, visited in the same order.
 // With a cell of at least 2r every pair closer than 2r is visited from both sides, unless a run
 // holds more than EXACT_SCAN particles (then `exact_truncated` is set).
 // The including shader defines `void visit(int j)`, called with each neighbour's sorted index.
 
-uniform sampler2D u_keys;       // the sorted entries: (key, id) per texel, or with PACKED_KEYS
-                                // (the packed network) (key, id, key, id)
-uniform int u_key_width;        // entries per sorted row (the state width)
-uniform int u_count;            // entries (the state size)
+#include "collide/sorted_keys.glsl"
+
 uniform ivec3 u_dims;           // cells per axis
+#ifdef CELL_TABLE
+uniform sampler2D u_cell_start; // first sorted index of each cell, rows of u_cell_width
+uniform int u_cell_width;
+
+int cell_start(int c) {
+    return int(texelFetch(u_cell_start, ivec2(c % u_cell_width, c / u_cell_width), 0).x);
+}
+#endif
 
 #ifndef EXACT_SCAN
 #define EXACT_SCAN 64
@@ -20,28 +32,17 @@ uniform ivec3 u_dims;           // cells per axis
 
 bool exact_truncated = false;
 
-float sorted_key(int i) {
-#ifdef PACKED_KEYS
-    vec4 e = texelFetch(u_keys, ivec2((i % u_key_width) / 2, i / u_key_width), 0);
-    return (i & 1) == 0 ? e.x : e.z;
+void visit(int j);
+
+// Whether the walk of a run ending at `end` (CELL_TABLE) or at the last key not above `k1` is
+// still inside the run at sorted index i.
+bool in_run(int i, int end, float k1) {
+#ifdef CELL_TABLE
+    return i < end;
 #else
-    return texelFetch(u_keys, ivec2(i % u_key_width, i / u_key_width), 0).x;
+    return i < u_count && sorted_key(i) <= k1;
 #endif
 }
-
-// First sorted index whose key is not below k (dead particles' +inf keys sort last).
-int lower_bound(float k) {
-    int lo = 0;
-    int hi = u_count;
-    for (int it = 0; it < 32; it++) {
-        if (lo >= hi) break;
-        int mid = (lo + hi) / 2;
-        if (sorted_key(mid) < k) lo = mid + 1; else hi = mid;
-    }
-    return lo;
-}
-
-void visit(int j);
 
 // Visits every particle of the 27 cells around the particle at sorted index `self` (not itself).
 void search_neighbours(int self) {
@@ -59,13 +60,19 @@ void search_neighbours(int self) {
             if (y < 0 || y >= u_dims.y) continue;
             int row = (z * u_dims.y + y) * u_dims.x;
             float k1 = float(row + x1);
+#ifdef CELL_TABLE
+            int j = cell_start(row + x0);
+            int end = cell_start(row + x1 + 1);
+#else
             int j = lower_bound(float(row + x0));
+            int end = u_count;
+#endif
             int s = 0;
             for (; s < EXACT_SCAN; s++) {
-                if (j + s >= u_count || !(sorted_key(j + s) <= k1)) break;
+                if (!in_run(j + s, end, k1)) break;
                 if (j + s != self) visit(j + s);
             }
-            if (s == EXACT_SCAN && j + s < u_count && sorted_key(j + s) <= k1) {
+            if (s == EXACT_SCAN && in_run(j + s, end, k1)) {
                 exact_truncated = true;
             }
         }

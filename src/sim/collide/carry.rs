@@ -89,7 +89,10 @@ pub fn carry_passes(states: usize, exchanges: &[String]) -> Vec<String> {
 /// the sorted keys' layout and the search's bound, as the collision stage's passes.
 pub(crate) fn exchange_defines(scene: &SceneFile, defines: &Defines) -> Defines {
     match &scene.collisions {
-        Some(c) => super::exact::stage_defines(&super::exact::key_layout(defines, c.sort), false),
+        Some(c) => {
+            let size = scene.particles.size;
+            super::exact::stage_defines(&super::exact::search_layout(defines, c, size), false)
+        }
         None => defines.clone(),
     }
 }
@@ -172,11 +175,13 @@ impl CollisionStage {
         let Some(c) = &mut self.carry else {
             return;
         };
-        if !std::mem::take(&mut c.due) {
+        // States without `pair` exchange nothing (and may ride UberFlow's sorts, unsearched).
+        if !std::mem::take(&mut c.due) || c.exchange.is_empty() {
             return;
         }
         let g = &self.first;
-        let dims = g.lattice.dims;
+        // A field, not `searched()`: the states are borrowed mutably.
+        let cells = (g.search.as_ref()).expect("an exchange needs the exact detection");
         let names: Vec<String> = (0..c.first.len())
             .map(|k| format!("u_user_state_{k}"))
             .collect();
@@ -184,18 +189,16 @@ impl CollisionStage {
             let p = &e.program;
             p.bind();
             set_constants(p);
-            p.set_i32("u_key_width", self.width as i32);
-            p.set_i32("u_count", (self.width * g.layout.height()) as i32);
-            p.set_ivec3("u_dims", dims.x as i32, dims.y as i32, dims.z as i32);
+            cells.set_uniforms(p);
             p.set_f32("u_pair_radius", e.radius);
             p.set_f32("u_dt", self.dt);
             p.set_f32("u_time", c.time);
-            let mut textures: Vec<(&str, Sampled)> = vec![
-                ("u_keys", g.sorter.keys().into()),
+            let mut textures: Vec<(&str, Sampled)> = cells.textures(g.sorter.keys());
+            textures.extend([
                 ("u_position", g.layout.texture(POSITION).into()),
                 ("u_velocity", g.layout.texture(VELOCITY).into()),
                 ("u_static", g.layout.texture(STATIC).into()),
-            ];
+            ]);
             textures.extend(
                 (names.iter().map(String::as_str))
                     .zip(c.first.iter().map(|f| f.only_texture().into())),

@@ -33,26 +33,21 @@ impl CollisionStage {
                 unreachable!("called in the exact mode only");
             };
             let g = &self.first;
-            let dims = g.lattice.dims;
+            // A field, not `searched()`: the read-backs are pushed while it is held.
+            let cells = (g.search.as_ref()).expect("the exact detection builds the search");
             let entries = (self.width * state.height()) as i32;
             let search = |p: &Program| {
-                p.set_i32("u_key_width", self.width as i32);
-                p.set_i32("u_count", entries);
-                p.set_ivec3("u_dims", dims.x as i32, dims.y as i32, dims.z as i32);
+                cells.set_uniforms(p);
                 p.set_f32("u_radius", self.config.radius);
             };
             count.bind();
             search(count);
-            self.pass.draw(
-                count,
-                &[
-                    ("u_keys", g.sorter.keys().into()),
-                    ("u_position", g.layout.texture(POSITION).into()),
-                    ("u_velocity", g.layout.texture(VELOCITY).into()),
-                ],
-                &[],
-                counts,
-            );
+            let mut textures = cells.textures(g.sorter.keys());
+            textures.extend([
+                ("u_position", g.layout.texture(POSITION).into()),
+                ("u_velocity", g.layout.texture(VELOCITY).into()),
+            ]);
+            self.pass.draw(count, &textures, &[], counts);
             if let Some(t) = &self.tally {
                 t.add(counts.only_texture(), entries as usize);
             }
@@ -67,13 +62,13 @@ impl CollisionStage {
             p.bind();
             set_response_constants(p);
             search(p);
-            let mut textures: Vec<(&str, Sampled)> = vec![
-                ("u_keys", g.sorter.keys().into()),
+            let mut textures: Vec<(&str, Sampled)> = cells.textures(g.sorter.keys());
+            textures.extend([
                 ("u_position", g.layout.texture(POSITION).into()),
                 ("u_velocity", g.layout.texture(VELOCITY).into()),
                 ("u_static", g.layout.texture(STATIC).into()),
                 ("u_counts", counts.only_texture().into()),
-            ];
+            ]);
             if let Some(s) = &g.spin {
                 textures.push(("u_spin", s.only_texture().into()));
             }
@@ -86,6 +81,12 @@ impl CollisionStage {
             self.carry_back(false);
         }
         Ok(())
+    }
+
+    /// The first lattice's search, which the exact mode, the neighbour forces and the exchanges
+    /// read (built with the stage whenever the detection is exact, which all of them need).
+    pub(super) fn searched(&self) -> &super::cells::CellSearch {
+        (self.first.search.as_ref()).expect("the exact detection builds the search")
     }
 
     /// Whether the exact mode reads back every iteration's detection (`recorded`
@@ -111,6 +112,18 @@ pub(super) fn key_layout(defines: &Defines, sort: scene::CollisionSort) -> Defin
         d.push(("PACKED_KEYS".into(), "1".into()));
     }
     d
+}
+
+/// The sorted keys' layout ([`key_layout`]) and, where the exact search of `c`'s lattice over a
+/// `size` state reads a cell-start table, `CELL_TABLE` (`src/sim/collide/cells.rs`).
+pub(super) fn search_layout(defines: &Defines, c: &scene::Collisions, size: [u32; 2]) -> Defines {
+    let d = key_layout(defines, c.sort);
+    match c.detection {
+        scene::Detection::Exact => {
+            super::cells::search_defines(&d, &super::Lattice::of(c, false), size)
+        }
+        _ => d,
+    }
 }
 
 /// The simulation's `defines` and the stage's own: the detection loop's bounds, and whether a

@@ -16,16 +16,15 @@
 //!
 //! Beyond the paper, `collisions.detection = "exact"` finds every pair closer than 2r (up to
 //! [`EXACT_SCAN`] particles in a run of three cells): per iteration a full sort, then a count
-//! pass and a response pass that each walk the 27 cells around a particle, found by a binary
-//! search of the sorted keys (`glsl/collide/cells.glsl`). The momentum exchange is applied to
+//! pass and a response pass that each walk the 27 cells around a particle, each run of three
+//! cells bounded by a cell-start table written after the sort (`cells.rs`,
+//! `glsl/collide/cells.glsl`). The momentum exchange is applied to
 //! mutual closest pairs (weight 1, two-body collisions: momentum conserved, energy kept at
 //! e = 1); the separation of overlaps to every partner, weighted 1 / max(n_i, n_j). Every
 //! iteration sorts again, so each one searches the cells the particles are in now.
 //!
 //! The statistics themselves (what a step's detection found against the true pairs) are measured
 //! there, from [`CollisionStage::read_back`]: this module only runs the passes.
-
-use glam::{UVec3, Vec3};
 
 use crate::error::{Error, Result};
 use crate::gl::{
@@ -34,9 +33,10 @@ use crate::gl::{
 };
 use crate::scene::{self, SceneFile};
 use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
-use crate::sort::{KeyMode, SortOptions, Sorter};
+use crate::sort::{SortOptions, Sorter};
 
 mod carry;
+pub mod cells;
 mod census;
 mod exact;
 mod neighbours;
@@ -45,6 +45,7 @@ pub(crate) mod tally;
 
 pub use carry::carry_passes;
 pub(crate) use carry::exchange_defines;
+pub use cells::{CellTables, Lattice};
 pub use census::PairCensus;
 pub use neighbours::{check_pair_forces, neighbour_passes, NeighbourReadback};
 
@@ -54,61 +55,6 @@ const FIRST_PARTNER: Attachment = Attachment::named("first partner");
 
 /// Most neighbours per side the detection loop is compiled for.
 pub const MAX_NEIGHBOURS: u32 = 32;
-
-/// A lattice: corner of cell (0, 0, 0), mesh size, cells per axis.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Lattice {
-    /// Corner of cell (0, 0, 0).
-    pub origin: Vec3,
-    /// Mesh size g0.
-    pub spacing: f32,
-    /// Cells per axis.
-    pub dims: UVec3,
-}
-
-impl Lattice {
-    /// The lattice of a scene's `[collisions]`, or its staggered twin (shifted by g0/2, one cell
-    /// more per axis).
-    pub fn of(c: &scene::Collisions, staggered: bool) -> Self {
-        let g = c.cell();
-        let lo = Vec3::from(c.bounds[0]);
-        let hi = Vec3::from(c.bounds[1]);
-        let dims = ((hi - lo) / g).ceil().max(Vec3::ONE).as_uvec3();
-        if staggered {
-            Lattice {
-                origin: lo - Vec3::splat(0.5 * g),
-                spacing: g,
-                dims: dims + UVec3::ONE,
-            }
-        } else {
-            Lattice {
-                origin: lo,
-                spacing: g,
-                dims,
-            }
-        }
-    }
-
-    /// The cell of `p`, clamped to the lattice (as the key pass does).
-    pub fn cell(&self, p: Vec3) -> UVec3 {
-        let c = ((p - self.origin) / self.spacing).floor();
-        let max = (self.dims - UVec3::ONE).as_vec3();
-        c.clamp(Vec3::ZERO, max).as_uvec3()
-    }
-
-    /// The key of a cell, enumerated z, y, x.
-    pub fn key(&self, c: UVec3) -> u64 {
-        (c.z as u64 * self.dims.y as u64 + c.y as u64) * self.dims.x as u64 + c.x as u64
-    }
-
-    fn mode(&self) -> KeyMode {
-        KeyMode::GridCell {
-            origin: self.origin,
-            spacing: self.spacing,
-            dims: self.dims,
-        }
-    }
-}
 
 /// One lattice's sort, gathered state and detection output.
 #[derive(Debug)]
@@ -122,6 +68,8 @@ struct Grid {
     partner: Framebuffer,
     /// Spinning spheres: the spin (angular velocity, angle) in this lattice's sorted order.
     spin: Option<Framebuffer>,
+    /// The exact detection's search of the first lattice, with its cell-start table.
+    search: Option<cells::CellSearch>,
 }
 
 /// The collision stage of a scene.
@@ -149,18 +97,23 @@ pub struct CollisionStage {
 
 /// The exact mode's passes of one iteration (`collisions.iterations` per step), as `texflow
 /// scene passes` lists them.
-pub fn exact_passes(colliders: bool, sort: scene::CollisionSort) -> Vec<String> {
-    vec![
+pub fn exact_passes(colliders: bool, sort: scene::CollisionSort, table: bool) -> Vec<String> {
+    let mut out: Vec<String> = vec![
         "collision keys: cell index in the lattice (z, y, x), every iteration".into(),
         format!(
             "collision sort: full bitonic sort ({}), every iteration",
             sort.label()
         ),
         "gather position, velocity, static in cell order".into(),
+    ];
+    if table {
+        out.push(cells::table_line("collision", ", every iteration"));
+    }
+    out.extend([
         format!(
             "exact detection: partners closer than 2r counted in the 27 cells around each \
-             particle, and the closest (binary search of the sorted keys per row of 3 cells, at \
-             most {EXACT_SCAN} particles per run)"
+             particle, and the closest ({}, at most {EXACT_SCAN} particles per run)",
+            cells::search_words(table)
         ),
         format!(
             "exact response: momentum exchange with the closest partner if it chose this particle \
@@ -176,7 +129,8 @@ pub fn exact_passes(colliders: bool, sort: scene::CollisionSort) -> Vec<String> 
          texel (read back once, at the end of a run)"
             .into(),
         "copy static texture in the new order".into(),
-    ]
+    ]);
+    out
 }
 
 /// The programs of one detection mode.
@@ -264,9 +218,19 @@ impl Grid {
             rows: if exact { None } else { config.rows_only },
             ..Default::default()
         };
+        let search = match exact && !staggered {
+            true => Some(cells::CellSearch::new(
+                ctx,
+                lattice,
+                size,
+                config.sort.variant().packed(),
+            )?),
+            false => None,
+        };
         Ok(Grid {
             lattice,
             spin,
+            search,
             sorter: Sorter::new(ctx, config.sort.variant(), w, h, options)?,
             layout: Framebuffer::named(ctx, &format!("{name} layout"), layout)?,
             partner: single_target(ctx, &format!("{name} partner"), size)?,
@@ -317,7 +281,7 @@ impl CollisionStage {
         } else {
             None
         };
-        let defines = &exact::key_layout(defines, config.sort);
+        let defines = &exact::search_layout(defines, &config, size);
         let d = exact::stage_defines(defines, second.is_some());
         let passes = Passes::new(ctx, exact, size, &d)?;
         Ok(CollisionStage {
@@ -357,6 +321,19 @@ impl CollisionStage {
     /// The first lattice and, with the staggered grid, the second.
     pub fn lattices(&self) -> (Lattice, Option<Lattice>) {
         (self.first.lattice, self.second.as_ref().map(|g| g.lattice))
+    }
+
+    /// The exact detection's search of the first lattice (`None` in UberFlow's mode).
+    pub fn search(&self) -> Option<&cells::CellSearch> {
+        self.first.search.as_ref()
+    }
+
+    /// The sorted keys the last search read (`None` in UberFlow's mode).
+    pub fn read_sorted_keys(&self) -> Result<Option<Vec<f32>>> {
+        let g = &self.first;
+        (g.search.as_ref())
+            .map(|s| s.read_keys(g.sorter.keys()))
+            .transpose()
     }
 
     /// The detection mode.
@@ -405,6 +382,9 @@ impl CollisionStage {
             ],
             &g.layout,
         )?;
+        if let Some(s) = &g.search {
+            s.build(&self.pass, g.sorter.keys());
+        }
         if let Some(spin) = &g.spin {
             g.sorter.gather(&[front.texture(SPIN)], spin)?;
         }

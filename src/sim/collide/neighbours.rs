@@ -166,7 +166,12 @@ impl Neighbours {
 }
 
 /// The passes of the neighbour forces, as `texflow scene passes` lists them.
-pub fn neighbour_passes(dem: bool, pair: usize, sort: scene::CollisionSort) -> Vec<String> {
+pub fn neighbour_passes(
+    dem: bool,
+    pair: usize,
+    sort: scene::CollisionSort,
+    table: bool,
+) -> Vec<String> {
     let mut what = Vec::new();
     if dem {
         what.push("the DEM contact force (spring, dashpot, shear, attraction) of every partner closer than 2r".to_owned());
@@ -176,20 +181,27 @@ pub fn neighbour_passes(dem: bool, pair: usize, sort: scene::CollisionSort) -> V
             "{pair} user pair force(s) of every neighbour within their radius"
         ));
     }
-    vec![
+    let mut out: Vec<String> = vec![
         "collision keys: cell index in the lattice (z, y, x)".into(),
         format!("collision sort: full bitonic sort ({})", sort.label()),
         "gather position, velocity, static in cell order".into(),
+    ];
+    if table {
+        out.push(super::cells::table_line("collision", ""));
+    }
+    out.extend([
         format!(
-            "neighbour force: sum over the 27 cells around each particle of {} (binary search of \
-             the sorted keys per row of 3 cells, at most {} particles per run)",
+            "neighbour force: sum over the 27 cells around each particle of {} ({}, at most {} \
+             particles per run)",
             what.join(" and "),
+            super::cells::search_words(table),
             scene::EXACT_SCAN
         ),
         "neighbour kick: v += F / m dt, positions copied (they move in the next integration)"
             .into(),
         "copy static texture in the new order".into(),
-    ]
+    ]);
+    out
 }
 
 /// The neighbour force pass's inputs and output, read back by
@@ -224,7 +236,7 @@ impl CollisionStage {
             return Ok(());
         };
         let g = &self.first;
-        let dims = g.lattice.dims;
+        let cells = self.searched();
         let own = [
             ("u_position", g.layout.texture(POSITION).into()),
             ("u_velocity", g.layout.texture(VELOCITY).into()),
@@ -233,9 +245,7 @@ impl CollisionStage {
         let p = &n.sum;
         p.bind();
         set_constants(p);
-        p.set_i32("u_key_width", self.width as i32);
-        p.set_i32("u_count", (self.width * state.height()) as i32);
-        p.set_ivec3("u_dims", dims.x as i32, dims.y as i32, dims.z as i32);
+        cells.set_uniforms(p);
         p.set_f32("u_radius", self.config.radius);
         if let Some(d) = n.dem {
             p.set_vec4(
@@ -244,7 +254,7 @@ impl CollisionStage {
             );
         }
         p.optional(|| p.set_vec4("u_pair_radius", glam::Vec4::from(n.pair_radius)));
-        let mut textures: Vec<(&str, Sampled)> = vec![("u_keys", g.sorter.keys().into())];
+        let mut textures: Vec<(&str, Sampled)> = cells.textures(g.sorter.keys());
         textures.extend(own.iter().copied());
         // A pair force may sample the fields (sim/fields.glsl), as a custom force may.
         textures.extend(fields.iter().filter(|(name, _)| p.declares(name)).copied());

@@ -23,8 +23,11 @@ impl CollisionStage {
     /// The draws of one step, in the order of the stage's pass lines.
     pub(crate) fn pass_draws(&self) -> Vec<PassDraw> {
         let mut out = Vec::new();
+        let table =
+            |times| (self.first.search.as_ref()).and_then(|s| s.pass_draw("cell start", times));
         if let Some(n) = &self.neighbours {
             sort_draws(&mut out, &self.first, 1);
+            out.extend(table(1));
             out.extend(n.pass_draws());
             out.push(PassDraw::of("copy static", &self.copy, 1));
         }
@@ -37,6 +40,7 @@ impl CollisionStage {
             } => {
                 let k = self.config.iterations.max(1) as u64;
                 sort_draws(&mut out, &self.first, k);
+                out.extend(table(k));
                 out.push(PassDraw::of("exact detection", count, k));
                 out.push(PassDraw::of("exact response", response, k));
                 if let Some(t) = &self.tally {

@@ -3,13 +3,15 @@
 //! particles"). A scene's `[fluid]` sets up its own exact neighbour search: a lattice of cell
 //! 2h (the cubic spline's support) over `fluid.bounds`, searched as the exact collision
 //! detection searches (`glsl/collide/cells.glsl`: every particle of the 27 cells around a
-//! particle, found by binary search of the sorted keys, at most [`FLUID_SCAN`] per run of three
-//! cells; a search past it is flagged and counted, and `render` warns).
+//! particle, each run of three cells bounded by the cell-start table of
+//! `src/sim/collide/cells.rs` or, for a lattice too large for it, a binary search of the sorted
+//! keys; at most [`FLUID_SCAN`] per run; a search past it is flagged and counted, and `render`
+//! warns).
 //!
 //! One step, after the integration pass (gravity, the colliders' response, positions moved):
 //! keys, a full bitonic sort (or with `resort = "coherent"` a cheaper network for the nearly
 //! sorted state, checked, with the full sort as fallback: src/sim/fluid/resort.rs) and the
-//! gather of position, velocity and static in cell order, a density pass
+//! gather of position, velocity and static in cell order, the cell-start table, a density pass
 //! (`glsl/fluid/density.frag`: density and Tait pressure), a force pass
 //! (`glsl/fluid/force.frag`: symmetric pressure force and Monaghan's artificial viscosity,
 //! v += a dt, into the state, now in cell order) and the static texture copied in that order.
@@ -34,6 +36,7 @@ use crate::gl::{
     TextureFormat, FULLSCREEN_VERTEX,
 };
 use crate::scene::{self, SceneFile};
+use crate::sim::collide::cells::{search_defines, search_words, table_line, CellSearch};
 use crate::sim::collide::tally::TruncationTally;
 use crate::sim::collide::Lattice;
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
@@ -53,7 +56,8 @@ pub const FLUID_SCAN: u32 = 128;
 #[derive(Debug)]
 pub struct Fluid {
     config: scene::Fluid,
-    lattice: Lattice,
+    /// The lattice of cell 2h, searched with the cell-start table where it fits.
+    search: CellSearch,
     sorter: Sorter,
     /// `resort = "coherent"`: the cheap network, its check and counts.
     coherent: Option<resort::CoherentSort>,
@@ -73,24 +77,17 @@ pub struct Fluid {
 
 /// The lattice of `[fluid]`: cell 2h from the lower corner of its bounds.
 pub fn lattice_of(f: &scene::Fluid) -> Lattice {
-    let g = 2.0 * f.h();
-    let lo = Vec3::from(f.bounds[0]);
-    let hi = Vec3::from(f.bounds[1]);
-    Lattice {
-        origin: lo,
-        spacing: g,
-        dims: ((hi - lo) / g).ceil().max(Vec3::ONE).as_uvec3(),
-    }
+    Lattice::of_fluid(f)
 }
 
 /// The passes of one fluid step, as `texflow scene passes` lists them.
-pub fn fluid_passes(walls: bool, coherent: Option<u32>) -> Vec<String> {
+pub fn fluid_passes(walls: bool, coherent: Option<u32>, table: bool) -> Vec<String> {
     let wall = if walls {
         ", and over their ghosts in the plane colliders closer than 2h"
     } else {
         ""
     };
-    vec![
+    let mut out: Vec<String> = vec![
         "fluid keys: cell index in the lattice of cell 2h (z, y, x)".into(),
         match coherent {
             None => "fluid sort: full sort on our blocked network (exact (key, id) entries)".into(),
@@ -103,10 +100,16 @@ pub fn fluid_passes(walls: bool, coherent: Option<u32>) -> Vec<String> {
             ),
         },
         "gather position, velocity, static in cell order".into(),
+    ];
+    if table {
+        out.push(table_line("fluid", ""));
+    }
+    out.extend([
         format!(
             "fluid density: ρ = m Σ W over the 27 cells around each particle (cubic spline, \
-             binary search of the sorted keys per row of 3 cells, at most {FLUID_SCAN} particles \
-             per run){wall}; Tait pressure p = B((ρ/ρ0)^γ − 1), at least 0"
+             {}, at most {FLUID_SCAN} particles per run){wall}; Tait pressure p = B((ρ/ρ0)^γ − \
+             1), at least 0",
+            search_words(table)
         ),
         format!(
             "fluid force: symmetric pressure force and Monaghan's artificial viscosity over the \
@@ -114,7 +117,8 @@ pub fn fluid_passes(walls: bool, coherent: Option<u32>) -> Vec<String> {
         ),
         "truncation tally: one point per particle whose search hit the bound".into(),
         "copy static texture in the new order".into(),
-    ]
+    ]);
+    out
 }
 
 impl Fluid {
@@ -126,8 +130,9 @@ impl Fluid {
         for (program, n) in self.sorter.network_draws() {
             out.push(PassDraw::new("fluid sort", program, n));
         }
+        out.extend([PassDraw::new("gather", Sorter::gather_program(), 1)]);
+        out.extend(self.search.pass_draw("fluid cell start", 1));
         out.extend([
-            PassDraw::new("gather", Sorter::gather_program(), 1),
             PassDraw::of("fluid density", &self.density_pass, 1),
             PassDraw::of("fluid force", &self.force_pass, 1),
             PassDraw::of("truncation tally", self.tally.program(), 1),
@@ -165,7 +170,7 @@ impl Fluid {
         };
         let size = scene.particles.size;
         let lattice = lattice_of(&config);
-        let mut d = defines.clone();
+        let mut d = search_defines(defines, &lattice, size);
         d.push(("EXACT_SCAN".into(), FLUID_SCAN.to_string()));
         if config.wall_correction {
             d.push(("WALLS".into(), "1".into()));
@@ -189,7 +194,7 @@ impl Fluid {
         let gravity =
             (scene.forces.gravity.iter()).fold(Vec3::ZERO, |a, g| a + Vec3::from(g.acceleration));
         Ok(Fluid {
-            lattice,
+            search: CellSearch::new(ctx, lattice, size, false)?,
             // Our blocked network with exact (key, id) entries, one per texel: the layout
             // `glsl/collide/cells.glsl` searches without `PACKED_KEYS`.
             sorter: Sorter::new(
@@ -223,7 +228,12 @@ impl Fluid {
 
     /// The neighbour lattice (cell 2h).
     pub fn lattice(&self) -> Lattice {
-        self.lattice
+        self.search.lattice()
+    }
+
+    /// The neighbour search, with its cell-start table where the lattice fits one.
+    pub fn search(&self) -> &CellSearch {
+        &self.search
     }
 
     /// Places every particle on the lattice of its initial box emitter (`glsl/fluid/lattice.frag`)
@@ -259,10 +269,8 @@ impl Fluid {
     /// Sets the fluid's uniforms on the bound program `p`.
     fn set_material(&self, p: &Program) {
         let f = &self.config;
-        let dims = self.lattice.dims;
         p.optional(|| {
-            p.set_i32("u_key_width", self.width as i32);
-            p.set_ivec3("u_dims", dims.x as i32, dims.y as i32, dims.z as i32);
+            self.search.set_uniforms(p);
             p.set_f32("u_h", f.h());
             p.set_f32("u_mass", f.mass());
             p.set_f32("u_rest_density", f.rest_density);
@@ -286,10 +294,11 @@ impl Fluid {
     ) -> Result<()> {
         let count = self.width as usize * state.height() as usize;
         let front = state.front();
+        let lattice = self.search.lattice();
         let mode = KeyMode::GridCell {
-            origin: self.lattice.origin,
-            spacing: self.lattice.spacing,
-            dims: self.lattice.dims,
+            origin: lattice.origin,
+            spacing: lattice.spacing,
+            dims: lattice.dims,
         };
         let coherent = match &mut self.coherent {
             Some(c) => c.try_sort(front.texture(POSITION), count, &mode)?,
@@ -313,39 +322,28 @@ impl Fluid {
             ],
             &self.layout,
         )?;
+        self.search.build(&self.pass, keys);
         let l = &self.layout;
         let p = &self.density_pass;
         set_constants(p);
         p.bind();
         self.set_material(p);
-        p.set_i32("u_count", count as i32);
-        self.pass.draw(
-            p,
-            &[
-                ("u_keys", keys.into()),
-                ("u_position", l.texture(POSITION).into()),
-            ],
-            &[],
-            &self.density,
-        );
+        let mut textures = self.search.textures(keys);
+        textures.push(("u_position", l.texture(POSITION).into()));
+        self.pass.draw(p, &textures, &[], &self.density);
         self.tally.add_flags(self.density.only_texture(), 3, count);
         let p = &self.force_pass;
         set_constants(p);
         p.bind();
         self.set_material(p);
-        p.set_i32("u_count", count as i32);
         p.set_f32("u_dt", dt);
-        self.pass.draw(
-            p,
-            &[
-                ("u_keys", keys.into()),
-                ("u_position", l.texture(POSITION).into()),
-                ("u_velocity", l.texture(VELOCITY).into()),
-                ("u_density", self.density.only_texture().into()),
-            ],
-            &[],
-            state.back(),
-        );
+        let mut textures = self.search.textures(keys);
+        textures.extend([
+            ("u_position", l.texture(POSITION).into()),
+            ("u_velocity", l.texture(VELOCITY).into()),
+            ("u_density", self.density.only_texture().into()),
+        ]);
+        self.pass.draw(p, &textures, &[], state.back());
         state.swap();
         let c = &self.copy;
         c.bind();

@@ -133,6 +133,8 @@ pub struct Features {
     /// The user states exchanged with the neighbours (`pair`, `collide/carry.rs`).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub exchanges: Vec<String>,
+    /// The exact searches that read a cell-start table (`collide/cells.rs`).
+    pub cell_tables: crate::sim::collide::CellTables,
 }
 
 impl Features {
@@ -194,6 +196,7 @@ impl Features {
             exchanges: (scene.state.iter().filter(|s| s.pair.is_some()))
                 .map(|s| s.name.clone())
                 .collect(),
+            cell_tables: crate::sim::collide::CellTables::of(scene),
         }
     }
 
@@ -494,6 +497,7 @@ impl Features {
             out.extend(crate::sim::fluid::fluid_passes(
                 walls && self.collider_counts.get(scene::ColliderKind::Plane) > 0,
                 self.fluid_resort,
+                self.cell_tables.fluid,
             ));
         }
         if self.dem || self.pair_forces > 0 {
@@ -501,6 +505,7 @@ impl Features {
                 self.dem,
                 self.pair_forces,
                 self.collision_sort,
+                self.cell_tables.collisions,
             ));
         }
         if self.dem {
@@ -509,6 +514,7 @@ impl Features {
             out.extend(crate::sim::collide::exact_passes(
                 self.colliders(),
                 self.collision_sort,
+                self.cell_tables.collisions,
             ));
         } else if let Some((k, staggered, rows)) = self.collisions {
             let net = self.collision_sort.label();

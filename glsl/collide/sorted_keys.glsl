@@ -1,0 +1,31 @@
+// The sorted keys of the exact neighbour search (collide/cells.glsl) and the binary search over
+// them: the state has been gathered in the order of a full sort by cell key (cells enumerated
+// z, y, x; dead particles' +inf keys last), so the first sorted index of a cell is the first
+// whose key is not below the cell's. Shared by the search and by the cell-start pass
+// (collide/cell_start.frag), which runs this search once per cell.
+
+uniform sampler2D u_keys;       // the sorted entries: (key, id) per texel, or with PACKED_KEYS
+                                // (the packed network) (key, id, key, id)
+uniform int u_key_width;        // entries per sorted row (the state width)
+uniform int u_count;            // entries (the state size)
+
+float sorted_key(int i) {
+#ifdef PACKED_KEYS
+    vec4 e = texelFetch(u_keys, ivec2((i % u_key_width) / 2, i / u_key_width), 0);
+    return (i & 1) == 0 ? e.x : e.z;
+#else
+    return texelFetch(u_keys, ivec2(i % u_key_width, i / u_key_width), 0).x;
+#endif
+}
+
+// First sorted index whose key is not below k (dead particles' +inf keys sort last).
+int lower_bound(float k) {
+    int lo = 0;
+    int hi = u_count;
+    for (int it = 0; it < 32; it++) {
+        if (lo >= hi) break;
+        int mid = (lo + hi) / 2;
+        if (sorted_key(mid) < k) lo = mid + 1; else hi = mid;
+    }
+    return lo;
+}

@@ -23,8 +23,7 @@ pub use colliders::{
 pub use constraints::{ConstraintKind, Constraints, RelaxScheme, MAX_CONSTRAINT_ITERATIONS};
 pub use emitters::{
     AllocatorKind, Burst, Emitter, EmitterKind, Emitters, Flipbook, Shape, MAX_BIRTH_KEYS,
-    MAX_BURSTS,
-    MAX_EMITTERS, MAX_EMITTER_FORCES,
+    MAX_BURSTS, MAX_EMITTERS, MAX_EMITTER_FORCES,
 };
 pub use fluid::{Fluid, Resort};
 pub use forces::{

@@ -126,6 +126,7 @@ fn variants_draw_the_passes_they_list() {
     for file in [
         "examples/boids/boids.toml",
         "examples/heat/heat.toml",
+        "examples/heat-fluid/heat_fluid.toml",
         "examples/ribbons/ribbons.toml",
         "examples/terrain/terrain.toml",
     ] {

@@ -41,7 +41,8 @@ pub struct UserState {
     /// `other.temperature`, ..., and their distance `r`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pair: Option<String>,
-    /// The reach of `pair` (m): above 0, at most the collision cell.
+    /// The reach of `pair` (m): above 0, at most the neighbour search's cell (the collision
+    /// cell, or the fluid's 2h).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub radius: Option<f32>,
     /// A GLSL file of helper functions for the expressions, relative to the scene file.

@@ -1,7 +1,7 @@
 //! `[[state]]`: the user's per-particle state. Names must be GLSL identifiers of their own, the
-//! expressions single GLSL expressions; the collision stage carries the states along its sorts,
-//! the fluid's passes do not (refused with `[fluid]`). A `pair` exchange needs the exact
-//! detection's neighbour search, within its cell.
+//! expressions single GLSL expressions; the collision stage and the fluid carry the states along
+//! their sorts. A `pair` exchange needs a neighbour search, the exact detection's or the
+//! fluid's, within its cell.
 //!
 //! Every update reads the previous step's values of every state, so the order of the states'
 //! passes does not matter and no update can depend on another's result of the same step: there
@@ -186,14 +186,6 @@ pub(super) fn state(s: &SceneFile) -> Check {
              remove [[state]] or simulation = \"stateless\"",
         );
     }
-    if s.fluid.is_some() {
-        return fail(
-            at0,
-            "[[state]] cannot be used with [fluid] yet: the fluid's passes sort the particles \
-             into cell order every step and gather position, velocity and static only, so a \
-             user state would stay behind with other particles; remove [fluid] or [[state]]",
-        );
-    }
     for (i, st) in s.state.iter().enumerate() {
         let at = |k| path(&[N("state"), I(i), N(k)]);
         name(at("name"), &st.name)?;
@@ -247,29 +239,41 @@ fn exchange(s: &SceneFile, i: usize, st: &UserState) -> Check {
             ),
         );
     }
-    let exact = (s.collisions.as_ref()).filter(|c| c.detection == Detection::Exact);
-    let Some(c) = exact else {
-        return fail(
-            at("pair"),
-            "pair sums over the neighbours the exact collision detection finds: add \
-             [collisions] with detection = \"exact\" (its cell bounds radius)",
-        );
-    };
     let Some(r) = st.radius else {
         return fail(
             at("pair"),
             "pair needs radius: the distance (m) below which a neighbour is summed, at most \
-             the collision cell",
+             the neighbour search's cell (the exact collision detection's, or the fluid's 2h)",
         );
     };
     bounded(at("radius"), "radius", &[r])?;
-    let cell = c.cell.unwrap_or(2.0 * c.radius);
+    let exact = (s.collisions.as_ref()).filter(|c| c.detection == Detection::Exact);
+    let (cell, what, fix) = match (exact, &s.fluid) {
+        (Some(c), _) => (
+            c.cell.unwrap_or(2.0 * c.radius),
+            "the collision cell",
+            "raise collisions.cell",
+        ),
+        (None, Some(f)) => (
+            2.0 * f.h(),
+            "the fluid's cell 2h",
+            "raise fluid.smoothing",
+        ),
+        (None, None) => {
+            return fail(
+                at("pair"),
+                "pair sums over the neighbours a search finds, the exact collision detection's \
+                 or the fluid's: add [collisions] with detection = \"exact\" (its cell bounds \
+                 radius), or [fluid]",
+            )
+        }
+    };
     if !(r > 0.0 && r <= cell) {
         return fail(
             at("radius"),
             format!(
-                "radius {r} m must be above 0 and at most the collision cell {cell} m, the \
-                 reach of the search of the 27 cells around a particle (raise collisions.cell)"
+                "radius {r} m must be above 0 and at most {what} {cell} m, the reach of the \
+                 search of the 27 cells around a particle ({fix})"
             ),
         );
     }

@@ -329,6 +329,11 @@ impl Features {
                 self.user_states.len(),
                 &self.exchanges,
             ));
+        } else if self.fluid.is_some() {
+            collide.extend(super::fluid::fluid_carry_passes(
+                self.user_states.len(),
+                &self.exchanges,
+            ));
         }
         if self.spin {
             collide.push(

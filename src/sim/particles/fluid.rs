@@ -1,12 +1,37 @@
 //! The SPH stage of a scene with `[fluid]` (src/sim/fluid/) in the particle pipeline: the
 //! particles placed on their lattice at the start, the fluid's passes as the collision stage,
 //! its counts and per-frame figures.
+//!
+//! The fluid writes the state in cell order every step, so the user states (`[[state]]`)
+//! follow: after the fluid's passes each is gathered in the same order (a pass each, by the
+//! fluid's sorted keys), and each state with `pair` then exchanges with its neighbours over the
+//! fluid's sorted layout and search (`glsl/collide/exchange.frag`, as the collision stage's
+//! exchange: src/sim/collide/carry.rs). Every exchange reads the values before any of them.
 
 use super::{set_constants_for, ParticleSim, State};
 use crate::error::{Error, Result};
-use crate::gl::Program;
+use crate::gl::{Program, Sampled};
 use crate::sim::fluid::FluidStats;
-use crate::sim::state::{POSITION, VELOCITY};
+use crate::sim::state::{POSITION, STATIC, VELOCITY};
+
+/// The passes that carry `states` user states along the fluid's sort and exchange those named in
+/// `exchanges`, as `texflow scene passes` lists them (after the fluid's passes).
+pub(super) fn fluid_carry_passes(states: usize, exchanges: &[String]) -> Vec<String> {
+    let mut out = Vec::new();
+    if states > 0 {
+        out.push(format!(
+            "carry {states} user state(s): gathered in the fluid's cell order (a pass each)"
+        ));
+    }
+    out.extend(exchanges.iter().map(|name| {
+        format!(
+            "exchange {name} (after the fluid's sort): {name} += the sum of `pair` over the live \
+             neighbours within its radius (the fluid's search of the 27 cells around each \
+             particle) [swapped in after every exchange is drawn]"
+        )
+    }));
+    out
+}
 
 impl ParticleSim {
     /// Places the fluid's particles on the lattice of their box emitters (after the initial
@@ -27,7 +52,64 @@ impl ParticleSim {
         let (scene, params, fields) = (&self.scene, &self.params, &self.fields);
         let (size, seed, types) = ([self.width, self.height], self.seed, self.features.types);
         let set = |p: &Program| set_constants_for(p, scene, params, fields, size, seed, types);
-        f.run(pp, &self.statics, self.scene.time.dt, set)
+        f.run(pp, &self.statics, self.scene.time.dt, set)?;
+        self.carry_fluid_states()
+    }
+
+    /// The user states gathered in the fluid's new order, then the exchanges (`pair`).
+    fn carry_fluid_states(&mut self) -> Result<()> {
+        let (Some(f), Some(user)) = (&self.fluid, self.user.as_mut()) else {
+            return Ok(());
+        };
+        for pp in user.states_mut().iter_mut() {
+            f.gather_sorted(&[pp.front().only_texture()], pp.back())?;
+            pp.swap();
+        }
+        let samplers = user.samplers();
+        let l = f.layout();
+        let dims = f.lattice().dims;
+        let count = (self.width * self.height) as i32;
+        for (i, p) in &self.fluid_exchange {
+            p.bind();
+            let size = [self.width, self.height];
+            let (scene, params, fields) = (&self.scene, &self.params, &self.fields);
+            set_constants_for(p, scene, params, fields, size, self.seed, self.features.types);
+            p.set_i32("u_key_width", self.width as i32);
+            p.set_i32("u_count", count);
+            p.set_ivec3("u_dims", dims.x as i32, dims.y as i32, dims.z as i32);
+            p.set_f32("u_pair_radius", self.scene.state[*i].radius.unwrap_or(0.0));
+            p.set_f32("u_dt", self.scene.time.dt);
+            p.set_f32("u_time", self.time as f32);
+            let mut textures: Vec<(&str, Sampled)> = vec![
+                ("u_keys", f.sorted_keys().into()),
+                ("u_position", l.texture(POSITION).into()),
+                ("u_velocity", l.texture(VELOCITY).into()),
+                ("u_static", l.texture(STATIC).into()),
+            ];
+            textures.extend(samplers.iter().map(|(n, t)| (n.as_str(), (*t).into())));
+            self.pass.draw(p, &textures, &[], user.back(*i));
+        }
+        for (i, _) in &self.fluid_exchange {
+            user.swap(*i);
+        }
+        Ok(())
+    }
+
+    /// The draws of the user states' carry and exchanges after the fluid's passes, for the
+    /// lines of [`fluid_carry_passes`].
+    pub(super) fn fluid_carry_draws(&self) -> Vec<crate::gl::PassDraw> {
+        use crate::gl::PassDraw;
+        let states = self.scene.state.len() as u64;
+        let mut out = Vec::new();
+        if self.fluid.is_some() && states > 0 {
+            let gather = crate::sort::Sorter::gather_program();
+            out.push(PassDraw::new("carry", gather, states));
+        }
+        for (i, p) in &self.fluid_exchange {
+            let name = &self.scene.state[*i].name;
+            out.push(PassDraw::of(format!("exchange {name} ("), p, 1));
+        }
+        out
     }
 
     /// Fluid searches that hit their bound, over the run (one read-back).

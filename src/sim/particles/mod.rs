@@ -108,6 +108,8 @@ pub struct ParticleSim {
     collisions: Option<super::collide::CollisionStage>,
     /// The SPH stage of a scene with `[fluid]` (src/sim/fluid/).
     fluid: Option<super::fluid::Fluid>,
+    /// The exchange passes (`pair`) of a scene with `[fluid]`, with their states' indices.
+    fluid_exchange: Vec<(usize, Program)>,
     /// The count of paths past the bound on bounces at colliders (`bounces.rs`).
     bounces: Option<super::collide::tally::TruncationTally>,
     relax: Option<relax::Relaxation>,
@@ -196,6 +198,10 @@ impl ParticleSim {
             fluid: match &scene.fluid {
                 Some(_) => Some(super::fluid::Fluid::new(ctx, scene, &defines, vel_format)?),
                 None => None,
+            },
+            fluid_exchange: match &scene.fluid {
+                Some(_) => user_state::exchange_programs(ctx, scene, &defines)?,
+                None => Vec::new(),
             },
             bounces: bounces::tally(ctx, &features)?,
             relax: relax::Relaxation::new(ctx, scene, &defines)?,

@@ -307,9 +307,19 @@ impl UserStates {
             .collect()
     }
 
-    /// The states' textures, for the collision stage to carry along its sorts.
+    /// The states' textures, for the collision stage and the fluid to carry along their sorts.
     pub(super) fn states_mut(&mut self) -> &mut Vec<PingPong> {
         &mut self.states
+    }
+
+    /// State `i`'s next value: the target of a pass that writes it.
+    pub(super) fn back(&self, i: usize) -> &crate::gl::Framebuffer {
+        self.states[i].back()
+    }
+
+    /// Makes state `i`'s next value its current one.
+    pub(super) fn swap(&mut self, i: usize) {
+        self.states[i].swap();
     }
 
     /// The states' current values, with the samplers passes read them by.
@@ -361,7 +371,15 @@ pub(super) fn exchange_programs(
     scene: &SceneFile,
     defines: &Defines,
 ) -> Result<Vec<(usize, Program)>> {
-    let d = crate::sim::collide::exchange_defines(scene, defines);
+    // The fluid's search walks runs of up to its own bound (src/sim/fluid/).
+    let d = match &scene.fluid {
+        Some(_) => {
+            let mut d = defines.clone();
+            d.push(("EXACT_SCAN".into(), crate::sim::fluid::FLUID_SCAN.to_string()));
+            d
+        }
+        None => crate::sim::collide::exchange_defines(scene, defines),
+    };
     (scene.state.iter().enumerate())
         .filter(|(_, s)| s.pair.is_some())
         .map(|(i, _)| Ok((i, exchange_program(ctx, scene, i, &d)?)))

@@ -10,8 +10,8 @@
 use super::{bounded, fail, path, Check};
 use crate::scene::locate::Key;
 use crate::scene::schema::{
-    Blending, Detection, DrawMode, RenderPath, SceneFile, Simulation, UserState,
-    MAX_STATE_EXPRESSION, MAX_USER_STATES,
+    Blending, Detection, DrawMode, Integrator, RenderPath, SceneFile, Simulation, StatePass,
+    UpdatePasses, UserState, MAX_STATE_EXPRESSION, MAX_USER_STATES,
 };
 
 use Key::{Index as I, Name as N};
@@ -203,6 +203,54 @@ pub(super) fn state(s: &SceneFile) -> Check {
             expression(at("update"), "update", u)?;
         }
         exchange(s, i, st)?;
+    }
+    integrated(s)
+}
+
+/// Render targets every OpenGL ES 3.0 context has (`GL_MAX_DRAW_BUFFERS` is at least 4).
+pub const PORTABLE_DRAW_BUFFERS: usize = 4;
+
+/// `pass = "integrate"`: an explicit integrator's single MRT pass, with a target to spare per
+/// state.
+fn integrated(s: &SceneFile) -> Check {
+    let on: Vec<usize> = (0..s.state.len())
+        .filter(|&i| s.state[i].pass == StatePass::Integrate)
+        .collect();
+    let Some(&first) = on.first() else {
+        return Ok(());
+    };
+    let at = |i: usize| path(&[N("state"), I(i), N("pass")]);
+    let why = if s.integrator == Integrator::Verlet {
+        Some("Verlet's pass writes the next positions alone (the velocity is implied)")
+    } else if s.passes == UpdatePasses::Separate {
+        Some("passes = \"separate\" draws the integration without multiple render targets")
+    } else {
+        None
+    };
+    if let Some(why) = why {
+        return fail(
+            at(first),
+            format!(
+                "pass = \"integrate\" writes the state as one more render target of the \
+                 integration pass, and {why}: use pass = \"own\" (a pass of its own)"
+            ),
+        );
+    }
+    let spin = s.collisions.as_ref().is_some_and(|c| c.spin);
+    let own = 2 + spin as usize;
+    if own + on.len() > PORTABLE_DRAW_BUFFERS {
+        let last = on[PORTABLE_DRAW_BUFFERS - own];
+        return fail(
+            at(last),
+            format!(
+                "the integration pass writes {own} targets (position, velocity{}) and one per \
+                 state with pass = \"integrate\": {} in all, above the {PORTABLE_DRAW_BUFFERS} \
+                 every OpenGL ES 3.0 context can draw at once (GL_MAX_DRAW_BUFFERS); use \
+                 pass = \"own\" for this state",
+                if spin { ", spin" } else { "" },
+                own + on.len()
+            ),
+        );
     }
     Ok(())
 }

@@ -418,7 +418,7 @@ impl ParticleSim {
     }
 
     /// The integration pass alone, then the swap.
-    fn integrate_pass(&mut self) {
+    fn integrate_pass(&mut self) -> Result<()> {
         let rows = self.active_rows();
         let p = &self.integrate;
         let next = self.set_step_clock(p);
@@ -450,7 +450,14 @@ impl ParticleSim {
                 own.extend(user(p));
                 let t = draw_textures(p, &own, &self.fields);
                 match &self.integrate_position {
-                    None if rows > 0 => self.pass.draw_rows(p, &t, &[], pp.back(), 0, rows),
+                    None if rows > 0 => {
+                        // States updated in this pass: further targets (user_state_mrt.rs).
+                        let user = self.user.as_ref();
+                        let mrt = user.map(|u| u.integration_target(&self.ctx, pp.back()));
+                        let mrt = mrt.transpose()?.flatten();
+                        let target = mrt.as_ref().unwrap_or(pp.back());
+                        self.pass.draw_rows(p, &t, &[], target, 0, rows)
+                    }
                     Some(q) if rows > 0 => {
                         // Latta §3.1 without MRT: the velocity first, then the position.
                         let (v, x) = (pp.back_single(VELOCITY), pp.back_single(POSITION));
@@ -497,6 +504,7 @@ impl ParticleSim {
         }
         self.step += 1;
         self.time = self.step as f64 * self.scene.time.dt as f64;
+        Ok(())
     }
 
     /// Binds the integration program and sets this step's clock on it: `u_time`, the next
@@ -509,6 +517,7 @@ impl ParticleSim {
         p.set_f32("u_time", self.time as f32);
         let next = ((self.step + 1) as f64 * self.scene.time.dt as f64) as f32;
         p.optional(|| p.set_f32("u_time_next", next));
+        p.optional(|| p.set_f32("u_user_time", next));
         let prev = ((self.step as f64 - 1.0) * self.scene.time.dt as f64) as f32;
         p.optional(|| p.set_f32("u_time_prev", prev));
         relax::move_spheres(p, &self.scene, self.time + self.scene.time.dt as f64);

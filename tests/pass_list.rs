@@ -134,7 +134,7 @@ fn variants_draw_the_passes_they_list() {
     }
     // A state updated inside the integration pass: no pass of its own.
     let mut s = load("examples/heat/heat.toml");
-    s.state[0].pass = scene::StatePass::Integrate;
+    s.state[0].pass = scene::StatePassKind::Integrate;
     cases.push((s, EngineKind::Gpu));
     cases.push((load("e1"), EngineKind::Cpu));
     cases.push((load("e3"), EngineKind::Cpu));

@@ -87,7 +87,11 @@ fn pair_exchanges_over_the_fluid_search() {
     let old: std::collections::HashMap<u32, f32> = (0..256)
         .map(|i| (before[4 * i + 1].to_bits(), before[4 * i]))
         .collect();
-    assert_eq!(old.len(), 256, "the random numbers tell the particles apart");
+    assert_eq!(
+        old.len(),
+        256,
+        "the random numbers tell the particles apart"
+    );
     let x = |i: usize| texel(&layout.positions, i);
     let mut exchanged = 0;
     for a in 0..256 {
@@ -95,7 +99,10 @@ fn pair_exchanges_over_the_fluid_search() {
         let mut want = h0;
         if particle_live(x(a)) {
             for b in (0..256).filter(|&b| b != a && particle_live(x(b))) {
-                let r = (0..3).map(|k| (x(a)[k] - x(b)[k]).powi(2)).sum::<f32>().sqrt();
+                let r = (0..3)
+                    .map(|k| (x(a)[k] - x(b)[k]).powi(2))
+                    .sum::<f32>()
+                    .sqrt();
                 if r < REACH {
                     let hb = old[&after[4 * b + 1].to_bits()];
                     want += K * (hb - h0) * (1.0 - r / REACH);
@@ -131,7 +138,11 @@ fn a_reach_past_the_fluid_cell_is_refused() {
          radius = 0.06\n",
         twin_scene_source()
     );
-    let line = src.lines().position(|l| l.starts_with("radius = 0.06")).unwrap() + 1;
+    let line = src
+        .lines()
+        .position(|l| l.starts_with("radius = 0.06"))
+        .unwrap()
+        + 1;
     let e = scene::parse("bad.toml", &src).unwrap_err().to_string();
     assert!(
         e.contains(&format!("bad.toml:{line}:")) && e.contains("the fluid's cell 2h 0.048"),

@@ -6,7 +6,7 @@
 mod common;
 
 use common::{context, no_gl_error};
-use texflow::scene::{self, SceneFile, StatePass};
+use texflow::scene::{self, SceneFile, StatePassKind};
 use texflow::sim::{particle_live, ParticleSim};
 
 const SIZE: [u32; 2] = [16, 8];
@@ -39,7 +39,11 @@ fn texel(a: &[f32], i: usize) -> [f32; 4] {
 
 /// Runs `s` with the states' `pass` set to `pass` for `steps` steps; returns the states and,
 /// stepped along, the twin of `path` and `lag` from the positions and velocities read back.
-fn run(s: &SceneFile, pass: [StatePass; 2], steps: usize) -> (Vec<f32>, Vec<f32>, Vec<[f32; 4]>) {
+fn run(
+    s: &SceneFile,
+    pass: [StatePassKind; 2],
+    steps: usize,
+) -> (Vec<f32>, Vec<f32>, Vec<[f32; 4]>) {
     let ctx = context();
     let mut s = s.clone();
     s.state[0].pass = pass[0];
@@ -50,7 +54,10 @@ fn run(s: &SceneFile, pass: [StatePass; 2], steps: usize) -> (Vec<f32>, Vec<f32>
     let mut lag = vec![[0.0f32; 4]; n];
     for _ in 0..steps {
         sim.step().unwrap();
-        let (x, v) = (sim.read_positions().unwrap(), sim.read_velocities().unwrap());
+        let (x, v) = (
+            sim.read_positions().unwrap(),
+            sim.read_velocities().unwrap(),
+        );
         for i in 0..n {
             let (x, v) = (texel(&x, i), texel(&v, i));
             let speed = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
@@ -69,9 +76,9 @@ fn run(s: &SceneFile, pass: [StatePass; 2], steps: usize) -> (Vec<f32>, Vec<f32>
 fn the_integration_pass_gives_what_the_own_pass_gives() {
     let s = scene_with(INITIAL, STATES);
     let steps = 25;
-    let (own, own_lag, twin) = run(&s, [StatePass::Own; 2], steps);
-    let mixed = [StatePass::Integrate, StatePass::Own];
-    for pass in [[StatePass::Integrate; 2], mixed] {
+    let (own, own_lag, twin) = run(&s, [StatePassKind::Own; 2], steps);
+    let mixed = [StatePassKind::Integrate, StatePassKind::Own];
+    for pass in [[StatePassKind::Integrate; 2], mixed] {
         let (got, lag, _) = run(&s, pass, steps);
         assert_eq!(got, own, "{pass:?}: path");
         assert_eq!(lag, own_lag, "{pass:?}: lag");
@@ -106,7 +113,7 @@ fn births_and_half_velocities_match_the_own_pass() {
             s.particles.velocity_format = scene::VelocityFormat::Rgba16f;
         }
         let mut out = Vec::new();
-        for pass in [StatePass::Own, StatePass::Integrate] {
+        for pass in [StatePassKind::Own, StatePassKind::Integrate] {
             s.state[0].pass = pass;
             let mut sim = ParticleSim::new(&ctx, &s, 5).unwrap();
             for _ in 0..40 {
@@ -130,7 +137,7 @@ fn births_and_half_velocities_match_the_own_pass() {
 #[test]
 fn the_pass_list_shows_the_update_inside_the_integration() {
     let mut s = scene_with(INITIAL, STATES);
-    s.state[0].pass = StatePass::Integrate;
+    s.state[0].pass = StatePassKind::Integrate;
     let passes = texflow::sim::particles::Features::of(&s).step_passes();
     let names: Vec<&str> = passes.iter().map(|p| p.name.as_str()).collect();
     assert!(
@@ -139,8 +146,14 @@ fn the_pass_list_shows_the_update_inside_the_integration() {
             .any(|n| n.starts_with("integrate:") && n.contains("user state(s) path")),
         "{names:?}"
     );
-    assert!(!names.iter().any(|n| n.starts_with("state path (")), "{names:?}");
-    assert!(names.iter().any(|n| n.starts_with("state lag (")), "{names:?}");
+    assert!(
+        !names.iter().any(|n| n.starts_with("state path (")),
+        "{names:?}"
+    );
+    assert!(
+        names.iter().any(|n| n.starts_with("state lag (")),
+        "{names:?}"
+    );
 }
 
 #[test]
@@ -171,7 +184,10 @@ fn integration_states_are_refused_where_the_pass_cannot_write_them() {
     scene::parse("ok.toml", &two).expect("two states fit");
     for (from, to) in [
         ("integrator = \"euler\"", "integrator = \"verlet\""),
-        ("integrator = \"euler\"", "integrator = \"euler\"\npasses = \"separate\""),
+        (
+            "integrator = \"euler\"",
+            "integrator = \"euler\"\npasses = \"separate\"",
+        ),
     ] {
         let bad = two.replacen(from, to, 1);
         let e = scene::parse("bad.toml", &bad).unwrap_err().to_string();

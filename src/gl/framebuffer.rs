@@ -321,8 +321,13 @@ impl Framebuffer {
             for (i, t) in textures.iter().enumerate() {
                 let point = glow::COLOR_ATTACHMENT0 + i as u32;
                 let raw_texture = Some(t.raw());
-                ctx.gl()
-                    .framebuffer_texture_2d(glow::FRAMEBUFFER, point, glow::TEXTURE_2D, raw_texture, 0);
+                ctx.gl().framebuffer_texture_2d(
+                    glow::FRAMEBUFFER,
+                    point,
+                    glow::TEXTURE_2D,
+                    raw_texture,
+                    0,
+                );
                 draw.push(point);
             }
             ctx.gl().draw_buffers(&draw);
@@ -336,7 +341,9 @@ impl Framebuffer {
             size,
             attachments: textures.len(),
             bytes_per_texel: textures.iter().map(|t| t.format().bytes_per_texel()).sum(),
-            integer: textures.iter().any(|t| t.format() == TextureFormat::Rgba32Ui),
+            integer: textures
+                .iter()
+                .any(|t| t.format() == TextureFormat::Rgba32Ui),
             depth: None,
             label: label.to_owned(),
         }

@@ -39,8 +39,8 @@ pub struct UserState {
     /// integration; or `integrate`, inside the integration pass, its value written as one more
     /// render target of that pass (a pass and a read of position and velocity fewer, Latta
     /// §3.1's MRT). Both evaluate the same expression of the same inputs.
-    #[serde(default, skip_serializing_if = "StatePass::is_own")]
-    pub pass: StatePass,
+    #[serde(default, skip_serializing_if = "StatePassKind::is_own")]
+    pub pass: StatePassKind,
     /// The exchange with the neighbours: a GLSL `vec4` expression evaluated for every live
     /// neighbour closer than `radius`, summed and added to the state after the collision sort
     /// of each step (`[collisions]` with the exact detection; src/sim/collide/carry.rs). It
@@ -74,7 +74,7 @@ pub enum StateFormat {
 /// Where a user state's `update` is evaluated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
-pub enum StatePass {
+pub enum StatePassKind {
     /// A full-screen pass of its own after the integration.
     #[default]
     Own,
@@ -82,9 +82,9 @@ pub enum StatePass {
     Integrate,
 }
 
-impl StatePass {
+impl StatePassKind {
     /// Whether it is the default, `own`.
     pub fn is_own(&self) -> bool {
-        *self == StatePass::Own
+        *self == StatePassKind::Own
     }
 }

@@ -10,7 +10,7 @@
 use super::{bounded, fail, path, Check};
 use crate::scene::locate::Key;
 use crate::scene::schema::{
-    Blending, Detection, DrawMode, Integrator, RenderPath, SceneFile, Simulation, StatePass,
+    Blending, Detection, DrawMode, Integrator, RenderPath, SceneFile, Simulation, StatePassKind,
     UpdatePasses, UserState, MAX_STATE_EXPRESSION, MAX_USER_STATES,
 };
 
@@ -214,7 +214,7 @@ pub const PORTABLE_DRAW_BUFFERS: usize = 4;
 /// state.
 fn integrated(s: &SceneFile) -> Check {
     let on: Vec<usize> = (0..s.state.len())
-        .filter(|&i| s.state[i].pass == StatePass::Integrate)
+        .filter(|&i| s.state[i].pass == StatePassKind::Integrate)
         .collect();
     let Some(&first) = on.first() else {
         return Ok(());
@@ -296,26 +296,21 @@ fn exchange(s: &SceneFile, i: usize, st: &UserState) -> Check {
     };
     bounded(at("radius"), "radius", &[r])?;
     let exact = (s.collisions.as_ref()).filter(|c| c.detection == Detection::Exact);
-    let (cell, what, fix) = match (exact, &s.fluid) {
-        (Some(c), _) => (
-            c.cell.unwrap_or(2.0 * c.radius),
-            "the collision cell",
-            "raise collisions.cell",
-        ),
-        (None, Some(f)) => (
-            2.0 * f.h(),
-            "the fluid's cell 2h",
-            "raise fluid.smoothing",
-        ),
-        (None, None) => {
-            return fail(
+    let (cell, what, fix) =
+        match (exact, &s.fluid) {
+            (Some(c), _) => (
+                c.cell.unwrap_or(2.0 * c.radius),
+                "the collision cell",
+                "raise collisions.cell",
+            ),
+            (None, Some(f)) => (2.0 * f.h(), "the fluid's cell 2h", "raise fluid.smoothing"),
+            (None, None) => return fail(
                 at("pair"),
                 "pair sums over the neighbours a search finds, the exact collision detection's \
                  or the fluid's: add [collisions] with detection = \"exact\" (its cell bounds \
                  radius), or [fluid]",
-            )
-        }
-    };
+            ),
+        };
     if !(r > 0.0 && r <= cell) {
         return fail(
             at("radius"),

@@ -87,14 +87,9 @@ pub fn check_custom_forces(ctx: &crate::gl::Context, scene: &SceneFile) -> Resul
     if !is_runtime_source(&root) {
         return Ok(());
     }
-    crate::gl::Program::new(
-        ctx,
-        crate::gl::FULLSCREEN_VERTEX,
-        &root,
-        &defines,
-    )
-    .map(drop)
-    .map_err(|e| user_error(scene, e))
+    crate::gl::Program::new(ctx, crate::gl::FULLSCREEN_VERTEX, &root, &defines)
+        .map(drop)
+        .map_err(|e| user_error(scene, e))
 }
 
 /// A compile error in a user's file becomes an input error that names the file and line

@@ -14,6 +14,19 @@ use crate::gl::{Program, Sampled};
 use crate::sim::fluid::FluidStats;
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
 
+/// The exchange passes (`pair`) of a scene with `[fluid]` and their states' indices; none
+/// without `[fluid]` (the collision stage has its own).
+pub(super) fn exchange_programs(
+    ctx: &crate::gl::Context,
+    scene: &crate::scene::SceneFile,
+    defines: &crate::gl::Defines,
+) -> Result<Vec<(usize, Program)>> {
+    match &scene.fluid {
+        Some(_) => super::user_state::exchange_programs(ctx, scene, defines),
+        None => Ok(Vec::new()),
+    }
+}
+
 /// The passes that carry `states` user states along the fluid's sort and exchange those named in
 /// `exchanges`, as `texflow scene passes` lists them (after the fluid's passes).
 pub(super) fn fluid_carry_passes(states: usize, exchanges: &[String]) -> Vec<String> {
@@ -73,7 +86,15 @@ impl ParticleSim {
             p.bind();
             let size = [self.width, self.height];
             let (scene, params, fields) = (&self.scene, &self.params, &self.fields);
-            set_constants_for(p, scene, params, fields, size, self.seed, self.features.types);
+            set_constants_for(
+                p,
+                scene,
+                params,
+                fields,
+                size,
+                self.seed,
+                self.features.types,
+            );
             p.set_i32("u_key_width", self.width as i32);
             p.set_i32("u_count", count);
             p.set_ivec3("u_dims", dims.x as i32, dims.y as i32, dims.z as i32);

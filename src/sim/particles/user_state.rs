@@ -17,13 +17,13 @@
 mod mrt;
 
 use super::{draw_textures, set_constants_for, ParticleSim, State};
-pub(super) use mrt::{integrate_tail, integrated};
 use crate::error::{Error, Result};
 use crate::gl::source::{add_runtime_source, is_runtime_source};
 use crate::gl::{Context, Defines, PingPong, Program, Sampled, Texture, FULLSCREEN_VERTEX};
 use crate::scene::{SceneFile, StateFormat};
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
 use crate::sim::user_glsl::{source_key, user_compile_error, Renamed};
+pub(super) use mrt::{integrate_tail, integrated};
 
 /// The scene's user states: a ping-pong texture and a pass each.
 pub(super) struct UserStates {
@@ -396,7 +396,10 @@ pub(super) fn exchange_programs(
     let d = match &scene.fluid {
         Some(_) => {
             let mut d = defines.clone();
-            d.push(("EXACT_SCAN".into(), crate::sim::fluid::FLUID_SCAN.to_string()));
+            d.push((
+                "EXACT_SCAN".into(),
+                crate::sim::fluid::FLUID_SCAN.to_string(),
+            ));
             d
         }
         None => crate::sim::collide::exchange_defines(scene, defines),

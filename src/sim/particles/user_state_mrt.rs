@@ -17,12 +17,12 @@ use super::{declarations, fetch, helper_count, user_sources, UserStates};
 use crate::error::Result;
 use crate::gl::source::add_runtime_source;
 use crate::gl::{Context, Framebuffer};
-use crate::scene::{SceneFile, StatePass, VelocityFormat};
+use crate::scene::{SceneFile, StatePassKind, VelocityFormat};
 
 /// The states of `scene` whose update runs in the integration pass.
 pub(in crate::sim::particles) fn integrated(scene: &SceneFile) -> Vec<usize> {
     (0..scene.state.len())
-        .filter(|&i| scene.state[i].pass == StatePass::Integrate)
+        .filter(|&i| scene.state[i].pass == StatePassKind::Integrate)
         .collect()
 }
 
@@ -68,8 +68,10 @@ pub(in crate::sim::particles) fn integrate_tail(scene: &SceneFile) -> Result<(St
         tail += &format!("layout(location = {}) out vec4 o_user_{j};\n", first + j);
     }
     let round = match scene.particles.velocity_format {
-        VelocityFormat::Rgba16f => "    velocity = vec3(user_half(velocity.x), user_half(velocity.y), \
-                                    user_half(velocity.z));\n",
+        VelocityFormat::Rgba16f => {
+            "    velocity = vec3(user_half(velocity.x), user_half(velocity.y), \
+                                    user_half(velocity.z));\n"
+        }
         VelocityFormat::Rgba32f => "",
     };
     tail += HALF;

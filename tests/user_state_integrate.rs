@@ -197,3 +197,24 @@ fn integration_states_are_refused_where_the_pass_cannot_write_them() {
         );
     }
 }
+
+/// A name the GLSL does not know in an update of the integration pass names the state and
+/// where its expressions are, as in its own pass.
+#[test]
+fn an_unknown_name_in_an_integrated_update_names_the_state() {
+    let ctx = context();
+    let src = format!(
+        "name = \"bad\"\nintegrator = \"euler\"\n[particles]\nsize = [16, 8]\n{INITIAL}\n\
+         [[state]]\nname = \"path\"\ninit = \"vec4(0.0)\"\nupdate = \"path + heat\"\n\
+         pass = \"integrate\"\n"
+    );
+    let line = src.lines().position(|l| l.starts_with("update =")).unwrap() + 1;
+    let s = scene::parse("bad.toml", &src).unwrap();
+    let e = ParticleSim::new(&ctx, &s, 1).unwrap_err().to_string();
+    assert!(
+        e.contains("user state `path`")
+            && e.contains("heat")
+            && e.contains(&format!("state.path.update is at bad.toml:{line}:")),
+        "{e}"
+    );
+}

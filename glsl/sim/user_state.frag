@@ -7,8 +7,8 @@
 //   USER_SELF                    this state's previous value (a texel fetch);
 //   a sampler per state, and around the user's texts alone a macro per state reading its
 //   previous value by its name (undefined before this file: no name here is replaced).
-// Inputs of the expressions (globals set here): x, v (after this step's integration), life,
-// age, type, random, index, time (the end of the step), dt.
+// Inputs of the expressions (globals set by sim/user_state_step.glsl): x, v (after this step's
+// integration), life, age, type, random, index, time (the end of the step), dt.
 // Birth (sim/user_state_step.glsl, shared with the integration pass of `pass = "integrate"`):
 // a texel alive now that was dead or unborn before the step, or whose life grew, or a newborn of
 // the allocator. u_start = 1 gives every texel its value at birth (the start).

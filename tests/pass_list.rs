@@ -126,11 +126,16 @@ fn variants_draw_the_passes_they_list() {
     for file in [
         "examples/boids/boids.toml",
         "examples/heat/heat.toml",
+        "examples/heat-fluid/heat_fluid.toml",
         "examples/ribbons/ribbons.toml",
         "examples/terrain/terrain.toml",
     ] {
         cases.push((load(file), EngineKind::Gpu));
     }
+    // A state updated inside the integration pass: no pass of its own.
+    let mut s = load("examples/heat/heat.toml");
+    s.state[0].pass = scene::StatePassKind::Integrate;
+    cases.push((s, EngineKind::Gpu));
     cases.push((load("e1"), EngineKind::Cpu));
     cases.push((load("e3"), EngineKind::Cpu));
     let mut failures = Vec::new();

@@ -212,7 +212,12 @@ fn bad_states_are_refused_at_their_line_and_column() {
             10,
             "rgba8",
         ),
-        ("name = \"t\"\ninit = \"0.0\"\npass = \"own\"", 3, 1, "pass"),
+        (
+            "name = \"t\"\ninit = \"0.0\"\npass = \"later\"",
+            3,
+            8,
+            "integrate",
+        ),
     ] {
         let src = format!("{head}[[state]]\n{table}\n");
         let e = scene::parse("bad.toml", &src).unwrap_err().to_string();

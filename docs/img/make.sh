@@ -45,6 +45,9 @@ cp "$tmp/heat/frame_00080.png" docs/img/heat.png
 # A user state exchanged with the neighbours: heat spreading through a pile (examples/heat-exchange/).
 "$bin" render examples/heat-exchange/heat_exchange.toml --frames 151 --every 150 --out "$tmp/hx" --quiet
 cp "$tmp/hx/frame_00150.png" docs/img/heat-exchange.png
+# A user state in a fluid: the dam break carrying a temperature (examples/heat-fluid/).
+"$bin" render examples/heat-fluid/heat_fluid.toml --frames 21 --every 20 --out "$tmp/hf" --quiet
+cp "$tmp/hf/frame_00020.png" docs/img/heat-fluid.png
 # Trail ribbons: fireworks with render.trails = "ribbon" (examples/ribbons/).
 "$bin" render examples/ribbons/ribbons.toml --frames 24 --every 23 --out "$tmp/ribbons" --quiet
 cp "$tmp/ribbons/frame_00023.png" docs/img/ribbons.png

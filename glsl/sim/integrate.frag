@@ -25,6 +25,8 @@
 // SPIN (UberFlow §4.5, spinning spheres): a third target, spin (RGBA32F) = (ω, angle about z);
 // no torque acts between contacts, so ω changes only by the colliders' friction
 // (collide/spin.glsl) and the angle advances by ω_z dt; births and deaths start from rest.
+// USER_STATE_OUTPUTS (`[[state]]` with pass = "integrate"): the states' updates as further
+// targets after these, evaluated in write_state (the root: src/sim/particles/user_state_mrt.rs).
 // CHILDREN (the thesis §2, emitters that emit): texels from u_child_start on belong to child
 // emitters; a dead one is born here from its parent texel's state (sim/child_birth.glsl), a live
 // one counts its life down as LIFE does; velocity.w keeps its count of dropped births.
@@ -125,6 +127,12 @@ const float INF = uintBitsToFloat(0x7f800000u);
 // bounces (sim/colliders.glsl, MAX_BOUNCES; counted by src/sim/particles/bounces.rs).
 float state_w = 0.0;
 
+#ifdef USER_STATE_OUTPUTS
+// `[[state]]` with pass = "integrate" (src/sim/particles/user_state_mrt.rs): the states'
+// updates, further render targets of this pass, from the position and velocity it stores.
+void user_states_write(vec4 position, vec3 velocity);
+#endif
+
 void write_state(vec3 x, float life, vec3 v) {
 #ifndef OUT_VELOCITY
     o_position = fp_store(vec4(x, life));
@@ -134,6 +142,9 @@ void write_state(vec3 x, float life, vec3 v) {
 #endif
 #ifdef SPIN
     o_spin = spin;
+#endif
+#ifdef USER_STATE_OUTPUTS
+    user_states_write(fp_store(vec4(x, life)), fp_store(vec4(v, state_w)).xyz);
 #endif
 }
 

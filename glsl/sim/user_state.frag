@@ -7,12 +7,11 @@
 //   USER_SELF                    this state's previous value (a texel fetch);
 //   a sampler per state, and around the user's texts alone a macro per state reading its
 //   previous value by its name (undefined before this file: no name here is replaced).
-// Inputs of the expressions (globals set here): x, v (after this step's integration), life,
-// age, type, random, index, time (the end of the step), dt.
-// Birth: a texel alive now that was dead or unborn before the step, or whose life grew (a time
-// stamp's respawn), or (ALLOCATOR, parent texels) whose life before the integration was its
-// whole life: the allocator draws a newborn into the state before the integration
-// (src/sim/particles/births.rs). u_start = 1 gives every texel its value at birth (the start).
+// Inputs of the expressions (globals set by sim/user_state_step.glsl): x, v (after this step's
+// integration), life, age, type, random, index, time (the end of the step), dt.
+// Birth (sim/user_state_step.glsl, shared with the integration pass of `pass = "integrate"`):
+// a texel alive now that was dead or unborn before the step, or whose life grew, or a newborn of
+// the allocator. u_start = 1 gives every texel its value at birth (the start).
 // Dead and unborn texels keep their value.
 
 uniform sampler2D u_position;       // after this step's integration
@@ -31,36 +30,21 @@ uniform int u_child_start;
 
 layout(location = 0) out vec4 o_state;
 
+#include "sim/user_state_step.glsl"
+
 void main() {
     ivec2 t = ivec2(gl_FragCoord.xy);
-    index = int(particle_index(t, u_width));
     vec4 p = texelFetch(u_position, t, 0);
     vec4 q = texelFetch(u_old_position, t, 0);
-    vec4 st = texelFetch(u_static, t, 0);
-    x = p.xyz;
-    life = p.w;
-    type = int(st.y);
-    random = st.w;
-    time = u_time;
-    dt = u_dt;
-    age = user_age(p, st, u_time);
 #ifdef VERLET
-    v = (p.xyz - q.xyz) / u_dt;
+    vec3 vel = (p.xyz - q.xyz) / u_dt;
 #else
-    v = texelFetch(u_velocity, t, 0).xyz;
+    vec3 vel = texelFetch(u_velocity, t, 0).xyz;
 #endif
-    bool alive = particle_live(p);
-    bool born = alive && (!(q.w > 0.0) || p.w > q.w);
-#ifdef ALLOCATOR
-    bool parent = true;
-#ifdef CHILDREN
-    parent = index < u_child_start;
-#endif
-    born = born || (alive && parent && q.w == st.z);
-#endif
-    if (u_start != 0 || born) {
+    int s = user_state_step(t, p, q, texelFetch(u_static, t, 0), vel, u_time);
+    if (u_start != 0 || s == USER_INIT) {
         o_state = user_init();
-    } else if (alive) {
+    } else if (s == USER_UPDATE) {
         o_state = user_update();
     } else {
         o_state = USER_SELF;

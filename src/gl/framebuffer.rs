@@ -288,6 +288,75 @@ impl Framebuffer {
         .checked()
     }
 
+    /// A framebuffer whose colour attachments are, in order, attachment `k` of each
+    /// `(framebuffer, k)` of `sources`, which it does not own: one pass writes textures of
+    /// several framebuffers through multiple render targets (the integration pass and the user
+    /// states it updates). Refused past `GL_MAX_DRAW_BUFFERS` or `GL_MAX_COLOR_ATTACHMENTS`.
+    /// Drop it before the sources, as for [`Framebuffer::layer`].
+    pub fn views(ctx: &Context, label: &str, sources: &[(&Framebuffer, usize)]) -> Result<Self> {
+        let limits = ctx.limits();
+        let max = limits.max_draw_buffers.min(limits.max_color_attachments) as usize;
+        if sources.is_empty() || sources.len() > max {
+            return Err(Error::InvalidInput(format!(
+                "framebuffer {label} needs 1 to {max} attachments (GL_MAX_DRAW_BUFFERS, \
+                 GL_MAX_COLOR_ATTACHMENTS), got {}",
+                sources.len()
+            )));
+        }
+        let mut textures = Vec::with_capacity(sources.len());
+        for (fb, k) in sources {
+            let Some(t) = fb.textures.get(*k) else {
+                return Err(Error::InvalidInput(format!(
+                    "framebuffer {label}: {} has no texture of its own at {k}",
+                    fb.label
+                )));
+            };
+            textures.push(t);
+        }
+        let size = sources[0].0.size;
+        if sources.iter().any(|(fb, _)| fb.size != size) {
+            return Err(Error::InvalidInput(format!(
+                "framebuffer {label}: attachments differ in size"
+            )));
+        }
+        // SAFETY: a fresh framebuffer; the textures are alive and belong to this context.
+        let raw = unsafe {
+            let raw = ctx.gl().create_framebuffer().map_err(Error::Gl)?;
+            ctx.gl().bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
+            let mut draw = Vec::with_capacity(textures.len());
+            for (i, t) in textures.iter().enumerate() {
+                let point = glow::COLOR_ATTACHMENT0 + i as u32;
+                let raw_texture = Some(t.raw());
+                ctx.gl().framebuffer_texture_2d(
+                    glow::FRAMEBUFFER,
+                    point,
+                    glow::TEXTURE_2D,
+                    raw_texture,
+                    0,
+                );
+                draw.push(point);
+            }
+            ctx.gl().draw_buffers(&draw);
+            raw
+        };
+        Framebuffer {
+            ctx: ctx.clone(),
+            raw,
+            textures: Vec::new(),
+            names: (sources.iter()).map(|(fb, k)| fb.names[*k]).collect(),
+            size,
+            attachments: textures.len(),
+            bytes_per_texel: textures.iter().map(|t| t.format().bytes_per_texel()).sum(),
+            integer: textures
+                .iter()
+                .any(|t| t.format() == TextureFormat::Rgba32Ui),
+            formats: textures.iter().map(|t| t.format()).collect(),
+            depth: None,
+            label: label.to_owned(),
+        }
+        .checked()
+    }
+
     /// Labels the (bound) framebuffer, checks its completeness and unbinds it.
     fn checked(self) -> Result<Self> {
         let (ctx, label) = (&self.ctx, &self.label);

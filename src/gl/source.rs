@@ -64,6 +64,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "sim/nonfinite.frag",
     "sim/user_state.frag",
     "sim/user_state_inputs.glsl",
+    "sim/user_state_step.glsl",
     "sim/sdf_slice.frag",
     "collide/detect.frag",
     "collide/mutual.frag",

@@ -36,7 +36,7 @@ pub use render::{
     Render, RenderPath, Rotate, SortEntries, SortKey, SortSection, Variant, MAX_KEYFRAMES,
 };
 pub use render::{Lookup, Spread, Trails};
-pub use state::{StateFormat, UserState, MAX_STATE_EXPRESSION, MAX_USER_STATES};
+pub use state::{StateFormat, StatePassKind, UserState, MAX_STATE_EXPRESSION, MAX_USER_STATES};
 
 pub(super) fn one() -> f32 {
     1.0

@@ -2,7 +2,8 @@
 //! texel (three.js's `GPUComputationRenderer.addVariable`; Latta §3.4.2's "other operations in
 //! separate passes"; the thesis asks for more than 32 bytes per particle). Each is an RGBA
 //! texture, one texel per particle, updated by a full-screen pass of its own after the
-//! integration (src/sim/particles/user_state.rs).
+//! integration (src/sim/particles/user_state.rs), or with `pass = "integrate"` inside the
+//! integration pass (src/sim/particles/user_state_mrt.rs).
 
 use serde::{Deserialize, Serialize};
 
@@ -34,6 +35,12 @@ pub struct UserState {
     /// the state keeps its value at birth.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub update: Option<String>,
+    /// Where `update` runs: `own` (the default), a full-screen pass of its own after the
+    /// integration; or `integrate`, inside the integration pass, its value written as one more
+    /// render target of that pass (a pass and a read of position and velocity fewer, Latta
+    /// §3.1's MRT). Both evaluate the same expression of the same inputs.
+    #[serde(default, skip_serializing_if = "StatePassKind::is_own")]
+    pub pass: StatePassKind,
     /// The exchange with the neighbours: a GLSL `vec4` expression evaluated for every live
     /// neighbour closer than `radius`, summed and added to the state after the collision sort
     /// of each step (`[collisions]` with the exact detection; src/sim/collide/carry.rs). It
@@ -41,7 +48,8 @@ pub struct UserState {
     /// `other.temperature`, ..., and their distance `r`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pair: Option<String>,
-    /// The reach of `pair` (m): above 0, at most the collision cell.
+    /// The reach of `pair` (m): above 0, at most the neighbour search's cell (the collision
+    /// cell, or the fluid's 2h).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub radius: Option<f32>,
     /// A GLSL file of helper functions for the expressions, relative to the scene file.
@@ -61,4 +69,22 @@ pub enum StateFormat {
     Rgba32f,
     /// Four 16-bit floats: up to 65504, about three decimal digits.
     Rgba16f,
+}
+
+/// Where a user state's `update` is evaluated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StatePassKind {
+    /// A full-screen pass of its own after the integration.
+    #[default]
+    Own,
+    /// Inside the integration pass, as a further render target.
+    Integrate,
+}
+
+impl StatePassKind {
+    /// Whether it is the default, `own`.
+    pub fn is_own(&self) -> bool {
+        *self == StatePassKind::Own
+    }
 }

@@ -1,7 +1,7 @@
 //! `[[state]]`: the user's per-particle state. Names must be GLSL identifiers of their own, the
-//! expressions single GLSL expressions; the collision stage carries the states along its sorts,
-//! the fluid's passes do not (refused with `[fluid]`). A `pair` exchange needs the exact
-//! detection's neighbour search, within its cell.
+//! expressions single GLSL expressions; the collision stage and the fluid carry the states along
+//! their sorts. A `pair` exchange needs a neighbour search, the exact detection's or the
+//! fluid's, within its cell.
 //!
 //! Every update reads the previous step's values of every state, so the order of the states'
 //! passes does not matter and no update can depend on another's result of the same step: there
@@ -10,8 +10,8 @@
 use super::{bounded, fail, path, Check};
 use crate::scene::locate::Key;
 use crate::scene::schema::{
-    Blending, Detection, DrawMode, DrawPrimitive, RenderPath, SceneFile, Simulation, UserState,
-    MAX_STATE_EXPRESSION, MAX_USER_STATES,
+    Blending, Detection, DrawMode, DrawPrimitive, Integrator, RenderPath, SceneFile, Simulation,
+    StatePassKind, UpdatePasses, UserState, MAX_STATE_EXPRESSION, MAX_USER_STATES,
 };
 
 use Key::{Index as I, Name as N};
@@ -189,14 +189,6 @@ pub(super) fn state(s: &SceneFile) -> Check {
              remove [[state]] or simulation = \"stateless\"",
         );
     }
-    if s.fluid.is_some() {
-        return fail(
-            at0,
-            "[[state]] cannot be used with [fluid] yet: the fluid's passes sort the particles \
-             into cell order every step and gather position, velocity and static only, so a \
-             user state would stay behind with other particles; remove [fluid] or [[state]]",
-        );
-    }
     for (i, st) in s.state.iter().enumerate() {
         let at = |k| path(&[N("state"), I(i), N(k)]);
         name(at("name"), &st.name)?;
@@ -214,6 +206,54 @@ pub(super) fn state(s: &SceneFile) -> Check {
             expression(at("update"), "update", u)?;
         }
         exchange(s, i, st)?;
+    }
+    integrated(s)
+}
+
+/// Render targets every OpenGL ES 3.0 context has (`GL_MAX_DRAW_BUFFERS` is at least 4).
+pub const PORTABLE_DRAW_BUFFERS: usize = 4;
+
+/// `pass = "integrate"`: an explicit integrator's single MRT pass, with a target to spare per
+/// state.
+fn integrated(s: &SceneFile) -> Check {
+    let on: Vec<usize> = (0..s.state.len())
+        .filter(|&i| s.state[i].pass == StatePassKind::Integrate)
+        .collect();
+    let Some(&first) = on.first() else {
+        return Ok(());
+    };
+    let at = |i: usize| path(&[N("state"), I(i), N("pass")]);
+    let why = if s.integrator == Integrator::Verlet {
+        Some("Verlet's pass writes the next positions alone (the velocity is implied)")
+    } else if s.passes == UpdatePasses::Separate {
+        Some("passes = \"separate\" draws the integration without multiple render targets")
+    } else {
+        None
+    };
+    if let Some(why) = why {
+        return fail(
+            at(first),
+            format!(
+                "pass = \"integrate\" writes the state as one more render target of the \
+                 integration pass, and {why}: use pass = \"own\" (a pass of its own)"
+            ),
+        );
+    }
+    let spin = s.collisions.as_ref().is_some_and(|c| c.spin);
+    let own = 2 + spin as usize;
+    if own + on.len() > PORTABLE_DRAW_BUFFERS {
+        let last = on[PORTABLE_DRAW_BUFFERS - own];
+        return fail(
+            at(last),
+            format!(
+                "the integration pass writes {own} targets (position, velocity{}) and one per \
+                 state with pass = \"integrate\": {} in all, above the {PORTABLE_DRAW_BUFFERS} \
+                 every OpenGL ES 3.0 context can draw at once (GL_MAX_DRAW_BUFFERS); use \
+                 pass = \"own\" for this state",
+                if spin { ", spin" } else { "" },
+                own + on.len()
+            ),
+        );
     }
     Ok(())
 }
@@ -250,29 +290,36 @@ fn exchange(s: &SceneFile, i: usize, st: &UserState) -> Check {
             ),
         );
     }
-    let exact = (s.collisions.as_ref()).filter(|c| c.detection == Detection::Exact);
-    let Some(c) = exact else {
-        return fail(
-            at("pair"),
-            "pair sums over the neighbours the exact collision detection finds: add \
-             [collisions] with detection = \"exact\" (its cell bounds radius)",
-        );
-    };
     let Some(r) = st.radius else {
         return fail(
             at("pair"),
             "pair needs radius: the distance (m) below which a neighbour is summed, at most \
-             the collision cell",
+             the neighbour search's cell (the exact collision detection's, or the fluid's 2h)",
         );
     };
     bounded(at("radius"), "radius", &[r])?;
-    let cell = c.cell.unwrap_or(2.0 * c.radius);
+    let exact = (s.collisions.as_ref()).filter(|c| c.detection == Detection::Exact);
+    let (cell, what, fix) =
+        match (exact, &s.fluid) {
+            (Some(c), _) => (
+                c.cell.unwrap_or(2.0 * c.radius),
+                "the collision cell",
+                "raise collisions.cell",
+            ),
+            (None, Some(f)) => (2.0 * f.h(), "the fluid's cell 2h", "raise fluid.smoothing"),
+            (None, None) => return fail(
+                at("pair"),
+                "pair sums over the neighbours a search finds, the exact collision detection's \
+                 or the fluid's: add [collisions] with detection = \"exact\" (its cell bounds \
+                 radius), or [fluid]",
+            ),
+        };
     if !(r > 0.0 && r <= cell) {
         return fail(
             at("radius"),
             format!(
-                "radius {r} m must be above 0 and at most the collision cell {cell} m, the \
-                 reach of the search of the 27 cells around a particle (raise collisions.cell)"
+                "radius {r} m must be above 0 and at most {what} {cell} m, the reach of the \
+                 search of the 27 cells around a particle ({fix})"
             ),
         );
     }

@@ -61,6 +61,8 @@ pub struct Fluid {
     sorter: Sorter,
     /// `resort = "coherent"`: the cheap network, its check and counts.
     coherent: Option<resort::CoherentSort>,
+    /// Whether the last step's order came from the coherent network (else the full sort).
+    coherent_last: bool,
     /// The state in cell order: position, velocity, static.
     layout: Framebuffer,
     /// (density, pressure, neighbours within 2h, truncated search) in cell order.
@@ -207,6 +209,7 @@ impl Fluid {
             coherent: coherent_block(&config, size)
                 .map(|m| resort::CoherentSort::new(ctx, size, m))
                 .transpose()?,
+            coherent_last: false,
             layout: Framebuffer::named(ctx, "fluid layout", layout)?,
             density: Framebuffer::new(ctx, "fluid density", vec![density])?,
             density_pass: program("fluid/density.frag")?,
@@ -309,10 +312,8 @@ impl Fluid {
                 .write_keys(front.texture(POSITION), count, &mode, true)?;
             self.sorter.sort();
         }
-        let keys = match &self.coherent {
-            Some(c) if coherent => c.keys(),
-            _ => self.sorter.keys(),
-        };
+        self.coherent_last = coherent;
+        let keys = self.sorted_keys();
         self.sorter.gather_by(
             keys,
             &[
@@ -350,6 +351,25 @@ impl Fluid {
         self.pass
             .draw(c, &[("u_source", l.texture(STATIC).into())], &[], statics);
         Ok(())
+    }
+
+    /// The sorted entries of the last step (the coherent network's or the full sort's).
+    pub(crate) fn sorted_keys(&self) -> &Texture {
+        match &self.coherent {
+            Some(c) if self.coherent_last => c.keys(),
+            _ => self.sorter.keys(),
+        }
+    }
+
+    /// The last step's position, velocity and static in cell order.
+    pub(crate) fn layout(&self) -> &Framebuffer {
+        &self.layout
+    }
+
+    /// Gathers `sources` (textures of the state's layout) in the last step's cell order into
+    /// `dest`: the user states follow their particles (src/sim/particles/fluid.rs).
+    pub(crate) fn gather_sorted(&self, sources: &[&Texture], dest: &Framebuffer) -> Result<()> {
+        self.sorter.gather_by(self.sorted_keys(), sources, dest)
     }
 
     /// Searches that walked a run of three cells past [`FLUID_SCAN`] particles (and so may have

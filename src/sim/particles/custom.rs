@@ -13,7 +13,7 @@
 //! the collision stage use the built-in forces alone.
 
 use crate::error::{Error, Result};
-use crate::gl::source::add_runtime_source;
+use crate::gl::source::{add_runtime_source, is_runtime_source};
 use crate::scene::SceneFile;
 use crate::sim::user_glsl::{source_key, user_compile_error, Renamed};
 
@@ -36,9 +36,11 @@ fn sources(scene: &SceneFile) -> Result<Vec<String>> {
 }
 
 /// The fragment shader of the integration pass: `sim/integrate.frag`, or for a scene with
-/// custom forces, the root that splices them in front of it.
+/// custom forces or states updated in the pass (`pass = "integrate"`, user_state_mrt.rs), the
+/// root that splices them in front of it and after it.
 pub(super) fn integrate_root(scene: &SceneFile) -> Result<String> {
-    if scene.forces.custom.is_empty() {
+    let integrated = !super::user_state::integrated(scene).is_empty();
+    if scene.forces.custom.is_empty() && !integrated {
         return Ok("sim/integrate.frag".to_owned());
     }
     let mut root = String::from(
@@ -57,10 +59,18 @@ pub(super) fn integrate_root(scene: &SceneFile) -> Result<String> {
         );
         keys.push(key);
     }
-    root += &format!(
-        "#define N_CUSTOM {}\n#include \"sim/integrate.frag\"\n",
-        scene.forces.custom.len()
-    );
+    if !scene.forces.custom.is_empty() {
+        root += &format!("#define N_CUSTOM {}\n", scene.forces.custom.len());
+    }
+    if integrated {
+        root += "#define USER_STATE_OUTPUTS 1\n";
+    }
+    root += "#include \"sim/integrate.frag\"\n";
+    if integrated {
+        let (tail, states) = super::user_state::integrate_tail(scene)?;
+        root += &tail;
+        keys.push(states);
+    }
     let name = format!("custom-integrate:{}", keys.join("+"));
     add_runtime_source(&name, &root);
     Ok(name)
@@ -73,22 +83,24 @@ pub fn check_custom_forces(ctx: &crate::gl::Context, scene: &SceneFile) -> Resul
     let defines = super::Features::of(scene).defines();
     crate::sim::collide::check_pair_forces(ctx, scene, &defines)?;
     super::check_user_states(ctx, scene)?;
-    if scene.forces.custom.is_empty() {
+    let root = integrate_root(scene)?;
+    if !is_runtime_source(&root) {
         return Ok(());
     }
-    crate::gl::Program::new(
-        ctx,
-        crate::gl::FULLSCREEN_VERTEX,
-        &integrate_root(scene)?,
-        &defines,
-    )
-    .map(drop)
-    .map_err(|e| user_error(scene, e))
+    crate::gl::Program::new(ctx, crate::gl::FULLSCREEN_VERTEX, &root, &defines)
+        .map(drop)
+        .map_err(|e| user_error(scene, e))
 }
 
 /// A compile error in a user's file becomes an input error that names the file and line
-/// ([`user_compile_error`]); other errors pass through.
+/// ([`user_compile_error`]), one in a state's expressions names the state
+/// (`pass = "integrate"`); other errors pass through.
 pub(super) fn user_error(scene: &SceneFile, e: Error) -> Error {
+    // An error in a state's expressions (`pass = "integrate"`) is the state's to name.
+    let in_state = matches!(&e, Error::ShaderCompile { file, .. } if file.starts_with("state-"));
+    if in_state || scene.forces.custom.is_empty() {
+        return super::user_state::integrate_error(scene, e);
+    }
     let texts = sources(scene).unwrap_or_default();
     let files: Vec<(String, String)> = (scene.forces.custom.iter().zip(texts).enumerate())
         .map(|(i, (c, text))| {

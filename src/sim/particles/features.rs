@@ -130,6 +130,9 @@ pub struct Features {
     /// The user's own states (`[[state]]`, `user_state.rs`): name and texel format.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub user_states: Vec<(String, scene::StateFormat)>,
+    /// The user states whose update runs in the integration pass (`pass = "integrate"`,
+    /// `user_state_mrt.rs`): further render targets of it, no pass of their own.
+    pub integrated_states: Vec<String>,
     /// The user states exchanged with the neighbours (`pair`, `collide/carry.rs`).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub exchanges: Vec<String>,
@@ -192,6 +195,9 @@ impl Features {
                 .collect(),
             user_states: (scene.state.iter())
                 .map(|s| (s.name.clone(), s.format))
+                .collect(),
+            integrated_states: (super::user_state::integrated(scene).into_iter())
+                .map(|i| scene.state[i].name.clone())
                 .collect(),
             exchanges: (scene.state.iter().filter(|s| s.pair.is_some()))
                 .map(|s| s.name.clone())
@@ -341,13 +347,22 @@ impl Features {
         let what = self.integration_terms(verlet);
         let mut integrate = Vec::new();
         self.integrate_passes(&what, verlet, &mut integrate);
-        integrate.extend(super::user_state::passes(&self.user_states));
+        let own: Vec<_> = (self.user_states.iter())
+            .filter(|(n, _)| !self.integrated_states.contains(n))
+            .cloned()
+            .collect();
+        integrate.extend(super::user_state::passes(&own));
         add(Stage::Integrate, integrate);
         add(Stage::Relax, self.constrain_passes());
         let mut collide = Vec::new();
         self.collision_passes(&mut collide);
         if self.collisions.is_some() {
             collide.extend(crate::sim::collide::carry_passes(
+                self.user_states.len(),
+                &self.exchanges,
+            ));
+        } else if self.fluid.is_some() {
+            collide.extend(super::fluid::fluid_carry_passes(
                 self.user_states.len(),
                 &self.exchanges,
             ));
@@ -434,6 +449,14 @@ impl Features {
                 "{} child emitter(s): a dead child texel reads its parent texel and is born on \
                  its trail or at its death (thesis §2)",
                 self.children
+            ));
+        }
+        if !self.integrated_states.is_empty() {
+            what.push(format!(
+                "user state(s) {} (pass = \"integrate\"): `init` at birth, else `update` from \
+                 the previous step's states and the position and velocity this pass writes, \
+                 each one more MRT target",
+                self.integrated_states.join(", ")
             ));
         }
         if self.precision == Precision::Fp24 {

@@ -1,13 +1,54 @@
 //! The SPH stage of a scene with `[fluid]` (src/sim/fluid/) in the particle pipeline: the
 //! particles placed on their lattice at the start, the fluid's passes as the collision stage,
 //! its counts and per-frame figures.
+//!
+//! The fluid writes the state in cell order every step, so the user states (`[[state]]`)
+//! follow: after the fluid's passes each is gathered in the same order (a pass each, by the
+//! fluid's sorted keys), and each state with `pair` then exchanges with its neighbours over the
+//! fluid's sorted layout and search (`glsl/collide/exchange.frag`, as the collision stage's
+//! exchange: src/sim/collide/carry.rs). Every exchange reads the values before any of them.
 
 use super::{set_constants_for, ParticleSim, State};
 use crate::error::{Error, Result};
-use crate::gl::Program;
+use crate::gl::{Program, Sampled};
 use crate::scene::SceneFile;
 use crate::sim::fluid::FluidStats;
-use crate::sim::state::{POSITION, VELOCITY};
+use crate::sim::state::{POSITION, STATIC, VELOCITY};
+
+/// The exchange passes (`pair`) of a scene with `[fluid]`, each with its state's index and
+/// `radius`; none without `[fluid]` (the collision stage has its own).
+pub(super) fn exchange_programs(
+    ctx: &crate::gl::Context,
+    scene: &SceneFile,
+    defines: &crate::gl::Defines,
+) -> Result<Vec<(usize, Program, f32)>> {
+    match &scene.fluid {
+        Some(_) => Ok(super::user_state::exchange_programs(ctx, scene, defines)?
+            .into_iter()
+            .map(|(i, p)| (i, p, scene.state[i].radius.unwrap_or(0.0)))
+            .collect()),
+        None => Ok(Vec::new()),
+    }
+}
+
+/// The passes that carry `states` user states along the fluid's sort and exchange those named in
+/// `exchanges`, as `texflow scene passes` lists them (after the fluid's passes).
+pub(super) fn fluid_carry_passes(states: usize, exchanges: &[String]) -> Vec<String> {
+    let mut out = Vec::new();
+    if states > 0 {
+        out.push(format!(
+            "carry {states} user state(s): gathered in the fluid's cell order (a pass each)"
+        ));
+    }
+    out.extend(exchanges.iter().map(|name| {
+        format!(
+            "exchange {name} (after the fluid's sort): {name} += the sum of `pair` over the live \
+             neighbours within its radius (the fluid's search of the 27 cells around each \
+             particle) [swapped in after every exchange is drawn]"
+        )
+    }));
+    out
+}
 
 impl ParticleSim {
     /// Places the fluid's particles on the lattice of their box emitters (after the initial
@@ -28,7 +69,59 @@ impl ParticleSim {
         let (params, fields) = (&self.params, &self.fields);
         let (size, seed, types) = ([self.width, self.height], self.seed, self.features.types);
         let set = |p: &Program| set_constants_for(p, params, fields, size, seed, types);
-        f.run(pp, &self.statics, params.time.dt, set)
+        f.run(pp, &self.statics, params.time.dt, set)?;
+        self.carry_fluid_states()
+    }
+
+    /// The user states gathered in the fluid's new order, then the exchanges (`pair`).
+    fn carry_fluid_states(&mut self) -> Result<()> {
+        let (Some(f), Some(user)) = (&self.fluid, self.user.as_mut()) else {
+            return Ok(());
+        };
+        for pp in user.states_mut().iter_mut() {
+            f.gather_sorted(&[pp.front().only_texture()], pp.back())?;
+            pp.swap();
+        }
+        let samplers = user.samplers();
+        let l = f.layout();
+        let (size, seed, types) = ([self.width, self.height], self.seed, self.features.types);
+        for (i, p, radius) in &self.fluid_exchange {
+            p.bind();
+            set_constants_for(p, &self.params, &self.fields, size, seed, types);
+            f.search().set_uniforms(p);
+            p.set_f32("u_pair_radius", *radius);
+            p.set_f32("u_dt", self.params.time.dt);
+            p.set_f32("u_time", self.time as f32);
+            let mut textures: Vec<(&str, Sampled)> = f.search().textures(f.sorted_keys());
+            textures.extend([
+                ("u_position", l.texture(POSITION).into()),
+                ("u_velocity", l.texture(VELOCITY).into()),
+                ("u_static", l.texture(STATIC).into()),
+            ]);
+            textures.extend(samplers.iter().map(|(n, t)| (n.as_str(), (*t).into())));
+            self.pass.draw(p, &textures, &[], user.back(*i));
+        }
+        for (i, ..) in &self.fluid_exchange {
+            user.swap(*i);
+        }
+        Ok(())
+    }
+
+    /// The draws of the user states' carry and exchanges after the fluid's passes, for the
+    /// lines of [`fluid_carry_passes`].
+    pub(super) fn fluid_carry_draws(&self) -> Vec<crate::gl::PassDraw> {
+        use crate::gl::PassDraw;
+        let states = self.state_names.len() as u64;
+        let mut out = Vec::new();
+        if self.fluid.is_some() && states > 0 {
+            let gather = crate::sort::Sorter::gather_program();
+            out.push(PassDraw::new("carry", gather, states));
+        }
+        for (i, p, _) in &self.fluid_exchange {
+            let name = &self.state_names[*i];
+            out.push(PassDraw::of(format!("exchange {name} ("), p, 1));
+        }
+        out
     }
 
     /// Fluid searches that hit their bound, over the run (one read-back).

@@ -109,6 +109,8 @@ pub struct ParticleSim {
     collisions: Option<super::collide::CollisionStage>,
     /// The SPH stage of a scene with `[fluid]` (src/sim/fluid/).
     fluid: Option<super::fluid::Fluid>,
+    /// The exchange passes (`pair`) of a scene with `[fluid]`, with their states' indices.
+    fluid_exchange: Vec<(usize, Program, f32)>,
     /// The count of paths past the bound on bounces at colliders (`bounces.rs`).
     bounces: Option<super::collide::tally::TruncationTally>,
     relax: Option<relax::Relaxation>,
@@ -195,6 +197,7 @@ impl ParticleSim {
                 Some(_) => Some(super::fluid::Fluid::new(ctx, scene, &defines, vel_format)?),
                 None => None,
             },
+            fluid_exchange: fluid::exchange_programs(ctx, scene, &defines)?,
             bounces: bounces::tally(ctx, &features)?,
             relax: relax::Relaxation::new(ctx, scene, params.constraints.as_ref(), &defines)?,
             user: user_state::UserStates::new(ctx, scene, &defines, [width, height])?,
@@ -402,7 +405,7 @@ impl ParticleSim {
     }
 
     /// The integration pass alone, then the swap.
-    fn integrate_pass(&mut self) {
+    fn integrate_pass(&mut self) -> Result<()> {
         let rows = self.active_rows();
         let p = &self.integrate;
         let next = self.set_step_clock(p);
@@ -410,7 +413,7 @@ impl ParticleSim {
         // Custom forces read the user states by name (user_state.rs).
         let user = self.user.as_ref().map(|u| u.samplers()).unwrap_or_default();
         let user = |p: &Program| user_state::declared(p, &user);
-        match &mut self.state {
+        match &self.state {
             State::Explicit(pp) if self.stateless.is_some() => {
                 if let Some(sl) = &self.stateless {
                     sl.draw(
@@ -421,7 +424,6 @@ impl ParticleSim {
                         rows,
                     );
                 }
-                pp.swap();
             }
             State::Explicit(pp) => {
                 let mut own = vec![
@@ -434,35 +436,16 @@ impl ParticleSim {
                 own.extend(user(p));
                 let t = draw_textures(p, &own, &self.fields);
                 match &self.integrate_position {
-                    None if rows > 0 => self.pass.draw_rows(p, &t, &[], pp.back(), 0, rows),
-                    Some(q) if rows > 0 => {
-                        // Latta §3.1 without MRT: the velocity first, then the position.
-                        let (v, x) = (pp.back_single(VELOCITY), pp.back_single(POSITION));
-                        self.pass.draw_rows(p, &t, &[], v, 0, rows);
-                        q.bind();
-                        if self.params.emitters.animated {
-                            uniforms::set_spawn(q, &self.params.emitters, self.time as f32);
-                        }
-                        q.set_f32("u_time", self.time as f32);
-                        q.optional(|| q.set_f32("u_time_next", next));
-                        let own: Vec<_> = [
-                            ("u_position", pp.front().texture(POSITION).into()),
-                            ("u_velocity", pp.front().texture(VELOCITY).into()),
-                            ("u_new_velocity", pp.back().texture(VELOCITY).into()),
-                            statics,
-                        ]
-                        .into_iter()
-                        .filter(|(n, _)| q.declares(n))
-                        .chain(user(q))
-                        .collect();
-                        let t = draw_textures(q, &own, &self.fields);
-                        self.pass.draw_rows(q, &t, &[], x, 0, rows);
+                    None if rows > 0 => {
+                        // States updated in this pass: further targets (user_state_mrt.rs).
+                        let user = self.user.as_ref();
+                        let mrt = user.map(|u| u.integration_target(&self.ctx, pp.back()));
+                        let mrt = mrt.transpose()?.flatten();
+                        let target = mrt.as_ref().unwrap_or(pp.back());
+                        self.pass.draw_rows(p, &t, &[], target, 0, rows)
                     }
+                    Some(q) if rows > 0 => self.integrate_separate(q, pp, next, rows),
                     _ => {}
-                }
-                pp.swap();
-                if rows > 0 {
-                    self.count_bounce_flags(rows);
                 }
             }
             State::Verlet(ring) => {
@@ -476,11 +459,54 @@ impl ParticleSim {
                 if rows > 0 {
                     self.pass.draw_rows(p, &t, &[], ring.next(), 0, rows);
                 }
-                ring.rotate();
             }
+        }
+        match &mut self.state {
+            State::Explicit(pp) => pp.swap(),
+            State::Verlet(ring) => ring.rotate(),
+        }
+        if rows > 0 && self.stateless.is_none() && matches!(self.state, State::Explicit(_)) {
+            self.count_bounce_flags(rows);
         }
         self.step += 1;
         self.time = self.step as f64 * self.params.time.dt as f64;
+        Ok(())
+    }
+
+    /// Latta §3.1 without MRT (`passes = "separate"`): the velocity pass `integrate` into the
+    /// back's velocity, then the position pass `q` into its position.
+    fn integrate_separate(&self, q: &Program, pp: &PingPong, next: f32, rows: u32) {
+        let p = &self.integrate;
+        let user = self.user.as_ref().map(|u| u.samplers()).unwrap_or_default();
+        let user = |p: &Program| user_state::declared(p, &user);
+        let statics = ("u_static", self.statics.texture(STATIC).into());
+        let mut own = vec![
+            ("u_position", pp.front().texture(POSITION).into()),
+            ("u_velocity", pp.front().texture(VELOCITY).into()),
+            statics,
+        ];
+        own.extend(user(p));
+        let t = draw_textures(p, &own, &self.fields);
+        let (v, x) = (pp.back_single(VELOCITY), pp.back_single(POSITION));
+        self.pass.draw_rows(p, &t, &[], v, 0, rows);
+        q.bind();
+        if self.params.emitters.animated {
+            uniforms::set_spawn(q, &self.params.emitters, self.time as f32);
+        }
+        q.set_f32("u_time", self.time as f32);
+        q.optional(|| q.set_f32("u_time_next", next));
+        let own: Vec<_> = [
+            ("u_position", pp.front().texture(POSITION).into()),
+            ("u_velocity", pp.front().texture(VELOCITY).into()),
+            ("u_new_velocity", pp.back().texture(VELOCITY).into()),
+            statics,
+        ]
+        .into_iter()
+        .filter(|(n, _)| q.declares(n))
+        .chain(user(q))
+        .collect();
+        let t = draw_textures(q, &own, &self.fields);
+        self.pass.draw_rows(q, &t, &[], x, 0, rows);
     }
 
     /// Binds the integration program and sets this step's clock on it: `u_time`, the next
@@ -494,6 +520,7 @@ impl ParticleSim {
         let dt = self.params.time.dt as f64;
         let next = ((self.step + 1) as f64 * dt) as f32;
         p.optional(|| p.set_f32("u_time_next", next));
+        p.optional(|| p.set_f32("u_user_time", next));
         let prev = ((self.step as f64 - 1.0) * dt) as f32;
         p.optional(|| p.set_f32("u_time_prev", prev));
         relax::move_spheres(p, &self.params.colliders, self.time + dt);

@@ -44,6 +44,7 @@ impl ParticleSim {
                     let mut d: Vec<PassDraw> =
                         (self.fluid.iter()).flat_map(|f| f.pass_draws()).collect();
                     d.extend(self.collisions.iter().flat_map(|c| c.pass_draws()));
+                    d.extend(self.fluid_carry_draws());
                     d
                 }
             };

@@ -189,7 +189,7 @@ impl crate::sim::Simulation for ParticleSim {
         match stage {
             Stage::Births => self.emit(),
             Stage::Integrate => {
-                self.integrate_pass();
+                self.integrate_pass()?;
                 self.user_state_passes(false);
                 Ok(())
             }

@@ -13,6 +13,9 @@
 //! have been drawn, so the states' order does not matter and they cannot form cycles. The
 //! integration pass reads the same values through the same macros (custom forces, `custom.rs`).
 
+#[path = "user_state_mrt.rs"]
+mod mrt;
+
 use super::{draw_textures, set_constants_for, ParticleSim, State};
 use crate::error::{Error, Result};
 use crate::gl::source::{add_runtime_source, is_runtime_source};
@@ -20,6 +23,7 @@ use crate::gl::{Context, Defines, PingPong, Program, Sampled, Texture, FULLSCREE
 use crate::scene::{SceneFile, StateFormat};
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
 use crate::sim::user_glsl::{source_key, user_compile_error, Renamed};
+pub(super) use mrt::{integrate_tail, integrated};
 
 /// The scene's user states: a ping-pong texture and a pass each.
 pub(super) struct UserStates {
@@ -27,6 +31,9 @@ pub(super) struct UserStates {
     programs: Vec<Program>,
     /// The dump's names, `state_NAME` (made once: a dump names its textures by `&'static str`).
     dump_names: Vec<&'static str>,
+    /// The states updated in the integration pass (`pass = "integrate"`, `user_state_mrt.rs`):
+    /// their own passes draw only the values at the start.
+    integrated: Vec<usize>,
 }
 
 /// The sampler state `i` is read from in every pass that reads it.
@@ -180,6 +187,16 @@ fn user_error(
     }
 }
 
+/// A compile error of the integration pass in the expressions of the states it updates
+/// (`pass = "integrate"`) named as one in their own pass is; other errors pass through.
+pub(super) fn integrate_error(scene: &SceneFile, e: Error) -> Error {
+    let (Some(&i), Ok(sources)) = (integrated(scene).first(), user_sources(scene)) else {
+        return e;
+    };
+    let helpers = helper_count(scene, &sources);
+    user_error(scene, i, &sources, helpers, e)
+}
+
 /// The root of state `i`'s exchange pass (`pair`, `glsl/collide/exchange.frag`), added as a
 /// runtime source: the states' names read globals there, loaded at the particle's texel and
 /// the neighbour's into `other`, whose members are named by the same macros, so that
@@ -294,22 +311,35 @@ impl UserStates {
             states,
             programs,
             dump_names,
+            integrated: integrated(scene),
         }))
     }
 
-    /// The states' draws of one step, one pass each, for the lines of [`passes`].
+    /// The states' draws of one step, one pass each but for those the integration updates, for
+    /// the lines of [`passes`].
     pub(super) fn pass_draws(&self) -> Vec<crate::gl::PassDraw> {
-        (self.dump_names.iter().zip(&self.programs))
-            .map(|(n, p)| {
+        (self.dump_names.iter().zip(&self.programs).enumerate())
+            .filter(|(i, _)| !self.integrated.contains(i))
+            .map(|(_, (n, p))| {
                 let name = n.strip_prefix("state_").unwrap_or(n);
                 crate::gl::PassDraw::of(format!("state {name} ("), p, 1)
             })
             .collect()
     }
 
-    /// The states' textures, for the collision stage to carry along its sorts.
+    /// The states' textures, for the collision stage and the fluid to carry along their sorts.
     pub(super) fn states_mut(&mut self) -> &mut Vec<PingPong> {
         &mut self.states
+    }
+
+    /// State `i`'s next value: the target of a pass that writes it.
+    pub(super) fn back(&self, i: usize) -> &crate::gl::Framebuffer {
+        self.states[i].back()
+    }
+
+    /// Makes state `i`'s next value its current one.
+    pub(super) fn swap(&mut self, i: usize) {
+        self.states[i].swap();
     }
 
     /// The states' current values, with the samplers passes read them by.
@@ -320,7 +350,8 @@ impl UserStates {
     }
 }
 
-/// The states' passes as `texflow scene passes` lists them (after the integration).
+/// The states' own passes as `texflow scene passes` lists them (after the integration), of
+/// the states not updated in the integration pass.
 pub(super) fn passes(states: &[(String, StateFormat)]) -> Vec<String> {
     (states.iter())
         .map(|(name, format)| {
@@ -361,7 +392,21 @@ pub(super) fn exchange_programs(
     scene: &SceneFile,
     defines: &Defines,
 ) -> Result<Vec<(usize, Program)>> {
-    let d = crate::sim::collide::exchange_defines(scene, defines);
+    // The fluid's search walks runs of up to its own bound (src/sim/fluid/).
+    let d = match &scene.fluid {
+        Some(f) => {
+            // The fluid's search (with its cell-start table where it has one).
+            let lattice = crate::sim::fluid::lattice_of(f);
+            let size = scene.particles.size;
+            let mut d = crate::sim::collide::cells::search_defines(defines, &lattice, size);
+            d.push((
+                "EXACT_SCAN".into(),
+                crate::sim::fluid::FLUID_SCAN.to_string(),
+            ));
+            d
+        }
+        None => crate::sim::collide::exchange_defines(scene, defines),
+    };
     (scene.state.iter().enumerate())
         .filter(|(_, s)| s.pair.is_some())
         .map(|(i, _)| Ok((i, exchange_program(ctx, scene, i, &d)?)))
@@ -402,7 +447,11 @@ impl ParticleSim {
         ];
         own.extend(velocity.map(|v| ("u_velocity", v.into())));
         own.extend(samplers.iter().map(|(n, t)| (n.as_str(), (*t).into())));
-        for (p, pp) in user.programs.iter().zip(&user.states) {
+        for (i, (p, pp)) in user.programs.iter().zip(&user.states).enumerate() {
+            // The integration pass drew these (user_state_mrt.rs); they swap with the rest.
+            if !start && user.integrated.contains(&i) {
+                continue;
+            }
             p.bind();
             p.optional(|| {
                 p.set_f32("u_time", self.time as f32);

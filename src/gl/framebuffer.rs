@@ -72,25 +72,7 @@ impl Framebuffer {
                 "framebuffer {label}: attachments differ in size"
             )));
         }
-        // SAFETY: a fresh framebuffer; the textures are alive and belong to this context.
-        let raw = unsafe {
-            let raw = ctx.gl().create_framebuffer().map_err(Error::Gl)?;
-            ctx.gl().bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
-            let mut draw = Vec::with_capacity(textures.len());
-            for (i, t) in textures.iter().enumerate() {
-                let point = glow::COLOR_ATTACHMENT0 + i as u32;
-                ctx.gl().framebuffer_texture_2d(
-                    glow::FRAMEBUFFER,
-                    point,
-                    glow::TEXTURE_2D,
-                    Some(t.raw()),
-                    0,
-                );
-                draw.push(point);
-            }
-            ctx.gl().draw_buffers(&draw);
-            raw
-        };
+        let raw = attach(ctx, &textures.iter().collect::<Vec<_>>())?;
         let attachments = textures.len();
         let bytes_per_texel = textures.iter().map(|t| t.format().bytes_per_texel()).sum();
         let integer = textures_integer(&textures);
@@ -319,26 +301,7 @@ impl Framebuffer {
                 "framebuffer {label}: attachments differ in size"
             )));
         }
-        // SAFETY: a fresh framebuffer; the textures are alive and belong to this context.
-        let raw = unsafe {
-            let raw = ctx.gl().create_framebuffer().map_err(Error::Gl)?;
-            ctx.gl().bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
-            let mut draw = Vec::with_capacity(textures.len());
-            for (i, t) in textures.iter().enumerate() {
-                let point = glow::COLOR_ATTACHMENT0 + i as u32;
-                let raw_texture = Some(t.raw());
-                ctx.gl().framebuffer_texture_2d(
-                    glow::FRAMEBUFFER,
-                    point,
-                    glow::TEXTURE_2D,
-                    raw_texture,
-                    0,
-                );
-                draw.push(point);
-            }
-            ctx.gl().draw_buffers(&draw);
-            raw
-        };
+        let raw = attach(ctx, &textures)?;
         Framebuffer {
             ctx: ctx.clone(),
             raw,
@@ -568,4 +531,28 @@ fn textures_integer(textures: &[Texture]) -> bool {
     textures
         .iter()
         .any(|t| t.format() == TextureFormat::Rgba32Ui)
+}
+
+/// A fresh framebuffer object with `textures` as colour attachments 0.. in order, all drawn
+/// into (left bound: the caller checks completeness).
+fn attach(ctx: &Context, textures: &[&Texture]) -> Result<glow::Framebuffer> {
+    // SAFETY: a fresh framebuffer; the textures are alive and belong to this context.
+    unsafe {
+        let raw = ctx.gl().create_framebuffer().map_err(Error::Gl)?;
+        ctx.gl().bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
+        let mut draw = Vec::with_capacity(textures.len());
+        for (i, t) in textures.iter().enumerate() {
+            let point = glow::COLOR_ATTACHMENT0 + i as u32;
+            (ctx.gl()).framebuffer_texture_2d(
+                glow::FRAMEBUFFER,
+                point,
+                glow::TEXTURE_2D,
+                Some(t.raw()),
+                0,
+            );
+            draw.push(point);
+        }
+        ctx.gl().draw_buffers(&draw);
+        Ok(raw)
+    }
 }

@@ -113,9 +113,9 @@ pub fn bench_passes(
     for _ in 0..opts.repeats {
         fixed.push(fixed_cost.measure(&timer)?);
         writes.push(timer.time(|| write.draw(&scratch))?);
-        frames.push(timer.time(|| {
-            let _ = frame(e);
-        })?);
+        let mut ran = Ok(());
+        frames.push(timer.time(|| ran = frame(e))?);
+        ran?;
         let profiler = DrawProfiler::start(clock);
         frame(e)?;
         profiles.push(profiler.finish()?);

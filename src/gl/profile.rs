@@ -45,7 +45,8 @@ thread_local! {
 }
 
 /// Times every draw on this thread from [`DrawProfiler::start`] until
-/// [`DrawProfiler::finish`] (or the profiler's drop, which discards the times).
+/// [`DrawProfiler::finish`] (or the profiler's drop, which discards the times). One at a time:
+/// starting another replaces the profile under way, and dropping either ends it.
 #[derive(Debug)]
 pub struct DrawProfiler(());
 

@@ -38,12 +38,15 @@ pub struct UserState {
     /// Where `update` runs: `own` (the default), a full-screen pass of its own after the
     /// integration; or `integrate`, inside the integration pass, its value written as one more
     /// render target of that pass (a pass and a read of position and velocity fewer, Latta
-    /// §3.1's MRT). Both evaluate the same expression of the same inputs.
+    /// §3.1's MRT). Both evaluate the same expression of the same inputs (with `rgba16f`
+    /// velocities the integrated update rounds them as llvmpipe stores half floats, toward
+    /// zero; a driver that rounds to nearest may differ by one half-float step).
     #[serde(default, skip_serializing_if = "StatePassKind::is_own")]
     pub pass: StatePassKind,
     /// The exchange with the neighbours: a GLSL `vec4` expression evaluated for every live
     /// neighbour closer than `radius`, summed and added to the state after the collision sort
-    /// of each step (`[collisions]` with the exact detection; src/sim/collide/carry.rs). It
+    /// of each step (`[collisions]` with the exact detection; src/sim/collide/carry.rs) or
+    /// after the fluid's sort (`[fluid]`; src/sim/particles/fluid.rs). It
     /// reads the particle's own inputs and states, the neighbour's as `other.x`,
     /// `other.temperature`, ..., and their distance `r`.
     #[serde(default, skip_serializing_if = "Option::is_none")]

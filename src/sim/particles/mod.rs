@@ -441,7 +441,7 @@ impl ParticleSim {
                         let user = self.user.as_ref();
                         let mrt = user.map(|u| u.integration_target(&self.ctx, pp.back()));
                         let mrt = mrt.transpose()?.flatten();
-                        let target = mrt.as_ref().unwrap_or(pp.back());
+                        let target = mrt.as_deref().unwrap_or(pp.back());
                         self.pass.draw_rows(p, &t, &[], target, 0, rows)
                     }
                     Some(q) if rows > 0 => self.integrate_separate(q, pp, next, rows),

@@ -1,7 +1,8 @@
 //! Per-particle state of the user's own (`[[state]]`; three.js's
 //! `GPUComputationRenderer.addVariable`, Latta §3.4.2: "other operations can be applied in
 //! separate passes"): one RGBA ping-pong texture per state, one full-screen pass per state and
-//! step after the integration (`glsl/sim/user_state.frag`).
+//! step after the integration (`glsl/sim/user_state.frag`), or with `pass = "integrate"` its
+//! update written by the integration pass itself (`user_state_mrt.rs`).
 //!
 //! Each pass is compiled from a root added at run time: `common/rng.glsl`, the expressions'
 //! inputs (`sim/user_state_inputs.glsl`), a sampler and a macro per state (the state's name reads
@@ -34,6 +35,9 @@ pub(super) struct UserStates {
     /// The states updated in the integration pass (`pass = "integrate"`, `user_state_mrt.rs`):
     /// their own passes draw only the values at the start.
     integrated: Vec<usize>,
+    /// The integration pass's targets made so far, by the framebuffers they view
+    /// (`user_state_mrt.rs`): made once per combination of ping-pong sides, not every step.
+    views: mrt::Views,
 }
 
 /// The sampler state `i` is read from in every pass that reads it.
@@ -312,6 +316,7 @@ impl UserStates {
             programs,
             dump_names,
             integrated: integrated(scene),
+            views: mrt::Views::default(),
         }))
     }
 

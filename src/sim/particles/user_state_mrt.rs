@@ -18,6 +18,7 @@ use crate::error::Result;
 use crate::gl::source::add_runtime_source;
 use crate::gl::{Context, Framebuffer};
 use crate::scene::{SceneFile, StatePassKind, VelocityFormat};
+use std::rc::Rc;
 
 /// The states of `scene` whose update runs in the integration pass.
 pub(in crate::sim::particles) fn integrated(scene: &SceneFile) -> Vec<usize> {
@@ -96,6 +97,13 @@ const HALF: &str = "float user_half(float f) {\n\
     \x20   return uintBitsToFloat(u);\n\
     }\n";
 
+/// Framebuffers over the particles' and the integrated states' textures, kept by the addresses
+/// of the framebuffers they view: the sides of the ping-pongs swap every step (and the states'
+/// more often, with a fluid or collisions carrying them), so a handful of combinations recur.
+/// Making one per step would check its completeness and the GL error every step.
+#[derive(Default)]
+pub(super) struct Views(std::cell::RefCell<Vec<(Vec<usize>, Rc<Framebuffer>)>>);
+
 impl UserStates {
     /// The target of the integration pass when it updates states: the attachments of the
     /// particles' `back`, then each such state's next value; `None` when no state asks.
@@ -103,13 +111,26 @@ impl UserStates {
         &self,
         ctx: &Context,
         back: &Framebuffer,
-    ) -> Result<Option<Framebuffer>> {
+    ) -> Result<Option<Rc<Framebuffer>>> {
         if self.integrated.is_empty() {
             return Ok(None);
         }
         let mut sources: Vec<(&Framebuffer, usize)> =
             (0..back.attachments()).map(|k| (back, k)).collect();
         sources.extend(self.integrated.iter().map(|&i| (self.states[i].back(), 0)));
-        Framebuffer::views(ctx, "integration and user states", &sources).map(Some)
+        let key: Vec<usize> = (sources.iter())
+            .map(|(fb, _)| std::ptr::from_ref(*fb) as usize)
+            .collect();
+        let mut views = self.views.0.borrow_mut();
+        if let Some((_, fb)) = views.iter().find(|(k, _)| *k == key) {
+            return Ok(Some(fb.clone()));
+        }
+        let fb = Rc::new(Framebuffer::views(
+            ctx,
+            "integration and user states",
+            &sources,
+        )?);
+        views.push((key, fb.clone()));
+        Ok(Some(fb))
     }
 }

@@ -157,11 +157,12 @@ impl CollisionStage {
         };
         for (k, pp) in c.states.iter().enumerate() {
             match (staggered, &self.second) {
-                (false, _) => {
-                    (self.first.sorter).gather(&[pp.front().only_texture()], &c.first[k])?
-                }
+                (false, _) => self
+                    .first
+                    .sorted
+                    .gather(&[pp.front().only_texture()], &c.first[k])?,
                 (true, Some(g2)) => g2
-                    .sorter
+                    .sorted
                     .gather(&[c.first[k].only_texture()], &c.second[k])?,
                 (true, None) => {}
             }
@@ -181,7 +182,10 @@ impl CollisionStage {
         }
         let g = &self.first;
         // A field, not `searched()`: the states are borrowed mutably.
-        let cells = (g.search.as_ref()).expect("an exchange needs the exact detection");
+        let cells = g
+            .sorted
+            .search()
+            .expect("an exchange needs the exact detection");
         let names: Vec<String> = (0..c.first.len())
             .map(|k| format!("u_user_state_{k}"))
             .collect();
@@ -193,11 +197,11 @@ impl CollisionStage {
             p.set_f32("u_pair_radius", e.radius);
             p.set_f32("u_dt", self.dt);
             p.set_f32("u_time", c.time);
-            let mut textures: Vec<(&str, Sampled)> = cells.textures(g.sorter.keys());
+            let mut textures: Vec<(&str, Sampled)> = cells.textures(g.sorted.keys());
             textures.extend([
-                ("u_position", g.layout.texture(POSITION).into()),
-                ("u_velocity", g.layout.texture(VELOCITY).into()),
-                ("u_static", g.layout.texture(STATIC).into()),
+                ("u_position", g.sorted.layout().texture(POSITION).into()),
+                ("u_velocity", g.sorted.layout().texture(VELOCITY).into()),
+                ("u_static", g.sorted.layout().texture(STATIC).into()),
             ]);
             textures.extend(
                 (names.iter().map(String::as_str))

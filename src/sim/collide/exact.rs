@@ -34,7 +34,10 @@ impl CollisionStage {
             };
             let g = &self.first;
             // A field, not `searched()`: the read-backs are pushed while it is held.
-            let cells = (g.search.as_ref()).expect("the exact detection builds the search");
+            let cells = g
+                .sorted
+                .search()
+                .expect("the exact detection builds the search");
             let entries = (self.width * state.height()) as i32;
             let search = |p: &Program| {
                 cells.set_uniforms(p);
@@ -42,10 +45,10 @@ impl CollisionStage {
             };
             count.bind();
             search(count);
-            let mut textures = cells.textures(g.sorter.keys());
+            let mut textures = cells.textures(g.sorted.keys());
             textures.extend([
-                ("u_position", g.layout.texture(POSITION).into()),
-                ("u_velocity", g.layout.texture(VELOCITY).into()),
+                ("u_position", g.sorted.layout().texture(POSITION).into()),
+                ("u_velocity", g.sorted.layout().texture(VELOCITY).into()),
             ]);
             self.pass.draw(count, &textures, &[], counts);
             if let Some(t) = &self.tally {
@@ -53,8 +56,8 @@ impl CollisionStage {
             }
             if self.record {
                 self.recorded.push(Readback {
-                    positions: g.layout.texture(POSITION).read_f32()?,
-                    velocities: g.layout.texture(VELOCITY).read_f32()?,
+                    positions: g.sorted.layout().texture(POSITION).read_f32()?,
+                    velocities: g.sorted.layout().texture(VELOCITY).read_f32()?,
                     partners: counts.only_texture().read_f32()?,
                 });
             }
@@ -62,11 +65,11 @@ impl CollisionStage {
             p.bind();
             set_response_constants(p);
             search(p);
-            let mut textures: Vec<(&str, Sampled)> = cells.textures(g.sorter.keys());
+            let mut textures: Vec<(&str, Sampled)> = cells.textures(g.sorted.keys());
             textures.extend([
-                ("u_position", g.layout.texture(POSITION).into()),
-                ("u_velocity", g.layout.texture(VELOCITY).into()),
-                ("u_static", g.layout.texture(STATIC).into()),
+                ("u_position", g.sorted.layout().texture(POSITION).into()),
+                ("u_velocity", g.sorted.layout().texture(VELOCITY).into()),
+                ("u_static", g.sorted.layout().texture(STATIC).into()),
                 ("u_counts", counts.only_texture().into()),
             ]);
             if let Some(s) = &g.spin {
@@ -77,7 +80,7 @@ impl CollisionStage {
             p.set_f32("u_dt", dt);
             self.pass.draw(p, &textures, &[], state.back());
             state.swap();
-            self.copy_statics(&self.first.layout, statics);
+            self.copy_statics(self.first.sorted.layout(), statics);
             self.carry_back(false);
         }
         Ok(())
@@ -86,7 +89,10 @@ impl CollisionStage {
     /// The first lattice's search, which the exact mode, the neighbour forces and the exchanges
     /// read (built with the stage whenever the detection is exact, which all of them need).
     pub(super) fn searched(&self) -> &super::cells::CellSearch {
-        (self.first.search.as_ref()).expect("the exact detection builds the search")
+        self.first
+            .sorted
+            .search()
+            .expect("the exact detection builds the search")
     }
 
     /// Whether the exact mode reads back every iteration's detection (`recorded`

@@ -33,12 +33,13 @@ use crate::gl::{
 };
 use crate::scene::{self, SceneFile};
 use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
-use crate::sort::{SortOptions, Sorter};
+use crate::sort::SortOptions;
 
 mod carry;
 pub mod cells;
 mod census;
 mod exact;
+pub mod grid;
 mod neighbours;
 mod pass_list;
 pub(crate) mod tally;
@@ -56,20 +57,16 @@ const FIRST_PARTNER: Attachment = Attachment::named("first partner");
 /// Most neighbours per side the detection loop is compiled for.
 pub const MAX_NEIGHBOURS: u32 = 32;
 
-/// One lattice's sort, gathered state and detection output.
+/// One lattice's sorted grid and detection output.
 #[derive(Debug)]
 struct Grid {
-    lattice: Lattice,
-    sorter: Sorter,
-    /// The state in this lattice's sorted order: position, velocity, static (and, for the
-    /// staggered lattice, the first lattice's detection, gathered along).
-    layout: Framebuffer,
+    /// The lattice, its sort, the state in its sorted order (position, velocity, static and, for
+    /// the staggered lattice, the first lattice's detection, gathered along) and its search.
+    sorted: grid::SortedGrid,
     /// Detection output after the mutual check: (partner or -1, distance, mutual, raw partner).
     partner: Framebuffer,
     /// Spinning spheres: the spin (angular velocity, angle) in this lattice's sorted order.
     spin: Option<Framebuffer>,
-    /// The exact detection's search of the first lattice, with its cell-start table.
-    search: Option<cells::CellSearch>,
 }
 
 /// The collision stage of a scene.
@@ -193,21 +190,7 @@ impl Grid {
                  to 2^24: use a larger cell or smaller bounds"
             )));
         }
-        let [w, h] = size;
         let name = if staggered { "staggered" } else { "lattice" };
-        let rgba =
-            |what: &str| texture(ctx, &format!("{name} {what}"), w, h, TextureFormat::Rgba32F);
-        let mut layout = vec![
-            (POSITION, rgba("position")?),
-            (
-                VELOCITY,
-                texture(ctx, &format!("{name} velocity"), w, h, velocity_format)?,
-            ),
-            (STATIC, rgba("static")?),
-        ];
-        if staggered {
-            layout.push((FIRST_PARTNER, rgba("first partner")?));
-        }
         // The spin in a framebuffer of its own: a gather takes at most four textures.
         let spin = match config.spin {
             true => Some(single_target(ctx, &format!("{name} spin"), size)?),
@@ -218,21 +201,21 @@ impl Grid {
             rows: if exact { None } else { config.rows_only },
             ..Default::default()
         };
-        let search = match exact && !staggered {
-            true => Some(cells::CellSearch::new(
-                ctx,
-                lattice,
-                size,
-                config.sort.variant().packed(),
-            )?),
-            false => None,
+        let spec = grid::GridSpec {
+            variant: config.sort.variant(),
+            options,
+            name,
+            velocity_format,
+            extra: if staggered {
+                &[(FIRST_PARTNER, "first partner")]
+            } else {
+                &[]
+            },
+            searched: exact && !staggered,
         };
         Ok(Grid {
-            lattice,
+            sorted: grid::SortedGrid::new(ctx, lattice, size, spec)?,
             spin,
-            search,
-            sorter: Sorter::new(ctx, config.sort.variant(), w, h, options)?,
-            layout: Framebuffer::named(ctx, &format!("{name} layout"), layout)?,
             partner: single_target(ctx, &format!("{name} partner"), size)?,
         })
     }
@@ -320,19 +303,23 @@ impl CollisionStage {
 
     /// The first lattice and, with the staggered grid, the second.
     pub fn lattices(&self) -> (Lattice, Option<Lattice>) {
-        (self.first.lattice, self.second.as_ref().map(|g| g.lattice))
+        (
+            self.first.sorted.lattice(),
+            self.second.as_ref().map(|g| g.sorted.lattice()),
+        )
     }
 
     /// The exact detection's search of the first lattice (`None` in UberFlow's mode).
     pub fn search(&self) -> Option<&cells::CellSearch> {
-        self.first.search.as_ref()
+        self.first.sorted.search()
     }
 
     /// The sorted keys the last search read (`None` in UberFlow's mode).
     pub fn read_sorted_keys(&self) -> Result<Option<Vec<f32>>> {
         let g = &self.first;
-        (g.search.as_ref())
-            .map(|s| s.read_keys(g.sorter.keys()))
+        g.sorted
+            .search()
+            .map(|s| s.read_keys(g.sorted.keys()))
             .transpose()
     }
 
@@ -371,22 +358,17 @@ impl CollisionStage {
         let count = self.width as usize * state.height() as usize;
         let front = state.front();
         let g = &mut self.first;
-        g.sorter
-            .write_keys(front.texture(POSITION), count, &g.lattice.mode(), true)?;
-        g.sorter.sort();
-        g.sorter.gather(
+        g.sorted.sort(
+            &self.pass,
+            count,
             &[
                 front.texture(POSITION),
                 front.texture(VELOCITY),
                 statics.texture(STATIC),
             ],
-            &g.layout,
         )?;
-        if let Some(s) = &g.search {
-            s.build(&self.pass, g.sorter.keys());
-        }
         if let Some(spin) = &g.spin {
-            g.sorter.gather(&[front.texture(SPIN)], spin)?;
+            g.sorted.gather(&[front.texture(SPIN)], spin)?;
         }
         self.gather_states(false)
     }
@@ -428,15 +410,18 @@ impl CollisionStage {
         let count = self.width as usize * state.height() as usize;
         self.sort_first(state, statics)?;
         self.exchange(&set_response_constants);
-        self.detect_into(self.first.layout.texture(POSITION), &self.first.partner);
+        self.detect_into(
+            self.first.sorted.layout().texture(POSITION),
+            &self.first.partner,
+        );
         self.sort_second(count)?;
         if let Some(g2) = &self.second {
-            self.detect_into(g2.layout.texture(POSITION), &g2.partner);
+            self.detect_into(g2.sorted.layout().texture(POSITION), &g2.partner);
         }
         // Response in the last layout.
         let (own, partner) = match &self.second {
-            Some(g2) => (&g2.layout, &g2.partner),
-            None => (&self.first.layout, &self.first.partner),
+            Some(g2) => (g2.sorted.layout(), &g2.partner),
+            None => (self.first.sorted.layout(), &self.first.partner),
         };
         let Passes::Uberflow { response: p, .. } = &self.passes else {
             unreachable!("the exact mode returned above");
@@ -459,21 +444,19 @@ impl CollisionStage {
     /// the gather of that layout with the first detection along.
     fn sort_second(&mut self, count: usize) -> Result<()> {
         if let Some(g2) = &mut self.second {
-            let a = &self.first.layout;
-            g2.sorter
-                .write_keys(a.texture(POSITION), count, &g2.lattice.mode(), true)?;
-            g2.sorter.sort();
-            g2.sorter.gather(
+            let a = self.first.sorted.layout();
+            g2.sorted.sort(
+                &self.pass,
+                count,
                 &[
                     a.texture(POSITION),
                     a.texture(VELOCITY),
                     a.texture(STATIC),
                     self.first.partner.only_texture(),
                 ],
-                &g2.layout,
             )?;
             if let (Some(from), Some(to)) = (&self.first.spin, &g2.spin) {
-                g2.sorter.gather(&[from.only_texture()], to)?;
+                g2.sorted.gather(&[from.only_texture()], to)?;
             }
         }
         self.gather_states(true)
@@ -498,7 +481,7 @@ impl CollisionStage {
             ("u_partner", partner.only_texture().into()),
         ];
         if self.second.is_some() {
-            let a = &self.first.layout;
+            let a = self.first.sorted.layout();
             textures.extend([
                 ("u_partner2", own.texture(FIRST_PARTNER).into()),
                 ("u_position2", a.texture(POSITION).into()),
@@ -537,8 +520,8 @@ impl CollisionStage {
                 (Passes::Uberflow { .. }, None) => g.partner.only_texture().read_f32()?,
             };
             Ok(Readback {
-                positions: g.layout.texture(POSITION).read_f32()?,
-                velocities: g.layout.texture(VELOCITY).read_f32()?,
+                positions: g.sorted.layout().texture(POSITION).read_f32()?,
+                velocities: g.sorted.layout().texture(VELOCITY).read_f32()?,
                 partners,
             })
         })

@@ -238,9 +238,9 @@ impl CollisionStage {
         let g = &self.first;
         let cells = self.searched();
         let own = [
-            ("u_position", g.layout.texture(POSITION).into()),
-            ("u_velocity", g.layout.texture(VELOCITY).into()),
-            ("u_static", g.layout.texture(STATIC).into()),
+            ("u_position", g.sorted.layout().texture(POSITION).into()),
+            ("u_velocity", g.sorted.layout().texture(VELOCITY).into()),
+            ("u_static", g.sorted.layout().texture(STATIC).into()),
         ];
         let p = &n.sum;
         p.bind();
@@ -254,7 +254,7 @@ impl CollisionStage {
             );
         }
         p.optional(|| p.set_vec4("u_pair_radius", glam::Vec4::from(n.pair_radius)));
-        let mut textures: Vec<(&str, Sampled)> = cells.textures(g.sorter.keys());
+        let mut textures: Vec<(&str, Sampled)> = cells.textures(g.sorted.keys());
         textures.extend(own.iter().copied());
         // A pair force may sample the fields (sim/fields.glsl), as a custom force may.
         textures.extend(fields.iter().filter(|(name, _)| p.declares(name)).copied());
@@ -267,7 +267,7 @@ impl CollisionStage {
         textures.push(("u_force", n.force.only_texture().into()));
         self.pass.draw(a, &textures, &[], state.back());
         state.swap();
-        self.copy_statics(&self.first.layout, statics);
+        self.copy_statics(self.first.sorted.layout(), statics);
         self.carry_back(false);
         Ok(())
     }
@@ -278,7 +278,7 @@ impl CollisionStage {
         let Some(n) = &self.neighbours else {
             return Ok(None);
         };
-        let l = &self.first.layout;
+        let l = self.first.sorted.layout();
         Ok(Some(NeighbourReadback {
             positions: l.texture(POSITION).read_f32()?,
             velocities: l.texture(VELOCITY).read_f32()?,

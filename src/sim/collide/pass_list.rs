@@ -8,23 +8,17 @@ use crate::sort::Sorter;
 
 /// A lattice's keys, sort and gather, `times` times.
 fn sort_draws(out: &mut Vec<PassDraw>, g: &Grid, times: u64) {
-    out.push(PassDraw::new(
-        "collision keys",
-        Sorter::keys_program(),
-        times,
-    ));
-    for (program, n) in g.sorter.network_draws() {
-        out.push(PassDraw::new("collision sort", program, n * times));
-    }
-    out.push(PassDraw::new("gather", Sorter::gather_program(), times));
+    out.extend(
+        g.sorted
+            .sort_draws("collision keys", "collision sort", times),
+    );
 }
 
 impl CollisionStage {
     /// The draws of one step, in the order of the stage's pass lines.
     pub(crate) fn pass_draws(&self) -> Vec<PassDraw> {
         let mut out = Vec::new();
-        let table =
-            |times| (self.first.search.as_ref()).and_then(|s| s.pass_draw("cell start", times));
+        let table = |times| self.first.sorted.table_draw("cell start", times);
         if let Some(n) = &self.neighbours {
             sort_draws(&mut out, &self.first, 1);
             out.extend(table(1));

@@ -37,10 +37,11 @@ use crate::gl::{
 };
 use crate::scene::{self, SceneFile};
 use crate::sim::collide::cells::{search_defines, search_words, table_line, CellSearch};
+use crate::sim::collide::grid::{GridSpec, SortedGrid};
 use crate::sim::collide::tally::TruncationTally;
 use crate::sim::collide::Lattice;
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
-use crate::sort::{KeyMode, SortOptions, Sorter, Variant};
+use crate::sort::{SortOptions, Variant};
 
 pub use resort::{
     coherent_block, coherent_network, merge_steps, out_of_order, resort_passes, MergeStep,
@@ -56,15 +57,13 @@ pub const FLUID_SCAN: u32 = 128;
 #[derive(Debug)]
 pub struct Fluid {
     config: scene::Fluid,
-    /// The lattice of cell 2h, searched with the cell-start table where it fits.
-    search: CellSearch,
-    sorter: Sorter,
+    /// The lattice of cell 2h, its sort, the state in cell order (position, velocity, static)
+    /// and its search, with the cell-start table where it fits.
+    grid: SortedGrid,
     /// `resort = "coherent"`: the cheap network, its check and counts.
     coherent: Option<resort::CoherentSort>,
     /// Whether the last step's order came from the coherent network (else the full sort).
     coherent_last: bool,
-    /// The state in cell order: position, velocity, static.
-    layout: Framebuffer,
     /// (density, pressure, neighbours within 2h, truncated search) in cell order.
     density: Framebuffer,
     density_pass: Program,
@@ -128,12 +127,8 @@ impl Fluid {
     /// built.
     pub(crate) fn pass_draws(&self) -> Vec<crate::gl::PassDraw> {
         use crate::gl::PassDraw;
-        let mut out = vec![PassDraw::new("fluid keys", Sorter::keys_program(), 1)];
-        for (program, n) in self.sorter.network_draws() {
-            out.push(PassDraw::new("fluid sort", program, n));
-        }
-        out.extend([PassDraw::new("gather", Sorter::gather_program(), 1)]);
-        out.extend(self.search.pass_draw("fluid cell start", 1));
+        let mut out = self.grid.sort_draws("fluid keys", "fluid sort", 1);
+        out.extend(self.grid.table_draw("fluid cell start", 1));
         out.extend([
             PassDraw::of("fluid density", &self.density_pass, 1),
             PassDraw::of("fluid force", &self.force_pass, 1),
@@ -178,39 +173,25 @@ impl Fluid {
             d.push(("WALLS".into(), "1".into()));
         }
         let program = |f: &str| Program::new(ctx, FULLSCREEN_VERTEX, f, &d);
-        let layout = vec![
-            (
-                POSITION,
-                texture(ctx, "fluid position", size, TextureFormat::Rgba32F)?,
-            ),
-            (
-                VELOCITY,
-                texture(ctx, "fluid velocity", size, velocity_format)?,
-            ),
-            (
-                STATIC,
-                texture(ctx, "fluid static", size, TextureFormat::Rgba32F)?,
-            ),
-        ];
         let density = texture(ctx, "fluid density", size, TextureFormat::Rgba32F)?;
         let gravity =
             (scene.forces.gravity.iter()).fold(Vec3::ZERO, |a, g| a + Vec3::from(g.acceleration));
-        Ok(Fluid {
-            search: CellSearch::new(ctx, lattice, size, false)?,
+        let spec = GridSpec {
             // Our blocked network with exact (key, id) entries, one per texel: the layout
             // `glsl/collide/cells.glsl` searches without `PACKED_KEYS`.
-            sorter: Sorter::new(
-                ctx,
-                Variant::Blocked,
-                size[0],
-                size[1],
-                SortOptions::default(),
-            )?,
+            variant: Variant::Blocked,
+            options: SortOptions::default(),
+            name: "fluid",
+            velocity_format,
+            extra: &[],
+            searched: true,
+        };
+        Ok(Fluid {
+            grid: SortedGrid::new(ctx, lattice, size, spec)?,
             coherent: coherent_block(&config, size)
                 .map(|m| resort::CoherentSort::new(ctx, size, m))
                 .transpose()?,
             coherent_last: false,
-            layout: Framebuffer::named(ctx, "fluid layout", layout)?,
             density: Framebuffer::new(ctx, "fluid density", vec![density])?,
             density_pass: program("fluid/density.frag")?,
             force_pass: program("fluid/force.frag")?,
@@ -231,12 +212,12 @@ impl Fluid {
 
     /// The neighbour lattice (cell 2h).
     pub fn lattice(&self) -> Lattice {
-        self.search.lattice()
+        self.grid.lattice()
     }
 
     /// The neighbour search, with its cell-start table where the lattice fits one.
     pub fn search(&self) -> &CellSearch {
-        &self.search
+        self.grid.search().expect("the fluid builds its search")
     }
 
     /// Places every particle on the lattice of its initial box emitter (`glsl/fluid/lattice.frag`)
@@ -273,7 +254,7 @@ impl Fluid {
     fn set_material(&self, p: &Program) {
         let f = &self.config;
         p.optional(|| {
-            self.search.set_uniforms(p);
+            self.search().set_uniforms(p);
             p.set_f32("u_h", f.h());
             p.set_f32("u_mass", f.mass());
             p.set_f32("u_rest_density", f.rest_density);
@@ -297,39 +278,30 @@ impl Fluid {
     ) -> Result<()> {
         let count = self.width as usize * state.height() as usize;
         let front = state.front();
-        let lattice = self.search.lattice();
-        let mode = KeyMode::GridCell {
-            origin: lattice.origin,
-            spacing: lattice.spacing,
-            dims: lattice.dims,
-        };
         let coherent = match &mut self.coherent {
-            Some(c) => c.try_sort(front.texture(POSITION), count, &mode)?,
+            Some(c) => c.try_sort(front.texture(POSITION), count, &self.grid.mode())?,
             None => false,
         };
         if !coherent {
-            self.sorter
-                .write_keys(front.texture(POSITION), count, &mode, true)?;
-            self.sorter.sort();
+            self.grid.sort_keys(front.texture(POSITION), count)?;
         }
         self.coherent_last = coherent;
         let keys = self.sorted_keys();
-        self.sorter.gather_by(
+        self.grid.gather_by(
+            &self.pass,
             keys,
             &[
                 front.texture(POSITION),
                 front.texture(VELOCITY),
                 statics.texture(STATIC),
             ],
-            &self.layout,
         )?;
-        self.search.build(&self.pass, keys);
-        let l = &self.layout;
+        let l = self.grid.layout();
         let p = &self.density_pass;
         set_constants(p);
         p.bind();
         self.set_material(p);
-        let mut textures = self.search.textures(keys);
+        let mut textures = self.search().textures(keys);
         textures.push(("u_position", l.texture(POSITION).into()));
         self.pass.draw(p, &textures, &[], &self.density);
         self.tally.add_flags(self.density.only_texture(), 3, count);
@@ -338,7 +310,7 @@ impl Fluid {
         p.bind();
         self.set_material(p);
         p.set_f32("u_dt", dt);
-        let mut textures = self.search.textures(keys);
+        let mut textures = self.search().textures(keys);
         textures.extend([
             ("u_position", l.texture(POSITION).into()),
             ("u_velocity", l.texture(VELOCITY).into()),
@@ -357,19 +329,19 @@ impl Fluid {
     pub(crate) fn sorted_keys(&self) -> &Texture {
         match &self.coherent {
             Some(c) if self.coherent_last => c.keys(),
-            _ => self.sorter.keys(),
+            _ => self.grid.keys(),
         }
     }
 
     /// The last step's position, velocity and static in cell order.
     pub(crate) fn layout(&self) -> &Framebuffer {
-        &self.layout
+        self.grid.layout()
     }
 
     /// Gathers `sources` (textures of the state's layout) in the last step's cell order into
     /// `dest`: the user states follow their particles (src/sim/particles/fluid.rs).
     pub(crate) fn gather_sorted(&self, sources: &[&Texture], dest: &Framebuffer) -> Result<()> {
-        self.sorter.gather_by(self.sorted_keys(), sources, dest)
+        (self.grid).gather_extra_by(self.sorted_keys(), sources, dest)
     }
 
     /// Searches that walked a run of three cells past [`FLUID_SCAN`] particles (and so may have
@@ -387,7 +359,7 @@ impl Fluid {
 
     /// The last step's gathered layout and density pass, read back (all in cell order).
     pub fn read_back(&self) -> Result<FluidReadback> {
-        let l = &self.layout;
+        let l = self.grid.layout();
         Ok(FluidReadback {
             positions: l.texture(POSITION).read_f32()?,
             velocities: l.texture(VELOCITY).read_f32()?,

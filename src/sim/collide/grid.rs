@@ -1,0 +1,171 @@
+//! One owner of a cell-sorted state ([`SortedGrid`]): the lattice, its key pass
+//! (`KeyMode::GridCell`), the sorter, the layout the state is gathered into and the search of the
+//! sorted keys ([`CellSearch`], with its cell-start table where the lattice fits one). The
+//! collision stage's lattices and the fluid each hold one, so the key, sort, gather and table
+//! steps are written once.
+
+use crate::error::Result;
+use crate::gl::{
+    Attachment, Context, Framebuffer, FullscreenPass, PassDraw, Texture, TextureDesc, TextureFormat,
+};
+use crate::sim::collide::cells::{CellSearch, Lattice};
+use crate::sim::state::{POSITION, STATIC, VELOCITY};
+use crate::sort::{KeyMode, SortOptions, Sorter, Variant};
+
+/// A lattice, its sort and the state gathered in its order, with its search where one reads it.
+#[derive(Debug)]
+pub struct SortedGrid {
+    lattice: Lattice,
+    sorter: Sorter,
+    /// The state in sorted order (position, velocity, static and what the owner adds).
+    layout: Framebuffer,
+    search: Option<CellSearch>,
+}
+
+/// How a [`SortedGrid`] sorts and what its layout holds.
+#[derive(Debug)]
+pub struct GridSpec<'a> {
+    /// The network: the collision stage's (maybe packed), or the fluid's blocked one.
+    pub variant: Variant,
+    /// The sorter's options.
+    pub options: SortOptions,
+    /// The labels' prefix (`lattice`, `staggered`, `fluid`): `{name} position`, …,
+    /// `{name} layout`.
+    pub name: &'a str,
+    /// The velocity texture's format (the simulation's).
+    pub velocity_format: TextureFormat,
+    /// Further RGBA32F textures of the layout, gathered after position, velocity and static.
+    pub extra: &'a [(Attachment, &'a str)],
+    /// Whether a search of the sorted keys reads this lattice (builds the [`CellSearch`]).
+    pub searched: bool,
+}
+
+impl SortedGrid {
+    /// The grid of `lattice` over a `size` state.
+    pub fn new(ctx: &Context, lattice: Lattice, size: [u32; 2], spec: GridSpec) -> Result<Self> {
+        let [w, h] = size;
+        let name = spec.name;
+        let texture = |what: &str, format| {
+            let label = &format!("{name} {what}");
+            Texture::new(
+                ctx,
+                TextureDesc {
+                    width: w,
+                    height: h,
+                    format,
+                    label,
+                },
+            )
+        };
+        let rgba = TextureFormat::Rgba32F;
+        let mut layout = vec![
+            (POSITION, texture("position", rgba)?),
+            (VELOCITY, texture("velocity", spec.velocity_format)?),
+            (STATIC, texture("static", rgba)?),
+        ];
+        for &(a, what) in spec.extra {
+            layout.push((a, texture(what, rgba)?));
+        }
+        let search = match spec.searched {
+            true => Some(CellSearch::new(ctx, lattice, size, spec.variant.packed())?),
+            false => None,
+        };
+        Ok(SortedGrid {
+            lattice,
+            sorter: Sorter::new(ctx, spec.variant, w, h, spec.options)?,
+            layout: Framebuffer::named(ctx, &format!("{name} layout"), layout)?,
+            search,
+        })
+    }
+
+    /// The key pass's mode: the cell index in the lattice.
+    pub fn mode(&self) -> KeyMode {
+        self.lattice.mode()
+    }
+
+    /// Keys of `positions` (the first `count` entries) on the lattice and the full sort.
+    pub fn sort_keys(&mut self, positions: &Texture, count: usize) -> Result<()> {
+        self.sorter
+            .write_keys(positions, count, &self.lattice.mode(), true)?;
+        self.sorter.sort();
+        Ok(())
+    }
+
+    /// Keys, sort, the gather of `sources` (as many as the layout holds; the first the
+    /// positions) into the layout and the cell-start table.
+    pub fn sort(
+        &mut self,
+        pass: &FullscreenPass,
+        count: usize,
+        sources: &[&Texture],
+    ) -> Result<()> {
+        self.sort_keys(sources[0], count)?;
+        self.gather_by(pass, self.sorter.keys(), sources)
+    }
+
+    /// The gather of `sources` into the layout in the order of `keys` (this grid's sorted keys,
+    /// or entries of its layout sorted elsewhere), then the cell-start table of `keys`.
+    pub fn gather_by(
+        &self,
+        pass: &FullscreenPass,
+        keys: &Texture,
+        sources: &[&Texture],
+    ) -> Result<()> {
+        self.sorter.gather_by(keys, sources, &self.layout)?;
+        if let Some(s) = &self.search {
+            s.build(pass, keys);
+        }
+        Ok(())
+    }
+
+    /// Gathers further textures (spin, user states) in the order of the last sort into `dest`.
+    pub fn gather(&self, sources: &[&Texture], dest: &Framebuffer) -> Result<()> {
+        self.sorter.gather(sources, dest)
+    }
+
+    /// Gathers `sources` in the order of `keys` into `dest`.
+    pub fn gather_extra_by(
+        &self,
+        keys: &Texture,
+        sources: &[&Texture],
+        dest: &Framebuffer,
+    ) -> Result<()> {
+        self.sorter.gather_by(keys, sources, dest)
+    }
+
+    /// The lattice.
+    pub fn lattice(&self) -> Lattice {
+        self.lattice
+    }
+
+    /// The sorted keys of the last full sort.
+    pub fn keys(&self) -> &Texture {
+        self.sorter.keys()
+    }
+
+    /// The state in the last sorted order.
+    pub fn layout(&self) -> &Framebuffer {
+        &self.layout
+    }
+
+    /// The search of the sorted keys, if this grid has one.
+    pub fn search(&self) -> Option<&CellSearch> {
+        self.search.as_ref()
+    }
+
+    /// The draws of the key pass, the sort and the gather, `times` a step, under the pass list
+    /// lines `keys` and `sort` (the gather's is `gather`).
+    pub fn sort_draws(&self, keys: &str, sort: &str, times: u64) -> Vec<PassDraw> {
+        let mut out = vec![PassDraw::new(keys, Sorter::keys_program(), times)];
+        for (program, n) in self.sorter.network_draws() {
+            out.push(PassDraw::new(sort, program, n * times));
+        }
+        out.push(PassDraw::new("gather", Sorter::gather_program(), times));
+        out
+    }
+
+    /// The table pass's draws, `times` a step, under the line `line` (none without a table).
+    pub fn table_draw(&self, line: &str, times: u64) -> Option<PassDraw> {
+        self.search.as_ref().and_then(|s| s.pass_draw(line, times))
+    }
+}

@@ -65,27 +65,52 @@ fn slot<T: CurveValue>(v: &Animated<T>) -> Slot {
     s
 }
 
-/// Sets the curves of every type's sprite scale and tint on `p` (bound).
-pub(super) fn set_birth_curves(p: &Program, types: &[TypeLook; 4]) {
-    let slots: Vec<Slot> = types
-        .iter()
-        .flat_map(|t| [slot(&t.sprite_scale()), slot(&t.tint)])
-        .collect();
-    let vec4s = |f: &dyn Fn(&Slot) -> [f32; 4]| -> Vec<Vec4> {
-        slots.iter().map(|s| Vec4::from_array(f(s))).collect()
-    };
-    p.set_vec4_array("u_curve_time", &vec4s(&|s| s.time));
-    let values: Vec<Vec4> = (slots.iter())
-        .flat_map(|s| s.values.map(Vec4::from_array))
-        .collect();
-    p.set_vec4_array("u_curve_value", &values);
-    p.set_vec4_array("u_curve_form", &vec4s(&|s| s.form));
-    p.set_vec4_array("u_curve_periodic", &vec4s(&|s| s.periodic));
-    p.set_vec4_array("u_curve_noise", &vec4s(&|s| s.noise));
-    let frequency: Vec<Vec4> = (slots.chunks(4))
-        .map(|c| Vec4::from_array(std::array::from_fn(|i| c[i].frequency)))
-        .collect();
-    p.set_vec4_array("u_curve_frequency", &frequency);
-    let seeds: Vec<[i32; 4]> = slots.iter().map(|s| s.seed).collect();
-    p.set_ivec4_array("u_curve_seed", &seeds);
+/// Every type's sprite scale and tint curves in the shader's form: the uniforms
+/// `u_curve_*`, one slot per type and curve (scale, then tint).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BirthCurves {
+    time: Vec<Vec4>,
+    value: Vec<Vec4>,
+    form: Vec<Vec4>,
+    periodic: Vec<Vec4>,
+    noise: Vec<Vec4>,
+    frequency: Vec<Vec4>,
+    seed: Vec<[i32; 4]>,
+}
+
+impl BirthCurves {
+    /// The curves of `types`.
+    pub(super) fn of(types: &[TypeLook; 4]) -> Self {
+        let slots: Vec<Slot> = types
+            .iter()
+            .flat_map(|t| [slot(&t.sprite_scale()), slot(&t.tint)])
+            .collect();
+        let vec4s = |f: &dyn Fn(&Slot) -> [f32; 4]| -> Vec<Vec4> {
+            slots.iter().map(|s| Vec4::from_array(f(s))).collect()
+        };
+        BirthCurves {
+            time: vec4s(&|s| s.time),
+            value: (slots.iter())
+                .flat_map(|s| s.values.map(Vec4::from_array))
+                .collect(),
+            form: vec4s(&|s| s.form),
+            periodic: vec4s(&|s| s.periodic),
+            noise: vec4s(&|s| s.noise),
+            frequency: (slots.chunks(4))
+                .map(|c| Vec4::from_array(std::array::from_fn(|i| c[i].frequency)))
+                .collect(),
+            seed: slots.iter().map(|s| s.seed).collect(),
+        }
+    }
+
+    /// Sets the curves on `p` (bound).
+    pub(super) fn set(&self, p: &Program) {
+        p.set_vec4_array("u_curve_time", &self.time);
+        p.set_vec4_array("u_curve_value", &self.value);
+        p.set_vec4_array("u_curve_form", &self.form);
+        p.set_vec4_array("u_curve_periodic", &self.periodic);
+        p.set_vec4_array("u_curve_noise", &self.noise);
+        p.set_vec4_array("u_curve_frequency", &self.frequency);
+        p.set_ivec4_array("u_curve_seed", &self.seed);
+    }
 }

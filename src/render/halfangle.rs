@@ -14,7 +14,7 @@
 
 use glam::{Mat4, Vec3};
 
-use super::{Camera, FrameState, FrameTarget, ParticleStyle};
+use super::{Camera, FrameState, FrameTarget, ParticleStyle, RenderParams};
 use crate::error::{Error, Result};
 use crate::gl::{
     Blend, BlendComponent, BlendFactor, Context, Defines, Depth, Draw, DrawState, Framebuffer,
@@ -67,6 +67,8 @@ pub fn light_view(direction: Vec3, centre: Vec3, extent: f32) -> Mat4 {
 pub struct HalfAngleRenderer {
     ctx: Context,
     style: ParticleStyle,
+    /// The numbers its uniforms carry, packed once from the style.
+    params: RenderParams,
     light: LightSection,
     slices: u32,
     extent: f32,
@@ -147,6 +149,7 @@ impl HalfAngleRenderer {
         )?;
         Ok(HalfAngleRenderer {
             ctx: ctx.clone(),
+            params: RenderParams::of(&style),
             style,
             light: light.clone(),
             slices,
@@ -241,14 +244,14 @@ impl HalfAngleRenderer {
         passes: SlicePasses,
     ) -> Result<()> {
         let half = HalfAngle::of(camera, &self.light);
-        let s = &self.style;
+        let b = &self.params;
         if passes != SlicePasses::Eye {
             self.buffer.clear([1.0; 4]);
         }
         let under = half.front_to_back;
         if passes != SlicePasses::Light {
-            let [r, g, b] = s.background;
-            target.clear_to(if under { [0.0; 4] } else { [r, g, b, 1.0] });
+            let opaque = b.background.extend(1.0).to_array();
+            target.clear_to(if under { [0.0; 4] } else { opaque });
         }
         self.set_uniforms(target, state, camera, atlas)?;
         self.eye.bind();
@@ -290,11 +293,11 @@ impl HalfAngleRenderer {
             first += n;
         }
         if under && passes != SlicePasses::Light {
-            let b = &self.background;
-            b.bind();
-            b.set_vec3("u_background", Vec3::from_array(s.background));
+            let bg = &self.background;
+            bg.bind();
+            bg.set_vec3("u_background", b.background);
             self.ctx.draw(&Draw {
-                program: b,
+                program: bg,
                 target: target.framebuffer(),
                 viewport: None,
                 vertices: &self.empty,
@@ -350,7 +353,7 @@ impl HalfAngleRenderer {
         if self.style.mode == DrawMode::Sprites && atlas.is_none() {
             return Err(Error::InvalidInput("lit sprites need the atlas".into()));
         }
-        let s = &self.style;
+        let b = &self.params;
         let (w, h) = (target.width() as f32, target.height() as f32);
         let view = camera.view();
         let light_view = self.light_view(camera);
@@ -364,12 +367,11 @@ impl HalfAngleRenderer {
             p.set_vec3("u_camera_up", view.row(1).truncate());
             p.set_mat4("u_light_view", &light_view);
             p.set_f32("u_light_scale", 1.0 / self.extent);
-            p.set_f32("u_point_size", s.point_size);
-            p.set_f32("u_intensity", s.intensity);
+            b.set_size(p);
             p.set_f32("u_density", self.light.density);
             p.set_f32("u_time", state.time);
-            s.set_types(p);
-            s.set_keyframes(p);
+            b.set_types(p);
+            b.set_keyframes(p);
             if !light_pass {
                 let l = &self.light;
                 p.set_vec3("u_light_colour", Vec3::from_array(l.colour));

@@ -9,6 +9,7 @@ mod halfangle;
 mod isosurface;
 mod keyframes;
 mod lookup;
+mod params;
 mod particles;
 pub mod ribbons;
 mod soft;
@@ -25,6 +26,7 @@ pub use halfangle::{light_view, HalfAngle, HalfAngleRenderer, SlicePasses};
 pub use isosurface::Surface;
 pub use keyframes::{relative_age, KeyframeRamp};
 pub use lookup::SortLayout;
+pub use params::RenderParams;
 pub use particles::{FrameState, Motion, ParticleRenderer, QUAD_VERTICES};
 pub use ribbons::RibbonRenderer;
 pub use sprite::{

@@ -20,7 +20,9 @@ use super::atlas;
 // The pass list, in the papers' words, beside the code that draws it.
 mod names;
 use super::vertex_path::{vertex_path, VertexPath};
-use super::{Camera, ConnectedRenderer, FrameTarget, GeometryRenderer, ParticleStyle};
+use super::{
+    Camera, ConnectedRenderer, FrameTarget, GeometryRenderer, ParticleStyle, RenderParams,
+};
 use crate::error::{Error, Result};
 use crate::gl::{
     Blend, BlendComponent, BlendFactor, Context, Defines, Depth, Draw, DrawState, Primitive,
@@ -88,6 +90,8 @@ pub struct FrameState<'a> {
 pub struct ParticleRenderer {
     ctx: Context,
     style: ParticleStyle,
+    /// The numbers its uniforms carry ([`RenderParams::of`] the style).
+    params: RenderParams,
     width: u32,
     height: u32,
     program: Program,
@@ -155,6 +159,7 @@ impl ParticleRenderer {
         };
         Ok(ParticleRenderer {
             ctx: ctx.clone(),
+            params: RenderParams::of(&style),
             style,
             width: state_width,
             height: state_height,
@@ -249,7 +254,7 @@ impl ParticleRenderer {
     /// Clears `target` to the background (transparent black for the under operator, whose
     /// background is composited at the end of [`draw`](Self::draw)).
     pub fn clear(&self, target: &FrameTarget) {
-        target.clear_to(self.style.clear_color());
+        target.clear_to(self.params.clear_color);
     }
 
     fn check_state(&self, what: &str, t: &Texture) -> Result<()> {
@@ -400,14 +405,14 @@ impl ParticleRenderer {
         let size = glam::Vec2::new(target.width() as f32, target.height() as f32);
         p.set_mat4("u_view_proj", &camera.view_projection(size.x / size.y));
         p.set_vec2("u_viewport", size);
-        p.set_f32("u_point_size", s.point_size);
-        p.set_f32("u_intensity", s.intensity);
+        let b = &self.params;
+        b.set_size(p);
         p.set_f32("u_time", state.time);
-        if let Some(f) = s.fire {
-            p.set_f32("u_max_age", f.max_age);
+        if let Some(max_age) = b.max_age {
+            p.set_f32("u_max_age", max_age);
         }
-        s.set_types(p);
-        s.set_keyframes(p);
+        b.set_types(p);
+        b.set_keyframes(p);
         let (primitive, per_particle) = match s.primitive {
             DrawPrimitive::Points => (Primitive::Points, 1),
             DrawPrimitive::Triangles => (Primitive::Triangles, 3),
@@ -415,7 +420,7 @@ impl ParticleRenderer {
                 (Primitive::Triangles, QUAD_VERTICES)
             }
         };
-        let draw_state = s.draw_state();
+        let draw_state = self.params.draw_state(s.depth_test);
         let gl = &self.ctx;
         gl.draw(&Draw {
             program: p,
@@ -471,7 +476,6 @@ impl ParticleRenderer {
         [sorted, scene_depth]: [Option<&'a Texture>; 2],
     ) -> Result<(&'a VertexArray, Vec<(&'a str, Sampled<'a>)>)> {
         let (positions, statics, count) = (state.positions, state.statics, state.count);
-        let s = &self.style;
         if let (Some(v), true) = (&self.vertex, count > 0) {
             let rows = count.div_ceil(self.width as usize) as u32;
             v.pack.copy_rows(positions, &v.positions, rows)?;
@@ -494,7 +498,7 @@ impl ParticleRenderer {
         textures.extend(sorted.map(|t| ("u_sorted", t.into())));
         if let Some(t) = scene_depth {
             textures.push(("u_scene_depth", t.into()));
-            p.set_f32("u_soft", s.soft);
+            p.set_f32("u_soft", self.params.soft);
         }
         if self.needs_spins() {
             let Some(spins) = state.spins else {
@@ -513,7 +517,7 @@ impl ParticleRenderer {
             };
             p.set_i32("u_motion_previous", previous);
             p.set_f32("u_motion_dt", dt);
-            p.set_f32("u_stretch", s.stretch);
+            p.set_f32("u_stretch", self.params.stretch);
         }
         if self.style.user_color.is_some() {
             for (&n, t) in USER_STATE_SAMPLERS.iter().zip(state.user) {
@@ -538,7 +542,7 @@ impl ParticleRenderer {
         let s = &self.style;
         let gl = &self.ctx;
         if let Some(r) = &self.ribbons {
-            r.draw(target, state, camera, s, draw_state)?;
+            r.draw(target, state, camera, &self.params, draw_state)?;
         }
         if let (Some(g), true) = (&self.geometry, s.under()) {
             // Behind the particles accumulated so far, on the depth the first pass wrote.
@@ -554,7 +558,7 @@ impl ParticleRenderer {
         if s.under() {
             let b = &self.background;
             b.bind();
-            b.set_vec3("u_background", glam::Vec3::from_array(s.background));
+            b.set_vec3("u_background", self.params.background);
             // The same blend state: the under operator composites the background last, behind
             // everything (no depth test).
             gl.draw(&Draw {

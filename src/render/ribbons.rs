@@ -5,12 +5,12 @@
 //! stage (`glsl/render/ribbon.vert`) fetches both ends and drops a pair that is not two live
 //! children born one trail interval apart. The index buffer is built once on the CPU.
 
-use super::{Camera, FrameState, FrameTarget, ParticleStyle};
+use super::{Camera, FrameState, FrameTarget, ParticleStyle, RenderParams};
 use crate::error::{Error, Result};
 use crate::gl::{
     Buffer, BufferKind, BufferUsage, Context, Draw, DrawState, Primitive, Program, VertexArray,
 };
-use crate::scene::{ChildLayout, DrawMode};
+use crate::scene::ChildLayout;
 
 /// Vertices of one ribbon segment: two triangles.
 pub const SEGMENT_VERTICES: u32 = 6;
@@ -139,7 +139,7 @@ impl RibbonRenderer {
         target: &FrameTarget,
         state: &FrameState<'_>,
         camera: &Camera,
-        style: &ParticleStyle,
+        params: &RenderParams,
         draw_state: &DrawState,
     ) -> Result<()> {
         let p = &self.program;
@@ -149,16 +149,15 @@ impl RibbonRenderer {
         let viewport = glam::Vec2::new(target.width() as f32, target.height() as f32);
         p.set_vec2("u_viewport", viewport);
         p.set_vec3("u_eye", camera.eye());
-        p.set_f32("u_point_size", style.point_size);
-        p.set_f32("u_intensity", style.intensity);
+        params.set_size(p);
         p.set_f32("u_time", state.time);
         p.set_f32("u_ribbon_width", self.width_m);
-        p.set_i32("u_sprites", i32::from(style.mode == DrawMode::Sprites));
+        p.set_i32("u_sprites", i32::from(params.sprites));
         p.set_i32("u_width", state.positions.width() as i32);
         p.set_i32_array("u_ring", &self.ring);
         p.set_f32_array("u_gap", &self.gap);
-        style.set_types(p);
-        style.set_keyframes(p);
+        params.set_types(p);
+        params.set_keyframes(p);
         self.ctx.draw(&Draw {
             program: p,
             target: target.framebuffer(),

@@ -1,13 +1,11 @@
 //! How particles look: the style of a scene's `[render]` section and of each emitter's particle
 //! type (Latta §3.4.6: size, rotation, colour and opacity keyframes per type), its blending, and
-//! the uniforms that carry it to `glsl/render/`.
+//! the program variant's defines; `src/render/params.rs` packs its numbers for `glsl/render/`.
 
-use super::keyframes::{KeyframeRamp, MAX_KEYFRAMES};
+use super::keyframes::KeyframeRamp;
 use super::sprite::SizeCurve;
 use crate::error::{Error, Result};
-use crate::gl::{
-    Blend, BlendComponent, BlendFactor, Context, Defines, Depth, DrawState, PointSize, Program,
-};
+use crate::gl::{Blend, BlendComponent, BlendFactor, Context, Defines};
 use crate::scene::curve::{Animated, Curve};
 use crate::scene::{
     Blending, DrawMode, DrawOrder, DrawPrimitive, Keyframe, Render, RenderPath, Rotate, SceneFile,
@@ -174,55 +172,6 @@ fn by_age(r: &Rotate) -> bool {
 }
 
 impl ParticleStyle {
-    /// Sets the colour and opacity keyframes of every type that `glsl/render/keyframes.glsl`
-    /// reads on `p` (bound): the renderer and the CPU engine (E5) draw with the same ramps.
-    pub fn set_keyframes(&self, p: &Program) {
-        let (mut age, mut offset, mut slope) = (Vec::new(), Vec::new(), Vec::new());
-        for t in 0..4 {
-            let ramp = self.ramp_of(t);
-            for half in 0..2 {
-                let ages: [f32; 4] = std::array::from_fn(|i| ramp.ages[4 * half + i]);
-                age.push(glam::Vec4::from_array(ages));
-            }
-            for k in 0..MAX_KEYFRAMES {
-                offset.push(glam::Vec4::from_array(ramp.offset[k]));
-                slope.push(glam::Vec4::from_array(ramp.slope[k]));
-            }
-        }
-        p.set_vec4_array("u_key_age", &age);
-        p.set_vec4_array("u_key_offset", &offset);
-        p.set_vec4_array("u_key_slope", &slope);
-    }
-
-    /// Sets the per-type sprite uniforms of `glsl/render/sprite.glsl` on `p` (bound): tile,
-    /// rotation speed range (radians per second), size over life, and the scale and tint
-    /// curves (`glsl/render/birth_curves.glsl`).
-    pub fn set_types(&self, p: &Program) {
-        let each =
-            |f: &dyn Fn(&TypeLook) -> f32| glam::Vec4::from_array(self.types.each_ref().map(f));
-        super::birth_curves::set_birth_curves(p, &self.types);
-        p.set_ivec4(
-            "u_type_tile",
-            self.types.each_ref().map(|t| t.tile.min(3) as i32),
-        );
-        p.set_vec4("u_spin_min", each(&|t| t.spin[0].to_radians()));
-        p.set_vec4("u_spin_max", each(&|t| t.spin[1].to_radians()));
-        p.set_vec4("u_size_min", each(&|t| t.size_range[0]));
-        p.set_vec4("u_size_max", each(&|t| t.size_range[1]));
-        p.set_vec4("u_flip_frames", each(&|t| t.flipbook.0 as f32));
-        p.set_vec4("u_flip_rate", each(&|t| t.flipbook.1));
-        let size_age = self
-            .types
-            .each_ref()
-            .map(|t| glam::Vec4::from_array(t.size.ages));
-        p.set_vec4_array("u_size_age", &size_age);
-        let size_scale = self
-            .types
-            .each_ref()
-            .map(|t| glam::Vec4::from_array(t.size.scales));
-        p.set_vec4_array("u_size_scale", &size_scale);
-    }
-
     /// The blend state of this style's blending and order (the under operator for front to
     /// back). One table, so that the CPU engine (E5) blends exactly as the renderer does.
     pub fn blend(&self) -> Blend {
@@ -241,21 +190,6 @@ impl ParticleStyle {
         Blend {
             color: BlendComponent::add(src, dst),
             alpha: BlendComponent::add(src_a, dst_a),
-        }
-    }
-
-    /// The state particles (and the under operator's background) are drawn with: this style's
-    /// [`blend`](Self::blend), point sizes from the vertex shader, and with drawn geometry a
-    /// depth test without a depth write.
-    pub fn draw_state(&self) -> DrawState {
-        DrawState {
-            blend: Some(self.blend()),
-            point_size: PointSize::Program,
-            depth: if self.depth_test {
-                Depth::Test
-            } else {
-                Depth::Off
-            },
         }
     }
 

@@ -27,7 +27,6 @@
 
 mod sim;
 
-use glam::Vec3;
 use rayon::prelude::*;
 
 pub use sim::CpuSim;
@@ -38,7 +37,7 @@ use crate::gl::{
     Attribute, Buffer, BufferKind, BufferUsage, Context, Defines, Draw, Primitive, Program,
     VertexArray, FULLSCREEN_VERTEX,
 };
-use crate::render::{relative_age, Camera, FrameTarget, ParticleStyle};
+use crate::render::{relative_age, Camera, FrameTarget, ParticleStyle, RenderParams};
 use crate::scene::{Blending, DrawMode, DrawOrder, SceneFile, SortKey};
 
 /// Where the time of one CPU-engine frame goes ([`CpuEngine::timed_frame`]), in milliseconds.
@@ -60,6 +59,9 @@ pub struct CpuEngine {
     ctx: Context,
     sim: CpuSim,
     style: ParticleStyle,
+    /// The render block the point draw uploads, packed once from the style (as the GPU
+    /// renderer's).
+    params: RenderParams,
     camera: Camera,
     /// The camera at time 0, turned by `render.camera.orbit` as the GPU engine turns it.
     camera_start: Camera,
@@ -155,6 +157,7 @@ impl CpuEngine {
             vertices: Vec::with_capacity(n),
             ctx: ctx.clone(),
             sim,
+            params: RenderParams::of(&style),
             style,
             program,
             background,
@@ -284,16 +287,16 @@ impl CpuEngine {
     /// The point draw with the scene's blending, as `ParticleRenderer::draw` sets it up.
     fn draw_points(&self) -> Result<()> {
         let s = &self.style;
-        self.target.clear_to(s.clear_color());
+        let block = &self.params;
+        self.target.clear_to(block.clear_color);
         let p = &self.program;
         p.bind();
         let aspect = self.target.width() as f32 / self.target.height() as f32;
         p.set_mat4("u_view_proj", &self.camera.view_projection(aspect));
-        p.set_f32("u_point_size", s.point_size);
-        p.set_f32("u_intensity", s.intensity);
-        s.set_keyframes(p);
+        block.set_size(p);
+        block.set_keyframes(p);
         let gl = &self.ctx;
-        let state = s.draw_state();
+        let state = block.draw_state(s.depth_test);
         gl.draw(&Draw {
             program: p,
             target: self.target.framebuffer(),
@@ -307,7 +310,7 @@ impl CpuEngine {
         });
         if let Some(b) = &self.background {
             b.bind();
-            b.set_vec3("u_background", Vec3::from_array(s.background));
+            b.set_vec3("u_background", block.background);
             // The same blend state: the under operator composites the background last.
             gl.draw(&Draw {
                 program: b,

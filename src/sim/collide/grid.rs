@@ -6,7 +6,7 @@
 
 use crate::error::Result;
 use crate::gl::{
-    Attachment, Context, Framebuffer, FullscreenPass, PassDraw, Texture, TextureDesc, TextureFormat,
+    Attachment, Context, Framebuffer, FullscreenPass, PassDraw, Texture, TextureFormat,
 };
 use crate::sim::collide::cells::{CellSearch, Lattice};
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
@@ -45,18 +45,8 @@ impl SortedGrid {
     pub fn new(ctx: &Context, lattice: Lattice, size: [u32; 2], spec: GridSpec) -> Result<Self> {
         let [w, h] = size;
         let name = spec.name;
-        let texture = |what: &str, format| {
-            let label = &format!("{name} {what}");
-            Texture::new(
-                ctx,
-                TextureDesc {
-                    width: w,
-                    height: h,
-                    format,
-                    label,
-                },
-            )
-        };
+        let texture =
+            |what: &str, format| super::texture(ctx, &format!("{name} {what}"), w, h, format);
         let rgba = TextureFormat::Rgba32F;
         let mut layout = vec![
             (POSITION, texture("position", rgba)?),

@@ -78,40 +78,35 @@ impl UserColor {
             undef += &format!("#undef {name}\n");
         }
         root += &define;
+        // Each expression a function of the vertex stage's inputs, returning what it replaces
+        // (colour, size, angle), with the define that turns its call on.
+        let exprs = [
+            (&self.expression, "color", "vec4", "color", "USER_COLOR"),
+            (&self.size, "size", "float", "size", "USER_SIZE"),
+            (
+                &self.rotation,
+                "rotation",
+                "float",
+                "angle",
+                "USER_ROTATION",
+            ),
+        ];
         let mut keys = Vec::new();
-        if let Some(e) = &self.expression {
-            let k = key("color", e);
-            root += &format!(
-                "vec4 user_color(ivec2 user_texel, vec4 color, vec3 x, float life, int type, \
-                 float age) {{\n    return vec4(\n#include \"{k}\"\n    );\n}}\n"
-            );
-            keys.push(k);
-        }
-        if let Some(e) = &self.size {
-            let k = key("size", e);
-            root += &format!(
-                "float user_size(ivec2 user_texel, float size, vec3 x, float life, int type, \
-                 float age) {{\n    return float(\n#include \"{k}\"\n    );\n}}\n"
-            );
-            keys.push(k);
-        }
-        if let Some(e) = &self.rotation {
-            let k = key("rotation", e);
-            root += &format!(
-                "float user_rotation(ivec2 user_texel, float angle, vec3 x, float life, int type, \
-                 float age) {{\n    return float(\n#include \"{k}\"\n    );\n}}\n"
-            );
-            keys.push(k);
+        for (expr, what, ty, arg, _) in exprs {
+            if let Some(e) = expr {
+                let k = key(what, e);
+                root += &format!(
+                    "{ty} user_{what}(ivec2 user_texel, {ty} {arg}, vec3 x, float life, int type, \
+                     float age) {{\n    return {ty}(\n#include \"{k}\"\n    );\n}}\n"
+                );
+                keys.push(k);
+            }
         }
         root += &undef;
-        if self.expression.is_some() {
-            root += "#define USER_COLOR 1\n";
-        }
-        if self.size.is_some() {
-            root += "#define USER_SIZE 1\n";
-        }
-        if self.rotation.is_some() {
-            root += "#define USER_ROTATION 1\n";
+        for (expr, .., define) in exprs {
+            if expr.is_some() {
+                root += &format!("#define {define} 1\n");
+            }
         }
         root += "#include \"render/particle.vert\"\n";
         let name = format!("user-render:{}", keys.join("+"));

@@ -15,7 +15,7 @@ pub type Defines = Vec<(String, String)>;
 
 /// A linked vertex + fragment program, deleted on drop.
 pub struct Program {
-    ctx: Context,
+    pub(super) ctx: Context,
     raw: glow::Program,
     name: String,
     locations: RefCell<HashMap<String, Option<glow::UniformLocation>>>,

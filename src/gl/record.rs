@@ -22,6 +22,17 @@ pub struct ReadShape {
     pub format: TextureFormat,
 }
 
+/// The texture one read of a recorded draw bound, by its GL name: a later draw may read the same
+/// data again (a floor built from the draw reads what the draw read, compressed or not as the
+/// driver keeps it) while the texture lives; [`Context::is_live`](super::Context::is_live)
+/// tells whether it still does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct RecordedTexture {
+    pub(super) raw: glow::Texture,
+    /// Its size and format.
+    pub shape: ReadShape,
+}
+
 /// One draw as data, without its program: what it wrote (the target's size and formats, the
 /// viewport), what it drew, and the textures it read (one per sampler, in the draw's order).
 /// What a floor built from a phase's own draws needs.
@@ -41,6 +52,8 @@ pub struct DrawShape {
     pub count: u32,
     /// The textures bound, one per sampler.
     pub reads: Vec<ReadShape>,
+    /// The same textures by name, one per read (empty for a shape made by hand).
+    pub sources: Vec<RecordedTexture>,
 }
 
 /// Records every draw on this thread as a [`DrawShape`] from [`ShapeRecorder::start`] until
@@ -82,6 +95,12 @@ pub(crate) fn note_shape(d: &Draw<'_>) {
                     three_d: true,
                     format: t.format(),
                 },
+                Sampled::Recorded(r) => r.shape,
+            });
+            let sources = d.textures.iter().map(|(_, t)| match t {
+                Sampled::D2(t) => t.recorded(),
+                Sampled::D3(t) => t.recorded(),
+                Sampled::Recorded(r) => *r,
             });
             log.push(DrawShape {
                 program: d.program.name().to_owned(),
@@ -91,6 +110,7 @@ pub(crate) fn note_shape(d: &Draw<'_>) {
                 primitive: d.primitive,
                 count: d.count,
                 reads: reads.collect(),
+                sources: sources.collect(),
             });
         }
     });

@@ -48,6 +48,7 @@ fn every_drawn_floor_draws_no_more_than_its_phase() {
     let mut render_fragments = 0;
     let mut fills = 0;
     let mut fetch_drawn = 0;
+    let mut walked = 0;
     for name in texflow::scene::BUILTIN {
         let scene = texflow::scene::load(name).unwrap();
         let records = bench_scene(&ctx, &scene, &[16, 64], &opts, |_| {}).unwrap();
@@ -89,6 +90,15 @@ fn every_drawn_floor_draws_no_more_than_its_phase() {
                     p.phase
                 );
                 fetch_drawn += (f.draws > 0) as usize;
+                // A neighbour search (DEM, the fluid) is floored with its walk.
+                let walker =
+                    ["dem", "dam", "drop"].contains(&name) && p.phase.starts_with("collide");
+                assert!(
+                    !walker || fetch.drawn.unwrap().walked > 0,
+                    "{name}: `{}`: no floor walked the cells",
+                    p.phase
+                );
+                walked += fetch.drawn.unwrap().walked;
             }
             // Points and sprites drawn without geometry have the fill floor beside the placed
             // points.
@@ -108,6 +118,7 @@ fn every_drawn_floor_draws_no_more_than_its_phase() {
     );
     assert!(checked >= 2 * texflow::scene::BUILTIN.len(), "{checked}");
     assert!(render_fragments > 0);
+    assert!(walked > 0);
     assert!(fills >= 4, "{fills} fill floors");
     common::no_gl_error(&ctx);
 }

@@ -8,6 +8,11 @@
 // fetches). No other arithmetic: a pass that reads each of its inputs at least once and writes
 // the same bytes costs at least this.
 //
+// WALK: the draw walked the cells around each particle (collide/cells.glsl: the exact detection,
+// DEM, the fluid, the pair exchange); the floor walks the same cells, with the same keys, table
+// and uniforms, and fetches each visited neighbour's position once (u_position, the cell-sorted
+// layout), which every such pass reads of every neighbour it visits.
+//
 // F2, U2, F3, U3: how many 2D float, 2D unsigned, 3D float and 3D unsigned textures the draw
 // bound (at most 16, 4, 4, 2); TARGETS: its render targets (1 to 8); UINT: unsigned targets.
 
@@ -28,6 +33,16 @@
 #endif
 
 uniform int u_layer;
+
+#ifdef WALK
+#include "collide/cells.glsl"
+uniform sampler2D u_position;
+vec4 walked = vec4(0.0);
+
+void visit(int j) {
+    walked += texelFetch(u_position, ivec2(j % u_key_width, j / u_key_width), 0);
+}
+#endif
 uniform float u_sentinel;
 uniform bool u_reveal;
 
@@ -199,6 +214,10 @@ void main() {
 #endif
 #if U3 > 1
     u += FETCH3(u_u3_1);
+#endif
+#ifdef WALK
+    search_neighbours(p.y * u_key_width + p.x);
+    f += walked;
 #endif
     vec4 all = f + uintBitsToFloat(u);
     bool show = (all.x + all.y + all.z + all.w == u_sentinel) != u_reveal;

@@ -96,7 +96,7 @@ pub use program::{Defines, Program};
 pub use query::{SamplesQuery, TimerQuery};
 pub use record::{
     attach_draws, DrawRecorder, DrawShape, PassDraw, PassInfo, ReadShape, RecordedTexture,
-    ShapeRecorder,
+    ShapeRecorder, WALK_INCLUDE,
 };
 pub use stats::DrawStats;
 pub use texture::{check_size, Texture, TextureDesc, TextureFormat};

@@ -7,7 +7,7 @@ use glow::HasContext;
 
 use super::bindings::{base_name, declared_uniforms, is_sampler};
 use super::source::{embedded, map_log, resolve};
-use super::{Context, Uniform};
+use super::{Context, Uniform, WALK_INCLUDE};
 use crate::error::{Error, Result};
 
 /// `#define NAME VALUE` pairs prepended to both stages of a program.
@@ -23,6 +23,12 @@ pub struct Program {
     declared: HashSet<String>,
     /// The active samplers, as GL names them.
     samplers: Vec<String>,
+    /// The defines it was compiled with.
+    defines: Defines,
+    /// The files of its sources, includes among them.
+    files: Vec<String>,
+    /// Whether it walks the cells around every live particle ([`Program::walks_every_live`]).
+    walks_every_live: bool,
     /// While set, names the program does not declare are ignored (see [`Program::optional`]).
     lenient: Cell<bool>,
 }
@@ -40,9 +46,17 @@ fn compile<'a>(
     defines: &Defines,
     lookup: &dyn Fn(&str) -> Option<&'a str>,
     declared: &mut HashSet<String>,
+    files: &mut Vec<String>,
+    some: &mut bool,
 ) -> Result<glow::Shader> {
     let resolved = resolve(path, defines, lookup)?;
+    *some |= resolved.text.contains("#define WALKS_SOME");
     declared.extend(declared_uniforms(&resolved.text));
+    for f in &resolved.files {
+        if !files.contains(f) {
+            files.push(f.clone());
+        }
+    }
     // SAFETY: plain shader compilation on a current context.
     unsafe {
         let shader = ctx.gl().create_shader(kind).map_err(Error::Gl)?;
@@ -88,6 +102,8 @@ impl Program {
     ) -> Result<Self> {
         let name = format!("{vertex}+{fragment}");
         let mut declared = HashSet::new();
+        let mut files = Vec::new();
+        let mut walks_some = false;
         let vs = compile(
             ctx,
             glow::VERTEX_SHADER,
@@ -95,6 +111,8 @@ impl Program {
             defines,
             lookup,
             &mut declared,
+            &mut files,
+            &mut walks_some,
         )?;
         let fs = match compile(
             ctx,
@@ -103,6 +121,8 @@ impl Program {
             defines,
             lookup,
             &mut declared,
+            &mut files,
+            &mut walks_some,
         ) {
             Ok(fs) => fs,
             Err(e) => {
@@ -146,7 +166,53 @@ impl Program {
             declared,
             samplers,
             lenient: Cell::new(false),
+            defines: defines.clone(),
+            walks_every_live: files.iter().any(|f| f == WALK_INCLUDE) && !walks_some,
+            files,
         })
+    }
+
+    /// The defines it was compiled with.
+    pub fn defines(&self) -> &Defines {
+        &self.defines
+    }
+
+    /// The files its two shaders were built from, includes among them (`glsl/` paths).
+    pub fn files(&self) -> &[String] {
+        &self.files
+    }
+
+    /// Whether it walks the cells around every live particle: built with [`WALK_INCLUDE`]
+    /// (the exact neighbour search), and not marked `#define WALKS_SOME` (a pass that walks
+    /// only some particles, as the exact response walks those with partners).
+    pub fn walks_every_live(&self) -> bool {
+        self.walks_every_live
+    }
+
+    /// The values its active integer uniforms (`int`, `ivec2` to `ivec4`, not arrays) hold now,
+    /// by name: what a draw of it read, for a floor that repeats the draw's search.
+    pub fn int_uniforms(&self) -> Vec<(String, Vec<i32>)> {
+        let gl = self.ctx.gl();
+        // SAFETY: queries of a linked program of this context.
+        unsafe {
+            (0..gl.get_active_uniforms(self.raw))
+                .filter_map(|i| gl.get_active_uniform(self.raw, i))
+                .filter_map(|u| {
+                    let n = match u.utype {
+                        glow::INT => 1,
+                        glow::INT_VEC2 => 2,
+                        glow::INT_VEC3 => 3,
+                        glow::INT_VEC4 => 4,
+                        _ => return None,
+                    };
+                    let at = gl.get_uniform_location(self.raw, &u.name)?;
+                    let mut v = vec![0i32; 4];
+                    gl.get_uniform_i32(self.raw, &at, &mut v);
+                    v.truncate(n);
+                    (u.size == 1).then_some((u.name, v))
+                })
+                .collect()
+        }
     }
 
     /// Whether the program's sources declare uniform `name` (`u_plane[2]` counts as `u_plane`),

@@ -54,6 +54,25 @@ pub struct DrawShape {
     pub reads: Vec<ReadShape>,
     /// The same textures by name, one per read (empty for a shape made by hand).
     pub sources: Vec<RecordedTexture>,
+    /// The samplers they were bound to, one per read (empty for a shape made by hand).
+    pub samplers: Vec<String>,
+    /// The defines the program was compiled with.
+    pub defines: Vec<(String, String)>,
+    /// For a program that walks the cells around every live particle
+    /// ([`Program::walks_every_live`](super::Program::walks_every_live)): the values of its
+    /// integer uniforms at the draw; else empty.
+    pub ints: Vec<(String, Vec<i32>)>,
+}
+
+/// The include of the exact neighbour search: a draw of a program built with it walks the
+/// cells around each particle, and its shape records the search's uniforms.
+pub const WALK_INCLUDE: &str = "collide/cells.glsl";
+
+impl DrawShape {
+    /// Whether its program walks the cells around every live particle.
+    pub fn walks(&self) -> bool {
+        !self.ints.is_empty()
+    }
 }
 
 /// Records every draw on this thread as a [`DrawShape`] from [`ShapeRecorder::start`] until
@@ -102,6 +121,7 @@ pub(crate) fn note_shape(d: &Draw<'_>) {
                 Sampled::D3(t) => t.recorded(),
                 Sampled::Recorded(r) => *r,
             });
+            let walks = d.program.walks_every_live();
             log.push(DrawShape {
                 program: d.program.name().to_owned(),
                 size: [d.target.width(), d.target.height()],
@@ -111,6 +131,13 @@ pub(crate) fn note_shape(d: &Draw<'_>) {
                 count: d.count,
                 reads: reads.collect(),
                 sources: sources.collect(),
+                samplers: d.textures.iter().map(|(n, _)| n.to_string()).collect(),
+                defines: d.program.defines().clone(),
+                ints: if walks {
+                    d.program.int_uniforms()
+                } else {
+                    Vec::new()
+                },
             });
         }
     });

@@ -31,6 +31,9 @@ pub struct Drawn {
     pub stats: DrawStats,
     /// Fragments written (`GL_SAMPLES_PASSED`), where counted.
     pub fragments: Option<u64>,
+    /// Of a fetch floor's draws, those that walked the cells around every live particle as
+    /// the phase's draw did (a neighbour search).
+    pub walked: u64,
 }
 
 impl Drawn {
@@ -39,6 +42,7 @@ impl Drawn {
         Drawn {
             stats,
             fragments: None,
+            walked: 0,
         }
     }
 
@@ -54,6 +58,7 @@ impl Drawn {
                 vertices: s.vertices * k,
             },
             fragments: self.fragments.map(|f| f * k),
+            walked: self.walked * k,
         }
     }
 
@@ -69,6 +74,7 @@ impl Drawn {
                 vertices: a.vertices + b.vertices,
             },
             fragments: self.fragments.zip(other.fragments).map(|(x, y)| x + y),
+            walked: self.walked + other.walked,
         }
     }
 }
@@ -96,6 +102,7 @@ pub(super) fn counted(
         Drawn {
             stats,
             fragments: Some(fragments),
+            walked: 0,
         },
     ))
 }

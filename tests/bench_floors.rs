@@ -35,6 +35,33 @@ fn over(floor: &Drawn, phase: &Drawn) -> Vec<String> {
     bad
 }
 
+/// Every phase but the render passes has the fetch floor: one full-screen pass for each of the
+/// phase's, into the same targets and viewports (the same bytes); a neighbour search (DEM, the
+/// fluid) is floored with its walk. Whether it drew, and the draws that walked.
+fn fetch_floor(name: &str, p: &texflow::bench::scene::PhaseRecord, phase: &Drawn) -> (usize, u64) {
+    let fetch = p.bounds.iter().find(|b| b.floor.starts_with("fetch floor"));
+    if p.phase.starts_with("render") {
+        assert!(fetch.is_none(), "{name}: {}", p.phase);
+        return (0, 0);
+    }
+    let fetch = fetch.unwrap_or_else(|| panic!("{name}: `{}` no fetch floor", p.phase));
+    let d = fetch.drawn.expect("the fetch floor is drawn");
+    let (f, s) = (d.stats, phase.stats);
+    assert_eq!(
+        (f.draws, f.passes, f.bytes_written),
+        (s.passes, s.passes, s.bytes_written),
+        "{name}: `{}`: the fetch floor's draws, passes, bytes",
+        p.phase
+    );
+    let walker = ["dem", "dam", "drop"].contains(&name) && p.phase.starts_with("collide");
+    assert!(
+        !walker || d.walked > 0,
+        "{name}: `{}`: no floor walked the cells",
+        p.phase
+    );
+    ((f.draws > 0) as usize, d.walked)
+}
+
 #[test]
 fn every_drawn_floor_draws_no_more_than_its_phase() {
     let ctx = common::context();
@@ -74,32 +101,9 @@ fn every_drawn_floor_draws_no_more_than_its_phase() {
                     render_fragments += 1;
                 }
             }
-            // Every phase but the render passes has the fetch floor: one full-screen pass for
-            // each of the phase's, into the same targets and viewports (the same bytes).
-            let fetch = p.bounds.iter().find(|b| b.floor.starts_with("fetch floor"));
-            if p.phase.starts_with("render") {
-                assert!(fetch.is_none(), "{name}: {}", p.phase);
-            } else {
-                let fetch = fetch.unwrap_or_else(|| panic!("{name}: `{}` no fetch floor", p.phase));
-                let f = fetch.drawn.expect("the fetch floor is drawn").stats;
-                let s = phase.stats;
-                assert_eq!(
-                    (f.draws, f.passes, f.bytes_written),
-                    (s.passes, s.passes, s.bytes_written),
-                    "{name}: `{}`: the fetch floor's draws, passes, bytes",
-                    p.phase
-                );
-                fetch_drawn += (f.draws > 0) as usize;
-                // A neighbour search (DEM, the fluid) is floored with its walk.
-                let walker =
-                    ["dem", "dam", "drop"].contains(&name) && p.phase.starts_with("collide");
-                assert!(
-                    !walker || fetch.drawn.unwrap().walked > 0,
-                    "{name}: `{}`: no floor walked the cells",
-                    p.phase
-                );
-                walked += fetch.drawn.unwrap().walked;
-            }
+            let (drawn, w) = fetch_floor(name, p, phase);
+            fetch_drawn += drawn;
+            walked += w;
             // Points and sprites drawn without geometry have the fill floor beside the placed
             // points.
             fills += p

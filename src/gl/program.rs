@@ -23,14 +23,21 @@ pub struct Program {
     declared: HashSet<String>,
     /// The active samplers, as GL names them.
     samplers: Vec<String>,
+    /// What it was built from (boxed: programs are held by value in many passes).
+    source: Box<SourceInfo>,
+    /// While set, names the program does not declare are ignored (see [`Program::optional`]).
+    lenient: Cell<bool>,
+}
+
+/// What a program was built from.
+#[derive(Debug)]
+struct SourceInfo {
     /// The defines it was compiled with.
     defines: Defines,
     /// The files of its sources, includes among them.
     files: Vec<String>,
     /// Whether it walks the cells around every live particle ([`Program::walks_every_live`]).
     walks_every_live: bool,
-    /// While set, names the program does not declare are ignored (see [`Program::optional`]).
-    lenient: Cell<bool>,
 }
 
 impl std::fmt::Debug for Program {
@@ -39,22 +46,28 @@ impl std::fmt::Debug for Program {
     }
 }
 
+/// What the sources of a program's shaders declare and include, gathered as they compile.
+#[derive(Default)]
+struct Seen {
+    declared: HashSet<String>,
+    files: Vec<String>,
+    walks_some: bool,
+}
+
 fn compile<'a>(
     ctx: &Context,
     kind: u32,
     path: &str,
     defines: &Defines,
     lookup: &dyn Fn(&str) -> Option<&'a str>,
-    declared: &mut HashSet<String>,
-    files: &mut Vec<String>,
-    some: &mut bool,
+    seen: &mut Seen,
 ) -> Result<glow::Shader> {
     let resolved = resolve(path, defines, lookup)?;
-    *some |= resolved.text.contains("#define WALKS_SOME");
-    declared.extend(declared_uniforms(&resolved.text));
+    seen.walks_some |= resolved.text.contains("#define WALKS_SOME");
+    seen.declared.extend(declared_uniforms(&resolved.text));
     for f in &resolved.files {
-        if !files.contains(f) {
-            files.push(f.clone());
+        if !seen.files.contains(f) {
+            seen.files.push(f.clone());
         }
     }
     // SAFETY: plain shader compilation on a current context.
@@ -101,28 +114,15 @@ impl Program {
         lookup: &dyn Fn(&str) -> Option<&'a str>,
     ) -> Result<Self> {
         let name = format!("{vertex}+{fragment}");
-        let mut declared = HashSet::new();
-        let mut files = Vec::new();
-        let mut walks_some = false;
-        let vs = compile(
-            ctx,
-            glow::VERTEX_SHADER,
-            vertex,
-            defines,
-            lookup,
-            &mut declared,
-            &mut files,
-            &mut walks_some,
-        )?;
+        let mut seen = Seen::default();
+        let vs = compile(ctx, glow::VERTEX_SHADER, vertex, defines, lookup, &mut seen)?;
         let fs = match compile(
             ctx,
             glow::FRAGMENT_SHADER,
             fragment,
             defines,
             lookup,
-            &mut declared,
-            &mut files,
-            &mut walks_some,
+            &mut seen,
         ) {
             Ok(fs) => fs,
             Err(e) => {
@@ -163,30 +163,32 @@ impl Program {
             raw,
             name,
             locations: RefCell::new(HashMap::new()),
-            declared,
+            declared: seen.declared,
             samplers,
             lenient: Cell::new(false),
-            defines: defines.clone(),
-            walks_every_live: files.iter().any(|f| f == WALK_INCLUDE) && !walks_some,
-            files,
+            source: Box::new(SourceInfo {
+                defines: defines.clone(),
+                walks_every_live: seen.files.iter().any(|f| f == WALK_INCLUDE) && !seen.walks_some,
+                files: seen.files,
+            }),
         })
     }
 
     /// The defines it was compiled with.
     pub fn defines(&self) -> &Defines {
-        &self.defines
+        &self.source.defines
     }
 
     /// The files its two shaders were built from, includes among them (`glsl/` paths).
     pub fn files(&self) -> &[String] {
-        &self.files
+        &self.source.files
     }
 
     /// Whether it walks the cells around every live particle: built with [`WALK_INCLUDE`]
     /// (the exact neighbour search), and not marked `#define WALKS_SOME` (a pass that walks
     /// only some particles, as the exact response walks those with partners).
     pub fn walks_every_live(&self) -> bool {
-        self.walks_every_live
+        self.source.walks_every_live
     }
 
     /// The values its active integer uniforms (`int`, `ivec2` to `ivec4`, not arrays) hold now,

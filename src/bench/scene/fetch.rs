@@ -367,6 +367,37 @@ mod tests {
         out
     }
 
+    /// Every target of `shape`'s floor holds, at each texel of its viewport, the sum of one
+    /// fetch of each read at the texel clamped to the read's size.
+    fn check_sums(floor: &FetchFloor, shape: &DrawShape) {
+        let targets = floor.targets.borrow();
+        let fb = &targets[&(shape.size, shape.formats.clone())];
+        for t in fb.textures() {
+            let got = t.read_f32().unwrap();
+            for y in 1..4u32 {
+                for x in 0..8u32 {
+                    let mut want = [0.0f32; 4];
+                    for r in &shape.reads {
+                        let p = [x.min(r.size[0] - 1), y.min(r.size[1] - 1), 0];
+                        // Both reads of `small` hold the same values (the same pattern).
+                        for (w, v) in want.iter_mut().zip(texel(r, p)) {
+                            *w += v;
+                        }
+                    }
+                    let at = (y * 8 + x) as usize * 4;
+                    for k in 0..4 {
+                        assert!(
+                            (got[at + k] - want[k]).abs() < 1e-5,
+                            "texel ({x}, {y}) channel {k}: {} against {}",
+                            got[at + k],
+                            want[k]
+                        );
+                    }
+                }
+            }
+        }
+    }
+
     /// The floor's pass fetches, for every target, one texel of each bound texture at the
     /// fragment's texel clamped to the texture (a 3D one at the draw's layer, 0): revealed, it
     /// writes their sum, against the same sum on the CPU; as timed, zeros.
@@ -418,32 +449,7 @@ mod tests {
         let (_, drawn) = floor.measure(&timer, std::slice::from_ref(&shape)).unwrap();
         assert_eq!((drawn.stats.draws, drawn.stats.passes), (1, 1));
         assert_eq!(drawn.stats.bytes_written, 8 * 3 * 32);
-        let targets = floor.targets.borrow();
-        let fb = &targets[&(shape.size, shape.formats.clone())];
-        for t in fb.textures() {
-            let got = t.read_f32().unwrap();
-            for y in 1..4u32 {
-                for x in 0..8u32 {
-                    let mut want = [0.0f32; 4];
-                    for r in &reads {
-                        let p = [x.min(r.size[0] - 1), y.min(r.size[1] - 1), 0];
-                        // Both reads of `small` hold the same values (the same pattern).
-                        for (w, v) in want.iter_mut().zip(texel(r, p)) {
-                            *w += v;
-                        }
-                    }
-                    let at = (y * 8 + x) as usize * 4;
-                    for k in 0..4 {
-                        assert!(
-                            (got[at + k] - want[k]).abs() < 1e-5,
-                            "texel ({x}, {y}) channel {k}: {} against {}",
-                            got[at + k],
-                            want[k]
-                        );
-                    }
-                }
-            }
-        }
+        check_sums(&floor, &shape);
         // Draws of points have no fetch floor: nothing drawn, nothing timed.
         let points = DrawShape {
             primitive: Primitive::Points,
@@ -487,7 +493,8 @@ mod tests {
         let written = |floor: &FetchFloor| {
             floor.measure(&timer, std::slice::from_ref(&shape)).unwrap();
             let targets = floor.targets.borrow();
-            targets[&(shape.size, shape.formats.clone())].textures()[0]
+            targets[&(shape.size, shape.formats.clone())]
+                .only_texture()
                 .read_f32()
                 .unwrap()
         };
@@ -562,7 +569,8 @@ mod tests {
         let timer = PassTimer::new(&ctx, Clock::Wall).unwrap();
         floor.measure(&timer, std::slice::from_ref(&shape)).unwrap();
         let targets = floor.targets.borrow();
-        let got = targets[&(shape.size, shape.formats.clone())].textures()[0]
+        let got = targets[&(shape.size, shape.formats.clone())]
+            .only_texture()
             .read_f32()
             .unwrap();
         // Positions 1, 2, 4, 8 (one value in every channel); keys' first channels 0, 0, 1, inf.

@@ -1,5 +1,5 @@
-//! `bench scene`'s floors bound their phases by construction: for every built-in scene at a
-//! small size, each floor that is a drawn pass draws no more than its phase drew in the same
+//! `bench scene`'s floors bound their phases by construction: for every built-in scene at two
+//! small sizes (the larger leaves most of a sparse scene's state dead), each floor that is a drawn pass draws no more than its phase drew in the same
 //! repetition (draws, vertices, bytes into colour attachments, and for the render pass the
 //! fragments a samples query counted). Times are not compared: that part of a floor's claim is
 //! the benchmark's to report (⚠ under 0.95), not a test's.
@@ -35,6 +35,33 @@ fn over(floor: &Drawn, phase: &Drawn) -> Vec<String> {
     bad
 }
 
+/// Every phase but the render passes has the fetch floor: one full-screen pass for each of the
+/// phase's, into the same targets and viewports (the same bytes); a neighbour search (DEM, the
+/// fluid) is floored with its walk. Whether it drew, and the draws that walked.
+fn fetch_floor(name: &str, p: &texflow::bench::scene::PhaseRecord, phase: &Drawn) -> (usize, u64) {
+    let fetch = p.bounds.iter().find(|b| b.floor.starts_with("fetch floor"));
+    if p.phase.starts_with("render") {
+        assert!(fetch.is_none(), "{name}: {}", p.phase);
+        return (0, 0);
+    }
+    let fetch = fetch.unwrap_or_else(|| panic!("{name}: `{}` no fetch floor", p.phase));
+    let d = fetch.drawn.expect("the fetch floor is drawn");
+    let (f, s) = (d.stats, phase.stats);
+    assert_eq!(
+        (f.draws, f.passes, f.bytes_written),
+        (s.passes, s.passes, s.bytes_written),
+        "{name}: `{}`: the fetch floor's draws, passes, bytes",
+        p.phase
+    );
+    let walker = ["dem", "dam", "drop"].contains(&name) && p.phase.starts_with("collide");
+    assert!(
+        !walker || d.walked > 0,
+        "{name}: `{}`: no floor walked the cells",
+        p.phase
+    );
+    ((f.draws > 0) as usize, d.walked)
+}
+
 #[test]
 fn every_drawn_floor_draws_no_more_than_its_phase() {
     let ctx = common::context();
@@ -48,11 +75,12 @@ fn every_drawn_floor_draws_no_more_than_its_phase() {
     let mut render_fragments = 0;
     let mut fills = 0;
     let mut fetch_drawn = 0;
+    let mut walked = 0;
     for name in texflow::scene::BUILTIN {
         let scene = texflow::scene::load(name).unwrap();
-        let records = bench_scene(&ctx, &scene, &[16], &opts, |_| {}).unwrap();
+        let records = bench_scene(&ctx, &scene, &[16, 64], &opts, |_| {}).unwrap();
         let fetch_before = fetch_drawn;
-        for p in &records[0].phases {
+        for p in records.iter().flat_map(|r| &r.phases) {
             assert!(!p.bounds.is_empty(), "{name}: {p:?}");
             // The phase is reported against the larger bound.
             let top = p.bounds.iter().map(|b| b.ms).fold(f64::MIN, f64::max);
@@ -73,23 +101,9 @@ fn every_drawn_floor_draws_no_more_than_its_phase() {
                     render_fragments += 1;
                 }
             }
-            // Every phase but the render passes has the fetch floor: one full-screen pass for
-            // each of the phase's, into the same targets and viewports (the same bytes).
-            let fetch = p.bounds.iter().find(|b| b.floor.starts_with("fetch floor"));
-            if p.phase.starts_with("render") {
-                assert!(fetch.is_none(), "{name}: {}", p.phase);
-            } else {
-                let fetch = fetch.unwrap_or_else(|| panic!("{name}: `{}` no fetch floor", p.phase));
-                let f = fetch.drawn.expect("the fetch floor is drawn").stats;
-                let s = phase.stats;
-                assert_eq!(
-                    (f.draws, f.passes, f.bytes_written),
-                    (s.passes, s.passes, s.bytes_written),
-                    "{name}: `{}`: the fetch floor's draws, passes, bytes",
-                    p.phase
-                );
-                fetch_drawn += (f.draws > 0) as usize;
-            }
+            let (drawn, w) = fetch_floor(name, p, phase);
+            fetch_drawn += drawn;
+            walked += w;
             // Points and sprites drawn without geometry have the fill floor beside the placed
             // points.
             fills += p
@@ -108,6 +122,7 @@ fn every_drawn_floor_draws_no_more_than_its_phase() {
     );
     assert!(checked >= 2 * texflow::scene::BUILTIN.len(), "{checked}");
     assert!(render_fragments > 0);
+    assert!(walked > 0);
     assert!(fills >= 4, "{fills} fill floors");
     common::no_gl_error(&ctx);
 }

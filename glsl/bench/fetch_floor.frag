@@ -1,9 +1,17 @@
 // The fetch floor of a pass (`bench scene`): for one draw of a phase, a pass into targets of the
 // same formats and size over the same viewport that fetches each texture the draw bound once, at
-// the fragment's own texel (clamped to the texture's size; a 3D texture at layer u_layer), sums
-// the fetches and writes the sum into every target, so that no fetch can be left out. No other
-// arithmetic: a pass that reads each of its inputs at least once and writes the same bytes costs
-// at least this.
+// the fragment's own texel (clamped to the texture's size; a 3D texture at layer u_layer): the
+// same textures the draw read where they still live, so the same data, compressed or not as the
+// driver keeps it. It writes zeros, the cheapest bytes to write, unless the sum of the fetches
+// equals u_sentinel (NaN at run time: never), so that no fetch can be left out and no write costs
+// more than the pass's own. u_reveal writes the sum everywhere instead (a test's view of the
+// fetches). No other arithmetic: a pass that reads each of its inputs at least once and writes
+// the same bytes costs at least this.
+//
+// WALK: the draw walked the cells around each particle (collide/cells.glsl: the exact detection,
+// DEM, the fluid, the pair exchange); the floor walks the same cells, with the same keys, table
+// and uniforms, and fetches each visited neighbour's position once (u_position, the cell-sorted
+// layout), which every such pass reads of every neighbour it visits.
 //
 // F2, U2, F3, U3: how many 2D float, 2D unsigned, 3D float and 3D unsigned textures the draw
 // bound (at most 16, 4, 4, 2); TARGETS: its render targets (1 to 8); UINT: unsigned targets.
@@ -25,6 +33,18 @@
 #endif
 
 uniform int u_layer;
+
+#ifdef WALK
+#include "collide/cells.glsl"
+uniform sampler2D u_position;
+vec4 walked = vec4(0.0);
+
+void visit(int j) {
+    walked += texelFetch(u_position, ivec2(j % u_key_width, j / u_key_width), 0);
+}
+#endif
+uniform float u_sentinel;
+uniform bool u_reveal;
 
 #ifdef UINT
 layout(location = 0) out uvec4 o_targets[TARGETS];
@@ -195,11 +215,17 @@ void main() {
 #if U3 > 1
     u += FETCH3(u_u3_1);
 #endif
+#ifdef WALK
+    search_neighbours(p.y * u_key_width + p.x);
+    f += walked;
+#endif
+    vec4 all = f + uintBitsToFloat(u);
+    bool show = (all.x + all.y + all.z + all.w == u_sentinel) != u_reveal;
     for (int i = 0; i < TARGETS; i++) {
 #ifdef UINT
-        o_targets[i] = u + floatBitsToUint(f);
+        o_targets[i] = show ? u + floatBitsToUint(f) : uvec4(0u);
 #else
-        o_targets[i] = f + uintBitsToFloat(u);
+        o_targets[i] = show ? all : vec4(0.0);
 #endif
     }
 }

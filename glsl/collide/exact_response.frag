@@ -12,6 +12,10 @@
 // more than its deepest overlap but left the collide pile 11.6 % of a diameter deep with 4
 // iterations; at full weight 2.6 %: docs/collisions.md.) Then the boundary conditions (§4.6).
 
+// It walks only the particles the count found partners for: the walking floor of `bench scene`
+// (bench/fetch_floor.frag), which walks every live particle, does not bound it.
+#define WALKS_SOME 1
+
 #include "common/state.glsl"
 #include "common/precision.glsl"
 #include "collide/cells.glsl"

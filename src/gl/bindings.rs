@@ -16,7 +16,9 @@
 
 use std::collections::HashSet;
 
-use super::{Program, Texture, Texture3D};
+use glow::HasContext;
+
+use super::{Program, RecordedTexture, Texture, Texture3D};
 
 /// A texture a sampler reads: 2D (`sampler2D`) or 3D (`sampler3D`).
 #[derive(Debug, Clone, Copy)]
@@ -25,6 +27,9 @@ pub enum Sampled<'a> {
     D2(&'a Texture),
     /// A 3D texture.
     D3(&'a Texture3D),
+    /// A texture a recorded draw read, by name (a benchmark's floor reading the same data);
+    /// the caller checks that it lives ([`Context::is_live`](super::Context::is_live)).
+    Recorded(RecordedTexture),
 }
 
 impl<'a> From<&'a Texture> for Sampled<'a> {
@@ -116,6 +121,7 @@ impl Program {
             match texture {
                 Sampled::D2(t) => t.bind(k as u32),
                 Sampled::D3(t) => t.bind(k as u32),
+                Sampled::Recorded(r) => self.bind_recorded(k as u32, r),
             }
             if cfg!(debug_assertions) && !self.declares(name) {
                 panic!(
@@ -124,6 +130,22 @@ impl Program {
                 );
             }
             self.set_i32(name, k as i32);
+        }
+    }
+}
+
+impl Program {
+    /// Binds recorded texture `r` to `unit`.
+    fn bind_recorded(&self, unit: u32, r: &RecordedTexture) {
+        let target = if r.shape.three_d {
+            glow::TEXTURE_3D
+        } else {
+            glow::TEXTURE_2D
+        };
+        // SAFETY: the caller checked that the name is a live texture of this context.
+        unsafe {
+            self.ctx.gl().active_texture(glow::TEXTURE0 + unit);
+            self.ctx.gl().bind_texture(target, Some(r.raw));
         }
     }
 }

@@ -416,6 +416,14 @@ impl Context {
         Ok(())
     }
 
+    /// Whether recorded texture `r` still names a live texture here. (A name freed and made
+    /// anew for another texture would pass; the floors that read recorded textures clamp their
+    /// fetches to the texture's size and run right after the draws they copy.)
+    pub fn is_live(&self, r: &super::RecordedTexture) -> bool {
+        // SAFETY: a query only.
+        unsafe { self.gl().is_texture(r.raw) }
+    }
+
     /// Returns the first pending GL error, if any, as an [`Error::Gl`] naming `what` was done.
     pub fn check_error(&self, what: &str) -> Result<()> {
         // SAFETY: glGetError has no preconditions.

@@ -223,12 +223,13 @@ impl Context {
     /// texture or uniform names nothing the program declares.
     pub fn draw(&self, d: &Draw<'_>) {
         super::record::note(d.program.name());
-        super::record::note_shape(d);
         d.program.bind();
         d.program.bind_textures(d.textures);
         for &(name, value) in d.uniforms {
             d.program.set(name, value);
         }
+        // After the uniforms: a shape keeps the values the draw read.
+        super::record::note_shape(d);
         match d.viewport {
             Some(r) => d.target.bind_rect(r.x, r.y, r.width, r.height),
             None => d.target.bind(),

@@ -95,7 +95,8 @@ pub use profile::{DrawProfiler, DrawTime};
 pub use program::{Defines, Program};
 pub use query::{SamplesQuery, TimerQuery};
 pub use record::{
-    attach_draws, DrawRecorder, DrawShape, PassDraw, PassInfo, ReadShape, ShapeRecorder,
+    attach_draws, DrawRecorder, DrawShape, PassDraw, PassInfo, ReadShape, RecordedTexture,
+    ShapeRecorder, WALK_INCLUDE,
 };
 pub use stats::DrawStats;
 pub use texture::{check_size, Texture, TextureDesc, TextureFormat};

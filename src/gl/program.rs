@@ -7,7 +7,7 @@ use glow::HasContext;
 
 use super::bindings::{base_name, declared_uniforms, is_sampler};
 use super::source::{embedded, map_log, resolve};
-use super::{Context, Uniform};
+use super::{Context, Uniform, WALK_INCLUDE};
 use crate::error::{Error, Result};
 
 /// `#define NAME VALUE` pairs prepended to both stages of a program.
@@ -15,7 +15,7 @@ pub type Defines = Vec<(String, String)>;
 
 /// A linked vertex + fragment program, deleted on drop.
 pub struct Program {
-    ctx: Context,
+    pub(super) ctx: Context,
     raw: glow::Program,
     name: String,
     locations: RefCell<HashMap<String, Option<glow::UniformLocation>>>,
@@ -23,8 +23,21 @@ pub struct Program {
     declared: HashSet<String>,
     /// The active samplers, as GL names them.
     samplers: Vec<String>,
+    /// What it was built from (boxed: programs are held by value in many passes).
+    source: Box<SourceInfo>,
     /// While set, names the program does not declare are ignored (see [`Program::optional`]).
     lenient: Cell<bool>,
+}
+
+/// What a program was built from.
+#[derive(Debug)]
+struct SourceInfo {
+    /// The defines it was compiled with.
+    defines: Defines,
+    /// The files of its sources, includes among them.
+    files: Vec<String>,
+    /// Whether it walks the cells around every live particle ([`Program::walks_every_live`]).
+    walks_every_live: bool,
 }
 
 impl std::fmt::Debug for Program {
@@ -33,16 +46,30 @@ impl std::fmt::Debug for Program {
     }
 }
 
+/// What the sources of a program's shaders declare and include, gathered as they compile.
+#[derive(Default)]
+struct Seen {
+    declared: HashSet<String>,
+    files: Vec<String>,
+    walks_some: bool,
+}
+
 fn compile<'a>(
     ctx: &Context,
     kind: u32,
     path: &str,
     defines: &Defines,
     lookup: &dyn Fn(&str) -> Option<&'a str>,
-    declared: &mut HashSet<String>,
+    seen: &mut Seen,
 ) -> Result<glow::Shader> {
     let resolved = resolve(path, defines, lookup)?;
-    declared.extend(declared_uniforms(&resolved.text));
+    seen.walks_some |= resolved.text.contains("#define WALKS_SOME");
+    seen.declared.extend(declared_uniforms(&resolved.text));
+    for f in &resolved.files {
+        if !seen.files.contains(f) {
+            seen.files.push(f.clone());
+        }
+    }
     // SAFETY: plain shader compilation on a current context.
     unsafe {
         let shader = ctx.gl().create_shader(kind).map_err(Error::Gl)?;
@@ -87,22 +114,15 @@ impl Program {
         lookup: &dyn Fn(&str) -> Option<&'a str>,
     ) -> Result<Self> {
         let name = format!("{vertex}+{fragment}");
-        let mut declared = HashSet::new();
-        let vs = compile(
-            ctx,
-            glow::VERTEX_SHADER,
-            vertex,
-            defines,
-            lookup,
-            &mut declared,
-        )?;
+        let mut seen = Seen::default();
+        let vs = compile(ctx, glow::VERTEX_SHADER, vertex, defines, lookup, &mut seen)?;
         let fs = match compile(
             ctx,
             glow::FRAGMENT_SHADER,
             fragment,
             defines,
             lookup,
-            &mut declared,
+            &mut seen,
         ) {
             Ok(fs) => fs,
             Err(e) => {
@@ -143,10 +163,58 @@ impl Program {
             raw,
             name,
             locations: RefCell::new(HashMap::new()),
-            declared,
+            declared: seen.declared,
             samplers,
             lenient: Cell::new(false),
+            source: Box::new(SourceInfo {
+                defines: defines.clone(),
+                walks_every_live: seen.files.iter().any(|f| f == WALK_INCLUDE) && !seen.walks_some,
+                files: seen.files,
+            }),
         })
+    }
+
+    /// The defines it was compiled with.
+    pub fn defines(&self) -> &Defines {
+        &self.source.defines
+    }
+
+    /// The files its two shaders were built from, includes among them (`glsl/` paths).
+    pub fn files(&self) -> &[String] {
+        &self.source.files
+    }
+
+    /// Whether it walks the cells around every live particle: built with [`WALK_INCLUDE`]
+    /// (the exact neighbour search), and not marked `#define WALKS_SOME` (a pass that walks
+    /// only some particles, as the exact response walks those with partners).
+    pub fn walks_every_live(&self) -> bool {
+        self.source.walks_every_live
+    }
+
+    /// The values its active integer uniforms (`int`, `ivec2` to `ivec4`, not arrays) hold now,
+    /// by name: what a draw of it read, for a floor that repeats the draw's search.
+    pub fn int_uniforms(&self) -> Vec<(String, Vec<i32>)> {
+        let gl = self.ctx.gl();
+        // SAFETY: queries of a linked program of this context.
+        unsafe {
+            (0..gl.get_active_uniforms(self.raw))
+                .filter_map(|i| gl.get_active_uniform(self.raw, i))
+                .filter_map(|u| {
+                    let n = match u.utype {
+                        glow::INT => 1,
+                        glow::INT_VEC2 => 2,
+                        glow::INT_VEC3 => 3,
+                        glow::INT_VEC4 => 4,
+                        _ => return None,
+                    };
+                    let at = gl.get_uniform_location(self.raw, &u.name)?;
+                    let mut v = vec![0i32; 4];
+                    gl.get_uniform_i32(self.raw, &at, &mut v);
+                    v.truncate(n);
+                    (u.size == 1).then_some((u.name, v))
+                })
+                .collect()
+        }
     }
 
     /// Whether the program's sources declare uniform `name` (`u_plane[2]` counts as `u_plane`),

@@ -22,6 +22,17 @@ pub struct ReadShape {
     pub format: TextureFormat,
 }
 
+/// The texture one read of a recorded draw bound, by its GL name: a later draw may read the same
+/// data again (a floor built from the draw reads what the draw read, compressed or not as the
+/// driver keeps it) while the texture lives; [`Context::is_live`](super::Context::is_live)
+/// tells whether it still does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct RecordedTexture {
+    pub(super) raw: glow::Texture,
+    /// Its size and format.
+    pub shape: ReadShape,
+}
+
 /// One draw as data, without its program: what it wrote (the target's size and formats, the
 /// viewport), what it drew, and the textures it read (one per sampler, in the draw's order).
 /// What a floor built from a phase's own draws needs.
@@ -41,6 +52,27 @@ pub struct DrawShape {
     pub count: u32,
     /// The textures bound, one per sampler.
     pub reads: Vec<ReadShape>,
+    /// The same textures by name, one per read (empty for a shape made by hand).
+    pub sources: Vec<RecordedTexture>,
+    /// The samplers they were bound to, one per read (empty for a shape made by hand).
+    pub samplers: Vec<String>,
+    /// The defines the program was compiled with.
+    pub defines: Vec<(String, String)>,
+    /// For a program that walks the cells around every live particle
+    /// ([`Program::walks_every_live`](super::Program::walks_every_live)): the values of its
+    /// integer uniforms at the draw; else empty.
+    pub ints: Vec<(String, Vec<i32>)>,
+}
+
+/// The include of the exact neighbour search: a draw of a program built with it walks the
+/// cells around each particle, and its shape records the search's uniforms.
+pub const WALK_INCLUDE: &str = "collide/cells.glsl";
+
+impl DrawShape {
+    /// Whether its program walks the cells around every live particle.
+    pub fn walks(&self) -> bool {
+        !self.ints.is_empty()
+    }
 }
 
 /// Records every draw on this thread as a [`DrawShape`] from [`ShapeRecorder::start`] until
@@ -82,7 +114,14 @@ pub(crate) fn note_shape(d: &Draw<'_>) {
                     three_d: true,
                     format: t.format(),
                 },
+                Sampled::Recorded(r) => r.shape,
             });
+            let sources = d.textures.iter().map(|(_, t)| match t {
+                Sampled::D2(t) => t.recorded(),
+                Sampled::D3(t) => t.recorded(),
+                Sampled::Recorded(r) => *r,
+            });
+            let walks = d.program.walks_every_live();
             log.push(DrawShape {
                 program: d.program.name().to_owned(),
                 size: [d.target.width(), d.target.height()],
@@ -91,6 +130,14 @@ pub(crate) fn note_shape(d: &Draw<'_>) {
                 primitive: d.primitive,
                 count: d.count,
                 reads: reads.collect(),
+                sources: sources.collect(),
+                samplers: d.textures.iter().map(|(n, _)| n.to_string()).collect(),
+                defines: d.program.defines().clone(),
+                ints: if walks {
+                    d.program.int_uniforms()
+                } else {
+                    Vec::new()
+                },
             });
         }
     });

@@ -333,6 +333,19 @@ impl Texture {
     }
 
     /// Binds the texture to texture unit `unit`.
+    /// This texture by name, as a recorded draw names what it read (a floor that reads the
+    /// same data binds it by name while it lives).
+    pub fn recorded(&self) -> super::RecordedTexture {
+        super::RecordedTexture {
+            raw: self.raw,
+            shape: super::ReadShape {
+                size: [self.width, self.height, 1],
+                three_d: false,
+                format: self.format,
+            },
+        }
+    }
+
     pub(super) fn bind(&self, unit: u32) {
         // SAFETY: the texture is alive and belongs to this context.
         unsafe {

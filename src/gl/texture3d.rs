@@ -202,6 +202,19 @@ impl Texture3D {
     }
 
     /// Binds the texture to texture unit `unit` (a `sampler3D` uniform set to `unit` reads it).
+    /// This texture by name, as a recorded draw names what it read (a floor that reads the
+    /// same data binds it by name while it lives).
+    pub fn recorded(&self) -> super::RecordedTexture {
+        super::RecordedTexture {
+            raw: self.raw,
+            shape: super::ReadShape {
+                size: self.size(),
+                three_d: true,
+                format: self.format(),
+            },
+        }
+    }
+
     pub(super) fn bind(&self, unit: u32) {
         // SAFETY: the texture is alive and belongs to this context.
         unsafe {

@@ -1,14 +1,26 @@
 //! The fetch floor, a second bound of every phase that is not a render pass, built from the
 //! phase's own draws (recorded by the GL layer, [`ShapeRecorder`]): for each full-screen draw
 //! the phase made, a pass into targets of the same formats and size, over the same viewport,
-//! that fetches each texture the draw bound once at the fragment's own texel, sums them and
-//! writes the sum (`glsl/bench/fetch_floor.frag`). A pass that reads each of its inputs at
-//! least once and writes the same bytes costs at least this.
+//! that fetches each texture the draw bound once at the fragment's own texel and writes zeros
+//! (`glsl/bench/fetch_floor.frag`). A pass that reads each of its inputs at least once and
+//! writes the same bytes costs at least this.
 //!
-//! One fetch per bound texture and fragment: a pass that reads a texture many times a fragment
-//! (a neighbour search, relaxation's neighbours, a field sampled at a computed place) makes more
-//! fetches than its floor, which counts none of them, as no count of them is honest for every
-//! pass. Draws of points or lines (the births' emit pass) have no fetch floor of their own:
+//! It reads the very textures the draw read, where they still live (the phase's state, as the
+//! phase left it): what a read costs depends on the data where the driver compresses textures
+//! it rendered into (a sparse state of dead particles, all alike, reads and writes for less on
+//! NVIDIA), so a floor reading values no driver compresses, as the first version did, cost up to
+//! 1.6 times the pass it bounded. For the same reason it writes zeros, no more costly to write
+//! than anything the pass writes. A texture freed since (none in the built-in scenes) is
+//! replaced by one of the same shape holding values no driver compresses.
+//!
+//! A draw that walked the cells around every live particle (the exact detection's count, DEM,
+//! the fluid's density and force, the pair exchange: `glsl/collide/cells.glsl`) has a floor
+//! that walks the same cells with the same sorted keys, table and uniforms and fetches each
+//! visited neighbour's position once, which each of those passes reads of every neighbour. A
+//! pass that walks only some particles (`#define WALKS_SOME`, the exact response) is floored
+//! without the walk. Other reads many times a fragment (relaxation's neighbours, a field
+//! sampled at a computed place) are not counted, as no count of them is honest for every pass.
+//! Draws of points or lines (the births' emit pass) have no fetch floor of their own:
 //! where they fall is the data's, and a full-screen pass would write more than they do.
 
 use std::cell::RefCell;
@@ -19,13 +31,14 @@ use crate::bench::stats::PassTimer;
 use crate::error::{Error, Result};
 use crate::gl::{
     Context, Defines, Draw, DrawShape, DrawState, Framebuffer, Primitive, Program, ReadShape,
-    Sampled, ShapeRecorder, Texture, Texture3D, TextureDesc, TextureFormat, Uniform, VertexArray,
-    FULLSCREEN_VERTEX,
+    RecordedTexture, Sampled, ShapeRecorder, Texture, Texture3D, TextureDesc, TextureFormat,
+    Uniform, VertexArray, FULLSCREEN_VERTEX,
 };
 
 /// What the fetch floor is, in the phase table.
 pub(super) const FETCH_FLOOR: &str = "fetch floor: per full-screen draw, a pass into the same \
-    targets and viewport fetching each texture it bound once at the fragment's texel, summed";
+    targets and viewport fetching each texture it bound (the same data) once at the fragment's \
+    texel, and in a neighbour search each visited neighbour's position, writing zeros";
 
 /// The kinds of sampler the floor's shader declares, their defines, names and most of each.
 const KINDS: [(&str, &str, usize); 4] = [
@@ -41,8 +54,68 @@ fn kind(r: &ReadShape) -> usize {
     2 * r.three_d as usize + unsigned as usize
 }
 
-/// A program of the floor: samplers of each kind, targets, unsigned targets.
-type ProgramKey = ([usize; 4], usize, bool);
+/// A program of the floor: samplers of each kind, targets, unsigned targets, and for a draw
+/// that walked the cells the search's defines (with `WALK`), else none.
+type ProgramKey = ([usize; 4], usize, bool, Defines);
+
+/// The samplers of the neighbour search a walking draw bound, which the floor binds to the
+/// same textures (the table only with `CELL_TABLE`).
+const WALK_SAMPLERS: [&str; 3] = ["u_keys", "u_position", "u_cell_start"];
+
+/// The search's integer uniforms, which the floor sets to the draw's values.
+const WALK_INTS: [&str; 4] = ["u_key_width", "u_count", "u_dims", "u_cell_width"];
+
+/// The defines the search reads (`glsl/collide/cells.glsl`, `sorted_keys.glsl`).
+const WALK_DEFINES: [&str; 3] = ["CELL_TABLE", "EXACT_SCAN", "PACKED_KEYS"];
+
+/// What the floor of a draw that walked the cells repeats: the search's textures (by the
+/// samplers' names), defines and uniforms.
+struct Walk {
+    textures: Vec<(&'static str, RecordedTexture)>,
+    defines: Defines,
+    ints: Vec<(&'static str, Uniform)>,
+}
+
+/// The walk of draw `d`, where it walked the cells and the textures it searched still live.
+fn walk_of(ctx: &Context, d: &DrawShape) -> Option<Walk> {
+    if !d.walks() {
+        return None;
+    }
+    // Every sampler the search reads, or no walk (a pass that names its layout otherwise).
+    let table = d.defines.iter().any(|(k, _)| k == "CELL_TABLE");
+    let mut textures = Vec::new();
+    for name in WALK_SAMPLERS {
+        if name == "u_cell_start" && !table {
+            continue;
+        }
+        let i = d.samplers.iter().position(|s| s == name)?;
+        let t = d.sources.get(i).filter(|t| ctx.is_live(t))?;
+        textures.push((name, *t));
+    }
+    let mut defines: Defines = (d.defines.iter())
+        .filter(|(k, _)| WALK_DEFINES.contains(&k.as_str()))
+        .cloned()
+        .collect();
+    defines.push(("WALK".into(), "1".into()));
+    let ints = (WALK_INTS.iter())
+        .filter_map(|&name| {
+            let (_, v) = d.ints.iter().find(|(n, _)| n == name)?;
+            Some((
+                name,
+                match v.as_slice() {
+                    [x] => Uniform::I32(*x),
+                    [x, y, z] => Uniform::IVec3(glam::IVec3::new(*x, *y, *z)),
+                    _ => return None,
+                },
+            ))
+        })
+        .collect();
+    Some(Walk {
+        textures,
+        defines,
+        ints,
+    })
+}
 
 /// A target of the floor: size and formats.
 type TargetKey = ([u32; 2], Vec<TextureFormat>);
@@ -69,6 +142,8 @@ pub(super) struct FetchFloor {
     /// By shape and by which read of that shape in one draw it is: two reads of one draw never
     /// share a texture (nor a cache line).
     inputs: RefCell<HashMap<(ReadShape, usize), Input>>,
+    /// Write the sum of the fetches, not zeros (a test's view of what was fetched).
+    reveal: std::cell::Cell<bool>,
 }
 
 impl FetchFloor {
@@ -79,6 +154,7 @@ impl FetchFloor {
             programs: RefCell::default(),
             targets: RefCell::default(),
             inputs: RefCell::default(),
+            reveal: Default::default(),
         })
     }
 
@@ -89,8 +165,9 @@ impl FetchFloor {
             .iter()
             .filter(|d| d.primitive == Primitive::Triangles && d.count >= 3)
             .collect();
-        for d in &draws {
-            self.prepare(d)?;
+        let walks: Vec<Option<Walk>> = draws.iter().map(|d| walk_of(&self.ctx, d)).collect();
+        for (d, w) in draws.iter().zip(&walks) {
+            self.prepare(d, w.as_ref())?;
         }
         if draws.is_empty() {
             return Ok((0.0, Drawn::default()));
@@ -99,21 +176,28 @@ impl FetchFloor {
         let inputs = self.inputs.borrow();
         // Each draw's samplers and textures, by name, made before the timing.
         let mut bound: Vec<Vec<(String, Sampled)>> = Vec::new();
-        for d in &draws {
+        for (i_draw, d) in draws.iter().enumerate() {
             let mut seen = HashMap::new();
             let mut per_kind = [0usize; 4];
             let mut list = Vec::new();
-            for r in &d.reads {
+            for (i, r) in d.reads.iter().enumerate() {
                 let n = seen.entry(*r).or_insert(0usize);
                 let k = kind(r);
                 let name = format!("{}{}", KINDS[k].1, per_kind[k]);
                 per_kind[k] += 1;
-                let texture = match &inputs[&(*r, *n)] {
-                    Input::D2(t) => Sampled::D2(t),
-                    Input::D3(t) => Sampled::D3(t),
+                // The texture the draw read, where it lives: the same data; else one of the
+                // same shape holding values no driver compresses.
+                let own = (d.sources.get(i)).filter(|t| t.shape == *r && self.ctx.is_live(t));
+                let texture = match (own, &inputs[&(*r, *n)]) {
+                    (Some(t), _) => Sampled::Recorded(*t),
+                    (None, Input::D2(t)) => Sampled::D2(t),
+                    (None, Input::D3(t)) => Sampled::D3(t),
                 };
                 *n += 1;
                 list.push((name, texture));
+            }
+            for (name, t) in walks[i_draw].iter().flat_map(|w| &w.textures) {
+                list.push((name.to_string(), Sampled::Recorded(*t)));
             }
             bound.push(list);
         }
@@ -121,14 +205,24 @@ impl FetchFloor {
             .iter()
             .map(|l| l.iter().map(|(n, t)| (n.as_str(), *t)).collect())
             .collect();
-        let layers: Vec<[(&str, Uniform); 1]> = (0..draws.len())
-            .map(|i| [("u_layer", Uniform::I32(i as i32))])
+        let reveal = Uniform::I32(self.reveal.get() as i32);
+        let layers: Vec<Vec<(&str, Uniform)>> = (0..draws.len())
+            .map(|i| {
+                let mut u = vec![
+                    ("u_layer", Uniform::I32(i as i32)),
+                    ("u_sentinel", Uniform::F32(f32::NAN)),
+                    ("u_reveal", reveal),
+                ];
+                u.extend(walks[i].iter().flat_map(|w| w.ints.iter().copied()));
+                u
+            })
             .collect();
-        drawn(&self.ctx, || {
+        let walked = walks.iter().filter(|w| w.is_some()).count() as u64;
+        let (ms, drawn) = drawn(&self.ctx, || {
             timer.time(|| {
                 for (i, d) in draws.iter().enumerate() {
                     self.ctx.draw(&Draw {
-                        program: &programs[&program_key(d)],
+                        program: &programs[&program_key(d, walks[i].as_ref())],
                         target: &targets[&(d.size, d.formats.clone())],
                         viewport: d.viewport,
                         vertices: &self.vao,
@@ -140,12 +234,14 @@ impl FetchFloor {
                     });
                 }
             })
-        })
+        })?;
+        Ok((ms, Drawn { walked, ..drawn }))
     }
 
-    /// Makes what the floor of draw `d` needs, where not made yet.
-    fn prepare(&self, d: &DrawShape) -> Result<()> {
-        let key = program_key(d);
+    /// Makes what the floor of draw `d` (walking the cells as `walk` says) needs, where not
+    /// made yet.
+    fn prepare(&self, d: &DrawShape, walk: Option<&Walk>) -> Result<()> {
+        let key = program_key(d, walk);
         if let Some(k) = (0..4).find(|&k| key.0[k] > KINDS[k].2) {
             return Err(Error::InvalidInput(format!(
                 "the fetch floor of a draw of {}: it binds {} textures of kind {}, and \
@@ -161,6 +257,7 @@ impl FetchFloor {
             if key.2 {
                 defines.push(("UINT".into(), "1".into()));
             }
+            defines.extend(key.3.iter().cloned());
             let p = Program::new(
                 &self.ctx,
                 FULLSCREEN_VERTEX,
@@ -237,14 +334,15 @@ impl FetchFloor {
     }
 }
 
-/// The program key of the floor of draw `d`.
-fn program_key(d: &DrawShape) -> ProgramKey {
+/// The program key of the floor of draw `d`, walking the cells as `walk` says.
+fn program_key(d: &DrawShape, walk: Option<&Walk>) -> ProgramKey {
     let mut counts = [0usize; 4];
     for r in &d.reads {
         counts[kind(r)] += 1;
     }
     let unsigned = d.formats.contains(&TextureFormat::Rgba32Ui);
-    (counts, d.formats.len(), unsigned)
+    let defines = walk.map(|w| w.defines.clone()).unwrap_or_default();
+    (counts, d.formats.len(), unsigned, defines)
 }
 
 #[cfg(test)]
@@ -269,9 +367,40 @@ mod tests {
         out
     }
 
-    /// The floor's pass writes, into every target, the sum of one fetch of each bound texture
-    /// at the fragment's texel clamped to the texture (a 3D one at the draw's layer, 0): the
-    /// fetches are made, each once, and none is left out. Against the same sum on the CPU.
+    /// Every target of `shape`'s floor holds, at each texel of its viewport, the sum of one
+    /// fetch of each read at the texel clamped to the read's size.
+    fn check_sums(floor: &FetchFloor, shape: &DrawShape) {
+        let targets = floor.targets.borrow();
+        let fb = &targets[&(shape.size, shape.formats.clone())];
+        for t in fb.textures() {
+            let got = t.read_f32().unwrap();
+            for y in 1..4u32 {
+                for x in 0..8u32 {
+                    let mut want = [0.0f32; 4];
+                    for r in &shape.reads {
+                        let p = [x.min(r.size[0] - 1), y.min(r.size[1] - 1), 0];
+                        // Both reads of `small` hold the same values (the same pattern).
+                        for (w, v) in want.iter_mut().zip(texel(r, p)) {
+                            *w += v;
+                        }
+                    }
+                    let at = (y * 8 + x) as usize * 4;
+                    for k in 0..4 {
+                        assert!(
+                            (got[at + k] - want[k]).abs() < 1e-5,
+                            "texel ({x}, {y}) channel {k}: {} against {}",
+                            got[at + k],
+                            want[k]
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// The floor's pass fetches, for every target, one texel of each bound texture at the
+    /// fragment's texel clamped to the texture (a 3D one at the draw's layer, 0): revealed, it
+    /// writes their sum, against the same sum on the CPU; as timed, zeros.
     #[test]
     fn the_fetch_floor_writes_the_sum_of_one_fetch_of_each_texture() {
         let ctx = Context::new(0).unwrap();
@@ -300,38 +429,27 @@ mod tests {
             primitive: Primitive::Triangles,
             count: 3,
             reads: reads.clone(),
+            sources: Vec::new(),
+            samplers: Vec::new(),
+            defines: Vec::new(),
+            ints: Vec::new(),
         };
         let floor = FetchFloor::new(&ctx).unwrap();
         let timer = PassTimer::new(&ctx, Clock::Wall).unwrap();
+        floor.measure(&timer, std::slice::from_ref(&shape)).unwrap();
+        let zeros = |floor: &FetchFloor| {
+            let targets = floor.targets.borrow();
+            let fb = &targets[&(shape.size, shape.formats.clone())];
+            fb.textures()
+                .iter()
+                .all(|t| t.read_f32().unwrap().iter().all(|&v| v == 0.0))
+        };
+        assert!(zeros(&floor), "the timed floor writes zeros");
+        floor.reveal.set(true);
         let (_, drawn) = floor.measure(&timer, std::slice::from_ref(&shape)).unwrap();
         assert_eq!((drawn.stats.draws, drawn.stats.passes), (1, 1));
         assert_eq!(drawn.stats.bytes_written, 8 * 3 * 32);
-        let targets = floor.targets.borrow();
-        let fb = &targets[&(shape.size, shape.formats.clone())];
-        for t in fb.textures() {
-            let got = t.read_f32().unwrap();
-            for y in 1..4u32 {
-                for x in 0..8u32 {
-                    let mut want = [0.0f32; 4];
-                    for r in &reads {
-                        let p = [x.min(r.size[0] - 1), y.min(r.size[1] - 1), 0];
-                        // Both reads of `small` hold the same values (the same pattern).
-                        for (w, v) in want.iter_mut().zip(texel(r, p)) {
-                            *w += v;
-                        }
-                    }
-                    let at = (y * 8 + x) as usize * 4;
-                    for k in 0..4 {
-                        assert!(
-                            (got[at + k] - want[k]).abs() < 1e-5,
-                            "texel ({x}, {y}) channel {k}: {} against {}",
-                            got[at + k],
-                            want[k]
-                        );
-                    }
-                }
-            }
-        }
+        check_sums(&floor, &shape);
         // Draws of points have no fetch floor: nothing drawn, nothing timed.
         let points = DrawShape {
             primitive: Primitive::Points,
@@ -340,5 +458,132 @@ mod tests {
         let (ms, drawn) = floor.measure(&timer, &[points]).unwrap();
         assert_eq!((ms, drawn.stats.draws), (0.0, 0));
         ctx.check_error("the fetch floor").unwrap();
+    }
+
+    /// A recorded draw's own texture is read while it lives (the same data), and once freed
+    /// one of its shape is read instead.
+    #[test]
+    fn the_fetch_floor_reads_the_draws_own_texture_while_it_lives() {
+        let ctx = Context::new(0).unwrap();
+        let desc = TextureDesc {
+            width: 4,
+            height: 2,
+            format: TextureFormat::Rgba32F,
+            label: "own",
+        };
+        let own = Texture::new(&ctx, desc).unwrap();
+        let data: Vec<f32> = (0..32).map(|i| 100.0 + i as f32).collect();
+        own.upload_f32(&data).unwrap();
+        let shape = DrawShape {
+            program: "test".into(),
+            size: [4, 2],
+            formats: vec![TextureFormat::Rgba32F],
+            viewport: None,
+            primitive: Primitive::Triangles,
+            count: 3,
+            reads: vec![own.recorded().shape],
+            sources: vec![own.recorded()],
+            samplers: vec!["u_own".into()],
+            defines: Vec::new(),
+            ints: Vec::new(),
+        };
+        let floor = FetchFloor::new(&ctx).unwrap();
+        floor.reveal.set(true);
+        let timer = PassTimer::new(&ctx, Clock::Wall).unwrap();
+        let written = |floor: &FetchFloor| {
+            floor.measure(&timer, std::slice::from_ref(&shape)).unwrap();
+            let targets = floor.targets.borrow();
+            targets[&(shape.size, shape.formats.clone())]
+                .only_texture()
+                .read_f32()
+                .unwrap()
+        };
+        assert_eq!(written(&floor), data);
+        drop(own);
+        let other: Vec<f32> = (0..32).map(value).collect();
+        assert_eq!(written(&floor), other);
+        ctx.check_error("the fetch floor").unwrap();
+    }
+
+    /// A draw that walked the cells: its floor walks the same cells of the same sorted keys
+    /// and fetches each neighbour's position once. Four entries in cells 0, 0, 1 and a dead
+    /// one (+inf) in a lattice of 2 cells along x: entry 0 visits 1 and 2, entry 2 visits 0
+    /// and 1, the dead one nothing; revealed, each fragment's sum is its own texels' and its
+    /// neighbours' positions.
+    #[test]
+    fn the_walking_floor_visits_the_same_neighbours() {
+        let ctx = Context::new(0).unwrap();
+        let texture = |label, data: &[f32]| {
+            let desc = TextureDesc {
+                width: 4,
+                height: 1,
+                format: TextureFormat::Rgba32F,
+                label,
+            };
+            let t = Texture::new(&ctx, desc).unwrap();
+            t.upload_f32(data).unwrap();
+            t
+        };
+        let keys = texture(
+            "keys",
+            &[
+                0.,
+                0.,
+                0.,
+                0.,
+                0.,
+                1.,
+                0.,
+                0.,
+                1.,
+                2.,
+                0.,
+                0.,
+                f32::INFINITY,
+                3.,
+                0.,
+                0.,
+            ],
+        );
+        let pos: Vec<f32> = (0..16).map(|i| (1u32 << (i / 4)) as f32).collect();
+        let position = texture("position", &pos);
+        let shape = DrawShape {
+            program: "test".into(),
+            size: [4, 1],
+            formats: vec![TextureFormat::Rgba32F],
+            viewport: None,
+            primitive: Primitive::Triangles,
+            count: 3,
+            reads: vec![keys.recorded().shape, position.recorded().shape],
+            sources: vec![keys.recorded(), position.recorded()],
+            samplers: vec!["u_keys".into(), "u_position".into()],
+            defines: vec![("EXACT_SCAN".into(), "8".into())],
+            ints: vec![
+                ("u_key_width".into(), vec![4]),
+                ("u_count".into(), vec![4]),
+                ("u_dims".into(), vec![2, 1, 1]),
+            ],
+        };
+        let floor = FetchFloor::new(&ctx).unwrap();
+        floor.reveal.set(true);
+        let timer = PassTimer::new(&ctx, Clock::Wall).unwrap();
+        floor.measure(&timer, std::slice::from_ref(&shape)).unwrap();
+        let targets = floor.targets.borrow();
+        let got = targets[&(shape.size, shape.formats.clone())]
+            .only_texture()
+            .read_f32()
+            .unwrap();
+        // Positions 1, 2, 4, 8 (one value in every channel); keys' first channels 0, 0, 1, inf.
+        let own = [0.0 + 1.0, 0.0 + 2.0, 1.0 + 4.0, f32::INFINITY];
+        let walked = [2.0 + 4.0, 1.0 + 4.0, 1.0 + 2.0, 0.0];
+        for e in 0..3 {
+            assert_eq!(
+                got[e * 4],
+                own[e] + walked[e],
+                "entry {e}: {:?}",
+                &got[e * 4..e * 4 + 4]
+            );
+        }
+        ctx.check_error("the walking floor").unwrap();
     }
 }

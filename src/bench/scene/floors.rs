@@ -31,6 +31,9 @@ pub struct Drawn {
     pub stats: DrawStats,
     /// Fragments written (`GL_SAMPLES_PASSED`), where counted.
     pub fragments: Option<u64>,
+    /// Of a fetch floor's draws, those that walked the cells around every live particle as
+    /// the phase's draw did (a neighbour search).
+    pub walked: u64,
 }
 
 impl Drawn {
@@ -39,6 +42,7 @@ impl Drawn {
         Drawn {
             stats,
             fragments: None,
+            walked: 0,
         }
     }
 
@@ -54,6 +58,7 @@ impl Drawn {
                 vertices: s.vertices * k,
             },
             fragments: self.fragments.map(|f| f * k),
+            walked: self.walked * k,
         }
     }
 
@@ -69,6 +74,7 @@ impl Drawn {
                 vertices: a.vertices + b.vertices,
             },
             fragments: self.fragments.zip(other.fragments).map(|(x, y)| x + y),
+            walked: self.walked + other.walked,
         }
     }
 }
@@ -96,6 +102,7 @@ pub(super) fn counted(
         Drawn {
             stats,
             fragments: Some(fragments),
+            walked: 0,
         },
     ))
 }
@@ -126,16 +133,18 @@ pub(super) fn render_phase(
         && style.primitive == DrawPrimitive::Points
         && style.types.iter().all(|t| t.size_range == [1.0; 2]);
     let camera = (&view_proj, if uniform { style.point_size } else { 1.0 });
-    // As many vertices as the pass draws: every texel when sorted (dead ones sort last, and
-    // are culled), else the simulation's drawn count (its live rows).
+    // The live rows' particles (the simulation's drawn count): every live particle is among
+    // them, sorted or not (the snapshot is of the simulation's own order), and no pass draws
+    // fewer vertices with a live one left out. (Every texel, when sorted, was more than a
+    // renderer that draws the live count only, as the half-angle slices do: 4M culled points
+    // costing 5 times the pass they bounded.)
     // A connected render (a surface, strands) draws no point per particle: the points would
     // not bound its lines or triangles (hidden behind one another, overlapping), so its floor
     // is the clear alone.
-    let [w, h] = s.particles.size;
-    let count = match sorted {
-        _ if engine.renderer().draws_connected() => 0,
-        true => w as usize * h as usize,
-        false => engine.sim().drawn().count,
+    let count = if engine.renderer().draws_connected() {
+        0
+    } else {
+        engine.sim().drawn().count
     };
     let points = counted(ctx, samples, || {
         timer.time(|| placed.draw(fb, clear, blend, camera, count))

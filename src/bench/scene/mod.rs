@@ -393,7 +393,12 @@ fn measure(
     let render = RenderFloors {
         timer,
         samples: SamplesQuery::new(ctx)?,
-        fill: e.renderer().with_fragment("bench/fill_floor.frag")?,
+        // Not for a lit scene: its render is the half-angle slices (their own vertex stage and
+        // floors), not the plain renderer's points.
+        fill: match e.lit() {
+            Some(_) => None,
+            None => e.renderer().with_fragment("bench/fill_floor.frag")?,
+        },
     };
     let sort_floors = SortFloors {
         timer,

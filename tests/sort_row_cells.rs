@@ -71,8 +71,8 @@ fn sorted(ctx: &Context, size: [u32; 2], options: SortOptions, input: &[Entry]) 
 #[test]
 fn rows_only_exact_compact_entries_sort_as_the_eight_byte_ones() {
     let ctx = context();
-    for (w, h, rows) in [(32, 32, 1), (64, 16, 1), (16, 16, 4), (256, 4, 1)] {
-        let block_bits = (w * rows as u32).trailing_zeros();
+    for (w, h, rows) in [(32u32, 32, 1u32), (64, 16, 1), (16, 16, 4), (256, 4, 1)] {
+        let block_bits = (w * rows).trailing_zeros();
         // The largest lattice the levels hold: the top cells use the top levels.
         let cells = ((1u64 << (32 - block_bits)) - 3).min(1 << 24);
         assert!(row_cells_fit(cells, block_bits));

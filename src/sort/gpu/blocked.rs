@@ -192,22 +192,7 @@ impl Blocked {
         row_cells: Option<u32>,
     ) -> Result<Self> {
         let n = log2(width * height);
-        let quantiser = if let Some(block_bits) = row_cells {
-            check_compact(shape, block_bits)?;
-            None
-        } else if shape.compact {
-            check_compact(shape, n)?;
-            Some(Quantiser::new(n, 0.0, 1.0)?)
-        } else {
-            if !(2..=4).contains(&shape.bits) {
-                return Err(Error::InvalidInput(format!(
-                    "the blocked sort holds 4, 8 or 16 exact entries per fragment (bits 2 to 4), \
-                     not 2^{}: 32 (bits 5) takes compact entries",
-                    shape.bits
-                )));
-            }
-            None
-        };
+        let quantiser = check_entries(shape, n, row_cells)?;
         let bits = shape.bits.min(n).max(1);
         let pixels = (width * height) >> bits;
         let w = width.min(pixels).max(1);
@@ -422,6 +407,27 @@ impl Blocked {
         let blocks = [("u_blocks", Sampled::from(&self.tex[self.front]))];
         fullscreen.draw(p, &blocks, &[], target);
     }
+}
+
+/// Checks the shape against the entries it holds; the quantiser of lossy compact entries (none
+/// for exact ones, nor for rows-only compact exact ones, whose ids take `row_cells` bits).
+fn check_entries(shape: BlockedShape, n: u32, row_cells: Option<u32>) -> Result<Option<Quantiser>> {
+    Ok(if let Some(block_bits) = row_cells {
+        check_compact(shape, block_bits)?;
+        None
+    } else if shape.compact {
+        check_compact(shape, n)?;
+        Some(Quantiser::new(n, 0.0, 1.0)?)
+    } else {
+        if !(2..=4).contains(&shape.bits) {
+            return Err(Error::InvalidInput(format!(
+                "the blocked sort holds 4, 8 or 16 exact entries per fragment (bits 2 to 4), \
+                 not 2^{}: 32 (bits 5) takes compact entries",
+                shape.bits
+            )));
+        }
+        None
+    })
 }
 
 fn set_quantiser(p: &Program, q: &Quantiser) {

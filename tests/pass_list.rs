@@ -136,6 +136,18 @@ fn variants_draw_the_passes_they_list() {
     let mut s = load("examples/heat/heat.toml");
     s.state[0].pass = scene::StatePassKind::Integrate;
     cases.push((s, EngineKind::Gpu));
+    // E4's rows-only collision sorts on 4-byte exact entries (cell key and column).
+    let e4 = texflow::bench::scenes::e4::scene(16).unwrap();
+    let lines = texflow::sim::particles::Features::of(&e4).step_passes();
+    let compact = lines
+        .iter()
+        .filter(|p| p.name.contains("4-byte exact entries"));
+    assert_eq!(
+        compact.count(),
+        2,
+        "both lattices' sorts name their entries"
+    );
+    cases.push((e4, EngineKind::Gpu));
     cases.push((load("e1"), EngineKind::Cpu));
     cases.push((load("e3"), EngineKind::Cpu));
     let mut failures = Vec::new();

@@ -15,6 +15,13 @@
 // for the same eight render targets. Keys that fall in one quantisation step keep the order of
 // their identifiers. +inf and NaN keys (dead particles, padding) take the top level, so they
 // still sort after every live particle.
+//
+// ROW_CELLS (with COMPACT, rows-only sorts of cell keys): 4-byte entries that lose nothing. An
+// entry never leaves its block of rows, so the identifier needs only its position in the block
+// (u_block_bits bits, the column when rows are sorted one by one); the key, a whole cell index,
+// takes a level of its own in the high bits: -inf 0, cell k k + 1, +inf top - 1, NaN top. The
+// sorter takes it only where every cell has a level (src/sort/gpu/blocked.rs, row_cells_fit), so
+// the uints order as the exact (key, id) entries do, ties by column as by id.
 
 #include "common/compare.glsl"
 
@@ -50,6 +57,10 @@ uniform sampler3D u_blocks;
 uniform int u_id_bits;
 uniform float u_key_lo;
 uniform float u_key_scale;
+#endif
+#ifdef ROW_CELLS
+// log2 of the entries of a sorted block (one row, or a set of rows).
+uniform int u_block_bits;
 #endif
 // log2 of the width of what is read (texels of the natural texture, pixels of the blocks).
 uniform int u_in_log_w;
@@ -98,7 +109,25 @@ vec4 fetch_texel(int s) {
 }
 #endif
 
-#ifdef COMPACT
+#ifdef ROW_CELLS
+// The exact entry of the key at row-major index s: the twin of row_cell_entry in
+// src/sort/gpu/blocked.rs.
+uint row_cell_entry(float key, int s) {
+    uint top = (1u << uint(32 - u_block_bits)) - 1u;
+    uint u = floatBitsToUint(key);
+    uint level;
+    if ((u & 0x7fffffffu) > 0x7f800000u) {
+        level = top;
+    } else if (u == 0x7f800000u) {
+        level = top - 1u;
+    } else if (u == 0xff800000u) {
+        level = 0u;
+    } else {
+        level = uint(clamp(key, 0.0, float(top - 3u))) + 1u;
+    }
+    return (level << uint(u_block_bits)) | uint(s & ((1 << u_block_bits) - 1));
+}
+#elif defined(COMPACT)
 // The entry of a (key, id) pair of the key pass: the twin of compact_level in
 // src/sort/gpu/blocked.rs. Non-finite keys by their bits (isnan and isinf are left to the driver):
 // -inf takes level 0, +inf and NaN the top level.
@@ -129,7 +158,12 @@ void main() {
         }
     }
     ENTRY e[SIZE];
-#if defined(COMPACT) && defined(NATURAL_INPUT)
+#if defined(ROW_CELLS) && defined(NATURAL_INPUT)
+    for (int c = 0; c < SIZE; c++) {
+        int s = prev | u_prev_slot[c];
+        e[c] = row_cell_entry(fetch_texel(s).x, s);
+    }
+#elif defined(COMPACT) && defined(NATURAL_INPUT)
     for (int c = 0; c < SIZE; c++) {
         e[c] = compact_entry(fetch_texel(prev | u_prev_slot[c]).xy);
     }

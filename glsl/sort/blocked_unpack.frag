@@ -8,7 +8,13 @@
 #define SIZE (1 << BITS)
 #define MAX_BITS 24
 
-#ifdef COMPACT
+#ifdef ROW_CELLS
+// Rows-only compact exact entries (blocked.frag): the level gives the key back exactly (-inf,
+// the cell, +inf, the key pass's NaN), the position in the block of u_block_bits bits the id
+// (the entry's index in the sorted rows' row-major order).
+uniform usampler3D u_blocks;
+uniform int u_block_bits;
+#elif defined(COMPACT)
 // 4-byte entries (blocked.frag): the identifier in the low u_id_bits bits; the key comes back
 // as its quantisation level's lower bound, the top level as +inf.
 uniform usampler3D u_blocks;
@@ -36,7 +42,15 @@ void main() {
     }
     int p = s >> BITS;
     int mask = (1 << u_in_log_w) - 1;
-#ifdef COMPACT
+#ifdef ROW_CELLS
+    uint e = texelFetch(u_blocks, ivec3(p & mask, p >> u_in_log_w, (s & (SIZE - 1)) >> 2), 0)[s & 3];
+    uint level = e >> uint(u_block_bits);
+    uint top = (1u << uint(32 - u_block_bits)) - 1u;
+    uint bits = level == 0u ? 0xff800000u : (level == top ? 0x7fc00000u : (level == top - 1u ? 0x7f800000u : floatBitsToUint(float(level - 1u))));
+    int block = (1 << u_block_bits) - 1;
+    int id = (i & ~block) | int(e & uint(block));
+    o_entry = vec4(uintBitsToFloat(bits), float(id), 0.0, 0.0);
+#elif defined(COMPACT)
     uint e = texelFetch(u_blocks, ivec3(p & mask, p >> u_in_log_w, (s & (SIZE - 1)) >> 2), 0)[s & 3];
     uint level = e >> uint(u_id_bits);
     uint top = (1u << uint(32 - u_id_bits)) - 1u;

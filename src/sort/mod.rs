@@ -9,6 +9,8 @@ pub mod precision;
 pub mod schedule;
 pub mod spread;
 
-pub use gpu::{BlockedShape, KeyMode, Quantiser, SortOptions, Sorter, Variant};
+pub use gpu::{
+    row_cell_entry, row_cells_fit, BlockedShape, KeyMode, Quantiser, SortOptions, Sorter, Variant,
+};
 pub use network::{entry_less, Entry, Step};
 pub use schedule::{network as passes_of, pass_count, NetworkPass};

@@ -48,9 +48,10 @@ pub fn network(
             if n == 0 {
                 return Vec::new();
             }
-            let bits = options.blocked.bits.min(n).max(1);
+            let shape = options.blocked_shape(variant, width);
+            let bits = shape.bits.min(n).max(1);
             let mut passes: Vec<NetworkPass> =
-                blocked_schedule(n, block.trailing_zeros(), bits, options.blocked.pinned)
+                blocked_schedule(n, block.trailing_zeros(), bits, shape.pinned)
                     .into_iter()
                     .map(NetworkPass::Blocked)
                     .collect();

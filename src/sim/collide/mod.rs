@@ -49,6 +49,7 @@ pub(crate) use carry::exchange_defines;
 pub use cells::{CellTables, Lattice};
 pub use census::PairCensus;
 pub use neighbours::{check_pair_forces, neighbour_passes, NeighbourReadback};
+pub use pass_list::uberflow_sort;
 
 /// The staggered lattice's layout: the first lattice's detection, gathered along with the state
 /// (read by the response as `u_partner2`).
@@ -172,6 +173,19 @@ fn single_target(ctx: &Context, label: &str, size: [u32; 2]) -> Result<Framebuff
     Framebuffer::new(ctx, label, vec![t])
 }
 
+/// The options of a lattice's collision sort (the first, or the `staggered` one): rows only
+/// where the scene asks and the detection allows, and the lattice's cell count, so that a
+/// rows-only blocked sort takes 4-byte exact entries where they hold every cell
+/// ([`SortOptions::row_cells`]).
+pub fn sort_options(config: &scene::Collisions, staggered: bool) -> SortOptions {
+    let exact = config.detection == scene::Detection::Exact;
+    SortOptions {
+        rows: if exact { None } else { config.rows_only },
+        cell_keys: Some(Lattice::of(config, staggered).cells()),
+        ..Default::default()
+    }
+}
+
 impl Grid {
     /// The first lattice's sort, layout and detection target, or (`staggered`) the second's,
     /// whose layout also takes the first lattice's detection along.
@@ -196,11 +210,8 @@ impl Grid {
             true => Some(single_target(ctx, &format!("{name} spin"), size)?),
             false => None,
         };
+        let options = sort_options(config, staggered);
         let exact = config.detection == scene::Detection::Exact;
-        let options = SortOptions {
-            rows: if exact { None } else { config.rows_only },
-            ..Default::default()
-        };
         let spec = grid::GridSpec {
             variant: config.sort.variant(),
             options,

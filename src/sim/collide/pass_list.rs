@@ -4,7 +4,28 @@
 
 use super::{CollisionStage, Grid, Passes};
 use crate::gl::PassDraw;
+use crate::scene::CollisionSort;
 use crate::sort::Sorter;
+
+/// How UberFlow's detection sorts a lattice, for its `collision sort` line: within `rows` rows
+/// (or fully) on the `sort` network, and for a blocked sort within rows which entries it takes
+/// (`row_cells`: 4-byte exact ones, [`crate::sort::SortOptions::row_cells`]).
+pub fn uberflow_sort(sort: CollisionSort, rows: Option<u32>, row_cells: bool) -> String {
+    let net = sort.label();
+    let net = match (rows, row_cells) {
+        (Some(1), true) => format!("{net}, 4-byte exact entries: cell key and column"),
+        (_, true) => format!("{net}, 4-byte exact entries: cell key and place in the rows"),
+        (Some(_), false) if sort == CollisionSort::Blocked => {
+            format!("{net}, 8-byte entries: too many cells for 4-byte ones")
+        }
+        _ => net.to_string(),
+    };
+    match rows {
+        Some(1) => format!("rows-only bitonic sort ({net})"),
+        Some(r) => format!("bitonic sort within sets of {r} rows ({net})"),
+        None => format!("full bitonic sort ({net})"),
+    }
+}
 
 /// A lattice's keys, sort and gather, `times` times.
 fn sort_draws(out: &mut Vec<PassDraw>, g: &Grid, times: u64) {

@@ -97,6 +97,9 @@ pub struct Features {
     pub collisions: Option<(u32, bool, Option<u32>)>,
     /// The collision detection mode (with `collisions`).
     pub detection: crate::scene::Detection,
+    /// Whether the first and the staggered lattice's rows-only blocked sorts take 4-byte exact
+    /// entries (cell key and column: [`crate::sort::SortOptions::row_cells`]).
+    pub collision_row_cells: [bool; 2],
     /// The collision sorts' network (`collisions.sort`).
     pub collision_sort: crate::scene::CollisionSort,
     /// The exact detection's pairs respond with the DEM contact force (`collisions.response`).
@@ -176,6 +179,12 @@ impl Features {
                 .as_ref()
                 .map_or(Default::default(), |c| c.detection),
             collision_sort: (scene.collisions.as_ref()).map_or(Default::default(), |c| c.sort),
+            collision_row_cells: [false, true].map(|staggered| {
+                scene.collisions.as_ref().is_some_and(|c| {
+                    crate::sim::collide::sort_options(c, staggered)
+                        .row_cells(c.sort.variant(), scene.particles.size[0])
+                })
+            }),
             dem: (scene.collisions.as_ref())
                 .is_some_and(|c| c.response == crate::scene::Response::Dem),
             pair_forces: scene.forces.pair.len(),
@@ -540,18 +549,13 @@ impl Features {
                 self.cell_tables.collisions,
             ));
         } else if let Some((k, staggered, rows)) = self.collisions {
-            let net = self.collision_sort.label();
-            let sort = match rows {
-                Some(1) => format!("rows-only bitonic sort ({net})"),
-                Some(r) => format!("bitonic sort within sets of {r} rows ({net})"),
-                None => format!("full bitonic sort ({net})"),
-            };
             let lattices: &[&str] = if staggered {
                 &["lattice", "staggered lattice"]
             } else {
                 &["lattice"]
             };
-            for l in lattices {
+            for (l, &row_cells) in lattices.iter().zip(&self.collision_row_cells) {
+                let sort = crate::sim::collide::uberflow_sort(self.collision_sort, rows, row_cells);
                 out.push(format!("collision keys: cell index in the {l} (z, y, x)"));
                 out.push(format!("collision sort: {sort}"));
                 out.push(format!(

@@ -105,6 +105,41 @@ pub fn compact_level(key: f32, lo: f32, scale: f32, id_bits: u32) -> u32 {
     }
 }
 
+/// Most cells of a lattice whose keys rows-only compact exact entries hold: cell keys are exact
+/// floats up to 2^24.
+const ROW_CELLS_MAX: u64 = 1 << 24;
+
+/// Whether rows-only compact exact entries hold every key of a lattice of `cells` cells sorted
+/// in blocks of 2^`block_bits` entries (one row, or a set of rows): the position in the block
+/// takes the low `block_bits` bits, and the `32 - block_bits` high bits one level for each
+/// cell plus three for -inf, +inf (dead particles) and NaN (padding). 1024 wide: 4,194,301
+/// cells.
+pub fn row_cells_fit(cells: u64, block_bits: u32) -> bool {
+    (2..=24).contains(&block_bits)
+        && cells <= ROW_CELLS_MAX
+        && cells + 3 <= 1u64 << (32 - block_bits)
+}
+
+/// The rows-only compact exact entry of `key` at row-major index `index` (the CPU twin of
+/// `row_cell_entry` in `glsl/sort/blocked.frag`): level 0 for -inf, `key + 1` for a whole
+/// key, `top - 1` for +inf and `top` for NaN (`top = 2^(32 - block_bits) - 1`), above the
+/// index's position in its block. Lossless for whole keys up to `top - 3`, so comparing entries
+/// as uints orders them as the exact (key, id) entries whose ids are their indices.
+pub fn row_cell_entry(key: f32, index: u32, block_bits: u32) -> u32 {
+    let top = ((1u64 << (32 - block_bits)) - 1) as u32;
+    let u = key.to_bits();
+    let level = if u & 0x7fff_ffff > 0x7f80_0000 {
+        top
+    } else if u == 0x7f80_0000 {
+        top - 1
+    } else if u == 0xff80_0000 {
+        0
+    } else {
+        key.clamp(0.0, (top - 3) as f32) as u32 + 1
+    };
+    (level << block_bits) | (index & ((1 << block_bits) - 1))
+}
+
 /// The blocked network's state and passes. Framebuffers before textures: they are dropped first.
 pub(super) struct Blocked {
     fbs: [Framebuffer; 2],
@@ -120,8 +155,13 @@ pub(super) struct Blocked {
     natural_log_w: u32,
     programs: HashMap<(bool, Vec<u32>), Program>,
     unpack: Program,
-    /// With 4-byte entries: how keys are quantised (the range is set before each sort).
+    /// 4-byte entries (quantised, or rows-only exact).
+    compact: bool,
+    /// With quantised 4-byte entries: how keys are quantised (the range is set before each
+    /// sort).
     quantiser: Option<Quantiser>,
+    /// With rows-only compact exact entries: log2 of the entries of a sorted block.
+    row_cells: Option<u32>,
 }
 
 impl std::fmt::Debug for Blocked {
@@ -141,28 +181,18 @@ fn log2(v: u32) -> u32 {
 
 impl Blocked {
     /// A blocked network over a `width`×`height` natural texture (powers of two) that runs
-    /// `passes`, the network passes of [`crate::sort::schedule::network`].
+    /// `passes`, the network passes of [`crate::sort::schedule::network`]; `row_cells`: the
+    /// log2 of the entries of a sorted block, for rows-only compact exact entries (`shape` is
+    /// then compact).
     pub(super) fn new(
         ctx: &Context,
-        width: u32,
-        height: u32,
+        [width, height]: [u32; 2],
         shape: BlockedShape,
         passes: Vec<BlockPass>,
+        row_cells: Option<u32>,
     ) -> Result<Self> {
         let n = log2(width * height);
-        let quantiser = if shape.compact {
-            check_compact(shape, n)?;
-            Some(Quantiser::new(n, 0.0, 1.0)?)
-        } else {
-            if !(2..=4).contains(&shape.bits) {
-                return Err(Error::InvalidInput(format!(
-                    "the blocked sort holds 4, 8 or 16 exact entries per fragment (bits 2 to 4), \
-                     not 2^{}: 32 (bits 5) takes compact entries",
-                    shape.bits
-                )));
-            }
-            None
-        };
+        let quantiser = check_entries(shape, n, row_cells)?;
         let bits = shape.bits.min(n).max(1);
         let pixels = (width * height) >> bits;
         let w = width.min(pixels).max(1);
@@ -191,6 +221,9 @@ impl Blocked {
         if shape.compact {
             d.push(("COMPACT".into(), "1".into()));
         }
+        if row_cells.is_some() {
+            d.push(("ROW_CELLS".into(), "1".into()));
+        }
         let unpack = Program::new(ctx, FULLSCREEN_VERTEX, "sort/blocked_unpack.frag", &d)?;
         let mut b = Blocked {
             fbs,
@@ -204,7 +237,9 @@ impl Blocked {
             natural_log_w: log2(width),
             programs: HashMap::new(),
             unpack,
+            compact: shape.compact,
             quantiser,
+            row_cells,
         };
         for i in 0..b.passes.len() {
             let key = b.program_key(i);
@@ -275,8 +310,11 @@ impl Blocked {
         if self.pinned {
             d.push(("PINNED".into(), "1".into()));
         }
-        if self.quantiser.is_some() {
+        if self.compact {
             d.push(("COMPACT".into(), "1".into()));
+        }
+        if key.0 && self.row_cells.is_some() {
+            d.push(("ROW_CELLS".into(), "1".into()));
         }
         Program::new(ctx, FULLSCREEN_VERTEX, "sort/blocked.frag", &d)
     }
@@ -306,6 +344,9 @@ impl Blocked {
         p.set_i32("u_log_w", self.log_w as i32);
         if let (true, Some(q)) = (i == 0, self.quantiser) {
             set_quantiser(p, &q);
+        }
+        if let (true, Some(b)) = (i == 0, self.row_cells) {
+            p.set_i32("u_block_bits", b as i32);
         }
         let pixel_bits = pass.pixel_bits(self.n);
         p.set_i32("u_pixel_bits", pixel_bits.len() as i32);
@@ -351,6 +392,9 @@ impl Blocked {
         if let Some(q) = self.quantiser {
             set_quantiser(p, &q);
         }
+        if let Some(b) = self.row_cells {
+            p.set_i32("u_block_bits", b as i32);
+        }
         let perm: Vec<i32> = self
             .passes
             .last()
@@ -365,6 +409,27 @@ impl Blocked {
     }
 }
 
+/// Checks the shape against the entries it holds; the quantiser of lossy compact entries (none
+/// for exact ones, nor for rows-only compact exact ones, whose ids take `row_cells` bits).
+fn check_entries(shape: BlockedShape, n: u32, row_cells: Option<u32>) -> Result<Option<Quantiser>> {
+    Ok(if let Some(block_bits) = row_cells {
+        check_compact(shape, block_bits)?;
+        None
+    } else if shape.compact {
+        check_compact(shape, n)?;
+        Some(Quantiser::new(n, 0.0, 1.0)?)
+    } else {
+        if !(2..=4).contains(&shape.bits) {
+            return Err(Error::InvalidInput(format!(
+                "the blocked sort holds 4, 8 or 16 exact entries per fragment (bits 2 to 4), \
+                 not 2^{}: 32 (bits 5) takes compact entries",
+                shape.bits
+            )));
+        }
+        None
+    })
+}
+
 fn set_quantiser(p: &Program, q: &Quantiser) {
     p.set_i32("u_id_bits", q.id_bits as i32);
     p.set_f32("u_key_lo", q.lo);
@@ -372,7 +437,7 @@ fn set_quantiser(p: &Program, q: &Quantiser) {
 }
 
 /// Compact entries: 2 to 5 bits a pass, no pinned lane, and at least 8 key bits beside the
-/// identifier.
+/// identifier of `n` bits.
 pub(super) fn check_compact(shape: BlockedShape, n: u32) -> Result<()> {
     let bad = |m: String| Err(Error::InvalidInput(m));
     if !(2..=5).contains(&shape.bits) {

@@ -20,7 +20,7 @@ use crate::gl::{
     TextureFormat, FULLSCREEN_VERTEX,
 };
 use blocked::Blocked;
-pub use blocked::Quantiser;
+pub use blocked::{row_cell_entry, row_cells_fit, Quantiser};
 use geometry::{Geometry, GpProgram};
 pub use options::{BlockedShape, KeyMode, SortOptions, Variant};
 
@@ -129,7 +129,10 @@ fn check_options(variant: Variant, width: u32, height: u32, options: &SortOption
                 .into(),
         );
     }
-    if variant == Variant::Blocked && options.blocked.compact {
+    if options.row_cells(variant, width) {
+        let shape = options.blocked_shape(variant, width);
+        blocked::check_compact(shape, block.trailing_zeros())?;
+    } else if variant == Variant::Blocked && options.blocked.compact {
         blocked::check_compact(options.blocked, (width * height).trailing_zeros())?;
     }
     if options.passes_per_frame == Some(0) {
@@ -297,8 +300,12 @@ impl Sorter {
                 self.blocked = if passes.is_empty() {
                     None
                 } else {
-                    let (w, h, shape) = (self.width, self.height, self.options.blocked);
-                    Some(Blocked::new(&self.ctx, w, h, shape, passes)?)
+                    let o = &self.options;
+                    let shape = o.blocked_shape(self.variant, self.width);
+                    let row_cells =
+                        (o.row_cells(self.variant, self.width)).then(|| block.trailing_zeros());
+                    let size = [self.width, self.height];
+                    Some(Blocked::new(&self.ctx, size, shape, passes, row_cells)?)
                 };
             }
             Variant::GpFp | Variant::Packed => return self.build_geometry(&network),
@@ -422,7 +429,7 @@ impl Sorter {
                 Pass::Group(steps) => (n / 2) << group_shape(steps).0,
                 Pass::Geometry { .. } if self.variant.packed() => n,
                 Pass::Geometry { .. } => 2 * n,
-                Pass::Blocked(_) if self.options.blocked.pinned => n / 2,
+                Pass::Blocked(_) if self.blocked_shape().pinned => n / 2,
                 Pass::Blocked(_) | Pass::Unpack => n,
             })
             .sum()
@@ -445,6 +452,17 @@ impl Sorter {
         }
     }
 
+    /// The blocked network's shape as run ([`SortOptions::blocked_shape`]).
+    pub fn blocked_shape(&self) -> BlockedShape {
+        self.options.blocked_shape(self.variant, self.width)
+    }
+
+    /// Whether the blocked sort takes rows-only compact exact entries
+    /// ([`SortOptions::row_cells`]).
+    pub fn row_cells(&self) -> bool {
+        self.options.row_cells(self.variant, self.width)
+    }
+
     /// How the compact blocked sort quantises keys (`None` for exact entries).
     pub fn quantiser(&self) -> Option<blocked::Quantiser> {
         self.blocked.as_ref().and_then(|b| b.quantiser())
@@ -461,6 +479,9 @@ impl Sorter {
                 self.height
             )));
         }
+        if self.row_cells() {
+            self.check_row_cells(entries)?;
+        }
         let flat: Vec<f32> = if self.variant.packed() {
             entries.iter().flatten().copied().collect()
         } else {
@@ -468,6 +489,24 @@ impl Sorter {
         };
         self.state.front().only_texture().upload_f32(&flat)?;
         self.next = 0;
+        Ok(())
+    }
+
+    /// Entries that rows-only compact exact entries hold as they are: whole keys below the
+    /// options' cell count, ±inf or the key pass's NaN, each with its own index as identifier.
+    fn check_row_cells(&self, entries: &[Entry]) -> Result<()> {
+        let cells = self.options.cell_keys.unwrap_or(0);
+        for (i, &[k, id]) in entries.iter().enumerate() {
+            let whole = k.to_bits() >> 31 == 0 && k.fract() == 0.0 && (k as u64) < cells;
+            let special = k.is_infinite() || k.to_bits() == 0x7fc0_0000;
+            if !(whole || special) || id != i as f32 {
+                return Err(Error::InvalidInput(format!(
+                    "entry {i} ({k}, {id}) for a rows-only sort of cell keys: keys are whole \
+                     cells below {cells}, ±inf or NaN (0x7fc00000), ids the entries' indices; \
+                     sort other entries without SortOptions::cell_keys"
+                )));
+            }
+        }
         Ok(())
     }
 

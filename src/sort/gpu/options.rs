@@ -75,6 +75,42 @@ pub struct SortOptions {
     pub spread: crate::sort::spread::Spread,
     /// Entries per fragment and lane pinning of the blocked variant.
     pub blocked: BlockedShape,
+    /// `Some(cells)`: the keys are whole cell indices below `cells` (or ±inf, NaN) and every
+    /// identifier is its entry's own texel index, as the key pass writes them for a lattice.
+    /// A blocked sort within rows then takes 4-byte exact entries where they fit
+    /// ([`SortOptions::row_cells`]).
+    pub cell_keys: Option<u64>,
+}
+
+impl SortOptions {
+    /// Whether a blocked sort of `variant` over rows `width` entries wide takes rows-only
+    /// compact exact entries: (cell level, position in the sorted rows) in one uint
+    /// ([`row_cells_fit`](super::blocked::row_cells_fit)). Decided from the options alone, so
+    /// the pass lists say it without GL.
+    pub fn row_cells(&self, variant: Variant, width: u32) -> bool {
+        match (variant, self.rows, self.cell_keys) {
+            (Variant::Blocked, Some(k), Some(cells)) => {
+                super::blocked::row_cells_fit(cells, (width * k).trailing_zeros())
+            }
+            _ => false,
+        }
+    }
+
+    /// The blocked network's shape as the sorter runs it: with rows-only compact exact entries
+    /// (see [`row_cells`](Self::row_cells)), 4-byte entries and, for exact shapes, one group
+    /// bit more (twice the entries of the same render targets); else the options' shape.
+    pub fn blocked_shape(&self, variant: Variant, width: u32) -> BlockedShape {
+        let s = self.blocked;
+        match self.row_cells(variant, width) {
+            true if s.compact => s,
+            true => BlockedShape {
+                bits: (s.bits + 1).min(5),
+                pinned: false,
+                compact: true,
+            },
+            false => s,
+        }
+    }
 }
 
 impl Default for SortOptions {
@@ -87,6 +123,7 @@ impl Default for SortOptions {
             passes_per_frame: None,
             spread: crate::sort::spread::Spread::Even,
             blocked: BlockedShape::default(),
+            cell_keys: None,
         }
     }
 }

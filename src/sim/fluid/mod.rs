@@ -171,6 +171,11 @@ impl Fluid {
         d.push(("EXACT_SCAN".into(), FLUID_SCAN.to_string()));
         if config.wall_correction {
             d.push(("WALLS".into(), "1".into()));
+            // Bit k: plane collider k is a no-slip wall (glsl/fluid/kernel.glsl).
+            let no_slip = (scene.colliders.plane.iter().enumerate())
+                .filter(|(_, p)| p.wall == scene::Wall::NoSlip)
+                .fold(0u32, |m, (k, _)| m | 1 << k);
+            d.push(("NO_SLIP".into(), no_slip.to_string()));
         }
         let program = |f: &str| Program::new(ctx, FULLSCREEN_VERTEX, f, &d);
         let density = texture(ctx, "fluid density", size, TextureFormat::Rgba32F)?;
@@ -246,6 +251,15 @@ impl Fluid {
         p.set_vec4_array("u_lattice_min", &lattice_min);
         p.set_ivec4_array("u_lattice_n", &lattice_n);
         p.set_vec4_array("u_lattice_v", &lattice_v);
+        // Validation holds "hydrostatic" to gravity along −y: ρ0 |g| / B sets the squeeze.
+        let compress = match self.config.initial {
+            scene::Initial::Uniform => 0.0,
+            scene::Initial::Hydrostatic => {
+                self.config.rest_density * self.gravity.length() / self.config.stiffness()
+            }
+        };
+        p.set_f32("u_compress", compress);
+        p.set_f32("u_gamma", self.config.gamma);
         self.pass.draw(p, &[], &[], state.back());
         state.swap();
     }

@@ -408,7 +408,10 @@ fn a_hydrostatic_start_holds_the_weight_from_the_first_step() {
     let ctx = context();
     for start in ["hydrostatic", "uniform"] {
         let fluid = format!("speed_of_sound = 10.0\nspacing = 0.01\ninitial = \"{start}\"");
-        let s = parse("column", &tank([32, 32], [side, side], block, 3.5e-4, &fluid));
+        let s = parse(
+            "column",
+            &tank([32, 32], [side, side], block, 3.5e-4, &fluid),
+        );
         let mut sim = ParticleSim::new(&ctx, &s, 1).expect("column scene");
         sim.step().unwrap();
         let f = sim.fluid().unwrap();
@@ -419,7 +422,11 @@ fn a_hydrostatic_start_holds_the_weight_from_the_first_step() {
             .filter(|&i| inner(rb.positions[i * 4]) && inner(rb.positions[i * 4 + 2]))
             .map(|i| (rb.positions[i * 4 + 1] as f64, rb.density[i * 4 + 1] as f64))
             .collect();
-        assert_eq!(ps.len() as u32, 16 * layers, "the middle 4 × 4 of every layer");
+        assert_eq!(
+            ps.len() as u32,
+            16 * layers,
+            "the middle 4 × 4 of every layer"
+        );
         ps.sort_by(|a, b| b.0.total_cmp(&a.0));
         // Top down: layer k has k whole layers and half its own above it.
         let (m, g) = (f.config().mass() as f64, 9.81f64);
@@ -427,10 +434,16 @@ fn a_hydrostatic_start_holds_the_weight_from_the_first_step() {
         for (k, layer) in ps.chunks(16).enumerate().take(layers as usize - 1) {
             let p = layer.iter().map(|q| q.1).sum::<f64>() / 16.0;
             let w = g * m * (k as f64 + 0.5) / area;
-            eprintln!("{start}: layer {k}: p {p:.1} Pa, ρ g h {w:.1} Pa, ratio {:.4}", p / w);
+            eprintln!(
+                "{start}: layer {k}: p {p:.1} Pa, ρ g h {w:.1} Pa, ratio {:.4}",
+                p / w
+            );
             match start {
                 "hydrostatic" if k >= 3 => {
-                    assert!((p / w - 1.0).abs() <= 0.03, "layer {k}: {p} Pa against {w} Pa")
+                    assert!(
+                        (p / w - 1.0).abs() <= 0.03,
+                        "layer {k}: {p} Pa against {w} Pa"
+                    )
                 }
                 "uniform" => assert!(p < 0.05 * w, "uniform start, layer {k}: {p} Pa"),
                 _ => {}

@@ -5,7 +5,8 @@
 // Wall treatment at plane colliders (with WALLS): ghost particles (Colagrossi & Landrini 2003).
 // A plane closer than 2h to particle i reflects i and every neighbour j the search visits:
 // the ghost of j sits at x_j - 2 (n . x_j - offset) n, with j's density and pressure and its
-// velocity mirrored (free slip; reversed at a no-slip plane), and counts in i's density and forces as a particle would.
+// velocity mirrored (free slip; reversed at a no-slip plane), and counts in i's density and
+// forces as a particle would.
 // Every ghost within 2h of i is the reflection of a particle within 2h of i (reflection only
 // moves a particle in front of the plane further away from another in front of it), so the
 // search that finds the neighbours finds the ghosts too. A corner's second reflections are not

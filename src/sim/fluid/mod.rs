@@ -20,7 +20,8 @@
 //! out; at plane colliders the fluid adds a wall treatment (`fluid.wall_correction`, on by
 //! default): ghost particles (Colagrossi & Landrini 2003), the reflections of a particle's
 //! neighbours and of itself in each plane closer than 2h, with their density and pressure and
-//! their velocity mirrored (free slip), count in its density and forces. The wall then has the
+//! their velocity mirrored (free slip) or, at a plane with `wall = "no_slip"`, reversed, count
+//! in its density and forces. The wall then has the
 //! density the kernel misses behind it and the pressure gradient of the fluid in front, and
 //! pushes particles off before they reach it (`glsl/fluid/kernel.glsl`). Boxes, spheres and
 //! the fields have the collider response alone.

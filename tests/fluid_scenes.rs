@@ -1,5 +1,5 @@
 //! Weakly compressible SPH (`[fluid]`) as scenes run it: the dam-break surge front against
-//! Martin & Moyce (1952) (ignored: half a minute to minutes on llvmpipe), `render --json`'s
+//! Martin & Moyce (1952) at two resolutions (ignored: half a minute to minutes on llvmpipe), `render --json`'s
 //! per-frame density error and energy, and `[fluid]`'s refusals at their line.
 
 mod common;
@@ -11,23 +11,30 @@ use texflow::report::fluid::MARTIN_MOYCE;
 use texflow::scene;
 use texflow::sim::{ParticleSim, Simulation};
 
-/// The dam break of Martin & Moyce: a slab of 16 × 32 × 2 particles (a = 2¼ in, Δx = a / 16)
-/// against the left wall of a tank 5a long and 2 Δx deep; the front (the foremost particle plus
-/// half a spacing) against their Table 2 up to T = 3. The front leads the experiment (by up to
-/// 17 % at T ≈ 1.2, at Δx = a / 32 too; docs/numerics.md): asserted within 20 %, and within
-/// 10 % from T = 2.3 on. Half a minute to minutes on llvmpipe:
-/// `cargo test --release --test fluid_scenes dam_break -- --ignored --nocapture` prints the table.
-#[test]
-#[ignore]
-fn dam_break_front_follows_martin_and_moyce() {
+/// The dam break of Martin & Moyce: a slab of n × 2n × 2 particles (a = 2¼ in, Δx = a / n,
+/// h = 1.3 Δx) against the left wall of a tank 5a long and 2 Δx deep, started hydrostatic; the
+/// floor and the wall behind the column no-slip (`wall = "no_slip"`), the slab's faces free-slip
+/// (symmetry planes: the experiment is two-dimensional). The front (the foremost particle plus
+/// half a spacing) at each of Martin & Moyce's times, printed against their Table 2; returns the
+/// largest |Z / Z_MM − 1|.
+fn dam_break(n: u32) -> f64 {
     let a = 0.05715f32;
-    let dx = a / 16.0;
-    let fluid = format!("speed_of_sound = 15.0\nviscosity = 0.05\nspacing = {dx}");
-    let block = ([a / 2.0, a, dx], [a, 2.0 * a, 2.0 * dx]);
-    let s = parse(
-        "dam",
-        &tank([32, 32], [5.0 * a, 2.0 * dx], block, 9e-5, &fluid),
+    let dx = a / n as f32;
+    let fluid = format!(
+        "speed_of_sound = 15.0\nviscosity = 0.05\nspacing = {dx}\nsmoothing = {}\n\
+         initial = \"hydrostatic\"",
+        1.3 * dx
     );
+    let block = ([a / 2.0, a, dx], [a, 2.0 * a, 2.0 * dx]);
+    let side = 2 * n.max(16);
+    let dt = 9e-5 * 16.0 / n as f32;
+    let mut src = tank([side, side], [5.0 * a, 2.0 * dx], block, dt, &fluid);
+    for normal in ["[0.0, 1.0, 0.0]", "[1.0, 0.0, 0.0]"] {
+        let k = format!("normal = {normal}\nresilience = 0.0");
+        assert!(src.contains(&k), "{k}");
+        src = src.replace(&k, &format!("{k}\nwall = \"no_slip\""));
+    }
+    let s = parse("dam", &src);
     let ctx = context();
     let mut sim = ParticleSim::new(&ctx, &s, 1).expect("dam scene");
     let scale = (2.0 * 9.81 / a as f64).sqrt();
@@ -45,19 +52,36 @@ fn dam_break_front_follows_martin_and_moyce() {
         let z = front / a as f64;
         let err = z / z_ref - 1.0;
         eprintln!(
-            "T {:.3} (Martin & Moyce {t_ref}): Z {z:.3} against {z_ref}, {:+.1} %",
+            "Δx = a/{n}: T {:.3} (Martin & Moyce {t_ref}): Z {z:.3} against {z_ref}, {:+.1} %",
             sim.time() * scale,
             100.0 * err
         );
         worst = worst.max(err.abs());
-        assert!(
-            err.abs() <= if t_ref >= 2.3 { 0.10 } else { 0.20 },
-            "T {t_ref}: Z {z} against {z_ref}"
-        );
     }
-    eprintln!("largest deviation {:.1} %", 100.0 * worst);
+    eprintln!("Δx = a/{n}: largest deviation {:.1} %", 100.0 * worst);
     assert_eq!(sim.truncated_searches().unwrap(), 0);
     no_gl_error(&ctx);
+    worst
+}
+
+/// At Δx = a/16 the front is within 10 % of Martin & Moyce's at each of their times up to T = 3
+/// (measured: at most +8.2 %, at T = 1.19; docs/numerics.md). Half a minute on llvmpipe:
+/// `cargo test --release --test fluid_scenes dam_break -- --ignored --nocapture` prints the table.
+#[test]
+#[ignore]
+fn dam_break_front_follows_martin_and_moyce() {
+    let worst = dam_break(16);
+    assert!(worst <= 0.10, "largest deviation {worst}");
+}
+
+/// At Δx = a/32 the front leads more early on (+12.9 % at T = 1.19): the artificial viscosity,
+/// which carries the no-slip walls' shear and smooths the toe, falls with h. Asserted within
+/// 15 %, the bound docs/numerics.md states for the model. Two to three minutes on llvmpipe.
+#[test]
+#[ignore]
+fn dam_break_front_at_twice_the_resolution() {
+    let worst = dam_break(32);
+    assert!(worst <= 0.15, "largest deviation {worst}");
 }
 
 /// `[fluid]`'s refusals name the key, its line and column, and the fix.
@@ -75,7 +99,22 @@ fn bad_fluid_scenes_are_refused_at_their_key() {
     };
     let line_of =
         |src: &str, key: &str| 1 + src.lines().position(|l| l.starts_with(key)).expect(key);
-    let cases: [(String, &str, &str); 5] = [
+    let no_slip_floor = |src: String| {
+        let k = "normal = [0.0, 1.0, 0.0]\nresilience = 0.0";
+        src.replace(k, &format!("{k}\nwall = \"no_slip\""))
+    };
+    let cases: [(String, &str, &str); 7] = [
+        (
+            no_slip_floor(base(5e-4, &format!("{ok}\nwall_correction = false"))),
+            "wall = ",
+            "wall_correction = true",
+        ),
+        (
+            base(5e-4, &format!("{ok}\ninitial = \"hydrostatic\""))
+                .replace("[0.0, -9.81, 0.0]", "[-9.81, 0.0, 0.0]"),
+            "initial",
+            "gravity along −y",
+        ),
         (base(0.01, ok), "dt = ", "CFL"),
         (
             base(5e-4, &format!("{ok}\nsmoothing = 0.05")),

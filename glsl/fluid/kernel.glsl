@@ -5,7 +5,8 @@
 // Wall treatment at plane colliders (with WALLS): ghost particles (Colagrossi & Landrini 2003).
 // A plane closer than 2h to particle i reflects i and every neighbour j the search visits:
 // the ghost of j sits at x_j - 2 (n . x_j - offset) n, with j's density and pressure and its
-// velocity mirrored (free slip), and counts in i's density and forces as a particle would.
+// velocity mirrored (free slip; reversed at a no-slip plane), and counts in i's density and
+// forces as a particle would.
 // Every ghost within 2h of i is the reflection of a particle within 2h of i (reflection only
 // moves a particle in front of the plane further away from another in front of it), so the
 // search that finds the neighbours finds the ghosts too. A corner's second reflections are not
@@ -55,8 +56,11 @@ vec3 ghost_position(vec3 x, int k) {
     return x - 2.0 * (dot(u_plane[k].xyz, x) - u_plane[k].w) * u_plane[k].xyz;
 }
 
-// The reflection of the velocity v in plane k (free slip).
+// The ghost's velocity of a particle with velocity v in plane k: mirrored (free slip), or
+// reversed where bit k of NO_SLIP is set (colliders.plane.wall = "no_slip": the wall at rest
+// halfway between the particle and its ghost).
 vec3 ghost_velocity(vec3 v, int k) {
+    if (((NO_SLIP >> k) & 1) != 0) return -v;
     return v - 2.0 * dot(u_plane[k].xyz, v) * u_plane[k].xyz;
 }
 #endif

@@ -7,7 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{one, FieldData};
+use super::{one, FieldData, Wall};
 
 /// Colliders by kind.
 #[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
@@ -48,6 +48,10 @@ pub struct PlaneCollider {
     /// Resilience ε in [0, 1] (Latta eq. 5).
     #[serde(default = "one")]
     pub resilience: f32,
+    /// With `[fluid]`: the velocity of the fluid's ghosts in this plane, mirrored
+    /// (`"free_slip"`, default: a symmetry plane) or reversed (`"no_slip"`: a wall at rest).
+    #[serde(default)]
+    pub wall: Wall,
 }
 
 /// A sphere collider.

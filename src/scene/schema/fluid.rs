@@ -47,6 +47,12 @@ pub struct Fluid {
     /// default on.
     #[serde(default = "yes")]
     pub wall_correction: bool,
+    /// The initial state of the fluid in box emitters: `"uniform"` (default) every particle on
+    /// the cubic lattice at ρ0, no pressure; `"hydrostatic"` each box a column at rest, its
+    /// layers closer together with depth so that Tait's pressure is the weight above them
+    /// (gravity along −y).
+    #[serde(default)]
+    pub initial: Initial,
     /// How each step re-sorts the particles by cell (Latta §3.4.4's frame coherence):
     /// `"full"` (default) the whole sort; `"coherent"` a cheaper network for a nearly sorted
     /// state, checked, with the full sort whenever the check finds an entry out of order.
@@ -56,6 +62,30 @@ pub struct Fluid {
     /// (a power of two from the particle texture's width to half its entries); it is exact
     /// when no entry lies more than half a block from its sorted place. Default two rows.
     pub resort_block: Option<u32>,
+}
+
+/// `colliders.plane.wall`: the velocity of the fluid's ghosts in a plane collider.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Wall {
+    /// Mirrored in the plane: only the normal component reversed (the plane takes no
+    /// tangential force: a symmetry plane).
+    #[default]
+    FreeSlip,
+    /// Reversed: the ghost moves against the particle, as across a wall at rest (the artificial
+    /// viscosity then shears the fluid against it).
+    NoSlip,
+}
+
+/// `fluid.initial`: the density the box emitters' lattice starts at.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Initial {
+    /// The cubic lattice of `spacing`: density ρ0, no pressure.
+    #[default]
+    Uniform,
+    /// Layers compressed along gravity to the hydrostatic density of their depth.
+    Hydrostatic,
 }
 
 /// `fluid.resort`: the full sort every step, or the coherent re-sort with its check.

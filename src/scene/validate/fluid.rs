@@ -4,7 +4,7 @@
 
 use super::{bounded, fail, path, Check, MASS_RANGE, MAX_LATTICE_CELLS};
 use crate::scene::locate::Key;
-use crate::scene::schema::{Fluid, Integrator, Resort, SceneFile, Simulation};
+use crate::scene::schema::{Fluid, Initial, Integrator, Resort, SceneFile, Simulation, Wall};
 
 use Key::{Index as I, Name as N};
 
@@ -22,6 +22,7 @@ pub const MAX_SMOOTHING_RATIO: f32 = 1.5;
 
 /// `[fluid]`, if the scene has one.
 pub(super) fn fluid(s: &SceneFile) -> Check {
+    no_slip_planes(s)?;
     let Some(f) = &s.fluid else {
         return Ok(());
     };
@@ -61,8 +62,43 @@ pub(super) fn fluid(s: &SceneFile) -> Check {
         );
     }
     resort(f, w, w * h)?;
+    start(s, f)?;
     emitters(s)?;
     time_step(s, f)
+}
+
+/// `colliders.plane.wall = "no_slip"` is made by the fluid's ghosts: it needs `[fluid]` with its
+/// wall treatment.
+fn no_slip_planes(s: &SceneFile) -> Check {
+    let ghosts = s.fluid.as_ref().is_some_and(|f| f.wall_correction);
+    match (s.colliders.plane.iter()).position(|p| p.wall == Wall::NoSlip) {
+        Some(i) if !ghosts => fail(
+            path(&[N("colliders"), N("plane"), I(i), N("wall")]),
+            "wall = \"no_slip\" sets the velocity of the fluid's ghost particles in the plane: \
+             it needs [fluid] with wall_correction = true; remove wall",
+        ),
+        _ => Ok(()),
+    }
+}
+
+/// `initial = "hydrostatic"` needs gravity along −y (the axis the lattice stacks its layers on).
+fn start(s: &SceneFile, f: &Fluid) -> Check {
+    if f.initial == Initial::Hydrostatic {
+        let g = (s.forces.gravity.iter()).fold([0.0f32; 3], |a, g| {
+            [0, 1, 2].map(|k| a[k] + g.acceleration[k])
+        });
+        if !(g[1] < 0.0 && g[0] == 0.0 && g[2] == 0.0) {
+            return fail(
+                path(&[N("fluid"), N("initial")]),
+                format!(
+                    "initial = \"hydrostatic\" stacks the lattice's layers along y and needs \
+                     gravity along −y, not {g:?}: add [[forces.gravity]] acceleration = \
+                     [0, −g, 0] or use initial = \"uniform\""
+                ),
+            );
+        }
+    }
+    Ok(())
 }
 
 /// `resort_block`: a power of two of whole rows, at most half the entries, for the coherent

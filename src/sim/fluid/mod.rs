@@ -20,7 +20,8 @@
 //! out; at plane colliders the fluid adds a wall treatment (`fluid.wall_correction`, on by
 //! default): ghost particles (Colagrossi & Landrini 2003), the reflections of a particle's
 //! neighbours and of itself in each plane closer than 2h, with their density and pressure and
-//! their velocity mirrored (free slip), count in its density and forces. The wall then has the
+//! their velocity mirrored (free slip) or, at a plane with `wall = "no_slip"`, reversed, count
+//! in its density and forces. The wall then has the
 //! density the kernel misses behind it and the pressure gradient of the fluid in front, and
 //! pushes particles off before they reach it (`glsl/fluid/kernel.glsl`). Boxes, spheres and
 //! the fields have the collider response alone.
@@ -171,6 +172,11 @@ impl Fluid {
         d.push(("EXACT_SCAN".into(), FLUID_SCAN.to_string()));
         if config.wall_correction {
             d.push(("WALLS".into(), "1".into()));
+            // Bit k: plane collider k is a no-slip wall (glsl/fluid/kernel.glsl).
+            let no_slip = (scene.colliders.plane.iter().enumerate())
+                .filter(|(_, p)| p.wall == scene::Wall::NoSlip)
+                .fold(0u32, |m, (k, _)| m | 1 << k);
+            d.push(("NO_SLIP".into(), no_slip.to_string()));
         }
         let program = |f: &str| Program::new(ctx, FULLSCREEN_VERTEX, f, &d);
         let density = texture(ctx, "fluid density", size, TextureFormat::Rgba32F)?;
@@ -246,6 +252,15 @@ impl Fluid {
         p.set_vec4_array("u_lattice_min", &lattice_min);
         p.set_ivec4_array("u_lattice_n", &lattice_n);
         p.set_vec4_array("u_lattice_v", &lattice_v);
+        // Validation holds "hydrostatic" to gravity along −y: ρ0 |g| / B sets the squeeze.
+        let compress = match self.config.initial {
+            scene::Initial::Uniform => 0.0,
+            scene::Initial::Hydrostatic => {
+                self.config.rest_density * self.gravity.length() / self.config.stiffness()
+            }
+        };
+        p.set_f32("u_compress", compress);
+        p.set_f32("u_gamma", self.config.gamma);
         self.pass.draw(p, &[], &[], state.back());
         state.swap();
     }

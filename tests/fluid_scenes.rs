@@ -148,6 +148,12 @@ fn bad_fluid_scenes_are_refused_at_their_key() {
         &base(5e-4, &format!("{ok}\nviscosity = 10.0")),
     ));
     assert!(m.contains("viscous"), "{m}");
+    // A no-slip wall past the 31 planes whose bits the shader takes.
+    let far = "[[colliders.plane]]\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 1.0, 0.0]\n";
+    let src = base(5e-4, ok) + &far.repeat(27) + far + "wall = \"no_slip\"\n";
+    let (line, _, m) = scene_error(scene::parse("bad.toml", &src));
+    assert_eq!(line, line_of(&src, "wall = "), "{m}");
+    assert!(m.contains("first 31 planes"), "{m}");
 }
 
 /// `render --json` lists per written frame the fluid's density error and energy: every live

@@ -8,10 +8,13 @@
 // fetches). No other arithmetic: a pass that reads each of its inputs at least once and writes
 // the same bytes costs at least this.
 //
-// WALK: the draw walked the cells around each particle (collide/cells.glsl: the exact detection,
-// DEM, the fluid, the pair exchange); the floor walks the same cells, with the same keys, table
-// and uniforms, and fetches each visited neighbour's position once (u_position, the cell-sorted
-// layout), which every such pass reads of every neighbour it visits.
+// WALK: the draw walked the cells around each live particle (collide/cells.glsl: the exact
+// detection's count, DEM, the fluid, the pair exchange); the floor reads the particle's position
+// (u_position, the cell-sorted layout) and, for a live one only (as those passes stop at a dead
+// one), its other textures and the walk over the same cells, with the same keys, table and
+// uniforms, fetching each visited neighbour's position once, which every such pass reads of every
+// neighbour it visits. The keys, table and positions are not among the F2 reads then: the walk
+// reads them where the pass does.
 //
 // F2, U2, F3, U3: how many 2D float, 2D unsigned, 3D float and 3D unsigned textures the draw
 // bound (at most 16, 4, 4, 2); TARGETS: its render targets (1 to 8); UINT: unsigned targets.
@@ -137,6 +140,11 @@ void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     vec4 f = vec4(0.0);
     uvec4 u = uvec4(0u);
+#ifdef WALK
+    vec4 own = texelFetch(u_position, p, 0);
+    f += own;
+    if (own.w > 0.0) {
+#endif
 #if F2 > 0
     f += FETCH2(u_f2_0);
 #endif
@@ -218,14 +226,15 @@ void main() {
 #ifdef WALK
     search_neighbours(p.y * u_key_width + p.x);
     f += walked;
+    }
 #endif
-    vec4 all = f + uintBitsToFloat(u);
-    bool show = (all.x + all.y + all.z + all.w == u_sentinel) != u_reveal;
+    vec4 sum = f + uintBitsToFloat(u);
+    bool show = (sum.x + sum.y + sum.z + sum.w == u_sentinel) != u_reveal;
     for (int i = 0; i < TARGETS; i++) {
 #ifdef UINT
         o_targets[i] = show ? u + floatBitsToUint(f) : uvec4(0u);
 #else
-        o_targets[i] = show ? all : vec4(0.0);
+        o_targets[i] = show ? sum : vec4(0.0);
 #endif
     }
 }

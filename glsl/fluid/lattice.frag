@@ -14,7 +14,7 @@
 uniform int u_width;
 uniform int u_emitters;
 uniform vec4 u_lattice_min[4];   // box corner, spacing
-uniform ivec4 u_lattice_n[4];    // points per axis
+uniform ivec4 u_lattice_n[4];    // points per axis; w: the layers its particles fill
 uniform vec4 u_lattice_v[4];     // start velocity
 
 layout(location = 0) out vec4 o_position;
@@ -51,7 +51,9 @@ void main() {
     if (rank < n.x * n.y * n.z) {
         ivec3 c = ivec3(rank % n.x, rank / (n.x * n.z), (rank / n.x) % n.z);
         vec3 x = lo.xyz + (vec3(c) + 0.5) * lo.w;
-        if (u_compress > 0.0) x.y = lo.y + hydrostatic_height(float(c.y) + 0.5, float(n.y), lo.w);
+        // The column is as high as the layers filled (a partial fill: fewer than n.y).
+        float layers = float(u_lattice_n[type].w);
+        if (u_compress > 0.0) x.y = lo.y + hydrostatic_height(float(c.y) + 0.5, layers, lo.w);
         o_position = fp_store(vec4(x, 1.0));
         o_velocity = fp_store(vec4(u_lattice_v[type].xyz, 0.0));
     } else {

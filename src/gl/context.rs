@@ -416,12 +416,11 @@ impl Context {
         Ok(())
     }
 
-    /// Whether recorded texture `r` still names a live texture here. (A name freed and made
-    /// anew for another texture would pass; the floors that read recorded textures clamp their
-    /// fetches to the texture's size and run right after the draws they copy.)
+    /// Whether recorded texture `r` is still the texture that was read: not freed, and its
+    /// name not made anew for another (each texture carries the serial number it was made
+    /// with).
     pub fn is_live(&self, r: &super::RecordedTexture) -> bool {
-        // SAFETY: a query only.
-        unsafe { self.gl().is_texture(r.raw) }
+        super::record::lives(r)
     }
 
     /// Returns the first pending GL error, if any, as an [`Error::Gl`] naming `what` was done.

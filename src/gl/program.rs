@@ -63,7 +63,8 @@ fn compile<'a>(
     seen: &mut Seen,
 ) -> Result<glow::Shader> {
     let resolved = resolve(path, defines, lookup)?;
-    seen.walks_some |= resolved.text.contains("#define WALKS_SOME");
+    seen.walks_some |=
+        (resolved.text.lines()).any(|l| l.trim_start().starts_with("#define WALKS_SOME"));
     seen.declared.extend(declared_uniforms(&resolved.text));
     for f in &resolved.files {
         if !seen.files.contains(f) {
@@ -168,7 +169,10 @@ impl Program {
             lenient: Cell::new(false),
             source: Box::new(SourceInfo {
                 defines: defines.clone(),
-                walks_every_live: seen.files.iter().any(|f| f == WALK_INCLUDE) && !seen.walks_some,
+                // A benchmark's own floor that walks is not a pass to floor.
+                walks_every_live: seen.files.iter().any(|f| f == WALK_INCLUDE)
+                    && !seen.walks_some
+                    && !fragment.starts_with("bench/"),
                 files: seen.files,
             }),
         })

@@ -9,6 +9,30 @@ thread_local! {
     // One log per thread: a GL context is current on one thread only.
     static LOG: RefCell<Option<Vec<String>>> = const { RefCell::new(None) };
     static SHAPES: RefCell<Option<Vec<DrawShape>>> = const { RefCell::new(None) };
+    // Every live texture's name and the serial number it was made with: a name freed and made
+    // anew is another texture, which a recorded draw did not read.
+    static LIVE: RefCell<std::collections::HashMap<glow::Texture, u64>> = RefCell::default();
+    static SERIAL: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// Notes texture `raw` as made: its serial number.
+pub(super) fn made(raw: glow::Texture) -> u64 {
+    let id = SERIAL.with(|s| {
+        s.set(s.get() + 1);
+        s.get()
+    });
+    LIVE.with(|l| l.borrow_mut().insert(raw, id));
+    id
+}
+
+/// Notes texture `raw` as freed.
+pub(super) fn freed(raw: glow::Texture) {
+    LIVE.with(|l| l.borrow_mut().remove(&raw));
+}
+
+/// Whether `r` is still the texture that was recorded (not freed, its name not made anew).
+pub(super) fn lives(r: &RecordedTexture) -> bool {
+    LIVE.with(|l| l.borrow().get(&r.raw) == Some(&r.serial))
 }
 
 /// One texture a draw read, as data: its size (`[w, h, 1]` for a 2D texture) and format.
@@ -29,6 +53,7 @@ pub struct ReadShape {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct RecordedTexture {
     pub(super) raw: glow::Texture,
+    pub(super) serial: u64,
     /// Its size and format.
     pub shape: ReadShape,
 }

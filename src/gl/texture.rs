@@ -115,6 +115,8 @@ pub struct TextureDesc<'a> {
 pub struct Texture {
     ctx: Context,
     raw: glow::Texture,
+    /// Its serial number (see [`RecordedTexture`](super::RecordedTexture)).
+    serial: u64,
     width: u32,
     height: u32,
     format: TextureFormat,
@@ -182,6 +184,7 @@ impl Texture {
         let tex = Texture {
             ctx: ctx.clone(),
             raw,
+            serial: super::record::made(raw),
             width: desc.width,
             height: desc.height,
             format: desc.format,
@@ -332,12 +335,12 @@ impl Texture {
         self.ctx.check_error("texture read-back")
     }
 
-    /// Binds the texture to texture unit `unit`.
     /// This texture by name, as a recorded draw names what it read (a floor that reads the
     /// same data binds it by name while it lives).
     pub fn recorded(&self) -> super::RecordedTexture {
         super::RecordedTexture {
             raw: self.raw,
+            serial: self.serial,
             shape: super::ReadShape {
                 size: [self.width, self.height, 1],
                 three_d: false,
@@ -346,6 +349,7 @@ impl Texture {
         }
     }
 
+    /// Binds the texture to texture unit `unit`.
     pub(super) fn bind(&self, unit: u32) {
         // SAFETY: the texture is alive and belongs to this context.
         unsafe {
@@ -357,6 +361,7 @@ impl Texture {
 
 impl Drop for Texture {
     fn drop(&mut self) {
+        super::record::freed(self.raw);
         if let Some(gl) = self.ctx.gl_for_drop() {
             // SAFETY: the object belongs to this context, made current just now.
             unsafe { gl.delete_texture(self.raw) }

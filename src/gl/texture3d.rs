@@ -15,6 +15,8 @@ use crate::error::{Error, Result};
 pub struct Texture3D {
     ctx: Context,
     raw: glow::Texture,
+    /// Its serial number (see [`RecordedTexture`](super::RecordedTexture)).
+    serial: u64,
     size: [u32; 3],
     format: TextureFormat,
     label: String,
@@ -108,6 +110,7 @@ impl Texture3D {
         let tex = Texture3D {
             ctx: ctx.clone(),
             raw,
+            serial: super::record::made(raw),
             size,
             format,
             label: label.to_owned(),
@@ -201,12 +204,12 @@ impl Texture3D {
         self.raw
     }
 
-    /// Binds the texture to texture unit `unit` (a `sampler3D` uniform set to `unit` reads it).
     /// This texture by name, as a recorded draw names what it read (a floor that reads the
     /// same data binds it by name while it lives).
     pub fn recorded(&self) -> super::RecordedTexture {
         super::RecordedTexture {
             raw: self.raw,
+            serial: self.serial,
             shape: super::ReadShape {
                 size: self.size(),
                 three_d: true,
@@ -215,6 +218,7 @@ impl Texture3D {
         }
     }
 
+    /// Binds the texture to texture unit `unit` (a `sampler3D` uniform set to `unit` reads it).
     pub(super) fn bind(&self, unit: u32) {
         // SAFETY: the texture is alive and belongs to this context.
         unsafe {
@@ -238,6 +242,7 @@ fn expect_len(label: &str, format: TextureFormat, size: [u32; 3], len: usize) ->
 
 impl Drop for Texture3D {
     fn drop(&mut self) {
+        super::record::freed(self.raw);
         if let Some(gl) = self.ctx.gl_for_drop() {
             // SAFETY: the object belongs to this context, made current just now.
             unsafe { gl.delete_texture(self.raw) }

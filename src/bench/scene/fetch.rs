@@ -27,12 +27,13 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 
 use super::floors::{drawn, Drawn};
+use super::walk::{generic_reads, walk_of, Walk};
 use crate::bench::stats::PassTimer;
 use crate::error::{Error, Result};
 use crate::gl::{
     Context, Defines, Draw, DrawShape, DrawState, Framebuffer, Primitive, Program, ReadShape,
-    RecordedTexture, Sampled, ShapeRecorder, Texture, Texture3D, TextureDesc, TextureFormat,
-    Uniform, VertexArray, FULLSCREEN_VERTEX,
+    Sampled, ShapeRecorder, Texture, Texture3D, TextureDesc, TextureFormat, Uniform, VertexArray,
+    FULLSCREEN_VERTEX,
 };
 
 /// What the fetch floor is, in the phase table.
@@ -57,65 +58,6 @@ fn kind(r: &ReadShape) -> usize {
 /// A program of the floor: samplers of each kind, targets, unsigned targets, and for a draw
 /// that walked the cells the search's defines (with `WALK`), else none.
 type ProgramKey = ([usize; 4], usize, bool, Defines);
-
-/// The samplers of the neighbour search a walking draw bound, which the floor binds to the
-/// same textures (the table only with `CELL_TABLE`).
-const WALK_SAMPLERS: [&str; 3] = ["u_keys", "u_position", "u_cell_start"];
-
-/// The search's integer uniforms, which the floor sets to the draw's values.
-const WALK_INTS: [&str; 4] = ["u_key_width", "u_count", "u_dims", "u_cell_width"];
-
-/// The defines the search reads (`glsl/collide/cells.glsl`, `sorted_keys.glsl`).
-const WALK_DEFINES: [&str; 3] = ["CELL_TABLE", "EXACT_SCAN", "PACKED_KEYS"];
-
-/// What the floor of a draw that walked the cells repeats: the search's textures (by the
-/// samplers' names), defines and uniforms.
-struct Walk {
-    textures: Vec<(&'static str, RecordedTexture)>,
-    defines: Defines,
-    ints: Vec<(&'static str, Uniform)>,
-}
-
-/// The walk of draw `d`, where it walked the cells and the textures it searched still live.
-fn walk_of(ctx: &Context, d: &DrawShape) -> Option<Walk> {
-    if !d.walks() {
-        return None;
-    }
-    // Every sampler the search reads, or no walk (a pass that names its layout otherwise).
-    let table = d.defines.iter().any(|(k, _)| k == "CELL_TABLE");
-    let mut textures = Vec::new();
-    for name in WALK_SAMPLERS {
-        if name == "u_cell_start" && !table {
-            continue;
-        }
-        let i = d.samplers.iter().position(|s| s == name)?;
-        let t = d.sources.get(i).filter(|t| ctx.is_live(t))?;
-        textures.push((name, *t));
-    }
-    let mut defines: Defines = (d.defines.iter())
-        .filter(|(k, _)| WALK_DEFINES.contains(&k.as_str()))
-        .cloned()
-        .collect();
-    defines.push(("WALK".into(), "1".into()));
-    let ints = (WALK_INTS.iter())
-        .filter_map(|&name| {
-            let (_, v) = d.ints.iter().find(|(n, _)| n == name)?;
-            Some((
-                name,
-                match v.as_slice() {
-                    [x] => Uniform::I32(*x),
-                    [x, y, z] => Uniform::IVec3(glam::IVec3::new(*x, *y, *z)),
-                    _ => return None,
-                },
-            ))
-        })
-        .collect();
-    Some(Walk {
-        textures,
-        defines,
-        ints,
-    })
-}
 
 /// A target of the floor: size and formats.
 type TargetKey = ([u32; 2], Vec<TextureFormat>);
@@ -180,14 +122,15 @@ impl FetchFloor {
             let mut seen = HashMap::new();
             let mut per_kind = [0usize; 4];
             let mut list = Vec::new();
-            for (i, r) in d.reads.iter().enumerate() {
+            for i in generic_reads(d, walks[i_draw].as_ref()) {
+                let r = &d.reads[i];
                 let n = seen.entry(*r).or_insert(0usize);
                 let k = kind(r);
                 let name = format!("{}{}", KINDS[k].1, per_kind[k]);
                 per_kind[k] += 1;
                 // The texture the draw read, where it lives: the same data; else one of the
                 // same shape holding values no driver compresses.
-                let own = (d.sources.get(i)).filter(|t| t.shape == *r && self.ctx.is_live(t));
+                let own = (d.sources.get(i)).filter(|t| self.ctx.is_live(t));
                 let texture = match (own, &inputs[&(*r, *n)]) {
                     (Some(t), _) => Sampled::Recorded(*t),
                     (None, Input::D2(t)) => Sampled::D2(t),
@@ -272,7 +215,7 @@ impl FetchFloor {
             self.targets.borrow_mut().insert(target, fb);
         }
         let mut seen = HashMap::new();
-        for r in &d.reads {
+        for r in generic_reads(d, walk).into_iter().map(|i| &d.reads[i]) {
             let n = seen.entry(*r).or_insert(0usize);
             if !self.inputs.borrow().contains_key(&(*r, *n)) {
                 let t = self.input(r)?;
@@ -337,8 +280,8 @@ impl FetchFloor {
 /// The program key of the floor of draw `d`, walking the cells as `walk` says.
 fn program_key(d: &DrawShape, walk: Option<&Walk>) -> ProgramKey {
     let mut counts = [0usize; 4];
-    for r in &d.reads {
-        counts[kind(r)] += 1;
+    for i in generic_reads(d, walk) {
+        counts[kind(&d.reads[i])] += 1;
     }
     let unsigned = d.formats.contains(&TextureFormat::Rgba32Ui);
     let defines = walk.map(|w| w.defines.clone()).unwrap_or_default();
@@ -506,10 +449,10 @@ mod tests {
     }
 
     /// A draw that walked the cells: its floor walks the same cells of the same sorted keys
-    /// and fetches each neighbour's position once. Four entries in cells 0, 0, 1 and a dead
-    /// one (+inf) in a lattice of 2 cells along x: entry 0 visits 1 and 2, entry 2 visits 0
-    /// and 1, the dead one nothing; revealed, each fragment's sum is its own texels' and its
-    /// neighbours' positions.
+    /// and fetches each neighbour's position once. Four entries in cells 0, 0, 1 and one with
+    /// a +inf key in a lattice of 2 cells along x: entry 0 visits 1 and 2, entry 2 visits 0
+    /// and 1, the last nothing; revealed, each fragment's sum is its own position and its
+    /// neighbours'.
     #[test]
     fn the_walking_floor_visits_the_same_neighbours() {
         let ctx = Context::new(0).unwrap();
@@ -573,10 +516,11 @@ mod tests {
             .only_texture()
             .read_f32()
             .unwrap();
-        // Positions 1, 2, 4, 8 (one value in every channel); keys' first channels 0, 0, 1, inf.
-        let own = [0.0 + 1.0, 0.0 + 2.0, 1.0 + 4.0, f32::INFINITY];
+        // Positions 1, 2, 4, 8 (one value in every channel, live: w > 0), read once at the own
+        // texel; the keys only by the walk. The dead entry (+inf key) walks nothing.
+        let own = [1.0, 2.0, 4.0, 8.0];
         let walked = [2.0 + 4.0, 1.0 + 4.0, 1.0 + 2.0, 0.0];
-        for e in 0..3 {
+        for e in 0..4 {
             assert_eq!(
                 got[e * 4],
                 own[e] + walked[e],

@@ -48,6 +48,7 @@ mod fetch;
 mod floors;
 mod phases;
 mod text;
+mod walk;
 use floors::{render_phase, RenderFloors};
 pub use floors::{Bound, Drawn};
 use phases::{sort_phases, SortFloors, StateFloors};

@@ -72,8 +72,9 @@ pub enum Wall {
     /// tangential force: a symmetry plane).
     #[default]
     FreeSlip,
-    /// Reversed: the ghost moves against the particle, as across a wall at rest (the artificial
-    /// viscosity then shears the fluid against it).
+    /// Reversed: the ghost moves against the particle, as across a wall at rest. The artificial
+    /// viscosity acts where particles approach their neighbours' ghosts, which then drag the
+    /// fluid along the wall (a particle's own ghost, straight across, adds none along it).
     NoSlip,
 }
 

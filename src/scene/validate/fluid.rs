@@ -77,9 +77,25 @@ fn no_slip_planes(s: &SceneFile) -> Check {
             "wall = \"no_slip\" sets the velocity of the fluid's ghost particles in the plane: \
              it needs [fluid] with wall_correction = true; remove wall",
         ),
-        _ => Ok(()),
+        _ => {
+            // The shader takes the no-slip planes as the bits of one int.
+            let last = (s.colliders.plane.iter()).rposition(|p| p.wall == Wall::NoSlip);
+            match last {
+                Some(i) if i >= MAX_NO_SLIP => fail(
+                    path(&[N("colliders"), N("plane"), I(i), N("wall")]),
+                    format!(
+                        "wall = \"no_slip\" is taken by the first {MAX_NO_SLIP} planes only; \
+                         list this plane among them"
+                    ),
+                ),
+                _ => Ok(()),
+            }
+        }
     }
 }
+
+/// Planes that may be no-slip walls: the first 31 (bits of a GLSL `int`).
+const MAX_NO_SLIP: usize = 31;
 
 /// `initial = "hydrostatic"` needs gravity along −y (the axis the lattice stacks its layers on).
 fn start(s: &SceneFile, f: &Fluid) -> Check {

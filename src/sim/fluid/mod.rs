@@ -237,7 +237,11 @@ impl Fluid {
         let dx = self.config.spacing;
         // Initial emitters take no curves (refused at their key): their values at t = 0.
         let (mut lattice_min, mut lattice_n, mut lattice_v) = (Vec::new(), Vec::new(), Vec::new());
-        for e in initial {
+        let (texels, kinds) = (
+            state.width() as usize * state.height() as usize,
+            initial.len().max(1),
+        );
+        for (k, e) in initial.iter().enumerate() {
             let size = Vec3::from(e.size);
             let lo = Vec3::from(e.center.at(0.0)) - 0.5 * size;
             let n = (size / dx + Vec3::splat(1e-3))
@@ -246,7 +250,12 @@ impl Fluid {
                 .as_uvec3();
             let v = Vec3::from(e.direction.at(0.0)).normalize_or_zero() * e.speed.at(0.0)[0];
             lattice_min.push(lo.extend(dx));
-            lattice_n.push([n.x as i32, n.y as i32, n.z as i32, 0]);
+            // The layers this emitter's particles fill (texels of rank k modulo the emitters;
+            // a partial fill is a lower layer): the hydrostatic start's column height.
+            let count = (texels + kinds - 1 - k) / kinds;
+            let layer = (n.x as usize * n.z as usize).max(1);
+            let layers = count.div_ceil(layer).min(n.y as usize);
+            lattice_n.push([n.x as i32, n.y as i32, n.z as i32, layers as i32]);
             lattice_v.push(v.extend(0.0));
         }
         p.set_vec4_array("u_lattice_min", &lattice_min);

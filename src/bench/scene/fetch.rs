@@ -108,8 +108,15 @@ impl FetchFloor {
             .filter(|d| d.primitive == Primitive::Triangles && d.count >= 3)
             .collect();
         let walks: Vec<Option<Walk>> = draws.iter().map(|d| walk_of(&self.ctx, d)).collect();
-        for (d, w) in draws.iter().zip(&walks) {
-            self.prepare(d, w.as_ref())?;
+        // Each draw's reads fetched at its texel and its program, found once, before the timing.
+        let reads: Vec<Vec<usize>> = (draws.iter().zip(&walks))
+            .map(|(d, w)| generic_reads(d, w.as_ref()))
+            .collect();
+        let keys: Vec<ProgramKey> = (0..draws.len())
+            .map(|i| program_key(draws[i], &reads[i], walks[i].as_ref()))
+            .collect();
+        for i in 0..draws.len() {
+            self.prepare(draws[i], &reads[i], &keys[i])?;
         }
         if draws.is_empty() {
             return Ok((0.0, Drawn::default()));
@@ -117,33 +124,7 @@ impl FetchFloor {
         let (programs, targets) = (self.programs.borrow(), self.targets.borrow());
         let inputs = self.inputs.borrow();
         // Each draw's samplers and textures, by name, made before the timing.
-        let mut bound: Vec<Vec<(String, Sampled)>> = Vec::new();
-        for (i_draw, d) in draws.iter().enumerate() {
-            let mut seen = HashMap::new();
-            let mut per_kind = [0usize; 4];
-            let mut list = Vec::new();
-            for i in generic_reads(d, walks[i_draw].as_ref()) {
-                let r = &d.reads[i];
-                let n = seen.entry(*r).or_insert(0usize);
-                let k = kind(r);
-                let name = format!("{}{}", KINDS[k].1, per_kind[k]);
-                per_kind[k] += 1;
-                // The texture the draw read, where it lives: the same data; else one of the
-                // same shape holding values no driver compresses.
-                let own = (d.sources.get(i)).filter(|t| self.ctx.is_live(t));
-                let texture = match (own, &inputs[&(*r, *n)]) {
-                    (Some(t), _) => Sampled::Recorded(*t),
-                    (None, Input::D2(t)) => Sampled::D2(t),
-                    (None, Input::D3(t)) => Sampled::D3(t),
-                };
-                *n += 1;
-                list.push((name, texture));
-            }
-            for (name, t) in walks[i_draw].iter().flat_map(|w| &w.textures) {
-                list.push((name.to_string(), Sampled::Recorded(*t)));
-            }
-            bound.push(list);
-        }
+        let bound = self.bound(&inputs, &draws, &reads, &walks);
         let named: Vec<Vec<(&str, Sampled)>> = bound
             .iter()
             .map(|l| l.iter().map(|(n, t)| (n.as_str(), *t)).collect())
@@ -165,7 +146,7 @@ impl FetchFloor {
             timer.time(|| {
                 for (i, d) in draws.iter().enumerate() {
                     self.ctx.draw(&Draw {
-                        program: &programs[&program_key(d, walks[i].as_ref())],
+                        program: &programs[&keys[i]],
                         target: &targets[&(d.size, d.formats.clone())],
                         viewport: d.viewport,
                         vertices: &self.vao,
@@ -181,10 +162,48 @@ impl FetchFloor {
         Ok((ms, Drawn { walked, ..drawn }))
     }
 
-    /// Makes what the floor of draw `d` (walking the cells as `walk` says) needs, where not
-    /// made yet.
-    fn prepare(&self, d: &DrawShape, walk: Option<&Walk>) -> Result<()> {
-        let key = program_key(d, walk);
+    /// Each draw's samplers and the textures bound to them: the draw's own where they live,
+    /// else `inputs` of the same shape, then the walk's.
+    fn bound<'a>(
+        &self,
+        inputs: &'a HashMap<(ReadShape, usize), Input>,
+        draws: &[&DrawShape],
+        reads: &[Vec<usize>],
+        walks: &[Option<Walk>],
+    ) -> Vec<Vec<(String, Sampled<'a>)>> {
+        let mut bound = Vec::new();
+        for (i_draw, d) in draws.iter().enumerate() {
+            let mut seen = HashMap::new();
+            let mut per_kind = [0usize; 4];
+            let mut list = Vec::new();
+            for &i in &reads[i_draw] {
+                let r = &d.reads[i];
+                let n = seen.entry(*r).or_insert(0usize);
+                let k = kind(r);
+                let name = format!("{}{}", KINDS[k].1, per_kind[k]);
+                per_kind[k] += 1;
+                // The texture the draw read, where it lives: the same data; else one of the
+                // same shape holding values no driver compresses.
+                let own = (d.sources.get(i)).filter(|t| self.ctx.is_live(t));
+                let texture = match (own, &inputs[&(*r, *n)]) {
+                    (Some(t), _) => Sampled::Recorded(*t),
+                    (None, Input::D2(t)) => Sampled::D2(t),
+                    (None, Input::D3(t)) => Sampled::D3(t),
+                };
+                *n += 1;
+                list.push((name, texture));
+            }
+            for (name, t) in walks[i_draw].iter().flat_map(|w| &w.textures) {
+                list.push((name.to_string(), Sampled::Recorded(*t)));
+            }
+            bound.push(list);
+        }
+        bound
+    }
+
+    /// Makes what the floor of draw `d` needs, where not made yet: its program `key`, its
+    /// target, and inputs for its `reads` (indices into `d.reads`).
+    fn prepare(&self, d: &DrawShape, reads: &[usize], key: &ProgramKey) -> Result<()> {
         if let Some(k) = (0..4).find(|&k| key.0[k] > KINDS[k].2) {
             return Err(Error::InvalidInput(format!(
                 "the fetch floor of a draw of {}: it binds {} textures of kind {}, and \
@@ -192,7 +211,7 @@ impl FetchFloor {
                 d.program, key.0[k], KINDS[k].0, KINDS[k].2
             )));
         }
-        if !self.programs.borrow().contains_key(&key) {
+        if !self.programs.borrow().contains_key(key) {
             let mut defines: Defines = (0..4)
                 .map(|k| (KINDS[k].0.to_owned(), key.0[k].to_string()))
                 .collect();
@@ -207,7 +226,7 @@ impl FetchFloor {
                 "bench/fetch_floor.frag",
                 &defines,
             )?;
-            self.programs.borrow_mut().insert(key, p);
+            self.programs.borrow_mut().insert(key.clone(), p);
         }
         let target = (d.size, d.formats.clone());
         if !self.targets.borrow().contains_key(&target) {
@@ -215,7 +234,7 @@ impl FetchFloor {
             self.targets.borrow_mut().insert(target, fb);
         }
         let mut seen = HashMap::new();
-        for r in generic_reads(d, walk).into_iter().map(|i| &d.reads[i]) {
+        for r in reads.iter().map(|&i| &d.reads[i]) {
             let n = seen.entry(*r).or_insert(0usize);
             if !self.inputs.borrow().contains_key(&(*r, *n)) {
                 let t = self.input(r)?;
@@ -277,10 +296,11 @@ impl FetchFloor {
     }
 }
 
-/// The program key of the floor of draw `d`, walking the cells as `walk` says.
-fn program_key(d: &DrawShape, walk: Option<&Walk>) -> ProgramKey {
+/// The program key of the floor of draw `d`, fetching its `reads` at the texel and walking the
+/// cells as `walk` says.
+fn program_key(d: &DrawShape, reads: &[usize], walk: Option<&Walk>) -> ProgramKey {
     let mut counts = [0usize; 4];
-    for i in generic_reads(d, walk) {
+    for &i in reads {
         counts[kind(&d.reads[i])] += 1;
     }
     let unsigned = d.formats.contains(&TextureFormat::Rgba32Ui);
@@ -405,31 +425,43 @@ mod tests {
 
     /// A recorded draw's own texture is read while it lives (the same data), and once freed
     /// one of its shape is read instead.
-    #[test]
-    fn the_fetch_floor_reads_the_draws_own_texture_while_it_lives() {
-        let ctx = Context::new(0).unwrap();
+    /// An RGBA32F texture of `[w, h]` holding `data`.
+    fn rgba(ctx: &Context, label: &str, [width, height]: [u32; 2], data: &[f32]) -> Texture {
         let desc = TextureDesc {
-            width: 4,
-            height: 2,
+            width,
+            height,
             format: TextureFormat::Rgba32F,
-            label: "own",
+            label,
         };
-        let own = Texture::new(&ctx, desc).unwrap();
-        let data: Vec<f32> = (0..32).map(|i| 100.0 + i as f32).collect();
-        own.upload_f32(&data).unwrap();
-        let shape = DrawShape {
+        let t = Texture::new(ctx, desc).unwrap();
+        t.upload_f32(data).unwrap();
+        t
+    }
+
+    /// A full-screen draw into one RGBA32F target of `size` that read `textures` through the
+    /// samplers named beside them, as the recorder notes it.
+    fn reading(size: [u32; 2], textures: &[(&str, &Texture)]) -> DrawShape {
+        DrawShape {
             program: "test".into(),
-            size: [4, 2],
+            size,
             formats: vec![TextureFormat::Rgba32F],
             viewport: None,
             primitive: Primitive::Triangles,
             count: 3,
-            reads: vec![own.recorded().shape],
-            sources: vec![own.recorded()],
-            samplers: vec!["u_own".into()],
+            reads: textures.iter().map(|(_, t)| t.recorded().shape).collect(),
+            sources: textures.iter().map(|(_, t)| t.recorded()).collect(),
+            samplers: textures.iter().map(|(n, _)| n.to_string()).collect(),
             defines: Vec::new(),
             ints: Vec::new(),
-        };
+        }
+    }
+
+    #[test]
+    fn the_fetch_floor_reads_the_draws_own_texture_while_it_lives() {
+        let ctx = Context::new(0).unwrap();
+        let data: Vec<f32> = (0..32).map(|i| 100.0 + i as f32).collect();
+        let own = rgba(&ctx, "own", [4, 2], &data);
+        let shape = reading([4, 2], &[("u_own", &own)]);
         let floor = FetchFloor::new(&ctx).unwrap();
         floor.reveal.set(true);
         let timer = PassTimer::new(&ctx, Clock::Wall).unwrap();
@@ -456,56 +488,22 @@ mod tests {
     #[test]
     fn the_walking_floor_visits_the_same_neighbours() {
         let ctx = Context::new(0).unwrap();
-        let texture = |label, data: &[f32]| {
-            let desc = TextureDesc {
-                width: 4,
-                height: 1,
-                format: TextureFormat::Rgba32F,
-                label,
-            };
-            let t = Texture::new(&ctx, desc).unwrap();
-            t.upload_f32(data).unwrap();
-            t
-        };
-        let keys = texture(
-            "keys",
-            &[
-                0.,
-                0.,
-                0.,
-                0.,
-                0.,
-                1.,
-                0.,
-                0.,
-                1.,
-                2.,
-                0.,
-                0.,
-                f32::INFINITY,
-                3.,
-                0.,
-                0.,
-            ],
-        );
+        // Per entry (key, id, 0, 0): keys 0, 0, 1, +inf.
+        let inf = f32::INFINITY;
+        let k = [
+            0., 0., 0., 0., 0., 1., 0., 0., 1., 2., 0., 0., inf, 3., 0., 0.,
+        ];
+        let keys = rgba(&ctx, "keys", [4, 1], &k);
         let pos: Vec<f32> = (0..16).map(|i| (1u32 << (i / 4)) as f32).collect();
-        let position = texture("position", &pos);
+        let position = rgba(&ctx, "position", [4, 1], &pos);
         let shape = DrawShape {
-            program: "test".into(),
-            size: [4, 1],
-            formats: vec![TextureFormat::Rgba32F],
-            viewport: None,
-            primitive: Primitive::Triangles,
-            count: 3,
-            reads: vec![keys.recorded().shape, position.recorded().shape],
-            sources: vec![keys.recorded(), position.recorded()],
-            samplers: vec!["u_keys".into(), "u_position".into()],
             defines: vec![("EXACT_SCAN".into(), "8".into())],
             ints: vec![
                 ("u_key_width".into(), vec![4]),
                 ("u_count".into(), vec![4]),
                 ("u_dims".into(), vec![2, 1, 1]),
             ],
+            ..reading([4, 1], &[("u_keys", &keys), ("u_position", &position)])
         };
         let floor = FetchFloor::new(&ctx).unwrap();
         floor.reveal.set(true);

@@ -48,6 +48,18 @@ pub enum Stage {
     Collide,
 }
 
+impl Stage {
+    /// The stage's name in pass lists and phase tables (its serialized name too).
+    pub fn label(self) -> &'static str {
+        match self {
+            Stage::Births => "births",
+            Stage::Integrate => "integrate",
+            Stage::Relax => "relax",
+            Stage::Collide => "collide",
+        }
+    }
+}
+
 /// One pass, or one group of like passes, of a step: its stage and what it does in the
 /// papers' words (with their sections).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]

@@ -193,7 +193,7 @@ impl StateFloors {
                     names.push(short);
                 }
             }
-            let name = format!("{}: {}", stage_name(stage), names.join(", "));
+            let name = format!("{}: {}", stage.label(), names.join(", "));
             if stage == Stage::Integrate {
                 // The live rows the simulation draws (whole rows; all of them but under a
                 // min-heap allocator).
@@ -282,16 +282,6 @@ fn short_name(name: &str) -> &str {
         }
     }
     name.trim()
-}
-
-/// A stage's name in the phase table.
-fn stage_name(stage: Stage) -> &'static str {
-    match stage {
-        Stage::Births => "births",
-        Stage::Integrate => "integrate",
-        Stage::Relax => "relax",
-        Stage::Collide => "collide",
-    }
 }
 
 /// Half-angle slicing's passes apart (`render.lighting = "half_angle"`): every slice's light

@@ -1,11 +1,12 @@
 //! Latta §3.4.1: births by the CPU allocator, drawn as single pixels into the state textures.
 
+use super::super::allocator::AllocatorKind;
 use super::super::emit::{EmitterUniforms, Rng};
-use super::{ParticleSim, State};
+use super::{Emission, ParticleSim, State};
 use crate::error::{Error, Result};
 use crate::gl::{
-    Attribute, Buffer, BufferKind, BufferUsage, Draw, DrawState, Framebuffer, PointSize, Primitive,
-    Program, VertexArray,
+    Attribute, Buffer, BufferKind, BufferUsage, Draw, DrawState, Framebuffer, PassDraw, PointSize,
+    Primitive, Program, VertexArray,
 };
 
 /// Floats per emitted vertex: index, position + life, velocity, static.
@@ -126,5 +127,37 @@ impl ParticleSim {
             draw(p, ring.previous());
         }
         Ok(())
+    }
+}
+
+impl super::Features {
+    /// The allocator's emission pass, drawn before the integration.
+    pub(super) fn emit_pass(&self, verlet: bool) -> Option<String> {
+        let Emission::Allocator(kind) = self.emission else {
+            return None;
+        };
+        Some(format!(
+            "emit: new particles drawn as single pixels into {} and static (CPU {} allocator)",
+            if verlet {
+                "current and previous positions"
+            } else {
+                "position and velocity"
+            },
+            match kind {
+                AllocatorKind::Stack => "stack",
+                AllocatorKind::MinHeap => "min-heap",
+            }
+        ))
+    }
+}
+
+impl ParticleSim {
+    /// The allocator's births: each program at most once a step (none without births).
+    pub(super) fn birth_draws(&self) -> Vec<PassDraw> {
+        [&self.emit_state, &self.emit_previous, &self.emit_static]
+            .into_iter()
+            .flatten()
+            .map(|p| PassDraw::of("emit:", p, 1).varying())
+            .collect()
     }
 }

@@ -5,7 +5,10 @@
 //!
 //! The state layout, the integrators and the collision response are described in
 //! `glsl/sim/integrate.frag` and `glsl/sim/colliders.glsl`; [`Features`] decides what is compiled
-//! and which passes run, and is also what `texflow scene passes` prints.
+//! and which passes run. Each stage names its passes beside the code that draws them (the
+//! integration in `integrate.rs`, the births in `births.rs`, the relaxation in `relax.rs`, the
+//! collision and fluid stages in their modules); [`Features::step_passes`] puts the lines in
+//! order for `texflow scene passes`, and `pass_list.rs` gives each its draws.
 
 mod births;
 mod bounces;
@@ -13,6 +16,7 @@ mod children;
 mod custom;
 mod features;
 mod fluid;
+mod integrate;
 mod pass_list;
 mod relax;
 mod setup;
@@ -32,7 +36,6 @@ use crate::gl::{
 };
 use crate::scene::{Integrator, SceneFile};
 use crate::sim::params::Params;
-use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
 pub use custom::check_custom_forces;
 pub use features::{Emission, Features};
 pub use stateless::ClosedForm;
@@ -402,131 +405,5 @@ impl ParticleSim {
         let ran = c.run(pp, &self.statics, params.time.dt, &fields.textures(), set);
         c.release_states(users);
         ran
-    }
-
-    /// The integration pass alone, then the swap.
-    fn integrate_pass(&mut self) -> Result<()> {
-        let rows = self.active_rows();
-        let p = &self.integrate;
-        let next = self.set_step_clock(p);
-        let statics = ("u_static", self.statics.texture(STATIC).into());
-        // Custom forces read the user states by name (user_state.rs).
-        let user = self.user.as_ref().map(|u| u.samplers()).unwrap_or_default();
-        let user = |p: &Program| user_state::declared(p, &user);
-        match &self.state {
-            State::Explicit(pp) if self.stateless.is_some() => {
-                if let Some(sl) = &self.stateless {
-                    sl.draw(
-                        &self.pass,
-                        pp.back(),
-                        self.statics.texture(STATIC),
-                        [self.time as f32, next],
-                        rows,
-                    );
-                }
-            }
-            State::Explicit(pp) => {
-                let mut own = vec![
-                    ("u_position", pp.front().texture(POSITION).into()),
-                    ("u_velocity", pp.front().texture(VELOCITY).into()),
-                    statics,
-                ];
-                let spin = self.features.spin.then(|| pp.front().texture(SPIN));
-                own.extend(spin.map(|t| ("u_spin", t.into())));
-                own.extend(user(p));
-                let t = draw_textures(p, &own, &self.fields);
-                match &self.integrate_position {
-                    None if rows > 0 => {
-                        // States updated in this pass: further targets (user_state_mrt.rs).
-                        let user = self.user.as_ref();
-                        let mrt = user.map(|u| u.integration_target(&self.ctx, pp.back()));
-                        let mrt = mrt.transpose()?.flatten();
-                        let target = mrt.as_deref().unwrap_or(pp.back());
-                        self.pass.draw_rows(p, &t, &[], target, 0, rows)
-                    }
-                    Some(q) if rows > 0 => self.integrate_separate(q, pp, next, rows),
-                    _ => {}
-                }
-            }
-            State::Verlet(ring) => {
-                let mut own = vec![
-                    ("u_position", ring.current().texture(POSITION).into()),
-                    ("u_previous", ring.previous().texture(POSITION).into()),
-                    statics,
-                ];
-                own.extend(user(p));
-                let t = draw_textures(p, &own, &self.fields);
-                if rows > 0 {
-                    self.pass.draw_rows(p, &t, &[], ring.next(), 0, rows);
-                }
-            }
-        }
-        match &mut self.state {
-            State::Explicit(pp) => pp.swap(),
-            State::Verlet(ring) => ring.rotate(),
-        }
-        if rows > 0 && self.stateless.is_none() && matches!(self.state, State::Explicit(_)) {
-            self.count_bounce_flags(rows);
-        }
-        self.step += 1;
-        self.time = self.step as f64 * self.params.time.dt as f64;
-        Ok(())
-    }
-
-    /// Latta §3.1 without MRT (`passes = "separate"`): the velocity pass `integrate` into the
-    /// back's velocity, then the position pass `q` into its position.
-    fn integrate_separate(&self, q: &Program, pp: &PingPong, next: f32, rows: u32) {
-        let p = &self.integrate;
-        let user = self.user.as_ref().map(|u| u.samplers()).unwrap_or_default();
-        let user = |p: &Program| user_state::declared(p, &user);
-        let statics = ("u_static", self.statics.texture(STATIC).into());
-        let mut own = vec![
-            ("u_position", pp.front().texture(POSITION).into()),
-            ("u_velocity", pp.front().texture(VELOCITY).into()),
-            statics,
-        ];
-        own.extend(user(p));
-        let t = draw_textures(p, &own, &self.fields);
-        let (v, x) = (pp.back_single(VELOCITY), pp.back_single(POSITION));
-        self.pass.draw_rows(p, &t, &[], v, 0, rows);
-        q.bind();
-        if self.params.emitters.animated {
-            uniforms::set_spawn(q, &self.params.emitters, self.time as f32);
-        }
-        q.set_f32("u_time", self.time as f32);
-        q.optional(|| q.set_f32("u_time_next", next));
-        let own: Vec<_> = [
-            ("u_position", pp.front().texture(POSITION).into()),
-            ("u_velocity", pp.front().texture(VELOCITY).into()),
-            ("u_new_velocity", pp.back().texture(VELOCITY).into()),
-            statics,
-        ]
-        .into_iter()
-        .filter(|(n, _)| q.declares(n))
-        .chain(user(q))
-        .collect();
-        let t = draw_textures(q, &own, &self.fields);
-        self.pass.draw_rows(q, &t, &[], x, 0, rows);
-    }
-
-    /// Binds the integration program and sets this step's clock on it: `u_time`, the next
-    /// step's (time stamps' cycles and child trails end one step's interval where the next
-    /// begins, glsl/sim/integrate.frag) and the last step's (Verlet's time stamps; -dt before
-    /// the first step), each exactly; and the orbiting spheres where they are at the step's
-    /// end. Returns the next step's time.
-    fn set_step_clock(&self, p: &crate::gl::Program) -> f32 {
-        p.bind();
-        p.set_f32("u_time", self.time as f32);
-        let dt = self.params.time.dt as f64;
-        let next = ((self.step + 1) as f64 * dt) as f32;
-        p.optional(|| p.set_f32("u_time_next", next));
-        p.optional(|| p.set_f32("u_user_time", next));
-        let prev = ((self.step as f64 - 1.0) * dt) as f32;
-        p.optional(|| p.set_f32("u_time_prev", prev));
-        relax::move_spheres(p, &self.params.colliders, self.time + dt);
-        if self.params.emitters.animated {
-            uniforms::set_spawn(p, &self.params.emitters, self.time as f32);
-        }
-        next
     }
 }

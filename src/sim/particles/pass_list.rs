@@ -12,16 +12,6 @@ const BOUNCE_TALLY: &str = "bounce tally: one point per particle whose path hit 
                             bounces at the colliders, added into one texel (read back once, at \
                             the end of a run)";
 
-/// The stage's name in the pass list.
-pub(crate) fn stage_label(stage: Stage) -> &'static str {
-    match stage {
-        Stage::Births => "births",
-        Stage::Integrate => "integrate",
-        Stage::Relax => "relax",
-        Stage::Collide => "collide",
-    }
-}
-
 impl ParticleSim {
     /// The passes of one step, in order, with the draws of each per step.
     pub(super) fn pass_list(&self) -> Vec<PassInfo> {
@@ -48,40 +38,7 @@ impl ParticleSim {
                     d
                 }
             };
-            out.extend(attach_draws(stage_label(stage), names, draws));
-        }
-        out
-    }
-
-    /// The allocator's births: each program at most once a step (none without births).
-    fn birth_draws(&self) -> Vec<PassDraw> {
-        [&self.emit_state, &self.emit_previous, &self.emit_static]
-            .into_iter()
-            .flatten()
-            .map(|p| PassDraw::of("emit:", p, 1).varying())
-            .collect()
-    }
-
-    /// The integration (or its halves, or the closed form), the user states, the bounce tally.
-    fn integration_draws(&self) -> Vec<PassDraw> {
-        let mut out = Vec::new();
-        match (&self.stateless, &self.integrate_position) {
-            (Some(s), _) => out.push(PassDraw::of("stateless", &s.program, 1)),
-            (None, Some(position)) => {
-                out.push(PassDraw::of("integrate velocity", &self.integrate, 1));
-                out.push(PassDraw::of("integrate position", position, 1));
-            }
-            (None, None) => {
-                // "integrate: …" or "integrate (live rows only): …".
-                out.push(PassDraw::of("integrate:", &self.integrate, 1));
-                out.push(PassDraw::of("integrate (", &self.integrate, 1));
-            }
-        }
-        if let Some(u) = &self.user {
-            out.extend(u.pass_draws());
-        }
-        if let (Some(t), State::Explicit(_)) = (&self.bounces, &self.state) {
-            out.push(PassDraw::of("bounce tally", t.program(), 1));
+            out.extend(attach_draws(stage.label(), names, draws));
         }
         out
     }

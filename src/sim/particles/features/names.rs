@@ -5,7 +5,7 @@ use crate::scene::{self, ForceKind};
 
 impl Features {
     /// The forces the integration applies, in the order the shader adds them.
-    pub(super) fn force_names(&self) -> Vec<String> {
+    pub(in crate::sim::particles) fn force_names(&self) -> Vec<String> {
         let mut forces = Vec::new();
         for kind in ForceKind::ALL {
             match kind {

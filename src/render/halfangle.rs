@@ -14,14 +14,14 @@
 
 use glam::{Mat4, Vec3};
 
-use super::{Camera, FrameState, FrameTarget, ParticleStyle, RenderParams};
+use super::{blend_of, clear_of, Camera, FrameState, FrameTarget, ParticleStyle, RenderParams};
 use crate::error::{Error, Result};
 use crate::gl::{
     Blend, BlendComponent, BlendFactor, Context, Defines, Depth, Draw, DrawState, Framebuffer,
     PointSize, Primitive, Program, Sampled, Texture, TextureDesc, TextureFormat, Uniform,
     VertexArray,
 };
-use crate::scene::{DrawMode, LightSection};
+use crate::scene::{Blending, DrawMode, DrawOrder, LightSection};
 
 /// The axis half-angle slicing sorts along, and the order the eye sees it in.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -60,6 +60,19 @@ pub fn light_view(direction: Vec3, centre: Vec3, extent: f32) -> Mat4 {
     let l = direction.normalize();
     let up = if l.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
     Mat4::from_scale(Vec3::splat(1.0 / extent)) * Mat4::look_to_rh(centre, l, up)
+}
+
+/// The blends and clear of one frame's slices ([`HalfAngleRenderer::slice_draws`]).
+#[derive(Debug, Clone, Copy)]
+pub struct SliceDraws {
+    /// The eye passes composite front to back (the under operator).
+    pub under: bool,
+    /// The eye passes' blend.
+    pub eye_blend: Blend,
+    /// What the frame is cleared to before the eye passes.
+    pub eye_clear: [f32; 4],
+    /// The light passes' blend into the light buffer.
+    pub light_blend: Blend,
 }
 
 /// The particle renderer's lit variant: the same look (keyframes, sprites, sizes), drawn in
@@ -233,6 +246,29 @@ impl HalfAngleRenderer {
         self.draw_passes(target, state, camera, atlas, SlicePasses::Both)
     }
 
+    /// What the slices seen from `camera` draw with: the eye passes' blend and clear (the under
+    /// operator where the slices run front to back for the eye, else the over operator, from
+    /// the one blend table of the particle passes) and the light passes' blend (the
+    /// transmittance multiplied by 1 − the colour). The benchmarks' floors read the same.
+    pub fn slice_draws(&self, camera: &Camera) -> SliceDraws {
+        let under = HalfAngle::of(camera, &self.light).front_to_back;
+        let order = if under {
+            DrawOrder::FrontToBack
+        } else {
+            DrawOrder::BackToFront
+        };
+        let keep = BlendComponent::add(BlendFactor::Zero, BlendFactor::OneMinusSrcColor);
+        SliceDraws {
+            under,
+            eye_blend: blend_of(Blending::Alpha, order),
+            eye_clear: clear_of(under, self.params.background.to_array()),
+            light_blend: Blend {
+                color: keep,
+                alpha: keep,
+            },
+        }
+    }
+
     /// [`draw`](Self::draw), running only `passes` of each slice (the eye passes without the
     /// light passes read the light buffer as it was left).
     pub fn draw_passes(
@@ -243,30 +279,23 @@ impl HalfAngleRenderer {
         atlas: Option<&Texture>,
         passes: SlicePasses,
     ) -> Result<()> {
-        let half = HalfAngle::of(camera, &self.light);
-        let b = &self.params;
+        let draws = self.slice_draws(camera);
         if passes != SlicePasses::Eye {
             self.buffer.clear([1.0; 4]);
         }
-        let under = half.front_to_back;
         if passes != SlicePasses::Light {
-            let opaque = b.background.extend(1.0).to_array();
-            target.clear_to(if under { [0.0; 4] } else { opaque });
+            target.clear_to(draws.eye_clear);
         }
         self.set_uniforms(target, state, camera, atlas)?;
         self.eye.bind();
-        self.eye.set_i32("u_premultiplied", under as i32);
+        self.eye.set_i32("u_premultiplied", draws.under as i32);
         let eye_state = DrawState {
-            blend: Some(eye_blend(under)),
+            blend: Some(draws.eye_blend),
             point_size: PointSize::One,
             depth: Depth::Off,
         };
-        let keep = BlendComponent::add(BlendFactor::Zero, BlendFactor::OneMinusSrcColor);
         let light_state = DrawState {
-            blend: Some(Blend {
-                color: keep,
-                alpha: keep,
-            }),
+            blend: Some(draws.light_blend),
             ..eye_state
         };
         let mut textures: Vec<(&str, Sampled)> = vec![
@@ -292,10 +321,10 @@ impl HalfAngleRenderer {
             }
             first += n;
         }
-        if under && passes != SlicePasses::Light {
+        if draws.under && passes != SlicePasses::Light {
             let bg = &self.background;
             bg.bind();
-            bg.set_vec3("u_background", b.background);
+            bg.set_vec3("u_background", self.params.background);
             self.ctx.draw(&Draw {
                 program: bg,
                 target: target.framebuffer(),
@@ -379,20 +408,5 @@ impl HalfAngleRenderer {
             }
         }
         Ok(())
-    }
-}
-
-/// The eye passes' blend: the under operator (front to back, premultiplied) or the over
-/// operator (back to front), as [`ParticleStyle::blend`] has them.
-fn eye_blend(under: bool) -> Blend {
-    use BlendFactor::{One, OneMinusDstAlpha, OneMinusSrcAlpha, SrcAlpha};
-    let (src, dst, src_a, dst_a) = if under {
-        (OneMinusDstAlpha, One, OneMinusDstAlpha, One)
-    } else {
-        (SrcAlpha, OneMinusSrcAlpha, One, OneMinusSrcAlpha)
-    };
-    Blend {
-        color: BlendComponent::add(src, dst),
-        alpha: BlendComponent::add(src_a, dst_a),
     }
 }

@@ -32,6 +32,6 @@ pub use ribbons::RibbonRenderer;
 pub use sprite::{
     age_seconds, flipbook_tile, random_size, second_random, sprite_angle, third_random, SizeCurve,
 };
-pub use style::{default_keyframes, FireRamp, ParticleStyle, TypeLook};
+pub use style::{blend_of, clear_of, default_keyframes, FireRamp, ParticleStyle, TypeLook};
 pub use target::FrameTarget;
 pub use user_color::UserColor;

@@ -110,13 +110,8 @@ pub struct ParticleRenderer {
 
 impl std::fmt::Debug for ParticleRenderer {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "ParticleRenderer({}x{}, {:?})",
-            self.width,
-            self.height,
-            self.pass_names()
-        )
+        let (w, h) = (self.width, self.height);
+        write!(f, "ParticleRenderer({w}x{h}, {:?})", self.pass_names())
     }
 }
 
@@ -233,6 +228,11 @@ impl ParticleRenderer {
     /// The style.
     pub fn style(&self) -> &ParticleStyle {
         &self.style
+    }
+
+    /// Its passes' numbers (blend, clear, point size...): the benchmarks' floors read them too.
+    pub fn params(&self) -> &RenderParams {
+        &self.params
     }
 
     /// Replaces the sprite atlas (sprites only) by `image`, e.g. a scene's own tiles.

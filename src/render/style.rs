@@ -173,24 +173,10 @@ fn by_age(r: &Rotate) -> bool {
 
 impl ParticleStyle {
     /// The blend state of this style's blending and order (the under operator for front to
-    /// back). One table, so that the CPU engine (E5) blends exactly as the renderer does.
+    /// back). One table ([`blend_of`]), so that the CPU engine (E5) and the half-angle slices
+    /// blend exactly as the renderer does.
     pub fn blend(&self) -> Blend {
-        use BlendFactor::{DstColor, One, OneMinusDstAlpha, OneMinusSrcAlpha, SrcAlpha, Zero};
-        let (src, dst, src_a, dst_a) = match (self.blending, self.order) {
-            // The destination alpha stays as cleared (opaque).
-            (Blending::Additive, _) => (SrcAlpha, One, Zero, One),
-            (Blending::Multiplicative, _) => (DstColor, Zero, Zero, One),
-            (Blending::Alpha, DrawOrder::BackToFront) => {
-                (SrcAlpha, OneMinusSrcAlpha, One, OneMinusSrcAlpha)
-            }
-            (Blending::Alpha, DrawOrder::FrontToBack) => {
-                (OneMinusDstAlpha, One, OneMinusDstAlpha, One)
-            }
-        };
-        Blend {
-            color: BlendComponent::add(src, dst),
-            alpha: BlendComponent::add(src_a, dst_a),
-        }
+        blend_of(self.blending, self.order)
     }
 
     /// The style of a scene's `[render]` section; `type_scales` are the emitters' sprite scales in
@@ -303,14 +289,9 @@ impl ParticleStyle {
 
     /// What the target is cleared to: the background, with alpha 0 for the under operator
     /// (whose background is composited under the particles at the end of the draw, so the
-    /// clear colour is transparent black), else opaque.
+    /// clear colour is transparent black), else opaque ([`clear_of`]).
     pub fn clear_color(&self) -> [f32; 4] {
-        if self.under() {
-            [0.0; 4]
-        } else {
-            let [r, g, b] = self.background;
-            [r, g, b, 1.0]
-        }
+        clear_of(self.under(), self.background)
     }
 
     /// The blending's name, as pass lists print it.
@@ -390,6 +371,36 @@ pub(super) fn style_defines(ctx: &Context, style: &ParticleStyle) -> Result<Defi
     }
     defines.extend(style.blend_defines());
     Ok(defines)
+}
+
+/// The blend state of a blending and a draw order: the one table of the particle passes'
+/// blends (the under operator for alpha front to back, the over operator back to front).
+pub fn blend_of(blending: Blending, order: DrawOrder) -> Blend {
+    use BlendFactor::{DstColor, One, OneMinusDstAlpha, OneMinusSrcAlpha, SrcAlpha, Zero};
+    let (src, dst, src_a, dst_a) = match (blending, order) {
+        // The destination alpha stays as cleared (opaque).
+        (Blending::Additive, _) => (SrcAlpha, One, Zero, One),
+        (Blending::Multiplicative, _) => (DstColor, Zero, Zero, One),
+        (Blending::Alpha, DrawOrder::BackToFront) => {
+            (SrcAlpha, OneMinusSrcAlpha, One, OneMinusSrcAlpha)
+        }
+        (Blending::Alpha, DrawOrder::FrontToBack) => (OneMinusDstAlpha, One, OneMinusDstAlpha, One),
+    };
+    Blend {
+        color: BlendComponent::add(src, dst),
+        alpha: BlendComponent::add(src_a, dst_a),
+    }
+}
+
+/// What a frame is cleared to: transparent black under the under operator (the background is
+/// composited under the particles at the end), else the opaque background.
+pub fn clear_of(under: bool, background: [f32; 3]) -> [f32; 4] {
+    if under {
+        [0.0; 4]
+    } else {
+        let [r, g, b] = background;
+        [r, g, b, 1.0]
+    }
 }
 
 #[cfg(test)]

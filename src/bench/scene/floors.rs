@@ -119,8 +119,8 @@ pub(super) fn render_phase(
     sorted: bool,
 ) -> Result<()> {
     let (timer, samples) = (on.timer, &on.samples);
-    let style = engine.renderer().style();
-    let (blend, clear) = (Some(style.blend()), style.clear_color());
+    let (style, params) = (engine.renderer().style(), engine.renderer().params());
+    let (blend, clear) = (Some(params.blend), params.clear_color);
     let fb = engine.target().framebuffer();
     // A snapshot of this repetition's positions, drawn without fetching or shading.
     let placed = PlacedRenderFloor::new(ctx, &engine.sim().drawn().positions.read_f32()?)?;
@@ -132,7 +132,7 @@ pub(super) fn render_phase(
     let uniform = style.mode == DrawMode::Points
         && style.primitive == DrawPrimitive::Points
         && style.types.iter().all(|t| t.size_range == [1.0; 2]);
-    let camera = (&view_proj, if uniform { style.point_size } else { 1.0 });
+    let camera = (&view_proj, if uniform { params.point_size } else { 1.0 });
     // The live rows' particles (the simulation's drawn count): every live particle is among
     // them, sorted or not (the snapshot is of the simulation's own order), and no pass draws
     // fewer vertices with a live one left out. (Every texel, when sorted, was more than a

@@ -310,7 +310,7 @@ pub(super) fn lit_phases(
         user: &[],
     };
     let atlas = engine.renderer().atlas();
-    let style = engine.renderer().style();
+    let draws = lit.slice_draws(camera);
     // The live particles where they are (a snapshot), one pixel each: sprites shrink with age
     // below the point size, so points at the point size would not bound the sprites' fill.
     let placed = crate::bench::stats::PlacedRenderFloor::new(
@@ -339,12 +339,11 @@ pub(super) fn lit_phases(
     );
     let [rw, rh] = [target.width(), target.height()];
     let view_proj = camera.view_projection(rw as f32 / rh as f32);
-    let blend = Some(style.blend());
     let f = timer.time(|| {
         placed.draw(
             target.framebuffer(),
-            style.clear_color(),
-            blend,
+            draws.eye_clear,
+            Some(draws.eye_blend),
             (&view_proj, 1.0),
             count,
         )
@@ -375,18 +374,11 @@ fn light_floor(
     let camera = engine.camera();
     let side = lit.light_buffer().width() as f32;
     let fov = (camera.fov_y.to_radians() * 0.5).tan();
-    let point_size = engine.renderer().style().point_size;
+    let point_size = engine.renderer().params().point_size;
     let world = point_size * 2.0 * camera.distance * fov / engine.target().height() as f32;
     let extent = 1.0 / lit.light_view(camera).x_axis.truncate().length();
     let view = glam::Mat4::from_scale(glam::Vec3::new(1.0, 1.0, 1e-6)) * lit.light_view(camera);
-    let keep = crate::gl::BlendComponent::add(
-        crate::gl::BlendFactor::Zero,
-        crate::gl::BlendFactor::OneMinusSrcColor,
-    );
-    let blend = crate::gl::Blend {
-        color: keep,
-        alpha: keep,
-    };
+    let blend = lit.slice_draws(camera).light_blend;
     (view, world * side / (2.0 * extent), Some(blend))
 }
 

@@ -278,7 +278,7 @@ fn cpu_engine_steps_the_thesis_integrators() {
     }
     let mut s = scene::load("e1").unwrap();
     s.integrator = Integrator::Euler;
-    s.simulation = scene::Simulation::Stateless;
+    s.simulation = scene::StateModel::Stateless;
     assert!(CpuSim::new(&s, 1).is_err());
     no_gl_error(&ctx);
 }

@@ -87,7 +87,7 @@ fn every_built_in_scene_draws_the_passes_it_lists() {
 /// user states, forces and ribbons of the example scenes, and the CPU engine.
 #[test]
 fn variants_draw_the_passes_they_list() {
-    use texflow::scene::{self, Lookup, RelaxScheme, RenderPath, Simulation, UpdatePasses};
+    use texflow::scene::{self, Lookup, RelaxScheme, RenderPath, StateModel, UpdatePasses};
     use texflow::sort::Variant;
     let ctx = common::context();
     let load = |n: &str| scene::load(n).unwrap();
@@ -115,7 +115,7 @@ fn variants_draw_the_passes_they_list() {
     let (_, src) = scene::load_source("e1").unwrap();
     let src = src.replace("integrator = \"uberflow\"", "simulation = \"stateless\"");
     let s = scene::parse("stateless e1", &src).unwrap();
-    assert_eq!(s.simulation, Simulation::Stateless);
+    assert_eq!(s.simulation, StateModel::Stateless);
     cases.push((s, EngineKind::Gpu));
     let mut s = load("cloth");
     s.constraints.as_mut().unwrap().scheme = RelaxScheme::Jacobi;

@@ -307,7 +307,7 @@ fn refuse_unsupported(scene: &SceneFile, features: &Features) -> Result<()> {
     if scene.integrator == Integrator::Verlet {
         return Err(unsupported(scene, "Verlet integration"));
     }
-    if scene.simulation == crate::scene::Simulation::Stateless {
+    if scene.simulation == crate::scene::StateModel::Stateless {
         return Err(unsupported(scene, "the stateless simulation"));
     }
     if scene.particles.precision == Precision::Fp24 {

@@ -71,7 +71,7 @@ pub struct SceneFile {
     /// §2.1, thesis §2.2.5: every step from start values and time, by a closed form; gravity,
     /// damping and a constant wind only).
     #[serde(default)]
-    pub simulation: Simulation,
+    pub simulation: StateModel,
     /// Emitters by kind.
     #[serde(default)]
     pub emitters: Emitters,
@@ -228,7 +228,7 @@ impl Integrator {
 /// Whether particles keep a state between steps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Simulation {
+pub enum StateModel {
     /// Position and velocity textures integrated step by step (Latta §3, UberFlow §4.2).
     #[default]
     Stateful,

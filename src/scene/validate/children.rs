@@ -6,7 +6,7 @@
 use super::{fail, path, Check};
 use crate::scene::locate::Key;
 use crate::scene::schema::{
-    Emitter, Integrator, SceneFile, Simulation, UpdatePasses, VelocityFormat,
+    Emitter, Integrator, SceneFile, StateModel, UpdatePasses, VelocityFormat,
 };
 
 use Key::{Index as I, Name as N};
@@ -296,7 +296,7 @@ fn child_combinations(s: &SceneFile) -> Check {
             "Verlet keeps no velocity; use euler, uberflow, heun, rk4 or leapfrog",
         );
     }
-    if s.simulation == Simulation::Stateless {
+    if s.simulation == StateModel::Stateless {
         return refuse(
             path(&[N("simulation")]),
             "the stateless simulation has no previous state to read; use stateful",

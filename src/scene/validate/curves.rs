@@ -6,7 +6,7 @@
 use super::{duration, fail, Check};
 use crate::scene::curve::{Animated, Components, Curve, CurveValue};
 use crate::scene::locate::Key;
-use crate::scene::schema::{Emitter, EmitterKind, SceneFile, Simulation};
+use crate::scene::schema::{Emitter, EmitterKind, SceneFile, StateModel};
 
 use Key::{Index as I, Name as N};
 
@@ -65,7 +65,7 @@ pub(super) fn emitter_curves(s: &SceneFile, at: &[Key], ek: EmitterKind, e: &Emi
             ),
         );
     }
-    if s.simulation == Simulation::Stateless {
+    if s.simulation == StateModel::Stateless {
         return fail(
             key(name),
             format!(

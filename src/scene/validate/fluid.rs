@@ -4,7 +4,7 @@
 
 use super::{bounded, fail, path, Check, MASS_RANGE, MAX_LATTICE_CELLS};
 use crate::scene::locate::Key;
-use crate::scene::schema::{Fluid, Initial, Integrator, Resort, SceneFile, Simulation, Wall};
+use crate::scene::schema::{Fluid, Initial, Integrator, Resort, SceneFile, StateModel, Wall};
 
 use Key::{Index as I, Name as N};
 
@@ -42,7 +42,7 @@ pub(super) fn fluid(s: &SceneFile) -> Check {
         };
         return fail(path(&[N(k)]), format!("[fluid] has no [{k}]: remove one"));
     }
-    if s.integrator == Integrator::Verlet || s.simulation == Simulation::Stateless {
+    if s.integrator == Integrator::Verlet || s.simulation == StateModel::Stateless {
         let k = if s.integrator == Integrator::Verlet {
             "integrator"
         } else {

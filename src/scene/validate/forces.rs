@@ -3,7 +3,7 @@
 use super::{bounded, direction, fail, nonzero, Check, MAX_COORDINATE};
 use crate::scene::locate::Key;
 use crate::scene::schema::{
-    Attractor, Falloff, Force, ForceKind, Forces, SceneFile, Simulation, Spring, Vortex,
+    Attractor, Falloff, Force, ForceKind, Forces, SceneFile, Spring, StateModel, Vortex,
     VortexForm, Wind, WindForm, MAX_CUSTOM_FORCES, MAX_EMITTER_FORCES,
 };
 
@@ -84,7 +84,7 @@ fn emitter_forces(s: &SceneFile, base: &[Key], f: &Forces) -> Check {
             return fail(at(base, &[N(kind.key()), I(0)]), why);
         }
     }
-    if s.simulation == Simulation::Stateless && *f != Forces::default() {
+    if s.simulation == StateModel::Stateless && *f != Forces::default() {
         return fail(
             base.to_vec(),
             "a stateless simulation has one closed form for every particle: give its gravity \

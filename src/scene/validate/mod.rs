@@ -31,7 +31,7 @@ pub use state::STATE_INPUTS;
 
 use super::locate::{Invalid, Key};
 use super::schema::{
-    ColliderKind, Collisions, ForceKind, Integrator, SceneFile, Simulation, UpdatePasses, WindForm,
+    ColliderKind, Collisions, ForceKind, Integrator, SceneFile, StateModel, UpdatePasses, WindForm,
 };
 
 use Key::{Index as I, Name as N};
@@ -266,7 +266,7 @@ fn stateless_allows(kind: ForceKind) -> bool {
 
 /// `simulation = "stateless"`: only motions with a closed form (Latta §2.1).
 fn stateless(s: &SceneFile) -> Check {
-    if s.simulation != Simulation::Stateless {
+    if s.simulation != StateModel::Stateless {
         return Ok(());
     }
     let why = "a stateless simulation computes positions from start values and time by a \

@@ -10,7 +10,7 @@
 use super::{bounded, fail, path, Check};
 use crate::scene::locate::Key;
 use crate::scene::schema::{
-    Blending, Detection, DrawMode, DrawPrimitive, Integrator, RenderPath, SceneFile, Simulation,
+    Blending, Detection, DrawMode, DrawPrimitive, Integrator, RenderPath, SceneFile, StateModel,
     StatePassKind, UpdatePasses, UserState, MAX_STATE_EXPRESSION, MAX_USER_STATES,
 };
 
@@ -182,7 +182,7 @@ pub(super) fn state(s: &SceneFile) -> Check {
              [[state]] or [fire]",
         );
     }
-    if s.simulation == Simulation::Stateless {
+    if s.simulation == StateModel::Stateless {
         return fail(
             at0,
             "[[state]] is updated step by step, a stateless scene has no steps to carry it: \

@@ -7,7 +7,7 @@ use super::curves::{check, over};
 use super::{fail, Check};
 use crate::scene::curve::{Animated, CurveValue};
 use crate::scene::locate::Key;
-use crate::scene::schema::{DrawMode, Emitter, SceneFile, Simulation, MAX_BIRTH_KEYS};
+use crate::scene::schema::{DrawMode, Emitter, SceneFile, StateModel, MAX_BIRTH_KEYS};
 
 use Key::{Index as I, Name as N};
 
@@ -64,7 +64,7 @@ pub(super) fn type_curves(s: &SceneFile, at: &[Key], kind: &str, e: &Emitter) ->
             ),
         );
     }
-    if s.simulation == Simulation::Stateless {
+    if s.simulation == StateModel::Stateless {
         return fail(
             key(name),
             format!(

@@ -155,7 +155,7 @@ impl Features {
         Features {
             integrator: scene.integrator,
             passes: scene.passes,
-            stateless: scene.simulation == scene::Simulation::Stateless,
+            stateless: scene.simulation == scene::StateModel::Stateless,
             emission,
             types: em.len().max(1),
             gravity: f.count(ForceKind::Gravity) > 0,

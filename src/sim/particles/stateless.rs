@@ -80,8 +80,8 @@ impl Stateless {
         size: [u32; 2],
     ) -> Result<Option<Self>> {
         match scene.simulation {
-            crate::scene::Simulation::Stateless => Ok(Some(Self::new(ctx, scene, defines, size)?)),
-            crate::scene::Simulation::Stateful => Ok(None),
+            crate::scene::StateModel::Stateless => Ok(Some(Self::new(ctx, scene, defines, size)?)),
+            crate::scene::StateModel::Stateful => Ok(None),
         }
     }
 

@@ -451,7 +451,13 @@ fn spawn_ffmpeg(
             "mp4",
             &["-c:v", "libx264", "-preset", "medium", "-crf", "18"],
         ),
-        _ => ("webm", &["-c:v", "libvpx-vp9", "-b:v", "0", "-crf", "31"]),
+        VideoFormat::Webm => ("webm", &["-c:v", "libvpx-vp9", "-b:v", "0", "-crf", "31"]),
+        // Written by the image encoders, never handed to ffmpeg.
+        VideoFormat::Gif | VideoFormat::Apng => {
+            return Err(Error::InvalidInput(format!(
+                "{format:?} is written without ffmpeg: use its own encoder"
+            )))
+        }
     };
     let mut child = Command::new(&ffmpeg)
         .args(["-hide_banner", "-loglevel", "error", "-y"])

@@ -49,7 +49,8 @@ pub(super) fn sort_phases(
     let keys = match mode {
         Some(KeyMode::Age { .. }) => "sort keys: age",
         Some(KeyMode::Axis { .. }) => "sort keys: along the half-angle vector",
-        _ => "sort keys: distance to the viewer",
+        Some(KeyMode::GridCell { .. }) => "sort keys: cell index",
+        Some(KeyMode::ViewerDistance { .. }) | None => "sort keys: distance to the viewer",
     };
     let floor = "write-only pass into the sort texture";
     let bounds = [(floor, f, Some(fd)), (FETCH_FLOOR, fetch.0, Some(fetch.1))];

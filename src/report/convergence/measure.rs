@@ -301,7 +301,7 @@ impl Run<'_> {
         }
         let e = match problem {
             Problem::Bounce { resilience, .. } => *resilience,
-            _ => 1.0,
+            Problem::Drag { .. } | Problem::Oscillator { .. } | Problem::Kepler { .. } => 1.0,
         };
         for i in 0..n {
             let h0 = ics[i].0.y;

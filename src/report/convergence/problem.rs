@@ -159,7 +159,7 @@ impl Problem {
     pub fn error_label(&self) -> &'static str {
         match self.metric() {
             Metric::MaxEnergy => "relative energy error |E − E₀|/|E₀| (dimensionless)",
-            _ => "error (m)",
+            Metric::FinalPosition | Metric::Apex => "error (m)",
         }
     }
 
@@ -253,7 +253,7 @@ impl Problem {
     pub(super) fn bounces(&self) -> u32 {
         match self {
             Problem::Bounce { bounces, .. } => *bounces,
-            _ => 0,
+            Problem::Drag { .. } | Problem::Oscillator { .. } | Problem::Kepler { .. } => 0,
         }
     }
 
@@ -282,7 +282,7 @@ impl Problem {
                 let (s, c) = (w * t).sin_cos();
                 (x0 * c + v0 / w * s, -x0 * w * s + v0 * c)
             }
-            _ => (x0, v0),
+            Problem::Kepler { .. } | Problem::Bounce { .. } => (x0, v0),
         }
     }
 
@@ -296,7 +296,7 @@ impl Problem {
     pub fn apex_time(&self, h0: f64, n: u32) -> (f64, f64) {
         let e = match self {
             Problem::Bounce { resilience, .. } => *resilience,
-            _ => 1.0,
+            Problem::Drag { .. } | Problem::Oscillator { .. } | Problem::Kepler { .. } => 1.0,
         };
         let fall = (2.0 * h0 / G).sqrt();
         // Fall, then up and down after each of the first n-1 bounces, then up after bounce n.

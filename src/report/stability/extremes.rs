@@ -127,7 +127,7 @@ fn half_overflow(ctx: &Context, rounding: HalfRounding) -> Result<ExtremeCase> {
     };
     let expected = match rounding {
         HalfRounding::TowardZero => Outcome::Saturated,
-        _ => Outcome::NonFinite,
+        HalfRounding::Nearest | HalfRounding::Unknown => Outcome::NonFinite,
     };
     Ok(case(
         "half-float overflow",

@@ -128,7 +128,7 @@ pub(super) fn search_layout(defines: &Defines, c: &scene::Collisions, size: [u32
         scene::Detection::Exact => {
             super::cells::search_defines(&d, &super::Lattice::of(c, false), size)
         }
-        _ => d,
+        scene::Detection::Uberflow => d,
     }
 }
 

@@ -113,8 +113,8 @@ pub fn bench_step(
         // The step's floor writes a scratch framebuffer of the state's formats and size.
         let scratch = super::scene::scratch_like(ctx, e.sim().state_target())?;
         let sim_floor = WriteFloor::for_target(ctx, &scratch)?;
-        let params = e.renderer().params();
-        let (clear, blend) = (params.clear_color, Some(params.blend));
+        let (blend, clear) = e.frame_blend();
+        let blend = Some(blend);
         let mut t = [vec![], vec![], vec![], vec![]];
         for _ in 0..opts.repeats {
             t[0].push(timer.time(|| sim_floor.draw(&scratch))?);

@@ -515,8 +515,8 @@ pub fn compact_depth_range(distance: f32) -> (f32, f32) {
 pub fn key_mode(key: SortKey, eye: glam::Vec3, back_to_front: bool) -> crate::sort::KeyMode {
     match key {
         SortKey::Distance => crate::sort::KeyMode::ViewerDistance { eye, back_to_front },
-        age => crate::sort::KeyMode::Age {
-            youngest_on_top: age == SortKey::YoungestOnTop,
+        SortKey::YoungestOnTop | SortKey::OldestOnTop => crate::sort::KeyMode::Age {
+            youngest_on_top: key == SortKey::YoungestOnTop,
             back_to_front,
         },
     }

@@ -4,7 +4,7 @@
 //! [`build`](super::build) made, so that what is measured is what `render` runs.
 
 use crate::error::Result;
-use crate::gl::Framebuffer;
+use crate::gl::{Blend, Framebuffer};
 use crate::render::{Camera, HalfAngleRenderer, ParticleRenderer};
 use crate::sim::Simulation;
 use crate::sort::{KeyMode, Sorter};
@@ -50,6 +50,22 @@ pub trait Stages: super::Engine {
 
     /// The camera of the last sort stage (turned by the orbit and the viewer).
     fn camera(&self) -> &Camera;
+
+    /// The blend and clear colour the frame's particles are drawn with: the half-angle eye
+    /// passes' (under or over, from where the light is this frame) when lit, else the
+    /// renderer's. The render floors draw with the same.
+    fn frame_blend(&self) -> (Blend, [f32; 4]) {
+        match self.lit() {
+            Some(lit) => {
+                let d = lit.slice_draws(self.camera());
+                (d.eye_blend, d.eye_clear)
+            }
+            None => {
+                let p = self.renderer().params();
+                (p.blend, p.clear_color)
+            }
+        }
+    }
 
     /// The sorter of an alpha-blended scene.
     fn sorter(&self) -> Option<&Sorter>;

@@ -443,22 +443,20 @@ fn spawn_ffmpeg(
     [w, h]: [u32; 2],
     fps: f64,
 ) -> Result<Encoder> {
-    let ffmpeg = find_ffmpeg().ok_or_else(|| {
-        Error::InvalidInput("no `ffmpeg` on PATH: write a .gif or .png (APNG) instead".into())
-    })?;
     let (muxer, codec): (&str, &[&str]) = match format {
         VideoFormat::Mp4 => (
             "mp4",
             &["-c:v", "libx264", "-preset", "medium", "-crf", "18"],
         ),
         VideoFormat::Webm => ("webm", &["-c:v", "libvpx-vp9", "-b:v", "0", "-crf", "31"]),
-        // Written by the image encoders, never handed to ffmpeg.
+        // `Video::create` encodes these itself and never comes here.
         VideoFormat::Gif | VideoFormat::Apng => {
-            return Err(Error::InvalidInput(format!(
-                "{format:?} is written without ffmpeg: use its own encoder"
-            )))
+            unreachable!("gif and apng are encoded without ffmpeg (Video::create)")
         }
     };
+    let ffmpeg = find_ffmpeg().ok_or_else(|| {
+        Error::InvalidInput("no `ffmpeg` on PATH: write a .gif or .png (APNG) instead".into())
+    })?;
     let mut child = Command::new(&ffmpeg)
         .args(["-hide_banner", "-loglevel", "error", "-y"])
         .args(["-f", "rawvideo", "-pix_fmt", "rgb24"])

@@ -22,7 +22,7 @@ mod vertex_path;
 pub use camera::{Camera, ViewOffset};
 pub use connected::{ConnectedRenderer, SURFACE_AMBIENT, SURFACE_LIGHT};
 pub use geometry::{GeometryRenderer, Mesh, Terrain, MAX_TERRAIN_CELLS};
-pub use halfangle::{light_view, HalfAngle, HalfAngleRenderer, SlicePasses};
+pub use halfangle::{light_view, HalfAngle, HalfAngleRenderer, SliceDraws, SlicePasses};
 pub use isosurface::Surface;
 pub use keyframes::{relative_age, KeyframeRamp};
 pub use lookup::SortLayout;

@@ -120,7 +120,8 @@ pub(super) fn render_phase(
 ) -> Result<()> {
     let (timer, samples) = (on.timer, &on.samples);
     let (style, params) = (engine.renderer().style(), engine.renderer().params());
-    let (blend, clear) = (Some(params.blend), params.clear_color);
+    let (blend, clear) = engine.frame_blend();
+    let blend = Some(blend);
     let fb = engine.target().framebuffer();
     // A snapshot of this repetition's positions, drawn without fetching or shading.
     let placed = PlacedRenderFloor::new(ctx, &engine.sim().drawn().positions.read_f32()?)?;

@@ -49,7 +49,8 @@ pub(super) fn sort_phases(
     let keys = match mode {
         Some(KeyMode::Age { .. }) => "sort keys: age",
         Some(KeyMode::Axis { .. }) => "sort keys: along the half-angle vector",
-        Some(KeyMode::GridCell { .. }) => "sort keys: cell index",
+        // The render sort keys by distance, age or the half-angle axis, never by cell.
+        Some(KeyMode::GridCell { .. }) => unreachable!("a render sort keyed by cell"),
         Some(KeyMode::ViewerDistance { .. }) | None => "sort keys: distance to the viewer",
     };
     let floor = "write-only pass into the sort texture";
@@ -311,7 +312,7 @@ pub(super) fn lit_phases(
         user: &[],
     };
     let atlas = engine.renderer().atlas();
-    let draws = lit.slice_draws(camera);
+    let (eye_blend, eye_clear) = engine.frame_blend();
     // The live particles where they are (a snapshot), one pixel each: sprites shrink with age
     // below the point size, so points at the point size would not bound the sprites' fill.
     let placed = crate::bench::stats::PlacedRenderFloor::new(
@@ -343,8 +344,8 @@ pub(super) fn lit_phases(
     let f = timer.time(|| {
         placed.draw(
             target.framebuffer(),
-            draws.eye_clear,
-            Some(draws.eye_blend),
+            eye_clear,
+            Some(eye_blend),
             (&view_proj, 1.0),
             count,
         )

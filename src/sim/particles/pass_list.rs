@@ -7,11 +7,6 @@ use super::{ParticleSim, State};
 use crate::gl::{attach_draws, PassDraw, PassInfo};
 use crate::sim::{Pass, Stage};
 
-/// The bounce tally's line: the integration flags paths past the bound in the velocity's w.
-const BOUNCE_TALLY: &str = "bounce tally: one point per particle whose path hit the bound on \
-                            bounces at the colliders, added into one texel (read back once, at \
-                            the end of a run)";
-
 impl ParticleSim {
     /// The passes of one step, in order, with the draws of each per step.
     pub(super) fn pass_list(&self) -> Vec<PassInfo> {
@@ -25,7 +20,7 @@ impl ParticleSim {
                 Stage::Births => self.birth_draws(),
                 Stage::Integrate => {
                     if self.bounces.is_some() && matches!(self.state, State::Explicit(_)) {
-                        names.push(BOUNCE_TALLY.into());
+                        names.push(super::bounces::BOUNCE_TALLY.into());
                     }
                     self.integration_draws()
                 }

@@ -53,7 +53,6 @@ impl Features {
         forces
     }
 
-    /// The integration pass, or its velocity and position halves.
     /// The constraint relaxation passes of cloth and hair, `iterations` times per step.
     pub(super) fn constrain_passes(&self) -> Vec<String> {
         let Some((kind, n, scheme, attachments)) = self.constraints else {

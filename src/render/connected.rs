@@ -11,7 +11,7 @@ use super::{Camera, FrameTarget};
 use crate::error::{Error, Result};
 use crate::gl::{
     Buffer, BufferKind, BufferUsage, Context, Defines, Depth, Draw, DrawState, Primitive, Program,
-    Texture, VertexArray,
+    Texture, Uniform, VertexArray,
 };
 use crate::scene::ConstraintKind;
 
@@ -154,9 +154,10 @@ impl ConnectedRenderer {
         let p = &self.program;
         p.bind();
         let aspect = target.width() as f32 / target.height() as f32;
-        p.set_mat4("u_view_proj", &camera.view_projection(aspect));
+        // The camera changes from frame to frame: it travels with the draw.
+        let mut per_frame = vec![("u_view_proj", Uniform::Mat4(camera.view_projection(aspect)))];
         if self.kind == ConstraintKind::Cloth {
-            p.set_vec3("u_eye", camera.eye());
+            per_frame.push(("u_eye", Uniform::Vec3(camera.eye())));
         }
         p.set_vec3("u_light", surface_light());
         p.set_vec3("u_color", Vec3::from(self.color));
@@ -177,7 +178,7 @@ impl ConnectedRenderer {
                 ..DrawState::REPLACE
             },
             textures: &[("u_position", positions.into())],
-            uniforms: &[],
+            uniforms: &per_frame,
         });
         self.ctx.check_error("drawing the surface")
     }

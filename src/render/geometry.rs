@@ -16,8 +16,8 @@ use super::isosurface::Surface;
 use super::{Camera, FrameTarget};
 use crate::error::{Error, Result};
 use crate::gl::{
-    Attribute, Buffer, BufferKind, BufferUsage, Context, Defines, Draw, DrawState, Primitive,
-    Program, VertexArray,
+    Attribute, Blend, BlendComponent, BlendFactor, Buffer, BufferKind, BufferUsage, Context,
+    Defines, Depth, Draw, DrawState, Primitive, Program, Uniform, VertexArray,
 };
 use crate::scene::{Collider, SceneFile};
 
@@ -482,8 +482,6 @@ impl GeometryRenderer {
         let p = &self.program;
         p.bind();
         let aspect = target.width() as f32 / target.height() as f32;
-        p.set_mat4("u_view_proj", &camera.view_projection(aspect));
-        p.set_vec3("u_eye", camera.eye());
         p.set_vec3("u_light", Vec3::new(-0.7, 0.6, 0.35).normalize());
         self.ctx.draw(&Draw {
             program: p,
@@ -494,7 +492,11 @@ impl GeometryRenderer {
             count: self.count,
             state,
             textures: &[],
-            uniforms: &[],
+            // The camera changes from frame to frame: it travels with the draw.
+            uniforms: &[
+                ("u_view_proj", Uniform::Mat4(camera.view_projection(aspect))),
+                ("u_eye", Uniform::Vec3(camera.eye())),
+            ],
         });
     }
 
@@ -526,6 +528,23 @@ impl GeometryRenderer {
             uniforms: &[],
         });
         Ok(())
+    }
+}
+
+/// The state of the geometry's first pass: opaque with a depth write, before the particles. For
+/// the under operator (front to back, the target cleared transparent) an opaque surface drawn
+/// first would hide everything composited after it, so the first pass writes only depth (the
+/// colour blended with factors 0 and 1 stays as it is); the geometry's colour is composited
+/// under the particles after them, at the depth it wrote.
+pub(super) fn first_pass_state(under: bool) -> DrawState {
+    let keep = BlendComponent::add(BlendFactor::Zero, BlendFactor::One);
+    DrawState {
+        blend: under.then_some(Blend {
+            color: keep,
+            alpha: keep,
+        }),
+        depth: Depth::Write,
+        ..DrawState::REPLACE
     }
 }
 

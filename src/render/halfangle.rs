@@ -286,9 +286,9 @@ impl HalfAngleRenderer {
         if passes != SlicePasses::Light {
             target.clear_to(draws.eye_clear);
         }
-        self.set_uniforms(target, state, camera, atlas)?;
-        self.eye.bind();
-        self.eye.set_i32("u_premultiplied", draws.under as i32);
+        let frame = self.set_uniforms(target, state, camera, atlas)?;
+        let mut eye_frame = frame.clone();
+        eye_frame.push(("u_premultiplied", Uniform::I32(draws.under as i32)));
         let eye_state = DrawState {
             blend: Some(draws.eye_blend),
             point_size: PointSize::One,
@@ -313,20 +313,19 @@ impl HalfAngleRenderer {
             let n = batch.min(state.count - first);
             if passes != SlicePasses::Light {
                 let fb = target.framebuffer();
-                self.slice(&self.eye, &textures, fb, (first, n), &eye_state);
+                let eye = (&self.eye, &eye_frame[..]);
+                self.slice(eye, &textures, fb, (first, n), &eye_state);
             }
             if passes != SlicePasses::Eye {
                 let fb = &self.buffer;
-                self.slice(&self.shadow, &shadow_textures, fb, (first, n), &light_state);
+                let shadow = (&self.shadow, &frame[..]);
+                self.slice(shadow, &shadow_textures, fb, (first, n), &light_state);
             }
             first += n;
         }
         if draws.under && passes != SlicePasses::Light {
-            let bg = &self.background;
-            bg.bind();
-            bg.set_vec3("u_background", self.params.background);
             self.ctx.draw(&Draw {
-                program: bg,
+                program: &self.background,
                 target: target.framebuffer(),
                 viewport: None,
                 vertices: &self.empty,
@@ -334,17 +333,17 @@ impl HalfAngleRenderer {
                 count: 3,
                 state: &eye_state,
                 textures: &[],
-                uniforms: &[],
+                uniforms: &[("u_background", Uniform::Vec3(self.params.background))],
             });
         }
         self.ctx.check_error("drawing half-angle slices")
     }
 
-    /// Draws particles `first..first + n` of the sorted state with `program`, reading
-    /// `textures`.
+    /// Draws particles `first..first + n` of the sorted state with `program` and this frame's
+    /// uniforms, reading `textures`.
     fn slice(
         &self,
-        program: &Program,
+        (program, frame): (&Program, &[(&str, Uniform)]),
         textures: &[(&str, Sampled)],
         fb: &Framebuffer,
         (first, n): (usize, usize),
@@ -359,18 +358,19 @@ impl HalfAngleRenderer {
             count: (n * super::QUAD_VERTICES) as u32,
             state: st,
             textures,
-            uniforms: &[("u_first", Uniform::I32(first as i32))],
+            uniforms: &[frame, &[("u_first", Uniform::I32(first as i32))]].concat(),
         });
     }
 
-    /// Sets both programs' uniforms and textures for this frame.
+    /// Checks this frame's state, sets both programs' constant uniforms and returns the
+    /// frame's own (the camera, the light's view, the clock), which travel with each draw.
     fn set_uniforms(
         &self,
         target: &FrameTarget,
         state: &FrameState<'_>,
         camera: &Camera,
         atlas: Option<&Texture>,
-    ) -> Result<()> {
+    ) -> Result<Vec<(&'static str, Uniform)>> {
         let (positions, statics) = (state.positions, state.statics);
         if positions.texels() < state.count || statics.texels() < state.count {
             return Err(Error::InvalidInput(format!(
@@ -386,19 +386,21 @@ impl HalfAngleRenderer {
         let (w, h) = (target.width() as f32, target.height() as f32);
         let view = camera.view();
         let light_view = self.light_view(camera);
+        let frame = vec![
+            ("u_view_proj", Uniform::Mat4(camera.view_projection(w / h))),
+            ("u_viewport", Uniform::Vec2(glam::Vec2::new(w, h))),
+            ("u_proj_y", Uniform::F32(camera.projection(w / h).y_axis.y)),
+            ("u_camera_right", Uniform::Vec3(view.row(0).truncate())),
+            ("u_camera_up", Uniform::Vec3(view.row(1).truncate())),
+            ("u_light_view", Uniform::Mat4(light_view)),
+            ("u_time", Uniform::F32(state.time)),
+        ];
         for (p, light_pass) in [(&self.eye, false), (&self.shadow, true)] {
             p.bind();
             p.set_i32("u_width", positions.width() as i32);
-            p.set_mat4("u_view_proj", &camera.view_projection(w / h));
-            p.set_vec2("u_viewport", glam::Vec2::new(w, h));
-            p.set_f32("u_proj_y", camera.projection(w / h).y_axis.y);
-            p.set_vec3("u_camera_right", view.row(0).truncate());
-            p.set_vec3("u_camera_up", view.row(1).truncate());
-            p.set_mat4("u_light_view", &light_view);
             p.set_f32("u_light_scale", 1.0 / self.extent);
             b.set_size(p);
             p.set_f32("u_density", self.light.density);
-            p.set_f32("u_time", state.time);
             b.set_types(p);
             b.set_keyframes(p);
             if !light_pass {
@@ -407,6 +409,6 @@ impl HalfAngleRenderer {
                 p.set_vec3("u_ambient", Vec3::from_array(l.ambient));
             }
         }
-        Ok(())
+        Ok(frame)
     }
 }

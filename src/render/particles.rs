@@ -25,8 +25,8 @@ use super::{
 };
 use crate::error::{Error, Result};
 use crate::gl::{
-    Blend, BlendComponent, BlendFactor, Context, Defines, Depth, Draw, DrawState, Primitive,
-    Program, Sampled, Texture, VertexArray,
+    Context, Defines, Depth, Draw, DrawState, Primitive, Program, Sampled, Texture, Uniform,
+    VertexArray,
 };
 use crate::scene::{DrawMode, DrawPrimitive, RenderPath, Rotate, MAX_USER_STATES};
 
@@ -367,24 +367,7 @@ impl ParticleRenderer {
         let count = state.count;
         let motion = self.frame_motion(state)?;
         let s = &self.style;
-        if let Some(g) = &self.geometry {
-            if !target.has_depth() {
-                return Err(Error::InvalidInput(
-                    "drawing geometry needs a frame target with depth (FrameTarget::with_depth)"
-                        .into(),
-                ));
-            }
-            g.draw(target, camera, &geometry_first(s.under()));
-        }
-        let scene_depth = match (s.soft > 0.0, &self.geometry) {
-            (false, _) => None,
-            (true, Some(g)) => Some(self.soft.draw(&self.ctx, g, target, camera)?),
-            (true, None) => {
-                return Err(Error::InvalidInput(
-                    "soft particles fade against the drawn geometry: render.geometry = true".into(),
-                ))
-            }
-        };
+        let scene_depth = self.draw_geometry_first(target, camera)?;
         if let Some(c) = &self.connected {
             return c.draw(target, state.positions, camera);
         }
@@ -403,11 +386,17 @@ impl ParticleRenderer {
         };
         let (vertices, textures) = self.bind_inputs(p, state, motion, [sorted, scene_depth])?;
         let size = glam::Vec2::new(target.width() as f32, target.height() as f32);
-        p.set_mat4("u_view_proj", &camera.view_projection(size.x / size.y));
-        p.set_vec2("u_viewport", size);
+        // The camera and the clock change from frame to frame: they travel with the draw.
+        let per_frame = [
+            (
+                "u_view_proj",
+                Uniform::Mat4(camera.view_projection(size.x / size.y)),
+            ),
+            ("u_viewport", Uniform::Vec2(size)),
+            ("u_time", Uniform::F32(state.time)),
+        ];
         let b = &self.params;
         b.set_size(p);
-        p.set_f32("u_time", state.time);
         if let Some(max_age) = b.max_age {
             p.set_f32("u_max_age", max_age);
         }
@@ -431,10 +420,36 @@ impl ParticleRenderer {
             count: (count * per_particle) as u32,
             state: &draw_state,
             textures: &textures,
-            uniforms: &[],
+            uniforms: &per_frame,
         });
         self.draw_under(target, state, camera, &draw_state)?;
         gl.check_error("drawing particles")
+    }
+
+    /// The geometry's first pass (opaque, or depth only under the under operator), and for soft
+    /// particles the scene's depth it leaves.
+    fn draw_geometry_first(
+        &self,
+        target: &FrameTarget,
+        camera: &Camera,
+    ) -> Result<Option<&Texture>> {
+        if let Some(g) = &self.geometry {
+            if !target.has_depth() {
+                return Err(Error::InvalidInput(
+                    "drawing geometry needs a frame target with depth (FrameTarget::with_depth)"
+                        .into(),
+                ));
+            }
+            let first = super::geometry::first_pass_state(self.style.under());
+            g.draw(target, camera, &first);
+        }
+        match (self.style.soft > 0.0, &self.geometry) {
+            (false, _) => Ok(None),
+            (true, Some(g)) => Ok(Some(self.soft.draw(&self.ctx, g, target, camera)?)),
+            (true, None) => Err(Error::InvalidInput(
+                "soft particles fade against the drawn geometry: render.geometry = true".into(),
+            )),
+        }
     }
 
     /// Checks the frame's textures and particle count; the motion texture when stretched quads
@@ -557,8 +572,6 @@ impl ParticleRenderer {
         }
         if s.under() {
             let b = &self.background;
-            b.bind();
-            b.set_vec3("u_background", self.params.background);
             // The same blend state: the under operator composites the background last, behind
             // everything (no depth test).
             gl.draw(&Draw {
@@ -573,26 +586,9 @@ impl ParticleRenderer {
                     ..*draw_state
                 },
                 textures: &[],
-                uniforms: &[],
+                uniforms: &[("u_background", Uniform::Vec3(self.params.background))],
             });
         }
         Ok(())
-    }
-}
-
-/// The state of the geometry's first pass: opaque with a depth write, before the particles. For
-/// the under operator (front to back, the target cleared transparent) an opaque surface drawn
-/// first would hide everything composited after it, so the first pass writes only depth (the
-/// colour blended with factors 0 and 1 stays as it is); the geometry's colour is composited
-/// under the particles after them, at the depth it wrote.
-fn geometry_first(under: bool) -> DrawState {
-    let keep = BlendComponent::add(BlendFactor::Zero, BlendFactor::One);
-    DrawState {
-        blend: under.then_some(Blend {
-            color: keep,
-            alpha: keep,
-        }),
-        depth: Depth::Write,
-        ..DrawState::REPLACE
     }
 }

@@ -8,7 +8,8 @@
 use super::{Camera, FrameState, FrameTarget, ParticleStyle, RenderParams};
 use crate::error::{Error, Result};
 use crate::gl::{
-    Buffer, BufferKind, BufferUsage, Context, Draw, DrawState, Primitive, Program, VertexArray,
+    Buffer, BufferKind, BufferUsage, Context, Draw, DrawState, Primitive, Program, Uniform,
+    VertexArray,
 };
 use crate::scene::ChildLayout;
 
@@ -145,12 +146,15 @@ impl RibbonRenderer {
         let p = &self.program;
         p.bind();
         let aspect = target.width() as f32 / target.height() as f32;
-        p.set_mat4("u_view_proj", &camera.view_projection(aspect));
         let viewport = glam::Vec2::new(target.width() as f32, target.height() as f32);
-        p.set_vec2("u_viewport", viewport);
-        p.set_vec3("u_eye", camera.eye());
+        // The camera and the clock change from frame to frame: they travel with the draw.
+        let per_frame = [
+            ("u_view_proj", Uniform::Mat4(camera.view_projection(aspect))),
+            ("u_viewport", Uniform::Vec2(viewport)),
+            ("u_eye", Uniform::Vec3(camera.eye())),
+            ("u_time", Uniform::F32(state.time)),
+        ];
         params.set_size(p);
-        p.set_f32("u_time", state.time);
         p.set_f32("u_ribbon_width", self.width_m);
         p.set_i32("u_sprites", i32::from(params.sprites));
         p.set_i32("u_width", state.positions.width() as i32);
@@ -170,7 +174,7 @@ impl RibbonRenderer {
                 ("u_position", state.positions.into()),
                 ("u_static", state.statics.into()),
             ],
-            uniforms: &[],
+            uniforms: &per_frame,
         });
         self.ctx.check_error("drawing ribbons")
     }

@@ -5,7 +5,8 @@ use glam::Vec3;
 
 use crate::error::{Error, Result};
 use crate::gl::{
-    Context, Defines, FullscreenPass, PingPong, Program, Texture, TextureFormat, FULLSCREEN_VERTEX,
+    Context, Defines, FullscreenPass, PingPong, Program, Texture, TextureFormat, Uniform,
+    FULLSCREEN_VERTEX,
 };
 
 /// Parameters of the fire pass (see `glsl/sim/fire.frag`). Units: metres, seconds.
@@ -193,7 +194,6 @@ impl FireSim {
         p.bind();
         p.set_i32("u_width", self.state.width() as i32);
         p.set_f32("u_dt", self.dt);
-        p.set_u32("u_step", self.step as u32);
         p.set_u32("u_seed", self.seed);
         p.set_vec3("u_emitter_center", q.emitter_center);
         p.set_f32("u_emitter_radius", q.emitter_radius);
@@ -264,8 +264,12 @@ impl super::Simulation for FireSim {
             ("u_position", front.texture(POSITION).into()),
             ("u_velocity", front.texture(VELOCITY).into()),
         ];
-        self.pass
-            .draw(&self.physics, &textures, &[], self.state.back());
+        self.pass.draw(
+            &self.physics,
+            &textures,
+            &[("u_step", Uniform::U32(self.step as u32))],
+            self.state.back(),
+        );
         self.state.swap();
         self.step += 1;
         Ok(())

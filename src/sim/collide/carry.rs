@@ -196,7 +196,7 @@ impl CollisionStage {
             cells.set_uniforms(p);
             p.set_f32("u_pair_radius", e.radius);
             p.set_f32("u_dt", self.dt);
-            p.set_f32("u_time", c.time);
+            let clock = [("u_time", crate::gl::Uniform::F32(c.time))];
             let mut textures: Vec<(&str, Sampled)> = cells.textures(g.sorted.keys());
             textures.extend([
                 ("u_position", g.sorted.layout().texture(POSITION).into()),
@@ -207,7 +207,7 @@ impl CollisionStage {
                 (names.iter().map(String::as_str))
                     .zip(c.first.iter().map(|f| f.only_texture().into())),
             );
-            self.pass.draw(p, &textures, &[], &e.target);
+            self.pass.draw(p, &textures, &clock, &e.target);
         }
         for e in &mut c.exchange {
             std::mem::swap(&mut e.target, &mut c.first[e.state]);

@@ -91,7 +91,7 @@ impl ParticleSim {
             f.search().set_uniforms(p);
             p.set_f32("u_pair_radius", *radius);
             p.set_f32("u_dt", self.params.time.dt);
-            p.set_f32("u_time", self.time as f32);
+            let clock = [("u_time", crate::gl::Uniform::F32(self.time as f32))];
             let mut textures: Vec<(&str, Sampled)> = f.search().textures(f.sorted_keys());
             textures.extend([
                 ("u_position", l.texture(POSITION).into()),
@@ -99,7 +99,7 @@ impl ParticleSim {
                 ("u_static", l.texture(STATIC).into()),
             ]);
             textures.extend(samplers.iter().map(|(n, t)| (n.as_str(), (*t).into())));
-            self.pass.draw(p, &textures, &[], user.back(*i));
+            self.pass.draw(p, &textures, &clock, user.back(*i));
         }
         for (i, ..) in &self.fluid_exchange {
             user.swap(*i);

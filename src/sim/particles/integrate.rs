@@ -4,7 +4,7 @@
 
 use super::{draw_textures, relax, uniforms, user_state, Emission, Features, ParticleSim, State};
 use crate::error::Result;
-use crate::gl::{PassDraw, PingPong, Program};
+use crate::gl::{PassDraw, PingPong, Program, Uniform};
 use crate::scene::{self, Integrator, Precision, VelocityFormat};
 use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
 
@@ -146,7 +146,7 @@ impl ParticleSim {
     pub(super) fn integrate_pass(&mut self) -> Result<()> {
         let rows = self.active_rows();
         let p = &self.integrate;
-        let next = self.set_step_clock(p);
+        let (next, clock) = self.set_step_clock(p);
         let statics = ("u_static", self.statics.texture(STATIC).into());
         // Custom forces read the user states by name (user_state.rs).
         let user = self.user.as_ref().map(|u| u.samplers()).unwrap_or_default();
@@ -180,9 +180,9 @@ impl ParticleSim {
                         let mrt = user.map(|u| u.integration_target(&self.ctx, pp.back()));
                         let mrt = mrt.transpose()?.flatten();
                         let target = mrt.as_deref().unwrap_or(pp.back());
-                        self.pass.draw_rows(p, &t, &[], target, 0, rows)
+                        self.pass.draw_rows(p, &t, &clock, target, 0, rows)
                     }
-                    Some(q) if rows > 0 => self.integrate_separate(q, pp, next, rows),
+                    Some(q) if rows > 0 => self.integrate_separate(q, pp, &clock, next, rows),
                     _ => {}
                 }
             }
@@ -195,7 +195,7 @@ impl ParticleSim {
                 own.extend(user(p));
                 let t = draw_textures(p, &own, &self.fields);
                 if rows > 0 {
-                    self.pass.draw_rows(p, &t, &[], ring.next(), 0, rows);
+                    self.pass.draw_rows(p, &t, &clock, ring.next(), 0, rows);
                 }
             }
         }
@@ -213,7 +213,14 @@ impl ParticleSim {
 
     /// Latta §3.1 without MRT (`passes = "separate"`): the velocity pass `integrate` into the
     /// back's velocity, then the position pass `q` into its position.
-    fn integrate_separate(&self, q: &Program, pp: &PingPong, next: f32, rows: u32) {
+    fn integrate_separate(
+        &self,
+        q: &Program,
+        pp: &PingPong,
+        clock: &[(&str, Uniform)],
+        next: f32,
+        rows: u32,
+    ) {
         let p = &self.integrate;
         let user = self.user.as_ref().map(|u| u.samplers()).unwrap_or_default();
         let user = |p: &Program| user_state::declared(p, &user);
@@ -226,13 +233,12 @@ impl ParticleSim {
         own.extend(user(p));
         let t = draw_textures(p, &own, &self.fields);
         let (v, x) = (pp.back_single(VELOCITY), pp.back_single(POSITION));
-        self.pass.draw_rows(p, &t, &[], v, 0, rows);
+        self.pass.draw_rows(p, &t, clock, v, 0, rows);
         q.bind();
         if self.params.emitters.animated {
             uniforms::set_spawn(q, &self.params.emitters, self.time as f32);
         }
-        q.set_f32("u_time", self.time as f32);
-        q.optional(|| q.set_f32("u_time_next", next));
+        let q_clock = declared_clock(q, [("u_time", self.time as f32), ("u_time_next", next)]);
         let own: Vec<_> = [
             ("u_position", pp.front().texture(POSITION).into()),
             ("u_velocity", pp.front().texture(VELOCITY).into()),
@@ -244,28 +250,32 @@ impl ParticleSim {
         .chain(user(q))
         .collect();
         let t = draw_textures(q, &own, &self.fields);
-        self.pass.draw_rows(q, &t, &[], x, 0, rows);
+        self.pass.draw_rows(q, &t, &q_clock, x, 0, rows);
     }
 
-    /// Binds the integration program and sets this step's clock on it: `u_time`, the next
-    /// step's (time stamps' cycles and child trails end one step's interval where the next
-    /// begins, glsl/sim/integrate.frag) and the last step's (Verlet's time stamps; -dt before
-    /// the first step), each exactly; and the orbiting spheres where they are at the step's
-    /// end. Returns the next step's time.
-    fn set_step_clock(&self, p: &crate::gl::Program) -> f32 {
+    /// Binds the integration program, sets on it the orbiting spheres where they are at the
+    /// step's end (and the animated emitters' values), and gives this step's clock as the
+    /// draw's uniforms: `u_time`, the next step's (time stamps' cycles and child trails end one
+    /// step's interval where the next begins, glsl/sim/integrate.frag) and the last step's
+    /// (Verlet's time stamps; -dt before the first step), each exactly, those `p` declares.
+    /// Returns the next step's time and the clock.
+    fn set_step_clock(&self, p: &Program) -> (f32, Vec<(&'static str, Uniform)>) {
         p.bind();
-        p.set_f32("u_time", self.time as f32);
         let dt = self.params.time.dt as f64;
         let next = ((self.step + 1) as f64 * dt) as f32;
-        p.optional(|| p.set_f32("u_time_next", next));
-        p.optional(|| p.set_f32("u_user_time", next));
         let prev = ((self.step as f64 - 1.0) * dt) as f32;
-        p.optional(|| p.set_f32("u_time_prev", prev));
         relax::move_spheres(p, &self.params.colliders, self.time + dt);
         if self.params.emitters.animated {
             uniforms::set_spawn(p, &self.params.emitters, self.time as f32);
         }
-        next
+        let now = self.time as f32;
+        let clock = [
+            ("u_time", now),
+            ("u_time_next", next),
+            ("u_user_time", next),
+            ("u_time_prev", prev),
+        ];
+        (next, declared_clock(p, clock))
     }
 
     /// The integration (or its halves, or the closed form), the user states, the bounce tally.
@@ -291,4 +301,16 @@ impl ParticleSim {
         }
         out
     }
+}
+
+/// The clock uniforms of a draw of `p`: those of `clock` that `p` declares (a variant without
+/// time stamps or children reads no next time).
+pub(super) fn declared_clock<const N: usize>(
+    p: &Program,
+    clock: [(&'static str, f32); N],
+) -> Vec<(&'static str, Uniform)> {
+    (clock.into_iter())
+        .filter(|(n, _)| p.declares(n))
+        .map(|(n, v)| (n, Uniform::F32(v)))
+        .collect()
 }

@@ -134,9 +134,8 @@ impl Stateless {
         rows: u32,
     ) {
         let p = &self.program;
-        p.bind();
-        p.set_f32("u_time", time);
-        p.optional(|| p.set_f32("u_time_next", time_next));
+        let clock =
+            super::integrate::declared_clock(p, [("u_time", time), ("u_time_next", time_next)]);
         let own = [
             ("u_position", self.start.texture(POSITION).into()),
             ("u_velocity", self.start.texture(VELOCITY).into()),
@@ -144,7 +143,7 @@ impl Stateless {
         ];
         let own: Vec<_> = own.into_iter().filter(|(n, _)| p.declares(n)).collect();
         if rows > 0 {
-            pass.draw_rows(p, &own, &[], target, 0, rows);
+            pass.draw_rows(p, &own, &clock, target, 0, rows);
         }
     }
 }

@@ -20,7 +20,9 @@ mod mrt;
 use super::{draw_textures, set_constants_for, ParticleSim, State};
 use crate::error::{Error, Result};
 use crate::gl::source::{add_runtime_source, is_runtime_source};
-use crate::gl::{Context, Defines, PingPong, Program, Sampled, Texture, FULLSCREEN_VERTEX};
+use crate::gl::{
+    Context, Defines, PingPong, Program, Sampled, Texture, Uniform, FULLSCREEN_VERTEX,
+};
 use crate::scene::{SceneFile, StateFormat};
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
 use crate::sim::user_glsl::{source_key, user_compile_error, Renamed};
@@ -457,14 +459,14 @@ impl ParticleSim {
             if !start && user.integrated.contains(&i) {
                 continue;
             }
-            p.bind();
-            p.optional(|| {
-                p.set_f32("u_time", self.time as f32);
-                p.set_i32("u_start", start as i32);
-            });
+            let now = [
+                ("u_time", Uniform::F32(self.time as f32)),
+                ("u_start", Uniform::I32(start as i32)),
+            ];
+            let now: Vec<_> = now.into_iter().filter(|(n, _)| p.declares(n)).collect();
             let list: Vec<_> = own.iter().copied().filter(|(n, _)| p.declares(n)).collect();
             let t = draw_textures(p, &list, &self.fields);
-            self.pass.draw_rows(p, &t, &[], pp.back(), 0, rows);
+            self.pass.draw_rows(p, &t, &now, pp.back(), 0, rows);
         }
         for pp in &mut user.states {
             pp.swap();

@@ -3,7 +3,7 @@
 
 use super::{KeyMode, ProgramKey, Sorter};
 use crate::error::{Error, Result};
-use crate::gl::{Program, Sampled, Texture, FULLSCREEN_VERTEX};
+use crate::gl::{Sampled, Texture, Uniform, FULLSCREEN_VERTEX};
 
 impl Sorter {
     /// The key pass: computes keys and identifiers of the particles in `positions` (xyz, life)
@@ -85,7 +85,7 @@ impl Sorter {
         p.set_i32("u_count", count as i32);
         p.set_i32("u_sort_width", self.width as i32);
         p.set_i32("u_cull_dead", cull_dead as i32);
-        set_mode_uniforms(p, mode);
+        let per_frame = mode_uniforms(mode);
         if let Some(t) = &self.id_table {
             textures.push(("u_id_table", t.into()));
             p.set_i32("u_id_table_width", t.width() as i32);
@@ -96,7 +96,8 @@ impl Sorter {
         if let (true, Some(t)) = (age, statics) {
             textures.push(("u_static", t.into()));
         }
-        self.fullscreen.draw(p, &textures, &[], self.state.back());
+        self.fullscreen
+            .draw(p, &textures, &per_frame, self.state.back());
         self.state.swap();
         self.next = 0;
         Ok(())
@@ -151,31 +152,33 @@ impl Sorter {
     }
 }
 
-/// The key program's uniforms for `mode` (`p` bound).
-fn set_mode_uniforms(p: &Program, mode: &KeyMode) {
+/// The key draw's uniforms for `mode`: the eye, the axis or the lattice change from frame to
+/// frame, so they travel with the draw.
+fn mode_uniforms(mode: &KeyMode) -> Vec<(&'static str, Uniform)> {
+    let sign = |b: bool| Uniform::F32(if b { -1.0 } else { 1.0 });
     match *mode {
-        KeyMode::ViewerDistance { eye, back_to_front } => {
-            p.set_vec3("u_eye", eye);
-            p.set_f32("u_direction", if back_to_front { -1.0 } else { 1.0 });
-        }
+        KeyMode::ViewerDistance { eye, back_to_front } => vec![
+            ("u_eye", Uniform::Vec3(eye)),
+            ("u_direction", sign(back_to_front)),
+        ],
+        // Key = direction × m, where a smaller m is more on top (as a smaller distance is):
+        // m = age for the youngest on top, -age for the oldest.
         KeyMode::Age {
             youngest_on_top,
             back_to_front,
-        } => {
-            // Key = direction × m, where a smaller m is more on top (as a smaller distance
-            // is): m = age for the youngest on top, -age for the oldest.
-            p.set_f32("u_direction", if back_to_front { -1.0 } else { 1.0 });
-            p.set_f32("u_age_sign", if youngest_on_top { 1.0 } else { -1.0 });
-        }
-        KeyMode::Axis { direction } => p.set_vec3("u_axis", direction),
+        } => vec![
+            ("u_direction", sign(back_to_front)),
+            ("u_age_sign", sign(!youngest_on_top)),
+        ],
+        KeyMode::Axis { direction } => vec![("u_axis", Uniform::Vec3(direction))],
         KeyMode::GridCell {
             origin,
             spacing,
             dims,
-        } => {
-            p.set_vec3("u_grid_origin", origin);
-            p.set_f32("u_grid_spacing", spacing);
-            p.set_ivec3("u_grid_dims", dims.x as i32, dims.y as i32, dims.z as i32);
-        }
+        } => vec![
+            ("u_grid_origin", Uniform::Vec3(origin)),
+            ("u_grid_spacing", Uniform::F32(spacing)),
+            ("u_grid_dims", Uniform::IVec3(dims.as_ivec3())),
+        ],
     }
 }

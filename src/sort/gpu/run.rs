@@ -14,9 +14,9 @@ impl Sorter {
         let keys = [("u_keys", Sampled::from(front))];
         match &self.passes[index] {
             Pass::Fragment(step) => {
-                let p = self.step_program(step);
-                let width = [("u_width", Uniform::I32(self.width as i32))];
-                self.fullscreen.draw(p, &keys, &width, self.state.back());
+                let (p, mut uniforms) = self.step_program(step);
+                uniforms.push(("u_width", Uniform::I32(self.width as i32)));
+                self.fullscreen.draw(p, &keys, &uniforms, self.state.back());
             }
             Pass::Group(steps) => self.run_group(steps, &keys),
             Pass::Blocked(_) => unreachable!("blocked passes return above"),
@@ -34,34 +34,31 @@ impl Sorter {
         self.state.swap();
     }
 
-    /// The fragment program of one network step, bound, with the step's uniforms set.
-    fn step_program(&self, step: &Step) -> &Program {
-        match step {
+    /// The fragment program of one network step and the step's uniforms, which travel with
+    /// its draw.
+    fn step_program(&self, step: &Step) -> (&Program, Vec<(&'static str, Uniform)>) {
+        let int = |v: u32| Uniform::I32(v as i32);
+        match *step {
             Step::Bitonic {
                 block,
                 dist,
                 mirror,
-            } => {
-                let p = &self.programs[&ProgramKey::Fp];
-                p.bind();
-                p.set_i32("u_block", *block as i32);
-                p.set_i32("u_dist", *dist as i32);
-                p.set_i32("u_mirror", *mirror as i32);
-                p
-            }
-            Step::OddEvenRecursion { step, count } => {
-                let p = &self.programs[&ProgramKey::OddEvenRecursion];
-                p.bind();
-                p.set_i32("u_step", *step as i32);
-                p.set_i32("u_count", *count as i32);
-                p
-            }
-            Step::OddEvenEnd { step } => {
-                let p = &self.programs[&ProgramKey::OddEvenEnd];
-                p.bind();
-                p.set_i32("u_step", *step as i32);
-                p
-            }
+            } => (
+                &self.programs[&ProgramKey::Fp],
+                vec![
+                    ("u_block", int(block)),
+                    ("u_dist", int(dist)),
+                    ("u_mirror", Uniform::I32(mirror as i32)),
+                ],
+            ),
+            Step::OddEvenRecursion { step, count } => (
+                &self.programs[&ProgramKey::OddEvenRecursion],
+                vec![("u_step", int(step)), ("u_count", int(count))],
+            ),
+            Step::OddEvenEnd { step } => (
+                &self.programs[&ProgramKey::OddEvenEnd],
+                vec![("u_step", int(step))],
+            ),
         }
     }
 

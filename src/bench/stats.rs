@@ -231,8 +231,6 @@ impl PlacedRenderFloor {
         target.clear(clear);
         let p = &self.program;
         p.bind();
-        p.set_mat4("u_view_proj", view_proj);
-        p.set_f32("u_point_size", point_size);
         p.set_vec4("u_value", Vec4::new(0.02, 0.01, 0.005, 0.1));
         self.ctx.draw(&Draw {
             program: p,
@@ -247,7 +245,11 @@ impl PlacedRenderFloor {
                 depth: crate::gl::Depth::Off,
             },
             textures: &[],
-            uniforms: &[],
+            // The camera and size of the pass it floors: they travel with the draw.
+            uniforms: &[
+                ("u_view_proj", Uniform::Mat4(*view_proj)),
+                ("u_point_size", Uniform::F32(point_size)),
+            ],
         });
     }
 }

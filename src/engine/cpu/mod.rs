@@ -35,7 +35,7 @@ use sim::{live, unsupported, CHUNK};
 use crate::error::{Error, Result};
 use crate::gl::{
     Attribute, Buffer, BufferKind, BufferUsage, Context, Defines, Draw, Primitive, Program,
-    VertexArray, FULLSCREEN_VERTEX,
+    Uniform, VertexArray, FULLSCREEN_VERTEX,
 };
 use crate::render::{relative_age, Camera, FrameTarget, ParticleStyle, RenderParams};
 use crate::scene::{Blending, DrawMode, DrawOrder, SceneFile, SortKey};
@@ -292,7 +292,6 @@ impl CpuEngine {
         let p = &self.program;
         p.bind();
         let aspect = self.target.width() as f32 / self.target.height() as f32;
-        p.set_mat4("u_view_proj", &self.camera.view_projection(aspect));
         block.set_size(p);
         block.set_keyframes(p);
         let gl = &self.ctx;
@@ -306,11 +305,13 @@ impl CpuEngine {
             count: self.vertices.len() as u32,
             state: &state,
             textures: &[],
-            uniforms: &[],
+            // The camera turns from frame to frame: it travels with the draw.
+            uniforms: &[(
+                "u_view_proj",
+                Uniform::Mat4(self.camera.view_projection(aspect)),
+            )],
         });
         if let Some(b) = &self.background {
-            b.bind();
-            b.set_vec3("u_background", block.background);
             // The same blend state: the under operator composites the background last.
             gl.draw(&Draw {
                 program: b,
@@ -321,7 +322,7 @@ impl CpuEngine {
                 count: 3,
                 state: &state,
                 textures: &[],
-                uniforms: &[],
+                uniforms: &[("u_background", Uniform::Vec3(block.background))],
             });
         }
         gl.check_error("drawing the CPU engine's points")

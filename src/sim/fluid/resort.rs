@@ -22,7 +22,7 @@
 use crate::error::Result;
 use crate::gl::{
     Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Texture, TextureDesc,
-    TextureFormat, FULLSCREEN_VERTEX,
+    TextureFormat, Uniform, FULLSCREEN_VERTEX,
 };
 use crate::scene;
 use crate::sim::collide::tally::TruncationTally;
@@ -193,11 +193,12 @@ impl CoherentSort {
             } else {
                 self.merge.front().only_texture()
             };
-            p.bind();
-            p.set_i32("u_dist", s.dist as i32);
-            p.set_i32("u_mirror", s.mirror as i32);
+            let step = [
+                ("u_dist", Uniform::I32(s.dist as i32)),
+                ("u_mirror", Uniform::I32(s.mirror as i32)),
+            ];
             self.pass
-                .draw(p, &[("u_keys", source.into())], &[], self.merge.back());
+                .draw(p, &[("u_keys", source.into())], &step, self.merge.back());
             self.merge.swap();
         }
         let c = &self.order_pass;

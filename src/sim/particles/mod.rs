@@ -7,8 +7,9 @@
 //! `glsl/sim/integrate.frag` and `glsl/sim/colliders.glsl`; [`Features`] decides what is compiled
 //! and which passes run. Each stage names its passes beside the code that draws them (the
 //! integration in `integrate.rs`, the births in `births.rs`, the relaxation in
-//! `features/names.rs` (drawn in `relax.rs`), the collision and fluid stages in their modules); [`Features::step_passes`] puts the lines in
-//! order for `texflow scene passes`, and `pass_list.rs` gives each its draws.
+//! `features/names.rs` (drawn in `relax.rs`), the collision and fluid stages in their modules);
+//! [`Features::step_passes`] puts the lines in order for `texflow scene passes`, and
+//! `pass_list.rs` gives each its draws.
 
 mod births;
 mod bounces;

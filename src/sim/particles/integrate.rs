@@ -4,7 +4,7 @@
 
 use super::{draw_textures, relax, uniforms, user_state, Emission, Features, ParticleSim, State};
 use crate::error::Result;
-use crate::gl::{PassDraw, PingPong, Program, Uniform};
+use crate::gl::{PassDraw, PingPong, Program, Sampled, Uniform};
 use crate::scene::{self, Integrator, Precision, VelocityFormat};
 use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
 
@@ -182,7 +182,7 @@ impl ParticleSim {
                         let target = mrt.as_deref().unwrap_or(pp.back());
                         self.pass.draw_rows(p, &t, &clock, target, 0, rows)
                     }
-                    Some(q) if rows > 0 => self.integrate_separate(q, pp, &clock, next, rows),
+                    Some(q) if rows > 0 => self.integrate_separate(q, pp, &t, &clock, next, rows),
                     _ => {}
                 }
             }
@@ -211,12 +211,14 @@ impl ParticleSim {
         Ok(())
     }
 
-    /// Latta §3.1 without MRT (`passes = "separate"`): the velocity pass `integrate` into the
-    /// back's velocity, then the position pass `q` into its position.
+    /// Latta §3.1 without MRT (`passes = "separate"`): the velocity pass `integrate` (with the
+    /// textures and clock the one-pass update would draw with) into the back's velocity, then
+    /// the position pass `q` into its position.
     fn integrate_separate(
         &self,
         q: &Program,
         pp: &PingPong,
+        t: &[(&str, Sampled)],
         clock: &[(&str, Uniform)],
         next: f32,
         rows: u32,
@@ -225,15 +227,8 @@ impl ParticleSim {
         let user = self.user.as_ref().map(|u| u.samplers()).unwrap_or_default();
         let user = |p: &Program| user_state::declared(p, &user);
         let statics = ("u_static", self.statics.texture(STATIC).into());
-        let mut own = vec![
-            ("u_position", pp.front().texture(POSITION).into()),
-            ("u_velocity", pp.front().texture(VELOCITY).into()),
-            statics,
-        ];
-        own.extend(user(p));
-        let t = draw_textures(p, &own, &self.fields);
         let (v, x) = (pp.back_single(VELOCITY), pp.back_single(POSITION));
-        self.pass.draw_rows(p, &t, clock, v, 0, rows);
+        self.pass.draw_rows(p, t, clock, v, 0, rows);
         q.bind();
         if self.params.emitters.animated {
             uniforms::set_spawn(q, &self.params.emitters, self.time as f32);

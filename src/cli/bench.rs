@@ -269,6 +269,11 @@ pub struct ScenesArgs {
     /// Print JSON (one record per experiment and size).
     #[arg(long)]
     json: bool,
+    /// Where the run-constant uniforms live: `program` (set once, program state) or `every-draw`
+    /// (uploaded again before every draw, as if each draw carried all its uniforms; results are
+    /// the same, only the time differs).
+    #[arg(long, value_enum, value_name = "WHERE", default_value_t = ConstantsArg::Program)]
+    constants: ConstantsArg,
     #[command(flatten)]
     common: Common,
 }
@@ -294,6 +299,7 @@ pub fn bench_scenes(a: ScenesArgs) -> texflow::Result<()> {
         a.experiments.clone()
     };
     let ctx = Context::new(a.common.device)?;
+    a.constants.apply(&ctx);
     for &n in &a.sizes {
         texflow::gl::check_size(&ctx, "--sizes", n, n)?;
     }
@@ -376,6 +382,11 @@ pub struct SceneArgs {
     /// Print JSON: an object with texflow_version, schema, device, clock and one record per size.
     #[arg(long)]
     json: bool,
+    /// Where the run-constant uniforms live: `program` (set once, program state) or `every-draw`
+    /// (uploaded again before every draw, as if each draw carried all its uniforms; results are
+    /// the same, only the time differs).
+    #[arg(long, value_enum, value_name = "WHERE", default_value_t = ConstantsArg::Program)]
+    constants: ConstantsArg,
     #[command(flatten)]
     set: super::set::SetArgs,
     #[command(flatten)]
@@ -412,6 +423,7 @@ pub fn bench_scene(a: SceneArgs) -> texflow::Result<()> {
         return Err(bad("--sizes needs sizes of at least 1, e.g. 64,128"));
     }
     let ctx = Context::new(a.common.device)?;
+    a.constants.apply(&ctx);
     overrides.check_device(&ctx, &prepared)?;
     for &n in &sizes {
         texflow::gl::check_size(&ctx, "--sizes", n, n)?;
@@ -441,4 +453,19 @@ pub fn bench_scene(a: SceneArgs) -> texflow::Result<()> {
         |r| print!("{}", bs::scene_markdown(r)),
     );
     Ok(())
+}
+
+/// `--constants`: where run-constant uniforms live while measuring.
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub enum ConstantsArg {
+    /// Set once on the program (the engine's way).
+    Program,
+    /// Uploaded again before every draw (profiling what uniforms as draw data would cost).
+    EveryDraw,
+}
+
+impl ConstantsArg {
+    fn apply(self, ctx: &Context) {
+        ctx.set_constants_every_draw(matches!(self, ConstantsArg::EveryDraw));
+    }
 }

@@ -142,6 +142,9 @@ struct Inner {
     /// What the draws since the last [`Context::take_draw_stats`] did (for floors and the cost
     /// model: passes and bytes written).
     stats: Cell<DrawStats>,
+    /// Profiling switch: every program's uniforms are uploaded again before each of its draws
+    /// (see [`Context::set_constants_every_draw`]).
+    constants_every_draw: Cell<bool>,
 }
 
 impl Drop for Inner {
@@ -230,6 +233,7 @@ impl Context {
                 device: index,
                 id,
                 stats: Cell::new(DrawStats::default()),
+                constants_every_draw: Cell::new(false),
                 owner: Owner::Egl {
                     context,
                     _display: display,
@@ -286,6 +290,7 @@ impl Context {
                 device: 0,
                 id,
                 stats: Cell::new(DrawStats::default()),
+                constants_every_draw: Cell::new(false),
                 owner: Owner::Caller { reactivate },
             }),
         };
@@ -293,9 +298,29 @@ impl Context {
         Ok(ctx)
     }
 
+    /// Profiling switch for the question "does keeping run constants as program state matter?":
+    /// when on, every draw first uploads again every uniform value its program holds (what it
+    /// would cost if each draw carried all of its uniforms as data). Programs record their values
+    /// only while it is on: turn it on before building the engine. Results are unchanged.
+    pub fn set_constants_every_draw(&self, on: bool) {
+        self.inner.constants_every_draw.set(on);
+    }
+
+    /// Whether [`set_constants_every_draw`](Self::set_constants_every_draw) is on.
+    pub fn constants_every_draw(&self) -> bool {
+        self.inner.constants_every_draw.get()
+    }
+
     /// What the draws since the last call did, and starts counting again.
     pub fn take_draw_stats(&self) -> DrawStats {
         self.inner.stats.take()
+    }
+
+    /// Counts one uniform upload (see [`DrawStats::uniform_uploads`]).
+    pub(crate) fn count_upload(&self) {
+        let mut s = self.inner.stats.get();
+        s.uniform_uploads += 1;
+        self.inner.stats.set(s);
     }
 
     /// Counts one draw (see [`DrawStats`]).

@@ -224,9 +224,13 @@ impl Context {
     pub fn draw(&self, d: &Draw<'_>) {
         super::record::note(d.program.name());
         d.program.bind();
+        // Before the textures: their samplers' units are this draw's, not the last one's.
+        if self.constants_every_draw() {
+            d.program.replay();
+        }
         d.program.bind_textures(d.textures);
-        for &(name, value) in d.uniforms {
-            d.program.set(name, value);
+        for (name, value) in d.uniforms {
+            d.program.set(name, value.clone());
         }
         // After the uniforms: a shape keeps the values the draw read.
         super::record::note_shape(d);

@@ -69,7 +69,7 @@ impl FullscreenPass {
 }
 
 /// A uniform value: of a [`Draw`]'s uniforms, of [`StatePass::run`], or for [`Program::set`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Uniform {
     /// `float`.
     F32(f32),
@@ -91,6 +91,16 @@ pub enum Uniform {
     IVec4(glam::IVec4),
     /// `mat4` (column-major, as glam stores it).
     Mat4(glam::Mat4),
+    /// `int[]`, from its first element on (the name without `[0]`); empty sets nothing.
+    I32s(Vec<i32>),
+    /// `float[]`, likewise.
+    F32s(Vec<f32>),
+    /// `vec3[]`, likewise.
+    Vec3s(Vec<glam::Vec3>),
+    /// `vec4[]`, likewise (orbiting spheres, emitters' curves: arrays that change between draws).
+    Vec4s(Vec<glam::Vec4>),
+    /// `ivec4[]`, likewise.
+    IVec4s(Vec<[i32; 4]>),
 }
 
 /// The samplers a [`StatePass`] reads its state through, one per texture.
@@ -193,7 +203,7 @@ impl StatePass {
         let uniforms: Vec<(&str, Uniform)> = uniforms
             .iter()
             .filter(|(name, _)| p.declares(name))
-            .copied()
+            .cloned()
             .collect();
         self.pass.draw(p, &textures, &uniforms, state.back());
         state.swap();

@@ -27,6 +27,17 @@ pub struct Program {
     source: Box<SourceInfo>,
     /// While set, names the program does not declare are ignored (see [`Program::optional`]).
     lenient: Cell<bool>,
+    /// The values uploaded, by location name, while [`Context::constants_every_draw`] is on.
+    held: Box<RefCell<HashMap<String, Value>>>,
+}
+
+/// One uniform upload, kept to be replayed: the components per element and the data.
+#[derive(Debug, Clone)]
+enum Value {
+    Int(u8, Vec<i32>),
+    Uint(u32),
+    Float(u8, Vec<f32>),
+    Mat4(Box<[f32; 16]>),
 }
 
 /// What a program was built from.
@@ -167,6 +178,7 @@ impl Program {
             declared: seen.declared,
             samplers,
             lenient: Cell::new(false),
+            held: Box::default(),
             source: Box::new(SourceInfo {
                 defines: defines.clone(),
                 // A benchmark's own floor that walks is not a pass to floor.
@@ -283,155 +295,136 @@ impl Program {
             Uniform::IVec3(v) => self.set_ivec3(name, v.x, v.y, v.z),
             Uniform::IVec4(v) => self.set_ivec4(name, v.to_array()),
             Uniform::Mat4(m) => self.set_mat4(name, &m),
+            Uniform::I32s(v) => self.set_i32_array(name, &v),
+            Uniform::F32s(v) => self.set_f32_array(name, &v),
+            Uniform::Vec3s(v) => self.set_vec3_array(name, &v),
+            Uniform::Vec4s(v) => self.set_vec4_array(name, &v),
+            Uniform::IVec4s(v) => self.set_ivec4_array(name, &v),
         }
     }
 
     /// Sets an `int` uniform (samplers are set by [`Context::draw`] only).
     pub fn set_i32(&self, name: &str, v: i32) {
-        // SAFETY: the program is current (see `bind`).
-        unsafe { self.ctx.gl().uniform_1_i32(self.location(name).as_ref(), v) }
+        self.put(name, Value::Int(1, vec![v]));
     }
     /// Sets an `int[]` uniform array from its first element on (`name` without `[0]`); an
     /// empty `v` sets nothing.
     pub fn set_i32_array(&self, name: &str, v: &[i32]) {
-        if v.is_empty() {
-            return;
-        }
-        let first = format!("{name}[0]");
-        // SAFETY: as above.
-        unsafe {
-            self.ctx
-                .gl()
-                .uniform_1_i32_slice(self.location(&first).as_ref(), v)
-        }
+        self.put_array(name, Value::Int(1, v.to_vec()));
     }
     /// Sets a `float[]` uniform array from its first element on (`name` without `[0]`); an
     /// empty `v` sets nothing.
     pub fn set_f32_array(&self, name: &str, v: &[f32]) {
-        if v.is_empty() {
-            return;
-        }
-        let l = self.location(&format!("{name}[0]"));
-        // SAFETY: as above.
-        unsafe { self.ctx.gl().uniform_1_f32_slice(l.as_ref(), v) }
+        self.put_array(name, Value::Float(1, v.to_vec()));
     }
     /// Sets a `vec2[]` uniform array from its first element on (`name` without `[0]`); an
     /// empty `v` sets nothing.
     pub fn set_vec2_array(&self, name: &str, v: &[glam::Vec2]) {
-        if v.is_empty() {
-            return;
-        }
-        let l = self.location(&format!("{name}[0]"));
-        let flat: Vec<f32> = v.iter().flat_map(|v| v.to_array()).collect();
-        // SAFETY: as above.
-        unsafe { self.ctx.gl().uniform_2_f32_slice(l.as_ref(), &flat) }
+        let flat = v.iter().flat_map(|v| v.to_array()).collect();
+        self.put_array(name, Value::Float(2, flat));
     }
     /// Sets a `vec3[]` uniform array from its first element on (`name` without `[0]`); an
     /// empty `v` sets nothing.
     pub fn set_vec3_array(&self, name: &str, v: &[glam::Vec3]) {
-        if v.is_empty() {
-            return;
-        }
-        let l = self.location(&format!("{name}[0]"));
-        let flat: Vec<f32> = v.iter().flat_map(|v| v.to_array()).collect();
-        // SAFETY: as above.
-        unsafe { self.ctx.gl().uniform_3_f32_slice(l.as_ref(), &flat) }
+        let flat = v.iter().flat_map(|v| v.to_array()).collect();
+        self.put_array(name, Value::Float(3, flat));
     }
     /// Sets a `vec4[]` uniform array from its first element on (`name` without `[0]`); an
     /// empty `v` sets nothing.
     pub fn set_vec4_array(&self, name: &str, v: &[glam::Vec4]) {
-        if v.is_empty() {
-            return;
-        }
-        let l = self.location(&format!("{name}[0]"));
-        let flat: Vec<f32> = v.iter().flat_map(|v| v.to_array()).collect();
-        // SAFETY: as above.
-        unsafe { self.ctx.gl().uniform_4_f32_slice(l.as_ref(), &flat) }
+        let flat = v.iter().flat_map(|v| v.to_array()).collect();
+        self.put_array(name, Value::Float(4, flat));
     }
     /// Sets an `ivec4[]` uniform array from its first element on (`name` without `[0]`); an
     /// empty `v` sets nothing.
     pub fn set_ivec4_array(&self, name: &str, v: &[[i32; 4]]) {
-        if v.is_empty() {
-            return;
-        }
-        let l = self.location(&format!("{name}[0]"));
-        let flat: Vec<i32> = v.iter().flatten().copied().collect();
-        // SAFETY: as above.
-        unsafe { self.ctx.gl().uniform_4_i32_slice(l.as_ref(), &flat) }
+        let flat = v.iter().flatten().copied().collect();
+        self.put_array(name, Value::Int(4, flat));
     }
     /// Sets a `uint` uniform.
     pub fn set_u32(&self, name: &str, v: u32) {
-        // SAFETY: as above.
-        unsafe { self.ctx.gl().uniform_1_u32(self.location(name).as_ref(), v) }
+        self.put(name, Value::Uint(v));
     }
     /// Sets a `float` uniform.
     pub fn set_f32(&self, name: &str, v: f32) {
-        // SAFETY: as above.
-        unsafe { self.ctx.gl().uniform_1_f32(self.location(name).as_ref(), v) }
+        self.put(name, Value::Float(1, vec![v]));
     }
     /// Sets a `vec2` uniform.
     pub fn set_vec2(&self, name: &str, v: glam::Vec2) {
-        // SAFETY: as above.
-        unsafe {
-            self.ctx
-                .gl()
-                .uniform_2_f32(self.location(name).as_ref(), v.x, v.y)
-        }
+        self.put(name, Value::Float(2, v.to_array().to_vec()));
     }
     /// Sets a `vec3` uniform.
     pub fn set_vec3(&self, name: &str, v: glam::Vec3) {
-        // SAFETY: as above.
-        unsafe {
-            self.ctx
-                .gl()
-                .uniform_3_f32(self.location(name).as_ref(), v.x, v.y, v.z)
-        }
+        self.put(name, Value::Float(3, v.to_array().to_vec()));
     }
     /// Sets a `vec4` uniform.
     pub fn set_vec4(&self, name: &str, v: glam::Vec4) {
-        // SAFETY: as above.
-        unsafe {
-            self.ctx
-                .gl()
-                .uniform_4_f32(self.location(name).as_ref(), v.x, v.y, v.z, v.w)
-        }
+        self.put(name, Value::Float(4, v.to_array().to_vec()));
     }
     /// Sets an `ivec2` uniform.
     pub fn set_ivec2(&self, name: &str, x: i32, y: i32) {
-        // SAFETY: as above.
-        unsafe {
-            self.ctx
-                .gl()
-                .uniform_2_i32(self.location(name).as_ref(), x, y)
-        }
+        self.put(name, Value::Int(2, vec![x, y]));
     }
     /// Sets an `ivec3` uniform.
     pub fn set_ivec3(&self, name: &str, x: i32, y: i32, z: i32) {
-        // SAFETY: as above.
-        unsafe {
-            self.ctx
-                .gl()
-                .uniform_3_i32(self.location(name).as_ref(), x, y, z)
-        }
+        self.put(name, Value::Int(3, vec![x, y, z]));
     }
     /// Sets an `ivec4` uniform.
     pub fn set_ivec4(&self, name: &str, v: [i32; 4]) {
-        // SAFETY: as above.
-        unsafe {
-            self.ctx
-                .gl()
-                .uniform_4_i32(self.location(name).as_ref(), v[0], v[1], v[2], v[3])
-        }
+        self.put(name, Value::Int(4, v.to_vec()));
     }
     /// Sets a `mat4` uniform (column-major, as glam stores it).
     pub fn set_mat4(&self, name: &str, m: &glam::Mat4) {
-        // SAFETY: as above.
+        self.put(name, Value::Mat4(Box::new(m.to_cols_array())));
+    }
+
+    /// An array's upload, at its first element's location; an empty one sets nothing.
+    fn put_array(&self, name: &str, v: Value) {
+        let empty = match &v {
+            Value::Int(_, d) => d.is_empty(),
+            Value::Float(_, d) => d.is_empty(),
+            Value::Uint(_) | Value::Mat4(_) => false,
+        };
+        if !empty {
+            self.put(&format!("{name}[0]"), v);
+        }
+    }
+
+    /// Uploads `v` to the location of `name` (the program is current, see [`bind`](Self::bind)),
+    /// kept for [`replay`](Self::replay) while the context profiles constants.
+    fn put(&self, name: &str, v: Value) {
+        let l = self.location(name);
+        self.upload(l.as_ref(), &v);
+        if self.ctx.constants_every_draw() && l.is_some() {
+            self.held.borrow_mut().insert(name.to_owned(), v);
+        }
+    }
+
+    /// Uploads again every value kept by [`put`](Self::put): the profiling of
+    /// [`Context::set_constants_every_draw`], before a draw. The program is current.
+    pub(super) fn replay(&self) {
+        for (name, v) in self.held.borrow().iter() {
+            self.upload(self.location(name).as_ref(), v);
+        }
+    }
+
+    fn upload(&self, l: Option<&glow::UniformLocation>, v: &Value) {
+        self.ctx.count_upload();
+        let gl = self.ctx.gl();
+        // SAFETY: the program is current (see `bind`); a location of None is ignored by GL.
         unsafe {
-            self.ctx.gl().uniform_matrix_4_f32_slice(
-                self.location(name).as_ref(),
-                false,
-                &m.to_cols_array(),
-            )
+            match v {
+                Value::Int(1, d) => gl.uniform_1_i32_slice(l, d),
+                Value::Int(2, d) => gl.uniform_2_i32_slice(l, d),
+                Value::Int(3, d) => gl.uniform_3_i32_slice(l, d),
+                Value::Int(_, d) => gl.uniform_4_i32_slice(l, d),
+                Value::Uint(u) => gl.uniform_1_u32(l, *u),
+                Value::Float(1, d) => gl.uniform_1_f32_slice(l, d),
+                Value::Float(2, d) => gl.uniform_2_f32_slice(l, d),
+                Value::Float(3, d) => gl.uniform_3_f32_slice(l, d),
+                Value::Float(_, d) => gl.uniform_4_f32_slice(l, d),
+                Value::Mat4(m) => gl.uniform_matrix_4_f32_slice(l, false, &m[..]),
+            }
         }
     }
 }

@@ -7,7 +7,7 @@
 use glam::Vec4;
 
 use super::TypeLook;
-use crate::gl::Program;
+use crate::gl::Uniform;
 use crate::scene::curve::{Animated, CurveValue};
 use crate::scene::MAX_BIRTH_KEYS;
 
@@ -103,14 +103,16 @@ impl BirthCurves {
         }
     }
 
-    /// Sets the curves on `p` (bound).
-    pub(super) fn set(&self, p: &Program) {
-        p.set_vec4_array("u_curve_time", &self.time);
-        p.set_vec4_array("u_curve_value", &self.value);
-        p.set_vec4_array("u_curve_form", &self.form);
-        p.set_vec4_array("u_curve_periodic", &self.periodic);
-        p.set_vec4_array("u_curve_noise", &self.noise);
-        p.set_vec4_array("u_curve_frequency", &self.frequency);
-        p.set_ivec4_array("u_curve_seed", &self.seed);
+    /// The curves, for a draw's uniforms.
+    pub(super) fn uniforms(&self) -> Vec<(&'static str, Uniform)> {
+        vec![
+            ("u_curve_time", Uniform::Vec4s(self.time.clone())),
+            ("u_curve_value", Uniform::Vec4s(self.value.clone())),
+            ("u_curve_form", Uniform::Vec4s(self.form.clone())),
+            ("u_curve_periodic", Uniform::Vec4s(self.periodic.clone())),
+            ("u_curve_noise", Uniform::Vec4s(self.noise.clone())),
+            ("u_curve_frequency", Uniform::Vec4s(self.frequency.clone())),
+            ("u_curve_seed", Uniform::IVec4s(self.seed.clone())),
+        ]
     }
 }

@@ -23,6 +23,8 @@ use crate::gl::{
 };
 use crate::scene::{Blending, DrawMode, DrawOrder, LightSection};
 
+/// A slice draw's uniforms.
+type FrameUniforms = Vec<(&'static str, Uniform)>;
 /// The axis half-angle slicing sorts along, and the order the eye sees it in.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HalfAngle {
@@ -286,8 +288,7 @@ impl HalfAngleRenderer {
         if passes != SlicePasses::Light {
             target.clear_to(draws.eye_clear);
         }
-        let frame = self.set_uniforms(target, state, camera, atlas)?;
-        let mut eye_frame = frame.clone();
+        let (mut eye_frame, frame) = self.frame_uniforms(target, state, camera, atlas)?;
         eye_frame.push(("u_premultiplied", Uniform::I32(draws.under as i32)));
         let eye_state = DrawState {
             blend: Some(draws.eye_blend),
@@ -362,15 +363,15 @@ impl HalfAngleRenderer {
         });
     }
 
-    /// Checks this frame's state, sets both programs' constant uniforms and returns the
-    /// frame's own (the camera, the light's view, the clock), which travel with each draw.
-    fn set_uniforms(
+    /// Checks this frame's state and returns the uniforms of the eye's and the light's draws:
+    /// the frame's own (the camera, the light's view, the clock) and the look's.
+    fn frame_uniforms(
         &self,
         target: &FrameTarget,
         state: &FrameState<'_>,
         camera: &Camera,
         atlas: Option<&Texture>,
-    ) -> Result<Vec<(&'static str, Uniform)>> {
+    ) -> Result<(FrameUniforms, FrameUniforms)> {
         let (positions, statics) = (state.positions, state.statics);
         if positions.texels() < state.count || statics.texels() < state.count {
             return Err(Error::InvalidInput(format!(
@@ -386,7 +387,7 @@ impl HalfAngleRenderer {
         let (w, h) = (target.width() as f32, target.height() as f32);
         let view = camera.view();
         let light_view = self.light_view(camera);
-        let frame = vec![
+        let mut frame = vec![
             ("u_view_proj", Uniform::Mat4(camera.view_projection(w / h))),
             ("u_viewport", Uniform::Vec2(glam::Vec2::new(w, h))),
             ("u_proj_y", Uniform::F32(camera.projection(w / h).y_axis.y)),
@@ -394,21 +395,19 @@ impl HalfAngleRenderer {
             ("u_camera_up", Uniform::Vec3(view.row(1).truncate())),
             ("u_light_view", Uniform::Mat4(light_view)),
             ("u_time", Uniform::F32(state.time)),
+            ("u_width", Uniform::I32(positions.width() as i32)),
+            ("u_light_scale", Uniform::F32(1.0 / self.extent)),
+            ("u_density", Uniform::F32(self.light.density)),
         ];
-        for (p, light_pass) in [(&self.eye, false), (&self.shadow, true)] {
-            p.bind();
-            p.set_i32("u_width", positions.width() as i32);
-            p.set_f32("u_light_scale", 1.0 / self.extent);
-            b.set_size(p);
-            p.set_f32("u_density", self.light.density);
-            b.set_types(p);
-            b.set_keyframes(p);
-            if !light_pass {
-                let l = &self.light;
-                p.set_vec3("u_light_colour", Vec3::from_array(l.colour));
-                p.set_vec3("u_ambient", Vec3::from_array(l.ambient));
-            }
-        }
-        Ok(frame)
+        frame.extend(b.size_uniforms());
+        frame.extend(b.type_uniforms());
+        frame.extend(b.keyframe_uniforms());
+        let mut eye = frame.clone();
+        let l = &self.light;
+        eye.extend([
+            ("u_light_colour", Uniform::Vec3(Vec3::from_array(l.colour))),
+            ("u_ambient", Uniform::Vec3(Vec3::from_array(l.ambient))),
+        ]);
+        Ok((eye, frame))
     }
 }

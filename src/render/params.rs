@@ -9,7 +9,7 @@ use glam::{Vec3, Vec4};
 use super::birth_curves::BirthCurves;
 use super::keyframes::MAX_KEYFRAMES;
 use super::ParticleStyle;
-use crate::gl::{Blend, Depth, DrawState, PointSize, Program};
+use crate::gl::{Blend, Depth, DrawState, PointSize, Uniform};
 use crate::scene::DrawMode;
 
 /// The uniforms of the particle look (`glsl/render/particle.vert`, `particle.frag` and what they
@@ -116,33 +116,40 @@ impl RenderParams {
         }
     }
 
-    /// Sets `u_point_size` and `u_intensity` on `p` (bound).
-    pub fn set_size(&self, p: &Program) {
-        p.set_f32("u_point_size", self.point_size);
-        p.set_f32("u_intensity", self.intensity);
+    /// `u_point_size` and `u_intensity`, for a draw's uniforms.
+    pub fn size_uniforms(&self) -> [(&'static str, Uniform); 2] {
+        [
+            ("u_point_size", Uniform::F32(self.point_size)),
+            ("u_intensity", Uniform::F32(self.intensity)),
+        ]
     }
 
-    /// Sets the colour and opacity keyframes of every type that `glsl/render/keyframes.glsl`
-    /// reads on `p` (bound): the renderer and the CPU engine draw with the same ramps.
-    pub fn set_keyframes(&self, p: &Program) {
-        p.set_vec4_array("u_key_age", &self.key_age);
-        p.set_vec4_array("u_key_offset", &self.key_offset);
-        p.set_vec4_array("u_key_slope", &self.key_slope);
+    /// The colour and opacity keyframes of every type that `glsl/render/keyframes.glsl`
+    /// reads, for a draw's uniforms: the renderer and the CPU engine draw with the same ramps.
+    pub fn keyframe_uniforms(&self) -> [(&'static str, Uniform); 3] {
+        [
+            ("u_key_age", Uniform::Vec4s(self.key_age.to_vec())),
+            ("u_key_offset", Uniform::Vec4s(self.key_offset.to_vec())),
+            ("u_key_slope", Uniform::Vec4s(self.key_slope.to_vec())),
+        ]
     }
 
-    /// Sets the per-type sprite uniforms of `glsl/render/sprite.glsl` on `p` (bound): tile,
+    /// The per-type sprite uniforms of `glsl/render/sprite.glsl`, for a draw's uniforms: tile,
     /// rotation speed range, size over life, and the scale and tint curves.
-    pub fn set_types(&self, p: &Program) {
-        self.curves.set(p);
-        p.set_ivec4("u_type_tile", self.tile);
-        p.set_vec4("u_spin_min", self.spin_min);
-        p.set_vec4("u_spin_max", self.spin_max);
-        p.set_vec4("u_size_min", self.size_min);
-        p.set_vec4("u_size_max", self.size_max);
-        p.set_vec4("u_flip_frames", self.flip_frames);
-        p.set_vec4("u_flip_rate", self.flip_rate);
-        p.set_vec4_array("u_size_age", &self.size_age);
-        p.set_vec4_array("u_size_scale", &self.size_scale);
+    pub fn type_uniforms(&self) -> Vec<(&'static str, Uniform)> {
+        let mut out = self.curves.uniforms();
+        out.extend([
+            ("u_type_tile", Uniform::IVec4(self.tile.into())),
+            ("u_spin_min", Uniform::Vec4(self.spin_min)),
+            ("u_spin_max", Uniform::Vec4(self.spin_max)),
+            ("u_size_min", Uniform::Vec4(self.size_min)),
+            ("u_size_max", Uniform::Vec4(self.size_max)),
+            ("u_flip_frames", Uniform::Vec4(self.flip_frames)),
+            ("u_flip_rate", Uniform::Vec4(self.flip_rate)),
+            ("u_size_age", Uniform::Vec4s(self.size_age.to_vec())),
+            ("u_size_scale", Uniform::Vec4s(self.size_scale.to_vec())),
+        ]);
+        out
     }
 }
 

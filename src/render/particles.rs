@@ -30,6 +30,12 @@ use crate::gl::{
 };
 use crate::scene::{DrawMode, DrawPrimitive, RenderPath, Rotate, MAX_USER_STATES};
 
+/// What a particle draw reads: its vertices, textures, and the uniforms that go with them.
+type Inputs<'a> = (
+    &'a VertexArray,
+    Vec<(&'a str, Sampled<'a>)>,
+    Vec<(&'static str, Uniform)>,
+);
 /// Vertices per particle of quads and stretched quads: two triangles.
 pub const QUAD_VERTICES: usize = 6;
 
@@ -373,21 +379,18 @@ impl ParticleRenderer {
         }
         let p = match (sorted, &self.lookup) {
             (None, _) => &self.program,
-            (Some(_), Some((p, layout))) => {
-                p.bind();
-                p.set_i32("u_sort_width", layout.width as i32);
-                p
-            }
+            (Some(_), Some((p, _))) => p,
             (Some(_), None) => {
                 return Err(Error::InvalidInput(
                     "drawing through the sorted index needs set_lookup first".into(),
                 ))
             }
         };
-        let (vertices, textures) = self.bind_inputs(p, state, motion, [sorted, scene_depth])?;
+        let (vertices, textures, inputs) =
+            self.bind_inputs(p, state, motion, [sorted, scene_depth])?;
         let size = glam::Vec2::new(target.width() as f32, target.height() as f32);
         // The camera and the clock change from frame to frame: they travel with the draw.
-        let per_frame = [
+        let mut per_frame = vec![
             (
                 "u_view_proj",
                 Uniform::Mat4(camera.view_projection(size.x / size.y)),
@@ -395,13 +398,14 @@ impl ParticleRenderer {
             ("u_viewport", Uniform::Vec2(size)),
             ("u_time", Uniform::F32(state.time)),
         ];
+        per_frame.extend(inputs);
         let b = &self.params;
-        b.set_size(p);
+        per_frame.extend(b.size_uniforms());
         if let Some(max_age) = b.max_age {
-            p.set_f32("u_max_age", max_age);
+            per_frame.push(("u_max_age", Uniform::F32(max_age)));
         }
-        b.set_types(p);
-        b.set_keyframes(p);
+        per_frame.extend(b.type_uniforms());
+        per_frame.extend(b.keyframe_uniforms());
         let (primitive, per_particle) = match s.primitive {
             DrawPrimitive::Points => (Primitive::Points, 1),
             DrawPrimitive::Triangles => (Primitive::Triangles, 3),
@@ -479,41 +483,43 @@ impl ParticleRenderer {
         Ok(motion)
     }
 
-    /// Binds the program, packs the state it reads into the vertex buffers (or lists it as
-    /// textures) and gives the vertices to draw with the textures the draw reads: the state, the
-    /// atlas, spins, motion and the user states.
-    #[allow(clippy::type_complexity)]
+    /// Packs the state the program reads into the vertex buffers (or lists it as textures) and
+    /// gives the vertices to draw with the textures the draw reads (the state, the atlas, spins,
+    /// motion and the user states) and the uniforms that go with them.
     fn bind_inputs<'a>(
         &'a self,
         p: &Program,
         state: &FrameState<'a>,
         motion: Option<Motion<'a>>,
         [sorted, scene_depth]: [Option<&'a Texture>; 2],
-    ) -> Result<(&'a VertexArray, Vec<(&'a str, Sampled<'a>)>)> {
+    ) -> Result<Inputs<'a>> {
         let (positions, statics, count) = (state.positions, state.statics, state.count);
         if let (Some(v), true) = (&self.vertex, count > 0) {
             let rows = count.div_ceil(self.width as usize) as u32;
             v.pack.copy_rows(positions, &v.positions, rows)?;
             v.pack.copy_rows(statics, &v.statics, rows)?;
         }
-        p.bind();
         let mut textures: Vec<(&str, Sampled)> = Vec::new();
+        let mut uniforms = Vec::new();
         let vertices = match &self.vertex {
             Some(v) => &v.vao,
             None => {
                 textures.push(("u_position", positions.into()));
                 textures.push(("u_static", statics.into()));
-                p.set_i32("u_width", self.width as i32);
+                uniforms.push(("u_width", Uniform::I32(self.width as i32)));
                 &self.empty
             }
         };
+        if let (Some(_), Some((_, layout))) = (sorted, &self.lookup) {
+            uniforms.push(("u_sort_width", Uniform::I32(layout.width as i32)));
+        }
         if let Some(atlas) = &self.atlas {
             textures.push(("u_atlas", atlas.into()));
         }
         textures.extend(sorted.map(|t| ("u_sorted", t.into())));
         if let Some(t) = scene_depth {
             textures.push(("u_scene_depth", t.into()));
-            p.set_f32("u_soft", self.params.soft);
+            uniforms.push(("u_soft", Uniform::F32(self.params.soft)));
         }
         if self.needs_spins() {
             let Some(spins) = state.spins else {
@@ -530,9 +536,11 @@ impl ParticleRenderer {
                 Motion::Velocity(_) => (0, 1.0),
                 Motion::Previous { dt, .. } => (1, dt),
             };
-            p.set_i32("u_motion_previous", previous);
-            p.set_f32("u_motion_dt", dt);
-            p.set_f32("u_stretch", self.params.stretch);
+            uniforms.extend([
+                ("u_motion_previous", Uniform::I32(previous)),
+                ("u_motion_dt", Uniform::F32(dt)),
+                ("u_stretch", Uniform::F32(self.params.stretch)),
+            ]);
         }
         if self.style.user_color.is_some() {
             for (&n, t) in USER_STATE_SAMPLERS.iter().zip(state.user) {
@@ -542,7 +550,7 @@ impl ParticleRenderer {
                 }
             }
         }
-        Ok((vertices, textures))
+        Ok((vertices, textures, uniforms))
     }
 
     /// The ribbons after the particles, then the under operator's last passes: the geometry's

@@ -144,24 +144,23 @@ impl RibbonRenderer {
         draw_state: &DrawState,
     ) -> Result<()> {
         let p = &self.program;
-        p.bind();
         let aspect = target.width() as f32 / target.height() as f32;
         let viewport = glam::Vec2::new(target.width() as f32, target.height() as f32);
         // The camera and the clock change from frame to frame: they travel with the draw.
-        let per_frame = [
+        let mut per_frame = vec![
             ("u_view_proj", Uniform::Mat4(camera.view_projection(aspect))),
             ("u_viewport", Uniform::Vec2(viewport)),
             ("u_eye", Uniform::Vec3(camera.eye())),
             ("u_time", Uniform::F32(state.time)),
+            ("u_ribbon_width", Uniform::F32(self.width_m)),
+            ("u_sprites", Uniform::I32(i32::from(params.sprites))),
+            ("u_width", Uniform::I32(state.positions.width() as i32)),
+            ("u_ring", Uniform::I32s(self.ring.to_vec())),
+            ("u_gap", Uniform::F32s(self.gap.to_vec())),
         ];
-        params.set_size(p);
-        p.set_f32("u_ribbon_width", self.width_m);
-        p.set_i32("u_sprites", i32::from(params.sprites));
-        p.set_i32("u_width", state.positions.width() as i32);
-        p.set_i32_array("u_ring", &self.ring);
-        p.set_f32_array("u_gap", &self.gap);
-        params.set_types(p);
-        params.set_keyframes(p);
+        per_frame.extend(params.size_uniforms());
+        per_frame.extend(params.type_uniforms());
+        per_frame.extend(params.keyframe_uniforms());
         self.ctx.draw(&Draw {
             program: p,
             target: target.framebuffer(),

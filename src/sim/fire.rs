@@ -177,35 +177,38 @@ impl FireSim {
 
     /// Draws the initial state (all dead, waits spread over one cycle) and restarts the clock.
     pub fn reset(&mut self) {
-        let p = &self.init;
-        p.bind();
-        p.set_u32("u_seed", self.seed);
-        p.set_i32("u_width", self.state.width() as i32);
-        p.set_f32("u_max_age", self.params.max_age);
-        self.pass.draw(p, &[], &[], self.state.back());
+        let uniforms = [
+            ("u_seed", Uniform::U32(self.seed)),
+            ("u_width", Uniform::I32(self.state.width() as i32)),
+            ("u_max_age", Uniform::F32(self.params.max_age)),
+        ];
+        self.pass
+            .draw(&self.init, &[], &uniforms, self.state.back());
         self.state.swap();
         self.step = 0;
     }
 
-    /// Binds the physics program and sets its uniforms for the next step.
-    fn bind_step(&self) {
-        let p = &self.physics;
+    /// The physics program's uniforms for the step numbered `step`: the fire's parameters and
+    /// the step, all given in the draw.
+    fn step_uniforms(&self, step: u64) -> [(&'static str, Uniform); 15] {
         let q = &self.params;
-        p.bind();
-        p.set_i32("u_width", self.state.width() as i32);
-        p.set_f32("u_dt", self.dt);
-        p.set_u32("u_seed", self.seed);
-        p.set_vec3("u_emitter_center", q.emitter_center);
-        p.set_f32("u_emitter_radius", q.emitter_radius);
-        p.set_f32("u_speed", q.speed);
-        p.set_f32("u_spread", q.spread);
-        p.set_f32("u_converge", q.converge);
-        p.set_vec3("u_buoyancy", q.buoyancy);
-        p.set_f32("u_turbulence", q.turbulence);
-        p.set_f32("u_damping", q.damping);
-        p.set_f32("u_life_min", q.life_min);
-        p.set_f32("u_life_max", q.life_max);
-        p.set_f32("u_max_age", q.max_age);
+        [
+            ("u_width", Uniform::I32(self.state.width() as i32)),
+            ("u_dt", Uniform::F32(self.dt)),
+            ("u_seed", Uniform::U32(self.seed)),
+            ("u_step", Uniform::U32(step as u32)),
+            ("u_emitter_center", Uniform::Vec3(q.emitter_center)),
+            ("u_emitter_radius", Uniform::F32(q.emitter_radius)),
+            ("u_speed", Uniform::F32(q.speed)),
+            ("u_spread", Uniform::F32(q.spread)),
+            ("u_converge", Uniform::F32(q.converge)),
+            ("u_buoyancy", Uniform::Vec3(q.buoyancy)),
+            ("u_turbulence", Uniform::F32(q.turbulence)),
+            ("u_damping", Uniform::F32(q.damping)),
+            ("u_life_min", Uniform::F32(q.life_min)),
+            ("u_life_max", Uniform::F32(q.life_max)),
+            ("u_max_age", Uniform::F32(q.max_age)),
+        ]
     }
 
     /// The ping-pong state.
@@ -258,7 +261,6 @@ impl super::Simulation for FireSim {
                 "the fire has one pass a step, no {stage:?} stage"
             )));
         }
-        self.bind_step();
         let front = self.state.front();
         let textures = [
             ("u_position", front.texture(POSITION).into()),
@@ -267,7 +269,7 @@ impl super::Simulation for FireSim {
         self.pass.draw(
             &self.physics,
             &textures,
-            &[("u_step", Uniform::U32(self.step as u32))],
+            &self.step_uniforms(self.step),
             self.state.back(),
         );
         self.state.swap();

@@ -135,9 +135,9 @@ impl FetchFloor {
                 let mut u = vec![
                     ("u_layer", Uniform::I32(i as i32)),
                     ("u_sentinel", Uniform::F32(f32::NAN)),
-                    ("u_reveal", reveal),
+                    ("u_reveal", reveal.clone()),
                 ];
-                u.extend(walks[i].iter().flat_map(|w| w.ints.iter().copied()));
+                u.extend(walks[i].iter().flat_map(|w| w.ints.iter().cloned()));
                 u
             })
             .collect();

@@ -290,10 +290,14 @@ impl CpuEngine {
         let block = &self.params;
         self.target.clear_to(block.clear_color);
         let p = &self.program;
-        p.bind();
         let aspect = self.target.width() as f32 / self.target.height() as f32;
-        block.set_size(p);
-        block.set_keyframes(p);
+        // The camera turns from frame to frame; the look is the renderer's, given the same way.
+        let mut uniforms = vec![(
+            "u_view_proj",
+            Uniform::Mat4(self.camera.view_projection(aspect)),
+        )];
+        uniforms.extend(block.size_uniforms());
+        uniforms.extend(block.keyframe_uniforms());
         let gl = &self.ctx;
         let state = block.draw_state(s.depth_test);
         gl.draw(&Draw {
@@ -305,11 +309,7 @@ impl CpuEngine {
             count: self.vertices.len() as u32,
             state: &state,
             textures: &[],
-            // The camera turns from frame to frame: it travels with the draw.
-            uniforms: &[(
-                "u_view_proj",
-                Uniform::Mat4(self.camera.view_projection(aspect)),
-            )],
+            uniforms: &uniforms,
         });
         if let Some(b) = &self.background {
             // The same blend state: the under operator composites the background last.

@@ -16,7 +16,9 @@
 
 use super::{texture, CollisionStage};
 use crate::error::Result;
-use crate::gl::{Context, Defines, Framebuffer, PingPong, Program, Sampled, TextureFormat};
+use crate::gl::{
+    Context, Defines, Framebuffer, PingPong, Program, Sampled, TextureFormat, Uniform,
+};
 use crate::scene::{SceneFile, StateFormat};
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
 
@@ -191,12 +193,13 @@ impl CollisionStage {
             .collect();
         for e in &c.exchange {
             let p = &e.program;
-            p.bind();
             set_constants(p);
-            cells.set_uniforms(p);
-            p.set_f32("u_pair_radius", e.radius);
-            p.set_f32("u_dt", self.dt);
-            let clock = [("u_time", crate::gl::Uniform::F32(c.time))];
+            let mut clock = cells.uniforms();
+            clock.extend([
+                ("u_pair_radius", Uniform::F32(e.radius)),
+                ("u_dt", Uniform::F32(self.dt)),
+                ("u_time", Uniform::F32(c.time)),
+            ]);
             let mut textures: Vec<(&str, Sampled)> = cells.textures(g.sorted.keys());
             textures.extend([
                 ("u_position", g.sorted.layout().texture(POSITION).into()),

@@ -23,7 +23,7 @@ use glam::{UVec3, Vec3};
 use crate::error::Result;
 use crate::gl::{
     Context, Defines, Framebuffer, FullscreenPass, PassDraw, Program, Sampled, Texture,
-    TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
+    TextureDesc, TextureFormat, Uniform, FULLSCREEN_VERTEX,
 };
 use crate::scene::{self, SceneFile};
 use crate::sort::KeyMode;
@@ -265,24 +265,27 @@ impl CellSearch {
         let Some(t) = &self.table else {
             return;
         };
-        let p = &t.program;
-        p.bind();
-        p.set_i32("u_key_width", self.key_width as i32);
-        p.set_i32("u_count", self.count as i32);
-        p.set_i32("u_cell_width", t.target.width() as i32);
-        p.set_i32("u_cells", self.lattice.cells() as i32);
-        pass.draw(p, &[("u_keys", keys.into())], &[], &t.target);
+        let uniforms = [
+            ("u_key_width", Uniform::I32(self.key_width as i32)),
+            ("u_count", Uniform::I32(self.count as i32)),
+            ("u_cell_width", Uniform::I32(t.target.width() as i32)),
+            ("u_cells", Uniform::I32(self.lattice.cells() as i32)),
+        ];
+        pass.draw(&t.program, &[("u_keys", keys.into())], &uniforms, &t.target);
     }
 
-    /// Sets the search's uniforms on the bound program `p`.
-    pub fn set_uniforms(&self, p: &Program) {
-        let d = self.lattice.dims;
-        p.set_i32("u_key_width", self.key_width as i32);
-        p.set_i32("u_count", self.count as i32);
-        p.set_ivec3("u_dims", d.x as i32, d.y as i32, d.z as i32);
+    /// The search's uniforms, for the draws of the passes that walk the cells.
+    pub fn uniforms(&self) -> Vec<(&'static str, Uniform)> {
+        let d = self.lattice.dims.as_ivec3();
+        let mut out = vec![
+            ("u_key_width", Uniform::I32(self.key_width as i32)),
+            ("u_count", Uniform::I32(self.count as i32)),
+            ("u_dims", Uniform::IVec3(d)),
+        ];
         if let Some(t) = &self.table {
-            p.set_i32("u_cell_width", t.target.width() as i32);
+            out.push(("u_cell_width", Uniform::I32(t.target.width() as i32)));
         }
+        out
     }
 
     /// The textures the search samples: the sorted `keys` and the table.

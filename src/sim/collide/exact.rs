@@ -5,7 +5,7 @@
 
 use super::{CollisionStage, Passes, Readback};
 use crate::error::Result;
-use crate::gl::{Defines, Framebuffer, PingPong, Program, Sampled};
+use crate::gl::{Defines, Framebuffer, PingPong, Program, Sampled, Uniform};
 use crate::scene;
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
 
@@ -39,18 +39,14 @@ impl CollisionStage {
                 .search()
                 .expect("the exact detection builds the search");
             let entries = (self.width * state.height()) as i32;
-            let search = |p: &Program| {
-                cells.set_uniforms(p);
-                p.set_f32("u_radius", self.config.radius);
-            };
-            count.bind();
-            search(count);
+            let mut search = cells.uniforms();
+            search.push(("u_radius", Uniform::F32(self.config.radius)));
             let mut textures = cells.textures(g.sorted.keys());
             textures.extend([
                 ("u_position", g.sorted.layout().texture(POSITION).into()),
                 ("u_velocity", g.sorted.layout().texture(VELOCITY).into()),
             ]);
-            self.pass.draw(count, &textures, &[], counts);
+            self.pass.draw(count, &textures, &search, counts);
             if let Some(t) = &self.tally {
                 t.add(counts.only_texture(), entries as usize);
             }
@@ -64,7 +60,6 @@ impl CollisionStage {
             let p = response;
             p.bind();
             set_response_constants(p);
-            search(p);
             let mut textures: Vec<(&str, Sampled)> = cells.textures(g.sorted.keys());
             textures.extend([
                 ("u_position", g.sorted.layout().texture(POSITION).into()),
@@ -76,9 +71,11 @@ impl CollisionStage {
                 textures.push(("u_spin", s.only_texture().into()));
             }
             textures.extend(fields.iter().filter(|(n, _)| p.declares(n)).copied());
-            p.set_f32("u_restitution", self.config.restitution);
-            p.set_f32("u_dt", dt);
-            self.pass.draw(p, &textures, &[], state.back());
+            search.extend([
+                ("u_restitution", Uniform::F32(self.config.restitution)),
+                ("u_dt", Uniform::F32(dt)),
+            ]);
+            self.pass.draw(p, &textures, &search, state.back());
             state.swap();
             self.copy_statics(self.first.sorted.layout(), statics);
             self.carry_back(false);

@@ -29,7 +29,7 @@
 use crate::error::{Error, Result};
 use crate::gl::{
     Attachment, Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Sampled, Texture,
-    TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
+    TextureDesc, TextureFormat, Uniform, FULLSCREEN_VERTEX,
 };
 use crate::scene::{self, SceneFile};
 use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
@@ -349,18 +349,16 @@ impl CollisionStage {
         else {
             return;
         };
-        let p = detect;
-        p.bind();
-        p.set_i32("u_width", self.width as i32);
-        p.set_i32("u_neighbours", self.config.neighbours as i32);
-        p.set_f32("u_radius", self.config.radius);
-        self.pass
-            .draw(p, &[("u_position", positions.into())], &[], raw);
-        let m = mutual;
-        m.bind();
-        m.set_i32("u_width", self.width as i32);
-        self.pass
-            .draw(m, &[("u_partner", raw.only_texture().into())], &[], out);
+        let width = ("u_width", Uniform::I32(self.width as i32));
+        let uniforms = [
+            width.clone(),
+            ("u_neighbours", Uniform::I32(self.config.neighbours as i32)),
+            ("u_radius", Uniform::F32(self.config.radius)),
+        ];
+        let position = [("u_position", positions.into())];
+        self.pass.draw(detect, &position, &uniforms, raw);
+        let partner = [("u_partner", raw.only_texture().into())];
+        self.pass.draw(mutual, &partner, &[width], out);
     }
 
     /// Keys on the first lattice from the current state, the sort, and the gather of position,
@@ -440,11 +438,13 @@ impl CollisionStage {
         p.bind();
         set_response_constants(p);
         let textures = self.response_textures(p, own, partner, fields);
-        p.set_i32("u_width", self.width as i32);
-        p.set_f32("u_radius", self.config.radius);
-        p.set_f32("u_restitution", self.config.restitution);
-        p.set_f32("u_dt", dt);
-        self.pass.draw(p, &textures, &[], state.back());
+        let uniforms = [
+            ("u_width", Uniform::I32(self.width as i32)),
+            ("u_radius", Uniform::F32(self.config.radius)),
+            ("u_restitution", Uniform::F32(self.config.restitution)),
+            ("u_dt", Uniform::F32(dt)),
+        ];
+        self.pass.draw(p, &textures, &uniforms, state.back());
         state.swap();
         self.copy_statics(own, statics);
         self.carry_back(self.second.is_some());

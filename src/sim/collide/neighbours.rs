@@ -20,7 +20,8 @@ use super::{texture, CollisionStage};
 use crate::error::{Error, Result};
 use crate::gl::source::add_runtime_source;
 use crate::gl::{
-    Context, Defines, Framebuffer, PingPong, Program, Sampled, TextureFormat, FULLSCREEN_VERTEX,
+    Context, Defines, Framebuffer, PingPong, Program, Sampled, TextureFormat, Uniform,
+    FULLSCREEN_VERTEX,
 };
 use crate::scene::{self, SceneFile, PAIR_SIGNATURE};
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
@@ -243,29 +244,28 @@ impl CollisionStage {
             ("u_static", g.sorted.layout().texture(STATIC).into()),
         ];
         let p = &n.sum;
-        p.bind();
         set_constants(p);
-        cells.set_uniforms(p);
-        p.set_f32("u_radius", self.config.radius);
+        let mut uniforms = cells.uniforms();
+        uniforms.push(("u_radius", Uniform::F32(self.config.radius)));
         if let Some(d) = n.dem {
-            p.set_vec4(
-                "u_dem",
-                glam::Vec4::new(d.spring, d.damping, d.shear, d.attraction),
-            );
+            let dem = glam::Vec4::new(d.spring, d.damping, d.shear, d.attraction);
+            uniforms.push(("u_dem", Uniform::Vec4(dem)));
         }
-        p.optional(|| p.set_vec4("u_pair_radius", glam::Vec4::from(n.pair_radius)));
+        if p.declares("u_pair_radius") {
+            let radius = glam::Vec4::from(n.pair_radius);
+            uniforms.push(("u_pair_radius", Uniform::Vec4(radius)));
+        }
         let mut textures: Vec<(&str, Sampled)> = cells.textures(g.sorted.keys());
         textures.extend(own.iter().copied());
         // A pair force may sample the fields (sim/fields.glsl), as a custom force may.
         textures.extend(fields.iter().filter(|(name, _)| p.declares(name)).copied());
-        self.pass.draw(p, &textures, &[], &n.force);
+        self.pass.draw(p, &textures, &uniforms, &n.force);
         let a = &n.apply;
-        a.bind();
         set_constants(a);
-        a.set_f32("u_dt", dt);
         let mut textures: Vec<(&str, Sampled)> = own.to_vec();
         textures.push(("u_force", n.force.only_texture().into()));
-        self.pass.draw(a, &textures, &[], state.back());
+        let dt = [("u_dt", Uniform::F32(dt))];
+        self.pass.draw(a, &textures, &dt, state.back());
         state.swap();
         self.copy_statics(self.first.sorted.layout(), statics);
         self.carry_back(false);

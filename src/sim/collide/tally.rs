@@ -11,7 +11,7 @@
 use crate::error::Result;
 use crate::gl::{
     Blend, BlendComponent, BlendFactor, Context, Depth, Draw, DrawState, Framebuffer, PointSize,
-    Primitive, Program, Texture, TextureDesc, TextureFormat, VertexArray,
+    Primitive, Program, Texture, TextureDesc, TextureFormat, Uniform, VertexArray,
 };
 
 /// The running count of truncated searches.
@@ -59,9 +59,6 @@ impl TruncationTally {
     /// Adds the first `n` texels of `flags` whose component `component` is above 1/2.
     pub(crate) fn add_flags(&self, flags: &Texture, component: i32, n: usize) {
         let p = &self.program;
-        p.bind();
-        p.set_i32("u_width", flags.width() as i32);
-        p.set_i32("u_component", component);
         let add = BlendComponent::add(BlendFactor::One, BlendFactor::One);
         self.ctx.draw(&Draw {
             program: p,
@@ -79,7 +76,10 @@ impl TruncationTally {
                 depth: Depth::Off,
             },
             textures: &[("u_counts", flags.into())],
-            uniforms: &[],
+            uniforms: &[
+                ("u_width", Uniform::I32(flags.width() as i32)),
+                ("u_component", Uniform::I32(component)),
+            ],
         });
     }
 

@@ -34,7 +34,7 @@ use glam::Vec3;
 use crate::error::{Error, Result};
 use crate::gl::{
     Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Texture, TextureDesc,
-    TextureFormat, FULLSCREEN_VERTEX,
+    TextureFormat, Uniform, FULLSCREEN_VERTEX,
 };
 use crate::scene::{self, SceneFile};
 use crate::sim::collide::cells::{search_defines, search_words, table_line, CellSearch};
@@ -229,11 +229,7 @@ impl Fluid {
     /// Places every particle on the lattice of its initial box emitter (`glsl/fluid/lattice.frag`)
     /// into `state` (then swapped).
     pub fn place(&self, scene: &SceneFile, state: &mut PingPong) {
-        let p = &self.place;
-        p.bind();
         let initial = &scene.emitters.initial;
-        p.set_i32("u_width", self.width as i32);
-        p.set_i32("u_emitters", initial.len().max(1) as i32);
         let dx = self.config.spacing;
         // Initial emitters take no curves (refused at their key): their values at t = 0.
         let (mut lattice_min, mut lattice_n, mut lattice_v) = (Vec::new(), Vec::new(), Vec::new());
@@ -258,9 +254,6 @@ impl Fluid {
             lattice_n.push([n.x as i32, n.y as i32, n.z as i32, layers as i32]);
             lattice_v.push(v.extend(0.0));
         }
-        p.set_vec4_array("u_lattice_min", &lattice_min);
-        p.set_ivec4_array("u_lattice_n", &lattice_n);
-        p.set_vec4_array("u_lattice_v", &lattice_v);
         // Validation holds "hydrostatic" to gravity along −y: ρ0 |g| / B sets the squeeze.
         let compress = match self.config.initial {
             scene::Initial::Uniform => 0.0,
@@ -268,26 +261,34 @@ impl Fluid {
                 self.config.rest_density * self.gravity.length() / self.config.stiffness()
             }
         };
-        p.set_f32("u_compress", compress);
-        p.set_f32("u_gamma", self.config.gamma);
-        self.pass.draw(p, &[], &[], state.back());
+        let uniforms = [
+            ("u_width", Uniform::I32(self.width as i32)),
+            ("u_emitters", Uniform::I32(initial.len().max(1) as i32)),
+            ("u_lattice_min", Uniform::Vec4s(lattice_min)),
+            ("u_lattice_n", Uniform::IVec4s(lattice_n)),
+            ("u_lattice_v", Uniform::Vec4s(lattice_v)),
+            ("u_compress", Uniform::F32(compress)),
+            ("u_gamma", Uniform::F32(self.config.gamma)),
+        ];
+        self.pass.draw(&self.place, &[], &uniforms, state.back());
         state.swap();
     }
 
-    /// Sets the fluid's uniforms on the bound program `p`.
-    fn set_material(&self, p: &Program) {
+    /// The fluid's uniforms (the search's and the material's), for the draws of its passes.
+    fn material(&self) -> Vec<(&'static str, Uniform)> {
         let f = &self.config;
-        p.optional(|| {
-            self.search().set_uniforms(p);
-            p.set_f32("u_h", f.h());
-            p.set_f32("u_mass", f.mass());
-            p.set_f32("u_rest_density", f.rest_density);
-            p.set_f32("u_stiffness", f.stiffness());
-            p.set_f32("u_gamma", f.gamma);
-            p.set_f32("u_alpha", f.viscosity);
-            p.set_f32("u_sound", f.speed_of_sound);
-            p.set_vec3("u_gravity", self.gravity);
-        });
+        let mut out = self.search().uniforms();
+        out.extend([
+            ("u_h", Uniform::F32(f.h())),
+            ("u_mass", Uniform::F32(f.mass())),
+            ("u_rest_density", Uniform::F32(f.rest_density)),
+            ("u_stiffness", Uniform::F32(f.stiffness())),
+            ("u_gamma", Uniform::F32(f.gamma)),
+            ("u_alpha", Uniform::F32(f.viscosity)),
+            ("u_sound", Uniform::F32(f.speed_of_sound)),
+            ("u_gravity", Uniform::Vec3(self.gravity)),
+        ]);
+        out
     }
 
     /// One fluid step on the state after the integration pass: sort, gather, density, force
@@ -323,27 +324,29 @@ impl Fluid {
         let l = self.grid.layout();
         let p = &self.density_pass;
         set_constants(p);
-        p.bind();
-        self.set_material(p);
+        let declared = |p: &Program, mut u: Vec<(&'static str, Uniform)>| {
+            u.retain(|(n, _)| p.declares(n));
+            u
+        };
+        let uniforms = declared(p, self.material());
         let mut textures = self.search().textures(keys);
         textures.push(("u_position", l.texture(POSITION).into()));
-        self.pass.draw(p, &textures, &[], &self.density);
+        self.pass.draw(p, &textures, &uniforms, &self.density);
         self.tally.add_flags(self.density.only_texture(), 3, count);
         let p = &self.force_pass;
         set_constants(p);
-        p.bind();
-        self.set_material(p);
-        p.set_f32("u_dt", dt);
+        let mut uniforms = self.material();
+        uniforms.push(("u_dt", Uniform::F32(dt)));
+        let uniforms = declared(p, uniforms);
         let mut textures = self.search().textures(keys);
         textures.extend([
             ("u_position", l.texture(POSITION).into()),
             ("u_velocity", l.texture(VELOCITY).into()),
             ("u_density", self.density.only_texture().into()),
         ]);
-        self.pass.draw(p, &textures, &[], state.back());
+        self.pass.draw(p, &textures, &uniforms, state.back());
         state.swap();
         let c = &self.copy;
-        c.bind();
         self.pass
             .draw(c, &[("u_source", l.texture(STATIC).into())], &[], statics);
         Ok(())

@@ -182,11 +182,8 @@ impl CoherentSort {
         self.sorter.sort();
         let n = self.sorter.len() as i32;
         let p = &self.merge_pass;
-        p.bind();
-        p.set_i32("u_width", self.width as i32);
-        p.set_i32("u_offset", (self.block / 2) as i32);
-        p.set_i32("u_end", n - (self.block / 2) as i32);
-        p.set_i32("u_block", self.block as i32);
+        let half = (self.block / 2) as i32;
+        let width = ("u_width", Uniform::I32(self.width as i32));
         for (k, s) in self.steps.iter().enumerate() {
             let source = if k == 0 {
                 self.sorter.keys()
@@ -194,6 +191,10 @@ impl CoherentSort {
                 self.merge.front().only_texture()
             };
             let step = [
+                width.clone(),
+                ("u_offset", Uniform::I32(half)),
+                ("u_end", Uniform::I32(n - half)),
+                ("u_block", Uniform::I32(self.block as i32)),
                 ("u_dist", Uniform::I32(s.dist as i32)),
                 ("u_mirror", Uniform::I32(s.mirror as i32)),
             ];
@@ -201,12 +202,9 @@ impl CoherentSort {
                 .draw(p, &[("u_keys", source.into())], &step, self.merge.back());
             self.merge.swap();
         }
-        let c = &self.order_pass;
-        c.bind();
-        c.set_i32("u_width", self.width as i32);
-        c.set_i32("u_count", n);
-        self.pass
-            .draw(c, &[("u_keys", self.keys().into())], &[], &self.order);
+        let keys = [("u_keys", self.keys().into())];
+        let uniforms = [width, ("u_count", Uniform::I32(n))];
+        (self.pass).draw(&self.order_pass, &keys, &uniforms, &self.order);
         self.tally
             .add_flags(self.order.only_texture(), 0, n as usize);
         let total = self.tally.total()?;

@@ -10,7 +10,7 @@
 
 use super::{set_constants_for, ParticleSim, State};
 use crate::error::{Error, Result};
-use crate::gl::{Program, Sampled};
+use crate::gl::{Program, Sampled, Uniform};
 use crate::scene::SceneFile;
 use crate::sim::fluid::FluidStats;
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
@@ -86,12 +86,13 @@ impl ParticleSim {
         let l = f.layout();
         let (size, seed, types) = ([self.width, self.height], self.seed, self.features.types);
         for (i, p, radius) in &self.fluid_exchange {
-            p.bind();
             set_constants_for(p, &self.params, &self.fields, size, seed, types);
-            f.search().set_uniforms(p);
-            p.set_f32("u_pair_radius", *radius);
-            p.set_f32("u_dt", self.params.time.dt);
-            let clock = [("u_time", crate::gl::Uniform::F32(self.time as f32))];
+            let mut clock = f.search().uniforms();
+            clock.extend([
+                ("u_pair_radius", Uniform::F32(*radius)),
+                ("u_dt", Uniform::F32(self.params.time.dt)),
+                ("u_time", Uniform::F32(self.time as f32)),
+            ]);
             let mut textures: Vec<(&str, Sampled)> = f.search().textures(f.sorted_keys());
             textures.extend([
                 ("u_position", l.texture(POSITION).into()),

@@ -229,11 +229,8 @@ impl ParticleSim {
         let statics = ("u_static", self.statics.texture(STATIC).into());
         let (v, x) = (pp.back_single(VELOCITY), pp.back_single(POSITION));
         self.pass.draw_rows(p, t, clock, v, 0, rows);
-        q.bind();
-        if self.params.emitters.animated {
-            uniforms::set_spawn(q, &self.params.emitters, self.time as f32);
-        }
-        let q_clock = declared_clock(q, [("u_time", self.time as f32), ("u_time_next", next)]);
+        let mut q_clock = declared_clock(q, [("u_time", self.time as f32), ("u_time_next", next)]);
+        q_clock.extend(self.step_arrays(q, self.time));
         let own: Vec<_> = [
             ("u_position", pp.front().texture(POSITION).into()),
             ("u_velocity", pp.front().texture(VELOCITY).into()),
@@ -259,10 +256,6 @@ impl ParticleSim {
         let dt = self.params.time.dt as f64;
         let next = ((self.step + 1) as f64 * dt) as f32;
         let prev = ((self.step as f64 - 1.0) * dt) as f32;
-        relax::move_spheres(p, &self.params.colliders, self.time + dt);
-        if self.params.emitters.animated {
-            uniforms::set_spawn(p, &self.params.emitters, self.time as f32);
-        }
         let now = self.time as f32;
         let clock = [
             ("u_time", now),
@@ -270,7 +263,25 @@ impl ParticleSim {
             ("u_user_time", next),
             ("u_time_prev", prev),
         ];
-        (next, declared_clock(p, clock))
+        let mut clock = declared_clock(p, clock);
+        clock.extend(self.step_arrays(p, self.time));
+        (next, clock)
+    }
+
+    /// This step's arrays that `p` declares, as a draw's uniforms: the orbiting spheres where
+    /// they are at the step's end and, for emitters with curves, their values at the step's
+    /// start `t`.
+    fn step_arrays(&self, p: &Program, t: f64) -> Vec<(&'static str, Uniform)> {
+        let dt = self.params.time.dt as f64;
+        let e = &self.params.emitters;
+        let spawn = match e.animated {
+            true => uniforms::spawn_uniforms(&e.spawn_at(t as f32)).to_vec(),
+            false => Vec::new(),
+        };
+        (relax::moved_spheres(&self.params.colliders, t + dt).into_iter())
+            .chain(spawn)
+            .filter(|(n, _)| p.declares(n))
+            .collect()
     }
 
     /// The integration (or its halves, or the closed form), the user states, the bounce tally.

@@ -11,7 +11,7 @@ use glam::Vec3;
 use super::{draw_textures, Fields};
 use crate::error::Result;
 use crate::gl::{
-    Context, Defines, FullscreenPass, Program, Ring3, Texture, TextureDesc, TextureFormat,
+    Context, Defines, FullscreenPass, Program, Ring3, Texture, TextureDesc, TextureFormat, Uniform,
     FULLSCREEN_VERTEX,
 };
 use crate::scene::{ConstraintKind, RelaxScheme, SceneFile};
@@ -149,33 +149,37 @@ impl Relaxation {
         t: f64,
     ) {
         let offset = (params.constraints.as_ref()).map_or(Vec3::ZERO, |c| c.pin_offset(t));
-        for p in self.programs() {
-            p.bind();
-            p.set_vec3("u_pin_offset", offset);
-            move_spheres(p, &params.colliders, t);
-        }
+        // This step's pins and spheres travel in every draw, as data (each program reads some).
+        let mut step = vec![("u_pin_offset", Uniform::Vec3(offset))];
+        step.extend(moved_spheres(&params.colliders, t));
         let sets = match self.scheme {
             RelaxScheme::Jacobi => None,
             RelaxScheme::GaussSeidel => Some(set_count(self.layout.kind)),
         };
         for _ in 0..self.iterations {
             for set in 0..sets.unwrap_or(1) {
-                let p = &self.edges;
-                p.bind();
+                let mut u = step.clone();
                 if sets.is_some() {
-                    p.set_i32("u_set", set as i32);
+                    u.push(("u_set", Uniform::I32(set as i32)));
                 }
-                self.draw(p, ring, pass, fields);
+                self.draw(&self.edges, &u, ring, pass, fields);
             }
             if let Some(p) = &self.attach {
-                p.bind();
-                self.draw(p, ring, pass, fields);
+                self.draw(p, &step, ring, pass, fields);
             }
         }
     }
 
-    /// One pass of `p` from the current positions into the ring's free side, then swapped.
-    fn draw(&self, p: &Program, ring: &mut Ring3, pass: &FullscreenPass, fields: &Fields) {
+    /// One pass of `p` from the current positions into the ring's free side, then swapped, with
+    /// the uniforms of `u` that `p` declares.
+    fn draw(
+        &self,
+        p: &Program,
+        u: &[(&'static str, Uniform)],
+        ring: &mut Ring3,
+        pass: &FullscreenPass,
+        fields: &Fields,
+    ) {
         let own = [
             ("u_position", ring.current().texture(POSITION).into()),
             ("u_rest", (&self.rest).into()),
@@ -183,16 +187,23 @@ impl Relaxation {
         ];
         let own: Vec<_> = own.into_iter().filter(|(n, _)| p.declares(n)).collect();
         let t = draw_textures(p, &own, fields);
-        pass.draw(p, &t, &[], ring.next());
+        let u: Vec<_> = (u.iter())
+            .filter(|&(n, _)| p.declares(n))
+            .cloned()
+            .collect();
+        pass.draw(p, &t, &u, ring.next());
         ring.swap_current_next();
     }
 }
 
-/// Sets `u_sphere` to the spheres' places at time `t` if any orbits (a static one's place is
-/// the value the scene's constants gave).
-pub(super) fn move_spheres(p: &Program, colliders: &params::Colliders, t: f64) {
-    if colliders.moving_spheres.is_empty() {
-        return;
+/// `u_sphere` with the spheres' places at time `t` if any orbits, as a draw's uniform (else
+/// nothing: a static sphere's place is the value the scene's constants gave).
+pub(super) fn moved_spheres(
+    colliders: &params::Colliders,
+    t: f64,
+) -> Option<(&'static str, Uniform)> {
+    match colliders.moving_spheres.is_empty() {
+        true => None,
+        false => Some(("u_sphere", Uniform::Vec4s(colliders.spheres_at(t)))),
     }
-    p.set_vec4_array("u_sphere", &colliders.spheres_at(t));
 }

@@ -5,7 +5,7 @@ use glam::{Vec3, Vec4};
 
 use super::super::emit::EmitterUniforms;
 use super::Fields;
-use crate::gl::Program;
+use crate::gl::{Program, Uniform};
 use crate::sim::params::{self, Integration, Params, Shape};
 
 /// Sets the uniforms that do not change during a run (emitters, masses, forces, colliders) on
@@ -57,25 +57,24 @@ fn set_masses(p: &Program, m: &Integration) {
 fn set_emitters(p: &Program, e: &params::Emitters) {
     p.set_vec4_array("u_burst_time", &e.burst_time);
     p.set_vec4_array("u_burst_end", &e.burst_end);
-    spawn_uniforms(p, &e.spawn);
+    for (name, value) in spawn_uniforms(&e.spawn) {
+        p.set(name, value);
+    }
     p.set_vec4_array("u_release_spread", &e.release_spread);
     p.set_vec4("u_release_cloud", Vec4::from(e.release_cloud));
 }
 
-/// The emitters' spawn uniforms (glsl/sim/spawn.glsl).
-fn spawn_uniforms(p: &Program, em: &[EmitterUniforms]) {
-    let field = |f: fn(&EmitterUniforms) -> Vec4| em.iter().map(f).collect::<Vec<_>>();
-    p.set_vec4_array("u_em_center", &field(|e| e.center));
-    p.set_vec4_array("u_em_size", &field(|e| e.size));
-    p.set_vec4_array("u_em_normal", &field(|e| e.normal));
-    p.set_vec4_array("u_em_dir", &field(|e| e.dir));
-    p.set_vec4_array("u_em_range", &field(|e| e.range));
-}
-
-/// Sets the spawn uniforms of the bound program `p` at time `t`, the emitters' curves taken
-/// there (scenes with curves, every step); a program without them is left alone.
-pub(super) fn set_spawn(p: &Program, e: &params::Emitters, t: f32) {
-    p.optional(|| spawn_uniforms(p, &e.spawn_at(t)));
+/// The emitters' spawn uniforms (glsl/sim/spawn.glsl): set once as constants, and for
+/// emitters with curves given again in every integration draw at the step's time.
+pub(super) fn spawn_uniforms(em: &[EmitterUniforms]) -> [(&'static str, Uniform); 5] {
+    let field = |f: fn(&EmitterUniforms) -> Vec4| Uniform::Vec4s(em.iter().map(f).collect());
+    [
+        ("u_em_center", field(|e| e.center)),
+        ("u_em_size", field(|e| e.size)),
+        ("u_em_normal", field(|e| e.normal)),
+        ("u_em_dir", field(|e| e.dir)),
+        ("u_em_range", field(|e| e.range)),
+    ]
 }
 
 /// The forces: summed gravity and damping, attractors, springs and vortices with their owners,

@@ -79,16 +79,18 @@ impl Sorter {
         }
         self.program(key, FULLSCREEN_VERTEX, super::pass_list::KEYS, &extra)?;
         let p = &self.programs[&key];
-        p.bind();
         let mut textures: Vec<(&str, Sampled)> = vec![("u_position", positions.into())];
-        p.set_i32("u_state_width", positions.width() as i32);
-        p.set_i32("u_count", count as i32);
-        p.set_i32("u_sort_width", self.width as i32);
-        p.set_i32("u_cull_dead", cull_dead as i32);
-        let per_frame = mode_uniforms(mode);
+        let int = |v: u32| Uniform::I32(v as i32);
+        let mut per_frame = mode_uniforms(mode);
+        per_frame.extend([
+            ("u_state_width", int(positions.width())),
+            ("u_count", int(count as u32)),
+            ("u_sort_width", int(self.width)),
+            ("u_cull_dead", int(cull_dead as u32)),
+        ]);
         if let Some(t) = &self.id_table {
             textures.push(("u_id_table", t.into()));
-            p.set_i32("u_id_table_width", t.width() as i32);
+            per_frame.push(("u_id_table_width", int(t.width())));
         }
         if rekey {
             textures.push(("u_sorted", self.state.front().only_texture().into()));

@@ -2,7 +2,7 @@
 
 use super::Sorter;
 use crate::error::{Error, Result};
-use crate::gl::{Framebuffer, Program, Sampled, Texture, FULLSCREEN_VERTEX};
+use crate::gl::{Framebuffer, Program, Sampled, Texture, Uniform, FULLSCREEN_VERTEX};
 
 impl Sorter {
     /// Gathers every texture of `source` into `dest` in sorted order: texel j of `dest` takes the
@@ -50,13 +50,14 @@ impl Sorter {
             )?);
         }
         let p = &cache[&targets];
-        p.bind();
-        p.set_i32("u_sort_width", self.width as i32);
-        p.set_i32("u_state_width", dest.width() as i32);
+        let uniforms = [
+            ("u_sort_width", Uniform::I32(self.width as i32)),
+            ("u_state_width", Uniform::I32(dest.width() as i32)),
+        ];
         let names = ["u_state0", "u_state1", "u_state2", "u_state3"];
         let mut textures: Vec<(&str, Sampled)> = vec![("u_sorted", sorted.into())];
         textures.extend(names.into_iter().zip(sources.iter().map(|&t| t.into())));
-        self.fullscreen.draw(p, &textures, &[], dest);
+        self.fullscreen.draw(p, &textures, &uniforms, dest);
         Ok(())
     }
 }

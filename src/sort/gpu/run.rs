@@ -69,21 +69,21 @@ impl Sorter {
             levels,
             steps: steps_n,
         }];
-        p.bind();
-        p.set_i32("u_width", self.width as i32);
+        let int = |v: u32| Uniform::I32(v as i32);
+        let mut uniforms = vec![("u_width", int(self.width))];
         if let Step::Bitonic { block, .. } = steps[0] {
-            p.set_i32("u_block", block as i32);
+            uniforms.push(("u_block", int(block)));
         }
         // Wide masks in order are the basis of the sub-network (see multistep.frag).
         let wide = steps.iter().filter_map(Step::mask).filter(|&m| m >= 2);
         let basis: Vec<i32> = wide.map(|mask| mask as i32).collect();
-        p.set_i32_array("u_basis", &basis);
+        uniforms.push(("u_basis", Uniform::I32s(basis)));
         let mirror: Vec<i32> = steps
             .iter()
             .map(|step| matches!(step, Step::Bitonic { mirror: true, .. }) as i32)
             .collect();
-        p.set_i32_array("u_mirror", &mirror);
-        self.fullscreen.draw(p, keys, &[], self.state.back());
+        uniforms.push(("u_mirror", Uniform::I32s(mirror)));
+        self.fullscreen.draw(p, keys, &uniforms, self.state.back());
     }
 
     /// A GP/FP pass: the step's quads, drawn with their texel offset.

@@ -97,10 +97,9 @@ impl FixedCost {
         let t = timer.time(|| {
             for i in 0..Self::PASSES {
                 let (from, to) = (&self.targets[i % 2], &self.targets[1 - i % 2]);
-                p.bind();
-                p.set_i32("u_log_w", 0);
+                let source = [("u_source", from.only_texture().into())];
                 self.pass
-                    .draw(p, &[("u_source", from.only_texture().into())], &[], to);
+                    .draw(p, &source, &[("u_log_w", Uniform::I32(0))], to);
             }
         })?;
         Ok(t / Self::PASSES as f64)
@@ -149,9 +148,10 @@ impl RenderFloor {
             return;
         }
         let p = &self.program;
-        p.bind();
-        p.set_u32("u_seed", 0x9e37_79b9);
-        p.set_vec4("u_value", Vec4::new(0.02, 0.01, 0.005, 0.1));
+        let uniforms = [
+            ("u_seed", Uniform::U32(0x9e37_79b9)),
+            ("u_value", Uniform::Vec4(Vec4::new(0.02, 0.01, 0.005, 0.1))),
+        ];
         self.ctx.draw(&Draw {
             program: p,
             target,
@@ -164,7 +164,7 @@ impl RenderFloor {
                 ..DrawState::REPLACE
             },
             textures: &[],
-            uniforms: &[],
+            uniforms: &uniforms,
         });
     }
 }
@@ -230,8 +230,7 @@ impl PlacedRenderFloor {
     ) {
         target.clear(clear);
         let p = &self.program;
-        p.bind();
-        p.set_vec4("u_value", Vec4::new(0.02, 0.01, 0.005, 0.1));
+        let value = Vec4::new(0.02, 0.01, 0.005, 0.1);
         self.ctx.draw(&Draw {
             program: p,
             target,
@@ -249,6 +248,7 @@ impl PlacedRenderFloor {
             uniforms: &[
                 ("u_view_proj", Uniform::Mat4(*view_proj)),
                 ("u_point_size", Uniform::F32(point_size)),
+                ("u_value", Uniform::Vec4(value)),
             ],
         });
     }

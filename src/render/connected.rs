@@ -152,16 +152,17 @@ impl ConnectedRenderer {
             ));
         }
         let p = &self.program;
-        p.bind();
         let aspect = target.width() as f32 / target.height() as f32;
         // The camera changes from frame to frame: it travels with the draw.
         let mut per_frame = vec![("u_view_proj", Uniform::Mat4(camera.view_projection(aspect)))];
         if self.kind == ConstraintKind::Cloth {
             per_frame.push(("u_eye", Uniform::Vec3(camera.eye())));
         }
-        p.set_vec3("u_light", surface_light());
-        p.set_vec3("u_color", Vec3::from(self.color));
-        p.set_f32("u_ambient", SURFACE_AMBIENT);
+        per_frame.extend([
+            ("u_light", Uniform::Vec3(surface_light())),
+            ("u_color", Uniform::Vec3(Vec3::from(self.color))),
+            ("u_ambient", Uniform::F32(SURFACE_AMBIENT)),
+        ]);
         let primitive = match self.kind {
             ConstraintKind::Cloth => Primitive::Triangles,
             ConstraintKind::Hair => Primitive::Lines,

@@ -480,9 +480,7 @@ impl GeometryRenderer {
     /// opaque with a depth write, a depth-only pass, or composited under).
     pub fn draw(&self, target: &FrameTarget, camera: &Camera, state: &DrawState) {
         let p = &self.program;
-        p.bind();
         let aspect = target.width() as f32 / target.height() as f32;
-        p.set_vec3("u_light", Vec3::new(-0.7, 0.6, 0.35).normalize());
         self.ctx.draw(&Draw {
             program: p,
             target: target.framebuffer(),
@@ -496,6 +494,10 @@ impl GeometryRenderer {
             uniforms: &[
                 ("u_view_proj", Uniform::Mat4(camera.view_projection(aspect))),
                 ("u_eye", Uniform::Vec3(camera.eye())),
+                (
+                    "u_light",
+                    Uniform::Vec3(Vec3::new(-0.7, 0.6, 0.35).normalize()),
+                ),
             ],
         });
     }
@@ -511,8 +513,6 @@ impl GeometryRenderer {
         let Some(p) = self.depth_program.get() else {
             return Err(Error::InvalidInput("the geometry's depth program".into()));
         };
-        p.bind();
-        p.set_mat4("u_view_proj", view_proj);
         self.ctx.draw(&Draw {
             program: p,
             target: fb,
@@ -525,7 +525,7 @@ impl GeometryRenderer {
                 ..DrawState::REPLACE
             },
             textures: &[],
-            uniforms: &[],
+            uniforms: &[("u_view_proj", Uniform::Mat4(*view_proj))],
         });
         Ok(())
     }

@@ -28,7 +28,7 @@ use crate::bench::{RenderFloor, WriteFloor};
 use crate::error::Result;
 use crate::gl::{
     Context, Defines, Framebuffer, FullscreenPass, Program, Texture, TextureDesc, TextureFormat,
-    FULLSCREEN_VERTEX,
+    Uniform, FULLSCREEN_VERTEX,
 };
 use crate::sort::Variant;
 
@@ -98,9 +98,8 @@ pub fn measure_constants(
     let pass = FullscreenPass::new(ctx)?;
     let fetch = med(&mut || {
         timer.time(|| {
-            probe.bind();
-            probe.set_i32("u_log_w", side.trailing_zeros() as i32);
-            pass.draw(&probe, &[("u_source", (&source).into())], &[], &target);
+            let log_w = [("u_log_w", Uniform::I32(side.trailing_zeros() as i32))];
+            pass.draw(&probe, &[("u_source", (&source).into())], &log_w, &target);
         })
     })?;
     let points = side as usize * side as usize;

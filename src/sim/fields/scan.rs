@@ -51,16 +51,17 @@ pub(super) fn scan_convert(
     let tris = triangle_texture(ctx, triangles)?;
     let program = Program::new(ctx, FULLSCREEN_VERTEX, "sim/sdf_slice.frag", &Vec::new())?;
     let pass = FullscreenPass::new(ctx)?;
-    program.bind();
-    program.set_i32("u_triangle_count", triangles.len() as i32);
-    program.set_vec3("u_min", bounds[0]);
-    program.set_vec3("u_max", bounds[1]);
     let [nx, ny, nz] = res.map(|n| n as i32);
-    program.set_ivec3("u_res", nx, ny, nz);
     let textures = [("u_triangles", Sampled::from(&tris))];
     for k in 0..res[2] {
         let slice = Framebuffer::layer(ctx, &format!("sdf:slice {k}"), &field, k)?;
-        let uniforms = [("u_slice", Uniform::I32(k as i32))];
+        let uniforms = [
+            ("u_slice", Uniform::I32(k as i32)),
+            ("u_triangle_count", Uniform::I32(triangles.len() as i32)),
+            ("u_min", Uniform::Vec3(bounds[0])),
+            ("u_max", Uniform::Vec3(bounds[1])),
+            ("u_res", Uniform::IVec3(glam::IVec3::new(nx, ny, nz))),
+        ];
         pass.draw(&program, &textures, &uniforms, &slice);
     }
     ctx.check_error("scan-converting the mesh into the distance field")?;

@@ -28,7 +28,7 @@ use common::{context, no_gl_error, test_shader, TestContext};
 use glam::{Vec3, Vec4};
 use texflow::gl::{
     Defines, Framebuffer, FullscreenPass, Program, Sampled, Texture, TextureDesc, TextureFormat,
-    FULLSCREEN_VERTEX,
+    UniformList, FULLSCREEN_VERTEX,
 };
 use texflow::scene::{HeightFieldCollider, SdfCollider, Wind};
 use texflow::sim::{DistanceField, FlowField, HeightField};
@@ -160,21 +160,23 @@ fn sample_points(sdf: &DistanceField, n: usize) -> Vec<Vec3> {
     points
 }
 
-/// The shader's uniforms: the three fields' units, bounds and resolutions.
-fn set_field_uniforms(program: &Program, hf: &HeightField, sdf: &DistanceField, flow: &FlowField) {
-    program.set_vec4("u_height_extent", Vec4::from_array(hf.extent()));
+/// The shader's uniforms: the three fields' bounds and resolutions.
+fn field_uniforms(hf: &HeightField, sdf: &DistanceField, flow: &FlowField) -> UniformList {
+    let mut program = UniformList::new();
+    program.vec4("u_height_extent", Vec4::from_array(hf.extent()));
     let [hx, hz] = hf.resolution();
-    program.set_ivec2("u_height_res", hx as i32, hz as i32);
+    program.ivec2("u_height_res", hx as i32, hz as i32);
     let [smin, smax] = sdf.bounds();
-    program.set_vec3("u_sdf_min", smin);
-    program.set_vec3("u_sdf_max", smax);
+    program.vec3("u_sdf_min", smin);
+    program.vec3("u_sdf_max", smax);
     let [sx, sy, sz] = sdf.resolution().map(|n| n as i32);
-    program.set_ivec3("u_sdf_res", sx, sy, sz);
+    program.ivec3("u_sdf_res", sx, sy, sz);
     let [fmin, fmax] = flow.bounds();
-    program.set_vec3("u_flow_min", fmin);
-    program.set_vec3("u_flow_max", fmax);
+    program.vec3("u_flow_min", fmin);
+    program.vec3("u_flow_max", fmax);
     let [fx, fy, fz] = flow.resolution().map(|n| n as i32);
-    program.set_ivec3("u_flow_res", fx, fy, fz);
+    program.ivec3("u_flow_res", fx, fy, fz);
+    program
 }
 
 /// The three fields sampled at `points` (a `w` × `h` texture) by tests/glsl/fields.frag: the
@@ -216,8 +218,7 @@ fn sample_on_gpu(
         &Defines::new(),
     )
     .unwrap();
-    program.bind();
-    set_field_uniforms(&program, hf, sdf, flow);
+    let uniforms = field_uniforms(hf, sdf, flow);
     let textures = [
         ("u_points", Sampled::from(&point_tex)),
         ("u_height", (&height_tex).into()),
@@ -226,7 +227,7 @@ fn sample_on_gpu(
     ];
     FullscreenPass::new(ctx)
         .unwrap()
-        .draw(&program, &textures, &[], &fb);
+        .draw(&program, &textures, uniforms.values(), &fb);
     let out: Vec<Vec<f32>> = fb
         .textures()
         .iter()

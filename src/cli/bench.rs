@@ -269,11 +269,10 @@ pub struct ScenesArgs {
     /// Print JSON (one record per experiment and size).
     #[arg(long)]
     json: bool,
-    /// Where the run-constant uniforms live: `program` (set once, program state) or `every-draw`
-    /// (uploaded again before every draw, as if each draw carried all its uniforms; results are
-    /// the same, only the time differs).
-    #[arg(long, value_enum, value_name = "WHERE", default_value_t = ConstantsArg::Program)]
-    constants: ConstantsArg,
+    /// Whether a draw uploads only the uniform values its program does not hold already (on)
+    /// or every value it carries (off: profiles what the cache saves; results are the same).
+    #[arg(long, value_enum, value_name = "ON|OFF", default_value_t = CacheArg::On)]
+    uniform_cache: CacheArg,
     #[command(flatten)]
     common: Common,
 }
@@ -299,7 +298,7 @@ pub fn bench_scenes(a: ScenesArgs) -> texflow::Result<()> {
         a.experiments.clone()
     };
     let ctx = Context::new(a.common.device)?;
-    a.constants.apply(&ctx);
+    a.uniform_cache.apply(&ctx);
     for &n in &a.sizes {
         texflow::gl::check_size(&ctx, "--sizes", n, n)?;
     }
@@ -382,11 +381,10 @@ pub struct SceneArgs {
     /// Print JSON: an object with texflow_version, schema, device, clock and one record per size.
     #[arg(long)]
     json: bool,
-    /// Where the run-constant uniforms live: `program` (set once, program state) or `every-draw`
-    /// (uploaded again before every draw, as if each draw carried all its uniforms; results are
-    /// the same, only the time differs).
-    #[arg(long, value_enum, value_name = "WHERE", default_value_t = ConstantsArg::Program)]
-    constants: ConstantsArg,
+    /// Whether a draw uploads only the uniform values its program does not hold already (on)
+    /// or every value it carries (off: profiles what the cache saves; results are the same).
+    #[arg(long, value_enum, value_name = "ON|OFF", default_value_t = CacheArg::On)]
+    uniform_cache: CacheArg,
     #[command(flatten)]
     set: super::set::SetArgs,
     #[command(flatten)]
@@ -423,7 +421,7 @@ pub fn bench_scene(a: SceneArgs) -> texflow::Result<()> {
         return Err(bad("--sizes needs sizes of at least 1, e.g. 64,128"));
     }
     let ctx = Context::new(a.common.device)?;
-    a.constants.apply(&ctx);
+    a.uniform_cache.apply(&ctx);
     overrides.check_device(&ctx, &prepared)?;
     for &n in &sizes {
         texflow::gl::check_size(&ctx, "--sizes", n, n)?;
@@ -455,17 +453,17 @@ pub fn bench_scene(a: SceneArgs) -> texflow::Result<()> {
     Ok(())
 }
 
-/// `--constants`: where run-constant uniforms live while measuring.
+/// `--uniform-cache`.
 #[derive(Clone, Copy, clap::ValueEnum)]
-pub enum ConstantsArg {
-    /// Set once on the program (the engine's way).
-    Program,
-    /// Uploaded again before every draw (profiling what uniforms as draw data would cost).
-    EveryDraw,
+pub enum CacheArg {
+    /// Upload only the values a program does not hold already.
+    On,
+    /// Upload every value a draw carries.
+    Off,
 }
 
-impl ConstantsArg {
+impl CacheArg {
     fn apply(self, ctx: &Context) {
-        ctx.set_constants_every_draw(matches!(self, ConstantsArg::EveryDraw));
+        ctx.set_uniform_cache(matches!(self, CacheArg::On));
     }
 }

@@ -142,9 +142,9 @@ struct Inner {
     /// What the draws since the last [`Context::take_draw_stats`] did (for floors and the cost
     /// model: passes and bytes written).
     stats: Cell<DrawStats>,
-    /// Profiling switch: every program's uniforms are uploaded again before each of its draws
-    /// (see [`Context::set_constants_every_draw`]).
-    constants_every_draw: Cell<bool>,
+    /// Whether uploads of a value a program's uniform already holds are skipped (see
+    /// [`Context::set_uniform_cache`]).
+    uniform_cache: Cell<bool>,
 }
 
 impl Drop for Inner {
@@ -233,7 +233,7 @@ impl Context {
                 device: index,
                 id,
                 stats: Cell::new(DrawStats::default()),
-                constants_every_draw: Cell::new(false),
+                uniform_cache: Cell::new(true),
                 owner: Owner::Egl {
                     context,
                     _display: display,
@@ -290,7 +290,7 @@ impl Context {
                 device: 0,
                 id,
                 stats: Cell::new(DrawStats::default()),
-                constants_every_draw: Cell::new(false),
+                uniform_cache: Cell::new(true),
                 owner: Owner::Caller { reactivate },
             }),
         };
@@ -298,17 +298,17 @@ impl Context {
         Ok(ctx)
     }
 
-    /// Profiling switch for the question "does keeping run constants as program state matter?":
-    /// when on, every draw first uploads again every uniform value its program holds (what it
-    /// would cost if each draw carried all of its uniforms as data). Programs record their values
-    /// only while it is on: turn it on before building the engine. Results are unchanged.
-    pub fn set_constants_every_draw(&self, on: bool) {
-        self.inner.constants_every_draw.set(on);
+    /// Every draw carries all of its uniforms, the run's constants among them; with the cache on
+    /// (the default) a program uploads only the values that differ from what it holds, as
+    /// three.js's uniform cache does. Off, every value given is uploaded: for profiling what
+    /// the cache saves. Results are the same either way.
+    pub fn set_uniform_cache(&self, on: bool) {
+        self.inner.uniform_cache.set(on);
     }
 
-    /// Whether [`set_constants_every_draw`](Self::set_constants_every_draw) is on.
-    pub fn constants_every_draw(&self) -> bool {
-        self.inner.constants_every_draw.get()
+    /// Whether the uniform cache is on (see [`set_uniform_cache`](Self::set_uniform_cache)).
+    pub fn uniform_cache(&self) -> bool {
+        self.inner.uniform_cache.get()
     }
 
     /// What the draws since the last call did, and starts counting again.

@@ -191,8 +191,7 @@ pub struct Rect {
 /// (its textures and per-draw uniforms).
 #[derive(Debug, Clone, Copy)]
 pub struct Draw<'a> {
-    /// The program. Uniforms that stay the same between draws may be set on it beforehand (they
-    /// are program state, kept by GL); those of this draw go in [`uniforms`](Self::uniforms).
+    /// The program. Every uniform it reads goes in [`uniforms`](Self::uniforms).
     pub program: &'a Program,
     /// The framebuffer drawn into.
     pub target: &'a Framebuffer,
@@ -209,7 +208,8 @@ pub struct Draw<'a> {
     /// The textures the program reads, by sampler name: the k-th goes to texture unit k. Every
     /// active sampler of the program must be listed (see [`Context::draw`]).
     pub textures: &'a [(&'a str, Sampled<'a>)],
-    /// Uniforms set on this draw, after the textures (see [`Program::set`]).
+    /// Every uniform this draw reads, set after the textures; a value the program holds already
+    /// is not uploaded again (see [`Context::set_uniform_cache`]).
     pub uniforms: &'a [(&'a str, Uniform)],
 }
 
@@ -224,10 +224,6 @@ impl Context {
     pub fn draw(&self, d: &Draw<'_>) {
         super::record::note(d.program.name());
         d.program.bind();
-        // Before the textures: their samplers' units are this draw's, not the last one's.
-        if self.constants_every_draw() {
-            d.program.replay();
-        }
         d.program.bind_textures(d.textures);
         for (name, value) in d.uniforms {
             d.program.set(name, value.clone());

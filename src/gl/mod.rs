@@ -16,9 +16,12 @@
 //! A pass draws with [`Context::draw`] and a [`Draw`]: program, target framebuffer, viewport,
 //! vertex array, primitive, count, a [`DrawState`], the textures it reads by sampler name
 //! ([`Sampled`]) and the uniforms of this draw ([`Uniform`]); or with [`FullscreenPass`], which
-//! makes that `Draw` for a full-screen triangle from the same lists. Uniforms that stay the same
-//! from draw to draw (a scene's constants) may be set on the program once ([`Program::bind`],
-//! then `set_f32`, `set_vec4_array`, ...): they are program state, kept by GL.
+//! makes that `Draw` for a full-screen triangle from the same lists. Every uniform a draw reads
+//! travels in it, a scene's constants too ([`UniformList`], built once and given with each draw
+//! of the programs that read it); nothing above this module sets a uniform on a program. Each
+//! program remembers the value each of its uniforms holds and uploads only what differs (the
+//! uniform cache, [`Context::set_uniform_cache`]), so constants in every draw cost no GL call
+//! after the first.
 //!
 //! ## Texture units
 //!
@@ -45,10 +48,10 @@
 //! [`Program`] keeps the names its sources declare: both stages' resolved text (`#include`s
 //! spliced, `#define`s prepended, not preprocessed, so a declaration inside an inactive `#if`
 //! counts) is split into statements, `//` comments dropped, and the names after `uniform TYPE`
-//! kept (`u_plane[4]` as `u_plane`). On a setter's first use of a name (locations are cached, the
-//! check runs once per name) a name with no location is ignored if declared, as GL ignores −1,
-//! and in debug builds panics if not, unless the setter runs inside [`Program::optional`] (for
-//! constants shared by several programs). Release builds ignore both.
+//! kept (`u_plane[4]` as `u_plane`). On a name's first use in a draw (locations are cached, the check
+//! runs once per name) a name with no location is ignored if declared, as GL ignores −1, and in
+//! debug builds panics if not; lists shared by several programs give each draw the names its
+//! program declares ([`UniformList::for_draw`]). Release builds ignore both.
 //!
 //! ## State reset
 //!
@@ -76,6 +79,7 @@ mod stats;
 mod texture;
 mod texture3d;
 mod timer;
+mod uniform_list;
 #[cfg(feature = "window")]
 mod window;
 
@@ -102,5 +106,6 @@ pub use stats::DrawStats;
 pub use texture::{check_size, Texture, TextureDesc, TextureFormat};
 pub use texture3d::{check_size_3d, Texture3D};
 pub use timer::{Clock, PassTimer};
+pub use uniform_list::UniformList;
 #[cfg(feature = "window")]
 pub use window::GlWindow;

@@ -68,7 +68,7 @@ impl FullscreenPass {
     }
 }
 
-/// A uniform value: of a [`Draw`]'s uniforms, of [`StatePass::run`], or for [`Program::set`].
+/// A uniform value: of a [`Draw`]'s uniforms, of [`StatePass::run`], of a [`UniformList`].
 #[derive(Debug, Clone, PartialEq)]
 pub enum Uniform {
     /// `float`.
@@ -95,6 +95,8 @@ pub enum Uniform {
     I32s(Vec<i32>),
     /// `float[]`, likewise.
     F32s(Vec<f32>),
+    /// `vec2[]`, likewise.
+    Vec2s(Vec<glam::Vec2>),
     /// `vec3[]`, likewise.
     Vec3s(Vec<glam::Vec3>),
     /// `vec4[]`, likewise (orbiting spheres, emitters' curves: arrays that change between draws).

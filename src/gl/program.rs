@@ -1,6 +1,6 @@
 //! Shader programs built from the embedded `glsl/` files.
 
-use std::cell::{Cell, RefCell};
+use std::cell::RefCell;
 use std::collections::{HashMap, HashSet};
 
 use glow::HasContext;
@@ -25,14 +25,13 @@ pub struct Program {
     samplers: Vec<String>,
     /// What it was built from (boxed: programs are held by value in many passes).
     source: Box<SourceInfo>,
-    /// While set, names the program does not declare are ignored (see [`Program::optional`]).
-    lenient: Cell<bool>,
-    /// The values uploaded, by location name, while [`Context::constants_every_draw`] is on.
-    held: Box<RefCell<HashMap<String, Value>>>,
+    /// The value each active uniform holds, by location name, as last uploaded: a draw that
+    /// gives the same value again uploads nothing (see [`Context::set_uniform_cache`]).
+    values: Box<RefCell<HashMap<String, Value>>>,
 }
 
-/// One uniform upload, kept to be replayed: the components per element and the data.
-#[derive(Debug, Clone)]
+/// One uniform upload: the components per element and the data.
+#[derive(Debug, Clone, PartialEq)]
 enum Value {
     Int(u8, Vec<i32>),
     Uint(u32),
@@ -177,8 +176,7 @@ impl Program {
             locations: RefCell::new(HashMap::new()),
             declared: seen.declared,
             samplers,
-            lenient: Cell::new(false),
-            held: Box::default(),
+            values: Box::default(),
             source: Box::new(SourceInfo {
                 defines: defines.clone(),
                 // A benchmark's own floor that walks is not a pass to floor.
@@ -244,21 +242,13 @@ impl Program {
         &self.samplers
     }
 
-    /// Runs `f` with names the program does not declare ignored instead of refused: for setters
-    /// shared by several programs (a scene's constants), each of which declares only some.
-    pub fn optional(&self, f: impl FnOnce()) {
-        let before = self.lenient.replace(true);
-        f();
-        self.lenient.set(before);
-    }
-
     /// The program's name, `vertex+fragment`.
     pub fn name(&self) -> &str {
         &self.name
     }
 
     /// Makes it the current program; the setters below act on the current program.
-    pub fn bind(&self) {
+    pub(super) fn bind(&self) {
         // SAFETY: the program is alive and linked.
         unsafe { self.ctx.gl().use_program(Some(self.raw)) }
     }
@@ -271,7 +261,7 @@ impl Program {
         // setters ignore as GL does for location -1.
         let l = unsafe { self.ctx.gl().get_uniform_location(self.raw, name) };
         // A name no source declares is a mistake, not an optimisation: refused in debug builds.
-        if cfg!(debug_assertions) && l.is_none() && !self.lenient.get() && !self.declares(name) {
+        if cfg!(debug_assertions) && l.is_none() && !self.declares(name) {
             panic!(
                 "program {} declares no uniform `{name}` (misspelt, or the wrong program); \
                  wrap setters shared by several programs in Program::optional",
@@ -283,7 +273,7 @@ impl Program {
     }
 
     /// Sets uniform `name` to `value`, of the type the variant names.
-    pub fn set(&self, name: &str, value: Uniform) {
+    pub(super) fn set(&self, name: &str, value: Uniform) {
         match value {
             Uniform::F32(v) => self.set_f32(name, v),
             Uniform::I32(v) => self.set_i32(name, v),
@@ -297,6 +287,7 @@ impl Program {
             Uniform::Mat4(m) => self.set_mat4(name, &m),
             Uniform::I32s(v) => self.set_i32_array(name, &v),
             Uniform::F32s(v) => self.set_f32_array(name, &v),
+            Uniform::Vec2s(v) => self.set_vec2_array(name, &v),
             Uniform::Vec3s(v) => self.set_vec3_array(name, &v),
             Uniform::Vec4s(v) => self.set_vec4_array(name, &v),
             Uniform::IVec4s(v) => self.set_ivec4_array(name, &v),
@@ -304,77 +295,77 @@ impl Program {
     }
 
     /// Sets an `int` uniform (samplers are set by [`Context::draw`] only).
-    pub fn set_i32(&self, name: &str, v: i32) {
+    pub(super) fn set_i32(&self, name: &str, v: i32) {
         self.put(name, Value::Int(1, vec![v]));
     }
     /// Sets an `int[]` uniform array from its first element on (`name` without `[0]`); an
     /// empty `v` sets nothing.
-    pub fn set_i32_array(&self, name: &str, v: &[i32]) {
+    pub(super) fn set_i32_array(&self, name: &str, v: &[i32]) {
         self.put_array(name, Value::Int(1, v.to_vec()));
     }
     /// Sets a `float[]` uniform array from its first element on (`name` without `[0]`); an
     /// empty `v` sets nothing.
-    pub fn set_f32_array(&self, name: &str, v: &[f32]) {
+    pub(super) fn set_f32_array(&self, name: &str, v: &[f32]) {
         self.put_array(name, Value::Float(1, v.to_vec()));
     }
     /// Sets a `vec2[]` uniform array from its first element on (`name` without `[0]`); an
     /// empty `v` sets nothing.
-    pub fn set_vec2_array(&self, name: &str, v: &[glam::Vec2]) {
+    pub(super) fn set_vec2_array(&self, name: &str, v: &[glam::Vec2]) {
         let flat = v.iter().flat_map(|v| v.to_array()).collect();
         self.put_array(name, Value::Float(2, flat));
     }
     /// Sets a `vec3[]` uniform array from its first element on (`name` without `[0]`); an
     /// empty `v` sets nothing.
-    pub fn set_vec3_array(&self, name: &str, v: &[glam::Vec3]) {
+    pub(super) fn set_vec3_array(&self, name: &str, v: &[glam::Vec3]) {
         let flat = v.iter().flat_map(|v| v.to_array()).collect();
         self.put_array(name, Value::Float(3, flat));
     }
     /// Sets a `vec4[]` uniform array from its first element on (`name` without `[0]`); an
     /// empty `v` sets nothing.
-    pub fn set_vec4_array(&self, name: &str, v: &[glam::Vec4]) {
+    pub(super) fn set_vec4_array(&self, name: &str, v: &[glam::Vec4]) {
         let flat = v.iter().flat_map(|v| v.to_array()).collect();
         self.put_array(name, Value::Float(4, flat));
     }
     /// Sets an `ivec4[]` uniform array from its first element on (`name` without `[0]`); an
     /// empty `v` sets nothing.
-    pub fn set_ivec4_array(&self, name: &str, v: &[[i32; 4]]) {
+    pub(super) fn set_ivec4_array(&self, name: &str, v: &[[i32; 4]]) {
         let flat = v.iter().flatten().copied().collect();
         self.put_array(name, Value::Int(4, flat));
     }
     /// Sets a `uint` uniform.
-    pub fn set_u32(&self, name: &str, v: u32) {
+    pub(super) fn set_u32(&self, name: &str, v: u32) {
         self.put(name, Value::Uint(v));
     }
     /// Sets a `float` uniform.
-    pub fn set_f32(&self, name: &str, v: f32) {
+    pub(super) fn set_f32(&self, name: &str, v: f32) {
         self.put(name, Value::Float(1, vec![v]));
     }
     /// Sets a `vec2` uniform.
-    pub fn set_vec2(&self, name: &str, v: glam::Vec2) {
+    pub(super) fn set_vec2(&self, name: &str, v: glam::Vec2) {
         self.put(name, Value::Float(2, v.to_array().to_vec()));
     }
     /// Sets a `vec3` uniform.
-    pub fn set_vec3(&self, name: &str, v: glam::Vec3) {
+    pub(super) fn set_vec3(&self, name: &str, v: glam::Vec3) {
         self.put(name, Value::Float(3, v.to_array().to_vec()));
     }
     /// Sets a `vec4` uniform.
-    pub fn set_vec4(&self, name: &str, v: glam::Vec4) {
+    pub(super) fn set_vec4(&self, name: &str, v: glam::Vec4) {
         self.put(name, Value::Float(4, v.to_array().to_vec()));
     }
     /// Sets an `ivec2` uniform.
-    pub fn set_ivec2(&self, name: &str, x: i32, y: i32) {
+    pub(super) fn set_ivec2(&self, name: &str, x: i32, y: i32) {
         self.put(name, Value::Int(2, vec![x, y]));
     }
     /// Sets an `ivec3` uniform.
-    pub fn set_ivec3(&self, name: &str, x: i32, y: i32, z: i32) {
+    pub(super) fn set_ivec3(&self, name: &str, x: i32, y: i32, z: i32) {
         self.put(name, Value::Int(3, vec![x, y, z]));
     }
     /// Sets an `ivec4` uniform.
-    pub fn set_ivec4(&self, name: &str, v: [i32; 4]) {
+    pub(super) fn set_ivec4(&self, name: &str, v: [i32; 4]) {
         self.put(name, Value::Int(4, v.to_vec()));
     }
     /// Sets a `mat4` uniform (column-major, as glam stores it).
-    pub fn set_mat4(&self, name: &str, m: &glam::Mat4) {
+    pub(super) fn set_mat4(&self, name: &str, m: &glam::Mat4) {
         self.put(name, Value::Mat4(Box::new(m.to_cols_array())));
     }
 
@@ -390,22 +381,19 @@ impl Program {
         }
     }
 
-    /// Uploads `v` to the location of `name` (the program is current, see [`bind`](Self::bind)),
-    /// kept for [`replay`](Self::replay) while the context profiles constants.
+    /// Uploads `v` to the location of `name` (the program is current, see [`bind`](Self::bind))
+    /// unless it holds that value already and the context's uniform cache is on. A uniform the
+    /// optimiser dropped has no location: nothing to upload.
     fn put(&self, name: &str, v: Value) {
-        let l = self.location(name);
-        self.upload(l.as_ref(), &v);
-        if self.ctx.constants_every_draw() && l.is_some() {
-            self.held.borrow_mut().insert(name.to_owned(), v);
+        let Some(l) = self.location(name) else {
+            return;
+        };
+        let mut values = self.values.borrow_mut();
+        if self.ctx.uniform_cache() && values.get(name) == Some(&v) {
+            return;
         }
-    }
-
-    /// Uploads again every value kept by [`put`](Self::put): the profiling of
-    /// [`Context::set_constants_every_draw`], before a draw. The program is current.
-    pub(super) fn replay(&self) {
-        for (name, v) in self.held.borrow().iter() {
-            self.upload(self.location(name).as_ref(), v);
-        }
+        self.upload(Some(&l), &v);
+        values.insert(name.to_owned(), v);
     }
 
     fn upload(&self, l: Option<&glow::UniformLocation>, v: &Value) {

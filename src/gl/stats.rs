@@ -17,7 +17,7 @@ pub struct DrawStats {
     pub points: u64,
     /// Vertices of every draw, whatever they make (points, triangles, lines).
     pub vertices: u64,
-    /// Uniform uploads (one `glUniform*` call each, arrays counting once), by draws and by
-    /// setters alike: what keeping run constants as program state saves.
+    /// Uniform uploads (one `glUniform*` call each, arrays counting once): the values given that
+    /// the program did not hold already (all of them with the uniform cache off).
     pub uniform_uploads: u64,
 }

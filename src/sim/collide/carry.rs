@@ -17,7 +17,7 @@
 use super::{texture, CollisionStage};
 use crate::error::Result;
 use crate::gl::{
-    Context, Defines, Framebuffer, PingPong, Program, Sampled, TextureFormat, Uniform,
+    Context, Defines, Framebuffer, PingPong, Program, Sampled, TextureFormat, Uniform, UniformList,
 };
 use crate::scene::{SceneFile, StateFormat};
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
@@ -174,7 +174,7 @@ impl CollisionStage {
 
     /// This step's exchange, if it is due: one pass per state with `pair` over the first
     /// lattice's layout, then each result takes the place of its state's gathered value.
-    pub(super) fn exchange(&mut self, set_constants: &impl Fn(&Program)) {
+    pub(super) fn exchange(&mut self, constants: &UniformList) {
         let Some(c) = &mut self.carry else {
             return;
         };
@@ -193,13 +193,14 @@ impl CollisionStage {
             .collect();
         for e in &c.exchange {
             let p = &e.program;
-            set_constants(p);
-            let mut clock = cells.uniforms();
-            clock.extend([
-                ("u_pair_radius", Uniform::F32(e.radius)),
-                ("u_dt", Uniform::F32(self.dt)),
-                ("u_time", Uniform::F32(c.time)),
-            ]);
+            let clock = constants.for_draw(
+                p,
+                cells.uniforms().into_iter().chain([
+                    ("u_pair_radius", Uniform::F32(e.radius)),
+                    ("u_dt", Uniform::F32(self.dt)),
+                    ("u_time", Uniform::F32(c.time)),
+                ]),
+            );
             let mut textures: Vec<(&str, Sampled)> = cells.textures(g.sorted.keys());
             textures.extend([
                 ("u_position", g.sorted.layout().texture(POSITION).into()),
@@ -225,7 +226,6 @@ impl CollisionStage {
         };
         let layout = if staggered { &c.second } else { &c.first };
         let p = &self.copy;
-        p.bind();
         for (pp, from) in c.states.iter_mut().zip(layout) {
             self.pass.draw(
                 p,

@@ -5,7 +5,7 @@
 
 use super::{CollisionStage, Passes, Readback};
 use crate::error::Result;
-use crate::gl::{Defines, Framebuffer, PingPong, Program, Sampled, Uniform};
+use crate::gl::{Defines, Framebuffer, PingPong, Sampled, Uniform, UniformList};
 use crate::scene;
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
 
@@ -18,12 +18,12 @@ impl CollisionStage {
         statics: &Framebuffer,
         dt: f32,
         fields: &[(&str, Sampled<'_>)],
-        set_response_constants: &impl Fn(&Program),
+        constants: &UniformList,
     ) -> Result<()> {
         self.recorded.clear();
         for _ in 0..self.config.iterations.max(1) {
             self.sort_first(state, statics)?;
-            self.exchange(set_response_constants);
+            self.exchange(constants);
             let Passes::Exact {
                 counts,
                 count,
@@ -58,8 +58,6 @@ impl CollisionStage {
                 });
             }
             let p = response;
-            p.bind();
-            set_response_constants(p);
             let mut textures: Vec<(&str, Sampled)> = cells.textures(g.sorted.keys());
             textures.extend([
                 ("u_position", g.sorted.layout().texture(POSITION).into()),
@@ -75,7 +73,8 @@ impl CollisionStage {
                 ("u_restitution", Uniform::F32(self.config.restitution)),
                 ("u_dt", Uniform::F32(dt)),
             ]);
-            self.pass.draw(p, &textures, &search, state.back());
+            let uniforms = constants.for_draw(p, search);
+            self.pass.draw(p, &textures, &uniforms, state.back());
             state.swap();
             self.copy_statics(self.first.sorted.layout(), statics);
             self.carry_back(false);

@@ -29,7 +29,7 @@
 use crate::error::{Error, Result};
 use crate::gl::{
     Attachment, Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Sampled, Texture,
-    TextureDesc, TextureFormat, Uniform, FULLSCREEN_VERTEX,
+    TextureDesc, TextureFormat, Uniform, UniformList, FULLSCREEN_VERTEX,
 };
 use crate::scene::{self, SceneFile};
 use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
@@ -386,7 +386,6 @@ impl CollisionStage {
     /// the simulation's static texture.
     fn copy_statics(&self, layout: &Framebuffer, statics: &Framebuffer) {
         let c = &self.copy;
-        c.bind();
         self.pass.draw(
             c,
             &[("u_source", layout.texture(STATIC).into())],
@@ -397,28 +396,28 @@ impl CollisionStage {
 
     /// One collision step on the state after the collisionless motion: sorts, detects, responds
     /// into `state.back()` (then swaps) and leaves the static texture in the new order.
-    /// `set_response_constants` sets the colliders' and masses' uniforms on the response
-    /// program; `fields` are the colliders' textures under their sampler names.
+    /// `constants` are the run's uniforms (colliders, masses) the response passes read;
+    /// `fields` are the colliders' textures under their sampler names.
     pub fn run(
         &mut self,
         state: &mut PingPong,
         statics: &Framebuffer,
         dt: f32,
         fields: &[(&str, Sampled<'_>)],
-        set_response_constants: impl Fn(&Program),
+        constants: &UniformList,
     ) -> Result<()> {
         if self.neighbours.is_some() {
-            self.run_neighbours(state, statics, dt, fields, &set_response_constants)?;
+            self.run_neighbours(state, statics, dt, fields, constants)?;
             if !self.impulse_runs() {
                 return Ok(());
             }
         }
         if matches!(self.passes, Passes::Exact { .. }) {
-            return self.run_exact(state, statics, dt, fields, &set_response_constants);
+            return self.run_exact(state, statics, dt, fields, constants);
         }
         let count = self.width as usize * state.height() as usize;
         self.sort_first(state, statics)?;
-        self.exchange(&set_response_constants);
+        self.exchange(constants);
         self.detect_into(
             self.first.sorted.layout().texture(POSITION),
             &self.first.partner,
@@ -435,8 +434,6 @@ impl CollisionStage {
         let Passes::Uberflow { response: p, .. } = &self.passes else {
             unreachable!("the exact mode returned above");
         };
-        p.bind();
-        set_response_constants(p);
         let textures = self.response_textures(p, own, partner, fields);
         let uniforms = [
             ("u_width", Uniform::I32(self.width as i32)),
@@ -444,6 +441,7 @@ impl CollisionStage {
             ("u_restitution", Uniform::F32(self.config.restitution)),
             ("u_dt", Uniform::F32(dt)),
         ];
+        let uniforms = constants.for_draw(p, uniforms);
         self.pass.draw(p, &textures, &uniforms, state.back());
         state.swap();
         self.copy_statics(own, statics);

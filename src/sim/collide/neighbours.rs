@@ -20,7 +20,7 @@ use super::{texture, CollisionStage};
 use crate::error::{Error, Result};
 use crate::gl::source::add_runtime_source;
 use crate::gl::{
-    Context, Defines, Framebuffer, PingPong, Program, Sampled, TextureFormat, Uniform,
+    Context, Defines, Framebuffer, PingPong, Program, Sampled, TextureFormat, Uniform, UniformList,
     FULLSCREEN_VERTEX,
 };
 use crate::scene::{self, SceneFile, PAIR_SIGNATURE};
@@ -229,10 +229,10 @@ impl CollisionStage {
         statics: &Framebuffer,
         dt: f32,
         fields: &[(&str, Sampled<'_>)],
-        set_constants: &impl Fn(&Program),
+        constants: &UniformList,
     ) -> Result<()> {
         self.sort_first(state, statics)?;
-        self.exchange(set_constants);
+        self.exchange(constants);
         let Some(n) = &self.neighbours else {
             return Ok(());
         };
@@ -244,7 +244,6 @@ impl CollisionStage {
             ("u_static", g.sorted.layout().texture(STATIC).into()),
         ];
         let p = &n.sum;
-        set_constants(p);
         let mut uniforms = cells.uniforms();
         uniforms.push(("u_radius", Uniform::F32(self.config.radius)));
         if let Some(d) = n.dem {
@@ -259,12 +258,12 @@ impl CollisionStage {
         textures.extend(own.iter().copied());
         // A pair force may sample the fields (sim/fields.glsl), as a custom force may.
         textures.extend(fields.iter().filter(|(name, _)| p.declares(name)).copied());
+        let uniforms = constants.for_draw(p, uniforms);
         self.pass.draw(p, &textures, &uniforms, &n.force);
         let a = &n.apply;
-        set_constants(a);
         let mut textures: Vec<(&str, Sampled)> = own.to_vec();
         textures.push(("u_force", n.force.only_texture().into()));
-        let dt = [("u_dt", Uniform::F32(dt))];
+        let dt = constants.for_draw(a, [("u_dt", Uniform::F32(dt))]);
         self.pass.draw(a, &textures, &dt, state.back());
         state.swap();
         self.copy_statics(self.first.sorted.layout(), statics);

@@ -34,7 +34,7 @@ use glam::Vec3;
 use crate::error::{Error, Result};
 use crate::gl::{
     Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Texture, TextureDesc,
-    TextureFormat, Uniform, FULLSCREEN_VERTEX,
+    TextureFormat, Uniform, UniformList, FULLSCREEN_VERTEX,
 };
 use crate::scene::{self, SceneFile};
 use crate::sim::collide::cells::{search_defines, search_words, table_line, CellSearch};
@@ -292,14 +292,14 @@ impl Fluid {
     }
 
     /// One fluid step on the state after the integration pass: sort, gather, density, force
-    /// into `state.back()` (then swapped), statics copied in the new order. `set_constants` sets
-    /// the scene's colliders (the planes of the wall treatment) on a program.
+    /// into `state.back()` (then swapped), statics copied in the new order. `constants` are the
+    /// run's uniforms (the colliders: the planes of the wall treatment) its passes read.
     pub fn run(
         &mut self,
         state: &mut PingPong,
         statics: &Framebuffer,
         dt: f32,
-        set_constants: impl Fn(&Program),
+        constants: &UniformList,
     ) -> Result<()> {
         let count = self.width as usize * state.height() as usize;
         let front = state.front();
@@ -323,21 +323,15 @@ impl Fluid {
         )?;
         let l = self.grid.layout();
         let p = &self.density_pass;
-        set_constants(p);
-        let declared = |p: &Program, mut u: Vec<(&'static str, Uniform)>| {
-            u.retain(|(n, _)| p.declares(n));
-            u
-        };
-        let uniforms = declared(p, self.material());
+        let uniforms = constants.for_draw(p, self.material());
         let mut textures = self.search().textures(keys);
         textures.push(("u_position", l.texture(POSITION).into()));
         self.pass.draw(p, &textures, &uniforms, &self.density);
         self.tally.add_flags(self.density.only_texture(), 3, count);
         let p = &self.force_pass;
-        set_constants(p);
         let mut uniforms = self.material();
         uniforms.push(("u_dt", Uniform::F32(dt)));
-        let uniforms = declared(p, uniforms);
+        let uniforms = constants.for_draw(p, uniforms);
         let mut textures = self.search().textures(keys);
         textures.extend([
             ("u_position", l.texture(POSITION).into()),

@@ -114,7 +114,7 @@ impl ParticleSim {
                 count,
                 state: &state,
                 textures: &super::draw_textures(program, &[], &self.fields),
-                uniforms: &[],
+                uniforms: &self.uniforms(program, []),
             })
         };
         if let Some(p) = &self.emit_static {

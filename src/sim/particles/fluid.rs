@@ -8,7 +8,7 @@
 //! fluid's sorted layout and search (`glsl/collide/exchange.frag`, as the collision stage's
 //! exchange: src/sim/collide/carry.rs). Every exchange reads the values before any of them.
 
-use super::{set_constants_for, ParticleSim, State};
+use super::{ParticleSim, State};
 use crate::error::{Error, Result};
 use crate::gl::{Program, Sampled, Uniform};
 use crate::scene::SceneFile;
@@ -66,10 +66,7 @@ impl ParticleSim {
                 "[fluid] needs an explicit integrator".into(),
             ));
         };
-        let (params, fields) = (&self.params, &self.fields);
-        let (size, seed, types) = ([self.width, self.height], self.seed, self.features.types);
-        let set = |p: &Program| set_constants_for(p, params, fields, size, seed, types);
-        f.run(pp, &self.statics, params.time.dt, set)?;
+        f.run(pp, &self.statics, self.params.time.dt, &self.constants)?;
         self.carry_fluid_states()
     }
 
@@ -84,15 +81,15 @@ impl ParticleSim {
         }
         let samplers = user.samplers();
         let l = f.layout();
-        let (size, seed, types) = ([self.width, self.height], self.seed, self.features.types);
         for (i, p, radius) in &self.fluid_exchange {
-            set_constants_for(p, &self.params, &self.fields, size, seed, types);
-            let mut clock = f.search().uniforms();
-            clock.extend([
-                ("u_pair_radius", Uniform::F32(*radius)),
-                ("u_dt", Uniform::F32(self.params.time.dt)),
-                ("u_time", Uniform::F32(self.time as f32)),
-            ]);
+            let clock = self.constants.for_draw(
+                p,
+                f.search().uniforms().into_iter().chain([
+                    ("u_pair_radius", Uniform::F32(*radius)),
+                    ("u_dt", Uniform::F32(self.params.time.dt)),
+                    ("u_time", Uniform::F32(self.time as f32)),
+                ]),
+            );
             let mut textures: Vec<(&str, Sampled)> = f.search().textures(f.sorted_keys());
             textures.extend([
                 ("u_position", l.texture(POSITION).into()),

@@ -146,7 +146,7 @@ impl ParticleSim {
     pub(super) fn integrate_pass(&mut self) -> Result<()> {
         let rows = self.active_rows();
         let p = &self.integrate;
-        let (next, clock) = self.set_step_clock(p);
+        let (next, clock) = self.step_uniforms(p);
         let statics = ("u_static", self.statics.texture(STATIC).into());
         // Custom forces read the user states by name (user_state.rs).
         let user = self.user.as_ref().map(|u| u.samplers()).unwrap_or_default();
@@ -155,6 +155,7 @@ impl ParticleSim {
             State::Explicit(pp) if self.stateless.is_some() => {
                 if let Some(sl) = &self.stateless {
                     sl.draw(
+                        &self.constants,
                         &self.pass,
                         pp.back(),
                         self.statics.texture(STATIC),
@@ -231,6 +232,7 @@ impl ParticleSim {
         self.pass.draw_rows(p, t, clock, v, 0, rows);
         let mut q_clock = declared_clock(q, [("u_time", self.time as f32), ("u_time_next", next)]);
         q_clock.extend(self.step_arrays(q, self.time));
+        let q_clock = self.uniforms(q, q_clock);
         let own: Vec<_> = [
             ("u_position", pp.front().texture(POSITION).into()),
             ("u_velocity", pp.front().texture(VELOCITY).into()),
@@ -245,14 +247,13 @@ impl ParticleSim {
         self.pass.draw_rows(q, &t, &q_clock, x, 0, rows);
     }
 
-    /// Binds the integration program, sets on it the orbiting spheres where they are at the
-    /// step's end (and the animated emitters' values), and gives this step's clock as the
-    /// draw's uniforms: `u_time`, the next step's (time stamps' cycles and child trails end one
-    /// step's interval where the next begins, glsl/sim/integrate.frag) and the last step's
-    /// (Verlet's time stamps; -dt before the first step), each exactly, those `p` declares.
-    /// Returns the next step's time and the clock.
-    fn set_step_clock(&self, p: &Program) -> (f32, Vec<(&'static str, Uniform)>) {
-        p.bind();
+    /// The integration draw's uniforms: the run's constants, the orbiting spheres where they
+    /// are at the step's end (and the animated emitters' values), and this step's clock:
+    /// `u_time`, the next step's (time stamps' cycles and child trails end one step's interval
+    /// where the next begins, glsl/sim/integrate.frag) and the last step's (Verlet's time
+    /// stamps; -dt before the first step), each exactly, those `p` declares. Returns the next
+    /// step's time and the uniforms.
+    fn step_uniforms(&self, p: &Program) -> (f32, Vec<(&'static str, Uniform)>) {
         let dt = self.params.time.dt as f64;
         let next = ((self.step + 1) as f64 * dt) as f32;
         let prev = ((self.step as f64 - 1.0) * dt) as f32;
@@ -265,7 +266,7 @@ impl ParticleSim {
         ];
         let mut clock = declared_clock(p, clock);
         clock.extend(self.step_arrays(p, self.time));
-        (next, clock)
+        (next, self.uniforms(p, clock))
     }
 
     /// This step's arrays that `p` declares, as a draw's uniforms: the orbiting spheres where

@@ -33,14 +33,13 @@ use super::fields::{DistanceField, FlowField, HeightField};
 use crate::error::{Error, Result};
 use crate::gl::{
     Context, Defines, Framebuffer, FullscreenPass, PingPong, Program, Ring3, Sampled, Texture,
-    Texture3D, TextureDesc, TextureFormat, FULLSCREEN_VERTEX,
+    Texture3D, TextureDesc, TextureFormat, Uniform, UniformList, FULLSCREEN_VERTEX,
 };
 use crate::scene::{Integrator, SceneFile};
 use crate::sim::params::Params;
 pub use custom::check_custom_forces;
 pub use features::{Emission, Features};
 pub use stateless::ClosedForm;
-use uniforms::set_constants_for;
 pub use user_state::check_user_states;
 
 /// The state framebuffers: position and velocity ping-pong for the explicit integrators, a ring
@@ -124,6 +123,9 @@ pub struct ParticleSim {
     state_names: Vec<String>,
     pass: FullscreenPass,
     fields: Fields,
+    /// The run's constant uniforms (emitters, masses, forces, colliders), given with every
+    /// draw of a simulation program: built once from the parameter blocks.
+    constants: UniformList,
     allocator: Option<Allocator>,
     owed: Vec<f64>,
     emitted: u64,
@@ -179,6 +181,8 @@ impl ParticleSim {
         let params = Params::of(scene);
         let (integrate, integrate_position) =
             setup::integrate_programs(ctx, scene, &features, &defines)?;
+        let types = features.types;
+        let constants = uniforms::constants(&params, &fields, [width, height], seed, types);
         let mut sim = ParticleSim {
             integrate,
             integrate_position,
@@ -227,6 +231,7 @@ impl ParticleSim {
             state,
             statics,
             fields,
+            constants,
             seed,
             step: 0,
             time: 0.0,
@@ -235,16 +240,14 @@ impl ParticleSim {
         Ok(sim)
     }
 
-    /// Uniforms that do not change during a run: emitters, masses, forces, colliders, samplers.
-    fn set_constants(&self, p: &Program) {
-        set_constants_for(
-            p,
-            &self.params,
-            &self.fields,
-            [self.width, self.height],
-            self.seed,
-            self.features.types,
-        );
+    /// The uniforms of a draw of `p`: the run's constants and this draw's `more`, those `p`
+    /// declares.
+    fn uniforms(
+        &self,
+        p: &Program,
+        more: impl IntoIterator<Item = (&'static str, Uniform)>,
+    ) -> Vec<(&'static str, Uniform)> {
+        self.constants.for_draw(p, more)
     }
 
     /// Draws the initial state with `sim/init.frag` (one pass per target) and restarts the clock.
@@ -253,31 +256,32 @@ impl ParticleSim {
         let program = |out: &str, d: &mut Defines| -> Result<Program> {
             let mut d = d.clone();
             d.push((out.to_owned(), "1".to_owned()));
-            let p = Program::new(&self.ctx, FULLSCREEN_VERTEX, "sim/init.frag", &d)?;
-            self.set_constants(&p);
-            Ok(p)
+            Program::new(&self.ctx, FULLSCREEN_VERTEX, "sim/init.frag", &d)
         };
         let state = program("OUT_STATE", &mut defines)?;
         let statics = program("OUT_STATIC", &mut defines)?;
         let t = draw_textures(&statics, &[], &self.fields);
-        self.pass.draw(&statics, &t, &[], &self.statics);
+        self.pass
+            .draw(&statics, &t, &self.uniforms(&statics, []), &self.statics);
         let t = draw_textures(&state, &[], &self.fields);
+        let u = self.uniforms(&state, []);
         match &self.state {
             State::Explicit(pp) => {
                 // Both sides, so rows a live-row restricted pass never touches are dead too.
-                self.pass.draw(&state, &t, &[], pp.front());
-                self.pass.draw(&state, &t, &[], pp.back());
+                self.pass.draw(&state, &t, &u, pp.front());
+                self.pass.draw(&state, &t, &u, pp.back());
                 if let Some(sl) = &self.stateless {
-                    self.pass.draw(&state, &t, &[], &sl.start);
+                    self.pass.draw(&state, &t, &u, &sl.start);
                 }
             }
             State::Verlet(ring) => {
                 let previous = program("OUT_PREVIOUS", &mut defines)?;
                 let tp = draw_textures(&previous, &[], &self.fields);
                 let [p, c, n] = ring.roles();
-                self.pass.draw(&previous, &tp, &[], p);
-                self.pass.draw(&state, &t, &[], c);
-                self.pass.draw(&state, &t, &[], n);
+                self.pass
+                    .draw(&previous, &tp, &self.uniforms(&previous, []), p);
+                self.pass.draw(&state, &t, &u, c);
+                self.pass.draw(&state, &t, &u, n);
             }
         }
         self.step = 0;
@@ -355,7 +359,14 @@ impl ParticleSim {
     /// The constraint relaxation passes after the Verlet step (scenes with `[constraints]`).
     fn relax(&mut self) {
         if let (Some(r), State::Verlet(ring)) = (&self.relax, &mut self.state) {
-            r.run(&self.params, ring, &self.pass, &self.fields, self.time);
+            r.run(
+                &self.params,
+                &self.constants,
+                ring,
+                &self.pass,
+                &self.fields,
+                self.time,
+            );
         }
     }
 
@@ -393,17 +404,21 @@ impl ParticleSim {
                 "collisions need the explicit integrators".into(),
             ));
         };
-        let fields = &self.fields;
-        let params = &self.params;
-        let (size, seed, types) = ([self.width, self.height], self.seed, self.features.types);
+        let (fields, params) = (&self.fields, &self.params);
         // The masses come with the scene's constants (glsl/common/mass.glsl): the response
         // weighs each particle by its own mass, as integration does.
-        let set = |p: &Program| set_constants_for(p, params, fields, size, seed, types);
+        let constants = &self.constants;
         // The stage carries the user states along its sorts (collide/carry.rs).
         let mut none = Vec::new();
         let users = self.user.as_mut().map_or(&mut none, |u| u.states_mut());
         c.hold_states(users, self.time as f32);
-        let ran = c.run(pp, &self.statics, params.time.dt, &fields.textures(), set);
+        let ran = c.run(
+            pp,
+            &self.statics,
+            params.time.dt,
+            &fields.textures(),
+            constants,
+        );
         c.release_states(users);
         ran
     }

@@ -12,7 +12,7 @@ use super::{draw_textures, Fields};
 use crate::error::Result;
 use crate::gl::{
     Context, Defines, FullscreenPass, Program, Ring3, Texture, TextureDesc, TextureFormat, Uniform,
-    FULLSCREEN_VERTEX,
+    UniformList, FULLSCREEN_VERTEX,
 };
 use crate::scene::{ConstraintKind, RelaxScheme, SceneFile};
 use crate::sim::constraints::{set_count, Layout};
@@ -31,6 +31,8 @@ pub(super) struct Relaxation {
     layout: Layout,
     iterations: u32,
     scheme: RelaxScheme,
+    /// The relaxation's own constants: stiffness, pin count.
+    own: UniformList,
 }
 
 /// An RGBA32F texture of `w`×`h` holding `data`.
@@ -89,11 +91,9 @@ impl Relaxation {
             data[4 * i..4 * i + 4].copy_from_slice(&layout.rest[k]);
         }
         let pin_texture = texture(ctx, "pins", [w, rows], &data)?;
-        for p in std::iter::once(&edges).chain(&attach) {
-            p.bind();
-            p.set_f32("u_stiffness", c.stiffness);
-            p.optional(|| p.set_i32("u_pin_count", pins.len() as i32));
-        }
+        let mut own = UniformList::new();
+        own.f32("u_stiffness", c.stiffness);
+        own.i32("u_pin_count", pins.len() as i32);
         Ok(Some(Relaxation {
             edges,
             attach,
@@ -102,12 +102,8 @@ impl Relaxation {
             iterations: c.iterations,
             scheme: c.scheme,
             layout,
+            own,
         }))
-    }
-
-    /// The programs, for the scene's constant uniforms.
-    pub(super) fn programs(&self) -> impl Iterator<Item = &Program> {
-        std::iter::once(&self.edges).chain(&self.attach)
     }
 
     /// The draws of one step, for the pass list's lines (`features/names.rs`).
@@ -139,18 +135,23 @@ impl Relaxation {
         Ok(())
     }
 
-    /// `iterations` iterations at simulation time `t` (the end of the step just taken).
+    /// `iterations` iterations at simulation time `t` (the end of the step just taken), every
+    /// draw with the run's `constants`.
     pub(super) fn run(
         &self,
         params: &Params,
+        constants: &UniformList,
         ring: &mut Ring3,
         pass: &FullscreenPass,
         fields: &Fields,
         t: f64,
     ) {
         let offset = (params.constraints.as_ref()).map_or(Vec3::ZERO, |c| c.pin_offset(t));
-        // This step's pins and spheres travel in every draw, as data (each program reads some).
-        let mut step = vec![("u_pin_offset", Uniform::Vec3(offset))];
+        // The run's constants, the relaxation's, then this step's pins and spheres (after the
+        // constants' spheres, which they override): every draw takes those its program reads.
+        let mut step: Vec<_> = constants.values().to_vec();
+        step.extend(self.own.values().iter().cloned());
+        step.push(("u_pin_offset", Uniform::Vec3(offset)));
         step.extend(moved_spheres(&params.colliders, t));
         let sets = match self.scheme {
             RelaxScheme::Jacobi => None,

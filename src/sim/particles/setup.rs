@@ -180,30 +180,14 @@ pub(super) fn emit_programs(
 }
 
 impl ParticleSim {
-    /// Sets every program's constant uniforms, writes the first state and places the
-    /// constraint layout and the fluid's lattice of `scene`.
+    /// Writes the first state and places the constraint layout and the fluid's lattice of
+    /// `scene`.
     pub(super) fn start_up(&mut self, scene: &SceneFile) -> Result<()> {
-        for p in [
-            Some(&self.integrate),
-            self.integrate_position.as_ref(),
-            self.stateless.as_ref().map(|s| &s.program),
-            self.emit_state.as_ref(),
-            self.emit_previous.as_ref(),
-            self.emit_static.as_ref(),
-            self.start.as_ref(),
-        ]
-        .into_iter()
-        .flatten()
-        .chain(self.relax.iter().flat_map(|r| r.programs()))
-        {
-            self.set_constants(p);
-        }
         self.initialise()?;
         self.place_fluid(scene);
         if let (Some(r), State::Verlet(ring)) = (&self.relax, &self.state) {
             r.place(ring)?;
         }
-        self.user_state_constants();
         self.user_state_passes(true);
         self.ctx.check_error("initialising the particle state")?;
         Ok(())

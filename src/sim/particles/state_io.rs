@@ -155,14 +155,14 @@ impl ParticleSim {
                 )?;
                 v.upload_f32(velocities)?;
                 let p = self.start.as_ref().expect("Verlet has a start program");
-                p.bind();
                 let own = [
                     ("u_position", ring.current().texture(POSITION).into()),
                     ("u_velocity", (&v).into()),
                     ("u_static", self.statics.texture(STATIC).into()),
                 ];
                 let t = draw_textures(p, &own, &self.fields);
-                self.pass.draw(p, &t, &[], ring.previous());
+                self.pass
+                    .draw(p, &t, &self.uniforms(p, []), ring.previous());
             }
         }
         self.ctx.check_error("setting the particle state")

@@ -8,7 +8,7 @@ use glam::{DVec3, Vec3};
 
 use crate::error::Result;
 use crate::gl::{Context, Defines, Framebuffer, Program, Texture, TextureDesc, TextureFormat};
-use crate::gl::{FullscreenPass, FULLSCREEN_VERTEX};
+use crate::gl::{FullscreenPass, UniformList, FULLSCREEN_VERTEX};
 use crate::scene::{SceneFile, WindForm};
 use crate::sim::state::{POSITION, VELOCITY};
 
@@ -69,6 +69,8 @@ impl ClosedForm {
 pub(super) struct Stateless {
     pub(super) program: Program,
     pub(super) start: Framebuffer,
+    /// The closed form's constants: summed acceleration, wind, drag rates.
+    own: UniformList,
 }
 
 impl Stateless {
@@ -93,10 +95,10 @@ impl Stateless {
     ) -> Result<Self> {
         let program = Program::new(ctx, FULLSCREEN_VERTEX, "sim/stateless.frag", defines)?;
         let c = ClosedForm::of(scene);
-        program.bind();
-        program.set_vec3("u_closed_accel", c.accel.as_vec3());
-        program.set_vec3("u_closed_wind", c.wind.as_vec3());
-        program.set_vec2(
+        let mut own = UniformList::new();
+        own.vec3("u_closed_accel", c.accel.as_vec3());
+        own.vec3("u_closed_wind", c.wind.as_vec3());
+        own.vec2(
             "u_closed_rate",
             glam::Vec2::new(c.rate[0] as f32, c.rate[1] as f32),
         );
@@ -119,14 +121,19 @@ impl Stateless {
                 (VELOCITY, texture("start velocity")?),
             ],
         )?;
-        Ok(Stateless { program, start })
+        Ok(Stateless {
+            program,
+            start,
+            own,
+        })
     }
 
     /// One step: the state at the end of the step from `time` to `time_next` (the next step's
     /// `time`, bit for bit: time stamps take their age from it, as the stateful pass does),
-    /// into `target`.
+    /// into `target`, with the run's `constants`.
     pub(super) fn draw(
         &self,
+        constants: &UniformList,
         pass: &FullscreenPass,
         target: &Framebuffer,
         statics: &Texture,
@@ -136,6 +143,7 @@ impl Stateless {
         let p = &self.program;
         let clock =
             super::integrate::declared_clock(p, [("u_time", time), ("u_time_next", time_next)]);
+        let clock = constants.for_draw(p, self.own.values().iter().cloned().chain(clock));
         let own = [
             ("u_position", self.start.texture(POSITION).into()),
             ("u_velocity", self.start.texture(VELOCITY).into()),

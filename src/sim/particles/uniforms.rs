@@ -1,67 +1,56 @@
-//! The uniforms of the simulation programs that do not change during a run. Textures are not
-//! among them: every draw names its own (`gl::Program::textures`).
+//! The uniforms of the simulation programs that do not change during a run, as one list that
+//! every draw of those programs carries (each takes the names its program declares). Textures
+//! are not among them: every draw names its own.
 
 use glam::{Vec3, Vec4};
 
 use super::super::emit::EmitterUniforms;
 use super::Fields;
-use crate::gl::{Program, Uniform};
+use crate::gl::{Uniform, UniformList};
 use crate::sim::params::{self, Integration, Params, Shape};
 
-/// Sets the uniforms that do not change during a run (emitters, masses, forces, colliders) on
-/// `p`, the masses, forces and colliders from the scene's parameter blocks `params`; uniforms
-/// the program lacks are skipped (the same set serves every simulation program).
-pub(super) fn set_constants_for(
-    p: &Program,
+/// The uniforms that do not change during a run (emitters, masses, forces, colliders), the
+/// masses, forces and colliders from the scene's parameter blocks `params`: one list for every
+/// simulation program, each draw giving the names its program declares.
+pub(super) fn constants(
     params: &Params,
     fields: &Fields,
     size: [u32; 2],
     seed: u32,
     types: usize,
-) {
-    p.bind();
-    p.optional(|| set_constants(p, params, fields, size, seed, types));
-}
-
-fn set_constants(
-    p: &Program,
-    params: &Params,
-    fields: &Fields,
-    size: [u32; 2],
-    seed: u32,
-    types: usize,
-) {
-    p.set_i32("u_width", size[0] as i32);
-    p.set_ivec2("u_size", size[0] as i32, size[1] as i32);
-    p.set_u32("u_seed", seed);
-    p.set_f32("u_dt", params.integration.dt);
+) -> UniformList {
+    let mut p = UniformList::new();
+    let p = &mut p;
+    p.i32("u_width", size[0] as i32);
+    p.ivec2("u_size", size[0] as i32, size[1] as i32);
+    p.u32("u_seed", seed);
+    p.f32("u_dt", params.integration.dt);
     // Texel k of the other emitters is of type k mod their count; child emitters' types follow.
     let e = &params.emitters;
-    p.set_i32("u_emitters", (types - e.children).max(1) as i32);
+    p.i32("u_emitters", (types - e.children).max(1) as i32);
     set_children(p, e);
     set_masses(p, &params.integration);
     set_emitters(p, e);
     set_forces(p, &params.integration, fields);
     set_colliders(p, &params.colliders, fields);
+    std::mem::take(p)
 }
 
 /// The masses of glsl/common/mass.glsl, which integration and collisions share.
-fn set_masses(p: &Program, m: &Integration) {
-    p.set_vec4("u_inv_mass", Vec4::from(m.inv_mass));
-    p.set_vec4("u_mass_lo", Vec4::from(m.mass_lo));
-    p.set_vec4("u_mass_hi", Vec4::from(m.mass_hi));
-    p.set_vec4("u_cycle", Vec4::from(m.cycle));
+fn set_masses(p: &mut UniformList, m: &Integration) {
+    p.vec4("u_inv_mass", Vec4::from(m.inv_mass));
+    p.vec4("u_mass_lo", Vec4::from(m.mass_lo));
+    p.vec4("u_mass_hi", Vec4::from(m.mass_hi));
+    p.vec4("u_cycle", Vec4::from(m.cycle));
 }
 
 /// The emitters' bursts, shapes and release clouds.
-fn set_emitters(p: &Program, e: &params::Emitters) {
-    p.set_vec4_array("u_burst_time", &e.burst_time);
-    p.set_vec4_array("u_burst_end", &e.burst_end);
-    for (name, value) in spawn_uniforms(&e.spawn) {
-        p.set(name, value);
-    }
-    p.set_vec4_array("u_release_spread", &e.release_spread);
-    p.set_vec4("u_release_cloud", Vec4::from(e.release_cloud));
+fn set_emitters(p: &mut UniformList, e: &params::Emitters) {
+    p.vec4s("u_burst_time", &e.burst_time);
+    p.vec4s("u_burst_end", &e.burst_end);
+    p.extend(spawn_uniforms(&e.spawn));
+    p.vec4s("u_release_spread", &e.release_spread);
+    p.vec4("u_release_cloud", Vec4::from(e.release_cloud));
 }
 
 /// The emitters' spawn uniforms (glsl/sim/spawn.glsl): set once as constants, and for
@@ -79,48 +68,48 @@ pub(super) fn spawn_uniforms(em: &[EmitterUniforms]) -> [(&'static str, Uniform)
 
 /// The forces: summed gravity and damping, attractors, springs and vortices with their owners,
 /// each type's own gravity and damping, the wind field and the spin's constants.
-fn set_forces(p: &Program, m: &Integration, fields: &Fields) {
-    p.set_vec3("u_gravity", m.gravity.unwrap_or(Vec3::ZERO));
-    p.set_f32("u_damping", m.damping.unwrap_or(0.0));
+fn set_forces(p: &mut UniformList, m: &Integration, fields: &Fields) {
+    p.vec3("u_gravity", m.gravity.unwrap_or(Vec3::ZERO));
+    p.f32("u_damping", m.damping.unwrap_or(0.0));
     let attractor: Vec<Vec4> = m.attractors.iter().map(|a| a.at).collect();
-    p.set_vec4_array("u_attractor", &attractor);
+    p.vec4s("u_attractor", &attractor);
     let attractor_shape: Vec<Vec4> = m.attractors.iter().map(|a| a.shape).collect();
-    p.set_vec4_array("u_attractor_shape", &attractor_shape);
+    p.vec4s("u_attractor_shape", &attractor_shape);
     let attractor_owner: Vec<i32> = m.attractors.iter().map(|a| a.owner).collect();
-    p.set_i32_array("u_attractor_owner", &attractor_owner);
+    p.i32s("u_attractor_owner", &attractor_owner);
     let spring: Vec<Vec4> = m.springs.iter().map(|sp| sp.at).collect();
-    p.set_vec4_array("u_spring", &spring);
+    p.vec4s("u_spring", &spring);
     let spring_owner: Vec<i32> = m.springs.iter().map(|sp| sp.owner).collect();
-    p.set_i32_array("u_spring_owner", &spring_owner);
+    p.i32s("u_spring_owner", &spring_owner);
     let vortex: Vec<Vec4> = m.vortices.iter().map(|v| v.at).collect();
-    p.set_vec4_array("u_vortex", &vortex);
+    p.vec4s("u_vortex", &vortex);
     let axis: Vec<Vec3> = m.vortices.iter().map(|v| v.axis).collect();
-    p.set_vec3_array("u_vortex_axis", &axis);
+    p.vec3s("u_vortex_axis", &axis);
     let shape: Vec<Vec4> = m.vortices.iter().map(|v| v.shape).collect();
-    p.set_vec4_array("u_vortex_shape", &shape);
+    p.vec4s("u_vortex_shape", &shape);
     let owner: Vec<i32> = m.vortices.iter().map(|v| v.owner).collect();
-    p.set_i32_array("u_vortex_owner", &owner);
-    p.set_vec3_array("u_type_gravity", &m.type_gravity);
-    p.set_vec4("u_type_damping", Vec4::from(m.type_damping));
+    p.i32s("u_vortex_owner", &owner);
+    p.vec3s("u_type_gravity", &m.type_gravity);
+    p.vec4("u_type_damping", Vec4::from(m.type_damping));
     if let (Some(w), Some((_, field))) = (&m.wind, &fields.flow) {
-        p.set_vec3("u_flow_min", w.bounds[0]);
-        p.set_vec3("u_flow_max", w.bounds[1]);
+        p.vec3("u_flow_min", w.bounds[0]);
+        p.vec3("u_flow_max", w.bounds[1]);
         let [rx, ry, rz] = field.resolution().map(|r| r as i32);
-        p.set_ivec3("u_flow_res", rx, ry, rz);
-        p.set_f32("u_drag", w.drag);
+        p.ivec3("u_flow_res", rx, ry, rz);
+        p.f32("u_drag", w.drag);
     }
     if let Some(k) = m.spin {
         // Spinning spheres (glsl/collide/spin.glsl): their radius and the pairs' friction.
-        p.set_f32("u_spin_radius", k.x);
-        p.set_f32("u_friction", k.y);
+        p.f32("u_spin_radius", k.x);
+        p.f32("u_friction", k.y);
     }
 }
 
 /// The colliders: planes, spheres, boxes, height and distance fields with their responses, the
 /// `i`th of its kind in `u_KIND[i]`. The fields' textures give their sizes (and the distance
 /// field's bounds: a field from a file takes its shape from the file, `resolution` 0 there).
-fn set_colliders(p: &Program, c: &params::Colliders, fields: &Fields) {
-    p.set_f32("u_slow_speed", c.slow_speed);
+fn set_colliders(p: &mut UniformList, c: &params::Colliders, fields: &Fields) {
+    p.f32("u_slow_speed", c.slow_speed);
     // Each kind's colliders in `u_KIND[i]`, in the order of the block.
     let (mut plane, mut plane_resp) = (Vec::new(), Vec::new());
     let (mut sphere, mut sphere_resp) = (Vec::new(), Vec::new());
@@ -144,39 +133,39 @@ fn set_colliders(p: &Program, c: &params::Colliders, fields: &Fields) {
             }
             Shape::HeightField(extent) => {
                 if let (0, Some((_, field))) = (heights, &fields.height) {
-                    p.set_vec4("u_height_extent", *extent);
+                    p.vec4("u_height_extent", *extent);
                     let [nx, nz] = field.resolution();
-                    p.set_ivec2("u_height_res", nx as i32, nz as i32);
-                    p.set_vec2("u_height_resp", resp);
+                    p.ivec2("u_height_res", nx as i32, nz as i32);
+                    p.vec2("u_height_resp", resp);
                 }
                 heights += 1;
             }
             Shape::Sdf(..) => {
                 if let (0, Some((_, field))) = (sdfs, &fields.sdf) {
                     let [lo, hi] = field.bounds();
-                    p.set_vec3("u_sdf_min", lo);
-                    p.set_vec3("u_sdf_max", hi);
+                    p.vec3("u_sdf_min", lo);
+                    p.vec3("u_sdf_max", hi);
                     let [rx, ry, rz] = field.resolution().map(|r| r as i32);
-                    p.set_ivec3("u_sdf_res", rx, ry, rz);
-                    p.set_vec2("u_sdf_resp", resp);
+                    p.ivec3("u_sdf_res", rx, ry, rz);
+                    p.vec2("u_sdf_resp", resp);
                 }
                 sdfs += 1;
             }
         }
     }
-    p.set_vec4_array("u_plane", &plane);
-    p.set_vec2_array("u_plane_resp", &plane_resp);
-    p.set_vec4_array("u_sphere", &sphere);
-    p.set_vec2_array("u_sphere_resp", &sphere_resp);
-    p.set_vec3_array("u_box_min", &box_min);
-    p.set_vec3_array("u_box_max", &box_max);
-    p.set_vec2_array("u_box_resp", &box_resp);
+    p.vec4s("u_plane", &plane);
+    p.vec2s("u_plane_resp", &plane_resp);
+    p.vec4s("u_sphere", &sphere);
+    p.vec2s("u_sphere_resp", &sphere_resp);
+    p.vec3s("u_box_min", &box_min);
+    p.vec3s("u_box_max", &box_max);
+    p.vec2s("u_box_resp", &box_resp);
 }
 
 /// The child emitters' layout (glsl/sim/children.glsl).
-fn set_children(p: &Program, e: &params::Emitters) {
-    p.set_i32("u_child_start", e.layout.parent_slots as i32);
-    p.set_i32("u_children", e.layout.ranges.len() as i32);
-    p.set_ivec4_array("u_child", &e.child);
-    p.set_vec4_array("u_child_more", &e.child_more);
+fn set_children(p: &mut UniformList, e: &params::Emitters) {
+    p.i32("u_child_start", e.layout.parent_slots as i32);
+    p.i32("u_children", e.layout.ranges.len() as i32);
+    p.ivec4s("u_child", &e.child);
+    p.vec4s("u_child_more", &e.child_more);
 }

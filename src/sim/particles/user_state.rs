@@ -17,7 +17,7 @@
 #[path = "user_state_mrt.rs"]
 mod mrt;
 
-use super::{draw_textures, set_constants_for, ParticleSim, State};
+use super::{draw_textures, ParticleSim, State};
 use crate::error::{Error, Result};
 use crate::gl::source::{add_runtime_source, is_runtime_source};
 use crate::gl::{
@@ -463,31 +463,13 @@ impl ParticleSim {
                 ("u_time", Uniform::F32(self.time as f32)),
                 ("u_start", Uniform::I32(start as i32)),
             ];
-            let now: Vec<_> = now.into_iter().filter(|(n, _)| p.declares(n)).collect();
+            let now = self.constants.for_draw(p, now);
             let list: Vec<_> = own.iter().copied().filter(|(n, _)| p.declares(n)).collect();
             let t = draw_textures(p, &list, &self.fields);
             self.pass.draw_rows(p, &t, &now, pp.back(), 0, rows);
         }
         for pp in &mut user.states {
             pp.swap();
-        }
-    }
-
-    /// Sets the constant uniforms of the user states' passes.
-    pub(super) fn user_state_constants(&self) {
-        let Some(user) = &self.user else {
-            return;
-        };
-        for p in &user.programs {
-            let size = [self.width, self.height];
-            set_constants_for(
-                p,
-                &self.params,
-                &self.fields,
-                size,
-                self.seed,
-                self.features.types,
-            );
         }
     }
 

@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use crate::error::{Error, Result};
 use crate::gl::{
     Context, Defines, Framebuffer, FullscreenPass, Program, Sampled, Texture, Texture3D,
-    TextureFormat, FULLSCREEN_VERTEX,
+    TextureFormat, UniformList, FULLSCREEN_VERTEX,
 };
 use crate::sort::blocked::BlockPass;
 
@@ -333,31 +333,31 @@ impl Blocked {
         let pass = &self.passes[i];
         let prev = self.input_layout(i);
         let p = &self.programs[&self.program_key(i)];
-        p.bind();
+        let mut u = UniformList::new();
         let input: (&str, Sampled) = if i == 0 {
-            p.set_i32("u_in_log_w", self.natural_log_w as i32);
+            u.i32("u_in_log_w", self.natural_log_w as i32);
             ("u_natural", natural.into())
         } else {
-            p.set_i32("u_in_log_w", self.log_w as i32);
+            u.i32("u_in_log_w", self.log_w as i32);
             ("u_blocks", (&self.tex[self.front]).into())
         };
-        p.set_i32("u_log_w", self.log_w as i32);
+        u.i32("u_log_w", self.log_w as i32);
         if let (true, Some(q)) = (i == 0, self.quantiser) {
-            set_quantiser(p, &q);
+            set_quantiser(&mut u, &q);
         }
         if let (true, Some(b)) = (i == 0, self.row_cells) {
-            p.set_i32("u_block_bits", b as i32);
+            u.i32("u_block_bits", b as i32);
         }
         let pixel_bits = pass.pixel_bits(self.n);
-        p.set_i32("u_pixel_bits", pixel_bits.len() as i32);
+        u.i32("u_pixel_bits", pixel_bits.len() as i32);
         let pix_prev: Vec<i32> = pixel_bits
             .iter()
             .map(|&l| prev[l as usize] as i32)
             .collect();
         let pix_logical: Vec<i32> = pixel_bits.iter().map(|&l| l as i32).collect();
         if !pixel_bits.is_empty() {
-            p.set_i32_array("u_pix_prev", &pix_prev);
-            p.set_i32_array("u_pix_logical", &pix_logical);
+            u.i32s("u_pix_prev", &pix_prev);
+            u.i32s("u_pix_logical", &pix_logical);
         }
         let size = 1usize << self.bits;
         let mut prev_slot = vec![0i32; size];
@@ -370,30 +370,30 @@ impl Blocked {
                 }
             }
         }
-        p.set_i32_array("u_prev_slot", &prev_slot);
-        p.set_i32_array("u_slot_logical", &slot_logical);
+        u.i32s("u_prev_slot", &prev_slot);
+        u.i32s("u_slot_logical", &slot_logical);
         let dir: Vec<i32> = pass
             .steps
             .iter()
             .map(|s| s.dir.map_or(-1, |d| d as i32))
             .collect();
-        p.set_i32_array("u_dir", &dir);
-        fullscreen.draw(p, &[input], &[], &self.fbs[1 - self.front]);
+        u.i32s("u_dir", &dir);
+        fullscreen.draw(p, &[input], u.values(), &self.fbs[1 - self.front]);
         self.front = 1 - self.front;
     }
 
     /// The last pass: the sorted entries, row-major, into `target` (the sorter's texture).
     pub(super) fn unpack(&self, target: &Framebuffer, fullscreen: &FullscreenPass) {
         let p = &self.unpack;
-        p.bind();
-        p.set_i32("u_in_log_w", self.log_w as i32);
-        p.set_i32("u_width_log", self.natural_log_w as i32);
-        p.set_i32("u_bits", self.n as i32);
+        let mut u = UniformList::new();
+        u.i32("u_in_log_w", self.log_w as i32);
+        u.i32("u_width_log", self.natural_log_w as i32);
+        u.i32("u_bits", self.n as i32);
         if let Some(q) = self.quantiser {
-            set_quantiser(p, &q);
+            set_quantiser(&mut u, &q);
         }
         if let Some(b) = self.row_cells {
-            p.set_i32("u_block_bits", b as i32);
+            u.i32("u_block_bits", b as i32);
         }
         let perm: Vec<i32> = self
             .passes
@@ -403,9 +403,9 @@ impl Blocked {
             .iter()
             .map(|&b| b as i32)
             .collect();
-        p.set_i32_array("u_perm", &perm);
+        u.i32s("u_perm", &perm);
         let blocks = [("u_blocks", Sampled::from(&self.tex[self.front]))];
-        fullscreen.draw(p, &blocks, &[], target);
+        fullscreen.draw(p, &blocks, u.values(), target);
     }
 }
 
@@ -430,10 +430,10 @@ fn check_entries(shape: BlockedShape, n: u32, row_cells: Option<u32>) -> Result<
     })
 }
 
-fn set_quantiser(p: &Program, q: &Quantiser) {
-    p.set_i32("u_id_bits", q.id_bits as i32);
-    p.set_f32("u_key_lo", q.lo);
-    p.set_f32("u_key_scale", q.scale);
+fn set_quantiser(u: &mut UniformList, q: &Quantiser) {
+    u.i32("u_id_bits", q.id_bits as i32);
+    u.f32("u_key_lo", q.lo);
+    u.f32("u_key_scale", q.scale);
 }
 
 /// Compact entries: 2 to 5 bits a pass, no pinned lane, and at least 8 key bits beside the

@@ -134,6 +134,16 @@ impl RenderParams {
         ]
     }
 
+    /// Everything the particle renderer's draw reads of the look: sizes, the fire's cycle
+    /// (`u_max_age`, when the ramp is the fire's), the types' sprites and the keyframes.
+    pub fn sprite_uniforms(&self) -> Vec<(&'static str, Uniform)> {
+        let mut out: Vec<_> = self.size_uniforms().into();
+        out.extend(self.max_age.map(|a| ("u_max_age", Uniform::F32(a))));
+        out.extend(self.type_uniforms());
+        out.extend(self.keyframe_uniforms());
+        out
+    }
+
     /// The per-type sprite uniforms of `glsl/render/sprite.glsl`, for a draw's uniforms: tile,
     /// rotation speed range, size over life, and the scale and tint curves.
     pub fn type_uniforms(&self) -> Vec<(&'static str, Uniform)> {

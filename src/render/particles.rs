@@ -36,6 +36,7 @@ type Inputs<'a> = (
     Vec<(&'a str, Sampled<'a>)>,
     Vec<(&'static str, Uniform)>,
 );
+
 /// Vertices per particle of quads and stretched quads: two triangles.
 pub const QUAD_VERTICES: usize = 6;
 
@@ -399,13 +400,7 @@ impl ParticleRenderer {
             ("u_time", Uniform::F32(state.time)),
         ];
         per_frame.extend(inputs);
-        let b = &self.params;
-        per_frame.extend(b.size_uniforms());
-        if let Some(max_age) = b.max_age {
-            per_frame.push(("u_max_age", Uniform::F32(max_age)));
-        }
-        per_frame.extend(b.type_uniforms());
-        per_frame.extend(b.keyframe_uniforms());
+        per_frame.extend(self.params.sprite_uniforms());
         let (primitive, per_particle) = match s.primitive {
             DrawPrimitive::Points => (Primitive::Points, 1),
             DrawPrimitive::Triangles => (Primitive::Triangles, 3),

@@ -237,9 +237,19 @@ fn check_convergence_and_summary(out_dir: &Path) {
         "## Stability on stiff and extreme cases",
         "## Stateless against stateful",
         "## Distance constraints",
+        "## Run time",
         "## Files",
     ] {
         assert!(summary.contains(heading), "{heading} missing:\n{summary}");
+    }
+    // Every section's wall time, in the report's order.
+    let times = summary.split("## Run time").nth(1).unwrap();
+    for s in texflow::report::sections() {
+        assert!(
+            times.contains(&format!("| {} | ", s.name)),
+            "{} has no time",
+            s.name
+        );
     }
 }
 

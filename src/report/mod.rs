@@ -232,14 +232,22 @@ pub fn run_sections(
             String::new()
         }
     );
+    // Each section's wall time, so that a slow report says where its time went.
+    let mut took = Vec::new();
     for s in sections {
         progress(s.name);
+        let start = std::time::Instant::now();
         let o = (s.run)(ctx, opts, out, progress)?;
+        took.push((s.name, start.elapsed().as_secs_f64()));
         check_files(s.name, &o.files)?;
         md.push('\n');
         md.push_str(&o.markdown);
         files.extend(o.files);
         warnings.extend(o.warnings);
+    }
+    md.push_str("\n## Run time\n\n| section | wall time, s |\n|---|---:|\n");
+    for (name, secs) in &took {
+        md.push_str(&format!("| {name} | {secs:.1} |\n"));
     }
     md.push_str("\n## Files\n\n");
     for f in &files {

@@ -68,7 +68,7 @@ impl FullscreenPass {
     }
 }
 
-/// A uniform value: of a [`Draw`]'s uniforms, of [`StatePass::run`], of a [`UniformList`].
+/// A uniform value: of a [`Draw`]'s uniforms, of [`StatePass::run`], of a [`UniformList`](super::UniformList).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Uniform {
     /// `float`.

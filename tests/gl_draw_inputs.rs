@@ -115,7 +115,7 @@ fn uniform_arrays_travel_in_the_draw() {
     let v = |a: f32, b: f32| {
         [(
             "u_v",
-            Uniform::Vec4s(vec![glam::Vec4::splat(a), glam::Vec4::splat(b)]),
+            Uniform::Vec4s(vec![glam::Vec4::splat(a), glam::Vec4::splat(b)].into()),
         )]
     };
     pass.draw(&p, &[], &v(1.0, 2.0), &fa);

@@ -129,7 +129,7 @@ impl Program {
                     self.name()
                 );
             }
-            self.set_i32(name, k as i32);
+            self.set(name, &super::Uniform::I32(k as i32));
         }
     }
 }

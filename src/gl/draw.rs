@@ -226,7 +226,7 @@ impl Context {
         d.program.bind();
         d.program.bind_textures(d.textures);
         for (name, value) in d.uniforms {
-            d.program.set(name, value.clone());
+            d.program.set(name, value);
         }
         // After the uniforms: a shape keeps the values the draw read.
         super::record::note_shape(d);

@@ -5,6 +5,8 @@ use super::{
     Context, Defines, Draw, DrawState, Framebuffer, PingPong, Primitive, Program, Rect, Sampled,
     VertexArray,
 };
+use std::rc::Rc;
+
 use crate::error::Result;
 
 /// The vertex shader every full-screen pass uses.
@@ -92,17 +94,50 @@ pub enum Uniform {
     /// `mat4` (column-major, as glam stores it).
     Mat4(glam::Mat4),
     /// `int[]`, from its first element on (the name without `[0]`); empty sets nothing.
-    I32s(Vec<i32>),
+    I32s(Rc<[i32]>),
     /// `float[]`, likewise.
-    F32s(Vec<f32>),
+    F32s(Rc<[f32]>),
     /// `vec2[]`, likewise.
-    Vec2s(Vec<glam::Vec2>),
+    Vec2s(Rc<[glam::Vec2]>),
     /// `vec3[]`, likewise.
-    Vec3s(Vec<glam::Vec3>),
+    Vec3s(Rc<[glam::Vec3]>),
     /// `vec4[]`, likewise (orbiting spheres, emitters' curves: arrays that change between draws).
-    Vec4s(Vec<glam::Vec4>),
+    Vec4s(Rc<[glam::Vec4]>),
     /// `ivec4[]`, likewise.
-    IVec4s(Vec<[i32; 4]>),
+    IVec4s(Rc<[[i32; 4]]>),
+}
+
+impl Uniform {
+    /// Whether it is one of the array variants.
+    pub fn is_array(&self) -> bool {
+        self.array_len().is_some()
+    }
+
+    /// An array of no element (which sets nothing).
+    pub fn is_empty_array(&self) -> bool {
+        self.array_len() == Some(0)
+    }
+
+    fn array_len(&self) -> Option<usize> {
+        match self {
+            Uniform::I32s(v) => Some(v.len()),
+            Uniform::F32s(v) => Some(v.len()),
+            Uniform::Vec2s(v) => Some(v.len()),
+            Uniform::Vec3s(v) => Some(v.len()),
+            Uniform::Vec4s(v) => Some(v.len()),
+            Uniform::IVec4s(v) => Some(v.len()),
+            Uniform::F32(_)
+            | Uniform::I32(_)
+            | Uniform::U32(_)
+            | Uniform::Vec2(_)
+            | Uniform::Vec3(_)
+            | Uniform::Vec4(_)
+            | Uniform::IVec2(_)
+            | Uniform::IVec3(_)
+            | Uniform::IVec4(_)
+            | Uniform::Mat4(_) => None,
+        }
+    }
 }
 
 /// The samplers a [`StatePass`] reads its state through, one per texture.

@@ -18,25 +18,24 @@ pub struct Program {
     pub(super) ctx: Context,
     raw: glow::Program,
     name: String,
-    locations: RefCell<HashMap<String, Option<glow::UniformLocation>>>,
+    /// Each uniform named so far: its location (none for one the optimiser dropped) and the
+    /// value it holds, as last uploaded (see [`Context::set_uniform_cache`]).
+    uniforms: RefCell<HashMap<String, Slot>>,
+    /// This program's number among all made in the process: a key for caches above.
+    serial: u64,
     /// Uniform names the resolved sources declare (active or dropped by the optimiser).
     declared: HashSet<String>,
     /// The active samplers, as GL names them.
     samplers: Vec<String>,
     /// What it was built from (boxed: programs are held by value in many passes).
     source: Box<SourceInfo>,
-    /// The value each active uniform holds, by location name, as last uploaded: a draw that
-    /// gives the same value again uploads nothing (see [`Context::set_uniform_cache`]).
-    values: Box<RefCell<HashMap<String, Value>>>,
 }
 
-/// One uniform upload: the components per element and the data.
-#[derive(Debug, Clone, PartialEq)]
-enum Value {
-    Int(u8, Vec<i32>),
-    Uint(u32),
-    Float(u8, Vec<f32>),
-    Mat4(Box<[f32; 16]>),
+/// A uniform's location and the value it holds (none yet).
+#[derive(Debug)]
+struct Slot {
+    location: Option<glow::UniformLocation>,
+    value: Option<Uniform>,
 }
 
 /// What a program was built from.
@@ -173,10 +172,13 @@ impl Program {
             ctx: ctx.clone(),
             raw,
             name,
-            locations: RefCell::new(HashMap::new()),
+            uniforms: RefCell::new(HashMap::new()),
+            serial: {
+                static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+                NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+            },
             declared: seen.declared,
             samplers,
-            values: Box::default(),
             source: Box::new(SourceInfo {
                 defines: defines.clone(),
                 // A benchmark's own floor that walks is not a pass to floor.
@@ -253,166 +255,80 @@ impl Program {
         unsafe { self.ctx.gl().use_program(Some(self.raw)) }
     }
 
-    fn location(&self, name: &str) -> Option<glow::UniformLocation> {
-        if let Some(l) = self.locations.borrow().get(name) {
-            return *l;
-        }
-        // SAFETY: the program is alive. An unused uniform (optimised away) gives None, which the
-        // setters ignore as GL does for location -1.
-        let l = unsafe { self.ctx.gl().get_uniform_location(self.raw, name) };
-        // A name no source declares is a mistake, not an optimisation: refused in debug builds.
-        if cfg!(debug_assertions) && l.is_none() && !self.declares(name) {
-            panic!(
-                "program {} declares no uniform `{name}` (misspelt, or the wrong program); \
-                 wrap setters shared by several programs in Program::optional",
-                self.name
-            );
-        }
-        self.locations.borrow_mut().insert(name.to_owned(), l);
-        l
+    /// This program's number among all made in the process (never reused).
+    pub fn serial(&self) -> u64 {
+        self.serial
     }
 
-    /// Sets uniform `name` to `value`, of the type the variant names.
-    pub(super) fn set(&self, name: &str, value: Uniform) {
-        match value {
-            Uniform::F32(v) => self.set_f32(name, v),
-            Uniform::I32(v) => self.set_i32(name, v),
-            Uniform::U32(v) => self.set_u32(name, v),
-            Uniform::Vec2(v) => self.set_vec2(name, v),
-            Uniform::Vec3(v) => self.set_vec3(name, v),
-            Uniform::Vec4(v) => self.set_vec4(name, v),
-            Uniform::IVec2(v) => self.set_ivec2(name, v.x, v.y),
-            Uniform::IVec3(v) => self.set_ivec3(name, v.x, v.y, v.z),
-            Uniform::IVec4(v) => self.set_ivec4(name, v.to_array()),
-            Uniform::Mat4(m) => self.set_mat4(name, &m),
-            Uniform::I32s(v) => self.set_i32_array(name, &v),
-            Uniform::F32s(v) => self.set_f32_array(name, &v),
-            Uniform::Vec2s(v) => self.set_vec2_array(name, &v),
-            Uniform::Vec3s(v) => self.set_vec3_array(name, &v),
-            Uniform::Vec4s(v) => self.set_vec4_array(name, &v),
-            Uniform::IVec4s(v) => self.set_ivec4_array(name, &v),
-        }
-    }
-
-    /// Sets an `int` uniform (samplers are set by [`Context::draw`] only).
-    pub(super) fn set_i32(&self, name: &str, v: i32) {
-        self.put(name, Value::Int(1, vec![v]));
-    }
-    /// Sets an `int[]` uniform array from its first element on (`name` without `[0]`); an
-    /// empty `v` sets nothing.
-    pub(super) fn set_i32_array(&self, name: &str, v: &[i32]) {
-        self.put_array(name, Value::Int(1, v.to_vec()));
-    }
-    /// Sets a `float[]` uniform array from its first element on (`name` without `[0]`); an
-    /// empty `v` sets nothing.
-    pub(super) fn set_f32_array(&self, name: &str, v: &[f32]) {
-        self.put_array(name, Value::Float(1, v.to_vec()));
-    }
-    /// Sets a `vec2[]` uniform array from its first element on (`name` without `[0]`); an
-    /// empty `v` sets nothing.
-    pub(super) fn set_vec2_array(&self, name: &str, v: &[glam::Vec2]) {
-        let flat = v.iter().flat_map(|v| v.to_array()).collect();
-        self.put_array(name, Value::Float(2, flat));
-    }
-    /// Sets a `vec3[]` uniform array from its first element on (`name` without `[0]`); an
-    /// empty `v` sets nothing.
-    pub(super) fn set_vec3_array(&self, name: &str, v: &[glam::Vec3]) {
-        let flat = v.iter().flat_map(|v| v.to_array()).collect();
-        self.put_array(name, Value::Float(3, flat));
-    }
-    /// Sets a `vec4[]` uniform array from its first element on (`name` without `[0]`); an
-    /// empty `v` sets nothing.
-    pub(super) fn set_vec4_array(&self, name: &str, v: &[glam::Vec4]) {
-        let flat = v.iter().flat_map(|v| v.to_array()).collect();
-        self.put_array(name, Value::Float(4, flat));
-    }
-    /// Sets an `ivec4[]` uniform array from its first element on (`name` without `[0]`); an
-    /// empty `v` sets nothing.
-    pub(super) fn set_ivec4_array(&self, name: &str, v: &[[i32; 4]]) {
-        let flat = v.iter().flatten().copied().collect();
-        self.put_array(name, Value::Int(4, flat));
-    }
-    /// Sets a `uint` uniform.
-    pub(super) fn set_u32(&self, name: &str, v: u32) {
-        self.put(name, Value::Uint(v));
-    }
-    /// Sets a `float` uniform.
-    pub(super) fn set_f32(&self, name: &str, v: f32) {
-        self.put(name, Value::Float(1, vec![v]));
-    }
-    /// Sets a `vec2` uniform.
-    pub(super) fn set_vec2(&self, name: &str, v: glam::Vec2) {
-        self.put(name, Value::Float(2, v.to_array().to_vec()));
-    }
-    /// Sets a `vec3` uniform.
-    pub(super) fn set_vec3(&self, name: &str, v: glam::Vec3) {
-        self.put(name, Value::Float(3, v.to_array().to_vec()));
-    }
-    /// Sets a `vec4` uniform.
-    pub(super) fn set_vec4(&self, name: &str, v: glam::Vec4) {
-        self.put(name, Value::Float(4, v.to_array().to_vec()));
-    }
-    /// Sets an `ivec2` uniform.
-    pub(super) fn set_ivec2(&self, name: &str, x: i32, y: i32) {
-        self.put(name, Value::Int(2, vec![x, y]));
-    }
-    /// Sets an `ivec3` uniform.
-    pub(super) fn set_ivec3(&self, name: &str, x: i32, y: i32, z: i32) {
-        self.put(name, Value::Int(3, vec![x, y, z]));
-    }
-    /// Sets an `ivec4` uniform.
-    pub(super) fn set_ivec4(&self, name: &str, v: [i32; 4]) {
-        self.put(name, Value::Int(4, v.to_vec()));
-    }
-    /// Sets a `mat4` uniform (column-major, as glam stores it).
-    pub(super) fn set_mat4(&self, name: &str, m: &glam::Mat4) {
-        self.put(name, Value::Mat4(Box::new(m.to_cols_array())));
-    }
-
-    /// An array's upload, at its first element's location; an empty one sets nothing.
-    fn put_array(&self, name: &str, v: Value) {
-        let empty = match &v {
-            Value::Int(_, d) => d.is_empty(),
-            Value::Float(_, d) => d.is_empty(),
-            Value::Uint(_) | Value::Mat4(_) => false,
-        };
-        if !empty {
-            self.put(&format!("{name}[0]"), v);
-        }
-    }
-
-    /// Uploads `v` to the location of `name` (the program is current, see [`bind`](Self::bind))
-    /// unless it holds that value already and the context's uniform cache is on. A uniform the
-    /// optimiser dropped has no location: nothing to upload.
-    fn put(&self, name: &str, v: Value) {
-        let Some(l) = self.location(name) else {
-            return;
-        };
-        let mut values = self.values.borrow_mut();
-        if self.ctx.uniform_cache() && values.get(name) == Some(&v) {
+    /// Sets uniform `name` to `value` (the program is current, see [`bind`](Self::bind)): an
+    /// array from its first element on, an empty one not at all. Uploads nothing when the
+    /// uniform holds `value` already and the context's uniform cache is on, or when the
+    /// optimiser dropped it (GL's location −1). A name the sources do not declare is a mistake,
+    /// not an optimisation: refused in debug builds.
+    pub(super) fn set(&self, name: &str, value: &Uniform) {
+        if value.is_empty_array() {
             return;
         }
-        self.upload(Some(&l), &v);
-        values.insert(name.to_owned(), v);
-    }
-
-    fn upload(&self, l: Option<&glow::UniformLocation>, v: &Value) {
-        self.ctx.count_upload();
-        let gl = self.ctx.gl();
-        // SAFETY: the program is current (see `bind`); a location of None is ignored by GL.
-        unsafe {
-            match v {
-                Value::Int(1, d) => gl.uniform_1_i32_slice(l, d),
-                Value::Int(2, d) => gl.uniform_2_i32_slice(l, d),
-                Value::Int(3, d) => gl.uniform_3_i32_slice(l, d),
-                Value::Int(_, d) => gl.uniform_4_i32_slice(l, d),
-                Value::Uint(u) => gl.uniform_1_u32(l, *u),
-                Value::Float(1, d) => gl.uniform_1_f32_slice(l, d),
-                Value::Float(2, d) => gl.uniform_2_f32_slice(l, d),
-                Value::Float(3, d) => gl.uniform_3_f32_slice(l, d),
-                Value::Float(_, d) => gl.uniform_4_f32_slice(l, d),
-                Value::Mat4(m) => gl.uniform_matrix_4_f32_slice(l, false, &m[..]),
+        let mut uniforms = self.uniforms.borrow_mut();
+        if !uniforms.contains_key(name) {
+            let query = match value.is_array() {
+                true => format!("{name}[0]"),
+                false => name.to_owned(),
+            };
+            // SAFETY: the program is alive.
+            let location = unsafe { self.ctx.gl().get_uniform_location(self.raw, &query) };
+            if cfg!(debug_assertions) && location.is_none() && !self.declares(name) {
+                panic!(
+                    "program {} declares no uniform `{name}` (misspelt, or the wrong program); \
+                     a list shared by several programs gives each the names it declares \
+                     (UniformList::for_draw)",
+                    self.name
+                );
             }
+            let slot = Slot {
+                location,
+                value: None,
+            };
+            uniforms.insert(name.to_owned(), slot);
+        }
+        let slot = uniforms.get_mut(name).expect("inserted above");
+        let Some(l) = slot.location.as_ref() else {
+            return;
+        };
+        if self.ctx.uniform_cache() && slot.value.as_ref() == Some(value) {
+            return;
+        }
+        self.ctx.count_upload();
+        upload(self.ctx.gl(), l, value);
+        slot.value = Some(value.clone());
+    }
+}
+
+/// One `glUniform*` call of `value` at `l` (the program current).
+fn upload(gl: &glow::Context, l: &glow::UniformLocation, value: &Uniform) {
+    let l = Some(l);
+    fn flat<const N: usize>(v: impl Iterator<Item = [f32; N]>) -> Vec<f32> {
+        v.flatten().collect()
+    }
+    // SAFETY: the program holding `l` is current; the data matches the uniform's type.
+    unsafe {
+        match value {
+            Uniform::F32(v) => gl.uniform_1_f32(l, *v),
+            Uniform::I32(v) => gl.uniform_1_i32(l, *v),
+            Uniform::U32(v) => gl.uniform_1_u32(l, *v),
+            Uniform::Vec2(v) => gl.uniform_2_f32(l, v.x, v.y),
+            Uniform::Vec3(v) => gl.uniform_3_f32(l, v.x, v.y, v.z),
+            Uniform::Vec4(v) => gl.uniform_4_f32(l, v.x, v.y, v.z, v.w),
+            Uniform::IVec2(v) => gl.uniform_2_i32(l, v.x, v.y),
+            Uniform::IVec3(v) => gl.uniform_3_i32(l, v.x, v.y, v.z),
+            Uniform::IVec4(v) => gl.uniform_4_i32(l, v.x, v.y, v.z, v.w),
+            Uniform::Mat4(m) => gl.uniform_matrix_4_f32_slice(l, false, &m.to_cols_array()),
+            Uniform::I32s(v) => gl.uniform_1_i32_slice(l, v),
+            Uniform::F32s(v) => gl.uniform_1_f32_slice(l, v),
+            Uniform::Vec2s(v) => gl.uniform_2_f32_slice(l, &flat(v.iter().map(|x| x.to_array()))),
+            Uniform::Vec3s(v) => gl.uniform_3_f32_slice(l, &flat(v.iter().map(|x| x.to_array()))),
+            Uniform::Vec4s(v) => gl.uniform_4_f32_slice(l, &flat(v.iter().map(|x| x.to_array()))),
+            Uniform::IVec4s(v) => gl.uniform_4_i32_slice(l, &v.concat()),
         }
     }
 }

@@ -3,12 +3,25 @@
 //! context's uniform cache on, a draw that gives a value its program already holds uploads
 //! nothing, so constants in every draw cost no GL call after the first.
 
+use std::cell::RefCell;
+use std::collections::HashMap;
+
 use super::{Program, Uniform};
 
 /// Uniform values by name, in the order given (a later value of a name overrides an earlier
 /// one when a draw sets them). Array setters skip empty arrays, as GL would set nothing.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct UniformList(Vec<(&'static str, Uniform)>);
+#[derive(Debug, Clone, Default)]
+pub struct UniformList {
+    values: Vec<(&'static str, Uniform)>,
+    /// The values each program declares, by [`Program::serial`]: found once per program.
+    declared: RefCell<HashMap<u64, Vec<(&'static str, Uniform)>>>,
+}
+
+impl PartialEq for UniformList {
+    fn eq(&self, other: &Self) -> bool {
+        self.values == other.values
+    }
+}
 
 impl UniformList {
     /// An empty list.
@@ -18,12 +31,13 @@ impl UniformList {
 
     /// Adds `name = value`.
     pub fn push(&mut self, name: &'static str, value: Uniform) {
-        self.0.push((name, value));
+        self.values.push((name, value));
+        self.declared.get_mut().clear();
     }
 
     /// The values, in order.
     pub fn values(&self) -> &[(&'static str, Uniform)] {
-        &self.0
+        &self.values
     }
 
     /// The values that `p` declares, for a draw of `p`, followed by `more` (this draw's own,
@@ -33,10 +47,16 @@ impl UniformList {
         p: &Program,
         more: impl IntoIterator<Item = (&'static str, Uniform)>,
     ) -> Vec<(&'static str, Uniform)> {
-        (self.0.iter().cloned())
-            .chain(more)
-            .filter(|(n, _)| p.declares(n))
-            .collect()
+        let mut declared = self.declared.borrow_mut();
+        let own = declared.entry(p.serial()).or_insert_with(|| {
+            (self.values.iter())
+                .filter(|(n, _)| p.declares(n))
+                .cloned()
+                .collect()
+        });
+        let mut out = own.clone();
+        out.extend(more.into_iter().filter(|(n, _)| p.declares(n)));
+        out
     }
 
     /// Adds an `int`.
@@ -74,37 +94,38 @@ impl UniformList {
     /// Adds an `int[]` (nothing when empty).
     pub fn i32s(&mut self, name: &'static str, v: &[i32]) {
         if !v.is_empty() {
-            self.push(name, Uniform::I32s(v.to_vec()));
+            self.push(name, Uniform::I32s(v.into()));
         }
     }
     /// Adds a `vec2[]` (nothing when empty).
     pub fn vec2s(&mut self, name: &'static str, v: &[glam::Vec2]) {
         if !v.is_empty() {
-            self.push(name, Uniform::Vec2s(v.to_vec()));
+            self.push(name, Uniform::Vec2s(v.into()));
         }
     }
     /// Adds a `vec3[]` (nothing when empty).
     pub fn vec3s(&mut self, name: &'static str, v: &[glam::Vec3]) {
         if !v.is_empty() {
-            self.push(name, Uniform::Vec3s(v.to_vec()));
+            self.push(name, Uniform::Vec3s(v.into()));
         }
     }
     /// Adds a `vec4[]` (nothing when empty).
     pub fn vec4s(&mut self, name: &'static str, v: &[glam::Vec4]) {
         if !v.is_empty() {
-            self.push(name, Uniform::Vec4s(v.to_vec()));
+            self.push(name, Uniform::Vec4s(v.into()));
         }
     }
     /// Adds an `ivec4[]` (nothing when empty).
     pub fn ivec4s(&mut self, name: &'static str, v: &[[i32; 4]]) {
         if !v.is_empty() {
-            self.push(name, Uniform::IVec4s(v.to_vec()));
+            self.push(name, Uniform::IVec4s(v.into()));
         }
     }
 }
 
 impl Extend<(&'static str, Uniform)> for UniformList {
     fn extend<I: IntoIterator<Item = (&'static str, Uniform)>>(&mut self, iter: I) {
-        self.0.extend(iter);
+        self.values.extend(iter);
+        self.declared.get_mut().clear();
     }
 }

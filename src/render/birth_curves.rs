@@ -106,13 +106,16 @@ impl BirthCurves {
     /// The curves, for a draw's uniforms.
     pub(super) fn uniforms(&self) -> Vec<(&'static str, Uniform)> {
         vec![
-            ("u_curve_time", Uniform::Vec4s(self.time.clone())),
-            ("u_curve_value", Uniform::Vec4s(self.value.clone())),
-            ("u_curve_form", Uniform::Vec4s(self.form.clone())),
-            ("u_curve_periodic", Uniform::Vec4s(self.periodic.clone())),
-            ("u_curve_noise", Uniform::Vec4s(self.noise.clone())),
-            ("u_curve_frequency", Uniform::Vec4s(self.frequency.clone())),
-            ("u_curve_seed", Uniform::IVec4s(self.seed.clone())),
+            ("u_curve_time", Uniform::Vec4s(self.time[..].into())),
+            ("u_curve_value", Uniform::Vec4s(self.value[..].into())),
+            ("u_curve_form", Uniform::Vec4s(self.form[..].into())),
+            ("u_curve_periodic", Uniform::Vec4s(self.periodic[..].into())),
+            ("u_curve_noise", Uniform::Vec4s(self.noise[..].into())),
+            (
+                "u_curve_frequency",
+                Uniform::Vec4s(self.frequency[..].into()),
+            ),
+            ("u_curve_seed", Uniform::IVec4s(self.seed[..].into())),
         ]
     }
 }

@@ -128,9 +128,9 @@ impl RenderParams {
     /// reads, for a draw's uniforms: the renderer and the CPU engine draw with the same ramps.
     pub fn keyframe_uniforms(&self) -> [(&'static str, Uniform); 3] {
         [
-            ("u_key_age", Uniform::Vec4s(self.key_age.to_vec())),
-            ("u_key_offset", Uniform::Vec4s(self.key_offset.to_vec())),
-            ("u_key_slope", Uniform::Vec4s(self.key_slope.to_vec())),
+            ("u_key_age", Uniform::Vec4s(self.key_age[..].into())),
+            ("u_key_offset", Uniform::Vec4s(self.key_offset[..].into())),
+            ("u_key_slope", Uniform::Vec4s(self.key_slope[..].into())),
         ]
     }
 
@@ -156,8 +156,8 @@ impl RenderParams {
             ("u_size_max", Uniform::Vec4(self.size_max)),
             ("u_flip_frames", Uniform::Vec4(self.flip_frames)),
             ("u_flip_rate", Uniform::Vec4(self.flip_rate)),
-            ("u_size_age", Uniform::Vec4s(self.size_age.to_vec())),
-            ("u_size_scale", Uniform::Vec4s(self.size_scale.to_vec())),
+            ("u_size_age", Uniform::Vec4s(self.size_age[..].into())),
+            ("u_size_scale", Uniform::Vec4s(self.size_scale[..].into())),
         ]);
         out
     }

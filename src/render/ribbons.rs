@@ -155,8 +155,8 @@ impl RibbonRenderer {
             ("u_ribbon_width", Uniform::F32(self.width_m)),
             ("u_sprites", Uniform::I32(i32::from(params.sprites))),
             ("u_width", Uniform::I32(state.positions.width() as i32)),
-            ("u_ring", Uniform::I32s(self.ring.to_vec())),
-            ("u_gap", Uniform::F32s(self.gap.to_vec())),
+            ("u_ring", Uniform::I32s(self.ring[..].into())),
+            ("u_gap", Uniform::F32s(self.gap[..].into())),
         ];
         per_frame.extend(params.size_uniforms());
         per_frame.extend(params.type_uniforms());

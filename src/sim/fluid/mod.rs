@@ -264,9 +264,9 @@ impl Fluid {
         let uniforms = [
             ("u_width", Uniform::I32(self.width as i32)),
             ("u_emitters", Uniform::I32(initial.len().max(1) as i32)),
-            ("u_lattice_min", Uniform::Vec4s(lattice_min)),
-            ("u_lattice_n", Uniform::IVec4s(lattice_n)),
-            ("u_lattice_v", Uniform::Vec4s(lattice_v)),
+            ("u_lattice_min", Uniform::Vec4s(lattice_min.into())),
+            ("u_lattice_n", Uniform::IVec4s(lattice_n.into())),
+            ("u_lattice_v", Uniform::Vec4s(lattice_v.into())),
             ("u_compress", Uniform::F32(compress)),
             ("u_gamma", Uniform::F32(self.config.gamma)),
         ];

@@ -149,10 +149,10 @@ impl Relaxation {
         let offset = (params.constraints.as_ref()).map_or(Vec3::ZERO, |c| c.pin_offset(t));
         // The run's constants, the relaxation's, then this step's pins and spheres (after the
         // constants' spheres, which they override): every draw takes those its program reads.
-        let mut step: Vec<_> = constants.values().to_vec();
-        step.extend(self.own.values().iter().cloned());
+        let mut step: Vec<_> = self.own.values().to_vec();
         step.push(("u_pin_offset", Uniform::Vec3(offset)));
         step.extend(moved_spheres(&params.colliders, t));
+        let ctx = (constants, pass, fields);
         let sets = match self.scheme {
             RelaxScheme::Jacobi => None,
             RelaxScheme::GaussSeidel => Some(set_count(self.layout.kind)),
@@ -163,23 +163,22 @@ impl Relaxation {
                 if sets.is_some() {
                     u.push(("u_set", Uniform::I32(set as i32)));
                 }
-                self.draw(&self.edges, &u, ring, pass, fields);
+                self.draw(&self.edges, &u, ring, ctx);
             }
             if let Some(p) = &self.attach {
-                self.draw(p, &step, ring, pass, fields);
+                self.draw(p, &step, ring, ctx);
             }
         }
     }
 
     /// One pass of `p` from the current positions into the ring's free side, then swapped, with
-    /// the uniforms of `u` that `p` declares.
+    /// the run's constants and the uniforms of `u` that `p` declares.
     fn draw(
         &self,
         p: &Program,
         u: &[(&'static str, Uniform)],
         ring: &mut Ring3,
-        pass: &FullscreenPass,
-        fields: &Fields,
+        (constants, pass, fields): (&UniformList, &FullscreenPass, &Fields),
     ) {
         let own = [
             ("u_position", ring.current().texture(POSITION).into()),
@@ -188,10 +187,7 @@ impl Relaxation {
         ];
         let own: Vec<_> = own.into_iter().filter(|(n, _)| p.declares(n)).collect();
         let t = draw_textures(p, &own, fields);
-        let u: Vec<_> = (u.iter())
-            .filter(|&(n, _)| p.declares(n))
-            .cloned()
-            .collect();
+        let u = constants.for_draw(p, u.iter().cloned());
         pass.draw(p, &t, &u, ring.next());
         ring.swap_current_next();
     }
@@ -205,6 +201,6 @@ pub(super) fn moved_spheres(
 ) -> Option<(&'static str, Uniform)> {
     match colliders.moving_spheres.is_empty() {
         true => None,
-        false => Some(("u_sphere", Uniform::Vec4s(colliders.spheres_at(t)))),
+        false => Some(("u_sphere", Uniform::Vec4s(colliders.spheres_at(t).into()))),
     }
 }

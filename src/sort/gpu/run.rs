@@ -77,12 +77,12 @@ impl Sorter {
         // Wide masks in order are the basis of the sub-network (see multistep.frag).
         let wide = steps.iter().filter_map(Step::mask).filter(|&m| m >= 2);
         let basis: Vec<i32> = wide.map(|mask| mask as i32).collect();
-        uniforms.push(("u_basis", Uniform::I32s(basis)));
+        uniforms.push(("u_basis", Uniform::I32s(basis.into())));
         let mirror: Vec<i32> = steps
             .iter()
             .map(|step| matches!(step, Step::Bitonic { mirror: true, .. }) as i32)
             .collect();
-        uniforms.push(("u_mirror", Uniform::I32s(mirror)));
+        uniforms.push(("u_mirror", Uniform::I32s(mirror.into())));
         self.fullscreen.draw(p, keys, &uniforms, self.state.back());
     }
 

@@ -113,19 +113,27 @@ impl Uniform {
         self.array_len().is_some()
     }
 
-    /// An array of no element (which sets nothing).
-    pub fn is_empty_array(&self) -> bool {
-        self.array_len() == Some(0)
+    /// Whether it holds the same value as `other`: the same shared array at once, else by value.
+    pub(super) fn same_as(&self, other: &Uniform) -> bool {
+        let shared = match (self.shared(), other.shared()) {
+            (Some(a), Some(b)) => a == b,
+            (Some(_), None) | (None, Some(_)) | (None, None) => false,
+        };
+        shared || self == other
     }
 
-    fn array_len(&self) -> Option<usize> {
+    /// An array's allocation and length (arrays of no element are never set).
+    fn shared(&self) -> Option<(*const u8, usize)> {
+        fn at<T>(a: &Rc<[T]>) -> Option<(*const u8, usize)> {
+            Some((a.as_ptr() as *const u8, a.len()))
+        }
         match self {
-            Uniform::I32s(v) => Some(v.len()),
-            Uniform::F32s(v) => Some(v.len()),
-            Uniform::Vec2s(v) => Some(v.len()),
-            Uniform::Vec3s(v) => Some(v.len()),
-            Uniform::Vec4s(v) => Some(v.len()),
-            Uniform::IVec4s(v) => Some(v.len()),
+            Uniform::I32s(a) => at(a),
+            Uniform::F32s(a) => at(a),
+            Uniform::Vec2s(a) => at(a),
+            Uniform::Vec3s(a) => at(a),
+            Uniform::Vec4s(a) => at(a),
+            Uniform::IVec4s(a) => at(a),
             Uniform::F32(_)
             | Uniform::I32(_)
             | Uniform::U32(_)
@@ -137,6 +145,15 @@ impl Uniform {
             | Uniform::IVec4(_)
             | Uniform::Mat4(_) => None,
         }
+    }
+
+    /// An array of no element (which sets nothing).
+    pub fn is_empty_array(&self) -> bool {
+        self.array_len() == Some(0)
+    }
+
+    fn array_len(&self) -> Option<usize> {
+        self.shared().map(|(_, n)| n)
     }
 }
 

@@ -295,7 +295,7 @@ impl Program {
         let Some(l) = slot.location.as_ref() else {
             return;
         };
-        if self.ctx.uniform_cache() && slot.value.as_ref() == Some(value) {
+        if self.ctx.uniform_cache() && slot.value.as_ref().is_some_and(|v| v.same_as(value)) {
             return;
         }
         self.ctx.count_upload();

@@ -41,13 +41,29 @@ pub(super) const FETCH_FLOOR: &str = "fetch floor: per full-screen draw, a pass 
     targets and viewport fetching each texture it bound (the same data) once at the fragment's \
     texel, and in a neighbour search each visited neighbour's position, writing zeros";
 
-/// The kinds of sampler the floor's shader declares, their defines, names and most of each.
-const KINDS: [(&str, &str, usize); 4] = [
-    ("F2", "u_f2_", 16),
-    ("U2", "u_u2_", 4),
-    ("F3", "u_f3_", 4),
-    ("U3", "u_u3_", 2),
+/// The kinds of sampler the floor's shader declares, their defines, names, most of each, and
+/// the uniform array of their sizes.
+const KINDS: [(&str, &str, usize, &str); 4] = [
+    ("F2", "u_f2_", 16, "u_f2_size"),
+    ("U2", "u_u2_", 4, "u_u2_size"),
+    ("F3", "u_f3_", 4, "u_f3_size"),
+    ("U3", "u_u3_", 2, "u_u3_size"),
 ];
+
+/// The sizes of the textures draw `d` fetches at its texel (`reads`, in the order [`bound`]
+/// names them), by kind: the shader clamps each fetch to them.
+fn sizes(d: &DrawShape, reads: &[usize]) -> Vec<(&'static str, Uniform)> {
+    let mut per_kind: [Vec<[i32; 4]>; 4] = Default::default();
+    for &i in reads {
+        let r = &d.reads[i];
+        let [w, h, depth] = r.size.map(|n| n as i32);
+        per_kind[kind(r)].push([w, h, depth, 0]);
+    }
+    (KINDS.iter().zip(per_kind))
+        .filter(|(_, s)| !s.is_empty())
+        .map(|(k, s)| (k.3, Uniform::IVec4s(s.into())))
+        .collect()
+}
 
 /// The kind of sampler `r` is read through (an index into [`KINDS`]).
 fn kind(r: &ReadShape) -> usize {
@@ -138,6 +154,7 @@ impl FetchFloor {
                     ("u_reveal", reveal.clone()),
                 ];
                 u.extend(walks[i].iter().flat_map(|w| w.ints.iter().cloned()));
+                u.extend(sizes(draws[i], &reads[i]));
                 u
             })
             .collect();

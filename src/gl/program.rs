@@ -249,7 +249,7 @@ impl Program {
         &self.name
     }
 
-    /// Makes it the current program; the setters below act on the current program.
+    /// Makes it the current program, which [`set`](Self::set) acts on (a draw binds it first).
     pub(super) fn bind(&self) {
         // SAFETY: the program is alive and linked.
         unsafe { self.ctx.gl().use_program(Some(self.raw)) }

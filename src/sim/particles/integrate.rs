@@ -231,7 +231,7 @@ impl ParticleSim {
         let (v, x) = (pp.back_single(VELOCITY), pp.back_single(POSITION));
         self.pass.draw_rows(p, t, clock, v, 0, rows);
         let mut q_clock = declared_clock(q, [("u_time", self.time as f32), ("u_time_next", next)]);
-        q_clock.extend(self.step_arrays(q, self.time));
+        q_clock.extend(self.step_arrays(self.time));
         let q_clock = self.uniforms(q, q_clock);
         let own: Vec<_> = [
             ("u_position", pp.front().texture(POSITION).into()),
@@ -265,14 +265,14 @@ impl ParticleSim {
             ("u_time_prev", prev),
         ];
         let mut clock = declared_clock(p, clock);
-        clock.extend(self.step_arrays(p, self.time));
+        clock.extend(self.step_arrays(self.time));
         (next, self.uniforms(p, clock))
     }
 
-    /// This step's arrays that `p` declares, as a draw's uniforms: the orbiting spheres where
-    /// they are at the step's end and, for emitters with curves, their values at the step's
-    /// start `t`.
-    fn step_arrays(&self, p: &Program, t: f64) -> Vec<(&'static str, Uniform)> {
+    /// This step's arrays, for a draw's uniforms: the orbiting spheres where they are at the
+    /// step's end and, for emitters with curves, their values at the step's start `t` (the
+    /// draw takes those its program declares).
+    fn step_arrays(&self, t: f64) -> Vec<(&'static str, Uniform)> {
         let dt = self.params.time.dt as f64;
         let e = &self.params.emitters;
         let spawn = match e.animated {
@@ -281,7 +281,6 @@ impl ParticleSim {
         };
         (relax::moved_spheres(&self.params.colliders, t + dt).into_iter())
             .chain(spawn)
-            .filter(|(n, _)| p.declares(n))
             .collect()
     }
 

@@ -20,7 +20,6 @@ pub(super) fn constants(
     types: usize,
 ) -> UniformList {
     let mut p = UniformList::new();
-    let p = &mut p;
     p.i32("u_width", size[0] as i32);
     p.ivec2("u_size", size[0] as i32, size[1] as i32);
     p.u32("u_seed", seed);
@@ -28,12 +27,12 @@ pub(super) fn constants(
     // Texel k of the other emitters is of type k mod their count; child emitters' types follow.
     let e = &params.emitters;
     p.i32("u_emitters", (types - e.children).max(1) as i32);
-    set_children(p, e);
-    set_masses(p, &params.integration);
-    set_emitters(p, e);
-    set_forces(p, &params.integration, fields);
-    set_colliders(p, &params.colliders, fields);
-    std::mem::take(p)
+    set_children(&mut p, e);
+    set_masses(&mut p, &params.integration);
+    set_emitters(&mut p, e);
+    set_forces(&mut p, &params.integration, fields);
+    set_colliders(&mut p, &params.colliders, fields);
+    p
 }
 
 /// The masses of glsl/common/mass.glsl, which integration and collisions share.

@@ -250,10 +250,8 @@ impl CollisionStage {
             let dem = glam::Vec4::new(d.spring, d.damping, d.shear, d.attraction);
             uniforms.push(("u_dem", Uniform::Vec4(dem)));
         }
-        if p.declares("u_pair_radius") {
-            let radius = glam::Vec4::from(n.pair_radius);
-            uniforms.push(("u_pair_radius", Uniform::Vec4(radius)));
-        }
+        // A pair force's radii (the list keeps what the program declares).
+        uniforms.push(("u_pair_radius", Uniform::Vec4(n.pair_radius.into())));
         let mut textures: Vec<(&str, Sampled)> = cells.textures(g.sorted.keys());
         textures.extend(own.iter().copied());
         // A pair force may sample the fields (sim/fields.glsl), as a custom force may.

@@ -230,7 +230,7 @@ impl ParticleSim {
         let statics = ("u_static", self.statics.texture(STATIC).into());
         let (v, x) = (pp.back_single(VELOCITY), pp.back_single(POSITION));
         self.pass.draw_rows(p, t, clock, v, 0, rows);
-        let mut q_clock = declared_clock(q, [("u_time", self.time as f32), ("u_time_next", next)]);
+        let mut q_clock = clock_uniforms([("u_time", self.time as f32), ("u_time_next", next)]);
         q_clock.extend(self.step_arrays(self.time));
         let q_clock = self.uniforms(q, q_clock);
         let own: Vec<_> = [
@@ -264,7 +264,7 @@ impl ParticleSim {
             ("u_user_time", next),
             ("u_time_prev", prev),
         ];
-        let mut clock = declared_clock(p, clock);
+        let mut clock = clock_uniforms(clock);
         clock.extend(self.step_arrays(self.time));
         (next, self.uniforms(p, clock))
     }
@@ -309,14 +309,12 @@ impl ParticleSim {
     }
 }
 
-/// The clock uniforms of a draw of `p`: those of `clock` that `p` declares (a variant without
-/// time stamps or children reads no next time).
-pub(super) fn declared_clock<const N: usize>(
-    p: &Program,
+/// The clock uniforms of a draw (its uniform list keeps those the program declares: a variant
+/// without time stamps or children reads no next time).
+pub(super) fn clock_uniforms<const N: usize>(
     clock: [(&'static str, f32); N],
 ) -> Vec<(&'static str, Uniform)> {
     (clock.into_iter())
-        .filter(|(n, _)| p.declares(n))
         .map(|(n, v)| (n, Uniform::F32(v)))
         .collect()
 }

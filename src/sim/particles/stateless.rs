@@ -142,7 +142,7 @@ impl Stateless {
     ) {
         let p = &self.program;
         let clock =
-            super::integrate::declared_clock(p, [("u_time", time), ("u_time_next", time_next)]);
+            super::integrate::clock_uniforms([("u_time", time), ("u_time_next", time_next)]);
         let clock = constants.for_draw(p, self.own.values().iter().cloned().chain(clock));
         let own = [
             ("u_position", self.start.texture(POSITION).into()),

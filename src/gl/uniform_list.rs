@@ -41,7 +41,8 @@ impl UniformList {
     }
 
     /// The values that `p` declares, for a draw of `p`, followed by `more` (this draw's own,
-    /// those `p` declares).
+    /// those `p` declares), which replace the list's values of the same names: each name is
+    /// set once (an orbiting sphere's place is not uploaded as the start's, then as its own).
     pub fn for_draw(
         &self,
         p: &Program,
@@ -54,8 +55,12 @@ impl UniformList {
                 .cloned()
                 .collect()
         });
-        let mut out = own.clone();
-        out.extend(more.into_iter().filter(|(n, _)| p.declares(n)));
+        let more: Vec<_> = (more.into_iter()).filter(|(n, _)| p.declares(n)).collect();
+        let mut out: Vec<_> = (own.iter())
+            .filter(|(n, _)| !more.iter().any(|(m, _)| m == n))
+            .cloned()
+            .collect();
+        out.extend(more);
         out
     }
 

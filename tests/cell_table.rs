@@ -9,7 +9,7 @@ mod common;
 use common::scene::random_gas;
 use common::{context, no_gl_error};
 use texflow::scene;
-use texflow::sim::collide::cells::{uses_table, with_search, TABLE_MAX_CELLS};
+use texflow::sim::collide::cells::{uses_table, with_search, Walk, TABLE_MAX_CELLS};
 use texflow::sim::ParticleSim;
 
 /// A 16×16 exact-collision scene on a lattice of 10³ cells of 0.1 over [0, 1)³, one iteration
@@ -164,15 +164,20 @@ fn the_table_and_the_binary_search_give_the_same_state() {
 
 #[test]
 fn a_lattice_far_larger_than_the_state_keeps_the_binary_search() {
-    // 256 entries: up to 8 cells each take the table, more keep the binary search.
-    assert!(uses_table(2048, 256));
-    assert!(!uses_table(2049, 256));
+    // 256 entries: up to 8 cells each take the table for the 27 cells, up to 32 for the
+    // fluid's trimmed walk, more keep the binary search.
+    assert!(uses_table(2048, 256, Walk::Cells27));
+    assert!(!uses_table(2049, 256, Walk::Cells27));
+    let fluid = Walk::Trimmed { reach: 2 };
+    assert!(uses_table(8192, 256, fluid));
+    assert!(!uses_table(8193, 256, fluid));
     // A million entries: up to the table's size.
-    assert!(uses_table(TABLE_MAX_CELLS, 1 << 20));
-    assert!(!uses_table(TABLE_MAX_CELLS + 1, 1 << 20));
+    assert!(uses_table(TABLE_MAX_CELLS, 1 << 20, Walk::Cells27));
+    assert!(!uses_table(TABLE_MAX_CELLS + 1, 1 << 20, fluid));
     assert!(!with_search(true, || uses_table(
         TABLE_MAX_CELLS + 1,
-        1 << 20
+        1 << 20,
+        Walk::Cells27
     )));
     let ctx = context();
     let mut s = exact_scene();
@@ -184,5 +189,54 @@ fn a_lattice_far_larger_than_the_state_keeps_the_binary_search() {
     let text = format!("{:?}", plan.passes);
     assert!(text.contains("too large for a cell-start table"), "{text}");
     assert!(!text.contains("cell start:"), "{text}");
+    no_gl_error(&ctx);
+}
+
+/// `fluid.cell = "auto"` takes cells of h from 262,144 placed particles (the box emitters'
+/// lattice points, at most the texels), else 2h; the walk reaches two cells of h or one of 2h,
+/// and the pass list names the cell.
+#[test]
+fn the_fluid_lattice_follows_its_particle_count() {
+    let dam = |size: u32, cell: &str| {
+        let mut s = scene::load("dam").unwrap();
+        // A box of 64 × 128 × 128 lattice points (the million-particle dam's).
+        let f = s.fluid.as_mut().unwrap();
+        f.spacing = 0.003125;
+        f.smoothing = None;
+        f.bounds = [[0.0; 3], [0.8, 0.6, 0.4]];
+        f.cell = match cell {
+            "h" => scene::FluidCell::H,
+            "2h" => scene::FluidCell::TwoH,
+            _ => scene::FluidCell::Auto,
+        };
+        s.emitters.initial[0].size = [0.2, 0.4, 0.4];
+        s.particles.size = [size, size];
+        s
+    };
+    for (size, cell, placed, fine) in [
+        (256, "auto", 65_536, false),
+        (512, "auto", 262_144, true),
+        (1024, "auto", 1_048_576, true),
+        (1024, "2h", 1_048_576, false),
+        (256, "h", 65_536, true),
+    ] {
+        let s = dam(size, cell);
+        assert_eq!(scene::fluid_particles(&s), placed, "{size} {cell}");
+        let l = texflow::sim::fluid::lattice_of(&s);
+        let h = s.fluid.as_ref().unwrap().h();
+        let (g, reach) = if fine { (h, 2) } else { (2.0 * h, 1) };
+        assert_eq!(l.spacing, g, "{size} {cell}");
+        assert_eq!(l.walk, Walk::Trimmed { reach }, "{size} {cell}");
+        let d = texflow::sim::collide::cells::search_defines(&Vec::new(), &l, s.particles.size);
+        assert!(
+            d.contains(&("SEARCH_REACH".into(), reach.to_string())),
+            "{d:?}"
+        );
+    }
+    // The built-in dam (4,096 particles) keeps cells of 2h, and says so.
+    let ctx = context();
+    let plan = common::plan_of(&ctx, &scene::load("dam").unwrap());
+    let text = format!("{:?}", plan.passes);
+    assert!(text.contains("lattice of cell 2h"), "{text}");
     no_gl_error(&ctx);
 }

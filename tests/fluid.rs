@@ -194,6 +194,19 @@ fn one_step_matches_the_cpu_twin() {
     check_twin(twin_scene());
 }
 
+/// As above on a lattice of cells of h (the trimmed walk two cells out; 216 particles take 2h
+/// by default).
+#[test]
+fn one_step_matches_the_cpu_twin_on_cells_of_h() {
+    let src = twin_scene_source();
+    let k = "smoothing = 0.024";
+    assert!(src.contains(k), "{src}");
+    let s = parse("fluid", &src.replace(k, &format!("{k}\ncell = \"h\"")));
+    let lattice = texflow::sim::fluid::lattice_of(&s);
+    assert_eq!(lattice.spacing, 0.024);
+    check_twin(s);
+}
+
 /// As above with the floor and the wall behind the column no-slip (their ghosts' velocity
 /// reversed, `colliders.plane.wall = "no_slip"`), the other three planes free-slip.
 #[test]
@@ -208,6 +221,26 @@ fn one_step_matches_the_cpu_twin_with_no_slip_walls() {
     let no_slip = planes(&s).iter().filter(|p| p.2).count();
     assert_eq!(no_slip, 2, "floor and back wall");
     check_twin(s);
+}
+
+/// As the first, with a neighbour lattice smaller than the fluid on every side, of cells of h
+/// and of 2h: particles outside it sit in its edge cells (clamped), and the trimmed search must
+/// still find every neighbour within 2h (counts, densities and forces against all pairs).
+#[test]
+fn one_step_matches_the_cpu_twin_with_particles_outside_the_lattice() {
+    let src = twin_scene_source();
+    let full = "bounds = [[0.0, 0.0, 0.0], [0.24, 1.0, 0.12]]";
+    assert!(src.contains(full), "{src}");
+    for cell in ["h", "2h"] {
+        let small = format!("bounds = [[0.03, 0.02, 0.03], [0.15, 0.12, 0.09]]\ncell = \"{cell}\"");
+        let s = parse("fluid", &src.replace(full, &small));
+        let lattice = texflow::sim::fluid::lattice_of(&s);
+        let h = s.fluid.as_ref().unwrap().h();
+        let want = if cell == "h" { h } else { 2.0 * h };
+        assert_eq!(lattice.spacing, want, "cell = {cell}");
+        assert!(lattice.cells() > 8, "{cell}: {:?}", lattice.dims);
+        check_twin(s);
+    }
 }
 
 fn check_twin(s: SceneFile) {

@@ -103,7 +103,21 @@ fn bad_fluid_scenes_are_refused_at_their_key() {
         let k = "normal = [0.0, 1.0, 0.0]\nresilience = 0.0";
         src.replace(k, &format!("{k}\nwall = \"no_slip\""))
     };
-    let cases: [(String, &str, &str); 7] = [
+    let cases: [(String, &str, &str); 9] = [
+        (
+            base(5e-4, &format!("{ok}\ncell = \"3h\"")),
+            "cell",
+            "expected one of `auto`, `h`, `2h`",
+        ),
+        (
+            // 30 m × 1 m × 30 m in cells of h = 2 cm: 112 million cells, past 2^24.
+            base(5e-4, &format!("{ok}\ncell = \"h\"")).replace(
+                "bounds = [[0.0, 0.0, 0.0], [0.24, 1.0, 0.12]]",
+                "bounds = [[0.0, 0.0, 0.0], [30.0, 1.0, 30.0]]",
+            ),
+            "bounds",
+            "or cell = \"2h\"",
+        ),
         (
             no_slip_floor(base(5e-4, &format!("{ok}\nwall_correction = false"))),
             "wall = ",

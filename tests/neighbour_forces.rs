@@ -200,6 +200,7 @@ fn twin(r: &NeighbourReadback, hook: bool) -> Twin {
         origin: glam::Vec3::splat(-1.0),
         spacing: CELL,
         dims: glam::UVec3::splat(30),
+        walk: texflow::sim::collide::cells::Walk::Cells27,
     };
     let mut cells = std::collections::HashMap::<u64, usize>::new();
     for i in (0..n).filter(|&i| live(i)) {

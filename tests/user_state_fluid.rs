@@ -130,7 +130,7 @@ fn pair_exchanges_over_the_fluid_search() {
     no_gl_error(&ctx);
 }
 
-/// A `pair` reach beyond the fluid's cell 2h is refused at its line and column.
+/// A `pair` reach beyond the fluid's 2h is refused at its line and column.
 #[test]
 fn a_reach_past_the_fluid_cell_is_refused() {
     let src = format!(
@@ -145,7 +145,7 @@ fn a_reach_past_the_fluid_cell_is_refused() {
         + 1;
     let e = scene::parse("bad.toml", &src).unwrap_err().to_string();
     assert!(
-        e.contains(&format!("bad.toml:{line}:")) && e.contains("the fluid's cell 2h 0.048"),
+        e.contains(&format!("bad.toml:{line}:")) && e.contains("the fluid's reach 2h 0.048"),
         "{e}"
     );
 }

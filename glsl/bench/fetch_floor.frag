@@ -231,7 +231,7 @@ void main() {
     u += FETCH3(u_u3_1, u_u3_size[1]);
 #endif
 #ifdef WALK
-    search_neighbours(p.y * u_key_width + p.x);
+    search_around(p.y * u_key_width + p.x, own.xyz);
     f += walked;
     }
 #endif

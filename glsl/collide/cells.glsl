@@ -44,6 +44,27 @@ bool in_run(int i, int end, float k1) {
 #endif
 }
 
+// Walks the run of cells row + x0 .. row + x1 (one row of the lattice along x), visiting every
+// particle in it but the one at sorted index `self`, at most EXACT_SCAN of them.
+void walk_run(int self, int row, int x0, int x1) {
+    float k1 = float(row + x1);
+#ifdef CELL_TABLE
+    int j = cell_start(row + x0);
+    int end = cell_start(row + x1 + 1);
+#else
+    int j = lower_bound(float(row + x0));
+    int end = u_count;
+#endif
+    int s = 0;
+    for (; s < EXACT_SCAN; s++) {
+        if (!in_run(j + s, end, k1)) break;
+        if (j + s != self) visit(j + s);
+    }
+    if (s == EXACT_SCAN && in_run(j + s, end, k1)) {
+        exact_truncated = true;
+    }
+}
+
 // Visits every particle of the 27 cells around the particle at sorted index `self` (not itself).
 void search_neighbours(int self) {
     float own = sorted_key(self);
@@ -58,23 +79,78 @@ void search_neighbours(int self) {
         for (int dy = -1; dy <= 1; dy++) {
             int y = c.y + dy;
             if (y < 0 || y >= u_dims.y) continue;
-            int row = (z * u_dims.y + y) * u_dims.x;
-            float k1 = float(row + x1);
-#ifdef CELL_TABLE
-            int j = cell_start(row + x0);
-            int end = cell_start(row + x1 + 1);
-#else
-            int j = lower_bound(float(row + x0));
-            int end = u_count;
-#endif
-            int s = 0;
-            for (; s < EXACT_SCAN; s++) {
-                if (!in_run(j + s, end, k1)) break;
-                if (j + s != self) visit(j + s);
-            }
-            if (s == EXACT_SCAN && in_run(j + s, end, k1)) {
-                exact_truncated = true;
-            }
+            walk_run(self, (z * u_dims.y + y) * u_dims.x, x0, x1);
         }
     }
+}
+
+#ifdef SEARCH_TRIM
+// The trimmed walk (SEARCH_TRIM, the fluid's search): only the cells that can hold a particle
+// closer than u_search_radius to the searching particle's position x, within SEARCH_REACH cells
+// of its own (the radius over the cell, rounded up: 2 for cells of h, 1 for 2h). Along x each
+// row's run is trimmed to the cells of x - radius .. x + radius; a row (y, z) is skipped where
+// the distance from x to its slab across y and z is not below the radius. With a lattice of
+// cell h and a radius of 2h that is about 108 cells of h³ around a particle instead of the 27
+// cells of (2h)³ (216 h³) of the plain search: half the particles visited, every one closer
+// than the radius among them. Cells clamp (a particle outside the lattice is in its edge cell),
+// and a clamped index range still holds every such cell, since floor and clamp keep the order.
+// The margin of 1e-4 cells covers the key pass's rounding of a position near a cell's face; a
+// cell past the reach is at least the radius away, as one past the 27 cells is. The rows'
+// loops run a fixed count, as the 27 cells' do, so that the compiler can unroll them: with
+// bounds from the position they ran 6 % slower on an NVIDIA H200 in a latency-bound fluid of
+// 8,192 particles.
+#ifndef SEARCH_REACH
+#define SEARCH_REACH 1
+#endif
+uniform vec3 u_cell_origin;     // corner of cell (0, 0, 0)
+uniform float u_cell_size;      // the lattice's mesh size
+uniform float u_search_radius;  // every particle closer than this is visited
+
+// Distance along one axis from coordinate a (in cell ca) to the slab of cell index i.
+float slab_distance(float a, int ca, int i, float origin) {
+    if (i < ca) return a - (origin + float(i + 1) * u_cell_size);
+    if (i > ca) return (origin + float(i) * u_cell_size) - a;
+    return 0.0;
+}
+
+// Visits every particle (not itself) of the cells that can hold one closer than u_search_radius
+// to x, the position of the particle at sorted index `self`.
+void search_within(int self, vec3 x) {
+    float own = sorted_key(self);
+    if (!(own < 3.0e38)) return;   // dead: +inf key
+    float r = u_search_radius + 1.0e-4 * u_cell_size;
+    vec3 top = vec3(u_dims);
+    // Clamped before the conversion to int: a position far outside stays in range.
+    vec3 u = (x - u_cell_origin) / u_cell_size;
+    float ru = r / u_cell_size;
+    ivec3 last = u_dims - 1;
+    ivec3 lo = clamp(ivec3(floor(clamp(u - ru, vec3(-1.0), top))), ivec3(0), last);
+    ivec3 hi = clamp(ivec3(floor(clamp(u + ru, vec3(-1.0), top))), ivec3(0), last);
+    ivec3 c = clamp(ivec3(floor(clamp(u, vec3(-1.0), top))), ivec3(0), last);
+    lo = max(lo, c - SEARCH_REACH);
+    hi = min(hi, c + SEARCH_REACH);
+    float r2 = r * r;
+    for (int dz = -SEARCH_REACH; dz <= SEARCH_REACH; dz++) {
+        int z = c.z + dz;
+        if (z < lo.z || z > hi.z) continue;
+        float sz = slab_distance(x.z, c.z, z, u_cell_origin.z);
+        for (int dy = -SEARCH_REACH; dy <= SEARCH_REACH; dy++) {
+            int y = c.y + dy;
+            if (y < lo.y || y > hi.y) continue;
+            float sy = slab_distance(x.y, c.y, y, u_cell_origin.y);
+            if (sy * sy + sz * sz >= r2) continue;
+            walk_run(self, (z * u_dims.y + y) * u_dims.x, lo.x, hi.x);
+        }
+    }
+}
+#endif
+
+// The search a pass runs for the particle at sorted index `self` at position x: the trimmed
+// walk with SEARCH_TRIM, else the 27 cells.
+void search_around(int self, vec3 x) {
+#ifdef SEARCH_TRIM
+    search_within(self, x);
+#else
+    search_neighbours(self);
+#endif
 }

@@ -18,14 +18,17 @@ float sorted_key(int i) {
 #endif
 }
 
-// First sorted index whose key is not below k (dead particles' +inf keys sort last).
-int lower_bound(float k) {
-    int lo = 0;
-    int hi = u_count;
+// First sorted index in [lo, hi] whose key is not below k, where it is known to lie there.
+int lower_bound_in(float k, int lo, int hi) {
     for (int it = 0; it < 32; it++) {
         if (lo >= hi) break;
         int mid = (lo + hi) / 2;
         if (sorted_key(mid) < k) lo = mid + 1; else hi = mid;
     }
     return lo;
+}
+
+// First sorted index whose key is not below k (dead particles' +inf keys sort last).
+int lower_bound(float k) {
+    return lower_bound_in(k, 0, u_count);
 }

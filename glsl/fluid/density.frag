@@ -1,6 +1,7 @@
 // SPH density pass (Monaghan 1992; Becker & Teschner 2007 eq. 2, 4): over the cell-sorted
 // layout, each particle's density rho_i = m sum_j W(|x_i - x_j|) over itself and every particle
-// the exact search visits in the 27 cells of side 2h around it (collide/cells.glsl), with WALLS
+// the exact search visits in the cells of side h within 2h of it (collide/cells.glsl, the
+// trimmed walk), with WALLS
 // also over the ghosts of both in the plane colliders closer than 2h (fluid/kernel.glsl); and
 // its pressure from Tait's equation p = B ((rho / rho0)^gamma - 1), negative pressures clamped
 // to 0 (no tension).
@@ -55,7 +56,7 @@ void main() {
         if (g_near[k]) add(ghost_position(g_x, k));
     }
 #endif
-    search_neighbours(t.y * u_key_width + t.x);
+    search_around(t.y * u_key_width + t.x, g_x);
     float rho = u_mass * g_sum;
     float pressure = max(0.0, u_stiffness * (pow(rho / u_rest_density, u_gamma) - 1.0));
     o_density = vec4(rho, pressure, g_neighbours, exact_truncated ? 1.0 : 0.0);

@@ -233,6 +233,32 @@ impl Program {
         }
     }
 
+    /// The values its active float uniforms (`float`, `vec2` to `vec4`, not arrays) hold now,
+    /// by name: the geometry of a trimmed search, for a floor that repeats the draw's walk.
+    pub fn float_uniforms(&self) -> Vec<(String, Vec<f32>)> {
+        let gl = self.ctx.gl();
+        // SAFETY: queries of a linked program of this context.
+        unsafe {
+            (0..gl.get_active_uniforms(self.raw))
+                .filter_map(|i| gl.get_active_uniform(self.raw, i))
+                .filter_map(|u| {
+                    let n = match u.utype {
+                        glow::FLOAT => 1,
+                        glow::FLOAT_VEC2 => 2,
+                        glow::FLOAT_VEC3 => 3,
+                        glow::FLOAT_VEC4 => 4,
+                        _ => return None,
+                    };
+                    let at = gl.get_uniform_location(self.raw, &u.name)?;
+                    let mut v = vec![0f32; 4];
+                    gl.get_uniform_f32(self.raw, &at, &mut v);
+                    v.truncate(n);
+                    (u.size == 1).then_some((u.name, v))
+                })
+                .collect()
+        }
+    }
+
     /// Whether the program's sources declare uniform `name` (`u_plane[2]` counts as `u_plane`),
     /// whether or not the optimiser kept it.
     pub fn declares(&self, name: &str) -> bool {

@@ -61,7 +61,7 @@ pub struct RecordedTexture {
 /// One draw as data, without its program: what it wrote (the target's size and formats, the
 /// viewport), what it drew, and the textures it read (one per sampler, in the draw's order).
 /// What a floor built from a phase's own draws needs.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct DrawShape {
     /// The program (`vertex+fragment`).
     pub program: String,
@@ -87,6 +87,9 @@ pub struct DrawShape {
     /// ([`Program::walks_every_live`](super::Program::walks_every_live)): the values of its
     /// integer uniforms at the draw; else empty.
     pub ints: Vec<(String, Vec<i32>)>,
+    /// For such a program: the values of its float uniforms at the draw (a trimmed search's
+    /// geometry among them); else empty.
+    pub floats: Vec<(String, Vec<f32>)>,
 }
 
 /// The include of the exact neighbour search: a draw of a program built with it walks the
@@ -160,6 +163,11 @@ pub(crate) fn note_shape(d: &Draw<'_>) {
                 defines: d.program.defines().clone(),
                 ints: if walks {
                     d.program.int_uniforms()
+                } else {
+                    Vec::new()
+                },
+                floats: if walks {
+                    d.program.float_uniforms()
                 } else {
                     Vec::new()
                 },

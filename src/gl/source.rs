@@ -73,6 +73,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "collide/exchange.frag",
     "collide/sorted_keys.glsl",
     "collide/cells.glsl",
+    "collide/cell_block.frag",
     "collide/cell_start.frag",
     "collide/pair.glsl",
     "collide/spin.glsl",

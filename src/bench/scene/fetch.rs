@@ -153,7 +153,7 @@ impl FetchFloor {
                     ("u_sentinel", Uniform::F32(f32::NAN)),
                     ("u_reveal", reveal.clone()),
                 ];
-                u.extend(walks[i].iter().flat_map(|w| w.ints.iter().cloned()));
+                u.extend(walks[i].iter().flat_map(|w| w.uniforms.iter().cloned()));
                 u.extend(sizes(draws[i], &reads[i]));
                 u
             })
@@ -413,6 +413,7 @@ mod tests {
             samplers: Vec::new(),
             defines: Vec::new(),
             ints: Vec::new(),
+            floats: Vec::new(),
         };
         let floor = FetchFloor::new(&ctx).unwrap();
         let timer = PassTimer::new(&ctx, Clock::Wall).unwrap();
@@ -470,6 +471,7 @@ mod tests {
             samplers: textures.iter().map(|(n, _)| n.to_string()).collect(),
             defines: Vec::new(),
             ints: Vec::new(),
+            floats: Vec::new(),
         }
     }
 

@@ -10,15 +10,25 @@ const WALK_SAMPLERS: [&str; 3] = ["u_keys", "u_position", "u_cell_start"];
 /// The search's integer uniforms, which the floor sets to the draw's values.
 const WALK_INTS: [&str; 4] = ["u_key_width", "u_count", "u_dims", "u_cell_width"];
 
+/// The trimmed search's float uniforms (`SEARCH_TRIM`), which the floor sets to the draw's values.
+const WALK_FLOATS: [&str; 3] = ["u_cell_origin", "u_cell_size", "u_search_radius"];
+
 /// The defines the search reads (`glsl/collide/cells.glsl`, `sorted_keys.glsl`).
-const WALK_DEFINES: [&str; 3] = ["CELL_TABLE", "EXACT_SCAN", "PACKED_KEYS"];
+const WALK_DEFINES: [&str; 5] = [
+    "CELL_TABLE",
+    "EXACT_SCAN",
+    "PACKED_KEYS",
+    "SEARCH_TRIM",
+    "SEARCH_REACH",
+];
 
 /// What the floor of a draw that walked the cells repeats: the search's textures (by the
-/// samplers' names), defines and uniforms.
+/// samplers' names), defines and uniforms (the integer ones and a trimmed search's
+/// float geometry).
 pub(super) struct Walk {
     pub(super) textures: Vec<(&'static str, RecordedTexture)>,
     pub(super) defines: Defines,
-    pub(super) ints: Vec<(&'static str, Uniform)>,
+    pub(super) uniforms: Vec<(&'static str, Uniform)>,
 }
 
 /// The indices of `d`'s reads that the floor fetches once at the fragment's texel: all, but
@@ -65,10 +75,21 @@ pub(super) fn walk_of(ctx: &Context, d: &DrawShape) -> Option<Walk> {
                 },
             ))
         })
-        .collect();
+        .collect::<Vec<_>>();
+    let floats = (WALK_FLOATS.iter()).filter_map(|&name| {
+        let (_, v) = d.floats.iter().find(|(n, _)| n == name)?;
+        Some((
+            name,
+            match v.as_slice() {
+                [x] => Uniform::F32(*x),
+                [x, y, z] => Uniform::Vec3(glam::Vec3::new(*x, *y, *z)),
+                _ => return None,
+            },
+        ))
+    });
     Some(Walk {
         textures,
         defines,
-        ints,
+        uniforms: ints.into_iter().chain(floats).collect(),
     })
 }

@@ -25,7 +25,9 @@ pub use emitters::{
     AllocatorKind, Burst, Emitter, EmitterKind, Emitters, Flipbook, Shape, MAX_BIRTH_KEYS,
     MAX_BURSTS, MAX_EMITTERS, MAX_EMITTER_FORCES,
 };
-pub use fluid::{Fluid, Initial, Resort, Wall};
+pub use fluid::{
+    emitter_texels, fluid_particles, Fluid, FluidCell, Initial, Resort, Wall, FINE_CELL_PARTICLES,
+};
 pub use forces::{
     Attractor, CustomForce, Damping, Falloff, FieldData, Force, ForceKind, Forces, Gravity, Spring,
     Vortex, VortexForm, Wind, WindForm, MAX_CUSTOM_FORCES,

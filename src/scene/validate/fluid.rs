@@ -15,9 +15,9 @@ pub const FLUID_CFL: f32 = 0.4;
 pub const FLUID_VISCOUS: f32 = 0.125;
 /// The force condition dt ≤ λ sqrt(h / |g|) (Becker & Teschner 2007, §3.4: 0.25).
 pub const FLUID_FORCE: f32 = 0.25;
-/// Largest smoothing length over spacing: a run of three cells of side 2h then holds about
-/// 3 (2h/Δx)³ = 81 particles at rest, within the fluid search's bound of 128 (room for the
-/// compression a splash makes).
+/// Largest smoothing length over spacing: a run of the fluid's search (the cells of side h
+/// within 2h along x, at most five) then holds about 5 (h/Δx)³ = 17 particles at rest, far
+/// within the fluid search's bound of 128 (room for the compression a splash makes).
 pub const MAX_SMOOTHING_RATIO: f32 = 1.5;
 
 /// `[fluid]`, if the scene has one.
@@ -27,6 +27,7 @@ pub(super) fn fluid(s: &SceneFile) -> Check {
         return Ok(());
     };
     keys(f)?;
+    lattice(s)?;
     if s.collisions.is_some() {
         return fail(
             path(&[N("collisions")]),
@@ -187,16 +188,6 @@ fn keys(f: &Fluid) -> Check {
             "bounds must be [min corner, max corner] with min < max",
         );
     }
-    let cells = fluid_cells(f);
-    if cells > MAX_LATTICE_CELLS {
-        return fail(
-            at("bounds"),
-            format!(
-                "the fluid's neighbour lattice has {cells} cells of 2 smoothing; cell keys are \
-                 exact floats only up to 2^24 = {MAX_LATTICE_CELLS}: use smaller bounds"
-            ),
-        );
-    }
     Ok(())
 }
 
@@ -240,12 +231,38 @@ fn material(f: &Fluid) -> Check {
     Ok(())
 }
 
-/// Cells of the fluid's neighbour lattice (cell 2h over `bounds`), saturating.
-pub fn fluid_cells(f: &Fluid) -> u64 {
-    let g = 2.0 * f.h();
-    (0..3)
-        .map(|k| ((f.bounds[1][k] - f.bounds[0][k]) / g).ceil().max(1.0) as u32 as u64)
-        .fold(1u64, |a, n| a.saturating_mul(n))
+/// The fluid's lattice holds at most [`MAX_LATTICE_CELLS`] cells.
+fn lattice(s: &SceneFile) -> Check {
+    let Some(f) = &s.fluid else {
+        return Ok(());
+    };
+    let at = |k| path(&[N("fluid"), N(k)]);
+    let cells = fluid_cells(s);
+    if cells > MAX_LATTICE_CELLS {
+        let n = crate::scene::fluid_particles(s);
+        let g = f.cell_size(n);
+        let coarser = match f.fine_cell(n) {
+            true => ", or cell = \"2h\" (8 times fewer cells)",
+            false => "",
+        };
+        return fail(
+            at("bounds"),
+            format!(
+                "the fluid's neighbour lattice has {cells} cells of {g} m; cell keys are exact \
+                 floats only up to 2^24 = {MAX_LATTICE_CELLS}: use smaller bounds{coarser}"
+            ),
+        );
+    }
+    Ok(())
+}
+
+/// Cells of the neighbour lattice of the scene's fluid (`fluid.cell` over `bounds`), saturating.
+pub fn fluid_cells(s: &SceneFile) -> u64 {
+    let Some(f) = &s.fluid else {
+        return 0;
+    };
+    let g = f.cell_size(crate::scene::fluid_particles(s));
+    (f.lattice_dims(g).iter()).fold(1u64, |a, &n| a.saturating_mul(n as u64))
 }
 
 /// Fluid particles are placed on a lattice in initial box emitters, live for ever and weigh

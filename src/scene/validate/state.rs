@@ -294,7 +294,8 @@ fn exchange(s: &SceneFile, i: usize, st: &UserState) -> Check {
         return fail(
             at("pair"),
             "pair needs radius: the distance (m) below which a neighbour is summed, at most \
-             the neighbour search's cell (the exact collision detection's, or the fluid's 2h)",
+             the neighbour search's reach (the exact collision detection's cell, or the fluid's \
+             2h)",
         );
     };
     bounded(at("radius"), "radius", &[r])?;
@@ -304,9 +305,14 @@ fn exchange(s: &SceneFile, i: usize, st: &UserState) -> Check {
             (Some(c), _) => (
                 c.cell.unwrap_or(2.0 * c.radius),
                 "the collision cell",
-                "raise collisions.cell",
+                "the reach of the search of the 27 cells around a particle; raise collisions.cell",
             ),
-            (None, Some(f)) => (2.0 * f.h(), "the fluid's cell 2h", "raise fluid.smoothing"),
+            (None, Some(f)) => (
+                2.0 * f.h(),
+                "the fluid's reach 2h",
+                "the kernel's support, within which its search's runs are bounded; raise \
+                 fluid.smoothing",
+            ),
             (None, None) => return fail(
                 at("pair"),
                 "pair sums over the neighbours a search finds, the exact collision detection's \
@@ -317,10 +323,7 @@ fn exchange(s: &SceneFile, i: usize, st: &UserState) -> Check {
     if !(r > 0.0 && r <= cell) {
         return fail(
             at("radius"),
-            format!(
-                "radius {r} m must be above 0 and at most {what} {cell} m, the reach of the \
-                 search of the 27 cells around a particle ({fix})"
-            ),
+            format!("radius {r} m must be above 0 and at most {what} {cell} m ({fix})"),
         );
     }
     Ok(())

@@ -4,19 +4,25 @@
 //! uniforms and textures every searching pass takes, and the cell-start table (as `cellStart`
 //! in NVIDIA's CUDA `particles` sample, here a fragment pass).
 //!
-//! After each sort and gather that a search reads, one full-screen pass
-//! (`glsl/collide/cell_start.frag`) writes, for every cell c of the lattice, the first sorted
-//! index whose key is not below c, and the live particles' count after the last cell: one binary
-//! search per cell instead of 9 per particle and searching pass. The search then reads the
-//! bounds of each run of three cells from the table (18 fetches per particle). Keys are whole
+//! After each sort and gather that a search reads, two full-screen passes write, for every cell
+//! c of the lattice, the first sorted index whose key is not below c, and the live particles'
+//! count after the last cell: one search per cell instead of one per row of cells, particle and
+//! searching pass. The first (`glsl/collide/cell_block.frag`) finds the start of every block of
+//! [`TABLE_BLOCK`] cells by a binary search of all the keys, the second
+//! (`glsl/collide/cell_start.frag`) each cell's between its block's and the next's. The search
+//! then reads the bounds of each run of cells from the table (two fetches a run). Keys are whole
 //! cell indices (or +inf for the dead), so the run it walks is the one the binary search finds:
 //! the same neighbours in the same order, every output bit for bit the same.
 //!
-//! The table costs one binary search per cell: it pays while the cells are not many more than
-//! the particles. A lattice of more than 8 cells per entry (see [`uses_table`]), or of more than
-//! [`TABLE_MAX_CELLS`], keeps the binary search of every row instead; the pass list says which
-//! search runs. (On llvmpipe a table of 24 cells per particle, `dem` at 64×64, made its collision
-//! stage 5 times slower.)
+//! The fluid's lattice has cells of h, and its search (`SEARCH_TRIM`) walks only the cells
+//! within 2h of each particle (about 22 runs of 5 cells: half the particles of the 27 cells of
+//! 2h); the collisions' exact detection walks the 27 cells around a particle's cell.
+//!
+//! The table costs a few fetches per cell: it pays while the cells are not many more than the
+//! particles. A lattice of more cells per entry than its walk allows
+//! ([`Walk::table_cells_per_entry`]: 8 for the 27 cells, 32 for the fluid's trimmed walk), or of
+//! more than [`TABLE_MAX_CELLS`], keeps the binary search of every run instead; the pass list
+//! says which search runs.
 
 use glam::{UVec3, Vec3};
 
@@ -28,7 +34,7 @@ use crate::gl::{
 use crate::scene::{self, SceneFile};
 use crate::sort::KeyMode;
 
-/// A lattice: corner of cell (0, 0, 0), mesh size, cells per axis.
+/// A lattice: corner of cell (0, 0, 0), mesh size, cells per axis, and how a search walks it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lattice {
     /// Corner of cell (0, 0, 0).
@@ -37,6 +43,41 @@ pub struct Lattice {
     pub spacing: f32,
     /// Cells per axis.
     pub dims: UVec3,
+    /// How the neighbour search walks it.
+    pub walk: Walk,
+}
+
+/// How a neighbour search walks the sorted cells (`glsl/collide/cells.glsl`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Walk {
+    /// The 27 cells around a particle's: 9 runs of three cells along x.
+    #[default]
+    Cells27,
+    /// The cells that can hold a particle within the pass's radius of the particle, at most
+    /// `reach` cells from its own in each axis (`SEARCH_TRIM`, `SEARCH_REACH`: the fluid's):
+    /// rows along x cut to x ± radius, rows farther in y and z skipped; with cells of h (reach 2)
+    /// and a radius of 2h about 22 runs of 5 cells.
+    Trimmed {
+        /// The radius over the cell, rounded up.
+        reach: u32,
+    },
+}
+
+impl Walk {
+    /// Most cells per sorted entry for which a search of this walk builds the cell-start table
+    /// ([`uses_table`]). The table's passes fetch about 3 keys per cell (and log2(entries) per
+    /// 32 cells); a search without it fetches log2(entries) keys per run and entry in each
+    /// searching pass: 9 runs for the 27 cells, about 22 for the trimmed walk of cells of h, in
+    /// at least two passes for the fluid. (On llvmpipe a table of 24 cells per entry, `dem` at
+    /// 64² with the 27 cells, made its collision stage 1.07 times slower; on an NVIDIA H100 the
+    /// fluid at 512², 24 cells of h per entry, walked 1.5 times as long without the table as
+    /// with cells of 2h and their table.)
+    pub fn table_cells_per_entry(self) -> u64 {
+        match self {
+            Walk::Cells27 => 8,
+            Walk::Trimmed { .. } => 32,
+        }
+    }
 }
 
 impl Lattice {
@@ -52,26 +93,41 @@ impl Lattice {
                 origin: lo - Vec3::splat(0.5 * g),
                 spacing: g,
                 dims: dims + UVec3::ONE,
+                walk: Walk::Cells27,
             }
         } else {
             Lattice {
                 origin: lo,
                 spacing: g,
                 dims,
+                walk: Walk::Cells27,
             }
         }
     }
 
-    /// The lattice of `[fluid]`: cell 2h (the cubic spline's support) from the lower corner of
-    /// its bounds.
-    pub fn of_fluid(f: &scene::Fluid) -> Self {
-        let g = 2.0 * f.h();
-        let lo = Vec3::from(f.bounds[0]);
-        let hi = Vec3::from(f.bounds[1]);
+    /// The lattice of the scene's `[fluid]` (a scene without one has none: a lattice of one
+    /// cell), from the lower corner of its bounds: cell h or 2h (`fluid.cell`), searched by the
+    /// trimmed walk (`SEARCH_TRIM` in `glsl/collide/cells.glsl`). The cells within 2h of a
+    /// particle are about 108 h³ of cells of h against at most 216 h³ for the 27 cells of 2h.
+    pub fn of_fluid(scene: &SceneFile) -> Self {
+        let Some(f) = &scene.fluid else {
+            return Lattice {
+                origin: Vec3::ZERO,
+                spacing: 1.0,
+                dims: UVec3::ONE,
+                walk: Walk::Trimmed { reach: 1 },
+            };
+        };
+        let n = scene::fluid_particles(scene);
+        let (fine, g) = (f.fine_cell(n), f.cell_size(n));
         Lattice {
-            origin: lo,
+            origin: Vec3::from(f.bounds[0]),
             spacing: g,
-            dims: ((hi - lo) / g).ceil().max(Vec3::ONE).as_uvec3(),
+            dims: UVec3::from(f.lattice_dims(g)),
+            // The kernel's support 2h (and every exchange's radius, at most 2h) over the cell.
+            walk: Walk::Trimmed {
+                reach: if fine { 2 } else { 1 },
+            },
         }
     }
 
@@ -92,6 +148,12 @@ impl Lattice {
         (c.z as u64 * self.dims.y as u64 + c.y as u64) * self.dims.x as u64 + c.x as u64
     }
 
+    /// Whether a search of it over `entries` sorted entries reads a cell-start table
+    /// ([`uses_table`]).
+    pub fn uses_table(&self, entries: u64) -> bool {
+        uses_table(self.cells(), entries, self.walk)
+    }
+
     pub(super) fn mode(&self) -> KeyMode {
         KeyMode::GridCell {
             origin: self.origin,
@@ -104,9 +166,10 @@ impl Lattice {
 /// Cells per row of the table.
 pub const TABLE_WIDTH: u32 = 2048;
 
-/// Most cells a lattice has for the table: with the sentinel, at most 2048 rows of
-/// [`TABLE_WIDTH`] texels (16 MiB of R32F), a texture every GL ES 3.0 device can hold.
-pub const TABLE_MAX_CELLS: u64 = (1 << 22) - 1;
+/// Most cells a lattice has for the table: with the sentinel, at most 4096 rows of
+/// [`TABLE_WIDTH`] texels (32 MiB of R32F), no larger a side than the 4096² state textures
+/// texflow runs (the million-particle dam's lattice of cell h has 6.3 million cells).
+pub const TABLE_MAX_CELLS: u64 = (1 << 23) - 1;
 
 thread_local! {
     // Set by `with_search` while it builds stages on this thread.
@@ -124,12 +187,11 @@ pub fn with_search<T>(table: bool, build: impl FnOnce() -> T) -> T {
     out
 }
 
-/// Whether a search of a lattice of `cells` cells over `entries` sorted entries reads a
-/// cell-start table: cells ≤ 8 × entries and ≤ [`TABLE_MAX_CELLS`]; else the binary search.
-/// The table pass fetches about log2(entries) keys per cell, one searching pass 9 log2(entries)
-/// per entry: up to 8 cells an entry the table fetches less than the one pass it serves saves.
-pub fn uses_table(cells: u64, entries: u64) -> bool {
-    let rule = cells <= 8 * entries;
+/// Whether a search by `walk` of a lattice of `cells` cells over `entries` sorted entries reads
+/// a cell-start table: cells ≤ [`Walk::table_cells_per_entry`] × entries and ≤
+/// [`TABLE_MAX_CELLS`]; else the binary search.
+pub fn uses_table(cells: u64, entries: u64, walk: Walk) -> bool {
+    let rule = cells <= walk.table_cells_per_entry() * entries;
     cells <= TABLE_MAX_CELLS && FORCED.with(|f| f.get()).unwrap_or(rule)
 }
 
@@ -140,7 +202,7 @@ pub fn uses_table(cells: u64, entries: u64) -> bool {
 pub struct CellTables {
     /// The exact collision detection's lattice.
     pub collisions: bool,
-    /// The fluid's lattice (cell 2h).
+    /// The fluid's lattice (cell h or 2h).
     pub fluid: bool,
 }
 
@@ -149,23 +211,23 @@ impl CellTables {
     pub fn of(scene: &SceneFile) -> Self {
         let [w, h] = scene.particles.size;
         let entries = w as u64 * h as u64;
-        let table = |l: Lattice| uses_table(l.cells(), entries);
+        let table = |l: Lattice| l.uses_table(entries);
         CellTables {
             collisions: (scene.collisions.as_ref())
                 .filter(|c| c.detection == scene::Detection::Exact)
                 .is_some_and(|c| table(Lattice::of(c, false))),
-            fluid: (scene.fluid.as_ref()).is_some_and(|f| table(Lattice::of_fluid(f))),
+            fluid: scene.fluid.is_some() && table(Lattice::of_fluid(scene)),
         }
     }
 }
 
-/// How the search finds each run of three cells, for the pass lists.
+/// How the search finds each run of cells, for the pass lists.
 pub fn search_words(table: bool) -> &'static str {
     if table {
-        "run bounds read from the cell-start table, 2 fetches per row of 3 cells"
+        "run bounds read from the cell-start table, 2 fetches per run"
     } else {
-        "binary search of the sorted keys per row of 3 cells (the lattice is too large for a \
-         cell-start table)"
+        "binary search of the sorted keys per run (the lattice is too large for a cell-start \
+         table)"
     }
 }
 
@@ -175,26 +237,53 @@ pub fn table_line(what: &str, when: &str) -> String {
     let prefix = if what == "fluid" { "fluid " } else { "" };
     format!(
         "{prefix}cell start: one texel per cell of the {what} lattice and a sentinel, the first \
-         sorted index whose key is not below the cell's (a binary search of the sorted keys per \
-         cell){when}"
+         sorted index whose key is not below the cell's (two passes: every {TABLE_BLOCK}th cell's \
+         by a binary search of all the sorted keys, then each cell's between its block's and the \
+         next's){when}"
     )
 }
 
-/// The simulation's `defines` and `CELL_TABLE` where the search of `lattice` over a `size`
-/// state reads the table.
+/// The simulation's `defines`, with `CELL_TABLE` where the search of `lattice` over a `size`
+/// state reads the table and `SEARCH_TRIM` where it walks the trimmed cells.
 pub fn search_defines(defines: &Defines, lattice: &Lattice, size: [u32; 2]) -> Defines {
     let mut d = defines.clone();
-    if uses_table(lattice.cells(), size[0] as u64 * size[1] as u64) {
+    if lattice.uses_table(size[0] as u64 * size[1] as u64) {
         d.push(("CELL_TABLE".into(), "1".into()));
+    }
+    if let Walk::Trimmed { reach } = lattice.walk {
+        d.push(("SEARCH_TRIM".into(), "1".into()));
+        d.push(("SEARCH_REACH".into(), reach.to_string()));
     }
     d
 }
 
-/// The table's target and pass.
+/// Cells per block of the table's first level: each cell's start is searched among the keys
+/// between its block's start and the next's (about 32 cells' particles, a few fetches).
+pub const TABLE_BLOCK: u32 = 32;
+
+/// The table's target and pass, and its first level's (the start of every block of
+/// [`TABLE_BLOCK`] cells).
 #[derive(Debug)]
 struct Table {
     target: Framebuffer,
     program: Program,
+    blocks: Framebuffer,
+    block_program: Program,
+}
+
+/// An R32F target of `texels` texels in rows of at most [`TABLE_WIDTH`].
+fn table_target(ctx: &Context, label: &'static str, texels: u32) -> Result<Framebuffer> {
+    let width = texels.min(TABLE_WIDTH);
+    let texture = Texture::new(
+        ctx,
+        TextureDesc {
+            width,
+            height: texels.div_ceil(width),
+            format: TextureFormat::R32F,
+            label,
+        },
+    )?;
+    Framebuffer::new(ctx, label, vec![texture])
 }
 
 /// The search of one lattice over the sorted keys of a state: its uniforms, and the cell-start
@@ -217,25 +306,18 @@ impl CellSearch {
     pub fn new(ctx: &Context, lattice: Lattice, size: [u32; 2], packed: bool) -> Result<Self> {
         let [w, h] = size;
         let cells = lattice.cells();
-        let table = if uses_table(cells, w as u64 * h as u64) {
-            let texels = cells as u32 + 1;
-            let width = texels.min(TABLE_WIDTH);
-            let texture = Texture::new(
-                ctx,
-                TextureDesc {
-                    width,
-                    height: texels.div_ceil(width),
-                    format: TextureFormat::R32F,
-                    label: "cell start",
-                },
-            )?;
+        let table = if lattice.uses_table(w as u64 * h as u64) {
             let mut d = Defines::new();
             if packed {
                 d.push(("PACKED_KEYS".into(), "1".into()));
             }
+            let program = |f| Program::new(ctx, FULLSCREEN_VERTEX, f, &d);
             Some(Table {
-                target: Framebuffer::new(ctx, "cell start", vec![texture])?,
-                program: Program::new(ctx, FULLSCREEN_VERTEX, "collide/cell_start.frag", &d)?,
+                // Cells and the sentinel; blocks up to the sentinel's and the one after it.
+                target: table_target(ctx, "cell start", cells as u32 + 1)?,
+                program: program("collide/cell_start.frag")?,
+                blocks: table_target(ctx, "cell blocks", cells as u32 / TABLE_BLOCK + 2)?,
+                block_program: program("collide/cell_block.frag")?,
             })
         } else {
             None
@@ -265,13 +347,23 @@ impl CellSearch {
         let Some(t) = &self.table else {
             return;
         };
-        let uniforms = [
+        let blocks = [
             ("u_key_width", Uniform::I32(self.key_width as i32)),
             ("u_count", Uniform::I32(self.count as i32)),
-            ("u_cell_width", Uniform::I32(t.target.width() as i32)),
+            ("u_block_width", Uniform::I32(t.blocks.width() as i32)),
+            ("u_block", Uniform::I32(TABLE_BLOCK as i32)),
             ("u_cells", Uniform::I32(self.lattice.cells() as i32)),
         ];
-        pass.draw(&t.program, &[("u_keys", keys.into())], &uniforms, &t.target);
+        let mut cells = blocks.to_vec();
+        cells.push(("u_cell_width", Uniform::I32(t.target.width() as i32)));
+        let (k, b) = (keys.into(), t.blocks.only_texture().into());
+        pass.draw(&t.block_program, &[("u_keys", k)], &blocks, &t.blocks);
+        pass.draw(
+            &t.program,
+            &[("u_keys", k), ("u_blocks", b)],
+            &cells,
+            &t.target,
+        );
     }
 
     /// The search's uniforms, for the draws of the passes that walk the cells.
@@ -281,6 +373,9 @@ impl CellSearch {
             ("u_key_width", Uniform::I32(self.key_width as i32)),
             ("u_count", Uniform::I32(self.count as i32)),
             ("u_dims", Uniform::IVec3(d)),
+            // The trimmed walk's geometry (`SEARCH_TRIM`); its radius is the pass's own.
+            ("u_cell_origin", Uniform::Vec3(self.lattice.origin)),
+            ("u_cell_size", Uniform::F32(self.lattice.spacing)),
         ];
         if let Some(t) = &self.table {
             out.push(("u_cell_width", Uniform::I32(t.target.width() as i32)));
@@ -297,9 +392,13 @@ impl CellSearch {
         out
     }
 
-    /// The table pass's draws, `times` a step, for the pass list line beginning with `line`.
-    pub fn pass_draw(&self, line: &str, times: u64) -> Option<PassDraw> {
-        (self.table.as_ref()).map(|t| PassDraw::of(line, &t.program, times))
+    /// The table passes' draws (its first level, then the table), `times` a step, for the pass
+    /// list line beginning with `line`; none without a table.
+    pub fn pass_draws(&self, line: &str, times: u64) -> Vec<PassDraw> {
+        (self.table.iter())
+            .flat_map(|t| [&t.block_program, &t.program])
+            .map(|p| PassDraw::of(line, p, times))
+            .collect()
     }
 
     /// The sorted keys of `keys` (the texture the search reads), in sorted order, as the

@@ -154,8 +154,10 @@ impl SortedGrid {
         out
     }
 
-    /// The table pass's draws, `times` a step, under the line `line` (none without a table).
-    pub fn table_draw(&self, line: &str, times: u64) -> Option<PassDraw> {
-        self.search.as_ref().and_then(|s| s.pass_draw(line, times))
+    /// The table passes' draws, `times` a step, under the line `line` (none without a table).
+    pub fn table_draws(&self, line: &str, times: u64) -> Vec<PassDraw> {
+        (self.search.iter())
+            .flat_map(|s| s.pass_draws(line, times))
+            .collect()
     }
 }

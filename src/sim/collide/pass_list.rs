@@ -39,7 +39,7 @@ impl CollisionStage {
     /// The draws of one step, in the order of the stage's pass lines.
     pub(crate) fn pass_draws(&self) -> Vec<PassDraw> {
         let mut out = Vec::new();
-        let table = |times| self.first.sorted.table_draw("cell start", times);
+        let table = |times| self.first.sorted.table_draws("cell start", times);
         if let Some(n) = &self.neighbours {
             sort_draws(&mut out, &self.first, 1);
             out.extend(table(1));

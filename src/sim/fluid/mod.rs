@@ -1,9 +1,9 @@
 //! Weakly compressible SPH (Monaghan 1992; Becker & Teschner 2007) over the cell-sorted state,
 //! in fragment passes only (UberFlow §6: "any physical model that requires access to adjacent
 //! particles"). A scene's `[fluid]` sets up its own exact neighbour search: a lattice of cell
-//! 2h (the cubic spline's support) over `fluid.bounds`, searched as the exact collision
-//! detection searches (`glsl/collide/cells.glsl`: every particle of the 27 cells around a
-//! particle, each run of three cells bounded by the cell-start table of
+//! h (half the cubic spline's support) over `fluid.bounds`, searched by the trimmed walk of
+//! `glsl/collide/cells.glsl` (`SEARCH_TRIM`: every particle of the cells within 2h of a
+//! particle, each run of cells along x bounded by the cell-start table of
 //! `src/sim/collide/cells.rs` or, for a lattice too large for it, a binary search of the sorted
 //! keys; at most [`FLUID_SCAN`] per run; a search past it is flagged and counted, and `render`
 //! warns).
@@ -50,15 +50,16 @@ pub use resort::{
 };
 pub use stats::FluidStats;
 
-/// Most particles the fluid's search walks in a run of three cells along x: at rest a run holds
-/// about 3 (2h / Δx)³, at most 81 with the largest smoothing length validation allows.
+/// Most particles the fluid's search walks in a run of cells along x (at most five cells of h):
+/// at rest a run holds about 5 (h / Δx)³, at most 17 with the largest smoothing length
+/// validation allows.
 pub const FLUID_SCAN: u32 = 128;
 
 /// The fluid stage of a scene with `[fluid]`.
 #[derive(Debug)]
 pub struct Fluid {
     config: scene::Fluid,
-    /// The lattice of cell 2h, its sort, the state in cell order (position, velocity, static)
+    /// The lattice of cell h, its sort, the state in cell order (position, velocity, static)
     /// and its search, with the cell-start table where it fits.
     grid: SortedGrid,
     /// `resort = "coherent"`: the cheap network, its check and counts.
@@ -77,20 +78,23 @@ pub struct Fluid {
     gravity: Vec3,
 }
 
-/// The lattice of `[fluid]`: cell 2h from the lower corner of its bounds.
-pub fn lattice_of(f: &scene::Fluid) -> Lattice {
-    Lattice::of_fluid(f)
+/// The lattice of the scene's `[fluid]` (which it has): cell h or 2h (`fluid.cell`) from the
+/// lower corner of its bounds.
+pub fn lattice_of(scene: &SceneFile) -> Lattice {
+    Lattice::of_fluid(scene)
 }
 
-/// The passes of one fluid step, as `texflow scene passes` lists them.
-pub fn fluid_passes(walls: bool, coherent: Option<u32>, table: bool) -> Vec<String> {
+/// The passes of one fluid step, as `texflow scene passes` lists them; the lattice's cell is
+/// `cell` h (1 or 2).
+pub fn fluid_passes(walls: bool, coherent: Option<u32>, table: bool, cell: u32) -> Vec<String> {
+    let cell = if cell == 1 { "h" } else { "2h" };
     let wall = if walls {
         ", and over their ghosts in the plane colliders closer than 2h"
     } else {
         ""
     };
     let mut out: Vec<String> = vec![
-        "fluid keys: cell index in the lattice of cell 2h (z, y, x)".into(),
+        format!("fluid keys: cell index in the lattice of cell {cell} (z, y, x)"),
         match coherent {
             None => "fluid sort: full sort on our blocked network (exact (key, id) entries)".into(),
             Some(m) => format!(
@@ -108,7 +112,7 @@ pub fn fluid_passes(walls: bool, coherent: Option<u32>, table: bool) -> Vec<Stri
     }
     out.extend([
         format!(
-            "fluid density: ρ = m Σ W over the 27 cells around each particle (cubic spline, \
+            "fluid density: ρ = m Σ W over the cells within 2h of each particle (cubic spline, \
              {}, at most {FLUID_SCAN} particles per run){wall}; Tait pressure p = B((ρ/ρ0)^γ − \
              1), at least 0",
             search_words(table)
@@ -129,7 +133,7 @@ impl Fluid {
     pub(crate) fn pass_draws(&self) -> Vec<crate::gl::PassDraw> {
         use crate::gl::PassDraw;
         let mut out = self.grid.sort_draws("fluid keys", "fluid sort", 1);
-        out.extend(self.grid.table_draw("fluid cell start", 1));
+        out.extend(self.grid.table_draws("fluid cell start", 1));
         out.extend([
             PassDraw::of("fluid density", &self.density_pass, 1),
             PassDraw::of("fluid force", &self.force_pass, 1),
@@ -167,7 +171,7 @@ impl Fluid {
             ));
         };
         let size = scene.particles.size;
-        let lattice = lattice_of(&config);
+        let lattice = lattice_of(scene);
         let mut d = search_defines(defines, &lattice, size);
         d.push(("EXACT_SCAN".into(), FLUID_SCAN.to_string()));
         if config.wall_correction {
@@ -216,7 +220,7 @@ impl Fluid {
         &self.config
     }
 
-    /// The neighbour lattice (cell 2h).
+    /// The neighbour lattice (cell h).
     pub fn lattice(&self) -> Lattice {
         self.grid.lattice()
     }
@@ -240,15 +244,12 @@ impl Fluid {
         for (k, e) in initial.iter().enumerate() {
             let size = Vec3::from(e.size);
             let lo = Vec3::from(e.center.at(0.0)) - 0.5 * size;
-            let n = (size / dx + Vec3::splat(1e-3))
-                .floor()
-                .max(Vec3::ZERO)
-                .as_uvec3();
+            let n = glam::UVec3::from(self.config.box_points(e.size));
             let v = Vec3::from(e.direction.at(0.0)).normalize_or_zero() * e.speed.at(0.0)[0];
             lattice_min.push(lo.extend(dx));
             // The layers this emitter's particles fill (texels of rank k modulo the emitters;
             // a partial fill is a lower layer): the hydrostatic start's column height.
-            let count = (texels + kinds - 1 - k) / kinds;
+            let count = scene::emitter_texels(texels as u64, kinds as u64, k as u64) as usize;
             let layer = (n.x as usize * n.z as usize).max(1);
             let layers = count.div_ceil(layer).min(n.y as usize);
             lattice_n.push([n.x as i32, n.y as i32, n.z as i32, layers as i32]);
@@ -280,6 +281,7 @@ impl Fluid {
         let mut out = self.search().uniforms();
         out.extend([
             ("u_h", Uniform::F32(f.h())),
+            ("u_search_radius", Uniform::F32(2.0 * f.h())),
             ("u_mass", Uniform::F32(f.mass())),
             ("u_rest_density", Uniform::F32(f.rest_density)),
             ("u_stiffness", Uniform::F32(f.stiffness())),

@@ -113,6 +113,9 @@ pub struct Features {
     /// `fluid.resort = "coherent"`: the re-sort's block (src/sim/fluid/resort.rs).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fluid_resort: Option<u32>,
+    /// The fluid's lattice cell over its smoothing length h (`fluid.cell`: 1 or 2).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fluid_cell: Option<u32>,
     /// Time stamps in texel order (`collisions.row_phases`), so a release shares a row.
     pub row_phases: bool,
     /// Some timestamp emitter moves each release to its own place (`release_spread`).
@@ -191,6 +194,12 @@ impl Features {
             fluid: scene.fluid.as_ref().map(|f| f.wall_correction),
             fluid_resort: (scene.fluid.as_ref())
                 .and_then(|f| crate::sim::fluid::coherent_block(f, scene.particles.size)),
+            fluid_cell: (scene.fluid.as_ref()).map(|f| {
+                match f.fine_cell(crate::scene::fluid_particles(scene)) {
+                    true => 1,
+                    false => 2,
+                }
+            }),
             row_phases: scene.collisions.as_ref().is_some_and(|c| c.row_phases),
             release_spread: em.timestamp.iter().any(|e| e.release_spread.is_some()),
             constraints: scene
@@ -387,6 +396,7 @@ impl Features {
                 walls && self.collider_counts.get(scene::ColliderKind::Plane) > 0,
                 self.fluid_resort,
                 self.cell_tables.fluid,
+                self.fluid_cell.unwrap_or(2),
             ));
         }
         if self.dem || self.pair_forces > 0 {

@@ -43,7 +43,7 @@ pub(super) fn fluid_carry_passes(states: usize, exchanges: &[String]) -> Vec<Str
     out.extend(exchanges.iter().map(|name| {
         format!(
             "exchange {name} (after the fluid's sort): {name} += the sum of `pair` over the live \
-             neighbours within its radius (the fluid's search of the 27 cells around each \
+             neighbours within its radius (the fluid's search of the cells within that radius of each \
              particle) [swapped in after every exchange is drawn]"
         )
     }));
@@ -86,6 +86,7 @@ impl ParticleSim {
                 p,
                 f.search().uniforms().into_iter().chain([
                     ("u_pair_radius", Uniform::F32(*radius)),
+                    ("u_search_radius", Uniform::F32(*radius)),
                     ("u_dt", Uniform::F32(self.params.time.dt)),
                     ("u_time", Uniform::F32(self.time as f32)),
                 ]),

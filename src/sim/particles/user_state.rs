@@ -401,9 +401,9 @@ pub(super) fn exchange_programs(
 ) -> Result<Vec<(usize, Program)>> {
     // The fluid's search walks runs of up to its own bound (src/sim/fluid/).
     let d = match &scene.fluid {
-        Some(f) => {
+        Some(_) => {
             // The fluid's search (with its cell-start table where it has one).
-            let lattice = crate::sim::fluid::lattice_of(f);
+            let lattice = crate::sim::fluid::lattice_of(scene);
             let size = scene.particles.size;
             let mut d = crate::sim::collide::cells::search_defines(defines, &lattice, size);
             d.push((

@@ -168,7 +168,7 @@ fn a_lattice_far_larger_than_the_state_keeps_the_binary_search() {
     // fluid's trimmed walk, more keep the binary search.
     assert!(uses_table(2048, 256, Walk::Cells27));
     assert!(!uses_table(2049, 256, Walk::Cells27));
-    let fluid = Walk::Trimmed { reach: 2 };
+    let fluid = Walk::Fluid { trimmed: true };
     assert!(uses_table(8192, 256, fluid));
     assert!(!uses_table(8193, 256, fluid));
     // A million entries: up to the table's size.
@@ -193,8 +193,8 @@ fn a_lattice_far_larger_than_the_state_keeps_the_binary_search() {
 }
 
 /// `fluid.cell = "auto"` takes cells of h from 262,144 placed particles (the box emitters'
-/// lattice points, at most the texels), else 2h; the walk reaches two cells of h or one of 2h,
-/// and the pass list names the cell.
+/// lattice points, at most the texels), else 2h; the walk is trimmed on cells of h only, and
+/// the pass list names the cell.
 #[test]
 fn the_fluid_lattice_follows_its_particle_count() {
     let dam = |size: u32, cell: &str| {
@@ -224,14 +224,11 @@ fn the_fluid_lattice_follows_its_particle_count() {
         assert_eq!(scene::fluid_particles(&s), placed, "{size} {cell}");
         let l = texflow::sim::fluid::lattice_of(&s);
         let h = s.fluid.as_ref().unwrap().h();
-        let (g, reach) = if fine { (h, 2) } else { (2.0 * h, 1) };
-        assert_eq!(l.spacing, g, "{size} {cell}");
-        assert_eq!(l.walk, Walk::Trimmed { reach }, "{size} {cell}");
+        assert_eq!(l.spacing, if fine { h } else { 2.0 * h }, "{size} {cell}");
+        assert_eq!(l.walk, Walk::Fluid { trimmed: fine }, "{size} {cell}");
         let d = texflow::sim::collide::cells::search_defines(&Vec::new(), &l, s.particles.size);
-        assert!(
-            d.contains(&("SEARCH_REACH".into(), reach.to_string())),
-            "{d:?}"
-        );
+        let trim = ("SEARCH_TRIM".to_string(), "1".to_string());
+        assert_eq!(d.contains(&trim), fine, "{d:?}");
     }
     // The built-in dam (4,096 particles) keeps cells of 2h, and says so.
     let ctx = context();

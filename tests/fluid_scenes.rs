@@ -103,21 +103,7 @@ fn bad_fluid_scenes_are_refused_at_their_key() {
         let k = "normal = [0.0, 1.0, 0.0]\nresilience = 0.0";
         src.replace(k, &format!("{k}\nwall = \"no_slip\""))
     };
-    let cases: [(String, &str, &str); 9] = [
-        (
-            base(5e-4, &format!("{ok}\ncell = \"3h\"")),
-            "cell",
-            "expected one of `auto`, `h`, `2h`",
-        ),
-        (
-            // 30 m × 1 m × 30 m in cells of h = 2 cm: 112 million cells, past 2^24.
-            base(5e-4, &format!("{ok}\ncell = \"h\"")).replace(
-                "bounds = [[0.0, 0.0, 0.0], [0.24, 1.0, 0.12]]",
-                "bounds = [[0.0, 0.0, 0.0], [30.0, 1.0, 30.0]]",
-            ),
-            "bounds",
-            "or cell = \"2h\"",
-        ),
+    let cases: [(String, &str, &str); 7] = [
         (
             no_slip_floor(base(5e-4, &format!("{ok}\nwall_correction = false"))),
             "wall = ",
@@ -168,6 +154,45 @@ fn bad_fluid_scenes_are_refused_at_their_key() {
     let (line, _, m) = scene_error(scene::parse("bad.toml", &src));
     assert_eq!(line, line_of(&src, "wall = "), "{m}");
     assert!(m.contains("first 31 planes"), "{m}");
+}
+
+/// `fluid.cell` outside its three values, and a lattice of cells of h past 2^24 cells, are
+/// refused at their key (the latter naming the coarser cell).
+#[test]
+fn bad_fluid_cells_are_refused_at_their_key() {
+    let ok = "speed_of_sound = 10.0\nspacing = 0.02";
+    let base = |fluid: &str| {
+        tank(
+            [16, 16],
+            [0.24, 0.12],
+            ([0.06, 0.06, 0.06], [0.12; 3]),
+            5e-4,
+            fluid,
+        )
+    };
+    let line_of =
+        |src: &str, key: &str| 1 + src.lines().position(|l| l.starts_with(key)).expect(key);
+    let cases = [
+        (
+            base(&format!("{ok}\ncell = \"3h\"")),
+            "cell",
+            "expected one of `auto`, `h`, `2h`",
+        ),
+        (
+            // 30 m × 1 m × 30 m in cells of h = 2 cm: 112 million cells, past 2^24.
+            base(&format!("{ok}\ncell = \"h\"")).replace(
+                "bounds = [[0.0, 0.0, 0.0], [0.24, 1.0, 0.12]]",
+                "bounds = [[0.0, 0.0, 0.0], [30.0, 1.0, 30.0]]",
+            ),
+            "bounds",
+            "or cell = \"2h\"",
+        ),
+    ];
+    for (src, key, says) in cases {
+        let (line, _, message) = scene_error(scene::parse("bad.toml", &src));
+        assert_eq!(line, line_of(&src, key), "{message}\n{src}");
+        assert!(message.contains(says), "{message}");
+    }
 }
 
 /// `render --json` lists per written frame the fluid's density error and energy: every live

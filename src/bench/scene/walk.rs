@@ -14,13 +14,7 @@ const WALK_INTS: [&str; 4] = ["u_key_width", "u_count", "u_dims", "u_cell_width"
 const WALK_FLOATS: [&str; 3] = ["u_cell_origin", "u_cell_size", "u_search_radius"];
 
 /// The defines the search reads (`glsl/collide/cells.glsl`, `sorted_keys.glsl`).
-const WALK_DEFINES: [&str; 5] = [
-    "CELL_TABLE",
-    "EXACT_SCAN",
-    "PACKED_KEYS",
-    "SEARCH_TRIM",
-    "SEARCH_REACH",
-];
+const WALK_DEFINES: [&str; 4] = ["CELL_TABLE", "EXACT_SCAN", "PACKED_KEYS", "SEARCH_TRIM"];
 
 /// What the floor of a draw that walked the cells repeats: the search's textures (by the
 /// samplers' names), defines and uniforms (the integer ones and a trimmed search's

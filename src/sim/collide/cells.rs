@@ -14,9 +14,10 @@
 //! cell indices (or +inf for the dead), so the run it walks is the one the binary search finds:
 //! the same neighbours in the same order, every output bit for bit the same.
 //!
-//! The fluid's lattice has cells of h, and its search (`SEARCH_TRIM`) walks only the cells
+//! A large fluid's lattice has cells of h, and its search (`SEARCH_TRIM`) walks only the cells
 //! within 2h of each particle (about 22 runs of 5 cells: half the particles of the 27 cells of
-//! 2h); the collisions' exact detection walks the 27 cells around a particle's cell.
+//! 2h); a small fluid's (cells of 2h) and the collisions' exact detection walk the 27 cells
+//! around a particle's cell ([`Walk`]).
 //!
 //! The table costs a few fetches per cell: it pays while the cells are not many more than the
 //! particles. A lattice of more cells per entry than its walk allows
@@ -50,16 +51,17 @@ pub struct Lattice {
 /// How a neighbour search walks the sorted cells (`glsl/collide/cells.glsl`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Walk {
-    /// The 27 cells around a particle's: 9 runs of three cells along x.
+    /// The collisions' search: the 27 cells around a particle's, 9 runs of three cells along x.
     #[default]
     Cells27,
-    /// The cells that can hold a particle within the pass's radius of the particle, at most
-    /// `reach` cells from its own in each axis (`SEARCH_TRIM`, `SEARCH_REACH`: the fluid's):
-    /// rows along x cut to x ± radius, rows farther in y and z skipped; with cells of h (reach 2)
-    /// and a radius of 2h about 22 runs of 5 cells.
-    Trimmed {
-        /// The radius over the cell, rounded up.
-        reach: u32,
+    /// The fluid's search, in at least two passes a step (density, force).
+    Fluid {
+        /// On a lattice of cell h: the cells that can hold a particle within the pass's radius
+        /// of the particle (`SEARCH_TRIM`): rows along x cut to x ± radius, rows farther in y
+        /// and z skipped, about 22 runs of 5 cells for a radius of 2h. Else (cells of 2h) the
+        /// 27 cells, as the collisions (trimming them ran 6 % slower on an NVIDIA H100 for the
+        /// 8,192-particle `drop`, and saved nothing at a million particles).
+        trimmed: bool,
     },
 }
 
@@ -67,15 +69,15 @@ impl Walk {
     /// Most cells per sorted entry for which a search of this walk builds the cell-start table
     /// ([`uses_table`]). The table's passes fetch about 3 keys per cell (and log2(entries) per
     /// 32 cells); a search without it fetches log2(entries) keys per run and entry in each
-    /// searching pass: 9 runs for the 27 cells, about 22 for the trimmed walk of cells of h, in
-    /// at least two passes for the fluid. (On llvmpipe a table of 24 cells per entry, `dem` at
-    /// 64² with the 27 cells, made its collision stage 1.07 times slower; on an NVIDIA H100 the
-    /// fluid at 512², 24 cells of h per entry, walked 1.5 times as long without the table as
-    /// with cells of 2h and their table.)
+    /// searching pass: 9 runs for the 27 cells, about 22 for the trimmed walk, in at least two
+    /// passes for the fluid. (On llvmpipe a table of 24 cells per entry, `dem` at 64² with the
+    /// 27 cells, made its collision stage 1.07 times slower; on an NVIDIA H100 the fluid at
+    /// 512², 24 cells of h per entry, walked 1.5 times as long without the table as with cells
+    /// of 2h and their table.)
     pub fn table_cells_per_entry(self) -> u64 {
         match self {
             Walk::Cells27 => 8,
-            Walk::Trimmed { .. } => 32,
+            Walk::Fluid { .. } => 32,
         }
     }
 }
@@ -106,16 +108,16 @@ impl Lattice {
     }
 
     /// The lattice of the scene's `[fluid]` (a scene without one has none: a lattice of one
-    /// cell), from the lower corner of its bounds: cell h or 2h (`fluid.cell`), searched by the
-    /// trimmed walk (`SEARCH_TRIM` in `glsl/collide/cells.glsl`). The cells within 2h of a
-    /// particle are about 108 h³ of cells of h against at most 216 h³ for the 27 cells of 2h.
+    /// cell), from the lower corner of its bounds: cell h, searched by the trimmed walk
+    /// (`SEARCH_TRIM` in `glsl/collide/cells.glsl`: the cells within 2h of a particle, about
+    /// 108 h³), or 2h, searched in the 27 cells (216 h³), as `fluid.cell` says.
     pub fn of_fluid(scene: &SceneFile) -> Self {
         let Some(f) = &scene.fluid else {
             return Lattice {
                 origin: Vec3::ZERO,
                 spacing: 1.0,
                 dims: UVec3::ONE,
-                walk: Walk::Trimmed { reach: 1 },
+                walk: Walk::Fluid { trimmed: false },
             };
         };
         let n = scene::fluid_particles(scene);
@@ -124,10 +126,7 @@ impl Lattice {
             origin: Vec3::from(f.bounds[0]),
             spacing: g,
             dims: UVec3::from(f.lattice_dims(g)),
-            // The kernel's support 2h (and every exchange's radius, at most 2h) over the cell.
-            walk: Walk::Trimmed {
-                reach: if fine { 2 } else { 1 },
-            },
+            walk: Walk::Fluid { trimmed: fine },
         }
     }
 
@@ -250,9 +249,8 @@ pub fn search_defines(defines: &Defines, lattice: &Lattice, size: [u32; 2]) -> D
     if lattice.uses_table(size[0] as u64 * size[1] as u64) {
         d.push(("CELL_TABLE".into(), "1".into()));
     }
-    if let Walk::Trimmed { reach } = lattice.walk {
+    if lattice.walk == (Walk::Fluid { trimmed: true }) {
         d.push(("SEARCH_TRIM".into(), "1".into()));
-        d.push(("SEARCH_REACH".into(), reach.to_string()));
     }
     d
 }

@@ -2,8 +2,8 @@
 // physical model that requires access to adjacent particles"): after the collision sort and
 // the gather of the state and the user states in cell order, every live particle adds to its
 // state the sum of the `pair` expression over the live particles closer than u_pair_radius
-// that the exact search visits: the 27 cells around it, or under a fluid the cells within
-// u_search_radius = u_pair_radius (collide/cells.glsl, SEARCH_TRIM). Output: this
+// that the exact search visits: the 27 cells around it, or under a fluid on cells of h the
+// cells within u_search_radius = u_pair_radius (collide/cells.glsl, SEARCH_TRIM). Output: this
 // state's new value, in the sorted layout's order (src/sim/collide/carry.rs draws it).
 // The root (src/sim/particles/user_state.rs) defines, before including this file:
 //   user_pair()              the `pair` expression as a vec4 function;

@@ -1,7 +1,7 @@
 // SPH density pass (Monaghan 1992; Becker & Teschner 2007 eq. 2, 4): over the cell-sorted
 // layout, each particle's density rho_i = m sum_j W(|x_i - x_j|) over itself and every particle
-// the exact search visits in the cells of side h within 2h of it (collide/cells.glsl, the
-// trimmed walk), with WALLS
+// the exact search visits around it (collide/cells.glsl: on a lattice of cell h the cells within
+// 2h, the trimmed walk; on cells of 2h the 27 cells), with WALLS
 // also over the ghosts of both in the plane colliders closer than 2h (fluid/kernel.glsl); and
 // its pressure from Tait's equation p = B ((rho / rho0)^gamma - 1), negative pressures clamped
 // to 0 (no tension).

@@ -65,8 +65,8 @@ void visit(int j) {
     vec4 q = texelFetch(u_position, tj, 0);
     if (!(q.w > 0.0)) return;
     // A neighbour at 2h or farther adds nothing (add() computes the same r), and away from the
-    // walls it has no ghost: its velocity and density are not fetched. The trimmed search
-    // visits about four such neighbours for each one within 2h.
+    // walls it has no ghost: its velocity and density are not fetched. The search visits three
+    // (cells of h) to six (2h) such neighbours for each one within 2h.
     if (!g_walls && !(length(g_x - q.xyz) < 2.0 * u_h)) return;
     vec2 dp = texelFetch(u_density, tj, 0).xy;
     vec3 w = texelFetch(u_velocity, tj, 0).xyz;

@@ -21,7 +21,7 @@
 //!
 //! The table costs a few fetches per cell: it pays while the cells are not many more than the
 //! particles. A lattice of more cells per entry than its walk allows
-//! ([`Walk::table_cells_per_entry`]: 8 for the 27 cells, 32 for the fluid's trimmed walk), or of
+//! ([`Walk::table_cells_per_entry`]: 8 for the collisions' 27 cells, 32 for the fluid's), or of
 //! more than [`TABLE_MAX_CELLS`], keeps the binary search of every run instead; the pass list
 //! says which search runs.
 
@@ -59,8 +59,8 @@ pub enum Walk {
         /// On a lattice of cell h: the cells that can hold a particle within the pass's radius
         /// of the particle (`SEARCH_TRIM`): rows along x cut to x ± radius, rows farther in y
         /// and z skipped, about 22 runs of 5 cells for a radius of 2h. Else (cells of 2h) the
-        /// 27 cells, as the collisions (trimming them ran 6 % slower on an NVIDIA H100 for the
-        /// 8,192-particle `drop`, and saved nothing at a million particles).
+        /// 27 cells, as the collisions (trimming them ran 6-8 % slower on NVIDIA H100 and H200
+        /// for the 8,192-particle `drop`, and saved nothing at a million particles).
         trimmed: bool,
     },
 }

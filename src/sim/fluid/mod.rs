@@ -1,12 +1,12 @@
 //! Weakly compressible SPH (Monaghan 1992; Becker & Teschner 2007) over the cell-sorted state,
 //! in fragment passes only (UberFlow §6: "any physical model that requires access to adjacent
 //! particles"). A scene's `[fluid]` sets up its own exact neighbour search: a lattice of cell
-//! h (half the cubic spline's support) over `fluid.bounds`, searched by the trimmed walk of
-//! `glsl/collide/cells.glsl` (`SEARCH_TRIM`: every particle of the cells within 2h of a
-//! particle, each run of cells along x bounded by the cell-start table of
+//! h or 2h (`fluid.cell`) over `fluid.bounds`, searched by `glsl/collide/cells.glsl` (on cells
+//! of h the trimmed walk `SEARCH_TRIM`: every particle of the cells within 2h of a particle; on
+//! cells of 2h the 27 cells), each run of cells along x bounded by the cell-start table of
 //! `src/sim/collide/cells.rs` or, for a lattice too large for it, a binary search of the sorted
 //! keys; at most [`FLUID_SCAN`] per run; a search past it is flagged and counted, and `render`
-//! warns).
+//! warns.
 //!
 //! One step, after the integration pass (gravity, the colliders' response, positions moved):
 //! keys, a full bitonic sort (or with `resort = "coherent"` a cheaper network for the nearly

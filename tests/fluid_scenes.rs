@@ -84,21 +84,29 @@ fn dam_break_front_at_twice_the_resolution() {
     assert!(worst <= 0.15, "largest deviation {worst}");
 }
 
+/// The refusals' tank: the twin's column with `fluid` keys and time step `dt`.
+fn base(dt: f32, fluid: &str) -> String {
+    common::fluid::twin_tank(dt, fluid)
+}
+
+/// The 1-based line of `src` that starts with `key`.
+fn line_of(src: &str, key: &str) -> usize {
+    1 + src.lines().position(|l| l.starts_with(key)).expect(key)
+}
+
+/// Each scene is refused at the line of its key, with a message that says `says`.
+fn assert_refused(cases: impl IntoIterator<Item = (String, &'static str, &'static str)>) {
+    for (src, key, says) in cases {
+        let (line, _, message) = scene_error(scene::parse("bad.toml", &src));
+        assert_eq!(line, line_of(&src, key), "{message}\n{src}");
+        assert!(message.contains(says), "{message}");
+    }
+}
+
 /// `[fluid]`'s refusals name the key, its line and column, and the fix.
 #[test]
 fn bad_fluid_scenes_are_refused_at_their_key() {
     let ok = "speed_of_sound = 10.0\nspacing = 0.02";
-    let base = |dt: f32, fluid: &str| {
-        tank(
-            [16, 16],
-            [0.24, 0.12],
-            ([0.06, 0.06, 0.06], [0.12; 3]),
-            dt,
-            fluid,
-        )
-    };
-    let line_of =
-        |src: &str, key: &str| 1 + src.lines().position(|l| l.starts_with(key)).expect(key);
     let no_slip_floor = |src: String| {
         let k = "normal = [0.0, 1.0, 0.0]\nresilience = 0.0";
         src.replace(k, &format!("{k}\nwall = \"no_slip\""))
@@ -138,11 +146,7 @@ fn bad_fluid_scenes_are_refused_at_their_key() {
             "box",
         ),
     ];
-    for (src, key, says) in cases {
-        let (line, _, message) = scene_error(scene::parse("bad.toml", &src));
-        assert_eq!(line, line_of(&src, key), "{message}\n{src}");
-        assert!(message.contains(says), "{message}");
-    }
+    assert_refused(cases);
     let (_, _, m) = scene_error(scene::parse(
         "bad.toml",
         &base(5e-4, &format!("{ok}\nviscosity = 10.0")),
@@ -161,38 +165,22 @@ fn bad_fluid_scenes_are_refused_at_their_key() {
 #[test]
 fn bad_fluid_cells_are_refused_at_their_key() {
     let ok = "speed_of_sound = 10.0\nspacing = 0.02";
-    let base = |fluid: &str| {
-        tank(
-            [16, 16],
-            [0.24, 0.12],
-            ([0.06, 0.06, 0.06], [0.12; 3]),
-            5e-4,
-            fluid,
-        )
-    };
-    let line_of =
-        |src: &str, key: &str| 1 + src.lines().position(|l| l.starts_with(key)).expect(key);
-    let cases = [
+    assert_refused([
         (
-            base(&format!("{ok}\ncell = \"3h\"")),
+            base(5e-4, &format!("{ok}\ncell = \"3h\"")),
             "cell",
             "expected one of `auto`, `h`, `2h`",
         ),
         (
             // 30 m × 1 m × 30 m in cells of h = 2 cm: 112 million cells, past 2^24.
-            base(&format!("{ok}\ncell = \"h\"")).replace(
+            base(5e-4, &format!("{ok}\ncell = \"h\"")).replace(
                 "bounds = [[0.0, 0.0, 0.0], [0.24, 1.0, 0.12]]",
                 "bounds = [[0.0, 0.0, 0.0], [30.0, 1.0, 30.0]]",
             ),
             "bounds",
             "or cell = \"2h\"",
         ),
-    ];
-    for (src, key, says) in cases {
-        let (line, _, message) = scene_error(scene::parse("bad.toml", &src));
-        assert_eq!(line, line_of(&src, key), "{message}\n{src}");
-        assert!(message.contains(says), "{message}");
-    }
+    ]);
 }
 
 /// `render --json` lists per written frame the fluid's density error and energy: every live

@@ -210,48 +210,45 @@ impl Program {
     /// The values its active integer uniforms (`int`, `ivec2` to `ivec4`, not arrays) hold now,
     /// by name: what a draw of it read, for a floor that repeats the draw's search.
     pub fn int_uniforms(&self) -> Vec<(String, Vec<i32>)> {
-        let gl = self.ctx.gl();
-        // SAFETY: queries of a linked program of this context.
-        unsafe {
-            (0..gl.get_active_uniforms(self.raw))
-                .filter_map(|i| gl.get_active_uniform(self.raw, i))
-                .filter_map(|u| {
-                    let n = match u.utype {
-                        glow::INT => 1,
-                        glow::INT_VEC2 => 2,
-                        glow::INT_VEC3 => 3,
-                        glow::INT_VEC4 => 4,
-                        _ => return None,
-                    };
-                    let at = gl.get_uniform_location(self.raw, &u.name)?;
-                    let mut v = vec![0i32; 4];
-                    gl.get_uniform_i32(self.raw, &at, &mut v);
-                    v.truncate(n);
-                    (u.size == 1).then_some((u.name, v))
-                })
-                .collect()
-        }
+        let types = [glow::INT, glow::INT_VEC2, glow::INT_VEC3, glow::INT_VEC4];
+        // SAFETY: a query of a uniform of this program, into a buffer of four.
+        self.active_values(types, |gl, p, at, v| unsafe {
+            gl.get_uniform_i32(p, at, v)
+        })
     }
 
     /// The values its active float uniforms (`float`, `vec2` to `vec4`, not arrays) hold now,
     /// by name: the geometry of a trimmed search, for a floor that repeats the draw's walk.
     pub fn float_uniforms(&self) -> Vec<(String, Vec<f32>)> {
+        let types = [
+            glow::FLOAT,
+            glow::FLOAT_VEC2,
+            glow::FLOAT_VEC3,
+            glow::FLOAT_VEC4,
+        ];
+        // SAFETY: a query of a uniform of this program, into a buffer of four.
+        self.active_values(types, |gl, p, at, v| unsafe {
+            gl.get_uniform_f32(p, at, v)
+        })
+    }
+
+    /// The active non-array uniforms of the GL types `types` (one to four components, in
+    /// order), each read by `read` into four values and cut to its components.
+    fn active_values<T: Copy + Default>(
+        &self,
+        types: [u32; 4],
+        read: impl Fn(&glow::Context, glow::Program, &glow::UniformLocation, &mut [T]),
+    ) -> Vec<(String, Vec<T>)> {
         let gl = self.ctx.gl();
         // SAFETY: queries of a linked program of this context.
         unsafe {
             (0..gl.get_active_uniforms(self.raw))
                 .filter_map(|i| gl.get_active_uniform(self.raw, i))
                 .filter_map(|u| {
-                    let n = match u.utype {
-                        glow::FLOAT => 1,
-                        glow::FLOAT_VEC2 => 2,
-                        glow::FLOAT_VEC3 => 3,
-                        glow::FLOAT_VEC4 => 4,
-                        _ => return None,
-                    };
+                    let n = types.iter().position(|&t| t == u.utype)? + 1;
                     let at = gl.get_uniform_location(self.raw, &u.name)?;
-                    let mut v = vec![0f32; 4];
-                    gl.get_uniform_f32(self.raw, &at, &mut v);
+                    let mut v = vec![T::default(); 4];
+                    read(gl, self.raw, &at, &mut v);
                     v.truncate(n);
                     (u.size == 1).then_some((u.name, v))
                 })

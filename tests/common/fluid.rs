@@ -60,11 +60,16 @@ bounds = [[0.0, 0.0, 0.0], [{w}, 1.0, {d}]]
 /// a 24 cm × 12 cm tank, in 256 texels (40 dead), h = 1.2 Δx.
 pub fn twin_scene_source() -> String {
     let fluid = "speed_of_sound = 10.0\nviscosity = 0.2\nspacing = 0.02\nsmoothing = 0.024";
+    twin_tank(5e-4, fluid)
+}
+
+/// The twin's tank and column with `fluid` keys and time step `dt`.
+pub fn twin_tank(dt: f32, fluid: &str) -> String {
     tank(
         [16, 16],
         [0.24, 0.12],
         ([0.06, 0.06, 0.06], [0.12; 3]),
-        5e-4,
+        dt,
         fluid,
     )
 }

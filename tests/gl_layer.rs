@@ -127,6 +127,26 @@ fn shader_errors_name_the_glsl_file_and_line() {
         }
         other => panic!("expected a compile error, got {other:?}"),
     }
+    // An error inside an included file names that file (Mesa reports such errors under source
+    // number 0; the line numbers carry the file).
+    test_shader("broken_helper.glsl");
+    match Program::new(
+        &ctx,
+        FULLSCREEN_VERTEX,
+        &test_shader("broken_include.frag"),
+        &Defines::new(),
+    ) {
+        Err(Error::ShaderCompile { file, line, log }) => {
+            assert_eq!(
+                (file.as_str(), line),
+                ("tests/glsl/broken_helper.glsl", 5),
+                "{log}"
+            );
+            assert!(log.contains("tests/glsl/broken_helper.glsl:5"), "{log}");
+            assert!(!log.contains("broken_include.frag:5"), "{log}");
+        }
+        other => panic!("expected a compile error, got {other:?}"),
+    }
     match Program::new(
         &ctx,
         FULLSCREEN_VERTEX,

@@ -2,8 +2,10 @@
 //!
 //! Files carry no `#version` line: [`resolve`] prepends the version and the `#define`s, splices
 //! `#include "path"` (each file at most once, so includes act as guarded), and emits
-//! `#line N S` directives where `S` numbers the file; [`map_log`] turns the driver's `S:N` back
-//! into the file under `glsl/` and its line.
+//! `#line N S` directives where `S` numbers the file and N is the line plus S × [`LINE_STRIDE`]:
+//! Mesa 22 reports the source number 0 for an error inside an included function, so the line
+//! carries the file as well. [`map_log`] turns the driver's `S:N` back into the file under
+//! `glsl/` and its line.
 
 use std::collections::HashSet;
 
@@ -149,6 +151,9 @@ pub fn is_runtime_source(path: &str) -> bool {
         && runtime_sources().lock().is_ok_and(|m| m.contains_key(path))
 }
 
+/// Lines numbered per file in `#line` directives: file S's line n is S × LINE_STRIDE + n.
+pub const LINE_STRIDE: u32 = 100_000;
+
 /// The GLSL version line every program starts with.
 pub const VERSION: &str = "#version 330 core";
 
@@ -188,14 +193,15 @@ fn splice<'a>(
     seen.insert(path.to_owned());
     let index = files.len();
     files.push(path.to_owned());
-    out.push_str(&format!("#line 1 {index}\n"));
+    let base = index as u32 * LINE_STRIDE;
+    out.push_str(&format!("#line {} {index}\n", base + 1));
     for (n, line) in src.lines().enumerate() {
         match include_target(line) {
             Some(Ok(inc)) => {
                 if !seen.contains(inc) {
                     splice(inc, lookup, out, files, seen)?;
                     // `#line N` numbers the line that follows it.
-                    out.push_str(&format!("#line {} {index}\n", n + 2));
+                    out.push_str(&format!("#line {} {index}\n", base + n as u32 + 2));
                 } else {
                     out.push('\n');
                 }
@@ -263,7 +269,13 @@ pub fn map_log(log: &str, files: &[String]) -> (String, Option<(String, u32)>) {
     let mut first = None;
     let mut out = String::new();
     for line in log.lines() {
-        match locate(line).filter(|(s, _, _)| *s < files.len()) {
+        // The line names the file where it is past LINE_STRIDE (whatever source the driver
+        // says); below it, the source number does (file 0, or a driver's own numbering).
+        let located = locate(line).map(|(s, n, end)| match n >= LINE_STRIDE {
+            true => ((n / LINE_STRIDE) as usize, n % LINE_STRIDE, end),
+            false => (s, n, end),
+        });
+        match located.filter(|(s, _, _)| *s < files.len()) {
             Some((s, n, end)) => {
                 if first.is_none() {
                     first = Some((files[s].clone(), n));
@@ -303,8 +315,8 @@ mod tests {
     fn includes_are_spliced_once_with_line_directives() {
         let r = resolve("a.frag", &[("N".into(), "3".into())], &lookup).unwrap();
         assert_eq!(r.files, ["a.frag", "b.glsl", "c.glsl"]);
-        let expected = "#version 330 core\n#define N 3\n#line 1 0\nline1\n#line 1 1\nb1\n\
-                        #line 1 2\nc1\n#line 3 1\nb3\n#line 3 0\nline3\n\nline5\n";
+        let expected = "#version 330 core\n#define N 3\n#line 1 0\nline1\n#line 100001 1\nb1\n\
+                        #line 200001 2\nc1\n#line 100003 1\nb3\n#line 3 0\nline3\n\nline5\n";
         assert_eq!(r.text, expected);
     }
 
@@ -343,6 +355,10 @@ mod tests {
         let (log, first) = map_log(nvidia, &files);
         assert_eq!(first, Some(("sim/fire.frag".into(), 42)));
         assert!(log.starts_with("glsl/sim/fire.frag:42 : error"), "{log}");
+        // The line carries the file: Mesa's source 0 inside an included function.
+        let (log, first) = map_log("0:100007(3): error: x\n", &files);
+        assert_eq!(first, Some(("common/rng.glsl".into(), 7)));
+        assert!(log.starts_with("glsl/common/rng.glsl:7(3): error"), "{log}");
     }
 
     #[test]

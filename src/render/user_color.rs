@@ -6,7 +6,7 @@
 //! `user_rotation`, then `render/particle.vert`.
 
 use crate::error::Error;
-use crate::gl::source::{add_runtime_source, is_runtime_source};
+use crate::gl::source::add_runtime_source;
 use crate::scene::SceneFile;
 
 /// The user's colour and size expressions and the states they may read, in the scene's order.
@@ -117,7 +117,8 @@ impl UserColor {
     /// A compile error of the root becomes an input error naming `render.color` and its place.
     pub(super) fn error(&self, e: Error) -> Error {
         match e {
-            Error::ShaderCompile { file, log, .. } if is_runtime_source(&file) => {
+            // Any error of the user's program, wherever the driver places it.
+            Error::ShaderCompile { log, .. } => {
                 let log: Vec<&str> = (log.lines())
                     .filter(|l| !l.contains(": warning: "))
                     .map(|l| l.find("): ").map_or(l, |k| &l[k + 3..]))

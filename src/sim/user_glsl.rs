@@ -3,7 +3,6 @@
 //! line instead of those names.
 
 use crate::error::Error;
-use crate::gl::source::is_runtime_source;
 
 /// The name a user file's text is added under: unique to its kind, index, path and text, and
 /// never the name of one of texflow's files, so that a user's `common/rng.glsl` is not shadowed
@@ -41,7 +40,9 @@ pub(crate) fn user_compile_error(
     renamed: Renamed,
 ) -> Error {
     match e {
-        Error::ShaderCompile { file, line, log } if is_runtime_source(&file) => {
+        // Every compile error of a program built from the user's GLSL is the user's to fix,
+        // wherever the driver places it (texflow's file that calls the user's function too).
+        Error::ShaderCompile { file, line, log } => {
             let mut log = log;
             let mut file = file;
             for (key, path) in files {

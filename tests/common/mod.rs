@@ -82,6 +82,8 @@ pub fn set_particles(
 pub fn test_shader(name: &str) -> String {
     let text = match name {
         "broken.frag" => include_str!("../glsl/broken.frag"),
+        "broken_include.frag" => include_str!("../glsl/broken_include.frag"),
+        "broken_helper.glsl" => include_str!("../glsl/broken_helper.glsl"),
         "fields.frag" => include_str!("../glsl/fields.frag"),
         "increment.frag" => include_str!("../glsl/increment.frag"),
         "write8.frag" => include_str!("../glsl/write8.frag"),

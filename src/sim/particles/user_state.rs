@@ -19,7 +19,7 @@ mod mrt;
 
 use super::{draw_textures, ParticleSim, State};
 use crate::error::{Error, Result};
-use crate::gl::source::{add_runtime_source, is_runtime_source};
+use crate::gl::source::add_runtime_source;
 use crate::gl::{
     Context, Defines, PingPong, Program, Sampled, Texture, Uniform, FULLSCREEN_VERTEX,
 };
@@ -169,7 +169,8 @@ fn user_error(
                 },
             )
         }
-        Error::ShaderCompile { file, log, .. } if is_runtime_source(&file) => {
+        // Any error of the user's program, wherever the driver places it.
+        Error::ShaderCompile { log, .. } => {
             let mut log = log;
             for (k, label, _) in sources {
                 log = log.replace(k.as_str(), label);

@@ -2,7 +2,8 @@
 //! cell-sorted state (UberFlow §6: "any physical model that requires access to adjacent
 //! particles"). The section sets up its own exact neighbour search: a lattice over `bounds` of
 //! cell h (half the kernel's support) for a large fluid or 2h for a small one (`cell`), sorted
-//! and searched as `[collisions] detection = "exact"` does, only the cells within 2h walked.
+//! and searched as `[collisions] detection = "exact"` does (on cells of h only the cells within
+//! 2h of a particle are walked).
 
 use serde::{Deserialize, Serialize};
 
@@ -85,8 +86,7 @@ pub enum FluidCell {
     /// The smoothing length h: the cells within 2h of a particle, about 108 h³, are walked.
     #[serde(rename = "h")]
     H,
-    /// 2h, the kernel's support: the 27 cells around a particle's, at most 216 h³ (rows of
-    /// cells farther than 2h skipped).
+    /// 2h, the kernel's support: the 27 cells around a particle's, 216 h³, are walked.
     #[serde(rename = "2h")]
     TwoH,
 }

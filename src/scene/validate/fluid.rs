@@ -15,9 +15,9 @@ pub const FLUID_CFL: f32 = 0.4;
 pub const FLUID_VISCOUS: f32 = 0.125;
 /// The force condition dt ≤ λ sqrt(h / |g|) (Becker & Teschner 2007, §3.4: 0.25).
 pub const FLUID_FORCE: f32 = 0.25;
-/// Largest smoothing length over spacing: a run of the fluid's search (the cells of side h
-/// within 2h along x, at most five) then holds about 5 (h/Δx)³ = 17 particles at rest, far
-/// within the fluid search's bound of 128 (room for the compression a splash makes).
+/// Largest smoothing length over spacing: a run of the fluid's search then holds at rest about
+/// 3 (2h/Δx)³ = 81 particles on cells of 2h (three cells), 5 (h/Δx)³ = 17 on cells of h (at most
+/// five), within the search's bound of 128 (room for the compression a splash makes).
 pub const MAX_SMOOTHING_RATIO: f32 = 1.5;
 
 /// `[fluid]`, if the scene has one.

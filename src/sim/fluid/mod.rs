@@ -50,9 +50,9 @@ pub use resort::{
 };
 pub use stats::FluidStats;
 
-/// Most particles the fluid's search walks in a run of cells along x (at most five cells of h):
-/// at rest a run holds about 5 (h / Δx)³, at most 17 with the largest smoothing length
-/// validation allows.
+/// Most particles the fluid's search walks in a run of cells along x: at rest a run holds about
+/// 3 (2h / Δx)³ on cells of 2h (three cells) and 5 (h / Δx)³ on cells of h (at most five), at
+/// most 81 and 17 with the largest smoothing length validation allows.
 pub const FLUID_SCAN: u32 = 128;
 
 /// The fluid stage of a scene with `[fluid]`.

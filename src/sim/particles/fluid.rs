@@ -43,8 +43,8 @@ pub(super) fn fluid_carry_passes(states: usize, exchanges: &[String]) -> Vec<Str
     out.extend(exchanges.iter().map(|name| {
         format!(
             "exchange {name} (after the fluid's sort): {name} += the sum of `pair` over the live \
-             neighbours within its radius (the fluid's search of the cells within that radius of each \
-             particle) [swapped in after every exchange is drawn]"
+             neighbours within its radius (the fluid's search, of the cells that can hold them) \
+             [swapped in after every exchange is drawn]"
         )
     }));
     out

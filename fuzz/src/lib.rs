@@ -85,7 +85,7 @@ pub fn glsl(data: &[u8]) {
 /// root's lines, and a driver's location maps back to it. `define` renames the user's function
 /// as texflow's root does.
 fn user_source(name: &str, define: &str, undef: &str, checked: Result<String, String>) {
-    use texflow::gl::source::{embedded, map_log, resolve};
+    use texflow::gl::source::{embedded, map_log, resolve, LINE_STRIDE};
     let text = match checked {
         Ok(t) => t,
         Err(m) => {
@@ -105,8 +105,10 @@ fn user_source(name: &str, define: &str, undef: &str, checked: Result<String, St
     };
     let r = resolve("root", &[], &lookup).expect("an accepted file resolves");
     assert_eq!(r.files, ["root", "common/rng.glsl", name]);
-    // The user's lines, in order, between `#line 1 2` and the root's next `#line`.
-    let start = r.text.find("#line 1 2\n").expect("the user's source") + "#line 1 2\n".len();
+    // The user's lines, in order, between its `#line` (file 2: line 2 × LINE_STRIDE + 1) and
+    // the root's next `#line`.
+    let first_line = format!("#line {} 2\n", 2 * LINE_STRIDE + 1);
+    let start = r.text.find(&first_line).expect("the user's source") + first_line.len();
     let end = start
         + r.text[start..]
             .find("#line 4 0\n")
@@ -116,6 +118,12 @@ fn user_source(name: &str, define: &str, undef: &str, checked: Result<String, St
     assert_eq!(spliced, lines, "the user's text is spliced as it is");
     let n = lines.len().max(1) as u32;
     let (_, first) = map_log(&format!("2:{n}(1): error: x\n"), &r.files);
+    assert_eq!(first, Some((name.to_owned(), n)));
+    // As Mesa reports an error inside an included function: source 0, the line carrying the file.
+    let (_, first) = map_log(
+        &format!("0:{}(1): error: x\n", 2 * LINE_STRIDE + n),
+        &r.files,
+    );
     assert_eq!(first, Some((name.to_owned(), n)));
 }
 

@@ -236,9 +236,9 @@ pub fn table_line(what: &str, when: &str) -> String {
     let prefix = if what == "fluid" { "fluid " } else { "" };
     format!(
         "{prefix}cell start: one texel per cell of the {what} lattice and a sentinel, the first \
-         sorted index whose key is not below the cell's (two passes: every {TABLE_BLOCK}th cell's \
-         by a binary search of all the sorted keys, then each cell's between its block's and the \
-         next's){when}"
+         sorted index whose key is not below the cell's (two passes: that of one cell in \
+         {TABLE_BLOCK} by a binary search of all the sorted keys, then each cell's between its \
+         block's and the next's){when}"
     )
 }
 

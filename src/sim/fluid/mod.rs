@@ -59,7 +59,7 @@ pub const FLUID_SCAN: u32 = 128;
 #[derive(Debug)]
 pub struct Fluid {
     config: scene::Fluid,
-    /// The lattice of cell h, its sort, the state in cell order (position, velocity, static)
+    /// The lattice of cell h or 2h, its sort, the state in cell order (position, velocity, static)
     /// and its search, with the cell-start table where it fits.
     grid: SortedGrid,
     /// `resort = "coherent"`: the cheap network, its check and counts.

@@ -108,45 +108,37 @@ fn framebuffer_misuse_gets_distinct_errors() {
     no_gl_error(&ctx);
 }
 
+/// The compile error of test shader `root`: at `file`:`line`, which its log names too; returns
+/// the log.
+fn compile_error_at(ctx: &texflow::gl::Context, root: &str, file: &str, line: u32) -> String {
+    match Program::new(ctx, FULLSCREEN_VERTEX, &test_shader(root), &Defines::new()) {
+        Err(Error::ShaderCompile {
+            file: f,
+            line: l,
+            log,
+        }) => {
+            assert_eq!((f.as_str(), l), (file, line), "{log}");
+            assert!(log.contains(&format!("{file}:{line}")), "{log}");
+            log
+        }
+        other => panic!("expected a compile error, got {other:?}"),
+    }
+}
+
 #[test]
 fn shader_errors_name_the_glsl_file_and_line() {
     let ctx = context();
-    match Program::new(
-        &ctx,
-        FULLSCREEN_VERTEX,
-        &test_shader("broken.frag"),
-        &Defines::new(),
-    ) {
-        Err(Error::ShaderCompile { file, line, log }) => {
-            assert_eq!(
-                (file.as_str(), line),
-                ("tests/glsl/broken.frag", 7),
-                "{log}"
-            );
-            assert!(log.contains("tests/glsl/broken.frag:7"), "{log}");
-        }
-        other => panic!("expected a compile error, got {other:?}"),
-    }
+    compile_error_at(&ctx, "broken.frag", "tests/glsl/broken.frag", 7);
     // An error inside an included file names that file (Mesa reports such errors under source
     // number 0; the line numbers carry the file).
     test_shader("broken_helper.glsl");
-    match Program::new(
+    let log = compile_error_at(
         &ctx,
-        FULLSCREEN_VERTEX,
-        &test_shader("broken_include.frag"),
-        &Defines::new(),
-    ) {
-        Err(Error::ShaderCompile { file, line, log }) => {
-            assert_eq!(
-                (file.as_str(), line),
-                ("tests/glsl/broken_helper.glsl", 5),
-                "{log}"
-            );
-            assert!(log.contains("tests/glsl/broken_helper.glsl:5"), "{log}");
-            assert!(!log.contains("broken_include.frag:5"), "{log}");
-        }
-        other => panic!("expected a compile error, got {other:?}"),
-    }
+        "broken_include.frag",
+        "tests/glsl/broken_helper.glsl",
+        5,
+    );
+    assert!(!log.contains("broken_include.frag:5"), "{log}");
     match Program::new(
         &ctx,
         FULLSCREEN_VERTEX,

@@ -43,7 +43,7 @@ uniform sampler2D u_position;
 vec4 walked = vec4(0.0);
 
 void visit(int j) {
-    walked += texelFetch(u_position, ivec2(j % u_key_width, j / u_key_width), 0);
+    walked += texelFetch(u_position, key_texel(j), 0);
 }
 #endif
 uniform float u_sentinel;

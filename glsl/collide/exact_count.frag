@@ -23,7 +23,7 @@ int g_closest = -1;
 float g_d2 = 1e30;
 
 void visit(int j) {
-    ivec2 tj = ivec2(j % u_key_width, j / u_key_width);
+    ivec2 tj = key_texel(j);
     vec4 q = texelFetch(u_position, tj, 0);
     vec3 d = g_x - q.xyz;
     float d2 = dot(d, d);

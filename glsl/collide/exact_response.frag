@@ -60,7 +60,7 @@ vec3 g_dv = vec3(0.0);
 vec3 g_dx = vec3(0.0);
 
 void visit(int j) {
-    ivec2 tj = ivec2(j % u_key_width, j / u_key_width);
+    ivec2 tj = key_texel(j);
     vec4 q = texelFetch(u_position, tj, 0);
     if (!(q.w > 0.0)) return;
     vec3 d = g_x - q.xyz;

@@ -26,7 +26,7 @@ layout(location = 0) out vec4 o_state;
 vec4 g_exchange = vec4(0.0);
 
 void visit(int j) {
-    ivec2 tj = ivec2(j % u_key_width, j / u_key_width);
+    ivec2 tj = key_texel(j);
     vec4 q = texelFetch(u_position, tj, 0);
     if (!particle_live(q)) return;
     float d = length(q.xyz - x);

@@ -37,7 +37,7 @@ vec3 g_force = vec3(0.0);
 float g_contacts = 0.0;
 
 void visit(int j) {
-    ivec2 tj = ivec2(j % u_key_width, j / u_key_width);
+    ivec2 tj = key_texel(j);
     vec4 q = texelFetch(u_position, tj, 0);
     if (!(q.w > 0.0)) return;
     vec3 w = texelFetch(u_velocity, tj, 0).xyz;

@@ -9,12 +9,24 @@ uniform sampler2D u_keys;       // the sorted entries: (key, id) per texel, or w
 uniform int u_key_width;        // entries per sorted row (the state width)
 uniform int u_count;            // entries (the state size)
 
+// The texel of sorted index i in a layout of u_key_width entries a row. With KEY_WIDTH_SHIFT
+// (the width a power of two, known when the program is built) a mask and a shift: a division by
+// a uniform costs a GPU tens of instructions, and the searches take one per visited neighbour.
+ivec2 key_texel(int i) {
+#ifdef KEY_WIDTH_SHIFT
+    return ivec2(i & ((1 << KEY_WIDTH_SHIFT) - 1), i >> KEY_WIDTH_SHIFT);
+#else
+    return ivec2(i % u_key_width, i / u_key_width);
+#endif
+}
+
 float sorted_key(int i) {
+    ivec2 t = key_texel(i);
 #ifdef PACKED_KEYS
-    vec4 e = texelFetch(u_keys, ivec2((i % u_key_width) / 2, i / u_key_width), 0);
+    vec4 e = texelFetch(u_keys, ivec2(t.x / 2, t.y), 0);
     return (i & 1) == 0 ? e.x : e.z;
 #else
-    return texelFetch(u_keys, ivec2(i % u_key_width, i / u_key_width), 0).x;
+    return texelFetch(u_keys, t, 0).x;
 #endif
 }
 

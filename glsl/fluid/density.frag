@@ -30,7 +30,7 @@ void add(vec3 y) {
 }
 
 void visit(int j) {
-    vec4 q = texelFetch(u_position, ivec2(j % u_key_width, j / u_key_width), 0);
+    vec4 q = texelFetch(u_position, key_texel(j), 0);
     if (!(q.w > 0.0)) return;
     if (length(q.xyz - g_x) < 2.0 * u_h) g_neighbours += 1.0;
     add(q.xyz);

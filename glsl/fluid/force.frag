@@ -61,7 +61,7 @@ vec2 ghost_pressure(vec3 y, vec2 dp, int k) {
 #endif
 
 void visit(int j) {
-    ivec2 tj = ivec2(j % u_key_width, j / u_key_width);
+    ivec2 tj = key_texel(j);
     vec4 q = texelFetch(u_position, tj, 0);
     if (!(q.w > 0.0)) return;
     // A neighbour at 2h or farther adds nothing (add() computes the same r), and away from the

@@ -16,21 +16,61 @@ use crate::sort::network::{entry_less, Entry};
 
 /// Pairs of entries with a finite key drawn in the wrong order (a later one sorts before an
 /// earlier one) whose screen positions, `screen[id]` in pixels, lie closer than `size` pixels.
+///
+/// Exact, by a grid of cells of `size` pixels on the screen (a close pair lies in the same or
+/// neighbouring cells), the drawn entries split among threads: all pairs of the report's
+/// 12,000 live particles over 960 frames took minutes.
 pub fn visible_inversions(order: &[Entry], screen: &[[f32; 2]], size: f32) -> u64 {
+    use rayon::prelude::*;
+    use std::collections::HashMap;
+    let cell = size.abs();
+    // A position that is not finite is at no finite distance from any other: never close.
     let live: Vec<(Entry, [f32; 2])> = (order.iter())
         .filter(|e| e[0].is_finite())
         .filter_map(|e| Some((*e, *screen.get(e[1] as usize)?)))
+        .filter(|(_, p)| p[0].is_finite() && p[1].is_finite())
         .collect();
-    let mut count = 0;
-    for (i, (a, pa)) in live.iter().enumerate() {
-        for (b, pb) in &live[i + 1..] {
-            let (dx, dy) = (pa[0] - pb[0], pa[1] - pb[1]);
-            if entry_less(*b, *a) && dx * dx + dy * dy < size * size {
-                count += 1;
-            }
-        }
+    if !(cell > 0.0) || live.len() < 2 {
+        return 0;
     }
-    count
+    // Cell coordinates saturate far out; the neighbour cells are deduplicated, so a cell is
+    // never scanned twice.
+    let key = |p: [f32; 2]| {
+        (
+            (p[0] as f64 / cell as f64).floor() as i64,
+            (p[1] as f64 / cell as f64).floor() as i64,
+        )
+    };
+    let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+    for (i, (_, p)) in live.iter().enumerate() {
+        grid.entry(key(*p)).or_default().push(i);
+    }
+    let r2 = size * size;
+    (0..live.len())
+        .into_par_iter()
+        .map(|i| {
+            let (a, pa) = live[i];
+            let (cx, cy) = key(pa);
+            let mut cells: Vec<(i64, i64)> = (-1..=1i64)
+                .flat_map(|dx| (-1..=1i64).map(move |dy| (dx, dy)))
+                .map(|(dx, dy)| (cx.saturating_add(dx), cy.saturating_add(dy)))
+                .collect();
+            cells.sort_unstable();
+            cells.dedup();
+            let mut count = 0u64;
+            for c in cells {
+                // Each pair once: from the one drawn first.
+                for &j in grid.get(&c).map_or(&[][..], |v| v.as_slice()) {
+                    let (b, pb) = live[j];
+                    let (dx, dy) = (pa[0] - pb[0], pa[1] - pb[1]);
+                    if j > i && entry_less(b, a) && dx * dx + dy * dy < r2 {
+                        count += 1;
+                    }
+                }
+            }
+            count
+        })
+        .sum()
 }
 
 /// One spread at one camera speed and budget.
@@ -196,5 +236,65 @@ mod tests {
         // Within 15 px only neighbours by position: of them only (5, 1) is inverted; (4, 2) is
         // inverted too, but 20 px apart.
         assert_eq!(visible_inversions(&order, &screen, 15.0), 1);
+    }
+
+    /// All pairs, the definition.
+    fn all_pairs(order: &[Entry], screen: &[[f32; 2]], size: f32) -> u64 {
+        let live: Vec<(Entry, [f32; 2])> = (order.iter())
+            .filter(|e| e[0].is_finite())
+            .filter_map(|e| Some((*e, *screen.get(e[1] as usize)?)))
+            .collect();
+        let mut count = 0;
+        for (i, (a, pa)) in live.iter().enumerate() {
+            for (b, pb) in &live[i + 1..] {
+                let (dx, dy) = (pa[0] - pb[0], pa[1] - pb[1]);
+                if entry_less(*b, *a) && dx * dx + dy * dy < size * size {
+                    count += 1;
+                }
+            }
+        }
+        count
+    }
+
+    /// The grid count equals all pairs' on random orders and screens: clusters, points on cell
+    /// faces, equal keys, dead entries, positions far out or not finite, every size.
+    #[test]
+    fn the_grid_counts_what_all_pairs_count() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for case in 0..60 {
+            let n = 1 + (next() * 400.0) as usize;
+            let order: Vec<Entry> = (0..n)
+                .map(|i| {
+                    let k = match (next() * 10.0) as u32 {
+                        0 => f32::INFINITY,
+                        1 => 3.0,
+                        _ => (next() * 50.0) as f32,
+                    };
+                    [k, ((i * 7 + case) % n) as f32]
+                })
+                .collect();
+            let screen: Vec<[f32; 2]> = (0..n)
+                .map(|_| match (next() * 20.0) as u32 {
+                    0 => [f32::NAN, 1.0],
+                    1 => [f32::INFINITY, 0.0],
+                    2 => [3.0e38, -3.0e38],
+                    3 => [40.0 * (next() * 5.0).floor() as f32, 40.0],
+                    _ => [(next() * 300.0) as f32, (next() * 200.0) as f32],
+                })
+                .collect();
+            for size in [0.0, 1.0, 15.0, 40.0, -40.0, 1e4] {
+                assert_eq!(
+                    visible_inversions(&order, &screen, size),
+                    all_pairs(&order, &screen, size),
+                    "case {case}, size {size}"
+                );
+            }
+        }
     }
 }

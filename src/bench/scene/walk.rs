@@ -8,13 +8,20 @@ use crate::gl::{Context, Defines, DrawShape, RecordedTexture, Uniform};
 const WALK_SAMPLERS: [&str; 3] = ["u_keys", "u_position", "u_cell_start"];
 
 /// The search's integer uniforms, which the floor sets to the draw's values.
-const WALK_INTS: [&str; 4] = ["u_key_width", "u_count", "u_dims", "u_cell_width"];
+const WALK_INTS: [&str; 3] = ["u_key_width", "u_count", "u_dims"];
 
 /// The trimmed search's float uniforms (`SEARCH_TRIM`), which the floor sets to the draw's values.
 const WALK_FLOATS: [&str; 3] = ["u_cell_origin", "u_cell_size", "u_search_radius"];
 
 /// The defines the search reads (`glsl/collide/cells.glsl`, `sorted_keys.glsl`).
-const WALK_DEFINES: [&str; 4] = ["CELL_TABLE", "EXACT_SCAN", "PACKED_KEYS", "SEARCH_TRIM"];
+const WALK_DEFINES: [&str; 6] = [
+    "CELL_TABLE",
+    "EXACT_SCAN",
+    "KEY_WIDTH_SHIFT",
+    "PACKED_KEYS",
+    "SEARCH_TRIM",
+    "TABLE_WIDTH_SHIFT",
+];
 
 /// What the floor of a draw that walked the cells repeats: the search's textures (by the
 /// samplers' names), defines and uniforms (the integer ones and a trimmed search's

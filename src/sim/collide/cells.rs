@@ -162,7 +162,8 @@ impl Lattice {
     }
 }
 
-/// Cells per row of the table.
+/// Cells per row of the table (a power of two: the search finds a cell's texel by a mask and a
+/// shift, `TABLE_WIDTH_SHIFT`). A table of fewer cells is one row of its own width.
 pub const TABLE_WIDTH: u32 = 2048;
 
 /// Most cells a lattice has for the table: with the sentinel, at most 4096 rows of
@@ -242,12 +243,24 @@ pub fn table_line(what: &str, when: &str) -> String {
     )
 }
 
-/// The simulation's `defines`, with `CELL_TABLE` where the search of `lattice` over a `size`
-/// state reads the table and `SEARCH_TRIM` where it walks the trimmed cells.
+/// The simulation's `defines`, with `CELL_TABLE` (and the table's row width as
+/// `TABLE_WIDTH_SHIFT`) where the search of `lattice` over a `size` state reads the table,
+/// `SEARCH_TRIM` where it walks the trimmed cells, and `KEY_WIDTH_SHIFT` where the state's width
+/// is a power of two (its texels found by a mask and a shift).
 pub fn search_defines(defines: &Defines, lattice: &Lattice, size: [u32; 2]) -> Defines {
     let mut d = defines.clone();
+    if size[0].is_power_of_two() {
+        d.push((
+            "KEY_WIDTH_SHIFT".into(),
+            size[0].trailing_zeros().to_string(),
+        ));
+    }
     if lattice.uses_table(size[0] as u64 * size[1] as u64) {
         d.push(("CELL_TABLE".into(), "1".into()));
+        d.push((
+            "TABLE_WIDTH_SHIFT".into(),
+            TABLE_WIDTH.trailing_zeros().to_string(),
+        ));
     }
     if lattice.walk == (Walk::Fluid { trimmed: true }) {
         d.push(("SEARCH_TRIM".into(), "1".into()));
@@ -375,9 +388,6 @@ impl CellSearch {
             ("u_cell_origin", Uniform::Vec3(self.lattice.origin)),
             ("u_cell_size", Uniform::F32(self.lattice.spacing)),
         ];
-        if let Some(t) = &self.table {
-            out.push(("u_cell_width", Uniform::I32(t.target.width() as i32)));
-        }
         out
     }
 

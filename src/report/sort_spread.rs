@@ -30,7 +30,7 @@ pub fn visible_inversions(order: &[Entry], screen: &[[f32; 2]], size: f32) -> u6
         .filter_map(|e| Some((*e, *screen.get(e[1] as usize)?)))
         .filter(|(_, p)| p[0].is_finite() && p[1].is_finite())
         .collect();
-    if !(cell > 0.0) || live.len() < 2 {
+    if cell.is_nan() || cell == 0.0 || live.len() < 2 {
         return 0;
     }
     // Cell coordinates saturate far out; the neighbour cells are deduplicated, so a cell is

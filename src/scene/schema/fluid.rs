@@ -83,7 +83,7 @@ pub enum FluidCell {
     #[default]
     #[serde(rename = "auto")]
     Auto,
-    /// The smoothing length h: the cells within 2h of a particle, about 108 h³, are walked.
+    /// The smoothing length h: the cells within 2h of a particle, about 84 h³, are walked.
     #[serde(rename = "h")]
     H,
     /// 2h, the kernel's support: the 27 cells around a particle's, 216 h³, are walked.

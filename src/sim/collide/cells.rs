@@ -15,8 +15,8 @@
 //! the same neighbours in the same order, every output bit for bit the same.
 //!
 //! A large fluid's lattice has cells of h, and its search (`SEARCH_TRIM`) walks only the cells
-//! within 2h of each particle (about 22 runs of 5 cells: half the particles of the 27 cells of
-//! 2h); a small fluid's (cells of 2h) and the collisions' exact detection walk the 27 cells
+//! within 2h of each particle (about 22 runs, each cut to the cells within 2h along x: 84 cells
+//! of h³, 0.39 of the 27 cells of 2h); a small fluid's (cells of 2h) and the collisions' exact detection walk the 27 cells
 //! around a particle's cell ([`Walk`]).
 //!
 //! The table costs a few fetches per cell: it pays while the cells are not many more than the
@@ -57,8 +57,9 @@ pub enum Walk {
     /// The fluid's search, in at least two passes a step (density, force).
     Fluid {
         /// On a lattice of cell h: the cells that can hold a particle within the pass's radius
-        /// of the particle (`SEARCH_TRIM`): rows along x cut to x ± radius, rows farther in y
-        /// and z skipped, about 22 runs of 5 cells for a radius of 2h. Else (cells of 2h) the
+        /// of the particle (`SEARCH_TRIM`): rows farther in y and z skipped, each other row along
+        /// x cut to x ± sqrt(radius² − d²) (d its distance across y and z), about 22 runs and 84
+        /// cells for a radius of 2h. Else (cells of 2h) the
         /// 27 cells, as the collisions (trimming them ran 6-8 % slower on NVIDIA H100 and H200
         /// for the 8,192-particle `drop`, and saved nothing at a million particles).
         trimmed: bool,
@@ -110,7 +111,7 @@ impl Lattice {
     /// The lattice of the scene's `[fluid]` (a scene without one has none: a lattice of one
     /// cell), from the lower corner of its bounds: cell h, searched by the trimmed walk
     /// (`SEARCH_TRIM` in `glsl/collide/cells.glsl`: the cells within 2h of a particle, about
-    /// 108 h³), or 2h, searched in the 27 cells (216 h³), as `fluid.cell` says.
+    /// 84 h³), or 2h, searched in the 27 cells (216 h³), as `fluid.cell` says.
     pub fn of_fluid(scene: &SceneFile) -> Self {
         let Some(f) = &scene.fluid else {
             return Lattice {
@@ -380,15 +381,14 @@ impl CellSearch {
     /// The search's uniforms, for the draws of the passes that walk the cells.
     pub fn uniforms(&self) -> Vec<(&'static str, Uniform)> {
         let d = self.lattice.dims.as_ivec3();
-        let mut out = vec![
+        vec![
             ("u_key_width", Uniform::I32(self.key_width as i32)),
             ("u_count", Uniform::I32(self.count as i32)),
             ("u_dims", Uniform::IVec3(d)),
             // The trimmed walk's geometry (`SEARCH_TRIM`); its radius is the pass's own.
             ("u_cell_origin", Uniform::Vec3(self.lattice.origin)),
             ("u_cell_size", Uniform::F32(self.lattice.spacing)),
-        ];
-        out
+        ]
     }
 
     /// The textures the search samples: the sorted `keys` and the table.

@@ -81,7 +81,6 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "collide/spin.glsl",
     "collide/exact_count.frag",
     "collide/exact_response.frag",
-    "collide/tally.vert",
     "collide/tally.frag",
     "collide/dem.glsl",
     "collide/neighbour_force.frag",

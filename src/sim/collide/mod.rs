@@ -123,8 +123,8 @@ pub fn exact_passes(colliders: bool, sort: scene::CollisionSort, table: bool) ->
                 ""
             }
         ),
-        "truncation tally: one point per particle whose search hit the bound, added into one \
-         texel (read back once, at the end of a run)"
+        "truncation tally: the particles whose search hit the bound, summed by 8×8 blocks pass \
+         after pass into one texel (read back once, at the end of a run)"
             .into(),
         "copy static texture in the new order".into(),
     ]);
@@ -293,7 +293,7 @@ impl CollisionStage {
             record: false,
             recorded: Vec::new(),
             tally: if exact {
-                Some(tally::TruncationTally::new(ctx)?)
+                Some(tally::TruncationTally::new(ctx, size)?)
             } else {
                 None
             },

@@ -59,7 +59,7 @@ impl CollisionStage {
                 out.push(PassDraw::of("exact detection", count, k));
                 out.push(PassDraw::of("exact response", response, k));
                 if let Some(t) = &self.tally {
-                    out.push(PassDraw::of("truncation tally", t.program(), k));
+                    out.push(PassDraw::of("truncation tally", t.program(), k * t.draws()));
                 }
                 out.push(PassDraw::of("copy static", &self.copy, k));
                 if self.first.spin.is_some() {

@@ -2,25 +2,49 @@
 //! kept on the GPU over a whole run and read back once, so that `render` can warn about
 //! collisions the search could not see and bounces the colliders did not make.
 //!
-//! After each exact count pass, one point per particle is drawn into a 1×1 R32F target with
-//! additive blending, where the count pass flagged the particle's search as truncated (a run of
-//! three cells held more than [`EXACT_SCAN`](super::EXACT_SCAN) particles); the others are
-//! clipped away in the vertex shader. Exact up to 2^24 flagged searches. The colliders' count
-//! reads the velocity's w after each integration pass instead (`glsl/sim/integrate.frag`).
+//! After each pass that flags particles (the exact count pass where a particle's search was
+//! truncated, a run of cells holding more than [`EXACT_SCAN`](super::EXACT_SCAN) particles; the
+//! integration in the velocity's w for the colliders; the fluid's density pass), a reduction in
+//! fragment passes sums the flags: each fragment a block of [`TALLY_BLOCK`]² texels, pass after
+//! pass, until the last adds its one sum into a 1×1 R32F target with additive blending
+//! (`glsl/collide/tally.frag`). Exact up to 2^24 flagged particles over the run.
 
 use crate::error::Result;
 use crate::gl::{
-    Blend, BlendComponent, BlendFactor, Context, Depth, Draw, DrawState, Framebuffer, PointSize,
-    Primitive, Program, Texture, TextureDesc, TextureFormat, Uniform, VertexArray,
+    Blend, BlendComponent, BlendFactor, Context, Depth, Draw, DrawState, Framebuffer,
+    FullscreenPass, PointSize, Primitive, Program, Rect, Texture, TextureDesc, TextureFormat,
+    Uniform, VertexArray, FULLSCREEN_VERTEX,
 };
 
-/// The running count of truncated searches.
+/// Texels a side of the block each fragment of the reduction sums.
+pub const TALLY_BLOCK: u32 = 8;
+
+/// The sizes of the reduction's intermediate targets for a `width` × `height` source: each a
+/// [`TALLY_BLOCK`]th of the last a side (rounded up), until one fits in a block; that one's sum
+/// goes into the tally.
+pub fn reduction_sizes(width: u32, height: u32) -> Vec<[u32; 2]> {
+    let (mut w, mut h) = (width.max(1), height.max(1));
+    let mut out = Vec::new();
+    while w > TALLY_BLOCK || h > TALLY_BLOCK {
+        w = w.div_ceil(TALLY_BLOCK);
+        h = h.div_ceil(TALLY_BLOCK);
+        out.push([w, h]);
+    }
+    out
+}
+
+/// The running count of flagged particles.
 #[derive(Debug)]
 pub(crate) struct TruncationTally {
     ctx: Context,
     program: Program,
     target: Framebuffer,
+    pass: FullscreenPass,
     empty: VertexArray,
+    /// The flags' texture size.
+    size: [u32; 2],
+    /// The reduction's intermediate targets ([`reduction_sizes`]).
+    levels: Vec<Framebuffer>,
 }
 
 impl TruncationTally {
@@ -29,44 +53,73 @@ impl TruncationTally {
         &self.program
     }
 
-    /// A tally at 0.
-    pub(crate) fn new(ctx: &Context) -> Result<Self> {
-        let texture = Texture::new(
-            ctx,
-            TextureDesc {
-                width: 1,
-                height: 1,
-                format: TextureFormat::R32F,
-                label: "truncated searches",
-            },
-        )?;
-        let target = Framebuffer::new(ctx, "truncated searches", vec![texture])?;
+    /// The draws of one tally, for the pass list.
+    pub(crate) fn draws(&self) -> u64 {
+        self.levels.len() as u64 + 1
+    }
+
+    /// A tally at 0 of flags in textures of `size`.
+    pub(crate) fn new(ctx: &Context, size: [u32; 2]) -> Result<Self> {
+        let target = Framebuffer::new(ctx, "tally", vec![r32f(ctx, "tally", [1, 1])?])?;
         target.clear([0.0; 4]);
+        let levels = (reduction_sizes(size[0], size[1]).into_iter())
+            .map(|s| Framebuffer::new(ctx, "tally sums", vec![r32f(ctx, "tally sums", s)?]))
+            .collect::<Result<Vec<_>>>()?;
+        let defines = vec![("TALLY_BLOCK".into(), TALLY_BLOCK.to_string())];
         Ok(TruncationTally {
             ctx: ctx.clone(),
-            program: Program::new(ctx, "collide/tally.vert", "collide/tally.frag", &Vec::new())?,
+            program: Program::new(ctx, FULLSCREEN_VERTEX, "collide/tally.frag", &defines)?,
             target,
-            empty: VertexArray::empty(ctx, "truncation tally")?,
+            pass: FullscreenPass::new(ctx)?,
+            empty: VertexArray::empty(ctx, "tally")?,
+            size,
+            levels,
         })
     }
 
-    /// Adds the particles that `counts` (the exact count pass's output, `width` wide, `n`
-    /// texels) flags as truncated.
+    /// Adds the particles that `counts` (the exact count pass's output, `n` texels) flags as
+    /// truncated.
     pub(super) fn add(&self, counts: &Texture, n: usize) {
         self.add_flags(counts, 1, n);
     }
 
-    /// Adds the first `n` texels of `flags` whose component `component` is above 1/2.
+    /// Adds the first `n` texels of `flags` (a texture of the tally's size, in rows of its
+    /// width) whose component `component` is above 1/2.
     pub(crate) fn add_flags(&self, flags: &Texture, component: i32, n: usize) {
-        let p = &self.program;
+        let size = [flags.width(), flags.height()];
+        debug_assert_eq!(size, self.size, "a tally counts flags of its own size");
+        let (mut source, mut at, mut count, mut comp) = (flags, size, n as i32, component);
+        let uniforms = |at: [u32; 2], count: i32, comp: i32| {
+            [
+                (
+                    "u_size",
+                    Uniform::IVec2(glam::IVec2::new(at[0] as i32, at[1] as i32)),
+                ),
+                ("u_count", Uniform::I32(count)),
+                ("u_component", Uniform::I32(comp)),
+            ]
+        };
+        for t in &self.levels {
+            let u = uniforms(at, count, comp);
+            self.pass
+                .draw(&self.program, &[("u_counts", source.into())], &u, t);
+            source = t.only_texture();
+            at = [t.width(), t.height()];
+            (count, comp) = ((at[0] * at[1]) as i32, -1);
+        }
         let add = BlendComponent::add(BlendFactor::One, BlendFactor::One);
         self.ctx.draw(&Draw {
-            program: p,
+            program: &self.program,
             target: &self.target,
-            viewport: None,
+            viewport: Some(Rect {
+                x: 0,
+                y: 0,
+                width: 1,
+                height: 1,
+            }),
             vertices: &self.empty,
-            primitive: Primitive::Points,
-            count: n as u32,
+            primitive: Primitive::Triangles,
+            count: 3,
             state: &DrawState {
                 blend: Some(Blend {
                     color: add,
@@ -75,16 +128,90 @@ impl TruncationTally {
                 point_size: PointSize::One,
                 depth: Depth::Off,
             },
-            textures: &[("u_counts", flags.into())],
-            uniforms: &[
-                ("u_width", Uniform::I32(flags.width() as i32)),
-                ("u_component", Uniform::I32(component)),
-            ],
+            textures: &[("u_counts", source.into())],
+            uniforms: &uniforms(at, count, comp),
         });
     }
 
     /// The count so far (one read-back of one texel).
     pub(crate) fn total(&self) -> Result<u64> {
         Ok(self.target.only_texture().read_f32()?[0].round() as u64)
+    }
+}
+
+/// An R32F texture of `size`.
+fn r32f(ctx: &Context, label: &'static str, size: [u32; 2]) -> Result<Texture> {
+    Texture::new(
+        ctx,
+        TextureDesc {
+            width: size[0],
+            height: size[1],
+            format: TextureFormat::R32F,
+            label,
+        },
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The reduction counts what the CPU counts: random flags (some near the threshold) in
+    /// sources of odd sizes, only the first `n` texels, added over several tallies.
+    #[test]
+    fn the_reduction_counts_the_flags_of_the_first_texels() {
+        let ctx = Context::new(0).expect("an EGL device (llvmpipe in CI)");
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        for (w, h, n) in [
+            (1, 1, 1),
+            (9, 1, 9),
+            (37, 23, 700),
+            (64, 64, 4096),
+            (130, 3, 390),
+        ] {
+            let flags = Texture::new(
+                &ctx,
+                TextureDesc {
+                    width: w,
+                    height: h,
+                    format: TextureFormat::Rgba32F,
+                    label: "flags",
+                },
+            )
+            .unwrap();
+            let data: Vec<f32> = (0..w * h * 4).map(|_| next()).collect();
+            flags.upload_f32(&data).unwrap();
+            let tally = TruncationTally::new(&ctx, [w, h]).unwrap();
+            assert_eq!(tally.draws(), reduction_sizes(w, h).len() as u64 + 1);
+            let want = (0..n as usize).filter(|&i| data[i * 4 + 2] > 0.5).count() as u64;
+            for _ in 0..3 {
+                tally.add_flags(&flags, 2, n as usize);
+            }
+            assert_eq!(tally.total().unwrap(), 3 * want, "{w}×{h}, first {n}");
+        }
+    }
+
+    #[test]
+    fn every_level_shrinks_to_one_block() {
+        assert_eq!(reduction_sizes(8, 8), Vec::<[u32; 2]>::new());
+        assert_eq!(
+            reduction_sizes(1024, 1024),
+            vec![[128, 128], [16, 16], [2, 2]]
+        );
+        assert_eq!(reduction_sizes(37, 5), vec![[5, 1]]);
+        assert_eq!(reduction_sizes(4096, 4096).len(), 3);
+        for (w, h) in [(1, 1), (9, 1), (1, 4096), (24, 10), (4096, 4096)] {
+            let last = reduction_sizes(w, h).last().copied().unwrap_or([w, h]);
+            assert!(
+                last[0] <= TALLY_BLOCK && last[1] <= TALLY_BLOCK,
+                "{w}×{h}: {last:?}"
+            );
+        }
     }
 }

@@ -121,7 +121,9 @@ pub fn fluid_passes(walls: bool, coherent: Option<u32>, table: bool, cell: u32) 
             "fluid force: symmetric pressure force and Monaghan's artificial viscosity over the \
              same search{wall}, v += a dt, positions copied"
         ),
-        "truncation tally: one point per particle whose search hit the bound".into(),
+        "truncation tally: the particles whose search hit the bound, summed by 8×8 blocks pass \
+         after pass into one texel"
+            .into(),
         "copy static texture in the new order".into(),
     ]);
     out
@@ -137,7 +139,7 @@ impl Fluid {
         out.extend([
             PassDraw::of("fluid density", &self.density_pass, 1),
             PassDraw::of("fluid force", &self.force_pass, 1),
-            PassDraw::of("truncation tally", self.tally.program(), 1),
+            PassDraw::of("truncation tally", self.tally.program(), self.tally.draws()),
             PassDraw::of("copy static", &self.copy, 1),
         ]);
         out
@@ -208,7 +210,7 @@ impl Fluid {
             place: program("fluid/lattice.frag")?,
             copy: program("collide/copy.frag")?,
             pass: FullscreenPass::new(ctx)?,
-            tally: TruncationTally::new(ctx)?,
+            tally: TruncationTally::new(ctx, size)?,
             width: size[0],
             gravity,
             config,

@@ -161,7 +161,7 @@ impl CoherentSort {
             merge_pass: Program::new(ctx, FULLSCREEN_VERTEX, "fluid/merge.frag", &d)?,
             order_pass: Program::new(ctx, FULLSCREEN_VERTEX, "fluid/order.frag", &d)?,
             pass: FullscreenPass::new(ctx)?,
-            tally: TruncationTally::new(ctx)?,
+            tally: TruncationTally::new(ctx, [w, h])?,
             steps: merge_steps(block),
             block,
             width: w,

@@ -13,16 +13,20 @@ use crate::sim::state::VELOCITY;
 
 /// The bounce tally's line in the pass list: the integration flags paths past the bound in the
 /// velocity's w.
-pub(super) const BOUNCE_TALLY: &str = "bounce tally: one point per particle whose path hit the \
-                                       bound on bounces at the colliders, added into one texel \
-                                       (read back once, at the end of a run)";
+pub(super) const BOUNCE_TALLY: &str = "bounce tally: the particles whose path hit the bound on \
+                                       bounces at the colliders, summed by 8×8 blocks pass after \
+                                       pass into one texel (read back once, at the end of a run)";
 
 /// A tally where the integration pass can flag a particle: explicit integrators with a plane, a
 /// sphere or a box (the colliders `bounce_on` follows).
-pub(super) fn tally(ctx: &Context, f: &Features) -> Result<Option<TruncationTally>> {
+pub(super) fn tally(
+    ctx: &Context,
+    f: &Features,
+    size: [u32; 2],
+) -> Result<Option<TruncationTally>> {
     let bounces = f.collider_counts.any_bouncing();
     if bounces && f.integrator != Integrator::Verlet {
-        Ok(Some(TruncationTally::new(ctx)?))
+        Ok(Some(TruncationTally::new(ctx, size)?))
     } else {
         Ok(None)
     }

@@ -303,7 +303,7 @@ impl ParticleSim {
             out.extend(u.pass_draws());
         }
         if let (Some(t), State::Explicit(_)) = (&self.bounces, &self.state) {
-            out.push(PassDraw::of("bounce tally", t.program(), 1));
+            out.push(PassDraw::of("bounce tally", t.program(), t.draws()));
         }
         out
     }

@@ -206,7 +206,7 @@ impl ParticleSim {
                 None => None,
             },
             fluid_exchange: fluid::exchange_programs(ctx, scene, &defines)?,
-            bounces: bounces::tally(ctx, &features)?,
+            bounces: bounces::tally(ctx, &features, [width, height])?,
             relax: relax::Relaxation::new(ctx, scene, params.constraints.as_ref(), &defines)?,
             user: user_state::UserStates::new(ctx, scene, &defines, [width, height])?,
             state_names: scene.state.iter().map(|s| s.name.clone()).collect(),

@@ -17,7 +17,7 @@ use crate::gl::{
 };
 
 /// Texels a side of the block each fragment of the reduction sums.
-pub const TALLY_BLOCK: u32 = 8;
+pub const TALLY_BLOCK: u32 = 4;
 
 /// The sizes of the reduction's intermediate targets for a `width` × `height` source: each a
 /// [`TALLY_BLOCK`]th of the last a side (rounded up), until one fits in a block; that one's sum
@@ -199,13 +199,13 @@ mod tests {
 
     #[test]
     fn every_level_shrinks_to_one_block() {
-        assert_eq!(reduction_sizes(8, 8), Vec::<[u32; 2]>::new());
+        assert_eq!(reduction_sizes(4, 4), Vec::<[u32; 2]>::new());
         assert_eq!(
             reduction_sizes(1024, 1024),
-            vec![[128, 128], [16, 16], [2, 2]]
+            vec![[256, 256], [64, 64], [16, 16], [4, 4]]
         );
-        assert_eq!(reduction_sizes(37, 5), vec![[5, 1]]);
-        assert_eq!(reduction_sizes(4096, 4096).len(), 3);
+        assert_eq!(reduction_sizes(37, 5), vec![[10, 2], [3, 1]]);
+        assert_eq!(reduction_sizes(4096, 4096).len(), 5);
         for (w, h) in [(1, 1), (9, 1), (1, 4096), (24, 10), (4096, 4096)] {
             let last = reduction_sizes(w, h).last().copied().unwrap_or([w, h]);
             assert!(

@@ -121,7 +121,7 @@ pub fn fluid_passes(walls: bool, coherent: Option<u32>, table: bool, cell: u32) 
             "fluid force: symmetric pressure force and Monaghan's artificial viscosity over the \
              same search{wall}, v += a dt, positions copied"
         ),
-        "truncation tally: the particles whose search hit the bound, summed by 8×8 blocks pass \
+        "truncation tally: the particles whose search hit the bound, summed by 4×4 blocks pass \
          after pass into one texel"
             .into(),
         "copy static texture in the new order".into(),

@@ -46,5 +46,8 @@ pub mod sim;
 pub mod sort;
 pub mod trace;
 
+#[cfg(test)]
+mod test_rng;
+
 pub use engine::{CpuEngine, Engine, EngineKind, GpuEngine, ParticleEngine};
 pub use error::{Error, Result};

@@ -260,13 +260,7 @@ mod tests {
     /// faces, equal keys, dead entries, positions far out or not finite, every size.
     #[test]
     fn the_grid_counts_what_all_pairs_count() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = crate::test_rng::uniform(0x2545_f491_4f6c_dd1d);
         for case in 0..60 {
             let n = 1 + (next() * 400.0) as usize;
             let order: Vec<Entry> = (0..n)

@@ -161,13 +161,7 @@ mod tests {
     #[test]
     fn the_reduction_counts_the_flags_of_the_first_texels() {
         let ctx = Context::new(0).expect("an EGL device (llvmpipe in CI)");
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = crate::test_rng::uniform(0x9e37_79b9_7f4a_7c15);
         for (w, h, n) in [
             (1, 1, 1),
             (9, 1, 9),
@@ -185,7 +179,7 @@ mod tests {
                 },
             )
             .unwrap();
-            let data: Vec<f32> = (0..w * h * 4).map(|_| next()).collect();
+            let data: Vec<f32> = (0..w * h * 4).map(|_| next() as f32).collect();
             flags.upload_f32(&data).unwrap();
             let tally = TruncationTally::new(&ctx, [w, h]).unwrap();
             assert_eq!(tally.draws(), reduction_sizes(w, h).len() as u64 + 1);

@@ -93,9 +93,9 @@ void search_neighbours(int self) {
 // along x is trimmed to the cells of x ± sqrt(r² - d²). With a lattice of cell h and a radius
 // of 2h that is about 84 cells of h³ around a particle in 22 runs (108 if every run spanned
 // x ± r) instead of the 27 cells of (2h)³ (216 h³) of the plain search, every particle closer
-// than the radius among them. Cells clamp (a particle outside the lattice is in its edge cell), and a clamped
-// index range still holds every such cell, since floor and clamp keep the order. The margin of
-// 1e-4 cells covers the key pass's rounding of a position near a cell's face. (Loops of a fixed
+// than the radius among them. Cells clamp (a particle outside the lattice is in its edge cell),
+// and a clamped index range still holds every such cell, since floor and clamp keep the order.
+// The margin of 1e-4 cells covers the key pass's rounding of a position near a cell's face. (Loops of a fixed
 // count, two cells out, ran 3 % slower on an NVIDIA H100 for the million-particle dam.)
 uniform vec3 u_cell_origin;     // corner of cell (0, 0, 0)
 uniform float u_cell_size;      // the lattice's mesh size

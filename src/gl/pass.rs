@@ -40,6 +40,29 @@ impl FullscreenPass {
         self.draw_rows(program, textures, uniforms, target, 0, target.height());
     }
 
+    /// As [`draw`](Self::draw), with the fixed-function `state` given: a blend (a sum added into
+    /// a tally).
+    pub fn draw_with(
+        &self,
+        program: &Program,
+        textures: &[(&str, Sampled<'_>)],
+        uniforms: &[(&str, Uniform)],
+        target: &Framebuffer,
+        state: &DrawState,
+    ) {
+        self.ctx.draw(&Draw {
+            program,
+            target,
+            viewport: None,
+            vertices: &self.vao,
+            primitive: Primitive::Triangles,
+            count: 3,
+            state,
+            textures,
+            uniforms,
+        });
+    }
+
     /// As [`draw`](Self::draw), over rows `y0..y0+rows` of `target` only (live-row restriction).
     /// Blending is off: every texel written is the program's output.
     pub fn draw_rows(

@@ -11,9 +11,8 @@
 
 use crate::error::Result;
 use crate::gl::{
-    Blend, BlendComponent, BlendFactor, Context, Depth, Draw, DrawState, Framebuffer,
-    FullscreenPass, PointSize, Primitive, Program, Rect, Texture, TextureDesc, TextureFormat,
-    Uniform, VertexArray, FULLSCREEN_VERTEX,
+    Blend, BlendComponent, BlendFactor, Context, DrawState, Framebuffer, FullscreenPass, Program,
+    Texture, TextureDesc, TextureFormat, Uniform, FULLSCREEN_VERTEX,
 };
 
 /// Texels a side of the block each fragment of the reduction sums.
@@ -36,11 +35,9 @@ pub fn reduction_sizes(width: u32, height: u32) -> Vec<[u32; 2]> {
 /// The running count of flagged particles.
 #[derive(Debug)]
 pub(crate) struct TruncationTally {
-    ctx: Context,
     program: Program,
     target: Framebuffer,
     pass: FullscreenPass,
-    empty: VertexArray,
     /// The flags' texture size.
     size: [u32; 2],
     /// The reduction's intermediate targets ([`reduction_sizes`]).
@@ -67,11 +64,9 @@ impl TruncationTally {
             .collect::<Result<Vec<_>>>()?;
         let defines = vec![("TALLY_BLOCK".into(), TALLY_BLOCK.to_string())];
         Ok(TruncationTally {
-            ctx: ctx.clone(),
             program: Program::new(ctx, FULLSCREEN_VERTEX, "collide/tally.frag", &defines)?,
             target,
             pass: FullscreenPass::new(ctx)?,
-            empty: VertexArray::empty(ctx, "tally")?,
             size,
             levels,
         })
@@ -108,29 +103,21 @@ impl TruncationTally {
             (count, comp) = ((at[0] * at[1]) as i32, -1);
         }
         let add = BlendComponent::add(BlendFactor::One, BlendFactor::One);
-        self.ctx.draw(&Draw {
-            program: &self.program,
-            target: &self.target,
-            viewport: Some(Rect {
-                x: 0,
-                y: 0,
-                width: 1,
-                height: 1,
+        let state = DrawState {
+            blend: Some(Blend {
+                color: add,
+                alpha: add,
             }),
-            vertices: &self.empty,
-            primitive: Primitive::Triangles,
-            count: 3,
-            state: &DrawState {
-                blend: Some(Blend {
-                    color: add,
-                    alpha: add,
-                }),
-                point_size: PointSize::One,
-                depth: Depth::Off,
-            },
-            textures: &[("u_counts", source.into())],
-            uniforms: &uniforms(at, count, comp),
-        });
+            ..DrawState::REPLACE
+        };
+        let u = uniforms(at, count, comp);
+        (self.pass).draw_with(
+            &self.program,
+            &[("u_counts", source.into())],
+            &u,
+            &self.target,
+            &state,
+        );
     }
 
     /// The count so far (one read-back of one texel).

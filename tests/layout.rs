@@ -14,10 +14,11 @@ use std::path::{Path, PathBuf};
 use scan::*;
 
 /// Each top-level module's layer; a module may import its own layer's peers (acyclically) and
-/// anything below. `error`, `input`, `npy` and `output` are plain utilities every layer may use.
+/// anything below. `error`, `input`, `npy` and `output` are plain utilities every layer may use,
+/// and so is `test_rng`, the unit tests' random numbers.
 fn layer(module: &str) -> Option<u32> {
     Some(match module {
-        "error" | "input" | "npy" | "output" => 0,
+        "error" | "input" | "npy" | "output" | "test_rng" => 0,
         "gl" => 1,
         "scene" => 2,
         "sim" | "sort" | "render" => 3,

@@ -123,9 +123,7 @@ pub fn exact_passes(colliders: bool, sort: scene::CollisionSort, table: bool) ->
                 ""
             }
         ),
-        "truncation tally: the particles whose search hit the bound, summed by 4×4 blocks pass \
-         after pass into one texel (read back once, at the end of a run)"
-            .into(),
+        tally::pass_line("truncation tally: the particles whose search hit the bound"),
         "copy static texture in the new order".into(),
     ]);
     out

@@ -32,6 +32,15 @@ pub fn reduction_sizes(width: u32, height: u32) -> Vec<[u32; 2]> {
     out
 }
 
+/// A tally's line in the pass list: `what` it counts, then how (one wording for every tally,
+/// its block the one [`TALLY_BLOCK`]).
+pub(crate) fn pass_line(what: &str) -> String {
+    format!(
+        "{what}, summed by {TALLY_BLOCK}×{TALLY_BLOCK} blocks pass after pass into one texel \
+         (read back once, at the end of a run)"
+    )
+}
+
 /// The running count of flagged particles.
 #[derive(Debug)]
 pub(crate) struct TruncationTally {

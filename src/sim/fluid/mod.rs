@@ -39,7 +39,7 @@ use crate::gl::{
 use crate::scene::{self, SceneFile};
 use crate::sim::collide::cells::{search_defines, search_words, table_line, CellSearch};
 use crate::sim::collide::grid::{GridSpec, SortedGrid};
-use crate::sim::collide::tally::TruncationTally;
+use crate::sim::collide::tally::{self, TruncationTally};
 use crate::sim::collide::Lattice;
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
 use crate::sort::{SortOptions, Variant};
@@ -121,9 +121,7 @@ pub fn fluid_passes(walls: bool, coherent: Option<u32>, table: bool, cell: u32) 
             "fluid force: symmetric pressure force and Monaghan's artificial viscosity over the \
              same search{wall}, v += a dt, positions copied"
         ),
-        "truncation tally: the particles whose search hit the bound, summed by 4×4 blocks pass \
-         after pass into one texel"
-            .into(),
+        tally::pass_line("truncation tally: the particles whose search hit the bound"),
         "copy static texture in the new order".into(),
     ]);
     out

@@ -13,9 +13,11 @@ use crate::sim::state::VELOCITY;
 
 /// The bounce tally's line in the pass list: the integration flags paths past the bound in the
 /// velocity's w.
-pub(super) const BOUNCE_TALLY: &str = "bounce tally: the particles whose path hit the bound on \
-                                       bounces at the colliders, summed by 4×4 blocks pass after \
-                                       pass into one texel (read back once, at the end of a run)";
+pub(super) fn bounce_tally_line() -> String {
+    crate::sim::collide::tally::pass_line(
+        "bounce tally: the particles whose path hit the bound on bounces at the colliders",
+    )
+}
 
 /// A tally where the integration pass can flag a particle: explicit integrators with a plane, a
 /// sphere or a box (the colliders `bounce_on` follows).

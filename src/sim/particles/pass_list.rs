@@ -20,7 +20,7 @@ impl ParticleSim {
                 Stage::Births => self.birth_draws(),
                 Stage::Integrate => {
                     if self.bounces.is_some() && matches!(self.state, State::Explicit(_)) {
-                        names.push(super::bounces::BOUNCE_TALLY.into());
+                        names.push(super::bounces::bounce_tally_line());
                     }
                     self.integration_draws()
                 }

@@ -188,7 +188,7 @@ fn multistep_with_one_and_three_wide_steps_per_pass() {
 fn blocked_sort_every_shape() {
     let ctx = context();
     for bits_per_pass in [2, 3, 4] {
-        for pinned in [false, true] {
+        for (pinned, merge) in [(false, false), (true, false), (false, true)] {
             for (w, h, rows) in [
                 (32, 32, None),
                 (64, 4, None),
@@ -205,6 +205,7 @@ fn blocked_sort_every_shape() {
                         bits: bits_per_pass,
                         pinned,
                         compact: false,
+                        merge,
                     },
                     rows,
                     ..SortOptions::default()
@@ -218,7 +219,9 @@ fn blocked_sort_every_shape() {
                 sorter.sort();
                 let got = sorter.read().unwrap();
                 let block = rows.map_or(w * h, |k| w * k);
-                let what = format!("bits {bits_per_pass} pinned {pinned} {w}x{h} rows {rows:?}");
+                let what = format!(
+                    "bits {bits_per_pass} pinned {pinned} merge {merge} {w}x{h} rows {rows:?}"
+                );
                 assert_eq!(
                     bits(&got),
                     bits(&twin(Variant::Blocked, &input, w, block, &options)),
@@ -231,6 +234,24 @@ fn blocked_sort_every_shape() {
     no_gl_error(&ctx);
 }
 
+/// Keys in [-150, 150) fine enough that many share a compact level at 2^10 entries (22 key
+/// bits), and one in 17 special (infinities, NaN, far out of range).
+fn fine_keys(n: u32, seed: u64) -> Vec<Entry> {
+    let mut s = seed;
+    let specials = [f32::INFINITY, f32::NAN, f32::NEG_INFINITY, -1e9, 1e9];
+    (0..n)
+        .map(|i| {
+            let r = lcg(&mut s);
+            let key = if r.is_multiple_of(17) {
+                specials[(r / 17) as usize % specials.len()]
+            } else {
+                (r % 3_000_000) as f32 * 1e-4 - 150.0
+            };
+            [key, i as f32]
+        })
+        .collect()
+}
+
 /// The blocked sort with compact 4-byte entries (lossy keys), 4 to 32 entries per fragment:
 /// the identifiers come out in the order of a CPU sort by (quantisation level, identifier), the
 /// levels computed by the twin of the shader's quantiser; keys come back as their level's lower
@@ -238,7 +259,10 @@ fn blocked_sort_every_shape() {
 #[test]
 fn compact_blocked_sort_orders_by_level_then_id() {
     let ctx = context();
-    for bits_per_pass in [2, 3, 4, 5] {
+    for (bits_per_pass, merge) in [2, 3, 4, 5]
+        .into_iter()
+        .flat_map(|b| [(b, false), (b, true)])
+    {
         for (w, h, rows) in [
             (32, 32, None),
             (64, 4, None),
@@ -250,6 +274,7 @@ fn compact_blocked_sort_orders_by_level_then_id() {
                     bits: bits_per_pass,
                     pinned: false,
                     compact: true,
+                    merge,
                 },
                 rows,
                 ..SortOptions::default()
@@ -258,25 +283,12 @@ fn compact_blocked_sort_orders_by_level_then_id() {
             let (lo, hi) = (-150.0f32, 150.0f32);
             sorter.set_key_range(lo, hi).unwrap();
             let q = sorter.quantiser().unwrap();
-            let mut s = 5 + w as u64;
-            let specials = [f32::INFINITY, f32::NAN, f32::NEG_INFINITY, -1e9, 1e9];
-            let input: Vec<Entry> = (0..w * h)
-                .map(|i| {
-                    let r = lcg(&mut s);
-                    let key = if r.is_multiple_of(17) {
-                        specials[(r / 17) as usize % specials.len()]
-                    } else {
-                        // Fine keys: many share a level at 2^10 entries (22 key bits).
-                        (r % 3_000_000) as f32 * 1e-4 - 150.0
-                    };
-                    [key, i as f32]
-                })
-                .collect();
+            let input = fine_keys(w * h, 5 + w as u64);
             sorter.load(&input).unwrap();
             sorter.sort();
             let got = sorter.read().unwrap();
             let block = rows.map_or(w * h, |k| w * k) as usize;
-            let what = format!("bits {bits_per_pass} {w}x{h} rows {rows:?}");
+            let what = format!("bits {bits_per_pass} merge {merge} {w}x{h} rows {rows:?}");
             let mut expected: Vec<(u32, u32)> = Vec::new();
             for chunk in input.chunks(block) {
                 let mut c: Vec<(u32, u32)> =
@@ -315,19 +327,22 @@ fn compact_blocked_sort_orders_by_level_then_id() {
 }
 
 #[test]
-fn compact_blocked_sort_refuses_what_it_cannot_order() {
+fn blocked_sort_refuses_what_it_cannot_order() {
     let ctx = context();
     // Too many entries for 8 key bits, and pinned lanes, are refused with the fix.
-    for (w, h, bits, pinned, needle) in [
-        (4096, 8192, 4, false, "2^24"),
-        (32, 32, 4, true, "pinned"),
-        (32, 32, 6, false, "bits 2 to 5"),
+    for (w, h, bits, pinned, compact, merge, needle) in [
+        (4096, 8192, 4, false, true, false, "2^24"),
+        (32, 32, 4, true, true, false, "pinned"),
+        (32, 32, 6, false, true, false, "bits 2 to 5"),
+        // Merge passes read row-major entries: no pinned lane, exact or compact.
+        (32, 32, 4, true, false, true, "no pinned lane"),
     ] {
         let options = SortOptions {
             blocked: texflow::sort::BlockedShape {
                 bits,
                 pinned,
-                compact: true,
+                compact,
+                merge,
             },
             ..SortOptions::default()
         };

@@ -93,6 +93,11 @@ fn rows_only_exact_compact_entries_sort_as_the_eight_byte_ones() {
             assert_eq!(bits(&got), bits(&want), "{what}: against the reference");
             let eight = sorted(&ctx, [w, h], exact, &input);
             assert_eq!(bits(&got), bits(&eight), "{what}: against 8-byte entries");
+            // Merge passes after the first (rows wider than a fragment's 32 entries).
+            let mut merging = compact;
+            merging.blocked.merge = true;
+            let merged = sorted(&ctx, [w, h], merging, &input);
+            assert_eq!(bits(&merged), bits(&want), "{what}: merging");
             // Not vacuous: ties, top cells, dead and padding keys all occur in one block.
             let row = &input[..(w * rows) as usize];
             assert!(row.iter().filter(|e| e[0] == 0.0).count() >= 2, "{what}");

@@ -126,7 +126,8 @@ pub struct SortBenchOptions {
 }
 
 /// The row name of a blocked shape: `blocked` alone for the default shape when it is the only
-/// one, else `blocked-b<bits>` with `p` for the pinned lane and `c` for compact entries.
+/// one, else `blocked-b<bits>` with `p` for the pinned lane, `c` for compact entries and `m`
+/// for merge passes.
 fn blocked_name(shape: BlockedShape, several: bool) -> String {
     if !several && shape == BlockedShape::default() {
         "blocked".into()

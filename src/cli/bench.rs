@@ -25,28 +25,34 @@ pub enum BenchCommand {
     Passes(super::bench_passes::PassesArgs),
 }
 
-/// `--blocked 4`, `3p`, `5c`: entries-per-fragment bits, the pinned lane, compact entries.
+/// `--blocked 4`, `3p`, `5c`, `4m`, `5cm`: entries-per-fragment bits, the pinned lane, compact
+/// entries, merge passes.
 fn parse_blocked_shape(s: &str) -> texflow::Result<texflow::sort::BlockedShape> {
-    let (rest, compact) = match s.strip_suffix('c') {
+    let (unmerged, merge) = match s.strip_suffix('m') {
         Some(d) => (d, true),
         None => (s, false),
+    };
+    let (rest, compact) = match unmerged.strip_suffix('c') {
+        Some(d) => (d, true),
+        None => (unmerged, false),
     };
     let (digits, pinned) = match rest.strip_suffix('p') {
         Some(d) => (d, true),
         None => (rest, false),
     };
     match (digits.parse::<u32>(), compact, pinned) {
-        (Ok(bits @ 2..=4), false, _) | (Ok(bits @ 2..=5), true, false) => {
+        (Ok(bits @ 2..=4), false, _) | (Ok(bits @ 2..=5), true, false) if !(merge && pinned) => {
             Ok(texflow::sort::BlockedShape {
                 bits,
                 pinned,
                 compact,
+                merge,
             })
         }
         _ => Err(bad(format!(
             "--blocked {s}: give 2, 3 or 4 (bits of exact entries per fragment) with `p` for \
-             the pinned lane, or 2 to 5 with `c` for compact 4-byte entries (not pinned), \
-             e.g. --blocked 4,3p,5c"
+             the pinned lane, or 2 to 5 with `c` for compact 4-byte entries (not pinned), then \
+             `m` to merge runs after the first pass (not pinned), e.g. --blocked 4,3p,5c,4m,5cm"
         ))),
     }
 }
@@ -229,8 +235,9 @@ pub struct SortArgs {
     steps: usize,
     /// Shapes of the blocked variant, one row each: `b` entries-per-fragment bits (2, 3 or
     /// 4: 4, 8 or 16 entries), with a `p` suffix for the pinned lane, or 2 to 5 with a `c`
-    /// suffix for compact 4-byte entries (lossy keys), e.g. `4,3p,5c`.
-    #[arg(long, value_delimiter = ',', value_name = "B[p|c],...")]
+    /// suffix for compact 4-byte entries (lossy keys), then an `m` suffix to merge runs after
+    /// the first pass (the default shape is `4m`), e.g. `4,3p,5c,4m,5cm`.
+    #[arg(long, value_delimiter = ',', value_name = "B[p|c][m],...")]
     blocked: Vec<String>,
     /// How to time: auto, gpu, wall.
     #[arg(long, value_enum, default_value_t = ClockArg::Auto)]

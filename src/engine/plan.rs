@@ -94,6 +94,7 @@ pub fn sort_plan(scene: &SceneFile) -> Option<SortPlan> {
             bits: 5,
             pinned: false,
             compact: true,
+            merge: true,
         }
     } else {
         crate::sort::BlockedShape::default()

@@ -41,6 +41,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "sort/multistep.frag",
     "sort/blocked.frag",
     "sort/blocked_unpack.frag",
+    "sort/merge.frag",
     "sort/sorted_id.glsl",
     "sort/rearrange.frag",
     "sim/fire_init.frag",

@@ -2,7 +2,7 @@
 //! is written. The sorter builds its passes from [`network`]; the engine's plan, the trace and
 //! the cost model read the same list.
 
-use super::blocked::{schedule as blocked_schedule, BlockPass};
+use super::blocked::{merge_schedule, schedule as blocked_schedule, BlockPass};
 use super::network::{bitonic_schedule, group_steps, odd_even_schedule, Step};
 use super::{SortOptions, Variant};
 
@@ -50,11 +50,14 @@ pub fn network(
             }
             let shape = options.blocked_shape(variant, width);
             let bits = shape.bits.min(n).max(1);
+            let block_bits = block.trailing_zeros();
+            let schedule = if shape.merge && !shape.pinned {
+                merge_schedule(n, block_bits, bits)
+            } else {
+                blocked_schedule(n, block_bits, bits, shape.pinned)
+            };
             let mut passes: Vec<NetworkPass> =
-                blocked_schedule(n, block.trailing_zeros(), bits, shape.pinned)
-                    .into_iter()
-                    .map(NetworkPass::Blocked)
-                    .collect();
+                schedule.into_iter().map(NetworkPass::Blocked).collect();
             passes.push(NetworkPass::Unpack);
             passes
         }
@@ -86,9 +89,11 @@ mod tests {
         assert_eq!(pass_count(Variant::OddEven, w, w, n, &o), 210);
         let multi = pass_count(Variant::Multistep, w, w, n, &o);
         assert!(multi < 210 && multi > 60, "{multi}");
-        // The blocked sort runs every step once, in passes of at most `bits` group bits, then
-        // the unpack.
-        let blocked = network(Variant::Blocked, w, w, n, &o);
+        // The blocked network alone runs every step once, in passes of at most `bits` group
+        // bits, then the unpack.
+        let mut net = o;
+        net.blocked.merge = false;
+        let blocked = network(Variant::Blocked, w, w, n, &net);
         assert_eq!(blocked.last(), Some(&NetworkPass::Unpack));
         let steps: usize = blocked
             .iter()
@@ -99,6 +104,14 @@ mod tests {
             .sum();
         assert_eq!(steps, 210);
         assert!(blocked.len() < 70, "{}", blocked.len());
+        // The default merges: one network pass over runs of 16, 16 merge passes, the unpack.
+        let merged = network(Variant::Blocked, w, w, n, &o);
+        assert_eq!(merged.len(), 18);
+        let merges = merged
+            .iter()
+            .filter(|p| matches!(p, NetworkPass::Blocked(b) if b.merge.is_some()))
+            .count();
+        assert_eq!(merges, 16);
         assert!(network(Variant::Blocked, 1, 1, 1, &o).is_empty());
     }
 }

@@ -44,10 +44,7 @@ use crate::sim::collide::Lattice;
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
 use crate::sort::{SortOptions, Variant};
 
-pub use resort::{
-    coherent_block, coherent_network, merge_steps, out_of_order, resort_passes, MergeStep,
-    ResortCounts,
-};
+pub use resort::{coherent_block, coherent_network, out_of_order, resort_passes, ResortCounts};
 pub use stats::FluidStats;
 
 /// Most particles the fluid's search walks in a run of cells along x: at rest a run holds about
@@ -98,11 +95,10 @@ pub fn fluid_passes(walls: bool, coherent: Option<u32>, table: bool, cell: u32) 
         match coherent {
             None => "fluid sort: full sort on our blocked network (exact (key, id) entries)".into(),
             Some(m) => format!(
-                "fluid re-sort: blocks of {m} entries on our blocked network, the blocks at \
-                 offset {} merged ({} passes), a check pass and its tally (one read-back); the \
+                "fluid re-sort: blocks of {m} entries on our blocked sort, the blocks at \
+                 offset {} merged (one pass), a check pass and its tally (one read-back); the \
                  full sort (keys again) where the check finds an entry out of order",
-                m / 2,
-                merge_steps(m).len()
+                m / 2
             ),
         },
         "gather position, velocity, static in cell order".into(),

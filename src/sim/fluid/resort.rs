@@ -2,8 +2,8 @@
 //! fluid's cell sort. The fluid writes its state in cell order every step, so at the next step
 //! the entries (cell, index) are sorted but for the particles that crossed a cell face. A
 //! cheaper network sorts such a state: the aligned blocks of `m` entries sorted (our blocked
-//! network, `rows` rows at a time), then the blocks of `m` at offset `m / 2` merged (a bitonic
-//! merge of their two sorted halves, `glsl/fluid/merge.frag`, log2 m passes).
+//! sort, `rows` rows at a time), then the blocks of `m` at offset `m / 2` merged (their two
+//! sorted halves, in one pass: `glsl/fluid/merge.frag`).
 //!
 //! Why it is exact when no entry lies more than D = m / 2 from its sorted place: by the 0-1
 //! principle it is enough that it sorts every threshold image of such an input. With z zeros,
@@ -26,7 +26,7 @@ use crate::gl::{
 };
 use crate::scene;
 use crate::sim::collide::tally::TruncationTally;
-use crate::sort::blocked::{apply, network};
+use crate::sort::blocked::{apply, merge_runs, network};
 use crate::sort::{entry_less, pass_count, Entry, KeyMode, SortOptions, Sorter, Variant};
 
 /// The block of the coherent re-sort of a `size` state, if `f` asks for it: `resort_block`,
@@ -38,54 +38,13 @@ pub fn coherent_block(f: &scene::Fluid, size: [u32; 2]) -> Option<u32> {
     })
 }
 
-/// One pass of the merge of the offset blocks: partner `r ^ (m − 1)` (`mirror`, the first pass:
-/// it compares the two ascending halves as one bitonic sequence) or `r ^ dist`, `r` the index
-/// from the first offset block's start.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct MergeStep {
-    /// The mirrored first pass.
-    pub mirror: bool,
-    /// Distance to the partner of the half-cleaner passes.
-    pub dist: u32,
-}
-
-/// The passes that merge the two sorted halves of every block of `m` entries.
-pub fn merge_steps(m: u32) -> Vec<MergeStep> {
-    let mut steps = vec![MergeStep {
-        mirror: true,
-        dist: m / 2,
-    }];
-    let mut d = m / 4;
-    while d >= 1 {
-        steps.push(MergeStep {
-            mirror: false,
-            dist: d,
-        });
-        d /= 2;
-    }
-    steps
-}
-
 /// The CPU twin of the coherent network on `entries` in logical order: blocks of `m` sorted,
 /// then the blocks at offset `m / 2` merged.
 pub fn coherent_network(entries: &mut [Entry], m: usize) {
     apply(entries, &network(m.trailing_zeros()));
     let (n, off) = (entries.len(), m / 2);
-    for s in merge_steps(m as u32) {
-        let mut next = entries.to_vec();
-        for i in off..n.saturating_sub(off) {
-            let r = i - off;
-            let j = off
-                + if s.mirror {
-                    r ^ (m - 1)
-                } else {
-                    r ^ s.dist as usize
-                };
-            let (a, b) = (entries[i], entries[j]);
-            let keep_min = i < j;
-            next[i] = if entry_less(a, b) == keep_min { a } else { b };
-        }
-        entries.copy_from_slice(&next);
+    if n > m {
+        merge_runs(&mut entries[off..n - off], (m / 2).trailing_zeros());
     }
 }
 
@@ -98,13 +57,13 @@ pub fn out_of_order(entries: &[Entry]) -> usize {
 }
 
 /// Passes of one full sort of a `width`×`height` state, and of one coherent re-sort in blocks
-/// of `m` (its blocked sort, the merge passes and the check; the key pass not counted in
+/// of `m` (its blocked sort, the merge pass and the check; the key pass not counted in
 /// either). A fallback runs both, and a second key pass.
 pub fn resort_passes(width: u32, height: u32, m: u32) -> (usize, usize) {
     let o = SortOptions::default();
     let full = pass_count(Variant::Blocked, width, height, width * height, &o);
     let blocks = pass_count(Variant::Blocked, width, height, m, &o);
-    (full, blocks + merge_steps(m).len() + 1)
+    (full, blocks + 2)
 }
 
 /// How the coherent re-sort went over a run.
@@ -128,7 +87,6 @@ pub(super) struct CoherentSort {
     order_pass: Program,
     pass: FullscreenPass,
     tally: TruncationTally,
-    steps: Vec<MergeStep>,
     block: u32,
     width: u32,
     seen: u64,
@@ -162,7 +120,6 @@ impl CoherentSort {
             order_pass: Program::new(ctx, FULLSCREEN_VERTEX, "fluid/order.frag", &d)?,
             pass: FullscreenPass::new(ctx)?,
             tally: TruncationTally::new(ctx, [w, h])?,
-            steps: merge_steps(block),
             block,
             width: w,
             seen: 0,
@@ -181,27 +138,17 @@ impl CoherentSort {
         self.sorter.write_keys(positions, count, mode, true)?;
         self.sorter.sort();
         let n = self.sorter.len() as i32;
-        let p = &self.merge_pass;
         let half = (self.block / 2) as i32;
+        let merge = [
+            ("u_log_w", Uniform::I32(self.width.trailing_zeros() as i32)),
+            ("u_offset", Uniform::I32(half)),
+            ("u_end", Uniform::I32(n - half)),
+            ("u_block", Uniform::I32(self.block as i32)),
+        ];
+        let source = [("u_keys", self.sorter.keys().into())];
+        (self.pass).draw(&self.merge_pass, &source, &merge, self.merge.back());
+        self.merge.swap();
         let width = ("u_width", Uniform::I32(self.width as i32));
-        for (k, s) in self.steps.iter().enumerate() {
-            let source = if k == 0 {
-                self.sorter.keys()
-            } else {
-                self.merge.front().only_texture()
-            };
-            let step = [
-                width.clone(),
-                ("u_offset", Uniform::I32(half)),
-                ("u_end", Uniform::I32(n - half)),
-                ("u_block", Uniform::I32(self.block as i32)),
-                ("u_dist", Uniform::I32(s.dist as i32)),
-                ("u_mirror", Uniform::I32(s.mirror as i32)),
-            ];
-            self.pass
-                .draw(p, &[("u_keys", source.into())], &step, self.merge.back());
-            self.merge.swap();
-        }
         let keys = [("u_keys", self.keys().into())];
         let uniforms = [width, ("u_count", Uniform::I32(n))];
         (self.pass).draw(&self.order_pass, &keys, &uniforms, &self.order);
@@ -301,14 +248,14 @@ mod tests {
     #[test]
     fn the_coherent_pass_count_comes_from_the_schedules() {
         // 64×64 (4096 entries): the full blocked sort, and blocks of two rows (128 entries:
-        // 7 merge passes and the check).
+        // the merge pass and the check).
         let (full, coherent) = resort_passes(64, 64, 128);
         assert_eq!(
             full,
             pass_count(Variant::Blocked, 64, 64, 4096, &SortOptions::default())
         );
         let blocks = pass_count(Variant::Blocked, 64, 64, 128, &SortOptions::default());
-        assert_eq!(coherent, blocks + 7 + 1);
+        assert_eq!(coherent, blocks + 2);
         assert!(coherent < full, "{coherent} against {full}");
         // Blocks of half the state cost more than the full sort: no saving there.
         let (full, coherent) = resort_passes(64, 64, 2048);

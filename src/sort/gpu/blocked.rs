@@ -22,6 +22,10 @@ pub struct BlockedShape {
     /// (lossy among keys closer than one quantisation step; see `compact_level`). Needs the
     /// keys' range ([`Sorter::set_key_range`](super::Sorter::set_key_range)).
     pub compact: bool,
+    /// Sort runs of 2^bits entries with the network, then merge them in passes that double
+    /// them ([`merge_schedule`](crate::sort::blocked::merge_schedule)): one pass a bit instead
+    /// of about bits / 2 a bit. Not with the pinned lane.
+    pub merge: bool,
 }
 
 impl Default for BlockedShape {
@@ -30,18 +34,21 @@ impl Default for BlockedShape {
             bits: 4,
             pinned: false,
             compact: false,
+            merge: true,
         }
     }
 }
 
 impl BlockedShape {
-    /// The shape's short name in tables: bits, then `p` if pinned, `c` if compact (`"5c"`).
+    /// The shape's short name in tables: bits, then `p` if pinned, `c` if compact, `m` if
+    /// merging (`"5cm"`).
     pub fn label(&self) -> String {
         format!(
-            "{}{}{}",
+            "{}{}{}{}",
             self.bits,
             if self.pinned { "p" } else { "" },
-            if self.compact { "c" } else { "" }
+            if self.compact { "c" } else { "" },
+            if self.merge { "m" } else { "" }
         )
     }
 }
@@ -154,6 +161,8 @@ pub(super) struct Blocked {
     log_w: u32,
     natural_log_w: u32,
     programs: HashMap<(bool, Vec<u32>), Program>,
+    /// The merge passes' program, where the schedule merges.
+    merge: Option<Program>,
     unpack: Program,
     /// 4-byte entries (quantised, or rows-only exact).
     compact: bool,
@@ -225,6 +234,11 @@ impl Blocked {
             d.push(("ROW_CELLS".into(), "1".into()));
         }
         let unpack = Program::new(ctx, FULLSCREEN_VERTEX, "sort/blocked_unpack.frag", &d)?;
+        let merge = if passes.iter().any(|p| p.merge.is_some()) {
+            Some(merge_program(ctx, bits, shape.compact)?)
+        } else {
+            None
+        };
         let mut b = Blocked {
             fbs,
             tex,
@@ -236,12 +250,16 @@ impl Blocked {
             log_w: log2(w),
             natural_log_w: log2(width),
             programs: HashMap::new(),
+            merge,
             unpack,
             compact: shape.compact,
             quantiser,
             row_cells,
         };
         for i in 0..b.passes.len() {
+            if b.passes[i].merge.is_some() {
+                continue;
+            }
             let key = b.program_key(i);
             if !b.programs.contains_key(&key) {
                 let p = b.build_program(ctx, &key)?;
@@ -278,7 +296,15 @@ impl Blocked {
 
     /// The program of pass `i`'s name, for the pass list.
     pub(super) fn pass_program(&self, i: usize) -> &str {
-        self.programs[&self.program_key(i)].name()
+        match (&self.merge, self.passes[i].merge) {
+            (Some(m), Some(_)) => m.name(),
+            _ => self.programs[&self.program_key(i)].name(),
+        }
+    }
+
+    /// `Some(r)` where pass `i` merges runs of 2^r entries.
+    pub(super) fn merge_run(&self, i: usize) -> Option<u32> {
+        self.passes.get(i).and_then(|p| p.merge)
     }
 
     /// The unpack's program name, for the pass list.
@@ -331,6 +357,15 @@ impl Blocked {
     /// Runs network pass `i`; the first reads `natural`, the others the last pass's blocks.
     pub(super) fn run(&mut self, i: usize, natural: &Texture, fullscreen: &FullscreenPass) {
         let pass = &self.passes[i];
+        if let (Some(r), Some(m)) = (pass.merge, &self.merge) {
+            let mut u = UniformList::new();
+            u.i32("u_log_w", self.log_w as i32);
+            u.i32("u_run_log", r as i32);
+            let input = [("u_blocks", Sampled::from(&self.tex[self.front]))];
+            fullscreen.draw(m, &input, u.values(), &self.fbs[1 - self.front]);
+            self.front = 1 - self.front;
+            return;
+        }
         let prev = self.input_layout(i);
         let p = &self.programs[&self.program_key(i)];
         let mut u = UniformList::new();
@@ -409,9 +444,47 @@ impl Blocked {
     }
 }
 
+/// The merge passes' program. They read what the network or the last merge wrote: never
+/// ROW_CELLS (the first pass's input format only).
+fn merge_program(ctx: &Context, bits: u32, compact: bool) -> Result<Program> {
+    let mut m: Defines = vec![("BITS".to_string(), bits.to_string())];
+    m.extend(merge_network(bits));
+    if compact {
+        m.push(("COMPACT".into(), "1".into()));
+    }
+    Program::new(ctx, FULLSCREEN_VERTEX, "sort/merge.frag", &m)
+}
+
+/// The merge pass's code written out for `2^bits` entries a fragment: the windows' loads, the
+/// smaller halves, the bitonic merge's compare-exchanges (`glsl/sort/merge.frag`).
+fn merge_network(bits: u32) -> Defines {
+    let size = 1u32 << bits;
+    let loads: String = (0..size).map(|t| format!("LD({t}) ")).collect();
+    let half: String = (0..size)
+        .map(|t| format!("MN({t}, {}) ", size - 1 - t))
+        .collect();
+    let mut merge = String::new();
+    for d in (0..bits).rev().map(|b| 1u32 << b) {
+        for c in (0..size).filter(|c| c & d == 0) {
+            merge.push_str(&format!("MX({c}, {}) ", c | d));
+        }
+    }
+    vec![
+        ("LOADS".into(), loads),
+        ("HALF".into(), half),
+        ("MERGE".into(), merge),
+    ]
+}
+
 /// Checks the shape against the entries it holds; the quantiser of lossy compact entries (none
 /// for exact ones, nor for rows-only compact exact ones, whose ids take `row_cells` bits).
 fn check_entries(shape: BlockedShape, n: u32, row_cells: Option<u32>) -> Result<Option<Quantiser>> {
+    if shape.merge && shape.pinned {
+        return Err(Error::InvalidInput(
+            "the merging blocked sort reads its entries row-major: no pinned lane (drop `p` or `m`)"
+                .into(),
+        ));
+    }
     Ok(if let Some(block_bits) = row_cells {
         check_compact(shape, block_bits)?;
         None

@@ -429,8 +429,14 @@ impl Sorter {
                 Pass::Group(steps) => (n / 2) << group_shape(steps).0,
                 Pass::Geometry { .. } if self.variant.packed() => n,
                 Pass::Geometry { .. } => 2 * n,
-                Pass::Blocked(_) if self.blocked_shape().pinned => n / 2,
-                Pass::Blocked(_) | Pass::Unpack => n,
+                Pass::Blocked(i) => match self.blocked.as_ref().and_then(|b| b.merge_run(*i)) {
+                    // Two windows of the fragment's entries, and a binary search of `r` steps
+                    // fetching two entries each.
+                    Some(r) => 2 * n + 2 * r as u64 * (n >> self.blocked_shape().bits),
+                    None if self.blocked_shape().pinned => n / 2,
+                    None => n,
+                },
+                Pass::Unpack => n,
             })
             .sum()
     }

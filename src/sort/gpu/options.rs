@@ -107,6 +107,7 @@ impl SortOptions {
                 bits: (s.bits + 1).min(5),
                 pinned: false,
                 compact: true,
+                merge: s.merge,
             },
             false => s,
         }

@@ -35,11 +35,16 @@ layout(location = 0) out vec4 o_entry;
 void main() {
     ivec2 f = ivec2(gl_FragCoord.xy);
     int i = (f.y << u_width_log) | f.x;
+#ifdef IDENTITY_LAYOUT
+    // After merge passes the entries lie row-major: no bits to move.
+    int s = i;
+#else
     int s = 0;
     for (int q = 0; q < MAX_BITS; q++) {
         if (q >= u_bits) break;
         if (((i >> q) & 1) != 0) s |= 1 << u_perm[q];
     }
+#endif
     int p = s >> BITS;
     int mask = (1 << u_in_log_w) - 1;
 #ifdef ROW_CELLS

@@ -233,6 +233,10 @@ impl Blocked {
         if row_cells.is_some() {
             d.push(("ROW_CELLS".into(), "1".into()));
         }
+        let last_layout = passes.last().map(|l| l.layout(n));
+        if last_layout.is_none_or(|l| l.iter().enumerate().all(|(i, &b)| b == i as u32)) {
+            d.push(("IDENTITY_LAYOUT".into(), "1".into()));
+        }
         let unpack = Program::new(ctx, FULLSCREEN_VERTEX, "sort/blocked_unpack.frag", &d)?;
         let merge = if passes.iter().any(|p| p.merge.is_some()) {
             Some(merge_program(ctx, bits, shape.compact)?)

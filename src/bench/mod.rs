@@ -7,6 +7,7 @@ pub mod passes;
 pub mod scene;
 pub mod scenes;
 pub mod sort;
+mod sort_check;
 pub mod stats;
 pub mod step;
 

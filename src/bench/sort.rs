@@ -267,6 +267,7 @@ impl SizeRun<'_> {
         })?;
         let (natural, network_floor) = self.floors(&sorter)?;
         ctx.check_error("sort benchmark")?;
+        self.check(&mut sorter, name)?;
         let passes = sorter.pass_count() + 2;
         let network = sorter.network_pass_count();
         let floor = network_floor.median * network as f64
@@ -292,6 +293,17 @@ impl SizeRun<'_> {
             draws: Some(draws),
             fetches: Some(fetches),
         })
+    }
+
+    /// Sorts once more and checks the result against the CPU's order of the same keys.
+    fn check(&self, sorter: &mut Sorter, name: &str) -> Result<()> {
+        let count = (self.n * self.n) as usize;
+        let position = self.state.front().texture(POSITION);
+        sorter.write_keys(position, count, &self.mode, false)?;
+        let keys = sorter.read()?;
+        sorter.sort();
+        let got = sorter.read()?;
+        super::sort_check::check_sorted(name, self.n, &keys, &got, sorter.quantiser())
     }
 
     /// The floors of one sort's passes: (the row-major sort texture's, the network's).

@@ -7,7 +7,7 @@
 //
 // Why: a pass costs about the bytes it writes. The network needs about n² / 2 BITS passes for
 // 2^n entries, merging n - BITS + 1; the search's fetches are shared by neighbouring fragments
-// (the texture cache), and the merge reads two windows of SIZE entries.
+// (the texture cache), and the merge fetches each entry it takes once.
 //
 // The merge is stable (A first among equal entries); entries are distinct (their identifiers
 // differ), so it gives what the network gives, bit for bit.
@@ -24,24 +24,13 @@
 uniform usampler3D u_blocks;
 layout(location = 0) out uvec4 o_blocks[SIZE / LANES];
 #define LESS(B, A) ((B) < (A))
-// Above every entry but the largest possible one, which it equals: taking either gives the same.
-#define SENTINEL 0xffffffffu
 #else
 #define LANES 2
 #define ENTRY vec2
 uniform sampler3D u_blocks;
 layout(location = 0) out vec4 o_blocks[SIZE / LANES];
 #define LESS(B, A) entry_less(B, A)
-// Key NaN (after every key), identifier +inf (after every identifier).
-#define SENTINEL vec2(uintBitsToFloat(0x7fc00000u), uintBitsToFloat(0x7f800000u))
 #endif
-
-// Entry t of each run's window, or the sentinel past the run's end.
-#define LD(T) e[T] = i + T < run ? entry_at(a0 + i + T) : SENTINEL; bv[T] = j + T < run ? entry_at(b0 + j + T) : SENTINEL;
-// The smaller of A[t] and B[SIZE - 1 - t].
-#define MN(T, U) if (LESS(bv[U], e[T])) e[T] = bv[U];
-// A compare-exchange of the bitonic merge, ascending.
-#define MX(C, O) { ENTRY a = e[C]; ENTRY b = e[O]; bool sw = LESS(b, a); e[C] = sw ? b : a; e[O] = sw ? a : b; }
 
 // log2 of the width of the blocks texture (read and written at the same size).
 uniform int u_log_w;
@@ -82,17 +71,23 @@ void main() {
     }
     int i = lo;
     int j = k - lo;
-    // The outputs [k, k + SIZE) are the SIZE smallest of A[i, i + SIZE) and B[j, j + SIZE):
-    // fetched all at once (independent fetches, no chain of one fetch an output), past a run's
-    // end as a sentinel above every entry. Then a bitonic merge in registers: e[t] = min(A[t],
-    // B[SIZE - 1 - t]) is a bitonic sequence holding the SIZE smallest; log2(SIZE) steps sort it.
-    // LOADS, HALF and MERGE are written out by the sorter (src/sort/gpu/blocked.rs) so that every
-    // array index is a constant and the entries stay in registers.
+    ENTRY a = entry_at(a0 + min(i, run - 1));
+    ENTRY b = entry_at(b0 + min(j, run - 1));
     ENTRY e[SIZE];
-    ENTRY bv[SIZE];
-    LOADS
-    HALF
-    MERGE
+    // One fetch an output, from whichever run gave it: no divergent branch. (Fetching both
+    // windows of SIZE entries at once and merging them by a bitonic network in registers was
+    // measured slower on an NVIDIA H100: 7.4 against 5.0 ms for 1024² entries.)
+    for (int t = 0; t < SIZE; t++) {
+        bool take_a = j >= run || (i < run && !LESS(b, a));
+        e[t] = take_a ? a : b;
+        i += take_a ? 1 : 0;
+        j += take_a ? 0 : 1;
+        if (t + 1 < SIZE) {
+            ENTRY next = entry_at(take_a ? a0 + min(i, run - 1) : b0 + min(j, run - 1));
+            a = take_a ? next : a;
+            b = take_a ? b : next;
+        }
+    }
 #ifdef COMPACT
     for (int l = 0; l < SIZE / LANES; l++) {
         o_blocks[l] = uvec4(e[4 * l], e[4 * l + 1], e[4 * l + 2], e[4 * l + 3]);

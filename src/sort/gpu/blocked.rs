@@ -452,32 +452,10 @@ impl Blocked {
 /// ROW_CELLS (the first pass's input format only).
 fn merge_program(ctx: &Context, bits: u32, compact: bool) -> Result<Program> {
     let mut m: Defines = vec![("BITS".to_string(), bits.to_string())];
-    m.extend(merge_network(bits));
     if compact {
         m.push(("COMPACT".into(), "1".into()));
     }
     Program::new(ctx, FULLSCREEN_VERTEX, "sort/merge.frag", &m)
-}
-
-/// The merge pass's code written out for `2^bits` entries a fragment: the windows' loads, the
-/// smaller halves, the bitonic merge's compare-exchanges (`glsl/sort/merge.frag`).
-fn merge_network(bits: u32) -> Defines {
-    let size = 1u32 << bits;
-    let loads: String = (0..size).map(|t| format!("LD({t}) ")).collect();
-    let half: String = (0..size)
-        .map(|t| format!("MN({t}, {}) ", size - 1 - t))
-        .collect();
-    let mut merge = String::new();
-    for d in (0..bits).rev().map(|b| 1u32 << b) {
-        for c in (0..size).filter(|c| c & d == 0) {
-            merge.push_str(&format!("MX({c}, {}) ", c | d));
-        }
-    }
-    vec![
-        ("LOADS".into(), loads),
-        ("HALF".into(), half),
-        ("MERGE".into(), merge),
-    ]
 }
 
 /// Checks the shape against the entries it holds; the quantiser of lossy compact entries (none

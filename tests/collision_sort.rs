@@ -44,9 +44,9 @@ fn run(collisions: &str, sort: &str) -> (Vec<(Snapshot, CollisionStats)>, Vec<u3
     let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
     let net = match (sort, collisions.contains("rows_only")) {
         // Rows-only blocked sorts of this small lattice take 4-byte exact entries.
-        ("blocked", true) => "(blocked, 4-byte exact entries: cell key and ",
-        ("blocked", false) => "(blocked)",
-        _ => "(GP/FP packed)",
+        ("blocked", true) => "merge passes, 4-byte exact entries: cell key and ",
+        ("blocked", false) => "(blocked: a network pass, then merge passes)",
+        _ => "(GP/FP packed bitonic network)",
     };
     assert!(
         sim.passes().iter().any(|p| p.name.contains(net)),

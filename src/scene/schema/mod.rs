@@ -353,8 +353,8 @@ impl CollisionSort {
     /// Its words in pass lists.
     pub fn label(self) -> &'static str {
         match self {
-            CollisionSort::Blocked => "blocked",
-            CollisionSort::Packed => "GP/FP packed",
+            CollisionSort::Blocked => "blocked: a network pass, then merge passes",
+            CollisionSort::Packed => "GP/FP packed bitonic network",
         }
     }
 }

@@ -99,8 +99,8 @@ pub fn exact_passes(colliders: bool, sort: scene::CollisionSort, table: bool) ->
     let mut out: Vec<String> = vec![
         "collision keys: cell index in the lattice (z, y, x), every iteration".into(),
         format!(
-            "collision sort: full bitonic sort ({}), every iteration",
-            sort.label()
+            "collision sort: {}, every iteration",
+            uberflow_sort(sort, None, false)
         ),
         "gather position, velocity, static in cell order".into(),
     ];

@@ -184,7 +184,10 @@ pub fn neighbour_passes(
     }
     let mut out: Vec<String> = vec![
         "collision keys: cell index in the lattice (z, y, x)".into(),
-        format!("collision sort: full bitonic sort ({})", sort.label()),
+        format!(
+            "collision sort: {}",
+            super::uberflow_sort(sort, None, false)
+        ),
         "gather position, velocity, static in cell order".into(),
     ];
     if table {

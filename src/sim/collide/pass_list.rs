@@ -21,9 +21,9 @@ pub fn uberflow_sort(sort: CollisionSort, rows: Option<u32>, row_cells: bool) ->
         _ => net.to_string(),
     };
     match rows {
-        Some(1) => format!("rows-only bitonic sort ({net})"),
-        Some(r) => format!("bitonic sort within sets of {r} rows ({net})"),
-        None => format!("full bitonic sort ({net})"),
+        Some(1) => format!("rows-only sort ({net})"),
+        Some(r) => format!("sort within sets of {r} rows ({net})"),
+        None => format!("full sort ({net})"),
     }
 }
 

@@ -93,7 +93,9 @@ pub fn fluid_passes(walls: bool, coherent: Option<u32>, table: bool, cell: u32) 
     let mut out: Vec<String> = vec![
         format!("fluid keys: cell index in the lattice of cell {cell} (z, y, x)"),
         match coherent {
-            None => "fluid sort: full sort on our blocked network (exact (key, id) entries)".into(),
+            None => "fluid sort: full blocked sort (exact (key, id) entries: a network \
+                     pass, then merge passes)"
+                .into(),
             Some(m) => format!(
                 "fluid re-sort: blocks of {m} entries on our blocked sort, the blocks at \
                  offset {} merged (one pass), a check pass and its tally (one read-back); the \

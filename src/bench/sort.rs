@@ -9,7 +9,7 @@ use super::stats::{load_average, Clock, PassTimer, Spread, WriteFloor};
 use crate::error::Result;
 use crate::gl::{Context, PingPong, TextureFormat};
 use crate::sim::state::{POSITION, VELOCITY};
-use crate::sort::network::{key_order_bits, Entry};
+use crate::sort::network::Entry;
 use crate::sort::{BlockedShape, KeyMode, SortOptions, Sorter, Variant};
 
 /// UberFlow's Table 1 (fps on an ATI 9800 Pro, 2004) for a variant and texture side, if the paper
@@ -388,9 +388,7 @@ fn named_runs(
 /// The CPU baselines on the same keys: the standard library's unstable sort and rayon's
 /// parallel one (wall time).
 fn cpu_baselines(keys: &[Entry], n: u32, repeats: usize) -> Vec<SortRecord> {
-    fn order(a: &Entry, b: &Entry) -> std::cmp::Ordering {
-        (key_order_bits(a[0]), a[1].to_bits()).cmp(&(key_order_bits(b[0]), b[1].to_bits()))
-    }
+    use crate::sort::network::entry_order as order;
     type CpuSort = fn(&mut [Entry]);
     let baselines: [(&str, CpuSort); 2] = [
         ("cpu-sort_unstable_by", |v| v.sort_unstable_by(order)),

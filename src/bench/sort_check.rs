@@ -4,13 +4,8 @@
 use rayon::slice::ParallelSliceMut;
 
 use crate::error::{Error, Result};
-use crate::sort::network::{key_order_bits, Entry};
+use crate::sort::network::{entry_order as order, Entry};
 use crate::sort::Quantiser;
-
-/// The sort order of exact (key, id) entries, as `sort/network.rs` defines it.
-fn order(a: &Entry, b: &Entry) -> std::cmp::Ordering {
-    (key_order_bits(a[0]), a[1].to_bits()).cmp(&(key_order_bits(b[0]), b[1].to_bits()))
-}
 
 /// Checks `got`, what the sort called `name` left after sorting `keys` (row-major, one block),
 /// against the CPU: exact entries bit for bit in the (key, id) order; compact ones (`quantiser`)

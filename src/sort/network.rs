@@ -33,7 +33,12 @@ pub fn key_order_bits(key: f32) -> u32 {
 
 /// Whether `a` sorts before `b`.
 pub fn entry_less(a: Entry, b: Entry) -> bool {
-    (key_order_bits(a[0]), a[1].to_bits()) < (key_order_bits(b[0]), b[1].to_bits())
+    entry_order(&a, &b) == std::cmp::Ordering::Less
+}
+
+/// The same order as [`entry_less`], for the standard library's sorts.
+pub fn entry_order(a: &Entry, b: &Entry) -> std::cmp::Ordering {
+    (key_order_bits(a[0]), a[1].to_bits()).cmp(&(key_order_bits(b[0]), b[1].to_bits()))
 }
 
 /// One pass of a sorting network.
@@ -319,9 +324,7 @@ mod tests {
 
     fn reference(v: &[Entry]) -> Vec<Entry> {
         let mut r = v.to_vec();
-        r.sort_by(|a, b| {
-            (key_order_bits(a[0]), a[1].to_bits()).cmp(&(key_order_bits(b[0]), b[1].to_bits()))
-        });
+        r.sort_by(entry_order);
         r
     }
 

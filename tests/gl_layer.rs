@@ -196,6 +196,7 @@ fn every_draw_sets_its_own_blend_state() {
             }),
             point_size: PointSize::One,
             depth: Depth::Off,
+            color_writes: true,
         },
         textures: &[],
         uniforms: &[],
@@ -205,6 +206,47 @@ fn every_draw_sets_its_own_blend_state() {
         .unwrap()
         .draw(&program, &[], &[], &fb);
     assert!(fb.texture(0).read_f32().unwrap().iter().all(|&v| v == 1.0));
+    no_gl_error(&ctx);
+}
+
+/// A draw without colour writes (a benchmark's vertex floor) changes nothing, and leaves no
+/// mask behind: the clear and the draw after it write as before.
+#[test]
+fn a_draw_without_colour_writes_changes_nothing_and_leaves_no_mask() {
+    let ctx = context();
+    let fb = Framebuffer::new(&ctx, "one", vec![tex(&ctx, 3, 2, TextureFormat::Rgba32F)]).unwrap();
+    let program = Program::new(
+        &ctx,
+        FULLSCREEN_VERTEX,
+        &test_shader("write8.frag"),
+        &Defines::new(),
+    )
+    .unwrap();
+    let vao = VertexArray::empty(&ctx, "test").unwrap();
+    let draw = |color_writes| {
+        ctx.draw(&Draw {
+            program: &program,
+            target: &fb,
+            viewport: None,
+            vertices: &vao,
+            primitive: Primitive::Triangles,
+            count: 3,
+            state: &DrawState {
+                color_writes,
+                ..DrawState::REPLACE
+            },
+            textures: &[],
+            uniforms: &[],
+        })
+    };
+    let all = |v: f32| fb.texture(0).read_f32().unwrap().iter().all(|&x| x == v);
+    fb.clear([0.5; 4]);
+    draw(false);
+    assert!(all(0.5), "a draw without colour writes wrote");
+    fb.clear([0.25; 4]);
+    assert!(all(0.25), "the clear after it kept the mask");
+    draw(true);
+    assert!(all(1.0));
     no_gl_error(&ctx);
 }
 

@@ -219,12 +219,12 @@ impl PlacedRenderFloor {
     }
 
     /// Clears `target`, then draws the first `count` particles (at most all) as points of
-    /// `point_size` with `blend`: as many vertices as the render pass draws, no more.
+    /// `point_size` with `blend`: as many vertices as the render pass draws, no more. With
+    /// `color_writes` off the points are rasterized and write nothing: a vertex floor.
     pub fn draw(
         &self,
         target: &Framebuffer,
-        clear: [f32; 4],
-        blend: Option<Blend>,
+        (clear, blend, color_writes): ([f32; 4], Option<Blend>, bool),
         (view_proj, point_size): (&glam::Mat4, f32),
         count: usize,
     ) {
@@ -242,6 +242,7 @@ impl PlacedRenderFloor {
                 blend,
                 point_size: PointSize::Program,
                 depth: crate::gl::Depth::Off,
+                color_writes,
             },
             textures: &[],
             // The camera and size of the pass it floors: they travel with the draw.

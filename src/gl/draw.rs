@@ -145,6 +145,9 @@ pub struct DrawState {
     pub point_size: PointSize,
     /// Depth test and write (a target without a depth attachment passes every test).
     pub depth: Depth,
+    /// Whether fragments write the colour attachments (`glColorMask`): off only for a
+    /// benchmark floor that times a draw's vertices and rasterization alone.
+    pub color_writes: bool,
 }
 
 impl DrawState {
@@ -154,6 +157,7 @@ impl DrawState {
         blend: None,
         point_size: PointSize::One,
         depth: Depth::Off,
+        color_writes: true,
     };
 }
 
@@ -265,6 +269,10 @@ impl Context {
                 self.gl().draw_arrays(mode, 0, d.count as i32);
             }
             self.gl().bind_vertex_array(None);
+            // glClear obeys the colour mask: no later clear may inherit a floor's.
+            if !d.state.color_writes {
+                self.gl().color_mask(true, true, true, true);
+            }
         }
         if profiled {
             super::profile::after(self, d.program.name(), d.target.label(), bytes);
@@ -291,6 +299,8 @@ impl Context {
                 PointSize::Program => self.gl().enable(glow::PROGRAM_POINT_SIZE),
                 PointSize::One => self.gl().disable(glow::PROGRAM_POINT_SIZE),
             }
+            let w = s.color_writes;
+            self.gl().color_mask(w, w, w, w);
             match s.blend {
                 None => self.gl().disable(glow::BLEND),
                 Some(b) => {

@@ -176,6 +176,7 @@ impl ConnectedRenderer {
             count: self.count,
             state: &DrawState {
                 depth: Depth::Write,
+                color_writes: true,
                 ..DrawState::REPLACE
             },
             textures: &[("u_position", positions.into())],

@@ -522,6 +522,7 @@ impl GeometryRenderer {
             count: self.count,
             state: &DrawState {
                 depth: crate::gl::Depth::Write,
+                color_writes: true,
                 ..DrawState::REPLACE
             },
             textures: &[],
@@ -544,6 +545,7 @@ pub(super) fn first_pass_state(under: bool) -> DrawState {
             alpha: keep,
         }),
         depth: Depth::Write,
+        color_writes: true,
         ..DrawState::REPLACE
     }
 }

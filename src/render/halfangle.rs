@@ -294,6 +294,7 @@ impl HalfAngleRenderer {
             blend: Some(draws.eye_blend),
             point_size: PointSize::One,
             depth: Depth::Off,
+            color_writes: true,
         };
         let light_state = DrawState {
             blend: Some(draws.light_blend),

@@ -113,6 +113,7 @@ impl RenderParams {
             blend: Some(self.blend),
             point_size: PointSize::Program,
             depth: if depth_test { Depth::Test } else { Depth::Off },
+            color_writes: true,
         }
     }
 

@@ -569,6 +569,7 @@ impl ParticleRenderer {
                 camera,
                 &DrawState {
                     depth: Depth::Equal,
+                    color_writes: true,
                     ..*draw_state
                 },
             );
@@ -586,6 +587,7 @@ impl ParticleRenderer {
                 count: 3,
                 state: &DrawState {
                     depth: Depth::Off,
+                    color_writes: true,
                     ..*draw_state
                 },
                 textures: &[],

@@ -324,8 +324,7 @@ pub(super) fn lit_phases(
     let f = timer.time(|| {
         placed.draw(
             lit.light_buffer(),
-            [1.0; 4],
-            light_blend,
+            ([1.0; 4], light_blend, true),
             (&light_view, 1.0),
             count,
         )
@@ -344,8 +343,7 @@ pub(super) fn lit_phases(
     let f = timer.time(|| {
         placed.draw(
             target.framebuffer(),
-            eye_clear,
-            Some(eye_blend),
+            (eye_clear, Some(eye_blend), true),
             (&view_proj, 1.0),
             count,
         )

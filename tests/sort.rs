@@ -199,6 +199,10 @@ fn blocked_sort_every_shape() {
                 (16, 16, Some(1)),
                 (64, 4, Some(1)),
                 (2, 128, Some(1)),
+                // Long enough runs for the merges' partition passes at every entries per
+                // fragment (runs of 2^(bits + 6) and more), their splits in one row and in rows.
+                (128, 64, None),
+                (16, 1024, None),
             ] {
                 let options = SortOptions {
                     blocked: texflow::sort::BlockedShape {
@@ -268,6 +272,9 @@ fn compact_blocked_sort_orders_by_level_then_id() {
             (64, 4, None),
             (2, 128, None),
             (16, 16, Some(2)),
+            // Partition passes (runs of 2^(bits + 6) and more).
+            (128, 64, None),
+            (16, 1024, None),
         ] {
             let options = SortOptions {
                 blocked: texflow::sort::BlockedShape {

@@ -23,6 +23,10 @@ vec2 entry_at(int s) {
     return texelFetch(u_keys, ivec2(s & ((1 << u_log_w) - 1), s >> u_log_w), 0).xy;
 }
 
+#define ENTRY vec2
+#define LESS(B, A) entry_less(B, A)
+#include "sort/merge_search.glsl"
+
 void main() {
     ivec2 t = ivec2(gl_FragCoord.xy);
     int i = (t.y << u_log_w) | t.x;
@@ -36,16 +40,7 @@ void main() {
     int b0 = a0 + half_block;
     int k = r & (u_block - 1);
     // The smallest x with B[k - x - 1] < A[x]: the outputs before k take A[0, x) and B[0, k - x).
-    int lo = max(0, k - half_block);
-    int hi = min(k, half_block);
-    while (lo < hi) {
-        int mid = (lo + hi) >> 1;
-        if (entry_less(entry_at(b0 + k - mid - 1), entry_at(a0 + mid))) {
-            hi = mid;
-        } else {
-            lo = mid + 1;
-        }
-    }
+    int lo = merge_split(a0, b0, k, max(0, k - half_block), min(k, half_block));
     int j = k - lo;
     vec2 out_entry;
     if (j >= half_block) {

@@ -12,43 +12,27 @@
 // The merge is stable (A first among equal entries); entries are distinct (their identifiers
 // differ), so it gives what the network gives, bit for bit.
 
-#include "common/compare.glsl"
+#include "sort/merge_path.glsl"
 
-#ifndef BITS
-#define BITS 4
-#endif
-#define SIZE (1 << BITS)
 #ifdef COMPACT
-#define LANES 4
-#define ENTRY uint
-uniform usampler3D u_blocks;
 layout(location = 0) out uvec4 o_blocks[SIZE / LANES];
-#define LESS(B, A) ((B) < (A))
 #else
-#define LANES 2
-#define ENTRY vec2
-uniform sampler3D u_blocks;
 layout(location = 0) out vec4 o_blocks[SIZE / LANES];
-#define LESS(B, A) entry_less(B, A)
 #endif
 
-// log2 of the width of the blocks texture (read and written at the same size).
-uniform int u_log_w;
 // log2 of the sorted runs read.
 uniform int u_run_log;
+#ifdef PARTITIONED
+// log2 of the outputs between the splits of the partition pass (u_splits) that ran before this
+// pass: the search then runs between the two splits around the fragment.
+uniform int u_part_bits;
+uniform sampler2D u_splits;
+uniform int u_split_log_w;
 
-// The entry at row-major index s.
-ENTRY entry_at(int s) {
-    int p = s >> BITS;
-    int mask = (1 << u_log_w) - 1;
-    ivec3 t = ivec3(p & mask, p >> u_log_w, (s & (SIZE - 1)) / LANES);
-#ifdef COMPACT
-    return texelFetch(u_blocks, t, 0)[s & 3];
-#else
-    vec4 v = texelFetch(u_blocks, t, 0);
-    return (s & 1) == 0 ? v.xy : v.zw;
-#endif
+float split_at(int q) {
+    return texelFetch(u_splits, ivec2(q & ((1 << u_split_log_w) - 1), q >> u_split_log_w), 0).r;
 }
+#endif
 
 void main() {
     ivec2 f = ivec2(gl_FragCoord.xy);
@@ -61,16 +45,23 @@ void main() {
     // B[0, k - i).
     int lo = max(0, k - run);
     int hi = min(k, run);
-    while (lo < hi) {
-        int mid = (lo + hi) >> 1;
-        if (LESS(entry_at(b0 + k - mid - 1), entry_at(a0 + mid))) {
-            hi = mid;
-        } else {
-            lo = mid + 1;
-        }
+#ifdef PARTITIONED
+    {
+        // The split is monotone along the path, and so is its complement k - i: between the
+        // splits at kq <= k and kq + 2^u_part_bits (or the pair's end) it moves at most as far
+        // as k moves.
+        int q = first >> u_part_bits;
+        int kq = (q << u_part_bits) - a0;
+        int i_lo = int(split_at(q));
+        int kq1 = kq + (1 << u_part_bits);
+        int i_hi = kq1 < 2 * run ? int(split_at(q + 1)) : run;
+        kq1 = min(kq1, 2 * run);
+        lo = max(lo, max(i_lo, i_hi - (kq1 - k)));
+        hi = min(hi, min(i_lo + (k - kq), i_hi));
     }
-    int i = lo;
-    int j = k - lo;
+#endif
+    int i = merge_split(a0, b0, k, lo, hi);
+    int j = k - i;
     ENTRY a = entry_at(a0 + min(i, run - 1));
     ENTRY b = entry_at(b0 + min(j, run - 1));
     ENTRY e[SIZE];

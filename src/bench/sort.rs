@@ -265,13 +265,15 @@ impl SizeRun<'_> {
             let t = self.timer.time(|| r = self.full(&mut sorter))?;
             r.map(|_| t)
         })?;
-        let (natural, network_floor) = self.floors(&sorter)?;
+        let (natural, network_floor, partition_floor) = self.floors(&sorter)?;
         ctx.check_error("sort benchmark")?;
         self.check(&mut sorter, name)?;
         let passes = sorter.pass_count() + 2;
         let network = sorter.network_pass_count();
+        let partitions = sorter.partition_pass_count();
         let floor = network_floor.median * network as f64
-            + natural.median * (passes - 1 - network) as f64
+            + partition_floor * partitions as f64
+            + natural.median * (passes - 1 - network - partitions) as f64
             + self.rearrange_floor;
         let ms = spread.median;
         Ok(SortRecord {
@@ -306,11 +308,13 @@ impl SizeRun<'_> {
         super::sort_check::check_sorted(name, self.n, &keys, &got, sorter.quantiser())
     }
 
-    /// The floors of one sort's passes: (the row-major sort texture's, the network's).
-    fn floors(&self, sorter: &Sorter) -> Result<(Spread, Spread)> {
+    /// The floors of one sort's passes: (the row-major sort texture's, the network's, the
+    /// partition passes' median ms: 0 without them).
+    fn floors(&self, sorter: &Sorter) -> Result<(Spread, Spread, f64)> {
         // The network's passes write the sorter's target (for the blocked variant, its
         // layers through MRT); the key pass and the blocked unpack pass write the row-major
-        // sort texture; the rearrangement writes the two state textures.
+        // sort texture; the partition passes their splits; the rearrangement writes the two
+        // state textures.
         let timer = self.timer;
         let natural = self.runs(&mut || timer.time(|| self.floor1.draw(sorter.keys_target())))?;
         let target = sorter.target();
@@ -320,7 +324,14 @@ impl SizeRun<'_> {
         } else {
             natural
         };
-        Ok((natural, network_floor))
+        let partition = match sorter.partition_target() {
+            Some(t) => {
+                self.runs(&mut || timer.time(|| self.floor1.draw(t)))?
+                    .median
+            }
+            None => 0.0,
+        };
+        Ok((natural, network_floor, partition))
     }
 }
 

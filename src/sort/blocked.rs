@@ -47,6 +47,10 @@ pub struct BlockPass {
     /// (merge path) and merging them from the two runs. Its layout is row-major (group
     /// `0..b`).
     pub merge: Option<u32>,
+    /// `Some(r)`: no steps, the entries unchanged: the partition pass before the merge of runs
+    /// of 2^r, which finds the merge path's split every 2^[`partition_bits`] outputs so that
+    /// the merge searches only between two splits.
+    pub partition: Option<u32>,
 }
 
 impl BlockPass {
@@ -104,6 +108,7 @@ pub fn schedule(n: u32, block_bits: u32, b: u32, pinned: bool) -> Vec<BlockPass>
         group: if pinned { vec![0] } else { Vec::new() },
         steps: Vec::new(),
         merge: None,
+        partition: None,
     };
     let mut cur = fresh();
     for step in network(block_bits) {
@@ -140,7 +145,8 @@ pub fn schedule(n: u32, block_bits: u32, b: u32, pinned: bool) -> Vec<BlockPass>
 /// Why: every pass writes every entry, and the bytes written bound a pass. The network needs
 /// about `block_bits² / 2b` passes; merging needs `block_bits - b + 1` (21 instead of 74 for
 /// 2^24 entries, 16 a fragment), at the price of a binary search of `r` fetches a fragment and
-/// its entries fetched one by one.
+/// its entries fetched one by one. Runs of at least 2^([`partition_bits`] + 2) are merged after
+/// a partition pass, which bounds that search to [`partition_bits`] steps.
 pub fn merge_schedule(n: u32, block_bits: u32, b: u32) -> Vec<BlockPass> {
     let b = b.min(n).max(1);
     if block_bits <= b {
@@ -148,12 +154,25 @@ pub fn merge_schedule(n: u32, block_bits: u32, b: u32) -> Vec<BlockPass> {
     }
     let mut passes = schedule(n, b, b, false);
     debug_assert!(passes.len() == 1 && passes[0].group == (0..b).collect::<Vec<_>>());
-    passes.extend((b..block_bits).map(|r| BlockPass {
+    let pass = |merge, partition| BlockPass {
         group: (0..b).collect(),
         steps: Vec::new(),
-        merge: Some(r),
-    }));
+        merge,
+        partition,
+    };
+    for r in b..block_bits {
+        if r >= partition_bits(b) + 2 {
+            passes.push(pass(None, Some(r)));
+        }
+        passes.push(pass(Some(r), None));
+    }
     passes
+}
+
+/// log2 of the outputs between two splits of a partition pass, for `b` bits (2^b entries) a
+/// fragment: a split every 16 fragments' outputs. Merges of shorter runs search the whole run.
+pub const fn partition_bits(b: u32) -> u32 {
+    b + 4
 }
 
 /// Merges the sorted runs of `2^r` entries of `entries` in pairs (stable, by [`entry_less`]):
@@ -203,6 +222,7 @@ pub fn apply_schedule(entries: &mut [Entry], passes: &[BlockPass]) {
     for p in passes {
         match p.merge {
             Some(r) => merge_runs(entries, r),
+            // A partition pass leaves the entries as they are (no steps).
             None => apply(entries, &p.steps),
         }
     }
@@ -284,7 +304,25 @@ mod tests {
                     apply_schedule(&mut e, &passes);
                     assert_eq!(e, want, "n {n}, block bits {block_bits}, b {b}");
                     if block_bits > b.min(n) {
-                        assert_eq!(passes.len() as u32, block_bits - b.min(n) + 1);
+                        let merges = passes.iter().filter(|p| p.merge.is_some()).count();
+                        assert_eq!(merges as u32, block_bits - b.min(n));
+                        // A partition pass right before each merge of runs of 2^(P + 2) or
+                        // more, for the same runs.
+                        for (k, p) in passes.iter().enumerate() {
+                            let r = p.merge.or(p.partition);
+                            let long = r.is_some_and(|r| r >= partition_bits(b.min(n)) + 2);
+                            match (p.merge, p.partition) {
+                                (Some(_), None) => {
+                                    assert_eq!(passes[k - 1].partition.is_some(), long);
+                                }
+                                (None, Some(r)) => {
+                                    assert!(long);
+                                    assert_eq!(passes[k + 1].merge, Some(r));
+                                }
+                                (None, None) => assert_eq!(k, 0),
+                                (Some(_), Some(_)) => panic!("a merge and a partition: {p:?}"),
+                            }
+                        }
                         // Row-major throughout: the unpack reads the identity layout.
                         let last = passes.last().unwrap().layout(n);
                         assert_eq!(last, (0..n).collect::<Vec<_>>());
@@ -292,8 +330,11 @@ mod tests {
                 }
             }
         }
-        // 2^24 entries, 16 a fragment: 21 passes where the network takes 74.
-        assert_eq!(merge_schedule(24, 24, 4).len(), 21);
+        // 2^24 entries, 16 a fragment: 21 passes that write every entry where the network
+        // takes 74, and 14 partition passes (runs of 2^10 to 2^23) writing one split in 256.
+        let m = merge_schedule(24, 24, 4);
+        assert_eq!(m.iter().filter(|p| p.partition.is_none()).count(), 21);
+        assert_eq!(m.len(), 35);
         assert_eq!(schedule(24, 24, 4, false).len(), 74);
     }
 

@@ -13,4 +13,4 @@ pub use gpu::{
     row_cell_entry, row_cells_fit, BlockedShape, KeyMode, Quantiser, SortOptions, Sorter, Variant,
 };
 pub use network::{entry_less, Entry, Step};
-pub use schedule::{network as passes_of, pass_count, NetworkPass};
+pub use schedule::{entry_pass_count, network as passes_of, pass_count, NetworkPass};

@@ -64,6 +64,21 @@ pub fn network(
     }
 }
 
+/// The passes of [`network`] that write every entry: all but the blocked merges' partition
+/// passes, which write one split for many entries. What a sort's bytes written scale with.
+pub fn entry_pass_count(
+    variant: Variant,
+    width: u32,
+    height: u32,
+    block: u32,
+    options: &SortOptions,
+) -> usize {
+    network(variant, width, height, block, options)
+        .iter()
+        .filter(|p| !matches!(p, NetworkPass::Blocked(b) if b.partition.is_some()))
+        .count()
+}
+
 /// The number of passes of [`network`].
 pub fn pass_count(
     variant: Variant,
@@ -104,14 +119,18 @@ mod tests {
             .sum();
         assert_eq!(steps, 210);
         assert!(blocked.len() < 70, "{}", blocked.len());
-        // The default merges: one network pass over runs of 16, 16 merge passes, the unpack.
+        // The default merges: one network pass over runs of 16, 16 merge passes (those of runs
+        // of 2^10 and more after a partition pass), the unpack.
         let merged = network(Variant::Blocked, w, w, n, &o);
-        assert_eq!(merged.len(), 18);
-        let merges = merged
-            .iter()
-            .filter(|p| matches!(p, NetworkPass::Blocked(b) if b.merge.is_some()))
-            .count();
-        assert_eq!(merges, 16);
+        assert_eq!(merged.len(), 28);
+        let count = |f: fn(&crate::sort::blocked::BlockPass) -> bool| {
+            merged
+                .iter()
+                .filter(|p| matches!(p, NetworkPass::Blocked(b) if f(b)))
+                .count()
+        };
+        assert_eq!(count(|b| b.merge.is_some()), 16);
+        assert_eq!(count(|b| b.partition.is_some()), 10);
         assert!(network(Variant::Blocked, 1, 1, 1, &o).is_empty());
     }
 }

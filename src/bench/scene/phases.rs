@@ -69,19 +69,30 @@ pub(super) fn sort_phases(
     let (fk, fkd) = drawn(ctx, || {
         on.timer.time(|| on.floor1.draw(sorter.keys_target()))
     })?;
-    let (network_passes, name) = (
+    let (fp, fpd) = match sorter.partition_target() {
+        Some(t) => drawn(ctx, || on.timer.time(|| on.floor1.draw(t)))?,
+        None => (0.0, super::Drawn::default()),
+    };
+    let (network_passes, partition_passes, name) = (
         sorter.network_pass_count(),
+        sorter.partition_pass_count(),
         format!("sort network ({})", sorter.variant().name()),
     );
     let mut passes = 0;
     let ((t, td), shapes) =
         recorded(|| drawn(ctx, || on.timer.time(|| passes = e.sort_network())))?;
     let fetch = on.fetch.measure(on.timer, &shapes)?;
-    let unpack = passes.saturating_sub(network_passes.min(passes));
-    let network = (passes - unpack) as u64;
+    // Passes run this frame (all of a full sort, or a share of one spread over frames): the
+    // network's first, then its partition passes, then the unpack.
+    let network = network_passes.min(passes);
+    let partition = partition_passes.min(passes - network);
+    let unpack = passes - network - partition;
     let floor = "write-only pass into each pass's targets × passes run";
-    let f = fl * network as f64 + fk * unpack as f64;
-    let fd = fld.times(network).plus(fkd.times(unpack as u64));
+    let f = fl * network as f64 + fp * partition as f64 + fk * unpack as f64;
+    let fd = fld
+        .times(network as u64)
+        .plus(fpd.times(partition as u64))
+        .plus(fkd.times(unpack as u64));
     let bounds = [(floor, f, Some(fd)), (FETCH_FLOOR, fetch.0, Some(fetch.1))];
     phases.push_bounds(&name, t, Some(td), &bounds);
     gather_phase(ctx, on, phases, e)?;

@@ -27,7 +27,7 @@ use crate::gl::{
 use crate::scene;
 use crate::sim::collide::tally::TruncationTally;
 use crate::sort::blocked::{apply, merge_runs, network};
-use crate::sort::{entry_less, pass_count, Entry, KeyMode, SortOptions, Sorter, Variant};
+use crate::sort::{entry_less, entry_pass_count, Entry, KeyMode, SortOptions, Sorter, Variant};
 
 /// The block of the coherent re-sort of a `size` state, if `f` asks for it: `resort_block`,
 /// default two rows (at most half the entries).
@@ -56,13 +56,14 @@ pub fn out_of_order(entries: &[Entry]) -> usize {
         .count()
 }
 
-/// Passes of one full sort of a `width`×`height` state, and of one coherent re-sort in blocks
-/// of `m` (its blocked sort, the merge pass and the check; the key pass not counted in
-/// either). A fallback runs both, and a second key pass.
+/// Passes that write every entry of one full sort of a `width`×`height` state, and of one
+/// coherent re-sort in blocks of `m` (its blocked sort, the merge pass and the check; the key
+/// pass not counted in either, nor the merges' small partition passes). A fallback runs both,
+/// and a second key pass.
 pub fn resort_passes(width: u32, height: u32, m: u32) -> (usize, usize) {
     let o = SortOptions::default();
-    let full = pass_count(Variant::Blocked, width, height, width * height, &o);
-    let blocks = pass_count(Variant::Blocked, width, height, m, &o);
+    let full = entry_pass_count(Variant::Blocked, width, height, width * height, &o);
+    let blocks = entry_pass_count(Variant::Blocked, width, height, m, &o);
     (full, blocks + 2)
 }
 
@@ -250,11 +251,9 @@ mod tests {
         // 64×64 (4096 entries): the full blocked sort, and blocks of two rows (128 entries:
         // the merge pass and the check).
         let (full, coherent) = resort_passes(64, 64, 128);
-        assert_eq!(
-            full,
-            pass_count(Variant::Blocked, 64, 64, 4096, &SortOptions::default())
-        );
-        let blocks = pass_count(Variant::Blocked, 64, 64, 128, &SortOptions::default());
+        let o = SortOptions::default();
+        assert_eq!(full, entry_pass_count(Variant::Blocked, 64, 64, 4096, &o));
+        let blocks = entry_pass_count(Variant::Blocked, 64, 64, 128, &o);
         assert_eq!(coherent, blocks + 2);
         assert!(coherent < full, "{coherent} against {full}");
         // Blocks of half the state cost more than the full sort: no saving there.

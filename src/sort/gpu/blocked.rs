@@ -10,6 +10,9 @@ use crate::gl::{
 };
 use crate::sort::blocked::BlockPass;
 
+mod merge;
+use merge::Partition;
+
 /// Group bits per pass, whether logical bit 0 is pinned to the lane, and the entry size.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct BlockedShape {
@@ -163,6 +166,8 @@ pub(super) struct Blocked {
     programs: HashMap<(bool, Vec<u32>), Program>,
     /// The merge passes' program, where the schedule merges.
     merge: Option<Program>,
+    /// The partition passes and the merges that read them, where the schedule has any.
+    partition: Option<Partition>,
     unpack: Program,
     /// 4-byte entries (quantised, or rows-only exact).
     compact: bool,
@@ -238,11 +243,7 @@ impl Blocked {
             d.push(("IDENTITY_LAYOUT".into(), "1".into()));
         }
         let unpack = Program::new(ctx, FULLSCREEN_VERTEX, "sort/blocked_unpack.frag", &d)?;
-        let merge = if passes.iter().any(|p| p.merge.is_some()) {
-            Some(merge_program(ctx, bits, shape.compact)?)
-        } else {
-            None
-        };
+        let (merge, partition) = merge::programs(ctx, &passes, [n, bits, w], shape.compact)?;
         let mut b = Blocked {
             fbs,
             tex,
@@ -255,13 +256,14 @@ impl Blocked {
             natural_log_w: log2(width),
             programs: HashMap::new(),
             merge,
+            partition,
             unpack,
             compact: shape.compact,
             quantiser,
             row_cells,
         };
         for i in 0..b.passes.len() {
-            if b.passes[i].merge.is_some() {
+            if b.passes[i].merge.is_some() || b.passes[i].partition.is_some() {
                 continue;
             }
             let key = b.program_key(i);
@@ -300,15 +302,8 @@ impl Blocked {
 
     /// The program of pass `i`'s name, for the pass list.
     pub(super) fn pass_program(&self, i: usize) -> &str {
-        match (&self.merge, self.passes[i].merge) {
-            (Some(m), Some(_)) => m.name(),
-            _ => self.programs[&self.program_key(i)].name(),
-        }
-    }
-
-    /// `Some(r)` where pass `i` merges runs of 2^r entries.
-    pub(super) fn merge_run(&self, i: usize) -> Option<u32> {
-        self.passes.get(i).and_then(|p| p.merge)
+        self.merge_program_name(i)
+            .unwrap_or_else(|| self.programs[&self.program_key(i)].name())
     }
 
     /// The unpack's program name, for the pass list.
@@ -360,16 +355,10 @@ impl Blocked {
 
     /// Runs network pass `i`; the first reads `natural`, the others the last pass's blocks.
     pub(super) fn run(&mut self, i: usize, natural: &Texture, fullscreen: &FullscreenPass) {
-        let pass = &self.passes[i];
-        if let (Some(r), Some(m)) = (pass.merge, &self.merge) {
-            let mut u = UniformList::new();
-            u.i32("u_log_w", self.log_w as i32);
-            u.i32("u_run_log", r as i32);
-            let input = [("u_blocks", Sampled::from(&self.tex[self.front]))];
-            fullscreen.draw(m, &input, u.values(), &self.fbs[1 - self.front]);
-            self.front = 1 - self.front;
+        if self.run_merge(i, fullscreen) {
             return;
         }
+        let pass = &self.passes[i];
         let prev = self.input_layout(i);
         let p = &self.programs[&self.program_key(i)];
         let mut u = UniformList::new();
@@ -446,16 +435,6 @@ impl Blocked {
         let blocks = [("u_blocks", Sampled::from(&self.tex[self.front]))];
         fullscreen.draw(p, &blocks, u.values(), target);
     }
-}
-
-/// The merge passes' program. They read what the network or the last merge wrote: never
-/// ROW_CELLS (the first pass's input format only).
-fn merge_program(ctx: &Context, bits: u32, compact: bool) -> Result<Program> {
-    let mut m: Defines = vec![("BITS".to_string(), bits.to_string())];
-    if compact {
-        m.push(("COMPACT".into(), "1".into()));
-    }
-    Program::new(ctx, FULLSCREEN_VERTEX, "sort/merge.frag", &m)
 }
 
 /// Checks the shape against the entries it holds; the quantiser of lossy compact entries (none

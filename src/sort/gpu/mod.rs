@@ -1,6 +1,7 @@
 //! The GPU sorter: every pass a draw into ping-pong framebuffers.
 
 mod blocked;
+mod counts;
 mod geometry;
 mod keys;
 mod options;
@@ -407,38 +408,6 @@ impl Sorter {
     /// The framebuffer the key pass writes next (the row-major sort texture), for floors.
     pub fn keys_target(&self) -> &Framebuffer {
         self.state.back()
-    }
-
-    /// The passes of one full sort that are network passes (all but the blocked variant's
-    /// unpack pass).
-    pub fn network_pass_count(&self) -> usize {
-        self.passes
-            .iter()
-            .filter(|p| !matches!(p, Pass::Unpack))
-            .count()
-    }
-
-    /// Texel fetches of one run of the network (every pass once), counted from what each pass's
-    /// fragment program fetches: for the cost model (`texflow report cost`).
-    pub fn network_fetches(&self) -> u64 {
-        let n = self.len() as u64;
-        self.passes
-            .iter()
-            .map(|p| match p {
-                Pass::Fragment(_) => 2 * n,
-                Pass::Group(steps) => (n / 2) << group_shape(steps).0,
-                Pass::Geometry { .. } if self.variant.packed() => n,
-                Pass::Geometry { .. } => 2 * n,
-                Pass::Blocked(i) => match self.blocked.as_ref().and_then(|b| b.merge_run(*i)) {
-                    // Two windows of the fragment's entries, and a binary search of `r` steps
-                    // fetching two entries each.
-                    Some(r) => 2 * n + 2 * r as u64 * (n >> self.blocked_shape().bits),
-                    None if self.blocked_shape().pinned => n / 2,
-                    None => n,
-                },
-                Pass::Unpack => n,
-            })
-            .sum()
     }
 
     /// The options.

@@ -167,40 +167,55 @@ fn textures_round_trip_and_reject_wrong_lengths() {
     no_gl_error(&ctx);
 }
 
-/// A blended draw leaves nothing behind: the full-screen pass after it replaces the texels.
-#[test]
-fn every_draw_sets_its_own_blend_state() {
-    let ctx = context();
-    let fb = Framebuffer::new(&ctx, "one", vec![tex(&ctx, 3, 2, TextureFormat::Rgba32F)]).unwrap();
+/// A 3×2 RGBA32F target, the program that writes 1.0 everywhere, and an empty vertex array.
+fn write8_target(ctx: &Context) -> (Framebuffer, Program, VertexArray) {
+    let fb = Framebuffer::new(ctx, "one", vec![tex(ctx, 3, 2, TextureFormat::Rgba32F)]).unwrap();
     let program = Program::new(
-        &ctx,
+        ctx,
         FULLSCREEN_VERTEX,
         &test_shader("write8.frag"),
         &Defines::new(),
     )
     .unwrap();
-    let vao = VertexArray::empty(&ctx, "test").unwrap();
-    let add = BlendComponent::add(BlendFactor::One, BlendFactor::One);
-    fb.clear([0.5; 4]);
+    (fb, program, VertexArray::empty(ctx, "test").unwrap())
+}
+
+/// One triangle covering `fb`, drawn by `program` with `state`.
+fn triangle(
+    ctx: &Context,
+    (fb, program, vao): (&Framebuffer, &Program, &VertexArray),
+    state: &DrawState,
+) {
     ctx.draw(&Draw {
-        program: &program,
-        target: &fb,
+        program,
+        target: fb,
         viewport: None,
-        vertices: &vao,
+        vertices: vao,
         primitive: Primitive::Triangles,
         count: 3,
-        state: &DrawState {
-            blend: Some(Blend {
-                color: add,
-                alpha: add,
-            }),
-            point_size: PointSize::One,
-            depth: Depth::Off,
-            color_writes: true,
-        },
+        state,
         textures: &[],
         uniforms: &[],
     });
+}
+
+/// A blended draw leaves nothing behind: the full-screen pass after it replaces the texels.
+#[test]
+fn every_draw_sets_its_own_blend_state() {
+    let ctx = context();
+    let (fb, program, vao) = write8_target(&ctx);
+    let add = BlendComponent::add(BlendFactor::One, BlendFactor::One);
+    fb.clear([0.5; 4]);
+    let state = DrawState {
+        blend: Some(Blend {
+            color: add,
+            alpha: add,
+        }),
+        point_size: PointSize::One,
+        depth: Depth::Off,
+        color_writes: true,
+    };
+    triangle(&ctx, (&fb, &program, &vao), &state);
     assert!(fb.texture(0).read_f32().unwrap().iter().all(|&v| v == 1.5));
     FullscreenPass::new(&ctx)
         .unwrap()
@@ -214,30 +229,13 @@ fn every_draw_sets_its_own_blend_state() {
 #[test]
 fn a_draw_without_colour_writes_changes_nothing_and_leaves_no_mask() {
     let ctx = context();
-    let fb = Framebuffer::new(&ctx, "one", vec![tex(&ctx, 3, 2, TextureFormat::Rgba32F)]).unwrap();
-    let program = Program::new(
-        &ctx,
-        FULLSCREEN_VERTEX,
-        &test_shader("write8.frag"),
-        &Defines::new(),
-    )
-    .unwrap();
-    let vao = VertexArray::empty(&ctx, "test").unwrap();
+    let (fb, program, vao) = write8_target(&ctx);
     let draw = |color_writes| {
-        ctx.draw(&Draw {
-            program: &program,
-            target: &fb,
-            viewport: None,
-            vertices: &vao,
-            primitive: Primitive::Triangles,
-            count: 3,
-            state: &DrawState {
-                color_writes,
-                ..DrawState::REPLACE
-            },
-            textures: &[],
-            uniforms: &[],
-        })
+        let state = DrawState {
+            color_writes,
+            ..DrawState::REPLACE
+        };
+        triangle(&ctx, (&fb, &program, &vao), &state)
     };
     let all = |v: f32| fb.texture(0).read_f32().unwrap().iter().all(|&x| x == v);
     fb.clear([0.5; 4]);

@@ -64,16 +64,11 @@ pub fn network(
     }
 }
 
-/// The passes of [`network`] that write every entry: all but the blocked merges' partition
-/// passes, which write one split for many entries. What a sort's bytes written scale with.
-pub fn entry_pass_count(
-    variant: Variant,
-    width: u32,
-    height: u32,
-    block: u32,
-    options: &SortOptions,
-) -> usize {
-    network(variant, width, height, block, options)
+/// Of `passes` (a [`network`]), those that write every entry: all but the blocked merges'
+/// partition passes, which write one split for many entries. What a sort's bytes written scale
+/// with.
+pub fn entry_pass_count(passes: &[NetworkPass]) -> usize {
+    passes
         .iter()
         .filter(|p| !matches!(p, NetworkPass::Blocked(b) if b.partition.is_some()))
         .count()

@@ -27,7 +27,9 @@ use crate::gl::{
 use crate::scene;
 use crate::sim::collide::tally::TruncationTally;
 use crate::sort::blocked::{apply, merge_runs, network};
-use crate::sort::{entry_less, entry_pass_count, Entry, KeyMode, SortOptions, Sorter, Variant};
+use crate::sort::{
+    entry_less, entry_pass_count, passes_of, Entry, KeyMode, SortOptions, Sorter, Variant,
+};
 
 /// The block of the coherent re-sort of a `size` state, if `f` asks for it: `resort_block`,
 /// default two rows (at most half the entries).
@@ -62,8 +64,8 @@ pub fn out_of_order(entries: &[Entry]) -> usize {
 /// and a second key pass.
 pub fn resort_passes(width: u32, height: u32, m: u32) -> (usize, usize) {
     let o = SortOptions::default();
-    let full = entry_pass_count(Variant::Blocked, width, height, width * height, &o);
-    let blocks = entry_pass_count(Variant::Blocked, width, height, m, &o);
+    let passes = |block| entry_pass_count(&passes_of(Variant::Blocked, width, height, block, &o));
+    let (full, blocks) = (passes(width * height), passes(m));
     (full, blocks + 2)
 }
 
@@ -252,8 +254,9 @@ mod tests {
         // the merge pass and the check).
         let (full, coherent) = resort_passes(64, 64, 128);
         let o = SortOptions::default();
-        assert_eq!(full, entry_pass_count(Variant::Blocked, 64, 64, 4096, &o));
-        let blocks = entry_pass_count(Variant::Blocked, 64, 64, 128, &o);
+        let passes = |block| entry_pass_count(&passes_of(Variant::Blocked, 64, 64, block, &o));
+        assert_eq!(full, passes(4096));
+        let blocks = passes(128);
         assert_eq!(coherent, blocks + 2);
         assert!(coherent < full, "{coherent} against {full}");
         // Blocks of half the state cost more than the full sort: no saving there.

@@ -461,3 +461,41 @@ fn passes_per_frame_spreads_the_sort() {
     );
     no_gl_error(&ctx);
 }
+
+/// What a sort's passes declare they fetch (the cost model's count, in the GL layer's draw
+/// counts): two entries a fragment in the fragment-program networks, one texel (two entries)
+/// a fragment in the packed one, 2^k texels of two entries in multistep's; the blocked sort at least each entry once a pass that writes
+/// them all, and its merges' searches on top.
+#[test]
+fn every_sort_declares_what_its_passes_fetch() {
+    let ctx = context();
+    let (w, h) = (64u32, 64u32);
+    let n = (w * h) as u64;
+    for variant in Variant::ALL {
+        let mut sorter = Sorter::new(&ctx, variant, w, h, SortOptions::default()).unwrap();
+        let mut s = 3;
+        let input: Vec<Entry> = (0..w * h)
+            .map(|i| [(lcg(&mut s) % 1000) as f32, i as f32])
+            .collect();
+        sorter.load(&input).unwrap();
+        ctx.take_draw_stats();
+        sorter.sort();
+        let d = ctx.take_draw_stats();
+        let passes = sorter.pass_count() as u64;
+        assert_eq!(d.draws, passes, "{variant:?}");
+        assert_eq!(d.fetches, sorter.network_fetches(), "{variant:?}");
+        match variant {
+            Variant::Fp | Variant::GpFp | Variant::OddEven => {
+                assert_eq!(d.fetches, passes * 2 * n, "{variant:?}")
+            }
+            Variant::Packed => assert_eq!(d.fetches, passes * n, "{variant:?}"),
+            // Two entries a texel, at least one texel a fragment of two entries.
+            Variant::Multistep => assert!(d.fetches >= passes * n / 2, "{variant:?}"),
+            Variant::Blocked => {
+                let entry_passes = sorter.network_pass_count() as u64 + 1;
+                assert!(d.fetches > entry_passes * n, "{variant:?}: {}", d.fetches);
+            }
+        }
+    }
+    no_gl_error(&ctx);
+}

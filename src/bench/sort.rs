@@ -250,7 +250,8 @@ impl SizeRun<'_> {
         ctx.take_draw_stats();
         self.full(&mut sorter)?;
         let draws = ctx.take_draw_stats();
-        let fetches = sorter.network_fetches() + count as u64 + 3 * count as u64;
+        // As the passes declared them: the key pass, the network, the rearrangement.
+        let fetches = draws.fetches;
         if keys_for_cpu.is_none() {
             sorter.write_keys(
                 self.state.front().texture(POSITION),

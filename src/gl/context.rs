@@ -334,6 +334,14 @@ impl Context {
         self.inner.stats.set(s);
     }
 
+    /// Adds `n` to the texel fetches of [`DrawStats`]: a pass that knows what its program
+    /// fetches declares it after drawing (for the cost model).
+    pub fn count_fetches(&self, n: u64) {
+        let mut s = self.inner.stats.get();
+        s.fetches += n;
+        self.inner.stats.set(s);
+    }
+
     /// Whether the context is the caller's ([`Context::from_current`]) rather than this crate's.
     pub fn is_wrapped(&self) -> bool {
         matches!(self.inner.owner, Owner::Caller { .. })

@@ -20,4 +20,7 @@ pub struct DrawStats {
     /// Uniform uploads (one `glUniform*` call each, arrays counting once): the values given that
     /// the program did not hold already (all of them with the uniform cache off).
     pub uniform_uploads: u64,
+    /// Texel fetches that the passes declared ([`Context::count_fetches`](super::Context::count_fetches)):
+    /// the sorts' passes and gathers, which know what their programs fetch; 0 for the others.
+    pub fetches: u64,
 }

@@ -10,10 +10,11 @@
 //! | time per point | `side²` one-pixel points through `bench/render_floor.vert`, less the fixed cost |
 //!
 //! predicted ms = passes × fixed + bytes × per byte + fetches × per fetch + points × per point.
-//! The passes and bytes of each cell are what the GL layer counted while it ran
-//! ([`crate::gl::DrawStats`]); fetches are counted from each sort pass's program (Table 1 only:
-//! Table 2's frames are predicted without fetches, which the model then underestimates where a
-//! phase waits on them).
+//! The passes, bytes and fetches of each cell are what the GL layer counted while it ran
+//! ([`crate::gl::DrawStats`]): the fetches as the passes that know them declared them (the
+//! sorts' key, network and gather passes, in Table 1 and in Table 2's sorted frames); the other
+//! passes of a frame (integration, collisions, rendering) declare none, so the model
+//! underestimates a frame where those wait on fetches.
 //!
 //! The same model with the ATI Radeon 9800 Pro's published figures (fill rate and memory
 //! bandwidth) against UberFlow's own Table 1 says where the 2004 sorts were bound by memory and
@@ -285,10 +286,10 @@ fn table2_cells(
             what: r.experiment.clone(),
             size: r.size,
             measured_ms: ms,
-            predicted_ms: c.predict(d.draws, d.bytes_written, 0, d.points),
+            predicted_ms: c.predict(d.draws, d.bytes_written, d.fetches, d.points),
             passes: d.draws,
             bytes: d.bytes_written,
-            fetches: 0,
+            fetches: d.fetches,
             points: d.points,
         });
     }
@@ -301,7 +302,7 @@ fn markdown(ctx: &Context, c: &Constants, cells: &[Cell]) -> String {
          Device: {}. Constants measured in the same run: fixed cost of a pass {:.4} ms, \
          {:.4} ms per MB written, {:.4} ms per million texel fetches, {:.4} ms per million \
          points. Predicted ms = passes × fixed + bytes × per byte + fetches × per fetch + \
-         points × per point (Table 2: fetches not counted).\n\n\
+         points × per point (fetches: those the sorts' passes declare).\n\n\
          | table | sort / experiment | size | passes | MB written | M fetches | M points | \
          measured ms | predicted ms | predicted / measured |\n\
          |---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",

@@ -40,37 +40,39 @@ impl Sorter {
     /// Texel fetches of one run of the network (every pass once), counted from what each pass's
     /// fragment program fetches: for the cost model (`texflow report cost`).
     pub fn network_fetches(&self) -> u64 {
+        (0..self.passes.len()).map(|i| self.pass_fetches(i)).sum()
+    }
+
+    /// Texel fetches of pass `index` (what [`Sorter::run_pass`] declares as it runs it).
+    pub(super) fn pass_fetches(&self, index: usize) -> u64 {
         let n = self.len() as u64;
-        self.passes
-            .iter()
-            .map(|p| match p {
-                Pass::Fragment(_) => 2 * n,
-                Pass::Group(steps) => (n / 2) << group_shape(steps).0,
-                Pass::Geometry { .. } if self.variant.packed() => n,
-                Pass::Geometry { .. } => 2 * n,
-                Pass::Blocked(i) => {
-                    let b = self
-                        .blocked
-                        .as_ref()
-                        .expect("blocked passes have a network");
-                    let fragments = n >> self.blocked_shape().bits;
-                    match (b.merge_run(*i), b.partition_run(*i)) {
-                        // Each entry it writes, fetched once, and the first of the other
-                        // run; before them a binary search fetching two entries a step,
-                        // between two splits (two fetches more) or over the whole run.
-                        (Some(_), _) if b.partitioned(*i) => {
-                            let steps = b.partition_bits() as u64;
-                            n + fragments + (2 * steps + 2) * fragments
-                        }
-                        (Some(r), _) => n + fragments + 2 * r as u64 * fragments,
-                        // A full search of `r` steps for every split.
-                        (None, Some(r)) => 2 * r as u64 * (n >> b.partition_bits()),
-                        (None, None) if self.blocked_shape().pinned => n / 2,
-                        (None, None) => n,
+        match &self.passes[index] {
+            Pass::Fragment(_) => 2 * n,
+            Pass::Group(steps) => (n / 2) << group_shape(steps).0,
+            Pass::Geometry { .. } if self.variant.packed() => n,
+            Pass::Geometry { .. } => 2 * n,
+            Pass::Blocked(i) => {
+                let b = self
+                    .blocked
+                    .as_ref()
+                    .expect("blocked passes have a network");
+                let fragments = n >> self.blocked_shape().bits;
+                match (b.merge_run(*i), b.partition_run(*i)) {
+                    // Each entry it writes, fetched once, and the first of the other
+                    // run; before them a binary search fetching two entries a step,
+                    // between two splits (two fetches more) or over the whole run.
+                    (Some(_), _) if b.partitioned(*i) => {
+                        let steps = b.partition_bits() as u64;
+                        n + fragments + (2 * steps + 2) * fragments
                     }
+                    (Some(r), _) => n + fragments + 2 * r as u64 * fragments,
+                    // A full search of `r` steps for every split.
+                    (None, Some(r)) => 2 * r as u64 * (n >> b.partition_bits()),
+                    (None, None) if self.blocked_shape().pinned => n / 2,
+                    (None, None) => n,
                 }
-                Pass::Unpack => n,
-            })
-            .sum()
+            }
+            Pass::Unpack => n,
+        }
     }
 }

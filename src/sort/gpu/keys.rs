@@ -100,6 +100,10 @@ impl Sorter {
         }
         self.fullscreen
             .draw(p, &textures, &per_frame, self.state.back());
+        // Each entry's position, and what else the key reads (the sorted entry it refreshes,
+        // the static texel of an age key).
+        let reads = 1 + rekey as u64 + (age && statics.is_some()) as u64;
+        self.ctx.count_fetches(self.len() as u64 * reads);
         self.state.swap();
         self.next = 0;
         Ok(())

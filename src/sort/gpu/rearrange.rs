@@ -58,6 +58,9 @@ impl Sorter {
         let mut textures: Vec<(&str, Sampled)> = vec![("u_sorted", sorted.into())];
         textures.extend(names.into_iter().zip(sources.iter().map(|&t| t.into())));
         self.fullscreen.draw(p, &textures, &uniforms, dest);
+        // The sorted identifier, then each source at it.
+        let texels = dest.width() as u64 * dest.height() as u64;
+        self.ctx.count_fetches(texels * (1 + sources.len() as u64));
         Ok(())
     }
 }

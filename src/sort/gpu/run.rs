@@ -6,6 +6,7 @@ use crate::gl::{Draw, DrawState, Primitive, Program, Sampled, Uniform};
 impl Sorter {
     /// Runs pass `index` of the sequence into the back framebuffer and swaps.
     pub(super) fn run_pass(&mut self, index: usize) {
+        self.ctx.count_fetches(self.pass_fetches(index));
         if let (Some(b), Pass::Blocked(i)) = (self.blocked.as_mut(), &self.passes[index]) {
             b.run(*i, self.state.front().only_texture(), &self.fullscreen);
             return;

@@ -203,6 +203,9 @@ fn blocked_sort_every_shape() {
                 // fragment (runs of 2^(bits + 6) and more), their splits in one row and in rows.
                 (128, 64, None),
                 (16, 1024, None),
+                // ... and within rows and sets of rows (the collision and fluid block sorts).
+                (2048, 8, Some(1)),
+                (256, 32, Some(4)),
             ] {
                 let options = SortOptions {
                     blocked: texflow::sort::BlockedShape {
@@ -272,9 +275,10 @@ fn compact_blocked_sort_orders_by_level_then_id() {
             (64, 4, None),
             (2, 128, None),
             (16, 16, Some(2)),
-            // Partition passes (runs of 2^(bits + 6) and more).
+            // Partition passes (runs of 2^(bits + 6) and more), also within sets of rows.
             (128, 64, None),
             (16, 1024, None),
+            (1024, 16, Some(2)),
         ] {
             let options = SortOptions {
                 blocked: texflow::sort::BlockedShape {

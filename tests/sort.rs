@@ -18,6 +18,14 @@ fn lcg(s: &mut u64) -> u32 {
     (*s >> 33) as u32
 }
 
+/// `n` entries whose keys are whole numbers in `0..range` plus `offset`, their ids their indices.
+fn entries(n: u32, seed: u64, range: u32, offset: f32) -> Vec<Entry> {
+    let mut s = seed;
+    (0..n)
+        .map(|i| [(lcg(&mut s) % range) as f32 + offset, i as f32])
+        .collect()
+}
+
 /// The twin: the same schedule on the CPU.
 fn twin(
     variant: Variant,
@@ -165,10 +173,7 @@ fn multistep_with_one_and_three_wide_steps_per_pass() {
         };
         let (w, h) = (32, 16);
         let mut sorter = Sorter::new(&ctx, Variant::Multistep, w, h, options).unwrap();
-        let mut s = 5;
-        let input: Vec<Entry> = (0..w * h)
-            .map(|i| [(lcg(&mut s) % 50) as f32, i as f32])
-            .collect();
+        let input = entries(w * h, 5, 50, 0.0);
         sorter.load(&input).unwrap();
         sorter.sort();
         let got = sorter.read().unwrap();
@@ -218,10 +223,7 @@ fn blocked_sort_every_shape() {
                     ..SortOptions::default()
                 };
                 let mut sorter = Sorter::new(&ctx, Variant::Blocked, w, h, options).unwrap();
-                let mut s = 11 + w as u64;
-                let input: Vec<Entry> = (0..w * h)
-                    .map(|i| [(lcg(&mut s) % 300) as f32 - 150.0, i as f32])
-                    .collect();
+                let input = entries(w * h, 11 + w as u64, 300, -150.0);
                 sorter.load(&input).unwrap();
                 sorter.sort();
                 let got = sorter.read().unwrap();
@@ -416,10 +418,7 @@ fn odd_even_spread_over_frames_never_loses_sortedness() {
     let ctx = context();
     let (w, h) = (32, 32);
     let mut sorter = Sorter::new(&ctx, Variant::OddEven, w, h, SortOptions::default()).unwrap();
-    let mut s = 17;
-    let input: Vec<Entry> = (0..w * h)
-        .map(|i| [(lcg(&mut s) % 300) as f32, i as f32])
-        .collect();
+    let input = entries(w * h, 17, 300, 0.0);
     sorter.load(&input).unwrap();
     let mut last = inversions(&input);
     assert!(last > 0);
@@ -445,10 +444,7 @@ fn passes_per_frame_spreads_the_sort() {
         ..SortOptions::default()
     };
     let mut sorter = Sorter::new(&ctx, Variant::OddEven, 16, 16, options).unwrap();
-    let mut s = 23;
-    let input: Vec<Entry> = (0..256)
-        .map(|i| [(lcg(&mut s) % 90) as f32, i as f32])
-        .collect();
+    let input = entries(256, 23, 90, 0.0);
     sorter.load(&input).unwrap();
     let total = sorter.pass_count(); // 36
     let frames = total.div_ceil(4);
@@ -477,10 +473,7 @@ fn every_sort_declares_what_its_passes_fetch() {
     let n = (w * h) as u64;
     for variant in Variant::ALL {
         let mut sorter = Sorter::new(&ctx, variant, w, h, SortOptions::default()).unwrap();
-        let mut s = 3;
-        let input: Vec<Entry> = (0..w * h)
-            .map(|i| [(lcg(&mut s) % 1000) as f32, i as f32])
-            .collect();
+        let input = entries(w * h, 3, 1000, 0.0);
         sorter.load(&input).unwrap();
         ctx.take_draw_stats();
         sorter.sort();

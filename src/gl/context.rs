@@ -311,35 +311,16 @@ impl Context {
         self.inner.uniform_cache.get()
     }
 
+    /// Changes the draw counts ([`DrawStats`]; the counting itself lives in `stats.rs`).
+    pub(super) fn update_stats(&self, f: impl FnOnce(&mut DrawStats)) {
+        let mut s = self.inner.stats.get();
+        f(&mut s);
+        self.inner.stats.set(s);
+    }
+
     /// What the draws since the last call did, and starts counting again.
     pub fn take_draw_stats(&self) -> DrawStats {
         self.inner.stats.take()
-    }
-
-    /// Counts one uniform upload (see [`DrawStats::uniform_uploads`]).
-    pub(crate) fn count_upload(&self) {
-        let mut s = self.inner.stats.get();
-        s.uniform_uploads += 1;
-        self.inner.stats.set(s);
-    }
-
-    /// Counts one draw (see [`DrawStats`]).
-    pub(crate) fn count_draw(&self, pass: bool, bytes: u64, points: u64, vertices: u64) {
-        let mut s = self.inner.stats.get();
-        s.vertices += vertices;
-        s.draws += 1;
-        s.passes += pass as u64;
-        s.bytes_written += bytes;
-        s.points += points;
-        self.inner.stats.set(s);
-    }
-
-    /// Adds `n` to the texel fetches of [`DrawStats`]: a pass that knows what its program
-    /// fetches declares it after drawing (for the cost model).
-    pub fn count_fetches(&self, n: u64) {
-        let mut s = self.inner.stats.get();
-        s.fetches += n;
-        self.inner.stats.set(s);
     }
 
     /// Whether the context is the caller's ([`Context::from_current`]) rather than this crate's.

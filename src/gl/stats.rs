@@ -1,6 +1,8 @@
 //! What draws did, counted by the GL layer: passes, bytes written and points, for the
 //! benchmarks' floors and the cost model.
 
+use super::Context;
+
 /// What a sequence of draws did: how many, and the bytes their fragments wrote into colour
 /// attachments (full-screen and rectangle passes: the viewport's texels times the bytes per
 /// texel of every attachment; point draws count as draws without bytes, their coverage being
@@ -23,4 +25,28 @@ pub struct DrawStats {
     /// Texel fetches that the passes declared ([`Context::count_fetches`](super::Context::count_fetches)):
     /// the sorts' passes and gathers, which know what their programs fetch; 0 for the others.
     pub fetches: u64,
+}
+
+impl Context {
+    /// Counts one uniform upload (see [`DrawStats::uniform_uploads`]).
+    pub(crate) fn count_upload(&self) {
+        self.update_stats(|s| s.uniform_uploads += 1);
+    }
+
+    /// Counts one draw (see [`DrawStats`]).
+    pub(crate) fn count_draw(&self, pass: bool, bytes: u64, points: u64, vertices: u64) {
+        self.update_stats(|s| {
+            s.vertices += vertices;
+            s.draws += 1;
+            s.passes += pass as u64;
+            s.bytes_written += bytes;
+            s.points += points;
+        });
+    }
+
+    /// Adds `n` to the texel fetches of [`DrawStats`]: a pass that knows what its program
+    /// fetches declares it after drawing (for the cost model).
+    pub fn count_fetches(&self, n: u64) {
+        self.update_stats(|s| s.fetches += n);
+    }
 }

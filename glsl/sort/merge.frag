@@ -3,7 +3,8 @@
 // a texel, one texel per layer of a 3D texture written through multiple render targets), sorted
 // in runs of 2^u_run_log. A fragment owns SIZE consecutive outputs of the merge of two runs A
 // and B: a binary search finds how many of the outputs before its first come from A (the merge
-// path), then it merges SIZE entries from where that leaves A and B.
+// path; with PARTITIONED only between the two splits of the partition pass around it,
+// sort/merge_partition.frag), then it merges SIZE entries from where that leaves A and B.
 //
 // Why: a pass costs about the bytes it writes. The network needs about n² / 2 BITS passes for
 // 2^n entries, merging n - BITS + 1; the search's fetches are shared by neighbouring fragments

@@ -401,3 +401,38 @@ fn only_texture_of_two_panics() {
     let pp = PingPong::new(&ctx, "particles", &[POSITION, VELOCITY], &f, 2, 2).unwrap();
     pp.front().only_texture();
 }
+
+/// An exchange hands the textures over: each framebuffer then reads, and draws into, the
+/// texture the other held (the collision and fluid steps hand their gathered statics to the
+/// state this way); textures of another format or size are refused and nothing moves.
+#[test]
+fn exchanged_attachments_are_read_and_drawn_where_they_went() {
+    let ctx = context();
+    let t = |w| tex(&ctx, w, 2, TextureFormat::Rgba32F);
+    let mut a = Framebuffer::named(&ctx, "a", vec![(POSITION, t(3)), (SPIN, t(3))]).unwrap();
+    let mut b = Framebuffer::named(&ctx, "b", vec![(SPIN, t(3))]).unwrap();
+    a.texture(SPIN).upload_f32(&[5.0; 24]).unwrap();
+    b.texture(SPIN).upload_f32(&[7.0; 24]).unwrap();
+    a.exchange(SPIN, &mut b, SPIN).unwrap();
+    assert!(all(a.texture(SPIN), 7.0) && all(b.texture(SPIN), 5.0));
+    // write8 writes output k as k + 1: a's second target is the texture that came from b.
+    write8(&ctx, &a);
+    assert!(all(a.texture(POSITION), 1.0) && all(a.texture(SPIN), 2.0));
+    assert!(all(b.texture(SPIN), 5.0));
+    write8(&ctx, &b);
+    assert!(all(b.texture(SPIN), 1.0) && all(a.texture(SPIN), 2.0));
+    for mut c in [
+        Framebuffer::named(&ctx, "c", vec![(SPIN, t(4))]).unwrap(),
+        Framebuffer::named(
+            &ctx,
+            "c",
+            vec![(SPIN, tex(&ctx, 3, 2, TextureFormat::Rgba16F))],
+        )
+        .unwrap(),
+    ] {
+        let e = a.exchange(SPIN, &mut c, SPIN).unwrap_err().to_string();
+        assert!(e.contains("different sizes or formats"), "{e}");
+    }
+    assert!(all(a.texture(SPIN), 2.0));
+    no_gl_error(&ctx);
+}

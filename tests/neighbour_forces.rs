@@ -237,7 +237,7 @@ fn dem_force_matches_an_all_pairs_twin_at_several_densities() {
         let r = sim
             .collisions()
             .unwrap()
-            .read_neighbour_forces()
+            .read_neighbour_forces(sim.statics())
             .unwrap()
             .unwrap();
         let t = twin(&r, false);
@@ -285,7 +285,7 @@ fn pair_hook_matches_an_all_pairs_twin() {
         let r = sim
             .collisions()
             .unwrap()
-            .read_neighbour_forces()
+            .read_neighbour_forces(sim.statics())
             .unwrap()
             .unwrap();
         let t = twin(&r, true);

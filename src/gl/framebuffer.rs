@@ -11,9 +11,9 @@ use crate::error::{Error, Incomplete, Result};
 /// A framebuffer object with 1 to 8 owned colour attachments, all drawn to by every pass; or
 /// (made by [`Framebuffer::layer`]) with one layer of a 3D texture it does not own.
 pub struct Framebuffer {
-    ctx: Context,
-    raw: glow::Framebuffer,
-    textures: Vec<Texture>,
+    pub(super) ctx: Context,
+    pub(super) raw: glow::Framebuffer,
+    pub(super) textures: Vec<Texture>,
     /// The attachments' names, one per attachment (`None`: made by [`Framebuffer::new`]).
     names: Vec<Option<Attachment>>,
     /// Width and height of the attachments.
@@ -28,7 +28,7 @@ pub struct Framebuffer {
     integer: bool,
     /// A depth renderbuffer (frame targets that draw geometry only).
     depth: Option<glow::Renderbuffer>,
-    label: String,
+    pub(super) label: String,
 }
 
 impl std::fmt::Debug for Framebuffer {

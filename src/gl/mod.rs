@@ -66,6 +66,7 @@ mod bindings;
 mod buffer;
 mod context;
 mod draw;
+mod exchange;
 mod framebuffer;
 mod pack;
 mod pass;

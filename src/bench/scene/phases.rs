@@ -416,8 +416,8 @@ mod tests {
             ),
             ("spin (UberFlow §4.5)", "spin (UberFlow §4.5)"),
             (
-                "copy static texture in the new order",
-                "copy static texture in the new order",
+                "render points (texture fetch, additive)",
+                "render points (texture fetch, additive)",
             ),
         ] {
             assert_eq!(short_name(name), short);

@@ -3,9 +3,11 @@
 //! adjacent particles").
 //!
 //! Every sort that gathers position, velocity and static in cell order gathers each user state
-//! too (one gather pass per state: a texture of its own format), and wherever the stage copies
-//! the static texture back in the new order it copies the states back as well, so that after
-//! the stage every state's texel still belongs to the particle of the same texel. The stage holds
+//! too (one gather pass per state: a texture of its own format), and wherever the stage hands
+//! the static texture over in the new order it copies the states back, so that after the stage
+//! every state's texel still belongs to the particle of the same texel. (Copied, not handed
+//! over: the integration pass writes the states through framebuffers that view their textures,
+//! `Framebuffer::views`, which an exchange would leave pointing at the layout's.) The stage holds
 //! the states' textures while it runs ([`CollisionStage::run`]) and hands them back after.
 //!
 //! The exchange runs once per step, after the step's first sort: for every state with `pair`, a
@@ -219,7 +221,7 @@ impl CollisionStage {
     }
 
     /// Copies the user states back from the layout the response wrote the state in (the first
-    /// lattice's, or with `staggered` the second's), as the static texture is.
+    /// lattice's, or with `staggered` the second's), where the static texture is handed over.
     pub(super) fn carry_back(&mut self, staggered: bool) {
         let Some(c) = &mut self.carry else {
             return;

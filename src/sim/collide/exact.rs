@@ -15,7 +15,7 @@ impl CollisionStage {
     pub(super) fn run_exact(
         &mut self,
         state: &mut PingPong,
-        statics: &Framebuffer,
+        statics: &mut Framebuffer,
         dt: f32,
         fields: &[(&str, Sampled<'_>)],
         constants: &UniformList,
@@ -76,7 +76,7 @@ impl CollisionStage {
             let uniforms = constants.for_draw(p, search);
             self.pass.draw(p, &textures, &uniforms, state.back());
             state.swap();
-            self.copy_statics(self.first.sorted.layout(), statics);
+            self.take_statics(false, statics)?;
             self.carry_back(false);
         }
         Ok(())

@@ -138,6 +138,12 @@ impl SortedGrid {
         &self.layout
     }
 
+    /// The state in the last sorted order, to hand a texture of it over
+    /// ([`Framebuffer::exchange`]).
+    pub fn layout_mut(&mut self) -> &mut Framebuffer {
+        &mut self.layout
+    }
+
     /// The search of the sorted keys, if this grid has one.
     pub fn search(&self) -> Option<&CellSearch> {
         self.search.as_ref()

@@ -124,7 +124,6 @@ pub fn exact_passes(colliders: bool, sort: scene::CollisionSort, table: bool) ->
             }
         ),
         tally::pass_line("truncation tally: the particles whose search hit the bound"),
-        "copy static texture in the new order".into(),
     ]);
     out
 }
@@ -380,16 +379,16 @@ impl CollisionStage {
         self.gather_states(false)
     }
 
-    /// Copies the static texture of `layout` (the order the response wrote the state in) into
-    /// the simulation's static texture.
-    fn copy_statics(&self, layout: &Framebuffer, statics: &Framebuffer) {
-        let c = &self.copy;
-        self.pass.draw(
-            c,
-            &[("u_source", layout.texture(STATIC).into())],
-            &[],
-            statics,
-        );
+    /// Hands the static texture of the layout the response wrote the state in (the second
+    /// lattice's with `second`, else the first's) to the simulation, which gives its own
+    /// (the old order) to the layout as the next gather's target: the statics in the new
+    /// order without a copy pass.
+    fn take_statics(&mut self, second: bool, statics: &mut Framebuffer) -> Result<()> {
+        let g = match (second, &mut self.second) {
+            (true, Some(g2)) => g2,
+            _ => &mut self.first,
+        };
+        statics.exchange(STATIC, g.sorted.layout_mut(), STATIC)
     }
 
     /// One collision step on the state after the collisionless motion: sorts, detects, responds
@@ -399,7 +398,7 @@ impl CollisionStage {
     pub fn run(
         &mut self,
         state: &mut PingPong,
-        statics: &Framebuffer,
+        statics: &mut Framebuffer,
         dt: f32,
         fields: &[(&str, Sampled<'_>)],
         constants: &UniformList,
@@ -442,7 +441,7 @@ impl CollisionStage {
         let uniforms = constants.for_draw(p, uniforms);
         self.pass.draw(p, &textures, &uniforms, state.back());
         state.swap();
-        self.copy_statics(own, statics);
+        self.take_statics(true, statics)?;
         self.carry_back(self.second.is_some());
         Ok(())
     }

@@ -20,8 +20,8 @@ use super::{texture, CollisionStage};
 use crate::error::{Error, Result};
 use crate::gl::source::add_runtime_source;
 use crate::gl::{
-    Context, Defines, Framebuffer, PingPong, Program, Sampled, TextureFormat, Uniform, UniformList,
-    FULLSCREEN_VERTEX,
+    Context, Defines, Framebuffer, PingPong, Program, Sampled, Texture, TextureFormat, Uniform,
+    UniformList, FULLSCREEN_VERTEX,
 };
 use crate::scene::{self, SceneFile, PAIR_SIGNATURE};
 use crate::sim::state::{POSITION, STATIC, VELOCITY};
@@ -203,7 +203,6 @@ pub fn neighbour_passes(
         ),
         "neighbour kick: v += F / m dt, positions copied (they move in the next integration)"
             .into(),
-        "copy static texture in the new order".into(),
     ]);
     out
 }
@@ -225,11 +224,11 @@ pub struct NeighbourReadback {
 
 impl CollisionStage {
     /// The neighbour forces of one step: keys, sort, gather, force pass, velocity pass into
-    /// `state` (then swapped), statics copied in the new order.
+    /// `state` (then swapped), the statics in the new order handed over.
     pub(super) fn run_neighbours(
         &mut self,
         state: &mut PingPong,
-        statics: &Framebuffer,
+        statics: &mut Framebuffer,
         dt: f32,
         fields: &[(&str, Sampled<'_>)],
         constants: &UniformList,
@@ -267,14 +266,15 @@ impl CollisionStage {
         let dt = constants.for_draw(a, [("u_dt", Uniform::F32(dt))]);
         self.pass.draw(a, &textures, &dt, state.back());
         state.swap();
-        self.copy_statics(self.first.sorted.layout(), statics);
+        self.take_statics(false, statics)?;
         self.carry_back(false);
         Ok(())
     }
 
-    /// The last step's neighbour force pass: its inputs (the gathered layout) and the summed
-    /// force per particle; `None` without neighbour forces.
-    pub fn read_neighbour_forces(&self) -> Result<Option<NeighbourReadback>> {
+    /// The last step's neighbour force pass: its inputs (the gathered layout, whose statics the
+    /// step handed to the simulation: `statics`, its static texture) and the summed force per
+    /// particle; `None` without neighbour forces.
+    pub fn read_neighbour_forces(&self, statics: &Texture) -> Result<Option<NeighbourReadback>> {
         let Some(n) = &self.neighbours else {
             return Ok(None);
         };
@@ -282,7 +282,7 @@ impl CollisionStage {
         Ok(Some(NeighbourReadback {
             positions: l.texture(POSITION).read_f32()?,
             velocities: l.texture(VELOCITY).read_f32()?,
-            statics: l.texture(STATIC).read_f32()?,
+            statics: statics.read_f32()?,
             forces: n.force.only_texture().read_f32()?,
         }))
     }

@@ -44,7 +44,6 @@ impl CollisionStage {
             sort_draws(&mut out, &self.first, 1);
             out.extend(table(1));
             out.extend(n.pass_draws());
-            out.push(PassDraw::of("copy static", &self.copy, 1));
         }
         if !self.impulse_runs() {
             return out;
@@ -61,7 +60,6 @@ impl CollisionStage {
                 if let Some(t) = &self.tally {
                     out.push(PassDraw::of("truncation tally", t.program(), k * t.draws()));
                 }
-                out.push(PassDraw::of("copy static", &self.copy, k));
                 if self.first.spin.is_some() {
                     out.push(PassDraw::new("spin", Sorter::gather_program(), k));
                 }
@@ -78,7 +76,6 @@ impl CollisionStage {
                     out.push(PassDraw::of("collision detection", mutual, 1));
                 }
                 out.push(PassDraw::of("collision response", response, 1));
-                out.push(PassDraw::of("copy static", &self.copy, 1));
                 let spins = std::iter::once(&self.first).chain(&self.second);
                 let spins = spins.filter(|g| g.spin.is_some()).count() as u64;
                 if spins > 0 {

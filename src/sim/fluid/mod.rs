@@ -68,7 +68,6 @@ pub struct Fluid {
     density_pass: Program,
     force_pass: Program,
     place: Program,
-    copy: Program,
     pass: FullscreenPass,
     tally: TruncationTally,
     width: u32,
@@ -120,7 +119,6 @@ pub fn fluid_passes(walls: bool, coherent: Option<u32>, table: bool, cell: u32) 
              same search{wall}, v += a dt, positions copied"
         ),
         tally::pass_line("truncation tally: the particles whose search hit the bound"),
-        "copy static texture in the new order".into(),
     ]);
     out
 }
@@ -136,7 +134,6 @@ impl Fluid {
             PassDraw::of("fluid density", &self.density_pass, 1),
             PassDraw::of("fluid force", &self.force_pass, 1),
             PassDraw::of("truncation tally", self.tally.program(), self.tally.draws()),
-            PassDraw::of("copy static", &self.copy, 1),
         ]);
         out
     }
@@ -204,7 +201,6 @@ impl Fluid {
             density_pass: program("fluid/density.frag")?,
             force_pass: program("fluid/force.frag")?,
             place: program("fluid/lattice.frag")?,
-            copy: program("collide/copy.frag")?,
             pass: FullscreenPass::new(ctx)?,
             tally: TruncationTally::new(ctx, size)?,
             width: size[0],
@@ -292,12 +288,13 @@ impl Fluid {
     }
 
     /// One fluid step on the state after the integration pass: sort, gather, density, force
-    /// into `state.back()` (then swapped), statics copied in the new order. `constants` are the
+    /// into `state.back()` (then swapped); the statics in the new order are handed over
+    /// ([`Framebuffer::exchange`]), not copied. `constants` are the
     /// run's uniforms (the colliders: the planes of the wall treatment) its passes read.
     pub fn run(
         &mut self,
         state: &mut PingPong,
-        statics: &Framebuffer,
+        statics: &mut Framebuffer,
         dt: f32,
         constants: &UniformList,
     ) -> Result<()> {
@@ -340,10 +337,7 @@ impl Fluid {
         ]);
         self.pass.draw(p, &textures, &uniforms, state.back());
         state.swap();
-        let c = &self.copy;
-        self.pass
-            .draw(c, &[("u_source", l.texture(STATIC).into())], &[], statics);
-        Ok(())
+        statics.exchange(STATIC, self.grid.layout_mut(), STATIC)
     }
 
     /// The sorted entries of the last step (the coherent network's or the full sort's).

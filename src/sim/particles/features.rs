@@ -446,7 +446,6 @@ impl Features {
                     ""
                 }
             ));
-            out.push("copy static texture in the new order".into());
         }
     }
 }

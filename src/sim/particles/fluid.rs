@@ -66,7 +66,7 @@ impl ParticleSim {
                 "[fluid] needs an explicit integrator".into(),
             ));
         };
-        f.run(pp, &self.statics, self.params.time.dt, &self.constants)?;
+        f.run(pp, &mut self.statics, self.params.time.dt, &self.constants)?;
         self.carry_fluid_states()
     }
 
@@ -95,7 +95,8 @@ impl ParticleSim {
             textures.extend([
                 ("u_position", l.texture(POSITION).into()),
                 ("u_velocity", l.texture(VELOCITY).into()),
-                ("u_static", l.texture(STATIC).into()),
+                // The layout's statics were handed to the state by the fluid's step.
+                ("u_static", self.statics.texture(STATIC).into()),
             ]);
             textures.extend(samplers.iter().map(|(n, t)| (n.as_str(), (*t).into())));
             self.pass.draw(p, &textures, &clock, user.back(*i));

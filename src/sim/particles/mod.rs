@@ -414,7 +414,7 @@ impl ParticleSim {
         c.hold_states(users, self.time as f32);
         let ran = c.run(
             pp,
-            &self.statics,
+            &mut self.statics,
             params.time.dt,
             &fields.textures(),
             constants,

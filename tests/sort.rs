@@ -496,3 +496,93 @@ fn every_sort_declares_what_its_passes_fetch() {
     }
     no_gl_error(&ctx);
 }
+
+fn rgba_texture(ctx: &Context, w: u32, h: u32) -> texflow::gl::Texture {
+    use texflow::gl::{Texture, TextureDesc, TextureFormat};
+    let desc = TextureDesc {
+        width: w,
+        height: h,
+        format: TextureFormat::Rgba32F,
+        label: "gathered",
+    };
+    Texture::new(ctx, desc).unwrap()
+}
+
+/// A blocked sort that keeps its layout (no unpack pass) gathers exactly what the same sort
+/// unpacked gathers, the CPU twin's order, and reads back row-major on demand; a second gather
+/// after that reads the unpacked texture, the same. Compact entries unpack as before.
+#[test]
+fn blocked_sort_kept_in_its_layout_gathers_in_place() {
+    let ctx = context();
+    let texture = |w, h| rgba_texture(&ctx, w, h);
+    for (w, h, rows, merge, compact) in [
+        (64, 16, Some(1), true, false),
+        (32, 32, None, true, false),
+        (2048, 8, Some(1), true, false),
+        (16, 16, Some(1), false, false),
+        (32, 32, None, false, false),
+        (32, 32, None, true, true),
+    ] {
+        let shape = texflow::sort::BlockedShape {
+            bits: if compact { 5 } else { 4 },
+            pinned: false,
+            compact,
+            merge,
+        };
+        let base = SortOptions {
+            blocked: shape,
+            rows,
+            ..SortOptions::default()
+        };
+        let what = format!("{w}x{h} rows {rows:?} merge {merge} compact {compact}");
+        // Few distinct keys: the order among equal keys is the identifiers'.
+        let input = entries(w * h, 5 + w as u64, 40, 0.0);
+        // Texel i holds (i, -i, i / 2, 7): what a gather wrote names its source.
+        let source = texture(w, h);
+        let values = (0..w * h).flat_map(|i| [i as f32, -(i as f32), 0.5 * i as f32, 7.0]);
+        source.upload_f32(&values.collect::<Vec<_>>()).unwrap();
+        let mut out = Vec::new();
+        for o in [
+            base,
+            SortOptions {
+                keep_blocked: true,
+                ..base
+            },
+        ] {
+            let mut s = Sorter::new(&ctx, Variant::Blocked, w, h, o).unwrap();
+            s.load(&input).unwrap();
+            ctx.take_draw_stats();
+            s.sort();
+            assert_eq!(ctx.take_draw_stats().draws, s.pass_count() as u64, "{what}");
+            let dest = texflow::gl::Framebuffer::new(&ctx, "dest", vec![texture(w, h)]).unwrap();
+            s.gather(&[&source], &dest).unwrap();
+            out.push((s, dest.only_texture().read_f32().unwrap()));
+        }
+        let (unpacked, kept) = (&out[0], &out[1]);
+        let in_place = kept.0.keeps_blocked_layout();
+        // Merged exact entries lie row-major within the blocks; a network pass's may too (a
+        // block of one fragment), else the sort unpacks.
+        assert!(in_place || !merge || compact, "{what}");
+        assert!(!(in_place && compact), "{what}");
+        assert_eq!(
+            kept.0.pass_count() + in_place as usize,
+            unpacked.0.pass_count(),
+            "{what}"
+        );
+        assert_eq!(kept.1, unpacked.1, "{what}");
+        let sorted = unpacked.0.read().unwrap();
+        if !compact {
+            let block = rows.map_or(w * h, |k| w * k);
+            let want = twin(Variant::Blocked, &input, w, block, &base);
+            assert_eq!(bits(&sorted), bits(&want), "{what}");
+        }
+        for (j, e) in sorted.iter().enumerate() {
+            assert_eq!(kept.1[4 * j], e[1], "{what}: texel {j}");
+        }
+        assert_eq!(bits(&kept.0.read().unwrap()), bits(&sorted), "{what}");
+        let again = texflow::gl::Framebuffer::new(&ctx, "again", vec![texture(w, h)]).unwrap();
+        kept.0.gather(&[&source], &again).unwrap();
+        assert_eq!(again.only_texture().read_f32().unwrap(), kept.1, "{what}");
+    }
+    no_gl_error(&ctx);
+}

@@ -1,14 +1,20 @@
 // Rearrangement (UberFlow §4.3.1): output texel j of the state takes the state of the particle
 // whose identifier sits at sorted position j, for every state texture at once (MRT, TARGETS of
 // them). PACKED reads the packed sort texture (the paper's final decode pass); ID_TABLE decodes
-// the paper's 24-bit-safe identifiers (sort/sorted_id.glsl).
+// the paper's 24-bit-safe identifiers (sort/sorted_id.glsl). BLOCKED reads the entries where
+// our blocked sort's last merge left them (sort/blocked_entry.glsl): the pass that would have
+// written them row-major first is left out.
 
 #ifndef TARGETS
 #define TARGETS 1
 #endif
 
+#ifdef BLOCKED
+#include "sort/blocked_entry.glsl"
+#else
 uniform sampler2D u_sorted;
 uniform int u_sort_width;
+#endif
 uniform int u_state_width;
 uniform sampler2D u_state0;
 uniform sampler2D u_state1;
@@ -31,7 +37,11 @@ layout(location = 3) out vec4 o_3;
 void main() {
     ivec2 t = ivec2(gl_FragCoord.xy);
     int j = t.y * u_state_width + t.x;
+#ifdef BLOCKED
+    int id = decode_id(entry_at(j).y);
+#else
     int id = sorted_id(u_sorted, u_sort_width, j);
+#endif
     ivec2 src = ivec2(id % u_state_width, id / u_state_width);
     o_0 = texelFetch(u_state0, src, 0);
 #if TARGETS > 1

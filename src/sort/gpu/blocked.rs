@@ -176,6 +176,8 @@ pub(super) struct Blocked {
     quantiser: Option<Quantiser>,
     /// With rows-only compact exact entries: log2 of the entries of a sorted block.
     row_cells: Option<u32>,
+    /// Whether the last pass leaves the entries row-major within the blocks (it merges).
+    identity: bool,
 }
 
 impl std::fmt::Debug for Blocked {
@@ -239,7 +241,9 @@ impl Blocked {
             d.push(("ROW_CELLS".into(), "1".into()));
         }
         let last_layout = passes.last().map(|l| l.layout(n));
-        if last_layout.is_none_or(|l| l.iter().enumerate().all(|(i, &b)| b == i as u32)) {
+        let identity =
+            last_layout.is_none_or(|l| l.iter().enumerate().all(|(i, &b)| b == i as u32));
+        if identity {
             d.push(("IDENTITY_LAYOUT".into(), "1".into()));
         }
         let unpack = Program::new(ctx, FULLSCREEN_VERTEX, "sort/blocked_unpack.frag", &d)?;
@@ -261,6 +265,7 @@ impl Blocked {
             compact: shape.compact,
             quantiser,
             row_cells,
+            identity,
         };
         for i in 0..b.passes.len() {
             if b.passes[i].merge.is_some() || b.passes[i].partition.is_some() {
@@ -304,6 +309,19 @@ impl Blocked {
     pub(super) fn pass_program(&self, i: usize) -> &str {
         self.merge_program_name(i)
             .unwrap_or_else(|| self.programs[&self.program_key(i)].name())
+    }
+
+    /// Whether a gather can read the sorted entries where the last pass left them: exact
+    /// entries (key and identifier as written) in row-major order within the blocks.
+    pub(super) fn gathers_in_place(&self) -> bool {
+        self.identity && !self.compact
+    }
+
+    /// The sorted entries after the last pass, and the defines and uniforms that
+    /// `glsl/sort/blocked_entry.glsl` reads them with.
+    pub(super) fn sorted_layout(&self) -> (&Texture3D, Defines, [(&'static str, i32); 1]) {
+        let d = vec![("BITS".to_string(), self.bits.to_string())];
+        (&self.tex[self.front], d, [("u_log_w", self.log_w as i32)])
     }
 
     /// The unpack's program name, for the pass list.

@@ -93,7 +93,8 @@ impl Sorter {
             per_frame.push(("u_id_table_width", int(t.width())));
         }
         if rekey {
-            textures.push(("u_sorted", self.state.front().only_texture().into()));
+            // The last sort's order, row-major (unpacked here if the sort kept its layout).
+            textures.push(("u_sorted", self.keys().into()));
         }
         if let (true, Some(t)) = (age, statics) {
             textures.push(("u_static", t.into()));
@@ -105,6 +106,7 @@ impl Sorter {
         let reads = 1 + rekey as u64 + (age && statics.is_some()) as u64;
         self.ctx.count_fetches(self.len() as u64 * reads);
         self.state.swap();
+        self.row_major.set(true);
         self.next = 0;
         Ok(())
     }

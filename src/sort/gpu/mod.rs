@@ -5,11 +5,12 @@ mod counts;
 mod geometry;
 mod keys;
 mod options;
+mod output;
 mod pass_list;
 mod rearrange;
 mod run;
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
 
 use super::network::{Entry, Step};
@@ -90,8 +91,14 @@ pub struct Sorter {
     geometry: Vec<Geometry>,
     fullscreen: FullscreenPass,
     id_table: Option<Texture>,
-    rearrange: RefCell<HashMap<usize, Program>>,
+    /// The gather's programs by (targets, reading the blocked layout).
+    rearrange: RefCell<HashMap<(usize, bool), Program>>,
     blocked: Option<Blocked>,
+    /// The blocked sort runs no unpack: its entries stay in its layout ([`SortOptions::keep_blocked`]).
+    in_place: bool,
+    /// Whether the row-major texture holds what the sorter holds now (false after a sort that
+    /// left its entries in the blocked layout, until something asks for them row-major).
+    row_major: Cell<bool>,
 }
 
 /// Checks a sorter's size and options against each other; returns the entries per sorted
@@ -200,6 +207,8 @@ impl Sorter {
             id_table: None,
             rearrange: RefCell::new(HashMap::new()),
             blocked: None,
+            in_place: false,
+            row_major: Cell::new(true),
         };
         sorter.build(block)?;
         let steps: Vec<_> = (sorter.passes.iter())
@@ -321,6 +330,11 @@ impl Sorter {
                 NetworkPass::Unpack => Pass::Unpack,
             })
             .collect();
+        self.in_place = self.options.keep_blocked
+            && (self.blocked.as_ref()).is_some_and(|b| b.gathers_in_place());
+        if self.in_place {
+            self.passes.retain(|p| !matches!(p, Pass::Unpack));
+        }
         Ok(())
     }
 
@@ -393,10 +407,6 @@ impl Sorter {
     pub fn passes_done(&self) -> usize {
         self.next
     }
-    /// The texture holding the entries now (RG32F, or RGBA32F packed).
-    pub fn keys(&self) -> &Texture {
-        self.state.front().only_texture()
-    }
     /// The framebuffer the next pass writes (for floors in benchmarks): for the blocked
     /// variant, the layers its network passes write.
     pub fn target(&self) -> &Framebuffer {
@@ -463,6 +473,7 @@ impl Sorter {
             entries.iter().flat_map(|e| [e[0], e[1]]).collect()
         };
         self.state.front().only_texture().upload_f32(&flat)?;
+        self.row_major.set(true);
         self.next = 0;
         Ok(())
     }
@@ -483,13 +494,6 @@ impl Sorter {
             }
         }
         Ok(())
-    }
-
-    /// Reads the entries back, unpacked, row-major.
-    pub fn read(&self) -> Result<Vec<Entry>> {
-        // RG32F texels are entries; packed RGBA32F texels are two consecutive entries.
-        let raw = self.keys().read_f32()?;
-        Ok(raw.chunks_exact(2).map(|c| [c[0], c[1]]).collect())
     }
 
     /// One frame's share of the sort: `passes_per_frame` passes (continuing the sequence, and

@@ -80,6 +80,13 @@ pub struct SortOptions {
     /// A blocked sort within rows then takes 4-byte exact entries where they fit
     /// ([`SortOptions::row_cells`]).
     pub cell_keys: Option<u64>,
+    /// The blocked sort leaves its entries where its last pass wrote them and the gather reads
+    /// them there: no unpack pass. The row-major texture is written only when something asks
+    /// for it ([`Sorter::keys`](super::Sorter::keys), [`Sorter::read`](super::Sorter::read)).
+    /// Taken where the last pass merges exact entries (row-major within the blocks); any other
+    /// blocked sort unpacks as before. For sorts that only the gather reads (UberFlow's
+    /// detection).
+    pub keep_blocked: bool,
 }
 
 impl SortOptions {
@@ -125,6 +132,7 @@ impl Default for SortOptions {
             spread: crate::sort::spread::Spread::Even,
             blocked: BlockedShape::default(),
             cell_keys: None,
+            keep_blocked: false,
         }
     }
 }

@@ -9,6 +9,10 @@ impl Sorter {
         self.ctx.count_fetches(self.pass_fetches(index));
         if let (Some(b), Pass::Blocked(i)) = (self.blocked.as_mut(), &self.passes[index]) {
             b.run(*i, self.state.front().only_texture(), &self.fullscreen);
+            // Kept in the blocked layout: the row-major texture is stale until asked for.
+            if self.in_place {
+                self.row_major.set(false);
+            }
             return;
         }
         let front = self.state.front().only_texture();

@@ -2,7 +2,7 @@
 // sort, so particles of one cell sit next to each other along a row. Each fragment fetches its
 // particle and u_neighbours particles to its left and right in the same row, keeps the closest
 // one within the collision distance 2r, and writes that partner's texel index.
-// Output: (partner index or -1, distance, 0, 0).
+// Output: (partner index or -1, distance), into an RG32F target.
 
 #include "common/state.glsl"
 
@@ -11,7 +11,7 @@ uniform int u_width;
 uniform int u_neighbours;
 uniform float u_radius;
 
-layout(location = 0) out vec4 o_partner;
+layout(location = 0) out vec2 o_partner;
 
 
 void main() {
@@ -35,5 +35,5 @@ void main() {
             }
         }
     }
-    o_partner = vec4(partner, best, 0.0, 0.0);
+    o_partner = vec2(partner, best);
 }

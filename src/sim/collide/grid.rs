@@ -34,8 +34,9 @@ pub struct GridSpec<'a> {
     pub name: &'a str,
     /// The velocity texture's format (the simulation's).
     pub velocity_format: TextureFormat,
-    /// Further RGBA32F textures of the layout, gathered after position, velocity and static.
-    pub extra: &'a [(Attachment, &'a str)],
+    /// Further textures of the layout (name, label, format), gathered after position,
+    /// velocity and static.
+    pub extra: &'a [(Attachment, &'a str, TextureFormat)],
     /// Whether a search of the sorted keys reads this lattice (builds the [`CellSearch`]).
     pub searched: bool,
 }
@@ -53,16 +54,22 @@ impl SortedGrid {
             (VELOCITY, texture("velocity", spec.velocity_format)?),
             (STATIC, texture("static", rgba)?),
         ];
-        for &(a, what) in spec.extra {
-            layout.push((a, texture(what, rgba)?));
+        for &(a, what, format) in spec.extra {
+            layout.push((a, texture(what, format)?));
         }
         let search = match spec.searched {
             true => Some(CellSearch::new(ctx, lattice, size, spec.variant.packed())?),
             false => None,
         };
+        // Without a search only the gathers read the sort: a blocked sort then leaves its
+        // entries in its own layout for them (no unpack pass).
+        let options = SortOptions {
+            keep_blocked: spec.options.keep_blocked || search.is_none(),
+            ..spec.options
+        };
         Ok(SortedGrid {
             lattice,
-            sorter: Sorter::new(ctx, spec.variant, w, h, spec.options)?,
+            sorter: Sorter::new(ctx, spec.variant, w, h, options)?,
             layout: Framebuffer::named(ctx, &format!("{name} layout"), layout)?,
             search,
         })
@@ -90,7 +97,11 @@ impl SortedGrid {
         sources: &[&Texture],
     ) -> Result<()> {
         self.sort_keys(sources[0], count)?;
-        self.gather_by(pass, self.sorter.keys(), sources)
+        self.sorter.gather(sources, &self.layout)?;
+        if let Some(s) = &self.search {
+            s.build(pass, self.sorter.keys());
+        }
+        Ok(())
     }
 
     /// The gather of `sources` into the layout in the order of `keys` (this grid's sorted keys,

@@ -64,7 +64,10 @@ struct Grid {
     /// The lattice, its sort, the state in its sorted order (position, velocity, static and, for
     /// the staggered lattice, the first lattice's detection, gathered along) and its search.
     sorted: grid::SortedGrid,
-    /// Detection output after the mutual check: (partner or -1, distance, mutual, raw partner).
+    /// Detection output before the mutual check: (partner or -1, distance), RG32F.
+    raw: Framebuffer,
+    /// Detection output after the mutual check: (partner or -1, distance), RG32F (8 bytes a
+    /// particle: the response reads no more, and the staggered layout gathers it along).
     partner: Framebuffer,
     /// Spinning spheres: the spin (angular velocity, angle) in this lattice's sorted order.
     spin: Option<Framebuffer>,
@@ -133,7 +136,6 @@ pub fn exact_passes(colliders: bool, sort: scene::CollisionSort, table: bool) ->
 enum Passes {
     /// UberFlow §4.4: closest of k neighbours in the row, mutual check, one partner.
     Uberflow {
-        raw: Framebuffer,
         detect: Program,
         mutual: Program,
         response: Program,
@@ -165,8 +167,17 @@ fn texture(ctx: &Context, label: &str, w: u32, h: u32, format: TextureFormat) ->
 
 /// A framebuffer of one RGBA32F texture of `size`, both labelled `label`.
 fn single_target(ctx: &Context, label: &str, size: [u32; 2]) -> Result<Framebuffer> {
-    let [w, h] = size;
-    let t = texture(ctx, label, w, h, TextureFormat::Rgba32F)?;
+    single_target_of(ctx, label, size, TextureFormat::Rgba32F)
+}
+
+/// A framebuffer of one texture of `format` and `size`, both labelled `label`.
+fn single_target_of(
+    ctx: &Context,
+    label: &str,
+    [w, h]: [u32; 2],
+    format: TextureFormat,
+) -> Result<Framebuffer> {
+    let t = texture(ctx, label, w, h, format)?;
     Framebuffer::new(ctx, label, vec![t])
 }
 
@@ -209,13 +220,14 @@ impl Grid {
         };
         let options = sort_options(config, staggered);
         let exact = config.detection == scene::Detection::Exact;
+        let rg = TextureFormat::Rg32F;
         let spec = grid::GridSpec {
             variant: config.sort.variant(),
             options,
             name,
             velocity_format,
             extra: if staggered {
-                &[(FIRST_PARTNER, "first partner")]
+                &[(FIRST_PARTNER, "first partner", TextureFormat::Rg32F)]
             } else {
                 &[]
             },
@@ -224,7 +236,8 @@ impl Grid {
         Ok(Grid {
             sorted: grid::SortedGrid::new(ctx, lattice, size, spec)?,
             spin,
-            partner: single_target(ctx, &format!("{name} partner"), size)?,
+            raw: single_target_of(ctx, &format!("{name} detection"), size, rg)?,
+            partner: single_target_of(ctx, &format!("{name} partner"), size, rg)?,
         })
     }
 }
@@ -241,7 +254,6 @@ impl Passes {
             }
         } else {
             Passes::Uberflow {
-                raw: single_target(ctx, "detection", size)?,
                 detect: program("collide/detect.frag")?,
                 mutual: program("collide/mutual.frag")?,
                 response: program("collide/response.frag")?,
@@ -336,16 +348,13 @@ impl CollisionStage {
         self.config.detection
     }
 
-    fn detect_into(&self, positions: &Texture, out: &Framebuffer) {
-        let Passes::Uberflow {
-            raw,
-            detect,
-            mutual,
-            ..
-        } = &self.passes
-        else {
+    /// UberFlow's detection on grid `g`'s layout into its `raw` target, then the mutual check
+    /// into its `partner`.
+    fn detect_into(&self, g: &Grid) {
+        let Passes::Uberflow { detect, mutual, .. } = &self.passes else {
             return;
         };
+        let (positions, raw, out) = (g.sorted.layout().texture(POSITION), &g.raw, &g.partner);
         let width = ("u_width", Uniform::I32(self.width as i32));
         let uniforms = [
             width.clone(),
@@ -415,13 +424,10 @@ impl CollisionStage {
         let count = self.width as usize * state.height() as usize;
         self.sort_first(state, statics)?;
         self.exchange(constants);
-        self.detect_into(
-            self.first.sorted.layout().texture(POSITION),
-            &self.first.partner,
-        );
+        self.detect_into(&self.first);
         self.sort_second(count)?;
         if let Some(g2) = &self.second {
-            self.detect_into(g2.sorted.layout().texture(POSITION), &g2.partner);
+            self.detect_into(g2);
         }
         // Response in the last layout.
         let (own, partner) = match &self.second {
@@ -523,7 +529,7 @@ impl CollisionStage {
             let partners = match (&self.passes, self.neighbour_counts()?) {
                 (_, Some(counts)) => counts,
                 (Passes::Exact { counts, .. }, None) => counts.only_texture().read_f32()?,
-                (Passes::Uberflow { .. }, None) => g.partner.only_texture().read_f32()?,
+                (Passes::Uberflow { .. }, None) => detections(g)?,
             };
             Ok(Readback {
                 positions: g.sorted.layout().texture(POSITION).read_f32()?,
@@ -548,6 +554,16 @@ impl CollisionStage {
     pub fn context(&self) -> &Context {
         &self.ctx
     }
+}
+
+/// UberFlow's detection on grid `g` as [`Readback::partners`] gives it: (partner after the
+/// mutual check or -1, distance, 1 if mutual, partner before the check) per particle.
+fn detections(g: &Grid) -> Result<Vec<f32>> {
+    let partner = g.partner.only_texture().read_f32()?;
+    let raw = g.raw.only_texture().read_f32()?;
+    Ok((partner.chunks_exact(2).zip(raw.chunks_exact(2)))
+        .flat_map(|(p, r)| [p[0], p[1], if p[0] >= 0.0 { 1.0 } else { 0.0 }, r[0]])
+        .collect())
 }
 
 /// One lattice's state after a step's detection, read back by [`CollisionStage::read_back`]; RGBA

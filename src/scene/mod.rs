@@ -49,7 +49,7 @@ pub use suggest::{closest, did_you_mean, edit_distance};
 pub use validate::{
     fire_section, has_curves, largest_exact_cell, run_capacity, CapacityWarning,
     ChildCapacityWarning, ChildLayout, ChildRange, EXACT_SCAN, MAX_DEM_OMEGA_DT, MAX_LATTICE_CELLS,
-    MAX_LIGHT_RESOLUTION, MAX_SLICES, STATE_INPUTS,
+    MAX_LIGHT_RESOLUTION, MAX_NEIGHBOURS, MAX_SLICES, STATE_INPUTS,
 };
 pub use validate::{fluid_cells, FLUID_CFL, FLUID_FORCE, FLUID_VISCOUS, MAX_SMOOTHING_RATIO};
 

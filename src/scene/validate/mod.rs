@@ -418,8 +418,11 @@ fn collision_keys(c: &Collisions) -> Check {
             format!("restitution {} is outside [0, 1]", c.restitution),
         );
     }
-    if !(1..=32).contains(&c.neighbours) {
-        return fail(at("neighbours"), "neighbours must lie in 1..=32");
+    if !(1..=MAX_NEIGHBOURS).contains(&c.neighbours) {
+        return fail(
+            at("neighbours"),
+            format!("neighbours must lie in 1..={MAX_NEIGHBOURS}"),
+        );
     }
     if c.cell.is_some_and(|g| g <= 0.0) {
         return fail(at("cell"), "cell must be above 0 m");
@@ -479,6 +482,10 @@ fn collision_lattice(c: &Collisions) -> Check {
     }
     Ok(())
 }
+
+/// Most neighbours per side UberFlow's detection compares (`collisions.neighbours`); its pass
+/// fetches them all into registers.
+pub const MAX_NEIGHBOURS: u32 = 32;
 
 /// Most cells of a collision lattice: its cell keys are sorted as floats, exact up to 2^24.
 pub const MAX_LATTICE_CELLS: u64 = 1 << 24;

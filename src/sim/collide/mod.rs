@@ -55,8 +55,8 @@ pub use pass_list::uberflow_sort;
 /// (read by the response as `u_partner2`).
 const FIRST_PARTNER: Attachment = Attachment::named("first partner");
 
-/// Most neighbours per side the detection loop is compiled for.
-pub const MAX_NEIGHBOURS: u32 = 32;
+/// Most neighbours per side of UberFlow's detection (the scene's bound).
+pub use crate::scene::MAX_NEIGHBOURS;
 
 /// One lattice's sorted grid and detection output.
 #[derive(Debug)]
@@ -285,7 +285,7 @@ impl CollisionStage {
             None
         };
         let defines = &exact::search_layout(defines, &config, size);
-        let d = exact::stage_defines(defines, second.is_some());
+        let d = exact::stage_defines(defines, config.neighbours, second.is_some());
         let passes = Passes::new(ctx, exact, size, &d)?;
         Ok(CollisionStage {
             carry: None,
@@ -358,7 +358,6 @@ impl CollisionStage {
         let width = ("u_width", Uniform::I32(self.width as i32));
         let uniforms = [
             width.clone(),
-            ("u_neighbours", Uniform::I32(self.config.neighbours as i32)),
             ("u_radius", Uniform::F32(self.config.radius)),
         ];
         let position = [("u_position", positions.into())];

@@ -95,11 +95,7 @@ pub(crate) fn exchange_defines(scene: &SceneFile, defines: &Defines) -> Defines 
     match &scene.collisions {
         Some(c) => {
             let size = scene.particles.size;
-            super::exact::stage_defines(
-                &super::exact::search_layout(defines, c, size),
-                c.neighbours,
-                false,
-            )
+            super::exact::stage_defines(&super::exact::search_layout(defines, c, size), false)
         }
         None => defines.clone(),
     }

@@ -285,7 +285,7 @@ impl CollisionStage {
             None
         };
         let defines = &exact::search_layout(defines, &config, size);
-        let d = exact::stage_defines(defines, config.neighbours, second.is_some());
+        let d = exact::stage_defines(defines, second.is_some());
         let passes = Passes::new(ctx, exact, size, &d)?;
         Ok(CollisionStage {
             carry: None,
@@ -358,6 +358,7 @@ impl CollisionStage {
         let width = ("u_width", Uniform::I32(self.width as i32));
         let uniforms = [
             width.clone(),
+            ("u_neighbours", Uniform::I32(self.config.neighbours as i32)),
             ("u_radius", Uniform::F32(self.config.radius)),
         ];
         let position = [("u_position", positions.into())];

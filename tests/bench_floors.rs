@@ -126,3 +126,42 @@ fn every_drawn_floor_draws_no_more_than_its_phase() {
     assert!(fills >= 4, "{fills} fill floors");
     common::no_gl_error(&ctx);
 }
+
+/// The fill floor draws the pass's fragments and changes no pixel: after it the frame is as the
+/// clear left it, for every built-in that has one, while the pass itself draws something. (A
+/// GPU that skips blends changing nothing skips every one of the floor's, so the floor is the
+/// least any pass of these fragments costs.)
+#[test]
+fn the_fill_floor_changes_no_pixel() {
+    let ctx = common::context();
+    let mut checked = Vec::new();
+    for name in texflow::scene::BUILTIN {
+        let mut scene = texflow::scene::load(name).unwrap();
+        scene.particles.size = [32, 32];
+        scene.render.resolution = [48, 32];
+        let mut e = texflow::engine::build_gpu(&ctx, &scene, 1).unwrap();
+        if e.lit().is_some() {
+            continue;
+        }
+        let fill = e.renderer().with_fragment("bench/fill_floor.frag").unwrap();
+        let Some(fill) = fill else { continue };
+        for _ in 0..6 {
+            e.advance_frame().unwrap();
+        }
+        e.renderer().clear(e.target());
+        let clear = e.target().read_rgb().unwrap();
+        e.render_pass_with(&fill, false).unwrap();
+        assert!(
+            e.target().read_rgb().unwrap() == clear,
+            "{name}: the fill floor drew"
+        );
+        e.render_pass(false).unwrap();
+        assert!(
+            e.target().read_rgb().unwrap() != clear,
+            "{name}: nothing drawn"
+        );
+        checked.push(name);
+    }
+    assert!(checked.len() >= 8, "{checked:?}");
+    common::no_gl_error(&ctx);
+}

@@ -1,20 +1,15 @@
 // The fill floor of a particle render pass: drawn behind the renderer's own vertex stage
 // (render/particle.vert with the pass's defines: the same points, sprites or quads at the same
-// sizes and places) with the pass's blend, it writes a constant into every fragment where the pass
-// can change the frame and fetches nothing (no atlas, no shading). The render pass costs at least
-// this; what it costs above is its fragment stage: the atlas fetch, the rotation, the colour.
+// sizes and places) with the pass's blend, every fragment of the pass is rasterized, shaded by
+// a constant and blended, and fetches nothing (no atlas, no shading). The render pass costs at
+// least this; what it costs above is its fragment stage and what its colours make the blend
+// write.
 //
-// A sprite's fragments outside its inscribed circle have opacity 0 in render/particle.frag (the
-// rotated tile's corners; the thesis's soft round sprite at its rim): they leave the frame as it
-// was under every blend the renderer sets, and a GPU may skip such blends (NVIDIA: writing the
-// corners opaque made this floor 1.27 times the fire's render). The floor writes the same
-// no-change there, so that it writes the pass's fragments, no more and no fewer. (On an H100
-// that cost what discarding them did, 24.73 against 24.74 ms for the fire at 4096², and the
-// floor stays 1.14 times the fire's render there: not yet explained.)
-
-#if !defined(FIRE_RAMP) && defined(SPRITES) && (defined(QUADS) || defined(STRETCHED) || defined(TRIANGLES))
-in vec2 v_coord;
-#endif
+// The constant leaves the frame as it was under the pass's blend (opacity 0): a GPU may skip a
+// blend that changes nothing, and the pass's own colours decide how many of its blends that is
+// (NVIDIA H100, the fire at 2048²: its render takes 3.68 ms at intensity 0, 5.41 at its own
+// 0.08 and 5.77 at 1.0), so a floor that wrote visible colour was no bound (6.19 ms, 1.14 times
+// the render). Written unchanged, the floor is the least any pass drawing these fragments costs.
 
 layout(location = 0) out vec4 o_color;
 
@@ -27,18 +22,5 @@ layout(location = 0) out vec4 o_color;
 #endif
 
 void main() {
-    bool inside = true;
-#if defined(FIRE_RAMP)
-#ifdef FIRE_SOFT
-    vec2 d = gl_PointCoord - 0.5;
-    inside = dot(d, d) < 0.25;
-#endif
-#elif defined(SPRITES) && (defined(QUADS) || defined(STRETCHED) || defined(TRIANGLES))
-    vec2 d = v_coord - 0.5;
-    inside = dot(d, d) <= 0.25;
-#elif defined(SPRITES)
-    vec2 d = gl_PointCoord - 0.5;
-    inside = dot(d, d) <= 0.25;
-#endif
-    o_color = inside ? vec4(0.02, 0.01, 0.005, 0.1) : UNCHANGED;
+    o_color = UNCHANGED;
 }

@@ -113,7 +113,8 @@ pub(super) fn counted(
 
 /// The render pass against two bounds: the particles as points where they are (as many
 /// vertices as the pass draws, its point size and blend, no fetch), and the fill floor (the
-/// same points or sprites through the pass's own vertex stage, its blend, a constant fragment).
+/// same points or sprites through the pass's own vertex stage, its blend, a constant fragment
+/// that changes no pixel).
 pub(super) fn render_phase(
     ctx: &Context,
     on: &RenderFloors,
@@ -180,7 +181,7 @@ pub(super) fn render_phase(
         })?;
         bounds.push((
             "fill floor: the pass's own vertex stage (the same points or sprites), same blend, \
-             a constant fragment, no atlas fetch",
+             a constant fragment that leaves the frame unchanged, no atlas fetch",
             f.0,
             Some(f.1),
         ));

@@ -23,7 +23,8 @@
 //!   [`PlacedRenderFloor`](crate::bench::PlacedRenderFloor), as many particles as the pass draws
 //!   where they are, at the pass's point size and blend, fetching nothing; and the fill floor,
 //!   the renderer's own vertex stage (the same points or sprites) with a constant fragment
-//!   (`glsl/bench/fill_floor.frag`), the same blend, no atlas fetch;
+//!   that leaves the frame unchanged under the pass's blend (`glsl/bench/fill_floor.frag`), no
+//!   atlas fetch;
 //! - every other phase, a second bound: the fetch floor (`src/bench/scene/fetch.rs`), for each
 //!   full-screen draw the phase made a pass into the same targets and viewport that fetches each
 //!   texture the draw bound once at the fragment's texel and writes their sum.

@@ -83,9 +83,10 @@ pub struct SortOptions {
     /// The blocked sort leaves its entries where its last pass wrote them and the gather reads
     /// them there: no unpack pass. The row-major texture is written only when something asks
     /// for it ([`Sorter::keys`](super::Sorter::keys), [`Sorter::read`](super::Sorter::read)).
-    /// Taken where the last pass merges exact entries (row-major within the blocks); any other
-    /// blocked sort unpacks as before. For sorts that only the gather reads (UberFlow's
-    /// detection).
+    /// Taken where the last pass leaves exact entries row-major within the blocks (it merges);
+    /// any other blocked sort unpacks as before, and the other variants, which have no unpack,
+    /// ignore it ([`Sorter::keeps_blocked_layout`](super::Sorter::keeps_blocked_layout) says
+    /// which). For sorts that only the gather reads (UberFlow's detection).
     pub keep_blocked: bool,
 }
 

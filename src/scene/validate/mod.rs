@@ -483,8 +483,8 @@ fn collision_lattice(c: &Collisions) -> Check {
     Ok(())
 }
 
-/// Most neighbours per side UberFlow's detection compares (`collisions.neighbours`); its pass
-/// fetches them all into registers.
+/// Most neighbours per side UberFlow's detection compares (`collisions.neighbours`): the bound
+/// its loop is compiled for (`MAX_NEIGHBOURS` in `glsl/collide/detect.frag`).
 pub const MAX_NEIGHBOURS: u32 = 32;
 
 /// Most cells of a collision lattice: its cell keys are sorted as floats, exact up to 2^24.

@@ -317,11 +317,11 @@ impl Blocked {
         self.identity && !self.compact
     }
 
-    /// The sorted entries after the last pass, and the defines and uniforms that
-    /// `glsl/sort/blocked_entry.glsl` reads them with.
-    pub(super) fn sorted_layout(&self) -> (&Texture3D, Defines, [(&'static str, i32); 1]) {
+    /// The sorted entries after the last pass, the defines `glsl/sort/blocked_entry.glsl`
+    /// reads them with and its `u_log_w`.
+    pub(super) fn sorted_layout(&self) -> (&Texture3D, Defines, i32) {
         let d = vec![("BITS".to_string(), self.bits.to_string())];
-        (&self.tex[self.front], d, [("u_log_w", self.log_w as i32)])
+        (&self.tex[self.front], d, self.log_w as i32)
     }
 
     /// The unpack's program name, for the pass list.

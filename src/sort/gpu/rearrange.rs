@@ -23,12 +23,12 @@ impl Sorter {
             .blocked
             .as_ref()
             .expect("a sort in place has a blocked network");
-        let (blocks, defines, uniforms) = b.sorted_layout();
+        let (blocks, defines, log_w) = b.sorted_layout();
         let p = self.gather_pass(sources, dest, Some(defines))?;
-        let uniforms: Vec<_> = (uniforms.iter())
-            .map(|&(n, v)| (n, Uniform::I32(v)))
-            .chain([("u_state_width", Uniform::I32(dest.width() as i32))])
-            .collect();
+        let uniforms = [
+            ("u_log_w", Uniform::I32(log_w)),
+            ("u_state_width", Uniform::I32(dest.width() as i32)),
+        ];
         self.draw_gather(&p, ("u_blocks", blocks.into()), sources, &uniforms, dest);
         Ok(())
     }

@@ -88,3 +88,56 @@ fn detection_matches_its_twin_on_both_lattices() {
     }
     no_gl_error(&ctx);
 }
+
+/// Exact ties, on rows as narrow as the lanes of the detection's fragments and wider: particles
+/// 2^-7 apart along x in one cell, so that left and right neighbours lie at the same distance,
+/// and the paper's order (nearest first, left before right) decides; with `gaps`, every third
+/// particle is lifted out of reach, so that the second to the left ties with the first to the
+/// right, which must win. The twin's partner must be taken exactly.
+#[test]
+fn detection_breaks_ties_in_the_papers_order() {
+    let ctx = context();
+    let shapes = [(2usize, 16usize, 1usize), (4, 8, 2), (32, 4, 1), (32, 4, 5)];
+    for ((w, h, k), gaps) in shapes.into_iter().flat_map(|s| [(s, false), (s, true)]) {
+        let s = collide_scene(
+            [w as u32, h as u32],
+            &format!(
+                "[collisions]\nradius = 0.03\nneighbours = {k}\ncell = 1.0\n\
+                 bounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]"
+            ),
+        );
+        let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+        let lifted = |col: usize| gaps && col % 3 == 2;
+        // The last row's last particle stays dead: rows may end in dead texels.
+        let gas: Vec<_> = (0..w * h - 1)
+            .map(|i| {
+                let (row, col) = (i / w, i % w);
+                let step = (0..col).filter(|&c| !lifted(c)).count();
+                let x = 0.25 + step as f32 / 128.0;
+                let y = 0.125 + 0.75 * row as f32 / h as f32 + if lifted(col) { 0.1 } else { 0.0 };
+                ([x, y, 0.5], [0.0; 3])
+            })
+            .collect();
+        common::set_particles(&mut sim, &gas, |_, _| 0.5);
+        sim.run(texflow::sim::Stage::Collide).unwrap();
+        let r = sim.collisions().unwrap().read_back(false).unwrap().unwrap();
+        let want = twin(&r.positions, w, k, 0.06);
+        let mut right = 0;
+        for (i, &(partner, _)) in want.iter().enumerate() {
+            let what = format!("{w}x{h}, k {k}, gaps {gaps}, texel {i}");
+            assert_eq!(r.partners[4 * i + 3], partner, "{what}");
+            right += (partner > i as f32) as usize;
+        }
+        // Ties decided: to the left without gaps, to the right past each gap.
+        let rows_firsts = h;
+        match gaps && w >= 8 && k >= 2 {
+            true => assert!(
+                right >= rows_firsts + w / 3,
+                "{w}x{h} k {k}: {right} to the right"
+            ),
+            false if !gaps => assert!(right <= rows_firsts, "{w}x{h} k {k}: {right} to the right"),
+            false => {}
+        }
+    }
+    no_gl_error(&ctx);
+}

@@ -89,7 +89,7 @@ fn detection_matches_its_twin_on_both_lattices() {
     no_gl_error(&ctx);
 }
 
-/// Exact ties, on rows as narrow as the lanes of the detection's fragments and wider: particles
+/// Exact ties, on rows of 2 to 32 particles (rows end inside the detection's window): particles
 /// 2^-7 apart along x in one cell, so that left and right neighbours lie at the same distance,
 /// and the paper's order (nearest first, left before right) decides; with `gaps`, every third
 /// particle is lifted out of reach, so that the second to the left ties with the first to the

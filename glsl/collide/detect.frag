@@ -1,69 +1,59 @@
 // Collision detection (UberFlow §4.4): the state has been gathered in the order of the cell
-// sort, so particles of one cell sit next to each other along a row. Each particle looks at
-// u_neighbours particles to its left and right in the same row and keeps the closest one within
-// the collision distance 2r: its partner's texel index and their distance.
+// sort, so particles of one cell sit next to each other along a row. Each fragment fetches its
+// particle and u_neighbours particles to its left and right in the same row, keeps the closest
+// one within the collision distance 2r, and writes that partner's texel index.
+// Output: (partner index or -1, distance), into an RG32F target.
 //
-// Ours, beyond the paper: one fragment serves LANES = 4 neighbouring particles of a row, so the
-// window of 4 + 2k positions they share is fetched once (20 fetches for 4 particles at k = 8,
-// where a fragment each fetches 17 for one: fetches, not bytes written, bound this pass on the
-// NVIDIA H100). Each particle takes the same partner as when it searched alone: the closest,
-// and among candidates at the same distance the first in the paper's order (nearest first, the
-// left one before the right one), which the rank below encodes.
-// Output, for the particles of columns 4x .. 4x + 3 of a row, into two RGBA32F targets at texel
-// x: their partners (index or -1) and their distances.
+// The loop is what this pass costs (on the NVIDIA H100 it is bound by instructions, not by its
+// fetches: serving four particles a fragment from one window of fetches made it slower), so
+// each candidate takes as few as give the same partner:
+// - a live test on life alone: a candidate whose position is not finite has a distance that is
+//   infinite or NaN, which never passes `d < best` (best is finite), as particle_live would
+//   have refused it;
+// - the distance only where the squared one could beat the best: a candidate whose squared
+//   distance exceeds best² by more than the relative error of a float square root never gives
+//   `distance(...) < best`, so skipping it changes nothing; the rest compare exactly as before.
 
 #include "common/state.glsl"
-
-#define LANES 4
 
 uniform sampler2D u_position;   // gathered: sorted order
 uniform int u_width;
 uniform int u_neighbours;
 uniform float u_radius;
 
-layout(location = 0) out vec4 o_partners;
-layout(location = 1) out vec4 o_distances;
+layout(location = 0) out vec2 o_partner;
+
+// Above the relative error of d² against distance()² (a few ulps each, 1e-6 at most).
+const float MARGIN = 1.0001;
+
+float g_best;
+float g_bound;
+int g_column = -1;
+
+void consider(vec3 p, ivec2 at) {
+    vec4 q = texelFetch(u_position, at, 0);
+    vec3 e = p - q.xyz;
+    if (!(q.w > 0.0 && dot(e, e) <= g_bound)) return;
+    float d = distance(p, q.xyz);
+    if (d < g_best) {
+        g_best = d;
+        g_bound = d * d * MARGIN;
+        g_column = at.x;
+    }
+}
 
 void main() {
     ivec2 t = ivec2(gl_FragCoord.xy);
-    int x0 = t.x * LANES;
-    vec4 p[LANES];
-    bool live[LANES];
-    float best[LANES];
-    float partner[LANES];
-    int rank[LANES];
-    for (int l = 0; l < LANES; l++) {
-        int x = x0 + l;
-        p[l] = x < u_width ? texelFetch(u_position, ivec2(x, t.y), 0) : vec4(0.0);
-        live[l] = x < u_width && particle_live(p[l]);
-        best[l] = 2.0 * u_radius;
-        partner[l] = -1.0;
-        rank[l] = 0;
-    }
-    // The window: every column within u_neighbours of one of the lanes.
-    for (int o = -MAX_NEIGHBOURS; o < LANES + MAX_NEIGHBOURS; o++) {
-        if (o < -u_neighbours) continue;
-        if (o >= LANES + u_neighbours) break;
-        int x = x0 + o;
-        if (x < 0 || x >= u_width) continue;
-        // The lanes' own positions come from registers (constant indices only).
-        vec4 q = o == 0 ? p[0] : o == 1 ? p[1] : o == 2 ? p[2] : o == 3 ? p[3]
-                                              : texelFetch(u_position, ivec2(x, t.y), 0);
-        if (!particle_live(q)) continue;
-        float index = float(t.y * u_width + x);
-        for (int l = 0; l < LANES; l++) {
-            int m = o - l;
-            if (m == 0 || abs(m) > u_neighbours || !live[l]) continue;
-            // The paper's order: m = -1, +1, -2, +2, ...
-            int r = 2 * abs(m) + (m > 0 ? 1 : 0);
-            float d = distance(p[l].xyz, q.xyz);
-            if (d < best[l] || (d == best[l] && partner[l] >= 0.0 && r < rank[l])) {
-                best[l] = d;
-                partner[l] = index;
-                rank[l] = r;
-            }
+    vec4 p = texelFetch(u_position, t, 0);
+    g_best = 2.0 * u_radius;
+    g_bound = g_best * g_best * MARGIN;
+    if (particle_live(p)) {
+        // The paper's order: nearest first, the left one before the right one.
+        for (int m = 1; m <= MAX_NEIGHBOURS; m++) {
+            if (m > u_neighbours) break;
+            if (t.x - m >= 0) consider(p.xyz, ivec2(t.x - m, t.y));
+            if (t.x + m < u_width) consider(p.xyz, ivec2(t.x + m, t.y));
         }
     }
-    o_partners = vec4(partner[0], partner[1], partner[2], partner[3]);
-    o_distances = vec4(best[0], best[1], best[2], best[3]);
+    o_partner = vec2(g_column < 0 ? -1.0 : float(t.y * u_width + g_column), g_best);
 }

@@ -64,8 +64,7 @@ struct Grid {
     /// The lattice, its sort, the state in its sorted order (position, velocity, static and, for
     /// the staggered lattice, the first lattice's detection, gathered along) and its search.
     sorted: grid::SortedGrid,
-    /// Detection output before the mutual check, four particles a texel
-    /// ([`DETECTION_LANES`]): their partners (or -1) and their distances, two RGBA32F targets.
+    /// Detection output before the mutual check: (partner or -1, distance), RG32F.
     raw: Framebuffer,
     /// Detection output after the mutual check: (partner or -1, distance), RG32F (8 bytes a
     /// particle: the response reads no more, and the staggered layout gathers it along).
@@ -182,21 +181,6 @@ fn single_target_of(
     Framebuffer::new(ctx, label, vec![t])
 }
 
-/// Particles that one fragment of UberFlow's detection serves (`LANES` in
-/// `glsl/collide/detect.frag`): neighbours in a row share most of their window of candidates,
-/// which is fetched once for all of them.
-pub const DETECTION_LANES: u32 = 4;
-
-/// The detection's target: for the particles of columns 4x .. 4x + 3 of a row, their partners
-/// and their distances at texel x of two RGBA32F textures.
-fn detection_target(ctx: &Context, label: &str, [w, h]: [u32; 2]) -> Result<Framebuffer> {
-    let lanes_w = w.div_ceil(DETECTION_LANES);
-    let format = TextureFormat::Rgba32F;
-    let partners = texture(ctx, &format!("{label} partners"), lanes_w, h, format)?;
-    let distances = texture(ctx, &format!("{label} distances"), lanes_w, h, format)?;
-    Framebuffer::new(ctx, label, vec![partners, distances])
-}
-
 /// The options of a lattice's collision sort (the first, or the `staggered` one): rows only
 /// where the scene asks and the detection allows, and the lattice's cell count, so that a
 /// rows-only blocked sort takes 4-byte exact entries where they hold every cell
@@ -252,7 +236,7 @@ impl Grid {
         Ok(Grid {
             sorted: grid::SortedGrid::new(ctx, lattice, size, spec)?,
             spin,
-            raw: detection_target(ctx, &format!("{name} detection"), size)?,
+            raw: single_target_of(ctx, &format!("{name} detection"), size, rg)?,
             partner: single_target_of(ctx, &format!("{name} partner"), size, rg)?,
         })
     }
@@ -379,14 +363,8 @@ impl CollisionStage {
         ];
         let position = [("u_position", positions.into())];
         self.pass.draw(detect, &position, &uniforms, raw);
-        let [partners, distances] = raw.textures() else {
-            unreachable!("the detection target has two attachments")
-        };
-        let lanes = [
-            ("u_partners", partners.into()),
-            ("u_distances", distances.into()),
-        ];
-        self.pass.draw(mutual, &lanes, &[width], out);
+        let partner = [("u_partner", raw.only_texture().into())];
+        self.pass.draw(mutual, &partner, &[width], out);
     }
 
     /// Keys on the first lattice from the current state, the sort, and the gather of position,
@@ -582,12 +560,9 @@ impl CollisionStage {
 /// mutual check or -1, distance, 1 if mutual, partner before the check) per particle.
 fn detections(g: &Grid) -> Result<Vec<f32>> {
     let partner = g.partner.only_texture().read_f32()?;
-    // The partners before the check, one per particle in row-major order again.
-    let lanes = g.raw.textures()[0].read_f32()?;
-    let (w, lanes_w) = (g.partner.width() as usize, g.raw.width() as usize);
-    let raw = (0..partner.len() / 2).map(|i| lanes[(i / w * lanes_w) * 4 + i % w]);
-    Ok((partner.chunks_exact(2).zip(raw))
-        .flat_map(|(p, r)| [p[0], p[1], if p[0] >= 0.0 { 1.0 } else { 0.0 }, r])
+    let raw = g.raw.only_texture().read_f32()?;
+    Ok((partner.chunks_exact(2).zip(raw.chunks_exact(2)))
+        .flat_map(|(p, r)| [p[0], p[1], if p[0] >= 0.0 { 1.0 } else { 0.0 }, r[0]])
         .collect())
 }
 

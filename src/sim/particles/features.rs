@@ -434,8 +434,8 @@ impl Features {
                     }
                 ));
                 out.push(format!(
-                    "collision detection: closest of {k} neighbours each side in the row, \
-                     four particles a fragment; mutual check"
+                    "collision detection: closest of {k} neighbours each side in the row; \
+                     mutual check"
                 ));
             }
             out.push(format!(

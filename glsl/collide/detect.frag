@@ -4,9 +4,9 @@
 // one within the collision distance 2r, and writes that partner's texel index.
 // Output: (partner index or -1, distance), into an RG32F target.
 //
-// The loop is what this pass costs (on the NVIDIA H100 it is bound by instructions, not by its
-// fetches: serving four particles a fragment from one window of fetches made it slower), so
-// each candidate takes as few as give the same partner:
+// Each candidate takes as few instructions as give the same partner (on the NVIDIA H100 neither
+// they nor the fetches bound this pass: fewer of either did not make it faster, see
+// docs/performance.md, "What bounds UberFlow's detection"):
 // - a live test on life alone: a candidate whose position is not finite has a distance that is
 //   infinite or NaN, which never passes `d < best` (best is finite), as particle_live would
 //   have refused it;

@@ -98,10 +98,15 @@ impl SortedGrid {
     ) -> Result<()> {
         self.sort_keys(sources[0], count)?;
         self.sorter.gather(sources, &self.layout)?;
-        if let Some(s) = &self.search {
-            s.build(pass, self.sorter.keys());
-        }
+        self.build_search(pass, self.sorter.keys());
         Ok(())
+    }
+
+    /// The cell-start table of `keys`, where this grid has a search.
+    fn build_search(&self, pass: &FullscreenPass, keys: &Texture) {
+        if let Some(s) = &self.search {
+            s.build(pass, keys);
+        }
     }
 
     /// The gather of `sources` into the layout in the order of `keys` (this grid's sorted keys,
@@ -113,9 +118,7 @@ impl SortedGrid {
         sources: &[&Texture],
     ) -> Result<()> {
         self.sorter.gather_by(keys, sources, &self.layout)?;
-        if let Some(s) = &self.search {
-            s.build(pass, keys);
-        }
+        self.build_search(pass, keys);
         Ok(())
     }
 

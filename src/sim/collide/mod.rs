@@ -227,7 +227,7 @@ impl Grid {
             name,
             velocity_format,
             extra: if staggered {
-                &[(FIRST_PARTNER, "first partner", TextureFormat::Rg32F)]
+                &[(FIRST_PARTNER, "first partner", rg)]
             } else {
                 &[]
             },

@@ -98,14 +98,16 @@ impl SortedGrid {
     ) -> Result<()> {
         self.sort_keys(sources[0], count)?;
         self.sorter.gather(sources, &self.layout)?;
-        self.build_search(pass, self.sorter.keys());
+        self.build_search(pass, None);
         Ok(())
     }
 
-    /// The cell-start table of `keys`, where this grid has a search.
-    fn build_search(&self, pass: &FullscreenPass, keys: &Texture) {
+    /// The cell-start table of `keys` (none: this grid's sorted keys), where this grid has a
+    /// search. The sorted keys are asked for only then: a blocked sort that kept its layout
+    /// writes them row-major (an unpack pass) on the first ask.
+    fn build_search(&self, pass: &FullscreenPass, keys: Option<&Texture>) {
         if let Some(s) = &self.search {
-            s.build(pass, keys);
+            s.build(pass, keys.unwrap_or_else(|| self.sorter.keys()));
         }
     }
 
@@ -118,7 +120,7 @@ impl SortedGrid {
         sources: &[&Texture],
     ) -> Result<()> {
         self.sorter.gather_by(keys, sources, &self.layout)?;
-        self.build_search(pass, keys);
+        self.build_search(pass, Some(keys));
         Ok(())
     }
 

@@ -141,3 +141,42 @@ fn detection_breaks_ties_in_the_papers_order() {
     }
     no_gl_error(&ctx);
 }
+
+/// The detection declares its fetches to the cost model: its own position and each neighbour
+/// inside the row, k each side at most, per particle and lattice. Between k = 8 and k = 1 on
+/// the same particles (the same sorts and gathers) the declared fetches differ by exactly the
+/// extra neighbours, counted here column by column.
+#[test]
+fn detection_declares_the_neighbours_it_fetches() {
+    let ctx = context();
+    let (w, rows) = (32u32, 16u32);
+    for staggered in [false, true] {
+        let fetches = |k: u32| {
+            let s = collide_scene(
+                [w, rows],
+                &format!(
+                    "[collisions]\nradius = 0.03\nneighbours = {k}\nstaggered = {staggered}\n\
+                     bounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]"
+                ),
+            );
+            let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+            common::set_particles(&mut sim, &random_gas(300, 9, 0.0, 0.6), |_, _| 0.5);
+            ctx.take_draw_stats();
+            sim.run(texflow::sim::Stage::Collide).unwrap();
+            ctx.take_draw_stats().fetches
+        };
+        let reach = |k: u32| -> u64 {
+            (0..w)
+                .map(|x| (x.min(k) + (w - 1 - x).min(k)) as u64)
+                .sum::<u64>()
+                * rows as u64
+        };
+        let lattices = if staggered { 2 } else { 1 };
+        assert_eq!(
+            fetches(8) - fetches(1),
+            lattices * (reach(8) - reach(1)),
+            "staggered {staggered}"
+        );
+    }
+    no_gl_error(&ctx);
+}

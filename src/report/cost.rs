@@ -12,8 +12,9 @@
 //! predicted ms = passes × fixed + bytes × per byte + fetches × per fetch + points × per point.
 //! The passes, bytes and fetches of each cell are what the GL layer counted while it ran
 //! ([`crate::gl::DrawStats`]): the fetches as the passes that know them declared them (the
-//! sorts' key, network and gather passes, in Table 1 and in Table 2's sorted frames); the other
-//! passes of a frame (integration, collisions, rendering) declare none, so the model
+//! sorts' key, network and gather passes, in Table 1 and in Table 2's sorted frames, and
+//! UberFlow's detection and mutual check, E4's, as for an all-live state); the other passes of a
+//! frame (integration, the collision response, rendering) declare none, so the model
 //! underestimates a frame where those wait on fetches.
 //!
 //! The same model with the ATI Radeon 9800 Pro's published figures (fill rate and memory
@@ -302,7 +303,7 @@ fn markdown(ctx: &Context, c: &Constants, cells: &[Cell]) -> String {
          Device: {}. Constants measured in the same run: fixed cost of a pass {:.4} ms, \
          {:.4} ms per MB written, {:.4} ms per million texel fetches, {:.4} ms per million \
          points. Predicted ms = passes × fixed + bytes × per byte + fetches × per fetch + \
-         points × per point (fetches: those the sorts' passes declare).\n\n\
+         points × per point (fetches: those the sorts' passes and UberFlow's detection declare).\n\n\
          | table | sort / experiment | size | passes | MB written | M fetches | M points | \
          measured ms | predicted ms | predicted / measured |\n\
          |---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",

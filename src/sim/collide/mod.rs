@@ -365,6 +365,10 @@ impl CollisionStage {
         self.pass.draw(detect, &position, &uniforms, raw);
         let partner = [("u_partner", raw.only_texture().into())];
         self.pass.draw(mutual, &partner, &[width], out);
+        // The mutual check's own fetch; its second, at the partner, only where one was found.
+        let (w, rows) = (self.width, raw.height());
+        let window = pass_list::detection_fetches(w, rows, self.config.neighbours);
+        self.ctx.count_fetches(window + w as u64 * rows as u64);
     }
 
     /// Keys on the first lattice from the current state, the sort, and the gather of position,

@@ -86,3 +86,37 @@ impl CollisionStage {
         out
     }
 }
+
+/// The texel fetches of UberFlow's detection over a `width` × `rows` layout with `k` neighbours
+/// each side, every particle live: its own position and each neighbour inside its row, up to `k`
+/// each side (`glsl/collide/detect.frag`). A dead particle fetches only its own, so this is the
+/// most the pass fetches: declared for the cost model, which counts what passes read.
+pub fn detection_fetches(width: u32, rows: u32, k: u32) -> u64 {
+    let (w, k) = (width as u64, k as u64);
+    // Column x reaches min(k, x) to its left and min(k, w - 1 - x) to its right; summed over
+    // the row, each side gives the same count.
+    let side: u64 = (0..w).map(|x| x.min(k)).sum();
+    rows as u64 * (w + 2 * side)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::detection_fetches;
+
+    /// Against a count of the shader's loop, candidate by candidate.
+    #[test]
+    fn detection_fetches_count_the_row_window() {
+        for (w, rows, k) in [(1, 1, 8), (5, 3, 8), (17, 2, 8), (64, 4, 1), (32, 1, 0)] {
+            let mut n = 0u64;
+            for _ in 0..rows {
+                for x in 0..w as i64 {
+                    n += 1;
+                    for m in 1..=k as i64 {
+                        n += (x - m >= 0) as u64 + (x + m < w as i64) as u64;
+                    }
+                }
+            }
+            assert_eq!(detection_fetches(w, rows, k), n, "{w}×{rows}, k = {k}");
+        }
+    }
+}

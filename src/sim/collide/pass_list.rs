@@ -94,8 +94,12 @@ impl CollisionStage {
 pub fn detection_fetches(width: u32, rows: u32, k: u32) -> u64 {
     let (w, k) = (width as u64, k as u64);
     // Column x reaches min(k, x) to its left and min(k, w - 1 - x) to its right; summed over
-    // the row, each side gives the same count.
-    let side: u64 = (0..w).map(|x| x.min(k)).sum();
+    // the row each side gives the same count: 0 + 1 + ... + (k - 1), then k for the rest (in
+    // closed form, as it is counted every step).
+    let side = match w <= k {
+        true => w * w.saturating_sub(1) / 2,
+        false => k * k.saturating_sub(1) / 2 + (w - k) * k,
+    };
     rows as u64 * (w + 2 * side)
 }
 
@@ -106,7 +110,15 @@ mod tests {
     /// Against a count of the shader's loop, candidate by candidate.
     #[test]
     fn detection_fetches_count_the_row_window() {
-        for (w, rows, k) in [(1, 1, 8), (5, 3, 8), (17, 2, 8), (64, 4, 1), (32, 1, 0)] {
+        for (w, rows, k) in [
+            (1, 1, 8),
+            (5, 3, 8),
+            (8, 1, 8),
+            (9, 2, 8),
+            (17, 2, 8),
+            (64, 4, 1),
+            (32, 1, 0),
+        ] {
             let mut n = 0u64;
             for _ in 0..rows {
                 for x in 0..w as i64 {

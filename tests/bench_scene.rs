@@ -44,6 +44,15 @@ fn every_phase_of_the_plan_is_timed_next_to_a_floor() {
             assert!(p.ms > 0.0 && p.floor_ms > 0.0, "{name}: {p:?}");
             assert!((p.ratio - p.ms / p.floor_ms).abs() < 1e-9);
         }
+        // The cost model sees the fetches the sorts and UberFlow's detection declare.
+        let fetches = |prefix: &str| -> u64 {
+            (r.phases.iter())
+                .filter(|x| x.phase.starts_with(prefix))
+                .filter_map(|x| x.drawn.map(|d| d.stats.fetches))
+                .sum()
+        };
+        assert_eq!(fetches("sort network") > 0, sorted, "{name}");
+        assert_eq!(fetches("collide") > 0, collides, "{name}");
         // The same one-paragraph summary `render --stats` prints.
         let s = texflow::bench::scene::summary(r);
         assert!(
@@ -187,7 +196,46 @@ fn bench_scene_runs_every_built_in_scene() {
                 "{name}: {}",
                 p.phase
             );
+            predicted_from_what_it_drew(name, r, p);
         }
+        let table = texflow::bench::scene_markdown(&records);
+        assert!(
+            table.contains("| predicted_ms | predicted / ms |"),
+            "{table}"
+        );
+    }
+}
+
+/// A phase's prediction is the cost model's sum over what it drew, with the record's constants
+/// (computed here term by term); every phase whose draws were counted has one (the lit scene's
+/// slice passes are timed against points they place themselves, and have none).
+fn predicted_from_what_it_drew(
+    name: &str,
+    r: &texflow::bench::SceneBenchRecord,
+    p: &texflow::bench::scene::PhaseRecord,
+) {
+    let c = &r.constants;
+    for k in [
+        c.fixed_ms,
+        c.ms_per_mb_written,
+        c.ms_per_m_fetches,
+        c.ms_per_m_points,
+    ] {
+        assert!(k.is_finite() && k >= 0.0, "{name}: {c:?}");
+    }
+    let slices = p.phase.starts_with("light-buffer") || p.phase.starts_with("eye passes");
+    match (p.drawn, p.predicted_ms) {
+        (Some(d), Some(m)) => {
+            let s = d.stats;
+            let want = s.draws as f64 * c.fixed_ms
+                + s.bytes_written as f64 / 1e6 * c.ms_per_mb_written
+                + s.fetches as f64 / 1e6 * c.ms_per_m_fetches
+                + s.points as f64 / 1e6 * c.ms_per_m_points;
+            // (A phase may draw nothing in a repetition: births when none is due.)
+            assert!((m - want).abs() <= 1e-9 * want.max(1.0), "{name}: {p:?}");
+        }
+        (None, None) => assert!(slices, "{name}: {} has no prediction", p.phase),
+        _ => panic!("{name}: a prediction without counts, or counts without one: {p:?}"),
     }
 }
 

@@ -3,6 +3,7 @@
 //! fragment path is bound by the bytes it writes, no pass that writes those targets can be
 //! faster).
 
+pub mod cost;
 pub mod passes;
 pub mod scene;
 pub mod scenes;

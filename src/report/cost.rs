@@ -1,13 +1,6 @@
 //! A cost model of the papers' tables: every cell of Table 1 and Table 2 predicted from its pass
 //! list (passes, bytes written, texel fetches, points drawn) and four constants of the device,
-//! each measured by a microbenchmark in the same run:
-//!
-//! | constant | microbenchmark |
-//! | --- | --- |
-//! | fixed cost of a pass | [`FixedCost`]: 200 write-only passes into 1×1, divided by 200 |
-//! | time per byte written | a write-only pass into a side² RGBA32F target, less the fixed cost |
-//! | time per texel fetched | `bench/fetch_probe.frag` (8 scattered RGBA32F fetches a fragment) less the write-only pass, per fetch |
-//! | time per point | `side²` one-pixel points through `bench/render_floor.vert`, less the fixed cost |
+//! each measured by a microbenchmark in the same run ([`crate::bench::cost`] says which).
 //!
 //! predicted ms = passes × fixed + bytes × per byte + fetches × per fetch + points × per point.
 //! The passes, bytes and fetches of each cell are what the GL layer counted while it ran
@@ -24,97 +17,12 @@
 use std::path::Path;
 
 use super::{write_json, Progress, ReportOptions, SectionOutput, Size};
+use crate::bench::cost::{measure_constants, Constants};
 use crate::bench::scenes::{self as bs, ScenesOptions};
-use crate::bench::{bench_sort, median, Clock, FixedCost, PassTimer, SortBenchOptions};
-use crate::bench::{RenderFloor, WriteFloor};
+use crate::bench::{bench_sort, Clock, PassTimer, SortBenchOptions};
 use crate::error::Result;
-use crate::gl::{
-    Context, Defines, Framebuffer, FullscreenPass, Program, Texture, TextureDesc, TextureFormat,
-    Uniform, FULLSCREEN_VERTEX,
-};
+use crate::gl::Context;
 use crate::sort::Variant;
-
-/// The device's constants, in milliseconds.
-#[derive(Debug, Clone, Copy, serde::Serialize)]
-pub struct Constants {
-    /// One pass, however little it writes.
-    pub fixed_ms: f64,
-    /// One megabyte written into colour attachments.
-    pub ms_per_mb_written: f64,
-    /// One million texel fetches (RGBA32F, scattered).
-    pub ms_per_m_fetches: f64,
-    /// One million one-pixel points.
-    pub ms_per_m_points: f64,
-}
-
-impl Constants {
-    /// The model's time for a piece of work.
-    pub fn predict(&self, passes: u64, bytes: u64, fetches: u64, points: u64) -> f64 {
-        passes as f64 * self.fixed_ms
-            + bytes as f64 * 1e-6 * self.ms_per_mb_written
-            + fetches as f64 * 1e-6 * self.ms_per_m_fetches
-            + points as f64 * 1e-6 * self.ms_per_m_points
-    }
-}
-
-fn texture(ctx: &Context, side: u32, label: &str) -> Result<Texture> {
-    Texture::new(
-        ctx,
-        TextureDesc {
-            width: side,
-            height: side,
-            format: TextureFormat::Rgba32F,
-            label,
-        },
-    )
-}
-
-/// Measures the constants on `ctx` with side² targets (medians of `repeats`).
-pub fn measure_constants(
-    ctx: &Context,
-    timer: &PassTimer,
-    side: u32,
-    repeats: usize,
-) -> Result<Constants> {
-    let med = |f: &mut dyn FnMut() -> Result<f64>| -> Result<f64> {
-        let mut t = Vec::new();
-        for _ in 0..repeats.max(1) {
-            t.push(f()?);
-        }
-        Ok(median(&t))
-    };
-    let fixed = FixedCost::new(ctx)?;
-    let fixed_ms = med(&mut || fixed.measure(timer))?;
-    let target = Framebuffer::new(
-        ctx,
-        "cost model target",
-        vec![texture(ctx, side, "cost target")?],
-    )?;
-    let source = texture(ctx, side, "cost source")?;
-    let floor = WriteFloor::new(ctx, 1)?;
-    let write = med(&mut || timer.time(|| floor.draw(&target)))?;
-    let bytes = side as f64 * side as f64 * 16.0;
-    let fetches = 8u32;
-    let d: Defines = vec![("FETCHES".into(), fetches.to_string())];
-    let probe = Program::new(ctx, FULLSCREEN_VERTEX, "bench/fetch_probe.frag", &d)?;
-    let pass = FullscreenPass::new(ctx)?;
-    let fetch = med(&mut || {
-        timer.time(|| {
-            let log_w = [("u_log_w", Uniform::I32(side.trailing_zeros() as i32))];
-            pass.draw(&probe, &[("u_source", (&source).into())], &log_w, &target);
-        })
-    })?;
-    let points = side as usize * side as usize;
-    let render = RenderFloor::new(ctx)?;
-    let drawn = med(&mut || timer.time(|| render.draw(&target, [0.0; 4], None, points)))?;
-    let per_m = |t: f64, n: f64| (t.max(0.0) / n) * 1e6;
-    Ok(Constants {
-        fixed_ms,
-        ms_per_mb_written: per_m(write - fixed_ms, bytes),
-        ms_per_m_fetches: per_m(fetch - write, fetches as f64 * points as f64),
-        ms_per_m_points: per_m(drawn - write, points as f64),
-    })
-}
 
 /// The ATI Radeon 9800 Pro of UberFlow's tables, from ATI's published specifications (2003):
 /// 8 pixel pipelines at 380 MHz (3.04 G pixels/s) and 21.8 GB/s of memory bandwidth (256 bits

@@ -36,6 +36,7 @@
 //! Each repetition first times a whole frame (`substeps` steps, then the frame's drawing), then
 //! each phase once, each finished before the next (a phase's time is one step's, not a frame's).
 
+use super::cost::{measure_constants, Constants};
 use super::scenes::default_warmup_frames;
 use super::stats::{median, Clock, PassTimer, WriteFloor};
 use crate::engine::{timed, Stages};
@@ -75,6 +76,9 @@ pub struct PhaseRecord {
     pub bounds: Vec<Bound>,
     /// What the phase drew in the last repetition, where its floors are drawn passes.
     pub drawn: Option<Drawn>,
+    /// The cost model's time for what the phase drew ([`Constants::predict_drawn`] with the
+    /// record's [`constants`](SceneBenchRecord::constants)); `None` where nothing was counted.
+    pub predicted_ms: Option<f64>,
 }
 
 /// One state size of `texflow bench scene`.
@@ -108,6 +112,9 @@ pub struct SceneBenchRecord {
     pub repeats: usize,
     /// The clock.
     pub clock: Clock,
+    /// The cost model's constants, measured in the same run with targets of the state's size
+    /// (256² at least).
+    pub constants: Constants,
 }
 
 /// Options of [`bench_scene`].
@@ -196,7 +203,7 @@ impl Phases {
         }
     }
 
-    fn records(self) -> Vec<PhaseRecord> {
+    fn records(self, c: &Constants) -> Vec<PhaseRecord> {
         self.list
             .into_iter()
             .map(|p| {
@@ -225,6 +232,7 @@ impl Phases {
                     floor: top.floor,
                     bounds,
                     drawn: p.drawn,
+                    predicted_ms: p.drawn.map(|d| c.predict_drawn(&d.stats)),
                 }
             })
             .collect()
@@ -273,6 +281,7 @@ pub fn bench_scene(
             s.render.resolution = r;
         }
         let warmup = warmup_frames(&s, opts.warmup_frames)?;
+        let constants = measure_constants(ctx, &timer, size.max(256), opts.repeats)?;
         let (phases, frame, live, model) = measure(ctx, &s, warmup, &timer, opts)?;
         if live.live == 0 && live.non_finite > 0 {
             return Err(Error::InvalidInput(format!(
@@ -301,7 +310,7 @@ pub fn bench_scene(
             particles,
             live,
             substeps: s.time.substeps,
-            phases: phases.records(),
+            phases: phases.records(&constants),
             frame_ms: frame,
             fps: 1e3 / frame,
             particles_per_s: particles as f64 * 1e3 / frame,
@@ -309,6 +318,7 @@ pub fn bench_scene(
             warmup_frames: warmup,
             repeats: opts.repeats,
             clock: timer.clock(),
+            constants,
         });
         progress(size);
     }

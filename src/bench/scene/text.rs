@@ -23,14 +23,25 @@ pub fn scene_markdown(records: &[SceneBenchRecord]) -> String {
             r.fps,
             r.particles_per_s
         );
-        out += "| phase | ms | floor_ms | ratio | floor | bounds_ms |\n\
-                |---|---:|---:|---:|---|---|\n";
+        let c = &r.constants;
+        out += &format!(
+            "Cost model (constants measured in the same run): {:.4} ms a pass, {:.4} ms per MB \
+             written, {:.4} ms per million declared fetches, {:.4} ms per million points.\n\n",
+            c.fixed_ms, c.ms_per_mb_written, c.ms_per_m_fetches, c.ms_per_m_points
+        );
+        out += "| phase | ms | floor_ms | ratio | floor | bounds_ms | predicted_ms | \
+                predicted / ms |\n\
+                |---|---:|---:|---:|---|---|---:|---:|\n";
         for p in &r.phases {
             // Every bound measured, in order (render: placed points, then the fill floor); the
             // ratio is against the larger.
             let bounds: Vec<String> = p.bounds.iter().map(|b| format!("{:.3}", b.ms)).collect();
+            let (predicted, ratio) = match p.predicted_ms {
+                Some(m) => (format!("{m:.3}"), format!("{:.2}", m / p.ms)),
+                None => ("–".into(), "–".into()),
+            };
             out += &format!(
-                "| {} | {:.3} | {:.3} | {} | {} | {} |\n",
+                "| {} | {:.3} | {:.3} | {} | {} | {} | {predicted} | {ratio} |\n",
                 p.phase,
                 p.ms,
                 p.floor_ms,

@@ -7,7 +7,7 @@
 //! | fixed cost of a pass | [`FixedCost`]: 200 write-only passes into 1×1, divided by 200 |
 //! | time per byte written | a write-only pass into a side² RGBA32F target, less the fixed cost |
 //! | time per texel fetched | `bench/fetch_probe.frag` (8 scattered RGBA32F fetches a fragment) less the write-only pass, per fetch |
-//! | time per point | `side²` one-pixel points through `bench/render_floor.vert`, less the fixed cost |
+//! | time per point | the target cleared, then `side²` one-pixel points through `bench/render_floor.vert` (uniformly scattered), less the write-only pass |
 //!
 //! predicted ms = passes × fixed + bytes × per byte + fetches × per fetch + points × per point,
 //! of the passes, bytes, declared fetches and points the GL layer counted ([`DrawStats`]).

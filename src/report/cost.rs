@@ -195,7 +195,7 @@ fn table2_cells(
             what: r.experiment.clone(),
             size: r.size,
             measured_ms: ms,
-            predicted_ms: c.predict(d.draws, d.bytes_written, d.fetches, d.points),
+            predicted_ms: c.predict_drawn(&d),
             passes: d.draws,
             bytes: d.bytes_written,
             fetches: d.fetches,

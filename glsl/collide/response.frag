@@ -1,7 +1,9 @@
 // Collision response (UberFlow §4.5) for spheres of radius u_radius, then the boundary
 // conditions (§4.6). Each fragment updates its own particle from its mutual partner: the closer
 // of the partner found in this layout (PARTNER 1) and, with STAGGERED, the one found on the
-// staggered lattice (PARTNER 2, whose index refers to the other layout's textures).
+// staggered lattice (PARTNER 2, whose index is a texel of the textures bound as u_position2,
+// u_velocity2, u_static2: the first layout, or where that holds positions alone the state the
+// first sort read, src/sim/collide/lattices.rs).
 // The pair is backed up to first contact, exchanges momentum if approaching, and what still
 // overlaps is separated along the line of centres, mass-weighted (collide/pair.glsl). Both
 // particles of a mutual pair compute the same change with opposite signs. With SPIN the spin
@@ -16,7 +18,7 @@ uniform sampler2D u_static;
 uniform sampler2D u_partner;        // this layout's detection
 #ifdef STAGGERED
 uniform sampler2D u_partner2;       // the other lattice's detection, gathered into this layout
-uniform sampler2D u_position2;      // the other layout's state
+uniform sampler2D u_position2;      // the state its partners' indices name
 uniform sampler2D u_velocity2;
 uniform sampler2D u_static2;
 #endif

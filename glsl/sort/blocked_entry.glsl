@@ -20,15 +20,25 @@ uniform sampler3D u_blocks;
 // log2 of the width of the blocks texture (read and written at the same size).
 uniform int u_log_w;
 
-// The entry at row-major index s.
-ENTRY entry_at(int s) {
-    int p = s >> BITS;
-    int mask = (1 << u_log_w) - 1;
-    ivec3 t = ivec3(p & mask, p >> u_log_w, (s & (SIZE - 1)) / LANES);
+// The entry at row-major index s of `blocks`, a blocks texture of width 2^log_w with 2^bits
+// entries a pixel (this sort's, or another sort's: sort/first_id.glsl).
 #ifdef COMPACT
-    return texelFetch(u_blocks, t, 0)[s & 3];
+ENTRY entry_in(usampler3D blocks, int log_w, int bits, int s) {
 #else
-    vec4 v = texelFetch(u_blocks, t, 0);
+ENTRY entry_in(sampler3D blocks, int log_w, int bits, int s) {
+#endif
+    int p = s >> bits;
+    int mask = (1 << log_w) - 1;
+    ivec3 t = ivec3(p & mask, p >> log_w, (s & ((1 << bits) - 1)) / LANES);
+#ifdef COMPACT
+    return texelFetch(blocks, t, 0)[s & 3];
+#else
+    vec4 v = texelFetch(blocks, t, 0);
     return (s & 1) == 0 ? v.xy : v.zw;
 #endif
+}
+
+// The entry at row-major index s.
+ENTRY entry_at(int s) {
+    return entry_in(u_blocks, u_log_w, BITS, s);
 }

@@ -43,6 +43,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "sort/blocked_unpack.frag",
     "sort/merge.frag",
     "sort/blocked_entry.glsl",
+    "sort/first_id.glsl",
     "sort/merge_path.glsl",
     "sort/merge_search.glsl",
     "sort/merge_partition.frag",

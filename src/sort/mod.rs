@@ -10,7 +10,8 @@ pub mod schedule;
 pub mod spread;
 
 pub use gpu::{
-    row_cell_entry, row_cells_fit, BlockedShape, KeyMode, Quantiser, SortOptions, Sorter, Variant,
+    row_cell_entry, row_cells_fit, BlockedShape, KeyMode, LookupBindings, Quantiser, SortOptions,
+    Sorter, Variant,
 };
 pub use network::{entry_less, Entry, Step};
 pub use schedule::{entry_pass_count, network as passes_of, pass_count, NetworkPass};

@@ -17,6 +17,9 @@ use crate::sort::{KeyMode, SortOptions, Sorter, Variant};
 pub struct SortedGrid {
     lattice: Lattice,
     sorter: Sorter,
+    /// A view of the layout's position texture alone, where the owner gathers positions only
+    /// ([`SortedGrid::sort_positions`]); dropped before the layout it views.
+    positions: Option<Framebuffer>,
     /// The state in sorted order (position, velocity, static and what the owner adds).
     layout: Framebuffer,
     search: Option<CellSearch>,
@@ -39,6 +42,8 @@ pub struct GridSpec<'a> {
     pub extra: &'a [(Attachment, &'a str, TextureFormat)],
     /// Whether a search of the sorted keys reads this lattice (builds the [`CellSearch`]).
     pub searched: bool,
+    /// Whether the owner may gather positions alone ([`SortedGrid::sort_positions`]).
+    pub positions_only: bool,
 }
 
 impl SortedGrid {
@@ -67,10 +72,20 @@ impl SortedGrid {
             keep_blocked: spec.options.keep_blocked || search.is_none(),
             ..spec.options
         };
+        let layout = Framebuffer::named(ctx, &format!("{name} layout"), layout)?;
+        let positions = match spec.positions_only {
+            true => Some(Framebuffer::views(
+                ctx,
+                &format!("{name} positions"),
+                &[(&layout, 0)],
+            )?),
+            false => None,
+        };
         Ok(SortedGrid {
             lattice,
             sorter: Sorter::new(ctx, spec.variant, w, h, options)?,
-            layout: Framebuffer::named(ctx, &format!("{name} layout"), layout)?,
+            positions,
+            layout,
             search,
         })
     }
@@ -100,6 +115,51 @@ impl SortedGrid {
         self.sorter.gather(sources, &self.layout)?;
         self.build_search(pass, None);
         Ok(())
+    }
+
+    /// Keys of `positions` (the first `count` entries), the sort and the gather of the positions
+    /// alone into the layout (the layout's velocity and static keep what they held): for a
+    /// lattice whose later passes read the rest through another sort
+    /// ([`SortedGrid::sort_through`]).
+    pub fn sort_positions(
+        &mut self,
+        pass: &FullscreenPass,
+        count: usize,
+        positions: &Texture,
+    ) -> Result<()> {
+        if self.positions.is_none() {
+            return Err(crate::error::Error::InvalidInput(
+                "this grid was built to gather the whole state".into(),
+            ));
+        }
+        self.sort_keys(positions, count)?;
+        let view = self.positions.as_ref().expect("checked above");
+        self.sorter.gather(&[positions], view)?;
+        self.build_search(pass, None);
+        Ok(())
+    }
+
+    /// Like [`sort`](Self::sort), where `sources` are places in `first`'s layout
+    /// (`sources[0]` its positions, which this grid's keys are taken from): the sources with
+    /// bit k of `through` set are read at the place `first`'s sort gave each particle instead
+    /// (textures of the state `first` sorted, [`Sorter::gather_through`]).
+    pub fn sort_through(
+        &mut self,
+        pass: &FullscreenPass,
+        count: usize,
+        first: &SortedGrid,
+        through: u32,
+        sources: &[&Texture],
+    ) -> Result<()> {
+        self.sort_keys(sources[0], count)?;
+        (self.sorter).gather_through(Some((&first.sorter, through)), sources, &self.layout)?;
+        self.build_search(pass, None);
+        Ok(())
+    }
+
+    /// The sorter (for passes that read its identifiers, [`Sorter::lookup_bindings`]).
+    pub fn sorter(&self) -> &Sorter {
+        &self.sorter
     }
 
     /// The cell-start table of `keys` (none: this grid's sorted keys), where this grid has a

@@ -32,7 +32,7 @@ use crate::gl::{
     TextureDesc, TextureFormat, Uniform, UniformList, FULLSCREEN_VERTEX,
 };
 use crate::scene::{self, SceneFile};
-use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
+use crate::sim::state::{POSITION, STATIC, VELOCITY};
 use crate::sort::SortOptions;
 
 mod carry;
@@ -40,6 +40,7 @@ pub mod cells;
 mod census;
 mod exact;
 pub mod grid;
+mod lattices;
 mod neighbours;
 mod pass_list;
 pub(crate) mod tally;
@@ -48,6 +49,7 @@ pub use carry::carry_passes;
 pub(crate) use carry::exchange_defines;
 pub use cells::{CellTables, Lattice};
 pub use census::PairCensus;
+pub use lattices::reads_through_first;
 pub use neighbours::{check_pair_forces, neighbour_passes, NeighbourReadback};
 pub use pass_list::uberflow_sort;
 
@@ -94,6 +96,9 @@ pub struct CollisionStage {
     tally: Option<tally::TruncationTally>,
     /// The user states carried along the sorts, and their exchange (`carry.rs`).
     carry: Option<carry::Carry>,
+    /// The first lattice gathers positions alone; the staggered one reads the rest through
+    /// both sorts ([`reads_through_first`], `lattices.rs`).
+    through: bool,
 }
 
 /// The exact mode's passes of one iteration (`collisions.iterations` per step), as `texflow
@@ -138,6 +143,9 @@ enum Passes {
     Uberflow {
         detect: Program,
         mutual: Program,
+        /// The first lattice's mutual check where it names partners by their place in the
+        /// state the first sort read ([`reads_through_first`]).
+        mutual_first: Option<Box<Program>>,
         response: Program,
     },
     /// Every partner in the 27 cells around each particle: a count pass, then the response.
@@ -203,6 +211,7 @@ impl Grid {
         size: [u32; 2],
         velocity_format: TextureFormat,
         staggered: bool,
+        positions_only: bool,
     ) -> Result<Grid> {
         let lattice = Lattice::of(config, staggered);
         let cells = lattice.dims.x as u64 * lattice.dims.y as u64 * lattice.dims.z as u64;
@@ -232,6 +241,7 @@ impl Grid {
                 &[]
             },
             searched: exact && !staggered,
+            positions_only,
         };
         Ok(Grid {
             sorted: grid::SortedGrid::new(ctx, lattice, size, spec)?,
@@ -243,8 +253,16 @@ impl Grid {
 }
 
 impl Passes {
-    /// The programs and the intermediate target of the exact detection, or of UberFlow's.
-    fn new(ctx: &Context, exact: bool, size: [u32; 2], d: &Defines) -> Result<Self> {
+    /// The programs and the intermediate target of the exact detection, or of UberFlow's;
+    /// `first_lookup`: the defines of the first sort's lookup where the first lattice's mutual
+    /// check names partners through it.
+    fn new(
+        ctx: &Context,
+        exact: bool,
+        size: [u32; 2],
+        d: &Defines,
+        first_lookup: Option<Defines>,
+    ) -> Result<Self> {
         let program = |fragment: &str| Program::new(ctx, FULLSCREEN_VERTEX, fragment, d);
         Ok(if exact {
             Passes::Exact {
@@ -256,6 +274,16 @@ impl Passes {
             Passes::Uberflow {
                 detect: program("collide/detect.frag")?,
                 mutual: program("collide/mutual.frag")?,
+                mutual_first: match first_lookup {
+                    Some(lookup) => {
+                        let mut d = d.clone();
+                        d.push(("FIRST_ID".into(), "1".into()));
+                        d.extend(lookup);
+                        let p = Program::new(ctx, FULLSCREEN_VERTEX, "collide/mutual.frag", &d)?;
+                        Some(Box::new(p))
+                    }
+                    None => None,
+                },
                 response: program("collide/response.frag")?,
             }
         })
@@ -278,19 +306,28 @@ impl CollisionStage {
         };
         let size = scene.particles.size;
         let exact = config.detection == scene::Detection::Exact;
-        let first = Grid::new(ctx, &config, size, velocity_format, false)?;
+        let defines = &exact::search_layout(defines, &config, size);
+        let neighbours = neighbours::Neighbours::new(ctx, scene, defines)?;
+        let through = reads_through_first(config.staggered, exact, neighbours.is_some());
+        let first = Grid::new(ctx, &config, size, velocity_format, false, through)?;
         let second = if config.staggered && !exact {
-            Some(Grid::new(ctx, &config, size, velocity_format, true)?)
+            Some(Grid::new(ctx, &config, size, velocity_format, true, false)?)
         } else {
             None
         };
-        let defines = &exact::search_layout(defines, &config, size);
         let d = exact::stage_defines(defines, second.is_some());
-        let passes = Passes::new(ctx, exact, size, &d)?;
+        let first_lookup = through.then(|| {
+            let sorter = first.sorted.sorter();
+            let mut lookup = sorter.id_defines();
+            lookup.extend(sorter.lookup_defines());
+            lookup
+        });
+        let passes = Passes::new(ctx, exact, size, &d, first_lookup)?;
         Ok(CollisionStage {
             carry: None,
+            through,
             passes,
-            neighbours: neighbours::Neighbours::new(ctx, scene, defines)?,
+            neighbours,
             copy: Program::new(ctx, FULLSCREEN_VERTEX, "collide/copy.frag", &d)?,
             pass: FullscreenPass::new(ctx)?,
             ctx: ctx.clone(),
@@ -349,10 +386,21 @@ impl CollisionStage {
     }
 
     /// UberFlow's detection on grid `g`'s layout into its `raw` target, then the mutual check
-    /// into its `partner`.
-    fn detect_into(&self, g: &Grid) {
-        let Passes::Uberflow { detect, mutual, .. } = &self.passes else {
+    /// into its `partner` (for the `first` lattice, naming partners through the first sort
+    /// where the staggered lattice reads through it).
+    fn detect_into(&self, g: &Grid, first: bool) {
+        let Passes::Uberflow {
+            detect,
+            mutual,
+            mutual_first,
+            ..
+        } = &self.passes
+        else {
             return;
+        };
+        let (mutual, (lookup, lookup_uniforms)) = match (first, mutual_first) {
+            (true, Some(m)) => (&**m, self.first_lookup()),
+            _ => (mutual, (Vec::new(), Vec::new())),
         };
         let (positions, raw, out) = (g.sorted.layout().texture(POSITION), &g.raw, &g.partner);
         let width = ("u_width", Uniform::I32(self.width as i32));
@@ -363,45 +411,15 @@ impl CollisionStage {
         ];
         let position = [("u_position", positions.into())];
         self.pass.draw(detect, &position, &uniforms, raw);
-        let partner = [("u_partner", raw.only_texture().into())];
-        self.pass.draw(mutual, &partner, &[width], out);
+        let mut partner = vec![("u_partner", raw.only_texture().into())];
+        partner.extend(lookup);
+        let mut uniforms = vec![width];
+        uniforms.extend(lookup_uniforms);
+        self.pass.draw(mutual, &partner, &uniforms, out);
         // The mutual check's own fetch; its second, at the partner, only where one was found.
         let (w, rows) = (self.width, raw.height());
         let window = pass_list::detection_fetches(w, rows, self.config.neighbours);
         self.ctx.count_fetches(window + w as u64 * rows as u64);
-    }
-
-    /// Keys on the first lattice from the current state, the sort, and the gather of position,
-    /// velocity and static into the lattice's layout.
-    fn sort_first(&mut self, state: &PingPong, statics: &Framebuffer) -> Result<()> {
-        let count = self.width as usize * state.height() as usize;
-        let front = state.front();
-        let g = &mut self.first;
-        g.sorted.sort(
-            &self.pass,
-            count,
-            &[
-                front.texture(POSITION),
-                front.texture(VELOCITY),
-                statics.texture(STATIC),
-            ],
-        )?;
-        if let Some(spin) = &g.spin {
-            g.sorted.gather(&[front.texture(SPIN)], spin)?;
-        }
-        self.gather_states(false)
-    }
-
-    /// Hands the static texture of the layout the response wrote the state in (the second
-    /// lattice's with `second`, else the first's) to the simulation, which gives its own
-    /// (the old order) to the layout as the next gather's target: the statics in the new
-    /// order without a copy pass.
-    fn take_statics(&mut self, second: bool, statics: &mut Framebuffer) -> Result<()> {
-        let g = match (second, &mut self.second) {
-            (true, Some(g2)) => g2,
-            _ => &mut self.first,
-        };
-        statics.exchange(STATIC, g.sorted.layout_mut(), STATIC)
     }
 
     /// One collision step on the state after the collisionless motion: sorts, detects, responds
@@ -428,10 +446,10 @@ impl CollisionStage {
         let count = self.width as usize * state.height() as usize;
         self.sort_first(state, statics)?;
         self.exchange(constants);
-        self.detect_into(&self.first);
-        self.sort_second(count)?;
+        self.detect_into(&self.first, true);
+        self.sort_second(count, state, statics)?;
         if let Some(g2) = &self.second {
-            self.detect_into(g2);
+            self.detect_into(g2, false);
         }
         // Response in the last layout.
         let (own, partner) = match &self.second {
@@ -441,7 +459,7 @@ impl CollisionStage {
         let Passes::Uberflow { response: p, .. } = &self.passes else {
             unreachable!("the exact mode returned above");
         };
-        let textures = self.response_textures(p, own, partner, fields);
+        let textures = self.response_textures(p, (own, partner), (state, statics), fields);
         let uniforms = [
             ("u_width", Uniform::I32(self.width as i32)),
             ("u_radius", Uniform::F32(self.config.radius)),
@@ -456,36 +474,14 @@ impl CollisionStage {
         Ok(())
     }
 
-    /// The staggered lattice, if any: keys on it from the first lattice's layout, the sort, and
-    /// the gather of that layout with the first detection along.
-    fn sort_second(&mut self, count: usize) -> Result<()> {
-        if let Some(g2) = &mut self.second {
-            let a = self.first.sorted.layout();
-            g2.sorted.sort(
-                &self.pass,
-                count,
-                &[
-                    a.texture(POSITION),
-                    a.texture(VELOCITY),
-                    a.texture(STATIC),
-                    self.first.partner.only_texture(),
-                ],
-            )?;
-            if let (Some(from), Some(to)) = (&self.first.spin, &g2.spin) {
-                g2.sorted.gather(&[from.only_texture()], to)?;
-            }
-        }
-        self.gather_states(true)
-    }
-
     /// Every texture the response program `p` samples: the last layout `own` and its
-    /// `partner`, with the staggered lattice the first's too, the spins, and the colliders'
-    /// `fields` it declares.
+    /// `partner`, with the staggered lattice the first's partners and the state they name
+    /// (`lattices.rs`), the spins, and the colliders' `fields` it declares.
     fn response_textures<'a>(
         &'a self,
         p: &Program,
-        own: &'a Framebuffer,
-        partner: &'a Framebuffer,
+        (own, partner): (&'a Framebuffer, &'a Framebuffer),
+        (state, statics): (&'a PingPong, &'a Framebuffer),
         fields: &[(&'a str, Sampled<'a>)],
     ) -> Vec<(&'a str, Sampled<'a>)> {
         // Every sampler named on this draw: the sorts' gathers bind their own textures, and
@@ -497,24 +493,15 @@ impl CollisionStage {
             ("u_partner", partner.only_texture().into()),
         ];
         if self.second.is_some() {
-            let a = self.first.sorted.layout();
-            textures.extend([
-                ("u_partner2", own.texture(FIRST_PARTNER).into()),
-                ("u_position2", a.texture(POSITION).into()),
-                ("u_velocity2", a.texture(VELOCITY).into()),
-                ("u_static2", a.texture(STATIC).into()),
-            ]);
+            textures.extend(self.first_partner_textures(own, state, statics));
         }
-        // Spinning spheres: this layout's spin, and with the staggered lattice the first's.
-        let (spin, spin2) = match &self.second {
-            Some(g2) => (g2.spin.as_ref(), self.first.spin.as_ref()),
-            None => (self.first.spin.as_ref(), None),
+        // Spinning spheres: this layout's spin (the first's, with the partners' above).
+        let spin = match &self.second {
+            Some(g2) => g2.spin.as_ref(),
+            None => self.first.spin.as_ref(),
         };
         if let Some(s) = spin {
             textures.push(("u_spin", s.only_texture().into()));
-        }
-        if let Some(s) = spin2 {
-            textures.push(("u_spin2", s.only_texture().into()));
         }
         textures.extend(fields.iter().filter(|(n, _)| p.declares(n)).copied());
         textures
@@ -537,7 +524,10 @@ impl CollisionStage {
             };
             Ok(Readback {
                 positions: g.sorted.layout().texture(POSITION).read_f32()?,
-                velocities: g.sorted.layout().texture(VELOCITY).read_f32()?,
+                velocities: match staggered {
+                    true => g.sorted.layout().texture(VELOCITY).read_f32()?,
+                    false => self.first_velocities()?,
+                },
                 partners,
             })
         })
@@ -561,12 +551,22 @@ impl CollisionStage {
 }
 
 /// UberFlow's detection on grid `g` as [`Readback::partners`] gives it: (partner after the
-/// mutual check or -1, distance, 1 if mutual, partner before the check) per particle.
+/// mutual check or -1, distance, 1 if mutual, partner before the check) per particle, each
+/// partner by its place in `g`'s layout. (The check keeps the partner found or writes -1; the
+/// first lattice's may name the partner by its place in another state, `lattices.rs`.)
 fn detections(g: &Grid) -> Result<Vec<f32>> {
     let partner = g.partner.only_texture().read_f32()?;
     let raw = g.raw.only_texture().read_f32()?;
     Ok((partner.chunks_exact(2).zip(raw.chunks_exact(2)))
-        .flat_map(|(p, r)| [p[0], p[1], if p[0] >= 0.0 { 1.0 } else { 0.0 }, r[0]])
+        .flat_map(|(p, r)| {
+            let mutual = p[0] >= 0.0;
+            [
+                if mutual { r[0] } else { -1.0 },
+                p[1],
+                mutual as u8 as f32,
+                r[0],
+            ]
+        })
         .collect())
 }
 

@@ -190,6 +190,7 @@ impl Fluid {
             velocity_format,
             extra: &[],
             searched: true,
+            positions_only: false,
         };
         Ok(Fluid {
             grid: SortedGrid::new(ctx, lattice, size, spec)?,

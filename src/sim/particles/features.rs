@@ -421,18 +421,25 @@ impl Features {
             } else {
                 &["lattice"]
             };
+            let through =
+                crate::sim::collide::reads_through_first(staggered, false, self.pair_forces > 0);
             for (l, &row_cells) in lattices.iter().zip(&self.collision_row_cells) {
                 let sort = crate::sim::collide::uberflow_sort(self.collision_sort, rows, row_cells);
                 out.push(format!("collision keys: cell index in the {l} (z, y, x)"));
                 out.push(format!("collision sort: {sort}"));
-                out.push(format!(
-                    "gather position, velocity, static{} in cell order",
-                    if *l == "staggered lattice" {
-                        " and the first detection"
-                    } else {
-                        ""
-                    }
-                ));
+                out.push(match (*l == "staggered lattice", through) {
+                    (false, false) => "gather position, velocity, static in cell order".into(),
+                    (false, true) => "gather position in cell order (the staggered lattice \
+                                      reads velocity and static through both sorts)"
+                        .into(),
+                    (true, false) => "gather position, velocity, static and the first detection \
+                                      in cell order"
+                        .into(),
+                    (true, true) => "gather position, velocity, static and the first detection \
+                                     in cell order (velocity and static through both sorts, \
+                                     from the state the first sort read)"
+                        .into(),
+                });
                 out.push(format!(
                     "collision detection: closest of {k} neighbours each side in the row; \
                      mutual check"

@@ -25,6 +25,7 @@ use blocked::Blocked;
 pub use blocked::{row_cell_entry, row_cells_fit, Quantiser};
 use geometry::{Geometry, GpProgram};
 pub use options::{BlockedShape, KeyMode, SortOptions, Variant};
+pub use rearrange::LookupBindings;
 
 /// One pass of the sorter.
 #[derive(Debug)]
@@ -91,8 +92,8 @@ pub struct Sorter {
     geometry: Vec<Geometry>,
     fullscreen: FullscreenPass,
     id_table: Option<Texture>,
-    /// The gather's programs by (targets, reading the blocked layout).
-    rearrange: RefCell<HashMap<(usize, bool), Program>>,
+    /// The gather's programs by (targets, reading the blocked layout, read through another sort).
+    rearrange: RefCell<HashMap<rearrange::GatherKey, Program>>,
     blocked: Option<Blocked>,
     /// The blocked sort runs no unpack: its entries stay in its layout ([`SortOptions::keep_blocked`]).
     in_place: bool,

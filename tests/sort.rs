@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{context, no_gl_error};
+use common::{context, keyed_entries as entries, lcg, no_gl_error};
 use texflow::gl::Context;
 use texflow::sort::blocked;
 use texflow::sort::network::{
@@ -10,21 +10,6 @@ use texflow::sort::network::{
     key_order_bits, odd_even_schedule,
 };
 use texflow::sort::{Entry, SortOptions, Sorter, Variant};
-
-fn lcg(s: &mut u64) -> u32 {
-    *s = s
-        .wrapping_mul(6364136223846793005)
-        .wrapping_add(1442695040888963407);
-    (*s >> 33) as u32
-}
-
-/// `n` entries whose keys are whole numbers in `0..range` plus `offset`, their ids their indices.
-fn entries(n: u32, seed: u64, range: u32, offset: f32) -> Vec<Entry> {
-    let mut s = seed;
-    (0..n)
-        .map(|i| [(lcg(&mut s) % range) as f32 + offset, i as f32])
-        .collect()
-}
 
 /// The twin: the same schedule on the CPU.
 fn twin(

@@ -6,24 +6,9 @@
 
 mod common;
 
-use common::{context, no_gl_error};
+use common::{context, keyed_entries, no_gl_error};
 use texflow::gl::{Context, Framebuffer, Texture, TextureDesc, TextureFormat};
 use texflow::sort::{Entry, SortOptions, Sorter, Variant};
-
-fn lcg(s: &mut u64) -> u32 {
-    *s = s
-        .wrapping_mul(6364136223846793005)
-        .wrapping_add(1442695040888963407);
-    (*s >> 33) as u32
-}
-
-/// `n` entries with keys in `0..range` (duplicates: ties fall to the identifiers), ids 0..n.
-fn entries(n: u32, seed: u64, range: u32) -> Vec<Entry> {
-    let mut s = seed;
-    (0..n)
-        .map(|i| [(lcg(&mut s) % range) as f32, i as f32])
-        .collect()
-}
 
 /// A `w` × `h` RGBA32F texture whose texel i holds (i + offset, -i, tag, 1).
 fn named(ctx: &Context, w: u32, h: u32, offset: f32, tag: f32) -> Texture {
@@ -69,8 +54,22 @@ fn a_gather_through_two_sorts_composes_their_orders() {
         (Variant::Fp, false, false),
     ] {
         let what = format!("{variant:?}, first kept {first_kept}, second kept {second_kept}");
-        let first = sorter(&ctx, variant, w, h, first_kept, &entries(n, 3, 9));
-        let second = sorter(&ctx, variant, w, h, second_kept, &entries(n, 11, 7));
+        let first = sorter(
+            &ctx,
+            variant,
+            w,
+            h,
+            first_kept,
+            &keyed_entries(n, 3, 9, 0.0),
+        );
+        let second = sorter(
+            &ctx,
+            variant,
+            w,
+            h,
+            second_kept,
+            &keyed_entries(n, 11, 7, 0.0),
+        );
         // Kept blocked sorts leave their entries in their layout: the lookup reads them there.
         assert_eq!(first.keeps_blocked_layout(), first_kept, "{what}");
         assert_eq!(second.keeps_blocked_layout(), second_kept, "{what}");
@@ -122,8 +121,22 @@ fn a_gather_through_two_sorts_composes_their_orders() {
 fn a_gather_through_a_sort_of_another_variant_is_refused() {
     let ctx = context();
     let (w, h) = (32, 4);
-    let first = sorter(&ctx, Variant::Packed, w, h, false, &entries(w * h, 5, 9));
-    let second = sorter(&ctx, Variant::Fp, w, h, false, &entries(w * h, 6, 9));
+    let first = sorter(
+        &ctx,
+        Variant::Packed,
+        w,
+        h,
+        false,
+        &keyed_entries(w * h, 5, 9, 0.0),
+    );
+    let second = sorter(
+        &ctx,
+        Variant::Fp,
+        w,
+        h,
+        false,
+        &keyed_entries(w * h, 6, 9, 0.0),
+    );
     let source = named(&ctx, w, h, 0.0, 1.0);
     let dest = Framebuffer::new(&ctx, "dest", vec![named(&ctx, w, h, 9.0, 9.0)]).unwrap();
     ctx.take_draw_stats();

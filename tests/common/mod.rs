@@ -104,3 +104,21 @@ pub fn plan_of(ctx: &Context, scene: &texflow::scene::SceneFile) -> texflow::eng
         .unwrap_or_else(|e| panic!("{}: {e}", s.name))
         .plan()
 }
+
+/// One step of a 64-bit linear congruential generator (Knuth's MMIX constants), its high 31 bits
+/// out: the sort tests' keys.
+pub fn lcg(s: &mut u64) -> u32 {
+    *s = s
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    (*s >> 33) as u32
+}
+
+/// `n` sort entries whose keys are whole numbers in `0..range` plus `offset`, their ids their
+/// indices (ties among equal keys fall to the ids).
+pub fn keyed_entries(n: u32, seed: u64, range: u32, offset: f32) -> Vec<texflow::sort::Entry> {
+    let mut s = seed;
+    (0..n)
+        .map(|i| [(lcg(&mut s) % range) as f32 + offset, i as f32])
+        .collect()
+}

@@ -416,7 +416,8 @@ impl CollisionStage {
         let mut uniforms = vec![width];
         uniforms.extend(lookup_uniforms);
         self.pass.draw(mutual, &partner, &uniforms, out);
-        // The mutual check's own fetch; its second, at the partner, only where one was found.
+        // The mutual check's own fetch; its second, at the partner (and, naming partners through
+        // the first sort, the lookup of its place), only where one was found.
         let (w, rows) = (self.width, raw.height());
         let window = pass_list::detection_fetches(w, rows, self.config.neighbours);
         self.ctx.count_fetches(window + w as u64 * rows as u64);

@@ -35,7 +35,8 @@ impl Sorter {
     /// source k with bit k set is read at the place `first` gave the particle, the others at
     /// the identifier itself. The staggered lattice reads velocity and static this way from
     /// the state the first lattice's sort read, so that the first gathers positions only.
-    /// `first` must leave its entries in the same layout as this sort (the same shape).
+    /// `first` must be of this sort's variant and size (its entries may lie in another
+    /// layout: blocked in place or row-major); otherwise nothing is drawn and an error says so.
     pub fn gather_through(
         &self,
         first: Option<(&Sorter, u32)>,

@@ -14,7 +14,6 @@ use super::{CollisionStage, FIRST_PARTNER};
 use crate::error::Result;
 use crate::gl::{Framebuffer, PingPong, Sampled};
 use crate::sim::state::{POSITION, SPIN, STATIC, VELOCITY};
-use crate::sort::LookupBindings;
 
 /// The staggered gather's sources read through the first sort: velocity and static (of
 /// position, velocity, static, first partner).
@@ -105,41 +104,26 @@ impl CollisionStage {
         state: &'a PingPong,
         statics: &'a Framebuffer,
     ) -> Vec<(&'static str, Sampled<'a>)> {
-        let (p, v) = match self.through {
-            true => (state.front(), state.front()),
-            false => (self.first.sorted.layout(), self.first.sorted.layout()),
-        };
-        let s = match self.through {
-            true => statics,
-            false => self.first.sorted.layout(),
+        // The state the partners' places name: its position and velocity, and its static.
+        let first = self.first.sorted.layout();
+        let (pv, st) = match self.through {
+            true => (state.front(), statics),
+            false => (first, first),
         };
         let mut out = vec![
             ("u_partner2", own.texture(FIRST_PARTNER).into()),
-            ("u_position2", p.texture(POSITION).into()),
-            ("u_velocity2", v.texture(VELOCITY).into()),
-            ("u_static2", s.texture(STATIC).into()),
+            ("u_position2", pv.texture(POSITION).into()),
+            ("u_velocity2", pv.texture(VELOCITY).into()),
+            ("u_static2", st.texture(STATIC).into()),
         ];
-        let spin2 = match self.through {
-            true => self
-                .first
-                .spin
-                .as_ref()
-                .map(|_| state.front().texture(SPIN)),
-            false => self.first.spin.as_ref().map(|s| s.only_texture()),
-        };
-        if let Some(s) = spin2 {
-            out.push(("u_spin2", s.into()));
+        if let Some(spin) = &self.first.spin {
+            let spin2 = match self.through {
+                true => state.front().texture(SPIN),
+                false => spin.only_texture(),
+            };
+            out.push(("u_spin2", spin2.into()));
         }
         out
-    }
-
-    /// The first lattice's mutual check where it writes its partners as places in the state
-    /// the first sort read: the first sort's lookup bindings (none otherwise).
-    pub(super) fn first_lookup(&self) -> LookupBindings<'_> {
-        match self.through {
-            true => self.first.sorted.sorter().lookup_bindings(),
-            false => (Vec::new(), Vec::new()),
-        }
     }
 
     /// The first layout's velocities in its order (RGBA texels), where the first lattice

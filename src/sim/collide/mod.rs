@@ -399,7 +399,7 @@ impl CollisionStage {
             return;
         };
         let (mutual, (lookup, lookup_uniforms)) = match (first, mutual_first) {
-            (true, Some(m)) => (&**m, self.first_lookup()),
+            (true, Some(m)) => (&**m, self.first.sorted.sorter().lookup_bindings()),
             _ => (mutual, (Vec::new(), Vec::new())),
         };
         let (positions, raw, out) = (g.sorted.layout().texture(POSITION), &g.raw, &g.partner);

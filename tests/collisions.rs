@@ -367,7 +367,7 @@ fn exact_mode_settings_are_validated() {
     let base = scene::load_source("collide").unwrap().1;
     for (extra, want) in [
         ("detection = \"exact\"\nrows_only = 1", "remove rows_only"),
-        ("detection = \"exact\"\ncell = 0.01", "at least 2 radius"),
+        ("detection = \"exact\"\ncell = 0.01", "at least radius"),
         ("detection = \"exakt\"", "expected `uberflow` or `exact`"),
         ("iterations = 0", "iterations must lie in 1..=16"),
     ] {

@@ -38,12 +38,28 @@ bounds = [[-2.0, -2.0, -2.0], [3.0, 3.0, 3.0]]
 /// all-pairs count of the state that iteration searched (later iterations used to reuse the
 /// first sort's cells and miss pairs that had changed cell). Pairs the separation left at
 /// contact, 2r to rounding, may count on either side: the count lies between the all-pairs
-/// counts at 2r (1 ∓ 1e-5).
+/// counts at 2r (1 ∓ 1e-5). On the default cell (2r, the 27 cells) and on cells of r and 1.5r
+/// (the trimmed walk), each through the cell-start table and the binary search.
 #[test]
 fn every_exact_iteration_finds_every_pair() {
     let ctx = context();
-    let s = gas_scene("iterations = 4", "");
-    let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+    for cell in [None, Some(0.04), Some(0.06)] {
+        for table in [false, true] {
+            let line = cell.map_or(String::new(), |g| format!("cell = {g}"));
+            let s = gas_scene(&format!("iterations = 4\n{line}"), "");
+            let trimmed = texflow::sim::collide::CellTables::of(&s).collisions_trimmed;
+            assert_eq!(trimmed, cell.is_some(), "{cell:?}");
+            let sim = texflow::sim::collide::cells::with_search(table, || {
+                ParticleSim::new(&ctx, &s, 1).unwrap()
+            });
+            every_iteration_finds_every_pair(sim, &format!("cell {cell:?}, table {table}"));
+        }
+    }
+    no_gl_error(&ctx);
+}
+
+/// Three steps of `sim` on the dense gas, every iteration's counts against all pairs.
+fn every_iteration_finds_every_pair(mut sim: ParticleSim, case: &str) {
     common::set_particles(&mut sim, &random_gas(256, 7, 4.0, 0.6), |i, n| {
         (i as f32 + 0.5) / n as f32
     });
@@ -60,7 +76,7 @@ fn every_exact_iteration_finds_every_pair() {
                 let found = c[0] as usize;
                 assert!(
                     (lo[i]..=hi[i]).contains(&found),
-                    "step {step}, iteration {}, particle {i}: {found} found, {} true",
+                    "{case}: step {step}, iteration {}, particle {i}: {found} found, {} true",
                     it + 1,
                     lo[i]
                 );
@@ -72,9 +88,8 @@ fn every_exact_iteration_finds_every_pair() {
     }
     assert!(
         later_pairs > 20,
-        "later iterations saw only {later_pairs} pairs"
+        "{case}: later iterations saw only {later_pairs} pairs"
     );
-    no_gl_error(&ctx);
 }
 
 /// Restitution 1 without walls: kinetic energy is kept (to rounding) and momentum conserved, in
@@ -82,8 +97,9 @@ fn every_exact_iteration_finds_every_pair() {
 #[test]
 fn elastic_exact_collisions_keep_kinetic_energy() {
     let ctx = context();
-    for iterations in [1, 3] {
-        let s = gas_scene(&format!("iterations = {iterations}"), "");
+    // The 27 cells, and the trimmed walk on a cell of r.
+    for (iterations, cell) in [(1, 0.08), (3, 0.08), (3, 0.04)] {
+        let s = gas_scene(&format!("iterations = {iterations}\ncell = {cell}"), "");
         let mut sim = ParticleSim::new(&ctx, &s, 1).unwrap();
         common::set_particles(&mut sim, &random_gas(256, 3, 2.0, 0.6), |i, n| {
             (i as f32 + 0.5) / n as f32
@@ -96,7 +112,7 @@ fn elastic_exact_collisions_keep_kinetic_energy() {
         let scale = (2.0 * e0 * 256.0).sqrt();
         assert!(
             ((e1 - e0) / e0).abs() < 1e-4,
-            "{iterations} iterations: energy {e0} -> {e1}"
+            "{iterations} iterations, cell {cell}: energy {e0} -> {e1}"
         );
         for k in 0..3 {
             assert!(
@@ -157,6 +173,22 @@ fn an_exact_cell_too_large_is_refused_with_the_largest_that_fits() {
         "{err}"
     );
     scene::parse("ok.toml", &src(largest)).unwrap();
+    // Down to the radius the trimmed walk takes any cell (its runs cover x ± 2r, far under the
+    // bound); below it, a lattice finer than the walk is built for is refused.
+    for g in [0.04, 0.05, 0.079] {
+        assert!(
+            scene::run_capacity(g, 0.04) <= scene::EXACT_SCAN as f64,
+            "{g}"
+        );
+        scene::parse("fine.toml", &src(g)).unwrap();
+    }
+    let err = scene::parse("small.toml", &src(0.03))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("small.toml:") && err.contains("at least radius = 0.04 m"),
+        "{err}"
+    );
 }
 
 /// Searches that hit their bound are counted on the GPU over the run (one texel read back at

@@ -72,6 +72,11 @@ fn dem_cpu(xa: [f32; 3], va: [f32; 3], xb: [f32; 3], vb: [f32; 3]) -> [f64; 3] {
 }
 
 fn gas_scene(pair: Option<&str>) -> scene::SceneFile {
+    gas_scene_in(pair, CELL)
+}
+
+/// The test gas on a lattice of cell `cell`.
+fn gas_scene_in(pair: Option<&str>, cell: f32) -> scene::SceneFile {
     let src = format!(
         r#"
 name = "neighbours"
@@ -91,7 +96,7 @@ mass_range = {:?}
 {}
 [collisions]
 radius = {RADIUS}
-cell = {CELL}
+cell = {cell}
 detection = "exact"
 response = "dem"
 bounds = [[-1.0, -1.0, -1.0], [2.0, 2.0, 2.0]]
@@ -265,6 +270,36 @@ fn dem_force_matches_an_all_pairs_twin_at_several_densities() {
     }
     println!("densities (contacts per particle) {seen:?}: largest relative error {worst:e}");
     assert!(seen[0] < 1.0 && seen[3] > 6.0, "densities {seen:?}");
+    no_gl_error(&ctx);
+}
+
+/// On a cell below 2r (1.25 r) the search walks the cells within 2r, trimmed: the DEM force
+/// still equals the all-pairs twin's, sparse and dense, through the table and without it.
+#[test]
+fn dem_force_on_a_trimmed_walk_matches_the_twin() {
+    let ctx = context();
+    let s = gas_scene_in(None, 1.25 * RADIUS);
+    assert!(texflow::sim::collide::CellTables::of(&s).collisions_trimmed);
+    for (k, side) in [0.65f32, 0.36].into_iter().enumerate() {
+        for table in [false, true] {
+            let mut sim = texflow::sim::collide::cells::with_search(table, || {
+                ParticleSim::new(&ctx, &s, 1).unwrap()
+            });
+            upload_gas(&mut sim, side, 11 + k as u32);
+            sim.step().unwrap();
+            let r = (sim.collisions().unwrap())
+                .read_neighbour_forces(sim.statics())
+                .unwrap()
+                .unwrap();
+            let t = twin(&r, false);
+            assert!(
+                t.worst < 1e-5,
+                "side {side}, table {table}: relative error {}",
+                t.worst
+            );
+            assert!(t.contacts > 0.3, "side {side}: {} contacts", t.contacts);
+        }
+    }
     no_gl_error(&ctx);
 }
 

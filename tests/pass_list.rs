@@ -148,6 +148,23 @@ fn variants_draw_the_passes_they_list() {
         "both lattices' sorts name their entries"
     );
     cases.push((e4, EngineKind::Gpu));
+    // The exact detection's trimmed walk (a cell below 2 radius): impulses, and the DEM force.
+    for (name, extra) in [("gas", "detection = \"exact\""), ("dem", "")] {
+        let (_, src) = scene::load_source(name).unwrap();
+        let src = (src.replace("cell = 0.064\n", "")).replace(
+            "[collisions]\n",
+            &format!("[collisions]\n{extra}\ncell = 0.012\n"),
+        );
+        let s = scene::parse(name, &src).unwrap();
+        let lines = texflow::sim::particles::Features::of(&s).step_passes();
+        assert!(
+            lines
+                .iter()
+                .any(|p| p.name.contains("the cells within 2r of each particle")),
+            "{name}: {lines:?}"
+        );
+        cases.push((s, EngineKind::Gpu));
+    }
     cases.push((load("e1"), EngineKind::Cpu));
     cases.push((load("e3"), EngineKind::Cpu));
     let mut failures = Vec::new();

@@ -1,5 +1,6 @@
 // Exact detection, first pass: for every particle (in the cell-sorted layout) the number of live
-// particles closer than 2r in the 27 cells around it (collide/cells.glsl), and the closest of
+// particles closer than 2r in the cells around it (collide/cells.glsl: the 27 cells, or on a cell
+// below 2r those within u_search_radius = 2r), and the closest of
 // them that it approaches ((x_i - x_j) . (v_i - v_j) < 0): the response matches mutual closest
 // pairs, so a pair that the last iteration's exchange set apart leaves its particles to match
 // their other contacts in this one.
@@ -48,7 +49,7 @@ void main() {
     if (particle_live(p)) {
         g_x = p.xyz;
         g_v = texelFetch(u_velocity, t, 0).xyz;
-        search_neighbours(self);
+        search_around(self, g_x);
     }
     o_count = vec4(float(g_found), exact_truncated ? 1.0 : 0.0, float(g_closest),
                    g_closest >= 0 ? sqrt(g_d2) : 0.0);

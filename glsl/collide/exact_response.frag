@@ -1,5 +1,5 @@
 // Exact detection, second pass: the response (beyond UberFlow §4.5). Each particle visits the
-// particles of the 27 cells around it again (collide/cells.glsl). Of its partners (closer than
+// particles the count pass visited again (collide/cells.glsl). Of its partners (closer than
 // 2r), the momentum exchange of collide/pair.glsl is applied with one only: the closest it
 // approaches, and only if that partner's is this particle too (a mutual pair, weight 1). Such
 // pairs are disjoint, so every exchange is a two-body collision on its own: momentum is
@@ -96,7 +96,7 @@ void main() {
         if (g_n > 0.0) {
             g_x = x;
             g_v = v;
-            search_neighbours(g_self);
+            search_around(g_self, x);
             x += g_dx;
             v += g_dv;
 #ifdef SPIN

@@ -1,7 +1,7 @@
 // Neighbour forces over the sorted grid (UberFlow §6: "any physical model that requires access
 // to adjacent particles"): for every particle of the cell-sorted layout, the sum of the forces
-// of the particles the exact detection's search visits in the 27 cells around it
-// (collide/cells.glsl): with DEM, the contact force of collide/dem.glsl from each one closer
+// of the particles the exact detection's search visits in the 27 cells around it, or on a cell
+// below 2r those within u_search_radius = 2r (collide/cells.glsl): with DEM, the contact force of collide/dem.glsl from each one closer
 // than 2r; with N_PAIR user hooks ([[forces.pair]], spliced in front of this file as
 // pair_force_0..3 by src/sim/collide/neighbours.rs), each hook's force from each one closer
 // than its radius. Output: (summed force in N, neighbours in contact (closer than 2r)).
@@ -80,7 +80,7 @@ void main() {
         g_v = texelFetch(u_velocity, t, 0).xyz;
         g_type = int(st.y);
         g_mass = 1.0 / particle_inv_mass(g_type, st.w);
-        search_neighbours(t.y * u_key_width + t.x);
+        search_around(t.y * u_key_width + t.x, g_x);
     }
     o_force = vec4(g_force, g_contacts);
 }

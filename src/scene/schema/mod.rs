@@ -263,7 +263,10 @@ pub struct Collisions {
     /// Particles fetched to each side in the sorted texture (UberFlow: 8).
     #[serde(default = "eight")]
     pub neighbours: u32,
-    /// Lattice mesh size g0 (m); default 2 radius.
+    /// Lattice mesh size g0 (m); default 2 radius. The exact detection takes any cell from the
+    /// radius up to the largest its runs allow: from 2 radius it walks the 27 cells around a
+    /// particle's, below it the cells within 2 radius (trimmed; on a cell of one radius about
+    /// 0.39 of the volume, so of the particles, visited).
     pub cell: Option<f32>,
     /// Region the lattice covers: [min corner, max corner]; outside, cells are clamped.
     pub bounds: [[f32; 3]; 2],
@@ -274,9 +277,9 @@ pub struct Collisions {
     /// the whole texture.
     pub rows_only: Option<u32>,
     /// How pairs are found: `uberflow` (closest of `neighbours` each side in the sorted rows,
-    /// one partner per lattice) or `exact` (every particle of the 27 neighbouring cells, from a
-    /// binary search of the sorted cell keys; several partners per particle; needs the full sort
-    /// and a cell of at least 2 radius; `neighbours` and `staggered` do not apply).
+    /// one partner per lattice) or `exact` (every particle closer than 2 radius, from the cells
+    /// around it in the sorted cell keys; several partners per particle; needs the full sort and
+    /// a cell of at least the radius; `neighbours` and `staggered` do not apply).
     #[serde(default)]
     pub detection: Detection,
     /// The network of the collision sorts: `blocked` (ours, the default) or `packed`
@@ -321,8 +324,9 @@ pub enum Detection {
     /// UberFlow §4.4: the closest of k neighbours to each side in the sorted row, per lattice.
     #[default]
     Uberflow,
-    /// Every particle within 2 radius, found in the 27 cells around each particle through a
-    /// binary search of the sorted keys (fragment passes only).
+    /// Every particle within 2 radius, found in the cells around each particle (the 27 around
+    /// its cell, or on a cell below 2 radius those within 2 radius) through the sorted keys
+    /// (fragment passes only).
     Exact,
 }
 

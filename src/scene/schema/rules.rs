@@ -9,6 +9,13 @@ impl Collisions {
     pub fn cell(&self) -> f32 {
         self.cell.unwrap_or(2.0 * self.radius)
     }
+
+    /// Whether the cell is below 2 radius: the exact detection then walks the cells within 2
+    /// radius of a particle (trimmed, as the fluid's search on cells of h) instead of the 27
+    /// around its cell.
+    pub fn trims(&self) -> bool {
+        self.cell() < 2.0 * self.radius
+    }
 }
 
 impl SceneFile {

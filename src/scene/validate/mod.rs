@@ -373,13 +373,14 @@ fn collisions(s: &SceneFile) -> Check {
                  detection = \"uberflow\")",
             );
         }
-        if c.cell.is_some_and(|g| g < 2.0 * c.radius) {
+        if c.cell.is_some_and(|g| g < c.radius) {
             return fail(
                 at("cell"),
                 format!(
-                    "exact detection searches the 27 cells around a particle, so the cell must be \
-                     at least 2 radius = {} m",
-                    2.0 * c.radius
+                    "exact detection walks the cells within 2 radius of a particle (the 27 around \
+                     its cell from a cell of 2 radius up, trimmed below), so the cell must be at \
+                     least radius = {} m (a finer lattice would multiply the runs it walks)",
+                    c.radius
                 ),
             );
         }
@@ -459,7 +460,8 @@ fn collision_lattice(c: &Collisions) -> Check {
                 format!(
                     "cell {g} m is too large for the exact detection: a run of three cells could \
                      hold more than the {EXACT_SCAN} particles its search walks (spheres of radius \
-                     {} m that do not overlap); use a cell of at most {largest:.6} m",
+                     {} m that do not overlap); use a cell of at most {largest:.6} m (down to \
+                     the radius)",
                     c.radius
                 ),
             );
@@ -495,11 +497,17 @@ pub const MAX_LATTICE_CELLS: u64 = 1 << 24;
 pub const EXACT_SCAN: u32 = 64;
 
 /// An upper bound on the spheres of radius `r` with disjoint interiors whose centres lie in a run
-/// of three cells of side `g` (3g × g × g): each lies inside the run grown by r on every side,
-/// so their volumes sum to at most that box's.
+/// of cells of side `g` that the exact search walks: three cells (3g × g × g) from a cell of 2r
+/// up; below, the trimmed walk's run along x covers x ± 2r, at most 4r + 2g. Each sphere lies
+/// inside the run grown by r on every side, so their volumes sum to at most that box's.
 pub fn run_capacity(g: f32, r: f32) -> f64 {
     let (g, r) = (g as f64, r as f64);
-    (3.0 * g + 2.0 * r) * (g + 2.0 * r).powi(2) / (4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
+    let run = if g < 2.0 * r {
+        4.0 * r + 2.0 * g
+    } else {
+        3.0 * g
+    };
+    (run + 2.0 * r) * (g + 2.0 * r).powi(2) / (4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
 }
 
 /// The largest cell whose runs cannot exceed [`EXACT_SCAN`] by [`run_capacity`] (about 2.96 r).

@@ -69,14 +69,16 @@ fn targets(ctx: &Context, scene: &SceneFile, what: &str) -> Result<Vec<Framebuff
 }
 
 /// The passes that carry `states` user states along the collision sorts and exchange those
-/// named in `exchanges`, as `texflow scene passes` lists them.
-pub fn carry_passes(states: usize, exchanges: &[String]) -> Vec<String> {
+/// named in `exchanges` (their search `trimmed` where the exact detection's cell is below 2
+/// radius), as `texflow scene passes` lists them.
+pub fn carry_passes(states: usize, exchanges: &[String], trimmed: bool) -> Vec<String> {
+    let around = super::cells::walk_words(trimmed, "its radius");
     let mut out: Vec<String> = (exchanges.iter())
         .map(|name| {
             format!(
                 "exchange {name} (after the step's first collision sort): {name} += the sum of \
-                 `pair` over the live neighbours within its radius (search of the 27 cells \
-                 around each particle) [a sorted copy, swapped in after every exchange is drawn]"
+                 `pair` over the live neighbours within its radius (search of {around}) [a \
+                 sorted copy, swapped in after every exchange is drawn]"
             )
         })
         .collect();
@@ -199,6 +201,8 @@ impl CollisionStage {
                 p,
                 cells.uniforms().into_iter().chain([
                     ("u_pair_radius", Uniform::F32(e.radius)),
+                    // A trimmed walk (a cell below 2 radius) goes as far as the exchange's reach.
+                    ("u_search_radius", Uniform::F32(e.radius)),
                     ("u_dt", Uniform::F32(self.dt)),
                     ("u_time", Uniform::F32(c.time)),
                 ]),

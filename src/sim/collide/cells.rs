@@ -16,8 +16,11 @@
 //!
 //! A large fluid's lattice has cells of h, and its search (`SEARCH_TRIM`) walks only the cells
 //! within 2h of each particle (about 22 runs, each cut to the cells within 2h along x: 84 cells
-//! of h³, 0.39 of the 27 cells of 2h); a small fluid's (cells of 2h) and the collisions' exact detection walk the 27 cells
-//! around a particle's cell ([`Walk`]).
+//! of h³, 0.39 of the 27 cells of 2h); a small fluid's (cells of 2h) and the collisions' exact
+//! detection walk the 27 cells around a particle's cell ([`Walk`]), but where the exact
+//! detection's cell is below 2 radius: there it walks the cells within 2 radius, trimmed as the
+//! fluid's (on cells of one radius, about 84 cells of r³ instead of 27 of (2r)³: 0.39 of the
+//! volume, so of the particles visited).
 //!
 //! The table costs a few fetches per cell: it pays while the cells are not many more than the
 //! particles. A lattice of more cells per entry than its walk allows
@@ -64,6 +67,11 @@ pub enum Walk {
         /// for the 8,192-particle `drop`, and saved nothing at a million particles).
         trimmed: bool,
     },
+    /// The collisions' exact search on a cell below 2 radius: the cells that can hold a
+    /// partner closer than 2 radius (`SEARCH_TRIM`, as the fluid's trimmed walk), about 22 runs
+    /// and 84 cells on a cell of one radius; the neighbour forces, whose reach is at most the
+    /// cell, still walk the 27 cells.
+    Trimmed,
 }
 
 impl Walk {
@@ -74,20 +82,32 @@ impl Walk {
     /// passes for the fluid. (On llvmpipe a table of 24 cells per entry, `dem` at 64² with the
     /// 27 cells, made its collision stage 1.07 times slower; on an NVIDIA H100 the fluid at
     /// 512², 24 cells of h per entry, walked 1.5 times as long without the table as with cells
-    /// of 2h and their table.)
+    /// of 2h and their table.) The collisions' trimmed walk runs about 22 runs in two passes (the
+    /// partner count and the response) too: the fluid's rule.
     pub fn table_cells_per_entry(self) -> u64 {
         match self {
             Walk::Cells27 => 8,
-            Walk::Fluid { .. } => 32,
+            Walk::Fluid { .. } | Walk::Trimmed => 32,
         }
+    }
+
+    /// Whether it is a trimmed walk (`SEARCH_TRIM`): the fluid's on cells of h, or the
+    /// collisions' on a cell below 2 radius.
+    pub fn trims(self) -> bool {
+        matches!(self, Walk::Fluid { trimmed: true } | Walk::Trimmed)
     }
 }
 
 impl Lattice {
     /// The lattice of a scene's `[collisions]`, or its staggered twin (shifted by g0/2, one cell
-    /// more per axis).
+    /// more per axis). The exact detection on a cell below 2 radius walks it trimmed.
     pub fn of(c: &scene::Collisions, staggered: bool) -> Self {
         let g = c.cell();
+        let walk = if c.detection == scene::Detection::Exact && c.trims() {
+            Walk::Trimmed
+        } else {
+            Walk::Cells27
+        };
         let lo = Vec3::from(c.bounds[0]);
         let hi = Vec3::from(c.bounds[1]);
         let dims = ((hi - lo) / g).ceil().max(Vec3::ONE).as_uvec3();
@@ -96,14 +116,14 @@ impl Lattice {
                 origin: lo - Vec3::splat(0.5 * g),
                 spacing: g,
                 dims: dims + UVec3::ONE,
-                walk: Walk::Cells27,
+                walk,
             }
         } else {
             Lattice {
                 origin: lo,
                 spacing: g,
                 dims,
-                walk: Walk::Cells27,
+                walk,
             }
         }
     }
@@ -205,6 +225,9 @@ pub struct CellTables {
     pub collisions: bool,
     /// The fluid's lattice (cell h or 2h).
     pub fluid: bool,
+    /// Whether the exact collision search walks trimmed ([`Walk::Trimmed`], a cell below 2
+    /// radius), table or not.
+    pub collisions_trimmed: bool,
 }
 
 impl CellTables {
@@ -218,7 +241,19 @@ impl CellTables {
                 .filter(|c| c.detection == scene::Detection::Exact)
                 .is_some_and(|c| table(Lattice::of(c, false))),
             fluid: scene.fluid.is_some() && table(Lattice::of_fluid(scene)),
+            collisions_trimmed: (scene.collisions.as_ref())
+                .is_some_and(|c| Lattice::of(c, false).walk == Walk::Trimmed),
         }
+    }
+}
+
+/// Where the exact collision search looks for the neighbours of a particle, for the pass lists:
+/// the 27 cells around it, or the cells within `reach` ([`Walk::Trimmed`]).
+pub fn walk_words(trimmed: bool, reach: &str) -> String {
+    if trimmed {
+        format!("the cells within {reach} of each particle (trimmed: the cell is below 2r)")
+    } else {
+        "the 27 cells around each particle".into()
     }
 }
 
@@ -263,7 +298,7 @@ pub fn search_defines(defines: &Defines, lattice: &Lattice, size: [u32; 2]) -> D
             TABLE_WIDTH.trailing_zeros().to_string(),
         ));
     }
-    if lattice.walk == (Walk::Fluid { trimmed: true }) {
+    if lattice.walk.trims() {
         d.push(("SEARCH_TRIM".into(), "1".into()));
     }
     d

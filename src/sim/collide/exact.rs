@@ -39,8 +39,7 @@ impl CollisionStage {
                 .search()
                 .expect("the exact detection builds the search");
             let entries = (self.width * state.height()) as i32;
-            let mut search = cells.uniforms();
-            search.push(("u_radius", Uniform::F32(self.config.radius)));
+            let mut search = self.contact_search();
             let mut textures = cells.textures(g.sorted.keys());
             textures.extend([
                 ("u_position", g.sorted.layout().texture(POSITION).into()),
@@ -89,6 +88,18 @@ impl CollisionStage {
             .sorted
             .search()
             .expect("the exact detection builds the search")
+    }
+
+    /// The search's uniforms for the passes that look for contacts (closer than 2 radius): the
+    /// radius, and the reach of a trimmed walk (a cell below 2 radius), 2 radius.
+    pub(super) fn contact_search(&self) -> Vec<(&'static str, Uniform)> {
+        let r = self.config.radius;
+        let mut out = self.searched().uniforms();
+        out.extend([
+            ("u_radius", Uniform::F32(r)),
+            ("u_search_radius", Uniform::F32(2.0 * r)),
+        ]);
+        out
     }
 
     /// Whether the exact mode reads back every iteration's detection (`recorded`

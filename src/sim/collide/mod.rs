@@ -103,7 +103,12 @@ pub struct CollisionStage {
 
 /// The exact mode's passes of one iteration (`collisions.iterations` per step), as `texflow
 /// scene passes` lists them.
-pub fn exact_passes(colliders: bool, sort: scene::CollisionSort, table: bool) -> Vec<String> {
+pub fn exact_passes(
+    colliders: bool,
+    sort: scene::CollisionSort,
+    search: cells::CellTables,
+) -> Vec<String> {
+    let table = search.collisions;
     let mut out: Vec<String> = vec![
         "collision keys: cell index in the lattice (z, y, x), every iteration".into(),
         format!(
@@ -117,8 +122,9 @@ pub fn exact_passes(colliders: bool, sort: scene::CollisionSort, table: bool) ->
     }
     out.extend([
         format!(
-            "exact detection: partners closer than 2r counted in the 27 cells around each \
-             particle, and the closest ({}, at most {EXACT_SCAN} particles per run)",
+            "exact detection: partners closer than 2r counted in {}, and the closest ({}, at \
+             most {EXACT_SCAN} particles per run)",
+            cells::walk_words(search.collisions_trimmed, "2r"),
             cells::search_words(table)
         ),
         format!(

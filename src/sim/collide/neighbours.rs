@@ -171,8 +171,9 @@ pub fn neighbour_passes(
     dem: bool,
     pair: usize,
     sort: scene::CollisionSort,
-    table: bool,
+    search: super::cells::CellTables,
 ) -> Vec<String> {
+    let table = search.collisions;
     let mut what = Vec::new();
     if dem {
         what.push("the DEM contact force (spring, dashpot, shear, attraction) of every partner closer than 2r".to_owned());
@@ -195,8 +196,8 @@ pub fn neighbour_passes(
     }
     out.extend([
         format!(
-            "neighbour force: sum over the 27 cells around each particle of {} ({}, at most {} \
-             particles per run)",
+            "neighbour force: sum over {} of {} ({}, at most {} particles per run)",
+            super::cells::walk_words(search.collisions_trimmed, "2r"),
             what.join(" and "),
             super::cells::search_words(table),
             scene::EXACT_SCAN
@@ -246,8 +247,9 @@ impl CollisionStage {
             ("u_static", g.sorted.layout().texture(STATIC).into()),
         ];
         let p = &n.sum;
-        let mut uniforms = cells.uniforms();
-        uniforms.push(("u_radius", Uniform::F32(self.config.radius)));
+        // Contacts and pair forces alike: a pair force's reach is at most the cell, so at most
+        // 2 radius where the walk trims.
+        let mut uniforms = self.contact_search();
         if let Some(d) = n.dem {
             let dem = glam::Vec4::new(d.spring, d.damping, d.shear, d.attraction);
             uniforms.push(("u_dem", Uniform::Vec4(dem)));

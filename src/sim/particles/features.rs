@@ -370,6 +370,7 @@ impl Features {
             collide.extend(crate::sim::collide::carry_passes(
                 self.user_states.len(),
                 &self.exchanges,
+                self.cell_tables.collisions_trimmed,
             ));
         } else if self.fluid.is_some() {
             collide.extend(super::fluid::fluid_carry_passes(
@@ -404,7 +405,7 @@ impl Features {
                 self.dem,
                 self.pair_forces,
                 self.collision_sort,
-                self.cell_tables.collisions,
+                self.cell_tables,
             ));
         }
         if self.dem {
@@ -413,7 +414,7 @@ impl Features {
             out.extend(crate::sim::collide::exact_passes(
                 self.colliders(),
                 self.collision_sort,
-                self.cell_tables.collisions,
+                self.cell_tables,
             ));
         } else if let Some((k, staggered, rows)) = self.collisions {
             let lattices: &[&str] = if staggered {

@@ -128,13 +128,16 @@ fn every_drawn_floor_draws_no_more_than_its_phase() {
 }
 
 /// The fill floor draws the pass's fragments and changes no pixel: after it the frame is as the
-/// clear left it, for every built-in that has one, while the pass itself draws something. (A
-/// GPU that skips blends changing nothing skips every one of the floor's, so the floor is the
-/// least any pass of these fragments costs.)
+/// clear left it, for every built-in that draws particles alone, while the pass itself draws
+/// something. (A GPU that skips blends changing nothing skips every one of the floor's, so the
+/// floor is the least any pass of these fragments costs.) Where the pass draws the colliders'
+/// geometry or a connected surface (opaque, depth written), the floor draws them too: it passes
+/// the depth test with every fragment the pass writes (the same samples; the pass's fragment
+/// stage may discard more, never fewer), and a surface's floor with exactly as many.
 #[test]
 fn the_fill_floor_changes_no_pixel() {
     let ctx = common::context();
-    let mut checked = Vec::new();
+    let (mut checked, mut surfaces) = (Vec::new(), Vec::new());
     for name in texflow::scene::BUILTIN {
         let mut scene = texflow::scene::load(name).unwrap();
         scene.particles.size = [32, 32];
@@ -144,9 +147,31 @@ fn the_fill_floor_changes_no_pixel() {
             continue;
         }
         let fill = e.renderer().with_fragment("bench/fill_floor.frag").unwrap();
-        let Some(fill) = fill else { continue };
         for _ in 0..6 {
             e.advance_frame().unwrap();
+        }
+        if scene.render.geometry || e.renderer().draws_connected() {
+            let samples = texflow::gl::SamplesQuery::new(&ctx).unwrap();
+            let count = |floor: bool| {
+                e.renderer().clear(e.target());
+                let (r, n) = (samples.count(|| match floor {
+                    true => e.render_pass_with(&fill, false),
+                    false => e.render_pass(false),
+                }))
+                .unwrap();
+                r.unwrap();
+                n
+            };
+            let (floor, pass) = (count(true), count(false));
+            assert!(
+                pass > 0 && pass <= floor,
+                "{name}: floor {floor}, pass {pass} samples"
+            );
+            if e.renderer().draws_connected() {
+                assert_eq!(floor, pass, "{name}");
+            }
+            surfaces.push(name);
+            continue;
         }
         e.renderer().clear(e.target());
         let clear = e.target().read_rgb().unwrap();
@@ -163,5 +188,7 @@ fn the_fill_floor_changes_no_pixel() {
         checked.push(name);
     }
     assert!(checked.len() >= 8, "{checked:?}");
+    // cloth and hair (surfaces); snow, fountain, mesh, collide (geometry).
+    assert!(surfaces.len() >= 6, "{surfaces:?}");
     common::no_gl_error(&ctx);
 }

@@ -13,6 +13,13 @@
 
 layout(location = 0) out vec4 o_color;
 
+// CONNECTED: behind a surface's or strands' vertex stage (render/cloth.vert, strand.vert), opaque
+// with a depth write: a constant written where the pass writes, and dropped where the pass drops
+// (a primitive with a non-finite vertex), so that the floor draws no fragment the pass does not.
+#ifdef CONNECTED
+in float v_ok;
+#endif
+
 // What leaves the frame as it was under the pass's blend (render/particle.frag's outputs at
 // opacity 0): 1 for a multiplying blend, 0 for every other.
 #ifdef MULTIPLY
@@ -22,5 +29,10 @@ layout(location = 0) out vec4 o_color;
 #endif
 
 void main() {
+#ifdef CONNECTED
+    if (v_ok < 0.999) {
+        discard;
+    }
+#endif
     o_color = UNCHANGED;
 }

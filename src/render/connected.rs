@@ -121,6 +121,20 @@ impl ConnectedRenderer {
         })
     }
 
+    /// The same layout drawn with `fragment` (a benchmark's fill floor: the same vertex stage
+    /// and depth write, fragments that write a constant), compiled with `CONNECTED` defined: it
+    /// should drop the fragments the surface drops (`v_ok` below 1).
+    pub fn with_fragment(&self, fragment: &str) -> Result<Self> {
+        let mut r = Self::new(&self.ctx, self.kind, self.size, self.color)?;
+        let vert = match self.kind {
+            ConstraintKind::Cloth => "render/cloth.vert",
+            ConstraintKind::Hair => "render/strand.vert",
+        };
+        let defines: Defines = vec![("CONNECTED".into(), "1".into())];
+        r.program = Program::new(&self.ctx, vert, fragment, &defines)?;
+        Ok(r)
+    }
+
     /// The pass's name in the scene's pass list.
     pub fn pass_name(&self) -> String {
         match self.kind {
@@ -163,6 +177,8 @@ impl ConnectedRenderer {
             ("u_color", Uniform::Vec3(Vec3::from(self.color))),
             ("u_ambient", Uniform::F32(SURFACE_AMBIENT)),
         ]);
+        // A floor's constant fragment stage declares none of the shading's uniforms.
+        per_frame.retain(|(name, _)| p.declares(name));
         let primitive = match self.kind {
             ConstraintKind::Cloth => Primitive::Triangles,
             ConstraintKind::Hair => Primitive::Lines,

@@ -19,6 +19,8 @@ use super::atlas;
 
 // The pass list, in the papers' words, beside the code that draws it.
 mod names;
+// The benchmarks' fill floor: this renderer with a constant fragment stage.
+mod floor;
 use super::vertex_path::{vertex_path, VertexPath};
 use super::{
     Camera, ConnectedRenderer, FrameTarget, GeometryRenderer, ParticleStyle, RenderParams,
@@ -106,7 +108,8 @@ pub struct ParticleRenderer {
     empty: VertexArray,
     vertex: Option<VertexPath>,
     atlas: Option<Texture>,
-    geometry: Option<GeometryRenderer>,
+    /// Shared with a benchmark's floor renderer, which draws the colliders where they are now.
+    geometry: Option<std::rc::Rc<GeometryRenderer>>,
     connected: Option<ConnectedRenderer>,
     ribbons: Option<super::RibbonRenderer>,
     /// The index lookup's program variant and the sort texture's layout (Latta §3.4.4).
@@ -184,33 +187,12 @@ impl ParticleRenderer {
         self.connected.is_some()
     }
 
-    /// This renderer with its fragment stage replaced by `fragment` and no atlas: the same
-    /// vertex stage (points, sprites, quads, their sizes), blend and passes, for a benchmark's
-    /// fill floor whose fragments write a constant and fetch nothing. `None` for a renderer
-    /// that draws geometry (its depth hides fragments the copy would write) or a surface.
-    pub fn with_fragment(&self, fragment: &str) -> Result<Option<Self>> {
-        if self.geometry.is_some() || self.connected.is_some() {
-            return Ok(None);
-        }
-        let defines = super::style::style_defines(&self.ctx, &self.style)?;
-        let mut r = Self::new(&self.ctx, self.style.clone(), self.width, self.height)?;
-        r.program = Program::new(&self.ctx, "render/particle.vert", fragment, &defines)?;
-        r.atlas = None;
-        if let Some((_, layout)) = &self.lookup {
-            let mut d = defines.clone();
-            d.extend(layout.defines());
-            let p = Program::new(&self.ctx, "render/particle.vert", fragment, &d)?;
-            r.lookup = Some((p, *layout));
-        }
-        Ok(Some(r))
-    }
-
     /// Draws `geometry` (the scene's colliders) with every frame, opaque, and the particles
     /// depth-tested against it (the style's `depth_test`); the target needs a depth attachment
     /// ([`FrameTarget::with_depth`]).
     pub fn set_geometry(&mut self, geometry: GeometryRenderer) {
         self.style.depth_test = true;
-        self.geometry = Some(geometry);
+        self.geometry = Some(std::rc::Rc::new(geometry));
     }
 
     /// Draws `ribbons` between trail children after the particles, in their blend.
@@ -226,7 +208,7 @@ impl ParticleRenderer {
 
     /// Replaces the geometry's triangles (colliders that moved), if it draws geometry.
     pub fn replace_geometry(&mut self, mesh: &super::Mesh) -> Result<()> {
-        match &mut self.geometry {
+        match &self.geometry {
             Some(g) => g.replace(mesh),
             None => Ok(()),
         }

@@ -180,8 +180,9 @@ pub(super) fn render_phase(
             timed(timer, || engine.render_pass_with(fill, sorted))
         })?;
         bounds.push((
-            "fill floor: the pass's own vertex stage (the same points or sprites), same blend, \
-             a constant fragment that leaves the frame unchanged, no atlas fetch",
+            "fill floor: the pass's own vertex stage (the same points, sprites, surface or \
+             strands) and colliders' geometry, same blend and depth, a constant fragment (that \
+             leaves the frame unchanged where it blends), no atlas fetch, no shading",
             f.0,
             Some(f.1),
         ));

@@ -409,7 +409,7 @@ fn measure(
         // floors), not the plain renderer's points.
         fill: match e.lit() {
             Some(_) => None,
-            None => e.renderer().with_fragment("bench/fill_floor.frag")?,
+            None => Some(e.renderer().with_fragment("bench/fill_floor.frag")?),
         },
     };
     let sort_floors = SortFloors {

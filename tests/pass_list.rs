@@ -148,7 +148,29 @@ fn variants_draw_the_passes_they_list() {
         "both lattices' sorts name their entries"
     );
     cases.push((e4, EngineKind::Gpu));
-    // The exact detection's trimmed walk (a cell below 2 radius): impulses, and the DEM force.
+    cases.extend(trimmed_walks());
+    cases.push((load("e1"), EngineKind::Cpu));
+    cases.push((load("e3"), EngineKind::Cpu));
+    let mut failures = Vec::new();
+    for (s, kind) in cases {
+        failures.extend(frame_mismatches(&ctx, s, kind));
+    }
+    // The cell-start table of the exact searches, which the built-in scenes' lattices are too
+    // large for at 16×16: the neighbour forces, the exact iterations (with spin), the fluid.
+    for name in ["dem", "spin", "dam"] {
+        let s = load(name);
+        let run = || frame_mismatches(&ctx, s, EngineKind::Gpu);
+        failures.extend(texflow::sim::collide::cells::with_search(true, run));
+    }
+    common::no_gl_error(&ctx);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The exact detection's trimmed walk (a cell below 2 radius), with impulses and with the DEM
+/// force: each lists the walk it draws.
+fn trimmed_walks() -> Vec<(texflow::scene::SceneFile, EngineKind)> {
+    use texflow::scene;
+    let mut cases = Vec::new();
     for (name, extra) in [("gas", "detection = \"exact\""), ("dem", "")] {
         let (_, src) = scene::load_source(name).unwrap();
         let src = (src.replace("cell = 0.064\n", "")).replace(
@@ -165,21 +187,7 @@ fn variants_draw_the_passes_they_list() {
         );
         cases.push((s, EngineKind::Gpu));
     }
-    cases.push((load("e1"), EngineKind::Cpu));
-    cases.push((load("e3"), EngineKind::Cpu));
-    let mut failures = Vec::new();
-    for (s, kind) in cases {
-        failures.extend(frame_mismatches(&ctx, s, kind));
-    }
-    // The cell-start table of the exact searches, which the built-in scenes' lattices are too
-    // large for at 16×16: the neighbour forces, the exact iterations (with spin), the fluid.
-    for name in ["dem", "spin", "dam"] {
-        let s = load(name);
-        let run = || frame_mismatches(&ctx, s, EngineKind::Gpu);
-        failures.extend(texflow::sim::collide::cells::with_search(true, run));
-    }
-    common::no_gl_error(&ctx);
-    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    cases
 }
 
 /// The comparison fails both ways: a program drawn but not listed, and a pass listed but not

@@ -154,6 +154,13 @@ fn the_table_and_the_binary_search_give_the_same_state() {
         common::set_particles(sim, &particles(), |i, n| (i as f32 + 0.5) / n as f32)
     });
     assert_same_runs("exact", runs);
+    // The trimmed walk (a cell of 1.25 r, below 2 r) reads the same runs from either.
+    let mut s = exact_scene();
+    s.collisions.as_mut().unwrap().cell = Some(0.05);
+    let runs = both_searches(&ctx, &s, 6, |sim| {
+        common::set_particles(sim, &particles(), |i, n| (i as f32 + 0.5) / n as f32)
+    });
+    assert_same_runs("exact, trimmed", runs);
     for name in ["dem", "dam"] {
         let mut s = scene::load(name).unwrap();
         s.particles.size = [16, 16];

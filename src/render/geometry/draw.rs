@@ -10,6 +10,7 @@ use crate::gl::{
     Attribute, Blend, BlendComponent, BlendFactor, Buffer, BufferKind, BufferUsage, Context,
     Defines, Depth, Draw, DrawState, Primitive, Program, Uniform, VertexArray,
 };
+
 /// The soft particles' depth pass: the geometry's vertices, their view depth.
 const GEOMETRY_VERTEX: &str = "render/geometry.vert";
 const GEOMETRY_DEPTH: &str = "render/geometry_depth.frag";

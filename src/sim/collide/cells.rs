@@ -69,8 +69,8 @@ pub enum Walk {
     },
     /// The collisions' exact search on a cell below 2 radius: the cells that can hold a
     /// partner closer than 2 radius (`SEARCH_TRIM`, as the fluid's trimmed walk), about 22 runs
-    /// and 84 cells on a cell of one radius; the neighbour forces, whose reach is at most the
-    /// cell, still walk the 27 cells.
+    /// and 84 cells on a cell of one radius. The DEM force and pair forces (whose reach is at
+    /// most the cell) walk it with a reach of 2 radius too, an exchange with its own radius.
     Trimmed,
 }
 

@@ -1,11 +1,12 @@
 // Neighbour forces over the sorted grid (UberFlow §6: "any physical model that requires access
 // to adjacent particles"): for every particle of the cell-sorted layout, the sum of the forces
 // of the particles the exact detection's search visits in the 27 cells around it, or on a cell
-// below 2r those within u_search_radius = 2r (collide/cells.glsl): with DEM, the contact force of collide/dem.glsl from each one closer
-// than 2r; with N_PAIR user hooks ([[forces.pair]], spliced in front of this file as
-// pair_force_0..3 by src/sim/collide/neighbours.rs), each hook's force from each one closer
-// than its radius. Output: (summed force in N, neighbours in contact (closer than 2r)).
-// The search walks at most EXACT_SCAN particles per run of three cells (its density limit).
+// below 2r those within u_search_radius = 2r (collide/cells.glsl): with DEM, the contact force
+// of collide/dem.glsl from each one closer than 2r; with N_PAIR user hooks ([[forces.pair]],
+// spliced in front of this file as pair_force_0..3 by src/sim/collide/neighbours.rs), each
+// hook's force from each one closer than its radius. Output: (summed force in N, neighbours in
+// contact (closer than 2r)). The search walks at most EXACT_SCAN particles per run of cells
+// (its density limit).
 
 #include "common/state.glsl"
 #include "collide/cells.glsl"

@@ -104,10 +104,7 @@ impl ConnectedRenderer {
             BufferUsage::StaticDraw,
         )?;
         let vao = VertexArray::with_indices(ctx, "surface", &[], &buffer)?;
-        let (vert, frag) = match kind {
-            ConstraintKind::Cloth => ("render/cloth.vert", "render/cloth.frag"),
-            ConstraintKind::Hair => ("render/strand.vert", "render/strand.frag"),
-        };
+        let (vert, frag) = shaders(kind);
         let program = Program::new(ctx, vert, frag, &Defines::new())?;
         Ok(ConnectedRenderer {
             ctx: ctx.clone(),
@@ -126,10 +123,7 @@ impl ConnectedRenderer {
     /// should drop the fragments the surface drops (`v_ok` below 1).
     pub fn with_fragment(&self, fragment: &str) -> Result<Self> {
         let mut r = Self::new(&self.ctx, self.kind, self.size, self.color)?;
-        let vert = match self.kind {
-            ConstraintKind::Cloth => "render/cloth.vert",
-            ConstraintKind::Hair => "render/strand.vert",
-        };
+        let (vert, _) = shaders(self.kind);
         let defines: Defines = vec![("CONNECTED".into(), "1".into())];
         r.program = Program::new(&self.ctx, vert, fragment, &defines)?;
         Ok(r)
@@ -199,6 +193,14 @@ impl ConnectedRenderer {
             uniforms: &per_frame,
         });
         self.ctx.check_error("drawing the surface")
+    }
+}
+
+/// The vertex and fragment shaders that draw a `kind` layout.
+fn shaders(kind: ConstraintKind) -> (&'static str, &'static str) {
+    match kind {
+        ConstraintKind::Cloth => ("render/cloth.vert", "render/cloth.frag"),
+        ConstraintKind::Hair => ("render/strand.vert", "render/strand.frag"),
     }
 }
 

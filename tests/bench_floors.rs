@@ -85,6 +85,15 @@ fn every_drawn_floor_draws_no_more_than_its_phase() {
             // The phase is reported against the larger bound.
             let top = p.bounds.iter().map(|b| b.ms).fold(f64::MIN, f64::max);
             assert_eq!(p.floor_ms, top, "{name}: {}", p.phase);
+            // A render that depth-tests its particles against geometry drops those behind it:
+            // its placed points, drawn without the geometry, write nothing.
+            if scene.render.geometry && p.phase.starts_with("render") {
+                assert!(
+                    p.bounds[0].floor.contains("writing nothing"),
+                    "{name}: `{}` placed points write behind the geometry",
+                    p.phase
+                );
+            }
             let Some(phase) = &p.drawn else { continue };
             for b in &p.bounds {
                 let Some(floor) = &b.drawn else { continue };

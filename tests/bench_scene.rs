@@ -208,7 +208,9 @@ fn bench_scene_runs_every_built_in_scene() {
 
 /// A phase's prediction is the cost model's sum over what it drew, with the record's constants
 /// (computed here term by term); every phase whose draws were counted has one (the lit scene's
-/// slice passes are timed against points they place themselves, and have none).
+/// slice passes are timed against points they place themselves, and have none). The render
+/// pass, whose fragments were counted, is priced by the frame's constants, measured into a
+/// frame of the record's resolution.
 fn predicted_from_what_it_drew(
     name: &str,
     r: &texflow::bench::SceneBenchRecord,
@@ -223,14 +225,34 @@ fn predicted_from_what_it_drew(
     ] {
         assert!(k.is_finite() && k >= 0.0, "{name}: {c:?}");
     }
+    let f = c.frame.expect("bench scene measures the frame's constants");
+    assert_eq!(f.resolution, r.resolution, "{name}");
+    assert!(
+        f.ms_per_m_fragments >= 0.0 && f.ms_per_m_fragments.is_finite(),
+        "{name}: {f:?}"
+    );
+    assert!(
+        f.ms_per_m_points >= 0.0 && f.ms_per_m_points.is_finite(),
+        "{name}: {f:?}"
+    );
     let slices = p.phase.starts_with("light-buffer") || p.phase.starts_with("eye passes");
     match (p.drawn, p.predicted_ms) {
         (Some(d), Some(m)) => {
             let s = d.stats;
+            let (per_point, fragments) = match d.fragments {
+                Some(n) => (f.ms_per_m_points, n as f64 / 1e6 * f.ms_per_m_fragments),
+                None => (c.ms_per_m_points, 0.0),
+            };
+            assert_eq!(
+                d.fragments.is_some(),
+                p.phase.starts_with("render"),
+                "{name}"
+            );
             let want = s.draws as f64 * c.fixed_ms
                 + s.bytes_written as f64 / 1e6 * c.ms_per_mb_written
                 + s.fetches as f64 / 1e6 * c.ms_per_m_fetches
-                + s.points as f64 / 1e6 * c.ms_per_m_points;
+                + s.points as f64 / 1e6 * per_point
+                + fragments;
             // (A phase may draw nothing in a repetition: births when none is due.)
             assert!((m - want).abs() <= 1e-9 * want.max(1.0), "{name}: {p:?}");
         }

@@ -11,12 +11,25 @@
 //!
 //! predicted ms = passes × fixed + bytes × per byte + fetches × per fetch + points × per point,
 //! of the passes, bytes, declared fetches and points the GL layer counted ([`DrawStats`]).
+//!
+//! `bench scene` prices its render passes, which draw into a frame and not into the state, with
+//! two constants more, measured into a frame target of the scene's resolution ([`FrameConstants`]):
+//!
+//! | constant | microbenchmark |
+//! | --- | --- |
+//! | time per blended fragment | eight full-frame triangles blended (additive) into the frame, less the clear, per fragment |
+//! | time per point | the frame cleared, then as many one-pixel points as it has pixels, uniformly scattered and blended, less the clear and their fragments |
+//!
+//! predicted ms = draws × fixed + bytes × per byte + points × per point + fragments × per
+//! fragment, the fragments counted by a samples query around the pass. Triangles and lines (a
+//! surface, strands, the colliders' geometry) are priced by their fragments alone: no probe
+//! prices their vertices.
 
 use super::{median, FixedCost, PassTimer, RenderFloor, WriteFloor};
 use crate::error::Result;
 use crate::gl::{
-    Context, Defines, DrawStats, Framebuffer, FullscreenPass, Program, Texture, TextureDesc,
-    TextureFormat, Uniform, FULLSCREEN_VERTEX,
+    Blend, BlendComponent, BlendFactor, Context, Defines, DrawState, DrawStats, Framebuffer,
+    FullscreenPass, Program, Texture, TextureDesc, TextureFormat, Uniform, FULLSCREEN_VERTEX,
 };
 
 /// The device's constants, in milliseconds.
@@ -30,6 +43,20 @@ pub struct Constants {
     pub ms_per_m_fetches: f64,
     /// One million one-pixel points.
     pub ms_per_m_points: f64,
+    /// Drawing into a frame (`bench scene`'s render passes); `None` where not measured.
+    pub frame: Option<FrameConstants>,
+}
+
+/// The constants of drawing into a frame: a target of the scene's resolution and the renderer's
+/// format, blended additively.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+pub struct FrameConstants {
+    /// The frame measured into.
+    pub resolution: [u32; 2],
+    /// One million one-pixel points scattered over the frame, their fragments apart.
+    pub ms_per_m_points: f64,
+    /// One million fragments blended into the frame.
+    pub ms_per_m_fragments: f64,
 }
 
 impl Constants {
@@ -44,6 +71,20 @@ impl Constants {
     /// The model's time for what the GL layer counted (`draws` as passes).
     pub fn predict_drawn(&self, d: &DrawStats) -> f64 {
         self.predict(d.draws, d.bytes_written, d.fetches, d.points)
+    }
+
+    /// The model's time for a pass drawing into a frame that passed `fragments` (a samples
+    /// query's count): its points and fragments at the frame's constants where measured, else
+    /// as [`predict_drawn`](Self::predict_drawn).
+    pub fn predict_frame(&self, d: &DrawStats, fragments: u64) -> f64 {
+        match self.frame {
+            Some(f) => {
+                self.predict(d.draws, d.bytes_written, d.fetches, 0)
+                    + d.points as f64 * 1e-6 * f.ms_per_m_points
+                    + fragments as f64 * 1e-6 * f.ms_per_m_fragments
+            }
+            None => self.predict_drawn(d),
+        }
     }
 }
 
@@ -117,5 +158,64 @@ pub fn measure_constants(
         ms_per_mb_written: per_m(write - fixed_ms, bytes),
         ms_per_m_fetches: per_m(fetch - write, fetches as f64 * points as f64),
         ms_per_m_points: per_m(drawn - write, points as f64),
+        frame: None,
+    })
+}
+
+/// Full-frame triangles drawn for the fragment probe: enough fragments to time well above a
+/// timer's resolution at small frames.
+const FRAGMENT_PROBE_DRAWS: usize = 8;
+
+/// Measures the frame constants into `frame` (the scene's frame target: its size, format and
+/// depth attachment, not tested), medians of `repeats`. Leaves `frame` holding the probes'
+/// colours: a render clears it first.
+pub fn measure_frame_constants(
+    ctx: &Context,
+    timer: &PassTimer,
+    frame: &Framebuffer,
+    repeats: usize,
+) -> Result<FrameConstants> {
+    let med = |f: &mut dyn FnMut() -> Result<f64>| -> Result<f64> {
+        let mut t = Vec::new();
+        for _ in 0..repeats.max(1) {
+            t.push(f()?);
+        }
+        Ok(median(&t))
+    };
+    let additive = Blend {
+        color: BlendComponent::add(BlendFactor::One, BlendFactor::One),
+        alpha: BlendComponent::add(BlendFactor::One, BlendFactor::One),
+    };
+    let state = DrawState {
+        blend: Some(additive),
+        ..DrawState::REPLACE
+    };
+    let d: Defines = vec![("TARGETS".into(), "1".into())];
+    let program = Program::new(ctx, FULLSCREEN_VERTEX, "common/write_floor.frag", &d)?;
+    let pass = FullscreenPass::new(ctx)?;
+    // A visible value: a blend that changes nothing may be skipped (NVIDIA does).
+    let value = [(
+        "u_value",
+        Uniform::Vec4(glam::Vec4::new(0.002, 0.001, 0.0005, 0.001)),
+    )];
+    let clear = med(&mut || timer.time(|| frame.clear([0.0; 4])))?;
+    let blended = med(&mut || {
+        timer.time(|| {
+            frame.clear([0.0; 4]);
+            for _ in 0..FRAGMENT_PROBE_DRAWS {
+                pass.draw_with(&program, &[], &value, frame, &state);
+            }
+        })
+    })?;
+    let pixels = frame.width() as f64 * frame.height() as f64;
+    let fragment = (blended - clear).max(0.0) / (FRAGMENT_PROBE_DRAWS as f64 * pixels);
+    let render = RenderFloor::new(ctx)?;
+    let points = frame.width() as usize * frame.height() as usize;
+    let drawn = med(&mut || timer.time(|| render.draw(frame, [0.0; 4], Some(additive), points)))?;
+    let point = ((drawn - clear) / pixels - fragment).max(0.0);
+    Ok(FrameConstants {
+        resolution: [frame.width(), frame.height()],
+        ms_per_m_points: point * 1e6,
+        ms_per_m_fragments: fragment * 1e6,
     })
 }

@@ -36,7 +36,7 @@
 //! Each repetition first times a whole frame (`substeps` steps, then the frame's drawing), then
 //! each phase once, each finished before the next (a phase's time is one step's, not a frame's).
 
-use super::cost::{measure_constants, Constants};
+use super::cost::{measure_constants, measure_frame_constants, Constants, FrameConstants};
 use super::scenes::default_warmup_frames;
 use super::stats::{median, Clock, PassTimer, WriteFloor};
 use crate::engine::{timed, Stages};
@@ -77,7 +77,8 @@ pub struct PhaseRecord {
     /// What the phase drew in the last repetition, where its floors are drawn passes.
     pub drawn: Option<Drawn>,
     /// The cost model's time for what the phase drew ([`Constants::predict_drawn`] with the
-    /// record's [`constants`](SceneBenchRecord::constants)); `None` where nothing was counted.
+    /// record's [`constants`](SceneBenchRecord::constants); [`Constants::predict_frame`] for
+    /// the render pass, whose fragments were counted); `None` where nothing was counted.
     pub predicted_ms: Option<f64>,
 }
 
@@ -232,7 +233,11 @@ impl Phases {
                     floor: top.floor,
                     bounds,
                     drawn: p.drawn,
-                    predicted_ms: p.drawn.map(|d| c.predict_drawn(&d.stats)),
+                    // A pass whose fragments were counted draws into the frame.
+                    predicted_ms: p.drawn.map(|d| match d.fragments {
+                        Some(f) => c.predict_frame(&d.stats, f),
+                        None => c.predict_drawn(&d.stats),
+                    }),
                 }
             })
             .collect()
@@ -282,7 +287,11 @@ pub fn bench_scene(
         }
         let warmup = warmup_frames(&s, opts.warmup_frames)?;
         let constants = measure_constants(ctx, &timer, size.max(256), opts.repeats)?;
-        let (phases, frame, live, model) = measure(ctx, &s, warmup, &timer, opts)?;
+        let (phases, frame, live, model, frame_constants) = measure(ctx, &s, warmup, &timer, opts)?;
+        let constants = Constants {
+            frame: Some(frame_constants),
+            ..constants
+        };
         if live.live == 0 && live.non_finite > 0 {
             return Err(Error::InvalidInput(format!(
                 "scene {} at {size}x{size}: after {warmup} warm-up frame(s) and the timed ones, \
@@ -386,7 +395,7 @@ fn measure(
     warmup: usize,
     timer: &PassTimer,
     opts: &SceneBenchOptions,
-) -> Result<(Phases, f64, Alive, &'static str)> {
+) -> Result<(Phases, f64, Alive, &'static str, FrameConstants)> {
     let mut engine = crate::engine::build_gpu(ctx, s, opts.seed)?;
     let e = engine.as_mut();
     for _ in 0..warmup {
@@ -397,6 +406,9 @@ fn measure(
         e.draw()?;
     }
     let state_floors = StateFloors::new(ctx, e.sim())?;
+    // The render's constants, into its own frame (the render clears it first).
+    let frame_constants =
+        measure_frame_constants(ctx, timer, e.target().framebuffer(), opts.repeats)?;
     let floor1 = WriteFloor::new(ctx, 1)?;
     let gather = match e.sorted() {
         Some(sorted) => Some(WriteFloor::for_target(ctx, sorted)?),
@@ -434,5 +446,11 @@ fn measure(
         phases.next_repetition();
     }
     let live = alive(ctx, e, s)?;
-    Ok((phases, median(&frames[1..]), live, e.model()))
+    Ok((
+        phases,
+        median(&frames[1..]),
+        live,
+        e.model(),
+        frame_constants,
+    ))
 }

@@ -29,6 +29,13 @@ pub fn scene_markdown(records: &[SceneBenchRecord]) -> String {
              written, {:.4} ms per million declared fetches, {:.4} ms per million points.\n\n",
             c.fixed_ms, c.ms_per_mb_written, c.ms_per_m_fetches, c.ms_per_m_points
         );
+        if let Some(f) = &c.frame {
+            out += &format!(
+                "Into the {}x{} frame (the render pass): {:.4} ms per million points, {:.4} ms \
+                 per million blended fragments.\n\n",
+                f.resolution[0], f.resolution[1], f.ms_per_m_points, f.ms_per_m_fragments
+            );
+        }
         out += "| phase | ms | floor_ms | ratio | floor | bounds_ms | predicted_ms | \
                 predicted / ms |\n\
                 |---|---:|---:|---:|---|---|---:|---:|\n";

@@ -116,3 +116,43 @@ fn the_command_prints_a_table_and_json() {
     assert!(!out.status.success());
     assert!(common::cli::stderr(&out).contains("unknown scene"));
 }
+
+/// A timer on the GPU clock queues a lead pass before each timed range (so that the CPU's
+/// submission is not timed as GPU time); that pass is no part of what is timed: the draws
+/// counted, recorded and profiled around a timed draw are the draw's alone, as under the wall
+/// clock, which has no lead.
+#[test]
+fn the_timers_lead_pass_is_neither_counted_nor_recorded() {
+    use texflow::gl::{Clock, DrawProfiler, DrawRecorder, Framebuffer, PassTimer, Texture};
+    let ctx = common::context();
+    let desc = texflow::gl::TextureDesc {
+        width: 8,
+        height: 4,
+        format: texflow::gl::TextureFormat::Rgba32F,
+        label: "timed",
+    };
+    let fb = Framebuffer::new(&ctx, "timed", vec![Texture::new(&ctx, desc).unwrap()]).unwrap();
+    let floor = texflow::bench::WriteFloor::new(&ctx, 1).unwrap();
+    let mut seen = Vec::new();
+    for clock in [Clock::Wall, Clock::Gpu] {
+        let timer = PassTimer::new(&ctx, clock).unwrap();
+        ctx.take_draw_stats();
+        let recorder = DrawRecorder::start();
+        let profiler = DrawProfiler::start(Clock::Wall);
+        let ms = timer.time(|| floor.draw(&fb)).unwrap();
+        let profiled = profiler.finish().unwrap();
+        let programs = recorder.finish();
+        let stats = ctx.take_draw_stats();
+        assert!(ms.is_finite() && ms >= 0.0, "{clock:?}: {ms}");
+        assert_eq!(
+            (stats.draws, stats.bytes_written),
+            (1, 8 * 4 * 16),
+            "{clock:?}"
+        );
+        assert_eq!(programs.len(), 1, "{clock:?}: {programs:?}");
+        assert_eq!(profiled.len(), 1, "{clock:?}");
+        seen.push(programs);
+    }
+    assert_eq!(seen[0], seen[1]);
+    common::no_gl_error(&ctx);
+}

@@ -7,6 +7,7 @@ use crate::bench::stats::{PassTimer, PlacedRenderFloor};
 use crate::engine::Stages;
 use crate::error::Result;
 use crate::gl::{Context, DrawStats, SamplesQuery};
+use crate::render::ParticleStyle;
 use crate::scene::SceneFile;
 use crate::scene::{DrawMode, DrawPrimitive};
 
@@ -111,6 +112,39 @@ pub(super) fn counted(
     ))
 }
 
+/// The placed points' bound where they write: the pass's own points of one size.
+const PLACED_WRITING: &str = "clear + the live particles as points where they are, as many as \
+     the pass draws, at its point size, same blend, no fetch (a surface or strands: the clear \
+     alone)";
+/// The placed points' bound where they write nothing.
+const PLACED_SILENT: &str = "clear + the live particles as points where they are, as many as \
+     the pass draws, at its point size (round points, or depth-tested against geometry) or one \
+     pixel (sprites, quads), writing nothing (the vertex stage and rasterization alone; a \
+     surface or strands: the clear alone)";
+
+/// The placed points' size and whether they write, for a render of `style` at `point_size`.
+fn placed_points(style: &ParticleStyle, point_size: f32) -> (f32, bool) {
+    // At the pass's point size where every particle is drawn at it (points of one size);
+    // else one pixel, which any sprite or quad of at least a pixel covers at its centre
+    // (sprites' sizes vary with the type, the age and size_range, down below point_size).
+    let uniform = style.mode == DrawMode::Points
+        && style.primitive == DrawPrimitive::Points
+        && style.types.iter().all(|t| t.size_range == [1.0; 2]);
+    // The floor writes only where it covers what the pass writes: square points of one size.
+    // Round points (the soft fire) leave their corners as they were, one-pixel points stand in
+    // for larger sprites whose blends spread over their area; a floor writing there costs what
+    // the pass does not (NVIDIA, the fire at 4096²: 168 ms against its render's 142 ms), so
+    // those points write nothing, their vertex stage and rasterization a lower bound of any
+    // pass that draws them.
+    let round = style.fire.is_some_and(|f| f.soft);
+    // A pass that depth-tests its particles against the colliders' geometry writes none of
+    // those behind it; the placed points, drawn without the geometry, blended every one
+    // (`collide` on the H100 at 256²: the points bound 1.56 times its render). They write
+    // nothing there: the fill floor, which draws the geometry, is the bound that writes.
+    let writes = uniform && !round && !style.depth_test;
+    (if uniform { point_size } else { 1.0 }, writes)
+}
+
 /// The render pass against two bounds: the particles as points where they are (as many
 /// vertices as the pass draws, its point size and blend, no fetch), and the fill floor (the
 /// same points or sprites through the pass's own vertex stage, its blend, a constant fragment
@@ -132,25 +166,8 @@ pub(super) fn render_phase(
     let placed = PlacedRenderFloor::new(ctx, &engine.sim().drawn().positions.read_f32()?)?;
     let [rw, rh] = s.render.resolution;
     let view_proj = engine.camera().view_projection(rw as f32 / rh as f32);
-    // At the pass's point size where every particle is drawn at it (points of one size);
-    // else one pixel, which any sprite or quad of at least a pixel covers at its centre
-    // (sprites' sizes vary with the type, the age and size_range, down below point_size).
-    let uniform = style.mode == DrawMode::Points
-        && style.primitive == DrawPrimitive::Points
-        && style.types.iter().all(|t| t.size_range == [1.0; 2]);
-    let camera = (&view_proj, if uniform { params.point_size } else { 1.0 });
-    // The floor writes only where it covers what the pass writes: square points of one size.
-    // Round points (the soft fire) leave their corners as they were, one-pixel points stand in
-    // for larger sprites whose blends spread over their area; a floor writing there costs what
-    // the pass does not (NVIDIA, the fire at 4096²: 168 ms against its render's 142 ms), so
-    // those points write nothing, their vertex stage and rasterization a lower bound of any
-    // pass that draws them.
-    let round = style.fire.is_some_and(|f| f.soft);
-    // A pass that depth-tests its particles against the colliders' geometry writes none of
-    // those behind it; the placed points, drawn without the geometry, blended every one
-    // (`collide` on the H100 at 256²: the points bound 1.56 times its render). They write
-    // nothing there: the fill floor, which draws the geometry, is the bound that writes.
-    let writes = uniform && !round && !style.depth_test;
+    let (size, writes) = placed_points(style, params.point_size);
+    let camera = (&view_proj, size);
     // The live rows' particles (the simulation's drawn count): every live particle is among
     // them, sorted or not (the snapshot is of the simulation's own order), and no pass draws
     // fewer vertices with a live one left out. (Every texel, when sorted, was more than a
@@ -170,19 +187,12 @@ pub(super) fn render_phase(
     let points = counted(ctx, samples, || {
         timer.time(|| placed.draw(fb, (clear, blend, writes), camera, count))
     })?;
-    let mut bounds = vec![(
-        if writes {
-            "clear + the live particles as points where they are, as many as the pass draws, at \
-             its point size, same blend, no fetch (a surface or strands: the clear alone)"
-        } else {
-            "clear + the live particles as points where they are, as many as the pass draws, at \
-             its point size (round points, or depth-tested against geometry) or one pixel \
-             (sprites, quads), writing nothing (the vertex stage and rasterization alone; a \
-             surface or strands: the clear alone)"
-        },
-        points.0,
-        Some(points.1),
-    )];
+    let text = if writes {
+        PLACED_WRITING
+    } else {
+        PLACED_SILENT
+    };
+    let mut bounds = vec![(text, points.0, Some(points.1))];
     if let Some(fill) = &on.fill {
         let f = counted(ctx, samples, || {
             timed(timer, || engine.render_pass_with(fill, sorted))

@@ -279,15 +279,6 @@ impl Context {
         }
     }
 
-    /// Runs draw `d` unseen: not counted in the [`DrawStats`](super::DrawStats), not recorded
-    /// and not profiled (a timer's lead pass, no part of what it times).
-    pub(super) fn draw_unseen(&self, d: &Draw<'_>) {
-        let mut kept = super::DrawStats::default();
-        self.update_stats(|s| kept = *s);
-        super::profile::hidden(|| super::record::hidden(|| self.draw(d)));
-        self.update_stats(|s| *s = kept);
-    }
-
     fn set_state(&self, s: &DrawState) {
         // SAFETY: plain state changes on the current context.
         unsafe {

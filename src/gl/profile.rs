@@ -44,14 +44,6 @@ thread_local! {
     static PROFILE: RefCell<Option<Log>> = const { RefCell::new(None) };
 }
 
-/// Runs `f` with the profile paused: its draws are not timed (a timer's lead pass).
-pub(super) fn hidden<T>(f: impl FnOnce() -> T) -> T {
-    let log = PROFILE.with(|p| p.borrow_mut().take());
-    let out = f();
-    PROFILE.with(|p| *p.borrow_mut() = log);
-    out
-}
-
 /// Times every draw on this thread from [`DrawProfiler::start`] until
 /// [`DrawProfiler::finish`] (or the profiler's drop, which discards the times). One at a time:
 /// starting another replaces the profile under way, and dropping either ends it.

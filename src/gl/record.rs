@@ -15,17 +15,6 @@ thread_local! {
     static SERIAL: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
-/// Runs `f` with the program log and the shape recorder paused: draws that are no part of what
-/// is recorded (a timer's lead pass).
-pub(super) fn hidden<T>(f: impl FnOnce() -> T) -> T {
-    let log = LOG.with(|l| l.borrow_mut().take());
-    let shapes = SHAPES.with(|s| s.borrow_mut().take());
-    let out = f();
-    LOG.with(|l| *l.borrow_mut() = log);
-    SHAPES.with(|s| *s.borrow_mut() = shapes);
-    out
-}
-
 /// Notes texture `raw` as made: its serial number.
 pub(super) fn made(raw: glow::Texture) -> u64 {
     let id = SERIAL.with(|s| {

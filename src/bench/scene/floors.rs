@@ -181,8 +181,9 @@ pub(super) fn render_phase(
     } else {
         engine.sim().drawn().count
     };
-    // Drawn once untimed first: the snapshot's buffer is new, and its first draw pays its
-    // upload (on the H200 at 256², the floor's 65k points 0.017 ms above the pass they bound).
+    // Drawn once untimed first: the snapshot's buffer is new each repetition, and a first draw
+    // may pay its upload (on the H200 at 256² these points took 11-18 µs more than the render
+    // they bound, writing or not).
     placed.draw(fb, (clear, blend, false), camera, count);
     let points = counted(ctx, samples, || {
         timer.time(|| placed.draw(fb, (clear, blend, writes), camera, count))

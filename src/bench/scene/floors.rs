@@ -182,7 +182,7 @@ pub(super) fn render_phase(
         engine.sim().drawn().count
     };
     // Drawn once untimed first: the snapshot's buffer is new each repetition, and a first draw
-    // may pay its upload (on the H200 at 256² these points took 11-18 µs more than the render
+    // may pay its upload (on the H200 at 256² these points took 11-30 µs more than the render
     // they bound, writing or not).
     placed.draw(fb, (clear, blend, false), camera, count);
     let points = counted(ctx, samples, || {

@@ -104,6 +104,15 @@ fn texture(ctx: &Context, side: u32, label: &str) -> Result<Texture> {
 const WARM_UP_MS: f64 = 200.0;
 const WARM_UP_DRAWS: usize = 2000;
 
+/// The median of `repeats` (at least one) runs of `f`.
+fn median_of(repeats: usize, f: &mut dyn FnMut() -> Result<f64>) -> Result<f64> {
+    let mut t = Vec::new();
+    for _ in 0..repeats.max(1) {
+        t.push(f()?);
+    }
+    Ok(median(&t))
+}
+
 /// Measures the constants on `ctx` with side² targets (medians of `repeats`).
 pub fn measure_constants(
     ctx: &Context,
@@ -111,13 +120,7 @@ pub fn measure_constants(
     side: u32,
     repeats: usize,
 ) -> Result<Constants> {
-    let med = |f: &mut dyn FnMut() -> Result<f64>| -> Result<f64> {
-        let mut t = Vec::new();
-        for _ in 0..repeats.max(1) {
-            t.push(f()?);
-        }
-        Ok(median(&t))
-    };
+    let med = |f: &mut dyn FnMut() -> Result<f64>| median_of(repeats, f);
     let target = Framebuffer::new(
         ctx,
         "cost model target",
@@ -175,13 +178,7 @@ pub fn measure_frame_constants(
     frame: &Framebuffer,
     repeats: usize,
 ) -> Result<FrameConstants> {
-    let med = |f: &mut dyn FnMut() -> Result<f64>| -> Result<f64> {
-        let mut t = Vec::new();
-        for _ in 0..repeats.max(1) {
-            t.push(f()?);
-        }
-        Ok(median(&t))
-    };
+    let med = |f: &mut dyn FnMut() -> Result<f64>| median_of(repeats, f);
     let additive = Blend {
         color: BlendComponent::add(BlendFactor::One, BlendFactor::One),
         alpha: BlendComponent::add(BlendFactor::One, BlendFactor::One),

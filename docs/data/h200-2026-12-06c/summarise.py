@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Summarises `texflow bench scene NAME --json` outputs (bs_NAME.txt in a folder): every phase's
 ratio to its floor, the phases under 0.95 and over 1.5 (with the largest bound measured beside the
-floor, and the phase over it), and the cost model's predicted / measured per phase.
+floor, and the phase over it), and the cost model's predicted / measured per phase, and by
+the kind of phase (the words before its first colon or space).
 
     python3 summarise.py FOLDER
 """
@@ -21,6 +22,7 @@ for f in sorted(glob.glob(os.path.join(folder, "bs_*.txt"))):
             bounds = [b["ms"] for b in p.get("bounds") or [] if b.get("ms") is not None]
             rows.append(
                 dict(
+                    kind=p["phase"].split(" ")[0].split(":")[0],
                     scene=scene,
                     size=f"{side}²",
                     phase=p["phase"],
@@ -51,3 +53,11 @@ print(
     f"\ncost model: {inside} of {len(pred)} phases predicted within ±25 %, "
     f"median predicted / measured {statistics.median(pred):.2f}"
 )
+by_kind = {}
+for x in rows:
+    if x["predicted"] and x["ms"] > 0:
+        by_kind.setdefault(x["kind"], []).append(x["predicted"] / x["ms"])
+print("\n| phase kind | phases | within ±25 % | median predicted / measured | range |\n|---|---:|---:|---:|---|")
+for k, v in sorted(by_kind.items()):
+    n = sum(1 for r in v if 0.75 <= r <= 1.25)
+    print(f"| {k} | {len(v)} | {n} | {statistics.median(v):.2f} | {min(v):.2f}-{max(v):.2f} |")

@@ -17,8 +17,8 @@
 //!
 //! | constant | microbenchmark |
 //! | --- | --- |
-//! | time per blended fragment | eight full-frame triangles blended (additive) into the frame, less the clear, per fragment |
-//! | time per point | the frame cleared, then as many one-pixel points as it has pixels, uniformly scattered and blended, less the clear and their fragments |
+//! | time per blended fragment | eight full-frame triangles blended (additive) into the frame, less the clear and their draws' fixed cost, per fragment |
+//! | time per point | the frame cleared, then as many one-pixel points as it has pixels, uniformly scattered and blended, less the clear, the draw's fixed cost and their fragments |
 //!
 //! predicted ms = draws × fixed + bytes × per byte + points × per point + fragments × per
 //! fragment, the fragments counted by a samples query around the pass. Triangles and lines (a
@@ -170,12 +170,14 @@ pub fn measure_constants(
 const FRAGMENT_PROBE_DRAWS: usize = 8;
 
 /// Measures the frame constants into `frame` (the scene's frame target: its size, format and
-/// depth attachment, not tested), medians of `repeats`. Leaves `frame` holding the probes'
-/// colours: a render clears it first.
+/// depth attachment, not tested), medians of `repeats`, less `fixed_ms` a draw (the fixed cost
+/// of a pass measured in the same run, which the model charges each draw apart). Leaves `frame`
+/// holding the probes' colours: a render clears it first.
 pub fn measure_frame_constants(
     ctx: &Context,
     timer: &PassTimer,
     frame: &Framebuffer,
+    fixed_ms: f64,
     repeats: usize,
 ) -> Result<FrameConstants> {
     let med = |f: &mut dyn FnMut() -> Result<f64>| median_of(repeats, f);
@@ -205,11 +207,12 @@ pub fn measure_frame_constants(
         })
     })?;
     let pixels = frame.width() as f64 * frame.height() as f64;
-    let fragment = (blended - clear).max(0.0) / (FRAGMENT_PROBE_DRAWS as f64 * pixels);
+    let draws = FRAGMENT_PROBE_DRAWS as f64;
+    let fragment = (blended - clear - draws * fixed_ms).max(0.0) / (draws * pixels);
     let render = RenderFloor::new(ctx)?;
     let points = frame.width() as usize * frame.height() as usize;
     let drawn = med(&mut || timer.time(|| render.draw(frame, [0.0; 4], Some(additive), points)))?;
-    let point = ((drawn - clear) / pixels - fragment).max(0.0);
+    let point = ((drawn - clear - fixed_ms) / pixels - fragment).max(0.0);
     Ok(FrameConstants {
         resolution: [frame.width(), frame.height()],
         ms_per_m_points: point * 1e6,

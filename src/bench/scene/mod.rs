@@ -287,7 +287,8 @@ pub fn bench_scene(
         }
         let warmup = warmup_frames(&s, opts.warmup_frames)?;
         let constants = measure_constants(ctx, &timer, size.max(256), opts.repeats)?;
-        let (phases, frame, live, model, frame_constants) = measure(ctx, &s, warmup, &timer, opts)?;
+        let (phases, frame, live, model, frame_constants) =
+            measure(ctx, &s, warmup, &timer, constants.fixed_ms, opts)?;
         let constants = Constants {
             frame: Some(frame_constants),
             ..constants
@@ -388,12 +389,14 @@ fn alive(ctx: &Context, engine: &dyn Stages, s: &SceneFile) -> Result<Alive> {
 }
 
 /// Every phase of `s`'s frame over the repetitions, the whole frame's median ms, what is
-/// alive at the end, and the engine's model.
+/// alive at the end, the engine's model, and the constants of its frame (`fixed_ms`: the fixed
+/// cost of a pass, measured in the same run).
 fn measure(
     ctx: &Context,
     s: &SceneFile,
     warmup: usize,
     timer: &PassTimer,
+    fixed_ms: f64,
     opts: &SceneBenchOptions,
 ) -> Result<(Phases, f64, Alive, &'static str, FrameConstants)> {
     let mut engine = crate::engine::build_gpu(ctx, s, opts.seed)?;
@@ -408,7 +411,7 @@ fn measure(
     let state_floors = StateFloors::new(ctx, e.sim())?;
     // The render's constants, into its own frame (the render clears it first).
     let frame_constants =
-        measure_frame_constants(ctx, timer, e.target().framebuffer(), opts.repeats)?;
+        measure_frame_constants(ctx, timer, e.target().framebuffer(), fixed_ms, opts.repeats)?;
     let floor1 = WriteFloor::new(ctx, 1)?;
     let gather = match e.sorted() {
         Some(sorted) => Some(WriteFloor::for_target(ctx, sorted)?),

@@ -28,8 +28,8 @@
 use super::{median, FixedCost, PassTimer, RenderFloor, WriteFloor};
 use crate::error::Result;
 use crate::gl::{
-    Blend, BlendComponent, BlendFactor, Context, Defines, DrawState, DrawStats, Framebuffer,
-    FullscreenPass, Program, Texture, TextureDesc, TextureFormat, Uniform, FULLSCREEN_VERTEX,
+    Blend, Context, Defines, DrawState, DrawStats, Framebuffer, FullscreenPass, Program, Texture,
+    TextureDesc, TextureFormat, Uniform, FULLSCREEN_VERTEX,
 };
 
 /// The device's constants, in milliseconds.
@@ -181,10 +181,7 @@ pub fn measure_frame_constants(
     repeats: usize,
 ) -> Result<FrameConstants> {
     let med = |f: &mut dyn FnMut() -> Result<f64>| median_of(repeats, f);
-    let additive = Blend {
-        color: BlendComponent::add(BlendFactor::One, BlendFactor::One),
-        alpha: BlendComponent::add(BlendFactor::One, BlendFactor::One),
-    };
+    let additive = Blend::SUM;
     let state = DrawState {
         blend: Some(additive),
         ..DrawState::REPLACE

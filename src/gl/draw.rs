@@ -110,6 +110,14 @@ pub struct Blend {
     pub alpha: BlendComponent,
 }
 
+impl Blend {
+    /// `src + dst` in every channel: a sum added into a tally, an additive probe.
+    pub const SUM: Blend = Blend {
+        color: BlendComponent::add(BlendFactor::One, BlendFactor::One),
+        alpha: BlendComponent::add(BlendFactor::One, BlendFactor::One),
+    };
+}
+
 /// Where a point's size comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum PointSize {

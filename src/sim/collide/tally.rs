@@ -11,8 +11,8 @@
 
 use crate::error::Result;
 use crate::gl::{
-    Blend, BlendComponent, BlendFactor, Context, DrawState, Framebuffer, FullscreenPass, Program,
-    Texture, TextureDesc, TextureFormat, Uniform, FULLSCREEN_VERTEX,
+    Blend, Context, DrawState, Framebuffer, FullscreenPass, Program, Texture, TextureDesc,
+    TextureFormat, Uniform, FULLSCREEN_VERTEX,
 };
 
 /// Texels a side of the block each fragment of the reduction sums.
@@ -111,12 +111,8 @@ impl TruncationTally {
             at = [t.width(), t.height()];
             (count, comp) = ((at[0] * at[1]) as i32, -1);
         }
-        let add = BlendComponent::add(BlendFactor::One, BlendFactor::One);
         let state = DrawState {
-            blend: Some(Blend {
-                color: add,
-                alpha: add,
-            }),
+            blend: Some(Blend::SUM),
             ..DrawState::REPLACE
         };
         let u = uniforms(at, count, comp);

@@ -52,17 +52,39 @@ fn every_exact_iteration_finds_every_pair() {
             let sim = texflow::sim::collide::cells::with_search(table, || {
                 ParticleSim::new(&ctx, &s, 1).unwrap()
             });
-            every_iteration_finds_every_pair(sim, &format!("cell {cell:?}, table {table}"));
+            let gas = random_gas(256, 7, 4.0, 0.6);
+            every_iteration_finds_every_pair(sim, &gas, &format!("cell {cell:?}, table {table}"));
         }
     }
     no_gl_error(&ctx);
 }
 
-/// Three steps of `sim` on the dense gas, every iteration's counts against all pairs.
-fn every_iteration_finds_every_pair(mut sim: ParticleSim, case: &str) {
-    common::set_particles(&mut sim, &random_gas(256, 7, 4.0, 0.6), |i, n| {
-        (i as f32 + 0.5) / n as f32
-    });
+/// The count pass takes the particles in tiles of 16 × 16 pixels (`walk_order`) and writes in
+/// that order: in a 32 × 64 state (two tiles a row, four rows of them) with 1,900 live
+/// particles among 2,048 texels at the dense gas's density, and in an 8 × 64 one (narrower than
+/// a tile: sorted order), every iteration's counts, read back in sorted order, equal all pairs'.
+#[test]
+fn counts_in_tiles_find_every_pair() {
+    let ctx = context();
+    for (size, tiled) in [([32, 64], true), ([8, 64], false)] {
+        let mut s = gas_scene("iterations = 4", "");
+        s.resize_particles(size);
+        assert_eq!(texflow::sim::collide::walk_order::tiled(size), tiled);
+        let sim = ParticleSim::new(&ctx, &s, 1).unwrap();
+        let n = size[0] as usize * size[1] as usize * 1900 / 2048;
+        let extent = 0.6 * (n as f32 / 256.0).cbrt();
+        every_iteration_finds_every_pair(sim, &random_gas(n, 7, 4.0, extent), &format!("{size:?}"));
+    }
+    no_gl_error(&ctx);
+}
+
+/// Three steps of `sim` on the dense `gas`, every iteration's counts against all pairs.
+fn every_iteration_finds_every_pair(
+    mut sim: ParticleSim,
+    gas: &[([f32; 3], [f32; 3])],
+    case: &str,
+) {
+    common::set_particles(&mut sim, gas, |i, n| (i as f32 + 0.5) / n as f32);
     sim.collisions_mut().unwrap().record_iterations(true);
     let mut later_pairs = 0;
     for step in 0..3 {

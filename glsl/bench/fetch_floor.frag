@@ -148,7 +148,9 @@ void main() {
     vec4 f = vec4(0.0);
     uvec4 u = uvec4(0u);
 #ifdef WALK
-    vec4 own = texelFetch(u_position, p, 0);
+    // The particle the pass's fragment here took (in the walk's order: collide/sorted_keys.glsl).
+    int self = walk_index(p);
+    vec4 own = texelFetch(u_position, key_texel(self), 0);
     f += own;
     if (own.w > 0.0) {
 #endif
@@ -231,7 +233,7 @@ void main() {
     u += FETCH3(u_u3_1, u_u3_size[1]);
 #endif
 #ifdef WALK
-    search_around(p.y * u_key_width + p.x, own.xyz);
+    search_around(self, own.xyz);
     f += walked;
     }
 #endif

@@ -31,6 +31,18 @@ vec3 pair_wj;
 vec3 pair_dw = vec3(0.0);
 #endif
 
+// The separation of a pair whose centres are `sep` apart (after any exchange): what still
+// overlaps, depth = 2r - |sep|, removed along sep (n where sep is 0), mu_i of it on this side.
+vec3 pair_push(vec3 sep, vec3 n, float mu_i) {
+    float l = length(sep);
+    float depth = 2.0 * u_radius - l;
+    vec3 push = vec3(0.0);
+    if (depth > 0.0) {
+        push = mu_i * depth * (l > 0.0 ? sep / l : n);
+    }
+    return push;
+}
+
 // Adds particle i's velocity change to dv and position change to dx: the exchange (and the
 // move it makes over tau) times `weight`, the separation times `push_weight`.
 void pair_response(vec3 x, vec3 v, float mi, float hi, vec3 xq, vec3 w, float mj, float hj,
@@ -69,12 +81,20 @@ void pair_response(vec3 x, vec3 v, float mi, float hi, vec3 xq, vec3 w, float mj
 #endif
     }
     vec3 sep = dx + weight * (di - dj) * tau;
-    float l = length(sep);
-    float depth = reach - l;
-    vec3 push = vec3(0.0);
-    if (depth > 0.0) {
-        push = mu_i * depth * (l > 0.0 ? sep / l : n);
-    }
+    vec3 push = pair_push(sep, n, mu_i);
     dv_out += weight * di;
     dx_out += weight * di * tau + push_weight * push;
+}
+
+// What pair_response adds to dx_out for a pair it weighs 0 with push weight 1 (no exchange:
+// the separation along the line of centres, from positions and masses alone), the same numbers
+// for fewer instructions and no velocity; false, adding nothing, where the centres coincide
+// (the normal then comes from the velocities: call pair_response).
+bool pair_separation(vec3 x, float mi, vec3 xq, float mj, inout vec3 dx_out) {
+    float reach = 2.0 * u_radius;
+    vec3 dx = x - xq;
+    if (!(dot(dx, dx) - reach * reach < 0.0)) return true;   // not in contact
+    if (!(length(dx) > 0.0)) return false;
+    dx_out += pair_push(dx, vec3(0.0), mj / (mi + mj));
+    return true;
 }

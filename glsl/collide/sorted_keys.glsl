@@ -21,6 +21,53 @@ ivec2 key_texel(int i) {
 #endif
 }
 
+// The order in which the exact count pass's fragments take the particles (WALK_TILES: a state
+// whose sides are powers of two of at least 16, src/sim/collide/walk_order.rs): the fragment at
+// pixel t works for the particle of sorted index walk_index(t) and writes its result there;
+// walk_texel(i) is where the result of sorted index i lies. Tiles of 16 × 16 pixels, row-major,
+// each holding 256 consecutive sorted indices in Morton order (every aligned block of 2^k × 2^k
+// or 2^(k+1) × 2^k pixels of a tile holds consecutive indices). A GPU runs a fragment pass in
+// warps of neighbouring pixels, so a warp's particles are neighbours in the sort, in the same few
+// cells, and walk the same runs; in sorted order, a block of pixels four rows high takes four
+// far-apart stretches of space.
+#ifdef WALK_TILES
+// Morton order of the 4 low bits of x and y: x's bits at the even places.
+int walk_interleave(int x, int y) {
+    ivec2 v = ivec2(x, y);
+    v = (v | (v << 2)) & 0x33;
+    v = (v | (v << 1)) & 0x55;
+    return v.x | (v.y << 1);
+}
+
+int walk_deinterleave(int m) {
+    ivec2 v = ivec2(m, m >> 1) & 0x55;
+    v = (v | (v >> 1)) & 0x33;
+    v = (v | (v >> 2)) & 0x0f;
+    return v.x | (v.y << 4);
+}
+#endif
+
+int walk_index(ivec2 t) {
+#ifdef WALK_TILES
+    // (Set only with KEY_WIDTH_SHIFT.)
+    int tile = ((t.y >> 4) << (KEY_WIDTH_SHIFT - 4)) + (t.x >> 4);
+    return (tile << 8) | walk_interleave(t.x & 15, t.y & 15);
+#else
+    return t.y * u_key_width + t.x;
+#endif
+}
+
+ivec2 walk_texel(int i) {
+#ifdef WALK_TILES
+    int tile = i >> 8;
+    int xy = walk_deinterleave(i & 255);
+    int column = tile & ((1 << (KEY_WIDTH_SHIFT - 4)) - 1);
+    return ivec2(column * 16 + (xy & 15), (tile >> (KEY_WIDTH_SHIFT - 4)) * 16 + (xy >> 4));
+#else
+    return key_texel(i);
+#endif
+}
+
 float sorted_key(int i) {
     ivec2 t = key_texel(i);
 #ifdef PACKED_KEYS

@@ -60,7 +60,6 @@ impl std::fmt::Debug for Program {
 struct Seen {
     declared: HashSet<String>,
     files: Vec<String>,
-    walks_some: bool,
 }
 
 fn compile<'a>(
@@ -72,8 +71,6 @@ fn compile<'a>(
     seen: &mut Seen,
 ) -> Result<glow::Shader> {
     let resolved = resolve(path, defines, lookup)?;
-    seen.walks_some |=
-        (resolved.text.lines()).any(|l| l.trim_start().starts_with("#define WALKS_SOME"));
     seen.declared.extend(declared_uniforms(&resolved.text));
     for f in &resolved.files {
         if !seen.files.contains(f) {
@@ -183,7 +180,6 @@ impl Program {
                 defines: defines.clone(),
                 // A benchmark's own floor that walks is not a pass to floor.
                 walks_every_live: seen.files.iter().any(|f| f == WALK_INCLUDE)
-                    && !seen.walks_some
                     && !fragment.starts_with("bench/"),
                 files: seen.files,
             }),
@@ -201,8 +197,7 @@ impl Program {
     }
 
     /// Whether it walks the cells around every live particle: built with [`WALK_INCLUDE`]
-    /// (the exact neighbour search), and not marked `#define WALKS_SOME` (a pass that walks
-    /// only some particles, as the exact response walks those with partners).
+    /// (the exact neighbour search; every pass that includes it walks from each live particle).
     pub fn walks_every_live(&self) -> bool {
         self.source.walks_every_live
     }

@@ -16,9 +16,8 @@
 //! A draw that walked the cells around every live particle (the exact detection's count, DEM,
 //! the fluid's density and force, the pair exchange: `glsl/collide/cells.glsl`) has a floor
 //! that walks the same cells with the same sorted keys, table and uniforms and fetches each
-//! visited neighbour's position once, which each of those passes reads of every neighbour. A
-//! pass that walks only some particles (`#define WALKS_SOME`, the exact response) is floored
-//! without the walk. Other reads many times a fragment (relaxation's neighbours, a field
+//! visited neighbour's position once, which each of those passes reads of every neighbour, in
+//! the pass's order of fragments (the count's walk order, `WALK_TILES`). Other reads many times a fragment (relaxation's neighbours, a field
 //! sampled at a computed place) are not counted, as no count of them is honest for every pass.
 //! Draws of points or lines (the births' emit pass) have no fetch floor of their own:
 //! where they fall is the data's, and a full-screen pass would write more than they do.

@@ -14,13 +14,14 @@ const WALK_INTS: [&str; 3] = ["u_key_width", "u_count", "u_dims"];
 const WALK_FLOATS: [&str; 3] = ["u_cell_origin", "u_cell_size", "u_search_radius"];
 
 /// The defines the search reads (`glsl/collide/cells.glsl`, `sorted_keys.glsl`).
-const WALK_DEFINES: [&str; 6] = [
+const WALK_DEFINES: [&str; 7] = [
     "CELL_TABLE",
     "EXACT_SCAN",
     "KEY_WIDTH_SHIFT",
     "PACKED_KEYS",
     "SEARCH_TRIM",
     "TABLE_WIDTH_SHIFT",
+    "WALK_TILES",
 ];
 
 /// What the floor of a draw that walked the cells repeats: the search's textures (by the

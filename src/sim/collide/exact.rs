@@ -1,9 +1,10 @@
 //! The exact mode's step: every iteration keys, sorts and gathers the state it reads again, so
 //! each iteration's search walks the cells the particles are in now, not where the step's first
-//! sort found them. An iteration is the whole stage: keys, sort, gather, partner counts, the
-//! response with every partner, and the static texture copied in the new order.
+//! sort found them. An iteration is the whole stage: keys, sort, gather, partner counts (the one
+//! walk of the cells, which also sums the response's separations), the response with every
+//! partner, and the static texture copied in the new order.
 
-use super::{CollisionStage, Passes, Readback};
+use super::{CollisionStage, Passes, Readback, EXCHANGED, PARTNERS, SEPARATION};
 use crate::error::Result;
 use crate::gl::{Defines, Framebuffer, PingPong, Sampled, Uniform, UniformList};
 use crate::scene;
@@ -40,38 +41,47 @@ impl CollisionStage {
                 .expect("the exact detection builds the search");
             let entries = (self.width * state.height()) as i32;
             let mut search = self.contact_search();
-            let mut textures = cells.textures(g.sorted.keys());
-            textures.extend([
-                ("u_position", g.sorted.layout().texture(POSITION).into()),
-                ("u_velocity", g.sorted.layout().texture(VELOCITY).into()),
-            ]);
-            self.pass.draw(count, &textures, &search, counts);
-            if let Some(t) = &self.tally {
-                t.add(counts.only_texture(), entries as usize);
-            }
-            if self.record {
-                self.recorded.push(Readback {
-                    positions: g.sorted.layout().texture(POSITION).read_f32()?,
-                    velocities: g.sorted.layout().texture(VELOCITY).read_f32()?,
-                    partners: counts.only_texture().read_f32()?,
-                });
-            }
-            let p = response;
-            let mut textures: Vec<(&str, Sampled)> = cells.textures(g.sorted.keys());
-            textures.extend([
-                ("u_position", g.sorted.layout().texture(POSITION).into()),
-                ("u_velocity", g.sorted.layout().texture(VELOCITY).into()),
-                ("u_static", g.sorted.layout().texture(STATIC).into()),
-                ("u_counts", counts.only_texture().into()),
-            ]);
-            if let Some(s) = &g.spin {
-                textures.push(("u_spin", s.only_texture().into()));
-            }
-            textures.extend(fields.iter().filter(|(n, _)| p.declares(n)).copied());
             search.extend([
                 ("u_restitution", Uniform::F32(self.config.restitution)),
                 ("u_dt", Uniform::F32(dt)),
             ]);
+            let layout = g.sorted.layout();
+            let mut own: Vec<(&str, Sampled)> = vec![
+                ("u_position", layout.texture(POSITION).into()),
+                ("u_velocity", layout.texture(VELOCITY).into()),
+                ("u_static", layout.texture(STATIC).into()),
+            ];
+            if let Some(s) = &g.spin {
+                own.push(("u_spin", s.only_texture().into()));
+            }
+            let mut textures = cells.textures(g.sorted.keys());
+            textures.extend(own.iter().cloned());
+            self.pass.draw(
+                count,
+                &textures,
+                &constants.for_draw(count, search.clone()),
+                counts,
+            );
+            if let Some(t) = &self.tally {
+                t.add(counts.texture(PARTNERS), entries as usize);
+            }
+            if self.record {
+                self.recorded.push(Readback {
+                    positions: layout.texture(POSITION).read_f32()?,
+                    velocities: layout.texture(VELOCITY).read_f32()?,
+                    partners: self.read_partners(counts)?,
+                });
+            }
+            // The response walks nothing: it reads the count's sums, and the closest partner's
+            // count and state.
+            let p = response;
+            let mut textures = own;
+            textures.extend([
+                ("u_counts", counts.texture(PARTNERS).into()),
+                ("u_separation", counts.texture(SEPARATION).into()),
+                ("u_exchanged", counts.texture(EXCHANGED).into()),
+            ]);
+            textures.extend(fields.iter().filter(|(n, _)| p.declares(n)).copied());
             let uniforms = constants.for_draw(p, search);
             self.pass.draw(p, &textures, &uniforms, state.back());
             state.swap();
@@ -79,6 +89,14 @@ impl CollisionStage {
             self.carry_back(false);
         }
         Ok(())
+    }
+
+    /// The count pass's (partners, truncated, closest, distance) read back, in sorted order (it
+    /// wrote them in the walk's: [`walk_order`](super::walk_order)).
+    pub(super) fn read_partners(&self, counts: &Framebuffer) -> Result<Vec<f32>> {
+        let size = [counts.width(), counts.height()];
+        let texels = counts.texture(PARTNERS).read_f32()?;
+        Ok(super::walk_order::to_sorted_order(size, &texels, 4))
     }
 
     /// The first lattice's search, which the exact mode, the neighbour forces and the exchanges

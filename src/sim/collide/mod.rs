@@ -44,6 +44,7 @@ mod lattices;
 mod neighbours;
 mod pass_list;
 pub(crate) mod tally;
+pub mod walk_order;
 
 pub use carry::carry_passes;
 pub(crate) use carry::exchange_defines;
@@ -56,6 +57,11 @@ pub use pass_list::uberflow_sort;
 /// The staggered lattice's layout: the first lattice's detection, gathered along with the state
 /// (read by the response as `u_partner2`).
 const FIRST_PARTNER: Attachment = Attachment::named("first partner");
+/// The exact count pass's outputs: (partners, truncated, closest, its distance); the sum of the
+/// separations with every partner; the same sum with the closest partner's exchange in its place.
+const PARTNERS: Attachment = Attachment::named("partners");
+const SEPARATION: Attachment = Attachment::named("separation");
+const EXCHANGED: Attachment = Attachment::named("separation with the exchange");
 
 /// Most neighbours per side of UberFlow's detection (the scene's bound).
 pub use crate::scene::MAX_NEIGHBOURS;
@@ -123,14 +129,15 @@ pub fn exact_passes(
     out.extend([
         format!(
             "exact detection: partners closer than 2r counted in {}, and the closest ({}, at \
-             most {EXACT_SCAN} particles per run)",
+             most {EXACT_SCAN} particles per run); the separations with every partner summed, \
+             with and without the closest partner's exchange",
             cells::walk_words(search.collisions_trimmed, "2r"),
             cells::search_words(table)
         ),
         format!(
-            "exact response: momentum exchange with the closest partner if it chose this particle \
-             too (back-tracking to contact); overlap separation with every partner, weighted \
-             1/max(n_i, n_j){}",
+            "exact response, no walk: the count's sum with the closest partner's momentum \
+             exchange (back-tracking to contact) if it chose this particle too, else the \
+             separations alone{}",
             if colliders {
                 "; boundary conditions (colliders)"
             } else {
@@ -270,11 +277,22 @@ impl Passes {
         first_lookup: Option<Defines>,
     ) -> Result<Self> {
         let program = |fragment: &str| Program::new(ctx, FULLSCREEN_VERTEX, fragment, d);
+        let [w, h] = size;
+        // The count pass takes the particles in the walk's order, and the response reads it.
+        let walk = walk_order::walk_defines(d, size);
+        let walked = |fragment: &str| Program::new(ctx, FULLSCREEN_VERTEX, fragment, &walk);
         Ok(if exact {
             Passes::Exact {
-                counts: single_target(ctx, "partner counts", size)?,
-                count: program("collide/exact_count.frag")?,
-                response: program("collide/exact_response.frag")?,
+                counts: Framebuffer::named(
+                    ctx,
+                    "partner counts",
+                    [PARTNERS, SEPARATION, EXCHANGED]
+                        .into_iter()
+                        .map(|a| Ok((a, texture(ctx, a.name(), w, h, TextureFormat::Rgba32F)?)))
+                        .collect::<Result<_>>()?,
+                )?,
+                count: walked("collide/exact_count.frag")?,
+                response: walked("collide/exact_response.frag")?,
             }
         } else {
             Passes::Uberflow {
@@ -526,7 +544,7 @@ impl CollisionStage {
         grid.map(|g| {
             let partners = match (&self.passes, self.neighbour_counts()?) {
                 (_, Some(counts)) => counts,
-                (Passes::Exact { counts, .. }, None) => counts.only_texture().read_f32()?,
+                (Passes::Exact { counts, .. }, None) => self.read_partners(counts)?,
                 (Passes::Uberflow { .. }, None) => detections(g)?,
             };
             Ok(Readback {

@@ -144,6 +144,52 @@ impl RenderFloor {
     /// point draw of as many single pixels (the allocator's births, `glsl/sim/emit.vert`). No
     /// draw for none.
     pub fn points(&self, target: &Framebuffer, blend: Option<Blend>, points: usize) {
+        self.points_from(&self.vao, target, blend, points);
+    }
+
+    /// `draws` draws of `points` one-pixel points each into `target`, not blended, from a
+    /// vertex buffer of `bytes` bytes made and filled first, as the allocator's births make
+    /// theirs (the vertex stage reads none of it): the floor of the births' emit draws. Nothing
+    /// for no points.
+    pub fn uploaded_points(
+        &self,
+        target: &Framebuffer,
+        draws: u64,
+        points: usize,
+        bytes: usize,
+    ) -> Result<()> {
+        if points == 0 || draws == 0 {
+            return Ok(());
+        }
+        let data = vec![0u8; bytes.max(4)];
+        let buffer = Buffer::with_data(
+            &self.ctx,
+            "births floor",
+            BufferKind::Vertex,
+            &data,
+            BufferUsage::StreamDraw,
+        )?;
+        let attribute = Attribute {
+            buffer: &buffer,
+            location: 0,
+            components: 1,
+            stride: 4,
+            offset: 0,
+        };
+        let vao = VertexArray::with_attributes(&self.ctx, "births floor", &[attribute])?;
+        for _ in 0..draws {
+            self.points_from(&vao, target, None, points);
+        }
+        Ok(())
+    }
+
+    fn points_from(
+        &self,
+        vao: &VertexArray,
+        target: &Framebuffer,
+        blend: Option<Blend>,
+        points: usize,
+    ) {
         if points == 0 {
             return;
         }
@@ -156,7 +202,7 @@ impl RenderFloor {
             program: p,
             target,
             viewport: None,
-            vertices: &self.vao,
+            vertices: vao,
             primitive: Primitive::Points,
             count: points as u32,
             state: &DrawState {

@@ -29,7 +29,7 @@ pub use constraints::Stretched;
 pub const MAX_BOUNCES: usize = 16;
 
 pub use fire::{FireParams, FireSim};
-pub use particles::{ClosedForm, Features, ParticleSim};
+pub use particles::{ClosedForm, Features, ParticleSim, BIRTH_VERTEX_BYTES};
 pub use simulation::{stages_of, DrawnState, Pass, Simulation, Stage};
 
 #[cfg(test)]

@@ -253,9 +253,9 @@ impl StateFloors {
         Ok((t, td, fetch))
     }
 
-    /// The births (the allocator's emit pass: one-pixel points into each target it writes),
-    /// then their floor: as many one-pixel points in as many draws into one RGBA32F texture,
-    /// nothing where nothing was born.
+    /// The births (the allocator's emit pass: its vertices uploaded, then one-pixel points into
+    /// each target it writes), then their floor: the same bytes uploaded, then as many one-pixel
+    /// points in as many draws into one RGBA32F texture, nothing where nothing was born.
     fn births(
         &self,
         ctx: &Context,
@@ -267,15 +267,17 @@ impl StateFloors {
         let (t, td, fetch) = self.run(ctx, timer, sim, Stage::Births)?;
         let d = td.stats;
         let per_draw = d.points.checked_div(d.draws).unwrap_or(0) as usize;
+        let bytes = per_draw * crate::sim::BIRTH_VERTEX_BYTES;
+        let mut made = Ok(());
         let (f, fd) = drawn(ctx, || {
             timer.time(|| {
-                for _ in 0..d.draws {
-                    self.points.points(&self.single, None, per_draw);
-                }
+                made = (self.points).uploaded_points(&self.single, d.draws, per_draw, bytes);
             })
         })?;
-        let floor = "as many one-pixel points in as many draws as the emit pass, into one \
-                     RGBA32F texture of the state's size";
+        made?;
+        let floor = "the births' vertex bytes uploaded into a new buffer, then as many one-pixel \
+                     points in as many draws as the emit pass, into one RGBA32F texture of the \
+                     state's size";
         let bounds = [(floor, f, Some(fd)), (FETCH_FLOOR, fetch.0, Some(fetch.1))];
         phases.push_bounds(name, t, Some(td), &bounds);
         Ok(())

@@ -12,6 +12,10 @@ use crate::gl::{
 /// Floats per emitted vertex: index, position + life, velocity, static.
 const EMIT_FLOATS: usize = 13;
 
+/// Bytes of one birth's vertex in the buffer the emit pass draws from (uploaded each step
+/// that has births).
+pub const BIRTH_VERTEX_BYTES: usize = EMIT_FLOATS * 4;
+
 impl ParticleSim {
     /// Latta §3.4.1: frees the indices of particles that died (on the CPU's clock, a few steps
     /// late so that both sides of the ping-pong hold them dead), allocates indices for this

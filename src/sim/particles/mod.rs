@@ -37,6 +37,7 @@ use crate::gl::{
 };
 use crate::scene::{Integrator, SceneFile};
 use crate::sim::params::Params;
+pub use births::BIRTH_VERTEX_BYTES;
 pub use custom::check_custom_forces;
 pub use features::{Emission, Features};
 pub use stateless::ClosedForm;

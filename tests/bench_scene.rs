@@ -320,3 +320,32 @@ fn the_stages_run_in_order_are_the_engines_frame() {
     }
     common::no_gl_error(&ctx);
 }
+
+/// A lit render (half-angle slices) is bounded by its chain of slices as well: an eye and a
+/// light pass for each batch of particles drawn, each at the fixed cost of a dependent pass
+/// measured in the same run. `smoke` at 32² (every texel live after its warm-up) draws all its
+/// slices; at `render.slices = 4` as many as 4.
+#[test]
+fn a_lit_render_is_bounded_by_its_chain_of_slices() {
+    let ctx = common::context();
+    for slices in [32u32, 4] {
+        let mut scene = texflow::scene::load("smoke").unwrap();
+        scene.render.slices = slices;
+        let records = bench_scene(&ctx, &scene, &[32], &opts(), |_| {}).unwrap();
+        let r = &records[0];
+        let render = (r.phases.iter().find(|p| p.phase.starts_with("render"))).unwrap();
+        let chain = (render
+            .bounds
+            .iter()
+            .find(|b| b.floor.starts_with("the slices' chain")))
+        .unwrap_or_else(|| panic!("no chain bound among {:?}", render.bounds));
+        let passes = chain.ms / r.constants.fixed_ms;
+        let drawn = (r.live as u32).min(slices) as f64;
+        assert!(
+            (passes - 2.0 * drawn).abs() < 1e-9,
+            "{slices} slices, {} live: {passes} passes",
+            r.live
+        );
+        assert!(chain.drawn.is_none(), "a computed bound draws nothing");
+    }
+}

@@ -91,7 +91,17 @@ pub(super) struct RenderFloors<'a> {
     pub(super) timer: &'a PassTimer,
     pub(super) samples: SamplesQuery,
     pub(super) fill: Option<crate::render::ParticleRenderer>,
+    /// The fixed cost of a dependent pass, measured in the same run: the bound of a lit
+    /// render's chain of slices.
+    pub(super) fixed_ms: f64,
 }
+
+/// The second bound of a lit render (half-angle slicing): its slices are a chain of dependent
+/// passes, each at least a dependent pass's fixed cost.
+const SLICE_CHAIN: &str = "the slices' chain: each slice's eye pass reads the light buffer the \
+     slice before lit, and its light pass overwrites what the eye pass read, so 2 dependent \
+     passes a slice drawn, each at least the fixed cost of a dependent pass (measured in the same \
+     run)";
 
 /// Runs `f` (a timed range) counting what it drew: the GL layer's draw counts and the fragments.
 pub(super) fn counted(
@@ -206,10 +216,28 @@ pub(super) fn render_phase(
             Some(f.1),
         ));
     }
+    if let Some(lit) = engine.lit() {
+        bounds.push((
+            SLICE_CHAIN,
+            slice_chain(lit.slices(), count) * on.fixed_ms,
+            None,
+        ));
+    }
     let (t, drawn) = counted(ctx, samples, || timed(timer, || engine.render_pass(sorted)))?;
     let name = format!("render ({})", engine.renderer().pass_names().join(", "));
     phases.push_bounds(&name, t, Some(drawn), &bounds);
     Ok(())
+}
+
+/// Dependent passes of a lit render of `count` particles in `slices` slices: an eye and a light
+/// pass for each batch drawn (`render::HalfAngleRenderer::draw_passes`: batches of
+/// ⌈count / slices⌉, the last one short).
+fn slice_chain(slices: u32, count: usize) -> f64 {
+    if count == 0 {
+        return 0.0;
+    }
+    let batch = count.div_ceil(slices.max(1) as usize);
+    2.0 * count.div_ceil(batch) as f64
 }
 
 /// Runs `f` (a timed range) counting what it drew, as the GL layer counts draws.

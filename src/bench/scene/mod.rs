@@ -461,6 +461,7 @@ fn measure(
             Some(_) => None,
             None => Some(e.renderer().with_fragment("bench/fill_floor.frag")?),
         },
+        fixed_ms,
     };
     let sort_floors = SortFloors {
         timer,

@@ -90,6 +90,19 @@ fn the_render_floor_draws_as_many_one_pixel_points_as_asked() {
         .filter(|p| p[0] > 0)
         .count();
     assert!((180..=n).contains(&lit), "{lit} lit pixels for {n} points");
+    // In raster order (the cost model's frame probe), additive: 1.5 frames of points light the
+    // first half of the frame's rows twice and the rest once, every pixel at its own.
+    let blend = Some(texflow::gl::Blend::SUM);
+    floor.draw_in_raster_order(&fb, [0.0; 4], blend, 64 * 64 * 3 / 2);
+    let red: Vec<u8> = (fb.texture(0).read_u8().unwrap().chunks_exact(4))
+        .map(|p| p[0])
+        .collect();
+    let once = red[64 * 64 - 1];
+    assert!(once > 0, "the last pixel unlit");
+    for (i, &r) in red.iter().enumerate() {
+        let times = if i < 64 * 32 { 2 } else { 1 };
+        assert!(r.abs_diff(once * times) <= 1, "pixel {i}: {r}, once {once}");
+    }
     common::no_gl_error(&ctx);
 }
 

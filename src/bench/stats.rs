@@ -144,7 +144,21 @@ impl RenderFloor {
     /// point draw of as many single pixels (the allocator's births, `glsl/sim/emit.vert`). No
     /// draw for none.
     pub fn points(&self, target: &Framebuffer, blend: Option<Blend>, points: usize) {
-        self.points_from(&self.vao, target, blend, points);
+        self.points_from(&self.vao, target, blend, points, [0, 0]);
+    }
+
+    /// Clears `target` to `clear`, then draws `points` one-pixel points with `blend` in the
+    /// target's raster order (point k at pixel k, wrapping), not scattered.
+    pub fn draw_in_raster_order(
+        &self,
+        target: &Framebuffer,
+        clear: [f32; 4],
+        blend: Option<Blend>,
+        points: usize,
+    ) {
+        target.clear(clear);
+        let raster = [target.width() as i32, target.height() as i32];
+        self.points_from(&self.vao, target, blend, points, raster);
     }
 
     /// `draws` draws of `points` one-pixel points each into `target`, not blended, from a
@@ -178,17 +192,19 @@ impl RenderFloor {
         };
         let vao = VertexArray::with_attributes(&self.ctx, "births floor", &[attribute])?;
         for _ in 0..draws {
-            self.points_from(&vao, target, None, points);
+            self.points_from(&vao, target, None, points, [0, 0]);
         }
         Ok(())
     }
 
+    /// `raster`: the frame's width and height for points in raster order, `[0, 0]` scattered.
     fn points_from(
         &self,
         vao: &VertexArray,
         target: &Framebuffer,
         blend: Option<Blend>,
         points: usize,
+        raster: [i32; 2],
     ) {
         if points == 0 {
             return;
@@ -197,6 +213,8 @@ impl RenderFloor {
         let uniforms = [
             ("u_seed", Uniform::U32(0x9e37_79b9)),
             ("u_value", Uniform::Vec4(Vec4::new(0.02, 0.01, 0.005, 0.1))),
+            ("u_raster_width", Uniform::I32(raster[0])),
+            ("u_raster_height", Uniform::I32(raster[1])),
         ];
         self.ctx.draw(&Draw {
             program: p,

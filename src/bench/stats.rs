@@ -161,18 +161,17 @@ impl RenderFloor {
         self.points_from(&self.vao, target, blend, points, raster);
     }
 
-    /// `draws` draws of `points` one-pixel points each into `target`, not blended, from a
+    /// A draw of `points` one-pixel points into each of `targets` in turn, not blended, from a
     /// vertex buffer of `bytes` bytes made and filled first, as the allocator's births make
     /// theirs (the vertex stage reads none of it): the floor of the births' emit draws. Nothing
     /// for no points.
     pub fn uploaded_points(
         &self,
-        target: &Framebuffer,
-        draws: u64,
+        targets: &[&Framebuffer],
         points: usize,
         bytes: usize,
     ) -> Result<()> {
-        if points == 0 || draws == 0 {
+        if points == 0 || targets.is_empty() {
             return Ok(());
         }
         let data = vec![0u8; bytes.max(4)];
@@ -191,7 +190,7 @@ impl RenderFloor {
             offset: 0,
         };
         let vao = VertexArray::with_attributes(&self.ctx, "births floor", &[attribute])?;
-        for _ in 0..draws {
+        for target in targets {
             self.points_from(&vao, target, None, points, [0, 0]);
         }
         Ok(())

@@ -149,7 +149,7 @@ pub(super) struct StateFloors {
     scratch: Framebuffer,
     scratch_bytes: u64,
     /// The births' floor: one-pixel points into `single`, one RGBA32F texture of the state's
-    /// size (no more bytes per point than any target the emit pass writes).
+    /// size (as the static texture), and into `scratch` (as the state).
     points: RenderFloor,
     single: Framebuffer,
     /// The second bound of every stage: its own draws' fetches.
@@ -255,7 +255,7 @@ impl StateFloors {
 
     /// The births (the allocator's emit pass: its vertices uploaded, then one-pixel points into
     /// each target it writes), then their floor: the same bytes uploaded, then as many one-pixel
-    /// points in as many draws into one RGBA32F texture, nothing where nothing was born.
+    /// points in as many draws into targets of the same formats, nothing where nothing was born.
     fn births(
         &self,
         ctx: &Context,
@@ -268,16 +268,22 @@ impl StateFloors {
         let d = td.stats;
         let per_draw = d.points.checked_div(d.draws).unwrap_or(0) as usize;
         let bytes = per_draw * crate::sim::BIRTH_VERTEX_BYTES;
+        // The emit pass draws into the static texture, the state, then (Verlet) the previous
+        // positions: one RGBA32F texture, the state's targets, one again.
+        let targets: Vec<&Framebuffer> = (0..d.draws)
+            .map(|k| match k {
+                1 => &self.scratch,
+                _ => &self.single,
+            })
+            .collect();
         let mut made = Ok(());
         let (f, fd) = drawn(ctx, || {
-            timer.time(|| {
-                made = (self.points).uploaded_points(&self.single, d.draws, per_draw, bytes);
-            })
+            timer.time(|| made = (self.points).uploaded_points(&targets, per_draw, bytes))
         })?;
         made?;
         let floor = "the births' vertex bytes uploaded into a new buffer, then as many one-pixel \
-                     points in as many draws as the emit pass, into one RGBA32F texture of the \
-                     state's size";
+                     points in as many draws as the emit pass, into targets of the same formats \
+                     (one RGBA32F texture of the state's size, the state's, one again)";
         let bounds = [(floor, f, Some(fd)), (FETCH_FLOOR, fetch.0, Some(fetch.1))];
         phases.push_bounds(name, t, Some(td), &bounds);
         Ok(())

@@ -52,7 +52,7 @@ pub use cells::{CellTables, Lattice};
 pub use census::PairCensus;
 pub use lattices::reads_through_first;
 pub use neighbours::{check_pair_forces, neighbour_passes, NeighbourReadback};
-pub use pass_list::uberflow_sort;
+pub use pass_list::{exact_passes, uberflow_sort};
 
 /// The staggered lattice's layout: the first lattice's detection, gathered along with the state
 /// (read by the response as `u_partner2`).
@@ -105,48 +105,6 @@ pub struct CollisionStage {
     /// The first lattice gathers positions alone; the staggered one reads the rest through
     /// both sorts ([`reads_through_first`], `lattices.rs`).
     through: bool,
-}
-
-/// The exact mode's passes of one iteration (`collisions.iterations` per step), as `texflow
-/// scene passes` lists them.
-pub fn exact_passes(
-    colliders: bool,
-    sort: scene::CollisionSort,
-    search: cells::CellTables,
-) -> Vec<String> {
-    let table = search.collisions;
-    let mut out: Vec<String> = vec![
-        "collision keys: cell index in the lattice (z, y, x), every iteration".into(),
-        format!(
-            "collision sort: {}, every iteration",
-            uberflow_sort(sort, None, false)
-        ),
-        "gather position, velocity, static in cell order".into(),
-    ];
-    if table {
-        out.push(cells::table_line("collision", ", every iteration"));
-    }
-    out.extend([
-        format!(
-            "exact detection: partners closer than 2r counted in {}, and the closest ({}, at \
-             most {EXACT_SCAN} particles per run); the separations with every partner summed, \
-             with and without the closest partner's exchange",
-            cells::walk_words(search.collisions_trimmed, "2r"),
-            cells::search_words(table)
-        ),
-        format!(
-            "exact response, no walk: the count's sum with the closest partner's momentum \
-             exchange (back-tracking to contact) if it chose this particle too, else the \
-             separations alone{}",
-            if colliders {
-                "; boundary conditions (colliders)"
-            } else {
-                ""
-            }
-        ),
-        tally::pass_line("truncation tally: the particles whose search hit the bound"),
-    ]);
-    out
 }
 
 /// The programs of one detection mode.

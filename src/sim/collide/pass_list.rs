@@ -1,11 +1,53 @@
 //! The programs one collision step draws, each for the line of the pass list that describes it
-//! ([`exact_passes`](super::exact_passes), [`neighbour_passes`](super::neighbour_passes), the
-//! features' UberFlow lines), taken from the programs and sorters the stage built.
+//! ([`exact_passes`], [`neighbour_passes`](super::neighbour_passes), the features' UberFlow
+//! lines), taken from the programs and sorters the stage built, and the exact mode's lines.
 
-use super::{CollisionStage, Grid, Passes};
+use super::{cells, tally, CollisionStage, Grid, Passes, EXACT_SCAN};
 use crate::gl::PassDraw;
 use crate::scene::CollisionSort;
 use crate::sort::Sorter;
+
+/// The exact mode's passes of one iteration (`collisions.iterations` per step), as `texflow
+/// scene passes` lists them.
+pub fn exact_passes(
+    colliders: bool,
+    sort: CollisionSort,
+    search: cells::CellTables,
+) -> Vec<String> {
+    let table = search.collisions;
+    let mut out: Vec<String> = vec![
+        "collision keys: cell index in the lattice (z, y, x), every iteration".into(),
+        format!(
+            "collision sort: {}, every iteration",
+            uberflow_sort(sort, None, false)
+        ),
+        "gather position, velocity, static in cell order".into(),
+    ];
+    if table {
+        out.push(cells::table_line("collision", ", every iteration"));
+    }
+    out.extend([
+        format!(
+            "exact detection: partners closer than 2r counted in {}, and the closest ({}, at \
+             most {EXACT_SCAN} particles per run); the separations with every partner summed, \
+             with and without the closest partner's exchange",
+            cells::walk_words(search.collisions_trimmed, "2r"),
+            cells::search_words(table)
+        ),
+        format!(
+            "exact response, no walk: the count's sum with the closest partner's momentum \
+             exchange (back-tracking to contact) if it chose this particle too, else the \
+             separations alone{}",
+            if colliders {
+                "; boundary conditions (colliders)"
+            } else {
+                ""
+            }
+        ),
+        tally::pass_line("truncation tally: the particles whose search hit the bound"),
+    ]);
+    out
+}
 
 /// How UberFlow's detection sorts a lattice, for its `collision sort` line: within `rows` rows
 /// (or fully) on the `sort` network, and for a blocked sort within rows which entries it takes

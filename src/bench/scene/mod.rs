@@ -342,12 +342,12 @@ fn at_size(scene: &SceneFile, size: u32, opts: &SceneBenchOptions) -> SceneFile 
     s
 }
 
-/// On a GPU clock, one untimed repetition of the first size's measurement, discarded: the
-/// floors' programs are built where they are measured (the phases' with the engine, warmed by
-/// its warm-up frames), and on NVIDIA every floor of the first size a process measured took
-/// about 9 µs longer, in every repetition, than the same floor of the same size measured again
-/// later in the process (the births' 12 µs against 3, `smoke`'s and `mesh`'s floors under their
-/// phases); the phases did not. Wall time on llvmpipe shows no such effect and skips this.
+/// On a GPU clock, one untimed repetition of the first size's measurement, discarded: on an
+/// NVIDIA H100 the floors of the first size a process measured took about 9 µs longer, in every
+/// repetition, than the same floors of the same size measured again later in the process
+/// (`mesh`'s births floor 12 µs against 3, under its phase); after this repetition they do not
+/// for `mesh`, still do for `smoke` (the cause is not known). Wall time on llvmpipe shows no
+/// such effect and skips this.
 fn prime(
     ctx: &Context,
     scene: &SceneFile,

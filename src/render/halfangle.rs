@@ -192,6 +192,17 @@ impl HalfAngleRenderer {
         self.slices
     }
 
+    /// Particles per slice drawn, for `count` particles: ⌈count / slices⌉ (the last slice short).
+    fn batch(&self, count: usize) -> usize {
+        count.div_ceil(self.slices as usize).max(1)
+    }
+
+    /// Slices drawn for `count` particles (each an eye and a light pass): at most `slices`,
+    /// fewer where there are fewer particles than slices.
+    pub fn slices_drawn(&self, count: usize) -> usize {
+        count.div_ceil(self.batch(count))
+    }
+
     /// The passes one draw runs, as the pass list words them.
     pub fn pass_names(&self) -> Vec<String> {
         self.passes().into_iter().map(|p| p.name).collect()
@@ -309,7 +320,7 @@ impl HalfAngleRenderer {
         }
         let shadow_textures = textures.clone();
         textures.push(("u_light", self.buffer.only_texture().into()));
-        let batch = state.count.div_ceil(self.slices as usize).max(1);
+        let batch = self.batch(state.count);
         let mut first = 0;
         while first < state.count {
             let n = batch.min(state.count - first);

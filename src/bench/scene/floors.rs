@@ -217,27 +217,13 @@ pub(super) fn render_phase(
         ));
     }
     if let Some(lit) = engine.lit() {
-        bounds.push((
-            SLICE_CHAIN,
-            slice_chain(lit.slices(), count) * on.fixed_ms,
-            None,
-        ));
+        let passes = 2 * lit.slices_drawn(count);
+        bounds.push((SLICE_CHAIN, passes as f64 * on.fixed_ms, None));
     }
     let (t, drawn) = counted(ctx, samples, || timed(timer, || engine.render_pass(sorted)))?;
     let name = format!("render ({})", engine.renderer().pass_names().join(", "));
     phases.push_bounds(&name, t, Some(drawn), &bounds);
     Ok(())
-}
-
-/// Dependent passes of a lit render of `count` particles in `slices` slices: an eye and a light
-/// pass for each batch drawn (`render::HalfAngleRenderer::draw_passes`: batches of
-/// ⌈count / slices⌉, the last one short).
-fn slice_chain(slices: u32, count: usize) -> f64 {
-    if count == 0 {
-        return 0.0;
-    }
-    let batch = count.div_ceil(slices.max(1) as usize);
-    2.0 * count.div_ceil(batch) as f64
 }
 
 /// Runs `f` (a timed range) counting what it drew, as the GL layer counts draws.

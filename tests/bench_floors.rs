@@ -4,7 +4,7 @@
 //! fragments a samples query counted). Times are not compared: that part of a floor's claim is
 //! the benchmark's to report (⚠ under 0.95), not a test's.
 //!
-//! Every phase that is not a render pass has the fetch floor beside its first floor, built from
+//! Every phase that is not a render pass (or a lit render's passes apart) has the fetch floor beside its first floor, built from
 //! its own draws: it draws no more (draws, vertices, bytes). That it fetches no more is not
 //! measured (the GL layer counts no fetches); it fetches once per bound texture and fragment by
 //! construction (`glsl/bench/fetch_floor.frag`).
@@ -40,7 +40,9 @@ fn over(floor: &Drawn, phase: &Drawn) -> Vec<String> {
 /// fluid) is floored with its walk. Whether it drew, and the draws that walked.
 fn fetch_floor(name: &str, p: &texflow::bench::scene::PhaseRecord, phase: &Drawn) -> (usize, u64) {
     let fetch = p.bounds.iter().find(|b| b.floor.starts_with("fetch floor"));
-    if p.phase.starts_with("render") {
+    // A lit render's passes timed apart are render passes too.
+    let render = ["render", "light-buffer passes", "eye passes"];
+    if render.iter().any(|r| p.phase.starts_with(r)) {
         assert!(fetch.is_none(), "{name}: {}", p.phase);
         return (0, 0);
     }
@@ -136,17 +138,19 @@ fn every_drawn_floor_draws_no_more_than_its_phase() {
     common::no_gl_error(&ctx);
 }
 
-/// The fill floor draws the pass's fragments and changes no pixel: after it the frame is as the
-/// clear left it, for every built-in that draws particles alone, while the pass itself draws
-/// something. (A GPU that skips blends changing nothing skips every one of the floor's, so the
+/// The fill floor and the shading floor draw the pass's fragments and change no pixel: after
+/// each the frame is as the clear left it, for every built-in that draws particles alone, while
+/// the pass itself draws something. (A GPU that skips blends changing nothing skips every one of the floor's, so the
 /// floor is the least any pass of these fragments costs.) Where the pass draws the colliders'
 /// geometry or a connected surface (opaque, depth written), the floor draws them too: it passes
 /// the depth test with every fragment the pass writes (the same samples; the pass's fragment
-/// stage may discard more, never fewer), and a surface's floor with exactly as many.
+/// stage may discard more, never fewer), and a surface's floor with exactly as many; the
+/// shading floor, the pass's own fragment stage, with exactly as many.
 #[test]
 fn the_fill_floor_changes_no_pixel() {
     let ctx = common::context();
     let (mut checked, mut surfaces) = (Vec::new(), Vec::new());
+    let mut shaded = 0;
     for name in texflow::scene::BUILTIN {
         let mut scene = texflow::scene::load(name).unwrap();
         scene.particles.size = [32, 32];
@@ -176,6 +180,14 @@ fn the_fill_floor_changes_no_pixel() {
                 pass > 0 && pass <= floor,
                 "{name}: floor {floor}, pass {pass} samples"
             );
+            // The shading floor is the pass's own fragment stage: the same samples.
+            if let Some(shade) = e.renderer().shading_floor().unwrap() {
+                e.renderer().clear(e.target());
+                let (r, n) = samples.count(|| e.render_pass_with(&shade, false)).unwrap();
+                r.unwrap();
+                assert_eq!(n, pass, "{name}: the shading floor's samples");
+                shaded += 1;
+            }
             if e.renderer().draws_connected() {
                 assert_eq!(floor, pass, "{name}");
             }
@@ -189,6 +201,14 @@ fn the_fill_floor_changes_no_pixel() {
             e.target().read_rgb().unwrap() == clear,
             "{name}: the fill floor drew"
         );
+        let shade = e.renderer().shading_floor().unwrap();
+        let shade = shade.expect("points and sprites have a shading floor");
+        e.render_pass_with(&shade, false).unwrap();
+        assert!(
+            e.target().read_rgb().unwrap() == clear,
+            "{name}: the shading floor drew"
+        );
+        shaded += 1;
         e.render_pass(false).unwrap();
         assert!(
             e.target().read_rgb().unwrap() != clear,
@@ -196,8 +216,69 @@ fn the_fill_floor_changes_no_pixel() {
         );
         checked.push(name);
     }
+    assert!(shaded >= 12, "{shaded} shading floors");
     assert!(checked.len() >= 8, "{checked:?}");
     // cloth and hair (surfaces); snow, fountain, mesh, collide (geometry).
     assert!(surfaces.len() >= 6, "{surfaces:?}");
+    common::no_gl_error(&ctx);
+}
+
+/// A lit render's fill floor (the same slices with a constant fragment) changes no pixel of the
+/// frame and no texel of its light buffer: after it the frame is what the slices' clear and
+/// background composite alone leave (the slices of no particle), while the render's own slices
+/// draw something.
+#[test]
+fn the_lit_fill_floor_changes_no_pixel() {
+    use texflow::render::{FrameState, SlicePasses};
+    use texflow::sim::state::{POSITION, STATIC};
+    let ctx = common::context();
+    let mut lit_scenes = 0;
+    for name in texflow::scene::BUILTIN {
+        let mut scene = texflow::scene::load(name).unwrap();
+        scene.particles.size = [32, 32];
+        scene.render.resolution = [48, 32];
+        let mut e = texflow::engine::build_gpu(&ctx, &scene, 1).unwrap();
+        let Some(fill) = e
+            .lit()
+            .map(|l| l.with_fragment("bench/fill_floor.frag").unwrap())
+        else {
+            continue;
+        };
+        for _ in 0..6 {
+            e.advance_frame().unwrap();
+        }
+        e.draw().unwrap();
+        let (lit, sorted) = (e.lit().unwrap(), e.sorted().unwrap());
+        let state = |count| FrameState {
+            positions: sorted.texture(POSITION),
+            statics: sorted.texture(STATIC),
+            motion: None,
+            time: e.sim().time() as f32,
+            spins: None,
+            count,
+            user: &[],
+        };
+        let count = e.sim().drawn().count;
+        let (target, camera, atlas) = (e.target(), e.camera(), e.renderer().atlas());
+        let draw = |r: &texflow::render::HalfAngleRenderer, count, atlas| {
+            r.draw_passes(target, &state(count), camera, atlas, SlicePasses::Both)
+                .unwrap();
+            target.read_rgb().unwrap()
+        };
+        let empty = draw(&fill, 0, None);
+        // Compared whole, not printed: a frame is thousands of bytes.
+        assert!(
+            draw(&fill, count, None) == empty,
+            "{name}: the fill floor drew"
+        );
+        let light = fill.light_buffer().only_texture().read_f32().unwrap();
+        assert!(
+            light.iter().all(|&t| t == 1.0),
+            "{name}: the fill floor's light passes dimmed the light buffer"
+        );
+        assert!(draw(lit, count, atlas) != empty, "{name}: nothing drawn");
+        lit_scenes += 1;
+    }
+    assert!(lit_scenes >= 1, "no lit built-in");
     common::no_gl_error(&ctx);
 }

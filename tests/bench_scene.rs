@@ -220,10 +220,9 @@ fn bench_scene_runs_every_built_in_scene() {
 }
 
 /// A phase's prediction is the cost model's sum over what it drew, with the record's constants
-/// (computed here term by term); every phase whose draws were counted has one (the lit scene's
-/// slice passes are timed against points they place themselves, and have none). The render
-/// pass, whose fragments were counted, is priced by the frame's constants, measured into a
-/// frame of the record's resolution.
+/// (computed here term by term); every phase has one. The render pass and a lit scene's
+/// passes apart, whose fragments were counted, are priced by the frame's constants, measured
+/// into a frame of the record's resolution.
 fn predicted_from_what_it_drew(
     name: &str,
     r: &texflow::bench::SceneBenchRecord,
@@ -258,7 +257,7 @@ fn predicted_from_what_it_drew(
             };
             assert_eq!(
                 d.fragments.is_some(),
-                p.phase.starts_with("render"),
+                p.phase.starts_with("render") || slices,
                 "{name}"
             );
             let want = s.draws as f64 * c.fixed_ms
@@ -269,7 +268,6 @@ fn predicted_from_what_it_drew(
             // (A phase may draw nothing in a repetition: births when none is due.)
             assert!((m - want).abs() <= 1e-9 * want.max(1.0), "{name}: {p:?}");
         }
-        (None, None) => assert!(slices, "{name}: {} has no prediction", p.phase),
         _ => panic!("{name}: a prediction without counts, or counts without one: {p:?}"),
     }
 }
@@ -335,9 +333,10 @@ fn the_stages_run_in_order_are_the_engines_frame() {
 }
 
 /// A lit render (half-angle slices) is bounded by its chain of slices as well: an eye and a
-/// light pass for each batch of particles drawn, each at the fixed cost of a dependent pass
-/// measured in the same run. `smoke` at 32² (every texel live after its warm-up) draws all its
-/// slices; at `render.slices = 4` as many as 4.
+/// light pass for each batch of particles drawn, one point each, the eye passes fetching the
+/// light buffer; and by the fill floor, the same slices' quads. `smoke` at 32² (every texel
+/// live after its warm-up) draws all its slices; at `render.slices = 4` as many as 4. The
+/// light and eye passes timed apart have the fill floor's passes of their kind beside them.
 #[test]
 fn a_lit_render_is_bounded_by_its_chain_of_slices() {
     let ctx = common::context();
@@ -346,19 +345,43 @@ fn a_lit_render_is_bounded_by_its_chain_of_slices() {
         scene.render.slices = slices;
         let records = bench_scene(&ctx, &scene, &[32], &opts(), |_| {}).unwrap();
         let r = &records[0];
-        let render = (r.phases.iter().find(|p| p.phase.starts_with("render"))).unwrap();
-        let chain = (render
-            .bounds
-            .iter()
-            .find(|b| b.floor.starts_with("the slices' chain")))
-        .unwrap_or_else(|| panic!("no chain bound among {:?}", render.bounds));
-        let passes = chain.ms / r.constants.fixed_ms;
-        let drawn = (r.live as u32).min(slices) as f64;
-        assert!(
-            (passes - 2.0 * drawn).abs() < 1e-9,
-            "{slices} slices, {} live: {passes} passes",
+        let drawn = (r.live as u32).min(slices) as u64;
+        let phase = |prefix: &str| {
+            (r.phases.iter().find(|p| p.phase.starts_with(prefix)))
+                .unwrap_or_else(|| panic!("no phase {prefix}"))
+        };
+        let bound = |p: &texflow::bench::scene::PhaseRecord, prefix: &str| {
+            let b = (p.bounds.iter().find(|b| b.floor.starts_with(prefix)))
+                .unwrap_or_else(|| panic!("no bound {prefix} among {:?}", p.bounds));
+            b.drawn.expect("a drawn bound")
+        };
+        let render = phase("render");
+        let chain = bound(render, "the slices' chain");
+        let s = chain.stats;
+        assert_eq!(
+            (s.draws, s.points, s.vertices, s.bytes_written),
+            (2 * drawn, 2 * drawn, 2 * drawn, 0),
+            "{slices} slices, {} live",
             r.live
         );
-        assert!(chain.drawn.is_none(), "a computed bound draws nothing");
+        // One pixel a pass, every one blended (none dropped by a test).
+        assert_eq!(chain.fragments, Some(2 * drawn), "{slices} slices");
+        // The fill floor draws the render's quads, pass for pass, and the slices number
+        // 2 × those drawn.
+        for prefix in ["render", "light-buffer passes", "eye passes"] {
+            let p = phase(prefix);
+            let (f, d) = (
+                bound(p, "fill floor").stats,
+                p.drawn.expect("counted").stats,
+            );
+            assert_eq!((f.draws, f.vertices), (d.draws, d.vertices), "{prefix}");
+            let slices_drawn = if prefix == "render" { 2 * drawn } else { drawn };
+            // The eye passes may end with the background's composite (one triangle).
+            assert!(
+                [slices_drawn, slices_drawn + 1].contains(&d.draws),
+                "{prefix}: {} draws, {slices_drawn} slices",
+                d.draws
+            );
+        }
     }
 }

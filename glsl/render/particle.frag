@@ -12,6 +12,7 @@
 // FIRE_RAMP: the thesis's fire, coloured by its age ramp and faded in and out over the life
 // (additive, so the order of particles is irrelevant); FIRE_SOFT makes each point a round sprite
 // whose opacity falls to 0 at its rim, (1 - r^2)^2.
+// SHADE_FLOOR: the benchmarks' shading floor, below.
 
 uniform sampler2D u_atlas;
 
@@ -33,7 +34,8 @@ uniform float u_intensity;
 in float v_age;
 #endif
 
-void main() {
+// The pass's colour, the blend's input.
+vec4 shade() {
 #ifdef FIRE_RAMP
     // Fade in over the first tenth of the life (no hard edge at the emitter), then out.
     float fade = smoothstep(0.0, 0.1, v_age) * pow(1.0 - v_age, 1.5);
@@ -42,8 +44,7 @@ void main() {
     float k = max(1.0 - dot(rim, rim), 0.0);
     fade *= k * k;
 #endif
-    o_color = vec4(fire_ramp(v_age), u_intensity * fade);
-    return;
+    return vec4(fire_ramp(v_age), u_intensity * fade);
 #endif
     vec4 c = v_color;
 #ifdef SPRITES
@@ -64,10 +65,26 @@ void main() {
     c.a *= clamp((scene_depth - v_depth) / u_soft, 0.0, 1.0);
 #endif
 #if defined(PREMULTIPLIED)
-    o_color = vec4(c.rgb * c.a, c.a);
+    return vec4(c.rgb * c.a, c.a);
 #elif defined(MULTIPLY)
-    o_color = vec4(mix(vec3(1.0), c.rgb, c.a), c.a);
+    return vec4(mix(vec3(1.0), c.rgb, c.a), c.a);
 #else
-    o_color = c;
+    return c;
+#endif
+}
+
+void main() {
+    o_color = shade();
+#ifdef SHADE_FLOOR
+    // The benchmarks' shading floor: every fragment shaded as above, then made the colour that
+    // leaves the frame as it was under the pass's blend (1 where it multiplies, else 0), through
+    // a zero the compiler cannot prove (gl_FragCoord.w = 1 / w_clip > 0), so that the shading
+    // stays.
+#ifdef MULTIPLY
+    const vec4 UNCHANGED = vec4(1.0, 1.0, 1.0, 0.0);
+#else
+    const vec4 UNCHANGED = vec4(0.0);
+#endif
+    o_color = UNCHANGED + (o_color - UNCHANGED) * min(gl_FragCoord.w, 0.0);
 #endif
 }

@@ -27,6 +27,8 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "bench/render_floor_at.vert",
     "bench/fetch_probe.frag",
     "bench/fill_floor.frag",
+    "bench/chain_floor.vert",
+    "bench/chain_floor.frag",
     "bench/fetch_floor.frag",
     "common/compare.glsl",
     "common/precision.glsl",

@@ -92,6 +92,9 @@ pub struct HalfAngleRenderer {
     shadow: Program,
     background: Program,
     empty: VertexArray,
+    /// Both passes' fragment stage replaced ([`with_fragment`](Self::with_fragment)): each
+    /// draw gives the programs only the textures and uniforms they declare.
+    replaced: bool,
 }
 
 impl std::fmt::Debug for HalfAngleRenderer {
@@ -174,7 +177,30 @@ impl HalfAngleRenderer {
             shadow,
             background,
             empty: VertexArray::empty(ctx, "half-angle slices")?,
+            replaced: false,
         })
+    }
+
+    /// The same slices (the same quads through the same vertex stage, the same targets, blends
+    /// and order) with `fragment` as both passes' fragment stage and a light buffer of its own:
+    /// the benchmarks' fill floor (`bench/fill_floor.frag`) reads no atlas and no light.
+    pub fn with_fragment(&self, fragment: &str) -> Result<Self> {
+        let mut r = Self::new(
+            &self.ctx,
+            self.style.clone(),
+            &self.light,
+            self.slices,
+            self.extent,
+        )?;
+        let mut defines = Defines::new();
+        if self.style.mode == DrawMode::Sprites {
+            defines.push(("SPRITES".into(), "1".into()));
+        }
+        r.eye = Program::new(&self.ctx, "render/halfangle.vert", fragment, &defines)?;
+        defines.push(("LIGHT_PASS".into(), "1".into()));
+        r.shadow = Program::new(&self.ctx, "render/halfangle.vert", fragment, &defines)?;
+        r.replaced = true;
+        Ok(r)
     }
 
     /// The light buffer: transmittance in r after the last draw.
@@ -362,6 +388,12 @@ impl HalfAngleRenderer {
         (first, n): (usize, usize),
         st: &DrawState,
     ) {
+        let mut uniforms = [frame, &[("u_first", Uniform::I32(first as i32))]].concat();
+        let mut textures = textures.to_vec();
+        if self.replaced {
+            uniforms.retain(|(name, _)| program.declares(name));
+            textures.retain(|(name, _)| program.declares(name));
+        }
         self.ctx.draw(&Draw {
             program,
             target: fb,
@@ -370,8 +402,8 @@ impl HalfAngleRenderer {
             primitive: Primitive::Triangles,
             count: (n * super::QUAD_VERTICES) as u32,
             state: st,
-            textures,
-            uniforms: &[frame, &[("u_first", Uniform::I32(first as i32))]].concat(),
+            textures: &textures,
+            uniforms: &uniforms,
         });
     }
 
@@ -392,7 +424,7 @@ impl HalfAngleRenderer {
                 positions.texels()
             )));
         }
-        if self.style.mode == DrawMode::Sprites && atlas.is_none() {
+        if self.style.mode == DrawMode::Sprites && atlas.is_none() && !self.replaced {
             return Err(Error::InvalidInput("lit sprites need the atlas".into()));
         }
         let b = &self.params;

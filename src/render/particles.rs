@@ -107,7 +107,8 @@ pub struct ParticleRenderer {
     background: Program,
     empty: VertexArray,
     vertex: Option<VertexPath>,
-    atlas: Option<Texture>,
+    /// Shared with a benchmark's shading floor, which fetches the same tiles.
+    atlas: Option<std::rc::Rc<Texture>>,
     /// Shared with a benchmark's floor renderer, which draws the colliders where they are now.
     geometry: Option<std::rc::Rc<GeometryRenderer>>,
     connected: Option<ConnectedRenderer>,
@@ -158,7 +159,10 @@ impl ParticleRenderer {
             None
         };
         let atlas = if style.mode == DrawMode::Sprites {
-            Some(atlas::upload(ctx, &atlas::generate(atlas::DEFAULT_TILE))?)
+            Some(std::rc::Rc::new(atlas::upload(
+                ctx,
+                &atlas::generate(atlas::DEFAULT_TILE),
+            )?))
         } else {
             None
         };
@@ -231,13 +235,13 @@ impl ParticleRenderer {
                 "only sprites have an atlas: use mode = \"sprites\"".into(),
             ));
         }
-        self.atlas = Some(atlas::upload(&self.ctx, image)?);
+        self.atlas = Some(std::rc::Rc::new(atlas::upload(&self.ctx, image)?));
         Ok(())
     }
 
     /// The sprite atlas (sprites only).
     pub fn atlas(&self) -> Option<&Texture> {
-        self.atlas.as_ref()
+        self.atlas.as_deref()
     }
 
     /// Clears `target` to the background (transparent black for the under operator, whose
@@ -491,7 +495,7 @@ impl ParticleRenderer {
             uniforms.push(("u_sort_width", Uniform::I32(layout.width as i32)));
         }
         if let Some(atlas) = &self.atlas {
-            textures.push(("u_atlas", atlas.into()));
+            textures.push(("u_atlas", atlas.as_ref().into()));
         }
         textures.extend(sorted.map(|t| ("u_sorted", t.into())));
         if let Some(t) = scene_depth {

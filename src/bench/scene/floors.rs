@@ -86,22 +86,21 @@ impl Drawn {
 
 /// What the render phase is timed with and bounded by: the timer, a samples query (fragments
 /// written), and the fill floor (the renderer's own vertex stage, a constant fragment), where
-/// the renderer has one.
+/// the renderer has one; a lit render's (half-angle slices) floors.
 pub(super) struct RenderFloors<'a> {
     pub(super) timer: &'a PassTimer,
     pub(super) samples: SamplesQuery,
     pub(super) fill: Option<crate::render::ParticleRenderer>,
-    /// The fixed cost of a dependent pass, measured in the same run: the bound of a lit
-    /// render's chain of slices.
-    pub(super) fixed_ms: f64,
+    /// The shading floor: the renderer's own stages, its colours made ones that change no
+    /// pixel (points and sprites, not lit).
+    pub(super) shade: Option<crate::render::ParticleRenderer>,
+    pub(super) lit: Option<super::lit::LitFloors>,
 }
 
-/// The second bound of a lit render (half-angle slicing): its slices are a chain of dependent
-/// passes, each at least a dependent pass's fixed cost.
-const SLICE_CHAIN: &str = "the slices' chain: each slice's eye pass reads the light buffer the \
-     slice before lit, and its light pass overwrites what the eye pass read, so 2 dependent \
-     passes a slice drawn, each at least the fixed cost of a dependent pass (measured in the same \
-     run)";
+/// The shading floor, as the phase table words it.
+const SHADING_FLOOR: &str = "shading floor: the pass itself, its vertex and fragment stages \
+     (every fetch and computation) and colliders' geometry, same blend and depth, each colour \
+     then made one that leaves the frame unchanged (the blends its colours make left out)";
 
 /// Runs `f` (a timed range) counting what it drew: the GL layer's draw counts and the fragments.
 pub(super) fn counted(
@@ -216,9 +215,19 @@ pub(super) fn render_phase(
             Some(f.1),
         ));
     }
-    if let Some(lit) = engine.lit() {
-        let passes = 2 * lit.slices_drawn(count);
-        bounds.push((SLICE_CHAIN, passes as f64 * on.fixed_ms, None));
+    if let Some(shade) = &on.shade {
+        let f = counted(ctx, samples, || {
+            timed(timer, || engine.render_pass_with(shade, sorted))
+        })?;
+        bounds.push((SHADING_FLOOR, f.0, Some(f.1)));
+    }
+    if let Some(lit) = &on.lit {
+        bounds.extend(super::lit::render_bounds(
+            ctx,
+            (timer, samples),
+            lit,
+            engine,
+        )?);
     }
     let (t, drawn) = counted(ctx, samples, || timed(timer, || engine.render_pass(sorted)))?;
     let name = format!("render ({})", engine.renderer().pass_names().join(", "));

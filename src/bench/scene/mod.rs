@@ -24,7 +24,13 @@
 //!   where they are, at the pass's point size and blend, fetching nothing; and the fill floor,
 //!   the renderer's own vertex stage (the same points or sprites) with a constant fragment
 //!   that leaves the frame unchanged under the pass's blend (`glsl/bench/fill_floor.frag`), no
-//!   atlas fetch;
+//!   atlas fetch; and points or sprites, the shading floor: the pass's own vertex and fragment
+//!   stages, every fetch and computation, each colour then made one its blend leaves unchanged
+//!   (what the pass costs but for the blends its colours make);
+//! - a lit render (half-angle slices, `src/bench/scene/lit.rs`): beside the placed points, the
+//!   slices' chain (as many eye and light passes of one pixel each, in the same order into the
+//!   same targets, each eye pass fetching the light buffer) and the slices' fill floor; its
+//!   light and eye passes timed apart, each beside the fill floor's passes of its kind;
 //! - every other phase, a second bound: the fetch floor (`src/bench/scene/fetch.rs`), for each
 //!   full-screen draw the phase made a pass into the same targets and viewport that fetches each
 //!   texture the draw bound once at the fragment's texel and writes their sum.
@@ -48,6 +54,7 @@ use crate::sim::Simulation;
 
 mod fetch;
 mod floors;
+mod lit;
 mod phases;
 mod text;
 mod walk;
@@ -169,10 +176,6 @@ impl Phases {
     /// Ends a repetition: from now on, times are kept.
     fn next_repetition(&mut self) {
         self.warm = true;
-    }
-
-    fn push(&mut self, name: &str, floor: &str, ms: f64, floor_ms: f64) {
-        self.push_bounds(name, ms, None, &[(floor, floor_ms, None)]);
     }
 
     /// A phase's time, what it drew, and its bounds (one or more) measured in the same run.
@@ -342,12 +345,18 @@ fn at_size(scene: &SceneFile, size: u32, opts: &SceneBenchOptions) -> SceneFile 
     s
 }
 
-/// On a GPU clock, one untimed repetition of the first size's measurement, discarded: on an
-/// NVIDIA H100 the floors of the first size a process measured took about 9 µs longer, in every
-/// repetition, than the same floors of the same size measured again later in the process
-/// (`mesh`'s births floor 12 µs against 3, under its phase); after this repetition they do not
-/// for `mesh`, still do for `smoke` (the cause is not known). Wall time on llvmpipe shows no
-/// such effect and skips this.
+/// Repetitions of [`prime`]'s untimed measurement.
+const PRIME_REPEATS: usize = 10;
+
+/// On a GPU clock, the measurement of the smallest size asked, run untimed over
+/// [`PRIME_REPEATS`] repetitions and discarded. On an NVIDIA H100 (driver 580) the floors of
+/// the first repetitions a process measured took 5-9 µs longer than the same floors later in
+/// the process, at steady clocks (1980 MHz throughout, `nvidia-smi`): `smoke` at 256² measured
+/// five times over in one process had its births, integration and key floors at 14.8, 13.3
+/// and 22.2 µs in the first measurement (after one untimed repetition) and 5.9, 4.0 and 13.1
+/// in every later one, and with 20 repetitions in the first its medians were the later ones:
+/// the effect lasts some repetitions, not some sizes. Wall time on llvmpipe shows no such
+/// effect and skips this.
 fn prime(
     ctx: &Context,
     scene: &SceneFile,
@@ -355,7 +364,7 @@ fn prime(
     timer: &PassTimer,
     opts: &SceneBenchOptions,
 ) -> Result<()> {
-    let Some(&size) = sizes.first() else {
+    let Some(&size) = sizes.iter().min() else {
         return Ok(());
     };
     if timer.clock() != Clock::Gpu {
@@ -363,11 +372,11 @@ fn prime(
     }
     let s = at_size(scene, size, opts);
     let warmup = warmup_frames(&s, opts.warmup_frames)?;
-    let once = SceneBenchOptions {
-        repeats: 1,
+    let untimed = SceneBenchOptions {
+        repeats: PRIME_REPEATS,
         ..opts.clone()
     };
-    measure(ctx, &s, warmup, timer, 0.0, &once).map(|_| ())
+    measure(ctx, &s, warmup, timer, 0.0, &untimed).map(|_| ())
 }
 
 /// Most warm-up frames: the default (one emission cycle) is capped here, and a `--warmup`
@@ -461,7 +470,11 @@ fn measure(
             Some(_) => None,
             None => Some(e.renderer().with_fragment("bench/fill_floor.frag")?),
         },
-        fixed_ms,
+        shade: match e.lit() {
+            Some(_) => None,
+            None => e.renderer().shading_floor()?,
+        },
+        lit: e.lit().map(|l| lit::LitFloors::new(ctx, l)).transpose()?,
     };
     let sort_floors = SortFloors {
         timer,
@@ -481,7 +494,13 @@ fn measure(
         // The frame's sorting, then its drawing.
         let sorted = sort_phases(ctx, &sort_floors, &mut phases, e)?;
         render_phase(ctx, &render, &mut phases, e, s, sorted)?;
-        phases::lit_phases(ctx, timer, &mut phases, e)?;
+        lit::lit_phases(
+            ctx,
+            (timer, &render.samples),
+            render.lit.as_ref(),
+            &mut phases,
+            e,
+        )?;
         phases.next_repetition();
     }
     let live = alive(ctx, e, s)?;

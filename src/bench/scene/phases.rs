@@ -1,5 +1,5 @@
 //! The phases that need more than a timer: the engine's sort stage timed in its parts, the
-//! floors of the passes that write the state, and half-angle slicing's passes.
+//! floors of the passes that write the state.
 
 use super::fetch::{recorded, FetchFloor, FETCH_FLOOR};
 use super::floors::drawn;
@@ -8,7 +8,6 @@ use crate::bench::stats::{FixedCost, PassTimer, RenderFloor, WriteFloor};
 use crate::engine::Stages;
 use crate::error::Result;
 use crate::gl::{Context, Framebuffer, Texture, TextureDesc, TextureFormat};
-use crate::sim::state::{POSITION, STATIC};
 use crate::sim::{Simulation, Stage};
 use crate::sort::KeyMode;
 
@@ -303,102 +302,6 @@ fn short_name(name: &str) -> &str {
         }
     }
     name.trim()
-}
-
-/// Half-angle slicing's passes apart (`render.lighting = "half_angle"`): every slice's light
-/// pass alone, then every slice's eye pass alone (on the light buffer the light passes left),
-/// each next to the live particles drawn as points where they are, same size and blend, into
-/// the same target (the light buffer seen from the light, the frame from the camera).
-pub(super) fn lit_phases(
-    ctx: &crate::gl::Context,
-    timer: &PassTimer,
-    phases: &mut Phases,
-    engine: &dyn Stages,
-) -> Result<()> {
-    use crate::render::{FrameState, SlicePasses};
-    let (Some(lit), Some(sorted)) = (engine.lit(), engine.sorted()) else {
-        return Ok(());
-    };
-    let camera = engine.camera();
-    let target = engine.target();
-    let state = FrameState {
-        positions: sorted.texture(POSITION),
-        statics: sorted.texture(STATIC),
-        motion: None,
-        time: engine.sim().time() as f32,
-        spins: None,
-        count: engine.sim().drawn().count,
-        user: &[],
-    };
-    let atlas = engine.renderer().atlas();
-    let (eye_blend, eye_clear) = engine.frame_blend();
-    // The live particles where they are (a snapshot), one pixel each: sprites shrink with age
-    // below the point size, so points at the point size would not bound the sprites' fill.
-    let placed = crate::bench::stats::PlacedRenderFloor::new(
-        ctx,
-        &engine.sim().drawn().positions.read_f32()?,
-    )?;
-    let count = state.count;
-    let (light_view, _, light_blend) = light_floor(engine, lit);
-    let f = timer.time(|| {
-        placed.draw(
-            lit.light_buffer(),
-            ([1.0; 4], light_blend, true),
-            (&light_view, 1.0),
-            count,
-        )
-    })?;
-    let t = timed(timer, || {
-        lit.draw_passes(target, &state, camera, atlas, SlicePasses::Light)
-    })?;
-    phases.push(
-        &format!("light-buffer passes ({} slices)", lit.slices()),
-        "clear + the live particles as one-pixel points where the light sees them, same blend",
-        t,
-        f,
-    );
-    let [rw, rh] = [target.width(), target.height()];
-    let view_proj = camera.view_projection(rw as f32 / rh as f32);
-    let f = timer.time(|| {
-        placed.draw(
-            target.framebuffer(),
-            (eye_clear, Some(eye_blend), true),
-            (&view_proj, 1.0),
-            count,
-        )
-    })?;
-    let t = timed(timer, || {
-        lit.draw_passes(target, &state, camera, atlas, SlicePasses::Eye)
-    })?;
-    phases.push(
-        &format!(
-            "eye passes ({} slices, lit by the light buffer)",
-            lit.slices()
-        ),
-        "clear + the live particles as one-pixel points where they are, same blend, no fetch",
-        t,
-        f,
-    );
-    Ok(())
-}
-
-/// The light-buffer floor's view, point size and blend: sprites span
-/// point_size · 2·d·tan(fov/2) / height scene units at the target's distance, and the light
-/// buffer has side / (2 · extent) texels a unit; the depth is squashed so that nothing is
-/// clipped; the light pass's blend (ZERO, ONE_MINUS_SRC_COLOR).
-fn light_floor(
-    engine: &dyn Stages,
-    lit: &crate::render::HalfAngleRenderer,
-) -> (glam::Mat4, f32, Option<crate::gl::Blend>) {
-    let camera = engine.camera();
-    let side = lit.light_buffer().width() as f32;
-    let fov = (camera.fov_y.to_radians() * 0.5).tan();
-    let point_size = engine.renderer().params().point_size;
-    let world = point_size * 2.0 * camera.distance * fov / engine.target().height() as f32;
-    let extent = 1.0 / lit.light_view(camera).x_axis.truncate().length();
-    let view = glam::Mat4::from_scale(glam::Vec3::new(1.0, 1.0, 1e-6)) * lit.light_view(camera);
-    let blend = lit.slice_draws(camera).light_blend;
-    (view, world * side / (2.0 * extent), Some(blend))
 }
 
 #[cfg(test)]

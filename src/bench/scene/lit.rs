@@ -1,0 +1,199 @@
+//! The bounds of a lit render (half-angle slicing, `render.lighting = "half_angle"`) and its
+//! passes timed apart.
+//!
+//! The render's slices are a chain: each slice's eye pass reads the light buffer the slice before
+//! it lit, and its light pass then overwrites what the eye pass read, so the passes wait on one
+//! another whatever they draw. Beside the placed points, the render has two bounds drawn in the
+//! same run:
+//!
+//! - the slices' chain: the same targets, blends and order, as many slices, each pass drawing
+//!   one pixel that it leaves as it was, each eye pass fetching one texel of the light buffer
+//!   (`glsl/bench/chain_floor.frag`): the dependencies and nothing else;
+//! - the fill floor: the same slices' quads through the same vertex stage, targets and blends,
+//!   with a constant fragment that changes no pixel (`glsl/bench/fill_floor.frag`), no atlas
+//!   and no light buffer read.
+//!
+//! The light passes alone and the eye passes alone (on the light buffer the light passes left)
+//! are each bounded by the same fill floor's passes of that kind.
+
+use super::floors::{counted, Drawn};
+use super::{timed, Phases};
+use crate::bench::stats::PassTimer;
+use crate::engine::Stages;
+use crate::error::Result;
+use crate::gl::{
+    Context, Defines, Depth, Draw, DrawState, PointSize, Primitive, Program, SamplesQuery, Uniform,
+    VertexArray,
+};
+use crate::render::{Camera, FrameState, FrameTarget, HalfAngleRenderer, SlicePasses};
+use crate::sim::state::{POSITION, STATIC};
+
+/// The slices' chain bound, as the phase table words it.
+pub(super) const SLICE_CHAIN: &str = "the slices' chain: as many slices, each an eye pass into \
+     the frame fetching one texel of the light buffer the light pass before it wrote, then a \
+     light pass overwriting it, each pass one pixel left unchanged, the same blends";
+/// The lit render's fill floor, as the phase table words it.
+const LIT_FILL: &str = "fill floor: the slices' own quads through their own vertex stage, same \
+     targets, blends and order, a constant fragment that leaves each target unchanged, no atlas \
+     or light-buffer fetch";
+
+/// What a lit scene's render and its passes are bounded by: the slices with the fill floor's
+/// fragment stage, and the chain's two programs (an eye pass that reads, a light pass that
+/// does not).
+pub(super) struct LitFloors {
+    fill: HalfAngleRenderer,
+    eye: Program,
+    light: Program,
+    empty: VertexArray,
+}
+
+impl LitFloors {
+    /// The floors of `lit`'s slices.
+    pub(super) fn new(ctx: &Context, lit: &HalfAngleRenderer) -> Result<Self> {
+        let read: Defines = vec![("READ".into(), "1".into())];
+        let (vert, frag) = ("bench/chain_floor.vert", "bench/chain_floor.frag");
+        Ok(LitFloors {
+            fill: lit.with_fragment("bench/fill_floor.frag")?,
+            eye: Program::new(ctx, vert, frag, &read)?,
+            light: Program::new(ctx, vert, frag, &Defines::new())?,
+            empty: VertexArray::empty(ctx, "slices' chain floor")?,
+        })
+    }
+
+    /// The slices' chain of `lit` for `count` particles: the light buffer and the frame cleared
+    /// as the render clears them, then for every slice drawn an eye pass of one pixel reading
+    /// the light buffer and a light pass of one pixel, each under its pass's blend.
+    fn chain(
+        &self,
+        ctx: &Context,
+        lit: &HalfAngleRenderer,
+        (target, camera): (&FrameTarget, &Camera),
+        count: usize,
+    ) -> Result<()> {
+        let draws = lit.slice_draws(camera);
+        let buffer = lit.light_buffer();
+        buffer.clear([1.0; 4]);
+        target.clear_to(draws.eye_clear);
+        let eye_state = DrawState {
+            blend: Some(draws.eye_blend),
+            point_size: PointSize::One,
+            depth: Depth::Off,
+            color_writes: true,
+        };
+        let light_state = DrawState {
+            blend: Some(draws.light_blend),
+            ..eye_state
+        };
+        let zero = [("u_zero", Uniform::F32(0.0))];
+        let pass = |program, fb, state, textures| {
+            ctx.draw(&Draw {
+                program,
+                target: fb,
+                viewport: None,
+                vertices: &self.empty,
+                primitive: Primitive::Points,
+                count: 1,
+                state,
+                textures,
+                uniforms: &zero,
+            })
+        };
+        let light_texture = [("u_read", buffer.only_texture().into())];
+        for _ in 0..lit.slices_drawn(count) {
+            pass(&self.eye, target.framebuffer(), &eye_state, &light_texture);
+            pass(&self.light, buffer, &light_state, &[]);
+        }
+        ctx.check_error("drawing the slices' chain floor")
+    }
+}
+
+/// The sorted state a lit render draws from: the gathered positions and statics, the engine's
+/// clock, the simulation's drawn rows.
+fn lit_state(engine: &dyn Stages) -> Option<FrameState<'_>> {
+    let sorted = engine.sorted()?;
+    Some(FrameState {
+        positions: sorted.texture(POSITION),
+        statics: sorted.texture(STATIC),
+        motion: None,
+        time: engine.sim().time() as f32,
+        spins: None,
+        count: engine.sim().drawn().count,
+        user: &[],
+    })
+}
+
+/// The lit render's bounds beside the placed points: the slices' chain and the fill floor,
+/// each counted as the render is.
+pub(super) fn render_bounds(
+    ctx: &Context,
+    (timer, samples): (&PassTimer, &SamplesQuery),
+    floors: &LitFloors,
+    engine: &dyn Stages,
+) -> Result<Vec<(&'static str, f64, Option<Drawn>)>> {
+    let (Some(lit), Some(state)) = (engine.lit(), lit_state(engine)) else {
+        return Ok(Vec::new());
+    };
+    let (target, camera) = (engine.target(), engine.camera());
+    let count = state.count;
+    let chain = counted(ctx, samples, || {
+        timed(timer, || floors.chain(ctx, lit, (target, camera), count))
+    })?;
+    let fill = counted(ctx, samples, || {
+        timed(timer, || {
+            floors
+                .fill
+                .draw_passes(target, &state, camera, None, SlicePasses::Both)
+        })
+    })?;
+    Ok(vec![
+        (SLICE_CHAIN, chain.0, Some(chain.1)),
+        (LIT_FILL, fill.0, Some(fill.1)),
+    ])
+}
+
+/// Half-angle slicing's passes apart: every slice's light pass alone, then every slice's eye
+/// pass alone (on the light buffer the light passes left), each next to the fill floor's passes
+/// of that kind. (Not next to the live particles as points: on llvmpipe a million points cost
+/// 0.22 s, the slices' culled quads of the dead far less, and the points took 1.9 times the
+/// light passes they were to bound.)
+pub(super) fn lit_phases(
+    ctx: &Context,
+    (timer, samples): (&PassTimer, &SamplesQuery),
+    floors: Option<&LitFloors>,
+    phases: &mut Phases,
+    engine: &dyn Stages,
+) -> Result<()> {
+    let (Some(lit), Some(state), Some(floors)) = (engine.lit(), lit_state(engine), floors) else {
+        return Ok(());
+    };
+    let (camera, target) = (engine.camera(), engine.target());
+    let atlas = engine.renderer().atlas();
+    for (passes, name) in [
+        (
+            SlicePasses::Light,
+            format!("light-buffer passes ({} slices)", lit.slices()),
+        ),
+        (
+            SlicePasses::Eye,
+            format!(
+                "eye passes ({} slices, lit by the light buffer)",
+                lit.slices()
+            ),
+        ),
+    ] {
+        let fill = counted(ctx, samples, || {
+            timed(timer, || {
+                floors
+                    .fill
+                    .draw_passes(target, &state, camera, None, passes)
+            })
+        })?;
+        let (t, drawn) = counted(ctx, samples, || {
+            timed(timer, || {
+                lit.draw_passes(target, &state, camera, atlas, passes)
+            })
+        })?;
+        phases.push_bounds(&name, t, Some(drawn), &[(LIT_FILL, fill.0, Some(fill.1))]);
+    }
+    Ok(())
+}

@@ -88,11 +88,17 @@ impl TruncationTally {
     }
 
     /// Adds the first `n` texels of `flags` (a texture of the tally's size, in rows of its
-    /// width) whose component `component` is above 1/2.
+    /// width) whose component `component` is above 1/2. Each level is drawn over the rows that
+    /// sum the counted texels alone, and the next reads those rows alone (the rows above keep
+    /// sums of an earlier, larger count): a sparse state's few live rows cost a few rows of each
+    /// level, not the whole state (NVIDIA H100, `mesh` at 2048²: its integration's 866 live
+    /// particles took 0.105 ms with the bounce tally's first level over all 4M texels).
     pub(crate) fn add_flags(&self, flags: &Texture, component: i32, n: usize) {
         let size = [flags.width(), flags.height()];
         debug_assert_eq!(size, self.size, "a tally counts flags of its own size");
         let (mut source, mut at, mut count, mut comp) = (flags, size, n as i32, component);
+        // The source's rows holding counted texels (at least one: a level is never empty).
+        let mut rows = (n as u32).div_ceil(size[0]).clamp(1, size[1]);
         let uniforms = |at: [u32; 2], count: i32, comp: i32| {
             [
                 (
@@ -105,11 +111,13 @@ impl TruncationTally {
         };
         for t in &self.levels {
             let u = uniforms(at, count, comp);
+            rows = rows.div_ceil(TALLY_BLOCK).min(t.height());
+            let textures = [("u_counts", source.into())];
             self.pass
-                .draw(&self.program, &[("u_counts", source.into())], &u, t);
+                .draw_rows(&self.program, &textures, &u, t, 0, rows);
             source = t.only_texture();
             at = [t.width(), t.height()];
-            (count, comp) = ((at[0] * at[1]) as i32, -1);
+            (count, comp) = ((at[0] * rows) as i32, -1);
         }
         let state = DrawState {
             blend: Some(Blend::SUM),
@@ -149,7 +157,8 @@ mod tests {
     use super::*;
 
     /// The reduction counts what the CPU counts: random flags (some near the threshold) in
-    /// sources of odd sizes, only the first `n` texels, added over several tallies.
+    /// sources of odd sizes, only the first `n` texels (after a tally of every texel), added over
+    /// several tallies.
     #[test]
     fn the_reduction_counts_the_flags_of_the_first_texels() {
         let ctx = Context::new(0).expect("an EGL device (llvmpipe in CI)");
@@ -160,6 +169,11 @@ mod tests {
             (37, 23, 700),
             (64, 64, 4096),
             (130, 3, 390),
+            // A few rows of a tall state: each level's first rows only.
+            (64, 64, 100),
+            (256, 300, 257),
+            (16, 1024, 40),
+            (64, 64, 0),
         ] {
             let flags = Texture::new(
                 &ctx,
@@ -175,11 +189,15 @@ mod tests {
             flags.upload_f32(&data).unwrap();
             let tally = TruncationTally::new(&ctx, [w, h]).unwrap();
             assert_eq!(tally.draws(), reduction_sizes(w, h).len() as u64 + 1);
-            let want = (0..n as usize).filter(|&i| data[i * 4 + 2] > 0.5).count() as u64;
+            let count = |n: u32| (0..n as usize).filter(|&i| data[i * 4 + 2] > 0.5).count();
+            let (all, want) = (count(w * h) as u64, count(n) as u64);
+            // Every texel first, so that each level's rows above the first n's hold sums that
+            // the later tallies must not read.
+            tally.add_flags(&flags, 2, (w * h) as usize);
             for _ in 0..3 {
                 tally.add_flags(&flags, 2, n as usize);
             }
-            assert_eq!(tally.total().unwrap(), 3 * want, "{w}×{h}, first {n}");
+            assert_eq!(tally.total().unwrap(), all + 3 * want, "{w}×{h}, first {n}");
         }
     }
 

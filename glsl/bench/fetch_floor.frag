@@ -16,6 +16,9 @@
 // neighbour it visits. The keys, table and positions are not among the F2 reads then: the walk
 // reads them where the pass does.
 //
+// BLOCK: the draw was a block reduction (a tally's level, collide/tally.frag) whose fragments
+// read BLOCK × BLOCK texels each; the floor fetches each texture at all of them.
+//
 // F2, U2, F3, U3: how many 2D float, 2D unsigned, 3D float and 3D unsigned textures the draw
 // bound (at most 16, 4, 4, 2); TARGETS: its render targets (1 to 8); UINT: unsigned targets.
 
@@ -154,6 +157,13 @@ void main() {
     f += own;
     if (own.w > 0.0) {
 #endif
+#ifdef BLOCK
+    // A block reduction (collide/tally.frag): each fragment read BLOCK × BLOCK texels of its
+    // input, at its own pixel times BLOCK plus (i, j); the floor reads them all too.
+    ivec2 pixel = p;
+    for (int b = 0; b < BLOCK * BLOCK; b++) {
+    p = pixel * BLOCK + ivec2(b % BLOCK, b / BLOCK);
+#endif
 #if F2 > 0
     f += FETCH2(u_f2_0, u_f2_size[0]);
 #endif
@@ -231,6 +241,9 @@ void main() {
 #endif
 #if U3 > 1
     u += FETCH3(u_u3_1, u_u3_size[1]);
+#endif
+#ifdef BLOCK
+    }
 #endif
 #ifdef WALK
     search_around(self, own.xyz);

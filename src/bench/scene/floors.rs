@@ -2,7 +2,7 @@
 //! phase against the placed points and the fill floor, each counted (draws, points, bytes,
 //! fragments) so that a test can check that a floor draws no more than its phase.
 
-use super::{timed, Phases};
+use super::{counted, timed, Phases};
 use crate::bench::stats::{PassTimer, PlacedRenderFloor};
 use crate::engine::Stages;
 use crate::error::Result;
@@ -101,25 +101,6 @@ pub(super) struct RenderFloors<'a> {
 const SHADING_FLOOR: &str = "shading floor: the pass itself, its vertex and fragment stages \
      (every fetch and computation) and colliders' geometry, same blend and depth, each colour \
      then made one that leaves the frame unchanged (the blends its colours make left out)";
-
-/// Runs `f` (a timed range) counting what it drew: the GL layer's draw counts and the fragments.
-pub(super) fn counted(
-    ctx: &Context,
-    samples: &SamplesQuery,
-    f: impl FnOnce() -> Result<f64>,
-) -> Result<(f64, Drawn)> {
-    ctx.take_draw_stats();
-    let (t, fragments) = samples.count(f)?;
-    let stats = ctx.take_draw_stats();
-    Ok((
-        t?,
-        Drawn {
-            stats,
-            fragments: Some(fragments),
-            walked: 0,
-        },
-    ))
-}
 
 /// The placed points' bound where they write: the pass's own points of one size.
 const PLACED_WRITING: &str = "clear + the live particles as points where they are, as many as \

@@ -16,8 +16,7 @@
 //! The light passes alone and the eye passes alone (on the light buffer the light passes left)
 //! are each bounded by the same fill floor's passes of that kind.
 
-use super::floors::{counted, Drawn};
-use super::{timed, Phases};
+use super::{counted, timed, Drawn, Phases};
 use crate::bench::stats::PassTimer;
 use crate::engine::Stages;
 use crate::error::Result;

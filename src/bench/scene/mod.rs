@@ -269,6 +269,25 @@ pub(crate) fn scratch_like(ctx: &Context, fb: &Framebuffer) -> Result<Framebuffe
     Framebuffer::new(ctx, "floor scratch", textures)
 }
 
+/// Runs `f` (a timed range) counting what it drew: the GL layer's draw counts and the fragments.
+fn counted(
+    ctx: &Context,
+    samples: &SamplesQuery,
+    f: impl FnOnce() -> Result<f64>,
+) -> Result<(f64, Drawn)> {
+    ctx.take_draw_stats();
+    let (t, fragments) = samples.count(f)?;
+    let stats = ctx.take_draw_stats();
+    Ok((
+        t?,
+        Drawn {
+            stats,
+            fragments: Some(fragments),
+            walked: 0,
+        },
+    ))
+}
+
 /// Times every phase of `scene` at each square state size; `progress(size)` after each.
 pub fn bench_scene(
     ctx: &Context,

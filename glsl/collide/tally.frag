@@ -18,13 +18,18 @@ layout(location = 0) out vec4 o_count;
 
 void main() {
     ivec2 base = ivec2(gl_FragCoord.xy) * TALLY_BLOCK;
+    ivec2 last = u_size - 1;
     float sum = 0.0;
     for (int j = 0; j < TALLY_BLOCK; j++) {
         for (int i = 0; i < TALLY_BLOCK; i++) {
             ivec2 t = base + ivec2(i, j);
-            if (t.x >= u_size.x || t.y >= u_size.y || t.y * u_size.x + t.x >= u_count) continue;
-            vec4 c = texelFetch(u_counts, t, 0);
-            sum += u_component < 0 ? c.x : (c[u_component] > 0.5 ? 1.0 : 0.0);
+            // Every fetch made (clamped into the source), none behind a branch, so that the
+            // block's fetches can be in flight together; the texels past the count add 0 (the
+            // same sum: x + 0 = x for a sum that starts at +0).
+            vec4 c = texelFetch(u_counts, min(t, last), 0);
+            bool counted = t.x <= last.x && t.y <= last.y && t.y * u_size.x + t.x < u_count;
+            float flag = u_component < 0 ? c.x : (c[u_component] > 0.5 ? 1.0 : 0.0);
+            sum += counted ? flag : 0.0;
         }
     }
     o_count = vec4(sum);

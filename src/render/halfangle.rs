@@ -344,8 +344,17 @@ impl HalfAngleRenderer {
         if let Some(a) = atlas {
             textures.push(("u_atlas", a.into()));
         }
-        let shadow_textures = textures.clone();
+        let mut shadow_textures = textures.clone();
         textures.push(("u_light", self.buffer.only_texture().into()));
+        let mut frame = frame;
+        if self.replaced {
+            // Once a frame, not once a slice: a floor's draws cost the CPU what the slices' do.
+            let (eye, shadow) = (&self.eye, &self.shadow);
+            eye_frame.retain(|(name, _)| eye.declares(name));
+            textures.retain(|(name, _)| eye.declares(name));
+            frame.retain(|(name, _)| shadow.declares(name));
+            shadow_textures.retain(|(name, _)| shadow.declares(name));
+        }
         let batch = self.batch(state.count);
         let mut first = 0;
         while first < state.count {
@@ -388,12 +397,6 @@ impl HalfAngleRenderer {
         (first, n): (usize, usize),
         st: &DrawState,
     ) {
-        let mut uniforms = [frame, &[("u_first", Uniform::I32(first as i32))]].concat();
-        let mut textures = textures.to_vec();
-        if self.replaced {
-            uniforms.retain(|(name, _)| program.declares(name));
-            textures.retain(|(name, _)| program.declares(name));
-        }
         self.ctx.draw(&Draw {
             program,
             target: fb,
@@ -402,8 +405,8 @@ impl HalfAngleRenderer {
             primitive: Primitive::Triangles,
             count: (n * super::QUAD_VERTICES) as u32,
             state: st,
-            textures: &textures,
-            uniforms: &uniforms,
+            textures,
+            uniforms: &[frame, &[("u_first", Uniform::I32(first as i32))]].concat(),
         });
     }
 

@@ -77,6 +77,24 @@ pub struct SliceDraws {
     pub light_blend: Blend,
 }
 
+impl SliceDraws {
+    /// The eye passes' and the light passes' draw state: their blends, one-pixel points (the
+    /// slices draw quads), no depth.
+    pub fn states(&self) -> (DrawState, DrawState) {
+        let eye = DrawState {
+            blend: Some(self.eye_blend),
+            point_size: PointSize::One,
+            depth: Depth::Off,
+            color_writes: true,
+        };
+        let light = DrawState {
+            blend: Some(self.light_blend),
+            ..eye
+        };
+        (eye, light)
+    }
+}
+
 /// The particle renderer's lit variant: the same look (keyframes, sprites, sizes), drawn in
 /// slices along the half-angle vector.
 pub struct HalfAngleRenderer {
@@ -327,16 +345,7 @@ impl HalfAngleRenderer {
         }
         let (mut eye_frame, frame) = self.frame_uniforms(target, state, camera, atlas)?;
         eye_frame.push(("u_premultiplied", Uniform::I32(draws.under as i32)));
-        let eye_state = DrawState {
-            blend: Some(draws.eye_blend),
-            point_size: PointSize::One,
-            depth: Depth::Off,
-            color_writes: true,
-        };
-        let light_state = DrawState {
-            blend: Some(draws.light_blend),
-            ..eye_state
-        };
+        let (eye_state, light_state) = draws.states();
         let mut textures: Vec<(&str, Sampled)> = vec![
             ("u_position", state.positions.into()),
             ("u_static", state.statics.into()),

@@ -114,6 +114,17 @@ fn the_fetch_floor_writes_the_sum_of_one_fetch_of_each_texture() {
     ctx.check_error("the fetch floor").unwrap();
 }
 
+/// What `shape`'s floor writes into its one target when revealed (the sums of its fetches).
+fn revealed(ctx: &Context, shape: &DrawShape) -> Vec<f32> {
+    let floor = FetchFloor::new(ctx).unwrap();
+    floor.reveal.set(true);
+    let timer = PassTimer::new(ctx, Clock::Wall).unwrap();
+    floor.measure(&timer, std::slice::from_ref(shape)).unwrap();
+    let targets = floor.targets.borrow();
+    let fb = &targets[&(shape.size, shape.formats.clone())];
+    fb.only_texture().read_f32().unwrap()
+}
+
 /// A tally's level (a block reduction) is floored by a pass that fetches the whole 4×4
 /// block of each fragment, clamped to the texture: revealed, its sums against the CPU's.
 #[test]
@@ -138,15 +149,7 @@ fn a_block_reduction_is_floored_by_its_blocks() {
         ints: Vec::new(),
         floats: Vec::new(),
     };
-    let floor = FetchFloor::new(&ctx).unwrap();
-    floor.reveal.set(true);
-    let timer = PassTimer::new(&ctx, Clock::Wall).unwrap();
-    floor.measure(&timer, std::slice::from_ref(&shape)).unwrap();
-    let targets = floor.targets.borrow();
-    let got = targets[&(shape.size, shape.formats.clone())]
-        .only_texture()
-        .read_f32()
-        .unwrap();
+    let got = revealed(&ctx, &shape);
     for (y, x) in (0..2u32).flat_map(|y| (0..4u32).map(move |x| (y, x))) {
         let mut want = 0.0f32;
         for (j, i) in (0..4u32).flat_map(|j| (0..4u32).map(move |i| (j, i))) {
@@ -245,15 +248,7 @@ fn the_walking_floor_visits_the_same_neighbours() {
         ],
         ..reading([4, 1], &[("u_keys", &keys), ("u_position", &position)])
     };
-    let floor = FetchFloor::new(&ctx).unwrap();
-    floor.reveal.set(true);
-    let timer = PassTimer::new(&ctx, Clock::Wall).unwrap();
-    floor.measure(&timer, std::slice::from_ref(&shape)).unwrap();
-    let targets = floor.targets.borrow();
-    let got = targets[&(shape.size, shape.formats.clone())]
-        .only_texture()
-        .read_f32()
-        .unwrap();
+    let got = revealed(&ctx, &shape);
     // Positions 1, 2, 4, 8 (one value in every channel, live: w > 0), read once at the own
     // texel; the keys only by the walk. The dead entry (+inf key) walks nothing.
     let own = [1.0, 2.0, 4.0, 8.0];

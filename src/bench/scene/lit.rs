@@ -20,10 +20,7 @@ use super::{counted, timed, Drawn, Phases};
 use crate::bench::stats::PassTimer;
 use crate::engine::Stages;
 use crate::error::Result;
-use crate::gl::{
-    Context, Defines, Depth, Draw, DrawState, PointSize, Primitive, Program, SamplesQuery, Uniform,
-    VertexArray,
-};
+use crate::gl::{Context, Defines, Draw, Primitive, Program, SamplesQuery, Uniform, VertexArray};
 use crate::render::{Camera, FrameState, FrameTarget, HalfAngleRenderer, SlicePasses};
 use crate::sim::state::{POSITION, STATIC};
 
@@ -73,16 +70,7 @@ impl LitFloors {
         let buffer = lit.light_buffer();
         buffer.clear([1.0; 4]);
         target.clear_to(draws.eye_clear);
-        let eye_state = DrawState {
-            blend: Some(draws.eye_blend),
-            point_size: PointSize::One,
-            depth: Depth::Off,
-            color_writes: true,
-        };
-        let light_state = DrawState {
-            blend: Some(draws.light_blend),
-            ..eye_state
-        };
+        let (eye_state, light_state) = draws.states();
         let zero = [("u_zero", Uniform::F32(0.0))];
         let pass = |program, fb, state, textures| {
             ctx.draw(&Draw {

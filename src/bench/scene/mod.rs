@@ -451,6 +451,17 @@ fn alive(ctx: &Context, engine: &dyn Stages, s: &SceneFile) -> Result<Alive> {
     Ok(Alive { live, non_finite })
 }
 
+/// The shading floor of `e`'s render (points and sprites, not lit), on a GPU clock only: a GPU
+/// blends in fixed-function units after the fragment stage, which the floor leaves with nothing
+/// to change; llvmpipe compiles the blend into the fragment code, so there the floor is the pass
+/// itself, and it measured 1.0-1.24 times the pass (2 cores, every built-in at 64² and 128²).
+fn shading_floor(e: &dyn Stages, clock: Clock) -> Result<Option<crate::render::ParticleRenderer>> {
+    match (e.lit(), clock) {
+        (None, Clock::Gpu) => e.renderer().shading_floor(),
+        _ => Ok(None),
+    }
+}
+
 /// Every phase of `s`'s frame over the repetitions, the whole frame's median ms, what is
 /// alive at the end, the engine's model, and the constants of its frame (`fixed_ms`: the fixed
 /// cost of a pass, measured in the same run).
@@ -489,14 +500,7 @@ fn measure(
             Some(_) => None,
             None => Some(e.renderer().with_fragment("bench/fill_floor.frag")?),
         },
-        // On a GPU clock only: a GPU blends in fixed-function units after the fragment stage,
-        // which the shading floor leaves with nothing to change; llvmpipe compiles the blend
-        // into the fragment code, so there the floor is the pass itself, and it measured 1.0-1.24
-        // times the pass (2 cores, every built-in at 64² and 128²): no bound.
-        shade: match (e.lit(), timer.clock()) {
-            (None, Clock::Gpu) => e.renderer().shading_floor()?,
-            _ => None,
-        },
+        shade: shading_floor(e, timer.clock())?,
         lit: e.lit().map(|l| lit::LitFloors::new(ctx, l)).transpose()?,
     };
     let sort_floors = SortFloors {

@@ -138,6 +138,18 @@ fn every_drawn_floor_draws_no_more_than_its_phase() {
     common::no_gl_error(&ctx);
 }
 
+/// Built-in `name` at 32² into a 48×32 frame, and its engine (seed 1).
+fn small_engine(
+    ctx: &texflow::gl::Context,
+    name: &str,
+) -> (texflow::scene::SceneFile, Box<dyn texflow::engine::Stages>) {
+    let mut scene = texflow::scene::load(name).unwrap();
+    scene.particles.size = [32, 32];
+    scene.render.resolution = [48, 32];
+    let e = texflow::engine::build_gpu(ctx, &scene, 1).unwrap();
+    (scene, e)
+}
+
 /// The fill floor and the shading floor draw the pass's fragments and change no pixel: after
 /// each the frame is as the clear left it, for every built-in that draws particles alone, while
 /// the pass itself draws something. (A GPU that skips blends changing nothing skips every one of the floor's, so the
@@ -152,10 +164,7 @@ fn the_fill_floor_changes_no_pixel() {
     let (mut checked, mut surfaces) = (Vec::new(), Vec::new());
     let mut shaded = 0;
     for name in texflow::scene::BUILTIN {
-        let mut scene = texflow::scene::load(name).unwrap();
-        scene.particles.size = [32, 32];
-        scene.render.resolution = [48, 32];
-        let mut e = texflow::engine::build_gpu(&ctx, &scene, 1).unwrap();
+        let (scene, mut e) = small_engine(&ctx, name);
         if e.lit().is_some() {
             continue;
         }
@@ -234,10 +243,7 @@ fn the_lit_fill_floor_changes_no_pixel() {
     let ctx = common::context();
     let mut lit_scenes = 0;
     for name in texflow::scene::BUILTIN {
-        let mut scene = texflow::scene::load(name).unwrap();
-        scene.particles.size = [32, 32];
-        scene.render.resolution = [48, 32];
-        let mut e = texflow::engine::build_gpu(&ctx, &scene, 1).unwrap();
+        let (_, mut e) = small_engine(&ctx, name);
         let Some(fill) = e
             .lit()
             .map(|l| l.with_fragment("bench/fill_floor.frag").unwrap())

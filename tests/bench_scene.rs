@@ -231,9 +231,11 @@ fn predicted_from_what_it_drew(
     let c = &r.constants;
     for k in [
         c.fixed_ms,
+        c.follow_on_ms,
         c.ms_per_mb_written,
         c.ms_per_m_fetches,
         c.ms_per_m_points,
+        c.ms_per_m_vertices,
     ] {
         assert!(k.is_finite() && k >= 0.0, "{name}: {c:?}");
     }
@@ -251,17 +253,24 @@ fn predicted_from_what_it_drew(
     match (p.drawn, p.predicted_ms) {
         (Some(d), Some(m)) => {
             let s = d.stats;
-            let (per_point, fragments) = match d.fragments {
-                Some(n) => (f.ms_per_m_points, n as f64 / 1e6 * f.ms_per_m_fragments),
-                None => (c.ms_per_m_points, 0.0),
+            // Into a frame, a fragment's time holds its write: the bytes are not charged again.
+            let (per_point, fragments, bytes) = match d.fragments {
+                Some(n) => (f.ms_per_m_points, n as f64 / 1e6 * f.ms_per_m_fragments, 0),
+                None => (c.ms_per_m_points, 0.0, s.bytes_written),
             };
+            assert!(
+                s.follow_ons < s.draws.max(1),
+                "{name}: the first draw follows none"
+            );
             assert_eq!(
                 d.fragments.is_some(),
                 p.phase.starts_with("render") || slices,
                 "{name}"
             );
-            let want = s.draws as f64 * c.fixed_ms
-                + s.bytes_written as f64 / 1e6 * c.ms_per_mb_written
+            let want = (s.draws - s.follow_ons) as f64 * c.fixed_ms
+                + s.follow_ons as f64 * c.follow_on_ms
+                + (s.vertices - s.points) as f64 / 1e6 * c.ms_per_m_vertices
+                + bytes as f64 / 1e6 * c.ms_per_mb_written
                 + s.fetches as f64 / 1e6 * c.ms_per_m_fetches
                 + s.points as f64 / 1e6 * per_point
                 + fragments;

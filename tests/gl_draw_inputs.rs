@@ -1,7 +1,8 @@
 //! A draw's inputs are data: [`Draw`] lists its textures by sampler name and its uniforms, and
 //! `Context::draw` gives the textures units in order on every draw. Checked on a real driver:
 //! a program whose sampler the draw leaves out is refused, and draws with other lists read their
-//! own textures and uniforms, never what the draw before left bound.
+//! own textures and uniforms, never what the draw before left bound. The draws it counts tell
+//! a follow-on draw from a pass.
 
 mod common;
 
@@ -159,5 +160,33 @@ fn the_uniform_cache_changes_no_result() {
             "{name}: {cached_uploads} uploads with the cache, {all_uploads} without"
         );
     }
+    no_gl_error(&ctx);
+}
+
+/// The GL layer counts a draw into the framebuffer that the draw before it drew into as a
+/// follow-on (the cost model charges it less than a pass), and no draw after the counts were
+/// taken: A A B B B A gives 3; a sort's ping-pong passes give none.
+#[test]
+fn follow_on_draws_are_counted_by_target() {
+    let ctx = context();
+    let pass = FullscreenPass::new(&ctx).unwrap();
+    let p = program(&ctx, "array.frag", ARRAY);
+    let (fa, fb) = (target(&ctx), target(&ctx));
+    let v = [(
+        "u_v",
+        Uniform::Vec4s(vec![glam::Vec4::ONE, glam::Vec4::ZERO].into()),
+    )];
+    pass.draw(&p, &[], &v, &fa);
+    ctx.take_draw_stats();
+    for fb in [&fa, &fa, &fb, &fb, &fb, &fa] {
+        pass.draw(&p, &[], &v, fb);
+    }
+    let s = ctx.take_draw_stats();
+    assert_eq!((s.draws, s.follow_ons), (6, 3), "{s:?}");
+    for k in 0..6 {
+        pass.draw(&p, &[], &v, [&fa, &fb][k % 2]);
+    }
+    let s = ctx.take_draw_stats();
+    assert_eq!((s.draws, s.follow_ons), (6, 0), "{s:?}");
     no_gl_error(&ctx);
 }

@@ -506,7 +506,13 @@ fn the_cost_model_predicts_every_cell() {
     // (the write floor less the fixed cost...), which a loaded machine can bring to 0 (they are
     // clamped there, never negative): measured, finite, not below 0, without timing assumptions.
     assert!(c["fixed_ms"].as_f64().unwrap() > 0.0, "fixed_ms: {c}");
-    for k in ["ms_per_mb_written", "ms_per_m_fetches", "ms_per_m_points"] {
+    for k in [
+        "follow_on_ms",
+        "ms_per_mb_written",
+        "ms_per_m_fetches",
+        "ms_per_m_points",
+        "ms_per_m_vertices",
+    ] {
         let x = c[k].as_f64().unwrap();
         assert!(x.is_finite() && x >= 0.0, "{k}: {c}");
     }

@@ -4,13 +4,18 @@
 //!
 //! | constant | microbenchmark |
 //! | --- | --- |
-//! | fixed cost of a pass | [`FixedCost`]: 200 write-only passes into 1×1, divided by 200 |
+//! | fixed cost of a pass | [`FixedCost`]: 200 passes of one texel, each reading what the one before wrote, divided by 200 |
+//! | fixed cost of a follow-on draw | 200 one-texel draws into one target, none reading it, divided by 200 |
 //! | time per byte written | a write-only pass into a side² RGBA32F target, less the fixed cost |
 //! | time per texel fetched | `bench/fetch_probe.frag` (8 scattered RGBA32F fetches a fragment) less the write-only pass, per fetch |
 //! | time per point | the target cleared, then `side²` one-pixel points through `bench/render_floor.vert` (uniformly scattered), less the write-only pass |
+//! | time per vertex | `side²` vertices of triangles that the clipper drops, each fetching one texel (`bench/vertex_probe.vert`), less a draw's fixed cost |
 //!
-//! predicted ms = passes × fixed + bytes × per byte + fetches × per fetch + points × per point,
-//! of the passes, bytes, declared fetches and points the GL layer counted ([`DrawStats`]).
+//! predicted ms = passes × fixed + follow-ons × follow-on + bytes × per byte + fetches × per
+//! fetch + points × per point + other vertices × per vertex, of the draws, bytes, declared
+//! fetches, points and vertices the GL layer counted ([`DrawStats`]): a follow-on is a draw
+//! into the target that the draw before it drew into, the passes are the other draws, and the
+//! other vertices are those of triangles and lines (a point's vertex is in its point's time).
 //!
 //! `bench scene` prices its render passes, which draw into a frame and not into the state, with
 //! two constants more, measured into a frame target of the scene's resolution ([`FrameConstants`]):
@@ -20,16 +25,17 @@
 //! | time per blended fragment | eight full-frame triangles blended (additive) into the frame, less the clear and their draws' fixed cost, per fragment |
 //! | time per point | the frame cleared, then as many one-pixel points as it has pixels, in its raster order (point k at pixel k) and blended, less the clear, the draw's fixed cost and their fragments |
 //!
-//! predicted ms = draws × fixed + bytes × per byte + points × per point + fragments × per
-//! fragment, the fragments counted by a samples query around the pass. Triangles and lines (a
-//! surface, strands, the colliders' geometry) are priced by their fragments alone: no probe
-//! prices their vertices.
+//! predicted ms = passes × fixed + follow-ons × follow-on + fetches × per fetch + points × per
+//! point + other vertices × per vertex + fragments × per fragment, the fragments counted by a
+//! samples query around the pass: a fragment's time holds its write, so the bytes that the GL
+//! layer counts for a triangle draw (its whole viewport, where a surface or the slices' quads
+//! cover a part) are not charged again.
 
 use super::{median, FixedCost, PassTimer, RenderFloor, WriteFloor};
 use crate::error::Result;
 use crate::gl::{
-    Blend, Context, Defines, DrawState, DrawStats, Framebuffer, FullscreenPass, Program, Texture,
-    TextureDesc, TextureFormat, Uniform, FULLSCREEN_VERTEX,
+    Blend, Context, Defines, Draw, DrawState, DrawStats, Framebuffer, FullscreenPass, Primitive,
+    Program, Texture, TextureDesc, TextureFormat, Uniform, VertexArray, FULLSCREEN_VERTEX,
 };
 
 /// The device's constants, in milliseconds.
@@ -37,12 +43,16 @@ use crate::gl::{
 pub struct Constants {
     /// One pass, however little it writes.
     pub fixed_ms: f64,
+    /// One draw into the target the draw before it drew into, however little it writes.
+    pub follow_on_ms: f64,
     /// One megabyte written into colour attachments.
     pub ms_per_mb_written: f64,
     /// One million texel fetches (RGBA32F, scattered).
     pub ms_per_m_fetches: f64,
     /// One million one-pixel points.
     pub ms_per_m_points: f64,
+    /// One million vertices of triangles or lines, each fetching a texel.
+    pub ms_per_m_vertices: f64,
     /// Drawing into a frame (`bench scene`'s render passes); `None` where not measured.
     pub frame: Option<FrameConstants>,
 }
@@ -61,7 +71,18 @@ pub struct FrameConstants {
 }
 
 impl Constants {
-    /// The model's time for a piece of work.
+    /// Every constant 0: for runs whose predictions nobody reads (a GPU clock's priming).
+    pub const NONE: Constants = Constants {
+        fixed_ms: 0.0,
+        follow_on_ms: 0.0,
+        ms_per_mb_written: 0.0,
+        ms_per_m_fetches: 0.0,
+        ms_per_m_points: 0.0,
+        ms_per_m_vertices: 0.0,
+        frame: None,
+    };
+
+    /// The model's time for a piece of work, every draw a pass.
     pub fn predict(&self, passes: u64, bytes: u64, fetches: u64, points: u64) -> f64 {
         passes as f64 * self.fixed_ms
             + bytes as f64 * 1e-6 * self.ms_per_mb_written
@@ -69,9 +90,17 @@ impl Constants {
             + points as f64 * 1e-6 * self.ms_per_m_points
     }
 
-    /// The model's time for what the GL layer counted (`draws` as passes).
+    /// The draws' fixed costs and their vertices other than points'.
+    fn draws_and_vertices(&self, d: &DrawStats) -> f64 {
+        let follow_ons = d.follow_ons.min(d.draws);
+        (d.draws - follow_ons) as f64 * self.fixed_ms
+            + follow_ons as f64 * self.follow_on_ms
+            + d.vertices.saturating_sub(d.points) as f64 * 1e-6 * self.ms_per_m_vertices
+    }
+
+    /// The model's time for what the GL layer counted.
     pub fn predict_drawn(&self, d: &DrawStats) -> f64 {
-        self.predict(d.draws, d.bytes_written, d.fetches, d.points)
+        self.draws_and_vertices(d) + self.predict(0, d.bytes_written, d.fetches, d.points)
     }
 
     /// The model's time for a pass drawing into a frame that passed `fragments` (a samples
@@ -80,7 +109,8 @@ impl Constants {
     pub fn predict_frame(&self, d: &DrawStats, fragments: u64) -> f64 {
         match self.frame {
             Some(f) => {
-                self.predict(d.draws, d.bytes_written, d.fetches, 0)
+                self.draws_and_vertices(d)
+                    + self.predict(0, 0, d.fetches, 0)
                     + d.points as f64 * 1e-6 * f.ms_per_m_points
                     + fragments as f64 * 1e-6 * f.ms_per_m_fragments
             }
@@ -141,6 +171,7 @@ pub fn measure_constants(
     }
     let fixed = FixedCost::new(ctx)?;
     let fixed_ms = med(&mut || fixed.measure(timer))?;
+    let follow_on_ms = med(&mut || fixed.measure_follow_ons(timer))?;
     let write = med(&mut || timer.time(|| floor.draw(&target)))?;
     let bytes = side as f64 * side as f64 * 16.0;
     let fetches = 8u32;
@@ -156,9 +187,13 @@ pub fn measure_constants(
     let points = side as usize * side as usize;
     let render = RenderFloor::new(ctx)?;
     let drawn = med(&mut || timer.time(|| render.draw(&target, [0.0; 4], None, points)))?;
+    let probe = VertexProbe::new(ctx)?;
+    let vertices = med(&mut || timer.time(|| probe.draw(&target, &source, points)))?;
     let per_m = |t: f64, n: f64| (t.max(0.0) / n) * 1e6;
     Ok(Constants {
         fixed_ms,
+        follow_on_ms,
+        ms_per_m_vertices: per_m(vertices - fixed_ms, points as f64),
         ms_per_mb_written: per_m(write - fixed_ms, bytes),
         ms_per_m_fetches: per_m(fetch - write, fetches as f64 * points as f64),
         ms_per_m_points: per_m(drawn - write, points as f64),
@@ -166,21 +201,68 @@ pub fn measure_constants(
     })
 }
 
+/// The vertex probe: triangles whose vertices each fetch a texel and that the clipper drops
+/// (`glsl/bench/vertex_probe.vert`).
+struct VertexProbe {
+    ctx: Context,
+    program: Program,
+    empty: VertexArray,
+}
+
+impl VertexProbe {
+    fn new(ctx: &Context) -> Result<Self> {
+        let d: Defines = vec![("TARGETS".into(), "1".into())];
+        Ok(VertexProbe {
+            ctx: ctx.clone(),
+            program: Program::new(
+                ctx,
+                "bench/vertex_probe.vert",
+                "common/write_floor.frag",
+                &d,
+            )?,
+            empty: VertexArray::empty(ctx, "vertex probe")?,
+        })
+    }
+
+    /// `vertices` (rounded down to whole triangles) fetching texels of `source` (a square of a
+    /// power-of-two side), drawn towards `target`.
+    fn draw(&self, target: &Framebuffer, source: &Texture, vertices: usize) {
+        let log_w = source.width().trailing_zeros() as i32;
+        self.ctx.draw(&Draw {
+            program: &self.program,
+            target,
+            viewport: None,
+            vertices: &self.empty,
+            primitive: Primitive::Triangles,
+            count: (vertices / 3 * 3) as u32,
+            state: &DrawState::REPLACE,
+            textures: &[("u_source", source.into())],
+            uniforms: &[
+                ("u_log_w", Uniform::I32(log_w)),
+                ("u_zero", Uniform::F32(0.0)),
+                ("u_value", Uniform::Vec4(glam::Vec4::ZERO)),
+            ],
+        });
+    }
+}
+
 /// Full-frame triangles drawn for the fragment probe: enough fragments to time well above a
 /// timer's resolution at small frames.
 const FRAGMENT_PROBE_DRAWS: usize = 8;
 
 /// Measures the frame constants into `frame` (the scene's frame target: its size, format and
-/// depth attachment, not tested), medians of `repeats`, less `fixed_ms` a draw (the fixed cost
-/// of a pass measured in the same run, which the model charges each draw apart). Leaves `frame`
-/// holding the probes' colours: a render clears it first.
+/// depth attachment, not tested), medians of `repeats`, less the draws' fixed costs (`c`'s,
+/// measured in the same run, which the model charges each draw apart: the first draw into the
+/// frame a pass, the probe's others follow-ons). Leaves `frame` holding the probes' colours: a
+/// render clears it first.
 pub fn measure_frame_constants(
     ctx: &Context,
     timer: &PassTimer,
     frame: &Framebuffer,
-    fixed_ms: f64,
+    c: &Constants,
     repeats: usize,
 ) -> Result<FrameConstants> {
+    let fixed_ms = c.fixed_ms;
     let med = |f: &mut dyn FnMut() -> Result<f64>| median_of(repeats, f);
     let additive = Blend::SUM;
     let state = DrawState {
@@ -204,7 +286,8 @@ pub fn measure_frame_constants(
     })?;
     let pixels = frame.width() as f64 * frame.height() as f64;
     let draws = FRAGMENT_PROBE_DRAWS as f64;
-    let fragment = (blended - clear - draws * fixed_ms).max(0.0) / (draws * pixels);
+    let draws_ms = fixed_ms + (draws - 1.0) * c.follow_on_ms;
+    let fragment = (blended - clear - draws_ms).max(0.0) / (draws * pixels);
     let render = RenderFloor::new(ctx)?;
     let points = frame.width() as usize * frame.height() as usize;
     // In raster order: scattered uniformly over the frame, a million points took 2.54 ms on an

@@ -104,6 +104,24 @@ impl FixedCost {
         })?;
         Ok(t / Self::PASSES as f64)
     }
+
+    /// Milliseconds of one follow-on draw: [`FixedCost::PASSES`] draws of the same pass into
+    /// one target, each reading the other (which none writes), timed together.
+    pub fn measure_follow_ons(&self, timer: &PassTimer) -> Result<f64> {
+        let p = &self.program;
+        let source = [("u_source", self.targets[1].only_texture().into())];
+        let t = timer.time(|| {
+            for _ in 0..Self::PASSES {
+                self.pass.draw(
+                    p,
+                    &source,
+                    &[("u_log_w", Uniform::I32(0))],
+                    &self.targets[0],
+                );
+            }
+        })?;
+        Ok(t / Self::PASSES as f64)
+    }
 }
 
 /// The floor of a render pass (used by `bench step`): the clear, then as many points as the pass

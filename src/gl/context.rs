@@ -142,6 +142,8 @@ struct Inner {
     /// What the draws since the last [`Context::take_draw_stats`] did (for floors and the cost
     /// model: passes and bytes written).
     stats: Cell<DrawStats>,
+    /// The framebuffer the last counted draw drew into (see [`DrawStats::follow_ons`]).
+    last_target: Cell<Option<glow::Framebuffer>>,
     /// Whether uploads of a value a program's uniform already holds are skipped (see
     /// [`Context::set_uniform_cache`]).
     uniform_cache: Cell<bool>,
@@ -233,6 +235,7 @@ impl Context {
                 device: index,
                 id,
                 stats: Cell::new(DrawStats::default()),
+                last_target: Cell::new(None),
                 uniform_cache: Cell::new(true),
                 owner: Owner::Egl {
                     context,
@@ -290,6 +293,7 @@ impl Context {
                 device: 0,
                 id,
                 stats: Cell::new(DrawStats::default()),
+                last_target: Cell::new(None),
                 uniform_cache: Cell::new(true),
                 owner: Owner::Caller { reactivate },
             }),
@@ -318,8 +322,15 @@ impl Context {
         self.inner.stats.set(s);
     }
 
-    /// What the draws since the last call did, and starts counting again.
+    /// Notes that a draw goes into `target`; whether the draw counted before it went there too.
+    pub(super) fn note_target(&self, target: glow::Framebuffer) -> bool {
+        self.inner.last_target.replace(Some(target)) == Some(target)
+    }
+
+    /// What the draws since the last call did, and starts counting again (the next draw is no
+    /// follow-on).
     pub fn take_draw_stats(&self) -> DrawStats {
+        self.inner.last_target.set(None);
         self.inner.stats.take()
     }
 

@@ -256,10 +256,11 @@ impl Context {
             Primitive::Triangles => texels * d.target.bytes_per_texel() as u64,
             Primitive::Points | Primitive::Lines => 0,
         };
+        let n = d.count as u64;
         match d.primitive {
-            Primitive::Triangles => self.count_draw(true, bytes, 0, d.count as u64),
-            Primitive::Points => self.count_draw(false, 0, d.count as u64, d.count as u64),
-            Primitive::Lines => self.count_draw(false, 0, 0, d.count as u64),
+            Primitive::Triangles => self.count_draw(d.target, true, bytes, (0, n)),
+            Primitive::Points => self.count_draw(d.target, false, 0, (n, n)),
+            Primitive::Lines => self.count_draw(d.target, false, 0, (0, n)),
         }
         let profiled = super::profile::before(self);
         let mode = match d.primitive {

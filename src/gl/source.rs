@@ -30,6 +30,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "bench/chain_floor.vert",
     "bench/chain_floor.frag",
     "bench/fetch_floor.frag",
+    "bench/vertex_probe.vert",
     "common/compare.glsl",
     "common/precision.glsl",
     "common/mass.glsl",

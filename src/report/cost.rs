@@ -21,7 +21,7 @@ use crate::bench::cost::{measure_constants, Constants};
 use crate::bench::scenes::{self as bs, ScenesOptions};
 use crate::bench::{bench_sort, Clock, PassTimer, SortBenchOptions};
 use crate::error::Result;
-use crate::gl::Context;
+use crate::gl::{Context, DrawStats};
 use crate::sort::Variant;
 
 /// The ATI Radeon 9800 Pro of UberFlow's tables, from ATI's published specifications (2003):
@@ -156,7 +156,7 @@ fn table1_cells(
             what: r.variant.clone(),
             size: r.size,
             measured_ms: r.ms,
-            predicted_ms: c.predict(d.draws, d.bytes_written, f, d.points),
+            predicted_ms: c.predict_drawn(&DrawStats { fetches: f, ..d }),
             passes: d.draws,
             bytes: d.bytes_written,
             fetches: f,
@@ -208,18 +208,23 @@ fn table2_cells(
 fn markdown(ctx: &Context, c: &Constants, cells: &[Cell]) -> String {
     let mut m = format!(
         "## A cost model of Tables 1 and 2 (`texflow report all --only cost`)\n\n\
-         Device: {}. Constants measured in the same run: fixed cost of a pass {:.4} ms, \
-         {:.4} ms per MB written, {:.4} ms per million texel fetches, {:.4} ms per million \
-         points. Predicted ms = passes × fixed + bytes × per byte + fetches × per fetch + \
-         points × per point (fetches: those the sorts' passes and UberFlow's detection declare).\n\n\
+         Device: {}. Constants measured in the same run: fixed cost of a pass {:.4} ms, of a \
+         follow-on draw {:.4} ms, {:.4} ms per MB written, {:.4} ms per million texel fetches, \
+         {:.4} ms per million points, {:.4} ms per million vertices of triangles and lines. \
+         Predicted ms = passes × fixed + follow-ons × follow-on + bytes × per byte + fetches × \
+         per fetch + points × per point + other vertices × per vertex (a follow-on: a draw into \
+         the target the draw before it drew into; fetches: those the sorts' passes and \
+         UberFlow's detection declare).\n\n\
          | table | sort / experiment | size | passes | MB written | M fetches | M points | \
          measured ms | predicted ms | predicted / measured |\n\
          |---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
         ctx.limits().renderer,
         c.fixed_ms,
+        c.follow_on_ms,
         c.ms_per_mb_written,
         c.ms_per_m_fetches,
-        c.ms_per_m_points
+        c.ms_per_m_points,
+        c.ms_per_m_vertices
     );
     for x in cells {
         m += &format!(

@@ -49,17 +49,8 @@ impl Drawn {
 
     /// `k` runs of what this drew (a floor of one pass, charged once per pass run).
     pub(super) fn times(self, k: u64) -> Self {
-        let s = self.stats;
         Drawn {
-            stats: DrawStats {
-                draws: s.draws * k,
-                passes: s.passes * k,
-                bytes_written: s.bytes_written * k,
-                points: s.points * k,
-                vertices: s.vertices * k,
-                uniform_uploads: s.uniform_uploads * k,
-                fetches: s.fetches * k,
-            },
+            stats: self.stats.times(k),
             fragments: self.fragments.map(|f| f * k),
             walked: self.walked * k,
         }
@@ -67,17 +58,8 @@ impl Drawn {
 
     /// What this and `other` drew together.
     pub(super) fn plus(self, other: Drawn) -> Self {
-        let (a, b) = (self.stats, other.stats);
         Drawn {
-            stats: DrawStats {
-                draws: a.draws + b.draws,
-                passes: a.passes + b.passes,
-                bytes_written: a.bytes_written + b.bytes_written,
-                points: a.points + b.points,
-                vertices: a.vertices + b.vertices,
-                uniform_uploads: a.uniform_uploads + b.uniform_uploads,
-                fetches: a.fetches + b.fetches,
-            },
+            stats: self.stats.plus(other.stats),
             fragments: self.fragments.zip(other.fragments).map(|(x, y)| x + y),
             walked: self.walked + other.walked,
         }

@@ -307,7 +307,7 @@ pub fn bench_scene(
         let warmup = warmup_frames(&s, opts.warmup_frames)?;
         let constants = measure_constants(ctx, &timer, size.max(256), opts.repeats)?;
         let (phases, frame, live, model, frame_constants) =
-            measure(ctx, &s, warmup, &timer, constants.fixed_ms, opts)?;
+            measure(ctx, &s, warmup, &timer, &constants, opts)?;
         let constants = Constants {
             frame: Some(frame_constants),
             ..constants
@@ -395,7 +395,7 @@ fn prime(
         repeats: PRIME_REPEATS,
         ..opts.clone()
     };
-    measure(ctx, &s, warmup, timer, 0.0, &untimed).map(|_| ())
+    measure(ctx, &s, warmup, timer, &Constants::NONE, &untimed).map(|_| ())
 }
 
 /// Most warm-up frames: the default (one emission cycle) is capped here, and a `--warmup`
@@ -463,14 +463,14 @@ fn shading_floor(e: &dyn Stages, clock: Clock) -> Result<Option<crate::render::P
 }
 
 /// Every phase of `s`'s frame over the repetitions, the whole frame's median ms, what is
-/// alive at the end, the engine's model, and the constants of its frame (`fixed_ms`: the fixed
-/// cost of a pass, measured in the same run).
+/// alive at the end, the engine's model, and the constants of its frame (`c`: the constants
+/// measured in the same run).
 fn measure(
     ctx: &Context,
     s: &SceneFile,
     warmup: usize,
     timer: &PassTimer,
-    fixed_ms: f64,
+    c: &Constants,
     opts: &SceneBenchOptions,
 ) -> Result<(Phases, f64, Alive, &'static str, FrameConstants)> {
     let mut engine = crate::engine::build_gpu(ctx, s, opts.seed)?;
@@ -485,7 +485,7 @@ fn measure(
     let state_floors = StateFloors::new(ctx, e.sim())?;
     // The render's constants, into its own frame (the render clears it first).
     let frame_constants =
-        measure_frame_constants(ctx, timer, e.target().framebuffer(), fixed_ms, opts.repeats)?;
+        measure_frame_constants(ctx, timer, e.target().framebuffer(), c, opts.repeats)?;
     let floor1 = WriteFloor::new(ctx, 1)?;
     let gather = match e.sorted() {
         Some(sorted) => Some(WriteFloor::for_target(ctx, sorted)?),

@@ -232,12 +232,13 @@ fn the_fill_floor_changes_no_pixel() {
     common::no_gl_error(&ctx);
 }
 
-/// A lit render's fill floor (the same slices with a constant fragment) changes no pixel of the
-/// frame and no texel of its light buffer: after it the frame is what the slices' clear and
-/// background composite alone leave (the slices of no particle), while the render's own slices
-/// draw something.
+/// A lit render's fill floor (the same slices with a constant fragment) and its shading floor
+/// (the slices' own passes, their colours made zero) change no pixel of the frame and no texel
+/// of their light buffers: after them the frame is what the slices' clear and background
+/// composite alone leave (the slices of no particle), while the render's own slices draw
+/// something.
 #[test]
-fn the_lit_fill_floor_changes_no_pixel() {
+fn the_lit_floors_change_no_pixel() {
     use texflow::render::{FrameState, SlicePasses};
     use texflow::sim::state::{POSITION, STATIC};
     let ctx = common::context();
@@ -281,6 +282,18 @@ fn the_lit_fill_floor_changes_no_pixel() {
         assert!(
             light.iter().all(|&t| t == 1.0),
             "{name}: the fill floor's light passes dimmed the light buffer"
+        );
+        // The shading floor: every fetch and computation of the slices, their colours made
+        // ones that their blends leave unchanged, the frame and its own light buffer alike.
+        let shade = lit.shading_floor().unwrap();
+        assert!(
+            draw(&shade, count, atlas) == empty,
+            "{name}: the shading floor drew"
+        );
+        let light = shade.light_buffer().only_texture().read_f32().unwrap();
+        assert!(
+            light.iter().all(|&t| t == 1.0),
+            "{name}: the shading floor's light passes dimmed the light buffer"
         );
         assert!(draw(lit, count, atlas) != empty, "{name}: nothing drawn");
         lit_scenes += 1;

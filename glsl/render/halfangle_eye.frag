@@ -4,6 +4,7 @@
 //   colour = keyframe colour (times the sprite texel) · (ambient + light colour · T).
 // u_premultiplied: the output is colour · alpha, alpha for the under operator (the eye looks
 // the way the light goes, slices front to back); else straight colour for the over operator.
+// SHADE_FLOOR: the benchmarks' shading floor, below.
 
 #include "render/sprite_tile.glsl"
 
@@ -47,4 +48,10 @@ void main() {
     float transmittance = light_bilinear(v_light);
     vec3 lit = c.rgb * (u_ambient + u_light_colour * transmittance);
     o_color = u_premultiplied ? vec4(lit * c.a, c.a) : vec4(lit, c.a);
+#ifdef SHADE_FLOOR
+    // The benchmarks' shading floor: the colour made 0, which leaves the target as it was
+    // under the pass's blend, through a zero the compiler cannot prove (gl_FragCoord.w = 1 /
+    // w_clip > 0), so that the shading stays.
+    o_color *= min(gl_FragCoord.w, 0.0);
+#endif
 }

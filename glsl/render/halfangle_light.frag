@@ -1,6 +1,7 @@
 // Half-angle slicing's light pass (Kniss et al. 2003; Green 2008): a slice's particles, seen
 // from the light, attenuate the light buffer. The output is the opacity in every channel; the
 // blend (ZERO, ONE_MINUS_SRC_COLOR) multiplies the stored transmittance by 1 - opacity.
+// SHADE_FLOOR: the benchmarks' shading floor, below.
 
 #include "render/sprite_tile.glsl"
 
@@ -19,4 +20,10 @@ void main() {
     a *= sprite_texel(u_atlas, v_coord, v_rotation, v_tile).a;
 #endif
     o_color = vec4(a);
+#ifdef SHADE_FLOOR
+    // The benchmarks' shading floor: the colour made 0, which leaves the target as it was
+    // under the pass's blend, through a zero the compiler cannot prove (gl_FragCoord.w = 1 /
+    // w_clip > 0), so that the shading stays.
+    o_color *= min(gl_FragCoord.w, 0.0);
+#endif
 }

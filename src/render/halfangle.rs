@@ -151,23 +151,8 @@ impl HalfAngleRenderer {
         }
         let side = light.resolution;
         crate::gl::check_size(ctx, "light buffer (render.light.resolution)", side, side)?;
-        let mut defines = Defines::new();
-        if style.mode == DrawMode::Sprites {
-            defines.push(("SPRITES".into(), "1".into()));
-        }
-        let eye = Program::new(
-            ctx,
-            "render/halfangle.vert",
-            "render/halfangle_eye.frag",
-            &defines,
-        )?;
-        defines.push(("LIGHT_PASS".into(), "1".into()));
-        let shadow = Program::new(
-            ctx,
-            "render/halfangle.vert",
-            "render/halfangle_light.frag",
-            &defines,
-        )?;
+        let frags = ["render/halfangle_eye.frag", "render/halfangle_light.frag"];
+        let [eye, shadow] = Self::programs(ctx, &style, frags, &Defines::new())?;
         let background = Program::new(
             ctx,
             crate::gl::FULLSCREEN_VERTEX,
@@ -203,22 +188,51 @@ impl HalfAngleRenderer {
     /// and order) with `fragment` as both passes' fragment stage and a light buffer of its own:
     /// the benchmarks' fill floor (`bench/fill_floor.frag`) reads no atlas and no light.
     pub fn with_fragment(&self, fragment: &str) -> Result<Self> {
-        let mut r = Self::new(
+        let mut r = self.again()?;
+        [r.eye, r.shadow] = Self::programs(&self.ctx, &self.style, [fragment; 2], &Defines::new())?;
+        r.replaced = true;
+        Ok(r)
+    }
+
+    /// The same slices and passes with their colours made ones that change no pixel under
+    /// their blends (`SHADE_FLOOR`), and a light buffer of their own that the light passes
+    /// leave as cleared: the benchmarks' shading floor, what the slices cost but for the
+    /// blends their colours make.
+    pub fn shading_floor(&self) -> Result<Self> {
+        let mut r = self.again()?;
+        let frags = ["render/halfangle_eye.frag", "render/halfangle_light.frag"];
+        let floor: Defines = vec![("SHADE_FLOOR".into(), "1".into())];
+        [r.eye, r.shadow] = Self::programs(&self.ctx, &self.style, frags, &floor)?;
+        Ok(r)
+    }
+
+    /// A renderer of the same style, light and slices, with a light buffer of its own.
+    fn again(&self) -> Result<Self> {
+        Self::new(
             &self.ctx,
             self.style.clone(),
             &self.light,
             self.slices,
             self.extent,
-        )?;
-        let mut defines = Defines::new();
-        if self.style.mode == DrawMode::Sprites {
+        )
+    }
+
+    /// The eye and light passes' programs of `style` with fragment stages `[eye, light]`
+    /// under `defines`.
+    fn programs(
+        ctx: &Context,
+        style: &ParticleStyle,
+        [eye, light]: [&str; 2],
+        defines: &Defines,
+    ) -> Result<[Program; 2]> {
+        let mut defines = defines.clone();
+        if style.mode == DrawMode::Sprites {
             defines.push(("SPRITES".into(), "1".into()));
         }
-        r.eye = Program::new(&self.ctx, "render/halfangle.vert", fragment, &defines)?;
+        let eye = Program::new(ctx, "render/halfangle.vert", eye, &defines)?;
         defines.push(("LIGHT_PASS".into(), "1".into()));
-        r.shadow = Program::new(&self.ctx, "render/halfangle.vert", fragment, &defines)?;
-        r.replaced = true;
-        Ok(r)
+        let light = Program::new(ctx, "render/halfangle.vert", light, &defines)?;
+        Ok([eye, light])
     }
 
     /// The light buffer: transmittance in r after the last draw.

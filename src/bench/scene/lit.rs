@@ -13,8 +13,12 @@
 //!   with a constant fragment that changes no pixel (`glsl/bench/fill_floor.frag`), no atlas
 //!   and no light buffer read.
 //!
+//! On a GPU clock a third, the shading floor: the slices' own passes, every fetch and
+//! computation, each colour made one that leaves its target unchanged under the pass's blend
+//! (`SHADE_FLOOR` in `glsl/render/halfangle_*.frag`), into a light buffer of its own.
+//!
 //! The light passes alone and the eye passes alone (on the light buffer the light passes left)
-//! are each bounded by the same fill floor's passes of that kind.
+//! are each bounded by the same fill floor's passes of that kind, and the shading floor's.
 
 use super::{counted, timed, Drawn, Phases};
 use crate::bench::stats::PassTimer;
@@ -33,23 +37,29 @@ const LIT_FILL: &str = "fill floor: the slices' own quads through their own vert
      targets, blends and order, a constant fragment that leaves each target unchanged, no atlas \
      or light-buffer fetch";
 
+/// The lit render's shading floor, as the phase table words it.
+const LIT_SHADING: &str = "shading floor: the slices' own passes (every fetch and computation),      same targets, blends and order, each colour then made one that leaves its target      unchanged, a light buffer of its own";
+
 /// What a lit scene's render and its passes are bounded by: the slices with the fill floor's
-/// fragment stage, and the chain's two programs (an eye pass that reads, a light pass that
-/// does not).
+/// fragment stage, the chain's two programs (an eye pass that reads, a light pass that does
+/// not), and on a GPU clock the slices' shading floor.
 pub(super) struct LitFloors {
     fill: HalfAngleRenderer,
+    shade: Option<HalfAngleRenderer>,
     eye: Program,
     light: Program,
     empty: VertexArray,
 }
 
 impl LitFloors {
-    /// The floors of `lit`'s slices.
-    pub(super) fn new(ctx: &Context, lit: &HalfAngleRenderer) -> Result<Self> {
+    /// The floors of `lit`'s slices; the shading floor where `shading` (on a GPU clock: see
+    /// `shading_floor` in the module).
+    pub(super) fn new(ctx: &Context, lit: &HalfAngleRenderer, shading: bool) -> Result<Self> {
         let read: Defines = vec![("READ".into(), "1".into())];
         let (vert, frag) = ("bench/chain_floor.vert", "bench/chain_floor.frag");
         Ok(LitFloors {
             fill: lit.with_fragment("bench/fill_floor.frag")?,
+            shade: shading.then(|| lit.shading_floor()).transpose()?,
             eye: Program::new(ctx, vert, frag, &read)?,
             light: Program::new(ctx, vert, frag, &Defines::new())?,
             empty: VertexArray::empty(ctx, "slices' chain floor")?,
@@ -132,10 +142,20 @@ pub(super) fn render_bounds(
                 .draw_passes(target, &state, camera, None, SlicePasses::Both)
         })
     })?;
-    Ok(vec![
+    let mut bounds = vec![
         (SLICE_CHAIN, chain.0, Some(chain.1)),
         (LIT_FILL, fill.0, Some(fill.1)),
-    ])
+    ];
+    if let Some(shade) = &floors.shade {
+        let atlas = engine.renderer().atlas();
+        let f = counted(ctx, samples, || {
+            timed(timer, || {
+                shade.draw_passes(target, &state, camera, atlas, SlicePasses::Both)
+            })
+        })?;
+        bounds.push((LIT_SHADING, f.0, Some(f.1)));
+    }
+    Ok(bounds)
 }
 
 /// Half-angle slicing's passes apart: every slice's light pass alone, then every slice's eye
@@ -175,12 +195,21 @@ pub(super) fn lit_phases(
                     .draw_passes(target, &state, camera, None, passes)
             })
         })?;
+        let mut bounds = vec![(LIT_FILL, fill.0, Some(fill.1))];
+        if let Some(shade) = &floors.shade {
+            let f = counted(ctx, samples, || {
+                timed(timer, || {
+                    shade.draw_passes(target, &state, camera, atlas, passes)
+                })
+            })?;
+            bounds.push((LIT_SHADING, f.0, Some(f.1)));
+        }
         let (t, drawn) = counted(ctx, samples, || {
             timed(timer, || {
                 lit.draw_passes(target, &state, camera, atlas, passes)
             })
         })?;
-        phases.push_bounds(&name, t, Some(drawn), &[(LIT_FILL, fill.0, Some(fill.1))]);
+        phases.push_bounds(&name, t, Some(drawn), &bounds);
     }
     Ok(())
 }

@@ -451,7 +451,8 @@ fn alive(ctx: &Context, engine: &dyn Stages, s: &SceneFile) -> Result<Alive> {
     Ok(Alive { live, non_finite })
 }
 
-/// The shading floor of `e`'s render (points and sprites, not lit), on a GPU clock only: a GPU
+/// The shading floor of `e`'s render (points and sprites; a lit render's is the slices', in
+/// `lit`), on a GPU clock only: a GPU
 /// blends in fixed-function units after the fragment stage, which the floor leaves with nothing
 /// to change; llvmpipe compiles the blend into the fragment code, so there the floor is the pass
 /// itself, and it measured 1.0-1.24 times the pass (2 cores, every built-in at 64² and 128²).
@@ -501,7 +502,9 @@ fn measure(
             None => Some(e.renderer().with_fragment("bench/fill_floor.frag")?),
         },
         shade: shading_floor(e, timer.clock())?,
-        lit: e.lit().map(|l| lit::LitFloors::new(ctx, l)).transpose()?,
+        lit: (e.lit())
+            .map(|l| lit::LitFloors::new(ctx, l, timer.clock() == Clock::Gpu))
+            .transpose()?,
     };
     let sort_floors = SortFloors {
         timer,

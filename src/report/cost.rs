@@ -209,7 +209,7 @@ fn markdown(ctx: &Context, c: &Constants, cells: &[Cell]) -> String {
     let mut m = format!(
         "## A cost model of Tables 1 and 2 (`texflow report all --only cost`)\n\n\
          Device: {}. Constants measured in the same run: fixed cost of a pass {:.4} ms, of a \
-         follow-on draw {:.4} ms, {:.4} ms per MB written, {:.4} ms per million texel fetches, \
+         follow-on draw {:.6} ms, {:.4} ms per MB written, {:.4} ms per million texel fetches, \
          {:.4} ms per million points, {:.4} ms per million vertices of triangles and lines. \
          Predicted ms = passes × fixed + follow-ons × follow-on + bytes × per byte + fetches × \
          per fetch + points × per point + other vertices × per vertex (a follow-on: a draw into \

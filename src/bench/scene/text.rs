@@ -25,7 +25,7 @@ pub fn scene_markdown(records: &[SceneBenchRecord]) -> String {
         );
         let c = &r.constants;
         out += &format!(
-            "Cost model (constants measured in the same run): {:.4} ms a pass, {:.4} ms a \
+            "Cost model (constants measured in the same run): {:.4} ms a pass, {:.6} ms a \
              follow-on draw, {:.4} ms per MB written, {:.4} ms per million declared fetches, \
              {:.4} ms per million points, {:.4} ms per million vertices of triangles and \
              lines.\n\n",

@@ -273,28 +273,21 @@ fn the_lit_floors_change_no_pixel() {
             target.read_rgb().unwrap()
         };
         let empty = draw(&fill, 0, None);
-        // Compared whole, not printed: a frame is thousands of bytes.
-        assert!(
-            draw(&fill, count, None) == empty,
-            "{name}: the fill floor drew"
-        );
-        let light = fill.light_buffer().only_texture().read_f32().unwrap();
-        assert!(
-            light.iter().all(|&t| t == 1.0),
-            "{name}: the fill floor's light passes dimmed the light buffer"
-        );
         // The shading floor: every fetch and computation of the slices, their colours made
         // ones that their blends leave unchanged, the frame and its own light buffer alike.
         let shade = lit.shading_floor().unwrap();
-        assert!(
-            draw(&shade, count, atlas) == empty,
-            "{name}: the shading floor drew"
-        );
-        let light = shade.light_buffer().only_texture().read_f32().unwrap();
-        assert!(
-            light.iter().all(|&t| t == 1.0),
-            "{name}: the shading floor's light passes dimmed the light buffer"
-        );
+        for (floor, atlas, what) in [(&fill, None, "fill"), (&shade, atlas, "shading")] {
+            // Compared whole, not printed: a frame is thousands of bytes.
+            assert!(
+                draw(floor, count, atlas) == empty,
+                "{name}: the {what} floor drew"
+            );
+            let light = floor.light_buffer().only_texture().read_f32().unwrap();
+            assert!(
+                light.iter().all(|&t| t == 1.0),
+                "{name}: the {what} floor's light passes dimmed the light buffer"
+            );
+        }
         assert!(draw(lit, count, atlas) != empty, "{name}: nothing drawn");
         lit_scenes += 1;
     }

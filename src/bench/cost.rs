@@ -90,6 +90,21 @@ impl Constants {
             + points as f64 * 1e-6 * self.ms_per_m_points
     }
 
+    /// The constants in words, as the tables print them (the frame's apart).
+    pub fn describe(&self) -> String {
+        format!(
+            "{:.4} ms a pass, {:.6} ms a follow-on draw, {:.4} ms per MB written, {:.4} ms per \
+             million texel fetches, {:.4} ms per million points, {:.4} ms per million vertices \
+             of triangles and lines",
+            self.fixed_ms,
+            self.follow_on_ms,
+            self.ms_per_mb_written,
+            self.ms_per_m_fetches,
+            self.ms_per_m_points,
+            self.ms_per_m_vertices
+        )
+    }
+
     /// The draws' fixed costs and their vertices other than points'.
     fn draws_and_vertices(&self, d: &DrawStats) -> f64 {
         let follow_ons = d.follow_ons.min(d.draws);

@@ -208,23 +208,15 @@ fn table2_cells(
 fn markdown(ctx: &Context, c: &Constants, cells: &[Cell]) -> String {
     let mut m = format!(
         "## A cost model of Tables 1 and 2 (`texflow report all --only cost`)\n\n\
-         Device: {}. Constants measured in the same run: fixed cost of a pass {:.4} ms, of a \
-         follow-on draw {:.6} ms, {:.4} ms per MB written, {:.4} ms per million texel fetches, \
-         {:.4} ms per million points, {:.4} ms per million vertices of triangles and lines. \
-         Predicted ms = passes × fixed + follow-ons × follow-on + bytes × per byte + fetches × \
-         per fetch + points × per point + other vertices × per vertex (a follow-on: a draw into \
-         the target the draw before it drew into; fetches: those the sorts' passes and \
-         UberFlow's detection declare).\n\n\
+         Device: {}. Constants measured in the same run: {}. Predicted ms = passes × fixed + \
+         follow-ons × follow-on + bytes × per byte + fetches × per fetch + points × per point + \
+         other vertices × per vertex (a follow-on: a draw into the target the draw before it \
+         drew into; fetches: those the sorts' passes and UberFlow's detection declare).\n\n\
          | table | sort / experiment | size | passes | MB written | M fetches | M points | \
          measured ms | predicted ms | predicted / measured |\n\
          |---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
         ctx.limits().renderer,
-        c.fixed_ms,
-        c.follow_on_ms,
-        c.ms_per_mb_written,
-        c.ms_per_m_fetches,
-        c.ms_per_m_points,
-        c.ms_per_m_vertices
+        c.describe()
     );
     for x in cells {
         m += &format!(

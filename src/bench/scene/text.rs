@@ -25,16 +25,8 @@ pub fn scene_markdown(records: &[SceneBenchRecord]) -> String {
         );
         let c = &r.constants;
         out += &format!(
-            "Cost model (constants measured in the same run): {:.4} ms a pass, {:.6} ms a \
-             follow-on draw, {:.4} ms per MB written, {:.4} ms per million declared fetches, \
-             {:.4} ms per million points, {:.4} ms per million vertices of triangles and \
-             lines.\n\n",
-            c.fixed_ms,
-            c.follow_on_ms,
-            c.ms_per_mb_written,
-            c.ms_per_m_fetches,
-            c.ms_per_m_points,
-            c.ms_per_m_vertices
+            "Cost model (constants measured in the same run): {} (fetches: those declared).\n\n",
+            c.describe()
         );
         if let Some(f) = &c.frame {
             out += &format!(

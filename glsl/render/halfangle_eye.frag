@@ -7,6 +7,7 @@
 // SHADE_FLOOR: the benchmarks' shading floor, below.
 
 #include "render/sprite_tile.glsl"
+#include "render/shade_floor.glsl"
 
 uniform sampler2D u_atlas;
 uniform sampler2D u_light;        // transmittance in r
@@ -49,9 +50,7 @@ void main() {
     vec3 lit = c.rgb * (u_ambient + u_light_colour * transmittance);
     o_color = u_premultiplied ? vec4(lit * c.a, c.a) : vec4(lit, c.a);
 #ifdef SHADE_FLOOR
-    // The benchmarks' shading floor: the colour made 0, which leaves the target as it was
-    // under the pass's blend, through a zero the compiler cannot prove (gl_FragCoord.w = 1 /
-    // w_clip > 0), so that the shading stays.
-    o_color *= min(gl_FragCoord.w, 0.0);
+    // The benchmarks' shading floor: 0 leaves the target as it was under the pass's blend.
+    o_color = shade_floor(o_color, vec4(0.0));
 #endif
 }

@@ -4,6 +4,7 @@
 // SHADE_FLOOR: the benchmarks' shading floor, below.
 
 #include "render/sprite_tile.glsl"
+#include "render/shade_floor.glsl"
 
 uniform sampler2D u_atlas;
 
@@ -21,9 +22,7 @@ void main() {
 #endif
     o_color = vec4(a);
 #ifdef SHADE_FLOOR
-    // The benchmarks' shading floor: the colour made 0, which leaves the target as it was
-    // under the pass's blend, through a zero the compiler cannot prove (gl_FragCoord.w = 1 /
-    // w_clip > 0), so that the shading stays.
-    o_color *= min(gl_FragCoord.w, 0.0);
+    // The benchmarks' shading floor: 0 leaves the target as it was under the pass's blend.
+    o_color = shade_floor(o_color, vec4(0.0));
 #endif
 }

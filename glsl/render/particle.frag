@@ -14,6 +14,8 @@
 // whose opacity falls to 0 at its rim, (1 - r^2)^2.
 // SHADE_FLOOR: the benchmarks' shading floor, below.
 
+#include "render/shade_floor.glsl"
+
 uniform sampler2D u_atlas;
 
 in vec4 v_color;
@@ -77,14 +79,12 @@ void main() {
     o_color = shade();
 #ifdef SHADE_FLOOR
     // The benchmarks' shading floor: every fragment shaded as above, then made the colour that
-    // leaves the frame as it was under the pass's blend (1 where it multiplies, else 0), through
-    // a zero the compiler cannot prove (gl_FragCoord.w = 1 / w_clip > 0), so that the shading
-    // stays.
+    // leaves the frame as it was under the pass's blend (1 where it multiplies, else 0).
 #ifdef MULTIPLY
     const vec4 UNCHANGED = vec4(1.0, 1.0, 1.0, 0.0);
 #else
     const vec4 UNCHANGED = vec4(0.0);
 #endif
-    o_color = UNCHANGED + (o_color - UNCHANGED) * min(gl_FragCoord.w, 0.0);
+    o_color = shade_floor(o_color, UNCHANGED);
 #endif
 }

@@ -101,6 +101,7 @@ pub static EMBEDDED: &[(&str, &str)] = embed![
     "fluid/merge.frag",
     "fluid/order.frag",
     "render/fire_ramp.glsl",
+    "render/shade_floor.glsl",
     "render/keyframes.glsl",
     "render/sprite.glsl",
     "render/birth_curves.glsl",

@@ -95,6 +95,9 @@ impl SliceDraws {
     }
 }
 
+/// The eye and light passes' own fragment stages.
+const OWN_FRAGMENTS: [&str; 2] = ["render/halfangle_eye.frag", "render/halfangle_light.frag"];
+
 /// The particle renderer's lit variant: the same look (keyframes, sprites, sizes), drawn in
 /// slices along the half-angle vector.
 pub struct HalfAngleRenderer {
@@ -151,8 +154,7 @@ impl HalfAngleRenderer {
         }
         let side = light.resolution;
         crate::gl::check_size(ctx, "light buffer (render.light.resolution)", side, side)?;
-        let frags = ["render/halfangle_eye.frag", "render/halfangle_light.frag"];
-        let [eye, shadow] = Self::programs(ctx, &style, frags, &Defines::new())?;
+        let [eye, shadow] = Self::programs(ctx, &style, OWN_FRAGMENTS, &Defines::new())?;
         let background = Program::new(
             ctx,
             crate::gl::FULLSCREEN_VERTEX,
@@ -200,9 +202,8 @@ impl HalfAngleRenderer {
     /// blends their colours make.
     pub fn shading_floor(&self) -> Result<Self> {
         let mut r = self.again()?;
-        let frags = ["render/halfangle_eye.frag", "render/halfangle_light.frag"];
         let floor: Defines = vec![("SHADE_FLOOR".into(), "1".into())];
-        [r.eye, r.shadow] = Self::programs(&self.ctx, &self.style, frags, &floor)?;
+        [r.eye, r.shadow] = Self::programs(&self.ctx, &self.style, OWN_FRAGMENTS, &floor)?;
         Ok(r)
     }
 

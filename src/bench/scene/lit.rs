@@ -104,6 +104,36 @@ impl LitFloors {
     }
 }
 
+impl LitFloors {
+    /// The fill floor's `passes` (no atlas) and, where drawn, the shading floor's (the
+    /// render's atlas), each timed and counted, as the phase table's bounds.
+    fn drawn(
+        &self,
+        ctx: &Context,
+        (timer, samples): (&PassTimer, &SamplesQuery),
+        engine: &dyn Stages,
+        state: &FrameState<'_>,
+        passes: SlicePasses,
+    ) -> Result<Vec<(&'static str, f64, Option<Drawn>)>> {
+        let (target, camera) = (engine.target(), engine.camera());
+        let mut floors = vec![(LIT_FILL, &self.fill, None)];
+        if let Some(shade) = &self.shade {
+            floors.push((LIT_SHADING, shade, engine.renderer().atlas()));
+        }
+        floors
+            .into_iter()
+            .map(|(what, floor, atlas)| {
+                let (t, d) = counted(ctx, samples, || {
+                    timed(timer, || {
+                        floor.draw_passes(target, state, camera, atlas, passes)
+                    })
+                })?;
+                Ok((what, t, Some(d)))
+            })
+            .collect()
+    }
+}
+
 /// The sorted state a lit render draws from: the gathered positions and statics, the engine's
 /// clock, the simulation's drawn rows.
 fn lit_state(engine: &dyn Stages) -> Option<FrameState<'_>> {
@@ -135,26 +165,8 @@ pub(super) fn render_bounds(
     let chain = counted(ctx, samples, || {
         timed(timer, || floors.chain(ctx, lit, (target, camera), count))
     })?;
-    let fill = counted(ctx, samples, || {
-        timed(timer, || {
-            floors
-                .fill
-                .draw_passes(target, &state, camera, None, SlicePasses::Both)
-        })
-    })?;
-    let mut bounds = vec![
-        (SLICE_CHAIN, chain.0, Some(chain.1)),
-        (LIT_FILL, fill.0, Some(fill.1)),
-    ];
-    if let Some(shade) = &floors.shade {
-        let atlas = engine.renderer().atlas();
-        let f = counted(ctx, samples, || {
-            timed(timer, || {
-                shade.draw_passes(target, &state, camera, atlas, SlicePasses::Both)
-            })
-        })?;
-        bounds.push((LIT_SHADING, f.0, Some(f.1)));
-    }
+    let mut bounds = vec![(SLICE_CHAIN, chain.0, Some(chain.1))];
+    bounds.extend(floors.drawn(ctx, (timer, samples), engine, &state, SlicePasses::Both)?);
     Ok(bounds)
 }
 
@@ -188,22 +200,7 @@ pub(super) fn lit_phases(
             ),
         ),
     ] {
-        let fill = counted(ctx, samples, || {
-            timed(timer, || {
-                floors
-                    .fill
-                    .draw_passes(target, &state, camera, None, passes)
-            })
-        })?;
-        let mut bounds = vec![(LIT_FILL, fill.0, Some(fill.1))];
-        if let Some(shade) = &floors.shade {
-            let f = counted(ctx, samples, || {
-                timed(timer, || {
-                    shade.draw_passes(target, &state, camera, atlas, passes)
-                })
-            })?;
-            bounds.push((LIT_SHADING, f.0, Some(f.1)));
-        }
+        let bounds = floors.drawn(ctx, (timer, samples), engine, &state, passes)?;
         let (t, drawn) = counted(ctx, samples, || {
             timed(timer, || {
                 lit.draw_passes(target, &state, camera, atlas, passes)

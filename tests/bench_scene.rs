@@ -232,6 +232,7 @@ fn predicted_from_what_it_drew(
     for k in [
         c.fixed_ms,
         c.follow_on_ms,
+        c.concurrent_ms,
         c.ms_per_mb_written,
         c.ms_per_m_fetches,
         c.ms_per_m_points,
@@ -259,16 +260,17 @@ fn predicted_from_what_it_drew(
                 None => (c.ms_per_m_points, 0.0, s.bytes_written),
             };
             assert!(
-                s.follow_ons < s.draws.max(1),
-                "{name}: the first draw follows none"
+                s.follow_ons + s.concurrent < s.draws.max(1),
+                "{name}: the first draw follows none and waits on what came before"
             );
             assert_eq!(
                 d.fragments.is_some(),
                 p.phase.starts_with("render") || slices,
                 "{name}"
             );
-            let want = (s.draws - s.follow_ons) as f64 * c.fixed_ms
+            let want = (s.draws - s.follow_ons - s.concurrent) as f64 * c.fixed_ms
                 + s.follow_ons as f64 * c.follow_on_ms
+                + s.concurrent as f64 * c.concurrent_ms
                 + (s.vertices - s.points) as f64 / 1e6 * c.ms_per_m_vertices
                 + bytes as f64 / 1e6 * c.ms_per_mb_written
                 + s.fetches as f64 / 1e6 * c.ms_per_m_fetches

@@ -2,7 +2,7 @@
 //! `Context::draw` gives the textures units in order on every draw. Checked on a real driver:
 //! a program whose sampler the draw leaves out is refused, and draws with other lists read their
 //! own textures and uniforms, never what the draw before left bound. The draws it counts tell
-//! a follow-on draw from a pass.
+//! a follow-on draw and a concurrent one from a pass.
 
 mod common;
 
@@ -164,10 +164,13 @@ fn the_uniform_cache_changes_no_result() {
 }
 
 /// The GL layer counts a draw into the framebuffer that the draw before it drew into as a
-/// follow-on (the cost model charges it less than a pass), and no draw after the counts were
-/// taken: A A B B B A gives 3; a sort's ping-pong passes give none.
+/// follow-on, a draw that reads nothing an earlier draw wrote and writes nothing an earlier one
+/// read as concurrent (the cost model charges both less than a pass), and no draw after the
+/// counts were taken as either: A A B B B A, none reading, gives 3 follow-ons and 2 concurrent;
+/// a ping-pong chain, each draw reading what the one before wrote, gives neither; a draw that
+/// overwrites what an earlier one read waits on it.
 #[test]
-fn follow_on_draws_are_counted_by_target() {
+fn follow_on_and_concurrent_draws_are_counted_by_what_they_touch() {
     let ctx = context();
     let pass = FullscreenPass::new(&ctx).unwrap();
     let p = program(&ctx, "array.frag", ARRAY);
@@ -182,11 +185,29 @@ fn follow_on_draws_are_counted_by_target() {
         pass.draw(&p, &[], &v, fb);
     }
     let s = ctx.take_draw_stats();
-    assert_eq!((s.draws, s.follow_ons), (6, 3), "{s:?}");
+    assert_eq!((s.draws, s.follow_ons, s.concurrent), (6, 3, 2), "{s:?}");
+    assert_eq!(s.chained(), 1, "{s:?}");
+    // A chain: each draw reads the target the one before wrote.
+    let one = program(&ctx, "one.frag", ONE);
     for k in 0..6 {
-        pass.draw(&p, &[], &v, [&fa, &fb][k % 2]);
+        let (from, to) = ([&fa, &fb][k % 2], [&fb, &fa][k % 2]);
+        pass.draw(&one, &[("u_x", from.only_texture().into())], &[], to);
     }
     let s = ctx.take_draw_stats();
-    assert_eq!((s.draws, s.follow_ons), (6, 0), "{s:?}");
+    assert_eq!((s.draws, s.follow_ons, s.concurrent), (6, 0, 0), "{s:?}");
+    // Reading a texture none of them wrote, into A and B in turn: all but the first concurrent;
+    // then a draw into the texture they read waits on them.
+    let c = target(&ctx);
+    for k in 0..4 {
+        pass.draw(
+            &one,
+            &[("u_x", c.only_texture().into())],
+            &[],
+            [&fa, &fb][k % 2],
+        );
+    }
+    pass.draw(&p, &[], &v, &c);
+    let s = ctx.take_draw_stats();
+    assert_eq!((s.draws, s.follow_ons, s.concurrent), (5, 0, 3), "{s:?}");
     no_gl_error(&ctx);
 }

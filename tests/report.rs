@@ -508,6 +508,7 @@ fn the_cost_model_predicts_every_cell() {
     assert!(c["fixed_ms"].as_f64().unwrap() > 0.0, "fixed_ms: {c}");
     for k in [
         "follow_on_ms",
+        "concurrent_ms",
         "ms_per_mb_written",
         "ms_per_m_fetches",
         "ms_per_m_points",

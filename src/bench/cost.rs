@@ -6,16 +6,19 @@
 //! | --- | --- |
 //! | fixed cost of a pass | [`FixedCost`]: 200 passes of one texel, each reading what the one before wrote, divided by 200 |
 //! | fixed cost of a follow-on draw | 200 one-texel draws into one target, none reading it, divided by 200 |
+//! | fixed cost of a concurrent draw | 200 one-texel draws into two targets in turn, each reading a texel none writes, divided by 200 |
 //! | time per byte written | a write-only pass into a side² RGBA32F target, less the fixed cost |
 //! | time per texel fetched | `bench/fetch_probe.frag` (8 scattered RGBA32F fetches a fragment) less the write-only pass, per fetch |
 //! | time per point | the target cleared, then `side²` one-pixel points through `bench/render_floor.vert` (uniformly scattered), less the write-only pass |
 //! | time per vertex | `side²` vertices of triangles that the clipper drops, each fetching one texel (`bench/vertex_probe.vert`), less a draw's fixed cost |
 //!
-//! predicted ms = passes × fixed + follow-ons × follow-on + bytes × per byte + fetches × per
-//! fetch + points × per point + other vertices × per vertex, of the draws, bytes, declared
-//! fetches, points and vertices the GL layer counted ([`DrawStats`]): a follow-on is a draw
-//! into the target that the draw before it drew into, the passes are the other draws, and the
-//! other vertices are those of triangles and lines (a point's vertex is in its point's time).
+//! predicted ms = passes × fixed + follow-ons × follow-on + concurrent × concurrent + bytes ×
+//! per byte + fetches × per fetch + points × per point + other vertices × per vertex, of the
+//! draws, bytes, declared fetches, points and vertices the GL layer counted ([`DrawStats`]): a
+//! follow-on is a draw into the target that the draw before it drew into, a concurrent draw one
+//! that waits on no earlier draw (it reads nothing they wrote and writes nothing they read), the
+//! passes are the other draws (the first, and those of a chain), and the other vertices are
+//! those of triangles and lines (a point's vertex is in its point's time).
 //!
 //! `bench scene` prices its render passes, which draw into a frame and not into the state, with
 //! two constants more, measured into a frame target of the scene's resolution ([`FrameConstants`]):
@@ -25,7 +28,8 @@
 //! | time per blended fragment | eight full-frame triangles blended (additive) into the frame, less the clear and their draws' fixed cost, per fragment |
 //! | time per point | the frame cleared, then as many one-pixel points as it has pixels, in its raster order (point k at pixel k) and blended, less the clear, the draw's fixed cost and their fragments |
 //!
-//! predicted ms = passes × fixed + follow-ons × follow-on + fetches × per fetch + points × per
+//! predicted ms = passes × fixed + follow-ons × follow-on + concurrent × concurrent + fetches ×
+//! per fetch + points × per
 //! point + other vertices × per vertex + fragments × per fragment, the fragments counted by a
 //! samples query around the pass: a fragment's time holds its write, so the bytes that the GL
 //! layer counts for a triangle draw (its whole viewport, where a surface or the slices' quads
@@ -45,6 +49,10 @@ pub struct Constants {
     pub fixed_ms: f64,
     /// One draw into the target the draw before it drew into, however little it writes.
     pub follow_on_ms: f64,
+    /// One draw that waits on no earlier draw: it reads nothing they wrote, writes nothing they
+    /// read, and goes into another target than the draw before it.
+    #[serde(default)]
+    pub concurrent_ms: f64,
     /// One megabyte written into colour attachments.
     pub ms_per_mb_written: f64,
     /// One million texel fetches (RGBA32F, scattered).
@@ -75,6 +83,7 @@ impl Constants {
     pub const NONE: Constants = Constants {
         fixed_ms: 0.0,
         follow_on_ms: 0.0,
+        concurrent_ms: 0.0,
         ms_per_mb_written: 0.0,
         ms_per_m_fetches: 0.0,
         ms_per_m_points: 0.0,
@@ -93,11 +102,12 @@ impl Constants {
     /// The constants in words, as the tables print them (the frame's apart).
     pub fn describe(&self) -> String {
         format!(
-            "{:.4} ms a pass, {:.6} ms a follow-on draw, {:.4} ms per MB written, {:.4} ms per \
-             million texel fetches, {:.4} ms per million points, {:.4} ms per million vertices \
-             of triangles and lines",
+            "{:.4} ms a pass, {:.6} ms a follow-on draw, {:.6} ms a concurrent draw, {:.4} ms per \
+             MB written, {:.4} ms per million texel fetches, {:.4} ms per million points, {:.4} \
+             ms per million vertices of triangles and lines",
             self.fixed_ms,
             self.follow_on_ms,
+            self.concurrent_ms,
             self.ms_per_mb_written,
             self.ms_per_m_fetches,
             self.ms_per_m_points,
@@ -107,9 +117,9 @@ impl Constants {
 
     /// The draws' fixed costs and their vertices other than points'.
     fn draws_and_vertices(&self, d: &DrawStats) -> f64 {
-        let follow_ons = d.follow_ons.min(d.draws);
-        (d.draws - follow_ons) as f64 * self.fixed_ms
-            + follow_ons as f64 * self.follow_on_ms
+        d.chained() as f64 * self.fixed_ms
+            + d.follow_ons.min(d.draws) as f64 * self.follow_on_ms
+            + d.concurrent.min(d.draws) as f64 * self.concurrent_ms
             + d.vertices.saturating_sub(d.points) as f64 * 1e-6 * self.ms_per_m_vertices
     }
 
@@ -187,6 +197,7 @@ pub fn measure_constants(
     let fixed = FixedCost::new(ctx)?;
     let fixed_ms = med(&mut || fixed.measure(timer))?;
     let follow_on_ms = med(&mut || fixed.measure_follow_ons(timer))?;
+    let concurrent_ms = med(&mut || fixed.measure_concurrent(timer))?;
     let write = med(&mut || timer.time(|| floor.draw(&target)))?;
     let bytes = side as f64 * side as f64 * 16.0;
     let fetches = 8u32;
@@ -208,6 +219,7 @@ pub fn measure_constants(
     Ok(Constants {
         fixed_ms,
         follow_on_ms,
+        concurrent_ms,
         ms_per_m_vertices: per_m(vertices - fixed_ms, points as f64),
         ms_per_mb_written: per_m(write - fixed_ms, bytes),
         ms_per_m_fetches: per_m(fetch - write, fetches as f64 * points as f64),

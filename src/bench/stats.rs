@@ -63,6 +63,8 @@ pub struct FixedCost {
     program: Program,
     pass: FullscreenPass,
     targets: [Framebuffer; 2],
+    /// A texel that no probe draws into, read by the concurrent draws.
+    source: crate::gl::Texture,
 }
 
 impl FixedCost {
@@ -71,8 +73,8 @@ impl FixedCost {
 
     /// Builds the two 1×1 RGBA32F targets and the pass (one texel fetch, one write).
     pub fn new(ctx: &Context) -> Result<Self> {
-        let target = |k: usize| -> Result<Framebuffer> {
-            let t = crate::gl::Texture::new(
+        let texel = || {
+            crate::gl::Texture::new(
                 ctx,
                 crate::gl::TextureDesc {
                     width: 1,
@@ -80,14 +82,17 @@ impl FixedCost {
                     format: crate::gl::TextureFormat::Rgba32F,
                     label: "fixed cost",
                 },
-            )?;
-            Framebuffer::new(ctx, &format!("fixed cost {k}"), vec![t])
+            )
+        };
+        let target = |k: usize| -> Result<Framebuffer> {
+            Framebuffer::new(ctx, &format!("fixed cost {k}"), vec![texel()?])
         };
         let d: Defines = vec![("FETCHES".into(), "1".into())];
         Ok(FixedCost {
             program: Program::new(ctx, FULLSCREEN_VERTEX, "bench/fetch_probe.frag", &d)?,
             pass: FullscreenPass::new(ctx)?,
             targets: [target(0)?, target(1)?],
+            source: texel()?,
         })
     }
 
@@ -118,6 +123,24 @@ impl FixedCost {
                     &[("u_log_w", Uniform::I32(0))],
                     &self.targets[0],
                 );
+            }
+        })?;
+        Ok(t / Self::PASSES as f64)
+    }
+
+    /// Milliseconds of one concurrent draw (see [`DrawStats::concurrent`]):
+    /// [`FixedCost::PASSES`] draws of the same pass into the two targets in turn, each reading
+    /// a texel that none writes, timed together.
+    ///
+    /// [`DrawStats::concurrent`]: crate::gl::DrawStats::concurrent
+    pub fn measure_concurrent(&self, timer: &PassTimer) -> Result<f64> {
+        let p = &self.program;
+        let source = [("u_source", (&self.source).into())];
+        let t = timer.time(|| {
+            for i in 0..Self::PASSES {
+                let to = &self.targets[i % 2];
+                self.pass
+                    .draw(p, &source, &[("u_log_w", Uniform::I32(0))], to);
             }
         })?;
         Ok(t / Self::PASSES as f64)

@@ -142,8 +142,9 @@ struct Inner {
     /// What the draws since the last [`Context::take_draw_stats`] did (for floors and the cost
     /// model: passes and bytes written).
     stats: Cell<DrawStats>,
-    /// The framebuffer the last counted draw drew into (see [`DrawStats::follow_ons`]).
-    last_target: Cell<Option<glow::Framebuffer>>,
+    /// What the draws counted since the last [`Context::take_draw_stats`] drew into and read
+    /// (see [`DrawStats::follow_ons`] and [`DrawStats::concurrent`]).
+    hazards: std::cell::RefCell<super::stats::Hazards>,
     /// Whether uploads of a value a program's uniform already holds are skipped (see
     /// [`Context::set_uniform_cache`]).
     uniform_cache: Cell<bool>,
@@ -235,7 +236,7 @@ impl Context {
                 device: index,
                 id,
                 stats: Cell::new(DrawStats::default()),
-                last_target: Cell::new(None),
+                hazards: Default::default(),
                 uniform_cache: Cell::new(true),
                 owner: Owner::Egl {
                     context,
@@ -293,7 +294,7 @@ impl Context {
                 device: 0,
                 id,
                 stats: Cell::new(DrawStats::default()),
-                last_target: Cell::new(None),
+                hazards: Default::default(),
                 uniform_cache: Cell::new(true),
                 owner: Owner::Caller { reactivate },
             }),
@@ -322,15 +323,20 @@ impl Context {
         self.inner.stats.set(s);
     }
 
-    /// Notes that a draw goes into `target`; whether the draw counted before it went there too.
-    pub(super) fn note_target(&self, target: glow::Framebuffer) -> bool {
-        self.inner.last_target.replace(Some(target)) == Some(target)
+    /// Notes that a draw goes into `target` reading `reads`: what it waits on among the draws
+    /// counted before it.
+    pub(super) fn note_draw(
+        &self,
+        target: &super::Framebuffer,
+        reads: &[glow::Texture],
+    ) -> super::stats::Wait {
+        self.inner.hazards.borrow_mut().note(target, reads)
     }
 
-    /// What the draws since the last call did, and starts counting again (the next draw is no
-    /// follow-on).
+    /// What the draws since the last call did, and starts counting again (the next draw waits
+    /// on whatever came before: no follow-on, none concurrent).
     pub fn take_draw_stats(&self) -> DrawStats {
-        self.inner.last_target.set(None);
+        self.inner.hazards.take();
         self.inner.stats.take()
     }
 

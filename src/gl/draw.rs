@@ -257,10 +257,18 @@ impl Context {
             Primitive::Points | Primitive::Lines => 0,
         };
         let n = d.count as u64;
+        let reads: Vec<glow::Texture> = (d.textures.iter())
+            .map(|(_, t)| match t {
+                Sampled::D2(t) => t.raw(),
+                Sampled::D3(t) => t.raw(),
+                Sampled::Recorded(r) => r.raw,
+            })
+            .collect();
+        let to = (d.target, &reads[..]);
         match d.primitive {
-            Primitive::Triangles => self.count_draw(d.target, true, bytes, (0, n)),
-            Primitive::Points => self.count_draw(d.target, false, 0, (n, n)),
-            Primitive::Lines => self.count_draw(d.target, false, 0, (0, n)),
+            Primitive::Triangles => self.count_draw(to, true, bytes, (0, n)),
+            Primitive::Points => self.count_draw(to, false, 0, (n, n)),
+            Primitive::Lines => self.count_draw(to, false, 0, (0, n)),
         }
         let profiled = super::profile::before(self);
         let mode = match d.primitive {

@@ -14,6 +14,9 @@ pub struct Framebuffer {
     pub(super) ctx: Context,
     pub(super) raw: glow::Framebuffer,
     pub(super) textures: Vec<Texture>,
+    /// The GL names of the textures a draw into it writes, owned or not (for telling a draw
+    /// that waits on an earlier one from one that does not: [`DrawStats`](super::DrawStats)).
+    pub(super) writes: Vec<glow::Texture>,
     /// The attachments' names, one per attachment (`None`: made by [`Framebuffer::new`]).
     names: Vec<Option<Attachment>>,
     /// Width and height of the attachments.
@@ -80,6 +83,7 @@ impl Framebuffer {
         Framebuffer {
             ctx: ctx.clone(),
             raw,
+            writes: textures.iter().map(|t| t.raw()).collect(),
             textures,
             names: vec![None; attachments],
             size: [w, h],
@@ -211,6 +215,7 @@ impl Framebuffer {
             ctx: ctx.clone(),
             raw,
             textures: Vec::new(),
+            writes: vec![texture.raw()],
             names: vec![None; n],
             size: [w, h],
             attachments: n,
@@ -258,6 +263,7 @@ impl Framebuffer {
             ctx: ctx.clone(),
             raw,
             textures: Vec::new(),
+            writes: vec![texture.raw()],
             names: vec![source.names[i]],
             size: source.size,
             attachments: 1,
@@ -306,6 +312,7 @@ impl Framebuffer {
             ctx: ctx.clone(),
             raw,
             textures: Vec::new(),
+            writes: textures.iter().map(|t| t.raw()).collect(),
             names: (sources.iter()).map(|(fb, k)| fb.names[*k]).collect(),
             size,
             attachments: textures.len(),

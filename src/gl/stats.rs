@@ -16,6 +16,13 @@ pub struct DrawStats {
     /// drawn apart, a frame's geometry after its background), where the others are passes of
     /// a chain.
     pub follow_ons: u64,
+    /// Of those, the draws that wait on no earlier draw counted with them: neither the first,
+    /// nor a follow-on, nor reading a texture an earlier one wrote, nor writing one an earlier
+    /// one read (the births' draws into the static and the state textures; a fetch floor's
+    /// passes). A GPU may run them beside the draws before; the others of a phase's draws are
+    /// a chain, each waiting on the one before.
+    #[serde(default)]
+    pub concurrent: u64,
     /// Of those, triangle draws over a rectangle of the target (full-screen passes).
     pub passes: u64,
     /// Bytes the triangle draws wrote into colour attachments.
@@ -38,6 +45,7 @@ impl DrawStats {
         DrawStats {
             draws: self.draws * k,
             follow_ons: self.follow_ons * k,
+            concurrent: self.concurrent * k,
             passes: self.passes * k,
             bytes_written: self.bytes_written * k,
             points: self.points * k,
@@ -47,11 +55,20 @@ impl DrawStats {
         }
     }
 
+    /// The draws that wait on the draws before them: neither follow-ons nor concurrent (the
+    /// first draw counted is one).
+    pub fn chained(&self) -> u64 {
+        self.draws
+            .saturating_sub(self.follow_ons)
+            .saturating_sub(self.concurrent)
+    }
+
     /// These draws and `other`'s together.
     pub fn plus(self, other: DrawStats) -> Self {
         DrawStats {
             draws: self.draws + other.draws,
             follow_ons: self.follow_ons + other.follow_ons,
+            concurrent: self.concurrent + other.concurrent,
             passes: self.passes + other.passes,
             bytes_written: self.bytes_written + other.bytes_written,
             points: self.points + other.points,
@@ -62,25 +79,79 @@ impl DrawStats {
     }
 }
 
+/// What a draw waits on, among the draws counted with it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Wait {
+    /// The draws before it: the first draw, or one that reads what an earlier one wrote or
+    /// writes what an earlier one read (a pass of a chain).
+    Before,
+    /// The draw before it only, into the same framebuffer (a follow-on).
+    FollowOn,
+    /// None of them.
+    None,
+}
+
+/// What the draws since the counts were last taken drew into and read: whether the next one
+/// waits on them.
+#[derive(Debug, Default)]
+pub(super) struct Hazards {
+    /// The framebuffer the last draw drew into.
+    last: Option<glow::Framebuffer>,
+    /// The textures drawn into.
+    written: Vec<glow::Texture>,
+    /// The textures read.
+    read: Vec<glow::Texture>,
+}
+
+impl Hazards {
+    /// Notes a draw into `target` reading `reads`: what it waits on.
+    pub(super) fn note(&mut self, target: &super::Framebuffer, reads: &[glow::Texture]) -> Wait {
+        let wait = match self.last.replace(target.raw) {
+            None => Wait::Before,
+            Some(last) if last == target.raw => Wait::FollowOn,
+            Some(_) => {
+                let reads_written = reads.iter().any(|t| self.written.contains(t));
+                let writes_read = target.writes.iter().any(|t| self.read.contains(t));
+                match reads_written || writes_read {
+                    true => Wait::Before,
+                    false => Wait::None,
+                }
+            }
+        };
+        for t in &target.writes {
+            if !self.written.contains(t) {
+                self.written.push(*t);
+            }
+        }
+        for t in reads {
+            if !self.read.contains(t) {
+                self.read.push(*t);
+            }
+        }
+        wait
+    }
+}
+
 impl Context {
     /// Counts one uniform upload (see [`DrawStats::uniform_uploads`]).
     pub(crate) fn count_upload(&self) {
         self.update_stats(|s| s.uniform_uploads += 1);
     }
 
-    /// Counts one draw (see [`DrawStats`]).
+    /// Counts one draw into `target` reading `reads` (see [`DrawStats`]).
     pub(crate) fn count_draw(
         &self,
-        target: &super::Framebuffer,
+        (target, reads): (&super::Framebuffer, &[glow::Texture]),
         pass: bool,
         bytes: u64,
         (points, vertices): (u64, u64),
     ) {
-        let follow_on = self.note_target(target.raw);
+        let wait = self.note_draw(target, reads);
         self.update_stats(|s| {
             s.vertices += vertices;
             s.draws += 1;
-            s.follow_ons += follow_on as u64;
+            s.follow_ons += (wait == Wait::FollowOn) as u64;
+            s.concurrent += (wait == Wait::None) as u64;
             s.passes += pass as u64;
             s.bytes_written += bytes;
             s.points += points;

@@ -2,7 +2,9 @@
 //! list (passes, bytes written, texel fetches, points drawn) and four constants of the device,
 //! each measured by a microbenchmark in the same run ([`crate::bench::cost`] says which).
 //!
-//! predicted ms = passes × fixed + bytes × per byte + fetches × per fetch + points × per point.
+//! predicted ms = passes × fixed + follow-ons × follow-on + concurrent × concurrent + bytes ×
+//! per byte + fetches × per fetch + points × per point + other vertices × per vertex
+//! ([`Constants::predict_drawn`]).
 //! The passes, bytes and fetches of each cell are what the GL layer counted while it ran
 //! ([`crate::gl::DrawStats`]): the fetches as the passes that know them declared them (the
 //! sorts' key, network and gather passes, in Table 1 and in Table 2's sorted frames, and
@@ -209,9 +211,11 @@ fn markdown(ctx: &Context, c: &Constants, cells: &[Cell]) -> String {
     let mut m = format!(
         "## A cost model of Tables 1 and 2 (`texflow report all --only cost`)\n\n\
          Device: {}. Constants measured in the same run: {}. Predicted ms = passes × fixed + \
-         follow-ons × follow-on + bytes × per byte + fetches × per fetch + points × per point + \
-         other vertices × per vertex (a follow-on: a draw into the target the draw before it \
-         drew into; fetches: those the sorts' passes and UberFlow's detection declare).\n\n\
+         follow-ons × follow-on + concurrent × concurrent + bytes × per byte + fetches × per \
+         fetch + points × per point + other vertices × per vertex (a follow-on: a draw into the \
+         target the draw before it drew into; a concurrent draw: one that reads nothing the \
+         draws before it wrote and writes nothing they read; fetches: those the sorts' passes \
+         and UberFlow's detection declare).\n\n\
          | table | sort / experiment | size | passes | MB written | M fetches | M points | \
          measured ms | predicted ms | predicted / measured |\n\
          |---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",

@@ -230,9 +230,11 @@ impl StateFloors {
             let d = td.stats;
             // A stage that drew nothing this time still costs its call: one pass's fixed cost.
             // A bound computed from the stage's own draws: nothing drawn to compare.
-            let floor = "its passes (at least one) × the fixed cost of a pass + its bytes at the \
-                         state's write rate";
-            let f = d.draws.max(1) as f64 * fixed + d.bytes_written as f64 / rate;
+            let floor = "its chained passes (at least one) × the fixed cost of a pass + its bytes \
+                         at the state's write rate";
+            // Draws that wait on none before them (follow-ons, concurrent) may cost next to
+            // nothing: only the chain's passes are each a pass's fixed cost at least.
+            let f = d.chained().max(1) as f64 * fixed + d.bytes_written as f64 / rate;
             let bounds = [(floor, f, None), (FETCH_FLOOR, fetch.0, Some(fetch.1))];
             phases.push_bounds(&name, t, Some(td), &bounds);
         }

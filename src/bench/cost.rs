@@ -6,7 +6,7 @@
 //! | --- | --- |
 //! | fixed cost of a pass | [`FixedCost`]: 200 passes of one texel, each reading what the one before wrote, divided by 200 |
 //! | fixed cost of a follow-on draw | 200 one-texel draws into one target, none reading it, divided by 200 |
-//! | fixed cost of a concurrent draw | 200 one-texel draws into two targets in turn, each reading a texel none writes, divided by 200 |
+//! | fixed cost of a concurrent draw | a one-texel pass, then a draw into a second target, both reading a texel neither writes, less the pass alone |
 //! | time per byte written | a write-only pass into a side² RGBA32F target, less the fixed cost |
 //! | time per texel fetched | `bench/fetch_probe.frag` (8 scattered RGBA32F fetches a fragment) less the write-only pass, per fetch |
 //! | time per point | the target cleared, then `side²` one-pixel points through `bench/render_floor.vert` (uniformly scattered), less the write-only pass |

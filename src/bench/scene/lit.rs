@@ -200,12 +200,21 @@ pub(super) fn lit_phases(
             ),
         ),
     ] {
-        let bounds = floors.drawn(ctx, (timer, samples), engine, &state, passes)?;
-        let (t, drawn) = counted(ctx, samples, || {
-            timed(timer, || {
-                lit.draw_passes(target, &state, camera, atlas, passes)
-            })
-        })?;
+        // Twice, the first round's times dropped: whichever of the three came first after the
+        // render paid for the switch (on an NVIDIA H100, the light passes' fill floor 21-29 µs
+        // timed first, 11.4 timed after the passes; the passes 13.1-13.4 timed last, 21.7-30.7
+        // timed first).
+        let round = || -> Result<_> {
+            let bounds = floors.drawn(ctx, (timer, samples), engine, &state, passes)?;
+            let (t, drawn) = counted(ctx, samples, || {
+                timed(timer, || {
+                    lit.draw_passes(target, &state, camera, atlas, passes)
+                })
+            })?;
+            Ok((bounds, t, drawn))
+        };
+        round()?;
+        let (bounds, t, drawn) = round()?;
         phases.push_bounds(&name, t, Some(drawn), &bounds);
     }
     Ok(())

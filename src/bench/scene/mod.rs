@@ -121,7 +121,7 @@ pub struct SceneBenchRecord {
     /// The clock.
     pub clock: Clock,
     /// The cost model's constants, measured in the same run with targets of the state's size
-    /// (256² at least).
+    /// (1024² at least on a GPU clock, 256² on a wall clock).
     pub constants: Constants,
 }
 
@@ -288,6 +288,19 @@ fn counted(
     ))
 }
 
+/// The side of the targets the cost model's constants are measured with for a state of
+/// `size`²: on a GPU clock at least 1024², where the write probe's time is its bytes' and not
+/// its fixed cost's (on an NVIDIA H100 at 256², the probe less a chained pass's fixed cost gave
+/// 0.010-0.014 ms per MB, where the 256² states' own write-only passes wrote 2.1 MB in 40.8 µs,
+/// 0.019, and every probe at 1024² or more 0.0174); on a wall clock at least 256², which keeps
+/// llvmpipe's probes short.
+fn constants_side(size: u32, timer: &PassTimer) -> u32 {
+    match timer.clock() {
+        Clock::Gpu => size.max(1024),
+        Clock::Wall => size.max(256),
+    }
+}
+
 /// Times every phase of `scene` at each square state size; `progress(size)` after each.
 pub fn bench_scene(
     ctx: &Context,
@@ -305,7 +318,7 @@ pub fn bench_scene(
     for &size in sizes {
         let s = at_size(scene, size, opts);
         let warmup = warmup_frames(&s, opts.warmup_frames)?;
-        let constants = measure_constants(ctx, &timer, size.max(256), opts.repeats)?;
+        let constants = measure_constants(ctx, &timer, constants_side(size, &timer), opts.repeats)?;
         let (phases, frame, live, model, frame_constants) =
             measure(ctx, &s, warmup, &timer, &constants, opts)?;
         let constants = Constants {

@@ -316,21 +316,9 @@ impl Context {
         self.inner.uniform_cache.get()
     }
 
-    /// Changes the draw counts ([`DrawStats`]; the counting itself lives in `stats.rs`).
-    pub(super) fn update_stats(&self, f: impl FnOnce(&mut DrawStats)) {
-        let mut s = self.inner.stats.get();
-        f(&mut s);
-        self.inner.stats.set(s);
-    }
-
-    /// Notes that a draw goes into `target` reading `reads`: what it waits on among the draws
-    /// counted before it.
-    pub(super) fn note_draw(
-        &self,
-        target: &super::Framebuffer,
-        reads: &[glow::Texture],
-    ) -> super::stats::Wait {
-        self.inner.hazards.borrow_mut().note(target, reads)
+    /// The draw counts and what the counted draws touched (the counting lives in `stats.rs`).
+    pub(super) fn counts(&self) -> (&Cell<DrawStats>, &std::cell::RefCell<super::stats::Hazards>) {
+        (&self.inner.stats, &self.inner.hazards)
     }
 
     /// What the draws since the last call did, and starts counting again (the next draw waits

@@ -133,6 +133,14 @@ impl Hazards {
 }
 
 impl Context {
+    /// Changes the draw counts ([`DrawStats`]).
+    fn update_stats(&self, f: impl FnOnce(&mut DrawStats)) {
+        let stats = self.counts().0;
+        let mut s = stats.get();
+        f(&mut s);
+        stats.set(s);
+    }
+
     /// Counts one uniform upload (see [`DrawStats::uniform_uploads`]).
     pub(crate) fn count_upload(&self) {
         self.update_stats(|s| s.uniform_uploads += 1);
@@ -146,7 +154,7 @@ impl Context {
         bytes: u64,
         (points, vertices): (u64, u64),
     ) {
-        let wait = self.note_draw(target, reads);
+        let wait = self.counts().1.borrow_mut().note(target, reads);
         self.update_stats(|s| {
             s.vertices += vertices;
             s.draws += 1;

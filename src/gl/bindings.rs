@@ -32,6 +32,17 @@ pub enum Sampled<'a> {
     Recorded(RecordedTexture),
 }
 
+impl Sampled<'_> {
+    /// The texture's GL name.
+    pub(super) fn raw(&self) -> glow::Texture {
+        match self {
+            Sampled::D2(t) => t.raw(),
+            Sampled::D3(t) => t.raw(),
+            Sampled::Recorded(r) => r.raw,
+        }
+    }
+}
+
 impl<'a> From<&'a Texture> for Sampled<'a> {
     fn from(t: &'a Texture) -> Self {
         Sampled::D2(t)

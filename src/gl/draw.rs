@@ -257,14 +257,7 @@ impl Context {
             Primitive::Points | Primitive::Lines => 0,
         };
         let n = d.count as u64;
-        let reads: Vec<glow::Texture> = (d.textures.iter())
-            .map(|(_, t)| match t {
-                Sampled::D2(t) => t.raw(),
-                Sampled::D3(t) => t.raw(),
-                Sampled::Recorded(r) => r.raw,
-            })
-            .collect();
-        let to = (d.target, &reads[..]);
+        let to = (d.target, d.textures);
         match d.primitive {
             Primitive::Triangles => self.count_draw(to, true, bytes, (0, n)),
             Primitive::Points => self.count_draw(to, false, 0, (n, n)),

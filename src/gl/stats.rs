@@ -79,6 +79,10 @@ impl DrawStats {
     }
 }
 
+/// A texture a draw reads, by sampler name (as [`Draw::textures`](super::Draw::textures)
+/// lists them).
+type Read<'a> = (&'a str, super::Sampled<'a>);
+
 /// What a draw waits on, among the draws counted with it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum Wait {
@@ -105,12 +109,12 @@ pub(super) struct Hazards {
 
 impl Hazards {
     /// Notes a draw into `target` reading `reads`: what it waits on.
-    pub(super) fn note(&mut self, target: &super::Framebuffer, reads: &[glow::Texture]) -> Wait {
+    pub(super) fn note(&mut self, target: &super::Framebuffer, reads: &[Read<'_>]) -> Wait {
         let wait = match self.last.replace(target.raw) {
             None => Wait::Before,
             Some(last) if last == target.raw => Wait::FollowOn,
             Some(_) => {
-                let reads_written = reads.iter().any(|t| self.written.contains(t));
+                let reads_written = reads.iter().any(|(_, t)| self.written.contains(&t.raw()));
                 let writes_read = target.writes.iter().any(|t| self.read.contains(t));
                 match reads_written || writes_read {
                     true => Wait::Before,
@@ -123,9 +127,9 @@ impl Hazards {
                 self.written.push(*t);
             }
         }
-        for t in reads {
-            if !self.read.contains(t) {
-                self.read.push(*t);
+        for t in reads.iter().map(|(_, t)| t.raw()) {
+            if !self.read.contains(&t) {
+                self.read.push(t);
             }
         }
         wait
@@ -149,7 +153,7 @@ impl Context {
     /// Counts one draw into `target` reading `reads` (see [`DrawStats`]).
     pub(crate) fn count_draw(
         &self,
-        (target, reads): (&super::Framebuffer, &[glow::Texture]),
+        (target, reads): (&super::Framebuffer, &[Read<'_>]),
         pass: bool,
         bytes: u64,
         (points, vertices): (u64, u64),

@@ -50,7 +50,6 @@ pub struct Constants {
     pub follow_on_ms: f64,
     /// One draw that waits on no earlier draw: it reads nothing they wrote, writes nothing they
     /// read, and goes into another target than the draw before it.
-    #[serde(default)]
     pub concurrent_ms: f64,
     /// One megabyte written into colour attachments.
     pub ms_per_mb_written: f64,

@@ -13,15 +13,14 @@ pub struct DrawStats {
     pub draws: u64,
     /// Of those, the draws into the framebuffer that the draw counted before drew into: they
     /// wait on no other target's writes (the slices of a lit render's light or eye passes
-    /// drawn apart, a frame's geometry after its background), where the others are passes of
-    /// a chain.
+    /// drawn apart, a frame's geometry after its background); [`DrawStats::chained`] counts
+    /// the passes of a chain.
     pub follow_ons: u64,
     /// Of those, the draws that wait on no earlier draw counted with them: neither the first,
     /// nor a follow-on, nor reading a texture an earlier one wrote, nor writing one an earlier
     /// one read (the births' draws into the static and the state textures; a fetch floor's
     /// passes). A GPU may run them beside the draws before; the others of a phase's draws are
     /// a chain, each waiting on the one before.
-    #[serde(default)]
     pub concurrent: u64,
     /// Of those, triangle draws over a rectangle of the target (full-screen passes).
     pub passes: u64,

@@ -12,7 +12,8 @@
 // +inf), so both find the same run: the same neighbours, visited in the same order.
 // With a cell of at least 2r every pair closer than 2r is visited from both sides, unless a run
 // holds more than EXACT_SCAN particles (then `exact_truncated` is set).
-// The including shader defines `void visit(int j)`, called with each neighbour's sorted index.
+// The including shader defines `void visit(int j)`, called with each neighbour's sorted index;
+// with PARTNER_MASK, `bool partner_test(int j)` and `void partner_take(int j)` instead (below).
 
 #include "collide/sorted_keys.glsl"
 
@@ -38,6 +39,29 @@ void visit(int j);
 
 // Walks the run of cells row + x0 .. row + x1 (one row of the lattice along x), visiting every
 // particle in it but the one at sorted index `self`, at most EXACT_SCAN of them.
+#ifdef PARTNER_MASK
+// The partner work of one run (PARTNER_MASK: the including shader defines partner_test and
+// partner_take, and no visit): the visits only test, and set bit s of the run's mask for each
+// partner at j + s; the work then takes the partners in the same order, lowest bit first. A GPU
+// runs a fragment pass in warps of neighbouring fragments in lockstep; where one visit in a few
+// is a partner, some fragment of a warp has one at nearly every visit, so a walk that worked as it
+// visited would have the whole warp pay a partner's work at every visit. Here the warp pays it as
+// many times as the most partners one of its fragments has in the run.
+bool partner_test(int j);
+void partner_take(int j);
+
+void take_mask(int j, uint mask) {
+    while (mask != 0u) {
+        uint low = mask & (~mask + 1u);
+        // The lowest set bit's place: a power of two converts to float exactly, and its exponent is
+        // the place (GLSL 3.30 has no findLSB).
+        int s = int(floatBitsToUint(float(low)) >> 23) - 127;
+        mask ^= low;
+        partner_take(j + s);
+    }
+}
+#endif
+
 void walk_run(int self, int row, int x0, int x1) {
 #ifdef CELL_TABLE
     int j = cell_start(row + x0);
@@ -46,21 +70,48 @@ void walk_run(int self, int row, int x0, int x1) {
     // need not wait for the first's arithmetic (2 % faster on an NVIDIA H100).
     int n = min(end - j, EXACT_SCAN);
     int s = 0;
+#ifdef PARTNER_MASK
+    uint m0 = 0u;
+    uint m1 = 0u;
+    for (; s < n; s++) {
+        if (j + s != self && partner_test(j + s)) {
+            if (s < 32) m0 |= 1u << uint(s);
+            else m1 |= 1u << uint(s - 32);
+        }
+    }
+    take_mask(j, m0);
+    take_mask(j + 32, m1);
+#else
     for (; s + 2 <= n; s += 2) {
         if (j + s != self) visit(j + s);
         if (j + s + 1 != self) visit(j + s + 1);
     }
     if (s < n && j + s != self) visit(j + s);
+#endif
     if (end - j > EXACT_SCAN) exact_truncated = true;
 #else
     // The run ends at the first key past its last cell.
     float k1 = float(row + x1);
     int j = lower_bound(float(row + x0));
     int s = 0;
+#ifdef PARTNER_MASK
+    uint m0 = 0u;
+    uint m1 = 0u;
+    for (; s < EXACT_SCAN; s++) {
+        if (!(j + s < u_count && sorted_key(j + s) <= k1)) break;
+        if (j + s != self && partner_test(j + s)) {
+            if (s < 32) m0 |= 1u << uint(s);
+            else m1 |= 1u << uint(s - 32);
+        }
+    }
+    take_mask(j, m0);
+    take_mask(j + 32, m1);
+#else
     for (; s < EXACT_SCAN; s++) {
         if (!(j + s < u_count && sorted_key(j + s) <= k1)) break;
         if (j + s != self) visit(j + s);
     }
+#endif
     if (s == EXACT_SCAN && j + s < u_count && sorted_key(j + s) <= k1) {
         exact_truncated = true;
     }

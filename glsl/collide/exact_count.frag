@@ -43,14 +43,19 @@ float g_d2 = 1e30;
 vec3 g_separation = vec3(0.0);
 vec3 g_exchanged = vec3(0.0);
 
-void visit(int j) {
+// A partner: live, closer than 2r. A position that is not finite gives a d2 that is infinite or
+// NaN, which fails the distance test as particle_live would (fewer instructions a visit).
+bool partner_test(int j) {
+    vec4 q = texelFetch(u_position, key_texel(j), 0);
+    vec3 d = g_x - q.xyz;
+    return q.w > 0.0 && dot(d, d) < 4.0 * u_radius * u_radius;
+}
+
+void partner_take(int j) {
     ivec2 tj = key_texel(j);
     vec4 q = texelFetch(u_position, tj, 0);
     vec3 d = g_x - q.xyz;
     float d2 = dot(d, d);
-    // Life alone: a position that is not finite gives a d2 that is infinite or NaN, which
-    // fails the distance test as particle_live would (fewer instructions a visit).
-    if (!(q.w > 0.0 && d2 < 4.0 * u_radius * u_radius)) return;
     g_found++;
     vec4 st_q = texelFetch(u_static, tj, 0);
     float m_q = 1.0 / particle_inv_mass(int(st_q.y), st_q.w);
@@ -89,6 +94,12 @@ void visit(int j) {
     }
     g_separation += alone;
 }
+
+#ifndef PARTNER_MASK
+void visit(int j) {
+    if (partner_test(j)) partner_take(j);
+}
+#endif
 
 void main() {
     // This fragment's particle (in the walk's order: collide/sorted_keys.glsl).

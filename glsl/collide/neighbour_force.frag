@@ -37,10 +37,23 @@ float g_mass;
 vec3 g_force = vec3(0.0);
 float g_contacts = 0.0;
 
-void visit(int j) {
+// A neighbour that can add a force: live, closer than the contact (2r) or a hook's reach; a
+// farther one adds exact zeros.
+bool partner_test(int j) {
+    vec4 q = texelFetch(u_position, key_texel(j), 0);
+    if (!(q.w > 0.0)) return false;
+    float reach = 2.0 * u_radius;
+#if N_PAIR > 0
+    // (A hook not in the scene has radius 0.)
+    vec4 hooks = u_pair_radius;
+    reach = max(reach, max(max(hooks.x, hooks.y), max(hooks.z, hooks.w)));
+#endif
+    return length(q.xyz - g_x) < reach;
+}
+
+void partner_take(int j) {
     ivec2 tj = key_texel(j);
     vec4 q = texelFetch(u_position, tj, 0);
-    if (!(q.w > 0.0)) return;
     vec3 w = texelFetch(u_velocity, tj, 0).xyz;
     float dist = length(q.xyz - g_x);
     if (dist < 2.0 * u_radius) g_contacts += 1.0;
@@ -71,6 +84,15 @@ void visit(int j) {
     }
 #endif
 }
+
+#ifndef PARTNER_MASK
+void visit(int j) {
+    ivec2 tj = key_texel(j);
+    vec4 q = texelFetch(u_position, tj, 0);
+    if (!(q.w > 0.0)) return;
+    partner_take(j);
+}
+#endif
 
 void main() {
     ivec2 t = ivec2(gl_FragCoord.xy);

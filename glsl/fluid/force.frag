@@ -60,14 +60,18 @@ vec2 ghost_pressure(vec3 y, vec2 dp, int k) {
 }
 #endif
 
-void visit(int j) {
+// A neighbour at 2h or farther adds nothing (add() computes the same r), and away from the
+// walls it has no ghost: its velocity and density are not fetched. The search visits three
+// (cells of h) to six (2h) such neighbours for each one within 2h.
+bool partner_test(int j) {
+    vec4 q = texelFetch(u_position, key_texel(j), 0);
+    if (!(q.w > 0.0)) return false;
+    return g_walls || length(g_x - q.xyz) < 2.0 * u_h;
+}
+
+void partner_take(int j) {
     ivec2 tj = key_texel(j);
     vec4 q = texelFetch(u_position, tj, 0);
-    if (!(q.w > 0.0)) return;
-    // A neighbour at 2h or farther adds nothing (add() computes the same r), and away from the
-    // walls it has no ghost: its velocity and density are not fetched. The search visits three
-    // (cells of h) to six (2h) such neighbours for each one within 2h.
-    if (!g_walls && !(length(g_x - q.xyz) < 2.0 * u_h)) return;
     vec2 dp = texelFetch(u_density, tj, 0).xy;
     vec3 w = texelFetch(u_velocity, tj, 0).xyz;
     add(q.xyz, w, dp);
@@ -77,6 +81,12 @@ void visit(int j) {
     }
 #endif
 }
+
+#ifndef PARTNER_MASK
+void visit(int j) {
+    if (partner_test(j)) partner_take(j);
+}
+#endif
 
 void main() {
     ivec2 t = ivec2(gl_FragCoord.xy);

@@ -208,6 +208,45 @@ pub fn with_search<T>(table: bool, build: impl FnOnce() -> T) -> T {
     out
 }
 
+thread_local! {
+    // Cleared by `with_partner_work` while it builds stages on this thread.
+    static DEFERRED: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
+}
+
+/// `defines` with `PARTNER_MASK`, for a pass whose walk tests each visited particle and works
+/// on the partners it finds (the exact count, the neighbour forces, the fluid's force): the walk
+/// of a run of cells only tests, setting a bit per partner, and the work then takes the partners
+/// in the same order (`glsl/collide/cells.glsl`), so the fragments of a warp do a partner's work
+/// together rather than each visit waiting for whichever fragment found one. Every sum is the
+/// same, term for term. Not set inside [`with_partner_work`]`(false, ..)`.
+pub fn partner_mask(defines: &Defines) -> Defines {
+    let mut d = defines.clone();
+    if DEFERRED.with(|f| f.get()) {
+        d.push(("PARTNER_MASK".into(), "1".into()));
+    }
+    d
+}
+
+/// The words the pass lists give a pass built with [`partner_mask`]: "", or how its walk takes
+/// the partners.
+pub fn partner_words() -> &'static str {
+    if DEFERRED.with(|f| f.get()) {
+        "; each run's partners worked after its tests, in order"
+    } else {
+        ""
+    }
+}
+
+/// Runs `build` with the passes it builds on this thread working on each partner as they visit
+/// it (`deferred` false) or by [`partner_mask`] (true, the default): for comparing the two,
+/// which must give the same state bit for bit.
+pub fn with_partner_work<T>(deferred: bool, build: impl FnOnce() -> T) -> T {
+    let before = DEFERRED.with(|f| f.replace(deferred));
+    let out = build();
+    DEFERRED.with(|f| f.set(before));
+    out
+}
+
 /// Whether a search by `walk` of a lattice of `cells` cells over `entries` sorted entries reads
 /// a cell-start table: cells ≤ [`Walk::table_cells_per_entry`] × entries and ≤
 /// [`TABLE_MAX_CELLS`]; else the binary search.

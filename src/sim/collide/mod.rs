@@ -249,7 +249,12 @@ impl Passes {
                         .map(|a| Ok((a, texture(ctx, a.name(), w, h, TextureFormat::Rgba32F)?)))
                         .collect::<Result<_>>()?,
                 )?,
-                count: walked("collide/exact_count.frag")?,
+                count: Program::new(
+                    ctx,
+                    FULLSCREEN_VERTEX,
+                    "collide/exact_count.frag",
+                    &cells::partner_mask(&walk),
+                )?,
                 response: walked("collide/exact_response.frag")?,
             }
         } else {

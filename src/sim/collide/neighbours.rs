@@ -91,6 +91,7 @@ fn force_program(ctx: &Context, scene: &SceneFile, defines: &Defines) -> Result<
         d.push(("DEM".into(), "1".into()));
     }
     d.push(("EXACT_SCAN".into(), scene::EXACT_SCAN.to_string()));
+    let d = super::cells::partner_mask(&d);
     Program::new(ctx, FULLSCREEN_VERTEX, &root, &d).map_err(|e| {
         let renamed = Renamed {
             name: "pair_force",
@@ -196,11 +197,12 @@ pub fn neighbour_passes(
     }
     out.extend([
         format!(
-            "neighbour force: sum over {} of {} ({}, at most {} particles per run)",
+            "neighbour force: sum over {} of {} ({}, at most {} particles per run{})",
             super::cells::walk_words(search.collisions_trimmed, "2r"),
             what.join(" and "),
             super::cells::search_words(table),
-            scene::EXACT_SCAN
+            scene::EXACT_SCAN,
+            super::cells::partner_words()
         ),
         "neighbour kick: v += F / m dt, positions copied (they move in the next integration)"
             .into(),

@@ -29,10 +29,11 @@ pub fn exact_passes(
     out.extend([
         format!(
             "exact detection: partners closer than 2r counted in {}, and the closest ({}, at \
-             most {EXACT_SCAN} particles per run); the separations with every partner summed, \
-             with and without the closest partner's exchange",
+             most {EXACT_SCAN} particles per run{}); the separations with every partner \
+             summed, with and without the closest partner's exchange",
             cells::walk_words(search.collisions_trimmed, "2r"),
-            cells::search_words(table)
+            cells::search_words(table),
+            cells::partner_words()
         ),
         format!(
             "exact response, no walk: the count's sum with the closest partner's momentum \

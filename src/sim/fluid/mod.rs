@@ -116,7 +116,8 @@ pub fn fluid_passes(walls: bool, coherent: Option<u32>, table: bool, cell: u32) 
         ),
         format!(
             "fluid force: symmetric pressure force and Monaghan's artificial viscosity over the \
-             same search{wall}, v += a dt, positions copied"
+             same search{}{wall}, v += a dt, positions copied",
+            crate::sim::collide::cells::partner_words()
         ),
         tally::pass_line("truncation tally: the particles whose search hit the bound"),
     ]);
@@ -200,7 +201,12 @@ impl Fluid {
             coherent_last: false,
             density: Framebuffer::new(ctx, "fluid density", vec![density])?,
             density_pass: program("fluid/density.frag")?,
-            force_pass: program("fluid/force.frag")?,
+            force_pass: Program::new(
+                ctx,
+                FULLSCREEN_VERTEX,
+                "fluid/force.frag",
+                &crate::sim::collide::cells::partner_mask(&d),
+            )?,
             place: program("fluid/lattice.frag")?,
             pass: FullscreenPass::new(ctx)?,
             tally: TruncationTally::new(ctx, size)?,

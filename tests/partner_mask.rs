@@ -2,7 +2,8 @@
 //! pair forces, the fluid's force) test a whole run of cells first and then work on its partners
 //! in the order visited (`PARTNER_MASK`, `glsl/collide/cells.glsl`): the state after a run is the
 //! same, bit for bit, as when each visit worked on its partner at once. Runs of more than 32
-//! particles (the mask's second word) and past the search's bound are among the cases.
+//! particles (tested 32 at a time), more than 64 (the fluid's search goes to 128) and past the
+//! search's bound are among the cases.
 
 mod common;
 
@@ -122,6 +123,19 @@ fn the_forces_give_the_same_state_either_way() {
         let mut s = scene::load(name).unwrap();
         s.particles.size = [16, 16];
         assert_same_runs(name, both_ways(&ctx, &s, 6, |_| {}));
+    }
+    // A fluid on a lattice smaller than the tank: the particles outside crowd its edge cells,
+    // runs of more than 64 (the fluid's bound is 128), on cells of h (trimmed) and 2h.
+    let src = common::fluid::twin_scene_source();
+    let full = "bounds = [[0.0, 0.0, 0.0], [0.24, 1.0, 0.12]]";
+    assert!(src.contains(full));
+    for cell in ["h", "2h"] {
+        let small = format!("bounds = [[0.03, 0.02, 0.03], [0.15, 0.12, 0.09]]\ncell = \"{cell}\"");
+        let s = common::scene::parse("fluid", &src.replace(full, &small));
+        assert_same_runs(
+            &format!("small lattice, {cell}"),
+            both_ways(&ctx, &s, 151, |_| {}),
+        );
     }
     no_gl_error(&ctx);
 }

@@ -37,16 +37,15 @@ bool exact_truncated = false;
 
 void visit(int j);
 
-// Walks the run of cells row + x0 .. row + x1 (one row of the lattice along x), visiting every
-// particle in it but the one at sorted index `self`, at most EXACT_SCAN of them.
 #ifdef PARTNER_MASK
 // The partner work of one run (PARTNER_MASK: the including shader defines partner_test and
-// partner_take, and no visit): the visits only test, and set bit s of the run's mask for each
-// partner at j + s; the work then takes the partners in the same order, lowest bit first. A GPU
-// runs a fragment pass in warps of neighbouring fragments in lockstep; where one visit in a few
-// is a partner, some fragment of a warp has one at nearly every visit, so a walk that worked as it
-// visited would have the whole warp pay a partner's work at every visit. Here the warp pays it as
-// many times as the most partners one of its fragments has in the run.
+// partner_take, and no visit), 32 particles at a time: the visits only test, and set bit b of a
+// mask for each partner at j + b; the work then takes those partners in the same order, lowest
+// bit first, before the next 32 are tested. A GPU runs a fragment pass in warps of neighbouring
+// fragments in lockstep; where one visit in a few is a partner, some fragment of a warp has one
+// at nearly every visit, so a walk that worked as it visited would have the whole warp pay a
+// partner's work at every visit. Here the warp pays it as many times as the most partners one
+// of its fragments has among 32.
 bool partner_test(int j);
 void partner_take(int j);
 
@@ -62,6 +61,8 @@ void take_mask(int j, uint mask) {
 }
 #endif
 
+// Walks the run of cells row + x0 .. row + x1 (one row of the lattice along x), visiting every
+// particle in it but the one at sorted index `self`, at most EXACT_SCAN of them.
 void walk_run(int self, int row, int x0, int x1) {
 #ifdef CELL_TABLE
     int j = cell_start(row + x0);
@@ -71,16 +72,14 @@ void walk_run(int self, int row, int x0, int x1) {
     int n = min(end - j, EXACT_SCAN);
     int s = 0;
 #ifdef PARTNER_MASK
-    uint m0 = 0u;
-    uint m1 = 0u;
-    for (; s < n; s++) {
-        if (j + s != self && partner_test(j + s)) {
-            if (s < 32) m0 |= 1u << uint(s);
-            else m1 |= 1u << uint(s - 32);
+    for (; s < n; s += 32) {
+        uint mask = 0u;
+        int e = min(n - s, 32);
+        for (int b = 0; b < e; b++) {
+            if (j + s + b != self && partner_test(j + s + b)) mask |= 1u << uint(b);
         }
+        take_mask(j + s, mask);
     }
-    take_mask(j, m0);
-    take_mask(j + 32, m1);
 #else
     for (; s + 2 <= n; s += 2) {
         if (j + s != self) visit(j + s);
@@ -95,17 +94,20 @@ void walk_run(int self, int row, int x0, int x1) {
     int j = lower_bound(float(row + x0));
     int s = 0;
 #ifdef PARTNER_MASK
-    uint m0 = 0u;
-    uint m1 = 0u;
-    for (; s < EXACT_SCAN; s++) {
-        if (!(j + s < u_count && sorted_key(j + s) <= k1)) break;
-        if (j + s != self && partner_test(j + s)) {
-            if (s < 32) m0 |= 1u << uint(s);
-            else m1 |= 1u << uint(s - 32);
+    bool more = true;
+    while (more && s < EXACT_SCAN) {
+        uint mask = 0u;
+        int base = s;
+        int e = min(base + 32, EXACT_SCAN);
+        for (; s < e; s++) {
+            if (!(j + s < u_count && sorted_key(j + s) <= k1)) {
+                more = false;
+                break;
+            }
+            if (j + s != self && partner_test(j + s)) mask |= 1u << uint(s - base);
         }
+        take_mask(j + base, mask);
     }
-    take_mask(j, m0);
-    take_mask(j + 32, m1);
 #else
     for (; s < EXACT_SCAN; s++) {
         if (!(j + s < u_count && sorted_key(j + s) <= k1)) break;

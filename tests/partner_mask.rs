@@ -139,3 +139,22 @@ fn the_forces_give_the_same_state_either_way() {
     }
     no_gl_error(&ctx);
 }
+
+/// Outside `with_partner_work`, the exact count defers its partners' work and the forces work
+/// on each as they visit it (the choice measured on llvmpipe: docs/collisions.md).
+#[test]
+fn the_exact_count_defers_by_default_and_the_forces_do_not() {
+    use texflow::sim::collide::cells::PartnerWork;
+    assert!(PartnerWork::Contacts.deferred());
+    assert!(!PartnerWork::Forces.deferred());
+    let ctx = context();
+    let words = "partners worked after its tests";
+    for (name, deferred) in [("spin", true), ("dem", false), ("drop", false)] {
+        let s = scene::load(name).unwrap();
+        let passes = format!("{:?}", common::plan_of(&ctx, &s).passes);
+        assert_eq!(passes.contains(words), deferred, "{name}: {passes}");
+    }
+    let passes = format!("{:?}", common::plan_of(&ctx, &exact_scene()).passes);
+    assert!(passes.contains(words), "{passes}");
+    no_gl_error(&ctx);
+}

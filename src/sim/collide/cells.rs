@@ -209,19 +209,42 @@ pub fn with_search<T>(table: bool, build: impl FnOnce() -> T) -> T {
 }
 
 thread_local! {
-    // Cleared by `with_partner_work` while it builds stages on this thread.
-    static DEFERRED: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
+    // Set by `with_partner_work` while it builds stages on this thread.
+    static DEFERRED: std::cell::Cell<Option<bool>> = const { std::cell::Cell::new(None) };
 }
 
-/// `defines` with `PARTNER_MASK`, for a pass whose walk tests each visited particle and works
-/// on the partners it finds (the exact count, the neighbour forces, the fluid's force): the walk
-/// of a run of cells only tests, setting a bit per partner, and the work then takes the partners
-/// in the same order (`glsl/collide/cells.glsl`), so the fragments of a warp do a partner's work
-/// together rather than each visit waiting for whichever fragment found one. Every sum is the
-/// same, term for term. Not set inside [`with_partner_work`]`(false, ..)`.
-pub fn partner_mask(defines: &Defines) -> Defines {
+/// The passes whose walk tests each visited particle and works on the partners it finds, for
+/// [`partner_mask`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PartnerWork {
+    /// The exact detection's count: a partner's work (its static and velocity fetches, the
+    /// separation, the exchange) is long beside a visit's test. Deferred by default: on
+    /// llvmpipe `gas` exact takes 0.61 of the time and `spin` 0.43-0.59.
+    Contacts,
+    /// The DEM and pair forces and the fluid's force: a partner's work is short, or most
+    /// visits are partners. Worked as visited by default: deferred, they took 1.02-1.26 of
+    /// the time on llvmpipe (not measured on a GPU yet).
+    Forces,
+}
+
+impl PartnerWork {
+    /// Whether the pass defers its partners' work: [`PartnerWork::Contacts`] does, unless
+    /// [`with_partner_work`] says otherwise for both.
+    pub fn deferred(self) -> bool {
+        DEFERRED
+            .with(|f| f.get())
+            .unwrap_or(self == PartnerWork::Contacts)
+    }
+}
+
+/// `defines`, with `PARTNER_MASK` where `work` is [`deferred`](PartnerWork::deferred): the
+/// walk of a run of cells tests 32 particles at a time, setting a bit per partner, and the work
+/// then takes those partners in the same order (`glsl/collide/cells.glsl`), so the fragments of
+/// a warp do a partner's work together rather than each visit waiting for whichever fragment
+/// found one. Every sum is the same, term for term.
+pub fn partner_mask(defines: &Defines, work: PartnerWork) -> Defines {
     let mut d = defines.clone();
-    if DEFERRED.with(|f| f.get()) {
+    if work.deferred() {
         d.push(("PARTNER_MASK".into(), "1".into()));
     }
     d
@@ -229,19 +252,19 @@ pub fn partner_mask(defines: &Defines) -> Defines {
 
 /// The words the pass lists give a pass built with [`partner_mask`]: "", or how its walk takes
 /// the partners.
-pub fn partner_words() -> &'static str {
-    if DEFERRED.with(|f| f.get()) {
+pub fn partner_words(work: PartnerWork) -> &'static str {
+    if work.deferred() {
         "; each run's partners worked after its tests, in order"
     } else {
         ""
     }
 }
 
-/// Runs `build` with the passes it builds on this thread working on each partner as they visit
-/// it (`deferred` false) or by [`partner_mask`] (true, the default): for comparing the two,
-/// which must give the same state bit for bit.
+/// Runs `build` with every pass it builds on this thread working on each partner as it visits
+/// it (`deferred` false) or by [`partner_mask`] (true), whatever [`PartnerWork::deferred`]
+/// would say: for comparing the two, which must give the same state bit for bit.
 pub fn with_partner_work<T>(deferred: bool, build: impl FnOnce() -> T) -> T {
-    let before = DEFERRED.with(|f| f.replace(deferred));
+    let before = DEFERRED.with(|f| f.replace(Some(deferred)));
     let out = build();
     DEFERRED.with(|f| f.set(before));
     out

@@ -253,7 +253,7 @@ impl Passes {
                     ctx,
                     FULLSCREEN_VERTEX,
                     "collide/exact_count.frag",
-                    &cells::partner_mask(&walk),
+                    &cells::partner_mask(&walk, cells::PartnerWork::Contacts),
                 )?,
                 response: walked("collide/exact_response.frag")?,
             }

@@ -91,7 +91,7 @@ fn force_program(ctx: &Context, scene: &SceneFile, defines: &Defines) -> Result<
         d.push(("DEM".into(), "1".into()));
     }
     d.push(("EXACT_SCAN".into(), scene::EXACT_SCAN.to_string()));
-    let d = super::cells::partner_mask(&d);
+    let d = super::cells::partner_mask(&d, super::cells::PartnerWork::Forces);
     Program::new(ctx, FULLSCREEN_VERTEX, &root, &d).map_err(|e| {
         let renamed = Renamed {
             name: "pair_force",
@@ -202,7 +202,7 @@ pub fn neighbour_passes(
             what.join(" and "),
             super::cells::search_words(table),
             scene::EXACT_SCAN,
-            super::cells::partner_words()
+            super::cells::partner_words(super::cells::PartnerWork::Forces)
         ),
         "neighbour kick: v += F / m dt, positions copied (they move in the next integration)"
             .into(),

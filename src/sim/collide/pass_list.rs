@@ -33,7 +33,7 @@ pub fn exact_passes(
              summed, with and without the closest partner's exchange",
             cells::walk_words(search.collisions_trimmed, "2r"),
             cells::search_words(table),
-            cells::partner_words()
+            cells::partner_words(cells::PartnerWork::Contacts)
         ),
         format!(
             "exact response, no walk: the count's sum with the closest partner's momentum \

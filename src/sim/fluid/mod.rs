@@ -37,7 +37,9 @@ use crate::gl::{
     TextureFormat, Uniform, UniformList, FULLSCREEN_VERTEX,
 };
 use crate::scene::{self, SceneFile};
-use crate::sim::collide::cells::{search_defines, search_words, table_line, CellSearch};
+use crate::sim::collide::cells::{
+    partner_mask, partner_words, search_defines, search_words, table_line, CellSearch, PartnerWork,
+};
 use crate::sim::collide::grid::{GridSpec, SortedGrid};
 use crate::sim::collide::tally::{self, TruncationTally};
 use crate::sim::collide::Lattice;
@@ -117,7 +119,7 @@ pub fn fluid_passes(walls: bool, coherent: Option<u32>, table: bool, cell: u32) 
         format!(
             "fluid force: symmetric pressure force and Monaghan's artificial viscosity over the \
              same search{}{wall}, v += a dt, positions copied",
-            crate::sim::collide::cells::partner_words()
+            partner_words(PartnerWork::Forces)
         ),
         tally::pass_line("truncation tally: the particles whose search hit the bound"),
     ]);
@@ -205,7 +207,7 @@ impl Fluid {
                 ctx,
                 FULLSCREEN_VERTEX,
                 "fluid/force.frag",
-                &crate::sim::collide::cells::partner_mask(&d),
+                &partner_mask(&d, PartnerWork::Forces),
             )?,
             place: program("fluid/lattice.frag")?,
             pass: FullscreenPass::new(ctx)?,

@@ -13,28 +13,12 @@ use texflow::scene;
 use texflow::sim::collide::cells::{with_partner_work, with_search};
 use texflow::sim::ParticleSim;
 
-/// A 16×16 exact-collision scene over [0, 1)³, cells of 0.1 (2.5 r).
+/// A 16×16 exact-collision scene over [0, 1)³, cells of 0.1 (2.5 r), two iterations.
 fn exact_scene() -> scene::SceneFile {
-    common::scene::parse(
-        "partner mask",
-        r#"
-name = "partner mask"
-integrator = "euler"
-[particles]
-size = [16, 16]
-[time]
-dt = 0.01
-[[emitters.initial]]
-direction = [0.0, 1.0, 0.0]
-speed = [0.0, 0.0]
-[collisions]
-radius = 0.04
-restitution = 0.9
-detection = "exact"
-cell = 0.1
-iterations = 2
-bounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]
-"#,
+    common::scene::collide_scene(
+        [16, 16],
+        "[collisions]\nradius = 0.04\nrestitution = 0.9\ndetection = \"exact\"\ncell = 0.1\n\
+         iterations = 2\nbounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]",
     )
 }
 

@@ -202,9 +202,18 @@ thread_local! {
 /// the rule of [`uses_table`] says: for comparing the two searches, which must give the same
 /// state bit for bit.
 pub fn with_search<T>(table: bool, build: impl FnOnce() -> T) -> T {
-    let before = FORCED.with(|f| f.replace(Some(table)));
+    scoped(&FORCED, table, build)
+}
+
+/// Runs `build` with `key` holding `value` on this thread, then puts back what it held.
+fn scoped<T>(
+    key: &'static std::thread::LocalKey<std::cell::Cell<Option<bool>>>,
+    value: bool,
+    build: impl FnOnce() -> T,
+) -> T {
+    let before = key.with(|f| f.replace(Some(value)));
     let out = build();
-    FORCED.with(|f| f.set(before));
+    key.with(|f| f.set(before));
     out
 }
 
@@ -264,10 +273,7 @@ pub fn partner_words(work: PartnerWork) -> &'static str {
 /// it (`deferred` false) or by [`partner_mask`] (true), whatever [`PartnerWork::deferred`]
 /// would say: for comparing the two, which must give the same state bit for bit.
 pub fn with_partner_work<T>(deferred: bool, build: impl FnOnce() -> T) -> T {
-    let before = DEFERRED.with(|f| f.replace(Some(deferred)));
-    let out = build();
-    DEFERRED.with(|f| f.set(before));
-    out
+    scoped(&DEFERRED, deferred, build)
 }
 
 /// Whether a search by `walk` of a lattice of `cells` cells over `entries` sorted entries reads

@@ -125,7 +125,8 @@ fn the_forces_give_the_same_state_either_way() {
 }
 
 /// Outside `with_partner_work`, the exact count defers its partners' work and the forces work
-/// on each as they visit it (the choice measured on llvmpipe: docs/collisions.md).
+/// on each as they visit it (the choice measured on llvmpipe and an NVIDIA H100:
+/// docs/collisions.md).
 #[test]
 fn the_exact_count_defers_by_default_and_the_forces_do_not() {
     use texflow::sim::collide::cells::PartnerWork;

@@ -45,8 +45,16 @@ uniform int u_layer;
 uniform sampler2D u_position;
 vec4 walked = vec4(0.0);
 
-void visit(int j) {
-    walked += texelFetch(u_position, key_texel(j), 0);
+vec4 walk_position(ivec2 t) {
+    return texelFetch(u_position, t, 0);
+}
+
+bool is_partner(vec4 q) {
+    return true;
+}
+
+void partner_work(int j, ivec2 tj, vec4 q) {
+    walked += q;
 }
 #endif
 uniform float u_sentinel;

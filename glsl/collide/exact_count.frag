@@ -50,8 +50,8 @@ bool is_partner(vec4 q) {
     return q.w > 0.0 && dot(d, d) < 4.0 * u_radius * u_radius;
 }
 
-bool partner_test(int j) {
-    return is_partner(texelFetch(u_position, key_texel(j), 0));
+vec4 walk_position(ivec2 t) {
+    return texelFetch(u_position, t, 0);
 }
 
 // The work of partner j, at texel tj and position q.
@@ -96,21 +96,6 @@ void partner_work(int j, ivec2 tj, vec4 q) {
     }
     g_separation += alone;
 }
-
-void partner_take(int j) {
-    ivec2 tj = key_texel(j);
-    partner_work(j, tj, texelFetch(u_position, tj, 0));
-}
-
-#ifndef PARTNER_MASK
-// One fetch of the position a visit (a visit that fetched it twice, to test and to work, took
-// 1.25-1.33 times as long in the DEM's force on an NVIDIA H100).
-void visit(int j) {
-    ivec2 tj = key_texel(j);
-    vec4 q = texelFetch(u_position, tj, 0);
-    if (is_partner(q)) partner_work(j, tj, q);
-}
-#endif
 
 void main() {
     // This fragment's particle (in the walk's order: collide/sorted_keys.glsl).

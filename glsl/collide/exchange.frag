@@ -25,12 +25,16 @@ layout(location = 0) out vec4 o_state;
 
 vec4 g_exchange = vec4(0.0);
 
-void visit(int j) {
-    ivec2 tj = key_texel(j);
-    vec4 q = texelFetch(u_position, tj, 0);
-    if (!particle_live(q)) return;
+vec4 walk_position(ivec2 t) {
+    return texelFetch(u_position, t, 0);
+}
+
+bool is_partner(vec4 q) {
+    return particle_live(q) && length(q.xyz - x) < u_pair_radius;
+}
+
+void partner_work(int j, ivec2 tj, vec4 q) {
     float d = length(q.xyz - x);
-    if (!(d < u_pair_radius)) return;
     vec4 st = texelFetch(u_static, tj, 0);
     other.x = q.xyz;
     other.v = texelFetch(u_velocity, tj, 0).xyz;

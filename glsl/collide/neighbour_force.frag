@@ -37,11 +37,15 @@ float g_mass;
 vec3 g_force = vec3(0.0);
 float g_contacts = 0.0;
 
-// A neighbour that can add a force: live, closer than the contact (2r) or a hook's reach; a
-// farther one adds exact zeros.
-bool partner_test(int j) {
-    vec4 q = texelFetch(u_position, key_texel(j), 0);
+vec4 walk_position(ivec2 t) {
+    return texelFetch(u_position, t, 0);
+}
+
+// A neighbour that can add a force: live, and with PARTNER_MASK closer than the contact (2r) or
+// a hook's reach; a farther one adds exact zeros (worked as visited, every live one is worked).
+bool is_partner(vec4 q) {
     if (!(q.w > 0.0)) return false;
+#ifdef PARTNER_MASK
     float reach = 2.0 * u_radius;
 #if N_PAIR > 0
     // (A hook not in the scene has radius 0.)
@@ -49,10 +53,13 @@ bool partner_test(int j) {
     reach = max(reach, max(max(hooks.x, hooks.y), max(hooks.z, hooks.w)));
 #endif
     return length(q.xyz - g_x) < reach;
+#else
+    return true;
+#endif
 }
 
 // The forces of the partner at tj, at position q.
-void partner_work(ivec2 tj, vec4 q) {
+void partner_work(int j, ivec2 tj, vec4 q) {
     vec3 w = texelFetch(u_velocity, tj, 0).xyz;
     float dist = length(q.xyz - g_x);
     if (dist < 2.0 * u_radius) g_contacts += 1.0;
@@ -83,21 +90,6 @@ void partner_work(ivec2 tj, vec4 q) {
     }
 #endif
 }
-
-void partner_take(int j) {
-    ivec2 tj = key_texel(j);
-    partner_work(tj, texelFetch(u_position, tj, 0));
-}
-
-#ifndef PARTNER_MASK
-// One fetch of the position a visit: a visit that fetched it twice (once to test, once to
-// work) took 1.25-1.33 times as long on an NVIDIA H100.
-void visit(int j) {
-    ivec2 tj = key_texel(j);
-    vec4 q = texelFetch(u_position, tj, 0);
-    if (q.w > 0.0) partner_work(tj, q);
-}
-#endif
 
 void main() {
     ivec2 t = ivec2(gl_FragCoord.xy);

@@ -29,9 +29,15 @@ void add(vec3 y) {
     if (r < 2.0 * u_h) g_sum += kernel_w(r);
 }
 
-void visit(int j) {
-    vec4 q = texelFetch(u_position, key_texel(j), 0);
-    if (!(q.w > 0.0)) return;
+vec4 walk_position(ivec2 t) {
+    return texelFetch(u_position, t, 0);
+}
+
+bool is_partner(vec4 q) {
+    return q.w > 0.0;
+}
+
+void partner_work(int j, ivec2 tj, vec4 q) {
     if (length(q.xyz - g_x) < 2.0 * u_h) g_neighbours += 1.0;
     add(q.xyz);
 #ifdef FLUID_GHOSTS

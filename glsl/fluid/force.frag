@@ -68,12 +68,12 @@ bool is_partner(vec4 q) {
     return g_walls || length(g_x - q.xyz) < 2.0 * u_h;
 }
 
-bool partner_test(int j) {
-    return is_partner(texelFetch(u_position, key_texel(j), 0));
+vec4 walk_position(ivec2 t) {
+    return texelFetch(u_position, t, 0);
 }
 
 // The force of the partner at texel tj and position q, and of its ghosts.
-void partner_work(ivec2 tj, vec4 q) {
+void partner_work(int j, ivec2 tj, vec4 q) {
     vec2 dp = texelFetch(u_density, tj, 0).xy;
     vec3 w = texelFetch(u_velocity, tj, 0).xyz;
     add(q.xyz, w, dp);
@@ -83,21 +83,6 @@ void partner_work(ivec2 tj, vec4 q) {
     }
 #endif
 }
-
-void partner_take(int j) {
-    ivec2 tj = key_texel(j);
-    partner_work(tj, texelFetch(u_position, tj, 0));
-}
-
-#ifndef PARTNER_MASK
-// One fetch of the position a visit (a visit that fetched it twice, to test and to work, took
-// 1.25-1.33 times as long in the DEM's force on an NVIDIA H100).
-void visit(int j) {
-    ivec2 tj = key_texel(j);
-    vec4 q = texelFetch(u_position, tj, 0);
-    if (is_partner(q)) partner_work(tj, q);
-}
-#endif
 
 void main() {
     ivec2 t = ivec2(gl_FragCoord.xy);

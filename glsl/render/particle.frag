@@ -9,9 +9,9 @@
 //   MULTIPLY:     mix(1, colour, alpha): the destination is multiplied by it (DST_COLOR, ZERO)
 // SOFT: soft particles, the opacity scaled by (geometry depth - particle depth) / u_soft, clamped
 // to [0, 1], the geometry's view depth fetched at the fragment's pixel (render/geometry_depth.frag).
-// FIRE_RAMP: the thesis's fire, coloured by its age ramp and faded in and out over the life (the
-// vertex stage's colour and opacity; additive, so the order of particles is irrelevant);
-// FIRE_SOFT makes each point a round sprite whose opacity falls to 0 at its rim, (1 - r^2)^2.
+// FIRE_RAMP: the thesis's fire, coloured by its age ramp and faded in and out over the life
+// (additive, so the order of particles is irrelevant); FIRE_SOFT makes each point a round sprite
+// whose opacity falls to 0 at its rim, (1 - r^2)^2.
 // SHADE_FLOOR: the benchmarks' shading floor, below.
 
 #include "render/shade_floor.glsl"
@@ -31,22 +31,22 @@ in float v_depth;
 #endif
 
 #ifdef FIRE_RAMP
+#include "render/fire_ramp.glsl"
 uniform float u_intensity;
+in float v_age;
 #endif
 
 // The pass's colour, the blend's input.
 vec4 shade() {
 #ifdef FIRE_RAMP
-    // The ramp's colour and the fade over the life are the particle's, from the vertex stage
-    // (once a particle, not for each of its sprite's 144 fragments at the default point size
-    // of 12); the rim is the fragment's.
-    float fade = v_color.a;
+    // Fade in over the first tenth of the life (no hard edge at the emitter), then out.
+    float fade = smoothstep(0.0, 0.1, v_age) * pow(1.0 - v_age, 1.5);
 #ifdef FIRE_SOFT
     vec2 rim = gl_PointCoord * 2.0 - 1.0;
     float k = max(1.0 - dot(rim, rim), 0.0);
     fade *= k * k;
 #endif
-    return vec4(v_color.rgb, u_intensity * fade);
+    return vec4(fire_ramp(v_age), u_intensity * fade);
 #endif
     vec4 c = v_color;
 #ifdef SPRITES

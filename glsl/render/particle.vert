@@ -21,10 +21,8 @@
 // (sort/sorted_id.glsl, with the sort's PACKED and ID_TABLE) and fetching the state there: the
 // same texels a gather would have copied, so the same image, without the gather pass.
 // FIRE_RAMP defined: the thesis's fire (Listing 3): the statics are the fire's velocities, whose
-// w is the wait; the total life is u_max_age - wait, and the colour is the fire's ramp of the
-// relative age (render/fire_ramp.glsl) with its fade in and out over the life as the opacity,
-// here once a particle (the fragment stage shapes the rim and scales by the intensity); one
-// size, no sprite.
+// w is the wait; the total life is u_max_age - wait and the fragment stage colours the relative
+// age by the fire's ramp (render/fire_ramp.glsl); one size, no sprite.
 // SOFT defined: the particle's view depth goes to the fragment stage (soft particles).
 // SPRITES defined: the size is scaled by the particle's type and its size over life, and the
 // fragment stage textures the sprite from the atlas tile of its type, rotated by
@@ -71,8 +69,8 @@ flat out vec2 v_tile;     // atlas tile origin in tile units
 out float v_depth;        // the particle's view depth (clip w of its centre), for soft particles
 #endif
 #ifdef FIRE_RAMP
-#include "render/fire_ramp.glsl"
 uniform float u_max_age;  // the fire's cycle: life plus wait
+out float v_age;          // relative age, for the fire's ramp
 #endif
 
 #if defined(QUADS) || defined(STRETCHED)
@@ -114,6 +112,9 @@ void main() {
         v_color = vec4(0.0);
         v_rotation = vec2(1.0, 0.0);
         v_tile = vec2(0.0);
+#ifdef FIRE_RAMP
+        v_age = 1.0;
+#endif
 #ifdef SOFT
         v_depth = 0.0;
 #endif
@@ -121,9 +122,8 @@ void main() {
     }
 #ifdef FIRE_RAMP
     float life = max(u_max_age - s.w, 1e-6);
-    float a = clamp(1.0 - p.w / life, 0.0, 1.0);
-    // Fade in over the first tenth of the life (no hard edge at the emitter), then out.
-    v_color = vec4(fire_ramp(a), smoothstep(0.0, 0.1, a) * pow(1.0 - a, 1.5));
+    v_age = clamp(1.0 - p.w / life, 0.0, 1.0);
+    v_color = vec4(0.0);
     v_rotation = vec2(1.0, 0.0);
     v_tile = vec2(0.0);
     gl_Position = u_view_proj * vec4(p.xyz, 1.0);

@@ -61,11 +61,11 @@ void visit(int j) {
 #ifdef PARTNER_MASK
 // The partner work of one run with PARTNER_MASK, 32 particles at a time: the visits only test,
 // and set bit b of a mask for each partner at j + b; the work then takes those partners (their
-// positions fetched again) in the same order, lowest bit first, before the next 32 are tested. A GPU runs a fragment pass in warps of neighbouring
-// fragments in lockstep; where one visit in a few is a partner, some fragment of a warp has one
-// at nearly every visit, so a walk that worked as it visited would have the whole warp pay a
-// partner's work at every visit. Here the warp pays it as many times as the most partners one
-// of its fragments has among 32.
+// positions fetched again) in the same order, lowest bit first, before the next 32 are tested.
+// A GPU runs a fragment pass in warps of neighbouring fragments in lockstep; where one visit in
+// a few is a partner, some fragment of a warp has one at nearly every visit, so a walk that
+// worked as it visited would have the whole warp pay a partner's work at every visit. Here the
+// warp pays it as many times as the most partners one of its fragments has among 32.
 void partner_take(int j) {
     ivec2 tj = key_texel(j);
     partner_work(j, tj, walk_position(tj));

@@ -1,15 +1,16 @@
 #!/usr/bin/env python3
-"""compare.py DIR [BASE]: for files DIR/SCENE_B_ROUND.txt (`texflow bench scene ... --json`, B one
-letter naming a binary), the median over the rounds of each binary's collision stage (the phase
-whose name starts with "collide", ms), per scene and size, and its ratio to binary BASE's (F)."""
+"""compare.py DIR [BASE]: for files DIR/SCENE_B_ROUND.txt (`texflow bench scene ... --json`, B a
+capital letter and an optional digit naming a binary, as P4), the median over the rounds of each
+binary's collision stage (the phase whose name starts with "collide", ms), per scene and size,
+and its ratio to binary BASE's (F)."""
 import glob, json, os, re, statistics, sys
 from collections import defaultdict
 
 d = sys.argv[1]
 base = sys.argv[2] if len(sys.argv) > 2 else "F"
 t = defaultdict(list)
-for f in sorted(glob.glob(os.path.join(d, "*_[A-Z]_*.txt"))):
-    m = re.match(r"(.+)_([A-Z])_(\d+)\.txt", os.path.basename(f))
+for f in sorted(glob.glob(os.path.join(d, "*_*_*.txt"))):
+    m = re.match(r"(.+)_([A-Z][0-9]?)_(\d+)\.txt", os.path.basename(f))
     for r in json.load(open(f))["records"]:
         for p in r["phases"]:
             if p["phase"].startswith("collide"):

@@ -42,12 +42,7 @@ uniform int u_layer;
 
 #ifdef WALK
 #include "collide/cells.glsl"
-uniform sampler2D u_position;
 vec4 walked = vec4(0.0);
-
-vec4 walk_position(ivec2 t) {
-    return texelFetch(u_position, t, 0);
-}
 
 bool is_partner(vec4 q) {
     return true;

@@ -12,8 +12,8 @@
 // +inf), so both find the same run: the same neighbours, visited in the same order.
 // With a cell of at least 2r every pair closer than 2r is visited from both sides, unless a run
 // holds more than EXACT_SCAN particles (then `exact_truncated` is set).
-// The including shader defines what a visit does, and the walk here fetches the positions:
-//   vec4 walk_position(ivec2 t)               the position at sorted texel t (its u_position);
+// The walk fetches the positions (u_position, declared here for every including shader); the
+// including shader defines what a visit does with one:
 //   bool is_partner(vec4 q)                   whether a neighbour at position q is worked;
 //   void partner_work(int j, ivec2 tj, vec4 q) the work of partner j at texel tj, position q.
 // A visit fetches the neighbour's position once, tests it and works a partner with it (a visit
@@ -40,7 +40,12 @@ int cell_start(int c) {
 
 bool exact_truncated = false;
 
-vec4 walk_position(ivec2 t);
+uniform sampler2D u_position;   // the cell-sorted layout: position (xyz, life) of sorted index i
+
+vec4 walk_position(ivec2 t) {
+    return texelFetch(u_position, t, 0);
+}
+
 bool is_partner(vec4 q);
 void partner_work(int j, ivec2 tj, vec4 q);
 
@@ -186,8 +191,9 @@ void search_neighbours(int self) {
 // x ± r) instead of the 27 cells of (2h)³ (216 h³) of the plain search, every particle closer
 // than the radius among them. Cells clamp (a particle outside the lattice is in its edge cell),
 // and a clamped index range still holds every such cell, since floor and clamp keep the order.
-// The margin of 1e-4 cells covers the key pass's rounding of a position near a cell's face. (Loops of a fixed
-// count, two cells out, ran 3 % slower on an NVIDIA H100 for the million-particle dam.)
+// The margin of 1e-4 cells covers the key pass's rounding of a position near a cell's face.
+// (Loops of a fixed count, two cells out, ran 3 % slower on an NVIDIA H100 for the
+// million-particle dam.)
 uniform vec3 u_cell_origin;     // corner of cell (0, 0, 0)
 uniform float u_cell_size;      // the lattice's mesh size
 uniform float u_search_radius;  // every particle closer than this is visited

@@ -19,7 +19,6 @@
 #include "common/state.glsl"
 #include "collide/cells.glsl"
 
-uniform sampler2D u_position;   // gathered: sorted order
 uniform sampler2D u_velocity;
 uniform sampler2D u_static;
 #ifdef SPIN
@@ -48,10 +47,6 @@ vec3 g_exchanged = vec3(0.0);
 bool is_partner(vec4 q) {
     vec3 d = g_x - q.xyz;
     return q.w > 0.0 && dot(d, d) < 4.0 * u_radius * u_radius;
-}
-
-vec4 walk_position(ivec2 t) {
-    return texelFetch(u_position, t, 0);
 }
 
 // The work of partner j, at texel tj and position q.

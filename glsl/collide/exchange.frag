@@ -14,7 +14,6 @@
 
 #include "collide/cells.glsl"
 
-uniform sampler2D u_position;   // the cell-sorted layout
 uniform sampler2D u_velocity;
 uniform sampler2D u_static;
 uniform float u_pair_radius;
@@ -24,10 +23,6 @@ uniform float u_time;
 layout(location = 0) out vec4 o_state;
 
 vec4 g_exchange = vec4(0.0);
-
-vec4 walk_position(ivec2 t) {
-    return texelFetch(u_position, t, 0);
-}
 
 bool is_partner(vec4 q) {
     return particle_live(q) && length(q.xyz - x) < u_pair_radius;

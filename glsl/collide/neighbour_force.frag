@@ -11,7 +11,6 @@
 #include "common/state.glsl"
 #include "collide/cells.glsl"
 
-uniform sampler2D u_position;   // the cell-sorted layout
 uniform sampler2D u_velocity;
 uniform sampler2D u_static;
 uniform float u_radius;
@@ -36,10 +35,6 @@ int g_type;
 float g_mass;
 vec3 g_force = vec3(0.0);
 float g_contacts = 0.0;
-
-vec4 walk_position(ivec2 t) {
-    return texelFetch(u_position, t, 0);
-}
 
 // A neighbour that can add a force: live, and with PARTNER_MASK closer than the contact (2r) or
 // a hook's reach; a farther one adds exact zeros (worked as visited, every live one is worked).

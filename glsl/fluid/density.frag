@@ -11,7 +11,6 @@
 #include "collide/cells.glsl"
 #include "fluid/kernel.glsl"
 
-uniform sampler2D u_position;   // the cell-sorted layout
 uniform float u_mass;           // rho0 spacing^3
 uniform float u_rest_density;   // rho0
 uniform float u_stiffness;      // B = rho0 c^2 / gamma
@@ -27,10 +26,6 @@ float g_neighbours = 0.0;
 void add(vec3 y) {
     float r = length(y - g_x);
     if (r < 2.0 * u_h) g_sum += kernel_w(r);
-}
-
-vec4 walk_position(ivec2 t) {
-    return texelFetch(u_position, t, 0);
 }
 
 bool is_partner(vec4 q) {

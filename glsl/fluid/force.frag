@@ -18,7 +18,6 @@
 #include "collide/cells.glsl"
 #include "fluid/kernel.glsl"
 
-uniform sampler2D u_position;   // the cell-sorted layout
 uniform sampler2D u_velocity;
 uniform sampler2D u_density;    // (rho, p, neighbours, truncated), fluid/density.frag
 uniform float u_mass;
@@ -66,10 +65,6 @@ vec2 ghost_pressure(vec3 y, vec2 dp, int k) {
 bool is_partner(vec4 q) {
     if (!(q.w > 0.0)) return false;
     return g_walls || length(g_x - q.xyz) < 2.0 * u_h;
-}
-
-vec4 walk_position(ivec2 t) {
-    return texelFetch(u_position, t, 0);
 }
 
 // The force of the partner at texel tj and position q, and of its ghosts.

@@ -76,6 +76,12 @@ void partner_take(int j) {
     partner_work(j, tj, walk_position(tj));
 }
 
+// Whether sorted index i, not the searching particle's own, is a partner (one test, its
+// position fetched here).
+bool partner_at(int self, int i) {
+    return i != self && is_partner(walk_position(key_texel(i)));
+}
+
 void take_mask(int j, uint mask) {
     while (mask != 0u) {
         uint low = mask & (~mask + 1u);
@@ -109,9 +115,7 @@ void walk_run(int self, int row, int x0, int x1) {
             }
         }
         for (; b < e; b++) {
-            if (j + s + b != self && is_partner(walk_position(key_texel(j + s + b)))) {
-                mask |= 1u << uint(b);
-            }
+            if (partner_at(self, j + s + b)) mask |= 1u << uint(b);
         }
         take_mask(j + s, mask);
     }
@@ -145,9 +149,7 @@ void walk_run(int self, int row, int x0, int x1) {
                 more = false;
                 break;
             }
-            if (j + s != self && is_partner(walk_position(key_texel(j + s)))) {
-                mask |= 1u << uint(s - base);
-            }
+            if (partner_at(self, j + s)) mask |= 1u << uint(s - base);
         }
         take_mask(j + base, mask);
     }

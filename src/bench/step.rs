@@ -113,6 +113,8 @@ pub fn bench_step(
         // The step's floor writes a scratch framebuffer of the state's formats and size.
         let scratch = super::scene::scratch_like(ctx, e.sim().state_target())?;
         let sim_floor = WriteFloor::for_target(ctx, &scratch)?;
+        // Drawn once untimed: a new program's first draw pays for its code.
+        sim_floor.draw(&scratch);
         let (blend, clear) = e.frame_blend();
         let blend = Some(blend);
         let mut t = [vec![], vec![], vec![], vec![]];

@@ -93,7 +93,17 @@ fn compile<'a>(
     }
 }
 
+/// Programs made so far in the process (a program's serial is its place in this count).
+static MADE: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
 impl Program {
+    /// How many programs the process has built and linked so far, on every context: what a
+    /// benchmark checks to show that it builds none within its timed repetitions (a first
+    /// draw of a new program pays for its code, on llvmpipe a compile).
+    pub fn made() -> u64 {
+        MADE.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
     /// Compiles `vertex` and `fragment` (paths under `glsl/`) with `defines` and links them.
     pub fn new(ctx: &Context, vertex: &str, fragment: &str, defines: &Defines) -> Result<Self> {
         Self::build(ctx, vertex, fragment, defines, &embedded)
@@ -170,10 +180,7 @@ impl Program {
             raw,
             name,
             uniforms: RefCell::new(HashMap::new()),
-            serial: {
-                static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
-                NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
-            },
+            serial: MADE.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
             declared: seen.declared,
             samplers,
             source: Box::new(SourceInfo {

@@ -3,7 +3,7 @@
 //! fragments) so that a test can check that a floor draws no more than its phase.
 
 use super::{counted, timed, Phases};
-use crate::bench::stats::{PassTimer, PlacedRenderFloor};
+use crate::bench::stats::{Clock, PassTimer, PlacedRenderFloor};
 use crate::engine::Stages;
 use crate::error::Result;
 use crate::gl::{Context, DrawStats, SamplesQuery};
@@ -72,11 +72,48 @@ impl Drawn {
 pub(super) struct RenderFloors<'a> {
     pub(super) timer: &'a PassTimer,
     pub(super) samples: SamplesQuery,
+    /// The placed points, refilled each repetition with its positions.
+    pub(super) placed: PlacedRenderFloor,
     pub(super) fill: Option<crate::render::ParticleRenderer>,
     /// The shading floor: the renderer's own stages, its colours made ones that change no
     /// pixel (points and sprites, not lit).
     pub(super) shade: Option<crate::render::ParticleRenderer>,
     pub(super) lit: Option<super::lit::LitFloors>,
+}
+
+impl<'a> RenderFloors<'a> {
+    /// The render's floors for `e`, built once before the repetitions (a program built within
+    /// them would be timed at its first draw).
+    pub(super) fn new(ctx: &Context, timer: &'a PassTimer, e: &dyn Stages) -> Result<Self> {
+        let p = &e.sim().drawn().positions;
+        Ok(RenderFloors {
+            timer,
+            samples: SamplesQuery::new(ctx)?,
+            placed: PlacedRenderFloor::new(ctx, (p.width() * p.height()) as usize)?,
+            // Not for a lit scene: its render is the half-angle slices (their own vertex stage
+            // and floors), not the plain renderer's points.
+            fill: match e.lit() {
+                Some(_) => None,
+                None => Some(e.renderer().with_fragment("bench/fill_floor.frag")?),
+            },
+            shade: shading_floor(e, timer.clock())?,
+            lit: (e.lit())
+                .map(|l| super::lit::LitFloors::new(ctx, l, timer.clock() == Clock::Gpu))
+                .transpose()?,
+        })
+    }
+}
+
+/// The shading floor of `e`'s render (points and sprites; a lit render's is the slices', in
+/// `lit`), on a GPU clock only: a GPU blends in fixed-function units after the fragment stage,
+/// which the floor leaves with nothing to change; llvmpipe compiles the blend into the fragment
+/// code, so there the floor is the pass itself, and it measured 1.0-1.24 times the pass (2
+/// cores, every built-in at 64² and 128²).
+fn shading_floor(e: &dyn Stages, clock: Clock) -> Result<Option<crate::render::ParticleRenderer>> {
+    match (e.lit(), clock) {
+        (None, Clock::Gpu) => e.renderer().shading_floor(),
+        _ => Ok(None),
+    }
 }
 
 /// The shading floor, as the phase table words it.
@@ -135,7 +172,8 @@ pub(super) fn render_phase(
     let blend = Some(blend);
     let fb = engine.target().framebuffer();
     // A snapshot of this repetition's positions, drawn without fetching or shading.
-    let placed = PlacedRenderFloor::new(ctx, &engine.sim().drawn().positions.read_f32()?)?;
+    let placed = &on.placed;
+    placed.place(&engine.sim().drawn().positions.read_f32()?)?;
     let [rw, rh] = s.render.resolution;
     let view_proj = engine.camera().view_projection(rw as f32 / rh as f32);
     let (size, writes) = placed_points(style, params.point_size);
@@ -153,10 +191,10 @@ pub(super) fn render_phase(
     } else {
         engine.sim().drawn().count
     };
-    // Drawn once untimed first: the snapshot's buffer is new each repetition, and a first draw
-    // may pay its upload (on the H200 at 256² these points took 11-30 µs more than the render
-    // they bound, writing or not).
-    placed.draw(fb, (clear, blend, false), camera, count);
+    // Drawn once untimed first, as it is timed: the snapshot is new each repetition, and a
+    // first draw may pay its upload (on the H200 at 256² these points took 11-30 µs more than
+    // the render they bound, writing or not).
+    placed.draw(fb, (clear, blend, writes), camera, count);
     let points = counted(ctx, samples, || {
         timer.time(|| placed.draw(fb, (clear, blend, writes), camera, count))
     })?;

@@ -464,18 +464,6 @@ fn alive(ctx: &Context, engine: &dyn Stages, s: &SceneFile) -> Result<Alive> {
     Ok(Alive { live, non_finite })
 }
 
-/// The shading floor of `e`'s render (points and sprites; a lit render's is the slices', in
-/// `lit`), on a GPU clock only: a GPU
-/// blends in fixed-function units after the fragment stage, which the floor leaves with nothing
-/// to change; llvmpipe compiles the blend into the fragment code, so there the floor is the pass
-/// itself, and it measured 1.0-1.24 times the pass (2 cores, every built-in at 64² and 128²).
-fn shading_floor(e: &dyn Stages, clock: Clock) -> Result<Option<crate::render::ParticleRenderer>> {
-    match (e.lit(), clock) {
-        (None, Clock::Gpu) => e.renderer().shading_floor(),
-        _ => Ok(None),
-    }
-}
-
 /// Every phase of `s`'s frame over the repetitions, the whole frame's median ms, what is
 /// alive at the end, the engine's model, and the constants of its frame (`c`: the constants
 /// measured in the same run).
@@ -505,23 +493,16 @@ fn measure(
         Some(sorted) => Some(WriteFloor::for_target(ctx, sorted)?),
         None => None,
     };
-    let render = RenderFloors {
-        timer,
-        samples: SamplesQuery::new(ctx)?,
-        // Not for a lit scene: its render is the half-angle slices (their own vertex stage and
-        // floors), not the plain renderer's points.
-        fill: match e.lit() {
-            Some(_) => None,
-            None => Some(e.renderer().with_fragment("bench/fill_floor.frag")?),
-        },
-        shade: shading_floor(e, timer.clock())?,
-        lit: (e.lit())
-            .map(|l| lit::LitFloors::new(ctx, l, timer.clock() == Clock::Gpu))
-            .transpose()?,
+    let render = RenderFloors::new(ctx, timer, e)?;
+    // The sort's layers or integer entries, where they are not one float target.
+    let layers = match e.sorter().map(|s| s.target()) {
+        Some(t) if t.attachments() > 1 || t.integer() => Some(WriteFloor::for_target(ctx, t)?),
+        _ => None,
     };
     let sort_floors = SortFloors {
         timer,
         floor1: &floor1,
+        layers: layers.as_ref(),
         gather: gather.as_ref(),
         fetch: &state_floors.fetch,
     };

@@ -12,11 +12,14 @@ use crate::sim::{Simulation, Stage};
 use crate::sort::KeyMode;
 
 /// What the sort's phases are timed with and measured against: the timer, a write-only pass
-/// into one target, and one into the gathered textures (the engine's, as many as the renderer
+/// into one target, one into the sort's own target where that is layers or integers (each made
+/// once, before the repetitions: a program made and first drawn within a timed range charges
+/// its build to the floor), and one into the gathered textures (the engine's, as many as the renderer
 /// draws from; `None` with the index lookup, which gathers nothing).
 pub(super) struct SortFloors<'a> {
     pub(super) timer: &'a PassTimer,
     pub(super) floor1: &'a WriteFloor,
+    pub(super) layers: Option<&'a WriteFloor>,
     pub(super) gather: Option<&'a WriteFloor>,
     pub(super) fetch: &'a FetchFloor,
 }
@@ -59,11 +62,9 @@ pub(super) fn sort_phases(
     // variant its layers (and the row-major texture once, in its unpack pass).
     let sorter = e.sorter().expect("a scene that sorted keys has a sorter");
     let target = sorter.target();
-    let (fl, fld) = if target.attachments() > 1 || target.integer() {
-        let f = WriteFloor::for_target(ctx, target)?;
-        drawn(ctx, || on.timer.time(|| f.draw(target)))?
-    } else {
-        drawn(ctx, || on.timer.time(|| on.floor1.draw(target)))?
+    let (fl, fld) = match on.layers {
+        Some(f) => drawn(ctx, || on.timer.time(|| f.draw(target)))?,
+        None => drawn(ctx, || on.timer.time(|| on.floor1.draw(target)))?,
     };
     let (fk, fkd) = drawn(ctx, || {
         on.timer.time(|| on.floor1.draw(sorter.keys_target()))

@@ -35,6 +35,12 @@ pub(super) fn sort_phases(
     let Some(sorter) = e.sorter() else {
         return Ok(false);
     };
+    // Each write floor drawn right before its phase into the phase's own target is drawn once
+    // untimed first: the timed draw then follows a draw into its target, as the phase's does
+    // (the floor's), and a driver's cost of switching targets is charged to neither (llvmpipe,
+    // 32² and 64²: the floors took 0.045-0.074 ms less, half of what they took, and the keys
+    // pass 0.07-0.16 ms).
+    on.floor1.draw(sorter.keys_target());
     let (f, fd) = drawn(ctx, || {
         on.timer.time(|| on.floor1.draw(sorter.keys_target()))
     })?;
@@ -108,10 +114,11 @@ fn gather_phase(
     e: &mut dyn Stages,
 ) -> Result<()> {
     let floor = match (e.sorted(), on.gather) {
-        (Some(sorted), Some(gather)) => Some((
-            sorted.attachments(),
-            drawn(ctx, || on.timer.time(|| gather.draw(sorted)))?,
-        )),
+        (Some(sorted), Some(gather)) => Some((sorted.attachments(), {
+            // Untimed first, as the keys' floor is (above).
+            gather.draw(sorted);
+            drawn(ctx, || on.timer.time(|| gather.draw(sorted)))?
+        })),
         _ => None,
     };
     let Some((n, (f, fd))) = floor else {

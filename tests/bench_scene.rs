@@ -250,15 +250,38 @@ fn predicted_from_what_it_drew(
         f.ms_per_m_points >= 0.0 && f.ms_per_m_points.is_finite(),
         "{name}: {f:?}"
     );
+    assert!(
+        f.ms_per_m_cleared >= 0.0 && f.ms_per_m_cleared.is_finite(),
+        "{name}: {f:?}"
+    );
     let slices = p.phase.starts_with("light-buffer") || p.phase.starts_with("eye passes");
     match (p.drawn, p.predicted_ms) {
         (Some(d), Some(m)) => {
             let s = d.stats;
             // Into a frame, a fragment's time holds its write: the bytes are not charged again.
+            // The texels cleared are priced there only (the render pass clears its frame).
             let (per_point, fragments, bytes) = match d.fragments {
-                Some(n) => (f.ms_per_m_points, n as f64 / 1e6 * f.ms_per_m_fragments, 0),
+                Some(n) => (
+                    f.ms_per_m_points,
+                    n as f64 / 1e6 * f.ms_per_m_fragments
+                        + s.cleared as f64 / 1e6 * f.ms_per_m_cleared,
+                    0,
+                ),
                 None => (c.ms_per_m_points, 0.0, s.bytes_written),
             };
+            // The render pass clears its frame, every texel of it (a lit render its light
+            // buffer too).
+            if p.phase.starts_with("render") {
+                let [w, h] = r.resolution;
+                let frame = w as u64 * h as u64;
+                let lit = (r.phases.iter()).any(|q| q.phase.starts_with("light-buffer"));
+                assert!(
+                    s.cleared == frame || (lit && s.cleared > frame),
+                    "{name}: {}: {} texels cleared, the frame has {frame}",
+                    p.phase,
+                    s.cleared
+                );
+            }
             assert!(
                 s.follow_ons + s.concurrent < s.draws.max(1),
                 "{name}: the first draw follows none and waits on what came before"

@@ -27,8 +27,9 @@
 //! | --- | --- |
 //! | time per blended fragment | eight full-frame triangles blended (additive) into the frame, less the clear and their draws' fixed cost, per fragment |
 //! | time per point | the frame cleared, then as many one-pixel points as it has pixels, in its raster order (point k at pixel k) and blended, less the clear, the draw's fixed cost and their fragments |
+//! | time per texel cleared | the frame cleared, timed alone, less a pass's fixed cost, per texel |
 //!
-//! predicted ms = passes × fixed + follow-ons × follow-on + concurrent × concurrent + fetches ×
+//! predicted ms = texels cleared × per texel cleared + passes × fixed + follow-ons × follow-on + concurrent × concurrent + fetches ×
 //! per fetch + points × per point + other vertices × per vertex + fragments × per fragment, the
 //! fragments counted by a samples query around the pass: a fragment's time holds its write, so
 //! the bytes that the GL layer counts for a triangle draw (its whole viewport, where a surface
@@ -74,6 +75,10 @@ pub struct FrameConstants {
     pub ms_per_m_points: f64,
     /// One million fragments blended into the frame.
     pub ms_per_m_fragments: f64,
+    /// One million texels cleared (a render pass clears its frame first): the frame's clear
+    /// timed alone, less a pass's fixed cost (a clear waits on what came before it as a pass
+    /// does), per texel.
+    pub ms_per_m_cleared: f64,
 }
 
 impl Constants {
@@ -132,7 +137,8 @@ impl Constants {
     pub fn predict_frame(&self, d: &DrawStats, fragments: u64) -> f64 {
         match self.frame {
             Some(f) => {
-                self.draws_and_vertices(d)
+                d.cleared as f64 * 1e-6 * f.ms_per_m_cleared
+                    + self.draws_and_vertices(d)
                     + self.predict(0, 0, d.fetches, 0)
                     + d.points as f64 * 1e-6 * f.ms_per_m_points
                     + fragments as f64 * 1e-6 * f.ms_per_m_fragments
@@ -326,5 +332,6 @@ pub fn measure_frame_constants(
         resolution: [frame.width(), frame.height()],
         ms_per_m_points: point * 1e6,
         ms_per_m_fragments: fragment * 1e6,
+        ms_per_m_cleared: (clear - fixed_ms).max(0.0) / pixels * 1e6,
     })
 }

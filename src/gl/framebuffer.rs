@@ -469,6 +469,8 @@ impl Framebuffer {
     /// plane.
     pub fn clear(&self, rgba: [f32; 4]) {
         self.bind();
+        let texels = self.width() as u64 * self.height() as u64 * self.attachments as u64;
+        self.ctx.count_clear(texels);
         // SAFETY: the framebuffer is bound.
         unsafe {
             for i in 0..self.attachments {

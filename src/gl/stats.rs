@@ -33,6 +33,9 @@ pub struct DrawStats {
     /// Uniform uploads (one `glUniform*` call each, arrays counting once): the values given that
     /// the program did not hold already (all of them with the uniform cache off).
     pub uniform_uploads: u64,
+    /// Texels of colour attachments cleared (`Framebuffer::clear`: its size times its
+    /// attachments): a render pass clears its frame first.
+    pub cleared: u64,
     /// Texel fetches that the passes declared ([`Context::count_fetches`](super::Context::count_fetches)):
     /// the sorts' passes and gathers, which know what their programs fetch; 0 for the others.
     pub fetches: u64,
@@ -50,6 +53,7 @@ impl DrawStats {
             points: self.points * k,
             vertices: self.vertices * k,
             uniform_uploads: self.uniform_uploads * k,
+            cleared: self.cleared * k,
             fetches: self.fetches * k,
         }
     }
@@ -73,6 +77,7 @@ impl DrawStats {
             points: self.points + other.points,
             vertices: self.vertices + other.vertices,
             uniform_uploads: self.uniform_uploads + other.uniform_uploads,
+            cleared: self.cleared + other.cleared,
             fetches: self.fetches + other.fetches,
         }
     }
@@ -167,6 +172,11 @@ impl Context {
             s.bytes_written += bytes;
             s.points += points;
         });
+    }
+
+    /// Counts `texels` cleared (see [`DrawStats::cleared`]).
+    pub(crate) fn count_clear(&self, texels: u64) {
+        self.update_stats(|s| s.cleared += texels);
     }
 
     /// Adds `n` to the texel fetches of [`DrawStats`]: a pass that knows what its program

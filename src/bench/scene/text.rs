@@ -31,8 +31,12 @@ pub fn scene_markdown(records: &[SceneBenchRecord]) -> String {
         if let Some(f) = &c.frame {
             out += &format!(
                 "Into the {}x{} frame (the render pass): {:.4} ms per million points, {:.4} ms \
-                 per million blended fragments.\n\n",
-                f.resolution[0], f.resolution[1], f.ms_per_m_points, f.ms_per_m_fragments
+                 per million blended fragments, {:.4} ms per million texels cleared.\n\n",
+                f.resolution[0],
+                f.resolution[1],
+                f.ms_per_m_points,
+                f.ms_per_m_fragments,
+                f.ms_per_m_cleared
             );
         }
         out += "| phase | ms | floor_ms | ratio | floor | bounds_ms | predicted_ms | \

@@ -229,6 +229,8 @@ fn predicted_from_what_it_drew(
     p: &texflow::bench::scene::PhaseRecord,
 ) {
     let c = &r.constants;
+    let f = c.frame.expect("bench scene measures the frame's constants");
+    assert_eq!(f.resolution, r.resolution, "{name}");
     for k in [
         c.fixed_ms,
         c.follow_on_ms,
@@ -237,23 +239,12 @@ fn predicted_from_what_it_drew(
         c.ms_per_m_fetches,
         c.ms_per_m_points,
         c.ms_per_m_vertices,
+        f.ms_per_m_fragments,
+        f.ms_per_m_points,
+        f.ms_per_m_cleared,
     ] {
         assert!(k.is_finite() && k >= 0.0, "{name}: {c:?}");
     }
-    let f = c.frame.expect("bench scene measures the frame's constants");
-    assert_eq!(f.resolution, r.resolution, "{name}");
-    assert!(
-        f.ms_per_m_fragments >= 0.0 && f.ms_per_m_fragments.is_finite(),
-        "{name}: {f:?}"
-    );
-    assert!(
-        f.ms_per_m_points >= 0.0 && f.ms_per_m_points.is_finite(),
-        "{name}: {f:?}"
-    );
-    assert!(
-        f.ms_per_m_cleared >= 0.0 && f.ms_per_m_cleared.is_finite(),
-        "{name}: {f:?}"
-    );
     let slices = p.phase.starts_with("light-buffer") || p.phase.starts_with("eye passes");
     match (p.drawn, p.predicted_ms) {
         (Some(d), Some(m)) => {

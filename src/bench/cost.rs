@@ -29,11 +29,13 @@
 //! | time per point | the frame cleared, then as many one-pixel points as it has pixels, in its raster order (point k at pixel k) and blended, less the clear, the draw's fixed cost and their fragments |
 //! | time per texel cleared | the frame cleared, timed alone, less a pass's fixed cost, per texel |
 //!
-//! predicted ms = texels cleared × per texel cleared + passes × fixed + follow-ons × follow-on + concurrent × concurrent + fetches ×
-//! per fetch + points × per point + other vertices × per vertex + fragments × per fragment, the
-//! fragments counted by a samples query around the pass: a fragment's time holds its write, so
-//! the bytes that the GL layer counts for a triangle draw (its whole viewport, where a surface
-//! or the slices' quads cover a part) are not charged again.
+//! predicted ms = texels cleared × per texel cleared + passes × fixed + follow-ons × follow-on +
+//! concurrent × concurrent + fetches × per fetch + points × per point + other vertices × per
+//! vertex + fragments × per fragment, the texels cleared and the draws counted by the GL layer
+//! (a render pass clears its frame first), the fragments by a samples query around the pass: a
+//! fragment's time holds its write, so the bytes that the GL layer counts for a triangle draw
+//! (its whole viewport, where a surface or the slices' quads cover a part) are not charged
+//! again.
 
 use super::{median, FixedCost, PassTimer, RenderFloor, WriteFloor};
 use crate::error::Result;

@@ -14,8 +14,8 @@ use crate::sort::KeyMode;
 /// What the sort's phases are timed with and measured against: the timer, a write-only pass
 /// into one target, one into the sort's own target where that is layers or integers (each made
 /// once, before the repetitions: a program made and first drawn within a timed range charges
-/// its build to the floor), and one into the gathered textures (the engine's, as many as the renderer
-/// draws from; `None` with the index lookup, which gathers nothing).
+/// its build to the floor), and one into the gathered textures (the engine's, as many as the
+/// renderer draws from; `None` with the index lookup, which gathers nothing).
 pub(super) struct SortFloors<'a> {
     pub(super) timer: &'a PassTimer,
     pub(super) floor1: &'a WriteFloor,

@@ -36,10 +36,10 @@ pub(super) fn sort_phases(
         return Ok(false);
     };
     // Each write floor drawn right before its phase into the phase's own target is drawn once
-    // untimed first: the timed draw then follows a draw into its target, as the phase's does
-    // (the floor's), and a driver's cost of switching targets is charged to neither (llvmpipe,
-    // 32² and 64²: the floors took 0.045-0.074 ms less, half of what they took, and the keys
-    // pass 0.07-0.16 ms).
+    // untimed first: the timed draw then follows a draw into its target, as the phase's draw
+    // does (it follows the floor's), and a driver's cost of switching targets is charged to
+    // neither (llvmpipe, 32² and 64²: the floors took 0.045-0.074 ms less, half of what they
+    // took, and the keys pass 0.07-0.16 ms).
     on.floor1.draw(sorter.keys_target());
     let (f, fd) = drawn(ctx, || {
         on.timer.time(|| on.floor1.draw(sorter.keys_target()))
